@@ -1,0 +1,172 @@
+#include "tiling.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+using namespace clothsim;
+
+namespace {
+
+Image solid(int w, int h, Rgba8 c) {
+  Image image(w, h);
+  fill_rect(image, 0, 0, w, h, c);
+  return image;
+}
+
+bool same_rgb(const std::uint8_t* p, Rgba8 c) { return p[0] == c[0] && p[1] == c[1] && p[2] == c[2]; }
+
+int pixels_not(const Image& image, int x, int y, int w, int h, Rgba8 c) {
+  int n = 0;
+  for (int yy = y; yy < y + h; ++yy)
+    for (int xx = x; xx < x + w; ++xx) n += !same_rgb(image.pixel(xx, yy), c);
+  return n;
+}
+
+std::string layout_error(const std::string& text, int tiles) {
+  try {
+    parse_layout(text, tiles);
+  } catch (const LayoutError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const Rgba8 kRed{220, 30, 30, 255}, kGreen{30, 200, 40, 255}, kBlue{40, 50, 230, 255},
+    kYellow{240, 230, 40, 255};
+
+}  // namespace
+
+TEST(ParseLayout, ReadsColumnsByRows) {
+  const GridLayout square = parse_layout("2x2", 4);
+  EXPECT_EQ(square.columns, 2);
+  EXPECT_EQ(square.rows, 2);
+  const GridLayout row = parse_layout("4x1", 4);
+  EXPECT_EQ(row.columns, 4);
+  EXPECT_EQ(row.rows, 1);
+  const GridLayout three_by_two = parse_layout("3x2", 5);
+  EXPECT_EQ(three_by_two.columns, 3);
+  EXPECT_EQ(three_by_two.rows, 2);
+}
+
+TEST(ParseLayout, ExpandsNToTheNumberOfTiles) {
+  const GridLayout row = parse_layout("Nx1", 3);
+  EXPECT_EQ(row.columns, 3);
+  EXPECT_EQ(row.rows, 1);
+  const GridLayout column = parse_layout("1xN", 3);
+  EXPECT_EQ(column.columns, 1);
+  EXPECT_EQ(column.rows, 3);
+}
+
+TEST(ParseLayout, AutoPicksTheSquarestGridThatHoldsTheTiles) {
+  EXPECT_EQ(parse_layout("auto", 1).cells(), 1);
+  EXPECT_EQ(parse_layout("auto", 2).columns, 2);
+  EXPECT_EQ(parse_layout("auto", 2).rows, 1);
+  EXPECT_EQ(parse_layout("auto", 3).columns, 2);
+  EXPECT_EQ(parse_layout("auto", 3).rows, 2);
+  EXPECT_EQ(parse_layout("auto", 4).columns, 2);
+  EXPECT_EQ(parse_layout("auto", 5).columns, 3);
+  EXPECT_EQ(parse_layout("auto", 5).rows, 2);
+}
+
+TEST(ParseLayout, AllowsSpareCellsAtTheEndOfTheLastRow) {
+  EXPECT_EQ(parse_layout("2x2", 3).cells(), 4);
+}
+
+TEST(ParseLayout, RejectsUnknownLayoutsNamingThemAndTheForms) {
+  for (const char* bad : {"", "grid", "2by2", "x2", "2x", "0x4", "2x0", "-1x4", "NxN"}) {
+    const std::string message = layout_error(bad, 4);
+    EXPECT_NE(message.find("unknown layout '" + std::string(bad) + "'"), std::string::npos)
+        << bad << " -> " << message;
+    EXPECT_NE(message.find("2x2"), std::string::npos) << message;
+  }
+}
+
+TEST(ParseLayout, RejectsGridsTooSmallOrWithAnEmptyRowOrColumn) {
+  EXPECT_NE(layout_error("2x2", 5).find("4 cells for 5 tiles"), std::string::npos);
+  EXPECT_NE(layout_error("3x3", 4).find("empty"), std::string::npos);
+  EXPECT_NE(layout_error("5x1", 4).find("empty"), std::string::npos);
+}
+
+TEST(TileGrid, PlacesTilesRowByRowWithGuttersBetween) {
+  TilingStyle style;
+  style.gutter = 4;
+  const TileGrid grid(GridLayout{2, 2}, 20, 10, style);
+  EXPECT_EQ(grid.width(), 44);
+  EXPECT_EQ(grid.height(), 24);
+  const Image a = solid(20, 10, kRed), b = solid(20, 10, kGreen), c = solid(20, 10, kBlue),
+              d = solid(20, 10, kYellow);
+  Image out;
+  grid.compose({&a, &b, &c, &d}, {}, out);
+  EXPECT_TRUE(same_rgb(out.pixel(10, 5), kRed));      // top-left
+  EXPECT_TRUE(same_rgb(out.pixel(34, 5), kGreen));    // top-right
+  EXPECT_TRUE(same_rgb(out.pixel(10, 19), kBlue));    // bottom-left
+  EXPECT_TRUE(same_rgb(out.pixel(34, 19), kYellow));  // bottom-right
+  EXPECT_EQ(pixels_not(out, 20, 0, 4, 24, style.background), 0) << "vertical gutter";
+  EXPECT_EQ(pixels_not(out, 0, 10, 44, 4, style.background), 0) << "horizontal gutter";
+}
+
+TEST(TileGrid, LeavesSpareCellsAsBackground) {
+  const TileGrid grid(GridLayout{2, 2}, 8, 8);
+  const Image a = solid(8, 8, kRed);
+  Image out;
+  grid.compose({&a, &a, &a}, {}, out);
+  EXPECT_EQ(pixels_not(out, grid.cell_x(3), grid.cell_y(3), 8, 8, TilingStyle{}.background), 0);
+}
+
+TEST(TileGrid, DrawsEachLabelInsideItsTileAndOnlyThere) {
+  const TileGrid grid(GridLayout{2, 1}, 120, 60);
+  const Image a = solid(120, 60, kBlue), b = solid(120, 60, kBlue);
+  Image out;
+  grid.compose({&a, &b}, {"rk4", ""}, out);
+  EXPECT_GT(pixels_not(out, grid.cell_x(0), grid.cell_y(0), 120, 60, kBlue), 20)
+      << "the labelled tile has text pixels";
+  EXPECT_EQ(pixels_not(out, grid.cell_x(1), grid.cell_y(1), 120, 60, kBlue), 0)
+      << "an empty label draws nothing";
+  // Bottom-left: the top half of the labelled tile is untouched.
+  EXPECT_EQ(pixels_not(out, grid.cell_x(0), grid.cell_y(0), 120, 30, kBlue), 0);
+}
+
+TEST(TileGrid, FitsCellsIntoAnExactCanvasEvenWhenTheSizeIsOdd) {
+  const TileGrid hd = TileGrid::fit(GridLayout{2, 2}, 1280, 720);
+  EXPECT_EQ(hd.width(), 1280);
+  EXPECT_EQ(hd.height(), 720);
+  EXPECT_EQ(hd.cell_width(), 638);
+  EXPECT_EQ(hd.cell_height(), 358);
+  const TileGrid odd = TileGrid::fit(GridLayout{2, 2}, 161, 91);
+  EXPECT_EQ(odd.width(), 161);
+  EXPECT_EQ(odd.height(), 91);
+  EXPECT_EQ(odd.cell_width(), 78);
+  EXPECT_EQ(odd.cell_height(), 43);
+  EXPECT_THROW(TileGrid::fit(GridLayout{4, 1}, 10, 10), LayoutError);
+}
+
+TEST(TileGrid, CentresASmallerTileAndCropsALargerOne) {
+  const TileGrid grid(GridLayout{1, 1}, 10, 10);
+  const Image small = solid(4, 4, kRed);
+  Image out;
+  grid.compose({&small}, {}, out);
+  EXPECT_TRUE(same_rgb(out.pixel(5, 5), kRed));
+  EXPECT_FALSE(same_rgb(out.pixel(1, 1), kRed));
+  Image big = solid(30, 30, kGreen);
+  fill_rect(big, 10, 10, 10, 10, kYellow);  // the middle third
+  grid.compose({&big}, {}, out);
+  EXPECT_EQ(pixels_not(out, 0, 0, 10, 10, kYellow), 0) << "the centre of the big tile is kept";
+}
+
+TEST(TileGrid, RefusesMoreTilesThanCells) {
+  const TileGrid grid(GridLayout{1, 1}, 4, 4);
+  const Image a = solid(4, 4, kRed);
+  Image out;
+  EXPECT_THROW(grid.compose({&a, &a}, {}, out), std::invalid_argument);
+}
+
+TEST(Blit, ClipsToTheDestination) {
+  Image dst = solid(10, 10, kBlue);
+  const Image src = solid(6, 6, kRed);
+  blit(src, dst, 7, -2);
+  EXPECT_TRUE(same_rgb(dst.pixel(9, 0), kRed));
+  EXPECT_TRUE(same_rgb(dst.pixel(7, 3), kRed));
+  EXPECT_TRUE(same_rgb(dst.pixel(6, 0), kBlue));
+  EXPECT_TRUE(same_rgb(dst.pixel(7, 4), kBlue));
+}

@@ -1,0 +1,92 @@
+// Tiling: N pictures side by side in one frame, each labelled, for comparison clips.
+//
+// A layout is COLUMNSxROWS, as ffmpeg's tile filter and ImageMagick's montage spell it:
+// "2x2" is a square of four, "4x1" one row of four side by side, "1x4" one column of four
+// stacked. "Nx1" and "1xN" stand for one row / one column of however many tiles there are,
+// and "auto" picks 1x1, 2x1, 2x2 (3-4 tiles) or the squarest grid that holds them.
+// Tiles fill the grid row by row; a grid may have spare cells at the end (3 tiles in 2x2),
+// never a whole empty row or column.
+//
+// Cells are separated by a gutter of background colour so tiles with similar edges stay
+// apart. Every cell has the same size (the largest tile's); a smaller tile is centred in
+// its cell. Labels are drawn with the bitmap font (render/text.h) at the bottom-left
+// corner of the tile, on a dark backdrop, so they never cover a render's own top-left
+// overlay text.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "image.h"
+#include "text.h"
+
+namespace clothsim {
+
+struct GridLayout {
+  int columns = 1, rows = 1;
+  int cells() const { return columns * rows; }
+};
+
+// Thrown for a layout that is not understood or cannot hold the tiles; the message is one
+// line naming the layout and what was expected.
+struct LayoutError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// Parses "2x2", "3x2", "1xN", "Nx1" or "auto" for `tiles` pictures (>= 1).
+GridLayout parse_layout(std::string_view text, int tiles);
+
+struct TilingStyle {
+  int gutter = 4;                        // pixels between cells (and none around the grid)
+  Rgba8 background{24, 24, 28, 255};     // gutters, spare cells, margins
+  Rgba8 label_color{255, 255, 255, 255};
+  int label_scale = 0;                   // bitmap font scale; 0: from the cell height
+};
+
+// Where each cell lies in a composed frame.
+class TileGrid {
+ public:
+  // A grid of cells of cell_width x cell_height; the canvas is exactly the grid unless
+  // canvas_width/height (>= the grid) are given, in which case the grid is centred in it.
+  TileGrid(GridLayout layout, int cell_width, int cell_height, const TilingStyle& style = {},
+           int canvas_width = 0, int canvas_height = 0);
+
+  // The largest cells for which the grid fits in width x height (the gutters come out
+  // of the total). Throws LayoutError when the cells would be smaller than 1 pixel.
+  static TileGrid fit(GridLayout layout, int width, int height, const TilingStyle& style = {});
+
+  int width() const { return canvas_w_; }
+  int height() const { return canvas_h_; }
+  int cell_width() const { return cell_w_; }
+  int cell_height() const { return cell_h_; }
+  const GridLayout& layout() const { return layout_; }
+  int cell_x(int index) const;  // top-left corner of cell `index` (row-major)
+  int cell_y(int index) const;
+  int label_scale() const;
+
+  // Composes tiles[i] into cell i with labels[i] (empty label: none). Fewer tiles than
+  // cells leave the rest as background; more is an error (std::invalid_argument).
+  // A tile larger than the cell is cropped to it (centred). `out` is resized as needed
+  // and reused from frame to frame without reallocating.
+  void compose(const std::vector<const Image*>& tiles, const std::vector<std::string>& labels,
+               Image& out) const;
+
+ private:
+  GridLayout layout_;
+  int cell_w_, cell_h_;
+  TilingStyle style_;
+  int canvas_w_, canvas_h_, origin_x_, origin_y_;
+};
+
+// Copies `src` into `dst` with its top-left at (x, y), clipped to dst.
+void blit(const Image& src, Image& dst, int x, int y);
+// Fills the rectangle (clipped) with one colour.
+void fill_rect(Image& image, int x, int y, int w, int h, Rgba8 color);
+// Draws a label with a margin inside the tile whose top-left is (x, y) and size w x h,
+// at its bottom-left corner.
+void draw_tile_label(Image& image, int x, int y, int w, int h, std::string_view label,
+                     Rgba8 color, int scale);
+
+}  // namespace clothsim

@@ -1,0 +1,319 @@
+// H.264 through libavcodec's send_frame/receive_packet API (FFmpeg >= 4), muxed by
+// libavformat. See video_writer.h for the choices; this file is the plumbing.
+#include "video_writer.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/imgutils.h>
+#include <libavutil/log.h>
+#include <libavutil/opt.h>
+#include <libswscale/swscale.h>
+}
+
+namespace clothsim {
+
+namespace {
+
+// libav reports details of a failure (x264's "Error setting preset", a muxer's reason)
+// through av_log, not through return codes. The default callback prints every INFO line
+// on stderr, which would break the CLI's "one clear line" rule, so we keep only the last
+// error-level message and put it into the exception instead.
+std::mutex g_log_mutex;
+std::string g_last_log_error;
+
+void capture_av_log(void* avcl, int level, const char* fmt, va_list args) {
+  if (level > AV_LOG_ERROR) return;
+  char line[512];
+  int print_prefix = 1;
+  av_log_format_line2(avcl, level, fmt, args, line, sizeof line, &print_prefix);
+  std::string text(line);
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  std::lock_guard<std::mutex> lock(g_log_mutex);
+  g_last_log_error = text;
+}
+
+void install_log_capture() {
+  static std::once_flag once;
+  std::call_once(once, [] { av_log_set_callback(capture_av_log); });
+}
+
+std::string take_log_error() {
+  std::lock_guard<std::mutex> lock(g_log_mutex);
+  std::string text;
+  text.swap(g_last_log_error);
+  return text;
+}
+
+std::string av_error_text(int code) {
+  char buf[AV_ERROR_MAX_STRING_SIZE] = {};
+  av_strerror(code, buf, sizeof buf);
+  return buf;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& what, int code = 0) {
+  std::string message = path + ": " + what;
+  if (code < 0) message += ": " + av_error_text(code);
+  const std::string detail = take_log_error();
+  if (!detail.empty()) message += " (" + detail + ")";
+  throw VideoError(message);
+}
+
+// Beside the target, so the final rename stays within one filesystem (atomic).
+std::string make_temp_path(const std::string& path) {
+  static std::atomic<int> counter{0};
+  return path + "." + std::to_string(::getpid()) + "." + std::to_string(counter++) + ".tmp";
+}
+
+}  // namespace
+
+const std::vector<std::string>& x264_presets() {
+  static const std::vector<std::string> names = {"ultrafast", "superfast", "veryfast", "faster",
+                                                 "fast",      "medium",    "slow",     "slower",
+                                                 "veryslow",  "placebo"};
+  return names;
+}
+
+bool is_x264_preset(std::string_view name) {
+  const auto& names = x264_presets();
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+void validate_video_options(const VideoWriterOptions& options) {
+  if (!std::isfinite(options.fps) || options.fps <= 0.0 || options.fps > 1000.0)
+    throw std::invalid_argument("fps must be in (0, 1000], got " + std::to_string(options.fps));
+  if (options.crf < 0 || options.crf > 51)
+    throw std::invalid_argument("crf must be in 0..51, got " + std::to_string(options.crf));
+  if (!is_x264_preset(options.preset)) {
+    std::string list;
+    for (const auto& n : x264_presets()) list += (list.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("unknown x264 preset '" + options.preset + "' (expected one of " +
+                                list + ")");
+  }
+}
+
+int even_size(int n) { return n + (n & 1); }
+
+struct VideoWriter::Impl {
+  std::string path, temp;
+  int width = 0, height = 0;          // of the input images
+  int enc_width = 0, enc_height = 0;  // even
+  int frames = 0;
+  bool finished = false;
+
+  AVFormatContext* format = nullptr;
+  AVCodecContext* codec = nullptr;
+  AVStream* stream = nullptr;
+  AVFrame* frame = nullptr;     // yuv420p, reused for every picture
+  AVPacket* packet = nullptr;
+  SwsContext* sws = nullptr;
+  std::vector<std::uint8_t> padded;  // RGBA of enc_width x enc_height, only for odd sizes
+
+  ~Impl() { release(); }
+
+  void release() {
+    if (sws) sws_freeContext(sws);
+    sws = nullptr;
+    av_packet_free(&packet);
+    av_frame_free(&frame);
+    avcodec_free_context(&codec);
+    if (format) {
+      if (format->pb) avio_closep(&format->pb);
+      avformat_free_context(format);
+      format = nullptr;
+    }
+  }
+
+  void open(const VideoWriterOptions& options) {
+    install_log_capture();
+    take_log_error();  // forget messages that belong to someone else
+    try {
+      validate_video_options(options);
+    } catch (const std::invalid_argument& e) {
+      fail(path, e.what());
+    }
+    if (width <= 0 || height <= 0)
+      fail(path, "bad frame size " + std::to_string(width) + "x" + std::to_string(height));
+
+    // Container from the target's extension (the temporary's ends in .tmp).
+    const AVOutputFormat* container = av_guess_format(nullptr, path.c_str(), nullptr);
+    if (!container || container->video_codec == AV_CODEC_ID_NONE)
+      container = av_guess_format("mp4", nullptr, nullptr);
+    int ret = avformat_alloc_output_context2(&format, container, nullptr, temp.c_str());
+    if (ret < 0) fail(path, "cannot set up the container", ret);
+
+    const AVCodec* encoder = avcodec_find_encoder_by_name("libx264");
+    if (!encoder) fail(path, "this FFmpeg has no libx264 encoder");
+    stream = avformat_new_stream(format, nullptr);
+    codec = avcodec_alloc_context3(encoder);
+    if (!stream || !codec) fail(path, "out of memory setting up the encoder");
+
+    // An exact rational rate: 30 -> 30/1, 29.97 -> 2997/100; the time base is its
+    // inverse, so frame k has pts k exactly.
+    const AVRational rate = av_d2q(options.fps, 100000);
+    codec->codec_id = AV_CODEC_ID_H264;
+    codec->width = enc_width;
+    codec->height = enc_height;
+    codec->pix_fmt = AV_PIX_FMT_YUV420P;
+    codec->time_base = av_inv_q(rate);
+    codec->framerate = rate;
+    codec->color_range = AVCOL_RANGE_MPEG;
+    codec->colorspace = AVCOL_SPC_BT709;
+    codec->color_primaries = AVCOL_PRI_BT709;
+    codec->color_trc = AVCOL_TRC_BT709;
+    codec->thread_count = 0;  // x264 picks (frame threads over the machine's cores)
+    if (format->oformat->flags & AVFMT_GLOBALHEADER) codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+
+    AVDictionary* codec_opts = nullptr;
+    av_dict_set(&codec_opts, "preset", options.preset.c_str(), 0);
+    av_dict_set(&codec_opts, "crf", std::to_string(options.crf).c_str(), 0);
+    ret = avcodec_open2(codec, encoder, &codec_opts);
+    av_dict_free(&codec_opts);
+    if (ret < 0) fail(path, "cannot open the H.264 encoder", ret);
+
+    stream->time_base = codec->time_base;  // a hint: the muxer may pick a finer one
+    stream->avg_frame_rate = rate;
+    ret = avcodec_parameters_from_context(stream->codecpar, codec);
+    if (ret < 0) fail(path, "cannot copy encoder parameters", ret);
+
+    ret = avio_open(&format->pb, temp.c_str(), AVIO_FLAG_WRITE);
+    if (ret < 0) fail(path, "cannot create temporary file " + temp, ret);
+    AVDictionary* mux_opts = nullptr;
+    if (std::strcmp(format->oformat->name, "mp4") == 0 || std::strcmp(format->oformat->name, "mov") == 0)
+      av_dict_set(&mux_opts, "movflags", "+faststart", 0);
+    ret = avformat_write_header(format, &mux_opts);
+    av_dict_free(&mux_opts);
+    if (ret < 0) fail(path, "cannot write the container header", ret);
+
+    frame = av_frame_alloc();
+    packet = av_packet_alloc();
+    if (!frame || !packet) fail(path, "out of memory");
+    frame->format = AV_PIX_FMT_YUV420P;
+    frame->width = enc_width;
+    frame->height = enc_height;
+    frame->color_range = AVCOL_RANGE_MPEG;
+    frame->colorspace = AVCOL_SPC_BT709;
+    frame->color_primaries = AVCOL_PRI_BT709;
+    frame->color_trc = AVCOL_TRC_BT709;
+    ret = av_frame_get_buffer(frame, 0);
+    if (ret < 0) fail(path, "cannot allocate a frame", ret);
+
+    // Same size in and out: swscale only converts. Full-range RGB in, BT.709 limited-range
+    // YUV out, matching the tags above (swscale's default matrix is BT.601).
+    sws = sws_getContext(enc_width, enc_height, AV_PIX_FMT_RGBA, enc_width, enc_height,
+                         AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND, nullptr, nullptr,
+                         nullptr);
+    if (!sws) fail(path, "cannot set up the RGBA -> YUV conversion");
+    const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
+    sws_setColorspaceDetails(sws, bt709, /*srcRange full*/ 1, bt709, /*dstRange limited*/ 0, 0,
+                             1 << 16, 1 << 16);
+    if (enc_width != width || enc_height != height)
+      padded.resize(static_cast<std::size_t>(enc_width) * enc_height * 4);
+  }
+
+  // Odd sizes: copy into the even buffer, repeating the last column and row, so the
+  // padding continues the picture instead of adding a dark line at the edge.
+  const std::uint8_t* pad(const Image& image) {
+    const std::size_t in_row = static_cast<std::size_t>(width) * 4;
+    const std::size_t out_row = static_cast<std::size_t>(enc_width) * 4;
+    for (int y = 0; y < enc_height; ++y) {
+      const std::uint8_t* src = image.rgba.data() + std::min(y, height - 1) * in_row;
+      std::uint8_t* dst = padded.data() + y * out_row;
+      std::memcpy(dst, src, in_row);
+      if (enc_width != width) std::memcpy(dst + in_row, src + in_row - 4, 4);
+    }
+    return padded.data();
+  }
+
+  // Sends one picture (or nullptr to flush) and writes every packet the encoder has ready.
+  void encode(AVFrame* picture) {
+    int ret = avcodec_send_frame(codec, picture);
+    if (ret < 0) fail(path, "encoder refused a frame", ret);
+    for (;;) {
+      ret = avcodec_receive_packet(codec, packet);
+      if (ret == AVERROR(EAGAIN) || ret == AVERROR_EOF) return;
+      if (ret < 0) fail(path, "encoding failed", ret);
+      av_packet_rescale_ts(packet, codec->time_base, stream->time_base);
+      packet->stream_index = stream->index;
+      ret = av_interleaved_write_frame(format, packet);  // takes the packet's reference
+      if (ret < 0) fail(path, "cannot write to " + temp, ret);
+    }
+  }
+};
+
+VideoWriter::VideoWriter(const std::string& path, int width, int height,
+                         const VideoWriterOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  impl_->temp = make_temp_path(path);
+  impl_->width = width;
+  impl_->height = height;
+  impl_->enc_width = even_size(width);
+  impl_->enc_height = even_size(height);
+  try {
+    impl_->open(options);
+  } catch (...) {
+    impl_->release();
+    std::remove(impl_->temp.c_str());
+    throw;
+  }
+}
+
+VideoWriter::~VideoWriter() {
+  if (!impl_->finished) {
+    impl_->release();
+    std::remove(impl_->temp.c_str());
+  }
+}
+
+void VideoWriter::write(const Image& image) {
+  Impl& w = *impl_;
+  if (w.finished) fail(w.path, "write after finish");
+  if (image.width != w.width || image.height != w.height)
+    fail(w.path, "frame " + std::to_string(w.frames) + " is " + std::to_string(image.width) + "x" +
+                     std::to_string(image.height) + ", expected " + std::to_string(w.width) + "x" +
+                     std::to_string(w.height));
+  // The encoder may still hold a reference to the previous picture's buffers.
+  int ret = av_frame_make_writable(w.frame);
+  if (ret < 0) fail(w.path, "cannot reuse the frame buffer", ret);
+  const std::uint8_t* rgba = w.padded.empty() ? image.rgba.data() : w.pad(image);
+  const std::uint8_t* src[1] = {rgba};
+  const int src_stride[1] = {w.enc_width * 4};
+  sws_scale(w.sws, src, src_stride, 0, w.enc_height, w.frame->data, w.frame->linesize);
+  w.frame->pts = w.frames;
+  w.encode(w.frame);
+  ++w.frames;
+}
+
+void VideoWriter::finish() {
+  Impl& w = *impl_;
+  if (w.finished) return;
+  w.encode(nullptr);  // drain x264's look-ahead
+  int ret = av_write_trailer(w.format);  // +faststart rewrites the file here
+  if (ret < 0) fail(w.path, "cannot finish " + w.temp, ret);
+  ret = avio_closep(&w.format->pb);
+  if (ret < 0) fail(w.path, "cannot close " + w.temp, ret);
+  if (std::rename(w.temp.c_str(), w.path.c_str()) != 0)
+    fail(w.path, std::string("cannot rename the finished file onto it: ") + std::strerror(errno));
+  w.finished = true;
+  w.release();
+}
+
+int VideoWriter::frames_written() const { return impl_->frames; }
+int VideoWriter::width() const { return impl_->width; }
+int VideoWriter::height() const { return impl_->height; }
+int VideoWriter::encoded_width() const { return impl_->enc_width; }
+int VideoWriter::encoded_height() const { return impl_->enc_height; }
+const std::string& VideoWriter::path() const { return impl_->path; }
+const std::string& VideoWriter::temp_path() const { return impl_->temp; }
+
+}  // namespace clothsim
