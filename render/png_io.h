@@ -1,0 +1,26 @@
+// PNG files through libpng: fast zlib settings for frame sequences, tEXt metadata.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "image.h"
+
+namespace clothsim {
+
+struct PngError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+using PngText = std::vector<std::pair<std::string, std::string>>;  // tEXt key/value chunks
+
+// Writes to a temporary file beside `path` and renames it, so a failed write leaves nothing.
+// Throws PngError with the path and reason.
+void write_png(const std::string& path, const Image& image, const PngText& text = {},
+               int zlib_level = 2);
+// Reads any 8-bit PNG (grey, RGB, RGBA, palette) as RGBA. Throws PngError (missing, corrupt).
+Image read_png(const std::string& path, PngText* text = nullptr);
+
+}  // namespace clothsim

@@ -1,0 +1,42 @@
+// Contacts, resolved once per step after the integrator (never inside its stages).
+//
+// Detection: a particle is in contact with a sphere when |x - c| < r + margin, with the
+// ground plane y = h when x_y < h + margin (the seed report's margin, 0.01 m by default).
+//
+// Response: the seed's 1-D collision formula applied to the normal components only,
+//     v_a = (m_a u_a + m_b u_b + m_b C (u_b - u_a)) / (m_a + m_b),
+// written in inverse masses w = 1/m, which is the same as an impulse along the normal n:
+//     j = -(1 + C) (u_a - u_b) / (w_a + w_b),   v_a += w_a j n,   v_b -= w_b j n.
+// So a pinned particle (w = 0) never moves and a kinematic sphere (w = 0) is never pushed,
+// and what a dynamic sphere gains the cloth loses: momentum is conserved.
+// The impulse is applied only while the bodies approach (u_a - u_b < 0); a particle already
+// leaving keeps its velocity (the seed applies it always, which glues cloth to a sphere when
+// C = 0). Tangential velocity is kept, less optional Coulomb friction (|j_t| <= mu |j|).
+// Then the particle is projected to the surface plus margin (the sphere if the particle is
+// pinned), so no particle is left inside a collider after a step.
+#pragma once
+
+#include "model.h"
+#include "state.h"
+
+namespace clothsim {
+
+struct ContactCounts {
+  int cloth_sphere = 0;
+  int cloth_ground = 0;
+  int sphere_sphere = 0;
+  int sphere_ground = 0;
+  int total() const { return cloth_sphere + cloth_ground + sphere_sphere + sphere_ground; }
+};
+
+// Normal impulse between two bodies (the formula above), pure. Returns j along n for body a
+// (b receives -j). Zero when both are immovable or they are separating.
+double contact_impulse(double u_a, double u_b, double w_a, double w_b, double restitution);
+
+// Coulomb friction impulse along the tangential relative velocity vt (pure): the impulse on
+// a that removes at most mu |jn| of tangential momentum, never reversing vt.
+Vec3 friction_impulse(const Vec3& vt, double jn, double w_a, double w_b, double mu);
+
+ContactCounts resolve_collisions(const Model& model, State& state);
+
+}  // namespace clothsim

@@ -1,0 +1,67 @@
+#include "forces.h"
+
+#include <cmath>
+
+#include "spring_force.h"
+
+namespace clothsim {
+
+// The hot loop of every integrator. Springs are streamed as a structure of arrays; the
+// kernel is written out (rather than calling spring_damper_force) so that the compiler keeps
+// everything in registers and the one sqrt and one division per spring are explicit.
+void accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& x,
+                              const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
+  const std::size_t n = springs.size();
+  const std::int32_t* ia = springs.a.data();
+  const std::int32_t* ib = springs.b.data();
+  const double* rest = springs.rest.data();
+  const double* ks = springs.ks.data();
+  const double* kd = springs.kd.data();
+  const double* px = x.data();
+  const double* pv = v.data();
+  double* pf = f.data();
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::size_t a = 3 * static_cast<std::size_t>(ia[s]);
+    const std::size_t b = 3 * static_cast<std::size_t>(ib[s]);
+    const double dx = px[a] - px[b], dy = px[a + 1] - px[b + 1], dz = px[a + 2] - px[b + 2];
+    const double l = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (l <= 0.0) continue;  // coincident particles: no direction, no force (as the kernel)
+    const double inv_l = 1.0 / l;
+    const double ux = dx * inv_l, uy = dy * inv_l, uz = dz * inv_l;
+    const double vrel = (pv[a] - pv[b]) * ux + (pv[a + 1] - pv[b + 1]) * uy +
+                        (pv[a + 2] - pv[b + 2]) * uz;
+    // f_a = (-ks (l - l0) - kd (vr . u)) u, f_b = -f_a (the seed's formula).
+    const double mag = -ks[s] * (l - rest[s]) - kd[s] * vrel;
+    const double fx = mag * ux, fy = mag * uy, fz = mag * uz;
+    pf[a] += fx;
+    pf[a + 1] += fy;
+    pf[a + 2] += fz;
+    pf[b] -= fx;
+    pf[b + 1] -= fy;
+    pf[b + 2] -= fz;
+  }
+}
+
+void total_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
+                  const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& f) {
+  const int B = model.num_bodies();
+  f.setZero(3, B);
+  accumulate_spring_forces(model.springs, x, v, f);
+  const double drag = model.air_drag;
+  for (int i = 0; i < B; ++i) {
+    if (inv_mass[i] == 0.0) {  // pinned particle or kinematic sphere: filtered
+      f.col(i).setZero();
+      continue;
+    }
+    if (model.gravity_on[i]) f.col(i) += model.mass[i] * model.gravity;
+    if (i < model.num_particles && drag != 0.0) f.col(i) -= drag * v.col(i);  // air acts on cloth
+  }
+}
+
+void accelerations(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
+                   const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& a) {
+  total_forces(model, x, v, inv_mass, a);
+  a.array().rowwise() *= inv_mass.transpose().array();  // a_i = f_i / m_i, 0 where immovable
+}
+
+}  // namespace clothsim

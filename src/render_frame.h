@@ -1,0 +1,61 @@
+// RenderFrame: the snapshot the renderer draws, and all it may know of a scene.
+// Filled on the engine side by make_render_frame() (snapshot.h); read by render/.
+// Plain values only: no Eigen, no GL, so render/ and the engine share nothing else.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace clothsim {
+
+using Rgb = std::array<float, 3>;  // linear 0..1
+
+struct RenderCamera {
+  std::array<float, 3> eye{0.f, 2.f, -10.f};
+  std::array<float, 3> target{0.f, 0.f, 0.f};
+  std::array<float, 3> up{0.f, 1.f, 0.f};
+  float fov_deg = 45.f;  // vertical field of view
+};
+
+struct RenderSphere {
+  std::array<float, 3> center{0.f, 0.f, 0.f};
+  float radius = 1.f;
+  Rgb color{0.80f, 0.25f, 0.20f};
+};
+
+struct RenderFrame {
+  int width = 1280, height = 720;  // pixels of the image to produce
+  int samples = 4;                 // MSAA samples (1 = none)
+  RenderCamera camera;
+  Rgb background{0.93f, 0.94f, 0.96f};
+
+  // Cloth: a triangle mesh over the particle grid.
+  std::vector<float> cloth_positions;        // (3 x P) m
+  std::vector<float> cloth_normals;          // (3 x P) unit, area-weighted vertex normals
+  std::vector<float> cloth_uv;               // (2 x P) grid coordinates in [0,1], for the checker
+  std::vector<std::uint32_t> cloth_triangles;  // (3 x T) indices into the particle arrays
+  int checker_cells_u = 8, checker_cells_v = 8;  // checker squares across the cloth
+  Rgb cloth_front{0.20f, 0.45f, 0.85f};
+  Rgb cloth_back{0.95f, 0.70f, 0.20f};
+
+  // Optional spring / particle overlay (the course's UI toggles).
+  std::vector<std::uint32_t> spring_lines;   // (2 x L) particle index pairs to draw as lines
+  std::vector<std::uint8_t> spring_types;    // (L) 0 structural, 1 shear, 2 bend: line colour
+  bool draw_particles = false;
+
+  std::vector<RenderSphere> spheres;
+
+  bool has_ground = false;
+  float ground_height = 0.f;                 // plane y = ground_height
+  Rgb ground_color{0.82f, 0.82f, 0.80f};
+  float ground_grid_spacing = 0.5f;          // m between grid lines
+  bool shadows = true;                       // shadow of cloth and spheres on the ground
+
+  // Text drawn over the image with the built-in bitmap font (deterministic across machines).
+  std::vector<std::string> overlay_lines;    // top-left, one per line (scene, integrator, dt, t)
+  std::string banner;                        // centred, red: e.g. "DIVERGED at t = 1.234 s"
+};
+
+}  // namespace clothsim

@@ -1,0 +1,131 @@
+// SceneDef: a validated scene as plain values, exactly what the YAML said with the
+// defaults filled in. Defaults live here (member initialisers) and nowhere else; the
+// parser (scene_parser.cpp) only overwrites what a file sets, and docs/scenes.md lists them.
+// Units are SI throughout: m, s, kg, N/m, N s/m.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "integrator_kind.h"
+
+namespace clothsim {
+
+using Vec3 = Eigen::Vector3d;
+
+struct SpringParams {
+  double stiffness = 20000.0;  // N/m
+  double damping = 750.0;      // N s/m, along the spring axis only
+};
+
+enum class ClothPlane { XZ, XY };  // xz: lying flat (normal +y); xy: hanging (normal +z)
+
+struct GridIndex {
+  int i = 0;  // column, 0..nx-1 (along the first axis of the plane)
+  int j = 0;  // row,    0..ny-1 (along the second axis; for xy, j = 0 is the top row)
+};
+
+enum class PinMode { None, Corners, TopEdge, List };
+
+struct ClothDef {
+  int nx = 25, ny = 25;           // particles along each axis; [2, 1] is a single spring
+  double size_x = 4.0, size_y = 4.0;  // m, extent along each axis (ignored along an axis with 1 particle)
+  Vec3 center{0.0, 1.0, 0.0};      // m
+  ClothPlane plane = ClothPlane::XZ;
+  double particle_mass = 1.0;      // kg per particle
+  std::optional<SpringParams> structural, shear, bend;  // absent: not built at all
+  PinMode pin_mode = PinMode::Corners;
+  std::vector<GridIndex> pinned;   // PinMode::List only
+  // Initial displacement of particle (nx-1, 0) along the first axis, m; lets spring.yaml
+  // start stretched. Also an initial velocity for every free particle.
+  double initial_stretch = 0.0;
+  Vec3 initial_velocity{0.0, 0.0, 0.0};  // m/s
+};
+
+struct Keyframe {
+  double t = 0.0;   // s: from this time on the sphere moves with `velocity`
+  Vec3 velocity{0.0, 0.0, 0.0};  // m/s
+};
+
+struct SphereDef {
+  Vec3 center{0.0, 0.0, 0.0};     // m
+  double radius = 1.0;             // m
+  bool kinematic = true;           // true: infinite mass, moves only as scripted
+  double mass = 1.0;               // kg, dynamic spheres only
+  bool gravity = true;             // dynamic spheres: whether gravity acts on it
+  double restitution = 0.0;        // cloth-sphere coefficient of restitution C_R, [0, 1]
+  double friction = 0.0;           // Coulomb coefficient for cloth-sphere contact, >= 0
+  Vec3 velocity{0.0, 0.0, 0.0};    // m/s initial
+  std::vector<Keyframe> motion;    // kinematic spheres: velocity keyframes, increasing t
+};
+
+struct GroundDef {
+  double height = 0.0;       // m, plane y = height
+  double restitution = 0.0;  // [0, 1]
+  double friction = 0.0;     // Coulomb coefficient, >= 0
+};
+
+struct CollisionDef {
+  double margin = 0.01;                // m, contact distance beyond a surface (the seed's 0.01)
+  bool sphere_sphere = false;          // resolve sphere-sphere contacts
+  double sphere_restitution = 0.8;     // C_R between spheres
+};
+
+struct EventDef {
+  double t = 0.0;                      // s
+  std::vector<GridIndex> pin, unpin;   // particles to pin (freeze) or release at t
+};
+
+struct CameraDef {
+  Vec3 eye{0.0, 2.0, -10.0};   // m, the course's default camera
+  Vec3 target{0.0, 0.0, 0.0};
+  Vec3 up{0.0, 1.0, 0.0};
+  double fov = 45.0;            // degrees, vertical
+};
+
+struct RenderDef {
+  int width = 1280, height = 720;  // pixels
+  double fps = 30.0;               // output frames per simulated second
+  CameraDef camera;
+  bool draw_springs = false;       // overlay the springs as lines, as the course's UI did
+  bool draw_particles = false;
+  int samples = 4;                 // MSAA samples
+};
+
+enum class ImplicitSolver { Newton, FixedPoint };
+
+struct ImplicitDef {
+  ImplicitSolver solver = ImplicitSolver::Newton;
+  int newton_max_iterations = 10;  // 1 = Baraff-Witkin's single linearised step
+  double newton_tolerance = 1e-6;  // on |M dv - h f(x+h(v+dv), v+dv)| relative to |h f|
+  int cg_max_iterations = 200;
+  double cg_tolerance = 1e-8;      // relative residual of each linear solve
+  int fixed_point_iterations = 1;  // solver: fixed_point; 1 reproduces the course framework
+};
+
+struct DivergenceDef {
+  double max_strain = 10.0;        // stop when a spring exceeds (1 + max_strain) x rest length
+  double max_energy_factor = 1e4;  // stop when kinetic energy exceeds factor x the scene's energy scale
+};
+
+struct SceneDef {
+  std::string source;              // path the scene came from, for messages
+  std::string name = "scene";
+  double duration = 5.0;           // s simulated
+  double dt = 1e-4;                // s per step
+  IntegratorKind integrator = IntegratorKind::SymplecticEuler;
+  Vec3 gravity{0.0, -9.8, 0.0};    // m/s^2
+  double air_drag = 0.0;           // N s/m per particle, viscous: f = -c v
+  ClothDef cloth;
+  std::vector<SphereDef> spheres;
+  std::optional<GroundDef> ground;
+  CollisionDef collision;
+  std::vector<EventDef> events;
+  RenderDef render;
+  ImplicitDef implicit;
+  DivergenceDef divergence;
+};
+
+}  // namespace clothsim

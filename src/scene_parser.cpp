@@ -1,0 +1,493 @@
+// The scene parser: text -> YAML tree (+ --set overrides) -> SceneDef, validating as it
+// reads. Every field is read by one typed accessor that knows its dotted key and its node's
+// line, so every error can say where it is; every map is checked for keys it does not know.
+#include "scene_parser.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+#include <sys/stat.h>
+
+namespace clothsim {
+
+namespace {
+std::string format_error(const std::string& file, int line, const std::string& key,
+                         const std::string& what) {
+  std::string out = file;
+  if (line > 0) out += ":" + std::to_string(line);
+  if (!key.empty()) out += ": " + key;
+  return out + ": " + what;
+}
+}  // namespace
+
+SceneError::SceneError(std::string file_, int line_, std::string key_, const std::string& what)
+    : std::runtime_error(format_error(file_, line_, key_, what)),
+      file(std::move(file_)),
+      line(line_),
+      key(std::move(key_)) {}
+
+namespace {
+
+std::string join(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+const char* type_name(const YAML::Node& n) {
+  switch (n.Type()) {
+    case YAML::NodeType::Map: return "a map";
+    case YAML::NodeType::Sequence: return "a list";
+    case YAML::NodeType::Scalar: return "a scalar";
+    case YAML::NodeType::Null: return "nothing (null)";
+    default: return "nothing";
+  }
+}
+
+// Reads one scene's YAML tree into a SceneDef. Holds the file name and which dotted keys
+// came from --set, so an error in an overridden value names the override, not a line.
+class Reader {
+ public:
+  Reader(std::string file, std::map<std::string, std::string> overrides)
+      : file_(std::move(file)), overrides_(std::move(overrides)) {}
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& what) const {
+    for (const auto& [path, text] : overrides_)
+      if (key == path || key.rfind(path + ".", 0) == 0 || path.rfind(key + ".", 0) == 0)
+        throw SceneError(file_, 0, "--set " + text, what);
+    const int line = node.IsDefined() && !node.Mark().is_null() ? node.Mark().line + 1 : 0;
+    throw SceneError(file_, line, key, what);
+  }
+
+  // Checks that `node` is a map whose keys are all in `allowed`, with no duplicates.
+  void expect_map(const YAML::Node& node, const std::string& path,
+                  std::initializer_list<const char*> allowed) const {
+    if (!node.IsMap()) fail(node, path, std::string("expected a map, got ") + type_name(node));
+    std::set<std::string> seen;
+    for (const auto& kv : node) {
+      const std::string k = kv.first.Scalar();
+      bool known = false;
+      for (const char* a : allowed) known = known || k == a;
+      if (!known) {
+        std::string list;
+        for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+        fail(kv.first, join(path, k), "unknown key (expected one of: " + list + ")");
+      }
+      if (!seen.insert(k).second) fail(kv.first, join(path, k), "duplicate key");
+    }
+  }
+
+  double number(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n, key, std::string("expected a number, got ") + type_name(n));
+    double v = 0.0;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(n, key, "expected a number, got '" + n.Scalar() + "'");
+    }
+    if (!std::isfinite(v)) fail(n, key, "expected a finite number, got '" + n.Scalar() + "'");
+    return v;
+  }
+
+  int integer(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n, key, std::string("expected an integer, got ") + type_name(n));
+    try {
+      return n.as<int>();
+    } catch (const YAML::Exception&) {
+      fail(n, key, "expected an integer, got '" + n.Scalar() + "'");
+    }
+  }
+
+  bool boolean(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n, key, std::string("expected true or false, got ") + type_name(n));
+    try {
+      return n.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(n, key, "expected true or false, got '" + n.Scalar() + "'");
+    }
+  }
+
+  std::string string(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n, key, std::string("expected a string, got ") + type_name(n));
+    return n.Scalar();
+  }
+
+  Vec3 vec3(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsSequence() || n.size() != 3)
+      fail(n, key, "expected a list of 3 numbers [x, y, z]");
+    return Vec3(number(n[0], key + "[0]"), number(n[1], key + "[1]"), number(n[2], key + "[2]"));
+  }
+
+  // Range checks: `lo`/`hi` bounds, inclusive unless stated; messages give the allowed range.
+  double in_range(const YAML::Node& n, const std::string& key, double lo, double hi,
+                  bool lo_open = false) const {
+    const double v = number(n, key);
+    const bool ok = (lo_open ? v > lo : v >= lo) && v <= hi;
+    if (!ok) {
+      std::ostringstream msg;
+      msg << "value " << n.Scalar() << " out of range: must be " << (lo_open ? "> " : ">= ") << lo;
+      if (std::isfinite(hi)) msg << " and <= " << hi;
+      fail(n, key, msg.str());
+    }
+    return v;
+  }
+  double positive(const YAML::Node& n, const std::string& key) const {
+    return in_range(n, key, 0.0, INFINITY, true);
+  }
+  double non_negative(const YAML::Node& n, const std::string& key) const {
+    return in_range(n, key, 0.0, INFINITY);
+  }
+  int int_in_range(const YAML::Node& n, const std::string& key, int lo, int hi) const {
+    const int v = integer(n, key);
+    if (v < lo || v > hi)
+      fail(n, key, "value " + n.Scalar() + " out of range: must be from " + std::to_string(lo) +
+                       " to " + std::to_string(hi));
+    return v;
+  }
+
+  // Calls `read(value_node, dotted_key)` if `key` is present in `map`.
+  void optional(const YAML::Node& map, const std::string& path, const char* key,
+                const std::function<void(const YAML::Node&, const std::string&)>& read) const {
+    const YAML::Node n = map[key];
+    if (n.IsDefined()) read(n, join(path, key));
+  }
+
+  SceneDef scene(const YAML::Node& root) const;
+
+ private:
+  ClothDef cloth(const YAML::Node& n, const std::string& path) const;
+  std::optional<SpringParams> springs(const YAML::Node& n, const std::string& path) const;
+  GridIndex grid_index(const YAML::Node& n, const std::string& key, const ClothDef& c) const;
+  std::vector<GridIndex> grid_list(const YAML::Node& n, const std::string& key, const ClothDef& c) const;
+  SphereDef sphere(const YAML::Node& n, const std::string& path) const;
+  RenderDef render(const YAML::Node& n, const std::string& path) const;
+  ImplicitDef implicit(const YAML::Node& n, const std::string& path) const;
+
+  std::string file_;
+  std::map<std::string, std::string> overrides_;  // dotted key -> "KEY=VALUE" as typed
+};
+
+SceneDef Reader::scene(const YAML::Node& root) const {
+  SceneDef s;
+  s.source = file_;
+  expect_map(root, "", {"name", "duration", "dt", "integrator", "gravity", "air_drag", "cloth",
+                        "spheres", "ground", "collision", "events", "render", "implicit",
+                        "divergence"});
+  optional(root, "", "name", [&](auto& n, auto& k) { s.name = string(n, k); });
+  optional(root, "", "duration", [&](auto& n, auto& k) { s.duration = non_negative(n, k); });
+  optional(root, "", "dt", [&](auto& n, auto& k) { s.dt = positive(n, k); });
+  optional(root, "", "integrator", [&](auto& n, auto& k) {
+    const auto kind = parse_integrator(string(n, k));
+    if (!kind) fail(n, k, "unknown integrator '" + n.Scalar() + "' (expected one of: " + integrator_names_joined() + ")");
+    s.integrator = *kind;
+  });
+  optional(root, "", "gravity", [&](auto& n, auto& k) { s.gravity = vec3(n, k); });
+  optional(root, "", "air_drag", [&](auto& n, auto& k) { s.air_drag = non_negative(n, k); });
+  const YAML::Node cloth_node = root["cloth"];
+  if (!cloth_node.IsDefined()) fail(root, "cloth", "missing: every scene has a cloth (see docs/scenes.md)");
+  s.cloth = cloth(cloth_node, "cloth");
+  optional(root, "", "spheres", [&](auto& n, auto& k) {
+    if (!n.IsSequence()) fail(n, k, std::string("expected a list of spheres, got ") + type_name(n));
+    for (std::size_t i = 0; i < n.size(); ++i) s.spheres.push_back(sphere(n[i], k + "." + std::to_string(i)));
+  });
+  optional(root, "", "ground", [&](auto& n, auto& k) {
+    expect_map(n, k, {"height", "restitution", "friction"});
+    GroundDef g;
+    optional(n, k, "height", [&](auto& v, auto& kk) { g.height = number(v, kk); });
+    optional(n, k, "restitution", [&](auto& v, auto& kk) { g.restitution = in_range(v, kk, 0, 1); });
+    optional(n, k, "friction", [&](auto& v, auto& kk) { g.friction = non_negative(v, kk); });
+    s.ground = g;
+  });
+  optional(root, "", "collision", [&](auto& n, auto& k) {
+    expect_map(n, k, {"margin", "sphere_sphere", "sphere_restitution"});
+    optional(n, k, "margin", [&](auto& v, auto& kk) { s.collision.margin = non_negative(v, kk); });
+    optional(n, k, "sphere_sphere", [&](auto& v, auto& kk) { s.collision.sphere_sphere = boolean(v, kk); });
+    optional(n, k, "sphere_restitution", [&](auto& v, auto& kk) { s.collision.sphere_restitution = in_range(v, kk, 0, 1); });
+  });
+  optional(root, "", "events", [&](auto& n, auto& k) {
+    if (!n.IsSequence()) fail(n, k, std::string("expected a list of events, got ") + type_name(n));
+    for (std::size_t i = 0; i < n.size(); ++i) {
+      const std::string p = k + "." + std::to_string(i);
+      expect_map(n[i], p, {"t", "pin", "unpin"});
+      EventDef e;
+      if (!n[i]["t"].IsDefined()) fail(n[i], p + ".t", "missing: an event needs its time t");
+      e.t = non_negative(n[i]["t"], p + ".t");
+      optional(n[i], p, "pin", [&](auto& v, auto& kk) { e.pin = grid_list(v, kk, s.cloth); });
+      optional(n[i], p, "unpin", [&](auto& v, auto& kk) { e.unpin = grid_list(v, kk, s.cloth); });
+      if (e.pin.empty() && e.unpin.empty()) fail(n[i], p, "an event needs pin or unpin");
+      s.events.push_back(e);
+    }
+  });
+  optional(root, "", "render", [&](auto& n, auto& k) { s.render = render(n, k); });
+  optional(root, "", "implicit", [&](auto& n, auto& k) { s.implicit = implicit(n, k); });
+  optional(root, "", "divergence", [&](auto& n, auto& k) {
+    expect_map(n, k, {"max_strain", "max_energy_factor"});
+    optional(n, k, "max_strain", [&](auto& v, auto& kk) { s.divergence.max_strain = positive(v, kk); });
+    optional(n, k, "max_energy_factor", [&](auto& v, auto& kk) { s.divergence.max_energy_factor = positive(v, kk); });
+  });
+  return s;
+}
+
+ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
+  ClothDef c;
+  expect_map(n, path, {"particles", "size", "center", "plane", "particle_mass", "springs", "pinned",
+                       "initial_stretch", "initial_velocity"});
+  optional(n, path, "particles", [&](auto& v, auto& k) {
+    if (!v.IsSequence() || v.size() != 2) fail(v, k, "expected [nx, ny], particles along each axis");
+    c.nx = int_in_range(v[0], k + "[0]", 1, 2048);
+    c.ny = int_in_range(v[1], k + "[1]", 1, 2048);
+  });
+  optional(n, path, "size", [&](auto& v, auto& k) {
+    if (!v.IsSequence() || v.size() != 2) fail(v, k, "expected [width, height] in m");
+    c.size_x = positive(v[0], k + "[0]");
+    c.size_y = positive(v[1], k + "[1]");
+  });
+  optional(n, path, "center", [&](auto& v, auto& k) { c.center = vec3(v, k); });
+  optional(n, path, "plane", [&](auto& v, auto& k) {
+    const std::string p = string(v, k);
+    if (p == "xz") c.plane = ClothPlane::XZ;
+    else if (p == "xy") c.plane = ClothPlane::XY;
+    else fail(v, k, "unknown plane '" + p + "' (expected xz or xy)");
+  });
+  optional(n, path, "particle_mass", [&](auto& v, auto& k) { c.particle_mass = positive(v, k); });
+  optional(n, path, "springs", [&](auto& v, auto& k) {
+    expect_map(v, k, {"structural", "shear", "bend"});
+    c.structural = springs(v["structural"], k + ".structural");
+    c.shear = springs(v["shear"], k + ".shear");
+    c.bend = springs(v["bend"], k + ".bend");
+  });
+  optional(n, path, "pinned", [&](auto& v, auto& k) {
+    if (v.IsScalar()) {
+      const std::string mode = v.Scalar();
+      if (mode == "corners") c.pin_mode = PinMode::Corners;
+      else if (mode == "top_edge") c.pin_mode = PinMode::TopEdge;
+      else if (mode == "none") c.pin_mode = PinMode::None;
+      else fail(v, k, "unknown pinning '" + mode + "' (expected corners, top_edge, none or [[i, j], ...])");
+    } else {
+      c.pin_mode = PinMode::List;
+      c.pinned = grid_list(v, k, c);
+    }
+  });
+  optional(n, path, "initial_stretch", [&](auto& v, auto& k) { c.initial_stretch = number(v, k); });
+  optional(n, path, "initial_velocity", [&](auto& v, auto& k) { c.initial_velocity = vec3(v, k); });
+  if (c.nx * c.ny < 1) fail(n, path + ".particles", "a cloth needs at least one particle");
+  return c;
+}
+
+std::optional<SpringParams> Reader::springs(const YAML::Node& n, const std::string& path) const {
+  if (!n.IsDefined()) return std::nullopt;  // omitted type: not built
+  expect_map(n, path, {"stiffness", "damping"});
+  SpringParams p;
+  optional(n, path, "stiffness", [&](auto& v, auto& k) { p.stiffness = non_negative(v, k); });
+  optional(n, path, "damping", [&](auto& v, auto& k) { p.damping = non_negative(v, k); });
+  return p;
+}
+
+GridIndex Reader::grid_index(const YAML::Node& n, const std::string& key, const ClothDef& c) const {
+  if (!n.IsSequence() || n.size() != 2) fail(n, key, "expected a particle index [i, j]");
+  GridIndex g{integer(n[0], key + "[0]"), integer(n[1], key + "[1]")};
+  if (g.i < 0 || g.i >= c.nx || g.j < 0 || g.j >= c.ny)
+    fail(n, key, "particle [" + std::to_string(g.i) + ", " + std::to_string(g.j) +
+                     "] is outside the " + std::to_string(c.nx) + " x " + std::to_string(c.ny) + " grid");
+  return g;
+}
+
+std::vector<GridIndex> Reader::grid_list(const YAML::Node& n, const std::string& key,
+                                         const ClothDef& c) const {
+  if (!n.IsSequence()) fail(n, key, "expected a list of particle indices [[i, j], ...]");
+  std::vector<GridIndex> out;
+  for (std::size_t i = 0; i < n.size(); ++i)
+    out.push_back(grid_index(n[i], key + "." + std::to_string(i), c));
+  return out;
+}
+
+SphereDef Reader::sphere(const YAML::Node& n, const std::string& path) const {
+  SphereDef s;
+  expect_map(n, path, {"center", "radius", "kinematic", "mass", "gravity", "restitution",
+                       "friction", "velocity", "motion"});
+  optional(n, path, "center", [&](auto& v, auto& k) { s.center = vec3(v, k); });
+  optional(n, path, "radius", [&](auto& v, auto& k) { s.radius = positive(v, k); });
+  optional(n, path, "kinematic", [&](auto& v, auto& k) { s.kinematic = boolean(v, k); });
+  optional(n, path, "mass", [&](auto& v, auto& k) {
+    s.mass = positive(v, k);
+    if (s.kinematic) fail(v, k, "a kinematic sphere has no mass (set kinematic: false for a dynamic one)");
+  });
+  optional(n, path, "gravity", [&](auto& v, auto& k) { s.gravity = boolean(v, k); });
+  optional(n, path, "restitution", [&](auto& v, auto& k) { s.restitution = in_range(v, k, 0, 1); });
+  optional(n, path, "friction", [&](auto& v, auto& k) { s.friction = non_negative(v, k); });
+  optional(n, path, "velocity", [&](auto& v, auto& k) { s.velocity = vec3(v, k); });
+  optional(n, path, "motion", [&](auto& v, auto& k) {
+    if (!s.kinematic) fail(v, k, "only a kinematic sphere follows scripted motion");
+    if (!v.IsSequence()) fail(v, k, "expected a list of keyframes [{t: s, velocity: [x, y, z]}, ...]");
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const std::string p = k + "." + std::to_string(i);
+      expect_map(v[i], p, {"t", "velocity"});
+      if (!v[i]["t"].IsDefined() || !v[i]["velocity"].IsDefined())
+        fail(v[i], p, "a keyframe needs t and velocity");
+      Keyframe kf{non_negative(v[i]["t"], p + ".t"), vec3(v[i]["velocity"], p + ".velocity")};
+      if (!s.motion.empty() && kf.t < s.motion.back().t)
+        fail(v[i]["t"], p + ".t", "keyframes must be in increasing time");
+      s.motion.push_back(kf);
+    }
+  });
+  return s;
+}
+
+RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
+  RenderDef r;
+  expect_map(n, path, {"width", "height", "fps", "camera", "draw_springs", "draw_particles", "samples"});
+  optional(n, path, "width", [&](auto& v, auto& k) { r.width = int_in_range(v, k, 16, 8192); });
+  optional(n, path, "height", [&](auto& v, auto& k) { r.height = int_in_range(v, k, 16, 8192); });
+  optional(n, path, "fps", [&](auto& v, auto& k) { r.fps = in_range(v, k, 0.0, 1000.0, true); });
+  optional(n, path, "draw_springs", [&](auto& v, auto& k) { r.draw_springs = boolean(v, k); });
+  optional(n, path, "draw_particles", [&](auto& v, auto& k) { r.draw_particles = boolean(v, k); });
+  optional(n, path, "samples", [&](auto& v, auto& k) { r.samples = int_in_range(v, k, 1, 16); });
+  optional(n, path, "camera", [&](auto& v, auto& k) {
+    expect_map(v, k, {"eye", "target", "up", "fov"});
+    optional(v, k, "eye", [&](auto& w, auto& kk) { r.camera.eye = vec3(w, kk); });
+    optional(v, k, "target", [&](auto& w, auto& kk) { r.camera.target = vec3(w, kk); });
+    optional(v, k, "up", [&](auto& w, auto& kk) { r.camera.up = vec3(w, kk); });
+    optional(v, k, "fov", [&](auto& w, auto& kk) { r.camera.fov = in_range(w, kk, 1.0, 170.0); });
+    if ((r.camera.eye - r.camera.target).norm() == 0.0) fail(v, k, "eye and target coincide");
+  });
+  return r;
+}
+
+ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const {
+  ImplicitDef d;
+  expect_map(n, path, {"solver", "newton_max_iterations", "newton_tolerance", "cg_max_iterations",
+                       "cg_tolerance", "iterations"});
+  optional(n, path, "solver", [&](auto& v, auto& k) {
+    const std::string s = string(v, k);
+    if (s == "newton") d.solver = ImplicitSolver::Newton;
+    else if (s == "fixed_point") d.solver = ImplicitSolver::FixedPoint;
+    else fail(v, k, "unknown solver '" + s + "' (expected newton or fixed_point)");
+  });
+  optional(n, path, "newton_max_iterations", [&](auto& v, auto& k) { d.newton_max_iterations = int_in_range(v, k, 1, 1000); });
+  optional(n, path, "newton_tolerance", [&](auto& v, auto& k) { d.newton_tolerance = positive(v, k); });
+  optional(n, path, "cg_max_iterations", [&](auto& v, auto& k) { d.cg_max_iterations = int_in_range(v, k, 1, 100000); });
+  optional(n, path, "cg_tolerance", [&](auto& v, auto& k) { d.cg_tolerance = positive(v, k); });
+  optional(n, path, "iterations", [&](auto& v, auto& k) { d.fixed_point_iterations = int_in_range(v, k, 1, 1000); });
+  return d;
+}
+
+// --set KEY=VALUE: walks the dotted key into the tree (creating map entries, so a key the
+// file leaves at its default can be set; list items by index), and puts VALUE, parsed as
+// YAML, there. Whether the key exists in the schema is the reader's unknown-key check.
+void apply_override(YAML::Node& root, const std::string& text, const std::string& file,
+                    std::map<std::string, std::string>& applied) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError(file, 0, "--set " + text, "expected KEY=VALUE, e.g. cloth.springs.structural.stiffness=1e5");
+  const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
+  YAML::Node parsed;
+  try {
+    parsed = YAML::Load(value);
+  } catch (const YAML::Exception& e) {
+    throw SceneError(file, 0, "--set " + text, "value is not valid YAML: " + e.msg);
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string part; std::getline(ss, part, '.');) {
+    if (part.empty()) throw SceneError(file, 0, "--set " + text, "empty component in key '" + key + "'");
+    parts.push_back(part);
+  }
+  YAML::Node cur;
+  cur.reset(root);
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    const std::string& p = parts[i];
+    YAML::Node next;
+    if (cur.IsSequence()) {
+      std::size_t idx = 0;
+      try {
+        idx = std::stoul(p);
+      } catch (const std::exception&) {
+        throw SceneError(file, 0, "--set " + text, "'" + p + "' is not an index into a list");
+      }
+      if (idx >= cur.size())
+        throw SceneError(file, 0, "--set " + text, "index " + p + " is past the end of a list of " + std::to_string(cur.size()));
+      next.reset(cur[idx]);
+    } else if (cur.IsMap() || cur.IsNull() || !cur.IsDefined()) {
+      next.reset(cur[p]);
+    } else {
+      throw SceneError(file, 0, "--set " + text, "'" + p + "' is inside a value that is not a map");
+    }
+    cur.reset(next);
+  }
+  if (cur.IsSequence()) {
+    std::size_t idx = 0;
+    try {
+      idx = std::stoul(parts.back());
+    } catch (const std::exception&) {
+      throw SceneError(file, 0, "--set " + text, "'" + parts.back() + "' is not an index into a list");
+    }
+    if (idx >= cur.size())
+      throw SceneError(file, 0, "--set " + text, "index past the end of the list");
+    cur[idx] = parsed;
+  } else if (cur.IsScalar()) {
+    throw SceneError(file, 0, "--set " + text, "'" + parts.back() + "' is inside a value that is not a map");
+  } else {
+    cur[parts.back()] = parsed;
+  }
+  applied[key] = text;
+}
+
+// Text sanity before YAML: yaml-cpp's messages for binary junk and tabs are cryptic.
+void check_text(const std::string& text, const std::string& file) {
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw SceneError(file, 0, "", "empty scene file");
+  int line = 1;
+  bool at_line_start = true;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c == 0 || (c < 0x20 && c != '\n' && c != '\r' && c != '\t'))
+      throw SceneError(file, line, "", "not a text file (control byte 0x" +
+                                           std::string(1, "0123456789abcdef"[c >> 4]) +
+                                           std::string(1, "0123456789abcdef"[c & 15]) + ")");
+    if (c == '\t' && at_line_start)
+      throw SceneError(file, line, "", "tab in indentation: YAML indents with spaces only");
+    if (c == '\n') {
+      ++line;
+      at_line_start = true;
+    } else if (c != ' ') {
+      at_line_start = false;
+    }
+  }
+}
+
+}  // namespace
+
+SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
+                     const std::vector<std::string>& overrides) {
+  check_text(yaml_text, source);
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::ParserException& e) {
+    throw SceneError(source, e.mark.is_null() ? 0 : e.mark.line + 1, "", "invalid YAML: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw SceneError(source, 0, "", std::string("invalid YAML: ") + e.what());
+  }
+  if (!root.IsMap())
+    throw SceneError(source, root.Mark().is_null() ? 0 : root.Mark().line + 1, "",
+                     std::string("expected a map of scene keys at the top level, got ") + type_name(root));
+  std::map<std::string, std::string> applied;
+  for (const std::string& o : overrides) apply_override(root, o, source, applied);
+  return Reader(source, applied).scene(root);
+}
+
+SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0) throw SceneError(path, 0, "", "cannot open: no such file");
+  if (S_ISDIR(st.st_mode)) throw SceneError(path, 0, "", "is a directory, not a scene file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path, 0, "", "cannot open for reading");
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  return parse_scene(buf.str(), path, overrides);
+}
+
+}  // namespace clothsim

@@ -1,0 +1,33 @@
+// One parser for scene files: YAML text -> SceneDef, validated. Every key it knows is
+// listed in docs/scenes.md with unit and default (the defaults themselves live in
+// scene_def.h). Unknown keys, wrong types and out-of-range values are errors that name
+// the file, the line and the dotted key, so a user can go straight to the mistake.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scene_def.h"
+
+namespace clothsim {
+
+// "FILE:LINE: KEY: what is wrong" (LINE is omitted for a value that came from --set, which
+// is named instead: "FILE: --set KEY=VALUE: what is wrong").
+struct SceneError : std::runtime_error {
+  SceneError(std::string file, int line, std::string key, const std::string& what);
+  std::string file;
+  int line;  // 1-based; 0 when the error has no line (file unreadable, --set)
+  std::string key;  // dotted path, e.g. "cloth.springs.shear.stiffness"
+};
+
+// Reads and validates a scene file. `overrides` are "dotted.key=VALUE" strings (--set),
+// VALUE parsed as YAML, applied before validation; a key the schema does not have is an
+// error. Throws SceneError; an unreadable file is a SceneError with line 0.
+SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// Same, from text in memory (tests, and scenes built by tools). `source` names it in errors.
+SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
+                     const std::vector<std::string>& overrides = {});
+
+}  // namespace clothsim

@@ -1,0 +1,80 @@
+#include "simulation.h"
+
+#include <cmath>
+
+namespace clothsim {
+
+void apply_due_actions(const Model& model, State& state) {
+  // An action at time t_a is due once the clock has reached it; the tolerance keeps an
+  // action at t = 0.3 from slipping a step because 3000 x 1e-4 rounds to 0.29999999.
+  const double due = state.t + 1e-9 * (1.0 + std::abs(state.t));
+  while (state.next_action < model.timeline.size() &&
+         model.timeline[state.next_action].t <= due) {
+    const TimedAction& act = model.timeline[state.next_action++];
+    switch (act.kind) {
+      case TimedAction::Kind::Pin:
+        state.inv_mass[act.body] = 0.0;
+        state.v.col(act.body).setZero();
+        break;
+      case TimedAction::Kind::Unpin:
+        state.inv_mass[act.body] = 1.0 / model.mass[act.body];
+        break;
+      case TimedAction::Kind::SetVelocity:
+        state.v.col(act.body) = act.velocity;
+        break;
+    }
+  }
+}
+
+StepReport step(const Model& model, State& state, IntegratorKind kind, double h, Workspace& ws) {
+  StepReport report;
+  report.stats = integrate(kind, model, state, h, ws);     // forces are evaluated in here
+  report.contacts = resolve_collisions(model, state);      // once, after the whole step
+  state.step += 1;                                          // time: counted, not accumulated,
+  state.t = static_cast<double>(state.step) * h;            // so t stays exact over 1e5 steps
+  apply_due_actions(model, state);                          // events: pins, sphere keyframes
+  return report;
+}
+
+Run::Run(const Model& model, IntegratorKind kind, double dt)
+    : model_(model), kind_(kind), dt_(dt), state_(initial_state(model)) {}
+
+bool Run::advance_to(double target) {
+  if (divergence_) return false;
+  // Full checks (strain, energy: a pass over the springs) every kFullCheckEvery steps and at
+  // the target; the cheap finiteness check every step, so NaN never propagates far.
+  constexpr std::int64_t kFullCheckEvery = 64;
+  const auto start = std::chrono::steady_clock::now();
+  const double tolerance = 1e-6 * dt_;
+  while (state_.t < target - tolerance) {
+    last_ = step(model_, state_, kind_, dt_, ws_);
+    ++totals_.steps;
+    totals_.force_evals += last_.stats.force_evals;
+    totals_.newton_iterations += last_.stats.newton_iterations;
+    totals_.cg_iterations += last_.stats.cg_iterations;
+    if (!last_.stats.converged) ++totals_.unconverged_steps;
+    totals_.max_residual = std::max(totals_.max_residual, last_.stats.residual);
+    const bool full = state_.step % kFullCheckEvery == 0 || state_.t >= target - tolerance;
+    if ((divergence_ = check_divergence(model_, state_, full))) break;
+  }
+  totals_.sim_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return !divergence_;
+}
+
+FrameMetrics Run::metrics() const {
+  FrameMetrics m;
+  m.step = state_.step;
+  m.t = state_.t;
+  m.energies = compute_energies(model_, state_);
+  m.max_strain = max_strain(model_, state_);
+  m.contacts = last_.contacts.total();
+  m.force_evals = totals_.force_evals;
+  m.newton_iterations = totals_.newton_iterations;
+  m.cg_iterations = totals_.cg_iterations;
+  m.residual = last_.stats.residual;
+  m.converged = last_.stats.converged;
+  return m;
+}
+
+}  // namespace clothsim

@@ -1,0 +1,85 @@
+// The step, and a run of steps with its bookkeeping.
+//
+// step() reads as its phases (Box2D's solver stages):
+//     integrate (forces inside) -> collisions -> time -> events -> divergence check
+// Run wraps a model, a state and a workspace for one integrator and step size, advances to
+// requested times (output frames), keeps running totals and stops at divergence.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+
+#include "collisions.h"
+#include "diagnostics.h"
+#include "integrator.h"
+#include "model.h"
+#include "state.h"
+
+namespace clothsim {
+
+struct StepReport {
+  StepStats stats;
+  ContactCounts contacts;
+};
+
+// One step of size h. Does not check divergence (Run does, at its own cadence).
+StepReport step(const Model& model, State& state, IntegratorKind kind, double h, Workspace& ws);
+
+// Applies every timeline action due at or before state.t (pins, unpins, sphere velocities).
+void apply_due_actions(const Model& model, State& state);
+
+// Running totals of a run.
+struct RunTotals {
+  std::int64_t steps = 0;
+  std::int64_t force_evals = 0;
+  std::int64_t newton_iterations = 0;
+  std::int64_t cg_iterations = 0;
+  std::int64_t unconverged_steps = 0;   // implicit solves that hit their cap
+  double max_residual = 0.0;            // largest final residual of any step
+  double sim_seconds = 0.0;             // wall time spent stepping
+};
+
+// A frame's worth of diagnostics: the row `--metrics` writes.
+struct FrameMetrics {
+  std::int64_t step = 0;
+  double t = 0.0;
+  Energies energies;
+  double max_strain = 0.0;
+  int contacts = 0;              // contacts resolved in the last step
+  std::int64_t force_evals = 0;  // cumulative
+  std::int64_t newton_iterations = 0;  // cumulative
+  std::int64_t cg_iterations = 0;      // cumulative
+  double residual = 0.0;         // last step's final implicit residual
+  bool converged = true;         // last step's solve converged
+};
+
+class Run {
+ public:
+  Run(const Model& model, IntegratorKind kind, double dt);
+
+  // Steps until t >= target (within a small tolerance of dt). Returns false once diverged;
+  // divergence() then says at which step and time, and why.
+  bool advance_to(double target);
+  bool diverged() const { return divergence_.has_value(); }
+  const std::optional<Divergence>& divergence() const { return divergence_; }
+
+  const Model& model() const { return model_; }
+  const State& state() const { return state_; }
+  IntegratorKind kind() const { return kind_; }
+  double dt() const { return dt_; }
+  const RunTotals& totals() const { return totals_; }
+  FrameMetrics metrics() const;  // diagnostics of the current state
+
+ private:
+  const Model& model_;
+  IntegratorKind kind_;
+  double dt_;
+  State state_;
+  Workspace ws_;
+  RunTotals totals_;
+  StepReport last_;
+  std::optional<Divergence> divergence_;
+};
+
+}  // namespace clothsim

@@ -1,0 +1,24 @@
+// Engine -> renderer: fill a RenderFrame from the model and state (positions, normals,
+// spheres, ground, camera, overlay text). The only place the engine meets rendering.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "model.h"
+#include "render_frame.h"
+#include "state.h"
+
+namespace clothsim {
+
+struct SnapshotText {
+  std::vector<std::string> lines;  // overlay lines (see overlay_lines() for the standard set)
+  std::string banner;              // e.g. "DIVERGED at t = 1.234 s"
+};
+
+RenderFrame make_render_frame(const Model& model, const State& state, const SnapshotText& text);
+
+// Standard overlay: scene name, integrator, dt and simulated time.
+std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t);
+
+}  // namespace clothsim

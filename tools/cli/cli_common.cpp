@@ -1,0 +1,130 @@
+#include "cli_common.h"
+
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+#include <unistd.h>
+
+namespace clothsim::cli {
+namespace fs = std::filesystem;
+
+namespace {
+std::string parent_of(const std::string& path) {
+  const fs::path p(path);
+  return p.has_parent_path() ? p.parent_path().string() : std::string(".");
+}
+}  // namespace
+
+void require_writable_parent(const std::string& path, const std::string& what) {
+  if (path.empty()) throw RuntimeFailure(what + ": empty output path");
+  const std::string dir = parent_of(path);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw RuntimeFailure("cannot write " + what + " " + path + ": directory " + dir + " does not exist");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw RuntimeFailure("cannot write " + what + " " + path + ": directory " + dir + " is not writable");
+  if (fs::is_directory(path, ec))
+    throw RuntimeFailure("cannot write " + what + " " + path + ": it is a directory");
+}
+
+std::string temp_path_beside(const std::string& path) {
+  require_writable_parent(path, "output");
+  static std::atomic<int> counter{0};
+  const fs::path p(path);
+  // Hidden, unique, and with the same extension (libavformat picks the container from it).
+  const std::string name = "." + p.stem().string() + ".partial-" + std::to_string(::getpid()) + "-" +
+                           std::to_string(counter++) + p.extension().string();
+  return (p.has_parent_path() ? p.parent_path() / name : fs::path(name)).string();
+}
+
+void ensure_directory(const std::string& dir, const std::string& what) {
+  std::error_code ec;
+  if (fs::is_directory(dir, ec)) {
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+      throw RuntimeFailure("cannot write " + what + " into " + dir + ": directory is not writable");
+    return;
+  }
+  if (fs::exists(dir, ec)) throw RuntimeFailure("cannot write " + what + " into " + dir + ": not a directory");
+  fs::create_directories(dir, ec);
+  if (ec) throw RuntimeFailure("cannot create " + what + " directory " + dir + ": " + ec.message());
+}
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temp_(temp_path_beside(path_)) {
+  stream_ = std::fopen(temp_.c_str(), "wb");
+  if (!stream_) throw RuntimeFailure("cannot write " + path_ + ": " + std::strerror(errno));
+}
+
+AtomicFile::~AtomicFile() {
+  if (stream_) std::fclose(stream_);
+  if (!committed_) std::remove(temp_.c_str());
+}
+
+void AtomicFile::commit() {
+  const bool write_ok = std::fflush(stream_) == 0 && !std::ferror(stream_);
+  const bool close_ok = std::fclose(stream_) == 0;
+  stream_ = nullptr;
+  if (!write_ok || !close_ok) throw RuntimeFailure("cannot write " + path_ + ": " + std::strerror(errno));
+  if (std::rename(temp_.c_str(), path_.c_str()) != 0)
+    throw RuntimeFailure("cannot rename " + temp_ + " to " + path_ + ": " + std::strerror(errno));
+  committed_ = true;
+}
+
+bool Progress::enabled() { return ::isatty(STDERR_FILENO) == 1; }
+
+Progress::Progress(std::string label, long total, std::string unit)
+    : label_(std::move(label)), unit_(std::move(unit)), total_(total), on_(enabled()),
+      start_(std::chrono::steady_clock::now()), last_(start_ - std::chrono::seconds(1)) {}
+
+Progress::~Progress() {
+  if (on_) std::fprintf(stderr, "\r\033[K");
+}
+
+void Progress::update(long done) {
+  if (!on_) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_ < std::chrono::milliseconds(100) && done < total_) return;
+  last_ = now;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  std::ostringstream line;
+  line << label_ << "  " << done << "/" << total_ << " " << unit_;
+  if (done > 0 && done < total_) {
+    const double left = elapsed * static_cast<double>(total_ - done) / static_cast<double>(done);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "  %.1f s left", left);
+    line << buf;
+  }
+  std::fprintf(stderr, "\r\033[K%s", line.str().c_str());
+  std::fflush(stderr);
+}
+
+namespace {
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_sigint(int) {
+  g_interrupted.store(true);
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C kills at once
+}
+}  // namespace
+
+bool interrupted() { return g_interrupted.load(std::memory_order_relaxed); }
+
+void install_interrupt_handler() {
+  struct sigaction sa{};
+  sa.sa_handler = on_sigint;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+std::vector<std::string> split_list(const std::string& text, char sep) {
+  std::vector<std::string> out;
+  std::string item;
+  std::istringstream in(text);
+  while (std::getline(in, item, sep)) out.push_back(item);
+  if (!text.empty() && text.back() == sep) out.emplace_back();
+  return out;
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,76 @@
+// What every subcommand shares: exit codes, the two kinds of failure, files that appear
+// whole or not at all, and progress on a terminal.
+#pragma once
+
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace clothsim::cli {
+
+// The CLI contract's exit codes (DESIGN.md).
+enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3 };
+
+// Bad usage or a bad scene: exit 2. The message is the whole one-line error.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// I/O, GL or encoder failure: exit 1.
+struct RuntimeFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A file written under a temporary name beside `path` and renamed onto it by commit().
+// Destroyed uncommitted (an error, an exception, Ctrl-C handled by the caller), it removes
+// the temporary: the requested name never holds a half-written file.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::string path);  // throws RuntimeFailure if the directory is not writable
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  std::FILE* stream() { return stream_; }
+  const std::string& temp_path() const { return temp_; }
+  const std::string& path() const { return path_; }
+  void commit();  // flush, close, rename; throws RuntimeFailure
+ private:
+  std::string path_, temp_;
+  std::FILE* stream_ = nullptr;
+  bool committed_ = false;
+};
+
+// A temporary path beside `path` (same directory, so rename is atomic), e.g. for writers
+// that open files themselves (libavformat). Throws RuntimeFailure if the directory does
+// not exist or is not writable, naming the path.
+std::string temp_path_beside(const std::string& path);
+// Checks before any work is done that `path` can be created: its directory exists and is
+// writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist").
+void require_writable_parent(const std::string& path, const std::string& what);
+// Creates `dir` (and parents) if missing; throws RuntimeFailure when impossible.
+void ensure_directory(const std::string& dir, const std::string& what);
+
+// Progress on stderr, only when stderr is a terminal (nothing otherwise, per the contract):
+// "label  37/150 frames  1.2 s left", redrawn in place at most 10 times a second.
+class Progress {
+ public:
+  Progress(std::string label, long total, std::string unit);
+  ~Progress();  // clears the line
+  void update(long done);
+  static bool enabled();
+ private:
+  std::string label_, unit_;
+  long total_;
+  bool on_;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
+// Set by the SIGINT handler (install_interrupt_handler); long loops poll it and stop cleanly.
+bool interrupted();
+void install_interrupt_handler();
+
+// Splits "a,b,c" (empty pieces are an error reported by the caller).
+std::vector<std::string> split_list(const std::string& text, char sep = ',');
+
+}  // namespace clothsim::cli

@@ -1,0 +1,151 @@
+// clothsim run: one scene, one integrator. Steps to each output frame (the scene's fps),
+// records metrics, renders frames/video/a still if asked, writes the final state.
+// Exit 3 when the run diverges (metrics up to that point are kept; the state is not written).
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "frame_sink.h"
+#include "png_io.h"
+#include "renderer.h"
+#include "run_outputs.h"
+#include "scene_options.h"
+#include "simulation.h"
+#include "snapshot.h"
+
+namespace clothsim::cli {
+namespace {
+
+struct RunOptions {
+  SceneOptions scene;
+  std::string frames_dir, video, metrics, state;
+  std::optional<double> still_t;
+  std::string still_out;
+  int crf = VideoOptions{}.crf;
+  std::string preset = VideoOptions{}.preset;
+};
+
+PngText png_meta(const Model& model, IntegratorKind kind, double dt) {
+  char dt_text[32];
+  std::snprintf(dt_text, sizeof dt_text, "%.6g", dt);
+  return {{"scene", model.name}, {"source", model.source},
+          {"integrator", std::string(integrator_name(kind))}, {"dt", dt_text},
+          {"software", "clothsim " CLOTHSIM_VERSION}};
+}
+
+Image render_now(Renderer& renderer, const Run& run) {
+  SnapshotText text{overlay_lines(run.model(), run.kind(), run.dt(), run.state().t), {}};
+  if (run.diverged()) {
+    char banner[64];
+    std::snprintf(banner, sizeof banner, "DIVERGED at t = %.4g s", run.divergence()->t);
+    text.banner = banner;
+  }
+  return renderer.render(make_render_frame(run.model(), run.state(), text));
+}
+
+int run_command(const RunOptions& o) {
+  const SceneDef scene = load_scene_with_options(o.scene);
+  if (o.still_t && o.still_out.empty()) throw UsageError("--still needs --out FILE.png");
+  if (!o.still_out.empty() && !o.still_t) throw UsageError("--out goes with --still T");
+  if (o.still_t && (*o.still_t < 0.0 || *o.still_t > scene.duration))
+    throw UsageError("--still: time " + std::to_string(*o.still_t) + " s is outside the run (0 to " +
+                     std::to_string(scene.duration) + " s)");
+  if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
+
+  // Every output is checked before any work, so a typo fails in milliseconds.
+  if (!o.metrics.empty()) require_writable_parent(o.metrics, "metrics");
+  if (!o.state.empty()) require_writable_parent(o.state, "state");
+  if (!o.video.empty()) require_writable_parent(o.video, "video");
+  if (!o.still_out.empty()) require_writable_parent(o.still_out, "still");
+
+  const Model model = build_model(scene);
+  const IntegratorKind kind = scene.integrator;
+  const double dt = scene.dt;
+  const double fps = scene.render.fps;
+  const long frames = static_cast<long>(std::floor(scene.duration * fps + 1e-9)) + 1;  // t = 0 included
+
+  std::unique_ptr<Renderer> renderer;
+  if (!o.frames_dir.empty() || !o.video.empty() || o.still_t) renderer = std::make_unique<Renderer>();
+  std::unique_ptr<MetricsWriter> metrics;
+  if (!o.metrics.empty()) metrics = std::make_unique<MetricsWriter>(o.metrics);
+  std::unique_ptr<FrameSink> png_sink, video_sink;
+  if (!o.frames_dir.empty()) png_sink = make_png_sequence_sink(o.frames_dir, png_meta(model, kind, dt));
+  if (!o.video.empty()) video_sink = make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset});
+
+  install_interrupt_handler();
+  Run run(model, kind, dt);
+  Progress progress("run " + model.name, frames, "frames");
+  bool still_done = !o.still_t;
+  for (long k = 0; k < frames; ++k) {
+    if (interrupted()) throw RuntimeFailure("interrupted: stopped at t = " + std::to_string(run.state().t) +
+                                            " s; no output was written");
+    const double target = std::min(static_cast<double>(k) / fps, scene.duration);
+    if (!still_done && *o.still_t <= target) {
+      run.advance_to(*o.still_t);
+      write_png(o.still_out, render_now(*renderer, run), png_meta(model, kind, dt));
+      still_done = true;
+    }
+    const bool ok = run.advance_to(target);
+    if (metrics) metrics->row(run.metrics());
+    if (png_sink || video_sink) {
+      const Image image = render_now(*renderer, run);
+      if (png_sink) png_sink->add(static_cast<int>(k), run.state().t, image);
+      if (video_sink) video_sink->add(static_cast<int>(k), run.state().t, image);
+    }
+    progress.update(k + 1);
+    if (!ok) break;
+  }
+  if (!run.diverged()) run.advance_to(scene.duration);  // a duration that is not a whole frame
+
+  if (metrics) metrics->commit();
+  if (png_sink) png_sink->finish();
+  if (video_sink) video_sink->finish();
+
+  const RunTotals& t = run.totals();
+  std::printf("%s: %s, dt = %g s, %" PRId64 " steps to t = %.6g s, %" PRId64
+              " force evaluations, %.3f s of wall time (%.3g s per simulated s)\n",
+              model.name.c_str(), std::string(integrator_name(kind)).c_str(), dt, t.steps,
+              run.state().t, t.force_evals, t.sim_seconds,
+              run.state().t > 0 ? t.sim_seconds / run.state().t : 0.0);
+  if (kind == IntegratorKind::ImplicitEuler)
+    std::printf("implicit solve: %" PRId64 " Newton iterations, %" PRId64
+                " CG iterations, largest final residual %.3g, %" PRId64 " steps not converged\n",
+                t.newton_iterations, t.cg_iterations, t.max_residual, t.unconverged_steps);
+  if (run.diverged()) {
+    const Divergence& d = *run.divergence();
+    std::fprintf(stderr, "clothsim: %s: diverged at step %" PRId64 ", t = %.6g s: %s\n",
+                 scene.source.c_str(), d.step, d.t, d.reason.c_str());
+    return kDiverged;
+  }
+  if (!o.state.empty()) write_state_csv(o.state, model, run.state());
+  return kOk;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, Command& command) {
+  auto o = std::make_shared<RunOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "run", "Run one scene with one integrator: metrics, final state, frames, video, a still");
+  add_scene_options(sub, o->scene, /*single_run=*/true);
+  sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at the scene's fps")
+      ->type_name("DIR");
+  sub->add_option("--video", o->video, "Write an H.264 MP4 of the run")->type_name("FILE.mp4");
+  sub->add_option("--metrics", o->metrics,
+                  "Write one CSV row per output frame: step,t,kinetic,spring_potential,"
+                  "gravity_potential,total_energy,max_strain,contacts,force_evals,...")
+      ->type_name("FILE.csv");
+  sub->add_option("--state", o->state, "Write the final state: id,x,y,z,vx,vy,vz per particle")
+      ->type_name("FILE.csv");
+  sub->add_option("--still", o->still_t, "Render one frame at time T (s) to --out")->type_name("T");
+  sub->add_option("--out", o->still_out, "PNG file for --still (size: --set render.width=...)")
+      ->type_name("FILE.png");
+  sub->add_option("--crf", o->crf, "Video quality, x264 CRF 0 (lossless) .. 51", true);
+  sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)", true);
+  sub->callback([o, &command] { command = [o] { return run_command(*o); }; });
+}
+
+}  // namespace clothsim::cli

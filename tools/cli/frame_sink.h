@@ -1,0 +1,35 @@
+// Where rendered frames go: a PNG sequence, an MP4, or both. `run` and `compare` stream
+// frames into sinks as they are rendered, so memory stays flat in clip length.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "image.h"
+#include "png_io.h"
+
+namespace clothsim::cli {
+
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  // Frame `index` (0, 1, 2...) at simulated time t. Throws RuntimeFailure on I/O errors.
+  virtual void add(int index, double t, const Image& frame) = 0;
+  // Completes the output (an MP4 is renamed onto its name only here). A sink destroyed
+  // without finish() removes what it wrote under a temporary name.
+  virtual void finish() = 0;
+};
+
+// frame_00000.png, frame_00001.png ... in `dir` (created if missing), with `meta` as tEXt
+// chunks plus "t". PNGs are written on a background thread so rendering does not wait.
+std::unique_ptr<FrameSink> make_png_sequence_sink(const std::string& dir, PngText meta);
+
+struct VideoOptions {
+  double fps = 30.0;
+  int crf = 20;                     // x264 constant rate factor: 0 lossless .. 51 worst
+  std::string preset = "veryfast";  // x264 preset
+};
+// An H.264 MP4 at `path`, written to a temporary file beside it and renamed by finish().
+std::unique_ptr<FrameSink> make_video_sink(const std::string& path, const VideoOptions& options);
+
+}  // namespace clothsim::cli

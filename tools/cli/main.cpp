@@ -1,0 +1,62 @@
+// clothsim: see and measure how time integrators trade speed for accuracy.
+// Dispatches to one subcommand and maps failures to the exit codes of the CLI contract:
+// 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene, 3 diverged.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "renderer.h"
+#include "png_io.h"
+#include "scene_parser.h"
+
+using namespace clothsim;
+using namespace clothsim::cli;
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "clothsim " CLOTHSIM_VERSION
+      " - a headless mass-spring cloth simulator that shows and measures how time\n"
+      "integrators trade speed for accuracy. Scenes are YAML (see docs/scenes.md)."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "clothsim " CLOTHSIM_VERSION);
+  Command command;
+  add_run_command(app, command);
+  add_compare_command(app, command);
+  add_bench_command(app, command);
+  add_stability_command(app, command);
+  add_validate_command(app, command);
+  add_encode_command(app, command);
+  add_imgdiff_command(app, command);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version are "errors" with code 0; everything else is bad usage.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    return kBadInput;
+  }
+  try {
+    return command();
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    return kBadInput;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    return kBadInput;
+  } catch (const RuntimeFailure& e) {
+    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    return kRuntimeFailure;
+  } catch (const RenderError& e) {
+    std::fprintf(stderr, "clothsim: render: %s\n", e.what());
+    return kRuntimeFailure;
+  } catch (const PngError& e) {
+    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    return kRuntimeFailure;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "clothsim: internal error: %s\n", e.what());
+    return kRuntimeFailure;
+  }
+}

@@ -1,0 +1,31 @@
+#include "run_outputs.h"
+
+#include <cinttypes>
+
+namespace clothsim::cli {
+
+MetricsWriter::MetricsWriter(const std::string& path) : file_(path) {
+  std::fputs("step,t,kinetic,spring_potential,gravity_potential,total_energy,max_strain,contacts,"
+             "force_evals,newton_iterations,cg_iterations,residual,converged\n",
+             file_.stream());
+}
+
+void MetricsWriter::row(const FrameMetrics& m) {
+  std::fprintf(file_.stream(),
+               "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%" PRId64 ",%" PRId64 ",%" PRId64
+               ",%.6g,%d\n",
+               m.step, m.t, m.energies.kinetic, m.energies.spring, m.energies.gravity,
+               m.energies.total(), m.max_strain, m.contacts, m.force_evals, m.newton_iterations,
+               m.cg_iterations, m.residual, m.converged ? 1 : 0);
+}
+
+void write_state_csv(const std::string& path, const Model& model, const State& state) {
+  AtomicFile file(path);
+  std::fputs("id,x,y,z,vx,vy,vz\n", file.stream());
+  for (int p = 0; p < model.num_particles; ++p)
+    std::fprintf(file.stream(), "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", p, state.x(0, p),
+                 state.x(1, p), state.x(2, p), state.v(0, p), state.v(1, p), state.v(2, p));
+  file.commit();
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,50 @@
+#include "scene_options.h"
+
+#include <cmath>
+
+#include "cli_common.h"
+#include "scene_parser.h"
+
+namespace clothsim::cli {
+
+void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run) {
+  sub->add_option("scene", o.path, "Scene file (YAML; keys in docs/scenes.md)")->required();
+  sub->add_option("--set", o.sets,
+                  "Override a scene key by its dotted path, e.g. --set cloth.springs.shear.stiffness=1e5 "
+                  "(repeatable; VALUE is YAML, so lists work: --set gravity=[0,-1.6,0])")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false);
+  sub->add_option("--duration", o.duration, "Simulated time in s (default: the scene's duration)");
+  if (single_run) {
+    sub->add_option("--integrator", o.integrator,
+                    "explicit_euler | symplectic_euler | midpoint | rk4 | implicit_euler "
+                    "(default: the scene's integrator)");
+    sub->add_option("--dt", o.dt, "Time step in s (default: the scene's dt)");
+  }
+}
+
+IntegratorKind parse_integrator_option(const std::string& name, const std::string& option) {
+  const auto kind = parse_integrator(name);
+  if (!kind)
+    throw UsageError(option + ": unknown integrator '" + name + "' (expected one of: " +
+                     integrator_names_joined() + ")");
+  return *kind;
+}
+
+SceneDef load_scene_with_options(const SceneOptions& o) {
+  SceneDef scene = load_scene(o.path, o.sets);
+  if (o.duration) {
+    if (!(*o.duration >= 0.0) || !std::isfinite(*o.duration))
+      throw UsageError("--duration: must be a finite number >= 0 s, got " + std::to_string(*o.duration));
+    scene.duration = *o.duration;
+  }
+  if (o.dt) {
+    if (!(*o.dt > 0.0) || !std::isfinite(*o.dt))
+      throw UsageError("--dt: must be a finite number > 0 s, got " + std::to_string(*o.dt));
+    scene.dt = *o.dt;
+  }
+  if (o.integrator) scene.integrator = parse_integrator_option(*o.integrator, "--integrator");
+  return scene;
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,32 @@
+// The options every scene-reading subcommand shares (SCENE, --set, --duration, and for a
+// single run --integrator and --dt), and loading a scene with them applied.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene_def.h"
+
+namespace clothsim::cli {
+
+struct SceneOptions {
+  std::string path;
+  std::vector<std::string> sets;        // --set KEY=VALUE, in order
+  std::optional<double> duration;       // --duration S
+  std::optional<std::string> integrator;  // --integrator NAME (when offered)
+  std::optional<double> dt;             // --dt S (when offered)
+};
+
+// Declares SCENE, --set and --duration; --integrator and --dt only when `single_run`.
+void add_scene_options(CLI::App* sub, SceneOptions& options, bool single_run);
+
+// Loads and validates the scene with --set applied, then --duration/--integrator/--dt.
+// Throws SceneError (bad scene or --set) or UsageError (bad option value).
+SceneDef load_scene_with_options(const SceneOptions& options);
+
+// Parses an integrator name or throws UsageError naming the option and the valid names.
+IntegratorKind parse_integrator_option(const std::string& name, const std::string& option);
+
+}  // namespace clothsim::cli

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs every Debian package clothsim needs to build, test and make its figures.
+# This is the one list of the project's dependencies; CMakeLists.txt finds what it installs.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev            # flat state, sparse Jacobians, conjugate gradient
+  libyaml-cpp-dev          # scene files
+  libcli11-dev             # command line
+  libosmesa6-dev           # offscreen OpenGL (llvmpipe), no GPU or display
+  libpng-dev zlib1g-dev    # frames and golden images
+  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev   # MP4 through FFmpeg's libraries
+  libgtest-dev libbenchmark-dev   # tests and benchmarks
+  ffmpeg                   # ffprobe, used by tests only as an independent checker
+  python3-matplotlib       # tools/plot_*.py figures (run with /usr/bin/python3)
+)
+
+if [[ $(id -u) -ne 0 ]]; then sudo=sudo; else sudo=; fi
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "install-deps: installing ${missing[*]}" >&2
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
