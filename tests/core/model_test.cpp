@@ -1,0 +1,111 @@
+// The grid builder: spring counts per type and shape, rest lengths, pinning, bodies, timeline.
+#include "model.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_support.h"
+
+namespace clothsim {
+namespace {
+
+using testing::model_from_yaml;
+
+int count(const Model& m, SpringType t) {
+  int n = 0;
+  for (SpringType s : m.springs.type) n += s == t;
+  return n;
+}
+
+TEST(Model, SheetHasTheSeedsSpringCounts) {
+  const Model m = model_from_yaml(R"(
+cloth:
+  particles: [5, 4]
+  springs: {structural: {}, shear: {}, bend: {}}
+)");
+  EXPECT_EQ(m.num_particles, 20);
+  EXPECT_EQ(count(m, SpringType::Structural), 4 * 4 + 5 * 3);  // rows + columns
+  EXPECT_EQ(count(m, SpringType::Shear), 2 * 4 * 3);           // two diagonals per cell
+  EXPECT_EQ(count(m, SpringType::Bend), 3 * 4 + 5 * 2);        // two apart along each axis
+  EXPECT_EQ(m.triangles.size(), 3u * 2 * 4 * 3);
+}
+
+TEST(Model, OnlyDeclaredSpringTypesAreBuilt) {
+  const Model m = model_from_yaml("cloth: {particles: [6, 6], springs: {shear: {stiffness: 5}}}");
+  EXPECT_EQ(count(m, SpringType::Structural), 0);
+  EXPECT_EQ(count(m, SpringType::Bend), 0);
+  EXPECT_EQ(count(m, SpringType::Shear), 50);
+  const Model none = model_from_yaml("cloth: {particles: [6, 6]}");
+  EXPECT_EQ(none.springs.size(), 0u);
+}
+
+TEST(Model, SingleSpringAndChain) {
+  const Model spring = model_from_yaml(R"(
+cloth: {particles: [2, 1], size: [1.5, 1], springs: {structural: {}, shear: {}, bend: {}}, pinned: [[0, 0]]}
+)");
+  ASSERT_EQ(spring.springs.size(), 1u);
+  EXPECT_NEAR(spring.springs.rest[0], 1.5, 1e-12);
+  EXPECT_TRUE(spring.triangles.empty());
+  const Model chain = model_from_yaml("cloth: {particles: [10, 1], springs: {structural: {}, bend: {}}}");
+  EXPECT_EQ(count(chain, SpringType::Structural), 9);
+  EXPECT_EQ(count(chain, SpringType::Bend), 8);
+}
+
+TEST(Model, RestLengthsAreTheGridSpacingAndStretchIsApplied) {
+  const Model m = model_from_yaml(R"(
+cloth: {particles: [3, 3], size: [2, 2], plane: xy, center: [0, 1, 0], springs: {structural: {}, shear: {}},
+        initial_stretch: 0.25}
+)");
+  for (std::size_t s = 0; s < m.springs.size(); ++s) {
+    const double expected = m.springs.type[s] == SpringType::Shear ? std::sqrt(2.0) : 1.0;
+    EXPECT_NEAR(m.springs.rest[s], expected, 1e-12);
+  }
+  // xy hangs with row j = 0 on top; particle (2, 0) moved 0.25 m along x.
+  EXPECT_NEAR(m.initial_x(1, 0), 2.0, 1e-12);
+  EXPECT_NEAR(m.initial_x(1, 6), 0.0, 1e-12);
+  EXPECT_NEAR(m.initial_x(0, 2), 1.25, 1e-12);
+}
+
+TEST(Model, PinModesFreezeTheRightParticles) {
+  const auto pinned = [](const Model& m) {
+    std::vector<int> out;
+    for (int p = 0; p < m.num_particles; ++p)
+      if (m.initial_inv_mass[p] == 0.0) out.push_back(p);
+    return out;
+  };
+  EXPECT_EQ(pinned(model_from_yaml("cloth: {particles: [4, 3], pinned: corners}")), (std::vector<int>{0, 3, 8, 11}));
+  EXPECT_EQ(pinned(model_from_yaml("cloth: {particles: [4, 3], pinned: top_edge}")), (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(pinned(model_from_yaml("cloth: {particles: [4, 3], pinned: none}")), (std::vector<int>{}));
+  EXPECT_EQ(pinned(model_from_yaml("cloth: {particles: [4, 3], pinned: [[1, 2], [3, 0]]}")), (std::vector<int>{3, 9}));
+}
+
+TEST(Model, SpheresAreBodiesAfterTheParticles) {
+  const Model m = model_from_yaml(R"(
+cloth: {particles: [2, 2]}
+spheres:
+  - {center: [1, 2, 3], radius: 0.5}
+  - {center: [0, 5, 0], radius: 0.3, kinematic: false, mass: 4, gravity: false}
+)");
+  ASSERT_EQ(m.num_bodies(), 6);
+  EXPECT_EQ(m.initial_inv_mass[4], 0.0);           // kinematic
+  EXPECT_TRUE(std::isinf(m.mass[4]));
+  EXPECT_NEAR(m.initial_inv_mass[5], 0.25, 1e-15);  // dynamic
+  EXPECT_EQ(m.gravity_on[5], 0);
+  EXPECT_EQ(m.initial_x.col(4), Vec3(1, 2, 3));
+}
+
+TEST(Model, TimelineIsSortedByTime) {
+  const Model m = model_from_yaml(R"(
+cloth: {particles: [2, 2]}
+spheres: [{radius: 0.1, motion: [{t: 1, velocity: [1, 0, 0]}, {t: 2, velocity: [0, 0, 1]}]}]
+events: [{t: 1.5, unpin: [[0, 0]]}, {t: 0.5, pin: [[1, 1]]}]
+)");
+  ASSERT_EQ(m.timeline.size(), 4u);
+  for (std::size_t i = 1; i < m.timeline.size(); ++i) EXPECT_LE(m.timeline[i - 1].t, m.timeline[i].t);
+  EXPECT_EQ(m.timeline[0].kind, TimedAction::Kind::Pin);
+  EXPECT_EQ(m.timeline[2].kind, TimedAction::Kind::Unpin);
+}
+
+}  // namespace
+}  // namespace clothsim

@@ -1,0 +1,186 @@
+// The parser: every key of DESIGN.md's example works as shown, defaults are filled in, and
+// every bad input is an error that names the file, the line and the key.
+#include "scene_parser.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "test_support.h"
+
+namespace clothsim {
+namespace {
+
+// Parses `yaml`, expects a SceneError, and returns it for the caller to inspect.
+SceneError parse_error(const std::string& yaml, const std::vector<std::string>& sets = {}) {
+  try {
+    parse_scene(yaml, "bad.yaml", sets);
+  } catch (const SceneError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected a SceneError for:\n" << yaml;
+  return SceneError("", 0, "", "");
+}
+
+const char* kDesignExample = R"(name: drape
+duration: 5.0                 # s simulated
+dt: 1.0e-4                    # s per step
+integrator: symplectic_euler
+gravity: [0, -9.8, 0]
+air_drag: 3.4e-4              # viscous coefficient; omit for none
+cloth:
+  particles: [25, 25]         # [1..N, 1..M]; [2,1] is a single spring
+  size: [4, 4]                # m
+  center: [0, 1, 0]
+  plane: xz                   # xz horizontal, xy hanging
+  particle_mass: 1.0
+  springs:                    # omit a type to leave it out
+    structural: {stiffness: 20000, damping: 750}
+    shear:      {stiffness: 20000, damping: 750}
+    bend:       {stiffness: 20000, damping: 750}
+  pinned: corners             # corners | top_edge | none | [[i, j], ...]
+spheres:
+  - {center: [0, 0, 0], radius: 1.0, kinematic: true, restitution: 0.0,
+     motion: [{t: 1.0, velocity: [5, 0, 0]}, {t: 2.0, velocity: [0, 0, 0]}]}
+ground: {height: -2.0, restitution: 0.0}
+collision: {margin: 0.01}
+events: [{t: 3.0, unpin: [[0, 0]]}]
+render: {width: 1280, height: 720, fps: 30, camera: {eye: [0, 2, -10], target: [0, 0, 0], fov: 45}}
+)";
+
+TEST(SceneParser, ReadsDesignDocExampleAsShown) {
+  const SceneDef s = parse_scene(kDesignExample, "example.yaml");
+  EXPECT_EQ(s.name, "drape");
+  EXPECT_DOUBLE_EQ(s.dt, 1e-4);
+  EXPECT_EQ(s.integrator, IntegratorKind::SymplecticEuler);
+  EXPECT_DOUBLE_EQ(s.air_drag, 3.4e-4);
+  EXPECT_EQ(s.cloth.nx, 25);
+  ASSERT_TRUE(s.cloth.bend.has_value());
+  EXPECT_DOUBLE_EQ(s.cloth.bend->damping, 750);
+  ASSERT_EQ(s.spheres.size(), 1u);
+  EXPECT_EQ(s.spheres[0].motion.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.spheres[0].motion[0].velocity.x(), 5.0);
+  ASSERT_TRUE(s.ground.has_value());
+  EXPECT_DOUBLE_EQ(s.ground->height, -2.0);
+  ASSERT_EQ(s.events.size(), 1u);
+  EXPECT_EQ(s.events[0].unpin.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.render.camera.eye.z(), -10.0);
+}
+
+TEST(SceneParser, FillsDefaultsForOmittedKeys) {
+  const SceneDef s = parse_scene("cloth: {particles: [3, 3]}", "min.yaml");
+  const SceneDef d;
+  EXPECT_EQ(s.dt, d.dt);
+  EXPECT_EQ(s.duration, d.duration);
+  EXPECT_FALSE(s.cloth.structural.has_value());  // springs omitted: none built
+  EXPECT_FALSE(s.ground.has_value());
+  EXPECT_TRUE(s.spheres.empty());
+  EXPECT_EQ(s.render.width, 1280);
+}
+
+TEST(SceneParser, EveryShippedSceneValidates) {
+  for (const std::string& name : testing::shipped_scenes()) {
+    EXPECT_NO_THROW(load_scene(testing::scene_path(name))) << name;
+  }
+}
+
+TEST(SceneParser, UnknownKeyNamesFileLineAndKey) {
+  const SceneError e = parse_error("dt: 1e-3\ncloth:\n  particles: [3, 3]\n  stiffnes: 5\n");
+  EXPECT_EQ(e.line, 4);
+  EXPECT_EQ(e.key, "cloth.stiffnes");
+  EXPECT_NE(std::string(e.what()).find("bad.yaml:4: cloth.stiffnes: unknown key"), std::string::npos) << e.what();
+}
+
+TEST(SceneParser, WrongTypeIsAnErrorWithItsLine) {
+  const SceneError e = parse_error("cloth:\n  particles: [3, 3]\n  particle_mass: heavy\n");
+  EXPECT_EQ(e.line, 3);
+  EXPECT_EQ(e.key, "cloth.particle_mass");
+  const SceneError list = parse_error("gravity: 9.8\ncloth: {particles: [3, 3]}\n");
+  EXPECT_EQ(list.line, 1);
+  EXPECT_EQ(list.key, "gravity");
+}
+
+TEST(SceneParser, OutOfRangeValuesAreErrors) {
+  struct Case { const char* yaml; int line; const char* key; };
+  const Case cases[] = {
+      {"cloth:\n  particles: [3, 3]\n  particle_mass: -1\n", 3, "cloth.particle_mass"},
+      {"cloth:\n  particles: [3, 3]\n  particle_mass: 0\n", 3, "cloth.particle_mass"},
+      {"cloth:\n  particles: [0, 3]\n", 2, "cloth.particles[0]"},
+      {"dt: 0\ncloth: {particles: [3, 3]}\n", 1, "dt"},
+      {"dt: -1e-4\ncloth: {particles: [3, 3]}\n", 1, "dt"},
+      {"duration: -1\ncloth: {particles: [3, 3]}\n", 1, "duration"},
+      {"cloth:\n  particles: [3, 3]\n  pinned: [[0, 0], [3, 1]]\n", 3, "cloth.pinned.1"},
+      {"integrator: leapfrog\ncloth: {particles: [3, 3]}\n", 1, "integrator"},
+      {"cloth: {particles: [3, 3]}\nspheres:\n  - {radius: 1, restitution: 1.5}\n", 3, "spheres.0.restitution"},
+      {"cloth: {particles: [3, 3]}\nrender: {fps: 0}\n", 2, "render.fps"},
+  };
+  for (const Case& c : cases) {
+    const SceneError e = parse_error(c.yaml);
+    EXPECT_EQ(e.line, c.line) << c.yaml << " -> " << e.what();
+    EXPECT_EQ(e.key, c.key) << c.yaml << " -> " << e.what();
+  }
+}
+
+TEST(SceneParser, BrokenYamlTabsEmptyAndBinaryAreErrors) {
+  const SceneError broken = parse_error("cloth:\n  particles: [3, 3\nname: x\n");
+  EXPECT_GT(broken.line, 0);
+  EXPECT_NE(std::string(broken.what()).find("invalid YAML"), std::string::npos);
+  const SceneError tabs = parse_error("cloth:\n\tparticles: [3, 3]\n");
+  EXPECT_EQ(tabs.line, 2);
+  EXPECT_NE(std::string(tabs.what()).find("tab"), std::string::npos);
+  EXPECT_NE(std::string(parse_error("   \n\n").what()).find("empty"), std::string::npos);
+  EXPECT_NE(std::string(parse_error(std::string("cloth:\0\x01\x02", 9)).what()).find("not a text file"), std::string::npos);
+  EXPECT_NE(std::string(parse_error("- 1\n- 2\n").what()).find("expected a map"), std::string::npos);
+  EXPECT_NE(std::string(parse_error("name: x\n").what()).find("cloth"), std::string::npos);
+}
+
+TEST(SceneParser, DuplicateKeysAreErrors) {
+  const SceneError e = parse_error("dt: 1e-3\ndt: 2e-3\ncloth: {particles: [3, 3]}\n");
+  EXPECT_EQ(e.line, 2);
+  EXPECT_NE(std::string(e.what()).find("duplicate"), std::string::npos);
+}
+
+TEST(SceneParser, MissingFileAndDirectoryAreErrorsNamingThePath) {
+  try {
+    load_scene("/nonexistent/scene.yaml");
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.yaml: cannot open"), std::string::npos);
+  }
+  try {
+    load_scene(CLOTHSIM_SCENES_DIR);
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("directory"), std::string::npos);
+  }
+}
+
+TEST(SceneParser, SetOverridesExistingAbsentAndListKeys) {
+  const std::string yaml = "cloth:\n  particles: [3, 3]\n  springs: {structural: {stiffness: 10}}\n"
+                           "spheres: [{radius: 1}]\n";
+  const SceneDef s = parse_scene(yaml, "x.yaml",
+                                 {"cloth.springs.structural.stiffness=1e5", "air_drag=0.5",
+                                  "spheres.0.radius=2.5", "gravity=[0, -1.6, 0]",
+                                  "cloth.springs.bend.stiffness=7"});
+  EXPECT_DOUBLE_EQ(s.cloth.structural->stiffness, 1e5);
+  EXPECT_DOUBLE_EQ(s.air_drag, 0.5);
+  EXPECT_DOUBLE_EQ(s.spheres[0].radius, 2.5);
+  EXPECT_DOUBLE_EQ(s.gravity.y(), -1.6);
+  ASSERT_TRUE(s.cloth.bend.has_value());
+  EXPECT_DOUBLE_EQ(s.cloth.bend->stiffness, 7);
+}
+
+TEST(SceneParser, SetOnAKeyThatDoesNotExistIsAnErrorNamingTheOverride) {
+  const std::string yaml = "cloth: {particles: [3, 3]}\n";
+  const SceneError unknown = parse_error(yaml, {"cloth.stiffness=5"});
+  EXPECT_NE(std::string(unknown.what()).find("--set cloth.stiffness=5"), std::string::npos) << unknown.what();
+  EXPECT_NE(std::string(unknown.what()).find("unknown key"), std::string::npos);
+  const SceneError bad_value = parse_error(yaml, {"dt=-1"});
+  EXPECT_NE(std::string(bad_value.what()).find("--set dt=-1"), std::string::npos) << bad_value.what();
+  EXPECT_NE(std::string(parse_error(yaml, {"nonsense"}).what()).find("KEY=VALUE"), std::string::npos);
+  EXPECT_NE(std::string(parse_error(yaml, {"spheres.3.radius=1"}).what()).find("--set spheres.3.radius=1"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace clothsim

@@ -1,0 +1,136 @@
+// The step and the run: phases in order, events, pinned particles, divergence, determinism.
+#include "simulation.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "test_support.h"
+
+namespace clothsim {
+namespace {
+
+using testing::model_from_yaml;
+using testing::scene_path;
+
+// FNV-1a over the bytes of positions and velocities: any change to the physics, the
+// integrator or the order of floating-point operations changes it (Box2D keeps the same).
+std::uint64_t state_hash(const State& s) {
+  std::uint64_t h = 1469598103934665603ull;
+  const auto mix = [&](const double* p, std::size_t n) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n * sizeof(double); ++i) h = (h ^ bytes[i]) * 1099511628211ull;
+  };
+  mix(s.x.data(), s.x.size());
+  mix(s.v.data(), s.v.size());
+  return h;
+}
+
+TEST(Run, DrapeFinalStateHashIsUnchanged) {
+  // 0.3 s of the shipped drape with symplectic Euler: cloth falls onto the ball and the
+  // collision response runs on many particles. If this fails after an intended physics
+  // change, print the new hash and update it in the same commit, saying why.
+  const Model m = build_model(load_scene(scene_path("drape.yaml")));
+  clothsim::Run run(m, IntegratorKind::SymplecticEuler, m.dt);
+  ASSERT_TRUE(run.advance_to(0.3));
+  clothsim::Run again(m, IntegratorKind::SymplecticEuler, m.dt);
+  ASSERT_TRUE(again.advance_to(0.3));
+  EXPECT_EQ(state_hash(run.state()), state_hash(again.state()));  // deterministic in-process
+  EXPECT_EQ(state_hash(run.state()), 0xffc192b93c0bafecull) << std::hex << "hash: 0x" << state_hash(run.state());
+}
+
+TEST(Run, PinnedParticlesNeverMove) {
+  const Model m = build_model(load_scene(scene_path("drape.yaml")));
+  clothsim::Run run(m, IntegratorKind::ExplicitEuler, m.dt);
+  const Vec3 corner = m.initial_x.col(0);
+  ASSERT_TRUE(run.advance_to(0.2));
+  EXPECT_EQ((run.state().x.col(0) - corner).norm(), 0.0);
+  EXPECT_EQ(run.state().v.col(0).norm(), 0.0);
+  EXPECT_GT((run.state().x.col(m.num_particles / 2) - m.initial_x.col(m.num_particles / 2)).norm(), 1e-3);
+}
+
+TEST(Run, StopsAtStepCountNotAccumulatedTime) {
+  const Model m = model_from_yaml("dt: 1.0e-3\ncloth: {particles: [2, 2], pinned: none}\n");
+  clothsim::Run run(m, IntegratorKind::SymplecticEuler, 1e-3);
+  run.advance_to(0.1);
+  EXPECT_EQ(run.state().step, 100);
+  EXPECT_DOUBLE_EQ(run.state().t, 100 * 1e-3);
+  run.advance_to(0.1);  // already there: no extra step
+  EXPECT_EQ(run.state().step, 100);
+}
+
+TEST(Events, UnpinReleasesAndPinFreezesAtTheirTimes) {
+  const Model m = model_from_yaml(R"(
+dt: 1.0e-3
+cloth: {particles: [2, 2], size: [1, 1], pinned: corners, springs: {structural: {stiffness: 100, damping: 1}}}
+events: [{t: 0.05, unpin: [[0, 0]]}, {t: 0.1, pin: [[1, 1]]}]
+)");
+  clothsim::Run run(m, IntegratorKind::SymplecticEuler, 1e-3);
+  run.advance_to(0.05 - 1e-3);
+  EXPECT_EQ(run.state().inv_mass[0], 0.0);
+  run.advance_to(0.05);
+  EXPECT_EQ(run.state().inv_mass[0], 1.0);
+  run.advance_to(0.09);
+  const Vec3 p0 = run.state().x.col(0);
+  EXPECT_LT(p0.y(), 1.0);  // falling since 0.05
+  run.advance_to(0.2);
+  EXPECT_EQ(run.state().inv_mass[3], 0.0);
+  EXPECT_EQ(run.state().v.col(3).norm(), 0.0);
+}
+
+TEST(Events, KinematicSphereFollowsItsKeyframesExactly) {
+  const Model m = model_from_yaml(R"(
+dt: 1.0e-3
+gravity: [0, 0, 0]
+cloth: {particles: [1, 1], center: [0, 10, 0]}
+spheres: [{center: [0, 0, 0], radius: 0.5, motion: [{t: 0.1, velocity: [2, 0, 0]}, {t: 0.3, velocity: [0, 0, -1]}]}]
+)");
+  for (IntegratorKind k : {IntegratorKind::ExplicitEuler, IntegratorKind::SymplecticEuler}) {
+    clothsim::Run run(m, k, 1e-3);
+    run.advance_to(0.5);
+    const Vec3 c = run.state().x.col(m.sphere_body(0));
+    EXPECT_NEAR(c.x(), 2.0 * 0.2, 1e-9) << integrator_name(k);
+    EXPECT_NEAR(c.z(), -1.0 * 0.2, 1e-9) << integrator_name(k);
+  }
+}
+
+TEST(Step, ResolvesCollisionsAfterIntegrating) {
+  // A particle falling fast onto a ball ends the step outside it, whatever the integrator did.
+  const Model m = model_from_yaml(R"(
+dt: 1.0e-2
+cloth: {particles: [1, 1], center: [0, 0.6, 0], initial_velocity: [0, -30, 0], pinned: none}
+spheres: [{center: [0, 0, 0], radius: 0.5}]
+)");
+  State s = initial_state(m);
+  Workspace ws;
+  const StepReport r = step(m, s, IntegratorKind::ExplicitEuler, 1e-2, ws);
+  EXPECT_EQ(r.contacts.cloth_sphere, 1);
+  EXPECT_GE(s.x.col(0).norm(), 0.51 - 1e-12);
+  EXPECT_GE(s.v(1, 0), 0.0);
+}
+
+TEST(Run, ExplicitEulerOnTheStiffSceneDivergesAndSaysWhen) {
+  const Model m = build_model(load_scene(scene_path("stiff.yaml")));
+  clothsim::Run run(m, IntegratorKind::ExplicitEuler, m.dt);
+  EXPECT_FALSE(run.advance_to(m.duration));
+  ASSERT_TRUE(run.diverged());
+  EXPECT_GT(run.divergence()->step, 0);
+  EXPECT_LT(run.divergence()->t, m.duration);
+  EXPECT_FALSE(run.divergence()->reason.empty());
+  EXPECT_FALSE(run.advance_to(m.duration));  // stays stopped
+}
+
+TEST(Run, EveryShippedSceneRunsAFewStepsWithEveryIntegrator) {
+  for (const std::string& name : testing::shipped_scenes()) {
+    const Model m = build_model(load_scene(scene_path(name)));
+    for (IntegratorKind k : all_integrators()) {
+      clothsim::Run run(m, k, m.dt);
+      run.advance_to(5 * m.dt);
+      EXPECT_EQ(run.state().step, 5) << name << " " << integrator_name(k);
+      EXPECT_TRUE(run.state().x.allFinite()) << name << " " << integrator_name(k);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace clothsim

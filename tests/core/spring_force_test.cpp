@@ -1,0 +1,130 @@
+// The spring-damper kernel on hand-computed cases, and its Jacobians against central
+// finite differences of the force itself.
+#include "spring_force.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "forces.h"
+
+namespace clothsim {
+namespace {
+
+TEST(SpringForce, StretchedSpringPullsTheEndsTogether) {
+  // |d| = 2, l0 = 1, ks = 10: f_a = -10 (2 - 1) (1, 0, 0).
+  const Vec3 f = spring_damper_force({2, 0, 0}, {0, 0, 0}, Vec3::Zero(), Vec3::Zero(), 1.0, 10.0, 0.0);
+  EXPECT_NEAR(f.x(), -10.0, 1e-12);
+  EXPECT_NEAR(f.y(), 0.0, 1e-12);
+  EXPECT_NEAR(f.z(), 0.0, 1e-12);
+}
+
+TEST(SpringForce, CompressedSpringPushesTheEndsApart) {
+  // d = (0, 0.5, 0), l0 = 2, ks = 4: f_a = -4 (0.5 - 2) (0, 1, 0) = (0, 6, 0).
+  const Vec3 f = spring_damper_force({0, 1.5, 0}, {0, 1, 0}, Vec3::Zero(), Vec3::Zero(), 2.0, 4.0, 0.0);
+  EXPECT_NEAR(f.y(), 6.0, 1e-12);
+}
+
+TEST(SpringForce, DamperOpposesTheRateOfStretchOnly) {
+  // d = (3, 4, 0), u = (0.6, 0.8, 0), at rest length. va - vb = (1, 0, 0): (vr.u) = 0.6,
+  // f_a = -kd 0.6 u = -2 * 0.6 * (0.6, 0.8, 0) = (-0.72, -0.96, 0).
+  const Vec3 f = spring_damper_force({3, 4, 0}, {0, 0, 0}, {1, 0, 0}, {0, 0, 0}, 5.0, 100.0, 2.0);
+  EXPECT_NEAR(f.x(), -0.72, 1e-12);
+  EXPECT_NEAR(f.y(), -0.96, 1e-12);
+  // A velocity across the spring (a rotation) is not damped at all.
+  const Vec3 g = spring_damper_force({3, 4, 0}, {0, 0, 0}, {-0.8, 0.6, 0}, {0, 0, 0}, 5.0, 100.0, 2.0);
+  EXPECT_NEAR(g.norm(), 0.0, 1e-12);
+}
+
+TEST(SpringForce, CoincidentEndsGiveZeroForceNotNaN) {
+  const Vec3 f = spring_damper_force({1, 1, 1}, {1, 1, 1}, {1, 0, 0}, Vec3::Zero(), 1.0, 10.0, 1.0);
+  EXPECT_TRUE(f.allFinite());
+  EXPECT_EQ(f.norm(), 0.0);
+}
+
+TEST(SpringForce, SystemPassAppliesEqualAndOppositeForces) {
+  Springs s;
+  s.a = {0};
+  s.b = {1};
+  s.rest = {1.0};
+  s.ks = {10.0};
+  s.kd = {3.0};
+  s.type = {SpringType::Structural};
+  Eigen::Matrix3Xd x(3, 2), v(3, 2), f = Eigen::Matrix3Xd::Zero(3, 2);
+  x << 2, 0, 0.5, 0, -1, 0;
+  v << 1, 0, 0, 0.5, 2, 0;
+  accumulate_spring_forces(s, x, v, f);
+  const Vec3 expected = spring_damper_force(x.col(0), x.col(1), v.col(0), v.col(1), 1.0, 10.0, 3.0);
+  EXPECT_NEAR((f.col(0) - expected).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((f.col(0) + f.col(1)).norm(), 0.0, 1e-12);
+}
+
+// Central differences of f_a with respect to x_a and v_a, column by column.
+Mat3 numeric_dfdx(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb, double l0,
+                  double ks, double kd) {
+  Mat3 J;
+  const double eps = 1e-6;
+  for (int c = 0; c < 3; ++c) {
+    Vec3 p = xa, m = xa;
+    p[c] += eps;
+    m[c] -= eps;
+    J.col(c) = (spring_damper_force(p, xb, va, vb, l0, ks, kd) - spring_damper_force(m, xb, va, vb, l0, ks, kd)) / (2 * eps);
+  }
+  return J;
+}
+
+Mat3 numeric_dfdv(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb, double l0,
+                  double ks, double kd) {
+  Mat3 J;
+  const double eps = 1e-6;
+  for (int c = 0; c < 3; ++c) {
+    Vec3 p = va, m = va;
+    p[c] += eps;
+    m[c] -= eps;
+    J.col(c) = (spring_damper_force(xa, xb, p, vb, l0, ks, kd) - spring_damper_force(xa, xb, m, vb, l0, ks, kd)) / (2 * eps);
+  }
+  return J;
+}
+
+TEST(SpringJacobian, MatchesFiniteDifferencesStretchedCompressedAndMoving) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Vec3 xa(U(rng), U(rng), U(rng)), xb(U(rng), U(rng), U(rng));
+    const Vec3 va(U(rng), U(rng), U(rng)), vb(U(rng), U(rng), U(rng));
+    const double l = (xa - xb).norm();
+    const double l0 = l * (trial % 2 ? 0.7 : 1.4);  // stretched and compressed
+    const double ks = 1000.0, kd = 5.0;
+    const SpringJacobian J = spring_damper_jacobian(xa, xb, va, vb, l0, ks, kd);
+    const Mat3 nx = numeric_dfdx(xa, xb, va, vb, l0, ks, kd);
+    const Mat3 nv = numeric_dfdv(xa, xb, va, vb, l0, ks, kd);
+    EXPECT_LT((J.dfdx() - nx).norm(), 1e-5 * (1.0 + nx.norm())) << "trial " << trial;
+    EXPECT_LT((J.dfdv - nv).norm(), 1e-6 * (1.0 + nv.norm())) << "trial " << trial;
+  }
+}
+
+TEST(SpringJacobian, StiffnessPartIsSymmetricAndDamperPartVanishesAtRest) {
+  const Vec3 xa(0.3, 1.2, -0.4), xb(-0.2, 0.1, 0.5);
+  const SpringJacobian J = spring_damper_jacobian(xa, xb, Vec3::Zero(), Vec3::Zero(), 0.8, 500.0, 7.0);
+  EXPECT_LT((J.dfdx_stiffness - J.dfdx_stiffness.transpose()).norm(), 1e-12);
+  EXPECT_LT(J.dfdx_damping.norm(), 1e-12);  // no relative velocity: no damper position term
+  EXPECT_LT((J.dfdv - J.dfdv.transpose()).norm(), 1e-12);
+}
+
+TEST(SpringJacobian, OtherEndBlocksAreTheNegatives) {
+  // f_a depends on x_a - x_b only, so df_a/dx_b = -df_a/dx_a: check by differencing in x_b.
+  const Vec3 xa(0.5, 0.2, 0.1), xb(-0.4, 0.3, 0.2), va(0.3, -0.2, 0.1), vb(-0.1, 0.4, 0.0);
+  const SpringJacobian J = spring_damper_jacobian(xa, xb, va, vb, 0.6, 300.0, 4.0);
+  Mat3 n;
+  const double eps = 1e-6;
+  for (int c = 0; c < 3; ++c) {
+    Vec3 p = xb, m = xb;
+    p[c] += eps;
+    m[c] -= eps;
+    n.col(c) = (spring_damper_force(xa, p, va, vb, 0.6, 300.0, 4.0) - spring_damper_force(xa, m, va, vb, 0.6, 300.0, 4.0)) / (2 * eps);
+  }
+  EXPECT_LT((n + J.dfdx()).norm(), 1e-5 * (1.0 + n.norm()));
+}
+
+}  // namespace
+}  // namespace clothsim
