@@ -1,0 +1,286 @@
+// clothsim compare SCENE [--integrators a,b,c,d] [--layout auto] [--video FILE.mp4] [--frames DIR]
+//                        [--dt S | --dt name=S,...] [--duration S] [--set K=V]...
+//                        [--sheet FILE.png --times 0.5,1,2,4] [--width W --height H] [--crf Q] [--preset P]
+//
+// The scene is loaded once and built into one Model; one Run per integrator advances on
+// its own thread (compare_runner.h) while this thread renders each run's snapshot into a
+// tile, composes the tiles into a grid and streams it to the encoder. A run that diverges
+// freezes on its last good frame with a DIVERGED banner while the others go on: in
+// compare, divergence is a result (exit 0), shown in the clip and in the summary table.
+//
+// Outputs are checked before any simulation (unknown integrator or layout, unwritable
+// paths, bad --dt or --times: milliseconds, exit 2 or 1), written under temporary names
+// and renamed when complete. Ctrl-C stops at the next frame, removes the temporaries and
+// exits 1 (as `run` does) saying what was not written; PNGs already written under
+// --frames stay (each is complete).
+//
+// Frame k is the state at t = k / fps for k = 0 .. floor(duration * fps), as in `run`.
+// The summary (stdout) has one row per run; the time breakdown (stderr) says where the
+// wall time went: simulation (CPU time summed over the run threads, and how long the
+// renderer waited for them), render, compose, PNG and encode on the main thread.
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "compare_plan.h"
+#include "compare_runner.h"
+#include "contact_sheet.h"
+#include "frame_sink.h"
+#include "png_io.h"
+#include "renderer.h"
+#include "scene_options.h"
+#include "scene_parser.h"
+#include "tiling.h"
+#include "video_writer.h"
+
+namespace clothsim::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct CompareOptions {
+  SceneOptions scene;
+  std::string integrators = "explicit_euler,implicit_euler,midpoint,rk4";  // the seed's four
+  std::string layout = "auto";
+  std::string video, frames_dir, dt, sheet, times;
+  int width = 0, height = 0;  // 0: the scene's render size
+  int crf = VideoOptions{}.crf;
+  std::string preset = VideoOptions{}.preset;
+};
+
+// Seconds spent in each stage on the main thread.
+struct StageTimes {
+  double wait = 0, render = 0, compose = 0, png = 0, encode = 0, sheet = 0;
+};
+
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), start_(Clock::now()) {}
+  ~Stopwatch() { total_ += std::chrono::duration<double>(Clock::now() - start_).count(); }
+ private:
+  double& total_;
+  Clock::time_point start_;
+};
+
+PngText tile_meta(const Model& model, IntegratorKind kind, double dt) {
+  char dt_text[32];
+  std::snprintf(dt_text, sizeof dt_text, "%.6g", dt);
+  return {{"scene", model.name}, {"source", model.source},
+          {"integrator", std::string(integrator_name(kind))}, {"dt", dt_text},
+          {"software", "clothsim " CLOTHSIM_VERSION}};
+}
+
+void print_summary(const Model& model, const std::vector<RunSummary>& runs) {
+  std::printf("%s: %zu runs\n", model.name.c_str(), runs.size());
+  std::printf("%-17s %10s %10s %13s %9s %14s  %s\n", "integrator", "dt_s", "steps", "force_evals",
+              "cpu_s", "cpu_ms_per_s", "result");
+  for (const RunSummary& r : runs) {
+    char result[160];
+    if (r.divergence)
+      std::snprintf(result, sizeof result, "DIVERGED at t = %.4g s: %s", r.divergence->t,
+                    r.divergence->reason.c_str());
+    else
+      std::snprintf(result, sizeof result, "ok to t = %.4g s", r.t);
+    std::printf("%-17s %10.3g %10" PRId64 " %13" PRId64 " %9.3f %14.1f  %s\n",
+                std::string(integrator_name(r.kind)).c_str(), r.dt, r.totals.steps,
+                r.totals.force_evals, r.cpu_seconds, r.t > 0 ? 1e3 * r.cpu_seconds / r.t : 0.0,
+                result);
+  }
+}
+
+int compare_command(const CompareOptions& o) {
+  const auto wall_start = Clock::now();
+
+  // 1. Everything that can be wrong, before any simulation.
+  const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators);
+  GridLayout layout;
+  try {
+    layout = parse_layout(o.layout, static_cast<int>(kinds.size()));
+  } catch (const LayoutError& e) {
+    throw UsageError(std::string("--layout: ") + e.what());
+  }
+  if (o.sheet.empty() != o.times.empty())
+    throw UsageError(o.sheet.empty() ? "--times goes with --sheet FILE.png"
+                                     : "--sheet needs --times T1,T2,... (the columns)");
+  if (o.width < 0 || o.height < 0) throw UsageError("--width and --height must be positive");
+  try {
+    validate_video_options(VideoWriterOptions{30.0, o.crf, o.preset});
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--video: ") + e.what());
+  }
+  if (!o.video.empty()) require_writable_parent(o.video, "--video");
+  if (!o.sheet.empty()) require_writable_parent(o.sheet, "--sheet");
+  if (!o.frames_dir.empty() && fs::exists(o.frames_dir) && !fs::is_directory(o.frames_dir))
+    throw RuntimeFailure("cannot write --frames into " + o.frames_dir + ": not a directory");
+
+  const SceneDef scene = load_scene_with_options(o.scene);
+  const std::vector<double> dts = parse_dt_list(o.dt, kinds, scene.dt);
+  const std::vector<double> sheet_times =
+      o.sheet.empty() ? std::vector<double>{} : parse_times(o.times, scene.duration);
+  const int width = o.width > 0 ? o.width : scene.render.width;
+  const int height = o.height > 0 ? o.height : scene.render.height;
+  std::optional<TileGrid> grid;
+  try {
+    grid.emplace(TileGrid::fit(layout, width, height));
+  } catch (const LayoutError& e) {
+    throw UsageError(std::string("--width/--height: ") + e.what());
+  }
+  const Model model = build_model(scene);
+  const double fps = scene.render.fps;
+  const bool with_frames = !o.video.empty() || !o.frames_dir.empty();
+  const bool rendering = with_frames || !o.sheet.empty();
+  const std::vector<Target> targets = plan_targets(scene.duration, fps, with_frames, sheet_times);
+  const int frames = count_frames(targets);
+
+  // 2. Outputs (each removes its temporary if destroyed before finish()).
+  std::unique_ptr<Renderer> renderer;
+  if (rendering) renderer = std::make_unique<Renderer>();  // a GL failure shows up now
+  std::unique_ptr<FrameSink> video;
+  if (!o.video.empty()) video = make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset});
+  std::vector<std::unique_ptr<FrameSink>> tile_pngs;
+  if (!o.frames_dir.empty())
+    for (std::size_t i = 0; i < kinds.size(); ++i)
+      tile_pngs.push_back(make_png_sequence_sink(
+          (fs::path(o.frames_dir) / std::string(integrator_name(kinds[i]))).string(),
+          tile_meta(model, kinds[i], dts[i])));
+
+  // 3. The runs, one thread each, and the render/compose/encode loop on this thread.
+  install_interrupt_handler();
+  std::vector<std::unique_ptr<RunWorker>> workers;
+  for (std::size_t i = 0; i < kinds.size(); ++i)
+    workers.push_back(std::make_unique<RunWorker>(model, kinds[i], dts[i], targets,
+                                                  grid->cell_width(), grid->cell_height()));
+
+  StageTimes time;
+  std::vector<Image> tiles(kinds.size());
+  std::vector<const Image*> tile_ptrs;
+  for (const Image& tile : tiles) tile_ptrs.push_back(&tile);
+  std::vector<bool> frozen(kinds.size(), false);
+  std::vector<std::vector<Image>> sheet_cells(kinds.size(), std::vector<Image>(sheet_times.size()));
+  Image canvas;
+  auto progress = std::make_unique<Progress>("compare " + model.name,
+                                             static_cast<long>(targets.size()), "frames");
+  TileSnapshot snapshot;
+  for (std::size_t n = 0; n < targets.size(); ++n) {
+    const Target& target = targets[n];
+    if (interrupted()) {
+      for (auto& w : workers) w->stop();
+      progress.reset();
+      std::string lost = o.video.empty() ? std::string() : o.video + " ";
+      if (!o.sheet.empty()) lost += o.sheet + " ";
+      throw RuntimeFailure("interrupted at t = " + std::to_string(target.t) + " s; " +
+                           (lost.empty() ? std::string("nothing") : lost) + "not written" +
+                           (o.frames_dir.empty() ? "" : " (PNGs so far kept in " + o.frames_dir + ")"));
+    }
+    for (std::size_t i = 0; i < workers.size(); ++i) {
+      if (frozen[i]) continue;  // a diverged run keeps its last picture
+      {
+        Stopwatch watch(time.wait);
+        if (!workers[i]->next(snapshot)) continue;
+      }
+      frozen[i] = snapshot.frozen;
+      if (rendering) {
+        Stopwatch watch(time.render);
+        tiles[i] = renderer->render(snapshot.frame);
+      }
+    }
+    if (target.frame >= 0) {
+      for (std::size_t i = 0; i < tile_pngs.size(); ++i) {
+        Stopwatch watch(time.png);
+        tile_pngs[i]->add(target.frame, target.t, tiles[i]);
+      }
+      if (video) {
+        {
+          Stopwatch watch(time.compose);
+          grid->compose(tile_ptrs, {}, canvas);
+        }
+        Stopwatch watch(time.encode);
+        video->add(target.frame, target.t, canvas);
+      }
+    }
+    if (target.column >= 0)
+      for (std::size_t i = 0; i < tiles.size(); ++i) sheet_cells[i][target.column] = tiles[i];
+    progress->update(static_cast<long>(n + 1));
+  }
+  progress.reset();
+
+  // 4. Complete the outputs.
+  for (auto& sink : tile_pngs) {
+    Stopwatch watch(time.png);
+    sink->finish();
+  }
+  if (video) {
+    Stopwatch watch(time.encode);
+    video->finish();
+  }
+  if (!o.sheet.empty()) {
+    Stopwatch watch(time.sheet);
+    std::vector<std::string> rows, columns;
+    for (IntegratorKind kind : kinds) rows.emplace_back(integrator_name(kind));
+    for (double t : sheet_times) columns.push_back(time_label(t));
+    write_png(o.sheet, compose_contact_sheet(sheet_cells, rows, columns),
+              {{"scene", model.name}, {"software", "clothsim " CLOTHSIM_VERSION}});
+  }
+
+  std::vector<RunSummary> runs;
+  double sim_cpu = 0.0;
+  for (auto& w : workers) {
+    w->join();
+    runs.push_back(w->summary());
+    sim_cpu += runs.back().cpu_seconds;
+  }
+  print_summary(model, runs);
+  const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  std::fprintf(stderr,
+               "compare: %d frames of %dx%d (%zu tiles of %dx%d) in %.1f s wall: simulate %.1f s cpu "
+               "on %zu threads (renderer waited %.1f s), render %.1f s, compose %.2f s, PNG %.1f s, "
+               "encode %.1f s, sheet %.1f s\n",
+               frames, grid->width(), grid->height(), kinds.size(), grid->cell_width(),
+               grid->cell_height(), wall, sim_cpu, workers.size(), time.wait, time.render,
+               time.compose, time.png, time.encode, time.sheet);
+  return kOk;
+}
+
+}  // namespace
+
+void add_compare_command(CLI::App& app, Command& command) {
+  auto o = std::make_shared<CompareOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "compare",
+      "Run one scene with several integrators at once and show them side by side: a tiled,\n"
+      "labelled MP4 (--video), each run's PNGs (--frames), a contact sheet (--sheet), and a\n"
+      "summary table of cost and divergence on stdout. Divergence is a result here (exit 0).");
+  add_scene_options(sub, o->scene, /*single_run=*/false);
+  sub->add_option("--integrators", o->integrators, "Comma-separated integrators, one tile each")
+      ->capture_default_str();
+  sub->add_option("--layout", o->layout,
+                  "COLUMNSxROWS: 2x2, 4x1 (side by side), 1x4 (stacked), Nx1, 1xN or auto")
+      ->capture_default_str();
+  sub->add_option("--video", o->video, "Write the tiled clip as H.264 MP4")->type_name("FILE.mp4");
+  sub->add_option("--frames", o->frames_dir, "Keep every tile's PNGs in DIR/<integrator>/frame_00000.png...")
+      ->type_name("DIR");
+  sub->add_option("--dt", o->dt,
+                  "Step for all runs (S), per run (rk4=2e-4,implicit_euler=4e-3) or both "
+                  "(1e-4,rk4=2e-4); default: the scene's dt")
+      ->type_name("S|NAME=S,...");
+  sub->add_option("--sheet", o->sheet, "Write a contact sheet: one row per integrator, one column per --times")
+      ->type_name("FILE.png");
+  sub->add_option("--times", o->times, "Contact-sheet columns, simulated seconds, increasing")
+      ->type_name("T1,T2,...");
+  sub->add_option("--width", o->width, "Width of the whole grid in pixels (default: the scene's render.width)");
+  sub->add_option("--height", o->height, "Height of the whole grid in pixels (default: the scene's render.height)");
+  sub->add_option("--crf", o->crf, "Video quality, x264 CRF 0 (lossless) .. 51")->capture_default_str();
+  sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)")->capture_default_str();
+  sub->callback([o, &command] { command = [o] { return compare_command(*o); }; });
+}
+
+}  // namespace clothsim::cli

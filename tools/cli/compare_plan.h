@@ -1,0 +1,43 @@
+// What `clothsim compare` will do, worked out and checked before any simulation: which
+// integrators at which step sizes, at which times frames and contact-sheet columns fall.
+// Every function throws UsageError with a one-line message naming the option.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "integrator_kind.h"
+
+namespace clothsim::cli {
+
+// "explicit_euler,rk4" -> kinds, in order. Unknown or repeated names are errors.
+std::vector<IntegratorKind> parse_integrator_list(const std::string& text);
+
+// --dt: "" (every run at the scene's dt), "S" (every run at S), "name=S,name=S" (those runs
+// at their own step, the others at the scene's), or a bare S mixed with name=S (the bare
+// one for all not named). Names must be among `kinds`. Returns one dt per kind.
+std::vector<double> parse_dt_list(const std::string& text, const std::vector<IntegratorKind>& kinds,
+                                  double scene_dt);
+
+// --times "0.5,1,2,4": strictly increasing, each in [0, duration].
+std::vector<double> parse_times(const std::string& text, double duration);
+
+// One instant the runs stop at: an output frame of the clip, a contact-sheet column, or
+// both. Targets are sorted by time and every run stops at all of them.
+struct Target {
+  double t = 0.0;
+  int frame = -1;   // index of the clip frame at t, or -1
+  int column = -1;  // contact-sheet column at t, or -1
+};
+
+// Frames at t = k / fps for k = 0 .. floor(duration * fps) (t = 0 and, when it falls on a
+// frame, t = duration included, as `run` does) when `with_frames`; sheet times merged in.
+// With neither frames nor sheet times, one target at `duration` (a summary-only compare).
+std::vector<Target> plan_targets(double duration, double fps, bool with_frames,
+                                 const std::vector<double>& sheet_times);
+int count_frames(const std::vector<Target>& targets);
+
+// "t = 0.5 s" for a contact-sheet column.
+std::string time_label(double t);
+
+}  // namespace clothsim::cli
