@@ -1,0 +1,206 @@
+// clothsim compare: one scene, several integrators, one tiled clip. A cheap version of the
+// drape scene (9 x 9 particles, 0.2 s, 320x180) keeps every test to about a second.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli/cli_process.h"
+#include "png_io.h"
+#include "video/mp4_probe.h"
+
+namespace fs = std::filesystem;
+using namespace clothsim;
+namespace cli = clothsim::testing;
+using clothsim::testing::run_clothsim;
+using clothsim::testing::scratch_dir;
+
+namespace {
+
+const std::string kDrape = std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml";
+
+// compare on the small drape, plus `extra` arguments.
+cli::CliResult compare_small(std::vector<std::string> extra) {
+  std::vector<std::string> args = {"compare", kDrape, "--set", "cloth.particles=[9,9]",
+                                   "--duration", "0.2", "--width", "320", "--height", "180",
+                                   "--preset", "ultrafast"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return run_clothsim(args);
+}
+
+std::string frame_path(const std::string& dir, const std::string& integrator, int k) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%05d.png", k);
+  return (fs::path(dir) / integrator / name).string();
+}
+
+bool same_pixels(const Image& a, const Image& b) {
+  return a.width == b.width && a.height == b.height && a.rgba == b.rgba;
+}
+
+// Where `tile` appears pixel for pixel inside `big`, or {-1, -1}.
+std::pair<int, int> find_tile(const Image& big, const Image& tile) {
+  for (int y = 0; y + tile.height <= big.height; ++y)
+    for (int x = 0; x + tile.width <= big.width; ++x) {
+      bool match = true;
+      for (int row = 0; row < tile.height && match; ++row)
+        match = std::equal(tile.pixel(0, row), tile.pixel(0, row) + 4 * tile.width, big.pixel(x, y + row));
+      if (match) return {x, y};
+    }
+  return {-1, -1};
+}
+
+void expect_refused(const cli::CliResult& r, int code, const std::string& needle,
+                    const std::string& output) {
+  EXPECT_EQ(r.exit_code, code) << r.err;
+  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
+  if (!output.empty()) {
+    EXPECT_FALSE(fs::exists(output)) << output;
+  }
+}
+
+}  // namespace
+
+TEST(CmdCompare, MakesATwoByTwoClipOfTheFourDefaultIntegrators) {
+  const std::string dir = scratch_dir("compare_default");
+  const std::string out = dir + "/drape.mp4";
+  const auto r = compare_small({"--video", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto info = test::probe_mp4(out);
+  EXPECT_EQ(info.codec, "h264");
+  EXPECT_EQ(info.pixel_format, "yuv420p");
+  EXPECT_EQ(info.width, 320);
+  EXPECT_EQ(info.height, 180);
+  EXPECT_EQ(info.rate_num, 30);
+  EXPECT_EQ(info.rate_den, 1);
+  EXPECT_EQ(info.frames.size(), 7u) << "t = 0, 1/30 ... 6/30 = 0.2 s";
+  for (const char* name : {"explicit_euler", "implicit_euler", "midpoint", "rk4"})
+    EXPECT_NE(r.out.find(name), std::string::npos) << "summary row for " << name << "\n" << r.out;
+  EXPECT_NE(r.err.find("simulate"), std::string::npos) << "time breakdown on stderr: " << r.err;
+  EXPECT_TRUE(cli::only_files(dir, {"drape.mp4"})) << "no temporaries left";
+}
+
+TEST(CmdCompare, KeepsEveryTilesPngsAndTheyAreTheClipsTiles) {
+  const std::string dir = scratch_dir("compare_frames");
+  const auto r = compare_small({"--integrators", "midpoint,rk4", "--layout", "1xN", "--frames",
+                                dir + "/tiles", "--video", dir + "/clip.mp4", "--crf", "0"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // 1xN: one column of two tiles, each 320 wide and (180 - 4) / 2 = 88 high.
+  for (const char* name : {"midpoint", "rk4"}) {
+    for (int k = 0; k < 7; ++k) EXPECT_TRUE(fs::exists(frame_path(dir + "/tiles", name, k))) << name << k;
+    EXPECT_FALSE(fs::exists(frame_path(dir + "/tiles", name, 7)));
+    const Image tile = read_png(frame_path(dir + "/tiles", name, 6));
+    EXPECT_EQ(tile.width, 320);
+    EXPECT_EQ(tile.height, 88);
+  }
+  const auto info = test::probe_mp4(dir + "/clip.mp4");
+  EXPECT_EQ(info.width, 320);
+  EXPECT_EQ(info.height, 180);
+  // Near-lossless (crf 0, only the yuv420p round trip): the rk4 tile is the bottom cell.
+  const Image rk4 = read_png(frame_path(dir + "/tiles", "rk4", 3));
+  const auto got = test::mean_rgb(info.frames[3], 160, 92 + 44, 6);
+  const auto want = test::mean_rgb(rk4, 160, 44, 6);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 6.0) << "channel " << c;
+}
+
+TEST(CmdCompare, FreezesADivergedTileOnItsLastGoodFrameWhileTheOthersGoOn) {
+  const std::string dir = scratch_dir("compare_diverged");
+  // Explicit Euler at 10 ms with 20000 N/m springs on 1 kg particles: w h = 1.4 with a
+  // damping rate kd/m = 750 /s, far outside its stability region; it blows up in steps.
+  const auto r = compare_small({"--integrators", "explicit_euler,midpoint", "--dt",
+                                "explicit_euler=1e-2", "--frames", dir});
+  ASSERT_EQ(r.exit_code, 0) << "divergence is a result in compare\n" << r.err;
+  EXPECT_NE(r.out.find("DIVERGED at t = "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0.01"), std::string::npos) << "per-run dt in the summary\n" << r.out;
+
+  const Image first = read_png(frame_path(dir, "explicit_euler", 0));
+  const Image frozen = read_png(frame_path(dir, "explicit_euler", 1));
+  EXPECT_FALSE(same_pixels(first, frozen)) << "the frozen frame carries the DIVERGED banner";
+  for (int k = 2; k < 7; ++k)
+    EXPECT_TRUE(same_pixels(frozen, read_png(frame_path(dir, "explicit_euler", k))))
+        << "frame " << k << " of the diverged run is frozen";
+  EXPECT_FALSE(same_pixels(read_png(frame_path(dir, "midpoint", 1)),
+                           read_png(frame_path(dir, "midpoint", 6))))
+      << "the other run goes on";
+}
+
+TEST(CmdCompare, WritesAContactSheetWhoseCellsAreTheRunsFrames) {
+  const std::string dir = scratch_dir("compare_sheet");
+  const auto r = compare_small({"--integrators", "symplectic_euler,rk4", "--frames", dir + "/tiles",
+                                "--sheet", dir + "/sheet.png", "--times", "0,0.1,0.2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Image sheet = read_png(dir + "/sheet.png");
+  // 320x180 in 2x2 (auto for 2 runs is 2x1): cells (320 - 4) / 2 = 158 wide, 180 high.
+  EXPECT_GT(sheet.width, 3 * 158 + 2 * 4);
+  EXPECT_GT(sheet.height, 2 * 180 + 4);
+  // t = 0.1 s is frame 3: rk4's frame 3 sits in the second row, second column.
+  const auto sym0 = find_tile(sheet, read_png(frame_path(dir + "/tiles", "symplectic_euler", 0)));
+  const auto rk4_3 = find_tile(sheet, read_png(frame_path(dir + "/tiles", "rk4", 3)));
+  ASSERT_GE(sym0.first, 0) << "symplectic_euler at t = 0 is a cell of the sheet";
+  ASSERT_GE(rk4_3.first, 0) << "rk4 at t = 0.1 s is a cell of the sheet";
+  EXPECT_EQ(rk4_3.first, sym0.first + 158 + 4);
+  EXPECT_EQ(rk4_3.second, sym0.second + 180 + 4);
+  EXPECT_GT(sym0.first, 0) << "row labels on the left";
+  EXPECT_GT(sym0.second, 0) << "column labels on top";
+}
+
+TEST(CmdCompare, WithoutOutputsPrintsTheSummaryOnly) {
+  const auto r = compare_small({"--integrators", "symplectic_euler"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("symplectic_euler"), std::string::npos);
+  EXPECT_NE(r.out.find("ok to t = 0.2 s"), std::string::npos) << r.out;
+}
+
+TEST(CmdCompare, RefusesAnUnknownIntegratorNamingTheChoices) {
+  const std::string dir = scratch_dir("compare_bad_integrator");
+  const auto r = compare_small({"--integrators", "rk4,leapfrog", "--video", dir + "/x.mp4"});
+  expect_refused(r, 2, "unknown integrator 'leapfrog'", dir + "/x.mp4");
+  EXPECT_NE(r.err.find("implicit_euler"), std::string::npos) << r.err;
+}
+
+TEST(CmdCompare, RefusesAnUnknownLayout) {
+  const std::string dir = scratch_dir("compare_bad_layout");
+  expect_refused(compare_small({"--layout", "3x3", "--video", dir + "/x.mp4"}), 2, "--layout",
+                 dir + "/x.mp4");
+  expect_refused(compare_small({"--layout", "ring", "--video", dir + "/x.mp4"}), 2,
+                 "unknown layout 'ring'", dir + "/x.mp4");
+}
+
+TEST(CmdCompare, RefusesAnUnwritableVideoPathBeforeSimulating) {
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/no/such/dir/x.mp4";
+  expect_refused(compare_small({"--video", out}), 1, "does not exist", out);
+}
+
+TEST(CmdCompare, RefusesBadDtAndTimes) {
+  const std::string dir = scratch_dir("compare_bad_dt");
+  const std::string sheet = dir + "/s.png";
+  expect_refused(compare_small({"--dt", "verlet=1e-3"}), 2, "unknown integrator 'verlet'", "");
+  expect_refused(compare_small({"--integrators", "rk4", "--dt", "midpoint=1e-3"}), 2,
+                 "'midpoint' is not one of the integrators being compared", "");
+  expect_refused(compare_small({"--dt", "-1"}), 2, "must be > 0", "");
+  expect_refused(compare_small({"--sheet", sheet, "--times", "0.1,5"}), 2, "outside the run", sheet);
+  expect_refused(compare_small({"--sheet", sheet, "--times", "0.2,0.1"}), 2, "must increase", sheet);
+  expect_refused(compare_small({"--sheet", sheet}), 2, "--sheet needs --times", sheet);
+}
+
+TEST(CmdCompare, RefusesABadSceneWithItsFileName) {
+  const std::string dir = scratch_dir("compare_bad_scene");
+  const auto r = run_clothsim({"compare", dir + "/missing.yaml", "--video", dir + "/x.mp4"});
+  expect_refused(r, 2, "missing.yaml", dir + "/x.mp4");
+}
+
+TEST(CmdCompare, StopsCleanlyOnInterruptLeavingNoFileUnderTheName) {
+  const std::string dir = scratch_dir("compare_interrupt");
+  const std::string out = dir + "/long.mp4";
+  // A minute of scene: far more than the 2 s before SIGINT arrives.
+  const auto r = run_clothsim({"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration",
+                               "60", "--width", "320", "--height", "180", "--video", out},
+                              "timeout --preserve-status -s INT 2");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("long.mp4 not written"), std::string::npos) << r.err;
+  EXPECT_TRUE(cli::only_files(dir, {})) << "no video and no temporary";
+}
