@@ -1,0 +1,80 @@
+#include "integrators/sparse_system.h"
+
+#include <Eigen/LU>  // Matrix3d::inverse (closed form for 3x3)
+
+namespace clothsim {
+
+void build_pattern(const Model& model, SpringBlockMatrix& A) {
+  const int B = model.num_bodies();
+  A.a = model.springs.a;
+  A.b = model.springs.b;
+  A.diag.assign(B, Mat3::Zero());
+  A.diag_inverse.assign(B, Mat3::Identity());
+  A.off.assign(model.springs.size(), Mat3::Zero());
+}
+
+void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& x,
+                                    const Eigen::Matrix3Xd& v, const Eigen::VectorXd& inv_mass,
+                                    double h, bool clamp_compression, SpringBlockMatrix& A,
+                                    Eigen::Matrix3Xd& Kv) {
+  const int B = A.num_bodies();
+  const Springs& springs = model.springs;
+  Kv.setZero(3, B);
+
+  // M, plus h c I for air drag (df/dv = -c I on cloth particles).
+  for (int i = 0; i < B; ++i) {
+    if (inv_mass[i] == 0.0) {
+      A.diag[i].setIdentity();
+      continue;
+    }
+    const double drag = i < model.num_particles ? model.air_drag : 0.0;
+    A.diag[i] = (1.0 / inv_mass[i] + h * drag) * Mat3::Identity();
+  }
+
+  for (std::size_t s = 0; s < springs.size(); ++s) {
+    const int a = A.a[s], b = A.b[s];
+    const bool move_a = inv_mass[a] != 0.0, move_b = inv_mass[b] != 0.0;
+    if (!move_a && !move_b) {
+      A.off[s].setZero();
+      continue;
+    }
+    const Vec3 xa = x.col(a), xb = x.col(b);
+    const double rest = springs.rest[s], ks = springs.ks[s];
+    const SpringJacobian J =
+        spring_damper_jacobian(xa, xb, v.col(a), v.col(b), rest, ks, springs.kd[s]);
+    Mat3 K = J.dfdx_stiffness;  // the damper's non-symmetric position term is dropped
+    const Vec3 d = xa - xb;
+    const double l = d.norm();
+    if (clamp_compression && l > 0.0 && l < rest) {  // compressed: clamp (1 - l0/l) at 0, keep the axial term
+      const Vec3 u = d / l;
+      K = -ks * (u * u.transpose());
+    }
+    const Mat3 G = h * J.dfdv + (h * h) * K;
+    if (move_a) A.diag[a] -= G;
+    if (move_b) A.diag[b] -= G;
+    if (move_a && move_b) {
+      A.off[s] = G;
+    } else {
+      A.off[s].setZero();  // a filtered body's row and column are removed
+    }
+    const Vec3 kv = K * (v.col(a) - v.col(b));  // df_a/dx_b = -K: (K v)_a = K (v_a - v_b)
+    if (move_a) Kv.col(a) += kv;
+    if (move_b) Kv.col(b) -= kv;
+  }
+
+  for (int i = 0; i < B; ++i) A.diag_inverse[i] = A.diag[i].inverse();
+}
+
+void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {
+  const int B = A.num_bodies();
+  y.resize(3, B);
+  for (int i = 0; i < B; ++i) y.col(i).noalias() = A.diag[i] * p.col(i);
+  const std::size_t S = A.off.size();
+  for (std::size_t s = 0; s < S; ++s) {
+    const int a = A.a[s], b = A.b[s];
+    y.col(a).noalias() += A.off[s] * p.col(b);
+    y.col(b).noalias() += A.off[s] * p.col(a);
+  }
+}
+
+}  // namespace clothsim
