@@ -1,5 +1,6 @@
 #include "snapshot.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdio>
 

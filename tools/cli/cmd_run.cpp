@@ -143,8 +143,8 @@ void add_run_command(CLI::App& app, Command& command) {
   sub->add_option("--still", o->still_t, "Render one frame at time T (s) to --out")->type_name("T");
   sub->add_option("--out", o->still_out, "PNG file for --still (size: --set render.width=...)")
       ->type_name("FILE.png");
-  sub->add_option("--crf", o->crf, "Video quality, x264 CRF 0 (lossless) .. 51", true);
-  sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)", true);
+  sub->add_option("--crf", o->crf, "Video quality, x264 CRF 0 (lossless) .. 51")->capture_default_str();
+  sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)")->capture_default_str();
   sub->callback([o, &command] { command = [o] { return run_command(*o); }; });
 }
 

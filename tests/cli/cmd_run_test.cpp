@@ -1,0 +1,171 @@
+// `clothsim run` and `clothsim validate` as users call them: outputs, exit codes, and every
+// bad input of the engine issue answered by one line naming file/line/key, with nothing
+// left on disk.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "cli_process.h"
+
+namespace clothsim::testing {
+namespace {
+namespace fs = std::filesystem;
+
+std::string shipped(const std::string& name) { return std::string(CLOTHSIM_SCENES_DIR) + "/" + name; }
+
+std::string write_file(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir + "/" + name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+int rows(const std::string& path) {
+  std::ifstream in(path);
+  int n = 0;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+
+TEST(CmdRun, WritesMetricsPerFrameAndTheFinalStateAtFullPrecision) {
+  const std::string dir = scratch_dir("run_outputs");
+  const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--duration", "1", "--metrics",
+                                    dir + "/m.csv", "--state", dir + "/s.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_NE(r.out.find("symplectic_euler"), std::string::npos);
+  std::ifstream metrics(dir + "/m.csv");
+  std::string header;
+  std::getline(metrics, header);
+  EXPECT_EQ(header.rfind("step,t,kinetic,spring_potential,gravity_potential,total_energy,max_strain,"
+                         "contacts,force_evals", 0), 0u);
+  EXPECT_EQ(rows(dir + "/m.csv"), 1 + 31);  // header + frames at 0, 1/30, ..., 1 s
+  std::ifstream state(dir + "/s.csv");
+  std::string line;
+  std::getline(state, line);
+  EXPECT_EQ(line, "id,x,y,z,vx,vy,vz");
+  EXPECT_EQ(rows(dir + "/s.csv"), 1 + 2);
+  EXPECT_TRUE(only_files(dir, {"m.csv", "s.csv"}));
+}
+
+TEST(CmdRun, SameSceneTwiceGivesIdenticalStateFiles) {
+  const std::string dir = scratch_dir("run_twice");
+  for (const char* name : {"a.csv", "b.csv"})
+    ASSERT_EQ(run_clothsim({"run", shipped("chain.yaml"), "--duration", "0.2", "--state", dir + "/" + name}).exit_code, 0);
+  EXPECT_EQ(slurp(dir + "/a.csv"), slurp(dir + "/b.csv"));
+}
+
+TEST(CmdRun, OptionsOverrideTheScene) {
+  const std::string dir = scratch_dir("run_options");
+  const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--integrator", "explicit_euler",
+                                    "--dt", "0.002", "--duration", "0.5", "--set",
+                                    "cloth.springs.structural.stiffness=400"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("explicit_euler, dt = 0.002 s, 250 steps"), std::string::npos) << r.out;
+}
+
+TEST(CmdRun, DivergenceExitsThreeSayingWhenAndKeepsMetricsButNoState) {
+  const std::string dir = scratch_dir("run_diverged");
+  const CliResult r = run_clothsim({"run", shipped("stiff.yaml"), "--integrator", "explicit_euler",
+                                    "--metrics", dir + "/m.csv", "--state", dir + "/s.csv"});
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("stiff.yaml: diverged at step"), std::string::npos) << r.err;
+  EXPECT_TRUE(only_files(dir, {"m.csv"}));
+}
+
+// Runs a bad command and checks: the exit code, one line on stderr containing `expected`,
+// and nothing left in `dir` but the files that were there before.
+void expect_rejected(const std::vector<std::string>& args, int code, const std::string& expected,
+                     const std::string& dir, const std::vector<std::string>& files_before) {
+  const CliResult r = run_clothsim(args);
+  EXPECT_EQ(r.exit_code, code) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(expected), std::string::npos) << "stderr: " << r.err;
+  EXPECT_TRUE(only_files(dir, files_before)) << "something was left in " << dir;
+}
+
+TEST(CmdRun, BadScenesAreOneLineErrorsWithFileLineKeyAndExitTwo) {
+  const std::string dir = scratch_dir("run_bad_scenes");
+  struct Case { const char* name; std::string text; std::string expected; };
+  const std::vector<Case> cases = {
+      {"empty.yaml", "", "empty.yaml: empty scene file"},
+      {"junk.yaml", std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10), "junk.yaml:1: not a text file"},
+      {"tabs.yaml", "cloth:\n\tparticles: [3, 3]\n", "tabs.yaml:2: tab in indentation"},
+      {"broken.yaml", "cloth: {particles: [3, 3]\n", "broken.yaml:2: invalid YAML"},
+      {"type.yaml", "cloth:\n  particles: [3, 3]\n  size: big\n", "type.yaml:3: cloth.size: expected"},
+      {"unknown.yaml", "cloth: {particles: [3, 3]}\nwind: 3\n", "unknown.yaml:2: wind: unknown key"},
+      {"mass.yaml", "cloth:\n  particles: [3, 3]\n  particle_mass: -2\n", "mass.yaml:3: cloth.particle_mass: value -2 out of range"},
+      {"zero_mass.yaml", "cloth:\n  particles: [3, 3]\n  particle_mass: 0\n", "zero_mass.yaml:3: cloth.particle_mass"},
+      {"res.yaml", "cloth:\n  particles: [0, 3]\n", "res.yaml:2: cloth.particles[0]: value 0 out of range"},
+      {"dt.yaml", "dt: 0\ncloth: {particles: [3, 3]}\n", "dt.yaml:1: dt: value 0 out of range"},
+      {"duration.yaml", "duration: -1\ncloth: {particles: [3, 3]}\n", "duration.yaml:1: duration"},
+      {"pin.yaml", "cloth:\n  particles: [3, 3]\n  pinned: [[0, 0], [5, 1]]\n", "pin.yaml:3: cloth.pinned.1: particle [5, 1] is outside the 3 x 3 grid"},
+      {"integ.yaml", "integrator: verlet\ncloth: {particles: [3, 3]}\n", "integ.yaml:1: integrator: unknown integrator 'verlet'"},
+  };
+  std::vector<std::string> files;
+  for (const Case& c : cases) files.push_back(fs::path(write_file(dir, c.name, c.text)).filename());
+  for (const Case& c : cases)
+    expect_rejected({"run", dir + "/" + c.name, "--metrics", dir + "/m.csv", "--state", dir + "/s.csv"},
+                    2, c.expected, dir, files);
+  fs::create_directories(dir + "/subdir");
+  files.push_back("subdir");
+  expect_rejected({"run", dir + "/missing.yaml", "--state", dir + "/s.csv"}, 2, "missing.yaml: cannot open", dir, files);
+  expect_rejected({"run", dir + "/subdir", "--state", dir + "/s.csv"}, 2, "is a directory", dir, files);
+}
+
+TEST(CmdRun, BadOptionsAreOneLineErrorsAndExitTwo) {
+  const std::string dir = scratch_dir("run_bad_options");
+  const std::string scene = shipped("spring.yaml");
+  expect_rejected({"run", scene, "--integrator", "leapfrog", "--state", dir + "/s.csv"}, 2,
+                  "--integrator: unknown integrator 'leapfrog'", dir, {});
+  expect_rejected({"run", scene, "--dt", "0", "--state", dir + "/s.csv"}, 2, "--dt: must be", dir, {});
+  expect_rejected({"run", scene, "--dt", "-1e-3", "--state", dir + "/s.csv"}, 2, "--dt: must be", dir, {});
+  expect_rejected({"run", scene, "--duration", "-1", "--state", dir + "/s.csv"}, 2, "--duration: must be", dir, {});
+  expect_rejected({"run", scene, "--set", "cloth.springs.structural.stiffnes=5", "--state", dir + "/s.csv"}, 2,
+                  "--set cloth.springs.structural.stiffnes=5: unknown key", dir, {});
+  expect_rejected({"run", scene, "--set", "dt", "--state", dir + "/s.csv"}, 2, "expected KEY=VALUE", dir, {});
+  expect_rejected({"run", scene, "--frobnicate"}, 2, "frobnicate", dir, {});
+}
+
+TEST(CmdRun, UnwritableOutputsFailBeforeAnyWorkWithExitOne) {
+  const std::string dir = scratch_dir("run_bad_outputs");
+  const std::string scene = shipped("spring.yaml");
+  expect_rejected({"run", scene, "--metrics", dir + "/no/such/dir/m.csv"}, 1, "does not exist", dir, {});
+  const std::string file = write_file(dir, "plain", "x");
+  expect_rejected({"run", scene, "--state", file + "/s.csv"}, 1, "cannot write state", dir, {"plain"});
+  expect_rejected({"run", scene, "--metrics", dir}, 1, "is a directory", dir, {"plain"});
+}
+
+TEST(CmdValidate, AcceptsEveryShippedSceneAndSaysWhatItModels) {
+  for (const char* name : {"drape.yaml", "four_balls.yaml", "curtain.yaml", "spring.yaml", "chain.yaml", "stiff.yaml"}) {
+    const CliResult r = run_clothsim({"validate", shipped(name)});
+    EXPECT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    EXPECT_NE(r.out.find("valid scene"), std::string::npos) << r.out;
+  }
+  const CliResult drape = run_clothsim({"validate", shipped("drape.yaml")});
+  EXPECT_NE(drape.out.find("25 x 25 particles (4 pinned), 3502 springs"), std::string::npos) << drape.out;
+}
+
+TEST(CmdValidate, RejectsABadSceneWithItsLine) {
+  const std::string dir = scratch_dir("validate_bad");
+  write_file(dir, "bad.yaml", "cloth:\n  particles: [3, 3]\n  plane: yz\n");
+  const CliResult r = run_clothsim({"validate", dir + "/bad.yaml"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bad.yaml:3: cloth.plane: unknown plane 'yz'"), std::string::npos) << r.err;
+}
+
+TEST(Cli, HelpExplainsEverySubcommand) {
+  const CliResult top = run_clothsim({"--help"});
+  EXPECT_EQ(top.exit_code, 0);
+  for (const char* sub : {"run", "compare", "bench", "stability", "validate", "encode", "imgdiff"}) {
+    EXPECT_NE(top.out.find(sub), std::string::npos) << sub;
+    const CliResult help = run_clothsim({sub, "--help"});
+    EXPECT_EQ(help.exit_code, 0) << sub;
+    EXPECT_GT(help.out.size(), 100u) << sub;
+  }
+  EXPECT_EQ(run_clothsim({}).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace clothsim::testing
