@@ -1,0 +1,542 @@
+// The frame, pass by pass (each a function below), into a multisampled FBO:
+//   lit surfaces  cloth (two-sided, checker) and spheres, Blinn-Phong; springs and particles
+//   shadows       cloth and spheres flattened onto the ground along the light, drawn with the
+//                 ground's own shader in its unlit colour, just above the plane
+//   ground        a grid plane, evenly lit, fogged into the horizon: everywhere else
+//   sky           only where nothing was drawn (depth still at the far plane)
+//   resolve       MSAA samples averaged into a single-sample FBO (glBlitFramebuffer)
+//   read back     glFinish, glReadPixels, rows flipped to top-down, alpha forced to 255
+//   overlay       text drawn on the CPU with the bitmap font (text.h)
+// Nearest things are drawn first so llvmpipe's early depth test skips hidden pixels: on a
+// CPU rasterizer, shaded pixels are the cost, which is also why the ground and sky shaders
+// do almost no arithmetic per pixel. Shadows drawn as opaque ground darken each pixel once
+// however many casters overlap there, without a stencil buffer (whose multisampled clear
+// costs llvmpipe more than the rest of the ground).
+//
+// GL objects (programs, buffers, FBOs) live as long as the Renderer; the FBOs are re-made
+// only when the size or sample count changes. Several Renderers may exist in one process,
+// on one thread or on several: each owns its OSMesa context, and render() makes it current
+// on the calling thread first (Mesa keeps the current context per thread). One Renderer must
+// not be used by two threads at once.
+#include "renderer.h"
+
+#include "gl_program.h"  // first: it asks gl.h for the GL 3.3 prototypes
+
+#include <GL/osmesa.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "gl_math.h"
+#include "meshes.h"
+#include "shaders.h"
+#include "text.h"
+
+namespace clothsim {
+
+namespace {
+
+using gl::Mat4;
+using gl::Vec3;
+
+// The lights, linear RGB. One definition for the shaders (uniforms) and for the CPU-side
+// ground colours, so a lit cloth and a lit ground agree. An upward surface facing the key
+// light receives about 1: it shows the colour the frame gives. RenderFrame colours are taken
+// as display values (gamma 2), squared to linear for lighting.
+constexpr Vec3 kKeyLight{0.70f, 0.69f, 0.66f};    // directional key light, slightly warm
+constexpr Vec3 kSkyLight{0.40f, 0.43f, 0.48f};    // ambient from above, cool
+constexpr Vec3 kBounceLight{0.22f, 0.20f, 0.18f};  // ambient from below, warm
+
+Vec3 mul(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+Vec3 display(Vec3 linear) {  // gamma 2, as the shaders' to_display()
+  const auto g = [](float c) { return std::sqrt(std::clamp(c, 0.f, 1.f)); };
+  return {g(linear.x), g(linear.y), g(linear.z)};
+}
+Vec3 to_vec3(const Rgb& c) { return {c[0], c[1], c[2]}; }
+Vec3 linear(const Rgb& c) { return {c[0] * c[0], c[1] * c[1], c[2] * c[2]}; }
+
+// Everything derived from RenderFrame::camera for one frame.
+struct View {
+  Mat4 view_proj;
+  Vec3 eye, right, up, forward;
+  float tan_half_x = 1.f, tan_half_y = 1.f;
+  float distance = 1.f;  // eye to target, m: the scene's scale for near/far, fog, ground extent
+  Vec3 light_dir;        // unit, towards the key light
+};
+
+View make_view(const RenderFrame& frame) {
+  const RenderCamera& c = frame.camera;
+  View v;
+  v.eye = gl::to_vec3(c.eye);
+  const Vec3 target = gl::to_vec3(c.target);
+  v.distance = std::max(gl::length(target - v.eye), 1e-3f);
+  const Mat4 view = gl::look_at(v.eye, target, gl::to_vec3(c.up));
+  v.right = {view.at(0, 0), view.at(0, 1), view.at(0, 2)};
+  v.up = {view.at(1, 0), view.at(1, 1), view.at(1, 2)};
+  v.forward = {-view.at(2, 0), -view.at(2, 1), -view.at(2, 2)};
+  const float aspect = static_cast<float>(frame.width) / static_cast<float>(frame.height);
+  v.tan_half_y = std::tan(c.fov_deg * 3.14159265f / 360.f);
+  v.tan_half_x = v.tan_half_y * aspect;
+  v.view_proj = gl::perspective(c.fov_deg, aspect, 0.01f * v.distance, 50.f * v.distance) * view;
+  // Key light above, over the viewer's left shoulder, whatever way the camera looks, so
+  // shadows fall behind and to the right of what casts them.
+  Vec3 back = {-v.forward.x, 0.f, -v.forward.z};
+  Vec3 left = {-v.right.x, 0.f, -v.right.z};
+  if (gl::length(back) < 1e-3f) back = {0.f, 0.f, -1.f};  // looking straight down
+  if (gl::length(left) < 1e-3f) left = {1.f, 0.f, 0.f};
+  v.light_dir = gl::normalize(Vec3{0.f, 1.f, 0.f} + gl::normalize(left) * 0.45f + gl::normalize(back) * 0.35f);
+  return v;
+}
+
+void check_frame(const RenderFrame& f, int max_size) {
+  const auto fail = [](const std::string& what) { throw RenderError("RenderFrame: " + what); };
+  if (f.width < 1 || f.height < 1 || f.width > max_size || f.height > max_size)
+    throw RenderError("image size " + std::to_string(f.width) + "x" + std::to_string(f.height) +
+                      " is outside 1.." + std::to_string(max_size) + " pixels per side");
+  if (f.cloth_positions.size() % 3 != 0) fail("cloth_positions is not a list of 3-vectors");
+  const std::size_t particles = f.cloth_positions.size() / 3;
+  if (f.cloth_normals.size() != f.cloth_positions.size())
+    fail("cloth_normals has " + std::to_string(f.cloth_normals.size()) + " values, expected " +
+         std::to_string(f.cloth_positions.size()));
+  if (f.cloth_uv.size() != 2 * particles)
+    fail("cloth_uv has " + std::to_string(f.cloth_uv.size()) + " values, expected " +
+         std::to_string(2 * particles));
+  if (f.cloth_triangles.size() % 3 != 0) fail("cloth_triangles is not a list of triangles");
+  for (std::uint32_t i : f.cloth_triangles)
+    if (i >= particles) fail("cloth_triangles refers to particle " + std::to_string(i) + " of " + std::to_string(particles));
+  if (f.spring_lines.size() % 2 != 0) fail("spring_lines is not a list of pairs");
+  for (std::uint32_t i : f.spring_lines)
+    if (i >= particles) fail("spring_lines refers to particle " + std::to_string(i) + " of " + std::to_string(particles));
+  if (f.spring_types.size() != f.spring_lines.size() / 2)
+    fail("spring_types has " + std::to_string(f.spring_types.size()) + " entries for " +
+         std::to_string(f.spring_lines.size() / 2) + " lines");
+  for (const RenderSphere& s : f.spheres)
+    if (!(s.radius > 0.f)) fail("a sphere has radius " + std::to_string(s.radius));
+}
+
+// Uniform setters by name (a few dozen lookups a frame; cheaper than the clarity they buy).
+void set(GLuint p, const char* name, float v) { glUniform1f(glGetUniformLocation(p, name), v); }
+void set(GLuint p, const char* name, int v) { glUniform1i(glGetUniformLocation(p, name), v); }
+void set(GLuint p, const char* name, Vec3 v) { glUniform3f(glGetUniformLocation(p, name), v.x, v.y, v.z); }
+void set(GLuint p, const char* name, const Rgb& c) { glUniform3f(glGetUniformLocation(p, name), c[0], c[1], c[2]); }
+void set(GLuint p, const char* name, float a, float b) { glUniform2f(glGetUniformLocation(p, name), a, b); }
+void set(GLuint p, const char* name, const Mat4& m) {
+  glUniformMatrix4fv(glGetUniformLocation(p, name), 1, GL_FALSE, m.data());
+}
+void set_placement(GLuint p, Vec3 offset, float scale) {
+  glUniform4f(glGetUniformLocation(p, "u_placement"), offset.x, offset.y, offset.z, scale);
+}
+
+template <class T>
+void upload(GLenum target, GLuint buffer, const std::vector<T>& data) {
+  glBindBuffer(target, buffer);
+  glBufferData(target, static_cast<GLsizeiptr>(data.size() * sizeof(T)), data.data(), GL_STREAM_DRAW);
+}
+
+void attribute(GLuint index, GLuint buffer, int components) {
+  glBindBuffer(GL_ARRAY_BUFFER, buffer);
+  glEnableVertexAttribArray(index);
+  glVertexAttribPointer(index, components, GL_FLOAT, GL_FALSE, 0, nullptr);
+}
+
+// Overlay lines top-left, the banner centred in red; sized to the image (2x at 720p).
+void draw_overlay(Image& image, const RenderFrame& frame) {
+  const int scale = std::max(1, image.height / 360);
+  const int margin = 4 * scale;
+  if (!frame.overlay_lines.empty())
+    draw_text_block(image, margin, margin, frame.overlay_lines, {255, 255, 255, 255}, scale);
+  if (!frame.banner.empty()) {
+    int banner_scale = 2 * scale;
+    while (banner_scale > 1 && text_width(frame.banner, banner_scale) > image.width - 2 * margin) --banner_scale;
+    const int x = (image.width - text_width(frame.banner, banner_scale)) / 2;
+    const int y = (image.height - text_glyph_height() * banner_scale) / 2;
+    draw_text(image, x, y, frame.banner, {255, 72, 60, 255}, banner_scale);
+  }
+}
+
+}  // namespace
+
+struct Renderer::Impl {
+  OSMesaContext context = nullptr;
+  std::array<std::uint8_t, 4> default_buffer{};  // OSMesa needs a window buffer; we draw to FBOs
+  std::string version, renderer_name;
+  int max_size = 0, max_samples = 1;
+
+  GLuint cloth_program = 0, sphere_program = 0, ground_program = 0, shadow_program = 0;
+  GLuint background_program = 0, flat_program = 0;
+
+  GLuint empty_vao = 0;                                         // attribute-less full-screen draw
+  GLuint cloth_vao = 0, cloth_positions = 0, cloth_normals = 0, cloth_uv = 0, cloth_triangles = 0;
+  GLuint lines_vao = 0, line_indices = 0;                       // springs: cloth_positions + indices
+  GLuint sphere_vao = 0, sphere_positions = 0, sphere_normals = 0, sphere_triangles = 0;
+  GLsizei sphere_index_count = 0;
+  GLuint ground_vao = 0, ground_positions = 0;
+
+  GLuint draw_fbo = 0, draw_color = 0, draw_depth = 0;          // multisampled when samples > 1
+  GLuint resolve_fbo = 0, resolve_color = 0;
+  int target_width = 0, target_height = 0, target_samples = 0;
+
+  std::vector<std::uint8_t> readback;                           // bottom-up, as GL returns it
+  std::array<GLint, 4> line_ranges{};                           // first index of each spring type, and the end
+
+  void make_current() {
+    if (!OSMesaMakeCurrent(context, default_buffer.data(), GL_UNSIGNED_BYTE, 1, 1))
+      throw RenderError("OSMesaMakeCurrent failed");
+  }
+  void create_objects();
+  void ensure_targets(int width, int height, int samples);
+  void delete_targets();
+  void upload_frame(const RenderFrame& frame, const View& view);
+  void draw_lit_surfaces(const RenderFrame& frame, const View& view);
+  void draw_springs_and_particles(const RenderFrame& frame, const View& view);
+  void draw_shadows(const RenderFrame& frame, const View& view);
+  void draw_ground(const RenderFrame& frame, const View& view);
+  void draw_ground_pass(GLuint program, const RenderFrame& frame, const View& view, bool in_shadow);
+  void draw_sky(const RenderFrame& frame, const View& view);
+  Image read_back();
+};
+
+Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
+  Impl& r = *impl_;
+  // Core profile 3.3 (llvmpipe gives 4.5); no depth/stencil on the window buffer, the FBOs have their own.
+  const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
+                            OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                            OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+  r.context = OSMesaCreateContextAttribs(attributes, nullptr);
+  if (!r.context)
+    throw RenderError("cannot create an OSMesa OpenGL 3.3 core context (is Mesa's libOSMesa with llvmpipe installed?)");
+  try {
+    r.make_current();
+    const auto text = [](GLenum name) {
+      const GLubyte* s = glGetString(name);
+      return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
+    };
+    r.version = text(GL_VERSION);
+    r.renderer_name = text(GL_RENDERER);
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    if (major * 10 + minor < 33)
+      throw RenderError("OpenGL 3.3 is needed, the context offers \"" + r.version + "\" on " + r.renderer_name);
+    GLint renderbuffer_max = 0, viewport_max[2] = {0, 0}, samples = 1;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer_max);
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_max);
+    glGetIntegerv(GL_MAX_SAMPLES, &samples);
+    r.max_size = std::min({renderbuffer_max, viewport_max[0], viewport_max[1]});
+    r.max_samples = std::max(1, samples);
+    r.create_objects();
+  } catch (...) {
+    OSMesaDestroyContext(r.context);
+    throw;
+  }
+}
+
+Renderer::~Renderer() {
+  if (impl_ && impl_->context) OSMesaDestroyContext(impl_->context);  // frees every GL object it owns
+}
+
+std::string Renderer::gl_version() const { return impl_->version; }
+std::string Renderer::gl_renderer() const { return impl_->renderer_name; }
+int Renderer::max_size() const { return impl_->max_size; }
+
+void Renderer::Impl::create_objects() {
+  cloth_program = gl::build_program("cloth", shaders::kSurfaceVertex, shaders::kClothFragment);
+  sphere_program = gl::build_program("sphere", shaders::kSurfaceVertex, shaders::kSphereFragment);
+  ground_program = gl::build_program("ground", shaders::kSurfaceVertex, shaders::kGroundFragment);
+  shadow_program = gl::build_program("shadow", shaders::kShadowVertex, shaders::kGroundFragment);
+  background_program = gl::build_program("background", shaders::kBackgroundVertex, shaders::kBackgroundFragment);
+  flat_program = gl::build_program("line/point", shaders::kFlatVertex, shaders::kFlatFragment);
+
+  glGenVertexArrays(1, &empty_vao);
+
+  GLuint buffers[9];
+  glGenBuffers(9, buffers);
+  cloth_positions = buffers[0]; cloth_normals = buffers[1]; cloth_uv = buffers[2];
+  cloth_triangles = buffers[3]; line_indices = buffers[4];
+  sphere_positions = buffers[5]; sphere_normals = buffers[6]; sphere_triangles = buffers[7];
+  ground_positions = buffers[8];
+
+  glGenVertexArrays(1, &cloth_vao);
+  glBindVertexArray(cloth_vao);
+  attribute(0, cloth_positions, 3);
+  attribute(1, cloth_normals, 3);
+  attribute(2, cloth_uv, 2);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, cloth_triangles);
+
+  glGenVertexArrays(1, &lines_vao);
+  glBindVertexArray(lines_vao);
+  attribute(0, cloth_positions, 3);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, line_indices);
+
+  // 96 x 48 facets: the silhouette stays round at 1080p for a sphere a third of the frame high.
+  const Mesh sphere = make_unit_sphere(96, 48);
+  glGenVertexArrays(1, &sphere_vao);
+  glBindVertexArray(sphere_vao);
+  upload(GL_ARRAY_BUFFER, sphere_positions, sphere.positions);
+  upload(GL_ARRAY_BUFFER, sphere_normals, sphere.normals);
+  attribute(0, sphere_positions, 3);
+  attribute(1, sphere_normals, 3);
+  upload(GL_ELEMENT_ARRAY_BUFFER, sphere_triangles, sphere.triangles);
+  sphere_index_count = static_cast<GLsizei>(sphere.triangles.size());
+
+  glGenVertexArrays(1, &ground_vao);
+  glBindVertexArray(ground_vao);
+  attribute(0, ground_positions, 3);
+  glBindVertexArray(0);
+  gl::check_gl("creating programs and buffers");
+}
+
+void Renderer::Impl::delete_targets() {
+  const GLuint fbos[2] = {draw_fbo, resolve_fbo};
+  const GLuint renderbuffers[3] = {draw_color, draw_depth, resolve_color};
+  glDeleteFramebuffers(2, fbos);
+  glDeleteRenderbuffers(3, renderbuffers);
+  draw_fbo = resolve_fbo = draw_color = draw_depth = resolve_color = 0;
+  target_width = target_height = target_samples = 0;
+}
+
+void Renderer::Impl::ensure_targets(int width, int height, int samples) {
+  if (width == target_width && height == target_height && samples == target_samples) return;
+  delete_targets();
+  const auto make_renderbuffer = [&](GLenum format, int n) {
+    GLuint rb = 0;
+    glGenRenderbuffers(1, &rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, rb);
+    if (n > 1) glRenderbufferStorageMultisample(GL_RENDERBUFFER, n, format, width, height);
+    else glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
+    return rb;
+  };
+  draw_color = make_renderbuffer(GL_RGBA8, samples);
+  draw_depth = make_renderbuffer(GL_DEPTH_COMPONENT24, samples);
+  glGenFramebuffers(1, &draw_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, draw_fbo);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, draw_color);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, draw_depth);
+  const GLenum draw_status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  GLenum resolve_status = GL_FRAMEBUFFER_COMPLETE;
+  if (samples > 1) {  // the single-sample copy that glReadPixels reads
+    resolve_color = make_renderbuffer(GL_RGBA8, 1);
+    glGenFramebuffers(1, &resolve_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, resolve_fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolve_color);
+    resolve_status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  const GLenum error = glGetError();
+  if (error != GL_NO_ERROR || draw_status != GL_FRAMEBUFFER_COMPLETE || resolve_status != GL_FRAMEBUFFER_COMPLETE) {
+    delete_targets();
+    throw RenderError("cannot make a " + std::to_string(width) + "x" + std::to_string(height) +
+                      " framebuffer with " + std::to_string(samples) + " samples" +
+                      (error == GL_OUT_OF_MEMORY ? ": out of memory" : ""));
+  }
+  target_width = width;
+  target_height = height;
+  target_samples = samples;
+  readback.resize(static_cast<std::size_t>(width) * height * 4);
+}
+
+void Renderer::Impl::upload_frame(const RenderFrame& frame, const View& view) {
+  upload(GL_ARRAY_BUFFER, cloth_positions, frame.cloth_positions);
+  upload(GL_ARRAY_BUFFER, cloth_normals, frame.cloth_normals);
+  upload(GL_ARRAY_BUFFER, cloth_uv, frame.cloth_uv);
+  glBindVertexArray(cloth_vao);
+  upload(GL_ELEMENT_ARRAY_BUFFER, cloth_triangles, frame.cloth_triangles);
+
+  if (!frame.spring_lines.empty()) {  // grouped by type so each type is one draw in its colour
+    std::vector<std::uint32_t> sorted;
+    sorted.reserve(frame.spring_lines.size());
+    for (std::uint8_t type = 0; type < 3; ++type) {
+      line_ranges[type] = static_cast<GLint>(sorted.size());
+      for (std::size_t l = 0; l < frame.spring_types.size(); ++l)
+        if (std::min<std::uint8_t>(frame.spring_types[l], 2) == type)
+          sorted.insert(sorted.end(), {frame.spring_lines[2 * l], frame.spring_lines[2 * l + 1]});
+    }
+    line_ranges[3] = static_cast<GLint>(sorted.size());
+    glBindVertexArray(lines_vao);
+    upload(GL_ELEMENT_ARRAY_BUFFER, line_indices, sorted);
+  }
+
+  if (frame.has_ground) {  // a square around the camera target, reaching past where the fog hides it
+    const float y = frame.ground_height, half = 8.f * view.distance;
+    const float cx = frame.camera.target[0], cz = frame.camera.target[2];
+    const std::vector<float> quad = {cx - half, y, cz - half, cx - half, y, cz + half,
+                                     cx + half, y, cz - half, cx + half, y, cz + half};
+    upload(GL_ARRAY_BUFFER, ground_positions, quad);
+  }
+  glBindVertexArray(0);
+}
+
+namespace {
+void set_lights(GLuint program, const View& view) {
+  set(program, "u_view_proj", view.view_proj);
+  set(program, "u_eye", view.eye);
+  set(program, "u_light_dir", view.light_dir);
+  set(program, "u_key", kKeyLight);
+  set(program, "u_sky", kSkyLight);
+  set(program, "u_bounce", kBounceLight);
+}
+}  // namespace
+
+void Renderer::Impl::draw_lit_surfaces(const RenderFrame& frame, const View& view) {
+  if (!frame.cloth_triangles.empty()) {
+    glUseProgram(cloth_program);
+    set_lights(cloth_program, view);
+    set_placement(cloth_program, {0.f, 0.f, 0.f}, 1.f);
+    set(cloth_program, "u_front_color", frame.cloth_front);
+    set(cloth_program, "u_back_color", frame.cloth_back);
+    set(cloth_program, "u_cells", static_cast<float>(frame.checker_cells_u), static_cast<float>(frame.checker_cells_v));
+    glBindVertexArray(cloth_vao);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(frame.cloth_triangles.size()), GL_UNSIGNED_INT, nullptr);  // both faces
+  }
+  if (!frame.spheres.empty()) {
+    glUseProgram(sphere_program);
+    set_lights(sphere_program, view);
+    glEnable(GL_CULL_FACE);                                         // closed mesh: back faces never show
+    glBindVertexArray(sphere_vao);
+    for (const RenderSphere& s : frame.spheres) {
+      set_placement(sphere_program, gl::to_vec3(s.center), s.radius);
+      set(sphere_program, "u_color", s.color);
+      glDrawElements(GL_TRIANGLES, sphere_index_count, GL_UNSIGNED_INT, nullptr);
+    }
+    glDisable(GL_CULL_FACE);
+  }
+}
+
+void Renderer::Impl::draw_springs_and_particles(const RenderFrame& frame, const View& view) {
+  glUseProgram(flat_program);
+  set(flat_program, "u_view_proj", view.view_proj);
+  if (!frame.spring_lines.empty()) {
+    set(flat_program, "u_round", 0);
+    const Vec3 colors[3] = {{0.12f, 0.12f, 0.14f}, {0.10f, 0.55f, 0.25f}, {0.80f, 0.20f, 0.60f}};  // structural, shear, bend
+    glBindVertexArray(lines_vao);
+    for (int type = 0; type < 3; ++type) {
+      set(flat_program, "u_color", colors[type]);
+      glDrawElements(GL_LINES, line_ranges[type + 1] - line_ranges[type], GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(static_cast<std::uintptr_t>(line_ranges[type]) * sizeof(std::uint32_t)));
+    }
+  }
+  if (frame.draw_particles && !frame.cloth_positions.empty()) {
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    set(flat_program, "u_round", 1);
+    set(flat_program, "u_point_size", std::max(3.f, static_cast<float>(frame.height) / 180.f));
+    set(flat_program, "u_color", Vec3{0.08f, 0.08f, 0.10f});
+    glBindVertexArray(cloth_vao);
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(frame.cloth_positions.size() / 3));
+    glDisable(GL_PROGRAM_POINT_SIZE);
+  }
+}
+
+// Ground colours, display space: a horizontal plane under a directional light is evenly lit,
+// so its colour is computed once here; in shadow only the sky light is left.
+Vec3 ground_color(const RenderFrame& frame, const View& view, bool in_shadow) {
+  const Vec3 light = in_shadow ? kSkyLight : kSkyLight + kKeyLight * view.light_dir.y;
+  return display(mul(linear(frame.ground_color), light));
+}
+
+void Renderer::Impl::draw_ground_pass(GLuint program, const RenderFrame& frame, const View& view, bool in_shadow) {
+  glUseProgram(program);
+  set(program, "u_view_proj", view.view_proj);
+  set(program, "u_eye", view.eye);
+  set(program, "u_lit_color", ground_color(frame, view, in_shadow));
+  set(program, "u_horizon", to_vec3(frame.background));
+  set(program, "u_fog", 1.6f * view.distance, 5.f * view.distance);
+  set(program, "u_spacing", std::max(frame.ground_grid_spacing, 1e-3f));
+}
+
+void Renderer::Impl::draw_shadows(const RenderFrame& frame, const View& view) {
+  draw_ground_pass(shadow_program, frame, view, true);
+  set(shadow_program, "u_light_dir", view.light_dir);
+  set(shadow_program, "u_ground_height", frame.ground_height);
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(-1.f, -4.f);  // just above the plane: the ground drawn next is hidden here
+  set_placement(shadow_program, {0.f, 0.f, 0.f}, 1.f);
+  glBindVertexArray(cloth_vao);
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(frame.cloth_triangles.size()), GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(sphere_vao);
+  for (const RenderSphere& s : frame.spheres) {
+    set_placement(shadow_program, gl::to_vec3(s.center), s.radius);
+    glDrawElements(GL_TRIANGLES, sphere_index_count, GL_UNSIGNED_INT, nullptr);
+  }
+  glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+void Renderer::Impl::draw_ground(const RenderFrame& frame, const View& view) {
+  draw_ground_pass(ground_program, frame, view, false);
+  set_placement(ground_program, {0.f, 0.f, 0.f}, 1.f);
+  glBindVertexArray(ground_vao);
+  glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+}
+
+void Renderer::Impl::draw_sky(const RenderFrame& frame, const View& view) {
+  const Vec3 horizon = to_vec3(frame.background);  // display values throughout
+  glUseProgram(background_program);
+  set(background_program, "u_right", view.right);
+  set(background_program, "u_up", view.up);
+  set(background_program, "u_forward", view.forward);
+  set(background_program, "u_tan_half_fov", view.tan_half_x, view.tan_half_y);
+  set(background_program, "u_horizon", horizon);
+  set(background_program, "u_zenith", mul(horizon, {0.70f, 0.80f, 0.94f}));   // deeper, cooler above
+  // Without ground, a studio backdrop darkening below the horizon; with ground, the fogged
+  // ground already meets the horizon colour.
+  set(background_program, "u_nadir", frame.has_ground ? horizon : mul(horizon, {0.80f, 0.79f, 0.78f}));
+  glDepthFunc(GL_LEQUAL);                                        // the far plane, where nothing was drawn
+  glDepthMask(GL_FALSE);
+  glBindVertexArray(empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthMask(GL_TRUE);
+  glDepthFunc(GL_LESS);
+}
+
+Image Renderer::Impl::read_back() {
+  const int w = target_width, h = target_height;
+  if (target_samples > 1) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo);
+    glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);  // MSAA resolve
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo);
+  } else {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo);
+  }
+  glFinish();                                                                  // all drawing done
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, readback.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl::check_gl("drawing and reading back a " + std::to_string(w) + "x" + std::to_string(h) + " frame");
+
+  Image image(w, h);
+  const std::size_t row_bytes = static_cast<std::size_t>(w) * 4;
+  for (int y = 0; y < h; ++y) {                                                // GL rows are bottom-up
+    std::uint8_t* dst = image.rgba.data() + static_cast<std::size_t>(y) * row_bytes;
+    std::memcpy(dst, readback.data() + static_cast<std::size_t>(h - 1 - y) * row_bytes, row_bytes);
+    for (std::size_t i = 3; i < row_bytes; i += 4) dst[i] = 255;               // opaque
+  }
+  return image;
+}
+
+Image Renderer::render(const RenderFrame& frame) {
+  Impl& r = *impl_;
+  check_frame(frame, r.max_size);                                      // sizes and indices, before any GL
+  r.make_current();                                                    // ours, on this thread
+  r.ensure_targets(frame.width, frame.height, std::clamp(frame.samples, 1, r.max_samples));
+  const View view = make_view(frame);                                  // camera and key light
+  r.upload_frame(frame, view);                                         // cloth, springs, ground quad
+  glBindFramebuffer(GL_FRAMEBUFFER, r.draw_fbo);
+  glViewport(0, 0, frame.width, frame.height);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glClearDepth(1.0);
+  glClear(GL_DEPTH_BUFFER_BIT);                                        // colour: the sky covers the rest
+  r.draw_lit_surfaces(frame, view);                                    // nearest first: early-z
+  r.draw_springs_and_particles(frame, view);
+  if (frame.has_ground && frame.shadows) r.draw_shadows(frame, view);  // ground in shadow ...
+  if (frame.has_ground) r.draw_ground(frame, view);                    // ... then the lit rest
+  r.draw_sky(frame, view);                                             // where nothing was drawn
+  Image image = r.read_back();                                         // resolve, finish, read, flip
+  draw_overlay(image, frame);                                          // text on the CPU
+  return image;
+}
+
+}  // namespace clothsim

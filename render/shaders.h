@@ -1,0 +1,33 @@
+// GLSL 330 core sources of the renderer's programs. Lit surfaces (cloth, spheres) share
+// one Blinn-Phong chunk; the ground, its shadows and the sky are flat-cost shaders, since
+// they cover most pixels and llvmpipe shades on the CPU.
+#pragma once
+
+#include <string>
+
+namespace clothsim::shaders {
+
+// Surface vertex shader for cloth, spheres and ground: world position =
+// u_placement.xyz + u_placement.w * a_position (a sphere is the unit sphere mesh placed by
+// centre and radius; cloth and ground pass (0, 0, 0, 1)).
+extern const std::string kSurfaceVertex;
+
+extern const std::string kClothFragment;   // two-sided, box-filtered checker from the grid uv
+extern const std::string kSphereFragment;  // smooth, glossy
+extern const std::string kGroundFragment;  // anti-aliased minor/major grid, fog to the horizon
+
+// Planar projected shadows (Blinn, "Me and my (fake) shadow", 1988): cloth and spheres
+// flattened onto the ground along the light direction, shaded by kGroundFragment in the
+// ground's unlit colour.
+extern const std::string kShadowVertex;
+
+// A full-screen triangle shading the sky (and, without ground, the floor-less backdrop)
+// by the direction of each pixel's view ray.
+extern const std::string kBackgroundVertex;
+extern const std::string kBackgroundFragment;
+
+// Flat-coloured lines (springs) and round points (particles).
+extern const std::string kFlatVertex;
+extern const std::string kFlatFragment;
+
+}  // namespace clothsim::shaders
