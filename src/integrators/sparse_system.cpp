@@ -65,15 +65,37 @@ void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& 
   for (int i = 0; i < B; ++i) A.diag_inverse[i] = A.diag[i].inverse();
 }
 
+// The CG hot loop (one call per iteration): written on raw column-major arrays, as the
+// force pass is, so each 3x3 block product stays in registers. Blocks are symmetric, so
+// the spring block serves (a, b) and (b, a) alike.
 void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {
   const int B = A.num_bodies();
   y.resize(3, B);
-  for (int i = 0; i < B; ++i) y.col(i).noalias() = A.diag[i] * p.col(i);
+  const double* P = p.data();
+  double* Y = y.data();
+  for (int i = 0; i < B; ++i) {
+    const double* D = A.diag[i].data();
+    const double* pi = P + 3 * i;
+    double* yi = Y + 3 * i;
+    yi[0] = D[0] * pi[0] + D[3] * pi[1] + D[6] * pi[2];
+    yi[1] = D[1] * pi[0] + D[4] * pi[1] + D[7] * pi[2];
+    yi[2] = D[2] * pi[0] + D[5] * pi[1] + D[8] * pi[2];
+  }
   const std::size_t S = A.off.size();
+  const std::int32_t* ia = A.a.data();
+  const std::int32_t* ib = A.b.data();
   for (std::size_t s = 0; s < S; ++s) {
-    const int a = A.a[s], b = A.b[s];
-    y.col(a).noalias() += A.off[s] * p.col(b);
-    y.col(b).noalias() += A.off[s] * p.col(a);
+    const double* G = A.off[s].data();
+    const std::size_t a = 3 * static_cast<std::size_t>(ia[s]);
+    const std::size_t b = 3 * static_cast<std::size_t>(ib[s]);
+    const double pa0 = P[a], pa1 = P[a + 1], pa2 = P[a + 2];
+    const double pb0 = P[b], pb1 = P[b + 1], pb2 = P[b + 2];
+    Y[a] += G[0] * pb0 + G[3] * pb1 + G[6] * pb2;
+    Y[a + 1] += G[1] * pb0 + G[4] * pb1 + G[7] * pb2;
+    Y[a + 2] += G[2] * pb0 + G[5] * pb1 + G[8] * pb2;
+    Y[b] += G[0] * pa0 + G[3] * pa1 + G[6] * pa2;
+    Y[b + 1] += G[1] * pa0 + G[4] * pa1 + G[7] * pa2;
+    Y[b + 2] += G[2] * pa0 + G[5] * pa1 + G[8] * pa2;
   }
 }
 
