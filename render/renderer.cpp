@@ -430,9 +430,10 @@ void Renderer::Impl::draw_springs_and_particles(const RenderFrame& frame, const 
 }
 
 // Ground colours, display space: a horizontal plane under a directional light is evenly lit,
-// so its colour is computed once here; in shadow only the sky light is left.
+// so its colour is computed once here. In shadow the sky light is left, plus a fifth of the
+// key light standing in for what the surroundings scatter (a black shadow reads as a hole).
 Vec3 ground_color(const RenderFrame& frame, const View& view, bool in_shadow) {
-  const Vec3 light = in_shadow ? kSkyLight : kSkyLight + kKeyLight * view.light_dir.y;
+  const Vec3 light = kSkyLight + kKeyLight * (view.light_dir.y * (in_shadow ? 0.2f : 1.f));
   return display(mul(linear(frame.ground_color), light));
 }
 
