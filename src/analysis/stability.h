@@ -1,0 +1,91 @@
+// Stability: the largest step each integrator survives on a scene, found by bisection.
+//
+// "Survives" means: runs from t = 0 to T without the engine calling it diverged (a
+// non-finite value, a spring past divergence.max_strain, or kinetic energy past
+// energy_factor x the scene's energy scale; see diagnostics.h and Model::energy_scale).
+// The study lowers the energy factor from the engine's 1e4 to 100 by default: the energy
+// scale already bounds what a passive scene can hold (its potential energy released over
+// its own size, plus its initial energy), so 100 times it is no state a stable method
+// reaches, and an unstable one gets there ln(1e4 / 100) ~ 4.6 e-foldings sooner.
+//
+// Slow growth. An unstable method whose amplification is barely above 1 takes long to
+// reach any bound: undamped, explicit Euler's energy grows like exp(w^2 h t) and
+// midpoint's like exp(w^4 h^3 t / 4), so at small h they pass a finite-time test. The
+// result is therefore "stable over T", and T and the smallest dt tried must be chosen so
+// that the growth one wants to see, exp(rate x T), exceeds the bound: the tests on the
+// undamped spring use T = 400 s and steps down to w h = 0.2, where midpoint's energy grows
+// by e^8. Symplectic Euler and RK4 have no slow side: beyond w h = 2 and 2.83 their
+// amplification jumps well above 1 (the limits are sharp), and below, their energy stays
+// within a bounded band (symplectic Euler's swings by 1 / (1 - (w h / 2)^2), which the
+// bound allows up to within 0.2 % of w h = 2).
+//
+// The search, in log dt, assuming (as linear theory says) that stability is monotone in dt:
+// 1. the largest dt tried, max_dt: stable there -> "stable at the largest dt tried" (no
+//    larger number is invented);
+// 2. from a first guess (2 / max(w_max, c_max) from stiffness_estimate.h), double while
+//    stable or halve while unstable until a stable/unstable pair brackets the limit; no
+//    stable dt down to min_dt -> "unstable at every dt tried";
+// 3. bisect the bracket at its geometric mean until unstable / stable <= 1 + precision.
+// The answer is the largest dt that ran (the bracket's stable end).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "analysis/stiffness_estimate.h"
+#include "analysis/study_error.h"
+#include "integrator_kind.h"
+#include "model.h"
+
+namespace clothsim::analysis {
+
+struct StabilitySpec {
+  std::vector<IntegratorKind> integrators;
+  double duration = 0.0;        // T, s: each trial runs from 0 to T
+  double min_dt = 0.0;          // s, smallest step tried
+  double max_dt = 0.0;          // s, largest step tried
+  double precision = 0.02;      // relative width of the final bracket
+  double energy_factor = 100.0; // replaces Model::divergence.max_energy_factor in trials
+  double first_guess = 0.0;     // s; 0: 2 / max(w_max, c_max) of the model, clamped to the range
+  int jobs = 0;                 // threads; <= 0: hardware_concurrency
+};
+
+enum class StabilityOutcome {
+  Bracketed,      // stable_dt <= limit < unstable_dt, unstable_dt / stable_dt <= 1 + precision
+  StableAtMax,    // stable at max_dt: the limit (if any) is above the range tried
+  UnstableAtMin,  // unstable at min_dt: the limit (if any) is below the range tried
+  Stopped,        // the caller stopped the search
+};
+const char* outcome_name(StabilityOutcome outcome);  // "bracketed", "stable_at_max", ...
+
+struct StabilityLimit {
+  IntegratorKind integrator{};
+  double value = 0.0;          // the swept parameter's value (0 outside a sweep)
+  StabilityOutcome outcome = StabilityOutcome::Stopped;
+  double stable_dt = 0.0;      // s, largest dt that ran to T (NaN when none did)
+  double unstable_dt = 0.0;    // s, smallest dt that diverged (NaN when none did)
+  std::string reason;          // how the run at unstable_dt diverged
+  int trials = 0;              // runs made
+  double cpu_seconds = 0.0;    // summed over the trials
+  StiffnessEstimate estimate;  // of the model searched
+};
+
+// Checks the spec; throws StudyError naming the problem.
+void check(const StabilitySpec& spec);
+
+// One search: `kind` on `model`.
+StabilityLimit largest_stable_dt(const Model& model, IntegratorKind kind, const StabilitySpec& spec,
+                                 const std::function<bool()>& stop = {});
+
+// A swept parameter's value and the model it gives.
+struct StabilityCase {
+  double value = 0.0;
+  const Model* model = nullptr;
+};
+
+// Every (case, integrator) search, spread over the cores; results case by case, integrators
+// in spec order. Searches the caller stopped are left out.
+std::vector<StabilityLimit> stability_sweep(const std::vector<StabilityCase>& cases,
+                                            const StabilitySpec& spec, const StudyHooks& hooks = {});
+
+}  // namespace clothsim::analysis

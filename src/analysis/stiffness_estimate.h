@@ -1,0 +1,48 @@
+// How fast a scene's fastest mode is, from its springs and masses alone: the step sizes
+// beyond which explicit methods cannot be stable, before running anything.
+//
+// Linearised about the rest state, the cloth obeys M u'' + D u' + K u = 0 with
+//     K = sum_s ks_s (e_a - e_b)(e_a - e_b)^T (x) d_s d_s^T      (3P x 3P, d_s the spring's axis)
+// and D the same with kd_s (plus air drag c on the diagonal), over the free particles only
+// (a pinned particle's rows and columns are removed). The largest eigenvalue of M^-1 K is
+// w_max^2. Two steps bound it:
+// 1. (d . w)^2 <= |w|^2, so u^T K u <= u^T (L (x) I3) u for every u, with L the scalar
+//    graph Laplacian of the springs (L_ii = sum_{s at i} ks_s, L_ij = -ks_s): the 3-D
+//    stiffness is no stiffer than the scalar one, and lambda_max(M^-1 K) <= lambda_max(M^-1 L).
+// 2. Gershgorin on the rows of M^-1 L (same eigenvalues as the symmetric M^-1/2 L M^-1/2):
+//        w_max^2 <= max_i (sum_{s at i} ks_s + sum_{s at i, other end free} ks_s) / m_i,
+//    i.e. 2 sum ks / m for a particle among free neighbours, sum ks / m for a spring to a
+//    pin (exact for spring.yaml: k / m = 100, w = 10 rad/s).
+// Likewise c_max <= max_i (the same sum over kd_s, + c_air) / m_i for the dampers.
+//
+// What it predicts, for the modes' own test equation u'' + c u' + w^2 u = 0:
+// - undamped (c = 0), symplectic Euler is stable for w h < 2 and RK4 for w h < 2.83, so
+//   2 / w_max is the step they cannot exceed by much (a bound on w_max makes it a lower
+//   estimate of their limit);
+// - damped, the fast root of l^2 + c l + w^2 = 0 is l ~ -c when c > w (overdamped: the
+//   dampers are the stiff term). Explicit Euler is stable on the negative real axis for
+//   h |l| < 2, so the step it cannot exceed is about 2 / max(w_max, c_max). With the
+//   drape's damping 750 N s/m (c_max ~ 1.8e4 /s against w_max ~ 690 rad/s) this, not the
+//   springs, sets the explicit methods' limit. Both figures are printed.
+// Estimates only: the true stiffness matrix also has a geometric term ks (1 - l0/l) under
+// tension, and collisions are not linear at all.
+#pragma once
+
+#include "model.h"
+
+namespace clothsim::analysis {
+
+struct StiffnessEstimate {
+  double w_max = 0.0;  // rad/s, bound on the fastest undamped frequency (springs)
+  double c_max = 0.0;  // 1/s, bound on the fastest damping rate (spring dampers + air drag)
+  int particle = -1;   // the particle whose row gives w_max (-1: no free particle with springs)
+  // 2 / w_max: the springs-only limit (inf without springs).
+  double dt_springs() const;
+  // 2 / max(w_max, c_max): the limit with the dampers counted.
+  double dt_with_damping() const;
+};
+
+// Over the particles free at t = 0 (positive initial inverse mass).
+StiffnessEstimate estimate_stiffness(const Model& model);
+
+}  // namespace clothsim::analysis

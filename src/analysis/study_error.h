@@ -1,0 +1,23 @@
+// What the studies (work precision, stability) throw for a request they cannot carry out
+// as asked: an empty or non-positive step list, a step that does not divide the duration,
+// a parameter that is not a number. The message is one sentence for the user; the CLI
+// prefixes the option it came from and exits 2.
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+
+namespace clothsim::analysis {
+
+struct StudyError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// Polled between runs and between slices of a run (Ctrl-C in the CLI), and told how many
+// of a study's runs are done, from whichever thread finished one (calls are serialised).
+struct StudyHooks {
+  std::function<bool()> stop;
+  std::function<void(long done, long total)> progress;
+};
+
+}  // namespace clothsim::analysis

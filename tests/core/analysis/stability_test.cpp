@@ -1,0 +1,108 @@
+// The stability search on spring.yaml made undamped (w = 10 rad/s), against linear theory
+// for x'' = -w^2 x: symplectic Euler stable for w h < 2, RK4 for w h < 2.83, implicit
+// Euler always, explicit Euler and midpoint never.
+//
+// Why T = 400 s and steps down to w h = 0.2: explicit Euler's and midpoint's growth is slow
+// at small h (energy x exp(w^2 h t) and exp(w^4 h^3 t / 4)); to be called unstable their
+// kinetic energy must pass 100 x the energy scale (1.5 J here, from 0.5 J: a factor 300,
+// e^5.7). Over 400 s at w h = 0.2 midpoint grows by e^8 and explicit Euler by e^800, so both
+// are caught at every step tried, yet the spring's 2 particles make each run milliseconds.
+#include "analysis/stability.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scene_parser.h"
+#include "test_support.h"
+
+namespace clothsim::analysis {
+namespace {
+
+using testing::scene_path;
+
+constexpr double kOmega = 10.0;  // rad/s, sqrt(k / m)
+
+Model undamped_spring(double stiffness = 100.0) {
+  return build_model(load_scene(scene_path("spring.yaml"),
+                                {"cloth.springs.structural.damping=0",
+                                 "cloth.springs.structural.stiffness=" + std::to_string(stiffness)}));
+}
+
+StabilitySpec long_run(IntegratorKind kind) {
+  StabilitySpec spec;
+  spec.integrators = {kind};
+  spec.duration = 400.0;
+  spec.min_dt = 0.02;  // w h = 0.2
+  spec.max_dt = 1.0;   // w h = 10
+  spec.precision = 0.02;
+  return spec;
+}
+
+TEST(Stability, FindsSymplecticEulersLimitAtOmegaHEqualsTwo) {
+  const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::SymplecticEuler,
+                                             long_run(IntegratorKind::SymplecticEuler));
+  ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed);
+  EXPECT_NEAR(kOmega * l.stable_dt, 2.0, 0.03 * 2.0);
+  EXPECT_LE(l.unstable_dt / l.stable_dt, 1.02 + 1e-12);
+  EXPECT_LE(kOmega * l.stable_dt, 2.0);  // the bracket's stable end is below the limit
+  EXPECT_FALSE(l.reason.empty());
+}
+
+TEST(Stability, FindsRk4sLimitAtOmegaHEqualsTwoPointEightThree) {
+  const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::Rk4, long_run(IntegratorKind::Rk4));
+  ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed);
+  EXPECT_NEAR(kOmega * l.stable_dt, 2.0 * std::sqrt(2.0), 0.03 * 2.83);
+}
+
+TEST(Stability, ImplicitEulerIsStableAtTheLargestStepTried) {
+  const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::ImplicitEuler,
+                                             long_run(IntegratorKind::ImplicitEuler));
+  EXPECT_EQ(l.outcome, StabilityOutcome::StableAtMax);
+  EXPECT_DOUBLE_EQ(l.stable_dt, 1.0);
+  EXPECT_EQ(l.trials, 1);  // the cap is tried first: nothing invented above it
+}
+
+TEST(Stability, ExplicitEulerAndMidpointAreNeverStableOverALongRun) {
+  for (IntegratorKind kind : {IntegratorKind::ExplicitEuler, IntegratorKind::Midpoint}) {
+    const StabilityLimit l = largest_stable_dt(undamped_spring(), kind, long_run(kind));
+    EXPECT_EQ(l.outcome, StabilityOutcome::UnstableAtMin) << integrator_name(kind);
+    EXPECT_DOUBLE_EQ(l.unstable_dt, 0.02);
+    EXPECT_TRUE(std::isnan(l.stable_dt));
+  }
+}
+
+TEST(Stability, SweepFindsTheLimitFallingAsOneOverTheSquareRootOfStiffness) {
+  const Model soft = undamped_spring(100.0), stiff = undamped_spring(400.0);
+  StabilitySpec spec = long_run(IntegratorKind::SymplecticEuler);
+  spec.integrators = {IntegratorKind::SymplecticEuler, IntegratorKind::ImplicitEuler};
+  spec.jobs = 2;
+  const std::vector<StabilityLimit> limits = stability_sweep({{100.0, &soft}, {400.0, &stiff}}, spec);
+  ASSERT_EQ(limits.size(), 4u);
+  EXPECT_EQ(limits[0].value, 100.0);
+  EXPECT_EQ(limits[0].integrator, IntegratorKind::SymplecticEuler);
+  EXPECT_EQ(limits[1].integrator, IntegratorKind::ImplicitEuler);
+  EXPECT_EQ(limits[2].value, 400.0);
+  EXPECT_NEAR(limits[0].stable_dt / limits[2].stable_dt, 2.0, 0.05);
+  EXPECT_NEAR(limits[2].stable_dt, limits[2].estimate.dt_springs(), 0.03 * 0.1);  // 2 / w, w = 20
+  EXPECT_EQ(limits[3].outcome, StabilityOutcome::StableAtMax);
+}
+
+TEST(Stability, RejectsARangeWithNothingInIt) {
+  StabilitySpec spec = long_run(IntegratorKind::Rk4);
+  spec.min_dt = 1.0;
+  EXPECT_THROW(check(spec), StudyError);
+  spec = long_run(IntegratorKind::Rk4);
+  spec.integrators.clear();
+  EXPECT_THROW(check(spec), StudyError);
+}
+
+TEST(Stability, StoppedSearchIsLeftOutOfTheSweep) {
+  const Model model = undamped_spring();
+  StudyHooks hooks;
+  hooks.stop = [] { return true; };
+  EXPECT_TRUE(stability_sweep({{100.0, &model}}, long_run(IntegratorKind::Rk4), hooks).empty());
+}
+
+}  // namespace
+}  // namespace clothsim::analysis

@@ -1,0 +1,241 @@
+// clothsim stability SCENE [--integrators a,b,...] [--param KEY] [--values LIST] [--duration T]
+//                          [--set K=V]... [--min-dt S] [--max-dt S] [--precision R]
+//                          [--energy-factor F] [--csv FILE] [--plot FILE.png] [--jobs N]
+//
+// For each integrator and each value of a swept scene key (applied as --set KEY=VALUE after
+// the user's own --set), the largest step that runs the scene from 0 to T without
+// diverging, found by bisection in log dt (src/analysis/stability.h). Beside it, the
+// Gershgorin estimates 2 / w_max (springs) and 2 / max(w_max, c_max) (dampers counted)
+// from src/analysis/stiffness_estimate.h, and each method's margin against them.
+//
+// Defaults, chosen so `clothsim stability scenes/drape.yaml` takes about a minute on 2 cores:
+// the four seed integrators; --param cloth.springs.structural.stiffness at the scene's value
+// x 1, 10, 100, 1000, 10000; T = min(scene duration, 0.2 s); steps tried from 1/32 of
+// min(scene dt, smallest estimate) up to min(T, 1000 x scene dt); 2 % precision. The
+// scene's damping is kept as it is: on the drape (750 N s/m) the dampers, not the springs,
+// set the explicit methods' limit until the structural stiffness passes ~4e7 N/m, and the
+// second estimate shows it. Sweep damping (--param cloth.springs.structural.damping) or set
+// it to 0 on every spring type to see the springs alone.
+//
+// Exit codes: 0; 2 bad options, scene or parameter; 1 I/O, the plot, or an interrupted
+// study (Ctrl-C: the searches finished so far are written to --csv).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "analysis/parameter_sweep.h"
+#include "analysis/stability.h"
+#include "analysis/task_pool.h"
+#include "cli_common.h"
+#include "commands.h"
+#include "scene_options.h"
+#include "scene_parser.h"
+#include "study_common.h"
+
+namespace clothsim::cli {
+namespace {
+
+using analysis::StabilityLimit;
+using analysis::StabilityOutcome;
+
+struct StabilityOptions {
+  SceneOptions scene;
+  std::string integrators = "explicit_euler,implicit_euler,midpoint,rk4";  // the seed's four
+  std::string param = "cloth.springs.structural.stiffness";
+  std::optional<std::string> values;  // not given: the scene's value x kDefaultValueFactors
+  std::optional<double> min_dt, max_dt;
+  double precision = analysis::StabilitySpec{}.precision;
+  double energy_factor = analysis::StabilitySpec{}.energy_factor;
+  std::string csv, plot;
+  int jobs = 0;
+};
+
+constexpr double kDefaultValueFactors[] = {1.0, 10.0, 100.0, 1000.0, 10000.0};
+constexpr double kDefaultDuration = 0.2;    // s
+constexpr double kMaxDtOverSceneDt = 1000;  // the largest step tried, in scene steps
+constexpr double kMinDtDivisor = 32;        // the smallest step tried: estimate / this
+
+struct Case {
+  double value;
+  Model model;
+};
+
+void write_csv(std::FILE* f, const std::string& param, const std::vector<StabilityLimit>& limits,
+               const analysis::StabilitySpec& spec) {
+  std::fprintf(f, "param,value,integrator,outcome,stable_dt,unstable_dt,trials,cpu_seconds,w_max,c_max,"
+                  "dt_springs,dt_with_damping,duration,min_dt,max_dt,precision,reason\n");
+  for (const StabilityLimit& l : limits)
+    std::fprintf(f, "%s,%s,%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n", csv_text(param).c_str(),
+                 csv_number(l.value).c_str(), std::string(integrator_name(l.integrator)).c_str(),
+                 analysis::outcome_name(l.outcome), csv_number(l.stable_dt).c_str(),
+                 csv_number(l.unstable_dt).c_str(), l.trials, csv_number(l.cpu_seconds).c_str(),
+                 csv_number(l.estimate.w_max).c_str(), csv_number(l.estimate.c_max).c_str(),
+                 csv_number(l.estimate.dt_springs()).c_str(), csv_number(l.estimate.dt_with_damping()).c_str(),
+                 csv_number(spec.duration).c_str(), csv_number(spec.min_dt).c_str(),
+                 csv_number(spec.max_dt).c_str(), csv_number(spec.precision).c_str(), csv_text(l.reason).c_str());
+}
+
+std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& spec) {
+  char buf[160];
+  switch (l.outcome) {
+    case StabilityOutcome::Bracketed:
+      std::snprintf(buf, sizeof buf, "%.4g s (diverges at %.4g s)", l.stable_dt, l.unstable_dt);
+      break;
+    case StabilityOutcome::StableAtMax:
+      std::snprintf(buf, sizeof buf, "stable at the largest dt tried (%.4g s)", spec.max_dt);
+      break;
+    case StabilityOutcome::UnstableAtMin:
+      std::snprintf(buf, sizeof buf, "unstable at every dt tried (down to %.4g s)", spec.min_dt);
+      break;
+    case StabilityOutcome::Stopped:
+      std::snprintf(buf, sizeof buf, "stopped");
+      break;
+  }
+  return buf;
+}
+
+int stability_command(const StabilityOptions& o) {
+  const SceneDef base = load_scene(o.scene.path, o.scene.sets);
+  const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
+  for (std::size_t i = 0; i < kinds.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (kinds[i] == kinds[j])
+        throw UsageError("--integrators: " + std::string(integrator_name(kinds[i])) + " is listed twice");
+
+  std::vector<double> values;
+  if (!o.values) {
+    const std::optional<double> current = analysis::parameter_value(o.scene.path, o.scene.sets, o.param);
+    if (!current)
+      throw UsageError("--values: " + base.source + " gives " + o.param +
+                       " no number to scale the default values from; list the values");
+    for (double f : kDefaultValueFactors) values.push_back(f * *current);
+  } else {
+    values = parse_number_list(*o.values, "--values");
+  }
+  std::vector<analysis::SweepScene> scenes;
+  try {
+    scenes = analysis::sweep_scenes(o.scene.path, o.scene.sets, o.param, values);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError("--param " + std::string(e.what()));
+  }
+
+  analysis::StabilitySpec spec;
+  spec.integrators = kinds;
+  spec.duration = o.scene.duration ? *o.scene.duration : std::min(base.duration, kDefaultDuration);
+  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
+  std::vector<Case> cases;
+  double smallest_estimate = INFINITY;
+  for (analysis::SweepScene& s : scenes) {
+    s.scene.duration = spec.duration;
+    cases.push_back({s.value, build_model(s.scene)});
+    smallest_estimate = std::min(smallest_estimate, analysis::estimate_stiffness(cases.back().model).dt_with_damping());
+  }
+  spec.max_dt = o.max_dt ? *o.max_dt : std::min(spec.duration, kMaxDtOverSceneDt * base.dt);
+  spec.min_dt = o.min_dt ? *o.min_dt : std::min(base.dt, smallest_estimate) / kMinDtDivisor;
+  spec.precision = o.precision;
+  spec.energy_factor = o.energy_factor;
+  spec.jobs = o.jobs;
+  if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
+  if (o.min_dt && !(*o.min_dt > 0.0)) throw UsageError("--min-dt: must be > 0 s");
+  if (o.max_dt && !(*o.max_dt > 0.0)) throw UsageError("--max-dt: must be > 0 s");
+  try {
+    analysis::check(spec);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError(std::string("stability: ") + e.what() + " (see --min-dt, --max-dt, --precision, --energy-factor)");
+  }
+
+  if (!o.csv.empty()) require_writable_parent(o.csv, "csv");
+  std::unique_ptr<PlotScript> plot;
+  if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_stability.py", o.plot);
+
+  std::printf("stability %s: %s over %zu values x %zu integrators, each run 0 to T = %g s; dt tried from %.3g to "
+              "%.3g s, bisection to %g %%; unstable = non-finite, strain > %g, or kinetic energy > %g x %.3g J\n",
+              base.name.c_str(), o.param.c_str(), values.size(), kinds.size(), spec.duration, spec.min_dt,
+              spec.max_dt, 100 * spec.precision, base.divergence.max_strain, spec.energy_factor,
+              cases.front().model.energy_scale);
+  std::printf("%14s %12s %12s %12s %14s\n", "value", "w_max (1/s)", "2/w_max (s)", "c_max (1/s)", "2/max(w,c) (s)");
+  for (const Case& c : cases) {
+    const analysis::StiffnessEstimate e = analysis::estimate_stiffness(c.model);
+    std::printf("%14.6g %12.4g %12.4g %12.4g %14.4g\n", c.value, e.w_max, e.dt_springs(), e.c_max, e.dt_with_damping());
+  }
+  std::fflush(stdout);
+
+  std::vector<analysis::StabilityCase> refs;
+  for (const Case& c : cases) refs.push_back({c.value, &c.model});
+  install_interrupt_handler();
+  SharedProgress progress("stability " + base.name, static_cast<long>(cases.size() * kinds.size()), "searches");
+  analysis::StudyHooks hooks;
+  hooks.stop = [] { return interrupted(); };
+  hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  const std::vector<StabilityLimit> limits = analysis::stability_sweep(refs, spec, hooks);
+
+  std::printf("%14s %-16s %-48s %10s %12s %6s\n", "value", "integrator", "largest stable dt", "x 2/w_max",
+              "x 2/max(w,c)", "trials");
+  for (const StabilityLimit& l : limits) {
+    const double dt = l.outcome == StabilityOutcome::Bracketed ? l.stable_dt : NAN;
+    std::printf("%14.6g %-16s %-48s %10.3g %12.3g %6d\n", l.value, std::string(integrator_name(l.integrator)).c_str(),
+                limit_text(l, spec).c_str(), dt / l.estimate.dt_springs(), dt / l.estimate.dt_with_damping(), l.trials);
+  }
+
+  std::string temp;
+  const auto write_to = [&](const std::string& path) {
+    AtomicFile file(path);
+    write_csv(file.stream(), o.param, limits, spec);
+    file.commit();
+  };
+  if (!o.csv.empty()) write_to(o.csv);
+  if (interrupted() || limits.size() < cases.size() * kinds.size())
+    throw RuntimeFailure("interrupted: " + std::to_string(limits.size()) + " of " +
+                         std::to_string(cases.size() * kinds.size()) + " searches finished" +
+                         (o.csv.empty() ? "" : " and written to " + o.csv) + "; no plot drawn");
+  if (plot) {
+    std::string csv = o.csv;
+    if (csv.empty()) {
+      temp = temp_path_beside(o.plot + ".csv");
+      write_to(temp);
+      csv = temp;
+    }
+    try {
+      plot->draw({"--csv", csv, "--title", base.name + " (T = " + csv_number(spec.duration) + " s)"});
+    } catch (...) {
+      if (!temp.empty()) std::remove(temp.c_str());
+      throw;
+    }
+    if (!temp.empty()) std::remove(temp.c_str());
+    std::printf("plot: %s\n", o.plot.c_str());
+  }
+  return kOk;
+}
+
+}  // namespace
+
+void add_stability_command(CLI::App& app, Command& command) {
+  auto o = std::make_shared<StabilityOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "stability", "Largest stable step per integrator across a swept scene parameter (default: stiffness)");
+  add_scene_options(sub, o->scene, /*single_run=*/false);
+  sub->add_option("--integrators", o->integrators, "Comma-separated integrators")
+      ->capture_default_str()
+      ->type_name("LIST");
+  sub->add_option("--param", o->param, "The numeric scene key to sweep, by its dotted path")
+      ->capture_default_str()
+      ->type_name("KEY");
+  sub->add_option("--values", o->values,
+                  "Comma-separated values of --param (default: the scene's value x 1, 10, 100, 1000, 10000)")
+      ->type_name("LIST");
+  sub->add_option("--min-dt", o->min_dt, "Smallest step tried, s (default: estimate / 32)")->type_name("S");
+  sub->add_option("--max-dt", o->max_dt, "Largest step tried, s (default: min(T, 1000 x scene dt))")->type_name("S");
+  sub->add_option("--precision", o->precision, "Relative width of the final bisection bracket")->capture_default_str();
+  sub->add_option("--energy-factor", o->energy_factor,
+                  "Unstable when kinetic energy exceeds this x the scene's energy scale")
+      ->capture_default_str();
+  sub->add_option("--csv", o->csv, "Write one row per search: param,value,integrator,outcome,stable_dt,...")
+      ->type_name("FILE.csv");
+  sub->add_option("--plot", o->plot, "Draw largest stable dt vs the parameter (needs python3-matplotlib)")
+      ->type_name("FILE.png");
+  sub->add_option("--jobs", o->jobs, "Searches at once (default 0: one per core)");
+  sub->callback([o, &command] { command = [o] { return stability_command(*o); }; });
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,138 @@
+#include "study_common.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+
+#include "scene_options.h"
+
+extern char** environ;
+
+namespace clothsim::cli {
+namespace fs = std::filesystem;
+
+std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const std::string& option) {
+  const std::vector<std::string> names = split_list(text);
+  if (names.empty()) throw UsageError(option + ": empty list (expected names such as rk4,implicit_euler)");
+  std::vector<IntegratorKind> kinds;
+  for (const std::string& name : names) {
+    if (name.empty()) throw UsageError(option + ": empty item in '" + text + "'");
+    kinds.push_back(parse_integrator_option(name, option));
+  }
+  return kinds;
+}
+
+std::vector<double> parse_number_list(const std::string& text, const std::string& option) {
+  const std::vector<std::string> items = split_list(text);
+  if (items.empty()) throw UsageError(option + ": empty list (expected numbers separated by commas)");
+  std::vector<double> values;
+  for (const std::string& item : items) {
+    if (item.empty()) throw UsageError(option + ": empty item in '" + text + "'");
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(item.c_str(), &end);
+    if (end == item.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+      throw UsageError(option + ": '" + item + "' is not a finite number");
+    values.push_back(v);
+  }
+  return values;
+}
+
+std::string csv_number(double value) {
+  if (std::isnan(value)) return "nan";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", value);
+  return buf;
+}
+
+std::string csv_text(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+  return quoted + "\"";
+}
+
+struct SharedProgress::Impl {
+  std::mutex mutex;
+  Progress progress;
+  Impl(std::string label, long total, std::string unit) : progress(std::move(label), total, std::move(unit)) {}
+};
+
+SharedProgress::SharedProgress(std::string label, long total, std::string unit)
+    : impl_(std::make_shared<Impl>(std::move(label), total, std::move(unit))) {}
+
+void SharedProgress::update(long done, long /*total*/) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->progress.update(done);
+}
+
+std::string tools_dir() {
+  if (const char* env = std::getenv("CLOTHSIM_TOOLS_DIR"); env && *env) return env;
+  return CLOTHSIM_TOOLS_DIR;
+}
+
+namespace {
+
+// Runs argv (argv[0] a path), stdout to /dev/null unless `quiet` is false; returns the exit code.
+int run_process(const std::vector<std::string>& args, bool quiet) {
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  if (quiet) {
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  }
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+}  // namespace
+
+PlotScript::PlotScript(std::string script, std::string png) : png_(std::move(png)) {
+  script_ = (fs::path(tools_dir()) / script).string();
+  require_writable_parent(png_, "plot");
+  if (fs::path(png_).extension() != ".png") throw UsageError("--plot: " + png_ + " must end in .png");
+  if (!fs::is_regular_file(script_))
+    throw RuntimeFailure("--plot: plot script " + script_ + " not found (set CLOTHSIM_TOOLS_DIR to clothsim's tools/ directory)");
+  // Debian's matplotlib is installed for the system python; a python3 earlier on PATH
+  // (a virtualenv) may not see it, so /usr/bin/python3 is preferred.
+  python_ = ::access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "";
+  if (const char* env = std::getenv("CLOTHSIM_PYTHON"); env && *env) python_ = env;
+  if (python_.empty()) throw RuntimeFailure("--plot needs python3 with matplotlib (apt-get install python3-matplotlib)");
+  if (run_process({python_, "-c", "import matplotlib"}, true) != 0)
+    throw RuntimeFailure("--plot needs matplotlib for " + python_ + " (apt-get install python3-matplotlib)");
+}
+
+void PlotScript::draw(const std::vector<std::string>& args) const {
+  const std::string temp = temp_path_beside(png_);
+  std::vector<std::string> argv{python_, script_};
+  argv.insert(argv.end(), args.begin(), args.end());
+  argv.push_back("--out");
+  argv.push_back(temp);
+  const int code = run_process(argv, false);
+  if (code != 0) {
+    std::remove(temp.c_str());
+    throw RuntimeFailure("--plot: " + script_ + " failed (exit " + std::to_string(code) + "); no plot written");
+  }
+  if (std::rename(temp.c_str(), png_.c_str()) != 0) {
+    std::remove(temp.c_str());
+    throw RuntimeFailure("cannot rename " + temp + " to " + png_ + ": " + std::strerror(errno));
+  }
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,58 @@
+// What `bench` and `stability` share: list options (--integrators, --dts, --values),
+// CSV cells, progress across threads, and drawing a figure with a tools/ plot script.
+#pragma once
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli_common.h"
+#include "integrator_kind.h"
+
+namespace clothsim::cli {
+
+// "a,b,c" -> integrators; an empty list, an empty item or an unknown name is a UsageError
+// naming `option`.
+std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const std::string& option);
+
+// "1e-4,2e-4" -> numbers; an empty list, an empty item or a word is a UsageError naming
+// `option`. Signs are the caller's to check (a dt must be > 0, a parameter may be anything).
+std::vector<double> parse_number_list(const std::string& text, const std::string& option);
+
+// A CSV cell: %.17g for numbers (nan stays "nan"), and text quoted when it holds a comma
+// or a quote (RFC 4180), so a divergence reason cannot break a row.
+std::string csv_number(double value);
+std::string csv_text(const std::string& text);
+
+// Progress for work finished on worker threads: update() may be called from any thread.
+class SharedProgress {
+ public:
+  SharedProgress(std::string label, long total, std::string unit);
+  void update(long done, long total);
+ private:
+  struct Impl;
+  std::shared_ptr<Impl> impl_;
+};
+
+// A figure drawn by tools/SCRIPT with python3 and matplotlib (Agg, no display needed).
+// Checked before a study starts, so a missing python3-matplotlib fails in a second, not
+// after minutes of simulation.
+class PlotScript {
+ public:
+  // Throws RuntimeFailure when the script, python3 or matplotlib is missing, and checks
+  // that `png` can be written.
+  PlotScript(std::string script, std::string png);
+  // Runs python3 SCRIPT ARGS... --out TMP.png and renames TMP onto the requested name.
+  // Throws RuntimeFailure when the script fails (its stderr is passed through).
+  void draw(const std::vector<std::string>& args) const;
+  const std::string& png() const { return png_; }
+ private:
+  std::string python_, script_, png_;
+};
+
+// The directory holding the plot scripts (the source tree's tools/, or CLOTHSIM_TOOLS_DIR
+// from the environment).
+std::string tools_dir();
+
+}  // namespace clothsim::cli

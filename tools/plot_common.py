@@ -1,0 +1,80 @@
+"""Shared by the plot scripts: reading clothsim's CSVs and saving a figure headlessly.
+
+Run with Debian's python (/usr/bin/python3) and python3-matplotlib; the Agg backend needs
+no display, so the scripts work on a server.
+"""
+import csv
+import math
+import os
+import sys
+
+try:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: E402  (after use())
+except ImportError:  # pragma: no cover - depends on the machine
+    sys.stderr.write("plot: matplotlib is missing (apt-get install python3-matplotlib; "
+                     "run with /usr/bin/python3)\n")
+    sys.exit(3)
+
+# One colour and marker per integrator, the same in every figure.
+STYLE = {
+    "explicit_euler": ("tab:red", "o"),
+    "symplectic_euler": ("tab:orange", "s"),
+    "midpoint": ("tab:green", "D"),
+    "rk4": ("tab:blue", "^"),
+    "implicit_euler": ("tab:purple", "v"),
+}
+
+
+def style(name):
+    return STYLE.get(name, ("tab:gray", "."))
+
+
+def read_rows(path):
+    """Rows of a CSV as dicts; exits with a one-line message naming the file on failure."""
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.DictReader(f))
+    except OSError as e:
+        fail(f"{path}: cannot read: {e.strerror}")
+    if not rows:
+        fail(f"{path}: no rows")
+    return rows
+
+
+def number(text):
+    """A CSV cell as a float; empty or unparsable cells are NaN."""
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def require(rows, path, columns):
+    missing = [c for c in columns if c not in rows[0]]
+    if missing:
+        fail(f"{path}: missing column(s) {', '.join(missing)}")
+
+
+def fail(message):
+    sys.stderr.write(f"plot: {message}\n")
+    sys.exit(2)
+
+
+def save(fig, out):
+    """Writes the PNG under a temporary name and renames it, so `out` is whole or absent."""
+    directory = os.path.dirname(os.path.abspath(out))
+    if not os.path.isdir(directory):
+        fail(f"cannot write {out}: directory {directory} does not exist")
+    temp = os.path.join(directory, f".{os.path.basename(out)}.partial-{os.getpid()}.png")
+    try:
+        fig.savefig(temp, dpi=120)
+        os.replace(temp, out)
+    except OSError as e:
+        if os.path.exists(temp):
+            os.remove(temp)
+        sys.stderr.write(f"plot: cannot write {out}: {e.strerror}\n")
+        sys.exit(1)
+    finally:
+        plt.close(fig)

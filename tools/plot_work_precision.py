@@ -1,0 +1,83 @@
+#!/usr/bin/python3
+"""The work-precision diagram of a `clothsim bench --csv` file.
+
+Two panels, error (log) against cost (log): wall time (or --time cpu: CPU time of the
+run's thread) and force evaluations. One line per integrator through the runs that
+finished, labelled with their step; runs that diverged are marked with a cross along the
+top edge at their cost. The dotted line is the reference's own resolution (how much
+halving its step moved it): errors near it are not measured, only bounded.
+
+    /usr/bin/python3 tools/plot_work_precision.py --csv bench.csv --out wp.png
+"""
+import argparse
+import math
+from collections import OrderedDict
+
+import plot_common as pc
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--csv", required=True, help="output of clothsim bench --csv")
+    ap.add_argument("--out", required=True, help="PNG to write")
+    ap.add_argument("--title", default="", help="figure title")
+    ap.add_argument("--time", choices=["wall", "cpu"], default="wall",
+                    help="cost axis of the left panel: wall time (default) or CPU time of the run")
+    args = ap.parse_args()
+
+    rows = pc.read_rows(args.csv)
+    pc.require(rows, args.csv, ["integrator", "dt", "force_evals", "wall_seconds", "cpu_seconds",
+                                "rms_error", "diverged"])
+    runs = OrderedDict()
+    for r in rows:
+        runs.setdefault(r["integrator"], []).append(r)
+
+    time_key = "wall_seconds" if args.time == "wall" else "cpu_seconds"
+    time_label = "wall time of the run (s)" if args.time == "wall" else "CPU time of the run (s)"
+    errors = [pc.number(r["rms_error"]) for r in rows]
+    finite = [e for e in errors if e > 0 and math.isfinite(e)]
+    top = max(finite) * 3 if finite else 1.0  # where diverged runs are marked
+    bottom = min(finite) / 3 if finite else 1e-3
+    ref = [pc.number(r.get("reference_change")) for r in rows]
+    ref = [x for x in ref if x > 0 and math.isfinite(x)]
+
+    fig, axes = pc.plt.subplots(1, 2, figsize=(12, 5.2), sharey=True)
+    panels = [(axes[0], time_key, time_label), (axes[1], "force_evals", "force evaluations")]
+    for ax, key, label in panels:
+        for name, rs in runs.items():
+            color, marker = pc.style(name)
+            ok = sorted((r for r in rs if r["diverged"] == "0" and pc.number(r["rms_error"]) > 0),
+                        key=lambda r: pc.number(r["dt"]))
+            xs = [max(pc.number(r[key]), 1e-6) for r in ok]
+            ys = [pc.number(r["rms_error"]) for r in ok]
+            ax.plot(xs, ys, color=color, marker=marker, label=name)
+            for r, x, y in zip(ok, xs, ys):
+                ax.annotate(f"{pc.number(r['dt']):.3g}", (x, y), textcoords="offset points", xytext=(4, 3),
+                            fontsize=6, color=color)
+            bad = [r for r in rs if r["diverged"] == "1"]
+            if bad:
+                ax.scatter([max(pc.number(r[key]), 1e-6) for r in bad], [top] * len(bad), marker="x",
+                           color=color, s=50, zorder=3)
+        if ref:
+            ax.axhline(max(ref), color="gray", linestyle=":", linewidth=1)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(label)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("error at T: RMS particle-position difference from the reference (m)")
+    axes[0].set_ylim(min(bottom, min(ref) / 3) if ref else bottom, top * 3)
+    handles, labels = axes[0].get_legend_handles_labels()
+    handles.append(pc.plt.Line2D([], [], color="black", marker="x", linestyle="None"))
+    labels.append("diverged (at its cost)")
+    if ref:
+        handles.append(pc.plt.Line2D([], [], color="gray", linestyle=":"))
+        labels.append("reference resolution")
+    axes[1].legend(handles, labels, fontsize=8, loc="lower left")
+    fig.suptitle(("work precision: " + args.title) if args.title else "work precision")
+    fig.text(0.5, 0.005, "points labelled with their step dt (s); lower left is better", ha="center", fontsize=8)
+    fig.tight_layout(rect=(0, 0.02, 1, 0.96))
+    pc.save(fig, args.out)
+
+
+if __name__ == "__main__":
+    main()
