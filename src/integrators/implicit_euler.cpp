@@ -7,12 +7,14 @@
 //
 // solver: newton (default). Newton's method on r with the spring Jacobians, each linear
 // system A ddv = -r, A = M - h df/dv - h^2 df/dx, solved by block-Jacobi PCG in the fixed
-// pattern of sparse_system.h (symmetric part of df/dx, compression clamped: see there).
+// pattern of sparse_system.h (the symmetric stiffness part of df/dx; for compressed springs
+// exact first, clamped if CG fails on it: see solve_newton_system).
 // The first iterate is Baraff & Witkin 1998's step (eq. 16): linearised about (x_n, v_n),
 //     A dv = h (f_n + h K v_n).
 // Every iterate is then judged by the true nonlinear residual |r(dv)|, relative to
 // max(|h f_n|, |M dv|) over movable bodies (floored at the rounding level of f: see
-// newton_step); below newton_tolerance, backward Euler is solved, and further iterates are Newton corrections with A rebuilt at the new guess.
+// newton_step); below newton_tolerance backward Euler is solved. Until then each further
+// iterate is a Newton correction with A rebuilt at the current guess.
 // Because A is only the symmetric part of the Jacobian this is an inexact Newton method:
 // convergence is linear rather than quadratic when dampers are strong, but the residual
 // test keeps "converged" honest. newton_max_iterations = 1 is Baraff & Witkin's method.

@@ -9,18 +9,20 @@
 // per spring off it. It is stored that way, block by spring, built once per model and
 // refilled in place every iteration: no index search, no allocation in the step.
 //
-// A must be symmetric positive definite for conjugate gradient. Two choices make it so:
-//  - The damper's position term of df/dx is not symmetric; it is dropped (Baraff & Witkin
-//    do the same). Newton then runs with an approximate Jacobian (an inexact Newton), which
-//    still converges, linearly; the caller tests the true nonlinear residual.
+// Conjugate gradient needs A symmetric, and positive definite to be safe:
+//  - The damper's position term of df/dx is not symmetric; it is always dropped (Baraff &
+//    Witkin do the same). Newton then runs with an approximate Jacobian (an inexact
+//    Newton), which still converges, linearly; the caller tests the true nonlinear residual.
 //  - A compressed spring (l < l0) has a transverse stiffness -ks (1 - l0/l)(I - P) of the
-//    wrong sign: it would add -h^2 ks (l0/l - 1) to A across the spring and, for large steps,
-//    make A indefinite and CG break down. As many cloth codes do, the factor (1 - l0/l) is
-//    clamped at 0 under compression: such a spring keeps only its axial stiffness -ks u u^T.
-//    The price is a Jacobian that is approximate for compressed springs (more Newton
-//    iterations there); the gain is a solve that cannot break down at any step size.
-// With both, every G is negative semi-definite (-ks P - ks max(0, 1 - l0/l)(I - P) - kd P/h),
-// and A = M - sum G is SPD. Viscous air drag adds h c I to each cloth particle's block.
+//    wrong sign: it adds -h^2 ks (l0/l - 1) to A across the spring and, at large steps, can
+//    make A indefinite and CG break down. With clamp_compression, (1 - l0/l) is clamped at
+//    0 under compression, as many cloth codes do: such a spring keeps only its axial
+//    stiffness -ks u u^T. Then every G is negative semi-definite
+//    (-ks P - ks max(0, 1 - l0/l)(I - P) - kd P / h, times h^2), so A = M - sum G is SPD at
+//    any step size. The price is a Jacobian that is wrong for compressed springs, and so
+//    more Newton iterations; the caller therefore tries the exact stiffness first and
+//    clamps only when CG fails on it (implicit_euler.cpp).
+// Viscous air drag adds h c I to each cloth particle's diagonal block.
 //
 // Immovable bodies (inverse mass 0: pinned particles, kinematic spheres) are filtered by
 // removing their rows and columns: their diagonal block is the identity, every block that
@@ -48,8 +50,8 @@ struct SpringBlockMatrix {
 // Sizes the pattern for a model's bodies and springs (the only allocating call).
 void build_pattern(const Model& model, SpringBlockMatrix& A);
 
-// Refills A = M - h df/dv - h^2 K at (x, v), K the symmetric (clamped) stiffness part of
-// df/dx, immovable bodies filtered, and computes Kv = K v (3 x B), the term Baraff &
+// Refills A = M - h df/dv - h^2 K at (x, v), K the symmetric stiffness part of df/dx
+// (compression clamped if asked), immovable bodies filtered, and computes Kv = K v (3 x B), the term Baraff &
 // Witkin's first right-hand side h (f + h K v) needs (zero rows for immovable bodies).
 void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& x,
                                     const Eigen::Matrix3Xd& v, const Eigen::VectorXd& inv_mass,
