@@ -1,0 +1,264 @@
+#include "renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <string>
+#include <thread>
+
+#include "render/synthetic_frames.h"
+
+namespace clothsim {
+namespace {
+
+using testing::draped_sheet_frame;
+
+// Small frames keep the suite fast; the renderer does not care about size.
+constexpr int kW = 160, kH = 90;
+
+Renderer& shared_renderer() {
+  static Renderer renderer;  // one context for most tests: creating one costs ~50 ms
+  return renderer;
+}
+
+// A red sphere alone, high above the camera's target: it can only be in the top half.
+RenderFrame sphere_high_up_frame() {
+  RenderFrame f;
+  f.width = kW;
+  f.height = kH;
+  f.spheres.push_back(RenderSphere{{0.f, 2.4f, 0.f}, 0.8f, {1.f, 0.f, 0.f}});
+  return f;
+}
+
+bool reddish(const std::uint8_t* p) { return p[0] > 120 && p[0] > p[1] + 60 && p[0] > p[2] + 60; }
+
+int count_if_in_rows(const Image& image, int y0, int y1, bool (*pred)(const std::uint8_t*)) {
+  int n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = 0; x < image.width; ++x) n += pred(image.pixel(x, y));
+  return n;
+}
+
+// Mean of each channel over a centred box (side: a fifth of the image height).
+std::array<double, 3> centre_mean(const Image& image) {
+  const int r = image.height / 10;
+  std::array<double, 3> sum{0, 0, 0};
+  int n = 0;
+  for (int y = image.height / 2 - r; y < image.height / 2 + r; ++y)
+    for (int x = image.width / 2 - r; x < image.width / 2 + r; ++x, ++n)
+      for (int c = 0; c < 3; ++c) sum[c] += image.pixel(x, y)[c];
+  for (double& s : sum) s /= n;
+  return sum;
+}
+
+int differing_pixels(const Image& a, const Image& b) {
+  int n = 0;
+  for (std::size_t i = 0; i < a.rgba.size(); i += 4)
+    n += a.rgba[i] != b.rgba[i] || a.rgba[i + 1] != b.rgba[i + 1] || a.rgba[i + 2] != b.rgba[i + 2];
+  return n;
+}
+
+TEST(Renderer, RunsOnAnOpenGl33CoreContextAndSaysWhichOne) {
+  Renderer& r = shared_renderer();
+  EXPECT_NE(r.gl_version().find("Core Profile"), std::string::npos) << r.gl_version();
+  EXPECT_FALSE(r.gl_renderer().empty());
+  EXPECT_GE(r.max_size(), 4096);
+}
+
+TEST(Renderer, ProducesAnOpaqueImageOfTheRequestedSize) {
+  const Image image = shared_renderer().render(draped_sheet_frame(kW + 1, kH + 3));  // odd sizes
+  ASSERT_EQ(image.width, kW + 1);
+  ASSERT_EQ(image.height, kH + 3);
+  ASSERT_EQ(image.rgba.size(), static_cast<std::size_t>(image.width) * image.height * 4);
+  for (std::size_t i = 3; i < image.rgba.size(); i += 4) ASSERT_EQ(image.rgba[i], 255) << "pixel " << i / 4;
+}
+
+TEST(Renderer, TheSameFrameTwiceGivesIdenticalBytes) {
+  Renderer& r = shared_renderer();
+  RenderFrame frame = draped_sheet_frame(kW, kH);
+  frame.overlay_lines = {"drape", "t = 1.000 s"};
+  const Image first = r.render(frame);
+  r.render(draped_sheet_frame(kW * 2, kH));  // a different size in between re-makes the FBOs
+  const Image second = r.render(frame);
+  EXPECT_EQ(first.rgba, second.rgba);
+}
+
+TEST(Renderer, AFrameIsNotBlank) {
+  const Image image = shared_renderer().render(draped_sheet_frame(kW, kH));
+  std::set<std::uint32_t> colours;
+  for (std::size_t i = 0; i < image.rgba.size(); i += 4)
+    colours.insert(image.rgba[i] | image.rgba[i + 1] << 8 | image.rgba[i + 2] << 16);
+  EXPECT_GT(colours.size(), 200u);  // shading, checker, grid, sky gradient
+}
+
+TEST(Renderer, IsNotUpsideDown) {
+  const Image image = shared_renderer().render(sphere_high_up_frame());
+  const int top = count_if_in_rows(image, 0, kH / 2, reddish);
+  const int bottom = count_if_in_rows(image, kH / 2, kH, reddish);
+  EXPECT_GT(top, 100);
+  EXPECT_EQ(bottom, 0);
+}
+
+TEST(Renderer, TheClothShowsItsFrontColourFromAboveAndItsBackColourFromBelow) {
+  RenderFrame frame = testing::flat_sheet_frame(kW, kH, 9);
+  frame.has_ground = false;
+  frame.cloth_front = {0.1f, 0.2f, 0.9f};  // blue
+  frame.cloth_back = {0.9f, 0.5f, 0.1f};   // orange
+  frame.camera.eye = {0.f, 6.f, -0.5f};     // above, looking down on the front (normals +y)
+  const auto above = centre_mean(shared_renderer().render(frame));
+  EXPECT_GT(above[2], above[0] + 40) << "expected blue from above";
+  frame.camera.eye = {0.f, -6.f, -0.5f};    // below
+  const auto below = centre_mean(shared_renderer().render(frame));
+  EXPECT_GT(below[0], below[2] + 40) << "expected orange from below";
+}
+
+TEST(Renderer, TheCheckerPatternIsVisibleOnTheCloth) {
+  RenderFrame frame = testing::flat_sheet_frame(kW * 2, kH * 2, 9);
+  frame.has_ground = false;
+  frame.camera.eye = {0.f, 6.f, -0.5f};
+  const Image image = shared_renderer().render(frame);
+  // Along the centre row, the brightness alternates between squares: many large jumps.
+  int jumps = 0;
+  const int y = image.height / 2;
+  for (int x = image.width / 4; x < 3 * image.width / 4; ++x)
+    jumps += std::abs(image.pixel(x + 1, y)[0] - image.pixel(x, y)[0]) > 25;
+  EXPECT_GE(jumps, 3);
+}
+
+TEST(Renderer, SpheresCastAShadowOnTheGroundBelowThem) {
+  RenderFrame frame = sphere_high_up_frame();
+  frame.spheres[0].center = {0.f, -0.5f, 0.f};
+  frame.has_ground = true;
+  frame.ground_height = -2.f;
+  const Image lit = shared_renderer().render([&] { RenderFrame f = frame; f.shadows = false; return f; }());
+  const Image shadowed = shared_renderer().render(frame);
+  int darker = 0, lighter = 0;
+  for (std::size_t i = 0; i < lit.rgba.size(); i += 4) {
+    darker += shadowed.rgba[i + 1] + 20 < lit.rgba[i + 1];
+    lighter += shadowed.rgba[i + 1] > lit.rgba[i + 1] + 2;
+  }
+  EXPECT_GT(darker, 50);   // a shadow of some size...
+  EXPECT_EQ(lighter, 0);   // ... that only darkens
+}
+
+TEST(Renderer, WithoutGroundTheBackdropStillHasAGradient) {
+  RenderFrame frame;
+  frame.width = kW;
+  frame.height = kH;
+  const Image image = shared_renderer().render(frame);
+  const std::uint8_t* top = image.pixel(kW / 2, 0);
+  const std::uint8_t* bottom = image.pixel(kW / 2, kH - 1);
+  EXPECT_NE(top[0] + top[1] + top[2], bottom[0] + bottom[1] + bottom[2]);
+}
+
+TEST(Renderer, SpringLinesAndParticlesAreDrawnWhenAsked) {
+  RenderFrame frame = draped_sheet_frame(kW, kH, 9);
+  const Image plain = shared_renderer().render(frame);
+  testing::add_grid_springs(frame, 9, 9);
+  const Image springs = shared_renderer().render(frame);
+  frame.draw_particles = true;
+  const Image particles = shared_renderer().render(frame);
+  EXPECT_GT(differing_pixels(plain, springs), 100);
+  EXPECT_GT(differing_pixels(springs, particles), 20);
+}
+
+TEST(Renderer, TheBannerIsRedAndCentred) {
+  RenderFrame frame = draped_sheet_frame(kW * 2, kH * 2);
+  frame.spheres.clear();
+  const Image without = shared_renderer().render(frame);
+  frame.banner = "DIVERGED at t = 1.234 s";
+  const Image with = shared_renderer().render(frame);
+  const auto bright_red = [](const std::uint8_t* p) { return p[0] > 200 && p[1] < 120 && p[2] < 120; };
+  int centre = 0, elsewhere = 0;
+  for (int y = 0; y < with.height; ++y)
+    for (int x = 0; x < with.width; ++x) {
+      if (!bright_red(with.pixel(x, y)) || bright_red(without.pixel(x, y))) continue;
+      (std::abs(y - with.height / 2) < with.height / 6 ? centre : elsewhere) += 1;
+    }
+  EXPECT_GT(centre, 100);
+  EXPECT_EQ(elsewhere, 0);
+}
+
+TEST(Renderer, OverlayLinesAreDrawnTopLeft) {
+  RenderFrame frame = draped_sheet_frame(kW * 2, kH * 2);
+  const Image without = shared_renderer().render(frame);
+  frame.overlay_lines = {"drape", "symplectic_euler", "t = 0.000 s"};
+  const Image with = shared_renderer().render(frame);
+  int changed_top_left = 0, changed_elsewhere = 0;
+  for (int y = 0; y < with.height; ++y)
+    for (int x = 0; x < with.width; ++x) {
+      const bool changed = std::memcmp(with.pixel(x, y), without.pixel(x, y), 3) != 0;
+      (x < with.width / 2 && y < with.height / 3 ? changed_top_left : changed_elsewhere) += changed;
+    }
+  EXPECT_GT(changed_top_left, 500);
+  EXPECT_EQ(changed_elsewhere, 0);
+}
+
+TEST(Renderer, MultisamplingSmoothsEdgesAndOneSampleAlsoWorks) {
+  RenderFrame frame = sphere_high_up_frame();
+  frame.samples = 1;
+  const Image aliased = shared_renderer().render(frame);
+  frame.samples = 4;
+  const Image smooth = shared_renderer().render(frame);
+  frame.samples = 64;  // above GL_MAX_SAMPLES: clamped, not an error
+  EXPECT_EQ(shared_renderer().render(frame).rgba, smooth.rgba);
+  // Edge pixels of the sphere: only the multisampled image has colours between red and sky.
+  EXPECT_GT(differing_pixels(aliased, smooth), 10);
+}
+
+TEST(Renderer, RefusesASizeOfZeroOrAboveTheGlLimit) {
+  Renderer& r = shared_renderer();
+  for (auto [w, h] : {std::pair{0, 90}, std::pair{160, 0}, std::pair{-4, 90},
+                      std::pair{r.max_size() + 1, 90}, std::pair{160, r.max_size() + 1}}) {
+    RenderFrame frame = draped_sheet_frame(kW, kH);
+    frame.width = w;
+    frame.height = h;
+    try {
+      r.render(frame);
+      ADD_FAILURE() << "accepted " << w << "x" << h;
+    } catch (const RenderError& e) {
+      EXPECT_NE(std::string(e.what()).find("outside 1.."), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(r.render(draped_sheet_frame(kW, kH)).width, kW);  // still usable afterwards
+}
+
+TEST(Renderer, RefusesAFrameWhoseArraysDisagree) {
+  Renderer& r = shared_renderer();
+  RenderFrame bad_normals = draped_sheet_frame(kW, kH, 5);
+  bad_normals.cloth_normals.pop_back();
+  EXPECT_THROW(r.render(bad_normals), RenderError);
+  RenderFrame bad_index = draped_sheet_frame(kW, kH, 5);
+  bad_index.cloth_triangles[7] = 25;  // 5 x 5 particles: 0..24
+  EXPECT_THROW(r.render(bad_index), RenderError);
+  RenderFrame bad_springs = draped_sheet_frame(kW, kH, 5);
+  testing::add_grid_springs(bad_springs, 5, 5);
+  bad_springs.spring_types.pop_back();
+  EXPECT_THROW(r.render(bad_springs), RenderError);
+}
+
+TEST(Renderer, SeveralRenderersWorkSideBySideOnOneThreadAndOnSeveral) {
+  const RenderFrame a = draped_sheet_frame(kW, kH);
+  const RenderFrame b = sphere_high_up_frame();
+  const Image expected_a = shared_renderer().render(a);
+  const Image expected_b = shared_renderer().render(b);
+
+  Renderer first, second;  // interleaved on this thread: each makes its own context current
+  EXPECT_EQ(first.render(a).rgba, expected_a.rgba);
+  EXPECT_EQ(second.render(b).rgba, expected_b.rgba);
+  EXPECT_EQ(first.render(b).rgba, expected_b.rgba);
+
+  Image from_thread_a, from_thread_b;  // concurrently, as `clothsim compare` may
+  std::thread ta([&] { for (int i = 0; i < 3; ++i) from_thread_a = first.render(a); });
+  std::thread tb([&] { for (int i = 0; i < 3; ++i) from_thread_b = second.render(b); });
+  ta.join();
+  tb.join();
+  EXPECT_EQ(from_thread_a.rgba, expected_a.rgba);
+  EXPECT_EQ(from_thread_b.rgba, expected_b.rgba);
+}
+
+}  // namespace
+}  // namespace clothsim
