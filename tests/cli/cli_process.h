@@ -2,8 +2,13 @@
 // stdout and stderr, for tests of the command-line contract.
 #pragma once
 
+#include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <thread>
 
 #include <cstdlib>
 #include <filesystem>
@@ -32,7 +37,6 @@ inline std::string slurp(const std::string& path) {
   return s.str();
 }
 
-// `prefix` goes before the binary (e.g. "timeout --preserve-status -s INT 1").
 inline CliResult run_clothsim(const std::vector<std::string>& args, const std::string& prefix = "") {
   namespace fs = std::filesystem;
   static int counter = 0;
@@ -45,6 +49,42 @@ inline CliResult run_clothsim(const std::vector<std::string>& args, const std::s
   for (const auto& a : args) command += " " + shell_quote(a);
   command += " >" + shell_quote(out) + " 2>" + shell_quote(err) + " </dev/null";
   const int status = std::system(command.c_str());
+  CliResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  result.out = slurp(out);
+  result.err = slurp(err);
+  fs::remove(out);
+  fs::remove(err);
+  return result;
+}
+
+// Starts clothsim, sends it one SIGINT after `seconds` (as Ctrl-C in a terminal does: once,
+// to the process; `timeout -s INT` would also signal its whole process group, and a second
+// SIGINT kills by design), and waits for it.
+inline CliResult run_clothsim_interrupted(const std::vector<std::string>& args, double seconds) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(CLOTHSIM_TEST_OUTPUT_DIR) / "cli_capture";
+  fs::create_directories(dir);
+  const std::string tag = std::to_string(::getpid()) + "_int";
+  const std::string out = (dir / ("out_" + tag)).string(), err = (dir / ("err_" + tag)).string();
+  std::vector<std::string> argv_strings = {CLOTHSIM_BINARY};
+  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : argv_strings) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(o, 1);
+    ::dup2(e, 2);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
   CliResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   result.out = slurp(out);

@@ -160,6 +160,19 @@ TEST(CmdCompare, WritesAContactSheetWhoseCellsAreTheRunsFrames) {
   EXPECT_GT(sym0.second, 0) << "column labels on top";
 }
 
+TEST(CmdCompare, WritesAStillOfTheWholeGridAtTheRequestedTime) {
+  const std::string dir = scratch_dir("compare_still");
+  const auto r = compare_small({"--frames", dir + "/tiles", "--still", "0.1", "--out", dir + "/still.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Image still = read_png(dir + "/still.png");
+  EXPECT_EQ(still.width, 320);
+  EXPECT_EQ(still.height, 180);
+  // 2x2 of 158x88 cells with a 4-pixel gutter; t = 0.1 s is frame 3; rk4 is the fourth tile.
+  const auto at = find_tile(still, read_png(frame_path(dir + "/tiles", "rk4", 3)));
+  EXPECT_EQ(at.first, 162);
+  EXPECT_EQ(at.second, 92);
+}
+
 TEST(CmdCompare, WithoutOutputsPrintsTheSummaryOnly) {
   const auto r = compare_small({"--integrators", "symplectic_euler"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -197,6 +210,8 @@ TEST(CmdCompare, RefusesBadDtAndTimes) {
   expect_refused(compare_small({"--sheet", sheet, "--times", "0.1,5"}), 2, "outside the run", sheet);
   expect_refused(compare_small({"--sheet", sheet, "--times", "0.2,0.1"}), 2, "must increase", sheet);
   expect_refused(compare_small({"--sheet", sheet}), 2, "--sheet needs --times", sheet);
+  expect_refused(compare_small({"--still", "0.1"}), 2, "--still needs --out", "");
+  expect_refused(compare_small({"--still", "9", "--out", sheet}), 2, "outside the run", sheet);
 }
 
 TEST(CmdCompare, RefusesABadSceneWithItsFileName) {
@@ -209,9 +224,10 @@ TEST(CmdCompare, StopsCleanlyOnInterruptLeavingNoFileUnderTheName) {
   const std::string dir = scratch_dir("compare_interrupt");
   const std::string out = dir + "/long.mp4";
   // A minute of scene: far more than the 2 s before SIGINT arrives.
-  const auto r = run_clothsim({"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration",
-                               "60", "--width", "320", "--height", "180", "--video", out},
-                              "timeout --preserve-status -s INT 2");
+  const auto r = cli::run_clothsim_interrupted(
+      {"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "60", "--width", "320",
+       "--height", "180", "--video", out},
+      2.0);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("long.mp4 not written"), std::string::npos) << r.err;

@@ -1,6 +1,7 @@
 // clothsim compare SCENE [--integrators a,b,c,d] [--layout auto] [--video FILE.mp4] [--frames DIR]
 //                        [--dt S | --dt name=S,...] [--duration S] [--set K=V]...
-//                        [--sheet FILE.png --times 0.5,1,2,4] [--width W --height H] [--crf Q] [--preset P]
+//                        [--sheet FILE.png --times 0.5,1,2,4] [--still T --out FILE.png]
+//                        [--width W --height H] [--crf Q] [--preset P]
 //
 // The scene is loaded once and built into one Model; one Run per integrator advances on
 // its own thread (compare_runner.h) while this thread renders each run's snapshot into a
@@ -24,6 +25,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,7 +53,8 @@ struct CompareOptions {
   SceneOptions scene;
   std::string integrators = "explicit_euler,implicit_euler,midpoint,rk4";  // the seed's four
   std::string layout = "auto";
-  std::string video, frames_dir, dt, sheet, times;
+  std::string video, frames_dir, dt, sheet, times, still_out;
+  std::optional<double> still_t;
   int width = 0, height = 0;  // 0: the scene's render size
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
@@ -99,6 +102,7 @@ void print_summary(const Model& model, const std::vector<RunSummary>& runs) {
 
 int compare_command(const CompareOptions& o) {
   const auto wall_start = Clock::now();
+  install_interrupt_handler();  // first: Ctrl-C during setup is then seen at the first frame
 
   // 1. Everything that can be wrong, before any simulation.
   const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators);
@@ -111,6 +115,8 @@ int compare_command(const CompareOptions& o) {
   if (o.sheet.empty() != o.times.empty())
     throw UsageError(o.sheet.empty() ? "--times goes with --sheet FILE.png"
                                      : "--sheet needs --times T1,T2,... (the columns)");
+  if (o.still_t.has_value() != !o.still_out.empty())
+    throw UsageError(o.still_t ? "--still needs --out FILE.png" : "--out goes with --still T");
   if (o.width < 0 || o.height < 0) throw UsageError("--width and --height must be positive");
   try {
     validate_video_options(VideoWriterOptions{30.0, o.crf, o.preset});
@@ -119,6 +125,7 @@ int compare_command(const CompareOptions& o) {
   }
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
   if (!o.sheet.empty()) require_writable_parent(o.sheet, "--sheet");
+  if (!o.still_out.empty()) require_writable_parent(o.still_out, "--out");
   if (!o.frames_dir.empty() && fs::exists(o.frames_dir) && !fs::is_directory(o.frames_dir))
     throw RuntimeFailure("cannot write --frames into " + o.frames_dir + ": not a directory");
 
@@ -126,6 +133,9 @@ int compare_command(const CompareOptions& o) {
   const std::vector<double> dts = parse_dt_list(o.dt, kinds, scene.dt);
   const std::vector<double> sheet_times =
       o.sheet.empty() ? std::vector<double>{} : parse_times(o.times, scene.duration);
+  if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= scene.duration + 1e-9))
+    throw UsageError("--still: " + std::to_string(*o.still_t) + " s is outside the run (0 to " +
+                     std::to_string(scene.duration) + " s)");
   const int width = o.width > 0 ? o.width : scene.render.width;
   const int height = o.height > 0 ? o.height : scene.render.height;
   std::optional<TileGrid> grid;
@@ -137,8 +147,9 @@ int compare_command(const CompareOptions& o) {
   const Model model = build_model(scene);
   const double fps = scene.render.fps;
   const bool with_frames = !o.video.empty() || !o.frames_dir.empty();
-  const bool rendering = with_frames || !o.sheet.empty();
-  const std::vector<Target> targets = plan_targets(scene.duration, fps, with_frames, sheet_times);
+  const bool rendering = with_frames || !o.sheet.empty() || o.still_t;
+  const std::vector<Target> targets =
+      plan_targets(scene.duration, fps, with_frames, sheet_times, o.still_t.value_or(-1.0));
   const int frames = count_frames(targets);
 
   // 2. Outputs (each removes its temporary if destroyed before finish()).
@@ -154,7 +165,6 @@ int compare_command(const CompareOptions& o) {
           tile_meta(model, kinds[i], dts[i])));
 
   // 3. The runs, one thread each, and the render/compose/encode loop on this thread.
-  install_interrupt_handler();
   std::vector<std::unique_ptr<RunWorker>> workers;
   for (std::size_t i = 0; i < kinds.size(); ++i)
     workers.push_back(std::make_unique<RunWorker>(model, kinds[i], dts[i], targets,
@@ -170,6 +180,7 @@ int compare_command(const CompareOptions& o) {
   auto progress = std::make_unique<Progress>("compare " + model.name,
                                              static_cast<long>(targets.size()), "frames");
   TileSnapshot snapshot;
+  bool still_written = false;
   for (std::size_t n = 0; n < targets.size(); ++n) {
     const Target& target = targets[n];
     if (interrupted()) {
@@ -177,6 +188,7 @@ int compare_command(const CompareOptions& o) {
       progress.reset();
       std::string lost = o.video.empty() ? std::string() : o.video + " ";
       if (!o.sheet.empty()) lost += o.sheet + " ";
+      if (!o.still_out.empty() && !still_written) lost += o.still_out + " ";
       throw RuntimeFailure("interrupted at t = " + std::to_string(target.t) + " s; " +
                            (lost.empty() ? std::string("nothing") : lost) + "not written" +
                            (o.frames_dir.empty() ? "" : " (PNGs so far kept in " + o.frames_dir + ")"));
@@ -192,6 +204,13 @@ int compare_command(const CompareOptions& o) {
         Stopwatch watch(time.render);
         tiles[i] = renderer->render(snapshot.frame);
       }
+    }
+    if (target.still) {
+      Stopwatch watch(time.sheet);
+      grid->compose(tile_ptrs, {}, canvas);
+      write_png(o.still_out, canvas, {{"scene", model.name}, {"t", std::to_string(target.t)},
+                                      {"software", "clothsim " CLOTHSIM_VERSION}});
+      still_written = true;
     }
     if (target.frame >= 0) {
       for (std::size_t i = 0; i < tile_pngs.size(); ++i) {
@@ -243,7 +262,7 @@ int compare_command(const CompareOptions& o) {
   std::fprintf(stderr,
                "compare: %d frames of %dx%d (%zu tiles of %dx%d) in %.1f s wall: simulate %.1f s cpu "
                "on %zu threads (renderer waited %.1f s), render %.1f s, compose %.2f s, PNG %.1f s, "
-               "encode %.1f s, sheet %.1f s\n",
+               "encode %.1f s, sheet/still %.1f s\n",
                frames, grid->width(), grid->height(), kinds.size(), grid->cell_width(),
                grid->cell_height(), wall, sim_cpu, workers.size(), time.wait, time.render,
                time.compose, time.png, time.encode, time.sheet);
@@ -276,6 +295,8 @@ void add_compare_command(CLI::App& app, Command& command) {
       ->type_name("FILE.png");
   sub->add_option("--times", o->times, "Contact-sheet columns, simulated seconds, increasing")
       ->type_name("T1,T2,...");
+  sub->add_option("--still", o->still_t, "Write the tiled picture at time T (s) to --out")->type_name("T");
+  sub->add_option("--out", o->still_out, "PNG file for --still")->type_name("FILE.png");
   sub->add_option("--width", o->width, "Width of the whole grid in pixels (default: the scene's render.width)");
   sub->add_option("--height", o->height, "Height of the whole grid in pixels (default: the scene's render.height)");
   sub->add_option("--crf", o->crf, "Video quality, x264 CRF 0 (lossless) .. 51")->capture_default_str();

@@ -122,6 +122,7 @@ std::string dir_label(const std::string& dir) {
 }
 
 int run_encode(const EncodeArgs& args) {
+  install_interrupt_handler();
   // 1. Everything that can be wrong with the command, before any encoding.
   VideoWriterOptions video{args.fps, args.crf, args.preset};
   try {
@@ -157,7 +158,6 @@ int run_encode(const EncodeArgs& args) {
   const TileGrid grid(layout, cell_w, cell_h);
 
   // 2. Stream: read one PNG per tile, compose, encode; nothing accumulates.
-  install_interrupt_handler();
   std::optional<VideoWriter> writer;
   try {
     writer.emplace(args.output, grid.width(), grid.height(), video);

@@ -110,23 +110,23 @@ std::vector<double> parse_times(const std::string& text, double duration) {
 }
 
 std::vector<Target> plan_targets(double duration, double fps, bool with_frames,
-                                 const std::vector<double>& sheet_times) {
+                                 const std::vector<double>& sheet_times, double still_t) {
   std::vector<Target> targets;
   if (with_frames) {
     const int last = static_cast<int>(std::floor(duration * fps + 1e-9));
-    for (int k = 0; k <= last; ++k) targets.push_back(Target{std::min(k / fps, duration), k, -1});
+    for (int k = 0; k <= last; ++k) targets.push_back(Target{std::min(k / fps, duration), k, -1, false});
   }
-  // Merge the sheet times: a time within a microsecond of a frame is that frame.
-  for (std::size_t c = 0; c < sheet_times.size(); ++c) {
-    const double t = sheet_times[c];
+  // The target at time t, inserted in order unless one is already within a microsecond.
+  auto target_at = [&targets](double t) -> Target& {
     auto at = std::lower_bound(targets.begin(), targets.end(), t - 1e-6,
                                [](const Target& a, double v) { return a.t < v; });
-    if (at != targets.end() && std::abs(at->t - t) <= 1e-6)
-      at->column = static_cast<int>(c);
-    else
-      targets.insert(at, Target{t, -1, static_cast<int>(c)});
-  }
-  if (targets.empty()) targets.push_back(Target{duration, -1, -1});
+    if (at != targets.end() && std::abs(at->t - t) <= 1e-6) return *at;
+    return *targets.insert(at, Target{t, -1, -1, false});
+  };
+  for (std::size_t c = 0; c < sheet_times.size(); ++c)
+    target_at(sheet_times[c]).column = static_cast<int>(c);
+  if (still_t >= 0.0) target_at(still_t).still = true;
+  if (targets.empty()) targets.push_back(Target{duration, -1, -1, false});
   return targets;
 }
 

@@ -22,19 +22,21 @@ std::vector<double> parse_dt_list(const std::string& text, const std::vector<Int
 // --times "0.5,1,2,4": strictly increasing, each in [0, duration].
 std::vector<double> parse_times(const std::string& text, double duration);
 
-// One instant the runs stop at: an output frame of the clip, a contact-sheet column, or
-// both. Targets are sorted by time and every run stops at all of them.
+// One instant the runs stop at: an output frame of the clip, a contact-sheet column, the
+// still, or several of these. Targets are sorted by time and every run stops at all of them.
 struct Target {
   double t = 0.0;
-  int frame = -1;   // index of the clip frame at t, or -1
-  int column = -1;  // contact-sheet column at t, or -1
+  int frame = -1;      // index of the clip frame at t, or -1
+  int column = -1;     // contact-sheet column at t, or -1
+  bool still = false;  // the --still picture is taken here
 };
 
 // Frames at t = k / fps for k = 0 .. floor(duration * fps) (t = 0 and, when it falls on a
-// frame, t = duration included, as `run` does) when `with_frames`; sheet times merged in.
-// With neither frames nor sheet times, one target at `duration` (a summary-only compare).
+// frame, t = duration included, as `run` does) when `with_frames`; sheet times and the
+// still's time (if >= 0) merged in, a time within a microsecond of a frame being that frame.
+// With no frames, sheet or still, one target at `duration` (a summary-only compare).
 std::vector<Target> plan_targets(double duration, double fps, bool with_frames,
-                                 const std::vector<double>& sheet_times);
+                                 const std::vector<double>& sheet_times, double still_t = -1.0);
 int count_frames(const std::vector<Target>& targets);
 
 // "t = 0.5 s" for a contact-sheet column.
