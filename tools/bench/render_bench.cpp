@@ -1,0 +1,85 @@
+// Renderer throughput: frames/s of render + readback (MSAA resolve, glFinish, glReadPixels,
+// flip, overlay text) for the shipped drape (25 x 25, draped over its ball at t = 1.5 s) and
+// for the same scene with a 256 x 256 sheet (at t = 0: flat, above the ball), and ms per PNG
+// write of a rendered 1280x720 frame at each fast zlib level.
+//   build/tools/bench/render_benchmarks
+//   LP_NUM_THREADS=1 build/tools/bench/render_benchmarks   # llvmpipe rasterizer threads
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "bench_models.h"
+#include "png_io.h"
+#include "renderer.h"
+#include "simulation.h"
+#include "snapshot.h"
+
+namespace clothsim {
+namespace {
+
+// The scene's frame at time t, as `clothsim run --frames` renders it (overlay included).
+RenderFrame scene_frame(int n, double t, int width, int height, int samples) {
+  const Model model = bench::drape_sheet(n);
+  Run run(model, model.integrator, model.dt);
+  run.advance_to(t);
+  SnapshotText text;
+  text.lines = overlay_lines(model, model.integrator, model.dt, run.state().t);
+  RenderFrame frame = make_render_frame(model, run.state(), text);
+  frame.width = width;
+  frame.height = height;
+  frame.samples = samples;
+  return frame;
+}
+
+Renderer& renderer() {
+  static Renderer r;  // one context, created once (about 50 ms), as a run creates it once
+  return r;
+}
+
+void render_loop(benchmark::State& st, const RenderFrame& frame) {
+  Renderer& r = renderer();
+  r.render(frame);  // first frame: FBOs made, shader variants compiled
+  for (auto _ : st) {
+    Image image = r.render(frame);
+    benchmark::DoNotOptimize(image.rgba.data());
+  }
+  st.counters["frames/s"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+  st.SetLabel(std::to_string(frame.width) + "x" + std::to_string(frame.height) + " " +
+              std::to_string(frame.samples) + "x MSAA, " + std::to_string(frame.cloth_triangles.size() / 3) +
+              " cloth triangles");
+}
+
+// Arg: MSAA samples.
+void BM_RenderDrape25_1280x720(benchmark::State& st) {
+  render_loop(st, scene_frame(25, 1.5, 1280, 720, static_cast<int>(st.range(0))));
+}
+BENCHMARK(BM_RenderDrape25_1280x720)->Arg(4)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_RenderSheet256_1280x720(benchmark::State& st) {
+  render_loop(st, scene_frame(256, 0.0, 1280, 720, static_cast<int>(st.range(0))));
+}
+BENCHMARK(BM_RenderSheet256_1280x720)->Arg(4)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// One tile of `clothsim compare`'s default 2x2 clip.
+void BM_RenderDrape25_640x360(benchmark::State& st) {
+  render_loop(st, scene_frame(25, 1.5, 640, 360, static_cast<int>(st.range(0))));
+}
+BENCHMARK(BM_RenderDrape25_640x360)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Arg: zlib level.
+void BM_WritePng_1280x720(benchmark::State& st) {
+  const Image image = renderer().render(scene_frame(25, 1.5, 1280, 720, 4));
+  const std::string path = (std::filesystem::temp_directory_path() / "clothsim_render_bench.png").string();
+  const int level = static_cast<int>(st.range(0));
+  for (auto _ : st) write_png(path, image, {{"scene", "drape"}, {"t", "1.5"}}, level);
+  st.counters["bytes"] = static_cast<double>(std::filesystem::file_size(path));
+  std::filesystem::remove(path);
+}
+BENCHMARK(BM_WritePng_1280x720)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace clothsim
+
+BENCHMARK_MAIN();
