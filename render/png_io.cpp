@@ -6,7 +6,6 @@
 #include <fcntl.h>
 #include <png.h>
 #include <unistd.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <atomic>
@@ -57,10 +56,10 @@ bool encode(std::FILE* file, const Image& image, int zlib_level, std::vector<png
   }
   png_init_io(png, file);
   png_set_compression_level(png, zlib_level);
-  // Rendered frames are flat colour fields with smooth gradients: the "up" filter plus
-  // run-length-aware zlib compresses them nearly as well as adaptive filtering, several times faster.
-  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
-  png_set_compression_strategy(png, Z_RLE);
+  // No row filter: rendered frames are flat fields and smooth gradients whose repeats deflate's
+  // LZ matching finds unfiltered. Measured on a 1280x720 drape frame at level 1: 13 ms and
+  // 198 kB, where libpng's adaptive filtering takes 24 ms for 222 kB and up + Z_RLE 23 ms for 408 kB.
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
   // RGB, not RGBA: the frames are opaque, and a quarter fewer bytes to filter and deflate.
   png_set_IHDR(png, info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 8,
                PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
