@@ -38,6 +38,13 @@ void check(const StabilitySpec& spec) {
     msg << "the smallest step tried (" << spec.min_dt << " s) must be below the largest (" << spec.max_dt << " s)";
     throw StudyError(msg.str());
   }
+  if (spec.max_dt > spec.duration / kMinTrialSteps * (1 + 1e-12)) {
+    std::ostringstream msg;
+    msg << "the largest step tried (" << spec.max_dt << " s) leaves fewer than " << kMinTrialSteps
+        << " steps in T = " << spec.duration << " s, too few for an instability to show; lower it to "
+        << spec.duration / kMinTrialSteps << " s or run longer";
+    throw StudyError(msg.str());
+  }
   if (!(spec.precision > 0.0 && spec.precision < 1.0)) throw StudyError("the precision must be between 0 and 1");
   if (!finite_positive(spec.energy_factor)) throw StudyError("the energy factor must be a finite number > 0");
   if (spec.first_guess < 0.0 || !std::isfinite(spec.first_guess)) throw StudyError("the first guess must be >= 0 s");

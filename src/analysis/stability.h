@@ -19,6 +19,10 @@
 // within a bounded band (symplectic Euler's swings by 1 / (1 - (w h / 2)^2), which the
 // bound allows up to within 0.2 % of w h = 2).
 //
+// A trial must take at least kMinTrialSteps steps: two steps of explicit Euler at 1000 x
+// its limit need not blow up yet, and would make "stable at the largest dt tried" a lie.
+// So the largest step tried is at most T / kMinTrialSteps (check() says so otherwise).
+//
 // The search, in log dt, assuming (as linear theory says) that stability is monotone in dt:
 // 1. the largest dt tried, max_dt: stable there -> "stable at the largest dt tried" (no
 //    larger number is invented);
@@ -39,11 +43,13 @@
 
 namespace clothsim::analysis {
 
+constexpr int kMinTrialSteps = 20;
+
 struct StabilitySpec {
   std::vector<IntegratorKind> integrators;
   double duration = 0.0;        // T, s: each trial runs from 0 to T
   double min_dt = 0.0;          // s, smallest step tried
-  double max_dt = 0.0;          // s, largest step tried
+  double max_dt = 0.0;          // s, largest step tried, <= duration / kMinTrialSteps
   double precision = 0.02;      // relative width of the final bracket
   double energy_factor = 100.0; // replaces Model::divergence.max_energy_factor in trials
   double first_guess = 0.0;     // s; 0: 2 / max(w_max, c_max) of the model, clamped to the range

@@ -11,7 +11,8 @@
 // Defaults, chosen so `clothsim stability scenes/drape.yaml` takes about a minute on 2 cores:
 // the four seed integrators; --param cloth.springs.structural.stiffness at the scene's value
 // x 1, 10, 100, 1000, 10000; T = min(scene duration, 0.2 s); steps tried from 1/32 of
-// min(scene dt, smallest estimate) up to min(T, 1000 x scene dt); 2 % precision. The
+// min(scene dt, smallest estimate) up to min(T / 50, 1000 x scene dt) (every trial takes
+// at least 50 steps, so an instability has steps to show in); 2 % precision. The
 // scene's damping is kept as it is: on the drape (750 N s/m) the dampers, not the springs,
 // set the explicit methods' limit until the structural stiffness passes ~4e7 N/m, and the
 // second estimate shows it. Sweep damping (--param cloth.springs.structural.damping) or set
@@ -53,7 +54,8 @@ struct StabilityOptions {
 
 constexpr double kDefaultValueFactors[] = {1.0, 10.0, 100.0, 1000.0, 10000.0};
 constexpr double kDefaultDuration = 0.2;    // s
-constexpr double kMaxDtOverSceneDt = 1000;  // the largest step tried, in scene steps
+constexpr double kMaxDtOverSceneDt = 1000;  // the largest step tried, in scene steps,
+constexpr double kMinStepsAtMaxDt = 50;     // and in steps per run
 constexpr double kMinDtDivisor = 32;        // the smallest step tried: estimate / this
 
 struct Case {
@@ -131,7 +133,7 @@ int stability_command(const StabilityOptions& o) {
     cases.push_back({s.value, build_model(s.scene)});
     smallest_estimate = std::min(smallest_estimate, analysis::estimate_stiffness(cases.back().model).dt_with_damping());
   }
-  spec.max_dt = o.max_dt ? *o.max_dt : std::min(spec.duration, kMaxDtOverSceneDt * base.dt);
+  spec.max_dt = o.max_dt ? *o.max_dt : std::min(spec.duration / kMinStepsAtMaxDt, kMaxDtOverSceneDt * base.dt);
   spec.min_dt = o.min_dt ? *o.min_dt : std::min(base.dt, smallest_estimate) / kMinDtDivisor;
   spec.precision = o.precision;
   spec.energy_factor = o.energy_factor;
@@ -142,7 +144,7 @@ int stability_command(const StabilityOptions& o) {
   try {
     analysis::check(spec);
   } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("stability: ") + e.what() + " (see --min-dt, --max-dt, --precision, --energy-factor)");
+    throw UsageError(std::string("stability: ") + e.what() + " (--min-dt, --max-dt, --duration, --precision, --energy-factor)");
   }
 
   if (!o.csv.empty()) require_writable_parent(o.csv, "csv");
@@ -225,7 +227,7 @@ void add_stability_command(CLI::App& app, Command& command) {
                   "Comma-separated values of --param (default: the scene's value x 1, 10, 100, 1000, 10000)")
       ->type_name("LIST");
   sub->add_option("--min-dt", o->min_dt, "Smallest step tried, s (default: estimate / 32)")->type_name("S");
-  sub->add_option("--max-dt", o->max_dt, "Largest step tried, s (default: min(T, 1000 x scene dt))")->type_name("S");
+  sub->add_option("--max-dt", o->max_dt, "Largest step tried, s, at most T / 20 (default: min(T / 50, 1000 x scene dt))")->type_name("S");
   sub->add_option("--precision", o->precision, "Relative width of the final bisection bracket")->capture_default_str();
   sub->add_option("--energy-factor", o->energy_factor,
                   "Unstable when kinetic energy exceeds this x the scene's energy scale")

@@ -48,8 +48,13 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
 
 std::string csv_number(double value) {
   if (std::isnan(value)) return "nan";
+  // The shortest of %.15g, %.16g, %.17g that reads back to the same double: 0.005 stays
+  // "0.005", and no value loses a bit.
   char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", value);
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, value);
+    if (std::strtod(buf, nullptr) == value) break;
+  }
   return buf;
 }
 

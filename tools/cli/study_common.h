@@ -20,7 +20,7 @@ std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const
 // `option`. Signs are the caller's to check (a dt must be > 0, a parameter may be anything).
 std::vector<double> parse_number_list(const std::string& text, const std::string& option);
 
-// A CSV cell: %.17g for numbers (nan stays "nan"), and text quoted when it holds a comma
+// A CSV cell: numbers in the shortest form that reads back exactly (nan stays "nan"), and text quoted when it holds a comma
 // or a quote (RFC 4180), so a divergence reason cannot break a row.
 std::string csv_number(double value);
 std::string csv_text(const std::string& text);

@@ -1,0 +1,110 @@
+// `clothsim bench` as users call it: the CSV and the printed reference check, a reference
+// that is not converged failing loudly, bad step lists answered in one line with exit 2
+// and nothing written, Ctrl-C keeping the runs finished so far, and the plot.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <fstream>
+
+#include "cli_process.h"
+
+namespace clothsim::testing {
+namespace {
+
+std::string spring() { return std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml"; }
+
+std::vector<std::string> lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+TEST(CmdBench, WritesOneRowPerRunAndPrintsTheReferenceCheck) {
+  const std::string dir = scratch_dir("bench_csv");
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "symplectic_euler,rk4", "--dts",
+                                    "0.01,0.005", "--duration", "1", "--csv", dir + "/wp.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_NE(r.out.find("reference check: halving the reference step (rk4, 0.000625 s -> 0.0003125 s)"),
+            std::string::npos)
+      << r.out;
+  const auto rows = lines(dir + "/wp.csv");
+  ASSERT_EQ(rows.size(), 1u + 4u);
+  EXPECT_EQ(rows[0].rfind("integrator,dt,steps,force_evals,", 0), 0u);
+  EXPECT_EQ(rows[1].rfind("symplectic_euler,0.005,200,200,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[4].rfind("rk4,0.01,100,400,", 0), 0u) << rows[4];
+  EXPECT_TRUE(only_files(dir, {"wp.csv"}));
+}
+
+TEST(CmdBench, FailsLoudlyWhenTheReferenceIsNotConverged) {
+  // --reference-refinement 1: the reference is RK4 at the bench's own step, so RK4's error
+  // there is zero and halving the reference moves it more than that.
+  const std::string dir = scratch_dir("bench_unconverged");
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "rk4", "--dts", "0.01", "--duration", "1",
+                                    "--reference-refinement", "1", "--csv", dir + "/wp.csv"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("the reference is not converged"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("spring.yaml"), std::string::npos) << r.err;
+  EXPECT_EQ(lines(dir + "/wp.csv").size(), 2u);  // kept for inspection, and said so
+}
+
+TEST(CmdBench, BadStepListsAreOneLineExitTwoAndNothingWritten) {
+  const std::string dir = scratch_dir("bench_bad");
+  const std::string csv = dir + "/wp.csv";
+  struct Case {
+    std::vector<std::string> args;
+    std::string message;
+  };
+  const std::vector<Case> cases{
+      {{"--dts", ""}, "--dts"},  // CLI11's own "required LIST missing"
+      {{"--dts", ","}, "--dts: empty item"},
+      {{"--dts=0.01,-0.005"}, "--dts: -0.005 is not a positive step"},
+      {{"--dts", "0.01,abc"}, "--dts: 'abc' is not a finite number"},
+      {{"--dts", "0.003", "--duration", "1"}, "--dts: 0.003 does not divide the duration 1 s"},
+      {{"--integrators", "rk5"}, "--integrators: unknown integrator 'rk5'"},
+      {{"--integrators", "rk4,rk4"}, "--integrators: rk4 is listed twice"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args{"bench", spring(), "--csv", csv};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const CliResult r = run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 2) << c.message;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_TRUE(only_files(dir, {})) << c.message;
+  }
+}
+
+TEST(CmdBench, InterruptKeepsTheRunsFinishedSoFar) {
+  // The drape's reference runs take seconds; SIGINT after 2 s (well after start-up, well before the end) stops the study, which writes
+  // the CSV of what finished (a header at least) and exits 1 saying so.
+  const std::string dir = scratch_dir("bench_interrupt");
+  const CliResult r = run_clothsim({"bench", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--duration", "0.2",
+                                    "--csv", dir + "/wp.csv"},
+                                   "timeout --preserve-status -s INT 2");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("interrupted:"), std::string::npos) << r.err;
+  const auto rows = lines(dir + "/wp.csv");
+  ASSERT_GE(rows.size(), 1u);
+  EXPECT_EQ(rows[0].rfind("integrator,dt,", 0), 0u);
+  EXPECT_TRUE(only_files(dir, {"wp.csv"}));
+}
+
+TEST(CmdBench, DrawsTheWorkPrecisionDiagramOrSaysWhatIsMissing) {
+  const std::string dir = scratch_dir("bench_plot");
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "explicit_euler,rk4", "--dts", "0.01,0.005",
+                                    "--duration", "1", "--plot", dir + "/wp.png"});
+  if (r.exit_code == 1) {  // a machine without python3-matplotlib: the one-line reason, before any run
+    EXPECT_NE(r.err.find("matplotlib"), std::string::npos) << r.err;
+    EXPECT_TRUE(only_files(dir, {}));
+    return;
+  }
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(dir + "/wp.png").substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_TRUE(only_files(dir, {"wp.png"}));  // the temporary CSV and PNG are gone
+}
+
+}  // namespace
+}  // namespace clothsim::testing

@@ -1,0 +1,95 @@
+// `clothsim stability` as users call it: the undamped spring's limits in the CSV, and bad
+// parameters and lists answered in one line with exit 2 and nothing written.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "cli_process.h"
+
+namespace clothsim::testing {
+namespace {
+
+std::string spring() { return std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml"; }
+
+std::vector<std::vector<std::string>> csv_rows(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST(CmdStability, FindsTheUndampedSpringsLimitsAndPrintsTheEstimate) {
+  const std::string dir = scratch_dir("stability_csv");
+  const CliResult r = run_clothsim({"stability", spring(), "--set", "cloth.springs.structural.damping=0",
+                                    "--integrators", "symplectic_euler,implicit_euler,explicit_euler", "--values",
+                                    "100,400", "--duration", "400", "--min-dt", "0.02", "--max-dt", "1", "--csv",
+                                    dir + "/st.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("2/w_max"), std::string::npos);
+  const auto rows = csv_rows(dir + "/st.csv");
+  ASSERT_EQ(rows.size(), 1u + 6u);
+  EXPECT_EQ(rows[0][0], "param");
+  EXPECT_EQ(rows[0][4], "stable_dt");
+  // k = 100: w = 10, symplectic Euler's limit 2 / w = 0.2 s; implicit Euler at the cap;
+  // explicit Euler unstable down to w h = 0.2.
+  EXPECT_EQ(rows[1][2], "symplectic_euler");
+  EXPECT_EQ(rows[1][3], "bracketed");
+  EXPECT_NEAR(std::atof(rows[1][4].c_str()), 0.2, 0.03 * 0.2);
+  EXPECT_NEAR(std::atof(rows[1][10].c_str()), 0.2, 1e-12);  // dt_springs: 2 / w_max
+  EXPECT_EQ(rows[2][3], "stable_at_max");
+  EXPECT_EQ(rows[3][3], "unstable_at_min");
+  // k = 400: w = 20, limit 0.1 s.
+  EXPECT_NEAR(std::atof(rows[4][4].c_str()), 0.1, 0.03 * 0.1);
+  EXPECT_TRUE(only_files(dir, {"st.csv"}));
+}
+
+TEST(CmdStability, BadParametersAndListsAreOneLineExitTwoAndNothingWritten) {
+  const std::string dir = scratch_dir("stability_bad");
+  struct Case {
+    std::vector<std::string> args;
+    std::string message;
+  };
+  const std::vector<Case> cases{
+      {{"--param", "cloth.springs.structural.stifness", "--values", "1,2"}, "stifness"},
+      {{"--param", "cloth.plane", "--values", "1,2"}, "cloth.plane is not a numeric scene key"},
+      {{"--param", "name", "--values", "1,2"}, "name is not a numeric scene key"},
+      {{"--param", "air_drag"}, "--values: "},  // absent from the file: no value to scale from
+      {{"--values", ""}, "--values: empty list"},
+      {{"--values", "100,x"}, "--values: 'x' is not a finite number"},
+      {{"--max-dt", "1", "--duration", "2"}, "leaves fewer than 20 steps"},
+      {{"--integrators", ""}, "--integrators: empty list"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args{"stability", spring(), "--csv", dir + "/st.csv"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const CliResult r = run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 2) << c.message << "\n" << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_TRUE(only_files(dir, {})) << c.message;
+  }
+}
+
+TEST(CmdStability, DrawsTheStabilityMapOrSaysWhatIsMissing) {
+  const std::string dir = scratch_dir("stability_plot");
+  const CliResult r = run_clothsim({"stability", spring(), "--integrators", "symplectic_euler,rk4,implicit_euler",
+                                    "--values", "100,1000", "--duration", "20", "--plot", dir + "/st.png"});
+  if (r.exit_code == 1) {  // no python3-matplotlib: the one-line reason, before any search
+    EXPECT_NE(r.err.find("matplotlib"), std::string::npos) << r.err;
+    return;
+  }
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(dir + "/st.png").substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_TRUE(only_files(dir, {"st.png"}));
+}
+
+}  // namespace
+}  // namespace clothsim::testing
