@@ -1,23 +1,24 @@
-// The frame, pass by pass (each a function below), into a multisampled FBO:
-//   lit surfaces  cloth (two-sided, checker) and spheres, Blinn-Phong; springs and particles
-//   shadows       cloth and spheres flattened onto the ground along the light, drawn with the
-//                 ground's own shader in its unlit colour, just above the plane
-//   ground        a grid plane, evenly lit, fogged into the horizon: everywhere else
-//   sky           only where nothing was drawn (depth still at the far plane)
-//   resolve       MSAA samples averaged into a single-sample FBO (glBlitFramebuffer)
-//   read back     glFinish, glReadPixels, rows flipped to top-down, alpha forced to 255
+// The frame, pass by pass (each a function below), into a multisampled FBO cleared to
+// transparent black:
+//   lit surfaces  cloth (two-sided, checker) and spheres, Blinn-Phong; springs and particles;
+//                 with a ground, clipped at its plane (the ground is opaque)
+//   shadows       cloth and spheres flattened onto the ground along the light (Blinn 1988),
+//                 written as translucent black just above the plane, each pixel once
+//   resolve       MSAA samples averaged into a single-sample FBO (glBlitFramebuffer): colour
+//                 premultiplied by coverage, alpha = coverage
+//   read back     glFinish, glReadPixels, rows flipped to top-down, composited over the backdrop
+//                 (out = colour + (1 - alpha) backdrop), so alpha ends at 255
 //   overlay       text drawn on the CPU with the bitmap font (text.h)
-// Nearest things are drawn first so llvmpipe's early depth test skips hidden pixels: on a
-// CPU rasterizer, shaded pixels are the cost, which is also why the ground and sky shaders
-// do almost no arithmetic per pixel. Shadows drawn as opaque ground darken each pixel once
-// however many casters overlap there, without a stencil buffer (whose multisampled clear
-// costs llvmpipe more than the rest of the ground).
+// The backdrop (the grid ground, evenly lit and fogged into the horizon, and the sky) depends
+// on the camera and size only: it is rendered once with the same FBO and kept. On llvmpipe,
+// which shades on the CPU with per-sample work under MSAA, drawing ground and sky every frame
+// cost about as much as everything else together.
 //
-// GL objects (programs, buffers, FBOs) live as long as the Renderer; the FBOs are re-made
-// only when the size or sample count changes. Several Renderers may exist in one process,
-// on one thread or on several: each owns its OSMesa context, and render() makes it current
-// on the calling thread first (Mesa keeps the current context per thread). One Renderer must
-// not be used by two threads at once.
+// GL objects (programs, buffers, FBOs, the backdrop) live as long as the Renderer; the FBOs
+// are re-made only when the size or sample count changes. Several Renderers may exist in one
+// process, on one thread or on several: each owns its OSMesa context, and render() makes it
+// current on the calling thread first (Mesa keeps the current context per thread). One
+// Renderer must not be used by two threads at once.
 #include "renderer.h"
 
 #include "gl_program.h"  // first: it asks gl.h for the GL 3.3 prototypes
@@ -180,6 +181,8 @@ struct Renderer::Impl {
   int target_width = 0, target_height = 0, target_samples = 0;
 
   std::vector<std::uint8_t> readback;                           // bottom-up, as GL returns it
+  Image backdrop;                                               // ground + sky, top-down, opaque
+  std::vector<float> backdrop_key;                              // what it was rendered for
   std::array<GLint, 4> line_ranges{};                           // first index of each spring type, and the end
 
   void make_current() {
@@ -194,9 +197,10 @@ struct Renderer::Impl {
   void draw_springs_and_particles(const RenderFrame& frame, const View& view);
   void draw_shadows(const RenderFrame& frame, const View& view);
   void draw_ground(const RenderFrame& frame, const View& view);
-  void draw_ground_pass(GLuint program, const RenderFrame& frame, const View& view, bool in_shadow);
   void draw_sky(const RenderFrame& frame, const View& view);
-  Image read_back();
+  void ensure_backdrop(const RenderFrame& frame, const View& view);
+  void resolve_and_read();
+  Image composite_over_backdrop() const;
 };
 
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
@@ -246,7 +250,7 @@ void Renderer::Impl::create_objects() {
   cloth_program = gl::build_program("cloth", shaders::kSurfaceVertex, shaders::kClothFragment);
   sphere_program = gl::build_program("sphere", shaders::kSurfaceVertex, shaders::kSphereFragment);
   ground_program = gl::build_program("ground", shaders::kSurfaceVertex, shaders::kGroundFragment);
-  shadow_program = gl::build_program("shadow", shaders::kShadowVertex, shaders::kGroundFragment);
+  shadow_program = gl::build_program("shadow", shaders::kShadowVertex, shaders::kShadowFragment);
   background_program = gl::build_program("background", shaders::kBackgroundVertex, shaders::kBackgroundFragment);
   flat_program = gl::build_program("line/point", shaders::kFlatVertex, shaders::kFlatFragment);
 
@@ -271,8 +275,9 @@ void Renderer::Impl::create_objects() {
   attribute(0, cloth_positions, 3);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, line_indices);
 
-  // 96 x 48 facets: the silhouette stays round at 1080p for a sphere a third of the frame high.
-  const Mesh sphere = make_unit_sphere(96, 48);
+  // 64 x 32 facets: a sphere a third of a 1080p frame high strays < 0.5 px from round;
+  // every triangle costs llvmpipe setup time, so no more than that.
+  const Mesh sphere = make_unit_sphere(64, 32);
   glGenVertexArrays(1, &sphere_vao);
   glBindVertexArray(sphere_vao);
   upload(GL_ARRAY_BUFFER, sphere_positions, sphere.positions);
@@ -378,12 +383,18 @@ void set_lights(GLuint program, const View& view) {
   set(program, "u_sky", kSkyLight);
   set(program, "u_bounce", kBounceLight);
 }
+
+// Points above the ground plane y = h have a positive distance (gl_ClipDistance[0]).
+void set_ground_clip(GLuint program, const RenderFrame& frame) {
+  glUniform4f(glGetUniformLocation(program, "u_clip_plane"), 0.f, 1.f, 0.f, -frame.ground_height);
+}
 }  // namespace
 
 void Renderer::Impl::draw_lit_surfaces(const RenderFrame& frame, const View& view) {
   if (!frame.cloth_triangles.empty()) {
     glUseProgram(cloth_program);
     set_lights(cloth_program, view);
+    set_ground_clip(cloth_program, frame);
     set_placement(cloth_program, {0.f, 0.f, 0.f}, 1.f);
     set(cloth_program, "u_front_color", frame.cloth_front);
     set(cloth_program, "u_back_color", frame.cloth_back);
@@ -394,6 +405,7 @@ void Renderer::Impl::draw_lit_surfaces(const RenderFrame& frame, const View& vie
   if (!frame.spheres.empty()) {
     glUseProgram(sphere_program);
     set_lights(sphere_program, view);
+    set_ground_clip(sphere_program, frame);
     glEnable(GL_CULL_FACE);                                         // closed mesh: back faces never show
     glBindVertexArray(sphere_vao);
     for (const RenderSphere& s : frame.spheres) {
@@ -408,6 +420,7 @@ void Renderer::Impl::draw_lit_surfaces(const RenderFrame& frame, const View& vie
 void Renderer::Impl::draw_springs_and_particles(const RenderFrame& frame, const View& view) {
   glUseProgram(flat_program);
   set(flat_program, "u_view_proj", view.view_proj);
+  set_ground_clip(flat_program, frame);
   if (!frame.spring_lines.empty()) {
     set(flat_program, "u_round", 0);
     const Vec3 colors[3] = {{0.12f, 0.12f, 0.14f}, {0.10f, 0.55f, 0.25f}, {0.80f, 0.20f, 0.60f}};  // structural, shear, bend
@@ -429,44 +442,44 @@ void Renderer::Impl::draw_springs_and_particles(const RenderFrame& frame, const 
   }
 }
 
-// Ground colours, display space: a horizontal plane under a directional light is evenly lit,
-// so its colour is computed once here. In shadow the sky light is left, plus a fifth of the
-// key light standing in for what the surroundings scatter (a black shadow reads as a hole).
-Vec3 ground_color(const RenderFrame& frame, const View& view, bool in_shadow) {
-  const Vec3 light = kSkyLight + kKeyLight * (view.light_dir.y * (in_shadow ? 0.2f : 1.f));
-  return display(mul(linear(frame.ground_color), light));
-}
-
-void Renderer::Impl::draw_ground_pass(GLuint program, const RenderFrame& frame, const View& view, bool in_shadow) {
-  glUseProgram(program);
-  set(program, "u_view_proj", view.view_proj);
-  set(program, "u_eye", view.eye);
-  set(program, "u_lit_color", ground_color(frame, view, in_shadow));
-  set(program, "u_horizon", to_vec3(frame.background));
-  set(program, "u_fog", 1.6f * view.distance, 5.f * view.distance);
-  set(program, "u_spacing", std::max(frame.ground_grid_spacing, 1e-3f));
-}
-
 void Renderer::Impl::draw_shadows(const RenderFrame& frame, const View& view) {
-  draw_ground_pass(shadow_program, frame, view, true);
+  // Where the key light is blocked, the ground keeps its sky light plus a fifth of the key light
+  // (standing in for what the surroundings scatter: a black shadow reads as a hole). As the
+  // backdrop shows the lit ground, the shadow is the fraction of it to take away: its alpha.
+  const Vec3 lit = kSkyLight + kKeyLight * view.light_dir.y, shaded = kSkyLight + kKeyLight * (0.2f * view.light_dir.y);
+  const float kept = std::sqrt((shaded.x + shaded.y + shaded.z) / (lit.x + lit.y + lit.z));  // display space
+  glUseProgram(shadow_program);
+  set(shadow_program, "u_view_proj", view.view_proj);
   set(shadow_program, "u_light_dir", view.light_dir);
   set(shadow_program, "u_ground_height", frame.ground_height);
+  set(shadow_program, "u_alpha", 1.f - kept);
   glEnable(GL_POLYGON_OFFSET_FILL);
-  glPolygonOffset(-1.f, -4.f);  // just above the plane: the ground drawn next is hidden here
+  glPolygonOffset(-1.f, -4.f);  // just above the plane; overlapping casters: equal depth fails GL_LESS
   set_placement(shadow_program, {0.f, 0.f, 0.f}, 1.f);
   glBindVertexArray(cloth_vao);
   glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(frame.cloth_triangles.size()), GL_UNSIGNED_INT, nullptr);
+  // A sphere's two halves project onto the same disc with opposite windings: one is enough.
+  glEnable(GL_CULL_FACE);
   glBindVertexArray(sphere_vao);
   for (const RenderSphere& s : frame.spheres) {
     set_placement(shadow_program, gl::to_vec3(s.center), s.radius);
     glDrawElements(GL_TRIANGLES, sphere_index_count, GL_UNSIGNED_INT, nullptr);
   }
+  glDisable(GL_CULL_FACE);
   glDisable(GL_POLYGON_OFFSET_FILL);
 }
 
 void Renderer::Impl::draw_ground(const RenderFrame& frame, const View& view) {
-  draw_ground_pass(ground_program, frame, view, false);
+  // A horizontal plane under a directional light is evenly lit: its colour is computed once.
+  const Vec3 lit = mul(linear(frame.ground_color), kSkyLight + kKeyLight * view.light_dir.y);
+  glUseProgram(ground_program);
+  set(ground_program, "u_view_proj", view.view_proj);
   set_placement(ground_program, {0.f, 0.f, 0.f}, 1.f);
+  set(ground_program, "u_eye", view.eye);
+  set(ground_program, "u_lit_color", display(lit));
+  set(ground_program, "u_horizon", to_vec3(frame.background));
+  set(ground_program, "u_fog", 1.6f * view.distance, 5.f * view.distance);
+  set(ground_program, "u_spacing", std::max(frame.ground_grid_spacing, 1e-3f));
   glBindVertexArray(ground_vao);
   glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
 }
@@ -491,7 +504,31 @@ void Renderer::Impl::draw_sky(const RenderFrame& frame, const View& view) {
   glDepthFunc(GL_LESS);
 }
 
-Image Renderer::Impl::read_back() {
+// Renders ground and sky into `backdrop` unless it already shows this camera, size and ground.
+void Renderer::Impl::ensure_backdrop(const RenderFrame& frame, const View& view) {
+  const RenderCamera& c = frame.camera;
+  std::vector<float> key = {static_cast<float>(frame.width), static_cast<float>(frame.height),
+                            static_cast<float>(target_samples), c.fov_deg, frame.has_ground ? 1.f : 0.f,
+                            frame.ground_height, frame.ground_grid_spacing};
+  for (const auto* a : {&c.eye, &c.target, &c.up}) key.insert(key.end(), a->begin(), a->end());
+  for (const auto* a : {&frame.background, &frame.ground_color}) key.insert(key.end(), a->begin(), a->end());
+  if (key == backdrop_key) return;
+  glBindFramebuffer(GL_FRAMEBUFFER, draw_fbo);
+  glViewport(0, 0, frame.width, frame.height);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  if (frame.has_ground) draw_ground(frame, view);
+  draw_sky(frame, view);
+  resolve_and_read();
+  backdrop = Image(frame.width, frame.height);
+  const std::size_t row_bytes = static_cast<std::size_t>(frame.width) * 4;
+  for (int y = 0; y < frame.height; ++y)                                      // GL rows are bottom-up
+    std::memcpy(backdrop.pixel(0, y), readback.data() + static_cast<std::size_t>(frame.height - 1 - y) * row_bytes, row_bytes);
+  backdrop_key = key;
+}
+
+void Renderer::Impl::resolve_and_read() {
   const int w = target_width, h = target_height;
   if (target_samples > 1) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo);
@@ -506,13 +543,23 @@ Image Renderer::Impl::read_back() {
   glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, readback.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::check_gl("drawing and reading back a " + std::to_string(w) + "x" + std::to_string(h) + " frame");
+}
 
+// Rows flipped to top-down, the premultiplied frame laid over the backdrop: "over" with
+// integer arithmetic, so the bytes are the same on every machine; alpha ends at 255.
+Image Renderer::Impl::composite_over_backdrop() const {
+  const int w = target_width, h = target_height;
   Image image(w, h);
-  const std::size_t row_bytes = static_cast<std::size_t>(w) * 4;
-  for (int y = 0; y < h; ++y) {                                                // GL rows are bottom-up
-    std::uint8_t* dst = image.rgba.data() + static_cast<std::size_t>(y) * row_bytes;
-    std::memcpy(dst, readback.data() + static_cast<std::size_t>(h - 1 - y) * row_bytes, row_bytes);
-    for (std::size_t i = 3; i < row_bytes; i += 4) dst[i] = 255;               // opaque
+  for (int y = 0; y < h; ++y) {
+    const std::uint8_t* src = readback.data() + static_cast<std::size_t>(h - 1 - y) * w * 4;
+    const std::uint8_t* back = backdrop.pixel(0, y);
+    std::uint8_t* dst = image.pixel(0, y);
+    for (int i = 0; i < 4 * w; i += 4) {
+      const int uncovered = 255 - src[i + 3];
+      for (int c = 0; c < 3; ++c)
+        dst[i + c] = static_cast<std::uint8_t>(std::min(255, src[i + c] + (back[i + c] * uncovered + 127) / 255));
+      dst[i + 3] = 255;
+    }
   }
   return image;
 }
@@ -524,18 +571,21 @@ Image Renderer::render(const RenderFrame& frame) {
   r.ensure_targets(frame.width, frame.height, std::clamp(frame.samples, 1, r.max_samples));
   const View view = make_view(frame);                                  // camera and key light
   r.upload_frame(frame, view);                                         // cloth, springs, ground quad
+  r.ensure_backdrop(frame, view);                                      // ground + sky, once per camera
   glBindFramebuffer(GL_FRAMEBUFFER, r.draw_fbo);
   glViewport(0, 0, frame.width, frame.height);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
+  glClearColor(0.f, 0.f, 0.f, 0.f);                                    // transparent: the backdrop shows
   glClearDepth(1.0);
-  glClear(GL_DEPTH_BUFFER_BIT);                                        // colour: the sky covers the rest
-  r.draw_lit_surfaces(frame, view);                                    // nearest first: early-z
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  if (frame.has_ground) glEnable(GL_CLIP_DISTANCE0);                  // nothing shows below the ground
+  r.draw_lit_surfaces(frame, view);
   r.draw_springs_and_particles(frame, view);
-  if (frame.has_ground && frame.shadows) r.draw_shadows(frame, view);  // ground in shadow ...
-  if (frame.has_ground) r.draw_ground(frame, view);                    // ... then the lit rest
-  r.draw_sky(frame, view);                                             // where nothing was drawn
-  Image image = r.read_back();                                         // resolve, finish, read, flip
+  glDisable(GL_CLIP_DISTANCE0);
+  if (frame.has_ground && frame.shadows) r.draw_shadows(frame, view);
+  r.resolve_and_read();                                                // resolve, finish, read
+  Image image = r.composite_over_backdrop();                           // flip, over the backdrop
   draw_overlay(image, frame);                                          // text on the CPU
   return image;
 }

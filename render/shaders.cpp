@@ -42,7 +42,8 @@ layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_uv;
 uniform mat4 u_view_proj;
-uniform vec4 u_placement;  // xyz offset, w scale
+uniform vec4 u_placement;   // xyz offset, w scale
+uniform vec4 u_clip_plane;  // the ground: what lies below it is clipped (when enabled)
 out vec3 v_world;
 out vec3 v_normal;
 out vec2 v_uv;
@@ -51,6 +52,7 @@ void main() {
   v_normal = a_normal;                                      // uniform scale: normals unchanged
   v_uv = a_uv;
   gl_Position = u_view_proj * vec4(v_world, 1.0);           // world -> clip
+  gl_ClipDistance[0] = dot(vec4(v_world, 1.0), u_clip_plane);
 }
 )";
 
@@ -118,14 +120,18 @@ uniform mat4 u_view_proj;
 uniform vec4 u_placement;      // as kSurfaceVertex
 uniform vec3 u_light_dir;      // unit, towards the light; y > 0
 uniform float u_ground_height;
-out vec3 v_world;              // on the ground: kGroundFragment shades it
 void main() {
   vec3 p = u_placement.xyz + u_placement.w * a_position;                        // model -> world
   p -= u_light_dir * (max(p.y - u_ground_height, 0.0) / u_light_dir.y);          // down the light ray
   p.y = u_ground_height;                                                         // onto the plane
-  v_world = p;
   gl_Position = u_view_proj * vec4(p, 1.0);
 }
+)";
+
+const std::string kShadowFragment = std::string(kVersion) + R"(
+out vec4 frag_color;
+uniform float u_alpha;  // share of the lit ground's colour the shadow takes away
+void main() { frag_color = vec4(0.0, 0.0, 0.0, u_alpha); }  // premultiplied: composited "over"
 )";
 
 const std::string kBackgroundVertex = std::string(kVersion) + R"(
@@ -156,8 +162,10 @@ const std::string kFlatVertex = std::string(kVersion) + R"(
 layout(location = 0) in vec3 a_position;
 uniform mat4 u_view_proj;
 uniform float u_point_size;  // pixels
+uniform vec4 u_clip_plane;   // as kSurfaceVertex
 void main() {
   gl_Position = u_view_proj * vec4(a_position, 1.0);
+  gl_ClipDistance[0] = dot(vec4(a_position, 1.0), u_clip_plane);
   gl_Position.z -= 2e-4 * gl_Position.w;  // drawn over the cloth they lie on
   gl_PointSize = u_point_size;
 }

@@ -1,6 +1,6 @@
 // GLSL 330 core sources of the renderer's programs. Lit surfaces (cloth, spheres) share
-// one Blinn-Phong chunk; the ground, its shadows and the sky are flat-cost shaders, since
-// they cover most pixels and llvmpipe shades on the CPU.
+// one Blinn-Phong chunk; the ground and sky (the backdrop, drawn once per camera) and the
+// shadows are flat-cost shaders.
 #pragma once
 
 #include <string>
@@ -17,9 +17,9 @@ extern const std::string kSphereFragment;  // smooth, glossy
 extern const std::string kGroundFragment;  // anti-aliased minor/major grid, fog to the horizon
 
 // Planar projected shadows (Blinn, "Me and my (fake) shadow", 1988): cloth and spheres
-// flattened onto the ground along the light direction, shaded by kGroundFragment in the
-// ground's unlit colour.
+// flattened onto the ground along the light direction, written as translucent black.
 extern const std::string kShadowVertex;
+extern const std::string kShadowFragment;
 
 // A full-screen triangle shading the sky (and, without ground, the floor-less backdrop)
 // by the direction of each pixel's view ray.
