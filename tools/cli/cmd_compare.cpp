@@ -19,6 +19,7 @@
 // The summary (stdout) has one row per run; the time breakdown (stderr) says where the
 // wall time went: simulation (CPU time summed over the run threads, and how long the
 // renderer waited for them), render, compose, PNG and encode on the main thread.
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cmath>
@@ -154,7 +155,13 @@ int compare_command(const CompareOptions& o) {
 
   // 2. Outputs (each removes its temporary if destroyed before finish()).
   std::unique_ptr<Renderer> renderer;
-  if (rendering) renderer = std::make_unique<Renderer>();  // a GL failure shows up now
+  if (rendering) {
+    renderer = std::make_unique<Renderer>();  // a GL failure shows up now
+    if (std::max(grid->cell_width(), grid->cell_height()) > renderer->max_size())
+      throw UsageError("--width/--height: tiles of " + std::to_string(grid->cell_width()) + "x" +
+                       std::to_string(grid->cell_height()) + " exceed the renderer's limit of " +
+                       std::to_string(renderer->max_size()) + " pixels");
+  }
   std::unique_ptr<FrameSink> video;
   if (!o.video.empty()) video = make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset});
   std::vector<std::unique_ptr<FrameSink>> tile_pngs;
@@ -277,7 +284,8 @@ void add_compare_command(CLI::App& app, Command& command) {
       "compare",
       "Run one scene with several integrators at once and show them side by side: a tiled,\n"
       "labelled MP4 (--video), each run's PNGs (--frames), a contact sheet (--sheet), and a\n"
-      "summary table of cost and divergence on stdout. Divergence is a result here (exit 0).");
+      "summary table of cost and divergence on stdout. Divergence is a result here (exit 0).\n"
+      "Without --video or --frames, the runs stop at the last --times or --still.");
   add_scene_options(sub, o->scene, /*single_run=*/false);
   sub->add_option("--integrators", o->integrators, "Comma-separated integrators, one tile each")
       ->capture_default_str();
