@@ -128,6 +128,18 @@ TEST(TileGrid, DrawsEachLabelInsideItsTileAndOnlyThere) {
   EXPECT_EQ(pixels_not(out, grid.cell_x(0), grid.cell_y(0), 120, 30, kBlue), 0);
 }
 
+TEST(TileGrid, ShrinksALongLabelToItsTileRatherThanSpillingIntoTheNext) {
+  TilingStyle style;
+  style.label_scale = 3;  // "abcdefgh" is 144 px wide at scale 3, 48 at scale 1
+  const TileGrid grid(GridLayout{2, 1}, 60, 40, style);
+  const Image a = solid(60, 40, kBlue), b = solid(60, 40, kBlue);
+  Image out;
+  grid.compose({&a, &b}, {"abcdefgh", ""}, out);
+  EXPECT_GT(pixels_not(out, grid.cell_x(0), 0, 60, 40, kBlue), 20);
+  EXPECT_EQ(pixels_not(out, 60, 0, 4, 40, style.background), 0) << "gutter untouched";
+  EXPECT_EQ(pixels_not(out, grid.cell_x(1), 0, 60, 40, kBlue), 0) << "next tile untouched";
+}
+
 TEST(TileGrid, FitsCellsIntoAnExactCanvasEvenWhenTheSizeIsOdd) {
   const TileGrid hd = TileGrid::fit(GridLayout{2, 2}, 1280, 720);
   EXPECT_EQ(hd.width(), 1280);

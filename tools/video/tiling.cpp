@@ -132,7 +132,8 @@ void fill_rect(Image& image, int x, int y, int w, int h, Rgba8 color) {
 
 void draw_tile_label(Image& image, int x, int y, int w, int h, std::string_view label,
                      Rgba8 color, int scale) {
-  (void)w;
+  // A long label in a narrow tile steps down in size rather than running off the tile.
+  while (scale > 1 && text_width(label, scale) + 6 * scale > w) --scale;
   const int margin = 3 * scale;
   const int text_h = text_glyph_height() * scale;
   draw_text(image, x + margin, y + h - margin - text_h, label, color, scale, /*backdrop=*/true);

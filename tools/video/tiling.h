@@ -85,7 +85,7 @@ void blit(const Image& src, Image& dst, int x, int y);
 // Fills the rectangle (clipped) with one colour.
 void fill_rect(Image& image, int x, int y, int w, int h, Rgba8 color);
 // Draws a label with a margin inside the tile whose top-left is (x, y) and size w x h,
-// at its bottom-left corner.
+// at its bottom-left corner, at `scale` or smaller if that would not fit the width.
 void draw_tile_label(Image& image, int x, int y, int w, int h, std::string_view label,
                      Rgba8 color, int scale);
 
