@@ -71,17 +71,4 @@ inline Mat4 perspective(float fov_y_deg, float aspect, float near_z, float far_z
   return r;
 }
 
-// Eye -> clip for a box (glOrtho): the shadow map's directional-light projection.
-inline Mat4 ortho(float l, float r_, float b, float t, float n, float f) {
-  Mat4 r;
-  r.at(0, 0) = 2.f / (r_ - l);
-  r.at(1, 1) = 2.f / (t - b);
-  r.at(2, 2) = -2.f / (f - n);
-  r.at(0, 3) = -(r_ + l) / (r_ - l);
-  r.at(1, 3) = -(t + b) / (t - b);
-  r.at(2, 3) = -(f + n) / (f - n);
-  r.at(3, 3) = 1.f;
-  return r;
-}
-
 }  // namespace clothsim::gl

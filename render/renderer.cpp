@@ -31,92 +31,16 @@
 #include <cstring>
 #include <string>
 
+#include "frame_setup.h"
 #include "gl_math.h"
 #include "meshes.h"
 #include "shaders.h"
-#include "text.h"
 
 namespace clothsim {
 
+using namespace render;  // frame_setup.h: View, lights, colour conventions
+
 namespace {
-
-using gl::Mat4;
-using gl::Vec3;
-
-// The lights, linear RGB. One definition for the shaders (uniforms) and for the CPU-side
-// ground colours, so a lit cloth and a lit ground agree. An upward surface facing the key
-// light receives about 1: it shows the colour the frame gives. RenderFrame colours are taken
-// as display values (gamma 2), squared to linear for lighting.
-constexpr Vec3 kKeyLight{0.70f, 0.69f, 0.66f};    // directional key light, slightly warm
-constexpr Vec3 kSkyLight{0.40f, 0.43f, 0.48f};    // ambient from above, cool
-constexpr Vec3 kBounceLight{0.22f, 0.20f, 0.18f};  // ambient from below, warm
-
-Vec3 mul(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-Vec3 display(Vec3 linear) {  // gamma 2, as the shaders' to_display()
-  const auto g = [](float c) { return std::sqrt(std::clamp(c, 0.f, 1.f)); };
-  return {g(linear.x), g(linear.y), g(linear.z)};
-}
-Vec3 to_vec3(const Rgb& c) { return {c[0], c[1], c[2]}; }
-Vec3 linear(const Rgb& c) { return {c[0] * c[0], c[1] * c[1], c[2] * c[2]}; }
-
-// Everything derived from RenderFrame::camera for one frame.
-struct View {
-  Mat4 view_proj;
-  Vec3 eye, right, up, forward;
-  float tan_half_x = 1.f, tan_half_y = 1.f;
-  float distance = 1.f;  // eye to target, m: the scene's scale for near/far, fog, ground extent
-  Vec3 light_dir;        // unit, towards the key light
-};
-
-View make_view(const RenderFrame& frame) {
-  const RenderCamera& c = frame.camera;
-  View v;
-  v.eye = gl::to_vec3(c.eye);
-  const Vec3 target = gl::to_vec3(c.target);
-  v.distance = std::max(gl::length(target - v.eye), 1e-3f);
-  const Mat4 view = gl::look_at(v.eye, target, gl::to_vec3(c.up));
-  v.right = {view.at(0, 0), view.at(0, 1), view.at(0, 2)};
-  v.up = {view.at(1, 0), view.at(1, 1), view.at(1, 2)};
-  v.forward = {-view.at(2, 0), -view.at(2, 1), -view.at(2, 2)};
-  const float aspect = static_cast<float>(frame.width) / static_cast<float>(frame.height);
-  v.tan_half_y = std::tan(c.fov_deg * 3.14159265f / 360.f);
-  v.tan_half_x = v.tan_half_y * aspect;
-  v.view_proj = gl::perspective(c.fov_deg, aspect, 0.01f * v.distance, 50.f * v.distance) * view;
-  // Key light above, over the viewer's left shoulder, whatever way the camera looks, so
-  // shadows fall behind and to the right of what casts them.
-  Vec3 back = {-v.forward.x, 0.f, -v.forward.z};
-  Vec3 left = {-v.right.x, 0.f, -v.right.z};
-  if (gl::length(back) < 1e-3f) back = {0.f, 0.f, -1.f};  // looking straight down
-  if (gl::length(left) < 1e-3f) left = {1.f, 0.f, 0.f};
-  v.light_dir = gl::normalize(Vec3{0.f, 1.f, 0.f} + gl::normalize(left) * 0.45f + gl::normalize(back) * 0.35f);
-  return v;
-}
-
-void check_frame(const RenderFrame& f, int max_size) {
-  const auto fail = [](const std::string& what) { throw RenderError("RenderFrame: " + what); };
-  if (f.width < 1 || f.height < 1 || f.width > max_size || f.height > max_size)
-    throw RenderError("image size " + std::to_string(f.width) + "x" + std::to_string(f.height) +
-                      " is outside 1.." + std::to_string(max_size) + " pixels per side");
-  if (f.cloth_positions.size() % 3 != 0) fail("cloth_positions is not a list of 3-vectors");
-  const std::size_t particles = f.cloth_positions.size() / 3;
-  if (f.cloth_normals.size() != f.cloth_positions.size())
-    fail("cloth_normals has " + std::to_string(f.cloth_normals.size()) + " values, expected " +
-         std::to_string(f.cloth_positions.size()));
-  if (f.cloth_uv.size() != 2 * particles)
-    fail("cloth_uv has " + std::to_string(f.cloth_uv.size()) + " values, expected " +
-         std::to_string(2 * particles));
-  if (f.cloth_triangles.size() % 3 != 0) fail("cloth_triangles is not a list of triangles");
-  for (std::uint32_t i : f.cloth_triangles)
-    if (i >= particles) fail("cloth_triangles refers to particle " + std::to_string(i) + " of " + std::to_string(particles));
-  if (f.spring_lines.size() % 2 != 0) fail("spring_lines is not a list of pairs");
-  for (std::uint32_t i : f.spring_lines)
-    if (i >= particles) fail("spring_lines refers to particle " + std::to_string(i) + " of " + std::to_string(particles));
-  if (f.spring_types.size() != f.spring_lines.size() / 2)
-    fail("spring_types has " + std::to_string(f.spring_types.size()) + " entries for " +
-         std::to_string(f.spring_lines.size() / 2) + " lines");
-  for (const RenderSphere& s : f.spheres)
-    if (!(s.radius > 0.f)) fail("a sphere has radius " + std::to_string(s.radius));
-}
 
 // Uniform setters by name (a few dozen lookups a frame; cheaper than the clarity they buy).
 void set(GLuint p, const char* name, float v) { glUniform1f(glGetUniformLocation(p, name), v); }
@@ -141,21 +65,6 @@ void attribute(GLuint index, GLuint buffer, int components) {
   glBindBuffer(GL_ARRAY_BUFFER, buffer);
   glEnableVertexAttribArray(index);
   glVertexAttribPointer(index, components, GL_FLOAT, GL_FALSE, 0, nullptr);
-}
-
-// Overlay lines top-left, the banner centred in red; sized to the image (2x at 720p).
-void draw_overlay(Image& image, const RenderFrame& frame) {
-  const int scale = std::max(1, image.height / 360);
-  const int margin = 4 * scale;
-  if (!frame.overlay_lines.empty())
-    draw_text_block(image, margin, margin, frame.overlay_lines, {255, 255, 255, 255}, scale);
-  if (!frame.banner.empty()) {
-    int banner_scale = 2 * scale;
-    while (banner_scale > 1 && text_width(frame.banner, banner_scale) > image.width - 2 * margin) --banner_scale;
-    const int x = (image.width - text_width(frame.banner, banner_scale)) / 2;
-    const int y = (image.height - text_glyph_height() * banner_scale) / 2;
-    draw_text(image, x, y, frame.banner, {255, 72, 60, 255}, banner_scale);
-  }
 }
 
 }  // namespace
@@ -566,7 +475,7 @@ Image Renderer::Impl::composite_over_backdrop() const {
 
 Image Renderer::render(const RenderFrame& frame) {
   Impl& r = *impl_;
-  check_frame(frame, r.max_size);                                      // sizes and indices, before any GL
+  validate_frame(frame, r.max_size);                                      // sizes and indices, before any GL
   r.make_current();                                                    // ours, on this thread
   r.ensure_targets(frame.width, frame.height, std::clamp(frame.samples, 1, r.max_samples));
   const View view = make_view(frame);                                  // camera and key light

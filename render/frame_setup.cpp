@@ -1,0 +1,83 @@
+#include "frame_setup.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "renderer.h"
+#include "text.h"
+
+namespace clothsim::render {
+
+Vec3 display(Vec3 linear) {
+  const auto g = [](float c) { return std::sqrt(std::clamp(c, 0.f, 1.f)); };
+  return {g(linear.x), g(linear.y), g(linear.z)};
+}
+
+View make_view(const RenderFrame& frame) {
+  const RenderCamera& c = frame.camera;
+  View v;
+  v.eye = gl::to_vec3(c.eye);
+  const Vec3 target = gl::to_vec3(c.target);
+  v.distance = std::max(gl::length(target - v.eye), 1e-3f);
+  const Mat4 view = gl::look_at(v.eye, target, gl::to_vec3(c.up));
+  v.right = {view.at(0, 0), view.at(0, 1), view.at(0, 2)};
+  v.up = {view.at(1, 0), view.at(1, 1), view.at(1, 2)};
+  v.forward = {-view.at(2, 0), -view.at(2, 1), -view.at(2, 2)};
+  const float aspect = static_cast<float>(frame.width) / static_cast<float>(frame.height);
+  v.tan_half_y = std::tan(c.fov_deg * 3.14159265f / 360.f);
+  v.tan_half_x = v.tan_half_y * aspect;
+  v.view_proj = gl::perspective(c.fov_deg, aspect, 0.01f * v.distance, 50.f * v.distance) * view;
+  // Key light above, over the viewer's left shoulder, whatever way the camera looks, so
+  // shadows fall behind and to the right of what casts them.
+  Vec3 back = {-v.forward.x, 0.f, -v.forward.z};
+  Vec3 left = {-v.right.x, 0.f, -v.right.z};
+  if (gl::length(back) < 1e-3f) back = {0.f, 0.f, -1.f};  // looking straight down
+  if (gl::length(left) < 1e-3f) left = {1.f, 0.f, 0.f};
+  v.light_dir = gl::normalize(Vec3{0.f, 1.f, 0.f} + gl::normalize(left) * 0.45f + gl::normalize(back) * 0.35f);
+  return v;
+}
+
+void validate_frame(const RenderFrame& f, int max_size) {
+  const auto fail = [](const std::string& what) { throw RenderError("RenderFrame: " + what); };
+  if (f.width < 1 || f.height < 1 || f.width > max_size || f.height > max_size)
+    throw RenderError("image size " + std::to_string(f.width) + "x" + std::to_string(f.height) +
+                      " is outside 1.." + std::to_string(max_size) + " pixels per side");
+  if (f.cloth_positions.size() % 3 != 0) fail("cloth_positions is not a list of 3-vectors");
+  const std::size_t particles = f.cloth_positions.size() / 3;
+  if (f.cloth_normals.size() != f.cloth_positions.size())
+    fail("cloth_normals has " + std::to_string(f.cloth_normals.size()) + " values, expected " +
+         std::to_string(f.cloth_positions.size()));
+  if (f.cloth_uv.size() != 2 * particles)
+    fail("cloth_uv has " + std::to_string(f.cloth_uv.size()) + " values, expected " +
+         std::to_string(2 * particles));
+  if (f.cloth_triangles.size() % 3 != 0) fail("cloth_triangles is not a list of triangles");
+  for (std::uint32_t i : f.cloth_triangles)
+    if (i >= particles) fail("cloth_triangles refers to particle " + std::to_string(i) + " of " + std::to_string(particles));
+  if (f.spring_lines.size() % 2 != 0) fail("spring_lines is not a list of pairs");
+  for (std::uint32_t i : f.spring_lines)
+    if (i >= particles) fail("spring_lines refers to particle " + std::to_string(i) + " of " + std::to_string(particles));
+  if (f.spring_types.size() != f.spring_lines.size() / 2)
+    fail("spring_types has " + std::to_string(f.spring_types.size()) + " entries for " +
+         std::to_string(f.spring_lines.size() / 2) + " lines");
+  for (const RenderSphere& s : f.spheres)
+    if (!(s.radius > 0.f)) fail("a sphere has radius " + std::to_string(s.radius));
+}
+
+
+// Overlay lines top-left, the banner centred in red; sized to the image (2x at 720p).
+void draw_overlay(Image& image, const RenderFrame& frame) {
+  const int scale = std::max(1, image.height / 360);
+  const int margin = 4 * scale;
+  if (!frame.overlay_lines.empty())
+    draw_text_block(image, margin, margin, frame.overlay_lines, {255, 255, 255, 255}, scale);
+  if (!frame.banner.empty()) {
+    int banner_scale = 2 * scale;
+    while (banner_scale > 1 && text_width(frame.banner, banner_scale) > image.width - 2 * margin) --banner_scale;
+    const int x = (image.width - text_width(frame.banner, banner_scale)) / 2;
+    const int y = (image.height - text_glyph_height() * banner_scale) / 2;
+    draw_text(image, x, y, frame.banner, {255, 72, 60, 255}, banner_scale);
+  }
+}
+
+}  // namespace clothsim::render

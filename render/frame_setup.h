@@ -1,0 +1,46 @@
+// What the renderer derives from a RenderFrame before and after any GL: the frame checked,
+// the camera and key light, the lights and colour conventions, and the text overlay.
+// Plain C++ (no GL), so it is tested on its own.
+#pragma once
+
+#include "gl_math.h"
+#include "image.h"
+#include "render_frame.h"
+
+namespace clothsim::render {
+
+using gl::Mat4;
+using gl::Vec3;
+
+// The lights, linear RGB. One definition for the shaders (uniforms) and for the CPU-side
+// ground colours, so a lit cloth and a lit ground agree. An upward surface facing the key
+// light receives about 1: it shows the colour the frame gives. RenderFrame colours are taken
+// as display values (gamma 2), squared to linear for lighting.
+constexpr Vec3 kKeyLight{0.70f, 0.69f, 0.66f};    // directional key light, slightly warm
+constexpr Vec3 kSkyLight{0.40f, 0.43f, 0.48f};    // ambient from above, cool
+constexpr Vec3 kBounceLight{0.22f, 0.20f, 0.18f};  // ambient from below, warm
+
+inline Vec3 mul(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+Vec3 display(Vec3 linear);  // gamma 2, as the shaders' to_display()
+inline Vec3 to_vec3(const Rgb& c) { return {c[0], c[1], c[2]}; }
+inline Vec3 linear(const Rgb& c) { return {c[0] * c[0], c[1] * c[1], c[2] * c[2]}; }
+
+// Everything derived from RenderFrame::camera for one frame.
+struct View {
+  Mat4 view_proj;                 // world -> clip
+  Vec3 eye, right, up, forward;   // camera position and basis, world
+  float tan_half_x = 1.f, tan_half_y = 1.f;
+  float distance = 1.f;  // eye to target, m: the scene's scale for near/far, fog, ground extent
+  Vec3 light_dir;        // unit, towards the key light; always above the horizon
+};
+View make_view(const RenderFrame& frame);
+
+// Throws RenderError naming what is wrong: a size outside 1..max_size, arrays whose lengths
+// disagree, indices past the particles, a sphere without a positive radius.
+void validate_frame(const RenderFrame& frame, int max_size);
+
+// Overlay lines top-left in white, the banner centred in red, both on dark backdrops;
+// text scale 1 up to 539 rows, 2 at 720p, 3 at 1080p.
+void draw_overlay(Image& image, const RenderFrame& frame);
+
+}  // namespace clothsim::render
