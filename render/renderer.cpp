@@ -465,8 +465,14 @@ Image Renderer::Impl::composite_over_backdrop() const {
     std::uint8_t* dst = image.pixel(0, y);
     for (int i = 0; i < 4 * w; i += 4) {
       const int uncovered = 255 - src[i + 3];
-      for (int c = 0; c < 3; ++c)
-        dst[i + c] = static_cast<std::uint8_t>(std::min(255, src[i + c] + (back[i + c] * uncovered + 127) / 255));
+      if (uncovered == 255) {                                 // most pixels: backdrop only
+        std::memcpy(dst + i, back + i, 4);
+      } else if (uncovered == 0) {                            // inside geometry
+        std::memcpy(dst + i, src + i, 3);
+      } else {                                                // edges and shadows
+        for (int c = 0; c < 3; ++c)
+          dst[i + c] = static_cast<std::uint8_t>(std::min(255, src[i + c] + (back[i + c] * uncovered + 127) / 255));
+      }
       dst[i + 3] = 255;
     }
   }
