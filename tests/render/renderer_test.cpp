@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "render/synthetic_frames.h"
 
@@ -258,6 +259,21 @@ TEST(Renderer, SeveralRenderersWorkSideBySideOnOneThreadAndOnSeveral) {
   tb.join();
   EXPECT_EQ(from_thread_a.rgba, expected_a.rgba);
   EXPECT_EQ(from_thread_b.rgba, expected_b.rgba);
+}
+
+TEST(Renderer, RenderersMadeAndDestroyedInsideConcurrentThreadsAgree) {
+  const RenderFrame frame = draped_sheet_frame(kW, kH);
+  const Image expected = shared_renderer().render(frame);
+  std::array<Image, 3> results;
+  std::vector<std::thread> threads;
+  for (Image& result : results)
+    threads.emplace_back([&frame, &result] {
+      Renderer own;  // context created, used and destroyed on this thread
+      own.render(frame);
+      result = own.render(frame);
+    });
+  for (std::thread& t : threads) t.join();
+  for (const Image& result : results) EXPECT_EQ(result.rgba, expected.rgba);
 }
 
 }  // namespace

@@ -1,7 +1,9 @@
 // Renderer throughput: frames/s of render + readback (MSAA resolve, glFinish, glReadPixels,
 // flip, overlay text) for the shipped drape (25 x 25, draped over its ball at t = 1.5 s) and
 // for the same scene with a 256 x 256 sheet (at t = 0: flat, above the ball), and ms per PNG
-// write of a rendered 1280x720 frame at each fast zlib level.
+// write of a rendered 1280x720 frame at each fast zlib level. "CPU" is the process's CPU time
+// (all llvmpipe threads): on a busy machine it is steadier than wall time, and wall time on an
+// idle machine is no less than CPU / cores.
 //   build/tools/bench/render_benchmarks
 //   LP_NUM_THREADS=1 build/tools/bench/render_benchmarks   # llvmpipe rasterizer threads
 #include <benchmark/benchmark.h>
@@ -55,18 +57,18 @@ void render_loop(benchmark::State& st, const RenderFrame& frame) {
 void BM_RenderDrape25_1280x720(benchmark::State& st) {
   render_loop(st, scene_frame(25, 1.5, 1280, 720, static_cast<int>(st.range(0))));
 }
-BENCHMARK(BM_RenderDrape25_1280x720)->Arg(4)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RenderDrape25_1280x720)->Arg(4)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 void BM_RenderSheet256_1280x720(benchmark::State& st) {
   render_loop(st, scene_frame(256, 0.0, 1280, 720, static_cast<int>(st.range(0))));
 }
-BENCHMARK(BM_RenderSheet256_1280x720)->Arg(4)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RenderSheet256_1280x720)->Arg(4)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 // One tile of `clothsim compare`'s default 2x2 clip.
 void BM_RenderDrape25_640x360(benchmark::State& st) {
   render_loop(st, scene_frame(25, 1.5, 640, 360, static_cast<int>(st.range(0))));
 }
-BENCHMARK(BM_RenderDrape25_640x360)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RenderDrape25_640x360)->Arg(4)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 // Arg: zlib level.
 void BM_WritePng_1280x720(benchmark::State& st) {
