@@ -42,8 +42,9 @@ def main():
         color, marker = pc.style(name)
         rs = sorted(rs, key=lambda r: pc.number(r["value"]))
         found = [r for r in rs if r["outcome"] == "bracketed"]
-        ax.plot([pc.number(r["value"]) for r in found], [pc.number(r["stable_dt"]) for r in found],
-                color=color, marker=marker, label=name)
+        if found:
+            ax.plot([pc.number(r["value"]) for r in found], [pc.number(r["stable_dt"]) for r in found],
+                    color=color, marker=marker, label=name)
         above = [r for r in rs if r["outcome"] == "stable_at_max"]
         if above:
             ax.scatter([pc.number(r["value"]) for r in above], [pc.number(r["max_dt"]) for r in above],

@@ -1,8 +1,10 @@
 #!/usr/bin/python3
 """The work-precision diagram of a `clothsim bench --csv` file.
 
-Two panels, error (log) against cost (log): wall time (or --time cpu: CPU time of the
-run's thread) and force evaluations. One line per integrator through the runs that
+Two panels, error (log) against cost (log): time and force evaluations. Time is the CPU
+time of the thread that made the run by default (--time cpu): on an idle machine it is the
+run's wall time, and it stays so when other processes share the cores, which the wall
+clock (--time wall) does not. One line per integrator through the runs that
 finished, labelled with their step; runs that diverged are marked with a cross along the
 top edge at their cost. The dotted line is the reference's own resolution (how much
 halving its step moved it): errors near it are not measured, only bounded.
@@ -21,8 +23,8 @@ def main():
     ap.add_argument("--csv", required=True, help="output of clothsim bench --csv")
     ap.add_argument("--out", required=True, help="PNG to write")
     ap.add_argument("--title", default="", help="figure title")
-    ap.add_argument("--time", choices=["wall", "cpu"], default="wall",
-                    help="cost axis of the left panel: wall time (default) or CPU time of the run")
+    ap.add_argument("--time", choices=["wall", "cpu"], default="cpu",
+                    help="cost axis of the left panel: CPU time of the run (default) or its wall time")
     args = ap.parse_args()
 
     rows = pc.read_rows(args.csv)
@@ -33,7 +35,8 @@ def main():
         runs.setdefault(r["integrator"], []).append(r)
 
     time_key = "wall_seconds" if args.time == "wall" else "cpu_seconds"
-    time_label = "wall time of the run (s)" if args.time == "wall" else "CPU time of the run (s)"
+    time_label = "wall time of the run (s)" if args.time == "wall" else \
+        "time of the run (s, CPU time of its thread)"
     errors = [pc.number(r["rms_error"]) for r in rows]
     finite = [e for e in errors if e > 0 and math.isfinite(e)]
     top = max(finite) * 3 if finite else 1.0  # where diverged runs are marked

@@ -47,14 +47,16 @@ void check(const StabilitySpec& spec) {
   }
   if (!(spec.precision > 0.0 && spec.precision < 1.0)) throw StudyError("the precision must be between 0 and 1");
   if (!finite_positive(spec.energy_factor)) throw StudyError("the energy factor must be a finite number > 0");
+  if (!finite_positive(spec.max_strain)) throw StudyError("the strain bound must be a finite number > 0");
   if (spec.first_guess < 0.0 || !std::isfinite(spec.first_guess)) throw StudyError("the first guess must be >= 0 s");
 }
 
 StabilityLimit largest_stable_dt(const Model& model_in, IntegratorKind kind, const StabilitySpec& spec,
                                  const std::function<bool()>& stop) {
   check(spec);
-  Model model = model_in;  // a copy with the study's energy bound
+  Model model = model_in;  // a copy with the study's bounds
   model.divergence.max_energy_factor = spec.energy_factor;
+  model.divergence.max_strain = spec.max_strain;
 
   StabilityLimit out;
   out.integrator = kind;

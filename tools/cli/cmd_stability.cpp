@@ -1,6 +1,7 @@
 // clothsim stability SCENE [--integrators a,b,...] [--param KEY] [--values LIST] [--duration T]
 //                          [--set K=V]... [--min-dt S] [--max-dt S] [--precision R]
-//                          [--energy-factor F] [--csv FILE] [--plot FILE.png] [--jobs N]
+//                          [--energy-factor F] [--max-strain S] [--csv FILE] [--plot FILE.png]
+//                          [--jobs N]
 //
 // For each integrator and each value of a swept scene key (applied as --set KEY=VALUE after
 // the user's own --set), the largest step that runs the scene from 0 to T without
@@ -48,6 +49,7 @@ struct StabilityOptions {
   std::optional<double> min_dt, max_dt;
   double precision = analysis::StabilitySpec{}.precision;
   double energy_factor = analysis::StabilitySpec{}.energy_factor;
+  double max_strain = analysis::StabilitySpec{}.max_strain;
   std::string csv, plot;
   int jobs = 0;
 };
@@ -137,6 +139,7 @@ int stability_command(const StabilityOptions& o) {
   spec.min_dt = o.min_dt ? *o.min_dt : std::min(base.dt, smallest_estimate) / kMinDtDivisor;
   spec.precision = o.precision;
   spec.energy_factor = o.energy_factor;
+  spec.max_strain = o.max_strain;
   spec.jobs = o.jobs;
   if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
   if (o.min_dt && !(*o.min_dt > 0.0)) throw UsageError("--min-dt: must be > 0 s");
@@ -144,7 +147,7 @@ int stability_command(const StabilityOptions& o) {
   try {
     analysis::check(spec);
   } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("stability: ") + e.what() + " (--min-dt, --max-dt, --duration, --precision, --energy-factor)");
+    throw UsageError(std::string("stability: ") + e.what() + " (--min-dt, --max-dt, --duration, --precision, --energy-factor, --max-strain)");
   }
 
   if (!o.csv.empty()) require_writable_parent(o.csv, "csv");
@@ -154,7 +157,7 @@ int stability_command(const StabilityOptions& o) {
   std::printf("stability %s: %s over %zu values x %zu integrators, each run 0 to T = %g s; dt tried from %.3g to "
               "%.3g s, bisection to %g %%; unstable = non-finite, strain > %g, or kinetic energy > %g x %.3g J\n",
               base.name.c_str(), o.param.c_str(), values.size(), kinds.size(), spec.duration, spec.min_dt,
-              spec.max_dt, 100 * spec.precision, base.divergence.max_strain, spec.energy_factor,
+              spec.max_dt, 100 * spec.precision, spec.max_strain, spec.energy_factor,
               cases.front().model.energy_scale);
   std::printf("%14s %12s %12s %12s %14s\n", "value", "w_max (1/s)", "2/w_max (s)", "c_max (1/s)", "2/max(w,c) (s)");
   for (const Case& c : cases) {
@@ -231,6 +234,9 @@ void add_stability_command(CLI::App& app, Command& command) {
   sub->add_option("--precision", o->precision, "Relative width of the final bisection bracket")->capture_default_str();
   sub->add_option("--energy-factor", o->energy_factor,
                   "Unstable when kinetic energy exceeds this x the scene's energy scale")
+      ->capture_default_str();
+  sub->add_option("--max-strain", o->max_strain,
+                  "Unstable when a spring is stretched past (1 + this) x its rest length")
       ->capture_default_str();
   sub->add_option("--csv", o->csv, "Write one row per search: param,value,integrator,outcome,stable_dt,...")
       ->type_name("FILE.csv");

@@ -55,6 +55,15 @@ TEST(Stability, FindsRk4sLimitAtOmegaHEqualsTwoPointEightThree) {
   EXPECT_NEAR(kOmega * l.stable_dt, 2.0 * std::sqrt(2.0), 0.03 * 2.83);
 }
 
+TEST(Stability, UnstableRunThatSettlesIntoABoundedWrongOrbitIsStillCaught) {
+  // k = 25 N/m (w = 5): just past RK4's limit the spring's amplitude passes its rest length
+  // and the particle collapses through its pin into a bounded orbit; with the engine's own
+  // strain bound (10) that passed as stable at w h = 3.08. The study's bound (2) catches it.
+  const StabilityLimit l = largest_stable_dt(undamped_spring(25.0), IntegratorKind::Rk4, long_run(IntegratorKind::Rk4));
+  ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed);
+  EXPECT_NEAR(5.0 * l.stable_dt, 2.0 * std::sqrt(2.0), 0.03 * 2.83);
+}
+
 TEST(Stability, ImplicitEulerIsStableAtTheLargestStepTried) {
   const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::ImplicitEuler,
                                              long_run(IntegratorKind::ImplicitEuler));

@@ -1,0 +1,56 @@
+#!/bin/sh
+# Re-makes every figure of docs/integrators.md ("Choosing an integrator") from the shipped
+# scenes, with the exact commands the page quotes, and keeps each study's CSV beside its
+# figure (docs/images/*.csv) so the numbers in the page can be checked.
+#
+#   tools/make_figures.sh [BUILD_DIR]      # BUILD_DIR defaults to build (holding clothsim)
+#
+# Needs python3-matplotlib (/usr/bin/python3). About 3 minutes on 2 idle cores, most of it
+# the two drape studies; timings in the figures are CPU time of each run's thread.
+set -eu
+cd "$(dirname "$0")/.."
+BUILD=${1:-build}
+CLOTHSIM=$BUILD/clothsim
+OUT=docs/images
+[ -x "$CLOTHSIM" ] || { echo "make_figures.sh: $CLOTHSIM not found (build first, or pass the build directory)" >&2; exit 1; }
+mkdir -p "$OUT"
+PY=/usr/bin/python3
+[ -x "$PY" ] || PY=python3
+
+echo "== work precision, spring (smooth: the methods' orders)"
+"$CLOTHSIM" bench scenes/spring.yaml \
+  --integrators explicit_euler,symplectic_euler,midpoint,rk4,implicit_euler \
+  --dts 0.01,0.005,0.0025,0.00125 --duration 1 \
+  --csv $OUT/bench_spring.csv --plot $OUT/bench_spring.png
+
+echo "== work precision, drape (the default study)"
+"$CLOTHSIM" bench scenes/drape.yaml --csv $OUT/bench_drape.csv --plot $OUT/bench_drape.png
+
+echo "== stability, undamped spring (linear theory: 2/w, 2.83/w)"
+"$CLOTHSIM" stability scenes/spring.yaml --set cloth.springs.structural.damping=0 \
+  --integrators explicit_euler,symplectic_euler,rk4,implicit_euler \
+  --values 25,100,400,1600,6400 --duration 400 --min-dt 0.001 --max-dt 1 \
+  --csv $OUT/stability_spring.csv --plot $OUT/stability_spring.png
+
+echo "== stability, drape (the default study)"
+"$CLOTHSIM" stability scenes/drape.yaml --csv $OUT/stability_drape.csv --plot $OUT/stability_drape.png
+
+echo "== energy over time, undamped spring"
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+for i in explicit_euler symplectic_euler midpoint rk4 implicit_euler; do
+  "$CLOTHSIM" run scenes/spring.yaml --set cloth.springs.structural.damping=0 \
+    --integrator $i --dt 0.005 --duration 10 --metrics "$TMP/$i.csv" >/dev/null
+done
+"$PY" tools/plot_energy.py "$TMP"/explicit_euler.csv "$TMP"/symplectic_euler.csv "$TMP"/midpoint.csv \
+  "$TMP"/rk4.csv "$TMP"/implicit_euler.csv --log \
+  --title "spring.yaml undamped, dt = 0.005 s (w h = 0.05): total energy" --out $OUT/energy_spring.png
+
+echo "== energy over time, drape"
+for i in explicit_euler symplectic_euler midpoint rk4 implicit_euler; do
+  "$CLOTHSIM" run scenes/drape.yaml --integrator $i --duration 2 --metrics "$TMP/$i.csv" >/dev/null || true
+done
+"$PY" tools/plot_energy.py "$TMP"/explicit_euler.csv "$TMP"/symplectic_euler.csv "$TMP"/midpoint.csv \
+  "$TMP"/rk4.csv "$TMP"/implicit_euler.csv --relative \
+  --title "drape.yaml, dt = 1e-4 s: total energy - E(0)" --out $OUT/energy_drape.png
+echo "figures in $OUT"
