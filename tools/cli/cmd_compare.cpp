@@ -88,6 +88,8 @@ void print_summary(const Model& model, const std::vector<RunSummary>& runs) {
   std::printf("%-17s %10s %10s %13s %9s %14s  %s\n", "integrator", "dt_s", "steps", "force_evals",
               "cpu_s", "cpu_ms_per_s", "result");
   for (const RunSummary& r : runs) {
+    // Cost per simulated second over the time actually simulated (up to divergence).
+    const double simulated = r.divergence ? r.divergence->t : r.t;
     char result[160];
     if (r.divergence)
       std::snprintf(result, sizeof result, "DIVERGED at t = %.4g s: %s", r.divergence->t,
@@ -96,7 +98,7 @@ void print_summary(const Model& model, const std::vector<RunSummary>& runs) {
       std::snprintf(result, sizeof result, "ok to t = %.4g s", r.t);
     std::printf("%-17s %10.3g %10" PRId64 " %13" PRId64 " %9.3f %14.1f  %s\n",
                 std::string(integrator_name(r.kind)).c_str(), r.dt, r.totals.steps,
-                r.totals.force_evals, r.cpu_seconds, r.t > 0 ? 1e3 * r.cpu_seconds / r.t : 0.0,
+                r.totals.force_evals, r.cpu_seconds, simulated > 0 ? 1e3 * r.cpu_seconds / simulated : 0.0,
                 result);
   }
 }
