@@ -74,6 +74,7 @@ struct Renderer::Impl {
   std::array<std::uint8_t, 4> default_buffer{};  // OSMesa needs a window buffer; we draw to FBOs
   std::string version, renderer_name;
   int max_size = 0, max_samples = 1;
+  float max_line_width = 1.f;                                   // GL_ALIASED_LINE_WIDTH_RANGE[1]
 
   GLuint cloth_program = 0, sphere_program = 0, ground_program = 0, shadow_program = 0;
   GLuint background_program = 0, flat_program = 0;
@@ -140,6 +141,9 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
     glGetIntegerv(GL_MAX_SAMPLES, &samples);
     r.max_size = std::min({renderbuffer_max, viewport_max[0], viewport_max[1]});
     r.max_samples = std::max(1, samples);
+    GLfloat line_widths[2] = {1.f, 1.f};
+    glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_widths);
+    r.max_line_width = std::max(1.f, line_widths[1]);
     r.create_objects();
   } catch (...) {
     OSMesaDestroyContext(r.context);
@@ -327,26 +331,36 @@ void Renderer::Impl::draw_lit_surfaces(const RenderFrame& frame, const View& vie
 }
 
 void Renderer::Impl::draw_springs_and_particles(const RenderFrame& frame, const View& view) {
+  // Without a surface (a chain, a single spring) the lines and particles are the whole picture:
+  // drawn larger, as the course's UI drew them over the cloth.
+  const bool alone = frame.cloth_triangles.empty();
+  const float scale = std::max(1.f, static_cast<float>(frame.height) / 360.f);
   glUseProgram(flat_program);
   set(flat_program, "u_view_proj", view.view_proj);
   set_ground_clip(flat_program, frame);
   if (!frame.spring_lines.empty()) {
-    set(flat_program, "u_round", 0);
+    set(flat_program, "u_ball", 0);
+    glLineWidth(std::min(alone ? 2.f * scale : 1.f, max_line_width));
     const Vec3 colors[3] = {{0.12f, 0.12f, 0.14f}, {0.10f, 0.55f, 0.25f}, {0.80f, 0.20f, 0.60f}};  // structural, shear, bend
     glBindVertexArray(lines_vao);
-    for (int type = 0; type < 3; ++type) {
+    for (int type = 2; type >= 0; --type) {  // structural last: on top where lines coincide
       set(flat_program, "u_color", colors[type]);
       glDrawElements(GL_LINES, line_ranges[type + 1] - line_ranges[type], GL_UNSIGNED_INT,
                      reinterpret_cast<const void*>(static_cast<std::uintptr_t>(line_ranges[type]) * sizeof(std::uint32_t)));
     }
+    glLineWidth(1.f);
   }
   if (frame.draw_particles && !frame.cloth_positions.empty()) {
     glEnable(GL_PROGRAM_POINT_SIZE);
-    set(flat_program, "u_round", 1);
-    set(flat_program, "u_point_size", std::max(3.f, static_cast<float>(frame.height) / 180.f));
-    set(flat_program, "u_color", Vec3{0.08f, 0.08f, 0.10f});
+    glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);  // the sprite's soft rim becomes sample coverage ...
+    glEnable(GL_SAMPLE_ALPHA_TO_ONE);       // ... and what is written stays opaque
+    set(flat_program, "u_ball", 1);
+    set(flat_program, "u_point_size", (alone ? 7.f : 3.f) * scale);
+    set(flat_program, "u_color", alone ? Vec3{0.20f, 0.32f, 0.55f} : Vec3{0.10f, 0.10f, 0.12f});
     glBindVertexArray(cloth_vao);
     glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(frame.cloth_positions.size() / 3));
+    glDisable(GL_SAMPLE_ALPHA_TO_ONE);
+    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
     glDisable(GL_PROGRAM_POINT_SIZE);
   }
 }

@@ -174,10 +174,16 @@ void main() {
 const std::string kFlatFragment = std::string(kVersion) + R"(
 out vec4 frag_color;
 uniform vec3 u_color;  // display space
-uniform bool u_round;  // points: cut the square sprite to a disc
+uniform bool u_ball;   // points: the square sprite shaded as a small lit ball
 void main() {
-  if (u_round && length(gl_PointCoord - vec2(0.5)) > 0.5) discard;
-  frag_color = vec4(u_color, 1.0);
+  if (!u_ball) { frag_color = vec4(u_color, 1.0); return; }
+  vec2 q = gl_PointCoord * 2.0 - 1.0;                        // -1..1 across the sprite
+  float r2 = dot(q, q);
+  float edge = clamp((1.0 - sqrt(r2)) * 6.0, 0.0, 1.0);       // alpha-to-coverage: a smooth rim
+  vec3 n = vec3(q.x, -q.y, sqrt(max(1.0 - r2, 0.0)));         // sphere normal facing the viewer
+  float diffuse = max(dot(n, vec3(-0.45, 0.6, 0.66)), 0.0);   // lit from the upper left, as the key light
+  float highlight = pow(max(n.z * 0.8 + diffuse * 0.2, 0.0), 24.0) * 0.35;
+  frag_color = vec4(u_color * (0.45 + 0.75 * diffuse) + vec3(highlight), edge);
 }
 )";
 

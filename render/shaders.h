@@ -26,7 +26,7 @@ extern const std::string kShadowFragment;
 extern const std::string kBackgroundVertex;
 extern const std::string kBackgroundFragment;
 
-// Flat-coloured lines (springs) and round points (particles).
+// Flat-coloured lines (springs), and particles as point sprites shaded like small balls.
 extern const std::string kFlatVertex;
 extern const std::string kFlatFragment;
 
