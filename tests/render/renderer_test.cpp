@@ -166,6 +166,24 @@ TEST(Renderer, SpringLinesAndParticlesAreDrawnWhenAsked) {
   EXPECT_GT(differing_pixels(springs, particles), 20);
 }
 
+TEST(Renderer, AClothWithoutTrianglesShowsItsParticlesAsBallsJoinedByLines) {
+  // A single spring, as scenes/spring.yaml: two particles, one line, no surface.
+  RenderFrame frame;
+  frame.width = kW * 2;
+  frame.height = kH * 2;
+  frame.cloth_positions = {-1.f, 0.f, 0.f, 1.f, 0.f, 0.f};
+  frame.cloth_normals = {0.f, 1.f, 0.f, 0.f, 1.f, 0.f};
+  frame.cloth_uv = {0.f, 0.f, 1.f, 0.f};
+  frame.spring_lines = {0, 1};
+  frame.spring_types = {0};
+  const Image background = shared_renderer().render([&] { RenderFrame f = frame; f.spring_lines.clear(); f.spring_types.clear(); return f; }());
+  const Image line = shared_renderer().render(frame);
+  frame.draw_particles = true;
+  const Image balls = shared_renderer().render(frame);
+  EXPECT_GT(differing_pixels(background, line), 60);    // ~43 px long at 180 rows, 2 px wide
+  EXPECT_GT(differing_pixels(line, balls), 2 * 30);     // two balls of several pixels each
+}
+
 TEST(Renderer, TheBannerIsRedAndCentred) {
   RenderFrame frame = draped_sheet_frame(kW * 2, kH * 2);
   frame.spheres.clear();
