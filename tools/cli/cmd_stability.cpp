@@ -202,7 +202,7 @@ int stability_command(const StabilityOptions& o) {
       csv = temp;
     }
     try {
-      plot->draw({"--csv", csv, "--title", base.name + " (T = " + csv_number(spec.duration) + " s)"});
+      plot->draw({"--csv", csv, "--title", base.name});  // the script adds T from the CSV
     } catch (...) {
       if (!temp.empty()) std::remove(temp.c_str());
       throw;
