@@ -38,6 +38,51 @@ View make_view(const RenderFrame& frame) {
   return v;
 }
 
+PixelRect drawn_region(const RenderFrame& frame, const View& view, int margin) {
+  const PixelRect whole{0, 0, frame.width, frame.height};
+  float lo_x = 1e30f, lo_y = 1e30f, hi_x = -1e30f, hi_y = -1e30f;
+  bool behind = false;
+  const bool shadows = frame.has_ground && frame.shadows;
+  const auto add = [&](Vec3 p) {
+    const Mat4& m = view.view_proj;
+    const float w = m.at(3, 0) * p.x + m.at(3, 1) * p.y + m.at(3, 2) * p.z + m.at(3, 3);
+    if (w < 0.01f * view.distance) {  // at or behind the near plane: its projection is unbounded
+      behind = true;
+      return;
+    }
+    const float x = (m.at(0, 0) * p.x + m.at(0, 1) * p.y + m.at(0, 2) * p.z + m.at(0, 3)) / w;
+    const float y = (m.at(1, 0) * p.x + m.at(1, 1) * p.y + m.at(1, 2) * p.z + m.at(1, 3)) / w;
+    lo_x = std::min(lo_x, x), hi_x = std::max(hi_x, x);
+    lo_y = std::min(lo_y, y), hi_y = std::max(hi_y, y);
+  };
+  const auto add_with_shadow = [&](Vec3 p) {
+    add(p);
+    if (shadows)  // as the shadow vertex shader: down the light ray onto the ground
+      add({p.x - view.light_dir.x * std::max(p.y - frame.ground_height, 0.f) / view.light_dir.y,
+           frame.ground_height,
+           p.z - view.light_dir.z * std::max(p.y - frame.ground_height, 0.f) / view.light_dir.y});
+  };
+  const auto& x = frame.cloth_positions;
+  for (std::size_t i = 0; i + 2 < x.size(); i += 3) add_with_shadow({x[i], x[i + 1], x[i + 2]});
+  for (const RenderSphere& s : frame.spheres)  // the corners of its bounding cube: a convex hull
+    for (int corner = 0; corner < 8; ++corner)
+      add_with_shadow({s.center[0] + ((corner & 1) ? s.radius : -s.radius),
+                       s.center[1] + ((corner & 2) ? s.radius : -s.radius),
+                       s.center[2] + ((corner & 4) ? s.radius : -s.radius)});
+  if (behind) return whole;
+  if (hi_x < lo_x) return PixelRect{};  // nothing drawn
+  const auto to_pixels = [](float ndc, int size) { return (ndc * 0.5f + 0.5f) * static_cast<float>(size); };
+  const auto clamp = [](float v, int size) {
+    return static_cast<int>(std::clamp(v, 0.f, static_cast<float>(size)));
+  };
+  PixelRect r;
+  r.x0 = clamp(std::floor(to_pixels(lo_x, frame.width)) - static_cast<float>(margin), frame.width);
+  r.x1 = clamp(std::ceil(to_pixels(hi_x, frame.width)) + static_cast<float>(margin), frame.width);
+  r.y0 = clamp(std::floor(to_pixels(lo_y, frame.height)) - static_cast<float>(margin), frame.height);
+  r.y1 = clamp(std::ceil(to_pixels(hi_y, frame.height)) + static_cast<float>(margin), frame.height);
+  return r;
+}
+
 void validate_frame(const RenderFrame& f, int max_size) {
   const auto fail = [](const std::string& what) { throw RenderError("RenderFrame: " + what); };
   if (f.width < 1 || f.height < 1 || f.width > max_size || f.height > max_size)

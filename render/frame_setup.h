@@ -35,6 +35,20 @@ struct View {
 };
 View make_view(const RenderFrame& frame);
 
+// A rectangle of pixels in GL's bottom-up coordinates, half-open: [x0, x1) x [y0, y1).
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool empty() const { return x1 <= x0 || y1 <= y0; }
+  int width() const { return x1 - x0; }
+  int height() const { return y1 - y0; }
+};
+
+// Where the frame draws over the backdrop: cloth, spheres and (with a ground and shadows)
+// their shadows, widened by `margin` pixels for edges, lines and particle sprites; the whole
+// image when something reaches behind the camera. Nothing is drawn outside it, so only this
+// rectangle need be cleared, resolved and read back: the rest of the image is backdrop.
+PixelRect drawn_region(const RenderFrame& frame, const View& view, int margin);
+
 // Throws RenderError naming what is wrong: a size outside 1..max_size, arrays whose lengths
 // disagree, indices past the particles, a sphere without a positive radius.
 void validate_frame(const RenderFrame& frame, int max_size);

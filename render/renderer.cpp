@@ -109,8 +109,8 @@ struct Renderer::Impl {
   void draw_ground(const RenderFrame& frame, const View& view);
   void draw_sky(const RenderFrame& frame, const View& view);
   void ensure_backdrop(const RenderFrame& frame, const View& view);
-  void resolve_and_read();
-  Image composite_over_backdrop() const;
+  void resolve_and_read(const PixelRect& region);
+  Image composite_over_backdrop(const PixelRect& region) const;
 };
 
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
@@ -443,7 +443,7 @@ void Renderer::Impl::ensure_backdrop(const RenderFrame& frame, const View& view)
   glClear(GL_DEPTH_BUFFER_BIT);
   if (frame.has_ground) draw_ground(frame, view);
   draw_sky(frame, view);
-  resolve_and_read();
+  resolve_and_read(PixelRect{0, 0, frame.width, frame.height});
   backdrop = Image(frame.width, frame.height);
   const std::size_t row_bytes = static_cast<std::size_t>(frame.width) * 4;
   for (int y = 0; y < frame.height; ++y)                                      // GL rows are bottom-up
@@ -451,43 +451,45 @@ void Renderer::Impl::ensure_backdrop(const RenderFrame& frame, const View& view)
   backdrop_key = key;
 }
 
-void Renderer::Impl::resolve_and_read() {
-  const int w = target_width, h = target_height;
+// Resolves and reads `region` only; readback then holds its rows, bottom-up, tightly packed.
+void Renderer::Impl::resolve_and_read(const PixelRect& region) {
+  const int x0 = region.x0, y0 = region.y0, x1 = region.x1, y1 = region.y1;
   if (target_samples > 1) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo);
-    glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);  // MSAA resolve
+    glBlitFramebuffer(x0, y0, x1, y1, x0, y0, x1, y1, GL_COLOR_BUFFER_BIT, GL_NEAREST);  // MSAA resolve
     glBindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo);
   } else {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo);
   }
   glFinish();                                                                  // all drawing done
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, readback.data());
+  glReadPixels(x0, y0, region.width(), region.height(), GL_RGBA, GL_UNSIGNED_BYTE, readback.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  gl::check_gl("drawing and reading back a " + std::to_string(w) + "x" + std::to_string(h) + " frame");
+  gl::check_gl("drawing and reading back a " + std::to_string(target_width) + "x" +
+               std::to_string(target_height) + " frame");
 }
 
 // Rows flipped to top-down, the premultiplied frame laid over the backdrop: "over" with
 // integer arithmetic, so the bytes are the same on every machine; alpha ends at 255.
-Image Renderer::Impl::composite_over_backdrop() const {
-  const int w = target_width, h = target_height;
-  Image image(w, h);
-  for (int y = 0; y < h; ++y) {
-    const std::uint8_t* src = readback.data() + static_cast<std::size_t>(h - 1 - y) * w * 4;
-    const std::uint8_t* back = backdrop.pixel(0, y);
-    std::uint8_t* dst = image.pixel(0, y);
+// Outside `region` nothing was drawn: the backdrop shows as it is.
+Image Renderer::Impl::composite_over_backdrop(const PixelRect& region) const {
+  Image image = backdrop;
+  const int w = region.width();
+  for (int gl_row = region.y0; gl_row < region.y1; ++gl_row) {
+    const int y = target_height - 1 - gl_row;                                  // GL rows are bottom-up
+    const std::uint8_t* src = readback.data() + static_cast<std::size_t>(gl_row - region.y0) * w * 4;
+    const std::uint8_t* back = backdrop.pixel(region.x0, y);
+    std::uint8_t* dst = image.pixel(region.x0, y);
     for (int i = 0; i < 4 * w; i += 4) {
       const int uncovered = 255 - src[i + 3];
-      if (uncovered == 255) {                                 // most pixels: backdrop only
-        std::memcpy(dst + i, back + i, 4);
-      } else if (uncovered == 0) {                            // inside geometry
+      if (uncovered == 255) continue;                         // most pixels: backdrop only
+      if (uncovered == 0) {                                   // inside geometry
         std::memcpy(dst + i, src + i, 3);
       } else {                                                // edges and shadows
         for (int c = 0; c < 3; ++c)
           dst[i + c] = static_cast<std::uint8_t>(std::min(255, src[i + c] + (back[i + c] * uncovered + 127) / 255));
       }
-      dst[i + 3] = 255;
     }
   }
   return image;
@@ -495,7 +497,7 @@ Image Renderer::Impl::composite_over_backdrop() const {
 
 Image Renderer::render(const RenderFrame& frame) {
   Impl& r = *impl_;
-  validate_frame(frame, r.max_size);                                      // sizes and indices, before any GL
+  validate_frame(frame, r.max_size);                                   // sizes and indices, before any GL
   r.make_current();                                                    // ours, on this thread
   r.ensure_targets(frame.width, frame.height, std::clamp(frame.samples, 1, r.max_samples));
   const View view = make_view(frame);                                  // camera and key light
@@ -505,16 +507,26 @@ Image Renderer::render(const RenderFrame& frame) {
   glViewport(0, 0, frame.width, frame.height);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glClearColor(0.f, 0.f, 0.f, 0.f);                                    // transparent: the backdrop shows
-  glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  if (frame.has_ground) glEnable(GL_CLIP_DISTANCE0);                  // nothing shows below the ground
-  r.draw_lit_surfaces(frame, view);
-  r.draw_springs_and_particles(frame, view);
-  glDisable(GL_CLIP_DISTANCE0);
-  if (frame.has_ground && frame.shadows) r.draw_shadows(frame, view);
-  r.resolve_and_read();                                                // resolve, finish, read
-  Image image = r.composite_over_backdrop();                           // flip, over the backdrop
+  // Lines, particle sprites and anti-aliased edges reach a few pixels past the geometry.
+  const PixelRect region = drawn_region(frame, view, 4 + 4 * std::max(1, frame.height / 360));
+  Image image;
+  if (region.empty()) {
+    image = r.backdrop;                                                // nothing in view
+  } else {
+    glEnable(GL_SCISSOR_TEST);                                         // clear and draw only there
+    glScissor(region.x0, region.y0, region.width(), region.height());
+    glClearColor(0.f, 0.f, 0.f, 0.f);                                  // transparent: the backdrop shows
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (frame.has_ground) glEnable(GL_CLIP_DISTANCE0);                // nothing shows below the ground
+    r.draw_lit_surfaces(frame, view);
+    r.draw_springs_and_particles(frame, view);
+    glDisable(GL_CLIP_DISTANCE0);
+    if (frame.has_ground && frame.shadows) r.draw_shadows(frame, view);
+    glDisable(GL_SCISSOR_TEST);
+    r.resolve_and_read(region);                                        // resolve, finish, read
+    image = r.composite_over_backdrop(region);                         // flip, over the backdrop
+  }
   draw_overlay(image, frame);                                          // text on the CPU
   return image;
 }

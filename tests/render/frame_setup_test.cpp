@@ -51,6 +51,37 @@ TEST(FrameSetup, TheKeyLightIsAboveAndOverTheViewersLeftShoulder) {
   }
 }
 
+TEST(FrameSetup, TheDrawnRegionHoldsTheClothSpheresAndShadowsWithAMargin) {
+  RenderFrame frame = testing::draped_sheet_frame(320, 180, 5);
+  const View v = make_view(frame);
+  const PixelRect r = drawn_region(frame, v, 3);
+  ASSERT_FALSE(r.empty());
+  const auto inside = [&](Vec3 p) {
+    const Vec3 ndc = to_ndc(v.view_proj, p);
+    const float x = (ndc.x * 0.5f + 0.5f) * 320.f, y = (ndc.y * 0.5f + 0.5f) * 180.f;
+    return x >= r.x0 + 3 && x <= r.x1 - 3 && y >= r.y0 + 3 && y <= r.y1 - 3;
+  };
+  for (std::size_t i = 0; i < frame.cloth_positions.size(); i += 3)
+    EXPECT_TRUE(inside({frame.cloth_positions[i], frame.cloth_positions[i + 1], frame.cloth_positions[i + 2]}));
+  EXPECT_TRUE(inside({0.f, -1.f, 0.f}));  // the bottom of the unit sphere
+  // The sphere's shadow on the ground (y = -2), down the light ray from its centre.
+  const float t = 2.f / v.light_dir.y;
+  EXPECT_TRUE(inside({-v.light_dir.x * t, -2.f, -v.light_dir.z * t}));
+  EXPECT_LT(r.width() * r.height(), 320 * 180);  // and it is not the whole image
+}
+
+TEST(FrameSetup, TheDrawnRegionIsEverythingWhenSomethingIsBehindTheCameraAndNothingWhenEmpty) {
+  RenderFrame frame = testing::draped_sheet_frame(320, 180, 5);
+  frame.spheres.push_back(RenderSphere{{0.f, 2.f, -12.f}, 0.5f, {1.f, 1.f, 1.f}});
+  const PixelRect whole = drawn_region(frame, make_view(frame), 3);
+  EXPECT_EQ(whole.x0, 0);
+  EXPECT_EQ(whole.y0, 0);
+  EXPECT_EQ(whole.x1, 320);
+  EXPECT_EQ(whole.y1, 180);
+  RenderFrame empty;
+  EXPECT_TRUE(drawn_region(empty, make_view(empty), 3).empty());
+}
+
 TEST(FrameSetup, AValidFramePasses) {
   RenderFrame frame = testing::draped_sheet_frame(64, 36, 5);
   testing::add_grid_springs(frame, 5, 5);

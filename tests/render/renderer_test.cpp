@@ -87,6 +87,16 @@ TEST(Renderer, TheSameFrameTwiceGivesIdenticalBytes) {
   EXPECT_EQ(first.rgba, second.rgba);
 }
 
+TEST(Renderer, DrawingOnlyWithinTheRegionOfTheGeometryChangesNoPixel) {
+  // A sphere behind the camera is invisible but makes the drawn region the whole image.
+  RenderFrame frame = draped_sheet_frame(kW, kH);
+  frame.draw_particles = true;
+  const Image limited = shared_renderer().render(frame);
+  frame.spheres.push_back(RenderSphere{{0.f, 2.f, -20.f}, 0.5f, {0.f, 1.f, 0.f}});
+  const Image whole = shared_renderer().render(frame);
+  EXPECT_EQ(limited.rgba, whole.rgba);
+}
+
 TEST(Renderer, AFrameIsNotBlank) {
   const Image image = shared_renderer().render(draped_sheet_frame(kW, kH));
   std::set<std::uint32_t> colours;
