@@ -1,18 +1,21 @@
-// The frame, pass by pass (each a function below), into a multisampled FBO cleared to
-// transparent black:
-//   lit surfaces  cloth (two-sided, checker) and spheres, Blinn-Phong; springs and particles;
-//                 with a ground, clipped at its plane (the ground is opaque)
+// The frame, pass by pass (each a function below):
+//   backdrop      the grid ground (evenly lit, fogged into the horizon) and the sky depend on
+//                 the camera and size only: rendered once, resolved, read back and kept
+//   region        the screen rectangle the cloth, spheres and shadows can cover (frame_setup.h);
+//                 the passes below are scissored to it, the rest of the image is backdrop
+//   lit surfaces  into a multisampled FBO cleared to transparent black: cloth (two-sided,
+//                 checker) and spheres, Blinn-Phong; springs and particles; with a ground,
+//                 clipped at its plane (the ground is opaque)
 //   shadows       cloth and spheres flattened onto the ground along the light (Blinn 1988),
 //                 written as translucent black just above the plane, each pixel once
 //   resolve       MSAA samples averaged into a single-sample FBO (glBlitFramebuffer): colour
 //                 premultiplied by coverage, alpha = coverage
-//   read back     glFinish, glReadPixels, rows flipped to top-down, composited over the backdrop
-//                 (out = colour + (1 - alpha) backdrop), so alpha ends at 255
+//   read back     glFinish, glReadPixels, rows flipped to top-down, composited over the
+//                 backdrop (out = colour + (1 - alpha) backdrop), so alpha ends at 255
 //   overlay       text drawn on the CPU with the bitmap font (text.h)
-// The backdrop (the grid ground, evenly lit and fogged into the horizon, and the sky) depends
-// on the camera and size only: it is rendered once with the same FBO and kept. On llvmpipe,
-// which shades on the CPU with per-sample work under MSAA, drawing ground and sky every frame
-// cost about as much as everything else together.
+// Why the backdrop and the region: llvmpipe shades on the CPU, with per-sample work under
+// MSAA, so pixels are the cost. Drawing ground and sky every frame cost as much as all the
+// rest; clearing and resolving the whole multisampled image, a third of what remained.
 //
 // GL objects (programs, buffers, FBOs, the backdrop) live as long as the Renderer; the FBOs
 // are re-made only when the size or sample count changes. Several Renderers may exist in one
@@ -61,6 +64,21 @@ void upload(GLenum target, GLuint buffer, const std::vector<T>& data) {
   glBufferData(target, static_cast<GLsizeiptr>(data.size() * sizeof(T)), data.data(), GL_STREAM_DRAW);
 }
 
+// Camera and lights for the lit programs (kLighting in shaders.cpp).
+void set_lights(GLuint program, const View& view) {
+  set(program, "u_view_proj", view.view_proj);
+  set(program, "u_eye", view.eye);
+  set(program, "u_light_dir", view.light_dir);
+  set(program, "u_key", kKeyLight);
+  set(program, "u_sky", kSkyLight);
+  set(program, "u_bounce", kBounceLight);
+}
+
+// Points above the ground plane y = h have a positive distance (gl_ClipDistance[0]).
+void set_ground_clip(GLuint program, const RenderFrame& frame) {
+  glUniform4f(glGetUniformLocation(program, "u_clip_plane"), 0.f, 1.f, 0.f, -frame.ground_height);
+}
+
 void attribute(GLuint index, GLuint buffer, int components) {
   glBindBuffer(GL_ARRAY_BUFFER, buffer);
   glEnableVertexAttribArray(index);
@@ -90,7 +108,7 @@ struct Renderer::Impl {
   GLuint resolve_fbo = 0, resolve_color = 0;
   int target_width = 0, target_height = 0, target_samples = 0;
 
-  std::vector<std::uint8_t> readback;                           // bottom-up, as GL returns it
+  std::vector<std::uint8_t> readback;                           // the region's rows, bottom-up, as GL returns them
   Image backdrop;                                               // ground + sky, top-down, opaque
   std::vector<float> backdrop_key;                              // what it was rendered for
   std::array<GLint, 4> line_ranges{};                           // first index of each spring type, and the end
@@ -287,21 +305,6 @@ void Renderer::Impl::upload_frame(const RenderFrame& frame, const View& view) {
   glBindVertexArray(0);
 }
 
-namespace {
-void set_lights(GLuint program, const View& view) {
-  set(program, "u_view_proj", view.view_proj);
-  set(program, "u_eye", view.eye);
-  set(program, "u_light_dir", view.light_dir);
-  set(program, "u_key", kKeyLight);
-  set(program, "u_sky", kSkyLight);
-  set(program, "u_bounce", kBounceLight);
-}
-
-// Points above the ground plane y = h have a positive distance (gl_ClipDistance[0]).
-void set_ground_clip(GLuint program, const RenderFrame& frame) {
-  glUniform4f(glGetUniformLocation(program, "u_clip_plane"), 0.f, 1.f, 0.f, -frame.ground_height);
-}
-}  // namespace
 
 void Renderer::Impl::draw_lit_surfaces(const RenderFrame& frame, const View& view) {
   if (!frame.cloth_triangles.empty()) {
