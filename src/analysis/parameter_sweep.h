@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/study_error.h"
+#include "analysis/study.h"
 #include "scene_def.h"
 
 namespace clothsim::analysis {

@@ -45,7 +45,7 @@
 #include <vector>
 
 #include "analysis/stiffness_estimate.h"
-#include "analysis/study_error.h"
+#include "analysis/study.h"
 #include "integrator_kind.h"
 #include "model.h"
 

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/study_error.h"
+#include "analysis/study.h"
 #include "integrator_kind.h"
 #include "model.h"
 
