@@ -1,8 +1,8 @@
 // What the studies (work precision, stability) share: the error they throw, and the hooks
 // a caller steers them with.
 //
-// StudyError: a request a study cannot carry out as asked: an empty or non-positive step list, a step that does not divide the duration,
-// a parameter that is not a number. The message is one sentence for the user; the CLI
+// StudyError: a request a study cannot carry out as asked: an empty or non-positive step
+// list, a step that does not divide the duration, a parameter that is not a number. The message is one sentence for the user; the CLI
 // prefixes the option it came from and exits 2.
 #pragma once
 
