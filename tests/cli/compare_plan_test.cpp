@@ -1,0 +1,122 @@
+// The pure planning of `compare`: integrator lists, per-run steps, sheet times, and the
+// merged list of instants every run stops at.
+#include "compare_plan.h"
+
+#include <gtest/gtest.h>
+
+#include "cli_common.h"
+
+using namespace clothsim;
+using namespace clothsim::cli;
+
+namespace {
+
+std::string usage_error(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const UsageError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const std::vector<IntegratorKind> kFour = {IntegratorKind::ExplicitEuler, IntegratorKind::ImplicitEuler,
+                                           IntegratorKind::Midpoint, IntegratorKind::Rk4};
+
+}  // namespace
+
+TEST(ParseIntegratorList, KeepsTheOrderGiven) {
+  const auto kinds = parse_integrator_list("rk4,explicit_euler, midpoint");
+  ASSERT_EQ(kinds.size(), 3u);
+  EXPECT_EQ(kinds[0], IntegratorKind::Rk4);
+  EXPECT_EQ(kinds[1], IntegratorKind::ExplicitEuler);
+  EXPECT_EQ(kinds[2], IntegratorKind::Midpoint);
+}
+
+TEST(ParseIntegratorList, RejectsUnknownRepeatedAndEmptyNames) {
+  EXPECT_NE(usage_error([] { parse_integrator_list("rk4,verlet"); }).find("unknown integrator 'verlet'"),
+            std::string::npos);
+  EXPECT_NE(usage_error([] { parse_integrator_list("rk4,rk4"); }).find("listed twice"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_integrator_list("rk4,,midpoint"); }).find("empty"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_integrator_list(""); }).find("no integrator"), std::string::npos);
+}
+
+TEST(ParseDtList, DefaultsEveryRunToTheScenesStep) {
+  EXPECT_EQ(parse_dt_list("", kFour, 1e-4), std::vector<double>(4, 1e-4));
+}
+
+TEST(ParseDtList, ABareStepAppliesToAllRuns) {
+  EXPECT_EQ(parse_dt_list("2e-4", kFour, 1e-4), std::vector<double>(4, 2e-4));
+}
+
+TEST(ParseDtList, NamedStepsApplyToTheirRunsAndTheRestKeepTheDefault) {
+  const auto dts = parse_dt_list("rk4=2e-4,implicit_euler=4e-3", kFour, 1e-4);
+  EXPECT_EQ(dts, (std::vector<double>{1e-4, 4e-3, 1e-4, 2e-4}));
+}
+
+TEST(ParseDtList, ABareStepMixedWithNamedOnesIsTheDefaultForTheOthers) {
+  // Order does not matter: a named step wins over the bare one either way.
+  EXPECT_EQ(parse_dt_list("rk4=2e-4,5e-5", kFour, 1e-4), (std::vector<double>{5e-5, 5e-5, 5e-5, 2e-4}));
+  EXPECT_EQ(parse_dt_list("5e-5,rk4=2e-4", kFour, 1e-4), (std::vector<double>{5e-5, 5e-5, 5e-5, 2e-4}));
+}
+
+TEST(ParseDtList, RejectsBadStepsAndNamesNotBeingCompared) {
+  EXPECT_NE(usage_error([] { parse_dt_list("0", kFour, 1e-4); }).find("must be > 0"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_dt_list("rk4=fast", kFour, 1e-4); }).find("'fast' is not a number"),
+            std::string::npos);
+  EXPECT_NE(usage_error([] { parse_dt_list("symplectic_euler=1e-3", kFour, 1e-4); })
+                .find("not one of the integrators being compared"),
+            std::string::npos);
+  EXPECT_NE(usage_error([] { parse_dt_list("rk4=1e-3,rk4=2e-3", kFour, 1e-4); }).find("given twice"),
+            std::string::npos);
+  EXPECT_NE(usage_error([] { parse_dt_list("1e-3,2e-3", kFour, 1e-4); }).find("more than one"),
+            std::string::npos);
+}
+
+TEST(ParseTimes, AcceptsIncreasingTimesWithinTheRun) {
+  EXPECT_EQ(parse_times("0.5,1,2,4", 5.0), (std::vector<double>{0.5, 1, 2, 4}));
+  EXPECT_EQ(parse_times("0,5", 5.0), (std::vector<double>{0, 5}));
+}
+
+TEST(ParseTimes, RejectsTimesOutsideTheRunOrOutOfOrder) {
+  EXPECT_NE(usage_error([] { parse_times("1,6", 5.0); }).find("outside the run (0 to 5 s)"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_times("-1", 5.0); }).find("outside the run"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_times("2,1", 5.0); }).find("must increase"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_times("1,1", 5.0); }).find("must increase"), std::string::npos);
+}
+
+TEST(PlanTargets, HasOneFramePerStepOfOneOverFpsFromZeroToTheDuration) {
+  const auto targets = plan_targets(5.0, 30.0, true, {});
+  ASSERT_EQ(targets.size(), 151u);
+  EXPECT_EQ(count_frames(targets), 151);
+  EXPECT_DOUBLE_EQ(targets.front().t, 0.0);
+  EXPECT_DOUBLE_EQ(targets[45].t, 1.5);
+  EXPECT_DOUBLE_EQ(targets.back().t, 5.0);
+  for (std::size_t k = 0; k < targets.size(); ++k) EXPECT_EQ(targets[k].frame, static_cast<int>(k));
+}
+
+TEST(PlanTargets, MergesSheetTimesOntoFramesOrBetweenThem) {
+  const auto targets = plan_targets(1.0, 10.0, true, {0.5, 0.55}, 0.25);
+  EXPECT_EQ(count_frames(targets), 11);
+  ASSERT_EQ(targets.size(), 13u) << "0.55 and 0.25 fall between frames; 0.5 is frame 5";
+  EXPECT_DOUBLE_EQ(targets[6].t, 0.5);
+  EXPECT_EQ(targets[6].frame, 5);
+  EXPECT_EQ(targets[6].column, 0);
+  EXPECT_DOUBLE_EQ(targets[7].t, 0.55);
+  EXPECT_EQ(targets[7].frame, -1);
+  EXPECT_EQ(targets[7].column, 1);
+  EXPECT_DOUBLE_EQ(targets[3].t, 0.25);
+  EXPECT_TRUE(targets[3].still);
+  for (std::size_t i = 1; i < targets.size(); ++i) EXPECT_LT(targets[i - 1].t, targets[i].t);
+}
+
+TEST(PlanTargets, WithoutFramesStopsOnlyWhereSomethingIsWanted) {
+  const auto sheet_only = plan_targets(5.0, 30.0, false, {0.5, 2.0});
+  ASSERT_EQ(sheet_only.size(), 2u);
+  EXPECT_DOUBLE_EQ(sheet_only.back().t, 2.0);
+  const auto summary_only = plan_targets(5.0, 30.0, false, {});
+  ASSERT_EQ(summary_only.size(), 1u);
+  EXPECT_DOUBLE_EQ(summary_only.front().t, 5.0);
+}
+
+TEST(TimeLabel, ReadsAsATime) { EXPECT_EQ(time_label(0.5), "t = 0.5 s"); }
