@@ -1,5 +1,6 @@
 #include "integrators/conjugate_gradient.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace clothsim {
@@ -19,18 +20,30 @@ void precondition(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& r, Eigen::
 }  // namespace
 
 CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
-                   int max_iterations, double tolerance, CgBuffers& buf) {
+                   const CgSettings& settings, CgBuffers& buf) {
   CgResult result;
-  x.setZero(3, b.cols());
   const double b_norm = b.norm();
-  if (b_norm == 0.0) return result;  // x = 0 is exact
-
-  buf.r = b;  // r = b - A 0
+  if (b_norm == 0.0) {  // x = 0 is exact
+    x.setZero(3, b.cols());
+    return result;
+  }
+  // Stop at whichever is looser: the relative tolerance, or the absolute accuracy the caller
+  // actually needs (a Newton step needs its linear solve no more accurate than its own test).
+  const double stop = std::max(settings.tolerance * b_norm, settings.absolute_tolerance);
+  if (settings.from_guess && x.cols() == b.cols() && x.allFinite()) {
+    multiply(A, x, buf.q);  // a warm start: r = b - A x from the caller's guess
+    buf.r = b - buf.q;
+  } else {
+    x.setZero(3, b.cols());
+    buf.r = b;
+  }
+  double r_norm = buf.r.norm();
+  result.relative_residual = r_norm / b_norm;
+  if (r_norm <= stop) return result;  // the guess is already good enough
   precondition(A, buf.r, buf.z);
   buf.p = buf.z;
   double rz = dot(buf.r, buf.z);
-  result.relative_residual = 1.0;
-  while (result.iterations < max_iterations) {
+  while (result.iterations < settings.max_iterations) {
     multiply(A, buf.p, buf.q);
     const double pq = dot(buf.p, buf.q);
     if (!(pq > 0.0)) {  // A is not positive definite along p (or NaN): CG cannot go on
@@ -41,8 +54,9 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
     x.noalias() += alpha * buf.p;
     buf.r.noalias() -= alpha * buf.q;
     ++result.iterations;
-    result.relative_residual = buf.r.norm() / b_norm;
-    if (result.relative_residual <= tolerance) return result;
+    r_norm = buf.r.norm();
+    result.relative_residual = r_norm / b_norm;
+    if (r_norm <= stop) return result;
     precondition(A, buf.r, buf.z);
     const double rz_next = dot(buf.r, buf.z);
     buf.p = buf.z + (rz_next / rz) * buf.p;

@@ -22,8 +22,15 @@ struct CgResult {
   bool converged = true;           // false: hit max_iterations above tolerance, or A not SPD
 };
 
-// Solves A x = b from x = 0, stopping when |b - A x| <= tolerance |b| or after max_iterations.
+struct CgSettings {
+  int max_iterations = 200;
+  double tolerance = 1e-8;          // stop when |b - A x| <= tolerance |b| ...
+  double absolute_tolerance = 0.0;  // ... or |b - A x| <= this (the caller's accuracy need)
+  bool from_guess = false;          // start from the x passed in (warm start) rather than 0
+};
+
+// Solves A x = b, stopping at either tolerance or after max_iterations.
 CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
-                   int max_iterations, double tolerance, CgBuffers& buffers);
+                   const CgSettings& settings, CgBuffers& buffers);
 
 }  // namespace clothsim

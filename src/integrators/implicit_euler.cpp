@@ -105,11 +105,21 @@ double momentum_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv
 // with it, and CG succeeds whenever A stays positive definite, as it does unless springs
 // are compressed hard at a large step. If CG breaks down (non-positive curvature) or misses
 // its tolerance, A is rebuilt with compression clamped, which is positive definite by
-// construction (sparse_system.h), and the solve repeated.
+// construction (sparse_system.h), and the solve repeated from zero.
+// `accuracy` is the absolute residual (momentum, kg m/s) the Newton test can resolve: CG
+// stops there even above cg_tolerance, since solving the linearisation more finely than the
+// nonlinear equations are judged buys nothing (an inexact Newton method's forcing term).
+// `from_guess` starts CG from `solution` as passed in (the previous step's dv).
 void solve_newton_system(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                          const Eigen::VectorXd& w, double h, const Eigen::Matrix3Xd* first_force,
-                         ImplicitCache& c, Eigen::Matrix3Xd& solution, StepStats& stats) {
+                         double accuracy, bool from_guess, ImplicitCache& c,
+                         Eigen::Matrix3Xd& solution, StepStats& stats) {
   const ImplicitDef& cfg = model.implicit;
+  CgSettings settings;
+  settings.max_iterations = cfg.cg_max_iterations;
+  settings.tolerance = cfg.cg_tolerance;
+  settings.absolute_tolerance = accuracy;
+  settings.from_guess = from_guess;
   for (const bool clamp : {false, true}) {
     assemble_backward_euler_matrix(model, x, v, w, h, clamp, c.A, c.Kv);
     if (first_force) {
@@ -117,9 +127,10 @@ void solve_newton_system(const Model& model, const Eigen::Matrix3Xd& x, const Ei
     } else {
       c.rhs.noalias() = -c.residual;
     }
-    const CgResult cg = solve_pcg(c.A, c.rhs, solution, cfg.cg_max_iterations, cfg.cg_tolerance, c.cg);
+    const CgResult cg = solve_pcg(c.A, c.rhs, solution, settings, c.cg);
     stats.cg_iterations += cg.iterations;
     if (cg.converged) return;
+    settings.from_guess = false;  // the failed attempt's iterate is no guess to start from
   }
 }
 
@@ -140,8 +151,17 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   const double scale_floor = kRoundingFactor * h * c.force_scale / cfg.newton_tolerance;
   const double impulse_scale = std::max(h * ws.a.norm(), scale_floor);
 
-  // Baraff & Witkin's system at (x_n, v_n): A dv = h (f_n + h K v_n).
-  solve_newton_system(model, state.x, state.v, w, h, &ws.a, c, ws.dv, stats);
+  // What the linear solves must resolve: a tenth of what the Newton test accepts.
+  const double accuracy = 0.1 * cfg.newton_tolerance * impulse_scale;
+
+  // Baraff & Witkin's system at (x_n, v_n): A dv = h (f_n + h K v_n), warm-started from the
+  // previous step's dv (still in ws.dv): at the small steps explicit methods need, dv changes
+  // little from step to step and CG starts most of the way there. Bodies immovable now get 0.
+  const bool have_guess = ws.dv.cols() == model.num_bodies();
+  if (have_guess)
+    for (int i = 0; i < model.num_bodies(); ++i)
+      if (w[i] == 0.0) ws.dv.col(i).setZero();
+  solve_newton_system(model, state.x, state.v, w, h, &ws.a, accuracy, have_guess, c, ws.dv, stats);
   stats.newton_iterations = 1;
 
   while (true) {
@@ -160,7 +180,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
       break;
     }
     // Newton correction: A(x_1, v_1) ddv = -r.
-    solve_newton_system(model, ws.x1, ws.v1, w, h, nullptr, c, c.ddv, stats);
+    solve_newton_system(model, ws.x1, ws.v1, w, h, nullptr, accuracy, false, c, c.ddv, stats);
     ++stats.newton_iterations;
     ws.dv += c.ddv;
   }

@@ -38,18 +38,30 @@ void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& 
       A.off[s].setZero();
       continue;
     }
-    const Vec3 xa = x.col(a), xb = x.col(b);
-    const double rest = springs.rest[s], ks = springs.ks[s];
-    const SpringJacobian J =
-        spring_damper_jacobian(xa, xb, v.col(a), v.col(b), rest, ks, springs.kd[s]);
-    Mat3 K = J.dfdx_stiffness;  // the damper's non-symmetric position term is dropped
-    const Vec3 d = xa - xb;
+    // The symmetric part of spring_force.h's Jacobians in closed form (no 3x3 products):
+    // with P = u u^T and t = 1 - l0/l, the stiffness part of df_a/dx_a is
+    // K = -ks [P + t (I - P)] = -ks [t I + (1 - t) P] and df_a/dv_a = -kd P, so
+    // G = h df/dv + h^2 K = -(h^2 ks t) I - (h kd + h^2 ks (1 - t)) P.
+    // Clamping compression (t < 0 -> 0) keeps only the axial stiffness -ks P.
+    const Vec3 d = x.col(a) - x.col(b);
+    const Vec3 vr = v.col(a) - v.col(b);
     const double l = d.norm();
-    if (clamp_compression && l > 0.0 && l < rest) {  // compressed: clamp (1 - l0/l) at 0, keep the axial term
+    const double ks = springs.ks[s], kd = springs.kd[s];
+    Mat3 G;
+    Vec3 kv;  // K (v_a - v_b): df_a/dx_b = -K, so (K v)_a = K (v_a - v_b)
+    if (l > 0.0) {
       const Vec3 u = d / l;
-      K = -ks * (u * u.transpose());
+      double t = 1.0 - springs.rest[s] / l;
+      if (clamp_compression && t < 0.0) t = 0.0;
+      const double iso = h * h * ks * t;
+      const double axial = h * kd + h * h * ks * (1.0 - t);
+      G.noalias() = -axial * (u * u.transpose());
+      G.diagonal().array() -= iso;
+      kv = -ks * (t * vr + (1.0 - t) * u.dot(vr) * u);
+    } else {  // coincident ends: spring_damper_jacobian's isotropic stand-in
+      G = -(h * kd / 3.0 + h * h * ks) * Mat3::Identity();
+      kv = -ks * vr;
     }
-    const Mat3 G = h * J.dfdv + (h * h) * K;
     if (move_a) A.diag[a] -= G;
     if (move_b) A.diag[b] -= G;
     if (move_a && move_b) {
@@ -57,7 +69,6 @@ void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& 
     } else {
       A.off[s].setZero();  // a filtered body's row and column are removed
     }
-    const Vec3 kv = K * (v.col(a) - v.col(b));  // df_a/dx_b = -K: (K v)_a = K (v_a - v_b)
     if (move_a) Kv.col(a) += kv;
     if (move_b) Kv.col(b) -= kv;
   }

@@ -45,7 +45,7 @@ TEST(ConjugateGradient, SolvesABackwardEulerSystemToItsTolerance) {
   const System s = system(kAllSprings, 0.02);  // h^2 k / m = 20: far from mass-dominated
   Eigen::Matrix3Xd x, Ax;
   CgBuffers buffers;
-  const CgResult r = solve_pcg(s.A, s.b, x, 500, 1e-10, buffers);
+  const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{500, 1e-10}, buffers);
   EXPECT_TRUE(r.converged);
   EXPECT_GT(r.iterations, 1);
   EXPECT_LE(r.relative_residual, 1e-10);
@@ -57,7 +57,7 @@ TEST(ConjugateGradient, SaysSoWhenItStopsAtItsIterationCap) {
   const System s = system(kAllSprings, 0.02);
   Eigen::Matrix3Xd x;
   CgBuffers buffers;
-  const CgResult r = solve_pcg(s.A, s.b, x, 2, 1e-14, buffers);
+  const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{2, 1e-14}, buffers);
   EXPECT_FALSE(r.converged);
   EXPECT_EQ(r.iterations, 2);
   EXPECT_GT(r.relative_residual, 1e-14);
@@ -67,7 +67,7 @@ TEST(ConjugateGradient, ZeroRightHandSideNeedsNoIteration) {
   const System s = system(kAllSprings, 0.02);
   Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Ones(3, s.model.num_bodies());
   CgBuffers buffers;
-  const CgResult r = solve_pcg(s.A, Eigen::Matrix3Xd::Zero(3, s.model.num_bodies()), x, 10, 1e-8, buffers);
+  const CgResult r = solve_pcg(s.A, Eigen::Matrix3Xd::Zero(3, s.model.num_bodies()), x, CgSettings{10, 1e-8}, buffers);
   EXPECT_TRUE(r.converged);
   EXPECT_EQ(r.iterations, 0);
   EXPECT_EQ(x.norm(), 0.0);
@@ -78,7 +78,7 @@ TEST(ConjugateGradient, BlockJacobiIsExactWithoutSprings) {
   ASSERT_EQ(s.model.springs.size(), 0u);
   Eigen::Matrix3Xd x;
   CgBuffers buffers;
-  const CgResult r = solve_pcg(s.A, s.b, x, 10, 1e-12, buffers);
+  const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{10, 1e-12}, buffers);
   EXPECT_TRUE(r.converged);
   EXPECT_EQ(r.iterations, 1);
 }
