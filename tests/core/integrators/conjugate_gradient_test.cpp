@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "state.h"
 #include "test_support.h"
 
@@ -81,6 +83,37 @@ TEST(ConjugateGradient, BlockJacobiIsExactWithoutSprings) {
   const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{10, 1e-12}, buffers);
   EXPECT_TRUE(r.converged);
   EXPECT_EQ(r.iterations, 1);
+}
+
+TEST(ConjugateGradient, AWarmStartNearTheSolutionNeedsFewerIterations) {
+  const System s = system(kAllSprings, 0.02);
+  Eigen::Matrix3Xd exact, x;
+  CgBuffers buffers;
+  const CgResult cold = solve_pcg(s.A, s.b, exact, CgSettings{500, 1e-12}, buffers);
+  ASSERT_TRUE(cold.converged);
+  // From the solution itself: nothing to do.
+  x = exact;
+  EXPECT_EQ(solve_pcg(s.A, s.b, x, CgSettings{500, 1e-10, 0.0, true}, buffers).iterations, 0);
+  // From a guess 1e-3 off: converges, in fewer iterations than from zero, to the same answer.
+  std::srand(11);
+  x = exact + 1e-3 * exact.norm() / std::sqrt(double(exact.size())) * Eigen::Matrix3Xd::Random(3, exact.cols());
+  const CgResult warm = solve_pcg(s.A, s.b, x, CgSettings{500, 1e-12, 0.0, true}, buffers);
+  EXPECT_TRUE(warm.converged);
+  EXPECT_LT(warm.iterations, cold.iterations);
+  EXPECT_LT((x - exact).norm(), 1e-8 * exact.norm());
+}
+
+TEST(ConjugateGradient, StopsAtTheAbsoluteAccuracyTheCallerNeeds) {
+  const System s = system(kAllSprings, 0.02);
+  Eigen::Matrix3Xd x, Ax;
+  CgBuffers buffers;
+  const double need = 1e-3 * s.b.norm();
+  const CgResult loose = solve_pcg(s.A, s.b, x, CgSettings{500, 1e-14, need}, buffers);
+  EXPECT_TRUE(loose.converged);
+  multiply(s.A, x, Ax);
+  EXPECT_LE((s.b - Ax).norm(), need * (1 + 1e-9));
+  const CgResult tight = solve_pcg(s.A, s.b, x, CgSettings{500, 1e-14}, buffers);
+  EXPECT_LT(loose.iterations, tight.iterations);
 }
 
 }  // namespace
