@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -40,12 +41,14 @@ bool same_pixels(const Image& a, const Image& b) {
   return a.width == b.width && a.height == b.height && a.rgba == b.rgba;
 }
 
-// Where `tile` appears pixel for pixel inside `big`, or {-1, -1}.
-std::pair<int, int> find_tile(const Image& big, const Image& tile) {
+// Where `tile` appears pixel for pixel inside `big`, or {-1, -1}. Only the first `rows`
+// rows must match (the clip and the still label each tile at its bottom-left).
+std::pair<int, int> find_tile(const Image& big, const Image& tile, int rows = -1) {
+  if (rows < 0) rows = tile.height;
   for (int y = 0; y + tile.height <= big.height; ++y)
     for (int x = 0; x + tile.width <= big.width; ++x) {
       bool match = true;
-      for (int row = 0; row < tile.height && match; ++row)
+      for (int row = 0; row < rows && match; ++row)
         match = std::equal(tile.pixel(0, row), tile.pixel(0, row) + 4 * tile.width, big.pixel(x, y + row));
       if (match) return {x, y};
     }
@@ -168,9 +171,15 @@ TEST(CmdCompare, WritesAStillOfTheWholeGridAtTheRequestedTime) {
   EXPECT_EQ(still.width, 320);
   EXPECT_EQ(still.height, 180);
   // 2x2 of 158x88 cells with a 4-pixel gutter; t = 0.1 s is frame 3; rk4 is the fourth tile.
-  const auto at = find_tile(still, read_png(frame_path(dir + "/tiles", "rk4", 3)));
+  const Image rk4 = read_png(frame_path(dir + "/tiles", "rk4", 3));
+  const auto at = find_tile(still, rk4, 60);
   EXPECT_EQ(at.first, 162);
   EXPECT_EQ(at.second, 92);
+  int label_pixels = 0;  // bottom-left of the tile: the label "rk4" over the picture
+  for (int y = 60; y < 88; ++y)
+    for (int x = 0; x < 40; ++x)
+      label_pixels += std::memcmp(still.pixel(162 + x, 92 + y), rk4.pixel(x, y), 3) != 0;
+  EXPECT_GT(label_pixels, 20) << "the tile is labelled in the still";
 }
 
 TEST(CmdCompare, WithoutOutputsPrintsTheSummaryOnly) {

@@ -184,6 +184,11 @@ int compare_command(const CompareOptions& o) {
   std::vector<const Image*> tile_ptrs;
   for (const Image& tile : tiles) tile_ptrs.push_back(&tile);
   std::vector<bool> frozen(kinds.size(), false);
+  // The integrator's name again, large, at each tile's bottom-left: the overlay text is
+  // small at tile size, and a viewer should tell the tiles apart at a glance. The PNGs of
+  // --frames stay unlabelled (`encode` labels them when it assembles a clip).
+  std::vector<std::string> labels;
+  for (IntegratorKind kind : kinds) labels.emplace_back(integrator_name(kind));
   std::vector<std::vector<Image>> sheet_cells(kinds.size(), std::vector<Image>(sheet_times.size()));
   Image canvas;
   auto progress = std::make_unique<Progress>("compare " + model.name,
@@ -216,7 +221,7 @@ int compare_command(const CompareOptions& o) {
     }
     if (target.still) {
       Stopwatch watch(time.sheet);
-      grid->compose(tile_ptrs, {}, canvas);
+      grid->compose(tile_ptrs, labels, canvas);
       write_png(o.still_out, canvas, {{"scene", model.name}, {"t", std::to_string(target.t)},
                                       {"software", "clothsim " CLOTHSIM_VERSION}});
       still_written = true;
@@ -229,7 +234,7 @@ int compare_command(const CompareOptions& o) {
       if (video) {
         {
           Stopwatch watch(time.compose);
-          grid->compose(tile_ptrs, {}, canvas);
+          grid->compose(tile_ptrs, labels, canvas);
         }
         Stopwatch watch(time.encode);
         video->add(target.frame, target.t, canvas);
