@@ -220,7 +220,8 @@ void add_encode_command(CLI::App& app, Command& command) {
   sub->add_option("--layout", args->layout,
                   "COLUMNSxROWS: 2x2, 4x1 (side by side), 1x4 (stacked), Nx1, 1xN or auto")
       ->capture_default_str();
-  sub->add_option("--labels", args->labels, "Comma-separated tile labels (default: directory names)");
+  sub->add_option("--labels", args->labels,
+                  "Comma-separated tile labels (default: directory names; an empty one: no label)");
   sub->add_option("-o,--output", args->output, "Output file (.mp4)")->required();
   sub->add_option("--fps", args->fps, "Frames per second")->capture_default_str();
   sub->add_option("--crf", args->crf, "x264 quality: 0 lossless .. 51 worst (18-23 typical)")
