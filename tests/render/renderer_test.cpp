@@ -5,11 +5,13 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <set>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "cli/cli_process.h"
 #include "render/synthetic_frames.h"
 
 namespace clothsim {
@@ -67,6 +69,19 @@ TEST(Renderer, RunsOnAnOpenGl33CoreContextAndSaysWhichOne) {
   EXPECT_NE(r.gl_version().find("Core Profile"), std::string::npos) << r.gl_version();
   EXPECT_FALSE(r.gl_renderer().empty());
   EXPECT_GE(r.max_size(), 4096);
+}
+
+TEST(Renderer, WithoutAGl33CoreContextTheCommandFailsWithOneClearLine) {
+  // Mesa's own override caps the version it offers: a machine without GL 3.3, simulated. Mesa
+  // reads it once per process, so the renderer is exercised through the clothsim binary.
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/no_gl33.png";
+  const auto r = testing::run_clothsim({"run", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--duration",
+                                        "0.01", "--still", "0", "--out", out},
+                                       "env MESA_GL_VERSION_OVERRIDE=3.0");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(testing::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("cannot create an OSMesa OpenGL 3.3 core context"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST(Renderer, ProducesAnOpaqueImageOfTheRequestedSize) {
