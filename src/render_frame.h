@@ -10,7 +10,7 @@
 
 namespace clothsim {
 
-using Rgb = std::array<float, 3>;  // linear 0..1
+using Rgb = std::array<float, 3>;  // display colour 0..1: a surface facing the light shows it as given
 
 struct RenderCamera {
   std::array<float, 3> eye{0.f, 2.f, -10.f};

@@ -38,6 +38,8 @@ struct RunTotals {
   std::int64_t unconverged_steps = 0;   // implicit solves that hit their cap
   double max_residual = 0.0;            // largest final residual of any step
   double sim_seconds = 0.0;             // wall time spent stepping
+  double cpu_seconds = 0.0;             // CPU time of the stepping thread: what the run costs
+                                        // with a core to itself, even when runs share cores
 };
 
 // A frame's worth of diagnostics: the row `--metrics` writes.

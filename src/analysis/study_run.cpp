@@ -2,22 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 
 namespace clothsim::analysis {
-namespace {
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-}  // namespace
 
 StudyRun run_to(const Model& model, IntegratorKind kind, double dt, double T,
                 const std::function<bool()>& stop) {
-  const double cpu_start = thread_cpu_seconds();
   Run run(model, kind, dt);
   // Slices of about 1/64 of the run (at least one step each): frequent enough that Ctrl-C
   // answers within a second on the longest reference run, rare enough to cost nothing.
@@ -38,7 +27,7 @@ StudyRun run_to(const Model& model, IntegratorKind kind, double dt, double T,
   out.divergence = run.divergence();
   out.totals = run.totals();
   out.wall_seconds = run.totals().sim_seconds;
-  out.cpu_seconds = thread_cpu_seconds() - cpu_start;
+  out.cpu_seconds = run.totals().cpu_seconds;
   out.final_state = run.state();
   return out;
 }

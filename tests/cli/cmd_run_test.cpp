@@ -85,6 +85,27 @@ void expect_rejected(const std::vector<std::string>& args, int code, const std::
   EXPECT_TRUE(only_files(dir, files_before)) << "something was left in " << dir;
 }
 
+TEST(CmdRun, AStillAloneRunsOnlyToItsTimeAndWritesOnePng) {
+  const std::string dir = scratch_dir("run_still");
+  const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--still", "0.25", "--out", dir + "/s.png",
+                                    "--set", "render.width=320", "--set", "render.height=180"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("2500 steps to t = 0.25 s"), std::string::npos) << r.out;
+  EXPECT_TRUE(only_files(dir, {"s.png"}));
+  const std::string png = slurp(dir + "/s.png");
+  ASSERT_GT(png.size(), 24u);
+  const auto be32 = [&](std::size_t at) {
+    return (unsigned(static_cast<unsigned char>(png[at])) << 24) | (unsigned(static_cast<unsigned char>(png[at + 1])) << 16) |
+           (unsigned(static_cast<unsigned char>(png[at + 2])) << 8) | unsigned(static_cast<unsigned char>(png[at + 3]));
+  };
+  EXPECT_EQ(be32(16), 320u);  // IHDR width and height
+  EXPECT_EQ(be32(20), 180u);
+  const std::string outside = scratch_dir("run_still_outside");
+  expect_rejected({"run", shipped("drape.yaml"), "--still", "9", "--out", outside + "/s.png"}, 2,
+                  "--still: time", outside, {});
+  expect_rejected({"run", shipped("drape.yaml"), "--still", "1"}, 2, "--still needs --out", outside, {});
+}
+
 TEST(CmdRun, BadScenesAreOneLineErrorsWithFileLineKeyAndExitTwo) {
   const std::string dir = scratch_dir("run_bad_scenes");
   struct Case { const char* name; std::string text; std::string expected; };

@@ -181,23 +181,7 @@ int bench_command(const BenchOptions& o) {
   if (!ref.converged)
     throw RuntimeFailure(scene.source + ": " + ref.failure + (o.csv.empty() ? "" : " (" + o.csv + " written for inspection)") +
                          "; no plot drawn");
-  if (plot) {
-    std::string csv = o.csv;
-    std::string temp;
-    if (csv.empty()) {
-      temp = temp_path_beside(o.plot + ".csv");
-      write_to(temp);
-      csv = temp;
-    }
-    try {
-      plot->draw({"--csv", csv, "--title", model.name + " (T = " + csv_number(T) + " s)"});
-    } catch (...) {
-      if (!temp.empty()) std::remove(temp.c_str());
-      throw;
-    }
-    if (!temp.empty()) std::remove(temp.c_str());
-    std::printf("plot: %s\n", o.plot.c_str());
-  }
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", model.name + " (T = " + csv_number(T) + " s)"});
   return kOk;
 }
 

@@ -65,7 +65,11 @@ int run_command(const RunOptions& o) {
   const IntegratorKind kind = scene.integrator;
   const double dt = scene.dt;
   const double fps = scene.render.fps;
-  const long frames = static_cast<long>(std::floor(scene.duration * fps + 1e-9)) + 1;  // t = 0 included
+  // A still alone needs the run only up to its time; any other output needs the whole run.
+  const bool still_only = o.still_t && o.metrics.empty() && o.state.empty() && o.frames_dir.empty() &&
+                          o.video.empty();
+  const double end = still_only ? *o.still_t : scene.duration;
+  const long frames = static_cast<long>(std::floor(end * fps + 1e-9)) + 1;  // t = 0 included
 
   std::unique_ptr<Renderer> renderer;
   if (!o.frames_dir.empty() || !o.video.empty() || o.still_t) renderer = std::make_unique<Renderer>();
@@ -79,15 +83,16 @@ int run_command(const RunOptions& o) {
   Run run(model, kind, dt);
   Progress progress("run " + model.name, frames, "frames");
   bool still_done = !o.still_t;
+  const auto take_still = [&] {
+    run.advance_to(*o.still_t);
+    if (!run.diverged()) write_png(o.still_out, render_now(*renderer, run), png_meta(model, kind, dt));
+    still_done = true;
+  };
   for (long k = 0; k < frames; ++k) {
     if (interrupted()) throw RuntimeFailure("interrupted: stopped at t = " + std::to_string(run.state().t) +
                                             " s; no output was written");
-    const double target = std::min(static_cast<double>(k) / fps, scene.duration);
-    if (!still_done && *o.still_t <= target) {
-      run.advance_to(*o.still_t);
-      write_png(o.still_out, render_now(*renderer, run), png_meta(model, kind, dt));
-      still_done = true;
-    }
+    const double target = std::min(static_cast<double>(k) / fps, end);
+    if (!still_done && *o.still_t <= target) take_still();
     const bool ok = run.advance_to(target);
     if (metrics) metrics->row(run.metrics());
     if (png_sink || video_sink) {
@@ -98,7 +103,8 @@ int run_command(const RunOptions& o) {
     progress.update(k + 1);
     if (!ok) break;
   }
-  if (!run.diverged()) run.advance_to(scene.duration);  // a duration that is not a whole frame
+  if (!still_done && !run.diverged()) take_still();  // a still after the last whole frame
+  if (!run.diverged()) run.advance_to(end);  // an end that is not a whole frame
 
   if (metrics) metrics->commit();
   if (png_sink) png_sink->finish();

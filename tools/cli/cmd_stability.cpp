@@ -183,7 +183,6 @@ int stability_command(const StabilityOptions& o) {
                 limit_text(l, spec).c_str(), dt / l.estimate.dt_springs(), dt / l.estimate.dt_with_damping(), l.trials);
   }
 
-  std::string temp;
   const auto write_to = [&](const std::string& path) {
     AtomicFile file(path);
     write_csv(file.stream(), o.param, limits, spec);
@@ -194,22 +193,7 @@ int stability_command(const StabilityOptions& o) {
     throw RuntimeFailure("interrupted: " + std::to_string(limits.size()) + " of " +
                          std::to_string(cases.size() * kinds.size()) + " searches finished" +
                          (o.csv.empty() ? "" : " and written to " + o.csv) + "; no plot drawn");
-  if (plot) {
-    std::string csv = o.csv;
-    if (csv.empty()) {
-      temp = temp_path_beside(o.plot + ".csv");
-      write_to(temp);
-      csv = temp;
-    }
-    try {
-      plot->draw({"--csv", csv, "--title", base.name});  // the script adds T from the CSV
-    } catch (...) {
-      if (!temp.empty()) std::remove(temp.c_str());
-      throw;
-    }
-    if (!temp.empty()) std::remove(temp.c_str());
-    std::printf("plot: %s\n", o.plot.c_str());
-  }
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", base.name});  // the script adds T from the CSV
   return kOk;
 }
 

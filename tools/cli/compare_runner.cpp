@@ -1,24 +1,11 @@
 #include "compare_runner.h"
 
-#include <time.h>
-
 #include <cinttypes>
 #include <cstdio>
 
 #include "snapshot.h"
 
 namespace clothsim::cli {
-
-namespace {
-
-// CPU time of the calling thread: what a run costs, whether or not it shared a core.
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-}  // namespace
 
 RunWorker::RunWorker(const Model& model, IntegratorKind kind, double dt,
                      const std::vector<Target>& targets, int tile_width, int tile_height,
@@ -73,7 +60,8 @@ void RunWorker::push(TileSnapshot snapshot) {
 
 // The standard overlay plus what the run has cost so far: force evaluations (the
 // machine-independent measure) and CPU ms per simulated second (what a user waits).
-RenderFrame RunWorker::snapshot_of(const Run& run, double cpu_seconds) const {
+RenderFrame RunWorker::snapshot_of(const Run& run) const {
+  const double cpu_seconds = run.totals().cpu_seconds;
   const double t = run.state().t;
   SnapshotText text{overlay_lines(model_, kind_, dt_, t), {}};
   char cost[96];
@@ -92,19 +80,16 @@ RenderFrame RunWorker::snapshot_of(const Run& run, double cpu_seconds) const {
 void RunWorker::work() {
   try {
     Run run(model_, kind_, dt_);
-    double cpu = 0.0;
     // The initial state is the last good frame until a target is reached, so a run that
     // diverges before the first target still has a picture to freeze on.
-    RenderFrame last_good = snapshot_of(run, cpu);
+    RenderFrame last_good = snapshot_of(run);
     double last_good_t = 0.0;
     for (const Target& target : targets_) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         if (stop_) break;
       }
-      const double start = thread_cpu_seconds();
       const bool ok = run.advance_to(target.t);
-      cpu += thread_cpu_seconds() - start;
       if (!ok) {
         const Divergence& d = *run.divergence();
         TileSnapshot frozen{std::move(last_good), true};
@@ -115,14 +100,14 @@ void RunWorker::work() {
         push(std::move(frozen));
         break;
       }
-      last_good = snapshot_of(run, cpu);
+      last_good = snapshot_of(run);
       last_good_t = run.state().t;
       push(TileSnapshot{last_good, false});
     }
     std::lock_guard<std::mutex> lock(mutex_);
     summary_.t = last_good_t;
     summary_.totals = run.totals();
-    summary_.cpu_seconds = cpu;
+    summary_.cpu_seconds = run.totals().cpu_seconds;
     summary_.divergence = run.divergence();
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -59,7 +59,7 @@ class RunWorker {
  private:
   void work();
   void push(TileSnapshot snapshot);
-  RenderFrame snapshot_of(const Run& run, double cpu_seconds) const;
+  RenderFrame snapshot_of(const Run& run) const;
 
   const Model& model_;
   IntegratorKind kind_;

@@ -140,4 +140,25 @@ void PlotScript::draw(const std::vector<std::string>& args) const {
   }
 }
 
+void PlotScript::draw_from_csv(const std::string& csv,
+                               const std::function<void(const std::string&)>& write_csv,
+                               const std::vector<std::string>& args) const {
+  struct RemoveOnExit {  // the temporary CSV goes whether the script succeeds or throws
+    std::string path;
+    ~RemoveOnExit() {
+      if (!path.empty()) std::remove(path.c_str());
+    }
+  } temp;
+  std::string source = csv;
+  if (source.empty()) {
+    temp.path = temp_path_beside(png_ + ".csv");
+    write_csv(temp.path);
+    source = temp.path;
+  }
+  std::vector<std::string> all{"--csv", source};
+  all.insert(all.end(), args.begin(), args.end());
+  draw(all);
+  std::printf("plot: %s\n", png_.c_str());
+}
+
 }  // namespace clothsim::cli

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -46,6 +47,11 @@ class PlotScript {
   // Runs python3 SCRIPT ARGS... --out TMP.png and renames TMP onto the requested name.
   // Throws RuntimeFailure when the script fails (its stderr is passed through).
   void draw(const std::vector<std::string>& args) const;
+  // Draws from the study's CSV: `csv` when the user asked for one (already written there),
+  // otherwise a temporary CSV written by `write_csv(path)` beside the PNG and removed after.
+  // Passes "--csv PATH" before `args`, and says "plot: PNG" on stdout.
+  void draw_from_csv(const std::string& csv, const std::function<void(const std::string&)>& write_csv,
+                     const std::vector<std::string>& args) const;
   const std::string& png() const { return png_; }
  private:
   std::string python_, script_, png_;
