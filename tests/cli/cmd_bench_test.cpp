@@ -64,7 +64,7 @@ TEST(CmdBench, BadStepListsAreOneLineExitTwoAndNothingWritten) {
       {{"--dts", "0.01,abc"}, "--dts: 'abc' is not a finite number"},
       {{"--dts", "0.003", "--duration", "1"}, "--dts: 0.003 does not divide the duration 1 s"},
       {{"--integrators", "rk5"}, "--integrators: unknown integrator 'rk5'"},
-      {{"--integrators", "rk4,rk4"}, "--integrators: rk4 is listed twice"},
+      {{"--integrators", "rk4,rk4"}, "--integrators: 'rk4' is listed twice"},
   };
   for (const Case& c : cases) {
     std::vector<std::string> args{"bench", spring(), "--csv", csv};

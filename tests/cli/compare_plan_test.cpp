@@ -1,4 +1,4 @@
-// The pure planning of `compare`: integrator lists, per-run steps, sheet times, and the
+// The pure planning of `compare`: per-run steps, sheet times, and the
 // merged list of instants every run stops at.
 #include "compare_plan.h"
 
@@ -24,22 +24,6 @@ const std::vector<IntegratorKind> kFour = {IntegratorKind::ExplicitEuler, Integr
                                            IntegratorKind::Midpoint, IntegratorKind::Rk4};
 
 }  // namespace
-
-TEST(ParseIntegratorList, KeepsTheOrderGiven) {
-  const auto kinds = parse_integrator_list("rk4,explicit_euler, midpoint");
-  ASSERT_EQ(kinds.size(), 3u);
-  EXPECT_EQ(kinds[0], IntegratorKind::Rk4);
-  EXPECT_EQ(kinds[1], IntegratorKind::ExplicitEuler);
-  EXPECT_EQ(kinds[2], IntegratorKind::Midpoint);
-}
-
-TEST(ParseIntegratorList, RejectsUnknownRepeatedAndEmptyNames) {
-  EXPECT_NE(usage_error([] { parse_integrator_list("rk4,verlet"); }).find("unknown integrator 'verlet'"),
-            std::string::npos);
-  EXPECT_NE(usage_error([] { parse_integrator_list("rk4,rk4"); }).find("listed twice"), std::string::npos);
-  EXPECT_NE(usage_error([] { parse_integrator_list("rk4,,midpoint"); }).find("empty"), std::string::npos);
-  EXPECT_NE(usage_error([] { parse_integrator_list(""); }).find("no integrator"), std::string::npos);
-}
 
 TEST(ParseDtList, DefaultsEveryRunToTheScenesStep) {
   EXPECT_EQ(parse_dt_list("", kFour, 1e-4), std::vector<double>(4, 1e-4));

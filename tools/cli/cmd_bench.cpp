@@ -102,10 +102,6 @@ void print_table(const WorkPrecisionResult& r, const std::vector<IntegratorKind>
 int bench_command(const BenchOptions& o) {
   SceneDef scene = load_scene(o.scene.path, o.scene.sets);
   const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
-  for (std::size_t i = 0; i < kinds.size(); ++i)
-    for (std::size_t j = 0; j < i; ++j)
-      if (kinds[i] == kinds[j])
-        throw UsageError("--integrators: " + std::string(integrator_name(kinds[i])) + " is listed twice");
   std::vector<double> dts;
   if (!o.dts) {
     for (double f : kDefaultStepFactors) dts.push_back(f * scene.dt);

@@ -102,10 +102,6 @@ std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& s
 int stability_command(const StabilityOptions& o) {
   const SceneDef base = load_scene(o.scene.path, o.scene.sets);
   const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
-  for (std::size_t i = 0; i < kinds.size(); ++i)
-    for (std::size_t j = 0; j < i; ++j)
-      if (kinds[i] == kinds[j])
-        throw UsageError("--integrators: " + std::string(integrator_name(kinds[i])) + " is listed twice");
 
   std::vector<double> values;
   if (!o.values) {

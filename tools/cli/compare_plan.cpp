@@ -35,23 +35,6 @@ std::string trimmed(const std::string& s) {
 
 }  // namespace
 
-std::vector<IntegratorKind> parse_integrator_list(const std::string& text) {
-  std::vector<IntegratorKind> kinds;
-  for (const std::string& raw : split_list(text)) {
-    const std::string name = trimmed(raw);
-    if (name.empty()) throw UsageError("--integrators: empty name in '" + text + "'");
-    const auto kind = parse_integrator(name);
-    if (!kind)
-      throw UsageError("--integrators: unknown integrator '" + name + "' (expected one of: " +
-                       integrator_names_joined() + ")");
-    if (std::find(kinds.begin(), kinds.end(), *kind) != kinds.end())
-      throw UsageError("--integrators: '" + name + "' is listed twice");
-    kinds.push_back(*kind);
-  }
-  if (kinds.empty()) throw UsageError("--integrators: no integrator given");
-  return kinds;
-}
-
 std::vector<double> parse_dt_list(const std::string& text, const std::vector<IntegratorKind>& kinds,
                                   double scene_dt) {
   std::vector<double> dts(kinds.size(), scene_dt);

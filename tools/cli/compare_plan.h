@@ -10,9 +10,6 @@
 
 namespace clothsim::cli {
 
-// "explicit_euler,rk4" -> kinds, in order. Unknown or repeated names are errors.
-std::vector<IntegratorKind> parse_integrator_list(const std::string& text);
-
 // --dt: "" (every run at the scene's dt), "S" (every run at S), "name=S,name=S" (those runs
 // at their own step, the others at the scene's), or a bare S mixed with name=S (the bare
 // one for all not named). Names must be among `kinds`. Returns one dt per kind.

@@ -1,5 +1,6 @@
 #include "scene_options.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cli_common.h"
@@ -29,6 +30,23 @@ IntegratorKind parse_integrator_option(const std::string& name, const std::strin
     throw UsageError(option + ": unknown integrator '" + name + "' (expected one of: " +
                      integrator_names_joined() + ")");
   return *kind;
+}
+
+std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const std::string& option) {
+  std::vector<IntegratorKind> kinds;
+  for (const std::string& raw : split_list(text)) {
+    const auto begin = raw.find_first_not_of(" \t");
+    const std::string name =
+        begin == std::string::npos ? "" : raw.substr(begin, raw.find_last_not_of(" \t") - begin + 1);
+    if (name.empty()) throw UsageError(option + ": empty item in '" + text + "'");
+    const IntegratorKind kind = parse_integrator_option(name, option);
+    if (std::find(kinds.begin(), kinds.end(), kind) != kinds.end())
+      throw UsageError(option + ": '" + name + "' is listed twice");
+    kinds.push_back(kind);
+  }
+  if (kinds.empty())
+    throw UsageError(option + ": empty list, no integrator given (expected names such as rk4,implicit_euler)");
+  return kinds;
 }
 
 SceneDef load_scene_with_options(const SceneOptions& o) {

@@ -29,4 +29,9 @@ SceneDef load_scene_with_options(const SceneOptions& options);
 // Parses an integrator name or throws UsageError naming the option and the valid names.
 IntegratorKind parse_integrator_option(const std::string& name, const std::string& option);
 
+// "rk4, midpoint" -> integrators in order (spaces around names allowed). An empty list, an
+// empty item, an unknown name or a name listed twice is a UsageError naming `option`.
+std::vector<IntegratorKind> parse_integrator_list(const std::string& text,
+                                                  const std::string& option = "--integrators");
+
 }  // namespace clothsim::cli

@@ -19,17 +19,6 @@ extern char** environ;
 namespace clothsim::cli {
 namespace fs = std::filesystem;
 
-std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const std::string& option) {
-  const std::vector<std::string> names = split_list(text);
-  if (names.empty()) throw UsageError(option + ": empty list (expected names such as rk4,implicit_euler)");
-  std::vector<IntegratorKind> kinds;
-  for (const std::string& name : names) {
-    if (name.empty()) throw UsageError(option + ": empty item in '" + text + "'");
-    kinds.push_back(parse_integrator_option(name, option));
-  }
-  return kinds;
-}
-
 std::vector<double> parse_number_list(const std::string& text, const std::string& option) {
   const std::vector<std::string> items = split_list(text);
   if (items.empty()) throw UsageError(option + ": empty list (expected numbers separated by commas)");

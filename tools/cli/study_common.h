@@ -13,10 +13,6 @@
 
 namespace clothsim::cli {
 
-// "a,b,c" -> integrators; an empty list, an empty item or an unknown name is a UsageError
-// naming `option`.
-std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const std::string& option);
-
 // "1e-4,2e-4" -> numbers; an empty list, an empty item or a word is a UsageError naming
 // `option`. Signs are the caller's to check (a dt must be > 0, a parameter may be anything).
 std::vector<double> parse_number_list(const std::string& text, const std::string& option);
