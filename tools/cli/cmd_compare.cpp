@@ -38,6 +38,7 @@
 #include "frame_sink.h"
 #include "png_io.h"
 #include "renderer.h"
+#include "run_outputs.h"
 #include "scene_options.h"
 #include "scene_parser.h"
 #include "tiling.h"
@@ -74,14 +75,6 @@ class Stopwatch {
   double& total_;
   Clock::time_point start_;
 };
-
-PngText tile_meta(const Model& model, IntegratorKind kind, double dt) {
-  char dt_text[32];
-  std::snprintf(dt_text, sizeof dt_text, "%.6g", dt);
-  return {{"scene", model.name}, {"source", model.source},
-          {"integrator", std::string(integrator_name(kind))}, {"dt", dt_text},
-          {"software", "clothsim " CLOTHSIM_VERSION}};
-}
 
 void print_summary(const Model& model, const std::vector<RunSummary>& runs) {
   std::printf("%s: %zu runs\n", model.name.c_str(), runs.size());
@@ -171,7 +164,7 @@ int compare_command(const CompareOptions& o) {
     for (std::size_t i = 0; i < kinds.size(); ++i)
       tile_pngs.push_back(make_png_sequence_sink(
           (fs::path(o.frames_dir) / std::string(integrator_name(kinds[i]))).string(),
-          tile_meta(model, kinds[i], dts[i])));
+          frame_metadata(model, kinds[i], dts[i])));
 
   // 3. The runs, one thread each, and the render/compose/encode loop on this thread.
   std::vector<std::unique_ptr<RunWorker>> workers;

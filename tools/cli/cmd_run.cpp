@@ -28,14 +28,6 @@ struct RunOptions {
   std::string preset = VideoOptions{}.preset;
 };
 
-PngText png_meta(const Model& model, IntegratorKind kind, double dt) {
-  char dt_text[32];
-  std::snprintf(dt_text, sizeof dt_text, "%.6g", dt);
-  return {{"scene", model.name}, {"source", model.source},
-          {"integrator", std::string(integrator_name(kind))}, {"dt", dt_text},
-          {"software", "clothsim " CLOTHSIM_VERSION}};
-}
-
 Image render_now(Renderer& renderer, const Run& run) {
   SnapshotText text{overlay_lines(run.model(), run.kind(), run.dt(), run.state().t), {}};
   if (run.diverged()) {
@@ -76,7 +68,7 @@ int run_command(const RunOptions& o) {
   std::unique_ptr<MetricsWriter> metrics;
   if (!o.metrics.empty()) metrics = std::make_unique<MetricsWriter>(o.metrics);
   std::unique_ptr<FrameSink> png_sink, video_sink;
-  if (!o.frames_dir.empty()) png_sink = make_png_sequence_sink(o.frames_dir, png_meta(model, kind, dt));
+  if (!o.frames_dir.empty()) png_sink = make_png_sequence_sink(o.frames_dir, frame_metadata(model, kind, dt));
   if (!o.video.empty()) video_sink = make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset});
 
   install_interrupt_handler();
@@ -85,7 +77,7 @@ int run_command(const RunOptions& o) {
   bool still_done = !o.still_t;
   const auto take_still = [&] {
     run.advance_to(*o.still_t);
-    if (!run.diverged()) write_png(o.still_out, render_now(*renderer, run), png_meta(model, kind, dt));
+    if (!run.diverged()) write_png(o.still_out, render_now(*renderer, run), frame_metadata(model, kind, dt));
     still_done = true;
   };
   for (long k = 0; k < frames; ++k) {

@@ -19,6 +19,14 @@ void MetricsWriter::row(const FrameMetrics& m) {
                m.cg_iterations, m.residual, m.converged ? 1 : 0);
 }
 
+PngText frame_metadata(const Model& model, IntegratorKind kind, double dt) {
+  char dt_text[32];
+  std::snprintf(dt_text, sizeof dt_text, "%.6g", dt);
+  return {{"scene", model.name}, {"source", model.source},
+          {"integrator", std::string(integrator_name(kind))}, {"dt", dt_text},
+          {"software", "clothsim " CLOTHSIM_VERSION}};
+}
+
 void write_state_csv(const std::string& path, const Model& model, const State& state) {
   AtomicFile file(path);
   std::fputs("id,x,y,z,vx,vy,vz\n", file.stream());

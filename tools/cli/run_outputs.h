@@ -1,11 +1,13 @@
-// The text outputs of a run: --metrics (one row per output frame) and --state (the final
-// state, one row per particle, full precision). Both are written whole or not at all.
+// The outputs of a run besides its pictures: --metrics (one row per output frame), --state
+// (the final state, one row per particle, full precision), both written whole or not at
+// all, and the metadata every PNG of a run carries.
 #pragma once
 
 #include <string>
 
 #include "cli_common.h"
 #include "model.h"
+#include "png_io.h"
 #include "simulation.h"
 #include "state.h"
 
@@ -22,6 +24,9 @@ class MetricsWriter {
  private:
   AtomicFile file_;
 };
+
+// The tEXt chunks of a run's PNGs: scene, source, integrator, dt, software (sinks add t).
+PngText frame_metadata(const Model& model, IntegratorKind kind, double dt);
 
 // Header id,x,y,z,vx,vy,vz; %.17g, so a state read back is bit-identical.
 void write_state_csv(const std::string& path, const Model& model, const State& state);

@@ -67,4 +67,14 @@ inline void expect_whole_state_integrated(IntegratorKind kind, double fall_steps
   EXPECT_GT((state.x.leftCols(model.num_particles) - start.x.leftCols(model.num_particles)).norm(), 0.0);
 }
 
+// stiff.yaml is run at a step four to five times every explicit method's limit: the method
+// must be stopped by divergence detection early, not run to the end.
+inline void expect_diverges_early_on_the_stiff_scene(IntegratorKind kind) {
+  const Model model = build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/stiff.yaml"));
+  clothsim::Run run(model, kind, model.dt);
+  EXPECT_FALSE(run.advance_to(model.duration)) << integrator_name(kind);
+  ASSERT_TRUE(run.diverged()) << integrator_name(kind);
+  EXPECT_LT(run.divergence()->t, 0.25 * model.duration) << integrator_name(kind);
+}
+
 }  // namespace clothsim::testing
