@@ -10,7 +10,7 @@
 // pattern of sparse_system.h (the symmetric stiffness part of df/dx; for compressed springs
 // exact first, clamped if CG fails on it: see solve_newton_system).
 // The first iterate is Baraff & Witkin 1998's step (eq. 16): linearised about (x_n, v_n),
-//     A dv = h (f_n + h K v_n).
+//     A dv = h (f_n + h (df/dx) v_n), the matrix approximated (below), (df/dx) v_n exact.
 // Every iterate is then judged by the true nonlinear residual |r(dv)|, relative to
 // max(|h f_n|, |M dv|) over movable bodies (floored at the rounding level of f: see
 // newton_step); below newton_tolerance backward Euler is solved. Until then each further
@@ -54,7 +54,7 @@ struct ImplicitCache {
   const Model* model = nullptr;
   double force_scale = 0.0;  // N, sqrt(sum_s (ks_s l0_s)^2): the size of the spring forces' terms
   SpringBlockMatrix A;
-  Eigen::Matrix3Xd rhs, ddv, Kv, residual;  // (3 x B)
+  Eigen::Matrix3Xd rhs, ddv, Jv, residual;  // (3 x B)
   CgBuffers cg;
 };
 
@@ -99,7 +99,7 @@ double momentum_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv
   return std::sqrt(sum);
 }
 
-// One linear solve of a Newton iteration at (x, v): A ddv = rhs, with rhs = h (f_n + h K v)
+// One linear solve of a Newton iteration at (x, v): A ddv = rhs, with rhs = h (f_n + h (df/dx) v)
 // for Baraff & Witkin's first iterate (f_n in `first_force`) or -r for a correction.
 // The exact stiffness is tried first: it is the true Jacobian, so Newton converges fastest
 // with it, and CG succeeds whenever A stays positive definite, as it does unless springs
@@ -121,9 +121,9 @@ void solve_newton_system(const Model& model, const Eigen::Matrix3Xd& x, const Ei
   settings.absolute_tolerance = accuracy;
   settings.from_guess = from_guess;
   for (const bool clamp : {false, true}) {
-    assemble_backward_euler_matrix(model, x, v, w, h, clamp, c.A, c.Kv);
+    assemble_backward_euler_matrix(model, x, v, w, h, clamp, c.A, c.Jv);
     if (first_force) {
-      c.rhs.noalias() = h * (*first_force + h * c.Kv);
+      c.rhs.noalias() = h * (*first_force + h * c.Jv);
     } else {
       c.rhs.noalias() = -c.residual;
     }
@@ -154,7 +154,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   // What the linear solves must resolve: a tenth of what the Newton test accepts.
   const double accuracy = 0.1 * cfg.newton_tolerance * impulse_scale;
 
-  // Baraff & Witkin's system at (x_n, v_n): A dv = h (f_n + h K v_n), warm-started from the
+  // Baraff & Witkin's system at (x_n, v_n): A dv = h (f_n + h (df/dx) v_n), warm-started from the
   // previous step's dv (still in ws.dv): at the small steps explicit methods need, dv changes
   // little from step to step and CG starts most of the way there. Bodies immovable now get 0.
   const bool have_guess = ws.dv.cols() == model.num_bodies();

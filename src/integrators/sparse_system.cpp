@@ -16,10 +16,10 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
 void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& x,
                                     const Eigen::Matrix3Xd& v, const Eigen::VectorXd& inv_mass,
                                     double h, bool clamp_compression, SpringBlockMatrix& A,
-                                    Eigen::Matrix3Xd& Kv) {
+                                    Eigen::Matrix3Xd& Jv) {
   const int B = A.num_bodies();
   const Springs& springs = model.springs;
-  Kv.setZero(3, B);
+  Jv.setZero(3, B);
 
   // M, plus h c I for air drag (df/dv = -c I on cloth particles).
   for (int i = 0; i < B; ++i) {
@@ -48,19 +48,23 @@ void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& 
     const double l = d.norm();
     const double ks = springs.ks[s], kd = springs.kd[s];
     Mat3 G;
-    Vec3 kv;  // K (v_a - v_b): df_a/dx_b = -K, so (K v)_a = K (v_a - v_b)
+    Vec3 jv;  // (df_a/dx_a) (v_a - v_b): df_a/dx_b = -df_a/dx_a, so ((df/dx) v)_a is this
     if (l > 0.0) {
       const Vec3 u = d / l;
-      double t = 1.0 - springs.rest[s] / l;
-      if (clamp_compression && t < 0.0) t = 0.0;
+      const double t_exact = 1.0 - springs.rest[s] / l;
+      const double t = clamp_compression && t_exact < 0.0 ? 0.0 : t_exact;
       const double iso = h * h * ks * t;
       const double axial = h * kd + h * h * ks * (1.0 - t);
       G.noalias() = -axial * (u * u.transpose());
       G.diagonal().array() -= iso;
-      kv = -ks * (t * vr + (1.0 - t) * u.dot(vr) * u);
+      // Exact df_a/dx_a applied to vr: stiffness -ks [t I + (1 - t) P] vr, and the damper's
+      // -(kd / l) [(vr.u) Q + u vr^T Q] vr with Q vr = vr - (u.vr) u, vr^T Q vr = |vr|^2 - (u.vr)^2.
+      const double uv = u.dot(vr);
+      jv = -ks * (t_exact * vr + (1.0 - t_exact) * uv * u) -
+           (kd / l) * (uv * (vr - uv * u) + (vr.squaredNorm() - uv * uv) * u);
     } else {  // coincident ends: spring_damper_jacobian's isotropic stand-in
       G = -(h * kd / 3.0 + h * h * ks) * Mat3::Identity();
-      kv = -ks * vr;
+      jv = -ks * vr;
     }
     if (move_a) A.diag[a] -= G;
     if (move_b) A.diag[b] -= G;
@@ -69,8 +73,8 @@ void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& 
     } else {
       A.off[s].setZero();  // a filtered body's row and column are removed
     }
-    if (move_a) Kv.col(a) += kv;
-    if (move_b) Kv.col(b) -= kv;
+    if (move_a) Jv.col(a) += jv;
+    if (move_b) Jv.col(b) -= jv;
   }
 
   for (int i = 0; i < B; ++i) A.diag_inverse[i] = A.diag[i].inverse();
