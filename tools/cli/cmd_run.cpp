@@ -129,6 +129,11 @@ void add_run_command(CLI::App& app, Command& command) {
   CLI::App* sub = app.add_subcommand(
       "run", "Run one scene with one integrator: metrics, final state, frames, video, a still");
   add_scene_options(sub, o->scene, /*single_run=*/true);
+  sub->footer(
+      "Prints a summary (steps, force evaluations, wall time) on stdout. Exits 3 when the run\n"
+      "diverges (non-finite state, strain or kinetic energy past the scene's divergence bounds),\n"
+      "saying at which step and time and why; --metrics is then kept up to that point and\n"
+      "--state is not written. Outputs are written under temporary names and renamed at the end.");
   sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at the scene's fps")
       ->type_name("DIR");
   sub->add_option("--video", o->video, "Write an H.264 MP4 of the run")->type_name("FILE.mp4");

@@ -20,6 +20,10 @@ int main(int argc, char** argv) {
       " - a headless mass-spring cloth simulator that shows and measures how time\n"
       "integrators trade speed for accuracy. Scenes are YAML (see docs/scenes.md)."};
   app.require_subcommand(1);
+  app.footer(
+      "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene,\n"
+      "3 the simulation diverged (run only). `clothsim SUBCOMMAND --help` for each command.\n"
+      "Docs: README.md, docs/scenes.md (every scene key), docs/integrators.md.");
   app.set_version_flag("--version", "clothsim " CLOTHSIM_VERSION);
   Command command;
   add_run_command(app, command);
