@@ -12,8 +12,8 @@ packages=(
   libpng-dev zlib1g-dev    # frames and golden images
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev   # MP4 through FFmpeg's libraries
   libgtest-dev libbenchmark-dev   # tests and benchmarks
-  ffmpeg                   # ffprobe, used by tests only as an independent checker
   python3-matplotlib       # tools/plot_*.py figures (run with /usr/bin/python3)
+  time                     # GNU time, for tools/benchmarks.sh
 )
 
 if [[ $(id -u) -ne 0 ]]; then sudo=sudo; else sudo=; fi
