@@ -78,8 +78,11 @@ Progress::Progress(std::string label, long total, std::string unit)
     : label_(std::move(label)), unit_(std::move(unit)), total_(total), on_(enabled()),
       start_(std::chrono::steady_clock::now()), last_(start_ - std::chrono::seconds(1)) {}
 
-Progress::~Progress() {
+Progress::~Progress() { finish(); }
+
+void Progress::finish() {
   if (on_) std::fprintf(stderr, "\r\033[K");
+  on_ = false;
 }
 
 void Progress::update(long done) {

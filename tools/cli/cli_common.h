@@ -56,8 +56,9 @@ void ensure_directory(const std::string& dir, const std::string& what);
 class Progress {
  public:
   Progress(std::string label, long total, std::string unit);
-  ~Progress();  // clears the line
+  ~Progress();  // clears the line (as finish() does)
   void update(long done);
+  void finish();  // clears the line now, before a summary is printed; idempotent
   static bool enabled();
  private:
   std::string label_, unit_;

@@ -153,6 +153,7 @@ int bench_command(const BenchOptions& o) {
   hooks.stop = [] { return interrupted(); };
   hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
   const WorkPrecisionResult result = analysis::work_precision(model, spec, hooks);
+  progress.finish();
 
   print_table(result, kinds);
   const analysis::ReferenceCheck& ref = result.reference;

@@ -97,6 +97,7 @@ int run_command(const RunOptions& o) {
   }
   if (!still_done && !run.diverged()) take_still();  // a still after the last whole frame
   if (!run.diverged()) run.advance_to(end);  // an end that is not a whole frame
+  progress.finish();
 
   if (metrics) metrics->commit();
   if (png_sink) png_sink->finish();

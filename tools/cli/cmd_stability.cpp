@@ -170,6 +170,7 @@ int stability_command(const StabilityOptions& o) {
   hooks.stop = [] { return interrupted(); };
   hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
   const std::vector<StabilityLimit> limits = analysis::stability_sweep(refs, spec, hooks);
+  progress.finish();
 
   std::printf("%14s %-16s %-48s %10s %12s %6s\n", "value", "integrator", "largest stable dt", "x 2/w_max",
               "x 2/max(w,c)", "trials");

@@ -68,6 +68,11 @@ void SharedProgress::update(long done, long /*total*/) {
   impl_->progress.update(done);
 }
 
+void SharedProgress::finish() {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->progress.finish();
+}
+
 std::string tools_dir() {
   if (const char* env = std::getenv("CLOTHSIM_TOOLS_DIR"); env && *env) return env;
   return CLOTHSIM_TOOLS_DIR;

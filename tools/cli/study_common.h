@@ -27,6 +27,7 @@ class SharedProgress {
  public:
   SharedProgress(std::string label, long total, std::string unit);
   void update(long done, long total);
+  void finish();  // clears the line before results are printed
  private:
   struct Impl;
   std::shared_ptr<Impl> impl_;
