@@ -5,7 +5,7 @@
 #
 #   tools/make_figures.sh [BUILD_DIR]      # BUILD_DIR defaults to build (holding clothsim)
 #
-# Needs python3-matplotlib (/usr/bin/python3). About 3 minutes on 2 idle cores, most of it
+# Needs python3-matplotlib (/usr/bin/python3). About 1 minute on 2 idle cores, most of it
 # the two drape studies; timings in the figures are CPU time of each run's thread.
 set -eu
 cd "$(dirname "$0")/.."
