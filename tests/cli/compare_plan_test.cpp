@@ -5,20 +5,13 @@
 #include <gtest/gtest.h>
 
 #include "cli_common.h"
+#include "usage_error.h"
 
 using namespace clothsim;
 using namespace clothsim::cli;
+using clothsim::testing::usage_error;
 
 namespace {
-
-std::string usage_error(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const UsageError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 const std::vector<IntegratorKind> kFour = {IntegratorKind::ExplicitEuler, IntegratorKind::ImplicitEuler,
                                            IntegratorKind::Midpoint, IntegratorKind::Rk4};

@@ -7,20 +7,13 @@
 
 #include "cli_common.h"
 #include "scene_parser.h"
+#include "usage_error.h"
 
 using namespace clothsim;
 using namespace clothsim::cli;
+using clothsim::testing::usage_error;
 
 namespace {
-
-std::string usage_error(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const UsageError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(ParseIntegratorList, KeepsTheOrderGiven) {
   const auto kinds = parse_integrator_list("rk4,explicit_euler, midpoint");

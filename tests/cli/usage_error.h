@@ -1,0 +1,21 @@
+// The message of the UsageError `f` throws, or "" when it throws none: for tests of the
+// option parsers, which must reject bad input with a one-line message naming the option.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "cli_common.h"
+
+namespace clothsim::testing {
+
+inline std::string usage_error(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const cli::UsageError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace clothsim::testing
