@@ -59,29 +59,16 @@ TEST(SpringForce, SystemPassAppliesEqualAndOppositeForces) {
   EXPECT_NEAR((f.col(0) + f.col(1)).norm(), 0.0, 1e-12);
 }
 
-// Central differences of f_a with respect to x_a and v_a, column by column.
-Mat3 numeric_dfdx(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb, double l0,
-                  double ks, double kd) {
+// Central differences of `f` (a Vec3 -> Vec3 function) at `at`, column by column.
+template <class F>
+Mat3 numeric_jacobian(const F& f, const Vec3& at) {
   Mat3 J;
   const double eps = 1e-6;
   for (int c = 0; c < 3; ++c) {
-    Vec3 p = xa, m = xa;
+    Vec3 p = at, m = at;
     p[c] += eps;
     m[c] -= eps;
-    J.col(c) = (spring_damper_force(p, xb, va, vb, l0, ks, kd) - spring_damper_force(m, xb, va, vb, l0, ks, kd)) / (2 * eps);
-  }
-  return J;
-}
-
-Mat3 numeric_dfdv(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb, double l0,
-                  double ks, double kd) {
-  Mat3 J;
-  const double eps = 1e-6;
-  for (int c = 0; c < 3; ++c) {
-    Vec3 p = va, m = va;
-    p[c] += eps;
-    m[c] -= eps;
-    J.col(c) = (spring_damper_force(xa, xb, p, vb, l0, ks, kd) - spring_damper_force(xa, xb, m, vb, l0, ks, kd)) / (2 * eps);
+    J.col(c) = (f(p) - f(m)) / (2 * eps);
   }
   return J;
 }
@@ -96,8 +83,8 @@ TEST(SpringJacobian, MatchesFiniteDifferencesStretchedCompressedAndMoving) {
     const double l0 = l * (trial % 2 ? 0.7 : 1.4);  // stretched and compressed
     const double ks = 1000.0, kd = 5.0;
     const SpringJacobian J = spring_damper_jacobian(xa, xb, va, vb, l0, ks, kd);
-    const Mat3 nx = numeric_dfdx(xa, xb, va, vb, l0, ks, kd);
-    const Mat3 nv = numeric_dfdv(xa, xb, va, vb, l0, ks, kd);
+    const Mat3 nx = numeric_jacobian([&](const Vec3& x) { return spring_damper_force(x, xb, va, vb, l0, ks, kd); }, xa);
+    const Mat3 nv = numeric_jacobian([&](const Vec3& v) { return spring_damper_force(xa, xb, v, vb, l0, ks, kd); }, va);
     EXPECT_LT((J.dfdx() - nx).norm(), 1e-5 * (1.0 + nx.norm())) << "trial " << trial;
     EXPECT_LT((J.dfdv - nv).norm(), 1e-6 * (1.0 + nv.norm())) << "trial " << trial;
   }
@@ -115,14 +102,7 @@ TEST(SpringJacobian, OtherEndBlocksAreTheNegatives) {
   // f_a depends on x_a - x_b only, so df_a/dx_b = -df_a/dx_a: check by differencing in x_b.
   const Vec3 xa(0.5, 0.2, 0.1), xb(-0.4, 0.3, 0.2), va(0.3, -0.2, 0.1), vb(-0.1, 0.4, 0.0);
   const SpringJacobian J = spring_damper_jacobian(xa, xb, va, vb, 0.6, 300.0, 4.0);
-  Mat3 n;
-  const double eps = 1e-6;
-  for (int c = 0; c < 3; ++c) {
-    Vec3 p = xb, m = xb;
-    p[c] += eps;
-    m[c] -= eps;
-    n.col(c) = (spring_damper_force(xa, p, va, vb, 0.6, 300.0, 4.0) - spring_damper_force(xa, m, va, vb, 0.6, 300.0, 4.0)) / (2 * eps);
-  }
+  const Mat3 n = numeric_jacobian([&](const Vec3& x) { return spring_damper_force(xa, x, va, vb, 0.6, 300.0, 4.0); }, xb);
   EXPECT_LT((n + J.dfdx()).norm(), 1e-5 * (1.0 + n.norm()));
 }
 
