@@ -85,6 +85,13 @@ RenderFrame make_render_frame(const Model& model, const State& state, const Snap
   return f;
 }
 
+void mark_diverged(RenderFrame& frame, const Divergence& divergence) {
+  char banner[64];
+  std::snprintf(banner, sizeof banner, "DIVERGED at t = %.4g s", divergence.t);
+  frame.banner = banner;
+  frame.overlay_lines.push_back("diverged: " + divergence.reason);
+}
+
 std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t) {
   char buf[96];
   std::vector<std::string> lines;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "diagnostics.h"
 #include "model.h"
 #include "render_frame.h"
 #include "state.h"
@@ -17,6 +18,11 @@ struct SnapshotText {
 };
 
 RenderFrame make_render_frame(const Model& model, const State& state, const SnapshotText& text);
+
+// Turns the last good frame of a run into its frozen frame: the red banner
+// "DIVERGED at t = ... s" and a last overlay line with the reason. What `run` and
+// `compare` show from the moment a run diverges (the diverged state itself is no picture).
+void mark_diverged(RenderFrame& frame, const Divergence& divergence);
 
 // Standard overlay: scene name, integrator, dt and simulated time.
 std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t);

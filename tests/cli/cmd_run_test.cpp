@@ -3,10 +3,12 @@
 // left on disk.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
 #include "cli_process.h"
+#include "png_io.h"
 
 namespace clothsim::testing {
 namespace {
@@ -72,6 +74,33 @@ TEST(CmdRun, DivergenceExitsThreeSayingWhenAndKeepsMetricsButNoState) {
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("stiff.yaml: diverged at step"), std::string::npos) << r.err;
   EXPECT_TRUE(only_files(dir, {"m.csv"}));
+}
+
+TEST(CmdRun, ADivergedRunsFramesFreezeOnItsLastGoodFrame) {
+  const std::string dir = scratch_dir("run_diverged_frames");
+  const CliResult r = run_clothsim({"run", shipped("stiff.yaml"), "--integrator", "explicit_euler", "--frames",
+                                    dir, "--set", "render.width=160", "--set", "render.height=90"});
+  ASSERT_EQ(r.exit_code, 3) << r.err;
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  ASSERT_GE(names.size(), 2u);
+  const Image last = read_png(dir + "/" + names.back());
+  const Image previous = read_png(dir + "/" + names[names.size() - 2]);
+  // The scene below the banner is the previous frame's, pixel for pixel; the exploded state
+  // itself would fill the picture with stretched triangles.
+  for (int y = last.height * 6 / 10; y < last.height; ++y)
+    for (int x = 0; x < last.width; ++x)
+      for (int c = 0; c < 4; ++c)
+        ASSERT_EQ(last.pixel(x, y)[c], previous.pixel(x, y)[c]) << "pixel " << x << ", " << y;
+  // ... and the banner is there: red pixels in the middle band that the previous frame lacks.
+  int red = 0;
+  for (int y = last.height * 4 / 10; y < last.height * 6 / 10; ++y)
+    for (int x = 0; x < last.width; ++x) {
+      const std::uint8_t* p = last.pixel(x, y);
+      red += p[0] > 180 && p[1] < 120 && p[2] < 120 && !(previous.pixel(x, y)[0] == p[0]);
+    }
+  EXPECT_GT(red, 10);
 }
 
 // Runs a bad command and checks: the exit code, one line on stderr containing `expected`,

@@ -28,14 +28,9 @@ struct RunOptions {
   std::string preset = VideoOptions{}.preset;
 };
 
-Image render_now(Renderer& renderer, const Run& run) {
-  SnapshotText text{overlay_lines(run.model(), run.kind(), run.dt(), run.state().t), {}};
-  if (run.diverged()) {
-    char banner[64];
-    std::snprintf(banner, sizeof banner, "DIVERGED at t = %.4g s", run.divergence()->t);
-    text.banner = banner;
-  }
-  return renderer.render(make_render_frame(run.model(), run.state(), text));
+RenderFrame snapshot_of(const Run& run) {
+  const SnapshotText text{overlay_lines(run.model(), run.kind(), run.dt(), run.state().t), {}};
+  return make_render_frame(run.model(), run.state(), text);
 }
 
 int run_command(const RunOptions& o) {
@@ -74,10 +69,11 @@ int run_command(const RunOptions& o) {
   install_interrupt_handler();
   Run run(model, kind, dt);
   Progress progress("run " + model.name, frames, "frames");
+  RenderFrame last_good;  // frame 0 (t = 0) is always good: no step has been taken
   bool still_done = !o.still_t;
   const auto take_still = [&] {
     run.advance_to(*o.still_t);
-    if (!run.diverged()) write_png(o.still_out, render_now(*renderer, run), frame_metadata(model, kind, dt));
+    if (!run.diverged()) write_png(o.still_out, renderer->render(snapshot_of(run)), frame_metadata(model, kind, dt));
     still_done = true;
   };
   for (long k = 0; k < frames; ++k) {
@@ -88,7 +84,11 @@ int run_command(const RunOptions& o) {
     const bool ok = run.advance_to(target);
     if (metrics) metrics->row(run.metrics());
     if (png_sink || video_sink) {
-      const Image image = render_now(*renderer, run);
+      // A run that diverged freezes on its last good frame, as a tile of `compare` does.
+      RenderFrame frame = ok ? snapshot_of(run) : last_good;
+      if (ok) last_good = frame;
+      else mark_diverged(frame, *run.divergence());
+      const Image image = renderer->render(frame);
       if (png_sink) png_sink->add(static_cast<int>(k), run.state().t, image);
       if (video_sink) video_sink->add(static_cast<int>(k), run.state().t, image);
     }

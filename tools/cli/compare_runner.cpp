@@ -93,10 +93,7 @@ void RunWorker::work() {
       if (!ok) {
         const Divergence& d = *run.divergence();
         TileSnapshot frozen{std::move(last_good), true};
-        char banner[64];
-        std::snprintf(banner, sizeof banner, "DIVERGED at t = %.4g s", d.t);
-        frozen.frame.banner = banner;
-        frozen.frame.overlay_lines.push_back("diverged: " + d.reason);
+        mark_diverged(frozen.frame, d);
         push(std::move(frozen));
         break;
       }
