@@ -3,7 +3,7 @@
 #   tools/benchmarks.sh [BUILD_DIR] [OUT_DIR]     # defaults: build, bench-results
 # Google Benchmark targets (engine, integrators, renderer, PNG, encoder; median of 3), then
 # the end-to-end commands timed whole: the default comparison clip and the default
-# work-precision and stability studies of the drape. About 8 minutes on 2 idle cores.
+# work-precision and stability studies of the drape. About 3 minutes on 2 idle cores.
 # The machine should be otherwise idle: figures are recorded as ratios from one run.
 set -eu
 cd "$(dirname "$0")/.."
