@@ -67,7 +67,7 @@ StabilityLimit largest_stable_dt(const Model& model_in, IntegratorKind kind, con
   const auto stable = [&](double dt) {
     const StudyRun run = run_to(model, kind, dt, spec.duration, stop);
     ++out.trials;
-    out.cpu_seconds += run.cpu_seconds;
+    out.cpu_seconds += run.totals.cpu_seconds;
     if (run.stopped) stopped = true;
     if (run.finished) {
       if (!(out.stable_dt >= dt)) out.stable_dt = dt;

@@ -26,8 +26,6 @@ StudyRun run_to(const Model& model, IntegratorKind kind, double dt, double T,
   out.finished = !out.stopped && !run.diverged();
   out.divergence = run.divergence();
   out.totals = run.totals();
-  out.wall_seconds = run.totals().sim_seconds;
-  out.cpu_seconds = run.totals().cpu_seconds;
   out.final_state = run.state();
   return out;
 }

@@ -19,9 +19,7 @@ struct StudyRun {
   bool finished = false;                 // reached T (false: diverged or stopped)
   bool stopped = false;                  // `stop` returned true before T
   std::optional<Divergence> divergence;  // set when the run diverged
-  RunTotals totals;
-  double wall_seconds = 0.0;             // stepping only (Run's own clock)
-  double cpu_seconds = 0.0;              // CPU time of this thread over the whole run
+  RunTotals totals;                      // steps, evaluations, wall and thread-CPU seconds
   State final_state;                     // the state at T (or where the run stopped)
 };
 

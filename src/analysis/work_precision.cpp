@@ -166,8 +166,8 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
     p.force_evals = run.totals.force_evals;
     p.newton_iterations = run.totals.newton_iterations;
     p.cg_iterations = run.totals.cg_iterations;
-    p.wall_seconds = run.wall_seconds;
-    p.cpu_seconds = run.cpu_seconds;
+    p.wall_seconds = run.totals.sim_seconds;
+    p.cpu_seconds = run.totals.cpu_seconds;
     if (p.finished && fine.finished) {
       const PositionError e = position_error(model, run.final_state.x, fine.final_state.x, fine.final_state.inv_mass);
       p.rms_error = e.rms;

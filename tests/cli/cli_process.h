@@ -37,36 +37,44 @@ inline std::string slurp(const std::string& path) {
   return s.str();
 }
 
+// Where one run's stdout and stderr are captured, and collecting them into a CliResult
+// (the files are removed) once the process has ended with wait status `status`.
+struct Capture {
+  std::string out, err;
+  Capture() {
+    namespace fs = std::filesystem;
+    static int counter = 0;
+    const fs::path dir = fs::path(CLOTHSIM_TEST_OUTPUT_DIR) / "cli_capture";
+    fs::create_directories(dir);
+    const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(counter++);
+    out = (dir / ("out_" + tag)).string();
+    err = (dir / ("err_" + tag)).string();
+  }
+  CliResult collect(int status) const {
+    CliResult result;
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    result.out = slurp(out);
+    result.err = slurp(err);
+    std::filesystem::remove(out);
+    std::filesystem::remove(err);
+    return result;
+  }
+};
+
 inline CliResult run_clothsim(const std::vector<std::string>& args, const std::string& prefix = "") {
-  namespace fs = std::filesystem;
-  static int counter = 0;
-  const fs::path dir = fs::path(CLOTHSIM_TEST_OUTPUT_DIR) / "cli_capture";
-  fs::create_directories(dir);
-  const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(counter++);
-  const std::string out = (dir / ("out_" + tag)).string(), err = (dir / ("err_" + tag)).string();
+  const Capture capture;
   std::string command = prefix.empty() ? "" : prefix + " ";
   command += shell_quote(CLOTHSIM_BINARY);
   for (const auto& a : args) command += " " + shell_quote(a);
-  command += " >" + shell_quote(out) + " 2>" + shell_quote(err) + " </dev/null";
-  const int status = std::system(command.c_str());
-  CliResult result;
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  result.out = slurp(out);
-  result.err = slurp(err);
-  fs::remove(out);
-  fs::remove(err);
-  return result;
+  command += " >" + shell_quote(capture.out) + " 2>" + shell_quote(capture.err) + " </dev/null";
+  return capture.collect(std::system(command.c_str()));
 }
 
 // Starts clothsim, sends it one SIGINT after `seconds` (as Ctrl-C in a terminal does: once,
 // to the process; `timeout -s INT` would also signal its whole process group, and a second
 // SIGINT kills by design), and waits for it.
 inline CliResult run_clothsim_interrupted(const std::vector<std::string>& args, double seconds) {
-  namespace fs = std::filesystem;
-  const fs::path dir = fs::path(CLOTHSIM_TEST_OUTPUT_DIR) / "cli_capture";
-  fs::create_directories(dir);
-  const std::string tag = std::to_string(::getpid()) + "_int";
-  const std::string out = (dir / ("out_" + tag)).string(), err = (dir / ("err_" + tag)).string();
+  const Capture capture;
   std::vector<std::string> argv_strings = {CLOTHSIM_BINARY};
   argv_strings.insert(argv_strings.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -74,8 +82,8 @@ inline CliResult run_clothsim_interrupted(const std::vector<std::string>& args, 
   argv.push_back(nullptr);
   const pid_t pid = ::fork();
   if (pid == 0) {
-    const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int o = ::open(capture.out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = ::open(capture.err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     ::dup2(o, 1);
     ::dup2(e, 2);
     ::execv(argv[0], argv.data());
@@ -85,13 +93,7 @@ inline CliResult run_clothsim_interrupted(const std::vector<std::string>& args, 
   ::kill(pid, SIGINT);
   int status = 0;
   ::waitpid(pid, &status, 0);
-  CliResult result;
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  result.out = slurp(out);
-  result.err = slurp(err);
-  fs::remove(out);
-  fs::remove(err);
-  return result;
+  return capture.collect(status);
 }
 
 // Number of lines in `text` (a message must be one line).

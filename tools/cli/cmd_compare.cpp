@@ -91,7 +91,7 @@ void print_summary(const Model& model, const std::vector<RunSummary>& runs) {
       std::snprintf(result, sizeof result, "ok to t = %.4g s", r.t);
     std::printf("%-17s %10.3g %10" PRId64 " %13" PRId64 " %9.3f %14.1f  %s\n",
                 std::string(integrator_name(r.kind)).c_str(), r.dt, r.totals.steps,
-                r.totals.force_evals, r.cpu_seconds, simulated > 0 ? 1e3 * r.cpu_seconds / simulated : 0.0,
+                r.totals.force_evals, r.totals.cpu_seconds, simulated > 0 ? 1e3 * r.totals.cpu_seconds / simulated : 0.0,
                 result);
   }
 }
@@ -262,7 +262,7 @@ int compare_command(const CompareOptions& o) {
   for (auto& w : workers) {
     w->join();
     runs.push_back(w->summary());
-    sim_cpu += runs.back().cpu_seconds;
+    sim_cpu += runs.back().totals.cpu_seconds;
   }
   print_summary(model, runs);
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();

@@ -104,7 +104,6 @@ void RunWorker::work() {
     std::lock_guard<std::mutex> lock(mutex_);
     summary_.t = last_good_t;
     summary_.totals = run.totals();
-    summary_.cpu_seconds = run.totals().cpu_seconds;
     summary_.divergence = run.divergence();
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -32,8 +32,7 @@ struct RunSummary {
   IntegratorKind kind{};
   double dt = 0.0;
   double t = 0.0;             // simulated time reached (the last good state's when diverged)
-  RunTotals totals;
-  double cpu_seconds = 0.0;   // CPU time of the stepping thread (not inflated by sharing cores)
+  RunTotals totals;           // cpu_seconds: the stepping thread's, not inflated by sharing cores
   std::optional<Divergence> divergence;
 };
 

@@ -67,6 +67,16 @@ inline void expect_whole_state_integrated(IntegratorKind kind, double fall_steps
   EXPECT_GT((state.x.leftCols(model.num_particles) - start.x.leftCols(model.num_particles)).norm(), 0.0);
 }
 
+// Every step (of a scene with cloth and both kinds of sphere) costs exactly `evals` force
+// evaluations, and nominal_force_evals() says so too.
+inline void expect_force_evals_per_step(IntegratorKind kind, int evals) {
+  const Model model = sheet_with_two_spheres();
+  State state = initial_state(model);
+  Workspace ws;
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(step(model, state, kind, 1e-4, ws).stats.force_evals, evals);
+  EXPECT_EQ(nominal_force_evals(kind), evals);
+}
+
 // stiff.yaml is run at a step four to five times every explicit method's limit: the method
 // must be stopped by divergence detection early, not run to the end.
 inline void expect_diverges_early_on_the_stiff_scene(IntegratorKind kind) {
