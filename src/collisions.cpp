@@ -68,6 +68,7 @@ ContactCounts resolve_collisions(const Model& model, State& state) {
       exchange_impulse(state, p, b, n, model.sphere_restitution[s], model.sphere_friction[s]);
       separate(state, p, b, n, reach - dist);
       ++counts.cloth_sphere;
+      if (state.inv_mass[b] == 0.0 && state.inv_mass[p] > 0.0) ++counts.projected;
     }
   }
 
@@ -101,7 +102,10 @@ ContactCounts resolve_collisions(const Model& model, State& state) {
       const double gap = state.x(1, p) - (h + margin);
       if (gap >= 0.0) continue;
       exchange_impulse(state, p, -1, n, model.ground.restitution, model.ground.friction);
-      if (state.inv_mass[p] > 0.0) state.x(1, p) -= gap;
+      if (state.inv_mass[p] > 0.0) {
+        state.x(1, p) -= gap;
+        ++counts.projected;
+      }
       ++counts.cloth_ground;
     }
     for (int s = 0; s < model.num_spheres; ++s) {

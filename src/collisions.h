@@ -26,6 +26,8 @@ struct ContactCounts {
   int cloth_ground = 0;
   int sphere_sphere = 0;
   int sphere_ground = 0;
+  int projected = 0;  // movable particles pushed out of an immovable collider (the ground, a
+                      // kinematic sphere): for implicit_euler, contacts its solve missed
   int total() const { return cloth_sphere + cloth_ground + sphere_sphere + sphere_ground; }
 };
 

@@ -31,27 +31,44 @@ double max_strain(const Model& model, const State& state) {
   return worst;
 }
 
-std::optional<Divergence> check_divergence(const Model& model, const State& state, bool full) {
-  const auto diverged = [&](std::string reason) {
-    return std::optional<Divergence>(Divergence{state.step, state.t, std::move(reason)});
+std::optional<Divergence> check_bodies(const Model& model, const State& state) {
+  const auto diverged = [&](const char* what, int body) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s (body %d)", what, body);
+    return std::optional<Divergence>(Divergence{state.step, state.t, buf});
   };
-  if (!state.x.allFinite()) return diverged("non-finite position");
-  if (!state.v.allFinite()) return diverged("non-finite velocity");
-  if (!full) return std::nullopt;
-  char buf[160];
-  const double strain = max_strain(model, state);
-  if (strain > model.divergence.max_strain) {
-    std::snprintf(buf, sizeof buf, "spring strain %.3g exceeds the bound %.3g", strain,
-                  model.divergence.max_strain);
-    return diverged(buf);
+  double kinetic = 0.0;
+  for (int b = 0; b < model.num_bodies(); ++b) {
+    if (!state.x.col(b).allFinite()) return diverged("non-finite position", b);
+    if (!state.v.col(b).allFinite()) return diverged("non-finite velocity", b);
+    if (!std::isfinite(model.mass[b])) continue;  // kinematic spheres carry no energy of ours
+    kinetic += 0.5 * model.mass[b] * state.v.col(b).squaredNorm();
+    if (model.gravity_on[b] && !std::isfinite(model.mass[b] * model.gravity.dot(state.x.col(b))))
+      return diverged("non-finite gravitational energy", b);
   }
-  const double kinetic = compute_energies(model, state).kinetic;
+  if (!std::isfinite(kinetic))
+    return std::optional<Divergence>(Divergence{state.step, state.t, "non-finite kinetic energy"});
   const double bound = model.divergence.max_energy_factor * model.energy_scale;
   if (kinetic > bound) {
+    char buf[160];
     std::snprintf(buf, sizeof buf, "kinetic energy %.3g J exceeds the bound %.3g J", kinetic, bound);
-    return diverged(buf);
+    return std::optional<Divergence>(Divergence{state.step, state.t, buf});
   }
   return std::nullopt;
+}
+
+std::optional<Divergence> check_strain(const Model& model, double strain, std::int64_t step,
+                                       double t) {
+  if (strain <= model.divergence.max_strain) return std::nullopt;  // NaN falls through
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "spring strain %.3g exceeds the bound %.3g", strain,
+                model.divergence.max_strain);
+  return Divergence{step, t, buf};
+}
+
+std::optional<Divergence> check_divergence(const Model& model, const State& state) {
+  if (auto bad = check_bodies(model, state)) return bad;
+  return check_strain(model, max_strain(model, state), state.step, state.t);
 }
 
 }  // namespace clothsim

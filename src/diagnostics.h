@@ -27,8 +27,19 @@ struct Divergence {
   std::string reason;   // e.g. "non-finite position", "strain 12.3 > 10"
 };
 
-// Checks a state against the model's bounds: non-finite values (always), then strain and
-// kinetic energy (when `full`, as they cost a pass over the springs).
-std::optional<Divergence> check_divergence(const Model& model, const State& state, bool full);
+// Divergence is checked after every step, in two parts that together cost one pass over the
+// bodies and none over the springs:
+//  - check_bodies: non-finite positions or velocities, a non-finite kinetic or gravitational
+//    energy, kinetic energy past max_energy_factor x the scene's energy scale;
+//  - check_strain: a strain some force pass already measured (every integrator's first force
+//    evaluation is at the state its step starts from, so a step reports the strain of that
+//    state: a stretched state is found one step after it was reached, and reported with its
+//    own step and time, so the result does not depend on when anything else looks).
+std::optional<Divergence> check_bodies(const Model& model, const State& state);
+std::optional<Divergence> check_strain(const Model& model, double strain, std::int64_t step,
+                                       double t);
+// Both, measuring the strain with a pass over the springs: for a state no force pass has
+// seen (the end of a run, an output frame).
+std::optional<Divergence> check_divergence(const Model& model, const State& state);
 
 }  // namespace clothsim

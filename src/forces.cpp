@@ -9,8 +9,8 @@ namespace clothsim {
 // The hot loop of every integrator. Springs are streamed as a structure of arrays; the
 // kernel is written out (rather than calling spring_damper_force) so that the compiler keeps
 // everything in registers and the one sqrt and one division per spring are explicit.
-void accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& x,
-                              const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
+double accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& x,
+                                const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
   const std::size_t n = springs.size();
   const std::int32_t* ia = springs.a.data();
   const std::int32_t* ib = springs.b.data();
@@ -20,11 +20,13 @@ void accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& x,
   const double* px = x.data();
   const double* pv = v.data();
   double* pf = f.data();
+  double ratio = 1.0;  // largest l / l0 so far; the division runs only when it grows
   for (std::size_t s = 0; s < n; ++s) {
     const std::size_t a = 3 * static_cast<std::size_t>(ia[s]);
     const std::size_t b = 3 * static_cast<std::size_t>(ib[s]);
     const double dx = px[a] - px[b], dy = px[a + 1] - px[b + 1], dz = px[a + 2] - px[b + 2];
     const double l = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (l > ratio * rest[s] || l != l) ratio = l / rest[s];  // a NaN length sticks: NaN > r is false
     if (l <= 0.0) continue;  // coincident particles: no direction, no force (as the kernel)
     const double inv_l = 1.0 / l;
     const double ux = dx * inv_l, uy = dy * inv_l, uz = dz * inv_l;
@@ -40,13 +42,14 @@ void accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& x,
     pf[b + 1] -= fy;
     pf[b + 2] -= fz;
   }
+  return ratio - 1.0;
 }
 
-void total_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
-                  const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& f) {
+double total_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
+                    const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& f) {
   const int B = model.num_bodies();
   f.setZero(3, B);
-  accumulate_spring_forces(model.springs, x, v, f);
+  const double strain = accumulate_spring_forces(model.springs, x, v, f);
   const double drag = model.air_drag;
   for (int i = 0; i < B; ++i) {
     if (inv_mass[i] == 0.0) {  // pinned particle or kinematic sphere: filtered
@@ -56,12 +59,14 @@ void total_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Ma
     if (model.gravity_on[i]) f.col(i) += model.mass[i] * model.gravity;
     if (i < model.num_particles && drag != 0.0) f.col(i) -= drag * v.col(i);  // air acts on cloth
   }
+  return strain;
 }
 
-void accelerations(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
-                   const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& a) {
-  total_forces(model, x, v, inv_mass, a);
+double accelerations(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
+                     const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& a) {
+  const double strain = total_forces(model, x, v, inv_mass, a);
   a.array().rowwise() *= inv_mass.transpose().array();  // a_i = f_i / m_i, 0 where immovable
+  return strain;
 }
 
 }  // namespace clothsim

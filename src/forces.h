@@ -9,17 +9,21 @@
 
 namespace clothsim {
 
-// f (3 x B) += the spring-damper forces of every spring at (x, v).
-void accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& x,
+// f (3 x B) += the spring-damper forces of every spring at (x, v). Returns the largest
+// strain (l - l0) / l0 over the springs at x (0 when none is stretched): the divergence check
+// reads it off the step's first force evaluation instead of a second pass over the springs.
+double accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& x,
                               const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f);
 
 // Total force (3 x B) at (x, v): springs, gravity m g on bodies with gravity, drag -c v on
 // cloth particles. Immovable bodies (inv_mass 0) get zero force: they are filtered here.
-void total_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
+// Returns the springs' largest strain at x, as accumulate_spring_forces.
+double total_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                   const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& f);
 
-// a = M^-1 f (3 x B): zero for immovable bodies, so they keep their velocity.
-void accelerations(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
+// a = M^-1 f (3 x B): zero for immovable bodies, so they keep their velocity. Returns the
+// springs' largest strain at x.
+double accelerations(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                    const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& a);
 
 }  // namespace clothsim

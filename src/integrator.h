@@ -22,6 +22,9 @@ struct StepStats {
   int cg_iterations = 0;      // summed over the step's linear solves
   double residual = 0.0;      // final relative residual of the implicit solve
   bool converged = true;      // false when a solve hit its iteration cap above tolerance
+  double start_strain = 0.0;  // largest (l - l0) / l0 of the state the step started from, read
+                              // off the step's first force evaluation (no extra spring pass)
+  int contact_constraints = 0;  // implicit_euler: contacts held inside the solve this step
 };
 
 struct ImplicitCache;  // the implicit solver's sparse pattern and buffers (implicit_euler.cpp)
@@ -30,8 +33,10 @@ struct ImplicitCacheDeleter {  // defined beside ImplicitCache, so the type stay
 };
 
 // Scratch space owned by one run, so steps allocate nothing. Integrators size what they use.
+// Nothing in it carries from one step to the next but sizes and patterns (what does, the
+// implicit warm start, lives in State).
 struct Workspace {
-  Eigen::Matrix3Xd a, x1, v1, a1, x2, v2, a2, x3, v3, a3, dx, dv;  // (3 x B) scratch
+  Eigen::Matrix3Xd a, x1, v1, a1, x2, v2, a2, a3;  // (3 x B) scratch
   std::unique_ptr<ImplicitCache, ImplicitCacheDeleter> implicit;
 };
 

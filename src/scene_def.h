@@ -98,7 +98,7 @@ enum class ImplicitSolver { Newton, FixedPoint };
 
 struct ImplicitDef {
   ImplicitSolver solver = ImplicitSolver::Newton;
-  int newton_max_iterations = 10;  // 1 = Baraff-Witkin's single linearised step
+  int newton_max_iterations = 20;  // per step; 1 = Baraff-Witkin's single linearised step
   double newton_tolerance = 1e-6;  // on |M dv - h f(x+h(v+dv), v+dv)| relative to |h f|
   int cg_max_iterations = 200;
   double cg_tolerance = 1e-8;      // relative residual of each linear solve

@@ -37,6 +37,9 @@ struct RunTotals {
   std::int64_t cg_iterations = 0;
   std::int64_t unconverged_steps = 0;   // implicit solves that hit their cap
   double max_residual = 0.0;            // largest final residual of any step
+  std::int64_t contact_constraints = 0; // implicit_euler: contacts held inside the solves
+  std::int64_t safety_projections = 0;  // implicit_euler: particles the post-step projection
+                                        // still had to move (contacts the solve missed)
   double sim_seconds = 0.0;             // wall time spent stepping
   double cpu_seconds = 0.0;             // CPU time of the stepping thread: what the run costs
                                         // with a core to itself, even when runs share cores

@@ -42,6 +42,45 @@ struct SpringJacobian {
 SpringJacobian spring_damper_jacobian(const Vec3& xa, const Vec3& xb, const Vec3& va,
                                       const Vec3& vb, double rest, double ks, double kd);
 
+// The spring-damper over one backward-Euler step of size h, as implicit_euler solves it.
+// The damper's rate is the step's finite difference of the length, (l - ln) / h, with ln the
+// length at the start of the step, in place of the instantaneous (v_a - v_b) . u:
+//     f_a = -T u,   T = ks (l - l0) + (kd / h) (l - ln)        (tension, N)
+// Then the force is minus the gradient of one potential of the end-of-step positions,
+//     E = 0.5 ks (l - l0)^2 + (kd / 2h) (l - ln)^2,
+// a spring of stiffness ks + kd/h about a blend of l0 and ln, so backward Euler becomes the
+// minimisation of a scalar (Gast et al. 2015) with a symmetric Hessian. Its block for x_a is
+//     K = (ks + kd/h) P + (T / l) (I - P),     P = u u^T,
+// (df_a/dx_a = -K), positive semi-definite except across a spring whose tension is negative;
+// projecting it (T / l clamped at 0) keeps every block PSD (Martin et al. 2011's per-element
+// projection). The two damper rates agree to first order in h: the finite difference is the
+// length rate averaged over the step, while u_{n+1} . (v_a - v_b)_{n+1} also counts a rigid
+// rotation by theta as a shortening l (1 - cos theta), which the continuous damper does not.
+inline double step_spring_tension(double l, double rest, double start_length, double ks,
+                                  double kd, double h) {
+  return ks * (l - rest) + (kd / h) * (l - start_length);
+}
+inline double step_spring_energy(double l, double rest, double start_length, double ks, double kd,
+                                 double h) {
+  const double stretch = l - rest, rate = l - start_length;
+  return 0.5 * ks * stretch * stretch + 0.5 * (kd / h) * rate * rate;
+}
+// K above for the spring (a, b) at end-of-step separation d = x_a - x_b; with `project`, the
+// transverse coefficient T / l is clamped at 0 (the PSD projection). A zero-length spring has
+// no direction: K = (ks + kd/h) I, an isotropic stand-in.
+inline Mat3 step_spring_hessian(const Vec3& d, double rest, double start_length, double ks,
+                                double kd, double h, bool project) {
+  const double axial = ks + kd / h;
+  const double l = d.norm();
+  if (l <= 0.0) return axial * Mat3::Identity();
+  const Vec3 u = d / l;
+  double transverse = step_spring_tension(l, rest, start_length, ks, kd, h) / l;
+  if (project && transverse < 0.0) transverse = 0.0;
+  Mat3 K = (axial - transverse) * (u * u.transpose());  // closed form: no 3x3 products
+  K.diagonal().array() += transverse;
+  return K;
+}
+
 // Potential energy 0.5 ks (l - l0)^2, J.
 inline double spring_energy(const Vec3& xa, const Vec3& xb, double rest, double ks) {
   const double e = (xa - xb).norm() - rest;

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <vector>
 
 #include "model.h"
 
@@ -16,6 +17,12 @@ struct State {
   double t = 0.0;             // s
   std::int64_t step = 0;      // steps taken
   std::size_t next_action = 0;  // index into model.timeline of the first action not yet applied
+  // implicit_euler's solver state, kept here (not in scratch) so a copied State continues bit
+  // for bit: its last step's velocity change, the next step's first guess (3 x B, empty
+  // before one), and the particles its contacts held at the end of that step (the active
+  // set's first guess).
+  Eigen::Matrix3Xd implicit_dv;
+  std::vector<std::int32_t> implicit_held;
 };
 
 // The state at t = 0, with the actions scheduled at t = 0 applied.

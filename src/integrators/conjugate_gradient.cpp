@@ -20,7 +20,10 @@ void precondition(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& r, Eigen::
 }  // namespace
 
 CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
-                   const CgSettings& settings, CgBuffers& buf) {
+                   const CgSettings& settings, CgBuffers& buf, const VelocityFilter* filter) {
+  const auto filtered = [filter](Eigen::Matrix3Xd& v) {
+    if (filter) filter->apply(v);
+  };
   CgResult result;
   const double b_norm = b.norm();
   if (b_norm == 0.0) {  // x = 0 is exact
@@ -31,23 +34,28 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   // actually needs (a Newton step needs its linear solve no more accurate than its own test).
   const double stop = std::max(settings.tolerance * b_norm, settings.absolute_tolerance);
   if (settings.from_guess && x.cols() == b.cols() && x.allFinite()) {
+    filtered(x);
     multiply(A, x, buf.q);  // a warm start: r = b - A x from the caller's guess
     buf.r = b - buf.q;
   } else {
     x.setZero(3, b.cols());
     buf.r = b;
   }
+  filtered(buf.r);
   double r_norm = buf.r.norm();
   result.relative_residual = r_norm / b_norm;
   if (r_norm <= stop) return result;  // the guess is already good enough
   precondition(A, buf.r, buf.z);
+  filtered(buf.z);
   buf.p = buf.z;
   double rz = dot(buf.r, buf.z);
   while (result.iterations < settings.max_iterations) {
     multiply(A, buf.p, buf.q);
+    filtered(buf.q);
     const double pq = dot(buf.p, buf.q);
     if (!(pq > 0.0)) {  // A is not positive definite along p (or NaN): CG cannot go on
       result.converged = false;
+      result.negative_curvature = true;
       return result;
     }
     const double alpha = rz / pq;
@@ -58,6 +66,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
     result.relative_residual = r_norm / b_norm;
     if (r_norm <= stop) return result;
     precondition(A, buf.r, buf.z);
+    filtered(buf.z);
     const double rz_next = dot(buf.r, buf.z);
     buf.p = buf.z + (rz_next / rz) * buf.p;
     rz = rz_next;

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "integrators/sparse_system.h"
+#include "integrators/velocity_filter.h"
 
 namespace clothsim {
 
@@ -20,6 +21,8 @@ struct CgResult {
   int iterations = 0;
   double relative_residual = 0.0;  // |b - A x| / |b| as CG's recurrence tracks it
   bool converged = true;           // false: hit max_iterations above tolerance, or A not SPD
+  bool negative_curvature = false; // stopped at a direction p with p^T A p <= 0 (x is the
+                                   // iterate before it: 0 if it was the first)
 };
 
 struct CgSettings {
@@ -29,8 +32,14 @@ struct CgSettings {
   bool from_guess = false;          // start from the x passed in (warm start) rather than 0
 };
 
-// Solves A x = b, stopping at either tolerance or after max_iterations.
+// Solves A x = b, stopping at either tolerance, after max_iterations, or at the first
+// direction of non-positive curvature (A indefinite: Steihaug's truncation). With a filter, solves
+// S A S x = S b for x in the range of S (Baraff & Witkin's modified PCG): the residual, the
+// preconditioned residual and A p are filtered, so x never moves along a held normal.
+// Started from zero, every iterate x_k is a descent direction for the quadratic
+// 0.5 x^T A x - b^T x's gradient at 0 (b . x_k > 0), whatever the iteration it stops at.
 CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
-                   const CgSettings& settings, CgBuffers& buffers);
+                   const CgSettings& settings, CgBuffers& buffers,
+                   const VelocityFilter* filter = nullptr);
 
 }  // namespace clothsim

@@ -8,11 +8,12 @@
 namespace clothsim {
 
 StepStats explicit_euler_step(const Model& model, State& state, double h, Workspace& ws) {
-  accelerations(model, state.x, state.v, state.inv_mass, ws.a);  // a_n, before anything moves
+  const double strain = accelerations(model, state.x, state.v, state.inv_mass, ws.a);  // a_n
   state.x += h * state.v;                                         // with v_n, not v_{n+1}
   state.v += h * ws.a;
   StepStats stats;
   stats.force_evals = 1;
+  stats.start_strain = strain;
   return stats;
 }
 

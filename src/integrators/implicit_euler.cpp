@@ -2,37 +2,43 @@
 //     v_{n+1} = v_n + h a(x_{n+1}, v_{n+1}),   x_{n+1} = x_n + h v_{n+1}.
 // First order and unconditionally stable: for x'' = -w^2 x its amplification 1 / (1 - z),
 // z = i w h, has modulus 1 / sqrt(1 + (w h)^2) < 1, so it loses energy at every step size.
-// Writing v_{n+1} = v_n + dv, the step is the root of the residual
-//     r(dv) = M dv - h f(x_n + h (v_n + dv), v_n + dv).
 //
-// solver: newton (default). Newton's method on r with the spring Jacobians, each linear
-// system A ddv = -r, A = M - h df/dv - h^2 df/dx, solved by block-Jacobi PCG in the fixed
-// pattern of sparse_system.h (the symmetric stiffness part of df/dx; for compressed springs
-// exact first, clamped if CG fails on it: see solve_newton_system).
-// The first iterate is Baraff & Witkin 1998's step (eq. 16): linearised about (x_n, v_n),
-//     A dv = h (f_n + h (df/dx) v_n), the matrix approximated (below), (df/dx) v_n exact.
-// Every iterate is then judged by the true nonlinear residual |r(dv)|, relative to
-// max(|h f_n|, |M dv|) over movable bodies (floored at the rounding level of f: see
-// newton_step); below newton_tolerance backward Euler is solved. Until then each further
-// iterate is a Newton correction with A rebuilt at the current guess.
-// Because A is only the symmetric part of the Jacobian this is an inexact Newton method:
-// convergence is linear rather than quadratic when dampers are strong, but the residual
-// test keeps "converged" honest. newton_max_iterations = 1 is Baraff & Witkin's method.
+// solver: newton (default). The equation solved is step_potential.h's: backward Euler with
+// each damper's rate taken over the step, (l_{n+1} - l_n) / h, which makes the residual
+//     r(dv) = M dv - h f(x_n + h (v_n + dv), v_n + dv)
+// the gradient of a potential Phi(dv) (Gast et al. 2015). It is minimised by Newton's method:
+//  - each direction solves H d = -r, H the Hessian of Phi with every spring's block projected
+//    positive semi-definite (sparse_system.h), by block-Jacobi PCG; H is SPD, so CG cannot
+//    break down and d descends Phi wherever CG stops (an inexact Newton method whose CG
+//    tolerance tightens as r falls: Eisenstat and Walker's forcing term sqrt(|r|));
+//  - a backtracking (Armijo) line search on Phi takes the step, so every iterate lowers Phi
+//    and the iteration converges from any start at any step size (Nocedal & Wright, ch. 3);
+//  - contacts with the ground and kinematic spheres are constraints of the minimisation,
+//    held by filtering (step_contacts.h), found as an active set.
+// It starts from y = x_n (dv = -v_n), so its first iterate is Baraff & Witkin 1998's step:
+// the system linearised about the start of the step. newton_max_iterations = 1 takes that step
+// whole, without line search or active-set rounds: Baraff & Witkin's method.
+// The step is converged when |S r|, S the contact filter, is at most newton_tolerance times
+// max(|h f(x_n)|, |M dv|) over movable bodies (floored at the rounding level of f: below).
 //
 // solver: fixed_point. K fixed-point iterations y <- y_n + h F(y) on the whole state
-// y = (x, v), from the forward-Euler predictor y = y_n + h F(y_n). Their fixed point is
-// backward Euler, but the iteration only contracts when h |dF/dy| < 1: for the linear test
-// equation K iterations give the amplification 1 + z + ... + z^{K+1}, so K = 1 (the course
-// framework's "implicit" integrator) has 1 + z + z^2, which on the oscillator (z = i w h)
-// is stable only for w h <= 1. It exists so users can see that difference.
+// y = (x, v), from the forward-Euler predictor y = y_n + h F(y_n), with the dampers'
+// instantaneous rate (spring_force.h's seed formula). Their fixed point is backward Euler,
+// but the iteration only contracts when h |dF/dy| < 1: for the linear test equation K
+// iterations give the amplification 1 + z + ... + z^{K+1}, so K = 1 (the course framework's
+// "implicit" integrator) has 1 + z + z^2, which on the oscillator (z = i w h) is stable only
+// for w h <= 1. It exists so users can see that difference.
 //
 // StepStats, newton:
-//   force_evals        total_forces() calls: 1 at (x_n, v_n) + 1 residual check per iterate.
-//   newton_iterations  linear solves, each preceded by one Jacobian assembly (1 = B & W).
+//   force_evals        evaluations of Phi and r (each a pass over the springs, as a force
+//                      evaluation): 1 at the start + 1 per line-search trial + 1 per
+//                      active-set round.
+//   newton_iterations  linear solves, each preceded by one Hessian assembly (1 = B & W).
 //   cg_iterations      PCG iterations summed over those solves (each one block mat-vec).
-//   residual           the final relative nonlinear residual (above).
-//   converged          residual <= newton_tolerance. A CG solve that stops at its cap does
-//                      not by itself fail the step: the next residual check decides.
+//   residual           the final relative residual |S r| / scale.
+//   converged          residual <= newton_tolerance within newton_max_iterations (counted
+//                      over the whole step, active-set rounds included).
+//   contact_constraints  particles held on a collider's plane at the end of the solve.
 // StepStats, fixed_point:
 //   force_evals = 1 + K, newton_iterations = K, cg_iterations = 0,
 //   residual = |v_K - v_{K-1}| / |v_K - v_n| (how far the last iteration still moved v),
@@ -45,22 +51,41 @@
 #include "integrator.h"
 #include "integrators/conjugate_gradient.h"
 #include "integrators/sparse_system.h"
+#include "integrators/step_contacts.h"
+#include "integrators/step_potential.h"
 
 namespace clothsim {
 
 // The sparse pattern and the buffers the Newton solve needs, built once per model (the
 // Workspace belongs to one run, so to one model) and resized only if the body count changes.
+// Scratch only: nothing here carries from one step to the next.
 struct ImplicitCache {
   const Model* model = nullptr;
   double force_scale = 0.0;  // N, sqrt(sum_s (ks_s l0_s)^2): the size of the spring forces' terms
   SpringBlockMatrix A;
-  Eigen::Matrix3Xd rhs, ddv, Jv, residual;  // (3 x B)
+  std::vector<double> start_length;  // (S) l_n
+  StepContacts contacts;
+  Eigen::Matrix3Xd dv, y, r;            // (3 x B) the iterate, its end positions and residual
+  Eigen::Matrix3Xd dv_try, y_try, r_try;  // (3 x B) a line-search trial
+  Eigen::Matrix3Xd d, rhs;              // (3 x B) the Newton direction and -S r
   CgBuffers cg;
 };
 
 void ImplicitCacheDeleter::operator()(ImplicitCache* cache) const { delete cache; }
 
 namespace {
+
+// Line search: Armijo's sufficient decrease, halving from the full Newton step.
+constexpr double kArmijo = 1e-4;
+constexpr int kMaxHalvings = 30;
+// Active-set rounds (let go / take in) after the first solve of a step.
+constexpr int kMaxContactRounds = 4;
+// The largest CG forcing term (relative tolerance of a Newton direction).
+constexpr double kMaxForcing = 0.1;
+// The relative residual below which contacts are let go during a solve.
+constexpr double kReleaseResidual = 1e-2;
+// The mass-proportional shifts tried when the exact Hessian is indefinite.
+constexpr double kFirstShift = 1e-3, kLastShift = 10.0;
 
 ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   if (!ws.implicit) ws.implicit.reset(new ImplicitCache);
@@ -77,20 +102,6 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   return c;
 }
 
-// r = M dv - h f over movable bodies (f is zero on immovable ones and dv stays zero there).
-void nonlinear_residual(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv,
-                        const Eigen::Matrix3Xd& f, double h, Eigen::Matrix3Xd& r) {
-  const int B = static_cast<int>(inv_mass.size());
-  r.resize(3, B);
-  for (int i = 0; i < B; ++i) {
-    if (inv_mass[i] == 0.0) {
-      r.col(i).setZero();
-    } else {
-      r.col(i).noalias() = dv.col(i) / inv_mass[i] - h * f.col(i);
-    }
-  }
-}
-
 double momentum_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv) {
   double sum = 0.0;
   for (Eigen::Index i = 0; i < inv_mass.size(); ++i) {
@@ -99,94 +110,216 @@ double momentum_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv
   return std::sqrt(sum);
 }
 
-// One linear solve of a Newton iteration at (x, v): A ddv = rhs, with rhs = h (f_n + h (df/dx) v)
-// for Baraff & Witkin's first iterate (f_n in `first_force`) or -r for a correction.
-// The exact stiffness is tried first: it is the true Jacobian, so Newton converges fastest
-// with it, and CG succeeds whenever A stays positive definite, as it does unless springs
-// are compressed hard at a large step. If CG breaks down (non-positive curvature) or misses
-// its tolerance, A is rebuilt with compression clamped, which is positive definite by
-// construction (sparse_system.h), and the solve repeated from zero.
-// `accuracy` is the absolute residual (momentum, kg m/s) the Newton test can resolve: CG
-// stops there even above cg_tolerance, since solving the linearisation more finely than the
-// nonlinear equations are judged buys nothing (an inexact Newton method's forcing term).
-// `from_guess` starts CG from `solution` as passed in (the previous step's dv).
-void solve_newton_system(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
-                         const Eigen::VectorXd& w, double h, const Eigen::Matrix3Xd* first_force,
-                         double accuracy, bool from_guess, ImplicitCache& c,
-                         Eigen::Matrix3Xd& solution, StepStats& stats) {
-  const ImplicitDef& cfg = model.implicit;
-  CgSettings settings;
-  settings.max_iterations = cfg.cg_max_iterations;
-  settings.tolerance = cfg.cg_tolerance;
-  settings.absolute_tolerance = accuracy;
-  settings.from_guess = from_guess;
-  for (const bool clamp : {false, true}) {
-    assemble_backward_euler_matrix(model, x, v, w, h, clamp, c.A, c.Jv);
-    if (first_force) {
-      c.rhs.noalias() = h * (*first_force + h * c.Jv);
-    } else {
-      c.rhs.noalias() = -c.residual;
-    }
-    const CgResult cg = solve_pcg(c.A, c.rhs, solution, settings, c.cg);
-    stats.cg_iterations += cg.iterations;
-    if (cg.converged) return;
-    settings.from_guess = false;  // the failed attempt's iterate is no guess to start from
+// |h f| at the iterate: M dv - r over movable bodies.
+double impulse_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv,
+                    const Eigen::Matrix3Xd& r) {
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i < inv_mass.size(); ++i) {
+    if (inv_mass[i] != 0.0) sum += (dv.col(i) / inv_mass[i] - r.col(i)).squaredNorm();
   }
+  return std::sqrt(sum);
 }
+
+// The Newton iterations of one active set, from the iterate in c (dv, y, r, phi) until the
+// filtered residual is below tolerance or the step's iteration budget is spent.
+// Returns whether it converged.
+class NewtonSolve {
+ public:
+  NewtonSolve(const Model& model, const State& start, double h, ImplicitCache& c, StepStats& stats)
+      : model_(model), start_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats) {}
+
+  void evaluate() {
+    phi_ = step_potential(model_, start_, h_, c_.start_length, c_.dv, c_.y, c_.r);
+    ++stats_.force_evals;
+  }
+
+  void set_scale(double impulse_scale) { impulse_scale_ = impulse_scale; }
+
+  // warm: a guess for the first direction (the previous step's dv - the current dv), or null.
+  bool iterate(const Eigen::Matrix3Xd* warm) {
+    const Eigen::VectorXd& w = start_.inv_mass;
+    for (;;) {
+      c_.rhs = -c_.r;
+      c_.contacts.filter.apply(c_.rhs);
+      const double r_norm = c_.rhs.norm();
+      const double scale = std::max(impulse_scale_, momentum_norm(w, c_.dv));
+      stats_.residual = r_norm / scale;
+      if (stats_.residual <= cfg_.newton_tolerance) return true;
+      // Once the iterate is near a solution its contact impulses mean something: let go of the
+      // pulling ones now rather than converge with them held (a held particle the cloth would
+      // lift compresses its neighbours, and the solve then crawls through buckled states).
+      if (stats_.residual < kReleaseResidual && update_step_contacts(model_, start_, h_, c_.y, c_.r, c_.contacts)) {
+        place_on_planes(c_.contacts, start_, h_, c_.dv);
+        evaluate();
+        continue;
+      }
+      if (stats_.newton_iterations >= cfg_.newton_max_iterations || !std::isfinite(stats_.residual))
+        return false;
+
+      CgSettings settings;
+      settings.max_iterations = cfg_.cg_max_iterations;
+      // Inexact Newton: solve only as finely as the residual warrants (forcing term |r| / scale,
+      // capped at 0.1: quadratic convergence where the Hessian is exact), and never below what
+      // the Newton test resolves.
+      settings.tolerance = std::max(cfg_.cg_tolerance, std::min(kMaxForcing, stats_.residual));
+      settings.absolute_tolerance = 0.1 * cfg_.newton_tolerance * scale;
+      const double slope = direction(settings, warm);
+      warm = nullptr;
+      ++stats_.newton_iterations;
+      if (!(slope < 0.0)) return false;  // no descent left (a non-finite system)
+
+      if (cfg_.newton_max_iterations == 1) {  // Baraff & Witkin: the linearised step, whole
+        c_.dv += c_.d;
+        evaluate();
+        continue;  // measures the residual, then stops at the budget
+      }
+      if (!line_search(slope)) return false;
+      // A particle the step took inside a collider is held from here on (the set grows only
+      // here; letting go waits for a converged solve, when the impulses mean something).
+      if (take_in_step_contacts(model_, start_, h_, c_.y, c_.contacts)) {
+        place_on_planes(c_.contacts, start_, h_, c_.dv);
+        evaluate();
+      }
+    }
+  }
+
+ private:
+  // The Newton direction d (in c_.d) for the system at the iterate, and its slope r . d.
+  // The exact Hessian first (Baraff & Witkin's single step: the projected one); if CG finds
+  // negative curvature before any progress, or the warm start leads uphill, the projected
+  // (SPD) system is solved from zero, whose solution always descends.
+  double direction(CgSettings settings, const Eigen::Matrix3Xd* warm) {
+    const Eigen::VectorXd& w = start_.inv_mass;
+    const bool exact = cfg_.newton_max_iterations > 1;
+    assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, !exact, c_.A);
+    settings.from_guess = warm != nullptr;
+    if (warm && warm != &c_.d) c_.d = *warm;
+    CgResult cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter);
+    stats_.cg_iterations += cg.iterations;
+    double slope = -c_.rhs.cwiseProduct(c_.d).sum();  // r . d (d is filtered)
+    if (slope < 0.0 && !cg.negative_curvature) return slope;
+    // Negative curvature: shift the exact Hessian towards the mass matrix, H + mu M, mu from
+    // 1e-3 up by tens (Levenberg-Marquardt), so that a slightly indefinite H (cloth buckling
+    // over a collider) keeps almost all of its curvature; the projected system is the last resort.
+    double applied = 0.0;
+    for (double mu = kFirstShift; exact && mu <= kLastShift; mu *= 10.0) {
+      for (int i = 0; i < w.size(); ++i)
+        if (w[i] != 0.0) c_.A.diag[i].diagonal().array() += (mu - applied) / w[i];
+      applied = mu;
+      settings.from_guess = false;
+      cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter);
+      stats_.cg_iterations += cg.iterations;
+      slope = -c_.rhs.cwiseProduct(c_.d).sum();
+      if (slope < 0.0 && !cg.negative_curvature) return slope;
+    }
+    if (exact) assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, true, c_.A);
+    settings.from_guess = false;
+    cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter);
+    stats_.cg_iterations += cg.iterations;
+    return -c_.rhs.cwiseProduct(c_.d).sum();
+  }
+
+  // Armijo backtracking along d from dv; on success the trial becomes the iterate.
+  bool line_search(double slope) {
+    double alpha = 1.0;
+    const double r_norm2 = c_.rhs.squaredNorm();
+    for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {
+      c_.dv_try.noalias() = c_.dv + alpha * c_.d;
+      const PotentialValue trial =
+          step_potential(model_, start_, h_, c_.start_length, c_.dv_try, c_.y_try, c_.r_try);
+      ++stats_.force_evals;
+      bool accept = trial.phi <= phi_.phi + kArmijo * alpha * slope;
+      // Near the solution the decrease falls below what Phi's rounding resolves (its terms
+      // are far larger than their changes): there the filtered residual decides.
+      const double resolvable = 64.0 * std::numeric_limits<double>::epsilon() * phi_.magnitude;
+      if (!accept && -alpha * slope <= resolvable) {
+        c_.rhs = c_.r_try;  // scratch (rebuilt at the next iteration): the trial's filtered residual
+        c_.contacts.filter.apply(c_.rhs);
+        accept = c_.rhs.squaredNorm() < r_norm2;
+        if (!accept) return false;  // rounding has the last word: stop here
+      }
+      if (accept) {
+        c_.dv.swap(c_.dv_try);
+        c_.y.swap(c_.y_try);
+        c_.r.swap(c_.r_try);
+        phi_ = trial;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  const Model& model_;
+  const State& start_;
+  double h_;
+  const ImplicitDef& cfg_;
+  ImplicitCache& c_;
+  StepStats& stats_;
+  PotentialValue phi_;
+  double impulse_scale_ = 0.0;
+};
 
 StepStats newton_step(const Model& model, State& state, double h, Workspace& ws) {
   const ImplicitDef& cfg = model.implicit;
   ImplicitCache& c = cache_for(model, ws);
   const Eigen::VectorXd& w = state.inv_mass;
+  const int B = model.num_bodies();
   StepStats stats;
 
-  total_forces(model, state.x, state.v, w, ws.a);  // f_n
-  ++stats.force_evals;
-  // What the residual is measured against: the step's impulse |h f_n| or momentum change
-  // |M dv|, floored where f itself is only known to rounding (a spring force is the
-  // difference of terms of size ks l0, so its rounding error is ~eps ks l0): below
+  // The start of the step: spring lengths l_n (and so the strain of the state we start from),
+  // the contacts predicted from the previous step's dv.
+  stats.start_strain = spring_lengths(model.springs, state.x, c.start_length);
+  const bool have_guess = state.implicit_dv.cols() == B;
+  predict_step_contacts(model, state, h, have_guess ? &state.implicit_dv : nullptr, c.contacts);
+
+  // Baraff & Witkin's step starts at y = x_n (dv = -v_n on movable bodies). A full solve
+  // starts from the previous step's dv when there is one: at the small steps explicit methods
+  // need, dv changes little from step to step, and Newton starts most of the way there.
+  // Either way held particles are moved onto their planes.
+  const bool baraff_witkin = cfg.newton_max_iterations == 1;
+  const bool from_guess = have_guess && !baraff_witkin;
+  c.dv.resize(3, B);
+  for (int i = 0; i < B; ++i) {
+    if (w[i] == 0.0) c.dv.col(i).setZero();
+    else if (from_guess) c.dv.col(i) = state.implicit_dv.col(i);
+    else c.dv.col(i) = -state.v.col(i);
+  }
+  place_on_planes(c.contacts, state, h, c.dv);
+  NewtonSolve newton(model, state, h, c, stats);
+  newton.evaluate();
+
+  // What the residual is measured against: the step's impulse |h f| at the start or its
+  // momentum change |M dv|, floored where f itself is only known to rounding (a spring force
+  // is the difference of terms of size ks l0, so its rounding error is ~eps ks l0): below
   // 64 eps h |ks l0| no iteration can reduce |r|, and a state at rest must not read as
   // unconverged for it.
   constexpr double kRoundingFactor = 64.0 * std::numeric_limits<double>::epsilon();
   const double scale_floor = kRoundingFactor * h * c.force_scale / cfg.newton_tolerance;
-  const double impulse_scale = std::max(h * ws.a.norm(), scale_floor);
+  newton.set_scale(std::max(impulse_norm(w, c.dv, c.r), scale_floor));
 
-  // What the linear solves must resolve: a tenth of what the Newton test accepts.
-  const double accuracy = 0.1 * cfg.newton_tolerance * impulse_scale;
-
-  // Baraff & Witkin's system at (x_n, v_n): A dv = h (f_n + h (df/dx) v_n), warm-started from the
-  // previous step's dv (still in ws.dv): at the small steps explicit methods need, dv changes
-  // little from step to step and CG starts most of the way there. Bodies immovable now get 0.
-  const bool have_guess = ws.dv.cols() == model.num_bodies();
-  if (have_guess)
-    for (int i = 0; i < model.num_bodies(); ++i)
-      if (w[i] == 0.0) ws.dv.col(i).setZero();
-  solve_newton_system(model, state.x, state.v, w, h, &ws.a, accuracy, have_guess, c, ws.dv, stats);
-  stats.newton_iterations = 1;
-
-  while (true) {
-    // The true residual at the current guess, with f at the end-of-step state it implies.
-    ws.v1.noalias() = state.v + ws.dv;
-    ws.x1.noalias() = state.x + h * ws.v1;
-    total_forces(model, ws.x1, ws.v1, w, ws.a1);
-    ++stats.force_evals;
-    nonlinear_residual(w, ws.dv, ws.a1, h, c.residual);
-    const double r_norm = c.residual.norm();
-    const double scale = std::max(impulse_scale, momentum_norm(w, ws.dv));
-    stats.residual = r_norm / scale;
-    if (stats.residual <= cfg.newton_tolerance) break;
-    if (stats.newton_iterations >= cfg.newton_max_iterations || !std::isfinite(stats.residual)) {
-      stats.converged = false;
-      break;
-    }
-    // Newton correction: A(x_1, v_1) ddv = -r.
-    solve_newton_system(model, ws.x1, ws.v1, w, h, nullptr, accuracy, false, c, c.ddv, stats);
-    ++stats.newton_iterations;
-    ws.dv += c.ddv;
+  // Baraff & Witkin's direction is warm-started from the previous step's dv in CG instead.
+  Eigen::Matrix3Xd* warm = nullptr;
+  if (have_guess && baraff_witkin) {
+    c.d = state.implicit_dv - c.dv;
+    for (int i = 0; i < B; ++i)
+      if (w[i] == 0.0) c.d.col(i).setZero();
+    warm = &c.d;
   }
+  stats.converged = newton.iterate(warm);
+  // Active-set rounds: let go of pulling contacts, take in penetrating particles, resume.
+  for (int round = 0; !baraff_witkin && round < kMaxContactRounds; ++round) {
+    if (!update_step_contacts(model, state, h, c.y, c.r, c.contacts)) break;
+    place_on_planes(c.contacts, state, h, c.dv);
+    newton.evaluate();
+    stats.converged = newton.iterate(nullptr);
+  }
+  stats.contact_constraints = static_cast<int>(c.contacts.size());
 
-  state.v += ws.dv;           // v_{n+1} = v_n + dv (dv = 0 for immovable bodies)
-  state.x += h * state.v;     // x_{n+1} = x_n + h v_{n+1}
+  state.v += c.dv;          // v_{n+1} = v_n + dv (dv = 0 for immovable bodies)
+  state.x += h * state.v;   // x_{n+1} = x_n + h v_{n+1}
+  respond_to_step_contacts(model, c.contacts, c.r, state);
+  state.implicit_dv = c.dv;
+  state.implicit_held = c.contacts.filter.body;
   return stats;
 }
 
@@ -196,7 +329,7 @@ StepStats fixed_point_step(const Model& model, State& state, double h, Workspace
   StepStats stats;
 
   // Predictor: forward Euler, y^0 = y_n + h F(y_n), held in (x1, v1).
-  accelerations(model, state.x, state.v, w, ws.a);
+  stats.start_strain = accelerations(model, state.x, state.v, w, ws.a);
   ++stats.force_evals;
   ws.x1.noalias() = state.x + h * state.v;
   ws.v1.noalias() = state.v + h * ws.a;

@@ -27,7 +27,7 @@ StepStats rk4_step(const Model& model, State& state, double h, Workspace& ws) {
   Eigen::Matrix3Xd& xs = ws.x1;  // the stage state, overwritten stage by stage
   Eigen::Matrix3Xd& vs = ws.v1;
 
-  accelerations(model, x, v, w, ws.a);  // a_n
+  const double strain = accelerations(model, x, v, w, ws.a);  // a_n
   xs.noalias() = x + half * v;
   vs.noalias() = v + half * ws.a;
   accelerations(model, xs, vs, w, ws.a1);  // a_1
@@ -54,6 +54,7 @@ StepStats rk4_step(const Model& model, State& state, double h, Workspace& ws) {
   }
   StepStats stats;
   stats.force_evals = 4;
+  stats.start_strain = strain;
   return stats;
 }
 

@@ -13,15 +13,13 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
   A.off.assign(model.springs.size(), Mat3::Zero());
 }
 
-void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& x,
-                                    const Eigen::Matrix3Xd& v, const Eigen::VectorXd& inv_mass,
-                                    double h, bool clamp_compression, SpringBlockMatrix& A,
-                                    Eigen::Matrix3Xd& Jv) {
+void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+                           const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
+                           bool project, SpringBlockMatrix& A) {
   const int B = A.num_bodies();
   const Springs& springs = model.springs;
-  Jv.setZero(3, B);
 
-  // M, plus h c I for air drag (df/dv = -c I on cloth particles).
+  // M, plus h c I for air drag (the drag term (h c / 2) |v|^2 of Phi).
   for (int i = 0; i < B; ++i) {
     if (inv_mass[i] == 0.0) {
       A.diag[i].setIdentity();
@@ -31,6 +29,11 @@ void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& 
     A.diag[i] = (1.0 / inv_mass[i] + h * drag) * Mat3::Identity();
   }
 
+  // The preconditioner's blocks start as the diagonal's: M + h c I (diag_inverse holds them
+  // until they are inverted at the end).
+  for (int i = 0; i < B; ++i) A.diag_inverse[i] = A.diag[i];
+
+  const double h2 = h * h;
   for (std::size_t s = 0; s < springs.size(); ++s) {
     const int a = A.a[s], b = A.b[s];
     const bool move_a = inv_mass[a] != 0.0, move_b = inv_mass[b] != 0.0;
@@ -38,46 +41,28 @@ void assemble_backward_euler_matrix(const Model& model, const Eigen::Matrix3Xd& 
       A.off[s].setZero();
       continue;
     }
-    // The symmetric part of spring_force.h's Jacobians in closed form (no 3x3 products):
-    // with P = u u^T and t = 1 - l0/l, the stiffness part of df_a/dx_a is
-    // K = -ks [P + t (I - P)] = -ks [t I + (1 - t) P] and df_a/dv_a = -kd P, so
-    // G = h df/dv + h^2 K = -(h^2 ks t) I - (h kd + h^2 ks (1 - t)) P.
-    // Clamping compression (t < 0 -> 0) keeps only the axial stiffness -ks P.
-    const Vec3 d = x.col(a) - x.col(b);
-    const Vec3 vr = v.col(a) - v.col(b);
-    const double l = d.norm();
-    const double ks = springs.ks[s], kd = springs.kd[s];
-    Mat3 G;
-    Vec3 jv;  // (df_a/dx_a) (v_a - v_b): df_a/dx_b = -df_a/dx_a, so ((df/dx) v)_a is this
-    if (l > 0.0) {
-      const Vec3 u = d / l;
-      const double t_exact = 1.0 - springs.rest[s] / l;
-      const double t = clamp_compression && t_exact < 0.0 ? 0.0 : t_exact;
-      const double iso = h * h * ks * t;
-      const double axial = h * kd + h * h * ks * (1.0 - t);
-      G.noalias() = -axial * (u * u.transpose());
-      G.diagonal().array() -= iso;
-      // Exact df_a/dx_a applied to vr: stiffness -ks [t I + (1 - t) P] vr, and the damper's
-      // -(kd / l) [(vr.u) Q + u vr^T Q] vr with Q vr = vr - (u.vr) u, vr^T Q vr = |vr|^2 - (u.vr)^2.
-      const double uv = u.dot(vr);
-      jv = -ks * (t_exact * vr + (1.0 - t_exact) * uv * u) -
-           (kd / l) * (uv * (vr - uv * u) + (vr.squaredNorm() - uv * uv) * u);
-    } else {  // coincident ends: spring_damper_jacobian's isotropic stand-in
-      G = -(h * kd / 3.0 + h * h * ks) * Mat3::Identity();
-      jv = -ks * vr;
+    const Vec3 d = y.col(a) - y.col(b);
+    const double rest = springs.rest[s], ln = start_length[s], ks = springs.ks[s], kd = springs.kd[s];
+    const Mat3 G = -h2 * step_spring_hessian(d, rest, ln, ks, kd, h, project);
+    // The preconditioner always takes the projected block, so it stays SPD even when the
+    // matrix does not.
+    const Mat3 G_pre = project ? G : Mat3(-h2 * step_spring_hessian(d, rest, ln, ks, kd, h, true));
+    if (move_a) {
+      A.diag[a] -= G;
+      A.diag_inverse[a] -= G_pre;
     }
-    if (move_a) A.diag[a] -= G;
-    if (move_b) A.diag[b] -= G;
+    if (move_b) {
+      A.diag[b] -= G;
+      A.diag_inverse[b] -= G_pre;
+    }
     if (move_a && move_b) {
       A.off[s] = G;
     } else {
       A.off[s].setZero();  // a filtered body's row and column are removed
     }
-    if (move_a) Jv.col(a) += jv;
-    if (move_b) Jv.col(b) -= jv;
   }
 
-  for (int i = 0; i < B; ++i) A.diag_inverse[i] = A.diag[i].inverse();
+  for (int i = 0; i < B; ++i) A.diag_inverse[i] = A.diag_inverse[i].inverse().eval();
 }
 
 // The CG hot loop (one call per iteration): written on raw column-major arrays, as the

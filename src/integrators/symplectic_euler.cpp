@@ -9,11 +9,12 @@
 namespace clothsim {
 
 StepStats symplectic_euler_step(const Model& model, State& state, double h, Workspace& ws) {
-  accelerations(model, state.x, state.v, state.inv_mass, ws.a);
+  const double strain = accelerations(model, state.x, state.v, state.inv_mass, ws.a);  // a_n
   state.v += h * ws.a;
   state.x += h * state.v;  // the new velocity: this is what makes it symplectic
   StepStats stats;
   stats.force_evals = 1;
+  stats.start_strain = strain;
   return stats;
 }
 

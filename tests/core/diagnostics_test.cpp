@@ -46,20 +46,38 @@ TEST(MaxStrain, IsTheLargestRelativeExtension) {
 TEST(Divergence, IsFoundForNonFiniteValuesExcessiveStrainAndEnergy) {
   const Model m = testing::model_from_yaml(kTwo);
   State s = initial_state(m);
-  EXPECT_FALSE(check_divergence(m, s, true).has_value());
+  EXPECT_FALSE(check_divergence(m, s).has_value());
   State nan = s;
   nan.x(1, 0) = std::numeric_limits<double>::quiet_NaN();
-  ASSERT_TRUE(check_divergence(m, nan, false).has_value());
-  EXPECT_NE(check_divergence(m, nan, false)->reason.find("non-finite"), std::string::npos);
+  ASSERT_TRUE(check_bodies(m, nan).has_value());
+  EXPECT_NE(check_bodies(m, nan)->reason.find("non-finite position"), std::string::npos);
   State stretched = s;
   stretched.x.col(1) += Vec3(20, 0, 0);  // strain 20 > default bound 10
-  ASSERT_TRUE(check_divergence(m, stretched, true).has_value());
-  EXPECT_NE(check_divergence(m, stretched, true)->reason.find("strain"), std::string::npos);
-  EXPECT_FALSE(check_divergence(m, stretched, false).has_value());  // cheap check: finiteness only
+  ASSERT_TRUE(check_divergence(m, stretched).has_value());
+  EXPECT_NE(check_divergence(m, stretched)->reason.find("strain"), std::string::npos);
+  EXPECT_FALSE(check_bodies(m, stretched).has_value());  // the body pass reads no springs
   State fast = s;
   fast.v.col(0) = Vec3(1e5, 0, 0);
-  ASSERT_TRUE(check_divergence(m, fast, true).has_value());
-  EXPECT_NE(check_divergence(m, fast, true)->reason.find("kinetic energy"), std::string::npos);
+  ASSERT_TRUE(check_bodies(m, fast).has_value());
+  EXPECT_NE(check_bodies(m, fast)->reason.find("kinetic energy"), std::string::npos);
+}
+
+TEST(Divergence, NonFiniteEnergiesAreDivergenceEvenWithFiniteValues) {
+  const Model m = testing::model_from_yaml(kTwo);
+  State s = initial_state(m);
+  s.v.col(0) = Vec3(1e200, 0, 0);  // finite, but 0.5 m v^2 overflows
+  ASSERT_TRUE(check_bodies(m, s).has_value());
+  EXPECT_NE(check_bodies(m, s)->reason.find("non-finite kinetic energy"), std::string::npos);
+}
+
+TEST(Divergence, AStrainMeasuredElsewhereIsReportedAtItsOwnStepAndTime) {
+  const Model m = testing::model_from_yaml(kTwo);
+  EXPECT_FALSE(check_strain(m, 9.9, 7, 0.7).has_value());
+  const auto bad = check_strain(m, 10.5, 7, 0.7);
+  ASSERT_TRUE(bad.has_value());
+  EXPECT_EQ(bad->step, 7);
+  EXPECT_DOUBLE_EQ(bad->t, 0.7);
+  EXPECT_TRUE(check_strain(m, std::numeric_limits<double>::quiet_NaN(), 7, 0.7).has_value());
 }
 
 }  // namespace

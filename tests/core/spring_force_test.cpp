@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
 #include <random>
 
 #include "forces.h"
@@ -53,7 +56,8 @@ TEST(SpringForce, SystemPassAppliesEqualAndOppositeForces) {
   Eigen::Matrix3Xd x(3, 2), v(3, 2), f = Eigen::Matrix3Xd::Zero(3, 2);
   x << 2, 0, 0.5, 0, -1, 0;
   v << 1, 0, 0, 0.5, 2, 0;
-  accumulate_spring_forces(s, x, v, f);
+  // It also returns the largest strain, read off the lengths it computes anyway.
+  EXPECT_NEAR(accumulate_spring_forces(s, x, v, f), std::sqrt(4 + 1 + 0.25) - 1.0, 1e-12);
   const Vec3 expected = spring_damper_force(x.col(0), x.col(1), v.col(0), v.col(1), 1.0, 10.0, 3.0);
   EXPECT_NEAR((f.col(0) - expected).norm(), 0.0, 1e-12);
   EXPECT_NEAR((f.col(0) + f.col(1)).norm(), 0.0, 1e-12);
@@ -107,4 +111,42 @@ TEST(SpringJacobian, OtherEndBlocksAreTheNegatives) {
 }
 
 }  // namespace
+TEST(StepSpring, TensionIsTheEnergysDerivativeInLength) {
+  const double rest = 1.0, ln = 1.05, ks = 300.0, kd = 4.0, h = 0.02, eps = 1e-6;
+  for (const double l : {0.7, 1.0, 1.02, 1.3}) {
+    const double numeric = (step_spring_energy(l + eps, rest, ln, ks, kd, h) -
+                            step_spring_energy(l - eps, rest, ln, ks, kd, h)) / (2 * eps);
+    EXPECT_NEAR(step_spring_tension(l, rest, ln, ks, kd, h), numeric, 1e-6 * (1 + std::abs(numeric)));
+  }
+}
+
+TEST(StepSpring, DamperRateIsTheLengthsChangeOverTheStepAndMatchesTheSeedsDamperAlongTheAxis) {
+  // Moving straight along the spring (no rotation), (l - ln) / h is exactly u . (v_a - v_b) for
+  // a step at constant velocity: the step damper and the seed's damper agree.
+  const double h = 0.01, ks = 0.0, kd = 7.0;
+  const Vec3 xa(1.0, 0, 0), xb(0, 0, 0), va(0.3, 0, 0), vb(0, 0, 0);
+  const double l = (xa + h * va - xb - h * vb).norm(), ln = (xa - xb).norm();
+  const Vec3 seed = spring_damper_force(xa + h * va, xb + h * vb, va, vb, 1.0, ks, kd);
+  EXPECT_NEAR(-step_spring_tension(l, 1.0, ln, ks, kd, h), seed.x(), 1e-12);
+}
+
+TEST(StepSpring, HessianMatchesFiniteDifferencesOfTheForceAndItsProjectionIsPositiveSemiDefinite) {
+  const double rest = 1.0, ln = 1.0, ks = 500.0, kd = 3.0, h = 0.05;
+  for (const double scale : {1.3, 0.7}) {
+    const Vec3 d = scale * Vec3(0.6, 0.8, 0.1).normalized();
+    // f_a = -T u; K = -df_a/dx_a, by central differences of -T u in d.
+    const auto force = [&](const Vec3& dd) {
+      return Vec3(-step_spring_tension(dd.norm(), rest, ln, ks, kd, h) * dd / dd.norm());
+    };
+    const Mat3 numeric = -numeric_jacobian(force, d);
+    const Mat3 exact = step_spring_hessian(d, rest, ln, ks, kd, h, false);
+    EXPECT_LT((exact - numeric).norm(), 1e-5 * numeric.norm()) << "scale " << scale;
+    const Mat3 projected = step_spring_hessian(d, rest, ln, ks, kd, h, true);
+    const Eigen::SelfAdjointEigenSolver<Mat3> e(projected);
+    EXPECT_GE(e.eigenvalues().minCoeff(), 0.0);
+    if (scale > 1.0) EXPECT_TRUE(projected.isApprox(exact)) << "stretched: nothing to project";
+    else EXPECT_LT(Eigen::SelfAdjointEigenSolver<Mat3>(exact).eigenvalues().minCoeff(), 0.0);
+  }
+}
+
 }  // namespace clothsim

@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "integrators/step_potential.h"
 #include "state.h"
 #include "test_support.h"
 
@@ -34,9 +35,10 @@ System system(const std::string& springs, double h) {
   std::srand(3);
   st.x += 0.02 * Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
   st.v = Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
-  Eigen::Matrix3Xd Kv;
+  std::vector<double> start_length;
+  spring_lengths(s.model.springs, st.x, start_length);
   build_pattern(s.model, s.A);
-  assemble_backward_euler_matrix(s.model, st.x, st.v, st.inv_mass, h, true, s.A, Kv);
+  assemble_step_hessian(s.model, st.inv_mass, h, start_length, st.x + h * st.v, true, s.A);
   s.b = Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
   for (int i = 0; i < s.model.num_bodies(); ++i)
     if (st.inv_mass[i] == 0.0) s.b.col(i).setZero();
@@ -114,6 +116,47 @@ TEST(ConjugateGradient, StopsAtTheAbsoluteAccuracyTheCallerNeeds) {
   EXPECT_LE((s.b - Ax).norm(), need * (1 + 1e-9));
   const CgResult tight = solve_pcg(s.A, s.b, x, CgSettings{500, 1e-14}, buffers);
   EXPECT_LT(loose.iterations, tight.iterations);
+}
+
+TEST(ConjugateGradient, AFilteredSolveNeverMovesAlongHeldNormalsAndSolvesTheRest) {
+  const System s = system(kAllSprings, 0.02);
+  VelocityFilter filter;
+  filter.body = {20, 25, 27};
+  filter.normal = {Vec3::UnitY(), Vec3(1, 1, 0).normalized(), Vec3::UnitZ()};
+  Eigen::Matrix3Xd b = s.b, x, Ax;
+  filter.apply(b);
+  CgBuffers buffers;
+  const CgResult r = solve_pcg(s.A, b, x, CgSettings{500, 1e-12}, buffers, &filter);
+  ASSERT_TRUE(r.converged);
+  for (std::size_t c = 0; c < filter.size(); ++c)
+    EXPECT_LT(std::abs(filter.normal[c].dot(x.col(filter.body[c]))), 1e-14 * x.norm());
+  multiply(s.A, x, Ax);
+  Eigen::Matrix3Xd residual = b - Ax;
+  filter.apply(residual);  // S (b - A x) = 0: the reduced system S A S x = S b is solved
+  EXPECT_LE(residual.norm(), 1e-10 * b.norm());
+}
+
+TEST(ConjugateGradient, EveryTruncatedIterateFromZeroDescends) {
+  // Stopped at any iteration, x_k has b . x_k > 0: a descent direction for the Newton step.
+  const System s = system(kAllSprings, 0.02);
+  for (int cap = 1; cap <= 6; ++cap) {
+    Eigen::Matrix3Xd x;
+    CgBuffers buffers;
+    solve_pcg(s.A, s.b, x, CgSettings{cap, 1e-14}, buffers);
+    EXPECT_GT(s.b.cwiseProduct(x).sum(), 0.0) << "after " << cap << " iterations";
+  }
+}
+
+TEST(ConjugateGradient, StopsAtNegativeCurvatureAndSaysSo) {
+  System s = system(kAllSprings, 0.02);
+  for (auto& block : s.A.diag) block = -block;  // negative definite: the first p has p.Ap < 0
+  Eigen::Matrix3Xd x;
+  CgBuffers buffers;
+  const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{50, 1e-10}, buffers);
+  EXPECT_FALSE(r.converged);
+  EXPECT_TRUE(r.negative_curvature);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(x.norm(), 0.0);
 }
 
 }  // namespace

@@ -1,0 +1,160 @@
+#include "integrators/step_contacts.h"
+
+#include <cmath>
+#include <limits>
+
+#include "collisions.h"
+
+namespace clothsim {
+namespace {
+
+// A particle's candidate contact: the collider, the normal and the plane of the held position.
+struct Candidate {
+  std::int32_t collider = -2;  // -2: none
+  Vec3 normal = Vec3::UnitY();
+  double plane = 0.0;
+  double gap = std::numeric_limits<double>::infinity();  // signed distance of `at` beyond reach
+};
+
+bool is_kinematic_sphere(const Model& model, const State& state, int s) {
+  return state.inv_mass[model.sphere_body(s)] == 0.0;
+}
+
+// The nearest immovable collider to the end position `at` of particle p (starting at `from`):
+// the normal points from the sphere's end-of-step centre to where the particle starts, so a
+// particle that would pass into the sphere is held on the side it came from.
+Candidate nearest_collider(const Model& model, const State& start, double h, const Vec3& from,
+                           const Vec3& at) {
+  Candidate best;
+  const double margin = model.collision.margin;
+  for (int s = 0; s < model.num_spheres; ++s) {
+    if (!is_kinematic_sphere(model, start, s)) continue;
+    const int b = model.sphere_body(s);
+    const Vec3 centre = start.x.col(b) + h * start.v.col(b);
+    const double reach = model.sphere_radius[s] + margin;
+    const double gap = (at - centre).norm() - reach;
+    if (gap >= best.gap) continue;
+    const Vec3 out = from - centre;
+    const double len = out.norm();
+    best.collider = s;
+    best.normal = len > 1e-12 ? Vec3(out / len) : Vec3::UnitY();
+    best.plane = best.normal.dot(centre) + reach + kContactClearance;
+    best.gap = gap;
+  }
+  if (model.has_ground) {
+    const double surface = model.ground.height + margin;
+    const double gap = at.y() - surface;
+    if (gap < best.gap) {
+      best.collider = -1;
+      best.normal = Vec3::UnitY();
+      best.plane = surface + kContactClearance;
+      best.gap = gap;
+    }
+  }
+  return best;
+}
+
+void hold(StepContacts& contacts, int p, const Candidate& c) {
+  contacts.filter.body.push_back(p);
+  contacts.filter.normal.push_back(c.normal);
+  contacts.plane.push_back(c.plane);
+  contacts.collider.push_back(c.collider);
+  contacts.held[p] = 1;
+}
+
+}  // namespace
+
+void predict_step_contacts(const Model& model, const State& start, double h,
+                           const Eigen::Matrix3Xd* guess, StepContacts& contacts) {
+  contacts.filter.clear();
+  contacts.plane.clear();
+  contacts.collider.clear();
+  contacts.held.assign(model.num_particles, 0);
+  contacts.let_go.assign(model.num_particles, 0);
+  // Held last step: likely resting on the collider, so held again unless it is leaving.
+  std::vector<std::uint8_t>& was_held = contacts.held_before;
+  was_held.assign(model.num_particles, 0);
+  for (const std::int32_t p : start.implicit_held)
+    if (p < model.num_particles) was_held[p] = 1;
+  const double margin = model.collision.margin;
+  for (int p = 0; p < model.num_particles; ++p) {
+    if (start.inv_mass[p] == 0.0) continue;
+    Vec3 v = start.v.col(p);
+    if (guess) v += guess->col(p);
+    const Vec3 at = start.x.col(p) + h * v;
+    const Candidate c = nearest_collider(model, start, h, start.x.col(p), at);
+    if (c.gap < (was_held[p] ? margin : 0.0)) hold(contacts, p, c);
+  }
+}
+
+void place_on_planes(const StepContacts& contacts, const State& start, double h,
+                     Eigen::Matrix3Xd& dv) {
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    const int p = contacts.filter.body[c];
+    const Vec3& n = contacts.filter.normal[c];
+    const Vec3 y = start.x.col(p) + h * (start.v.col(p) + dv.col(p));
+    dv.col(p) += ((contacts.plane[c] - n.dot(y)) / h) * n;
+  }
+}
+
+bool take_in_step_contacts(const Model& model, const State& start, double h,
+                           const Eigen::Matrix3Xd& y, StepContacts& contacts) {
+  bool changed = false;
+  for (int p = 0; p < model.num_particles; ++p) {
+    if (start.inv_mass[p] == 0.0 || contacts.held[p]) continue;
+    const Candidate c = nearest_collider(model, start, h, start.x.col(p), y.col(p));
+    if (c.gap < 0.0) {
+      hold(contacts, p, c);
+      changed = true;
+    }
+  }
+  return changed;
+}
+
+bool update_step_contacts(const Model& model, const State& start, double h,
+                          const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& gradient,
+                          StepContacts& contacts) {
+  bool changed = false;
+  // Let go of the pulling ones, keeping the order of the rest.
+  std::size_t kept = 0;
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    const int p = contacts.filter.body[c];
+    if (!contacts.let_go[p] && contacts.filter.normal[c].dot(gradient.col(p)) < 0.0) {
+      contacts.held[p] = 0;
+      contacts.let_go[p] = 1;
+      changed = true;
+      continue;
+    }
+    contacts.filter.body[kept] = p;
+    contacts.filter.normal[kept] = contacts.filter.normal[c];
+    contacts.plane[kept] = contacts.plane[c];
+    contacts.collider[kept] = contacts.collider[c];
+    ++kept;
+  }
+  contacts.filter.body.resize(kept);
+  contacts.filter.normal.resize(kept);
+  contacts.plane.resize(kept);
+  contacts.collider.resize(kept);
+  return take_in_step_contacts(model, start, h, y, contacts) || changed;
+}
+
+void respond_to_step_contacts(const Model& model, const StepContacts& contacts,
+                              const Eigen::Matrix3Xd& gradient, State& state) {
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    const int p = contacts.filter.body[c];
+    const Vec3& n = contacts.filter.normal[c];
+    const int s = contacts.collider[c];
+    const Vec3 collider_v = s >= 0 ? Vec3(state.v.col(model.sphere_body(s))) : Vec3::Zero();
+    const double restitution = s >= 0 ? model.sphere_restitution[s] : model.ground.restitution;
+    const double friction = s >= 0 ? model.sphere_friction[s] : model.ground.friction;
+    const double w = state.inv_mass[p];
+    const Vec3 rel = state.v.col(p) - collider_v;
+    const double u = rel.dot(n);
+    const double jn = contact_impulse(u, 0.0, w, 0.0, restitution);
+    const double held_impulse = std::max(0.0, n.dot(gradient.col(p)));
+    const Vec3 J = jn * n + friction_impulse(rel - u * n, jn + held_impulse, w, 0.0, friction);
+    state.v.col(p) += w * J;
+  }
+}
+
+}  // namespace clothsim
