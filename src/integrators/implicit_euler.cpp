@@ -198,11 +198,12 @@ class NewtonSolve {
     stats_.cg_iterations += cg.iterations;
     double slope = -c_.rhs.cwiseProduct(c_.d).sum();  // r . d (d is filtered)
     if (slope < 0.0 && !cg.negative_curvature) return slope;
-    // Negative curvature: shift the exact Hessian towards the mass matrix, H + mu M, mu from
-    // 1e-3 up by tens (Levenberg-Marquardt), so that a slightly indefinite H (cloth buckling
-    // over a collider) keeps almost all of its curvature; the projected system is the last resort.
+    // Negative curvature: shift the exact Hessian towards the mass matrix, H + mu M, mu up by
+    // tens (Levenberg-Marquardt), so that a slightly indefinite H (cloth buckling over a
+    // collider) keeps almost all of its curvature; the projected system is the last resort.
+    // The search starts a decade below the shift that last worked in this step.
     double applied = 0.0;
-    for (double mu = kFirstShift; exact && mu <= kLastShift; mu *= 10.0) {
+    for (double mu = std::max(kFirstShift, 0.1 * shift_); exact && mu <= kLastShift; mu *= 10.0) {
       for (int i = 0; i < w.size(); ++i)
         if (w[i] != 0.0) c_.A.diag[i].diagonal().array() += (mu - applied) / w[i];
       applied = mu;
@@ -210,7 +211,10 @@ class NewtonSolve {
       cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter);
       stats_.cg_iterations += cg.iterations;
       slope = -c_.rhs.cwiseProduct(c_.d).sum();
-      if (slope < 0.0 && !cg.negative_curvature) return slope;
+      if (slope < 0.0 && !cg.negative_curvature) {
+        shift_ = mu;
+        return slope;
+      }
     }
     if (exact) assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, true, c_.A);
     settings.from_guess = false;
@@ -257,6 +261,7 @@ class NewtonSolve {
   StepStats& stats_;
   PotentialValue phi_;
   double impulse_scale_ = 0.0;
+  double shift_ = 0.0;  // the last shift mu that removed negative curvature (0: none yet)
 };
 
 StepStats newton_step(const Model& model, State& state, double h, Workspace& ws) {
