@@ -65,20 +65,37 @@ inline double step_spring_energy(double l, double rest, double start_length, dou
   const double stretch = l - rest, rate = l - start_length;
   return 0.5 * ks * stretch * stretch + 0.5 * (kd / h) * rate * rate;
 }
-// K above for the spring (a, b) at end-of-step separation d = x_a - x_b; with `project`, the
-// transverse coefficient T / l is clamped at 0 (the PSD projection). A zero-length spring has
-// no direction: K = (ks + kd/h) I, an isotropic stand-in.
+// K above for the spring (a, b) at end-of-step separation d = x_a - x_b, as its parts:
+// K = axial P + transverse (I - P), P = u u^T. A zero-length spring has no direction: an
+// isotropic stand-in, K = (ks + kd/h) I.
+struct StepSpringBlock {
+  Vec3 u = Vec3::Zero();
+  double axial = 0.0, transverse = 0.0;
+  Mat3 matrix() const {  // closed form: no 3x3 products
+    Mat3 K = (axial - transverse) * (u * u.transpose());
+    K.diagonal().array() += transverse;
+    return K;
+  }
+};
+inline StepSpringBlock step_spring_block(const Vec3& d, double rest, double start_length,
+                                         double ks, double kd, double h) {
+  StepSpringBlock k;
+  k.axial = ks + kd / h;
+  const double l = d.norm();
+  if (l <= 0.0) {
+    k.transverse = k.axial;
+    return k;
+  }
+  k.u = d / l;
+  k.transverse = step_spring_tension(l, rest, start_length, ks, kd, h) / l;
+  return k;
+}
+// K itself; with `project`, the transverse coefficient is clamped at 0 (the PSD projection).
 inline Mat3 step_spring_hessian(const Vec3& d, double rest, double start_length, double ks,
                                 double kd, double h, bool project) {
-  const double axial = ks + kd / h;
-  const double l = d.norm();
-  if (l <= 0.0) return axial * Mat3::Identity();
-  const Vec3 u = d / l;
-  double transverse = step_spring_tension(l, rest, start_length, ks, kd, h) / l;
-  if (project && transverse < 0.0) transverse = 0.0;
-  Mat3 K = (axial - transverse) * (u * u.transpose());  // closed form: no 3x3 products
-  K.diagonal().array() += transverse;
-  return K;
+  StepSpringBlock k = step_spring_block(d, rest, start_length, ks, kd, h);
+  if (project && k.transverse < 0.0) k.transverse = 0.0;
+  return k.matrix();
 }
 
 // Potential energy 0.5 ks (l - l0)^2, J.

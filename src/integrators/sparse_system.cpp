@@ -41,12 +41,16 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
       A.off[s].setZero();
       continue;
     }
-    const Vec3 d = y.col(a) - y.col(b);
-    const double rest = springs.rest[s], ln = start_length[s], ks = springs.ks[s], kd = springs.kd[s];
-    const Mat3 G = -h2 * step_spring_hessian(d, rest, ln, ks, kd, h, project);
+    StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), springs.rest[s], start_length[s],
+                                          springs.ks[s], springs.kd[s], h);
     // The preconditioner always takes the projected block, so it stays SPD even when the
-    // matrix does not.
-    const Mat3 G_pre = project ? G : Mat3(-h2 * step_spring_hessian(d, rest, ln, ks, kd, h, true));
+    // matrix does not; they differ only across a spring in compression.
+    const bool compressed = k.transverse < 0.0;
+    if (project && compressed) k.transverse = 0.0;
+    const Mat3 G = -h2 * k.matrix();
+    Mat3 G_pre = G;  // -h^2 K, and projected: -h^2 (K - transverse (I - P))
+    if (compressed && !project)
+      G_pre += (h2 * k.transverse) * (Mat3::Identity() - k.u * k.u.transpose());
     if (move_a) {
       A.diag[a] -= G;
       A.diag_inverse[a] -= G_pre;

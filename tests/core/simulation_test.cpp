@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <tuple>
+#include <vector>
 
 #include "test_support.h"
 
@@ -118,6 +120,44 @@ TEST(Run, ExplicitEulerOnTheStiffSceneDivergesAndSaysWhen) {
   EXPECT_LT(run.divergence()->t, m.duration);
   EXPECT_FALSE(run.divergence()->reason.empty());
   EXPECT_FALSE(run.advance_to(m.duration));  // stays stopped
+}
+
+// Where a run is watched from must not change where it diverges: the checks run every step
+// and report the state found bad, so advancing to every frame, to one still, or straight to
+// the end gives the same step, time and reason.
+TEST(Run, TheDivergenceStepIsTheSameWhateverTheOutputTimes) {
+  for (const auto& [scene, kind, dt] :
+       {std::tuple{"stiff.yaml", IntegratorKind::ExplicitEuler, 2e-3},
+        std::tuple{"drape.yaml", IntegratorKind::Midpoint, 3e-4},
+        std::tuple{"curtain.yaml", IntegratorKind::ExplicitEuler, 3e-3}}) {
+    const Model model = build_model(load_scene(scene_path(scene)));
+    std::vector<Divergence> found;
+    for (const double frame : {0.0, 1.0 / 30, 1.0 / 240, dt, 0.0123}) {
+      clothsim::Run run(model, kind, dt);
+      if (frame == 0.0) {
+        run.advance_to(model.duration);
+      } else {
+        for (double t = frame; t < model.duration + frame && !run.diverged(); t += frame)
+          run.advance_to(t);
+      }
+      ASSERT_TRUE(run.diverged()) << scene << " watched every " << frame << " s";
+      found.push_back(*run.divergence());
+    }
+    for (const Divergence& d : found) {
+      EXPECT_EQ(d.step, found[0].step) << scene;
+      EXPECT_DOUBLE_EQ(d.t, found[0].t) << scene;
+      EXPECT_EQ(d.reason, found[0].reason) << scene;
+    }
+  }
+}
+
+TEST(Run, InfiniteGravityIsDivergenceNotARunToTheEnd) {
+  // Each finite, the particles' gravitational energies sum past the largest double.
+  const Model model = build_model(load_scene(scene_path("drape.yaml"), {"gravity=[0, -1e308, 0]"}));
+  clothsim::Run run(model, IntegratorKind::SymplecticEuler, model.dt);
+  EXPECT_FALSE(run.advance_to(model.duration));
+  ASSERT_TRUE(run.diverged());
+  EXPECT_LT(run.divergence()->step, 10);
 }
 
 TEST(Run, EveryShippedSceneRunsAFewStepsWithEveryIntegrator) {
