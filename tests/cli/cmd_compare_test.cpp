@@ -189,6 +189,36 @@ TEST(CmdCompare, WithoutOutputsPrintsTheSummaryOnly) {
   EXPECT_NE(r.out.find("ok to t = 0.2 s"), std::string::npos) << r.out;
 }
 
+// Pixels of the banners' red text in a PNG.
+int red_pixels(const Image& image) {
+  int red = 0;
+  for (std::size_t k = 0; k + 3 < image.rgba.size(); k += 4)
+    if (image.rgba[k] > 200 && image.rgba[k + 1] < 110 && image.rgba[k + 2] < 110) ++red;
+  return red;
+}
+
+TEST(CmdCompare, SaysNotConvergedInTheSummaryAndOnTheTile) {
+  // One Newton iteration at a 1e-12 tolerance: every implicit step misses it.
+  const std::string dir = scratch_dir("compare_not_converged");
+  const std::vector<std::string> strict{"--set", "implicit.newton_max_iterations=1", "--set",
+                                        "implicit.newton_tolerance=1e-12"};
+  std::vector<std::string> args{"--integrators", "implicit_euler,rk4", "--still", "0.2", "--out",
+                                dir + "/missed.png"};
+  args.insert(args.end(), strict.begin(), strict.end());
+  const auto r = compare_small(args);
+  ASSERT_EQ(r.exit_code, 0) << "not converging is a result in compare\n" << r.err;
+  EXPECT_NE(r.out.find("NOT CONVERGED: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("ok to t = 0.2 s"), std::string::npos) << "rk4 is unaffected\n" << r.out;
+  // The same still with every step converged has no banner: no red text.
+  const auto ok = compare_small({"--integrators", "implicit_euler,rk4", "--still", "0.2", "--out",
+                                 dir + "/converged.png"});
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(ok.out.find("NOT CONVERGED"), std::string::npos) << ok.out;
+  EXPECT_GT(red_pixels(read_png(dir + "/missed.png")),
+            red_pixels(read_png(dir + "/converged.png")) + 50)
+      << "the NOT CONVERGED banner is drawn on the tile";
+}
+
 TEST(CmdCompare, RefusesAnUnknownIntegratorNamingTheChoices) {
   const std::string dir = scratch_dir("compare_bad_integrator");
   const auto r = compare_small({"--integrators", "rk4,leapfrog", "--video", dir + "/x.mp4"});

@@ -76,6 +76,31 @@ TEST(CmdRun, DivergenceExitsThreeSayingWhenAndKeepsMetricsButNoState) {
   EXPECT_TRUE(only_files(dir, {"m.csv"}));
 }
 
+TEST(CmdRun, StrictExitsFourWhenAnImplicitStepDidNotConvergeAndStillWritesItsOutputs) {
+  // One Newton iteration cannot meet a 1e-12 tolerance on the stiff cloth in contact.
+  const std::string dir = scratch_dir("run_strict");
+  const std::vector<std::string> args{"run", shipped("stiff.yaml"), "--duration", "0.3", "--set",
+                                      "implicit.newton_max_iterations=1", "--set",
+                                      "implicit.newton_tolerance=1e-12", "--state", dir + "/s.csv"};
+  std::vector<std::string> strict = args;
+  strict.push_back("--strict");
+  const CliResult r = run_clothsim(strict);
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--strict:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("did not converge"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("steps not converged"), std::string::npos) << r.out;
+  EXPECT_TRUE(only_files(dir, {"s.csv"}));
+  // Without --strict the same run succeeds, the count in its summary.
+  EXPECT_EQ(run_clothsim(args).exit_code, 0);
+}
+
+TEST(CmdRun, StrictSucceedsWhenEveryStepConverged) {
+  const CliResult r = run_clothsim({"run", shipped("stiff.yaml"), "--duration", "0.1", "--strict"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find(" 0 steps not converged"), std::string::npos) << r.out;
+}
+
 TEST(CmdRun, ADivergedRunsFramesFreezeOnItsLastGoodFrame) {
   const std::string dir = scratch_dir("run_diverged_frames");
   const CliResult r = run_clothsim({"run", shipped("stiff.yaml"), "--integrator", "explicit_euler", "--frames",

@@ -11,7 +11,7 @@
 namespace clothsim::cli {
 
 // The CLI contract's exit codes (DESIGN.md).
-enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3 };
+enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3, kNotConverged = 4 };
 
 // Bad usage or a bad scene: exit 2. The message is the whole one-line error.
 struct UsageError : std::runtime_error {

@@ -83,10 +83,14 @@ void print_summary(const Model& model, const std::vector<RunSummary>& runs) {
   for (const RunSummary& r : runs) {
     // Cost per simulated second over the time actually simulated (up to divergence).
     const double simulated = r.divergence ? r.divergence->t : r.t;
-    char result[160];
+    char result[192];
     if (r.divergence)
       std::snprintf(result, sizeof result, "DIVERGED at t = %.4g s: %s", r.divergence->t,
                     r.divergence->reason.c_str());
+    else if (r.totals.unconverged_steps > 0)
+      std::snprintf(result, sizeof result,
+                    "NOT CONVERGED: %" PRId64 " of %" PRId64 " steps, max residual %.2g (to t = %.4g s)",
+                    r.totals.unconverged_steps, r.totals.steps, r.totals.max_residual, r.t);
     else
       std::snprintf(result, sizeof result, "ok to t = %.4g s", r.t);
     std::printf("%-17s %10.3g %10" PRId64 " %13" PRId64 " %9.3f %14.1f  %s\n",

@@ -1,6 +1,7 @@
 // clothsim run: one scene, one integrator. Steps to each output frame (the scene's fps),
 // records metrics, renders frames/video/a still if asked, writes the final state.
-// Exit 3 when the run diverges (metrics up to that point are kept; the state is not written).
+// Exit 3 when the run diverges (metrics up to that point are kept; the state is not written);
+// with --strict, exit 4 when an implicit step did not converge (every output is written).
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -26,6 +27,7 @@ struct RunOptions {
   std::string still_out;
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
+  bool strict = false;
 };
 
 RenderFrame snapshot_of(const Run& run) {
@@ -111,8 +113,12 @@ int run_command(const RunOptions& o) {
               run.state().t > 0 ? t.sim_seconds / run.state().t : 0.0);
   if (kind == IntegratorKind::ImplicitEuler)
     std::printf("implicit solve: %" PRId64 " Newton iterations, %" PRId64
-                " CG iterations, largest final residual %.3g, %" PRId64 " steps not converged\n",
-                t.newton_iterations, t.cg_iterations, t.max_residual, t.unconverged_steps);
+                " CG iterations, largest final residual %.3g, %" PRId64
+                " steps not converged; %" PRId64 " contacts held in the solve, %" PRId64
+                " post-step projections; %.3f s of CPU (%.3g s per simulated s)\n",
+                t.newton_iterations, t.cg_iterations, t.max_residual, t.unconverged_steps,
+                t.contact_constraints, t.safety_projections, t.cpu_seconds,
+                run.state().t > 0 ? t.cpu_seconds / run.state().t : 0.0);
   if (run.diverged()) {
     const Divergence& d = *run.divergence();
     std::fprintf(stderr, "clothsim: %s: diverged at step %" PRId64 ", t = %.6g s: %s\n",
@@ -120,6 +126,13 @@ int run_command(const RunOptions& o) {
     return kDiverged;
   }
   if (!o.state.empty()) write_state_csv(o.state, model, run.state());
+  if (o.strict && t.unconverged_steps > 0) {
+    std::fprintf(stderr,
+                 "clothsim: %s: --strict: %" PRId64 " of %" PRId64
+                 " implicit steps did not converge (largest final residual %.3g)\n",
+                 scene.source.c_str(), t.unconverged_steps, t.steps, t.max_residual);
+    return kNotConverged;
+  }
   return kOk;
 }
 
@@ -134,7 +147,11 @@ void add_run_command(CLI::App& app, Command& command) {
       "Prints a summary (steps, force evaluations, wall time) on stdout. Exits 3 when the run\n"
       "diverges (non-finite state, strain or kinetic energy past the scene's divergence bounds),\n"
       "saying at which step and time and why; --metrics is then kept up to that point and\n"
-      "--state is not written. Outputs are written under temporary names and renamed at the end.");
+      "--state is not written. With --strict, exits 4 when any implicit step did not converge\n"
+      "(all outputs are still written). Outputs are written under temporary names and renamed at\n"
+      "the end.");
+  sub->add_flag("--strict", o->strict,
+                "Exit 4 if any implicit_euler step ended above its Newton tolerance");
   sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at the scene's fps")
       ->type_name("DIR");
   sub->add_option("--video", o->video, "Write an H.264 MP4 of the run")->type_name("FILE.mp4");

@@ -71,6 +71,14 @@ RenderFrame RunWorker::snapshot_of(const Run& run) const {
   else
     std::snprintf(cost, sizeof cost, "%" PRId64 " force evals", run.totals().force_evals);
   text.lines.push_back(cost);
+  // An implicit step that missed its tolerance is a result, shown on the tile and its sheet
+  // cell as a banner (a later divergence replaces it).
+  if (run.totals().unconverged_steps > 0) {
+    char banner[64];
+    std::snprintf(banner, sizeof banner, "NOT CONVERGED (%" PRId64 " steps)",
+                  run.totals().unconverged_steps);
+    text.banner = banner;
+  }
   RenderFrame frame = make_render_frame(model_, run.state(), text);
   frame.width = tile_w_;
   frame.height = tile_h_;

@@ -1,6 +1,7 @@
 // clothsim: see and measure how time integrators trade speed for accuracy.
 // Dispatches to one subcommand and maps failures to the exit codes of the CLI contract:
-// 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene, 3 diverged.
+// 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene, 3 diverged,
+// 4 an implicit step did not converge (run --strict).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
@@ -22,7 +23,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer(
       "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene,\n"
-      "3 the simulation diverged (run only). `clothsim SUBCOMMAND --help` for each command.\n"
+      "3 the simulation diverged (run only), 4 an implicit step did not converge (run --strict).\n"
+      "`clothsim SUBCOMMAND --help` for each command.\n"
       "Docs: README.md, docs/scenes.md (every scene key), docs/integrators.md.");
   app.set_version_flag("--version", "clothsim " CLOTHSIM_VERSION);
   Command command;
