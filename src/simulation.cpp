@@ -89,7 +89,7 @@ FrameMetrics Run::metrics() const {
   m.t = state_.t;
   m.energies = compute_energies(model_, state_);
   m.max_strain = max_strain(model_, state_);
-  m.contacts = last_.contacts.total();
+  m.contacts = last_.contacts.total() + last_.stats.contact_constraints;  // after and inside the solve
   m.force_evals = totals_.force_evals;
   m.newton_iterations = totals_.newton_iterations;
   m.cg_iterations = totals_.cg_iterations;

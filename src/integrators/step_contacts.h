@@ -73,8 +73,9 @@ bool update_step_contacts(const Model& model, const State& start, double h,
                           StepContacts& contacts);
 
 // The seed's restitution response and Coulomb friction on the held particles' end velocities
-// (in `state`, after the step), relative to their colliders; the friction cone is bounded by
-// the normal impulse, the solve's r . n plus the restitution impulse.
+// (in `state`, after the step), relative to their colliders: a separating normal velocity
+// (the trace of a position correction) is removed, an approaching one reversed times C_R;
+// the friction cone is bounded by the normal impulse, the solve's r . n plus the restitution's.
 void respond_to_step_contacts(const Model& model, const StepContacts& contacts,
                               const Eigen::Matrix3Xd& gradient, State& state);
 

@@ -106,5 +106,19 @@ TEST(StepContacts, TheResponseIsTheSeedsRestitutionRelativeToTheMovingBall) {
   EXPECT_NEAR(s.v(0, 0), 0.2, 1e-12);
 }
 
+TEST(StepContacts, AHeldParticleKeepsNoSeparatingVelocityFromBeingMovedOutOfAPenetration) {
+  // Moved 1 cm out of the ball in a 25 us step, a held particle would carry 400 m/s away
+  // from it: the response removes that, leaving it at the ball's normal velocity.
+  const Model m = model_from_yaml(kScene);
+  State s = initial_state(m);
+  StepContacts contacts;
+  predict_step_contacts(m, s, 0.01, nullptr, contacts);
+  ASSERT_EQ(contacts.filter.body[0], 0);
+  s.v.col(0) = Vec3(0.2, 400.0, 0);
+  respond_to_step_contacts(m, contacts, Eigen::Matrix3Xd::Zero(3, m.num_bodies()), s);
+  EXPECT_NEAR(s.v(1, 0), 1.0, 1e-12);  // the ball rises at 1 m/s
+  EXPECT_NEAR(s.v(0, 0), 0.2, 1e-12);
+}
+
 }  // namespace
 }  // namespace clothsim::testing
