@@ -6,7 +6,8 @@ time of the thread that made the run by default (--time cpu): on an idle machine
 run's wall time, and it stays so when other processes share the cores, which the wall
 clock (--time wall) does not. One line per integrator through the runs that
 finished, labelled with their step; runs that diverged are marked with a cross along the
-top edge at their cost. The dotted line is the reference's own resolution (how much
+top edge at their cost; runs with implicit steps that did not converge (column
+unconverged_steps, when present) are drawn hollow, circled in red. The dotted line is the reference's own resolution (how much
 halving its step moved it): errors near it are not measured, only bounded.
 
     /usr/bin/python3 tools/plot_work_precision.py --csv bench.csv --out wp.png
@@ -16,6 +17,11 @@ import math
 from collections import OrderedDict
 
 import plot_common as pc
+
+
+def unconverged(row):
+    """True when the run had implicit steps above their Newton tolerance."""
+    return pc.number(row.get("unconverged_steps") or "0") > 0
 
 
 def main():
@@ -57,6 +63,10 @@ def main():
             for r, x, y in zip(ok, xs, ys):
                 ax.annotate(f"{pc.number(r['dt']):.3g}", (x, y), textcoords="offset points", xytext=(4, 3),
                             fontsize=6, color=color)
+            missed = [(x, y) for r, x, y in zip(ok, xs, ys) if unconverged(r)]
+            if missed:
+                ax.scatter([x for x, _ in missed], [y for _, y in missed], s=140, facecolors="none",
+                           edgecolors="red", linewidths=1.5, zorder=4)
             bad = [r for r in rs if r["diverged"] == "1"]
             if bad:
                 ax.scatter([max(pc.number(r[key]), 1e-6) for r in bad], [top] * len(bad), marker="x",
@@ -72,6 +82,10 @@ def main():
     handles, labels = axes[0].get_legend_handles_labels()
     handles.append(pc.plt.Line2D([], [], color="black", marker="x", linestyle="None"))
     labels.append("diverged (at its cost)")
+    if any(unconverged(r) for r in rows):
+        handles.append(pc.plt.Line2D([], [], marker="o", markerfacecolor="none", markeredgecolor="red",
+                                     linestyle="None", markersize=10))
+        labels.append("steps not converged")
     if ref:
         handles.append(pc.plt.Line2D([], [], color="gray", linestyle=":"))
         labels.append("reference resolution")

@@ -37,11 +37,23 @@ double cost_estimate(IntegratorKind kind, double T, double dt) {
 
 }  // namespace
 
+// The steps `kind` runs: the common list, and for implicit Euler the frame-rate steps too.
+std::vector<double> steps_of(const WorkPrecisionSpec& spec, IntegratorKind kind) {
+  std::vector<double> dts = spec.dts;
+  if (kind == IntegratorKind::ImplicitEuler) {
+    for (double dt : spec.frame_dts)
+      if (std::find(dts.begin(), dts.end(), dt) == dts.end()) dts.push_back(dt);
+    std::sort(dts.begin(), dts.end());
+  }
+  return dts;
+}
+
 WorkPrecisionSpec checked(WorkPrecisionSpec spec) {
   if (spec.integrators.empty()) throw StudyError("no integrators given");
   if (spec.dts.empty()) throw StudyError("no step sizes given (an empty list)");
   if (!(spec.duration > 0.0) || !std::isfinite(spec.duration))
     throw StudyError("the duration must be a finite number > 0 s, got " + seconds_text(spec.duration));
+  for (double dt : spec.frame_dts) spec.dts.push_back(dt);  // checked alike, split again below
   for (double dt : spec.dts) {
     if (!(dt > 0.0) || !std::isfinite(dt))
       throw StudyError("step size " + seconds_text(dt) + " is not a finite number > 0");
@@ -54,6 +66,9 @@ WorkPrecisionSpec checked(WorkPrecisionSpec spec) {
       throw StudyError(msg.str());
     }
   }
+  spec.dts.resize(spec.dts.size() - spec.frame_dts.size());
+  std::sort(spec.frame_dts.begin(), spec.frame_dts.end());
+  spec.frame_dts.erase(std::unique(spec.frame_dts.begin(), spec.frame_dts.end()), spec.frame_dts.end());
   std::sort(spec.dts.begin(), spec.dts.end());
   for (std::size_t i = 1; i < spec.dts.size(); ++i)
     if (spec.dts[i] == spec.dts[i - 1]) throw StudyError("step size " + seconds_text(spec.dts[i]) + " is listed twice");
@@ -113,7 +128,7 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
   WorkPrecisionResult result;
   result.duration = T;
   for (IntegratorKind kind : spec.integrators)
-    for (double dt : spec.dts) {
+    for (double dt : steps_of(spec, kind)) {
       WorkPrecisionPoint p;
       p.integrator = kind;
       p.dt = dt;
@@ -166,6 +181,7 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
     p.force_evals = run.totals.force_evals;
     p.newton_iterations = run.totals.newton_iterations;
     p.cg_iterations = run.totals.cg_iterations;
+    p.unconverged_steps = run.totals.unconverged_steps;
     p.wall_seconds = run.totals.sim_seconds;
     p.cpu_seconds = run.totals.cpu_seconds;
     if (p.finished && fine.finished) {

@@ -34,6 +34,8 @@ namespace clothsim::analysis {
 struct WorkPrecisionSpec {
   std::vector<IntegratorKind> integrators;
   std::vector<double> dts;     // s, each > 0 and dividing duration
+  std::vector<double> frame_dts;  // s, steps implicit_euler also runs (one step per video
+                                  // frame: 1/240 .. 1/30 s), each > 0 and dividing duration
   double duration = 0.0;       // T, s
   IntegratorKind reference_integrator = IntegratorKind::Rk4;
   int reference_refinement = 8;    // reference step = smallest dt / this (then halved once more)
@@ -49,6 +51,7 @@ struct WorkPrecisionPoint {
   double diverged_at = 0.0;        // s, when diverged
   std::string reason;              // why it diverged
   std::int64_t steps = 0, force_evals = 0, newton_iterations = 0, cg_iterations = 0;
+  std::int64_t unconverged_steps = 0;  // implicit steps that ended above their tolerance
   double wall_seconds = 0.0, cpu_seconds = 0.0;
   double rms_error = 0.0;          // m, RMS over free particles at T; NaN unless finished
   double max_error = 0.0;          // m, largest particle distance at T; NaN unless finished
@@ -71,8 +74,12 @@ struct WorkPrecisionResult {
   ReferenceCheck reference;
   Eigen::Matrix3Xd reference_x;    // (3 x P) cloth particle positions of the finer reference at T
   std::vector<WorkPrecisionPoint> points;  // integrator by integrator (spec order), dt ascending
+                                           // (implicit_euler's include the frame_dts)
   bool complete = true;            // false when stopped early (points not run are left out)
 };
+
+// The steps `kind` runs: spec.dts, and for implicit_euler the frame_dts too, ascending.
+std::vector<double> steps_of(const WorkPrecisionSpec& spec, IntegratorKind kind);
 
 // Checks the spec (throws StudyError naming the problem) and returns it with dts sorted.
 WorkPrecisionSpec checked(WorkPrecisionSpec spec);

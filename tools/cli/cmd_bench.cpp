@@ -41,6 +41,7 @@ struct BenchOptions {
   SceneOptions scene;
   std::string integrators = "explicit_euler,implicit_euler,midpoint,rk4";  // the seed's four
   std::optional<std::string> dts;  // not given: derived from the scene's dt
+  std::string frame_dts = "1/240,1/120,1/60,1/30";  // implicit_euler only; "none" for none
   std::string csv, plot;
   int jobs = 0;
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
@@ -49,6 +50,35 @@ struct BenchOptions {
 constexpr double kDefaultStepFactors[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
 constexpr double kMaxDefaultDuration = 0.5;    // s
 constexpr double kMaxDefaultSmallSteps = 8000;  // T <= this x the smallest step
+
+// --frame-dts: "none", or steps as numbers or fractions ("1/60"); a UsageError names the item.
+std::vector<double> parse_frame_dts(const std::string& text) {
+  std::vector<double> out;
+  if (text == "none") return out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    const std::size_t slash = item.find('/');
+    double value = 0.0;
+    try {
+      if (slash == std::string::npos) {
+        value = parse_number_list(item, "--frame-dts").at(0);
+      } else {
+        const double num = parse_number_list(item.substr(0, slash), "--frame-dts").at(0);
+        const double den = parse_number_list(item.substr(slash + 1), "--frame-dts").at(0);
+        value = num / den;
+      }
+    } catch (const UsageError&) {
+      throw UsageError("--frame-dts: '" + item + "' is not a step (a number or a fraction like 1/60), or 'none'");
+    }
+    if (!(value > 0.0) || !std::isfinite(value))
+      throw UsageError("--frame-dts: '" + item + "' is not a positive step (s)");
+    out.push_back(value);
+    start = comma + 1;
+  }
+  return out;
+}
 
 // T when --duration is not given: short enough for the reference, a multiple of every step.
 double default_duration(double scene_duration, const std::vector<double>& dts) {
@@ -67,16 +97,18 @@ double default_duration(double scene_duration, const std::vector<double>& dts) {
 
 void write_csv(std::FILE* f, const WorkPrecisionResult& r) {
   std::fprintf(f, "integrator,dt,steps,force_evals,newton_iterations,cg_iterations,wall_seconds,cpu_seconds,"
-                  "rms_error,max_error,diverged,diverged_at,reason,duration,reference_dt,reference_change\n");
+                  "rms_error,max_error,diverged,diverged_at,reason,duration,reference_dt,reference_change,"
+                  "unconverged_steps\n");
   for (const WorkPrecisionPoint& p : r.points)
-    std::fprintf(f, "%s,%s,%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64 ",%s,%s,%s,%s,%d,%s,%s,%s,%s,%s\n",
+    std::fprintf(f, "%s,%s,%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64 ",%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%" PRId64 "\n",
                  std::string(integrator_name(p.integrator)).c_str(), csv_number(p.dt).c_str(), p.steps,
                  p.force_evals, p.newton_iterations, p.cg_iterations, csv_number(p.wall_seconds).c_str(),
                  csv_number(p.cpu_seconds).c_str(), csv_number(p.rms_error).c_str(),
                  csv_number(p.max_error).c_str(), p.diverged ? 1 : 0,
                  p.diverged ? csv_number(p.diverged_at).c_str() : "", csv_text(p.reason).c_str(),
                  csv_number(r.duration).c_str(), csv_number(r.reference.dt).c_str(),
-                 r.reference.finished ? csv_number(r.reference.change_rms).c_str() : "nan");
+                 r.reference.finished ? csv_number(r.reference.change_rms).c_str() : "nan",
+                 p.unconverged_steps);
 }
 
 void print_table(const WorkPrecisionResult& r, const std::vector<IntegratorKind>& kinds) {
@@ -85,6 +117,8 @@ void print_table(const WorkPrecisionResult& r, const std::vector<IntegratorKind>
   for (const WorkPrecisionPoint& p : r.points) {
     char status[160];
     if (p.diverged) std::snprintf(status, sizeof status, "DIVERGED at t = %.4g s: %s", p.diverged_at, p.reason.c_str());
+    else if (p.unconverged_steps > 0)
+      std::snprintf(status, sizeof status, "NOT CONVERGED: %" PRId64 " of %" PRId64 " steps", p.unconverged_steps, p.steps);
     else std::snprintf(status, sizeof status, "ok");
     std::printf("%-16s %10.4g %8" PRId64 " %11" PRId64 " %9.3g %9.3g %12.4g %12.4g  %s\n",
                 std::string(integrator_name(p.integrator)).c_str(), p.dt, p.steps, p.force_evals,
@@ -123,6 +157,13 @@ int bench_command(const BenchOptions& o) {
   WorkPrecisionSpec spec;
   spec.integrators = kinds;
   spec.dts = dts;
+  // One step per video frame for implicit Euler, where it divides T (the default T of a short
+  // study may not be a multiple of 1/30 s: those steps are left out, and said so).
+  for (double dt : parse_frame_dts(o.frame_dts)) {
+    const double n = T / dt;
+    if (std::abs(n - std::round(n)) <= 1e-9 * n && std::round(n) >= 1) spec.frame_dts.push_back(dt);
+    else std::fprintf(stderr, "bench: frame step %g s does not divide T = %g s; left out\n", dt, T);
+  }
   spec.duration = T;
   spec.jobs = o.jobs;
   spec.reference_refinement = o.reference_refinement;
@@ -140,15 +181,18 @@ int bench_command(const BenchOptions& o) {
   scene.duration = std::max(scene.duration, T);  // the model's duration is informational only
   const Model model = build_model(scene);
   const double h_ref = spec.dts.front() / spec.reference_refinement;
-  std::printf("bench %s: %zu integrators x %zu steps (%g .. %g s) to T = %g s on %d threads; reference %s at "
+  std::size_t runs = 0;
+  for (IntegratorKind k : kinds) runs += analysis::steps_of(spec, k).size();
+  std::printf("bench %s: %zu integrators x %zu steps (%g .. %g s)%s to T = %g s on %d threads; reference %s at "
               "%g s and %g s\n",
-              model.name.c_str(), kinds.size(), spec.dts.size(), spec.dts.front(), spec.dts.back(), T,
-              std::min<int>(analysis::resolve_jobs(o.jobs), static_cast<int>(kinds.size() * spec.dts.size() + 2)),
+              model.name.c_str(), kinds.size(), spec.dts.size(), spec.dts.front(), spec.dts.back(),
+              runs > kinds.size() * spec.dts.size() ? ", implicit_euler also at one step per frame" : "", T,
+              std::min<int>(analysis::resolve_jobs(o.jobs), static_cast<int>(runs + 2)),
               std::string(integrator_name(spec.reference_integrator)).c_str(), h_ref, h_ref / 2);
   std::fflush(stdout);
 
   install_interrupt_handler();
-  SharedProgress progress("bench " + model.name, static_cast<long>(kinds.size() * spec.dts.size() + 2), "runs");
+  SharedProgress progress("bench " + model.name, static_cast<long>(runs + 2), "runs");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
   hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
@@ -173,7 +217,7 @@ int bench_command(const BenchOptions& o) {
 
   if (interrupted() || !result.complete)
     throw RuntimeFailure("interrupted: " + std::to_string(result.points.size()) + " of " +
-                         std::to_string(kinds.size() * spec.dts.size()) + " runs finished" +
+                         std::to_string(runs) + " runs finished" +
                          (o.csv.empty() ? "" : " and written to " + o.csv) + "; no plot drawn");
   if (!ref.converged)
     throw RuntimeFailure(scene.source + ": " + ref.failure + (o.csv.empty() ? "" : " (" + o.csv + " written for inspection)") +
@@ -194,8 +238,14 @@ void add_bench_command(CLI::App& app, Command& command) {
                   "Comma-separated step sizes in s, each dividing the duration "
                   "(default: the scene's dt x 0.25, 0.5, 1, 2, 4, 8)")
       ->type_name("LIST");
+  sub->add_option("--frame-dts", o->frame_dts,
+                  "Steps implicit_euler also runs, one per video frame: numbers or fractions, or 'none' "
+                  "(those that do not divide the duration are left out)")
+      ->capture_default_str()
+      ->type_name("LIST");
   sub->add_option("--csv", o->csv,
-                  "Write one row per run: integrator,dt,steps,force_evals,...,rms_error,max_error,diverged,...")
+                  "Write one row per run: integrator,dt,steps,force_evals,...,rms_error,max_error,diverged,"
+                  "...,unconverged_steps")
       ->type_name("FILE.csv");
   sub->add_option("--plot", o->plot, "Draw the work-precision diagram (needs python3-matplotlib)")
       ->type_name("FILE.png");

@@ -92,6 +92,24 @@ TEST(WorkPrecision, DivergedRunIsKeptWithoutAnError) {
   EXPECT_FALSE(big.reason.empty());
 }
 
+TEST(WorkPrecision, FrameRateStepsAreRunByImplicitEulerOnlyAndUnconvergedStepsAreCounted) {
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4, IntegratorKind::ImplicitEuler});
+  spec.dts = {0.01, 0.005};
+  spec.frame_dts = {0.02, 0.01, 0.04};  // 0.01 is also a common step: run once
+  // Swinging under gravity the spring rotates, so one linearised step cannot meet 1e-10.
+  const Model model = spring_model({"gravity=[0, -9.8, 0]", "implicit.newton_max_iterations=1",
+                                    "implicit.newton_tolerance=1e-10"});
+  const WorkPrecisionResult r = work_precision(model, spec);
+  std::vector<double> rk4, implicit;
+  for (const WorkPrecisionPoint& p : r.points) {
+    (p.integrator == IntegratorKind::Rk4 ? rk4 : implicit).push_back(p.dt);
+    if (p.integrator == IntegratorKind::Rk4) EXPECT_EQ(p.unconverged_steps, 0);
+    else EXPECT_GT(p.unconverged_steps, p.steps / 2) << "one iteration at 1e-10 misses most steps";
+  }
+  EXPECT_EQ(rk4, (std::vector<double>{0.005, 0.01}));
+  EXPECT_EQ(implicit, (std::vector<double>{0.005, 0.01, 0.02, 0.04}));
+}
+
 TEST(WorkPrecision, RejectsStepListsItCannotRun) {
   const Model model = spring_model();
   WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4});
