@@ -55,6 +55,13 @@ def main():
             ax.scatter([pc.number(r["value"]) for r in below], [pc.number(r["min_dt"]) for r in below],
                        marker="v", s=80, facecolors="none", edgecolors=color, linewidths=1.5,
                        label=f"{name}: unstable at every dt tried")
+    # A stable step whose run had implicit steps above tolerance: circled in red, apart.
+    missed = [r for r in rows if pc.number(r.get("stable_unconverged_steps") or "0") > 0]
+    if missed:
+        ax.scatter([pc.number(r["value"]) for r in missed],
+                   [pc.number(r["stable_dt"] if r["outcome"] == "bracketed" else r["max_dt"]) for r in missed],
+                   s=220, facecolors="none", edgecolors="red", linewidths=1.5, zorder=4,
+                   label="stable, but steps not converged")
     est = {}
     for r in rows:
         est[pc.number(r["value"])] = (pc.number(r["dt_springs"]), pc.number(r["dt_with_damping"]))

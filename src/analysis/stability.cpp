@@ -70,7 +70,10 @@ StabilityLimit largest_stable_dt(const Model& model_in, IntegratorKind kind, con
     out.cpu_seconds += run.totals.cpu_seconds;
     if (run.stopped) stopped = true;
     if (run.finished) {
-      if (!(out.stable_dt >= dt)) out.stable_dt = dt;
+      if (!(out.stable_dt >= dt)) {
+        out.stable_dt = dt;
+        out.stable_unconverged = run.totals.unconverged_steps;
+      }
       return true;
     }
     if (!stopped && !(out.unstable_dt <= dt)) {
@@ -84,6 +87,22 @@ StabilityLimit largest_stable_dt(const Model& model_in, IntegratorKind kind, con
   };
   const auto finish = [&](StabilityOutcome outcome) {
     out.outcome = stopped ? StabilityOutcome::Stopped : outcome;
+    if (kind == IntegratorKind::ImplicitEuler && !stopped) {
+      for (double dt : spec.frame_dts) {  // one step per frame: reported, not searched
+        const StudyRun run = run_to(model, kind, dt, spec.duration, stop);
+        ++out.trials;
+        out.cpu_seconds += run.totals.cpu_seconds;
+        std::ostringstream line;
+        line.precision(4);
+        line << (out.frame_steps.empty() ? "" : "; ") << "1/" << std::round(1.0 / dt) << " s: ";
+        if (run.divergence) line << "diverged at t = " << run.divergence->t << " s";
+        else if (run.stopped) line << "stopped";
+        else if (run.totals.unconverged_steps > 0)
+          line << run.totals.unconverged_steps << " of " << run.totals.steps << " steps not converged";
+        else line << "ok, " << run.totals.steps << " steps converged";
+        out.frame_steps += line.str();
+      }
+    }
     return out;
   };
 

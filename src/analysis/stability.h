@@ -41,6 +41,7 @@
 // The answer is the largest dt that ran (the bracket's stable end).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,8 @@ struct StabilitySpec {
   double energy_factor = 100.0; // replaces Model::divergence.max_energy_factor in trials
   double max_strain = 2.0;      // replaces Model::divergence.max_strain in trials
   double first_guess = 0.0;     // s; 0: 2 / max(w_max, c_max) of the model, clamped to the range
+  std::vector<double> frame_dts;  // s, steps implicit_euler is also run at over T (one step per
+                                  // video frame, however few steps that is), reported apart
   int jobs = 0;                 // threads; <= 0: hardware_concurrency
 };
 
@@ -80,6 +83,10 @@ struct StabilityLimit {
   double stable_dt = 0.0;      // s, largest dt that ran to T (NaN when none did)
   double unstable_dt = 0.0;    // s, smallest dt that diverged (NaN when none did)
   std::string reason;          // how the run at unstable_dt diverged
+  std::int64_t stable_unconverged = 0;  // implicit steps above tolerance in the run at stable_dt:
+                                        // stable (it did not diverge), but marked apart
+  std::string frame_steps;     // implicit_euler: each frame_dts run's result, e.g.
+                               // '1/240 s: ok, 48 steps converged; 1/60 s: 2 of 12 steps not converged'
   int trials = 0;              // runs made
   double cpu_seconds = 0.0;    // summed over the trials
   StiffnessEstimate estimate;  // of the model searched

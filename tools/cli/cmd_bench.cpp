@@ -41,7 +41,7 @@ struct BenchOptions {
   SceneOptions scene;
   std::string integrators = "explicit_euler,implicit_euler,midpoint,rk4";  // the seed's four
   std::optional<std::string> dts;  // not given: derived from the scene's dt
-  std::string frame_dts = "1/240,1/120,1/60,1/30";  // implicit_euler only; "none" for none
+  std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
   std::string csv, plot;
   int jobs = 0;
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
@@ -50,35 +50,6 @@ struct BenchOptions {
 constexpr double kDefaultStepFactors[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
 constexpr double kMaxDefaultDuration = 0.5;    // s
 constexpr double kMaxDefaultSmallSteps = 8000;  // T <= this x the smallest step
-
-// --frame-dts: "none", or steps as numbers or fractions ("1/60"); a UsageError names the item.
-std::vector<double> parse_frame_dts(const std::string& text) {
-  std::vector<double> out;
-  if (text == "none") return out;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', start), text.size());
-    const std::string item = text.substr(start, comma - start);
-    const std::size_t slash = item.find('/');
-    double value = 0.0;
-    try {
-      if (slash == std::string::npos) {
-        value = parse_number_list(item, "--frame-dts").at(0);
-      } else {
-        const double num = parse_number_list(item.substr(0, slash), "--frame-dts").at(0);
-        const double den = parse_number_list(item.substr(slash + 1), "--frame-dts").at(0);
-        value = num / den;
-      }
-    } catch (const UsageError&) {
-      throw UsageError("--frame-dts: '" + item + "' is not a step (a number or a fraction like 1/60), or 'none'");
-    }
-    if (!(value > 0.0) || !std::isfinite(value))
-      throw UsageError("--frame-dts: '" + item + "' is not a positive step (s)");
-    out.push_back(value);
-    start = comma + 1;
-  }
-  return out;
-}
 
 // T when --duration is not given: short enough for the reference, a multiple of every step.
 double default_duration(double scene_duration, const std::vector<double>& dts) {

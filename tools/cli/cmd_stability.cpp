@@ -21,6 +21,7 @@
 //
 // Exit codes: 0; 2 bad options, scene or parameter; 1 I/O, the plot, or an interrupted
 // study (Ctrl-C: the searches finished so far are written to --csv).
+#include <cinttypes>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -50,6 +51,7 @@ struct StabilityOptions {
   double precision = analysis::StabilitySpec{}.precision;
   double energy_factor = analysis::StabilitySpec{}.energy_factor;
   double max_strain = analysis::StabilitySpec{}.max_strain;
+  std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
   std::string csv, plot;
   int jobs = 0;
 };
@@ -68,16 +70,18 @@ struct Case {
 void write_csv(std::FILE* f, const std::string& param, const std::vector<StabilityLimit>& limits,
                const analysis::StabilitySpec& spec) {
   std::fprintf(f, "param,value,integrator,outcome,stable_dt,unstable_dt,trials,cpu_seconds,w_max,c_max,"
-                  "dt_springs,dt_with_damping,duration,min_dt,max_dt,precision,reason\n");
+                  "dt_springs,dt_with_damping,duration,min_dt,max_dt,precision,reason,"
+                  "stable_unconverged_steps,frame_steps\n");
   for (const StabilityLimit& l : limits)
-    std::fprintf(f, "%s,%s,%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n", csv_text(param).c_str(),
+    std::fprintf(f, "%s,%s,%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%" PRId64 ",%s\n", csv_text(param).c_str(),
                  csv_number(l.value).c_str(), std::string(integrator_name(l.integrator)).c_str(),
                  analysis::outcome_name(l.outcome), csv_number(l.stable_dt).c_str(),
                  csv_number(l.unstable_dt).c_str(), l.trials, csv_number(l.cpu_seconds).c_str(),
                  csv_number(l.estimate.w_max).c_str(), csv_number(l.estimate.c_max).c_str(),
                  csv_number(l.estimate.dt_springs()).c_str(), csv_number(l.estimate.dt_with_damping()).c_str(),
                  csv_number(spec.duration).c_str(), csv_number(spec.min_dt).c_str(),
-                 csv_number(spec.max_dt).c_str(), csv_number(spec.precision).c_str(), csv_text(l.reason).c_str());
+                 csv_number(spec.max_dt).c_str(), csv_number(spec.precision).c_str(), csv_text(l.reason).c_str(),
+                 l.stable_unconverged, csv_text(l.frame_steps).c_str());
 }
 
 std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& spec) {
@@ -137,6 +141,7 @@ int stability_command(const StabilityOptions& o) {
   spec.energy_factor = o.energy_factor;
   spec.max_strain = o.max_strain;
   spec.jobs = o.jobs;
+  spec.frame_dts = parse_frame_dts(o.frame_dts);
   if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
   if (o.min_dt && !(*o.min_dt > 0.0)) throw UsageError("--min-dt: must be > 0 s");
   if (o.max_dt && !(*o.max_dt > 0.0)) throw UsageError("--max-dt: must be > 0 s");
@@ -178,6 +183,10 @@ int stability_command(const StabilityOptions& o) {
     const double dt = l.outcome == StabilityOutcome::Bracketed ? l.stable_dt : NAN;
     std::printf("%14.6g %-16s %-48s %10.3g %12.3g %6d\n", l.value, std::string(integrator_name(l.integrator)).c_str(),
                 limit_text(l, spec).c_str(), dt / l.estimate.dt_springs(), dt / l.estimate.dt_with_damping(), l.trials);
+    if (l.stable_unconverged > 0)
+      std::printf("%14s %-16s NOT CONVERGED: %" PRId64 " steps of the run at the stable dt\n", "", "",
+                  l.stable_unconverged);
+    if (!l.frame_steps.empty()) std::printf("%14s %-16s one step per frame: %s\n", "", "", l.frame_steps.c_str());
   }
 
   const auto write_to = [&](const std::string& path) {
@@ -212,6 +221,11 @@ void add_stability_command(CLI::App& app, Command& command) {
       ->type_name("LIST");
   sub->add_option("--min-dt", o->min_dt, "Smallest step tried, s (default: estimate / 32)")->type_name("S");
   sub->add_option("--max-dt", o->max_dt, "Largest step tried, s, at most T / 20 (default: min(T / 50, 1000 x scene dt))")->type_name("S");
+  sub->add_option("--frame-dts", o->frame_dts,
+                  "Steps implicit_euler is also run at over T, one per video frame (numbers or "
+                  "fractions, or 'none'); reported per case, not searched")
+      ->capture_default_str()
+      ->type_name("LIST");
   sub->add_option("--precision", o->precision, "Relative width of the final bisection bracket")->capture_default_str();
   sub->add_option("--energy-factor", o->energy_factor,
                   "Unstable when kinetic energy exceeds this x the scene's energy scale")

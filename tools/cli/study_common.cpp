@@ -155,4 +155,32 @@ void PlotScript::draw_from_csv(const std::string& csv,
   std::printf("plot: %s\n", png_.c_str());
 }
 
+std::vector<double> parse_frame_dts(const std::string& text) {
+  std::vector<double> out;
+  if (text == "none") return out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    const std::size_t slash = item.find('/');
+    double value = 0.0;
+    try {
+      if (slash == std::string::npos) {
+        value = parse_number_list(item, "--frame-dts").at(0);
+      } else {
+        const double num = parse_number_list(item.substr(0, slash), "--frame-dts").at(0);
+        const double den = parse_number_list(item.substr(slash + 1), "--frame-dts").at(0);
+        value = num / den;
+      }
+    } catch (const UsageError&) {
+      throw UsageError("--frame-dts: '" + item + "' is not a step (a number or a fraction like 1/60), or 'none'");
+    }
+    if (!(value > 0.0) || !std::isfinite(value))
+      throw UsageError("--frame-dts: '" + item + "' is not a positive step (s)");
+    out.push_back(value);
+    start = comma + 1;
+  }
+  return out;
+}
+
 }  // namespace clothsim::cli

@@ -17,6 +17,12 @@ namespace clothsim::cli {
 // `option`. Signs are the caller's to check (a dt must be > 0, a parameter may be anything).
 std::vector<double> parse_number_list(const std::string& text, const std::string& option);
 
+// The steps of one step per video frame that bench and stability also run implicit_euler at.
+inline constexpr const char* kDefaultFrameDts = "1/240,1/120,1/60,1/30";
+
+// --frame-dts: "none", or steps as numbers or fractions ("1/60"); a UsageError names the item.
+std::vector<double> parse_frame_dts(const std::string& text);
+
 // A CSV cell: numbers in the shortest form that reads back exactly (nan stays "nan"), and text quoted when it holds a comma
 // or a quote (RFC 4180), so a divergence reason cannot break a row.
 std::string csv_number(double value);

@@ -72,6 +72,32 @@ TEST(Stability, ImplicitEulerIsStableAtTheLargestStepTried) {
   EXPECT_EQ(l.trials, 1);  // the cap is tried first: nothing invented above it
 }
 
+TEST(Stability, ImplicitEulerIsAlsoRunAtOneStepPerFrameAndReportedApart) {
+  StabilitySpec spec = long_run(IntegratorKind::ImplicitEuler);
+  spec.duration = 2.0;
+  spec.max_dt = 0.1;
+  spec.frame_dts = {1.0 / 60, 1.0 / 30};
+  const StabilityLimit implicit = largest_stable_dt(undamped_spring(), IntegratorKind::ImplicitEuler, spec);
+  EXPECT_EQ(implicit.trials, 3);  // the largest step, then the two frame steps
+  EXPECT_EQ(implicit.frame_steps, "1/60 s: ok, 120 steps converged; 1/30 s: ok, 60 steps converged");
+  EXPECT_EQ(implicit.stable_unconverged, 0);
+  spec.integrators = {IntegratorKind::Rk4};
+  EXPECT_TRUE(largest_stable_dt(undamped_spring(), IntegratorKind::Rk4, spec).frame_steps.empty());
+}
+
+TEST(Stability, AStableStepWhoseImplicitStepsMissedTheirToleranceIsMarked) {
+  // One linearised step of a swinging (rotating, so nonlinear) spring cannot meet 1e-10.
+  const Model model = build_model(load_scene(
+      scene_path("spring.yaml"), {"gravity=[0, -9.8, 0]", "implicit.newton_max_iterations=1",
+                                  "implicit.newton_tolerance=1e-10"}));
+  StabilitySpec spec = long_run(IntegratorKind::ImplicitEuler);
+  spec.duration = 2.0;
+  spec.max_dt = 0.1;
+  const StabilityLimit l = largest_stable_dt(model, IntegratorKind::ImplicitEuler, spec);
+  EXPECT_EQ(l.outcome, StabilityOutcome::StableAtMax);
+  EXPECT_GT(l.stable_unconverged, 0);
+}
+
 TEST(Stability, ExplicitEulerAndMidpointAreNeverStableOverALongRun) {
   for (IntegratorKind kind : {IntegratorKind::ExplicitEuler, IntegratorKind::Midpoint}) {
     const StabilityLimit l = largest_stable_dt(undamped_spring(), kind, long_run(kind));
