@@ -1,46 +1,45 @@
 #include "integrator_kind.h"
 
-#include <array>
-#include <utility>
-
 namespace clothsim {
-namespace {
-constexpr std::array<std::pair<IntegratorKind, std::string_view>, 5> kNames{{
-    {IntegratorKind::ExplicitEuler, "explicit_euler"},
-    {IntegratorKind::SymplecticEuler, "symplectic_euler"},
-    {IntegratorKind::Midpoint, "midpoint"},
-    {IntegratorKind::Rk4, "rk4"},
-    {IntegratorKind::ImplicitEuler, "implicit_euler"},
-}};
-}  // namespace
 
 std::string_view integrator_name(IntegratorKind kind) {
-  for (const auto& [k, name] : kNames)
-    if (k == kind) return name;
+  for (const IntegratorInfo& info : integrator_registry())
+    if (info.kind == kind) return info.name;
   return "unknown";
 }
 
 std::optional<IntegratorKind> parse_integrator(std::string_view name) {
-  for (const auto& [k, n] : kNames)
-    if (n == name) return k;
+  for (const IntegratorInfo& info : integrator_registry())
+    if (info.name == name) return info.kind;
   return std::nullopt;
 }
 
 const std::vector<IntegratorKind>& all_integrators() {
   static const std::vector<IntegratorKind> kinds = [] {
     std::vector<IntegratorKind> out;
-    for (const auto& entry : kNames) out.push_back(entry.first);
+    for (const IntegratorInfo& info : integrator_registry()) out.push_back(info.kind);
     return out;
   }();
   return kinds;
 }
 
-std::string integrator_names_joined() {
+std::string integrator_names_joined(std::string_view separator) {
   std::string out;
-  for (const auto& entry : kNames) {
-    if (!out.empty()) out += ", ";
-    out += entry.second;
+  for (const IntegratorInfo& info : integrator_registry()) {
+    if (!out.empty()) out += separator;
+    out += info.name;
   }
+  return out;
+}
+
+std::string default_comparison_list() {
+  std::string out;
+  for (int slot = 1; slot <= static_cast<int>(integrator_registry().size()); ++slot)
+    for (const IntegratorInfo& info : integrator_registry()) {
+      if (info.comparison_slot != slot) continue;
+      if (!out.empty()) out += ",";
+      out += info.name;
+    }
   return out;
 }
 

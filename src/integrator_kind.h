@@ -17,10 +17,22 @@ enum class IntegratorKind {
   ImplicitEuler,    // backward Euler, Newton + PCG (or fixed point)  1 + solver work
 };
 
-// Scene/CLI spelling: explicit_euler, symplectic_euler, midpoint, rk4, implicit_euler.
+// Everything said about an integrator outside its step function, in one table (the
+// registry, integrators/integrator.cpp), which names, help texts and default lists read.
+struct IntegratorInfo {
+  IntegratorKind kind;
+  std::string_view name;         // scene/CLI spelling
+  int nominal_force_evals;       // per step; 0 where the solve decides (implicit_euler)
+  int comparison_slot;           // place in compare's, bench's and stability's default four
+                                 // (1..4, the course's order), 0: not among them
+  std::string_view description;  // one line, for --help
+};
+const std::vector<IntegratorInfo>& integrator_registry();  // in enum order
+
 std::string_view integrator_name(IntegratorKind kind);
 std::optional<IntegratorKind> parse_integrator(std::string_view name);
 const std::vector<IntegratorKind>& all_integrators();
-std::string integrator_names_joined();  // "explicit_euler, symplectic_euler, ..." for errors
+std::string integrator_names_joined(std::string_view separator = ", ");  // for errors and help
+std::string default_comparison_list();  // the default four, comma-separated
 
 }  // namespace clothsim

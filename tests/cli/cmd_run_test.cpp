@@ -3,6 +3,8 @@
 // left on disk.
 #include <gtest/gtest.h>
 
+#include "integrator_kind.h"
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -74,6 +76,21 @@ TEST(CmdRun, DivergenceExitsThreeSayingWhenAndKeepsMetricsButNoState) {
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("stiff.yaml: diverged at step"), std::string::npos) << r.err;
   EXPECT_TRUE(only_files(dir, {"m.csv"}));
+}
+
+TEST(CmdRun, EveryRegisteredIntegratorIsInTheHelpAndRunsByItsName) {
+  const CliResult help = run_clothsim({"--help"});
+  ASSERT_EQ(help.exit_code, 0);
+  const CliResult run_help = run_clothsim({"run", "--help"});
+  for (const IntegratorInfo& info : integrator_registry()) {
+    const std::string name(info.name);
+    EXPECT_NE(help.out.find(name + " "), std::string::npos) << name << "\n" << help.out;
+    EXPECT_NE(help.out.find(std::string(info.description)), std::string::npos) << name;
+    EXPECT_NE(run_help.out.find(name), std::string::npos) << name;
+    const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--integrator", name, "--duration", "0.01"});
+    EXPECT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    EXPECT_NE(r.out.find(name), std::string::npos) << r.out;
+  }
 }
 
 TEST(CmdRun, StrictExitsFourWhenAnImplicitStepDidNotConvergeAndStillWritesItsOutputs) {

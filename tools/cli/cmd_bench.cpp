@@ -39,7 +39,7 @@ using analysis::WorkPrecisionSpec;
 
 struct BenchOptions {
   SceneOptions scene;
-  std::string integrators = "explicit_euler,implicit_euler,midpoint,rk4";  // the seed's four
+  std::string integrators = default_comparison_list();  // the course's four, by name
   std::optional<std::string> dts;  // not given: derived from the scene's dt
   std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
   std::string csv, plot;

@@ -53,7 +53,7 @@ using Clock = std::chrono::steady_clock;
 
 struct CompareOptions {
   SceneOptions scene;
-  std::string integrators = "explicit_euler,implicit_euler,midpoint,rk4";  // the seed's four
+  std::string integrators = default_comparison_list();  // the course's four, by name
   std::string layout = "auto";
   std::string video, frames_dir, dt, sheet, times, still_out;
   std::optional<double> still_t;

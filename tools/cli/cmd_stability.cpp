@@ -44,7 +44,7 @@ using analysis::StabilityOutcome;
 
 struct StabilityOptions {
   SceneOptions scene;
-  std::string integrators = "explicit_euler,implicit_euler,midpoint,rk4";  // the seed's four
+  std::string integrators = default_comparison_list();  // the course's four, by name
   std::string param = "cloth.springs.structural.stiffness";
   std::optional<std::string> values;  // not given: the scene's value x kDefaultValueFactors
   std::optional<double> min_dt, max_dt;

@@ -21,7 +21,14 @@ int main(int argc, char** argv) {
       " - a headless mass-spring cloth simulator that shows and measures how time\n"
       "integrators trade speed for accuracy. Scenes are YAML (see docs/scenes.md)."};
   app.require_subcommand(1);
+  std::string integrators = "Integrators (--integrator NAME, scene key integrator:):\n";
+  for (const IntegratorInfo& info : integrator_registry()) {
+    std::string name(info.name);
+    name.resize(18, ' ');
+    integrators += "  " + name + std::string(info.description) + "\n";
+  }
   app.footer(
+      integrators +
       "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene,\n"
       "3 the simulation diverged (run only), 4 an implicit step did not converge (run --strict).\n"
       "`clothsim SUBCOMMAND --help` for each command.\n"

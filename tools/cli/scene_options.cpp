@@ -18,8 +18,7 @@ void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run) {
   sub->add_option("--duration", o.duration, "Simulated time in s (default: the scene's duration)");
   if (single_run) {
     sub->add_option("--integrator", o.integrator,
-                    "explicit_euler | symplectic_euler | midpoint | rk4 | implicit_euler "
-                    "(default: the scene's integrator)");
+                    integrator_names_joined(" | ") + " (default: the scene's integrator)");
     sub->add_option("--dt", o.dt, "Time step in s (default: the scene's dt)");
   }
 }
