@@ -48,32 +48,42 @@ TEST(StepContacts, PredictsTheParticlesThatWouldEndInsideAColliderWithItsEndOfSt
   EXPECT_NEAR(contacts.plane[1], 0.96, 1e-8);
 }
 
-TEST(StepContacts, HeldParticlesArePlacedOnTheirPlanesJustBeyondTheDetectionDistance) {
-  const Model m = model_from_yaml(kScene);
-  State s = initial_state(m);
-  s.v.col(1) = Vec3(0, -10, 0);
-  const double h = 0.01;
+// The scene's first step of h = 0.01 s with particle 1 falling at 10 m/s: its predicted
+// contacts, and the end positions with the held particles placed on their planes.
+struct FirstStep {
+  Model model = model_from_yaml(kScene);
+  State start = initial_state(model);
+  double h = 0.01;
   StepContacts contacts;
-  predict_step_contacts(m, s, h, nullptr, contacts);
-  Eigen::Matrix3Xd dv = Eigen::Matrix3Xd::Zero(3, m.num_bodies());
-  place_on_planes(contacts, s, h, dv);
-  const Eigen::Matrix3Xd y = s.x + h * (s.v + dv);
+  Eigen::Matrix3Xd y;
+  FirstStep() {
+    start.v.col(1) = Vec3(0, -10, 0);
+    predict_step_contacts(model, start, h, nullptr, contacts);
+    Eigen::Matrix3Xd dv = Eigen::Matrix3Xd::Zero(3, model.num_bodies());
+    place_on_planes(contacts, start, h, dv);
+    y = start.x + h * (start.v + dv);
+  }
+};
+
+TEST(StepContacts, HeldParticlesArePlacedOnTheirPlanesJustBeyondTheDetectionDistance) {
+  const FirstStep f;
+  const Model& m = f.model;
+  const State& s = f.start;
+  const double h = f.h;
+  const Eigen::Matrix3Xd& y = f.y;
   const Vec3 centre = s.x.col(m.sphere_body(0)) + h * s.v.col(m.sphere_body(0));
   EXPECT_NEAR((y.col(0) - centre).norm(), 1.01 + kContactClearance, 1e-12);
   EXPECT_NEAR(y(1, 1), 0.96 + kContactClearance, 1e-12);
 }
 
 TEST(StepContacts, LetsGoOfPullingContactsOnceAndTakesInPenetratingOnes) {
-  const Model m = model_from_yaml(kScene);
-  State s = initial_state(m);
-  s.v.col(1) = Vec3(0, -10, 0);
-  const double h = 0.01;
-  StepContacts contacts;
-  predict_step_contacts(m, s, h, nullptr, contacts);
+  FirstStep f;
+  const Model& m = f.model;
+  const State& s = f.start;
+  const double h = f.h;
+  const Eigen::Matrix3Xd& y = f.y;
+  StepContacts& contacts = f.contacts;
   ASSERT_EQ(contacts.size(), 2u);
-  Eigen::Matrix3Xd dv = Eigen::Matrix3Xd::Zero(3, m.num_bodies());
-  place_on_planes(contacts, s, h, dv);
-  const Eigen::Matrix3Xd y = s.x + h * (s.v + dv);
   // Impulses: particle 0 pulled towards the ball (r . n < 0), particle 1 pushed out.
   Eigen::Matrix3Xd r = Eigen::Matrix3Xd::Zero(3, m.num_bodies());
   r.col(0) = Vec3(0, -1, 0);
