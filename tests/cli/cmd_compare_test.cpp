@@ -219,6 +219,22 @@ TEST(CmdCompare, SaysNotConvergedInTheSummaryAndOnTheTile) {
       << "the NOT CONVERGED banner is drawn on the tile";
 }
 
+TEST(CmdCompare, SaysBesideTheTableWhatTheImplicitSolveDidWithContacts) {
+  // The small drape rests on its ball from the start: the implicit solve holds contacts.
+  const auto r = compare_small({"--integrators", "implicit_euler,rk4"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto line_at = r.out.find("\nimplicit_euler: ");
+  ASSERT_NE(line_at, std::string::npos) << r.out;
+  long held = -1, projected = -1;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("contacts held in the solve ", line_at),
+                        "contacts held in the solve %ld, post-step projections %ld", &held, &projected),
+            2)
+      << r.out;
+  EXPECT_GT(held, 0) << r.out;
+  EXPECT_GE(projected, 0);
+  EXPECT_EQ(r.out.find("\nrk4: "), std::string::npos) << "explicit runs have no solve to report\n" << r.out;
+}
+
 TEST(CmdCompare, RefusesAnUnknownIntegratorNamingTheChoices) {
   const std::string dir = scratch_dir("compare_bad_integrator");
   const auto r = compare_small({"--integrators", "rk4,leapfrog", "--video", dir + "/x.mp4"});

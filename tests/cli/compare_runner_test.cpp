@@ -87,3 +87,27 @@ TEST(RunWorker, StopsWhenAskedEvenWithAFullQueue) {
   worker.join();  // returns: the thread saw the stop while blocked on the full queue
   EXPECT_LT(worker.summary().totals.steps, 1000 * 50);
 }
+
+TEST(RunWorker, SaysNotConvergedWithTheStepsMissedSoFar) {
+  // One Newton iteration cannot meet 1e-12 on a sagging sheet: steps miss it as they come,
+  // and each snapshot counts the misses up to its own time, not the run's final total.
+  const Model model = clothsim::testing::model_from_yaml(
+      std::string(kSheet) + "implicit: {newton_max_iterations: 1, newton_tolerance: 1.0e-12}\n");
+  const auto targets = frames(4, 20.0);
+  RunWorker worker(model, IntegratorKind::ImplicitEuler, 1e-3, targets, 32, 32);
+  TileSnapshot snap;
+  ASSERT_TRUE(worker.next(snap));
+  EXPECT_EQ(snap.frame.banner, "") << "no step taken at t = 0";
+  long previous = 0;
+  for (int k = 1; k < 4; ++k) {
+    ASSERT_TRUE(worker.next(snap));
+    long missed = 0;
+    ASSERT_EQ(std::sscanf(snap.frame.banner.c_str(), "NOT CONVERGED (%ld steps)", &missed), 1)
+        << snap.frame.banner;
+    EXPECT_GT(missed, previous) << "at t = " << k / 20.0;
+    EXPECT_LE(missed, 50L * k) << "no more than the steps taken so far";
+    previous = missed;
+  }
+  worker.join();
+  EXPECT_EQ(worker.summary().totals.unconverged_steps, previous);
+}

@@ -98,6 +98,15 @@ void print_summary(const Model& model, const std::vector<RunSummary>& runs) {
                 r.totals.force_evals, r.totals.cpu_seconds, simulated > 0 ? 1e3 * r.totals.cpu_seconds / simulated : 0.0,
                 result);
   }
+  // What the implicit solve did, beside the table (0 for the explicit family, so not a column):
+  // contacts it held as constraints, and particles the post-step projection still had to move.
+  for (const RunSummary& r : runs)
+    if (r.kind == IntegratorKind::ImplicitEuler)
+      std::printf("%s: %" PRId64 " Newton and %" PRId64 " CG iterations, largest final residual %.2g; "
+                  "contacts held in the solve %" PRId64 ", post-step projections %" PRId64 "\n",
+                  std::string(integrator_name(r.kind)).c_str(), r.totals.newton_iterations,
+                  r.totals.cg_iterations, r.totals.max_residual, r.totals.contact_constraints,
+                  r.totals.safety_projections);
 }
 
 int compare_command(const CompareOptions& o) {
