@@ -4,13 +4,18 @@
 Log-log, one line per integrator through the bracketed limits. A method stable at the
 largest step tried is drawn as an open triangle pointing up at that step (its limit is
 above); one unstable at every step tried, as an open triangle pointing down at the
-smallest (its limit, if any, is below). The black dashed line is the springs' Gershgorin
-estimate 2 / w_max, the grey dotted one 2 / max(w_max, c_max) with the dampers counted.
+smallest (its limit, if any, is below). A limit set by implicit steps that did not converge
+(column failure = not_converged) rather than by divergence is drawn hollow and circled in
+red. implicit_euler's runs at one step per frame (column frame_steps) are drawn at their
+step: a filled square converged at every step, a hollow one circled in red had steps that
+did not, a cross diverged. The black dashed line is the springs' Gershgorin estimate
+2 / w_max, the grey dotted one 2 / max(w_max, c_max) with the dampers counted.
 
     /usr/bin/python3 tools/plot_stability.py --csv stability.csv --out stability.png
 """
 import argparse
 import math
+import re
 from collections import OrderedDict
 
 import plot_common as pc
@@ -20,6 +25,24 @@ UNITS = {"stiffness": "N/m", "damping": "N s/m", "particle_mass": "kg", "air_dra
 
 def unit_of(param):
     return UNITS.get(param.rsplit(".", 1)[-1], "")
+
+
+# One frame step's result in frame_steps: "1/60 s: ok, 12 steps converged",
+# "1/30 s: 3 of 6 steps not converged", "1/30 s: diverged at t = 0.1 s", "0.003 s: ...".
+FRAME_STEP = re.compile(r"^\s*(?:1/([0-9.]+)|([0-9.eE+-]+)) s: (ok|diverged|stopped|\d+ of \d+ steps not converged)")
+
+
+def frame_steps(text):
+    """[(dt, 'ok' | 'not_converged' | 'diverged')] from a frame_steps cell; stopped runs left out."""
+    out = []
+    for item in (text or "").split(";"):
+        m = FRAME_STEP.match(item)
+        if not m or m.group(3) == "stopped":
+            continue
+        dt = 1.0 / float(m.group(1)) if m.group(1) else float(m.group(2))
+        result = m.group(3)
+        out.append((dt, "not_converged" if result.endswith("not converged") else result))
+    return out
 
 
 def main():
@@ -55,13 +78,37 @@ def main():
             ax.scatter([pc.number(r["value"]) for r in below], [pc.number(r["min_dt"]) for r in below],
                        marker="v", s=80, facecolors="none", edgecolors=color, linewidths=1.5,
                        label=f"{name}: unstable at every dt tried")
-    # A stable step whose run had implicit steps above tolerance: circled in red, apart.
-    missed = [r for r in rows if pc.number(r.get("stable_unconverged_steps") or "0") > 0]
-    if missed:
-        ax.scatter([pc.number(r["value"]) for r in missed],
-                   [pc.number(r["stable_dt"] if r["outcome"] == "bracketed" else r["max_dt"]) for r in missed],
-                   s=220, facecolors="none", edgecolors="red", linewidths=1.5, zorder=4,
-                   label="stable, but steps not converged")
+    # Marks drawn as two overlaid artists (a hollow marker, circled in red) get one legend
+    # entry each, as the pair: (artists, label).
+    paired = []
+    # A limit set by the Newton solve (steps above tolerance just above it), not by divergence.
+    solve = [r for r in rows if r.get("failure") == "not_converged" and r["outcome"] in ("bracketed", "unstable_at_min")]
+    if solve:
+        xs = [pc.number(r["value"]) for r in solve]
+        ys = [pc.number(r["stable_dt"] if r["outcome"] == "bracketed" else r["min_dt"]) for r in solve]
+        inner = ax.scatter(xs, ys, s=60, facecolors="white", edgecolors=[pc.style(r["integrator"])[0] for r in solve],
+                           linewidths=1.2, zorder=4)
+        ring = ax.scatter(xs, ys, s=220, facecolors="none", edgecolors="red", linewidths=1.5, zorder=4)
+        paired.append(((inner, ring), "limit set by steps not converged (not by divergence)"))
+    # One step per frame (implicit_euler): each frame step's run at each value.
+    frames = {"ok": [], "not_converged": [], "diverged": []}
+    for r in rows:
+        for dt, result in frame_steps(r.get("frame_steps")):
+            frames[result].append((pc.number(r["value"]), dt, pc.style(r["integrator"])[0]))
+    if frames["ok"]:
+        ax.scatter([v for v, _, _ in frames["ok"]], [dt for _, dt, _ in frames["ok"]], marker="s", s=30,
+                   color=[c for _, _, c in frames["ok"]], zorder=3, label="implicit_euler at one step per frame: converged")
+    if frames["not_converged"]:
+        pts = frames["not_converged"]
+        inner = ax.scatter([v for v, _, _ in pts], [dt for _, dt, _ in pts], marker="s", s=30, facecolors="white",
+                           edgecolors=[c for _, _, c in pts], linewidths=1.2, zorder=3)
+        ring = ax.scatter([v for v, _, _ in pts], [dt for _, dt, _ in pts], s=150, facecolors="none",
+                          edgecolors="red", linewidths=1.5, zorder=4)
+        paired.append(((inner, ring), "implicit_euler at one step per frame: not converged"))
+    if frames["diverged"]:
+        pts = frames["diverged"]
+        ax.scatter([v for v, _, _ in pts], [dt for _, dt, _ in pts], marker="x", s=50,
+                   color=[c for _, _, c in pts], zorder=3, label="implicit_euler at one step per frame: diverged")
     est = {}
     for r in rows:
         est[pc.number(r["value"])] = (pc.number(r["dt_springs"]), pc.number(r["dt_with_damping"]))
@@ -76,9 +123,10 @@ def main():
     ax.set_yscale("log")
     unit = unit_of(param)
     ax.set_xlabel(f"{param} ({unit})" if unit else param)
-    ax.set_ylabel("largest stable step dt (s)")
+    ax.set_ylabel("largest stable step dt (s)" + (" / one step per frame" if any(frames.values()) else ""))
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
+    handles, labels = ax.get_legend_handles_labels()
+    ax.legend(handles + [h for h, _ in paired], labels + [l for _, l in paired], fontsize=7, loc="best")
     T = pc.number(rows[0].get("duration"))
     sub = f"runs from 0 to T = {T:g} s" if math.isfinite(T) else ""
     ax.set_title((("stability: " + args.title) if args.title else "stability") + (f"\n{sub}" if sub else ""),

@@ -7,8 +7,9 @@ run's wall time, and it stays so when other processes share the cores, which the
 clock (--time wall) does not. One line per integrator through the runs that
 finished, labelled with their step; runs that diverged are marked with a cross along the
 top edge at their cost; runs with implicit steps that did not converge (column
-unconverged_steps, when present) are drawn hollow, circled in red. The dotted line is the reference's own resolution (how much
-halving its step moved it): errors near it are not measured, only bounded.
+unconverged_steps, when present) are drawn hollow and circled in red: their error is not
+backward Euler's. The dotted line is the reference's own resolution (how much halving its
+step moved it): errors near it are not measured, only bounded.
 
     /usr/bin/python3 tools/plot_work_precision.py --csv bench.csv --out wp.png
 """
@@ -64,7 +65,9 @@ def main():
                 ax.annotate(f"{pc.number(r['dt']):.3g}", (x, y), textcoords="offset points", xytext=(4, 3),
                             fontsize=6, color=color)
             missed = [(x, y) for r, x, y in zip(ok, xs, ys) if unconverged(r)]
-            if missed:
+            if missed:  # hollow: the line's filled marker painted over in white, then circled
+                ax.scatter([x for x, _ in missed], [y for _, y in missed], marker=marker, s=40,
+                           facecolors="white", edgecolors=color, linewidths=1.2, zorder=3)
                 ax.scatter([x for x, _ in missed], [y for _, y in missed], s=140, facecolors="none",
                            edgecolors="red", linewidths=1.5, zorder=4)
             bad = [r for r in rs if r["diverged"] == "1"]
@@ -85,7 +88,7 @@ def main():
     if any(unconverged(r) for r in rows):
         handles.append(pc.plt.Line2D([], [], marker="o", markerfacecolor="none", markeredgecolor="red",
                                      linestyle="None", markersize=10))
-        labels.append("steps not converged")
+        labels.append("not converged (implicit steps above tolerance)")
     if ref:
         handles.append(pc.plt.Line2D([], [], color="gray", linestyle=":"))
         labels.append("reference resolution")

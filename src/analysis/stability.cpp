@@ -28,6 +28,31 @@ const char* outcome_name(StabilityOutcome outcome) {
   return "?";
 }
 
+const char* failure_name(Failure failure) {
+  switch (failure) {
+    case Failure::None: return "";
+    case Failure::Diverged: return "diverged";
+    case Failure::NotConverged: return "not_converged";
+  }
+  return "?";
+}
+
+std::string frame_step_text(const FrameStepResult& r) {
+  std::ostringstream line;
+  line.precision(4);
+  const double per_second = 1.0 / r.dt;
+  if (std::abs(per_second - std::round(per_second)) <= 1e-6 * per_second)
+    line << "1/" << std::round(per_second) << " s: ";
+  else
+    line << r.dt << " s: ";
+  if (r.stopped) line << "stopped";
+  else if (r.failure == Failure::Diverged) line << "diverged at t = " << r.diverged_at << " s";
+  else if (r.failure == Failure::NotConverged)
+    line << r.unconverged_steps << " of " << r.steps << " steps not converged";
+  else line << "ok, " << r.steps << " steps converged";
+  return line.str();
+}
+
 void check(const StabilitySpec& spec) {
   if (spec.integrators.empty()) throw StudyError("no integrators given");
   if (!finite_positive(spec.duration)) throw StudyError("the duration must be a finite number > 0 s");
@@ -63,24 +88,34 @@ StabilityLimit largest_stable_dt(const Model& model_in, IntegratorKind kind, con
   out.estimate = estimate_stiffness(model);
   out.stable_dt = out.unstable_dt = kNaN;
   bool stopped = false;
-  // One trial: true when the run reached T; records the smallest unstable step and why.
+  // How a run that was not stopped failed, if it did.
+  const auto failure_of = [](const StudyRun& run) {
+    if (run.divergence) return Failure::Diverged;
+    if (run.totals.unconverged_steps > 0) return Failure::NotConverged;
+    return Failure::None;
+  };
+  // One trial: true when the run reached T with every step converged; records the smallest
+  // step that failed, and how.
   const auto stable = [&](double dt) {
     const StudyRun run = run_to(model, kind, dt, spec.duration, stop);
     ++out.trials;
     out.cpu_seconds += run.totals.cpu_seconds;
     if (run.stopped) stopped = true;
-    if (run.finished) {
-      if (!(out.stable_dt >= dt)) {
-        out.stable_dt = dt;
-        out.stable_unconverged = run.totals.unconverged_steps;
-      }
+    const Failure failure = failure_of(run);
+    if (run.finished && failure == Failure::None) {
+      if (!(out.stable_dt >= dt)) out.stable_dt = dt;
       return true;
     }
     if (!stopped && !(out.unstable_dt <= dt)) {
       out.unstable_dt = dt;
+      out.failure = failure;
       std::ostringstream why;
       why.precision(4);
-      why << "at t = " << run.divergence->t << " s: " << run.divergence->reason;
+      if (failure == Failure::Diverged)
+        why << "at t = " << run.divergence->t << " s: " << run.divergence->reason;
+      else
+        why << run.totals.unconverged_steps << " of " << run.totals.steps
+            << " steps not converged (largest final residual " << run.totals.max_residual << ")";
       out.reason = why.str();
     }
     return false;
@@ -92,15 +127,14 @@ StabilityLimit largest_stable_dt(const Model& model_in, IntegratorKind kind, con
         const StudyRun run = run_to(model, kind, dt, spec.duration, stop);
         ++out.trials;
         out.cpu_seconds += run.totals.cpu_seconds;
-        std::ostringstream line;
-        line.precision(4);
-        line << (out.frame_steps.empty() ? "" : "; ") << "1/" << std::round(1.0 / dt) << " s: ";
-        if (run.divergence) line << "diverged at t = " << run.divergence->t << " s";
-        else if (run.stopped) line << "stopped";
-        else if (run.totals.unconverged_steps > 0)
-          line << run.totals.unconverged_steps << " of " << run.totals.steps << " steps not converged";
-        else line << "ok, " << run.totals.steps << " steps converged";
-        out.frame_steps += line.str();
+        FrameStepResult r;
+        r.dt = dt;
+        r.stopped = run.stopped;
+        r.failure = failure_of(run);
+        r.steps = run.totals.steps;
+        r.unconverged_steps = run.totals.unconverged_steps;
+        if (run.divergence) r.diverged_at = run.divergence->t;
+        out.frame_steps.push_back(r);
       }
     }
     return out;

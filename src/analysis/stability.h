@@ -2,7 +2,13 @@
 //
 // "Survives" means: runs from t = 0 to T without the engine calling it diverged (a
 // non-finite value, a spring stretched past max_strain, or kinetic energy past
-// energy_factor x the scene's energy scale; see diagnostics.h and Model::energy_scale).
+// energy_factor x the scene's energy scale; see diagnostics.h and Model::energy_scale)
+// and, for implicit_euler, with every step's solve converged. A run whose Newton solve
+// missed its tolerance has not computed backward Euler's step, so that it stayed bounded
+// says nothing about the method: it fails, and `failure` says it failed so
+// (Failure::NotConverged) rather than by diverging. For implicit Euler, which backward
+// Euler's theory calls stable at every step, the study's limit is thus where its solve
+// stops converging, which is what bounds its usable step in practice.
 // The study tightens both of the engine's bounds, because an unstable run need not stay
 // unstable-looking: once its amplitude passes a spring's rest length the spring collapses
 // through its anchor, the force stops growing with the stretch, and the run settles into a
@@ -76,17 +82,34 @@ enum class StabilityOutcome {
 };
 const char* outcome_name(StabilityOutcome outcome);  // "bracketed", "stable_at_max", ...
 
+// How a trial failed: the engine called it diverged, or (implicit_euler) it reached T but
+// some of its steps' solves ended above their tolerance. Divergence wins when both.
+enum class Failure { None, Diverged, NotConverged };
+const char* failure_name(Failure failure);  // "", "diverged", "not_converged"
+
+// One step per frame (StabilitySpec::frame_dts): implicit_euler run over T at that step.
+struct FrameStepResult {
+  double dt = 0.0;                  // s
+  Failure failure = Failure::None;  // None: reached T with every step converged
+  std::int64_t steps = 0;           // steps taken (to T, or to the divergence)
+  std::int64_t unconverged_steps = 0;
+  double diverged_at = 0.0;         // s, when failure == Diverged
+  bool stopped = false;             // the caller stopped the run
+};
+// "1/60 s: ok, 12 steps converged", "1/30 s: 3 of 6 steps not converged",
+// "1/30 s: diverged at t = 0.1 s"; a step that is not 1/N s is written in seconds.
+std::string frame_step_text(const FrameStepResult& r);
+
 struct StabilityLimit {
   IntegratorKind integrator{};
   double value = 0.0;          // the swept parameter's value (0 outside a sweep)
   StabilityOutcome outcome = StabilityOutcome::Stopped;
   double stable_dt = 0.0;      // s, largest dt that ran to T (NaN when none did)
   double unstable_dt = 0.0;    // s, smallest dt that diverged (NaN when none did)
-  std::string reason;          // how the run at unstable_dt diverged
-  std::int64_t stable_unconverged = 0;  // implicit steps above tolerance in the run at stable_dt:
-                                        // stable (it did not diverge), but marked apart
-  std::string frame_steps;     // implicit_euler: each frame_dts run's result, e.g.
-                               // '1/240 s: ok, 48 steps converged; 1/60 s: 2 of 12 steps not converged'
+  Failure failure = Failure::None;  // how the run at unstable_dt failed
+  std::string reason;          // and in words: "at t = 0.1 s: <divergence reason>" or
+                               // "2 of 40 steps not converged (largest final residual 0.01)"
+  std::vector<FrameStepResult> frame_steps;  // implicit_euler: one per spec.frame_dts, in order
   int trials = 0;              // runs made
   double cpu_seconds = 0.0;    // summed over the trials
   StiffnessEstimate estimate;  // of the model searched

@@ -2,6 +2,7 @@
 // parameters and lists answered in one line with exit 2 and nothing written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -76,6 +77,34 @@ TEST(CmdStability, BadParametersAndListsAreOneLineExitTwoAndNothingWritten) {
     EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
     EXPECT_TRUE(only_files(dir, {})) << c.message;
   }
+}
+
+// A run that reached T with implicit steps above their tolerance is not stable: the search
+// goes below it, and the table, the CSV and the plot say it failed by its solve.
+TEST(CmdStability, AnUnconvergedImplicitRunIsNotStableAndTheCsvSaysSo) {
+  const std::string dir = scratch_dir("stability_unconverged");
+  // Two Newton iterations meet 1e-10 on the swinging spring up to 0.02 s, not at 0.05 s.
+  const CliResult r = run_clothsim({"stability", spring(), "--set", "gravity=[0,-9.8,0]", "--set",
+                                    "implicit.newton_max_iterations=2", "--set", "implicit.newton_tolerance=1e-10",
+                                    "--integrators", "implicit_euler", "--values", "100", "--duration", "2",
+                                    "--min-dt", "0.001", "--max-dt", "0.1", "--frame-dts", "1/100,1/10",
+                                    "--csv", dir + "/st.csv", "--plot", dir + "/st.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("(NOT CONVERGED at "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("one step per frame: 1/100 s: ok, 200 steps converged; 1/10 s: 20 of 20 steps not converged"),
+            std::string::npos) << r.out;
+  const auto rows = csv_rows(dir + "/st.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  const auto column = [&rows](const std::string& name) {
+    const auto at = std::find(rows[0].begin(), rows[0].end(), name);
+    EXPECT_NE(at, rows[0].end()) << name;
+    return static_cast<std::size_t>(at - rows[0].begin());
+  };
+  EXPECT_EQ(rows[1][column("outcome")], "bracketed");
+  EXPECT_EQ(rows[1][column("failure")], "not_converged");
+  EXPECT_NE(rows[1][column("reason")].find("steps not converged"), std::string::npos);
+  EXPECT_LE(std::atof(rows[1][column("unstable_dt")].c_str()), 0.05 * 1.0001);
+  EXPECT_EQ(slurp(dir + "/st.png").substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
 }
 
 // python3-matplotlib is one of the project's dependencies: the plot must be drawn.

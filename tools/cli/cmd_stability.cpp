@@ -19,6 +19,11 @@
 // second estimate shows it. Sweep damping (--param cloth.springs.structural.damping) or set
 // it to 0 on every spring type to see the springs alone.
 //
+// A trial is stable when it reaches T without diverging and, for implicit_euler, with every
+// step's solve converged: a run whose Newton solve missed its tolerance did not compute
+// backward Euler, so it fails too, and the CSV's `failure` column says which way a search's
+// first failing step failed (diverged | not_converged).
+//
 // Exit codes: 0; 2 bad options, scene or parameter; 1 I/O, the plot, or an interrupted
 // study (Ctrl-C: the searches finished so far are written to --csv).
 #include <cinttypes>
@@ -67,13 +72,21 @@ struct Case {
   Model model;
 };
 
+// "1/240 s: ok, 48 steps converged; 1/30 s: 3 of 6 steps not converged" (implicit_euler).
+std::string frame_steps_text(const StabilityLimit& l) {
+  std::string out;
+  for (const analysis::FrameStepResult& r : l.frame_steps)
+    out += (out.empty() ? "" : "; ") + analysis::frame_step_text(r);
+  return out;
+}
+
 void write_csv(std::FILE* f, const std::string& param, const std::vector<StabilityLimit>& limits,
                const analysis::StabilitySpec& spec) {
   std::fprintf(f, "param,value,integrator,outcome,stable_dt,unstable_dt,trials,cpu_seconds,w_max,c_max,"
-                  "dt_springs,dt_with_damping,duration,min_dt,max_dt,precision,reason,"
-                  "stable_unconverged_steps,frame_steps\n");
+                  "dt_springs,dt_with_damping,duration,min_dt,max_dt,precision,reason,failure,"
+                  "frame_steps\n");
   for (const StabilityLimit& l : limits)
-    std::fprintf(f, "%s,%s,%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%" PRId64 ",%s\n", csv_text(param).c_str(),
+    std::fprintf(f, "%s,%s,%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n", csv_text(param).c_str(),
                  csv_number(l.value).c_str(), std::string(integrator_name(l.integrator)).c_str(),
                  analysis::outcome_name(l.outcome), csv_number(l.stable_dt).c_str(),
                  csv_number(l.unstable_dt).c_str(), l.trials, csv_number(l.cpu_seconds).c_str(),
@@ -81,20 +94,23 @@ void write_csv(std::FILE* f, const std::string& param, const std::vector<Stabili
                  csv_number(l.estimate.dt_springs()).c_str(), csv_number(l.estimate.dt_with_damping()).c_str(),
                  csv_number(spec.duration).c_str(), csv_number(spec.min_dt).c_str(),
                  csv_number(spec.max_dt).c_str(), csv_number(spec.precision).c_str(), csv_text(l.reason).c_str(),
-                 l.stable_unconverged, csv_text(l.frame_steps).c_str());
+                 analysis::failure_name(l.failure), csv_text(frame_steps_text(l)).c_str());
 }
 
 std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& spec) {
   char buf[160];
+  const bool solve = l.failure == analysis::Failure::NotConverged;  // failed by its solve, not by diverging
   switch (l.outcome) {
     case StabilityOutcome::Bracketed:
-      std::snprintf(buf, sizeof buf, "%.4g s (diverges at %.4g s)", l.stable_dt, l.unstable_dt);
+      std::snprintf(buf, sizeof buf, "%.4g s (%s at %.4g s)", l.stable_dt, solve ? "NOT CONVERGED" : "diverges",
+                    l.unstable_dt);
       break;
     case StabilityOutcome::StableAtMax:
       std::snprintf(buf, sizeof buf, "stable at the largest dt tried (%.4g s)", spec.max_dt);
       break;
     case StabilityOutcome::UnstableAtMin:
-      std::snprintf(buf, sizeof buf, "unstable at every dt tried (down to %.4g s)", spec.min_dt);
+      std::snprintf(buf, sizeof buf, "%s at every dt tried (down to %.4g s)",
+                    solve ? "NOT CONVERGED" : "unstable", spec.min_dt);
       break;
     case StabilityOutcome::Stopped:
       std::snprintf(buf, sizeof buf, "stopped");
@@ -183,10 +199,10 @@ int stability_command(const StabilityOptions& o) {
     const double dt = l.outcome == StabilityOutcome::Bracketed ? l.stable_dt : NAN;
     std::printf("%14.6g %-16s %-48s %10.3g %12.3g %6d\n", l.value, std::string(integrator_name(l.integrator)).c_str(),
                 limit_text(l, spec).c_str(), dt / l.estimate.dt_springs(), dt / l.estimate.dt_with_damping(), l.trials);
-    if (l.stable_unconverged > 0)
-      std::printf("%14s %-16s NOT CONVERGED: %" PRId64 " steps of the run at the stable dt\n", "", "",
-                  l.stable_unconverged);
-    if (!l.frame_steps.empty()) std::printf("%14s %-16s one step per frame: %s\n", "", "", l.frame_steps.c_str());
+    if (l.failure == analysis::Failure::NotConverged)
+      std::printf("%14s %-16s NOT CONVERGED at %.4g s: %s\n", "", "", l.unstable_dt, l.reason.c_str());
+    if (!l.frame_steps.empty())
+      std::printf("%14s %-16s one step per frame: %s\n", "", "", frame_steps_text(l).c_str());
   }
 
   const auto write_to = [&](const std::string& path) {

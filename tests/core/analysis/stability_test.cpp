@@ -13,6 +13,7 @@
 
 #include <cmath>
 
+#include "analysis/study_run.h"
 #include "scene_parser.h"
 #include "test_support.h"
 
@@ -79,23 +80,56 @@ TEST(Stability, ImplicitEulerIsAlsoRunAtOneStepPerFrameAndReportedApart) {
   spec.frame_dts = {1.0 / 60, 1.0 / 30};
   const StabilityLimit implicit = largest_stable_dt(undamped_spring(), IntegratorKind::ImplicitEuler, spec);
   EXPECT_EQ(implicit.trials, 3);  // the largest step, then the two frame steps
-  EXPECT_EQ(implicit.frame_steps, "1/60 s: ok, 120 steps converged; 1/30 s: ok, 60 steps converged");
-  EXPECT_EQ(implicit.stable_unconverged, 0);
+  ASSERT_EQ(implicit.frame_steps.size(), 2u);
+  EXPECT_EQ(frame_step_text(implicit.frame_steps[0]), "1/60 s: ok, 120 steps converged");
+  EXPECT_EQ(frame_step_text(implicit.frame_steps[1]), "1/30 s: ok, 60 steps converged");
+  EXPECT_EQ(implicit.failure, Failure::None);
   spec.integrators = {IntegratorKind::Rk4};
   EXPECT_TRUE(largest_stable_dt(undamped_spring(), IntegratorKind::Rk4, spec).frame_steps.empty());
 }
 
-TEST(Stability, AStableStepWhoseImplicitStepsMissedTheirToleranceIsMarked) {
-  // One linearised step of a swinging (rotating, so nonlinear) spring cannot meet 1e-10.
+TEST(Stability, FrameStepTextSaysHowEachFrameStepEnded) {
+  FrameStepResult r;
+  r.dt = 1.0 / 30;
+  r.steps = 6;
+  r.unconverged_steps = 3;
+  r.failure = Failure::NotConverged;
+  EXPECT_EQ(frame_step_text(r), "1/30 s: 3 of 6 steps not converged");
+  r.failure = Failure::Diverged;
+  r.diverged_at = 0.1;
+  EXPECT_EQ(frame_step_text(r), "1/30 s: diverged at t = 0.1 s");
+  r.dt = 0.003;  // not one over a whole number: in seconds
+  r.failure = Failure::None;
+  EXPECT_EQ(frame_step_text(r), "0.003 s: ok, 6 steps converged");
+}
+
+TEST(Stability, AnImplicitRunWhoseStepsMissedTheirToleranceIsNotStableAndSaysSo) {
+  // Two Newton iterations on a swinging (rotating, so nonlinear) spring meet 1e-10 at steps
+  // up to 0.02 s but not at 0.05 or 0.1 s (measured with `run`), where the run stays bounded
+  // without having computed backward Euler's steps.
   const Model model = build_model(load_scene(
-      scene_path("spring.yaml"), {"gravity=[0, -9.8, 0]", "implicit.newton_max_iterations=1",
+      scene_path("spring.yaml"), {"gravity=[0, -9.8, 0]", "implicit.newton_max_iterations=2",
                                   "implicit.newton_tolerance=1e-10"}));
   StabilitySpec spec = long_run(IntegratorKind::ImplicitEuler);
   spec.duration = 2.0;
   spec.max_dt = 0.1;
+  spec.min_dt = 1e-3;
   const StabilityLimit l = largest_stable_dt(model, IntegratorKind::ImplicitEuler, spec);
-  EXPECT_EQ(l.outcome, StabilityOutcome::StableAtMax);
-  EXPECT_GT(l.stable_unconverged, 0);
+  ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed) << "reached T at 0.1 s, but unconverged";
+  EXPECT_EQ(l.failure, Failure::NotConverged);
+  EXPECT_NE(l.reason.find("steps not converged (largest final residual "), std::string::npos) << l.reason;
+  EXPECT_GE(l.stable_dt, 0.02);
+  EXPECT_LT(l.unstable_dt, 0.05 * 1.0001);
+  const StudyRun at_limit = run_to(model, IntegratorKind::ImplicitEuler, l.stable_dt, spec.duration);
+  EXPECT_TRUE(at_limit.finished);
+  EXPECT_EQ(at_limit.totals.unconverged_steps, 0) << "the stable end converged at every step";
+}
+
+TEST(Stability, ADivergedRunFailsAsDiverged) {
+  const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::SymplecticEuler,
+                                             long_run(IntegratorKind::SymplecticEuler));
+  EXPECT_EQ(l.failure, Failure::Diverged);
+  EXPECT_EQ(l.reason.rfind("at t = ", 0), 0u) << l.reason;
 }
 
 TEST(Stability, ExplicitEulerAndMidpointAreNeverStableOverALongRun) {
