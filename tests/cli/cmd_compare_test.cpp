@@ -283,7 +283,7 @@ TEST(CmdCompare, StopsCleanlyOnInterruptLeavingNoFileUnderTheName) {
       {"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "60", "--width", "320",
        "--height", "180", "--video", out},
       2.0);
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.exit_code, 130) << "128 + SIGINT\n" << r.err;
   EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("long.mp4 not written"), std::string::npos) << r.err;
   EXPECT_TRUE(cli::only_files(dir, {})) << "no video and no temporary";

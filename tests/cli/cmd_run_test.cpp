@@ -82,11 +82,13 @@ TEST(CmdRun, EveryRegisteredIntegratorIsInTheHelpAndRunsByItsName) {
   const CliResult help = run_clothsim({"--help"});
   ASSERT_EQ(help.exit_code, 0);
   const CliResult run_help = run_clothsim({"run", "--help"});
+  const CliResult compare_help = run_clothsim({"compare", "--help"});
   for (const IntegratorInfo& info : integrator_registry()) {
     const std::string name(info.name);
     EXPECT_NE(help.out.find(name + " "), std::string::npos) << name << "\n" << help.out;
     EXPECT_NE(help.out.find(std::string(info.description)), std::string::npos) << name;
     EXPECT_NE(run_help.out.find(name), std::string::npos) << name;
+    EXPECT_NE(compare_help.out.find(std::string(info.description)), std::string::npos) << name;
     const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--integrator", name, "--duration", "0.01"});
     EXPECT_EQ(r.exit_code, 0) << name << ": " << r.err;
     EXPECT_NE(r.out.find(name), std::string::npos) << r.out;
@@ -257,6 +259,23 @@ TEST(Cli, HelpExplainsEverySubcommand) {
     EXPECT_GT(help.out.size(), 100u) << sub;
   }
   EXPECT_EQ(run_clothsim({}).exit_code, 2);
+}
+
+TEST(Cli, HelpListsEveryExitCodeOfTheContract) {
+  const CliResult help = run_clothsim({"run", "--help"});
+  for (const char* code : {"0 success", "1 runtime failure", "2 bad usage", "3 the simulation diverged",
+                           "4 an implicit step did not converge", "130 / 143 stopped by SIGINT"})
+    EXPECT_NE(help.out.find(code), std::string::npos) << code << "\n" << help.out;
+}
+
+TEST(CmdRun, StoppedBySigtermExits143AndLeavesNoFile) {
+  // A minute of the drape takes far longer than the 2 s before SIGTERM arrives.
+  const std::string dir = scratch_dir("run_sigterm");
+  const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--duration", "60", "--metrics", dir + "/m.csv"},
+                                   "timeout --preserve-status -s TERM 2");
+  EXPECT_EQ(r.exit_code, 143) << "128 + SIGTERM\n" << r.err;
+  EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+  EXPECT_TRUE(only_files(dir, {})) << "no metrics and no temporary";
 }
 
 }  // namespace

@@ -104,14 +104,15 @@ void Progress::update(long done) {
 }
 
 namespace {
-std::atomic<bool> g_interrupted{false};
-extern "C" void on_sigint(int) {
-  g_interrupted.store(true);
-  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C kills at once
+std::atomic<int> g_signal{0};  // lock-free, so safe to store from a handler
+extern "C" void on_sigint(int sig) {
+  g_signal.store(sig);
+  std::signal(sig, SIG_DFL);  // a second Ctrl-C (or TERM) kills at once
 }
 }  // namespace
 
-bool interrupted() { return g_interrupted.load(std::memory_order_relaxed); }
+bool interrupted() { return g_signal.load(std::memory_order_relaxed) != 0; }
+int interrupt_signal() { return g_signal.load(std::memory_order_relaxed); }
 
 void install_interrupt_handler() {
   struct sigaction sa{};

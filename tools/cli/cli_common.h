@@ -11,7 +11,14 @@
 namespace clothsim::cli {
 
 // The CLI contract's exit codes (DESIGN.md).
+// A run stopped by SIGINT or SIGTERM exits 128 + the signal's number (130, 143), as a shell
+// reports a process killed by it, after cleaning up (main() maps it; see interrupt_signal()).
 enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3, kNotConverged = 4 };
+// The exit codes as --help lists them (clothsim --help, and run --help, which has its own footer).
+inline constexpr const char* kExitCodesHelp =
+    "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene,\n"
+    "3 the simulation diverged (run only), 4 an implicit step did not converge (run --strict),\n"
+    "130 / 143 stopped by SIGINT (Ctrl-C) / SIGTERM.\n";
 
 // Bad usage or a bad scene: exit 2. The message is the whole one-line error.
 struct UsageError : std::runtime_error {
@@ -67,8 +74,10 @@ class Progress {
   std::chrono::steady_clock::time_point start_, last_;
 };
 
-// Set by the SIGINT handler (install_interrupt_handler); long loops poll it and stop cleanly.
+// Set by the SIGINT/SIGTERM handler (install_interrupt_handler); long loops poll it and stop
+// cleanly. interrupt_signal() is the signal that arrived (0: none).
 bool interrupted();
+int interrupt_signal();
 void install_interrupt_handler();
 
 // Splits "a,b,c" (empty pieces are an error reported by the caller).

@@ -13,9 +13,10 @@
 // the largest step so that every step divides it. The reference costs 16 x 8000 RK4 steps
 // at most, which is what bounds T.
 //
-// Exit codes: 0; 2 bad options or scene; 1 I/O, the plot, an interrupted study (Ctrl-C:
-// the runs finished so far are written to --csv) or a reference that is not converged (the
-// CSV is still written, so the figures can be inspected, but no plot is drawn).
+// Exit codes: 0; 2 bad options or scene; 1 I/O, the plot, or a reference that is not
+// converged (the CSV is still written, so the figures can be inspected, but no plot is
+// drawn); 130 / 143 an interrupted study (SIGINT / SIGTERM: the runs finished so far are
+// written to --csv).
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>

@@ -12,7 +12,7 @@
 // Outputs are checked before any simulation (unknown integrator or layout, unwritable
 // paths, bad --dt or --times: milliseconds, exit 2 or 1), written under temporary names
 // and renamed when complete. Ctrl-C stops at the next frame, removes the temporaries and
-// exits 1 (as `run` does) saying what was not written; PNGs already written under
+// exits 130 (143 on SIGTERM; as `run` does) saying what was not written; PNGs already written under
 // --frames stay (each is complete).
 //
 // Frame k is the state at t = k / fps for k = 0 .. floor(duration * fps), as in `run`.

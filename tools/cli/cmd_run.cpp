@@ -143,13 +143,14 @@ void add_run_command(CLI::App& app, Command& command) {
   CLI::App* sub = app.add_subcommand(
       "run", "Run one scene with one integrator: metrics, final state, frames, video, a still");
   add_scene_options(sub, o->scene, /*single_run=*/true);
-  sub->footer(
-      "Prints a summary (steps, force evaluations, wall time) on stdout. Exits 3 when the run\n"
-      "diverges (non-finite state, strain or kinetic energy past the scene's divergence bounds),\n"
-      "saying at which step and time and why; --metrics is then kept up to that point and\n"
-      "--state is not written. With --strict, exits 4 when any implicit step did not converge\n"
-      "(all outputs are still written). Outputs are written under temporary names and renamed at\n"
-      "the end.");
+  sub->footer(std::string(
+      "Prints a summary (steps, force evaluations, wall time; for implicit_euler its Newton and CG\n"
+      "work, steps not converged, contacts held in the solve and post-step projections) on stdout.\n"
+      "Exits 3 when the run diverges (non-finite state, strain or kinetic energy past the scene's\n"
+      "divergence bounds), saying at which step and time and why; --metrics is then kept up to\n"
+      "that point and --state is not written. With --strict, exits 4 when any implicit step did\n"
+      "not converge, saying how many (all outputs are still written). Outputs are written under\n"
+      "temporary names and renamed at the end.\n") + kExitCodesHelp);
   sub->add_flag("--strict", o->strict,
                 "Exit 4 if any implicit_euler step ended above its Newton tolerance");
   sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at the scene's fps")

@@ -24,8 +24,8 @@
 // backward Euler, so it fails too, and the CSV's `failure` column says which way a search's
 // first failing step failed (diverged | not_converged).
 //
-// Exit codes: 0; 2 bad options, scene or parameter; 1 I/O, the plot, or an interrupted
-// study (Ctrl-C: the searches finished so far are written to --csv).
+// Exit codes: 0; 2 bad options, scene or parameter; 1 I/O or the plot; 130 / 143 an
+// interrupted study (SIGINT / SIGTERM: the searches finished so far are written to --csv).
 #include <cinttypes>
 #include <algorithm>
 #include <cmath>

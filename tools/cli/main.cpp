@@ -1,7 +1,8 @@
 // clothsim: see and measure how time integrators trade speed for accuracy.
 // Dispatches to one subcommand and maps failures to the exit codes of the CLI contract:
 // 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene, 3 diverged,
-// 4 an implicit step did not converge (run --strict).
+// 4 an implicit step did not converge (run --strict), 130 / 143 stopped by SIGINT / SIGTERM
+// (after removing temporaries and saying what was kept).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
@@ -28,9 +29,7 @@ int main(int argc, char** argv) {
     integrators += "  " + name + std::string(info.description) + "\n";
   }
   app.footer(
-      integrators +
-      "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene,\n"
-      "3 the simulation diverged (run only), 4 an implicit step did not converge (run --strict).\n"
+      integrators + kExitCodesHelp +
       "`clothsim SUBCOMMAND --help` for each command.\n"
       "Docs: README.md, docs/scenes.md (every scene key), docs/integrators.md.");
   app.set_version_flag("--version", "clothsim " CLOTHSIM_VERSION);
@@ -61,7 +60,9 @@ int main(int argc, char** argv) {
     return kBadInput;
   } catch (const RuntimeFailure& e) {
     std::fprintf(stderr, "clothsim: %s\n", e.what());
-    return kRuntimeFailure;
+    // A command stopped by a signal says so as a RuntimeFailure; the exit code tells a
+    // script it was stopped, not that it failed.
+    return interrupted() ? 128 + interrupt_signal() : kRuntimeFailure;
   } catch (const RenderError& e) {
     std::fprintf(stderr, "clothsim: render: %s\n", e.what());
     return kRuntimeFailure;
