@@ -37,6 +37,17 @@ TEST(CmdBench, WritesOneRowPerRunAndPrintsTheReferenceCheck) {
   EXPECT_TRUE(only_files(dir, {"wp.csv"}));
 }
 
+TEST(CmdBench, TakesStepsAsFractions) {
+  const std::string dir = scratch_dir("bench_fractions");
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "symplectic_euler", "--dts", "1/100,1/200",
+                                    "--duration", "1", "--csv", dir + "/wp.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = lines(dir + "/wp.csv");
+  ASSERT_EQ(rows.size(), 1u + 2u);
+  EXPECT_EQ(rows[1].rfind("symplectic_euler,0.005,200,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("symplectic_euler,0.01,100,", 0), 0u) << rows[2];
+}
+
 TEST(CmdBench, FailsLoudlyWhenTheReferenceIsNotConverged) {
   // --reference-refinement 1: the reference is RK4 at the bench's own step, so RK4's error
   // there is zero and halving the reference moves it more than that.
@@ -62,6 +73,9 @@ TEST(CmdBench, BadStepListsAreOneLineExitTwoAndNothingWritten) {
       {{"--dts", ","}, "--dts: empty item"},
       {{"--dts=0.01,-0.005"}, "--dts: -0.005 is not a positive step"},
       {{"--dts", "0.01,abc"}, "--dts: 'abc' is not a finite number"},
+      {{"--dts", "1/0"}, "--dts: '1/0' is not a finite number (or a fraction like 1/60)"},
+      {{"--frame-dts", "1/60,0"}, "--frame-dts: 0 is not a positive step"},
+      {{"--frame-dts", "sixty"}, "--frame-dts: 'sixty' is not a finite number"},
       {{"--dts", "0.003", "--duration", "1"}, "--dts: 0.003 does not divide the duration 1 s"},
       {{"--integrators", "rk5"}, "--integrators: unknown integrator 'rk5'"},
       {{"--integrators", "rk4,rk4"}, "--integrators: 'rk4' is listed twice"},

@@ -66,6 +66,10 @@ TEST(CmdRun, OptionsOverrideTheScene) {
                                     "cloth.springs.structural.stiffness=400"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("explicit_euler, dt = 0.002 s, 250 steps"), std::string::npos) << r.out;
+  const CliResult per_frame = run_clothsim({"run", shipped("spring.yaml"), "--dt", "1/60", "--duration", "0.5"});
+  ASSERT_EQ(per_frame.exit_code, 0) << per_frame.err;
+  EXPECT_NE(per_frame.out.find("dt = 0.0166667 s, 30 steps"), std::string::npos) << "one step per frame, as a fraction\n"
+                                                                                   << per_frame.out;
 }
 
 TEST(CmdRun, DivergenceExitsThreeSayingWhenAndKeepsMetricsButNoState) {
@@ -215,6 +219,7 @@ TEST(CmdRun, BadOptionsAreOneLineErrorsAndExitTwo) {
                   "--integrator: unknown integrator 'leapfrog'", dir, {});
   expect_rejected({"run", scene, "--dt", "0", "--state", dir + "/s.csv"}, 2, "--dt: must be", dir, {});
   expect_rejected({"run", scene, "--dt", "-1e-3", "--state", dir + "/s.csv"}, 2, "--dt: must be", dir, {});
+  expect_rejected({"run", scene, "--dt", "1/0", "--state", dir + "/s.csv"}, 2, "--dt: '1/0' is not a number", dir, {});
   expect_rejected({"run", scene, "--duration", "-1", "--state", dir + "/s.csv"}, 2, "--duration: must be", dir, {});
   expect_rejected({"run", scene, "--set", "cloth.springs.structural.stiffnes=5", "--state", dir + "/s.csv"}, 2,
                   "--set cloth.springs.structural.stiffnes=5: unknown key", dir, {});

@@ -37,6 +37,17 @@ TEST(ParseDtList, ABareStepMixedWithNamedOnesIsTheDefaultForTheOthers) {
   EXPECT_EQ(parse_dt_list("5e-5,rk4=2e-4", kFour, 1e-4), (std::vector<double>{5e-5, 5e-5, 5e-5, 2e-4}));
 }
 
+TEST(ParseDtList, TakesAStepAsAFractionOfASecond) {
+  // One step per frame is said as a fraction: 1/60 is the double 1.0 / 60, not a rounding of it.
+  EXPECT_EQ(parse_dt_list("implicit_euler=1/60", kFour, 1e-4), (std::vector<double>{1e-4, 1.0 / 60, 1e-4, 1e-4}));
+  EXPECT_EQ(parse_dt_list("1/240", kFour, 1e-4), std::vector<double>(4, 1.0 / 240));
+  for (const char* bad : {"1/0", "1/", "/60", "1/60/2", "one/60"})
+    EXPECT_NE(usage_error([bad] { parse_dt_list(std::string("rk4=") + bad, kFour, 1e-4); })
+                  .find(std::string("'") + bad + "' is not a number"),
+              std::string::npos)
+        << bad;
+}
+
 TEST(ParseDtList, RejectsBadStepsAndNamesNotBeingCompared) {
   EXPECT_NE(usage_error([] { parse_dt_list("0", kFour, 1e-4); }).find("must be > 0"), std::string::npos);
   EXPECT_NE(usage_error([] { parse_dt_list("rk4=fast", kFour, 1e-4); }).find("'fast' is not a number"),

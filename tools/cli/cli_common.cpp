@@ -1,8 +1,11 @@
 #include "cli_common.h"
 
 #include <atomic>
+#include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -120,6 +123,22 @@ void install_interrupt_handler() {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+}
+
+std::optional<double> parse_number_or_fraction(const std::string& text) {
+  const auto number = [](const std::string& s) -> std::optional<double> {
+    if (s.empty() || std::isspace(static_cast<unsigned char>(s.front()))) return std::nullopt;
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(s.c_str(), &end);
+    if (*end != '\0' || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
+    return v;
+  };
+  const std::size_t slash = text.find('/');
+  if (slash == std::string::npos) return number(text);
+  const auto num = number(text.substr(0, slash)), den = number(text.substr(slash + 1));
+  if (!num || !den || *den == 0.0 || !std::isfinite(*num / *den)) return std::nullopt;
+  return *num / *den;
 }
 
 std::vector<std::string> split_list(const std::string& text, char sep) {

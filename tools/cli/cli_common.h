@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -79,6 +80,10 @@ class Progress {
 bool interrupted();
 int interrupt_signal();
 void install_interrupt_handler();
+
+// A finite number written as a number ("0.004", "4e-3") or a fraction of two ("1/60", the
+// way a step of one per frame is said); nullopt for anything else (words, "1/0", "1/", "").
+std::optional<double> parse_number_or_fraction(const std::string& text);
 
 // Splits "a,b,c" (empty pieces are an error reported by the caller).
 std::vector<std::string> split_list(const std::string& text, char sep = ',');

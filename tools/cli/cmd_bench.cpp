@@ -207,7 +207,7 @@ void add_bench_command(CLI::App& app, Command& command) {
   add_scene_options(sub, o->scene, /*single_run=*/false);
   sub->add_option("--integrators", o->integrators, "Comma-separated integrators")->capture_default_str()->type_name("LIST");
   sub->add_option("--dts", o->dts,
-                  "Comma-separated step sizes in s, each dividing the duration "
+                  "Comma-separated step sizes in s (numbers or fractions: 1/240), each dividing the duration "
                   "(default: the scene's dt x 0.25, 0.5, 1, 2, 4, 8)")
       ->type_name("LIST");
   sub->add_option("--frame-dts", o->frame_dts,

@@ -309,8 +309,8 @@ void add_compare_command(CLI::App& app, Command& command) {
   sub->add_option("--frames", o->frames_dir, "Keep every tile's PNGs in DIR/<integrator>/frame_00000.png...")
       ->type_name("DIR");
   sub->add_option("--dt", o->dt,
-                  "Step for all runs (S), per run (rk4=2e-4,implicit_euler=4e-3) or both "
-                  "(1e-4,rk4=2e-4); default: the scene's dt")
+                  "Step for all runs (S), per run (rk4=2e-4,implicit_euler=1/60) or both "
+                  "(1e-4,rk4=2e-4); a number or a fraction of a second; default: the scene's dt")
       ->type_name("S|NAME=S,...");
   sub->add_option("--sheet", o->sheet, "Write a contact sheet: one row per integrator, one column per --times")
       ->type_name("FILE.png");

@@ -11,14 +11,11 @@ namespace clothsim::cli {
 
 namespace {
 
-// A whole, finite number or a UsageError naming `option` and the text.
+// A finite number or fraction ("1/60") or a UsageError naming `option` and the text.
 double parse_number(const std::string& text, const std::string& option) {
-  const char* begin = text.c_str();
-  char* end = nullptr;
-  const double value = std::strtod(begin, &end);
-  if (text.empty() || end != begin + text.size() || !std::isfinite(value))
-    throw UsageError(option + ": '" + text + "' is not a number");
-  return value;
+  const std::optional<double> value = parse_number_or_fraction(text);
+  if (!value) throw UsageError(option + ": '" + text + "' is not a number (or a fraction like 1/60)");
+  return *value;
 }
 
 std::string seconds(double t) {

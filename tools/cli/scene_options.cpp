@@ -19,7 +19,16 @@ void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run) {
   if (single_run) {
     sub->add_option("--integrator", o.integrator,
                     integrator_names_joined(" | ") + " (default: the scene's integrator)");
-    sub->add_option("--dt", o.dt, "Time step in s (default: the scene's dt)");
+    // A step of one per frame is said as a fraction (--dt 1/60), which CLI11's double would refuse.
+    sub->add_option_function<std::string>(
+           "--dt",
+           [&o](const std::string& text) {
+             const std::optional<double> dt = parse_number_or_fraction(text);
+             if (!dt) throw CLI::ValidationError("--dt: '" + text + "' is not a number (or a fraction like 1/60)");
+             o.dt = *dt;
+           },
+           "Time step in s, a number or a fraction (1/60) (default: the scene's dt)")
+        ->type_name("S");
   }
 }
 

@@ -25,12 +25,9 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
   std::vector<double> values;
   for (const std::string& item : items) {
     if (item.empty()) throw UsageError(option + ": empty item in '" + text + "'");
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(item.c_str(), &end);
-    if (end == item.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
-      throw UsageError(option + ": '" + item + "' is not a finite number");
-    values.push_back(v);
+    const std::optional<double> v = parse_number_or_fraction(item);
+    if (!v) throw UsageError(option + ": '" + item + "' is not a finite number (or a fraction like 1/60)");
+    values.push_back(*v);
   }
   return values;
 }
@@ -156,30 +153,10 @@ void PlotScript::draw_from_csv(const std::string& csv,
 }
 
 std::vector<double> parse_frame_dts(const std::string& text) {
-  std::vector<double> out;
-  if (text == "none") return out;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', start), text.size());
-    const std::string item = text.substr(start, comma - start);
-    const std::size_t slash = item.find('/');
-    double value = 0.0;
-    try {
-      if (slash == std::string::npos) {
-        value = parse_number_list(item, "--frame-dts").at(0);
-      } else {
-        const double num = parse_number_list(item.substr(0, slash), "--frame-dts").at(0);
-        const double den = parse_number_list(item.substr(slash + 1), "--frame-dts").at(0);
-        value = num / den;
-      }
-    } catch (const UsageError&) {
-      throw UsageError("--frame-dts: '" + item + "' is not a step (a number or a fraction like 1/60), or 'none'");
-    }
-    if (!(value > 0.0) || !std::isfinite(value))
-      throw UsageError("--frame-dts: '" + item + "' is not a positive step (s)");
-    out.push_back(value);
-    start = comma + 1;
-  }
+  if (text == "none") return {};
+  std::vector<double> out = parse_number_list(text, "--frame-dts");
+  for (double dt : out)
+    if (!(dt > 0.0)) throw UsageError("--frame-dts: " + csv_number(dt) + " is not a positive step (s)");
   return out;
 }
 

@@ -13,8 +13,8 @@
 
 namespace clothsim::cli {
 
-// "1e-4,2e-4" -> numbers; an empty list, an empty item or a word is a UsageError naming
-// `option`. Signs are the caller's to check (a dt must be > 0, a parameter may be anything).
+// "1e-4,2e-4,1/60" -> numbers (fractions allowed); an empty list, an empty item or a word is
+// a UsageError naming `option`. Signs are the caller's to check (a dt must be > 0, a parameter may be anything).
 std::vector<double> parse_number_list(const std::string& text, const std::string& option);
 
 // The steps of one step per video frame that bench and stability also run implicit_euler at.
