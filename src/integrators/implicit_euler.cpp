@@ -161,7 +161,11 @@ class NewtonSolve {
       // Inexact Newton: solve only as finely as the residual warrants (forcing term |r| / scale,
       // capped at 0.1: quadratic convergence where the Hessian is exact), and never below what
       // the Newton test resolves.
-      settings.tolerance = std::max(cfg_.cg_tolerance, std::min(kMaxForcing, stats_.residual));
+      // Baraff & Witkin's single step gets no second chance: its linear system is solved to
+      // cg_tolerance (a loose forcing term would accept the warm start itself as the step).
+      const bool single_step = cfg_.newton_max_iterations == 1;
+      settings.tolerance = single_step ? cfg_.cg_tolerance
+                                       : std::max(cfg_.cg_tolerance, std::min(kMaxForcing, stats_.residual));
       settings.absolute_tolerance = 0.1 * cfg_.newton_tolerance * scale;
       const double slope = direction(settings, warm);
       warm = nullptr;

@@ -40,6 +40,9 @@ PotentialValue step_potential(const Model& model, const State& start, double h,
     if (l <= 0.0) continue;  // no direction: no force (as the force pass)
     const double T = step_spring_tension(l, springs.rest[s], start_length[s], springs.ks[s],
                                          springs.kd[s], h);
+    // E is a square of a difference of lengths (l - l0), each known to eps l: its rounding
+    // is about |T| eps l, far above eps E for a spring near its rest length.
+    value.magnitude += std::abs(T) * l;
     const Vec3 push = (h * T / l) * d;
     gradient.col(a) += push;
     gradient.col(b) -= push;

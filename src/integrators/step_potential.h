@@ -32,7 +32,8 @@ double spring_lengths(const Springs& springs, const Eigen::Matrix3Xd& x,
 
 struct PotentialValue {
   double phi = 0.0;        // J
-  double magnitude = 0.0;  // J, the sum of the terms' absolute values: what rounding scales with
+  double magnitude = 0.0;  // J, what Phi's rounding scales with: its terms' absolute values, and
+                           // each spring's |T| l (its energy squares a difference of lengths)
 };
 
 // Phi at dv and its gradient r (3 x B, zero on immovable bodies) for the step of size h from

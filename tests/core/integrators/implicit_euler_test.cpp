@@ -305,6 +305,29 @@ TEST(ImplicitEuler, RunsTheStiffSceneToTheEndLosingEnergyEveryStepAndOutsideEver
   EXPECT_LT(energy(model, state), 0.7 * E_start);
 }
 
+TEST(ImplicitEuler, BaraffWitkinsSingleStepSolvesItsLinearSystemEveryStep) {
+  // newton_max_iterations = 1 on the damped spring (linear along its axis), warm-started
+  // from the step before: each step must solve its system, not take the warm start as it is.
+  const Model model = build_model(load_scene(
+      std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml", {"implicit.newton_max_iterations=1"}));
+  clothsim::Run run(model, kKind, model.dt);
+  ASSERT_TRUE(run.advance_to(model.duration)) << run.divergence()->reason;
+  const RunTotals& t = run.totals();
+  EXPECT_EQ(t.newton_iterations, t.steps);
+  EXPECT_GE(t.cg_iterations, t.steps - 1);  // one block-Jacobi iteration solves a lone particle
+  EXPECT_LT(t.max_residual, 1e-5);
+}
+
+TEST(ImplicitEuler, ASpringDecayedToRestStillConverges) {
+  // Undamped, w h = 1/24, for 400 s: the amplitude decays below a micrometre, where Phi's
+  // decrease per iteration is below its rounding (a spring's energy squares a difference of
+  // lengths); the line search must then be judged by the residual, not give up.
+  const Model model = undamped_spring_model(0.1);
+  clothsim::Run run(model, kKind, 1.0 / 240);
+  ASSERT_TRUE(run.advance_to(400.0));
+  EXPECT_EQ(run.totals().unconverged_steps, 0) << "largest residual " << run.totals().max_residual;
+}
+
 TEST(ImplicitEuler, SolvesAHardCompressedSheetAtAHugeStep) {
   // Every spring at 60% of its rest length, h = 0.5 s (w h ~ 100): the exact stiffness makes
   // the Newton matrix indefinite here (sparse_system_test), so this exercises the shifted
