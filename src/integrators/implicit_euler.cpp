@@ -7,17 +7,20 @@
 // each damper's rate taken over the step, (l_{n+1} - l_n) / h, which makes the residual
 //     r(dv) = M dv - h f(x_n + h (v_n + dv), v_n + dv)
 // the gradient of a potential Phi(dv) (Gast et al. 2015). It is minimised by Newton's method:
-//  - each direction solves H d = -r, H the Hessian of Phi with every spring's block projected
-//    positive semi-definite (sparse_system.h), by block-Jacobi PCG; H is SPD, so CG cannot
-//    break down and d descends Phi wherever CG stops (an inexact Newton method whose CG
-//    tolerance tightens as r falls: Eisenstat and Walker's forcing term sqrt(|r|));
+//  - each direction solves H d = -r by block-Jacobi PCG, H Phi's exact Hessian; where the cloth
+//    buckles and H is indefinite (CG meets negative curvature), H + mu M with mu raised by tens
+//    (Levenberg-Marquardt), and as a last resort H with every spring's block projected positive
+//    semi-definite (sparse_system.h), whose solution always descends. CG's tolerance tightens
+//    as r falls (an inexact Newton method, forcing term |r| / scale capped at 0.1);
 //  - a backtracking (Armijo) line search on Phi takes the step, so every iterate lowers Phi
 //    and the iteration converges from any start at any step size (Nocedal & Wright, ch. 3);
+//    where Phi's decrease is below its rounding, the filtered residual decides instead;
 //  - contacts with the ground and kinematic spheres are constraints of the minimisation,
 //    held by filtering (step_contacts.h), found as an active set.
-// It starts from y = x_n (dv = -v_n), so its first iterate is Baraff & Witkin 1998's step:
-// the system linearised about the start of the step. newton_max_iterations = 1 takes that step
-// whole, without line search or active-set rounds: Baraff & Witkin's method.
+// It starts from the previous step's dv when there is one (at small steps dv changes little).
+// newton_max_iterations = 1 is Baraff & Witkin 1998's step instead: one linear system,
+// linearised about the start of the step (y = x_n, dv = -v_n), with the projected Hessian,
+// solved to cg_tolerance and taken whole, without line search or active-set rounds.
 // The step is converged when |S r|, S the contact filter, is at most newton_tolerance times
 // max(|h f(x_n)|, |M dv|) over movable bodies (floored at the rounding level of f: below).
 //
@@ -31,8 +34,8 @@
 //
 // StepStats, newton:
 //   force_evals        evaluations of Phi and r (each a pass over the springs, as a force
-//                      evaluation): 1 at the start + 1 per line-search trial + 1 per
-//                      active-set round.
+//                      evaluation): 1 at the start + 1 per line-search trial (Baraff &
+//                      Witkin: 1 for its step) + 1 each time the held set changes.
 //   newton_iterations  linear solves, each preceded by one Hessian assembly (1 = B & W).
 //   cg_iterations      PCG iterations summed over those solves (each one block mat-vec).
 //   residual           the final relative residual |S r| / scale.
@@ -126,7 +129,8 @@ double impulse_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv,
 class NewtonSolve {
  public:
   NewtonSolve(const Model& model, const State& start, double h, ImplicitCache& c, StepStats& stats)
-      : model_(model), start_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats) {}
+      : model_(model), start_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats),
+        single_step_(cfg_.newton_max_iterations == 1) {}
 
   void evaluate() {
     phi_ = step_potential(model_, start_, h_, c_.start_length, c_.dv, c_.y, c_.r);
@@ -160,26 +164,25 @@ class NewtonSolve {
       settings.max_iterations = cfg_.cg_max_iterations;
       // Inexact Newton: solve only as finely as the residual warrants (forcing term |r| / scale,
       // capped at 0.1: quadratic convergence where the Hessian is exact), and never below what
-      // the Newton test resolves.
-      // Baraff & Witkin's single step gets no second chance: its linear system is solved to
-      // cg_tolerance (a loose forcing term would accept the warm start itself as the step).
-      const bool single_step = cfg_.newton_max_iterations == 1;
-      settings.tolerance = single_step ? cfg_.cg_tolerance
-                                       : std::max(cfg_.cg_tolerance, std::min(kMaxForcing, stats_.residual));
+      // the Newton test resolves. Baraff & Witkin's single step gets no second chance: its
+      // system is solved to cg_tolerance (a loose forcing term would accept the warm start
+      // itself as the step).
+      settings.tolerance = single_step_ ? cfg_.cg_tolerance
+                                        : std::max(cfg_.cg_tolerance, std::min(kMaxForcing, stats_.residual));
       settings.absolute_tolerance = 0.1 * cfg_.newton_tolerance * scale;
       const double slope = direction(settings, warm);
       warm = nullptr;
       ++stats_.newton_iterations;
       if (!(slope < 0.0)) return false;  // no descent left (a non-finite system)
 
-      if (cfg_.newton_max_iterations == 1) {  // Baraff & Witkin: the linearised step, whole
+      if (single_step_) {  // Baraff & Witkin: the linearised step, whole
         c_.dv += c_.d;
         evaluate();
         continue;  // measures the residual, then stops at the budget
       }
       if (!line_search(slope)) return false;
-      // A particle the step took inside a collider is held from here on (the set grows only
-      // here; letting go waits for a converged solve, when the impulses mean something).
+      // A particle the step took inside a collider is held from here on (letting go waits
+      // until the residual is small, when the impulses mean something: above).
       if (take_in_step_contacts(model_, start_, h_, c_.y, c_.contacts)) {
         place_on_planes(c_.contacts, start_, h_, c_.dv);
         evaluate();
@@ -189,12 +192,12 @@ class NewtonSolve {
 
  private:
   // The Newton direction d (in c_.d) for the system at the iterate, and its slope r . d.
-  // The exact Hessian first (Baraff & Witkin's single step: the projected one); if CG finds
-  // negative curvature before any progress, or the warm start leads uphill, the projected
-  // (SPD) system is solved from zero, whose solution always descends.
+  // The exact Hessian first (Baraff & Witkin's single step: the projected one); if CG meets
+  // negative curvature, or the warm start leads uphill, the shifted systems and then the
+  // projected (SPD) one are solved from zero (below).
   double direction(CgSettings settings, const Eigen::Matrix3Xd* warm) {
     const Eigen::VectorXd& w = start_.inv_mass;
-    const bool exact = cfg_.newton_max_iterations > 1;
+    const bool exact = !single_step_;
     assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, !exact, c_.A);
     settings.from_guess = warm != nullptr;
     if (warm && warm != &c_.d) c_.d = *warm;
@@ -266,6 +269,7 @@ class NewtonSolve {
   PotentialValue phi_;
   double impulse_scale_ = 0.0;
   double shift_ = 0.0;  // the last shift mu that removed negative curvature (0: none yet)
+  const bool single_step_;  // newton_max_iterations = 1: Baraff & Witkin's step
 };
 
 StepStats newton_step(const Model& model, State& state, double h, Workspace& ws) {

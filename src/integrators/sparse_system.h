@@ -13,8 +13,8 @@
 // Every K_s is symmetric. Across a compressed spring its transverse term is negative, and at
 // a large step it can make H indefinite. So the matrix comes in two kinds:
 //  - exact (project = false): Phi's true Hessian, with which Newton converges quadratically;
-//    CG on it is truncated at the first direction of negative curvature (Steihaug 1983),
-//    which still leaves a descent direction;
+//    where CG on it meets negative curvature, the solver shifts it towards the mass matrix
+//    (implicit_euler.cpp);
 //  - projected (project = true): every K_s's transverse term clamped at 0 (Martin et al.
 //    2011's per-element projection), so H is SPD at any step size, CG cannot break down and
 //    its solution always descends; the fallback, and Baraff & Witkin's single step.
