@@ -20,6 +20,7 @@ struct StepStats {
   int force_evals = 0;        // calls of accelerations()/total_forces()
   int newton_iterations = 0;  // implicit_euler (newton); fixed-point iterations for fixed_point
   int cg_iterations = 0;      // summed over the step's linear solves
+  int factorizations = 0;     // implicit_euler: sparse Cholesky factors of the step's matrix
   double residual = 0.0;      // final relative residual of the implicit solve
   bool converged = true;      // false when a solve hit its iteration cap above tolerance
   double start_strain = 0.0;  // largest (l - l0) / l0 of the state the step started from, read

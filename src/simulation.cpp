@@ -63,6 +63,7 @@ bool Run::advance_to(double target) {
     totals_.force_evals += last_.stats.force_evals;
     totals_.newton_iterations += last_.stats.newton_iterations;
     totals_.cg_iterations += last_.stats.cg_iterations;
+    totals_.factorizations += last_.stats.factorizations;
     if (!last_.stats.converged) ++totals_.unconverged_steps;
     totals_.max_residual = std::max(totals_.max_residual, last_.stats.residual);
     totals_.contact_constraints += last_.stats.contact_constraints;

@@ -35,6 +35,7 @@ struct RunTotals {
   std::int64_t force_evals = 0;
   std::int64_t newton_iterations = 0;
   std::int64_t cg_iterations = 0;
+  std::int64_t factorizations = 0;      // implicit_euler: sparse Cholesky factors
   std::int64_t unconverged_steps = 0;   // implicit solves that hit their cap
   double max_residual = 0.0;            // largest final residual of any step
   std::int64_t contact_constraints = 0; // implicit_euler: contacts held inside the solves

@@ -23,6 +23,9 @@ struct State {
   // set's first guess).
   Eigen::Matrix3Xd implicit_dv;
   std::vector<std::int32_t> implicit_held;
+  // Whether the last step's linear solves needed the sparse factor
+  // (cholesky_preconditioner.h), so that the next factors at its first solve.
+  bool implicit_factored = false;
 };
 
 // The state at t = 0, with the actions scheduled at t = 0 applied.

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Measures implicit Euler at one step per frame (docs/integrators.md, "Implicit Euler at the
 # extremes"): for stiff.yaml and drape.yaml at h = 1/240, 1/120, 1/60, 1/30 s, the steps that
-# converged, Newton and CG iterations per step, CPU per simulated second, the largest
+# converged, Newton and CG iterations and sparse factorizations per step, CPU per simulated second, the largest
 # frame-to-frame rise of total energy, the largest strain, contacts held in the solve and
 # post-step projections; then symplectic Euler at its largest stable step for the cost ratio.
 # Usage: tools/implicit_extremes.sh [BUILD_DIR]     (about a minute on 2 cores)
@@ -17,19 +17,19 @@ import csv, re, sys
 scene, label, out, metrics = sys.argv[1:5]
 text = open(out).read()
 steps = int(re.search(r"(\d+) steps to", text).group(1))
-m = re.search(r"(\d+) Newton iterations, (\d+) CG iterations, largest final residual ([^,]+), (\d+) steps not converged; (\d+) contacts held in the solve, (\d+) post-step projections; [0-9.]+ s of CPU \(([^ ]+) s per simulated s\)", text)
+m = re.search(r"(\d+) Newton iterations, (\d+) CG iterations \((\d+) sparse factorizations\), largest final residual ([^,]+), (\d+) steps not converged; (\d+) contacts held in the solve, (\d+) post-step projections; [0-9.]+ s of CPU \(([^ ]+) s per simulated s\)", text)
 rows = list(csv.DictReader(open(metrics)))
 E = [float(r["total_energy"]) for r in rows]
 rise = max([(b - a) / abs(a) for a, b in zip(E, E[1:]) if a != 0] + [0.0])
 strain = max(float(r["max_strain"]) for r in rows)
-print(f"| {scene} | {label} | {steps - int(m.group(4))} of {steps} | {int(m.group(1))/steps:.1f} | "
-      f"{int(m.group(2))/steps:.0f} | {float(m.group(3)):.2g} | {float(m.group(7)):.3f} | "
-      f"{100*rise:+.3f} % | {100*strain:.2f} % | {m.group(5)} | {m.group(6)} |")
+print(f"| {scene} | {label} | {steps - int(m.group(5))} of {steps} | {int(m.group(1))/steps:.1f} | "
+      f"{int(m.group(2))/steps:.0f} | {int(m.group(3))/steps:.2f} | {float(m.group(4)):.2g} | {float(m.group(8)):.3f} | "
+      f"{100*rise:+.3f} % | {100*strain:.2f} % | {m.group(6)} | {m.group(7)} |")
 PY
 }
 
-echo "| scene | h | converged steps | Newton / step | CG / step | largest residual | CPU s per simulated s | largest energy rise, frame to frame | largest strain | contacts held | post-step projections |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| scene | h | converged steps | Newton / step | CG / step | factorizations / step | largest residual | CPU s per simulated s | largest energy rise, frame to frame | largest strain | contacts held | post-step projections |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for scene in stiff drape; do
   for label in 1/240 1/120 1/60 1/30; do
     h=$(python3 -c "print(1/${label#1/})")

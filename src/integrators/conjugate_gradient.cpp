@@ -11,7 +11,12 @@ double dot(const Eigen::Matrix3Xd& u, const Eigen::Matrix3Xd& w) {
   return u.cwiseProduct(w).sum();
 }
 
-void precondition(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) {
+void precondition(const SpringBlockMatrix& A, const CholeskyPreconditioner* factor,
+                  const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) {
+  if (factor) {
+    factor->apply(r, z);
+    return;
+  }
   const int B = A.num_bodies();
   z.resize(3, B);
   for (int i = 0; i < B; ++i) z.col(i).noalias() = A.diag_inverse[i] * r.col(i);
@@ -20,10 +25,12 @@ void precondition(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& r, Eigen::
 }  // namespace
 
 CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
-                   const CgSettings& settings, CgBuffers& buf, const VelocityFilter* filter) {
+                   const CgSettings& settings, CgBuffers& buf, const VelocityFilter* filter,
+                   const CholeskyPreconditioner* factor) {
   const auto filtered = [filter](Eigen::Matrix3Xd& v) {
     if (filter) filter->apply(v);
   };
+  if (factor && !factor->ready()) factor = nullptr;
   CgResult result;
   const double b_norm = b.norm();
   if (b_norm == 0.0) {  // x = 0 is exact
@@ -33,7 +40,8 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   // Stop at whichever is looser: the relative tolerance, or the absolute accuracy the caller
   // actually needs (a Newton step needs its linear solve no more accurate than its own test).
   const double stop = std::max(settings.tolerance * b_norm, settings.absolute_tolerance);
-  if (settings.from_guess && x.cols() == b.cols() && x.allFinite()) {
+  const bool from_guess = settings.from_guess && x.cols() == b.cols() && x.allFinite();
+  if (from_guess) {
     filtered(x);
     multiply(A, x, buf.q);  // a warm start: r = b - A x from the caller's guess
     buf.r = b - buf.q;
@@ -45,7 +53,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   double r_norm = buf.r.norm();
   result.relative_residual = r_norm / b_norm;
   if (r_norm <= stop) return result;  // the guess is already good enough
-  precondition(A, buf.r, buf.z);
+  precondition(A, factor, buf.r, buf.z);
   filtered(buf.z);
   buf.p = buf.z;
   double rz = dot(buf.r, buf.z);
@@ -56,6 +64,8 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
     if (!(pq > 0.0)) {  // A is not positive definite along p (or NaN): CG cannot go on
       result.converged = false;
       result.negative_curvature = true;
+      // On the first direction: take it (b . p > 0: it descends), rather than nothing.
+      if (result.iterations == 0 && !from_guess && std::isfinite(pq)) x = buf.p;
       return result;
     }
     const double alpha = rz / pq;
@@ -65,7 +75,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
     r_norm = buf.r.norm();
     result.relative_residual = r_norm / b_norm;
     if (r_norm <= stop) return result;
-    precondition(A, buf.r, buf.z);
+    precondition(A, factor, buf.r, buf.z);
     filtered(buf.z);
     const double rz_next = dot(buf.r, buf.z);
     buf.p = buf.z + (rz_next / rz) * buf.p;

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "integrators/cholesky_preconditioner.h"
 #include "integrators/sparse_system.h"
 #include "integrators/velocity_filter.h"
 
@@ -22,7 +23,7 @@ struct CgResult {
   double relative_residual = 0.0;  // |b - A x| / |b| as CG's recurrence tracks it
   bool converged = true;           // false: hit max_iterations above tolerance, or A not SPD
   bool negative_curvature = false; // stopped at a direction p with p^T A p <= 0 (x is the
-                                   // iterate before it: 0 if it was the first)
+                                   // iterate before it, or p itself if it was the first)
 };
 
 struct CgSettings {
@@ -33,13 +34,18 @@ struct CgSettings {
 };
 
 // Solves A x = b, stopping at either tolerance, after max_iterations, or at the first
-// direction of non-positive curvature (A indefinite: Steihaug's truncation). With a filter, solves
-// S A S x = S b for x in the range of S (Baraff & Witkin's modified PCG): the residual, the
-// preconditioned residual and A p are filtered, so x never moves along a held normal.
+// direction of non-positive curvature (A indefinite: truncated CG, Nocedal & Wright,
+// Algorithm 7.1). With a filter, solves S A S x = S b for x in the range of S (Baraff &
+// Witkin's modified PCG): the residual, the preconditioned residual and A p are filtered, so
+// x never moves along a held normal. The preconditioner is `factor` when given and ready,
+// else block Jacobi (A.diag_inverse).
 // Started from zero, every iterate x_k is a descent direction for the quadratic
-// 0.5 x^T A x - b^T x's gradient at 0 (b . x_k > 0), whatever the iteration it stops at.
+// 0.5 x^T A x - b^T x's gradient at 0 (b . x_k > 0), whatever the iteration it stops at; at
+// negative curvature on the first direction, x is that direction, the preconditioned
+// residual (still b . x > 0), so the caller always has a step to take.
 CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
                    const CgSettings& settings, CgBuffers& buffers,
-                   const VelocityFilter* filter = nullptr);
+                   const VelocityFilter* filter = nullptr,
+                   const CholeskyPreconditioner* factor = nullptr);
 
 }  // namespace clothsim

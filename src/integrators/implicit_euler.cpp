@@ -7,11 +7,13 @@
 // each damper's rate taken over the step, (l_{n+1} - l_n) / h, which makes the residual
 //     r(dv) = M dv - h f(x_n + h (v_n + dv), v_n + dv)
 // the gradient of a potential Phi(dv) (Gast et al. 2015). It is minimised by Newton's method:
-//  - each direction solves H d = -r by block-Jacobi PCG, H Phi's exact Hessian; where the cloth
-//    buckles and H is indefinite (CG meets negative curvature), H + mu M with mu raised by tens
-//    (Levenberg-Marquardt), and as a last resort H with every spring's block projected positive
-//    semi-definite (sparse_system.h), whose solution always descends. CG's tolerance tightens
-//    as r falls (an inexact Newton method, forcing term |r| / scale capped at 0.1);
+//  - each direction solves H d = -r, H Phi's exact Hessian, by PCG truncated at negative
+//    curvature (Nocedal & Wright, Algorithm 7.1): where the cloth buckles and H is indefinite,
+//    the iterate before the negative curvature (or the first preconditioned direction) is
+//    still downhill. CG's tolerance tightens as r falls (an inexact Newton method, forcing
+//    term |r| / scale capped at 0.1). Its preconditioner is block Jacobi while that is cheap
+//    and a sparse Cholesky factor of the projected Hessian once the iterations it needs would
+//    pay for one (cholesky_preconditioner.h; the choice is by counted work, below);
 //  - a backtracking (Armijo) line search on Phi takes the step, so every iterate lowers Phi
 //    and the iteration converges from any start at any step size (Nocedal & Wright, ch. 3);
 //    where Phi's decrease is below its rounding, the filtered residual decides instead;
@@ -37,7 +39,9 @@
 //                      evaluation): 1 at the start + 1 per line-search trial (Baraff &
 //                      Witkin: 1 for its step) + 1 each time the held set changes.
 //   newton_iterations  linear solves, each preceded by one Hessian assembly (1 = B & W).
-//   cg_iterations      PCG iterations summed over those solves (each one block mat-vec).
+//   cg_iterations      PCG iterations summed over those solves (each one block mat-vec, and
+//                      one block-diagonal or one factored solve).
+//   factorizations     sparse Cholesky factors built (0 where block Jacobi sufficed).
 //   residual           the final relative residual |S r| / scale.
 //   converged          residual <= newton_tolerance within newton_max_iterations (counted
 //                      over the whole step, active-set rounds included).
@@ -52,6 +56,7 @@
 
 #include "forces.h"
 #include "integrator.h"
+#include "integrators/cholesky_preconditioner.h"
 #include "integrators/conjugate_gradient.h"
 #include "integrators/sparse_system.h"
 #include "integrators/step_contacts.h"
@@ -72,6 +77,7 @@ struct ImplicitCache {
   Eigen::Matrix3Xd dv_try, y_try, r_try;  // (3 x B) a line-search trial
   Eigen::Matrix3Xd d, rhs;              // (3 x B) the Newton direction and -S r
   CgBuffers cg;
+  CholeskyPreconditioner factor;  // built and used within one step
 };
 
 void ImplicitCacheDeleter::operator()(ImplicitCache* cache) const { delete cache; }
@@ -87,8 +93,9 @@ constexpr int kMaxContactRounds = 4;
 constexpr double kMaxForcing = 0.1;
 // The relative residual below which contacts are let go during a solve.
 constexpr double kReleaseResidual = 1e-2;
-// The mass-proportional shifts tried when the exact Hessian is indefinite.
-constexpr double kFirstShift = 1e-3, kLastShift = 10.0;
+// Every kRetryJacobi-th step starts with block Jacobi even when the last step factored, so a
+// run whose steps have become easy stops factoring.
+constexpr int kRetryJacobi = 16;
 
 ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   if (!ws.implicit) ws.implicit.reset(new ImplicitCache);
@@ -96,6 +103,7 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   if (c.model != &model || c.A.num_bodies() != model.num_bodies() ||
       c.A.off.size() != model.springs.size()) {
     build_pattern(model, c.A);
+    c.factor.reset();  // analysed when first needed
     c.model = &model;
     double sum = 0.0;
     for (std::size_t s = 0; s < model.springs.size(); ++s)
@@ -130,7 +138,11 @@ class NewtonSolve {
  public:
   NewtonSolve(const Model& model, const State& start, double h, ImplicitCache& c, StepStats& stats)
       : model_(model), start_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats),
-        single_step_(cfg_.newton_max_iterations == 1) {}
+        single_step_(cfg_.newton_max_iterations == 1),
+        factor_first_(start.implicit_factored && start.step % kRetryJacobi != 0) {
+    // A factor serves one step: the next builds its own, so a copied State continues bit for bit.
+    c_.factor.invalidate();
+  }
 
   void evaluate() {
     phi_ = step_potential(model_, start_, h_, c_.start_length, c_.dv, c_.y, c_.r);
@@ -138,6 +150,7 @@ class NewtonSolve {
   }
 
   void set_scale(double impulse_scale) { impulse_scale_ = impulse_scale; }
+  bool factored() const { return factored_; }
 
   // warm: a guess for the first direction (the previous step's dv - the current dv), or null.
   bool iterate(const Eigen::Matrix3Xd* warm) {
@@ -191,43 +204,57 @@ class NewtonSolve {
   }
 
  private:
-  // The Newton direction d (in c_.d) for the system at the iterate, and its slope r . d.
-  // The exact Hessian first (Baraff & Witkin's single step: the projected one); if CG meets
-  // negative curvature, or the warm start leads uphill, the shifted systems and then the
-  // projected (SPD) one are solved from zero (below).
+  // The Newton direction d (in c_.d) for the system at the iterate, and its slope r . d:
+  // truncated PCG on the exact Hessian (Baraff & Witkin's single step: the projected one).
+  // Where the cloth buckles and H is indefinite, CG stops at the negative curvature with the
+  // iterate before it, still a descent direction (Nocedal & Wright, Algorithm 7.1), and the
+  // line search takes it from there.
+  //
+  // The preconditioner is chosen by cost, as renting against buying: block Jacobi while the
+  // step's Jacobi iterations cost less than a sparse factorisation, then the factor
+  // (cholesky_preconditioner.h), kept while the iterations spent with it since it was built
+  // cost less than building it again.
   double direction(CgSettings settings, const Eigen::Matrix3Xd* warm) {
     const Eigen::VectorXd& w = start_.inv_mass;
-    const bool exact = !single_step_;
-    assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, !exact, c_.A);
+    assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, single_step_, c_.A);
+    if (!c_.factor.analysed()) c_.factor.analyse(c_.A);
+    const double factor_cost = c_.factor.factor_cost();
+    if (c_.factor.ready() ? factor_work_ > factor_cost : factor_first_) factorize();
+
     settings.from_guess = warm != nullptr;
     if (warm && warm != &c_.d) c_.d = *warm;
-    CgResult cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter);
-    stats_.cg_iterations += cg.iterations;
-    double slope = -c_.rhs.cwiseProduct(c_.d).sum();  // r . d (d is filtered)
-    if (slope < 0.0 && !cg.negative_curvature) return slope;
-    // Negative curvature: shift the exact Hessian towards the mass matrix, H + mu M, mu up by
-    // tens (Levenberg-Marquardt), so that a slightly indefinite H (cloth buckling over a
-    // collider) keeps almost all of its curvature; the projected system is the last resort.
-    // The search starts a decade below the shift that last worked in this step.
-    double applied = 0.0;
-    for (double mu = std::max(kFirstShift, 0.1 * shift_); exact && mu <= kLastShift; mu *= 10.0) {
-      for (int i = 0; i < w.size(); ++i)
-        if (w[i] != 0.0) c_.A.diag[i].diagonal().array() += (mu - applied) / w[i];
-      applied = mu;
-      settings.from_guess = false;
-      cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter);
-      stats_.cg_iterations += cg.iterations;
-      slope = -c_.rhs.cwiseProduct(c_.d).sum();
-      if (slope < 0.0 && !cg.negative_curvature) {
-        shift_ = mu;
-        return slope;
+    if (c_.factor.ready()) {
+      solve(settings);
+    } else {
+      // Jacobi until the step's Jacobi work would pay for a factorisation; if the solve is not
+      // done by then, factor and go on from where it stopped.
+      const int cap = std::max(1, static_cast<int>(std::ceil(factor_cost - jacobi_work_)));
+      settings.max_iterations = std::min(settings.max_iterations, cap);
+      const CgResult cg = solve(settings);
+      if (!cg.converged && !cg.negative_curvature && cg.iterations >= cap && factorize()) {
+        settings.max_iterations = cfg_.cg_max_iterations;
+        settings.from_guess = true;  // a descent direction already: CG only improves on it
+        solve(settings);
       }
     }
-    if (exact) assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, true, c_.A);
-    settings.from_guess = false;
-    cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter);
+    return -c_.rhs.cwiseProduct(c_.d).sum();  // r . d (d is filtered)
+  }
+
+  CgResult solve(const CgSettings& settings) {
+    const bool factored = c_.factor.ready();
+    const CgResult cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter,
+                                  factored ? &c_.factor : nullptr);
     stats_.cg_iterations += cg.iterations;
-    return -c_.rhs.cwiseProduct(c_.d).sum();
+    if (factored) factor_work_ += cg.iterations * (1.0 + c_.factor.solve_cost());
+    else jacobi_work_ += cg.iterations;
+    return cg;
+  }
+
+  bool factorize() {
+    factored_ = true;
+    factor_work_ = 0.0;
+    ++stats_.factorizations;
+    return c_.factor.factorize(c_.A, c_.contacts.filter);
   }
 
   // Armijo backtracking along d from dv; on success the trial becomes the iterate.
@@ -268,8 +295,11 @@ class NewtonSolve {
   StepStats& stats_;
   PotentialValue phi_;
   double impulse_scale_ = 0.0;
-  double shift_ = 0.0;  // the last shift mu that removed negative curvature (0: none yet)
-  const bool single_step_;  // newton_max_iterations = 1: Baraff & Witkin's step
+  const bool single_step_;     // newton_max_iterations = 1: Baraff & Witkin's step
+  const bool factor_first_;    // the last step needed the factor: build it at the first solve
+  bool factored_ = false;      // this step built a factor
+  double jacobi_work_ = 0.0;   // block-Jacobi PCG iterations this step
+  double factor_work_ = 0.0;   // the same units spent with the factor since it was built
 };
 
 StepStats newton_step(const Model& model, State& state, double h, Workspace& ws) {
@@ -327,6 +357,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
     stats.converged = newton.iterate(nullptr);
   }
   stats.contact_constraints = static_cast<int>(c.contacts.size());
+  state.implicit_factored = newton.factored();
 
   state.v += c.dv;          // v_{n+1} = v_n + dv (dv = 0 for immovable bodies)
   state.x += h * state.v;   // x_{n+1} = x_n + h v_{n+1}

@@ -6,11 +6,14 @@ namespace clothsim {
 
 void build_pattern(const Model& model, SpringBlockMatrix& A) {
   const int B = model.num_bodies();
+  const std::size_t S = model.springs.size();
   A.a = model.springs.a;
   A.b = model.springs.b;
   A.diag.assign(B, Mat3::Zero());
+  A.off.assign(S, Mat3::Zero());
+  A.diag_projected.assign(B, Mat3::Zero());
+  A.off_projected.assign(S, Mat3::Zero());
   A.diag_inverse.assign(B, Mat3::Identity());
-  A.off.assign(model.springs.size(), Mat3::Zero());
 }
 
 void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
@@ -23,15 +26,12 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
   for (int i = 0; i < B; ++i) {
     if (inv_mass[i] == 0.0) {
       A.diag[i].setIdentity();
-      continue;
+    } else {
+      const double drag = i < model.num_particles ? model.air_drag : 0.0;
+      A.diag[i] = (1.0 / inv_mass[i] + h * drag) * Mat3::Identity();
     }
-    const double drag = i < model.num_particles ? model.air_drag : 0.0;
-    A.diag[i] = (1.0 / inv_mass[i] + h * drag) * Mat3::Identity();
+    A.diag_projected[i] = A.diag[i];
   }
-
-  // The preconditioner's blocks start as the diagonal's: M + h c I (diag_inverse holds them
-  // until they are inverted at the end).
-  for (int i = 0; i < B; ++i) A.diag_inverse[i] = A.diag[i];
 
   const double h2 = h * h;
   for (std::size_t s = 0; s < springs.size(); ++s) {
@@ -39,34 +39,35 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     const bool move_a = inv_mass[a] != 0.0, move_b = inv_mass[b] != 0.0;
     if (!move_a && !move_b) {
       A.off[s].setZero();
+      A.off_projected[s].setZero();
       continue;
     }
-    StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), springs.rest[s], start_length[s],
-                                          springs.ks[s], springs.kd[s], h);
-    // The preconditioner always takes the projected block, so it stays SPD even when the
-    // matrix does not; they differ only across a spring in compression.
-    const bool compressed = k.transverse < 0.0;
-    if (project && compressed) k.transverse = 0.0;
-    const Mat3 G = -h2 * k.matrix();
-    Mat3 G_pre = G;  // -h^2 K, and projected: -h^2 (K - transverse (I - P))
-    if (compressed && !project)
-      G_pre += (h2 * k.transverse) * (Mat3::Identity() - k.u * k.u.transpose());
+    const StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), springs.rest[s],
+                                                start_length[s], springs.ks[s], springs.kd[s], h);
+    // Projected and exact differ only across a spring in compression (transverse < 0).
+    Mat3 G = -h2 * k.matrix();
+    Mat3 G_projected = G;  // -h^2 (K - transverse (I - u u^T)) where transverse < 0
+    if (k.transverse < 0.0)
+      G_projected += (h2 * k.transverse) * (Mat3::Identity() - k.u * k.u.transpose());
+    if (project) G = G_projected;
     if (move_a) {
       A.diag[a] -= G;
-      A.diag_inverse[a] -= G_pre;
+      A.diag_projected[a] -= G_projected;
     }
     if (move_b) {
       A.diag[b] -= G;
-      A.diag_inverse[b] -= G_pre;
+      A.diag_projected[b] -= G_projected;
     }
     if (move_a && move_b) {
       A.off[s] = G;
-    } else {
-      A.off[s].setZero();  // a filtered body's row and column are removed
+      A.off_projected[s] = G_projected;
+    } else {  // a filtered body's row and column are removed
+      A.off[s].setZero();
+      A.off_projected[s].setZero();
     }
   }
 
-  for (int i = 0; i < B; ++i) A.diag_inverse[i] = A.diag_inverse[i].inverse().eval();
+  for (int i = 0; i < B; ++i) A.diag_inverse[i] = A.diag_projected[i].inverse();
 }
 
 // The CG hot loop (one call per iteration): written on raw column-major arrays, as the

@@ -13,13 +13,12 @@
 // Every K_s is symmetric. Across a compressed spring its transverse term is negative, and at
 // a large step it can make H indefinite. So the matrix comes in two kinds:
 //  - exact (project = false): Phi's true Hessian, with which Newton converges quadratically;
-//    where CG on it meets negative curvature, the solver shifts it towards the mass matrix
-//    (implicit_euler.cpp);
+//    where CG on it meets negative curvature, the solver truncates there (implicit_euler.cpp);
 //  - projected (project = true): every K_s's transverse term clamped at 0 (Martin et al.
 //    2011's per-element projection), so H is SPD at any step size, CG cannot break down and
-//    its solution always descends; the fallback, and Baraff & Witkin's single step.
-// The block-Jacobi preconditioner is built from the projected blocks in both cases, so it
-// is SPD whatever the matrix.
+//    its solution always descends; Baraff & Witkin's single step.
+// The preconditioners are built from the projected blocks in both cases, so they are SPD
+// whatever the matrix.
 //
 // Immovable bodies (inverse mass 0: pinned particles, kinematic spheres) are filtered by
 // removing their rows and columns: their diagonal block is the identity, every block that
@@ -39,9 +38,13 @@ namespace clothsim {
 struct SpringBlockMatrix {
   std::vector<std::int32_t> a, b;  // (S) block (a_s, b_s): the springs' index pairs
   std::vector<Mat3> diag;          // (B) diagonal blocks
-  std::vector<Mat3> diag_inverse;  // (B) the block-Jacobi preconditioner: inverses of the
-                                   // diagonal blocks as the projected matrix has them
   std::vector<Mat3> off;           // (S) block at (a_s, b_s); symmetric, so also at (b_s, a_s)
+  // The projected matrix's blocks, filled either way: the preconditioners are built from them
+  // (block Jacobi here, the sparse factor of cholesky_preconditioner.h), so they are SPD
+  // whatever the matrix.
+  std::vector<Mat3> diag_projected;  // (B)
+  std::vector<Mat3> off_projected;   // (S)
+  std::vector<Mat3> diag_inverse;    // (B) the block-Jacobi preconditioner: diag_projected^-1
   int num_bodies() const { return static_cast<int>(diag.size()); }
 };
 

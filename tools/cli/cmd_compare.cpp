@@ -102,10 +102,10 @@ void print_summary(const Model& model, const std::vector<RunSummary>& runs) {
   // contacts it held as constraints, and particles the post-step projection still had to move.
   for (const RunSummary& r : runs)
     if (r.kind == IntegratorKind::ImplicitEuler)
-      std::printf("%s: %" PRId64 " Newton and %" PRId64 " CG iterations, largest final residual %.2g; "
+      std::printf("%s: %" PRId64 " Newton and %" PRId64 " CG iterations (%" PRId64 " sparse factorizations), largest final residual %.2g; "
                   "contacts held in the solve %" PRId64 ", post-step projections %" PRId64 "\n",
                   std::string(integrator_name(r.kind)).c_str(), r.totals.newton_iterations,
-                  r.totals.cg_iterations, r.totals.max_residual, r.totals.contact_constraints,
+                  r.totals.cg_iterations, r.totals.factorizations, r.totals.max_residual, r.totals.contact_constraints,
                   r.totals.safety_projections);
 }
 

@@ -113,10 +113,10 @@ int run_command(const RunOptions& o) {
               run.state().t > 0 ? t.sim_seconds / run.state().t : 0.0);
   if (kind == IntegratorKind::ImplicitEuler)
     std::printf("implicit solve: %" PRId64 " Newton iterations, %" PRId64
-                " CG iterations, largest final residual %.3g, %" PRId64
+                " CG iterations (%" PRId64 " sparse factorizations), largest final residual %.3g, %" PRId64
                 " steps not converged; %" PRId64 " contacts held in the solve, %" PRId64
                 " post-step projections; %.3f s of CPU (%.3g s per simulated s)\n",
-                t.newton_iterations, t.cg_iterations, t.max_residual, t.unconverged_steps,
+                t.newton_iterations, t.cg_iterations, t.factorizations, t.max_residual, t.unconverged_steps,
                 t.contact_constraints, t.safety_projections, t.cpu_seconds,
                 run.state().t > 0 ? t.cpu_seconds / run.state().t : 0.0);
   if (run.diverged()) {

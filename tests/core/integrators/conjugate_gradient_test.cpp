@@ -147,7 +147,7 @@ TEST(ConjugateGradient, EveryTruncatedIterateFromZeroDescends) {
   }
 }
 
-TEST(ConjugateGradient, StopsAtNegativeCurvatureAndSaysSo) {
+TEST(ConjugateGradient, StopsAtNegativeCurvatureWithTheFirstDirectionAndSaysSo) {
   System s = system(kAllSprings, 0.02);
   for (auto& block : s.A.diag) block = -block;  // negative definite: the first p has p.Ap < 0
   Eigen::Matrix3Xd x;
@@ -156,7 +156,12 @@ TEST(ConjugateGradient, StopsAtNegativeCurvatureAndSaysSo) {
   EXPECT_FALSE(r.converged);
   EXPECT_TRUE(r.negative_curvature);
   EXPECT_EQ(r.iterations, 0);
-  EXPECT_EQ(x.norm(), 0.0);
+  // The first direction itself, the preconditioned right-hand side: still downhill (b . x > 0),
+  // so a Newton solve always has a step to search along.
+  for (int i = 0; i < s.A.num_bodies(); ++i)
+    EXPECT_TRUE(x.col(i).isApprox(s.A.diag_inverse[i] * s.b.col(i), 1e-12) || s.b.col(i).isZero())
+        << "body " << i;
+  EXPECT_GT(s.b.cwiseProduct(x).sum(), 0.0);
 }
 
 }  // namespace

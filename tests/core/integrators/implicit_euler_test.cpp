@@ -228,7 +228,9 @@ TEST(ImplicitEuler, NoParticleEndsAStepInsideTheBallOrGroundAtOneThirtiethOfASec
   // The stiff cloth falling onto the ball at h = 1/30 s (w h ~ 70): the contacts are held inside
   // the solve, so no step ends with a particle inside the ball or through the ground, before
   // any post-step projection. Convergence, as measured (not as wished: docs/integrators.md):
-  // all but a few impact steps within 20 Newton iterations, and those within 1e-2.
+  // all but a few impact steps within 20 Newton iterations (5 of these 45), and those within
+  // 1e-2; the cloth wraps the ball within one step there, buckling, and the solve needs up
+  // to 50.
   const Model model = build_model(load_scene(stiff_scene_path(), {"dt=0.0333333333333"}));
   const Vec3 c = model.initial_x.col(model.sphere_body(0));
   const double r = model.sphere_radius[0], h = model.dt;
@@ -251,7 +253,51 @@ TEST(ImplicitEuler, NoParticleEndsAStepInsideTheBallOrGroundAtOneThirtiethOfASec
     state.t = static_cast<double>(state.step) * h;
   }
   EXPECT_GT(held, 0) << "the cloth is meant to land on the ball";
-  EXPECT_LE(unconverged, 4);
+  EXPECT_LE(unconverged, 5);
+}
+
+TEST(ImplicitEuler, EveryStepOfTheStiffSceneConvergesAtOneStepPerFrame) {
+  // k = 1e6 N/m at h = 1/60 s (h^2 k / m = 555): block-Jacobi PCG would need hundreds of
+  // iterations per solve, so the sparse factor takes over; every step must converge, energy
+  // never rise from frame to frame, and the stiff springs stay within 2 % (before contacts
+  // entered the solve: 20 %).
+  const Model model = build_model(load_scene(stiff_scene_path(), {"dt=0.016666666666666666"}));
+  clothsim::Run run(model, kKind, model.dt);
+  double E = run.metrics().energies.total(), largest_rise = 0.0, largest_strain = 0.0;
+  for (int frame = 1; frame <= 120; ++frame) {
+    ASSERT_TRUE(run.advance_to(frame / 60.0)) << run.divergence()->reason;
+    const FrameMetrics m = run.metrics();
+    largest_rise = std::max(largest_rise, (m.energies.total() - E) / std::abs(E));
+    largest_strain = std::max(largest_strain, m.max_strain);
+    E = m.energies.total();
+  }
+  const RunTotals& t = run.totals();
+  EXPECT_EQ(t.unconverged_steps, 0) << "largest residual " << t.max_residual;
+  EXPECT_LE(t.newton_iterations, 20 * t.steps);
+  EXPECT_GT(t.factorizations, 0);
+  EXPECT_LE(largest_rise, 0.0);
+  EXPECT_LE(largest_strain, 0.02);
+  EXPECT_EQ(t.safety_projections, 0);
+}
+
+TEST(ImplicitEuler, ACopiedStateContinuesBitForBit) {
+  // The solver's memory between steps (warm start, held contacts, whether to factor at once)
+  // lives in State: a copy continued with a fresh Workspace takes exactly the same steps as
+  // the original, through the impact, where the sparse factor is in use.
+  const Model model = build_model(load_scene(stiff_scene_path(), {"dt=0.016666666666666666"}));
+  State state = initial_state(model);
+  Workspace ws;
+  std::int64_t factorizations = 0;
+  for (int n = 0; n < 14; ++n) step(model, state, kKind, model.dt, ws);
+  State copy = state;
+  Workspace fresh;
+  for (int n = 0; n < 12; ++n) {
+    factorizations += step(model, state, kKind, model.dt, ws).stats.factorizations;
+    step(model, copy, kKind, model.dt, fresh);
+  }
+  ASSERT_GT(factorizations, 0) << "the copy is meant to be taken where the factor is in use";
+  EXPECT_EQ((state.x - copy.x).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((state.v - copy.v).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(ImplicitEuler, SaysSoWhenNewtonHitsItsIterationCapAboveTolerance) {
@@ -330,9 +376,9 @@ TEST(ImplicitEuler, ASpringDecayedToRestStillConverges) {
 
 TEST(ImplicitEuler, SolvesAHardCompressedSheetAtAHugeStep) {
   // Every spring at 60% of its rest length, h = 0.5 s (w h ~ 100): the exact stiffness makes
-  // the Newton matrix indefinite here (sparse_system_test), so this exercises the shifted
-  // and projected fallbacks and the line search. Backward Euler must still be solved, and the sheet must spring back, losing
-  // energy, not blow up.
+  // the Newton matrix indefinite here (sparse_system_test), so this exercises the truncated
+  // directions at negative curvature and the line search. Backward Euler must still be
+  // solved, and the sheet must spring back, losing energy, not blow up.
   const Model model = model_from_yaml(R"(
 name: crumpled
 gravity: [0, 0, 0]

@@ -153,6 +153,21 @@ TEST(SparseSystem, ThePreconditionerIsTheProjectedDiagonalsInverseEitherWay) {
   }
 }
 
+TEST(SparseSystem, EitherAssemblyCarriesTheProjectedBlocksForTheFactor) {
+  // The sparse factor (cholesky_preconditioner.h) is built from diag_projected / off_projected
+  // after an exact assembly: they must be what a projected assembly puts in diag / off.
+  const Assembled exact = assemble(0.6, 1.0, false);
+  const Assembled projected = assemble(0.6, 1.0, true);
+  for (int b = 0; b < exact.A.num_bodies(); ++b) {
+    EXPECT_TRUE(exact.A.diag_projected[b].isApprox(projected.A.diag[b], 1e-14)) << "body " << b;
+    EXPECT_TRUE(projected.A.diag_projected[b].isApprox(projected.A.diag[b], 1e-14)) << "body " << b;
+  }
+  for (std::size_t s = 0; s < exact.A.off.size(); ++s)
+    EXPECT_TRUE(exact.A.off_projected[s].isApprox(projected.A.off[s], 1e-14) ||
+                (exact.A.off_projected[s] - projected.A.off[s]).norm() < 1e-12)
+        << "spring " << s;
+}
+
 TEST(SparseSystem, StretchedSpringsNeedNoProjection) {
   // Every spring longer than its rest length and than at the start of the step: every
   // tension positive (moving at random, a damper can be shortening, and then it pushes; a
