@@ -105,20 +105,22 @@ int run_command(const RunOptions& o) {
   if (png_sink) png_sink->finish();
   if (video_sink) video_sink->finish();
 
+  // CPU time of the stepping thread is the cost to compare between methods (wall time also
+  // counts whatever else the machine is doing).
   const RunTotals& t = run.totals();
+  const double simulated = run.state().t;
   std::printf("%s: %s, dt = %g s, %" PRId64 " steps to t = %.6g s, %" PRId64
-              " force evaluations, %.3f s of wall time (%.3g s per simulated s)\n",
+              " force evaluations, %.3f s of wall time, %.3f s of CPU (%.3g s of CPU per simulated s)\n",
               model.name.c_str(), std::string(integrator_name(kind)).c_str(), dt, t.steps,
-              run.state().t, t.force_evals, t.sim_seconds,
-              run.state().t > 0 ? t.sim_seconds / run.state().t : 0.0);
+              simulated, t.force_evals, t.sim_seconds, t.cpu_seconds,
+              simulated > 0 ? t.cpu_seconds / simulated : 0.0);
   if (kind == IntegratorKind::ImplicitEuler)
     std::printf("implicit solve: %" PRId64 " Newton iterations, %" PRId64
                 " CG iterations (%" PRId64 " sparse factorizations), largest final residual %.3g, %" PRId64
                 " steps not converged; %" PRId64 " contacts held in the solve, %" PRId64
-                " post-step projections; %.3f s of CPU (%.3g s per simulated s)\n",
+                " post-step projections\n",
                 t.newton_iterations, t.cg_iterations, t.factorizations, t.max_residual, t.unconverged_steps,
-                t.contact_constraints, t.safety_projections, t.cpu_seconds,
-                run.state().t > 0 ? t.cpu_seconds / run.state().t : 0.0);
+                t.contact_constraints, t.safety_projections);
   if (run.diverged()) {
     const Divergence& d = *run.divergence();
     std::fprintf(stderr, "clothsim: %s: diverged at step %" PRId64 ", t = %.6g s: %s\n",
