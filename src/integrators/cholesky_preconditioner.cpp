@@ -1,57 +1,108 @@
 #include "integrators/cholesky_preconditioner.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 
 namespace clothsim {
 
+namespace {
+
+// AMD on the bodies' graph (one vertex per body, an edge per spring): the fill of a block
+// factor is the fill of this graph's, so ordering bodies rather than coordinates costs a ninth
+// and keeps each body's three coordinates together. Returns order[new] = old.
+std::vector<int> fill_reducing_order(const SpringBlockMatrix& A) {
+  const int B = A.num_bodies();
+  std::vector<Eigen::Triplet<double, int>> edges;
+  edges.reserve(B + 2 * A.a.size());
+  for (int i = 0; i < B; ++i) edges.emplace_back(i, i, 1.0);
+  for (std::size_t s = 0; s < A.a.size(); ++s) {
+    edges.emplace_back(A.a[s], A.b[s], 1.0);
+    edges.emplace_back(A.b[s], A.a[s], 1.0);
+  }
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> graph(B, B);
+  graph.setFromTriplets(edges.begin(), edges.end());
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> permutation;
+  Eigen::AMDOrdering<int>()(graph, permutation);  // indices()[new] = old, as Eigen's Cholesky uses it
+  return std::vector<int>(permutation.indices().data(), permutation.indices().data() + B);
+}
+
+}  // namespace
+
 void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A) {
   const int B = A.num_bodies();
-  const std::size_t S = A.off.size();
-  std::vector<Eigen::Triplet<double, int>> entries;
-  entries.reserve(6 * B + 9 * S);
-  for (int i = 0; i < B; ++i)
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c <= r; ++c) entries.emplace_back(3 * i + r, 3 * i + c, 0.0);
-  off_transposed_.assign(S, false);
-  for (std::size_t s = 0; s < S; ++s) {
-    const int hi = std::max(A.a[s], A.b[s]), lo = std::min(A.a[s], A.b[s]);
-    off_transposed_[s] = A.a[s] < A.b[s];
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) entries.emplace_back(3 * hi + r, 3 * lo + c, 0.0);
-  }
-  K_.resize(3 * B, 3 * B);
-  K_.setFromTriplets(entries.begin(), entries.end());  // duplicates (two springs on one pair) merge
-  K_.makeCompressed();
+  const std::size_t S = A.a.size();
+  order_ = fill_reducing_order(A);
+  rank_.assign(B, 0);
+  for (int k = 0; k < B; ++k) rank_[order_[k]] = k;
 
-  // Where each block entry landed among K_'s values (a binary search per entry, once).
-  const auto index_of = [this](int row, int col) {
-    const int* rows = K_.innerIndexPtr();
-    const int begin = K_.outerIndexPtr()[col], end = K_.outerIndexPtr()[col + 1];
-    return static_cast<int>(std::lower_bound(rows + begin, rows + end, row) - rows);
-  };
-  diag_index_.assign(9 * static_cast<std::size_t>(B), -1);
-  for (int i = 0; i < B; ++i)
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c <= r; ++c) diag_index_[9 * i + 3 * r + c] = index_of(3 * i + r, 3 * i + c);
-  off_index_.assign(9 * S, -1);
+  // The strictly upper blocks by column (new indices), one slot per body pair: two springs on
+  // one pair add into the same slot.
+  std::vector<std::vector<std::pair<int, std::size_t>>> column(B);  // (row, spring)
   for (std::size_t s = 0; s < S; ++s) {
-    const int hi = std::max(A.a[s], A.b[s]), lo = std::min(A.a[s], A.b[s]);
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) off_index_[9 * s + 3 * r + c] = index_of(3 * hi + r, 3 * lo + c);
+    const int i = rank_[A.a[s]], k = rank_[A.b[s]];
+    column[std::max(i, k)].emplace_back(std::min(i, k), s);
   }
-  llt_.analyzePattern(K_);
+  upper_start_.assign(B + 1, 0);
+  upper_row_.clear();
+  spring_slot_.assign(S, 0);
+  spring_transposed_.assign(S, false);
+  for (int k = 0; k < B; ++k) {
+    std::sort(column[k].begin(), column[k].end());
+    for (std::size_t e = 0; e < column[k].size(); ++e) {
+      const auto [row, s] = column[k][e];
+      if (e == 0 || row != column[k][e - 1].first) upper_row_.push_back(row);
+      spring_slot_[s] = static_cast<int>(upper_row_.size()) - 1;
+      // The spring's block is A(a, b); the slot holds A(row, k), row < k: A(b, a) = A(a, b)^T
+      // when a comes second.
+      spring_transposed_[s] = rank_[A.a[s]] > rank_[A.b[s]];
+    }
+    upper_start_[k + 1] = static_cast<int>(upper_row_.size());
+  }
+  upper_.assign(upper_row_.size(), Mat3::Zero());
+  diag_.assign(B, Mat3::Zero());
 
-  // Measured against the hand-written mat-vec (15 x 15 grid, stiff.yaml at 1/60 s): a
-  // factorisation took 1.9 times, a solve 1.1 times what the counts below predict.
-  constexpr double kFactorOverhead = 2.0, kSolveOverhead = 1.0;
+  // The elimination tree and L's column counts (Davis 2005, "Algorithm 849: a concise sparse
+  // Cholesky factorization package", ldl_symbolic): row k of L is the set of nodes reached
+  // from A's column k up the tree.
+  parent_.assign(B, -1);
+  flag_.assign(B, -1);
+  std::vector<int> count(B, 0);
+  for (int k = 0; k < B; ++k) {
+    flag_[k] = k;
+    for (int p = upper_start_[k]; p < upper_start_[k + 1]; ++p) {
+      for (int i = upper_row_[p]; flag_[i] != k; i = parent_[i]) {
+        if (parent_[i] == -1) parent_[i] = k;
+        ++count[i];
+        flag_[i] = k;
+      }
+    }
+  }
+  column_start_.assign(B + 1, 0);
+  for (int j = 0; j < B; ++j) column_start_[j + 1] = column_start_[j] + count[j];
+  row_.assign(column_start_[B], 0);
+  value_.assign(column_start_[B], Mat3::Zero());
+  d_inverse_.assign(B, Mat3::Identity());
+  y_.assign(B, Mat3::Zero());
+  pattern_.assign(B, 0);
+  filled_.assign(B, 0);
+
+  // Costs in block-Jacobi iterations. Factor: each row k of L updates, for every block L(k, j),
+  // the blocks above it in column j (one 3x3 product each), and forms L(k, j) and its share of
+  // D_k (two more): sum_j c_j (c_j + 3) / 2 products of 27 multiply-adds. Solve: two 3x3
+  // mat-vecs per block of L and one per body (D^-1), 9 multiply-adds each.
+  // Measured against the hand-written mat-vec (15 x 15 grid, stiff.yaml at 1/60 s), a
+  // factorisation took kFactorOverhead times and a solve kSolveOverhead times what the counts
+  // predict: the block loops are shorter than the mat-vec's.
+  constexpr double kFactorOverhead = 1.0, kSolveOverhead = 1.0;
   const double iteration = 9.0 * (2.0 * B + 2.0 * static_cast<double>(S));
-  const int* column = llt_.column_pointers();
   double factor = 0.0;
-  for (int j = 0; j < 3 * B; ++j) factor += std::pow(column[j + 1] - column[j], 2);
+  for (int j = 0; j < B; ++j) factor += 27.0 * count[j] * (count[j] + 3.0) / 2.0 + 27.0;
   factor_cost_ = kFactorOverhead * factor / iteration;
-  solve_cost_ = kSolveOverhead * 4.0 * column[3 * B] / iteration;
+  solve_cost_ = kSolveOverhead * 9.0 * (2.0 * column_start_[B] + B) / iteration;
   filter_.assign(B, Mat3::Identity());
   analysed_ = true;
   ready_ = false;
@@ -62,34 +113,82 @@ bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const Velocit
   for (std::size_t c = 0; c < filter.size(); ++c)
     filter_[filter.body[c]] = Mat3::Identity() - filter.normal[c] * filter.normal[c].transpose();
 
-  double* values = K_.valuePtr();
-  std::fill(values, values + K_.nonZeros(), 0.0);
-  for (int i = 0; i < B; ++i) {
-    const Mat3& F = filter_[i];
-    // S P S + (I - S): P on the free directions, the identity along a held normal.
-    const Mat3 block = F * A.diag_projected[i] * F + (Mat3::Identity() - F);
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c <= r; ++c) values[diag_index_[9 * i + 3 * r + c]] += block(r, c);
+  // The matrix in the new order: S P S + (I - S), P on the free directions and the identity
+  // along a held normal.
+  for (int k = 0; k < B; ++k) {
+    const Mat3& F = filter_[order_[k]];
+    diag_[k] = F * A.diag_projected[order_[k]] * F + (Mat3::Identity() - F);
   }
-  for (std::size_t s = 0; s < A.off.size(); ++s) {
-    // Block (a, b) is S_a G S_b; stored at (max, min), so transposed when a < b.
+  std::fill(upper_.begin(), upper_.end(), Mat3::Zero());
+  for (std::size_t s = 0; s < A.a.size(); ++s) {
     const Mat3 block = filter_[A.a[s]] * A.off_projected[s] * filter_[A.b[s]];
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c)
-        values[off_index_[9 * s + 3 * r + c]] += off_transposed_[s] ? block(c, r) : block(r, c);
+    if (spring_transposed_[s]) upper_[spring_slot_[s]] += block.transpose();
+    else upper_[spring_slot_[s]] += block;
   }
   for (std::size_t c = 0; c < filter.size(); ++c) filter_[filter.body[c]].setIdentity();
 
-  llt_.factorize(K_);
-  ready_ = llt_.info() == Eigen::Success;
-  return ready_;
+  // Up-looking L D L^T in blocks (Davis 2005's ldl_numeric with 3x3 entries). Row k: the
+  // blocks Y_i = A(i, k) - sum_j L(i, j) Z_j^T over the reach of column k, in topological
+  // order, give Z_i = Y_i^T = L(k, i) D_i, so L(k, i) = Y_i^T D_i^-1 and
+  // D_k = A(k, k) - sum_i L(k, i) Y_i.
+  ready_ = false;
+  std::fill(flag_.begin(), flag_.end(), -1);
+  std::fill(filled_.begin(), filled_.end(), 0);
+  for (int k = 0; k < B; ++k) {
+    int top = B;
+    flag_[k] = k;
+    for (int p = upper_start_[k]; p < upper_start_[k + 1]; ++p) {
+      int i = upper_row_[p];
+      y_[i] = upper_[p];
+      int length = 0;
+      for (; flag_[i] != k; i = parent_[i]) {
+        pattern_[length++] = i;
+        flag_[i] = k;
+      }
+      while (length > 0) pattern_[--top] = pattern_[--length];
+    }
+    Mat3 d = diag_[k];
+    for (; top < B; ++top) {
+      const int i = pattern_[top];
+      const Mat3 yi = y_[i];
+      y_[i].setZero();
+      const int begin = column_start_[i], end = begin + filled_[i];
+      for (int p = begin; p < end; ++p) y_[row_[p]].noalias() -= value_[p] * yi;
+      const Mat3 l = yi.transpose() * d_inverse_[i];
+      d.noalias() -= l * yi;
+      row_[end] = k;
+      value_[end] = l;
+      ++filled_[i];
+    }
+    const Eigen::LLT<Mat3> pivot(d);
+    if (pivot.info() != Eigen::Success || !d.allFinite()) {
+      std::fill(y_.begin(), y_.end(), Mat3::Zero());  // the next factorisation starts from zeros
+      return false;
+    }
+    d_inverse_[k] = pivot.solve(Mat3::Identity());
+  }
+  ready_ = true;
+  return true;
 }
 
 void CholeskyPreconditioner::apply(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) const {
-  z.resize(3, r.cols());
-  Eigen::Map<const Eigen::VectorXd> rhs(r.data(), r.size());
-  Eigen::Map<Eigen::VectorXd> solution(z.data(), z.size());
-  solution = llt_.solve(rhs);
+  const int B = static_cast<int>(order_.size());
+  w_.resize(3, B);
+  for (int k = 0; k < B; ++k) w_.col(k) = r.col(order_[k]);
+  for (int j = 0; j < B; ++j) {  // L u = w
+    const Vec3 u = w_.col(j);
+    for (int p = column_start_[j]; p < column_start_[j + 1]; ++p)
+      w_.col(row_[p]).noalias() -= value_[p] * u;
+  }
+  for (int j = 0; j < B; ++j) w_.col(j) = d_inverse_[j] * Vec3(w_.col(j));  // D v = u
+  for (int j = B - 1; j >= 0; --j) {  // L^T z = v
+    Vec3 v = w_.col(j);
+    for (int p = column_start_[j]; p < column_start_[j + 1]; ++p)
+      v.noalias() -= value_[p].transpose() * w_.col(row_[p]);
+    w_.col(j) = v;
+  }
+  z.resize(3, B);
+  for (int k = 0; k < B; ++k) z.col(order_[k]) = w_.col(k);
 }
 
 }  // namespace clothsim

@@ -20,11 +20,14 @@
 // does in PCG: S P S + (I - S), which is SPD, equal to P on the free directions and the
 // identity along held normals (Ascher & Boxerman 2003, "On the modified conjugate gradient
 // method in cloth simulation").
+//
+// The factor is computed in 3x3 blocks, a body's three coordinates together (Davis 2005's
+// up-looking LDL^T with block entries, bodies in AMD order), since every entry of the matrix
+// belongs to one such block: Eigen's scalar simplicial LLT on the same matrix, indexing every
+// scalar entry, took 2.8 times as long to factor and 1.8 times as long to solve (BENCHMARKS.md).
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
 #include <vector>
 
 #include "integrators/sparse_system.h"
@@ -34,14 +37,15 @@ namespace clothsim {
 
 class CholeskyPreconditioner {
  public:
-  // Builds the (3B x 3B) pattern of A's blocks and its fill-reducing symbolic factorisation:
-  // once per model (the only allocating call but factorize's first).
+  // Orders A's bodies to reduce fill (AMD on the graph of springs) and computes the factor's
+  // pattern (its elimination tree and column counts): once per model, the only allocating call.
   void analyse(const SpringBlockMatrix& A);
   bool analysed() const { return analysed_; }
   void reset() { analysed_ = ready_ = false; }  // a new model: analyse again
 
-  // Factors S P S + (I - S), P the projected blocks of A (the last assembly). Returns false if
-  // the factorisation failed (not SPD: a non-finite matrix); the factor is then unusable.
+  // Factors S P S + (I - S) = L D L^T, P the projected blocks of A (the last assembly).
+  // Returns false if the factorisation failed (a pivot block not SPD: a non-finite matrix);
+  // the factor is then unusable.
   bool factorize(const SpringBlockMatrix& A, const VelocityFilter& filter);
   bool ready() const { return ready_; }
   void invalidate() { ready_ = false; }
@@ -49,28 +53,38 @@ class CholeskyPreconditioner {
   // z = (S P S + (I - S))^-1 r, r and z (3 x B).
   void apply(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) const;
 
-  // What a factorisation costs, in block-Jacobi PCG iterations (one block mat-vec and one
-  // block-diagonal solve each), estimated from the symbolic factorisation: sum_j c_j^2
-  // multiply-adds for column counts c_j of L, against 9 (B + 2 S) + 9 B for the iteration.
-  // Eigen's simplicial LLT runs slower per multiply-add than the hand-written mat-vec; the
-  // ratio, measured, is folded in (cholesky_preconditioner.cpp). A solve with the factor
-  // costs about 4 nnz(L).
+  // What a factorisation and a solve cost, in block-Jacobi PCG iterations (one block mat-vec
+  // and one block-diagonal solve each), from the factor's pattern: a 3x3 block product is 27
+  // multiply-adds, against 9 (2 B + 2 S) for the iteration. The ratio of speeds per
+  // multiply-add, measured, is folded in (cholesky_preconditioner.cpp).
   double factor_cost() const { return factor_cost_; }
   double solve_cost() const { return solve_cost_; }
+  std::size_t factor_blocks() const { return row_.size(); }  // off-diagonal blocks of L
 
  private:
-  using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
-  Matrix K_;  // lower triangle of the factored matrix
-  // For each body, the value index of its diagonal block's entry (r, c), r >= c, at 3 r + c;
-  // for each spring, its block's 9 entries (lower triangle of the whole matrix) at 3 r + c.
-  std::vector<int> diag_index_;  // (9 B), -1 above the diagonal
-  std::vector<int> off_index_;   // (9 S)
-  std::vector<bool> off_transposed_;  // (S) the spring's block stored as (b, a): a < b
-  // Eigen's simplicial LLT, with its symbolic factor (L's column pointers) readable.
-  struct Llt : Eigen::SimplicialLLT<Matrix, Eigen::Lower, Eigen::AMDOrdering<int>> {
-    const int* column_pointers() const { return this->m_matrix.outerIndexPtr(); }
-  };
-  Llt llt_;
+  // Bodies are factored in a fill-reducing order: new index k is body order_[k], body i is
+  // new index rank_[i]. The matrix's strictly upper blocks (i < k, new indices) by column k:
+  // upper_start_[k] .. upper_start_[k + 1] in upper_row_, filled from the springs listed in
+  // upper_spring_ (each spring's block added at one slot, transposed where flagged).
+  std::vector<int> order_, rank_;
+  std::vector<int> upper_start_, upper_row_;
+  std::vector<int> spring_slot_;           // (S) the slot its block adds into
+  std::vector<bool> spring_transposed_;    // (S) whether it adds as its transpose
+  std::vector<Mat3> upper_;                // (slots) values, scratch for factorize
+  std::vector<Mat3> diag_;                 // (B) diagonal blocks, new order, scratch
+
+  // L D L^T, L unit lower triangular in 3x3 blocks stored by column: column j's blocks
+  // L(row_[p], j) = value_[p] for p in column_start_[j] .. column_start_[j + 1], rows
+  // increasing; D's blocks kept inverted.
+  std::vector<int> parent_;                // (B) elimination tree
+  std::vector<int> column_start_, row_;
+  std::vector<Mat3> value_, d_inverse_;
+
+  // Scratch of the up-looking factorisation (one row of L at a time).
+  std::vector<Mat3> y_;
+  std::vector<int> flag_, pattern_, filled_;
+  mutable Eigen::Matrix3Xd w_;             // scratch of apply
+
   double factor_cost_ = 0.0, solve_cost_ = 0.0;
   std::vector<Mat3> filter_;  // (B) S_i (identity for free bodies), scratch for factorize
   bool analysed_ = false, ready_ = false;

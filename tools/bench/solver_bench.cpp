@@ -1,0 +1,89 @@
+// The pieces of implicit Euler's linear solves, to calibrate the preconditioner's choice
+// (cholesky_preconditioner.h counts a factorisation and a factored solve in block-Jacobi PCG
+// iterations; the counters here print those estimates beside the timings):
+//   build/tools/bench/clothsim_benchmarks --benchmark_filter='Solver'
+// The matrix is the projected step Hessian at the scene's initial state, h = 1/60 s, on
+// stiff.yaml (15 x 15) and the drape resized to 64 x 64. One block-Jacobi iteration is about
+// one BM_SolverBlockMatVec plus one BM_SolverJacobi.
+#include <benchmark/benchmark.h>
+
+#include "bench_models.h"
+#include "integrators/cholesky_preconditioner.h"
+#include "integrators/sparse_system.h"
+#include "integrators/step_potential.h"
+#include "state.h"
+
+namespace clothsim {
+namespace {
+
+struct System {
+  Model model;
+  SpringBlockMatrix A;
+  Eigen::Matrix3Xd r;
+};
+
+System system(int which) {
+  System s{which == 0 ? build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/stiff.yaml", {}))
+                      : bench::drape_sheet(64),
+           {}, {}};
+  const State st = initial_state(s.model);
+  std::vector<double> length;
+  spring_lengths(s.model.springs, st.x, length);
+  build_pattern(s.model, s.A);
+  assemble_step_hessian(s.model, st.inv_mass, 1.0 / 60.0, length, st.x, true, s.A);
+  s.r = Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
+  return s;
+}
+
+const char* name(int which) { return which == 0 ? "stiff 15x15" : "drape 64x64"; }
+
+void BM_SolverBlockMatVec(benchmark::State& st) {
+  const System s = system(static_cast<int>(st.range(0)));
+  Eigen::Matrix3Xd y;
+  for (auto _ : st) {
+    multiply(s.A, s.r, y);
+    benchmark::DoNotOptimize(y.data());
+  }
+  st.SetLabel(name(static_cast<int>(st.range(0))));
+}
+BENCHMARK(BM_SolverBlockMatVec)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+void BM_SolverJacobi(benchmark::State& st) {
+  const System s = system(static_cast<int>(st.range(0)));
+  Eigen::Matrix3Xd z(3, s.r.cols());
+  for (auto _ : st) {
+    for (Eigen::Index i = 0; i < s.r.cols(); ++i) z.col(i) = s.A.diag_inverse[i] * s.r.col(i);
+    benchmark::DoNotOptimize(z.data());
+  }
+  st.SetLabel(name(static_cast<int>(st.range(0))));
+}
+BENCHMARK(BM_SolverJacobi)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+void BM_SolverFactorize(benchmark::State& st) {
+  const System s = system(static_cast<int>(st.range(0)));
+  CholeskyPreconditioner factor;
+  factor.analyse(s.A);
+  for (auto _ : st) benchmark::DoNotOptimize(factor.factorize(s.A, VelocityFilter{}));
+  st.counters["est_jacobi_iterations"] = factor.factor_cost();
+  st.counters["L_blocks"] = static_cast<double>(factor.factor_blocks());
+  st.SetLabel(name(static_cast<int>(st.range(0))));
+}
+BENCHMARK(BM_SolverFactorize)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+void BM_SolverFactoredSolve(benchmark::State& st) {
+  const System s = system(static_cast<int>(st.range(0)));
+  CholeskyPreconditioner factor;
+  factor.analyse(s.A);
+  factor.factorize(s.A, VelocityFilter{});
+  Eigen::Matrix3Xd z;
+  for (auto _ : st) {
+    factor.apply(s.r, z);
+    benchmark::DoNotOptimize(z.data());
+  }
+  st.counters["est_jacobi_iterations"] = factor.solve_cost();
+  st.SetLabel(name(static_cast<int>(st.range(0))));
+}
+BENCHMARK(BM_SolverFactoredSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace clothsim
