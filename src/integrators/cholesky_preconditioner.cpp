@@ -121,7 +121,7 @@ bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const Velocit
   }
   std::fill(upper_.begin(), upper_.end(), Mat3::Zero());
   for (std::size_t s = 0; s < A.a.size(); ++s) {
-    const Mat3 block = filter_[A.a[s]] * A.off_projected[s] * filter_[A.b[s]];
+    const Mat3 block = filter_[A.a[s]] * A.off_projected(s) * filter_[A.b[s]];
     if (spring_transposed_[s]) upper_[spring_slot_[s]] += block.transpose();
     else upper_[spring_slot_[s]] += block;
   }

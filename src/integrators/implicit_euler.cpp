@@ -101,7 +101,7 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   if (!ws.implicit) ws.implicit.reset(new ImplicitCache);
   ImplicitCache& c = *ws.implicit;
   if (c.model != &model || c.A.num_bodies() != model.num_bodies() ||
-      c.A.off.size() != model.springs.size()) {
+      c.A.num_springs() != model.springs.size()) {
     build_pattern(model, c.A);
     c.factor.reset();  // analysed when first needed
     c.model = &model;

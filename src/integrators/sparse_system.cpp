@@ -10,11 +10,34 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
   A.a = model.springs.a;
   A.b = model.springs.b;
   A.diag.assign(B, Mat3::Zero());
-  A.off.assign(S, Mat3::Zero());
+  A.u.assign(S, Vec3::Zero());
+  A.alpha.assign(S, 0.0);
+  A.beta.assign(S, 0.0);
   A.diag_projected.assign(B, Mat3::Zero());
-  A.off_projected.assign(S, Mat3::Zero());
+  A.alpha_projected.assign(S, 0.0);
+  A.beta_projected.assign(S, 0.0);
   A.diag_inverse.assign(B, Mat3::Identity());
 }
+
+namespace {
+
+// D -= alpha u u^T + beta I, written out on the symmetric block (6 distinct entries).
+inline void subtract_block(Mat3& D, double alpha, double beta, const Vec3& u) {
+  const double xx = alpha * u[0] * u[0] + beta, yy = alpha * u[1] * u[1] + beta,
+               zz = alpha * u[2] * u[2] + beta;
+  const double xy = alpha * u[0] * u[1], xz = alpha * u[0] * u[2], yz = alpha * u[1] * u[2];
+  D(0, 0) -= xx;
+  D(1, 1) -= yy;
+  D(2, 2) -= zz;
+  D(0, 1) -= xy;
+  D(1, 0) -= xy;
+  D(0, 2) -= xz;
+  D(2, 0) -= xz;
+  D(1, 2) -= yz;
+  D(2, 1) -= yz;
+}
+
+}  // namespace
 
 void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
                            const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
@@ -30,40 +53,61 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
       const double drag = i < model.num_particles ? model.air_drag : 0.0;
       A.diag[i] = (1.0 / inv_mass[i] + h * drag) * Mat3::Identity();
     }
-    A.diag_projected[i] = A.diag[i];
   }
 
+  // G = -h^2 K = alpha u u^T + beta I with alpha = -h^2 (axial - transverse),
+  // beta = -h^2 transverse; the projection clamps transverse at 0. The diagonal blocks get
+  // -G; the projected diagonal is the exact one corrected for the compressed springs only
+  // (usually few), so the common case pays for one diagonal accumulation.
   const double h2 = h * h;
+  bool any_compressed = false;
   for (std::size_t s = 0; s < springs.size(); ++s) {
     const int a = A.a[s], b = A.b[s];
     const bool move_a = inv_mass[a] != 0.0, move_b = inv_mass[b] != 0.0;
     if (!move_a && !move_b) {
-      A.off[s].setZero();
-      A.off_projected[s].setZero();
+      A.alpha[s] = A.beta[s] = A.alpha_projected[s] = A.beta_projected[s] = 0.0;
       continue;
     }
     const StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), springs.rest[s],
                                                 start_length[s], springs.ks[s], springs.kd[s], h);
-    // Projected and exact differ only across a spring in compression (transverse < 0).
-    Mat3 G = -h2 * k.matrix();
-    Mat3 G_projected = G;  // -h^2 (K - transverse (I - u u^T)) where transverse < 0
-    if (k.transverse < 0.0)
-      G_projected += (h2 * k.transverse) * (Mat3::Identity() - k.u * k.u.transpose());
-    if (project) G = G_projected;
-    if (move_a) {
-      A.diag[a] -= G;
-      A.diag_projected[a] -= G_projected;
-    }
-    if (move_b) {
-      A.diag[b] -= G;
-      A.diag_projected[b] -= G_projected;
-    }
+    const double transverse_projected = k.transverse < 0.0 ? 0.0 : k.transverse;
+    any_compressed |= k.transverse < 0.0;
+    const double alpha_projected = -h2 * (k.axial - transverse_projected);
+    const double beta_projected = -h2 * transverse_projected;
+    const double alpha = project ? alpha_projected : -h2 * (k.axial - k.transverse);
+    const double beta = project ? beta_projected : -h2 * k.transverse;
+    if (move_a) subtract_block(A.diag[a], alpha, beta, k.u);
+    if (move_b) subtract_block(A.diag[b], alpha, beta, k.u);
+    A.u[s] = k.u;
     if (move_a && move_b) {
-      A.off[s] = G;
-      A.off_projected[s] = G_projected;
+      A.alpha[s] = alpha;
+      A.beta[s] = beta;
+      A.alpha_projected[s] = alpha_projected;
+      A.beta_projected[s] = beta_projected;
     } else {  // a filtered body's row and column are removed
-      A.off[s].setZero();
-      A.off_projected[s].setZero();
+      A.alpha[s] = A.beta[s] = A.alpha_projected[s] = A.beta_projected[s] = 0.0;
+    }
+  }
+
+  A.diag_projected = A.diag;
+  if (any_compressed && !project) {
+    for (std::size_t s = 0; s < springs.size(); ++s) {
+      const int a = A.a[s], b = A.b[s];
+      const bool move_a = inv_mass[a] != 0.0, move_b = inv_mass[b] != 0.0;
+      if (!move_a && !move_b) continue;
+      // Read back from the exact block (beta = -h^2 transverse) rather than recomputed or
+      // stored twice: this pass runs only at iterates with compressed springs.
+      const double transverse = move_a && move_b ? -A.beta[s] / h2 : 0.0;
+      double t = transverse;
+      if (!(move_a && move_b)) {  // a filtered pair keeps no block: recompute its tension
+        t = step_spring_block(y.col(a) - y.col(b), springs.rest[s], start_length[s],
+                              springs.ks[s], springs.kd[s], h).transverse;
+      }
+      if (t >= 0.0) continue;
+      // Projected minus exact is h^2 t (I - u u^T), so the diagonal gets its negative.
+      const double delta = h2 * t;
+      if (move_a) subtract_block(A.diag_projected[a], -delta, delta, A.u[s]);
+      if (move_b) subtract_block(A.diag_projected[b], -delta, delta, A.u[s]);
     }
   }
 
@@ -71,8 +115,8 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
 }
 
 // The CG hot loop (one call per iteration): written on raw column-major arrays, as the
-// force pass is, so each 3x3 block product stays in registers. Blocks are symmetric, so
-// the spring block serves (a, b) and (b, a) alike.
+// force pass is. A spring block applied to p is alpha u (u . p) + beta p, the same for
+// (a, b) and (b, a).
 void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {
   const int B = A.num_bodies();
   y.resize(3, B);
@@ -86,21 +130,26 @@ void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matr
     yi[1] = D[1] * pi[0] + D[4] * pi[1] + D[7] * pi[2];
     yi[2] = D[2] * pi[0] + D[5] * pi[1] + D[8] * pi[2];
   }
-  const std::size_t S = A.off.size();
+  const std::size_t S = A.num_springs();
   const std::int32_t* ia = A.a.data();
   const std::int32_t* ib = A.b.data();
+  const double* alpha = A.alpha.data();
+  const double* beta = A.beta.data();
   for (std::size_t s = 0; s < S; ++s) {
-    const double* G = A.off[s].data();
+    const double* u = A.u[s].data();
     const std::size_t a = 3 * static_cast<std::size_t>(ia[s]);
     const std::size_t b = 3 * static_cast<std::size_t>(ib[s]);
     const double pa0 = P[a], pa1 = P[a + 1], pa2 = P[a + 2];
     const double pb0 = P[b], pb1 = P[b + 1], pb2 = P[b + 2];
-    Y[a] += G[0] * pb0 + G[3] * pb1 + G[6] * pb2;
-    Y[a + 1] += G[1] * pb0 + G[4] * pb1 + G[7] * pb2;
-    Y[a + 2] += G[2] * pb0 + G[5] * pb1 + G[8] * pb2;
-    Y[b] += G[0] * pa0 + G[3] * pa1 + G[6] * pa2;
-    Y[b + 1] += G[1] * pa0 + G[4] * pa1 + G[7] * pa2;
-    Y[b + 2] += G[2] * pa0 + G[5] * pa1 + G[8] * pa2;
+    const double sa = alpha[s] * (u[0] * pa0 + u[1] * pa1 + u[2] * pa2);
+    const double sb = alpha[s] * (u[0] * pb0 + u[1] * pb1 + u[2] * pb2);
+    const double c = beta[s];
+    Y[a] += sb * u[0] + c * pb0;
+    Y[a + 1] += sb * u[1] + c * pb1;
+    Y[a + 2] += sb * u[2] + c * pb2;
+    Y[b] += sa * u[0] + c * pa0;
+    Y[b + 1] += sa * u[1] + c * pa1;
+    Y[b + 2] += sa * u[2] + c * pa2;
   }
 }
 

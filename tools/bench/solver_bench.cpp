@@ -59,6 +59,19 @@ void BM_SolverJacobi(benchmark::State& st) {
 }
 BENCHMARK(BM_SolverJacobi)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
+void BM_SolverAssembly(benchmark::State& st) {
+  System s = system(static_cast<int>(st.range(0)));
+  const State start = initial_state(s.model);
+  std::vector<double> length;
+  spring_lengths(s.model.springs, start.x, length);
+  for (auto _ : st) {
+    assemble_step_hessian(s.model, start.inv_mass, 1.0 / 60.0, length, start.x, false, s.A);
+    benchmark::DoNotOptimize(s.A.diag.data());
+  }
+  st.SetLabel(name(static_cast<int>(st.range(0))));
+}
+BENCHMARK(BM_SolverAssembly)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
 void BM_SolverFactorize(benchmark::State& st) {
   const System s = system(static_cast<int>(st.range(0)));
   CholeskyPreconditioner factor;

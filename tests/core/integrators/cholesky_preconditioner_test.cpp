@@ -63,10 +63,10 @@ Eigen::MatrixXd dense_filtered(const SpringBlockMatrix& A, const VelocityFilter&
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * B, 3 * B);
   for (int i = 0; i < B; ++i)
     K.block<3, 3>(3 * i, 3 * i) = S[i] * A.diag_projected[i] * S[i] + Mat3::Identity() - S[i];
-  for (std::size_t s = 0; s < A.off.size(); ++s) {
+  for (std::size_t s = 0; s < A.num_springs(); ++s) {
     const int a = A.a[s], b = A.b[s];
-    K.block<3, 3>(3 * a, 3 * b) += S[a] * A.off_projected[s] * S[b];
-    K.block<3, 3>(3 * b, 3 * a) += S[b] * A.off_projected[s] * S[a];
+    K.block<3, 3>(3 * a, 3 * b) += S[a] * A.off_projected(s) * S[b];
+    K.block<3, 3>(3 * b, 3 * a) += S[b] * A.off_projected(s) * S[a];
   }
   return K;
 }
@@ -110,8 +110,7 @@ TEST(CholeskyPreconditioner, HeldNormalsAreTheIdentityAndTheRestIsFiltered) {
 TEST(CholeskyPreconditioner, PreconditionsItsOwnMatrixToOneIteration) {
   Compressed s = compressed_sheet();
   // Solve with the projected matrix itself, whose factor is exact.
-  s.A.diag = s.A.diag_projected;
-  s.A.off = s.A.off_projected;
+  s.A.use_projected();
   CholeskyPreconditioner factor;
   factor.analyse(s.A);
   ASSERT_TRUE(factor.factorize(s.A, VelocityFilter{}));
@@ -130,8 +129,7 @@ TEST(CholeskyPreconditioner, AFactorOfAnEarlierMatrixStillGivesTheExactSolution)
   // A stale factor changes only the iteration count: PCG still solves the current system.
   const Compressed earlier = compressed_sheet(0.02);
   Compressed now = compressed_sheet(0.05);
-  now.A.diag = now.A.diag_projected;
-  now.A.off = now.A.off_projected;
+  now.A.use_projected();
   CholeskyPreconditioner factor;
   factor.analyse(earlier.A);
   ASSERT_TRUE(factor.factorize(earlier.A, VelocityFilter{}));
@@ -189,7 +187,7 @@ TEST(CholeskyPreconditioner, ANonFiniteMatrixIsRefusedAndLeavesNothingBehind) {
   CholeskyPreconditioner factor;
   factor.analyse(s.A);
   SpringBlockMatrix bad = s.A;
-  bad.off_projected[3](0, 0) = std::numeric_limits<double>::quiet_NaN();
+  bad.alpha_projected[3] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(factor.factorize(bad, VelocityFilter{}));
   EXPECT_FALSE(factor.ready());
   ASSERT_TRUE(factor.factorize(s.A, VelocityFilter{}));
