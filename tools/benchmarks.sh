@@ -1,7 +1,8 @@
 #!/bin/sh
 # Runs every benchmark BENCHMARKS.md quotes, in one go, on this machine:
 #   tools/benchmarks.sh [BUILD_DIR] [OUT_DIR]     # defaults: build, bench-results
-# Google Benchmark targets (engine, integrators, renderer, PNG, encoder; median of 3), then
+# Google Benchmark targets (engine, integrators, renderer, PNG, encoder; median of 3; the
+# Bullet peer where it was built), then
 # the end-to-end commands timed whole: the default comparison clip and the default
 # work-precision and stability studies of the drape. About 3 minutes on 2 idle cores.
 # The machine should be otherwise idle: figures are recorded as ratios from one run.
@@ -14,6 +15,10 @@ REPS="--benchmark_repetitions=3 --benchmark_report_aggregates_only=true"
 
 echo "== engine and integrators" >&2
 "$BUILD"/tools/bench/clothsim_benchmarks $REPS | tee "$OUT/engine.txt"
+if [ -x "$BUILD"/tools/bench/bullet_peer_benchmarks ]; then
+  echo "== peer: Bullet btSoftBody beside clothsim (3 runs each inside)" >&2
+  "$BUILD"/tools/bench/bullet_peer_benchmarks | tee "$OUT/bullet_peer.txt"
+fi
 echo "== renderer and PNG" >&2
 "$BUILD"/tools/bench/render_benchmarks $REPS | tee "$OUT/render.txt"
 echo "== encoder" >&2

@@ -12,6 +12,7 @@ packages=(
   libpng-dev zlib1g-dev    # frames and golden images
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev   # MP4 through FFmpeg's libraries
   libgtest-dev libbenchmark-dev   # tests and benchmarks
+  libbullet-dev            # a peer in benchmarks only (tools/bench/bullet_peer_bench.cpp)
   python3-matplotlib       # tools/plot_*.py figures (run with /usr/bin/python3)
   time                     # GNU time, for tools/benchmarks.sh
 )
