@@ -36,6 +36,7 @@
 #include "compare_runner.h"
 #include "contact_sheet.h"
 #include "frame_sink.h"
+#include "gl_options.h"
 #include "png_io.h"
 #include "renderer.h"
 #include "run_outputs.h"
@@ -60,6 +61,7 @@ struct CompareOptions {
   int width = 0, height = 0;  // 0: the scene's render size
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
+  GlOptions gl;
 };
 
 // Seconds spent in each stage on the main thread.
@@ -164,7 +166,7 @@ int compare_command(const CompareOptions& o) {
   // 2. Outputs (each removes its temporary if destroyed before finish()).
   std::unique_ptr<Renderer> renderer;
   if (rendering) {
-    renderer = std::make_unique<Renderer>();  // a GL failure shows up now
+    renderer = make_renderer(o.gl);  // a GL failure shows up now
     if (std::max(grid->cell_width(), grid->cell_height()) > renderer->max_size())
       throw UsageError("--width/--height: tiles of " + std::to_string(grid->cell_width()) + "x" +
                        std::to_string(grid->cell_height()) + " exceed the renderer's limit of " +
@@ -177,7 +179,7 @@ int compare_command(const CompareOptions& o) {
     for (std::size_t i = 0; i < kinds.size(); ++i)
       tile_pngs.push_back(make_png_sequence_sink(
           (fs::path(o.frames_dir) / std::string(integrator_name(kinds[i]))).string(),
-          frame_metadata(model, kinds[i], dts[i])));
+          with_renderer(frame_metadata(model, kinds[i], dts[i]), *renderer)));
 
   // 3. The runs, one thread each, and the render/compose/encode loop on this thread.
   std::vector<std::unique_ptr<RunWorker>> workers;
@@ -228,8 +230,9 @@ int compare_command(const CompareOptions& o) {
     if (target.still) {
       Stopwatch watch(time.sheet);
       grid->compose(tile_ptrs, labels, canvas);
-      write_png(o.still_out, canvas, {{"scene", model.name}, {"t", std::to_string(target.t)},
-                                      {"software", "clothsim " CLOTHSIM_VERSION}});
+      write_png(o.still_out, canvas,
+                with_renderer({{"scene", model.name}, {"t", std::to_string(target.t)},
+                               {"software", "clothsim " CLOTHSIM_VERSION}}, *renderer));
       still_written = true;
     }
     if (target.frame >= 0) {
@@ -267,7 +270,7 @@ int compare_command(const CompareOptions& o) {
     for (IntegratorKind kind : kinds) rows.emplace_back(integrator_name(kind));
     for (double t : sheet_times) columns.push_back(time_label(t));
     write_png(o.sheet, compose_contact_sheet(sheet_cells, rows, columns),
-              {{"scene", model.name}, {"software", "clothsim " CLOTHSIM_VERSION}});
+              with_renderer({{"scene", model.name}, {"software", "clothsim " CLOTHSIM_VERSION}}, *renderer));
   }
 
   std::vector<RunSummary> runs;
@@ -300,6 +303,7 @@ void add_compare_command(CLI::App& app, Command& command) {
       "summary table of cost and divergence on stdout. Divergence is a result here (exit 0).\n"
       "Without --video or --frames, the runs stop at the last --times or --still.");
   add_scene_options(sub, o->scene, /*single_run=*/false);
+  add_gl_options(sub, o->gl);
   sub->add_option("--integrators", o->integrators, "Comma-separated integrators, one tile each")
       ->capture_default_str();
   sub->add_option("--layout", o->layout,

@@ -10,6 +10,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "frame_sink.h"
+#include "gl_options.h"
 #include "png_io.h"
 #include "renderer.h"
 #include "run_outputs.h"
@@ -28,6 +29,7 @@ struct RunOptions {
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
   bool strict = false;
+  GlOptions gl;
 };
 
 RenderFrame snapshot_of(const Run& run) {
@@ -61,11 +63,12 @@ int run_command(const RunOptions& o) {
   const long frames = static_cast<long>(std::floor(end * fps + 1e-9)) + 1;  // t = 0 included
 
   std::unique_ptr<Renderer> renderer;
-  if (!o.frames_dir.empty() || !o.video.empty() || o.still_t) renderer = std::make_unique<Renderer>();
+  if (!o.frames_dir.empty() || !o.video.empty() || o.still_t) renderer = make_renderer(o.gl);
   std::unique_ptr<MetricsWriter> metrics;
   if (!o.metrics.empty()) metrics = std::make_unique<MetricsWriter>(o.metrics);
   std::unique_ptr<FrameSink> png_sink, video_sink;
-  if (!o.frames_dir.empty()) png_sink = make_png_sequence_sink(o.frames_dir, frame_metadata(model, kind, dt));
+  const PngText png_text = renderer ? with_renderer(frame_metadata(model, kind, dt), *renderer) : PngText{};
+  if (!o.frames_dir.empty()) png_sink = make_png_sequence_sink(o.frames_dir, png_text);
   if (!o.video.empty()) video_sink = make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset});
 
   install_interrupt_handler();
@@ -75,7 +78,7 @@ int run_command(const RunOptions& o) {
   bool still_done = !o.still_t;
   const auto take_still = [&] {
     run.advance_to(*o.still_t);
-    if (!run.diverged()) write_png(o.still_out, renderer->render(snapshot_of(run)), frame_metadata(model, kind, dt));
+    if (!run.diverged()) write_png(o.still_out, renderer->render(snapshot_of(run)), png_text);
     still_done = true;
   };
   for (long k = 0; k < frames; ++k) {
@@ -143,6 +146,7 @@ void add_run_command(CLI::App& app, Command& command) {
   CLI::App* sub = app.add_subcommand(
       "run", "Run one scene with one integrator: metrics, final state, frames, video, a still");
   add_scene_options(sub, o->scene, /*single_run=*/true);
+  add_gl_options(sub, o->gl);
   sub->footer(std::string(
       "Prints a summary (steps, force evaluations, wall time; for implicit_euler its Newton and CG\n"
       "work, steps not converged, contacts held in the solve and post-step projections) on stdout.\n"
