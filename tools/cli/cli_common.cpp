@@ -75,37 +75,6 @@ void AtomicFile::commit() {
   committed_ = true;
 }
 
-bool Progress::enabled() { return ::isatty(STDERR_FILENO) == 1; }
-
-Progress::Progress(std::string label, long total, std::string unit)
-    : label_(std::move(label)), unit_(std::move(unit)), total_(total), on_(enabled()),
-      start_(std::chrono::steady_clock::now()), last_(start_ - std::chrono::seconds(1)) {}
-
-Progress::~Progress() { finish(); }
-
-void Progress::finish() {
-  if (on_) std::fprintf(stderr, "\r\033[K");
-  on_ = false;
-}
-
-void Progress::update(long done) {
-  if (!on_) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_ < std::chrono::milliseconds(100) && done < total_) return;
-  last_ = now;
-  const double elapsed = std::chrono::duration<double>(now - start_).count();
-  std::ostringstream line;
-  line << label_ << "  " << done << "/" << total_ << " " << unit_;
-  if (done > 0 && done < total_) {
-    const double left = elapsed * static_cast<double>(total_ - done) / static_cast<double>(done);
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "  %.1f s left", left);
-    line << buf;
-  }
-  std::fprintf(stderr, "\r\033[K%s", line.str().c_str());
-  std::fflush(stderr);
-}
-
 namespace {
 std::atomic<int> g_signal{0};  // lock-free, so safe to store from a handler
 extern "C" void on_sigint(int sig) {

@@ -37,6 +37,7 @@
 #include "contact_sheet.h"
 #include "frame_sink.h"
 #include "gl_options.h"
+#include "summary_json.h"
 #include "png_io.h"
 #include "renderer.h"
 #include "run_outputs.h"
@@ -62,6 +63,7 @@ struct CompareOptions {
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
   GlOptions gl;
+  std::string summary;  // --summary FILE.json
 };
 
 // Seconds spent in each stage on the main thread.
@@ -137,6 +139,7 @@ int compare_command(const CompareOptions& o) {
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
   if (!o.sheet.empty()) require_writable_parent(o.sheet, "--sheet");
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "--out");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty() && fs::exists(o.frames_dir) && !fs::is_directory(o.frames_dir))
     throw RuntimeFailure("cannot write --frames into " + o.frames_dir + ": not a directory");
 
@@ -282,7 +285,16 @@ int compare_command(const CompareOptions& o) {
   }
   print_summary(model, runs);
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  std::fprintf(stderr,
+  if (!o.summary.empty()) {
+    std::vector<JsonObject> lanes;
+    for (const RunSummary& r : runs)
+      lanes.push_back(lane_json(model.name, r.kind, r.dt, r.totals,
+                                r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
+                          .number("t_reached", r.t));
+    write_summary(o.summary, "compare", scene.source, lanes);
+  }
+  if (!quiet())
+    std::fprintf(stderr,
                "compare: %d frames of %dx%d (%zu tiles of %dx%d) in %.1f s wall: simulate %.1f s cpu "
                "on %zu threads (renderer waited %.1f s), render %.1f s, compose %.2f s, PNG %.1f s, "
                "encode %.1f s, sheet/still %.1f s\n",
@@ -304,6 +316,8 @@ void add_compare_command(CLI::App& app, Command& command) {
       "Without --video or --frames, the runs stop at the last --times or --still.");
   add_scene_options(sub, o->scene, /*single_run=*/false);
   add_gl_options(sub, o->gl);
+  add_progress_options(sub);
+  sub->add_option("--summary", o->summary, "Write what each run did as JSON (docs/summary.md)")->type_name("FILE.json");
   sub->add_option("--integrators", o->integrators, "Comma-separated integrators, one tile each")
       ->capture_default_str();
   sub->add_option("--layout", o->layout,

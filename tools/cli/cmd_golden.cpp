@@ -150,6 +150,7 @@ void add_golden_command(CLI::App& app, Command& command) {
       sub->add_option("--failures", o->failures_dir, "Write actual and diff images of failures here instead")
           ->type_name("DIR");
     add_gl_options(sub, o->gl);
+    add_progress_options(sub);
     sub->callback([o, update, &command] { command = [o, update] { return golden_command(*o, update); }; });
   }
 }

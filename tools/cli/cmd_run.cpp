@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "frame_sink.h"
 #include "gl_options.h"
+#include "summary_json.h"
 #include "png_io.h"
 #include "renderer.h"
 #include "run_outputs.h"
@@ -30,6 +31,7 @@ struct RunOptions {
   std::string preset = VideoOptions{}.preset;
   bool strict = false;
   GlOptions gl;
+  std::string summary;  // --summary FILE.json
 };
 
 RenderFrame snapshot_of(const Run& run) {
@@ -51,6 +53,7 @@ int run_command(const RunOptions& o) {
   if (!o.state.empty()) require_writable_parent(o.state, "state");
   if (!o.video.empty()) require_writable_parent(o.video, "video");
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "still");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "summary");
 
   const Model model = build_model(scene);
   const IntegratorKind kind = scene.integrator;
@@ -122,6 +125,12 @@ int run_command(const RunOptions& o) {
                 t.newton_iterations, t.cg_iterations, t.max_residual, t.unconverged_steps,
                 t.contact_constraints, t.safety_projections, t.cpu_seconds,
                 run.state().t > 0 ? t.cpu_seconds / run.state().t : 0.0);
+  if (!o.summary.empty())  // written for a diverged run too: that is a result
+    write_summary(o.summary, "run", scene.source,
+                  {lane_json(model.name, kind, dt, t,
+                             run.diverged() ? std::optional<double>(run.divergence()->t) : std::nullopt)
+                       .number("t_reached", run.state().t)
+                       .number("max_residual", t.max_residual)});
   if (run.diverged()) {
     const Divergence& d = *run.divergence();
     std::fprintf(stderr, "clothsim: %s: diverged at step %" PRId64 ", t = %.6g s: %s\n",
@@ -147,6 +156,8 @@ void add_run_command(CLI::App& app, Command& command) {
       "run", "Run one scene with one integrator: metrics, final state, frames, video, a still");
   add_scene_options(sub, o->scene, /*single_run=*/true);
   add_gl_options(sub, o->gl);
+  add_progress_options(sub);
+  sub->add_option("--summary", o->summary, "Write what the run did as JSON (docs/summary.md)")->type_name("FILE.json");
   sub->footer(std::string(
       "Prints a summary (steps, force evaluations, wall time; for implicit_euler its Newton and CG\n"
       "work, steps not converged, contacts held in the solve and post-step projections) on stdout.\n"
