@@ -86,6 +86,9 @@ struct CameraDef {
 };
 
 struct RenderDef {
+  // Bounds the parser and the --width/--height/--fps options both hold values to.
+  static constexpr int kMinSize = 16, kMaxSize = 8192;  // pixels
+  static constexpr double kMaxFps = 1000.0;              // frames per simulated second (> 0)
   int width = 1280, height = 720;  // pixels
   double fps = 30.0;               // output frames per simulated second
   CameraDef camera;

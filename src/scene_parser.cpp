@@ -339,9 +339,9 @@ SphereDef Reader::sphere(const YAML::Node& n, const std::string& path) const {
 RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
   RenderDef r;
   expect_map(n, path, {"width", "height", "fps", "camera", "draw_springs", "draw_particles", "samples"});
-  optional(n, path, "width", [&](auto& v, auto& k) { r.width = int_in_range(v, k, 16, 8192); });
-  optional(n, path, "height", [&](auto& v, auto& k) { r.height = int_in_range(v, k, 16, 8192); });
-  optional(n, path, "fps", [&](auto& v, auto& k) { r.fps = in_range(v, k, 0.0, 1000.0, true); });
+  optional(n, path, "width", [&](auto& v, auto& k) { r.width = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
+  optional(n, path, "height", [&](auto& v, auto& k) { r.height = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
+  optional(n, path, "fps", [&](auto& v, auto& k) { r.fps = in_range(v, k, 0.0, RenderDef::kMaxFps, true); });
   optional(n, path, "draw_springs", [&](auto& v, auto& k) { r.draw_springs = boolean(v, k); });
   optional(n, path, "draw_particles", [&](auto& v, auto& k) { r.draw_particles = boolean(v, k); });
   optional(n, path, "samples", [&](auto& v, auto& k) { r.samples = int_in_range(v, k, 1, 16); });

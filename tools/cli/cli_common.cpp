@@ -31,6 +31,24 @@ void require_writable_parent(const std::string& path, const std::string& what) {
     throw RuntimeFailure("cannot write " + what + " " + path + ": directory " + dir + " is not writable");
   if (fs::is_directory(path, ec))
     throw RuntimeFailure("cannot write " + what + " " + path + ": it is a directory");
+  if (no_overwrite() && fs::exists(path, ec))
+    throw UsageError(what + ": " + path + " exists, and -n/--no-overwrite keeps it");
+}
+
+namespace {
+std::atomic<bool> g_no_overwrite{false};
+}  // namespace
+
+bool no_overwrite() { return g_no_overwrite; }
+void set_no_overwrite(bool on) { g_no_overwrite = on; }
+
+void refuse_existing_frames(const std::string& dir, const std::string& what) {
+  if (!no_overwrite()) return;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    if (entry.path().filename().string().rfind("frame_", 0) == 0)
+      throw UsageError(what + ": " + dir + " already holds frames (" + entry.path().filename().string() +
+                       "), and -n/--no-overwrite keeps them");
 }
 
 std::string temp_path_beside(const std::string& path) {

@@ -56,8 +56,15 @@ class AtomicFile {
 // not exist or is not writable, naming the path.
 std::string temp_path_beside(const std::string& path);
 // Checks before any work is done that `path` can be created: its directory exists and is
-// writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist").
+// writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist"), or with
+// -n/--no-overwrite UsageError when `path` exists.
 void require_writable_parent(const std::string& path, const std::string& what);
+// -n/--no-overwrite (ffmpeg's -n): an output that exists already is a UsageError (exit 2),
+// raised by require_writable_parent() before any work; set by the option (progress.h).
+bool no_overwrite();
+void set_no_overwrite(bool on);
+// With -n, a frames directory holding frame_* files is a UsageError too.
+void refuse_existing_frames(const std::string& dir, const std::string& what);
 // Creates `dir` (and parents) if missing; throws RuntimeFailure when impossible.
 void ensure_directory(const std::string& dir, const std::string& what);
 

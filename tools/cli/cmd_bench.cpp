@@ -134,6 +134,7 @@ void write_summary_json(const std::string& path, const std::string& source, cons
 }
 
 int bench_command(const BenchOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene(o.scene.path, o.scene.sets);
   const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
   std::vector<double> dts;
@@ -174,8 +175,8 @@ int bench_command(const BenchOptions& o) {
   }
 
   // Outputs are checked (and python/matplotlib found) before minutes of simulation.
-  if (!o.csv.empty()) require_writable_parent(o.csv, "csv");
-  if (!o.summary.empty()) require_writable_parent(o.summary, "summary");
+  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
 
@@ -192,7 +193,6 @@ int bench_command(const BenchOptions& o) {
               std::string(integrator_name(spec.reference_integrator)).c_str(), h_ref, h_ref / 2);
   std::fflush(stdout);
 
-  install_interrupt_handler();
   SharedProgress progress("bench " + model.name, static_cast<long>(runs + 2), "runs");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
@@ -234,7 +234,10 @@ void add_bench_command(CLI::App& app, Command& command) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* sub = app.add_subcommand(
       "bench", "Work precision: error against an RK4 reference vs cost, per integrator and step size");
-  add_scene_options(sub, o->scene, /*single_run=*/false);
+  // The help says the default as default_duration() computes it.
+  add_scene_options(sub, o->scene, /*single_run=*/false,
+                    "the scene's duration, at most " + csv_number(kMaxDefaultDuration) + " s and " +
+                        csv_number(kMaxDefaultSmallSteps) + " x the smallest step, rounded down to a multiple of the largest");
   sub->add_option("--integrators", o->integrators, "Comma-separated integrators")->capture_default_str()->type_name("LIST");
   sub->add_option("--dts", o->dts,
                   "Comma-separated step sizes in s (numbers or fractions: 1/240), each dividing the duration "
@@ -254,6 +257,7 @@ void add_bench_command(CLI::App& app, Command& command) {
   sub->add_option("--summary", o->summary, "Write each run's cost and error as JSON (docs/summary.md)")
       ->type_name("FILE.json");
   add_progress_options(sub);
+  add_no_overwrite_option(sub);
   sub->add_option("--jobs", o->jobs, "Runs at once (default 0: one per core)");
   sub->add_option("--reference-refinement", o->reference_refinement,
                   "Reference step = smallest step / N, then halved once more to check it")

@@ -224,6 +224,7 @@ void add_encode_command(CLI::App& app, Command& command) {
                   "Comma-separated tile labels (default: directory names; an empty one: no label)");
   sub->add_option("-o,--output", args->output, "Output file (.mp4)")->required();
   add_progress_options(sub);
+  add_no_overwrite_option(sub);
   sub->add_option("--fps", args->fps, "Frames per second")->capture_default_str();
   sub->add_option("--crf", args->crf, "x264 quality: 0 lossless .. 51 worst (18-23 typical)")
       ->capture_default_str();

@@ -159,6 +159,7 @@ void write_summary_json(const std::string& path, const std::string& source, cons
 }
 
 int stability_command(const StabilityOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   const SceneDef base = load_scene(o.scene.path, o.scene.sets);
   const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
 
@@ -206,8 +207,8 @@ int stability_command(const StabilityOptions& o) {
     throw UsageError(std::string("stability: ") + e.what() + " (--min-dt, --max-dt, --duration, --precision, --energy-factor, --max-strain)");
   }
 
-  if (!o.csv.empty()) require_writable_parent(o.csv, "csv");
-  if (!o.summary.empty()) require_writable_parent(o.summary, "summary");
+  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_stability.py", o.plot);
 
@@ -225,7 +226,6 @@ int stability_command(const StabilityOptions& o) {
 
   std::vector<analysis::StabilityCase> refs;
   for (const Case& c : cases) refs.push_back({c.value, &c.model});
-  install_interrupt_handler();
   SharedProgress progress("stability " + base.name, static_cast<long>(cases.size() * kinds.size()), "searches");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
@@ -266,7 +266,8 @@ void add_stability_command(CLI::App& app, Command& command) {
   auto o = std::make_shared<StabilityOptions>();
   CLI::App* sub = app.add_subcommand(
       "stability", "Largest stable step per integrator across a swept scene parameter (default: stiffness)");
-  add_scene_options(sub, o->scene, /*single_run=*/false);
+  add_scene_options(sub, o->scene, /*single_run=*/false,
+                    "the scene's duration, at most " + csv_number(kDefaultDuration) + " s");
   sub->add_option("--integrators", o->integrators, "Comma-separated integrators")
       ->capture_default_str()
       ->type_name("LIST");
@@ -297,6 +298,7 @@ void add_stability_command(CLI::App& app, Command& command) {
   sub->add_option("--summary", o->summary, "Write each search's result as JSON (docs/summary.md)")
       ->type_name("FILE.json");
   add_progress_options(sub);
+  add_no_overwrite_option(sub);
   sub->add_option("--jobs", o->jobs, "Searches at once (default 0: one per core)");
   sub->callback([o, &command] { command = [o] { return stability_command(*o); }; });
 }

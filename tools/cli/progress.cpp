@@ -4,6 +4,8 @@
 
 #include <atomic>
 
+#include "cli_common.h"
+
 namespace clothsim::cli {
 
 namespace {
@@ -29,6 +31,11 @@ void add_progress_options(CLI::App* sub) {
       ->type_name("auto|always|never");
   sub->add_flag_function("--quiet", [](std::int64_t n) { set_quiet(n > 0); },
                          "Nothing on stderr but errors and warnings (no progress, no timings)");
+}
+
+void add_no_overwrite_option(CLI::App* sub) {
+  sub->add_flag_function("-n,--no-overwrite", [](std::int64_t n) { set_no_overwrite(n > 0); },
+                         "Refuse to replace an output file that exists (exit 2, before any work)");
 }
 
 Progress::Progress(std::string label, long total, std::string unit)

@@ -19,6 +19,8 @@ enum class ProgressMode { automatic, always, never };
 
 // Declares --progress and --quiet on `sub`; they set the process-wide settings below.
 void add_progress_options(CLI::App* sub);
+// Declares -n/--no-overwrite on `sub` (set_no_overwrite, cli_common.h).
+void add_no_overwrite_option(CLI::App* sub);
 void set_progress_mode(ProgressMode mode);
 void set_quiet(bool quiet);
 bool quiet();  // --quiet: commands skip their informational stderr lines
