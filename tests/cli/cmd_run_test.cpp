@@ -246,6 +246,33 @@ TEST(CmdValidate, AcceptsEveryShippedSceneAndSaysWhatItModels) {
   EXPECT_NE(drape.out.find("25 x 25 particles (4 pinned), 3502 springs"), std::string::npos) << drape.out;
 }
 
+TEST(CmdValidate, PrintsTheStiffnessEstimateAndEachExplicitMethodsLimit) {
+  const CliResult r = run_clothsim({"validate", shipped("drape.yaml")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "") << "dt = 1e-4 s is inside every predicted limit";
+  EXPECT_NE(r.out.find("stiffness estimate: w_max = 692.8 rad/s, 2/w_max = 0.00289 s"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("predicted step limits: explicit_euler 0.000111 s, symplectic_euler 0.000111 s, "
+                       "midpoint 0.000111 s, rk4 0.000155 s; implicit_euler: none"),
+            std::string::npos)
+      << r.out;
+}
+
+TEST(CmdValidate, WarnsWhenTheScenesDtIsAboveAPredictedLimit) {
+  const CliResult r = run_clothsim({"validate", shipped("drape.yaml"), "--dt", "1e-3"});
+  EXPECT_EQ(r.exit_code, 0) << "a warning, not an error";
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("warning: " + shipped("drape.yaml") + ": dt = 0.001 s is above the predicted step limit of "
+                       "explicit_euler (0.000111 s), symplectic_euler (0.000111 s), midpoint (0.000111 s), rk4 (0.000155 s); "
+                       "the scene's integrator symplectic_euler is likely to diverge"),
+            std::string::npos)
+      << r.err;
+  // Undamped, explicit Euler and midpoint are unstable at every step: always above.
+  const CliResult spring = run_clothsim({"validate", shipped("spring.yaml"), "--set", "cloth.springs.structural.damping=0"});
+  EXPECT_NE(spring.err.find("explicit_euler (unstable at every step), midpoint (unstable at every step)"),
+            std::string::npos)
+      << spring.err;
+}
+
 TEST(CmdValidate, RejectsABadSceneWithItsLine) {
   const std::string dir = scratch_dir("validate_bad");
   write_file(dir, "bad.yaml", "cloth:\n  particles: [3, 3]\n  plane: yz\n");
