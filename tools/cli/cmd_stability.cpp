@@ -277,7 +277,10 @@ void add_stability_command(CLI::App& app, Command& command) {
   sub->add_option("--values", o->values,
                   "Comma-separated values of --param (default: the scene's value x 1, 10, 100, 1000, 10000)")
       ->type_name("LIST");
-  sub->add_option("--min-dt", o->min_dt, "Smallest step tried, s (default: estimate / 32)")->type_name("S");
+  sub->add_option("--min-dt", o->min_dt,
+                  "Smallest step tried, s (default: min(scene dt, the smallest 2/max(w,c) estimate of the swept cases) / " +
+                      csv_number(kMinDtDivisor) + ")")
+      ->type_name("S");
   sub->add_option("--max-dt", o->max_dt, "Largest step tried, s, at most T / 20 (default: min(T / 50, 1000 x scene dt))")->type_name("S");
   sub->add_option("--frame-dts", o->frame_dts,
                   "Steps implicit_euler is also run at over T, one per video frame (numbers or "
