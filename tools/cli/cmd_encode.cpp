@@ -145,7 +145,7 @@ int run_encode(const EncodeArgs& args) {
   } catch (const LayoutError& e) {
     throw UsageError(std::string("encode: --layout: ") + e.what());
   }
-  require_writable_parent(args.output, "-o");
+  require_writable_parent(args.output, "-o/--output");
 
   std::vector<Sequence> seqs;
   int length = 0, cell_w = 0, cell_h = 0;
