@@ -4,9 +4,7 @@
 
 #include <string>
 
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/gl.h>
-#include <GL/glext.h>
+#include "gl_functions.h"  // the GL names, bound to the current context's entry points
 
 namespace clothsim::gl {
 

@@ -19,14 +19,13 @@
 //
 // GL objects (programs, buffers, FBOs, the backdrop) live as long as the Renderer; the FBOs
 // are re-made only when the size or sample count changes. Several Renderers may exist in one
-// process, on one thread or on several: each owns its OSMesa context, and render() makes it
-// current on the calling thread first (Mesa keeps the current context per thread). One
-// Renderer must not be used by two threads at once.
+// process, on one thread or on several, through one backend or both (EGL, OSMesa: gl_context.h):
+// each owns its context and its table of GL entry points (gl_functions.h), and render() makes
+// both current on the calling thread first (contexts are current per thread). One Renderer
+// must not be used by two threads at once.
 #include "renderer.h"
 
-#include "gl_program.h"  // first: it asks gl.h for the GL 3.3 prototypes
-
-#include <GL/osmesa.h>
+#include "gl_program.h"
 
 #include <algorithm>
 #include <array>
@@ -35,6 +34,7 @@
 #include <string>
 
 #include "frame_setup.h"
+#include "gl_context.h"
 #include "gl_math.h"
 #include "meshes.h"
 #include "shaders.h"
@@ -88,9 +88,9 @@ void attribute(GLuint index, GLuint buffer, int components) {
 }  // namespace
 
 struct Renderer::Impl {
-  OSMesaContext context = nullptr;
-  std::array<std::uint8_t, 4> default_buffer{};  // OSMesa needs a window buffer; we draw to FBOs
-  std::string version, renderer_name;
+  std::unique_ptr<GlContext> context;                           // EGL or OSMesa (gl_context.h)
+  gl::Functions functions;                                      // its entry points (gl_functions.h)
+  std::string version, vendor, renderer_name;
   int max_size = 0, max_samples = 1;
   float max_line_width = 1.f;                                   // GL_ALIASED_LINE_WIDTH_RANGE[1]
 
@@ -114,9 +114,21 @@ struct Renderer::Impl {
   std::array<GLint, 4> line_ranges{};                           // first index of each spring type, and the end
 
   void make_current() {
-    if (!OSMesaMakeCurrent(context, default_buffer.data(), GL_UNSIGNED_BYTE, 1, 1))
-      throw RenderError("OSMesaMakeCurrent failed");
+    context->make_current();
+    gl::current = &functions;                                   // the GL names now call this context
   }
+  // EGL lets a context be current on one thread at a time and refuses it elsewhere until
+  // released (OSMesa does not care): released after each use, a Renderer can move between
+  // threads (compare renders on a worker) and backends can alternate on one thread.
+  void release() noexcept {
+    context->release();
+    if (gl::current == &functions) gl::current = nullptr;
+  }
+  struct Current {  // current for a scope
+    Impl& r;
+    explicit Current(Impl& impl) : r(impl) { r.make_current(); }
+    ~Current() { r.release(); }
+  };
   void create_objects();
   void ensure_targets(int width, int height, int samples);
   void delete_targets();
@@ -131,50 +143,50 @@ struct Renderer::Impl {
   Image composite_over_backdrop(const PixelRect& region) const;
 };
 
-Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
+Renderer::Renderer(GlBackend backend) : impl_(std::make_unique<Impl>()) {
   Impl& r = *impl_;
-  // Core profile 3.3 (llvmpipe gives 4.5); no depth/stencil on the window buffer, the FBOs have their own.
-  const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
-                            OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                            OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
-  r.context = OSMesaCreateContextAttribs(attributes, nullptr);
-  if (!r.context)
-    throw RenderError("cannot create an OSMesa OpenGL 3.3 core context (is Mesa's libOSMesa with llvmpipe installed?)");
-  try {
-    r.make_current();
-    const auto text = [](GLenum name) {
-      const GLubyte* s = glGetString(name);
-      return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
-    };
-    r.version = text(GL_VERSION);
-    r.renderer_name = text(GL_RENDERER);
-    GLint major = 0, minor = 0;
-    glGetIntegerv(GL_MAJOR_VERSION, &major);
-    glGetIntegerv(GL_MINOR_VERSION, &minor);
-    if (major * 10 + minor < 33)
-      throw RenderError("OpenGL 3.3 is needed, the context offers \"" + r.version + "\" on " + r.renderer_name);
-    GLint renderbuffer_max = 0, viewport_max[2] = {0, 0}, samples = 1;
-    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer_max);
-    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_max);
-    glGetIntegerv(GL_MAX_SAMPLES, &samples);
-    r.max_size = std::min({renderbuffer_max, viewport_max[0], viewport_max[1]});
-    r.max_samples = std::max(1, samples);
-    GLfloat line_widths[2] = {1.f, 1.f};
-    glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_widths);
-    r.max_line_width = std::max(1.f, line_widths[1]);
-    r.create_objects();
-  } catch (...) {
-    OSMesaDestroyContext(r.context);
-    throw;
-  }
+  r.context = create_gl_context(backend);  // OpenGL 3.3 core asked for (llvmpipe gives 4.5)
+  if (const char* missing = gl::load_functions(
+          r.functions, [](const char* name, void* c) { return static_cast<GlContext*>(c)->proc_address(name); },
+          r.context.get()))
+    throw RenderError(r.context->description() + " has no " + missing);
+  const Impl::Current current(r);  // released also when a check below throws
+  const auto text = [](GLenum name) {
+    const GLubyte* s = glGetString(name);
+    return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
+  };
+  r.version = text(GL_VERSION);
+  r.vendor = text(GL_VENDOR);
+  r.renderer_name = text(GL_RENDERER);
+  GLint major = 0, minor = 0;
+  glGetIntegerv(GL_MAJOR_VERSION, &major);
+  glGetIntegerv(GL_MINOR_VERSION, &minor);
+  if (major * 10 + minor < 33)
+    throw RenderError("OpenGL 3.3 is needed, the " + r.context->description() + " context offers \"" + r.version +
+                      "\" on " + r.renderer_name);
+  GLint renderbuffer_max = 0, viewport_max[2] = {0, 0}, samples = 1;
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer_max);
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_max);
+  glGetIntegerv(GL_MAX_SAMPLES, &samples);
+  r.max_size = std::min({renderbuffer_max, viewport_max[0], viewport_max[1]});
+  r.max_samples = std::max(1, samples);
+  GLfloat line_widths[2] = {1.f, 1.f};
+  glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_widths);
+  r.max_line_width = std::max(1.f, line_widths[1]);
+  r.create_objects();
 }
 
+// The context frees every GL object it owns when destroyed.
 Renderer::~Renderer() {
-  if (impl_ && impl_->context) OSMesaDestroyContext(impl_->context);  // frees every GL object it owns
+  if (impl_ && gl::current == &impl_->functions) gl::current = nullptr;
 }
+
+void Renderer::make_current() { impl_->make_current(); }
 
 std::string Renderer::gl_version() const { return impl_->version; }
 std::string Renderer::gl_renderer() const { return impl_->renderer_name; }
+std::string Renderer::gl_vendor() const { return impl_->vendor; }
+std::string Renderer::gl_backend() const { return impl_->context->description(); }
 int Renderer::max_size() const { return impl_->max_size; }
 
 void Renderer::Impl::create_objects() {
@@ -501,7 +513,7 @@ Image Renderer::Impl::composite_over_backdrop(const PixelRect& region) const {
 Image Renderer::render(const RenderFrame& frame) {
   Impl& r = *impl_;
   validate_frame(frame, r.max_size);                                   // sizes and indices, before any GL
-  r.make_current();                                                    // ours, on this thread
+  const Impl::Current current(r);                                      // ours, on this thread, until we return
   r.ensure_targets(frame.width, frame.height, std::clamp(frame.samples, 1, r.max_samples));
   const View view = make_view(frame);                                  // camera and key light
   r.upload_frame(frame, view);                                         // cloth, springs, ground quad

@@ -57,21 +57,6 @@ Springs build_springs(const ClothDef& c, const Eigen::Matrix3Xd& x) {
   return s;
 }
 
-std::vector<GridIndex> pinned_indices(const ClothDef& c) {
-  std::vector<GridIndex> out;
-  switch (c.pin_mode) {
-    case PinMode::None: break;
-    case PinMode::Corners:
-      out = {{0, 0}, {c.nx - 1, 0}, {0, c.ny - 1}, {c.nx - 1, c.ny - 1}};
-      break;
-    case PinMode::TopEdge:
-      for (int i = 0; i < c.nx; ++i) out.push_back({i, 0});
-      break;
-    case PinMode::List: out = c.pinned; break;
-  }
-  return out;
-}
-
 // Two triangles per grid cell, wound so the front faces +y (xz) or +z (xy).
 std::vector<std::uint32_t> build_triangles(const ClothDef& c) {
   std::vector<std::uint32_t> t;
@@ -84,6 +69,31 @@ std::vector<std::uint32_t> build_triangles(const ClothDef& c) {
 }
 
 }  // namespace
+
+std::vector<int> selected_particles(const std::vector<GridSelection>& selection, int nx, int ny) {
+  using K = GridSelection::Kind;
+  std::vector<int> out;
+  const auto add = [&](int i0, int i1, int j0, int j1) {
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) out.push_back(j * nx + i);
+  };
+  for (const GridSelection& g : selection) {
+    switch (g.kind) {
+      case K::Corners:
+        for (int j : {0, ny - 1})
+          for (int i : {0, nx - 1}) add(i, i, j, j);
+        break;
+      case K::TopEdge: add(0, nx - 1, 0, 0); break;
+      case K::BottomEdge: add(0, nx - 1, ny - 1, ny - 1); break;
+      case K::LeftEdge: add(0, 0, 0, ny - 1); break;
+      case K::RightEdge: add(nx - 1, nx - 1, 0, ny - 1); break;
+      case K::Range: add(g.i0, g.i1, g.j0, g.j1); break;
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
 
 Model build_model(const SceneDef& scene) {
   Model m;
@@ -115,8 +125,7 @@ Model build_model(const SceneDef& scene) {
     m.gravity_on[p] = 1;
     m.initial_v.col(p) = c.initial_velocity;
   }
-  for (const GridIndex& g : pinned_indices(c)) {
-    const int p = g.j * c.nx + g.i;
+  for (const int p : selected_particles(c.pinned, c.nx, c.ny)) {
     m.initial_inv_mass[p] = 0.0;
     m.initial_v.col(p).setZero();
   }
@@ -143,10 +152,10 @@ Model build_model(const SceneDef& scene) {
   }
 
   for (const EventDef& e : scene.events) {
-    for (const GridIndex& g : e.pin)
-      m.timeline.push_back({TimedAction::Kind::Pin, e.t, g.j * c.nx + g.i, Vec3::Zero()});
-    for (const GridIndex& g : e.unpin)
-      m.timeline.push_back({TimedAction::Kind::Unpin, e.t, g.j * c.nx + g.i, Vec3::Zero()});
+    for (const int p : selected_particles(e.pin, c.nx, c.ny))
+      m.timeline.push_back({TimedAction::Kind::Pin, e.t, p, Vec3::Zero()});
+    for (const int p : selected_particles(e.unpin, c.nx, c.ny))
+      m.timeline.push_back({TimedAction::Kind::Unpin, e.t, p, Vec3::Zero()});
   }
   std::stable_sort(m.timeline.begin(), m.timeline.end(),
                    [](const TimedAction& a, const TimedAction& b) { return a.t < b.t; });

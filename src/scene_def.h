@@ -22,12 +22,17 @@ struct SpringParams {
 
 enum class ClothPlane { XZ, XY };  // xz: lying flat (normal +y); xy: hanging (normal +z)
 
-struct GridIndex {
-  int i = 0;  // column, 0..nx-1 (along the first axis of the plane)
-  int j = 0;  // row,    0..ny-1 (along the second axis; for xy, j = 0 is the top row)
+// Some particles of the grid, as cloth.pinned and an event's pin/unpin name them
+// (docs/scenes.md): a named set, or an inclusive range of columns and rows ([i, j] is the
+// 1 x 1 range). Edges are in grid terms: row j = 0 is the top edge (the top of a hanging
+// xy cloth), column i = 0 the left edge. Resolved to particles by selected_particles()
+// (model.h), so a scene's pins follow its grid when --set changes cloth.particles.
+struct GridSelection {
+  enum class Kind { Corners, TopEdge, BottomEdge, LeftEdge, RightEdge, Range };
+  Kind kind = Kind::Range;
+  int i0 = 0, i1 = 0;  // Range: columns i0..i1, 0 <= i0 <= i1 < nx
+  int j0 = 0, j1 = 0;  // Range: rows j0..j1, 0 <= j0 <= j1 < ny
 };
-
-enum class PinMode { None, Corners, TopEdge, List };
 
 struct ClothDef {
   int nx = 25, ny = 25;           // particles along each axis; [2, 1] is a single spring
@@ -36,8 +41,8 @@ struct ClothDef {
   ClothPlane plane = ClothPlane::XZ;
   double particle_mass = 1.0;      // kg per particle
   std::optional<SpringParams> structural, shear, bend;  // absent: not built at all
-  PinMode pin_mode = PinMode::Corners;
-  std::vector<GridIndex> pinned;   // PinMode::List only
+  // Pinned at t = 0: the union of these selections; empty (pinned: none) pins nothing.
+  std::vector<GridSelection> pinned{{GridSelection::Kind::Corners}};
   // Initial displacement of particle (nx-1, 0) along the first axis, m; lets spring.yaml
   // start stretched. Also an initial velocity for every free particle.
   double initial_stretch = 0.0;
@@ -75,7 +80,7 @@ struct CollisionDef {
 
 struct EventDef {
   double t = 0.0;                      // s
-  std::vector<GridIndex> pin, unpin;   // particles to pin (freeze) or release at t
+  std::vector<GridSelection> pin, unpin;  // particles to pin (freeze) or release at t
 };
 
 struct CameraDef {
@@ -86,6 +91,9 @@ struct CameraDef {
 };
 
 struct RenderDef {
+  // Bounds the parser and the --width/--height/--fps options both hold values to.
+  static constexpr int kMinSize = 16, kMaxSize = 8192;  // pixels
+  static constexpr double kMaxFps = 1000.0;              // frames per simulated second (> 0)
   int width = 1280, height = 720;  // pixels
   double fps = 30.0;               // output frames per simulated second
   CameraDef camera;

@@ -160,8 +160,10 @@ class Reader {
  private:
   ClothDef cloth(const YAML::Node& n, const std::string& path) const;
   std::optional<SpringParams> springs(const YAML::Node& n, const std::string& path) const;
-  GridIndex grid_index(const YAML::Node& n, const std::string& key, const ClothDef& c) const;
-  std::vector<GridIndex> grid_list(const YAML::Node& n, const std::string& key, const ClothDef& c) const;
+  std::vector<GridSelection> selection(const YAML::Node& n, const std::string& key, const ClothDef& c,
+                                       bool none_allowed) const;
+  GridSelection selection_item(const YAML::Node& n, const std::string& key, const ClothDef& c) const;
+  void index_range(const YAML::Node& n, const std::string& key, int size, int& lo, int& hi) const;
   SphereDef sphere(const YAML::Node& n, const std::string& path) const;
   RenderDef render(const YAML::Node& n, const std::string& path) const;
   ImplicitDef implicit(const YAML::Node& n, const std::string& path) const;
@@ -215,8 +217,8 @@ SceneDef Reader::scene(const YAML::Node& root) const {
       EventDef e;
       if (!n[i]["t"].IsDefined()) fail(n[i], p + ".t", "missing: an event needs its time t");
       e.t = non_negative(n[i]["t"], p + ".t");
-      optional(n[i], p, "pin", [&](auto& v, auto& kk) { e.pin = grid_list(v, kk, s.cloth); });
-      optional(n[i], p, "unpin", [&](auto& v, auto& kk) { e.unpin = grid_list(v, kk, s.cloth); });
+      optional(n[i], p, "pin", [&](auto& v, auto& kk) { e.pin = selection(v, kk, s.cloth, false); });
+      optional(n[i], p, "unpin", [&](auto& v, auto& kk) { e.unpin = selection(v, kk, s.cloth, false); });
       if (e.pin.empty() && e.unpin.empty()) fail(n[i], p, "an event needs pin or unpin");
       s.events.push_back(e);
     }
@@ -259,18 +261,7 @@ ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
     c.shear = springs(v["shear"], k + ".shear");
     c.bend = springs(v["bend"], k + ".bend");
   });
-  optional(n, path, "pinned", [&](auto& v, auto& k) {
-    if (v.IsScalar()) {
-      const std::string mode = v.Scalar();
-      if (mode == "corners") c.pin_mode = PinMode::Corners;
-      else if (mode == "top_edge") c.pin_mode = PinMode::TopEdge;
-      else if (mode == "none") c.pin_mode = PinMode::None;
-      else fail(v, k, "unknown pinning '" + mode + "' (expected corners, top_edge, none or [[i, j], ...])");
-    } else {
-      c.pin_mode = PinMode::List;
-      c.pinned = grid_list(v, k, c);
-    }
-  });
+  optional(n, path, "pinned", [&](auto& v, auto& k) { c.pinned = selection(v, k, c, true); });
   optional(n, path, "initial_stretch", [&](auto& v, auto& k) { c.initial_stretch = number(v, k); });
   optional(n, path, "initial_velocity", [&](auto& v, auto& k) { c.initial_velocity = vec3(v, k); });
   if (c.nx * c.ny < 1) fail(n, path + ".particles", "a cloth needs at least one particle");
@@ -286,22 +277,68 @@ std::optional<SpringParams> Reader::springs(const YAML::Node& n, const std::stri
   return p;
 }
 
-GridIndex Reader::grid_index(const YAML::Node& n, const std::string& key, const ClothDef& c) const {
-  if (!n.IsSequence() || n.size() != 2) fail(n, key, "expected a particle index [i, j]");
-  GridIndex g{integer(n[0], key + "[0]"), integer(n[1], key + "[1]")};
-  if (g.i < 0 || g.i >= c.nx || g.j < 0 || g.j >= c.ny)
-    fail(n, key, "particle [" + std::to_string(g.i) + ", " + std::to_string(g.j) +
-                     "] is outside the " + std::to_string(c.nx) + " x " + std::to_string(c.ny) + " grid");
+// The forms of a particle selection (docs/scenes.md, "Pinning"): one item, or a list of
+// items, each a named set, a particle [i, j], or a range {i: [i0, i1], j: [j0, j1]}.
+std::vector<GridSelection> Reader::selection(const YAML::Node& n, const std::string& key, const ClothDef& c,
+                                             bool none_allowed) const {
+  if (n.IsScalar() && n.Scalar() == "none") {
+    if (!none_allowed) fail(n, key, "'none' selects no particle; leave the key out instead");
+    return {};
+  }
+  if (!n.IsSequence()) return {selection_item(n, key, c)};  // corners, top_edge, {i: ..., j: ...}
+  std::vector<GridSelection> out;
+  for (std::size_t i = 0; i < n.size(); ++i) out.push_back(selection_item(n[i], key + "." + std::to_string(i), c));
+  return out;
+}
+
+GridSelection Reader::selection_item(const YAML::Node& n, const std::string& key, const ClothDef& c) const {
+  static const char* const kForms =
+      "expected corners, top_edge, bottom_edge, left_edge, right_edge, a particle [i, j] or a range "
+      "{i: [first, last], j: [first, last]}";
+  GridSelection g;
+  if (n.IsScalar()) {
+    using K = GridSelection::Kind;
+    const std::string name = n.Scalar();
+    if (name == "corners") g.kind = K::Corners;
+    else if (name == "top_edge") g.kind = K::TopEdge;
+    else if (name == "bottom_edge") g.kind = K::BottomEdge;
+    else if (name == "left_edge") g.kind = K::LeftEdge;
+    else if (name == "right_edge") g.kind = K::RightEdge;
+    else if (name == "none") fail(n, key, "'none' cannot be listed with other pins");
+    else if (!name.empty() && name.find_first_not_of("-0123456789") == std::string::npos)
+      fail(n, key, "a number alone is not a particle: write [[i, j]] for one particle, [[i, j], ...] for several");
+    else fail(n, key, "unknown selection '" + name + "' (" + kForms + ")");
+    return g;
+  }
+  if (n.IsSequence()) {
+    if (n.size() != 2) fail(n, key, "expected a particle index [i, j]");
+    g.i0 = g.i1 = integer(n[0], key + "[0]");
+    g.j0 = g.j1 = integer(n[1], key + "[1]");
+    if (g.i0 < 0 || g.i0 >= c.nx || g.j0 < 0 || g.j0 >= c.ny)
+      fail(n, key, "particle [" + std::to_string(g.i0) + ", " + std::to_string(g.j0) + "] is outside the " +
+                       std::to_string(c.nx) + " x " + std::to_string(c.ny) + " grid");
+    return g;
+  }
+  if (!n.IsMap()) fail(n, key, std::string(kForms) + ", got " + type_name(n));
+  expect_map(n, key, {"i", "j"});
+  if (n.size() == 0) fail(n, key, "a range needs i (columns), j (rows) or both");
+  g.i1 = c.nx - 1;  // a range leaves out an axis to take all of it
+  g.j1 = c.ny - 1;
+  optional(n, key, "i", [&](auto& v, auto& k) { index_range(v, k, c.nx, g.i0, g.i1); });
+  optional(n, key, "j", [&](auto& v, auto& k) { index_range(v, k, c.ny, g.j0, g.j1); });
   return g;
 }
 
-std::vector<GridIndex> Reader::grid_list(const YAML::Node& n, const std::string& key,
-                                         const ClothDef& c) const {
-  if (!n.IsSequence()) fail(n, key, "expected a list of particle indices [[i, j], ...]");
-  std::vector<GridIndex> out;
-  for (std::size_t i = 0; i < n.size(); ++i)
-    out.push_back(grid_index(n[i], key + "." + std::to_string(i), c));
-  return out;
+// One axis of a range: an index, or [first, last] inclusive, each 0 .. size - 1.
+void Reader::index_range(const YAML::Node& n, const std::string& key, int size, int& lo, int& hi) const {
+  if (n.IsScalar()) {
+    lo = hi = int_in_range(n, key, 0, size - 1);
+    return;
+  }
+  if (!n.IsSequence() || n.size() != 2) fail(n, key, "expected an index or [first, last]");
+  lo = int_in_range(n[0], key + "[0]", 0, size - 1);
+  hi = int_in_range(n[1], key + "[1]", 0, size - 1);
+  if (lo > hi) fail(n, key, "[" + std::to_string(lo) + ", " + std::to_string(hi) + "] runs backwards: expected [first, last]");
 }
 
 SphereDef Reader::sphere(const YAML::Node& n, const std::string& path) const {
@@ -339,9 +376,9 @@ SphereDef Reader::sphere(const YAML::Node& n, const std::string& path) const {
 RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
   RenderDef r;
   expect_map(n, path, {"width", "height", "fps", "camera", "draw_springs", "draw_particles", "samples"});
-  optional(n, path, "width", [&](auto& v, auto& k) { r.width = int_in_range(v, k, 16, 8192); });
-  optional(n, path, "height", [&](auto& v, auto& k) { r.height = int_in_range(v, k, 16, 8192); });
-  optional(n, path, "fps", [&](auto& v, auto& k) { r.fps = in_range(v, k, 0.0, 1000.0, true); });
+  optional(n, path, "width", [&](auto& v, auto& k) { r.width = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
+  optional(n, path, "height", [&](auto& v, auto& k) { r.height = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
+  optional(n, path, "fps", [&](auto& v, auto& k) { r.fps = in_range(v, k, 0.0, RenderDef::kMaxFps, true); });
   optional(n, path, "draw_springs", [&](auto& v, auto& k) { r.draw_springs = boolean(v, k); });
   optional(n, path, "draw_particles", [&](auto& v, auto& k) { r.draw_particles = boolean(v, k); });
   optional(n, path, "samples", [&](auto& v, auto& k) { r.samples = int_in_range(v, k, 1, 16); });

@@ -8,7 +8,8 @@ packages=(
   libeigen3-dev            # flat state, sparse Jacobians, conjugate gradient
   libyaml-cpp-dev          # scene files
   libcli11-dev             # command line
-  libosmesa6-dev           # offscreen OpenGL (llvmpipe), no GPU or display
+  libosmesa6-dev           # offscreen OpenGL through OSMesa (llvmpipe), no GPU or display
+  libegl-dev libegl-mesa0 libgl-dev  # offscreen OpenGL through EGL (surfaceless on Mesa, device on NVIDIA)
   libpng-dev zlib1g-dev    # frames and golden images
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev   # MP4 through FFmpeg's libraries
   libgtest-dev libbenchmark-dev   # tests and benchmarks

@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Energy over time of several `clothsim run --metrics` files, one line per run.
 
-Each file is one run (typically one integrator); its label is the file's name without
-the extension unless --labels gives them. The column plotted is total_energy by default
+Each file is one run (typically one integrator); its label is the integrator and step the
+file's scene,integrator,dt columns name (and the scene when the files come from several),
+unless --labels gives them; files without those columns are labelled by their names. The column plotted is total_energy by default
 (kinetic + spring + gravity, J); --column picks another (kinetic, spring_potential, ...),
 and --relative plots E(t) - E(0), which shows drift when the energies are large.
 
@@ -22,6 +23,19 @@ UNITS = {"max_strain": "", "contacts": "", "force_evals": "", "newton_iterations
          "residual": ""}
 
 
+def run_labels(paths, runs):
+    """'rk4, dt = 0.0001 s' from each file's columns (with the scene when they differ)."""
+    if not all(runs[i] and "integrator" in runs[i][0] and "dt" in runs[i][0] for i in range(len(runs))):
+        return [os.path.splitext(os.path.basename(p))[0] for p in paths]  # older files: by name
+    scenes = {rows[0].get("scene", "") for rows in runs}
+    labels = []
+    for rows in runs:
+        r = rows[0]
+        label = f"{r['integrator']}, dt = {pc.number(r['dt']):g} s"
+        labels.append(f"{r.get('scene', '')}: {label}" if len(scenes) > 1 else label)
+    return labels
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("csv", nargs="+", help="metrics CSVs written by clothsim run --metrics")
@@ -33,21 +47,21 @@ def main():
     ap.add_argument("--title", default="", help="figure title")
     args = ap.parse_args()
 
-    labels = [s for s in args.labels.split(",")] if args.labels else \
-        [os.path.splitext(os.path.basename(p))[0] for p in args.csv]
+    runs = [pc.read_rows(p) for p in args.csv]
+    labels = [s for s in args.labels.split(",")] if args.labels else run_labels(args.csv, runs)
     if len(labels) != len(args.csv):
         pc.fail(f"--labels: {len(labels)} labels for {len(args.csv)} files")
 
     fig, ax = pc.plt.subplots(figsize=(9, 5))
-    for path, label in zip(args.csv, labels):
-        rows = pc.read_rows(path)
+    for path, label, rows in zip(args.csv, labels, runs):
         pc.require(rows, path, ["t", args.column])
         t = [pc.number(r["t"]) for r in rows]
         y = [pc.number(r[args.column]) for r in rows]
         if args.relative:
             y = [v - y[0] for v in y]
-        color, _ = pc.style(label)
-        line, = ax.plot(t, y, label=label, color=color if label in pc.STYLE else None)
+        integrator = rows[0].get("integrator", label)
+        color, _ = pc.style(integrator)
+        line, = ax.plot(t, y, label=label, color=color if integrator in pc.STYLE else None)
         if any(not math.isfinite(v) for v in y):
             ax.annotate("non-finite", (t[-1], 0), color=line.get_color(), fontsize=8)
     unit = UNITS.get(args.column, "J")

@@ -45,4 +45,23 @@ struct StiffnessEstimate {
 // Over the particles free at t = 0 (positive initial inverse mass).
 StiffnessEstimate estimate_stiffness(const Model& model);
 
+// The step beyond which `kind` is predicted to be unstable on the scene's fastest mode, taken
+// as u'' + c u' + w^2 u = 0 with w = w_max and c = c_max. The two bounds come from different
+// Laplacians, but they belong to one mode when every damper is proportional to its spring
+// (kd / ks the same on every spring, as in the shipped scenes): D = (kd/ks) K, so that mode's
+// rate is (kd/ks) w_max^2 = c_max. Its eigenvalues l = (-c +- sqrt(c^2 - 4 w^2)) / 2; the limit
+// is the largest h with both h l inside the method's stability region:
+// - explicit_euler, midpoint, rk4: |R(h l)| <= 1, R(z) = sum_{m <= p} z^m / m!, p = 1, 2, 4;
+//   undamped (c = 0) explicit Euler and midpoint have no stable step (0), rk4 2.83 / w;
+//   overdamped, about 2 / c, 2 / c and 2.785 / c;
+// - symplectic_euler: its 2 x 2 step matrix has det 1 - hc and trace 2 - hc - h^2 w^2, stable
+//   (Jury) while h^2 w^2 + 2 h c <= 4: h = (sqrt(c^2 + 4 w^2) - c) / w^2 (2 / w undamped);
+// - implicit_euler: no limit (infinity) with its Newton solve; with `solver: fixed_point` and
+//   K iterations from a forward-Euler predictor, R(z) = sum_{m <= K + 1} z^m (K = 1: 1 + z + z^2,
+//   stable undamped for w h <= 1).
+// An estimate, like the bounds it is built on: it ignores geometric stiffness and contacts,
+// and the Gershgorin bounds make w_max and c_max upper bounds, so real limits are larger
+// (about 2.4x on the drape, docs/integrators.md). Infinity without springs or dampers.
+double predicted_limit(const StiffnessEstimate& estimate, IntegratorKind kind, const ImplicitDef& implicit = {});
+
 }  // namespace clothsim::analysis

@@ -37,6 +37,17 @@ TEST(CmdBench, WritesOneRowPerRunAndPrintsTheReferenceCheck) {
   EXPECT_TRUE(only_files(dir, {"wp.csv"}));
 }
 
+TEST(CmdBench, WithoutDurationRunsToTheDefaultItsHelpStates) {
+  EXPECT_NE(run_clothsim({"bench", "--help"}).out.find("(default: the scene's duration, at most 0.5 s and 8000 x the "
+                                                      "smallest step, rounded down to a multiple of the largest)"),
+            std::string::npos);
+  // spring.yaml: 2 s, dt 1 ms, so steps 0.25 .. 8 ms: min(2, 0.5, 8000 x 0.25 ms) = 0.5 s, down
+  // to a multiple of 8 ms = 0.496 s.
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "symplectic_euler"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("to T = 0.496 s"), std::string::npos) << r.out;
+}
+
 TEST(CmdBench, TakesStepsAsFractions) {
   const std::string dir = scratch_dir("bench_fractions");
   const CliResult r = run_clothsim({"bench", spring(), "--integrators", "symplectic_euler", "--dts", "1/100,1/200",

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -265,7 +266,7 @@ TEST(CmdCompare, RefusesBadDtAndTimes) {
   expect_refused(compare_small({"--sheet", sheet, "--times", "0.1,5"}), 2, "outside the run", sheet);
   expect_refused(compare_small({"--sheet", sheet, "--times", "0.2,0.1"}), 2, "must increase", sheet);
   expect_refused(compare_small({"--sheet", sheet}), 2, "--sheet needs --times", sheet);
-  expect_refused(compare_small({"--still", "0.1"}), 2, "--still needs --out", "");
+  expect_refused(compare_small({"--still", "0.1"}), 2, "--still needs -o/--output", "");
   expect_refused(compare_small({"--still", "9", "--out", sheet}), 2, "outside the run", sheet);
 }
 
@@ -288,3 +289,23 @@ TEST(CmdCompare, StopsCleanlyOnInterruptLeavingNoFileUnderTheName) {
   EXPECT_NE(r.err.find("long.mp4 not written"), std::string::npos) << r.err;
   EXPECT_TRUE(cli::only_files(dir, {})) << "no video and no temporary";
 }
+
+TEST(CmdCompare, NoOverwriteRefusesAnExistingStillOrFramesBeforeAnyWork) {
+  const std::string dir = scratch_dir("compare_no_overwrite");
+  const std::string still = dir + "/still.png";
+  { std::ofstream(still) << "mine"; }
+  const auto r = compare_small({"-n", "--still", "0.1", "-o", still});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("-o/--output: " + still + " exists, and -n/--no-overwrite keeps it"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");  // refused before the runs: no table
+  EXPECT_EQ(cli::slurp(still), "mine");
+  fs::create_directories(dir + "/tiles/rk4");
+  { std::ofstream(dir + "/tiles/rk4/frame_00000.png") << "mine"; }
+  const auto f = compare_small({"--no-overwrite", "--integrators", "rk4", "--frames", dir + "/tiles"});
+  EXPECT_EQ(f.exit_code, 2) << f.err;
+  EXPECT_NE(f.err.find("already holds frames"), std::string::npos) << f.err;
+  EXPECT_EQ(f.out, "");
+  EXPECT_EQ(cli::slurp(dir + "/tiles/rk4/frame_00000.png"), "mine");
+}
+

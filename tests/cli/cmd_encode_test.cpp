@@ -199,3 +199,14 @@ TEST(CmdEncode, RefusesBadEncoderOptions) {
                  "unknown x264 preset 'ludicrous'");
   expect_refused(run_clothsim({"encode", a, "--fps", "0", "-o", out}), 2, out, "fps");
 }
+
+TEST(CmdEncode, NoOverwriteRefusesAnExistingClipBeforeReadingAnyFrame) {
+  const std::string dir = scratch_dir("encode_no_overwrite");
+  const std::string out = dir + "/clip.mp4";
+  { std::FILE* f = std::fopen(out.c_str(), "wb"); std::fputs("mine", f); std::fclose(f); }
+  const auto r = run_clothsim({"encode", dir + "/no_frames_here", "-n", "-o", out});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("-o/--output: " + out + " exists, and -n/--no-overwrite keeps it"), std::string::npos) << r.err;
+  EXPECT_EQ(cli::slurp(out), "mine");
+}

@@ -126,5 +126,18 @@ TEST(CmdImgdiff, ADiffImageThatCannotBeWrittenFailsAndWritesNothing) {
   EXPECT_TRUE(testing::only_files(p.dir, {"a.png", "b.png"}));
 }
 
+TEST(CmdImgdiff, DashOIsTheDiffImageAndNoOverwriteKeepsAnExistingOne) {
+  const Pair p = write_pair("dash_o", 50, 10);
+  const std::string out = p.dir + "/diff.png";
+  ASSERT_EQ(run_clothsim({"imgdiff", p.a, p.b, "-o", out}).exit_code, 0);
+  const std::vector<std::uint8_t> first = read_png(out).rgba;
+  const Pair q = write_pair("dash_o_other", 0, 0);
+  const auto r = run_clothsim({"imgdiff", q.a, q.b, "-n", "--output", out});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("exists, and -n/--no-overwrite keeps it"), std::string::npos) << r.err;
+  EXPECT_EQ(read_png(out).rgba, first);
+}
+
 }  // namespace
 }  // namespace clothsim

@@ -180,7 +180,7 @@ TEST(CmdRun, AStillAloneRunsOnlyToItsTimeAndWritesOnePng) {
   const std::string outside = scratch_dir("run_still_outside");
   expect_rejected({"run", shipped("drape.yaml"), "--still", "9", "--out", outside + "/s.png"}, 2,
                   "--still: time", outside, {});
-  expect_rejected({"run", shipped("drape.yaml"), "--still", "1"}, 2, "--still needs --out", outside, {});
+  expect_rejected({"run", shipped("drape.yaml"), "--still", "1"}, 2, "--still needs -o/--output", outside, {});
 }
 
 TEST(CmdRun, BadScenesAreOneLineErrorsWithFileLineKeyAndExitTwo) {
@@ -232,7 +232,7 @@ TEST(CmdRun, UnwritableOutputsFailBeforeAnyWorkWithExitOne) {
   const std::string scene = shipped("spring.yaml");
   expect_rejected({"run", scene, "--metrics", dir + "/no/such/dir/m.csv"}, 1, "does not exist", dir, {});
   const std::string file = write_file(dir, "plain", "x");
-  expect_rejected({"run", scene, "--state", file + "/s.csv"}, 1, "cannot write state", dir, {"plain"});
+  expect_rejected({"run", scene, "--state", file + "/s.csv"}, 1, "cannot write --state", dir, {"plain"});
   expect_rejected({"run", scene, "--metrics", dir}, 1, "is a directory", dir, {"plain"});
 }
 
@@ -244,6 +244,33 @@ TEST(CmdValidate, AcceptsEveryShippedSceneAndSaysWhatItModels) {
   }
   const CliResult drape = run_clothsim({"validate", shipped("drape.yaml")});
   EXPECT_NE(drape.out.find("25 x 25 particles (4 pinned), 3502 springs"), std::string::npos) << drape.out;
+}
+
+TEST(CmdValidate, PrintsTheStiffnessEstimateAndEachExplicitMethodsLimit) {
+  const CliResult r = run_clothsim({"validate", shipped("drape.yaml")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "") << "dt = 1e-4 s is inside every predicted limit";
+  EXPECT_NE(r.out.find("stiffness estimate: w_max = 692.8 rad/s, 2/w_max = 0.00289 s"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("predicted step limits: explicit_euler 0.000111 s, symplectic_euler 0.000111 s, "
+                       "midpoint 0.000111 s, rk4 0.000155 s; implicit_euler: none"),
+            std::string::npos)
+      << r.out;
+}
+
+TEST(CmdValidate, WarnsWhenTheScenesDtIsAboveAPredictedLimit) {
+  const CliResult r = run_clothsim({"validate", shipped("drape.yaml"), "--dt", "1e-3"});
+  EXPECT_EQ(r.exit_code, 0) << "a warning, not an error";
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("warning: " + shipped("drape.yaml") + ": dt = 0.001 s is above the predicted step limit of "
+                       "explicit_euler (0.000111 s), symplectic_euler (0.000111 s), midpoint (0.000111 s), rk4 (0.000155 s); "
+                       "the scene's integrator symplectic_euler is likely to diverge"),
+            std::string::npos)
+      << r.err;
+  // Undamped, explicit Euler and midpoint are unstable at every step: always above.
+  const CliResult spring = run_clothsim({"validate", shipped("spring.yaml"), "--set", "cloth.springs.structural.damping=0"});
+  EXPECT_NE(spring.err.find("explicit_euler (unstable at every step), midpoint (unstable at every step)"),
+            std::string::npos)
+      << spring.err;
 }
 
 TEST(CmdValidate, RejectsABadSceneWithItsLine) {
@@ -281,6 +308,98 @@ TEST(CmdRun, StoppedBySigtermExits143AndLeavesNoFile) {
   EXPECT_EQ(r.exit_code, 143) << "128 + SIGTERM\n" << r.err;
   EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
   EXPECT_TRUE(only_files(dir, {})) << "no metrics and no temporary";
+}
+
+}  // namespace
+}  // namespace clothsim::testing
+
+namespace clothsim::testing {
+namespace {
+
+TEST(CmdRun, NoOverwriteRefusesAnExistingOutputBeforeAnyWorkAndLeavesItUntouched) {
+  const std::string dir = scratch_dir("run_no_overwrite");
+  const std::string metrics = write_file(dir, "m.csv", "mine\n");
+  const auto before = fs::last_write_time(metrics);
+  for (const char* flag : {"-n", "--no-overwrite"}) {
+    const CliResult r = run_clothsim({"run", shipped("spring.yaml"), flag, "--metrics", metrics, "--state", dir + "/s.csv"});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("--metrics: " + metrics + " exists, and -n/--no-overwrite keeps it"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "");  // no run: nothing to summarise
+  }
+  EXPECT_EQ(slurp(metrics), "mine\n");
+  EXPECT_EQ(fs::last_write_time(metrics), before);
+  EXPECT_TRUE(only_files(dir, {"m.csv"}));  // nor was the state written
+  // Without -n the file is replaced, as before.
+  ASSERT_EQ(run_clothsim({"run", shipped("spring.yaml"), "--duration", "0.1", "--metrics", metrics}).exit_code, 0);
+  EXPECT_NE(slurp(metrics), "mine\n");
+}
+
+TEST(CmdRun, NoOverwriteRefusesAFramesDirectoryHoldingFrames) {
+  const std::string dir = scratch_dir("run_no_overwrite_frames");
+  write_file(dir, "frame_00000.png", "not mine to lose");
+  const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--duration", "0.1", "-n", "--frames", dir});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("already holds frames"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir + "/frame_00000.png"), "not mine to lose");
+}
+
+TEST(CmdRun, StillTakesDashOAndWidthHeightAsCompareDoes) {
+  const std::string dir = scratch_dir("run_output_size");
+  const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--still", "0.05", "-o", dir + "/a.png", "--width",
+                                    "200", "--height", "120"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Image a = read_png(dir + "/a.png");
+  EXPECT_EQ(a.width, 200);
+  EXPECT_EQ(a.height, 120);
+  // --out stays as the old spelling of the same option.
+  ASSERT_EQ(run_clothsim({"run", shipped("drape.yaml"), "--still", "0.05", "--out", dir + "/b.png", "--width", "200",
+                          "--height", "120"}).exit_code, 0);
+  EXPECT_EQ(read_png(dir + "/b.png").rgba, a.rgba);
+  const CliResult bad = run_clothsim({"run", shipped("drape.yaml"), "--still", "0", "-o", dir + "/c.png", "--width", "8"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--width: must be from 16 to 8192 pixels"), std::string::npos) << bad.err;
+}
+
+TEST(CmdRun, FpsSetsHowManyFramesTheMetricsAndFramesHave) {
+  const std::string dir = scratch_dir("run_fps");
+  ASSERT_EQ(run_clothsim({"run", shipped("spring.yaml"), "--duration", "1", "--fps", "10", "--metrics", dir + "/m.csv"})
+                .exit_code, 0);
+  EXPECT_EQ(rows(dir + "/m.csv"), 1 + 11);  // header + frames at 0, 0.1, ..., 1 s
+}
+
+TEST(CmdRun, MetricsRowsSayTheSceneIntegratorAndStep) {
+  const std::string dir = scratch_dir("run_metrics_columns");
+  ASSERT_EQ(run_clothsim({"run", shipped("spring.yaml"), "--duration", "0.1", "--integrator", "rk4", "--dt", "1/200",
+                          "--metrics", dir + "/m.csv"}).exit_code, 0);
+  std::ifstream in(dir + "/m.csv");
+  std::string header, first;
+  std::getline(in, header);
+  std::getline(in, first);
+  EXPECT_EQ(header.substr(header.size() - 20), ",scene,integrator,dt") << header;
+  EXPECT_EQ(first.substr(first.size() - 17), ",spring,rk4,0.005") << first;
+}
+
+TEST(CmdRun, PlotEnergyLabelsEachLineByItsMetricsColumns) {
+  const std::string dir = scratch_dir("run_metrics_labels");
+  for (const char* i : {"rk4", "midpoint"})
+    ASSERT_EQ(run_clothsim({"run", shipped("spring.yaml"), "--duration", "0.1", "--integrator", i, "--dt", "0.005",
+                            "--metrics", dir + "/" + i + ".csv"}).exit_code, 0);
+  ASSERT_EQ(run_clothsim({"run", shipped("chain.yaml"), "--duration", "0.01", "--metrics", dir + "/chain.csv"})
+                .exit_code, 0);
+  // tools/plot_energy.py's run_labels(), as the script calls it on these files (with the system
+  // python, which has the matplotlib plot_common.py imports, as --plot prefers it).
+  const std::string out = dir + "/labels.txt";
+  const auto labels = [&](const std::string& files) {
+    const std::string cmd = "cd " + shell_quote(dir) + " && /usr/bin/python3 -c \"import sys; sys.path.insert(0, '" +
+                            std::string(CLOTHSIM_SCENES_DIR) + "/../tools'); import plot_energy as p, plot_common as c; "
+                            "f = sys.argv[1:]; print(p.run_labels(f, [c.read_rows(x) for x in f]))\" " + files +
+                            " >" + shell_quote(out) + " 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(out);
+    return slurp(out);
+  };
+  EXPECT_EQ(labels("rk4.csv midpoint.csv"), "['rk4, dt = 0.005 s', 'midpoint, dt = 0.005 s']\n");
+  EXPECT_EQ(labels("rk4.csv chain.csv"), "['spring: rk4, dt = 0.005 s', 'chain: symplectic_euler, dt = 0.0001 s']\n");
 }
 
 }  // namespace

@@ -52,6 +52,20 @@ TEST(CmdStability, FindsTheUndampedSpringsLimitsAndPrintsTheEstimate) {
   EXPECT_TRUE(only_files(dir, {"st.csv"}));
 }
 
+TEST(CmdStability, WithoutDurationRunsToTheDefaultItsHelpStates) {
+  EXPECT_NE(run_clothsim({"stability", "--help"}).out.find("--duration FLOAT            Simulated time in s "
+                                                          "(default: the scene's duration, at most 0.2 s)"),
+            std::string::npos);
+  // spring.yaml lasts 2 s: capped at 0.2 s; a scene shorter than that keeps its own.
+  const CliResult capped = run_clothsim({"stability", spring(), "--integrators", "symplectic_euler", "--values", "100"});
+  ASSERT_EQ(capped.exit_code, 0) << capped.err;
+  EXPECT_NE(capped.out.find("each run 0 to T = 0.2 s"), std::string::npos) << capped.out;
+  const CliResult shorter = run_clothsim({"stability", spring(), "--set", "duration=0.15", "--integrators",
+                                          "symplectic_euler", "--values", "100"});
+  ASSERT_EQ(shorter.exit_code, 0) << shorter.err;
+  EXPECT_NE(shorter.out.find("each run 0 to T = 0.15 s"), std::string::npos) << shorter.out;
+}
+
 TEST(CmdStability, BadParametersAndListsAreOneLineExitTwoAndNothingWritten) {
   const std::string dir = scratch_dir("stability_bad");
   struct Case {

@@ -80,6 +80,68 @@ TEST(Model, PinModesFreezeTheRightParticles) {
   EXPECT_EQ(pinned(model_from_yaml("cloth: {particles: [4, 3], pinned: [[1, 2], [3, 0]]}")), (std::vector<int>{3, 9}));
 }
 
+// Particle (i, j) is j * nx + i; on this 4 x 3 grid:
+//    0  1  2  3     row j = 0: top_edge
+//    4  5  6  7
+//    8  9 10 11     row j = 2: bottom_edge; column i = 0: left_edge, i = 3: right_edge
+TEST(Model, EdgePinsFreezeTheirRowOrColumn) {
+  const auto pinned = [](const std::string& spec) {
+    const Model m = model_from_yaml("cloth: {particles: [4, 3], pinned: " + spec + "}");
+    std::vector<int> out;
+    for (int p = 0; p < m.num_particles; ++p)
+      if (m.initial_inv_mass[p] == 0.0) out.push_back(p);
+    return out;
+  };
+  EXPECT_EQ(pinned("top_edge"), (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(pinned("bottom_edge"), (std::vector<int>{8, 9, 10, 11}));
+  EXPECT_EQ(pinned("left_edge"), (std::vector<int>{0, 4, 8}));
+  EXPECT_EQ(pinned("right_edge"), (std::vector<int>{3, 7, 11}));
+  // A list of edges is their union, each particle once; forms mix.
+  EXPECT_EQ(pinned("[left_edge, top_edge]"), (std::vector<int>{0, 1, 2, 3, 4, 8}));
+  EXPECT_EQ(pinned("[right_edge, corners, [1, 1]]"), (std::vector<int>{0, 3, 5, 7, 8, 11}));
+}
+
+TEST(Model, RangePinsFreezeTheirColumnsAndRows) {
+  const auto pinned = [](const std::string& spec) {
+    const Model m = model_from_yaml("cloth: {particles: [4, 3], pinned: " + spec + "}");
+    std::vector<int> out;
+    for (int p = 0; p < m.num_particles; ++p)
+      if (m.initial_inv_mass[p] == 0.0) out.push_back(p);
+    return out;
+  };
+  EXPECT_EQ(pinned("{i: [1, 2], j: [0, 1]}"), (std::vector<int>{1, 2, 5, 6}));
+  EXPECT_EQ(pinned("{i: 0}"), pinned("left_edge"));          // an axis left out: all of it
+  EXPECT_EQ(pinned("{j: [2, 2]}"), pinned("bottom_edge"));
+  EXPECT_EQ(pinned("[{i: 3, j: [0, 1]}, [0, 2]]"), (std::vector<int>{3, 7, 8}));
+}
+
+TEST(Model, EdgesFollowTheGridWhenSetChangesItsSize) {
+  const Model m = model_from_yaml("cloth: {particles: [4, 3], pinned: right_edge}", {"cloth.particles=[6,2]"});
+  EXPECT_EQ(m.initial_inv_mass[5], 0.0);
+  EXPECT_EQ(m.initial_inv_mass[11], 0.0);
+  EXPECT_EQ(m.initial_inv_mass[3], 1.0);
+}
+
+TEST(Model, EventsTakeTheSameSelectionsAsPinned) {
+  const Model m = model_from_yaml("cloth: {particles: [4, 3], pinned: none}\n"
+                                  "events: [{t: 1, pin: left_edge}, {t: 2, unpin: [{i: [2, 3], j: 0}]}]\n");
+  ASSERT_EQ(m.timeline.size(), 5u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(m.timeline[k].kind, TimedAction::Kind::Pin);
+    EXPECT_EQ(m.timeline[k].body, std::vector<int>({0, 4, 8})[k]);
+  }
+  EXPECT_EQ(m.timeline[3].body, 2);
+  EXPECT_EQ(m.timeline[4].body, 3);
+  EXPECT_EQ(m.timeline[4].kind, TimedAction::Kind::Unpin);
+}
+
+TEST(Model, SelectedParticlesCountsEachOnce) {
+  using K = GridSelection::Kind;
+  EXPECT_EQ(selected_particles({{K::Corners}}, 1, 1), (std::vector<int>{0}));
+  EXPECT_EQ(selected_particles({{K::TopEdge}, {K::Range, 0, 1, 0, 0}}, 3, 2), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(selected_particles({}, 3, 2), (std::vector<int>{}));
+}
+
 TEST(Model, SpheresAreBodiesAfterTheParticles) {
   const Model m = model_from_yaml(R"(
 cloth: {particles: [2, 2]}

@@ -122,6 +122,32 @@ TEST(SceneParser, OutOfRangeValuesAreErrors) {
   }
 }
 
+TEST(SceneParser, BadPinsAreOneLineErrorsNamingLineAndKey) {
+  struct Case { const char* yaml; int line; const char* key; const char* what; };
+  const Case cases[] = {
+      {"cloth:\n  particles: [4, 3]\n  pinned: middle\n", 3, "cloth.pinned", "unknown selection 'middle'"},
+      {"cloth:\n  particles: [4, 3]\n  pinned: [left_edge, top]\n", 3, "cloth.pinned.1", "unknown selection 'top'"},
+      {"cloth:\n  particles: [4, 3]\n  pinned: [0, 0]\n", 3, "cloth.pinned.0", "write [[i, j]] for one particle"},
+      {"cloth:\n  particles: [4, 3]\n  pinned: [none, top_edge]\n", 3, "cloth.pinned.0", "'none' cannot be listed"},
+      {"cloth:\n  particles: [4, 3]\n  pinned:\n    - {i: [0, 4]}\n", 4, "cloth.pinned.0.i[1]",
+       "value 4 out of range: must be from 0 to 3"},
+      {"cloth:\n  particles: [4, 3]\n  pinned: {i: [2, 1]}\n", 3, "cloth.pinned.i", "[2, 1] runs backwards"},
+      {"cloth:\n  particles: [4, 3]\n  pinned: {rows: [0, 0]}\n", 3, "cloth.pinned.rows", "unknown key (expected one of: i, j)"},
+      {"cloth:\n  particles: [4, 3]\n  pinned: {}\n", 3, "cloth.pinned", "a range needs i (columns), j (rows) or both"},
+      {"cloth:\n  particles: [4, 3]\n  pinned: {j: [0, 1, 2]}\n", 3, "cloth.pinned.j", "expected an index or [first, last]"},
+      {"cloth: {particles: [4, 3]}\nevents:\n  - {t: 1, unpin: none}\n", 3, "events.0.unpin", "'none' selects no particle"},
+      {"cloth: {particles: [4, 3]}\nevents:\n  - {t: 1, pin: [[0, 3]]}\n", 3, "events.0.pin.0",
+       "particle [0, 3] is outside the 4 x 3 grid"},
+  };
+  for (const Case& c : cases) {
+    const SceneError e = parse_error(c.yaml);
+    EXPECT_EQ(e.line, c.line) << c.yaml << " -> " << e.what();
+    EXPECT_EQ(e.key, c.key) << c.yaml << " -> " << e.what();
+    EXPECT_NE(std::string(e.what()).find(c.what), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+  }
+}
+
 TEST(SceneParser, BrokenYamlTabsEmptyAndBinaryAreErrors) {
   const SceneError broken = parse_error("cloth:\n  particles: [3, 3\nname: x\n");
   EXPECT_GT(broken.line, 0);

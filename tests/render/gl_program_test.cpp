@@ -12,9 +12,10 @@ namespace {
 const char* const kVertex = "#version 330 core\nvoid main() { gl_Position = vec4(0.0); }\n";
 const char* const kFragment = "#version 330 core\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n";
 
-// A Renderer leaves its context current on this thread: GL calls below go to it.
+// The Renderer's context, made current on this thread: GL calls below go to it.
 Renderer& context() {
   static Renderer r;
+  r.make_current();
   return r;
 }
 

@@ -9,7 +9,8 @@ namespace clothsim {
 namespace {
 
 TEST(Shaders, EveryProgramCompilesAndLinksOnTheCoreProfile) {
-  static Renderer r;  // its context, current on this thread
+  static Renderer r;
+  r.make_current();  // its context, current on this thread
   const struct {
     const char* name;
     const std::string& vertex;

@@ -31,6 +31,24 @@ void require_writable_parent(const std::string& path, const std::string& what) {
     throw RuntimeFailure("cannot write " + what + " " + path + ": directory " + dir + " is not writable");
   if (fs::is_directory(path, ec))
     throw RuntimeFailure("cannot write " + what + " " + path + ": it is a directory");
+  if (no_overwrite() && fs::exists(path, ec))
+    throw UsageError(what + ": " + path + " exists, and -n/--no-overwrite keeps it");
+}
+
+namespace {
+std::atomic<bool> g_no_overwrite{false};
+}  // namespace
+
+bool no_overwrite() { return g_no_overwrite; }
+void set_no_overwrite(bool on) { g_no_overwrite = on; }
+
+void refuse_existing_frames(const std::string& dir, const std::string& what) {
+  if (!no_overwrite()) return;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    if (entry.path().filename().string().rfind("frame_", 0) == 0)
+      throw UsageError(what + ": " + dir + " already holds frames (" + entry.path().filename().string() +
+                       "), and -n/--no-overwrite keeps them");
 }
 
 std::string temp_path_beside(const std::string& path) {
@@ -73,37 +91,6 @@ void AtomicFile::commit() {
   if (std::rename(temp_.c_str(), path_.c_str()) != 0)
     throw RuntimeFailure("cannot rename " + temp_ + " to " + path_ + ": " + std::strerror(errno));
   committed_ = true;
-}
-
-bool Progress::enabled() { return ::isatty(STDERR_FILENO) == 1; }
-
-Progress::Progress(std::string label, long total, std::string unit)
-    : label_(std::move(label)), unit_(std::move(unit)), total_(total), on_(enabled()),
-      start_(std::chrono::steady_clock::now()), last_(start_ - std::chrono::seconds(1)) {}
-
-Progress::~Progress() { finish(); }
-
-void Progress::finish() {
-  if (on_) std::fprintf(stderr, "\r\033[K");
-  on_ = false;
-}
-
-void Progress::update(long done) {
-  if (!on_) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_ < std::chrono::milliseconds(100) && done < total_) return;
-  last_ = now;
-  const double elapsed = std::chrono::duration<double>(now - start_).count();
-  std::ostringstream line;
-  line << label_ << "  " << done << "/" << total_ << " " << unit_;
-  if (done > 0 && done < total_) {
-    const double left = elapsed * static_cast<double>(total_ - done) / static_cast<double>(done);
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "  %.1f s left", left);
-    line << buf;
-  }
-  std::fprintf(stderr, "\r\033[K%s", line.str().c_str());
-  std::fflush(stderr);
 }
 
 namespace {

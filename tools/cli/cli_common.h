@@ -1,5 +1,5 @@
 // What every subcommand shares: exit codes, the two kinds of failure, files that appear
-// whole or not at all, and progress on a terminal.
+// whole or not at all, and progress (progress.h).
 #pragma once
 
 #include <chrono>
@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "progress.h"  // Progress, --progress, --quiet: every command uses them
 
 namespace clothsim::cli {
 
@@ -54,26 +56,17 @@ class AtomicFile {
 // not exist or is not writable, naming the path.
 std::string temp_path_beside(const std::string& path);
 // Checks before any work is done that `path` can be created: its directory exists and is
-// writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist").
+// writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist"), or with
+// -n/--no-overwrite UsageError when `path` exists.
 void require_writable_parent(const std::string& path, const std::string& what);
+// -n/--no-overwrite (ffmpeg's -n): an output that exists already is a UsageError (exit 2),
+// raised by require_writable_parent() before any work; set by the option (progress.h).
+bool no_overwrite();
+void set_no_overwrite(bool on);
+// With -n, a frames directory holding frame_* files is a UsageError too.
+void refuse_existing_frames(const std::string& dir, const std::string& what);
 // Creates `dir` (and parents) if missing; throws RuntimeFailure when impossible.
 void ensure_directory(const std::string& dir, const std::string& what);
-
-// Progress on stderr, only when stderr is a terminal (nothing otherwise, per the contract):
-// "label  37/150 frames  1.2 s left", redrawn in place at most 10 times a second.
-class Progress {
- public:
-  Progress(std::string label, long total, std::string unit);
-  ~Progress();  // clears the line (as finish() does)
-  void update(long done);
-  void finish();  // clears the line now, before a summary is printed; idempotent
-  static bool enabled();
- private:
-  std::string label_, unit_;
-  long total_;
-  bool on_;
-  std::chrono::steady_clock::time_point start_, last_;
-};
 
 // Set by the SIGINT/SIGTERM handler (install_interrupt_handler); long loops poll it and stop
 // cleanly. interrupt_signal() is the signal that arrived (0: none).

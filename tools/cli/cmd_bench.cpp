@@ -30,6 +30,7 @@
 #include "scene_options.h"
 #include "scene_parser.h"
 #include "study_common.h"
+#include "summary_json.h"
 
 namespace clothsim::cli {
 namespace {
@@ -43,7 +44,7 @@ struct BenchOptions {
   std::string integrators = default_comparison_list();  // the course's four, by name
   std::optional<std::string> dts;  // not given: derived from the scene's dt
   std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
-  std::string csv, plot;
+  std::string csv, plot, summary;
   int jobs = 0;
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
 };
@@ -105,7 +106,35 @@ void print_table(const WorkPrecisionResult& r, const std::vector<IntegratorKind>
   std::printf("\n");
 }
 
+// Each run a lane (its errors beside the common keys), and the study's T and reference.
+void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
+                        const WorkPrecisionResult& r) {
+  std::vector<JsonObject> lanes;
+  for (const WorkPrecisionPoint& p : r.points) {
+    RunTotals t;
+    t.steps = p.steps;
+    t.force_evals = p.force_evals;
+    t.newton_iterations = p.newton_iterations;
+    t.cg_iterations = p.cg_iterations;
+    t.unconverged_steps = p.unconverged_steps;
+    t.cpu_seconds = p.cpu_seconds;
+    lanes.push_back(lane_json(scene, p.integrator, p.dt, t, p.diverged ? std::optional<double>(p.diverged_at) : std::nullopt)
+                        .number("wall_seconds", p.wall_seconds)
+                        .number("rms_error", p.rms_error)
+                        .number("max_error", p.max_error));
+  }
+  JsonObject reference;
+  reference.text("integrator", std::string(integrator_name(r.reference.integrator)))
+      .number("dt", r.reference.dt)
+      .number("change_rms", r.reference.finished ? r.reference.change_rms : NAN)
+      .boolean("converged", r.reference.converged);
+  JsonObject extra;
+  extra.number("duration", r.duration).boolean("complete", r.complete).object("reference", reference);
+  write_summary(path, "bench", source, lanes, extra);
+}
+
 int bench_command(const BenchOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene(o.scene.path, o.scene.sets);
   const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
   std::vector<double> dts;
@@ -146,7 +175,8 @@ int bench_command(const BenchOptions& o) {
   }
 
   // Outputs are checked (and python/matplotlib found) before minutes of simulation.
-  if (!o.csv.empty()) require_writable_parent(o.csv, "csv");
+  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
 
@@ -163,7 +193,6 @@ int bench_command(const BenchOptions& o) {
               std::string(integrator_name(spec.reference_integrator)).c_str(), h_ref, h_ref / 2);
   std::fflush(stdout);
 
-  install_interrupt_handler();
   SharedProgress progress("bench " + model.name, static_cast<long>(runs + 2), "runs");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
@@ -186,6 +215,7 @@ int bench_command(const BenchOptions& o) {
     file.commit();
   };
   if (!o.csv.empty()) write_to(o.csv);
+  if (!o.summary.empty()) write_summary_json(o.summary, scene.source, model.name, result);
 
   if (interrupted() || !result.complete)
     throw RuntimeFailure("interrupted: " + std::to_string(result.points.size()) + " of " +
@@ -204,7 +234,10 @@ void add_bench_command(CLI::App& app, Command& command) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* sub = app.add_subcommand(
       "bench", "Work precision: error against an RK4 reference vs cost, per integrator and step size");
-  add_scene_options(sub, o->scene, /*single_run=*/false);
+  // The help says the default as default_duration() computes it.
+  add_scene_options(sub, o->scene, /*single_run=*/false,
+                    "the scene's duration, at most " + csv_number(kMaxDefaultDuration) + " s and " +
+                        csv_number(kMaxDefaultSmallSteps) + " x the smallest step, rounded down to a multiple of the largest");
   sub->add_option("--integrators", o->integrators, "Comma-separated integrators")->capture_default_str()->type_name("LIST");
   sub->add_option("--dts", o->dts,
                   "Comma-separated step sizes in s (numbers or fractions: 1/240), each dividing the duration "
@@ -221,6 +254,10 @@ void add_bench_command(CLI::App& app, Command& command) {
       ->type_name("FILE.csv");
   sub->add_option("--plot", o->plot, "Draw the work-precision diagram (needs python3-matplotlib)")
       ->type_name("FILE.png");
+  sub->add_option("--summary", o->summary, "Write each run's cost and error as JSON (docs/summary.md)")
+      ->type_name("FILE.json");
+  add_progress_options(sub);
+  add_no_overwrite_option(sub);
   sub->add_option("--jobs", o->jobs, "Runs at once (default 0: one per core)");
   sub->add_option("--reference-refinement", o->reference_refinement,
                   "Reference step = smallest step / N, then halved once more to check it")

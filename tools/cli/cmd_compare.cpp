@@ -36,6 +36,8 @@
 #include "compare_runner.h"
 #include "contact_sheet.h"
 #include "frame_sink.h"
+#include "gl_options.h"
+#include "summary_json.h"
 #include "png_io.h"
 #include "renderer.h"
 #include "run_outputs.h"
@@ -57,9 +59,10 @@ struct CompareOptions {
   std::string layout = "auto";
   std::string video, frames_dir, dt, sheet, times, still_out;
   std::optional<double> still_t;
-  int width = 0, height = 0;  // 0: the scene's render size
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
+  GlOptions gl;
+  std::string summary;  // --summary FILE.json
 };
 
 // Seconds spent in each stage on the main thread.
@@ -125,8 +128,7 @@ int compare_command(const CompareOptions& o) {
     throw UsageError(o.sheet.empty() ? "--times goes with --sheet FILE.png"
                                      : "--sheet needs --times T1,T2,... (the columns)");
   if (o.still_t.has_value() != !o.still_out.empty())
-    throw UsageError(o.still_t ? "--still needs --out FILE.png" : "--out goes with --still T");
-  if (o.width < 0 || o.height < 0) throw UsageError("--width and --height must be positive");
+    throw UsageError(o.still_t ? "--still needs -o/--output FILE.png" : "-o/--output goes with --still T");
   try {
     validate_video_options(VideoWriterOptions{30.0, o.crf, o.preset});
   } catch (const std::invalid_argument& e) {
@@ -134,9 +136,13 @@ int compare_command(const CompareOptions& o) {
   }
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
   if (!o.sheet.empty()) require_writable_parent(o.sheet, "--sheet");
-  if (!o.still_out.empty()) require_writable_parent(o.still_out, "--out");
+  if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty() && fs::exists(o.frames_dir) && !fs::is_directory(o.frames_dir))
     throw RuntimeFailure("cannot write --frames into " + o.frames_dir + ": not a directory");
+  if (!o.frames_dir.empty())
+    for (IntegratorKind kind : kinds)
+      refuse_existing_frames((fs::path(o.frames_dir) / std::string(integrator_name(kind))).string(), "--frames");
 
   const SceneDef scene = load_scene_with_options(o.scene);
   const std::vector<double> dts = parse_dt_list(o.dt, kinds, scene.dt);
@@ -145,8 +151,7 @@ int compare_command(const CompareOptions& o) {
   if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= scene.duration + 1e-9))
     throw UsageError("--still: " + std::to_string(*o.still_t) + " s is outside the run (0 to " +
                      std::to_string(scene.duration) + " s)");
-  const int width = o.width > 0 ? o.width : scene.render.width;
-  const int height = o.height > 0 ? o.height : scene.render.height;
+  const int width = scene.render.width, height = scene.render.height;  // the whole grid's (--width/--height)
   std::optional<TileGrid> grid;
   try {
     grid.emplace(TileGrid::fit(layout, width, height));
@@ -164,7 +169,7 @@ int compare_command(const CompareOptions& o) {
   // 2. Outputs (each removes its temporary if destroyed before finish()).
   std::unique_ptr<Renderer> renderer;
   if (rendering) {
-    renderer = std::make_unique<Renderer>();  // a GL failure shows up now
+    renderer = make_renderer(o.gl);  // a GL failure shows up now
     if (std::max(grid->cell_width(), grid->cell_height()) > renderer->max_size())
       throw UsageError("--width/--height: tiles of " + std::to_string(grid->cell_width()) + "x" +
                        std::to_string(grid->cell_height()) + " exceed the renderer's limit of " +
@@ -177,7 +182,7 @@ int compare_command(const CompareOptions& o) {
     for (std::size_t i = 0; i < kinds.size(); ++i)
       tile_pngs.push_back(make_png_sequence_sink(
           (fs::path(o.frames_dir) / std::string(integrator_name(kinds[i]))).string(),
-          frame_metadata(model, kinds[i], dts[i])));
+          with_renderer(frame_metadata(model, kinds[i], dts[i]), *renderer)));
 
   // 3. The runs, one thread each, and the render/compose/encode loop on this thread.
   std::vector<std::unique_ptr<RunWorker>> workers;
@@ -228,8 +233,9 @@ int compare_command(const CompareOptions& o) {
     if (target.still) {
       Stopwatch watch(time.sheet);
       grid->compose(tile_ptrs, labels, canvas);
-      write_png(o.still_out, canvas, {{"scene", model.name}, {"t", std::to_string(target.t)},
-                                      {"software", "clothsim " CLOTHSIM_VERSION}});
+      write_png(o.still_out, canvas,
+                with_renderer({{"scene", model.name}, {"t", std::to_string(target.t)},
+                               {"software", "clothsim " CLOTHSIM_VERSION}}, *renderer));
       still_written = true;
     }
     if (target.frame >= 0) {
@@ -267,7 +273,7 @@ int compare_command(const CompareOptions& o) {
     for (IntegratorKind kind : kinds) rows.emplace_back(integrator_name(kind));
     for (double t : sheet_times) columns.push_back(time_label(t));
     write_png(o.sheet, compose_contact_sheet(sheet_cells, rows, columns),
-              {{"scene", model.name}, {"software", "clothsim " CLOTHSIM_VERSION}});
+              with_renderer({{"scene", model.name}, {"software", "clothsim " CLOTHSIM_VERSION}}, *renderer));
   }
 
   std::vector<RunSummary> runs;
@@ -279,7 +285,16 @@ int compare_command(const CompareOptions& o) {
   }
   print_summary(model, runs);
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  std::fprintf(stderr,
+  if (!o.summary.empty()) {
+    std::vector<JsonObject> lanes;
+    for (const RunSummary& r : runs)
+      lanes.push_back(lane_json(model.name, r.kind, r.dt, r.totals,
+                                r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
+                          .number("t_reached", r.t));
+    write_summary(o.summary, "compare", scene.source, lanes);
+  }
+  if (!quiet())
+    std::fprintf(stderr,
                "compare: %d frames of %dx%d (%zu tiles of %dx%d) in %.1f s wall: simulate %.1f s cpu "
                "on %zu threads (renderer waited %.1f s), render %.1f s, compose %.2f s, PNG %.1f s, "
                "encode %.1f s, sheet/still %.1f s\n",
@@ -300,6 +315,10 @@ void add_compare_command(CLI::App& app, Command& command) {
       "summary table of cost and divergence on stdout. Divergence is a result here (exit 0).\n"
       "Without --video or --frames, the runs stop at the last --times or --still.");
   add_scene_options(sub, o->scene, /*single_run=*/false);
+  add_gl_options(sub, o->gl);
+  add_progress_options(sub);
+  add_no_overwrite_option(sub);
+  sub->add_option("--summary", o->summary, "Write what each run did as JSON (docs/summary.md)")->type_name("FILE.json");
   sub->add_option("--integrators", o->integrators, "Comma-separated integrators, one tile each")
       ->capture_default_str();
   sub->add_option("--layout", o->layout,
@@ -316,10 +335,9 @@ void add_compare_command(CLI::App& app, Command& command) {
       ->type_name("FILE.png");
   sub->add_option("--times", o->times, "Contact-sheet columns, simulated seconds, increasing")
       ->type_name("T1,T2,...");
-  sub->add_option("--still", o->still_t, "Write the tiled picture at time T (s) to --out")->type_name("T");
-  sub->add_option("--out", o->still_out, "PNG file for --still")->type_name("FILE.png");
-  sub->add_option("--width", o->width, "Width of the whole grid in pixels (default: the scene's render.width)");
-  sub->add_option("--height", o->height, "Height of the whole grid in pixels (default: the scene's render.height)");
+  sub->add_option("--still", o->still_t, "Write the tiled picture at time T (s) to -o/--output")->type_name("T");
+  sub->add_option("-o,--output,--out", o->still_out, "PNG file for --still")->type_name("FILE.png");
+  add_picture_options(sub, o->scene, "the whole grid", "--frames and --video");
   sub->add_option("--crf", o->crf, "Video quality, x264 CRF 0 (lossless) .. 51")->capture_default_str();
   sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)")->capture_default_str();
   sub->callback([o, &command] { command = [o] { return compare_command(*o); }; });

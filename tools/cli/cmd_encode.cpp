@@ -145,7 +145,7 @@ int run_encode(const EncodeArgs& args) {
   } catch (const LayoutError& e) {
     throw UsageError(std::string("encode: --layout: ") + e.what());
   }
-  require_writable_parent(args.output, "-o");
+  require_writable_parent(args.output, "-o/--output");
 
   std::vector<Sequence> seqs;
   int length = 0, cell_w = 0, cell_h = 0;
@@ -202,7 +202,7 @@ int run_encode(const EncodeArgs& args) {
   for (const auto& s : seqs)
     if (s.frames < length)
       held += "; " + s.dir + " holds its last frame after " + std::to_string(s.frames) + " frames";
-  std::fprintf(stderr, "encode: wrote %s: %d frames of %dx%d at %g fps (%dx%d tiles)%s\n",
+  if (!quiet()) std::fprintf(stderr, "encode: wrote %s: %d frames of %dx%d at %g fps (%dx%d tiles)%s\n",
                args.output.c_str(), length, writer->encoded_width(), writer->encoded_height(),
                args.fps, layout.columns, layout.rows, held.c_str());
   return kOk;
@@ -223,6 +223,8 @@ void add_encode_command(CLI::App& app, Command& command) {
   sub->add_option("--labels", args->labels,
                   "Comma-separated tile labels (default: directory names; an empty one: no label)");
   sub->add_option("-o,--output", args->output, "Output file (.mp4)")->required();
+  add_progress_options(sub);
+  add_no_overwrite_option(sub);
   sub->add_option("--fps", args->fps, "Frames per second")->capture_default_str();
   sub->add_option("--crf", args->crf, "x264 quality: 0 lossless .. 51 worst (18-23 typical)")
       ->capture_default_str();

@@ -32,7 +32,7 @@ int imgdiff_command(const ImgdiffOptions& o) {
   if (a.width != b.width || a.height != b.height)
     throw UsageError("imgdiff: " + o.a + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) +
                      " but " + o.b + " is " + std::to_string(b.width) + "x" + std::to_string(b.height));
-  if (!o.diff_path.empty()) require_writable_parent(o.diff_path, "--diff");
+  if (!o.diff_path.empty()) require_writable_parent(o.diff_path, "-o/--output");
 
   const DiffStats stats = compare_images(a, b, o.tolerance.pixel_threshold);
   const bool pass = within_tolerance(stats, o.tolerance);
@@ -62,7 +62,9 @@ void add_imgdiff_command(CLI::App& app, Command& command) {
                  "share of pixels past a threshold; exit 0 within tolerance, 1 outside, 2 bad input");
   sub->add_option("A", o->a, "First image (e.g. the golden one)")->required();
   sub->add_option("B", o->b, "Second image (e.g. the new render)")->required();
-  sub->add_option("--diff", o->diff_path, "Write an amplified difference image here (PNG)");
+  sub->add_option("-o,--output,--diff", o->diff_path, "Write an amplified difference image here (PNG)")
+      ->type_name("FILE.png");
+  add_no_overwrite_option(sub);
   sub->add_option("--threshold", o->tolerance.pixel_threshold,
                   "A pixel differs when some channel differs by more than this (0-255)")
       ->check(CLI::Range(0, 255))

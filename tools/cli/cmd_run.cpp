@@ -10,6 +10,8 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "frame_sink.h"
+#include "gl_options.h"
+#include "summary_json.h"
 #include "png_io.h"
 #include "renderer.h"
 #include "run_outputs.h"
@@ -28,6 +30,8 @@ struct RunOptions {
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
   bool strict = false;
+  GlOptions gl;
+  std::string summary;  // --summary FILE.json
 };
 
 RenderFrame snapshot_of(const Run& run) {
@@ -36,19 +40,23 @@ RenderFrame snapshot_of(const Run& run) {
 }
 
 int run_command(const RunOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   const SceneDef scene = load_scene_with_options(o.scene);
-  if (o.still_t && o.still_out.empty()) throw UsageError("--still needs --out FILE.png");
-  if (!o.still_out.empty() && !o.still_t) throw UsageError("--out goes with --still T");
+  if (o.still_t && o.still_out.empty()) throw UsageError("--still needs -o/--output FILE.png");
+  if (!o.still_out.empty() && !o.still_t) throw UsageError("-o/--output goes with --still T");
   if (o.still_t && (*o.still_t < 0.0 || *o.still_t > scene.duration))
     throw UsageError("--still: time " + std::to_string(*o.still_t) + " s is outside the run (0 to " +
                      std::to_string(scene.duration) + " s)");
   if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
 
   // Every output is checked before any work, so a typo fails in milliseconds.
-  if (!o.metrics.empty()) require_writable_parent(o.metrics, "metrics");
-  if (!o.state.empty()) require_writable_parent(o.state, "state");
-  if (!o.video.empty()) require_writable_parent(o.video, "video");
-  if (!o.still_out.empty()) require_writable_parent(o.still_out, "still");
+  // With -n, an output that exists already is refused here too (exit 2), untouched.
+  if (!o.metrics.empty()) require_writable_parent(o.metrics, "--metrics");
+  if (!o.state.empty()) require_writable_parent(o.state, "--state");
+  if (!o.video.empty()) require_writable_parent(o.video, "--video");
+  if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
+  if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
 
   const Model model = build_model(scene);
   const IntegratorKind kind = scene.integrator;
@@ -61,21 +69,21 @@ int run_command(const RunOptions& o) {
   const long frames = static_cast<long>(std::floor(end * fps + 1e-9)) + 1;  // t = 0 included
 
   std::unique_ptr<Renderer> renderer;
-  if (!o.frames_dir.empty() || !o.video.empty() || o.still_t) renderer = std::make_unique<Renderer>();
+  if (!o.frames_dir.empty() || !o.video.empty() || o.still_t) renderer = make_renderer(o.gl);
   std::unique_ptr<MetricsWriter> metrics;
-  if (!o.metrics.empty()) metrics = std::make_unique<MetricsWriter>(o.metrics);
+  if (!o.metrics.empty()) metrics = std::make_unique<MetricsWriter>(o.metrics, model, kind, dt);
   std::unique_ptr<FrameSink> png_sink, video_sink;
-  if (!o.frames_dir.empty()) png_sink = make_png_sequence_sink(o.frames_dir, frame_metadata(model, kind, dt));
+  const PngText png_text = renderer ? with_renderer(frame_metadata(model, kind, dt), *renderer) : PngText{};
+  if (!o.frames_dir.empty()) png_sink = make_png_sequence_sink(o.frames_dir, png_text);
   if (!o.video.empty()) video_sink = make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset});
 
-  install_interrupt_handler();
   Run run(model, kind, dt);
   Progress progress("run " + model.name, frames, "frames");
   RenderFrame last_good;  // frame 0 (t = 0) is always good: no step has been taken
   bool still_done = !o.still_t;
   const auto take_still = [&] {
     run.advance_to(*o.still_t);
-    if (!run.diverged()) write_png(o.still_out, renderer->render(snapshot_of(run)), frame_metadata(model, kind, dt));
+    if (!run.diverged()) write_png(o.still_out, renderer->render(snapshot_of(run)), png_text);
     still_done = true;
   };
   for (long k = 0; k < frames; ++k) {
@@ -121,6 +129,12 @@ int run_command(const RunOptions& o) {
                 " post-step projections\n",
                 t.newton_iterations, t.cg_iterations, t.factorizations, t.max_residual, t.unconverged_steps,
                 t.contact_constraints, t.safety_projections);
+  if (!o.summary.empty())  // written for a diverged run too: that is a result
+    write_summary(o.summary, "run", scene.source,
+                  {lane_json(model.name, kind, dt, t,
+                             run.diverged() ? std::optional<double>(run.divergence()->t) : std::nullopt)
+                       .number("t_reached", run.state().t)
+                       .number("max_residual", t.max_residual)});
   if (run.diverged()) {
     const Divergence& d = *run.divergence();
     std::fprintf(stderr, "clothsim: %s: diverged at step %" PRId64 ", t = %.6g s: %s\n",
@@ -145,6 +159,10 @@ void add_run_command(CLI::App& app, Command& command) {
   CLI::App* sub = app.add_subcommand(
       "run", "Run one scene with one integrator: metrics, final state, frames, video, a still");
   add_scene_options(sub, o->scene, /*single_run=*/true);
+  add_gl_options(sub, o->gl);
+  add_progress_options(sub);
+  add_no_overwrite_option(sub);
+  sub->add_option("--summary", o->summary, "Write what the run did as JSON (docs/summary.md)")->type_name("FILE.json");
   sub->footer(std::string(
       "Prints a summary (steps, force evaluations, wall time; for implicit_euler its Newton and CG\n"
       "work, steps not converged, contacts held in the solve and post-step projections) on stdout.\n"
@@ -155,7 +173,7 @@ void add_run_command(CLI::App& app, Command& command) {
       "temporary names and renamed at the end.\n") + kExitCodesHelp);
   sub->add_flag("--strict", o->strict,
                 "Exit 4 if any implicit_euler step ended above its Newton tolerance");
-  sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at the scene's fps")
+  sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at --fps")
       ->type_name("DIR");
   sub->add_option("--video", o->video, "Write an H.264 MP4 of the run")->type_name("FILE.mp4");
   sub->add_option("--metrics", o->metrics,
@@ -164,9 +182,9 @@ void add_run_command(CLI::App& app, Command& command) {
       ->type_name("FILE.csv");
   sub->add_option("--state", o->state, "Write the final state: id,x,y,z,vx,vy,vz per particle")
       ->type_name("FILE.csv");
-  sub->add_option("--still", o->still_t, "Render one frame at time T (s) to --out")->type_name("T");
-  sub->add_option("--out", o->still_out, "PNG file for --still (size: --set render.width=...)")
-      ->type_name("FILE.png");
+  sub->add_option("--still", o->still_t, "Render one frame at time T (s) to -o/--output")->type_name("T");
+  sub->add_option("-o,--output,--out", o->still_out, "PNG file for --still")->type_name("FILE.png");
+  add_picture_options(sub, o->scene, "the frames", "--frames, --video and --metrics rows");
   sub->add_option("--crf", o->crf, "Video quality, x264 CRF 0 (lossless) .. 51")->capture_default_str();
   sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)")->capture_default_str();
   sub->callback([o, &command] { command = [o] { return run_command(*o); }; });

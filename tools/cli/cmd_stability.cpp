@@ -40,6 +40,7 @@
 #include "scene_options.h"
 #include "scene_parser.h"
 #include "study_common.h"
+#include "summary_json.h"
 
 namespace clothsim::cli {
 namespace {
@@ -57,7 +58,7 @@ struct StabilityOptions {
   double energy_factor = analysis::StabilitySpec{}.energy_factor;
   double max_strain = analysis::StabilitySpec{}.max_strain;
   std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
-  std::string csv, plot;
+  std::string csv, plot, summary;
   int jobs = 0;
 };
 
@@ -119,7 +120,46 @@ std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& s
   return buf;
 }
 
+// Each search a lane: its largest stable step as dt, the bracket, how the first unstable step
+// failed, and implicit_euler's one-step-per-frame runs.
+void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
+                        const std::string& param, const std::vector<StabilityLimit>& limits,
+                        const analysis::StabilitySpec& spec) {
+  std::vector<JsonObject> lanes;
+  for (const StabilityLimit& l : limits) {
+    std::vector<JsonObject> frame_steps;
+    for (const analysis::FrameStepResult& f : l.frame_steps) {
+      JsonObject step;
+      step.number("dt", f.dt)
+          .integer("steps", f.steps)
+          .integer("unconverged_steps", f.unconverged_steps)
+          .number("diverged_at", f.failure == analysis::Failure::Diverged ? std::optional<double>(f.diverged_at)
+                                                                          : std::nullopt)
+          .text("failure", analysis::failure_name(f.failure));
+      frame_steps.push_back(step);
+    }
+    lanes.push_back(lane_json_without_counts(scene, l.integrator,
+                                             std::isfinite(l.stable_dt) ? std::optional<double>(l.stable_dt) : std::nullopt,
+                                             l.cpu_seconds)
+                        .number("value", l.value)
+                        .text("outcome", analysis::outcome_name(l.outcome))
+                        .number("stable_dt", l.stable_dt)
+                        .number("unstable_dt", l.unstable_dt)
+                        .text("failure", analysis::failure_name(l.failure))
+                        .text("reason", l.reason)
+                        .integer("trials", l.trials)
+                        .number("w_max", l.estimate.w_max)
+                        .number("dt_springs", l.estimate.dt_springs())
+                        .number("dt_with_damping", l.estimate.dt_with_damping())
+                        .array("frame_steps", frame_steps));
+  }
+  JsonObject extra;
+  extra.text("param", param).number("duration", spec.duration).number("min_dt", spec.min_dt).number("max_dt", spec.max_dt);
+  write_summary(path, "stability", source, lanes, extra);
+}
+
 int stability_command(const StabilityOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   const SceneDef base = load_scene(o.scene.path, o.scene.sets);
   const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
 
@@ -167,7 +207,8 @@ int stability_command(const StabilityOptions& o) {
     throw UsageError(std::string("stability: ") + e.what() + " (--min-dt, --max-dt, --duration, --precision, --energy-factor, --max-strain)");
   }
 
-  if (!o.csv.empty()) require_writable_parent(o.csv, "csv");
+  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_stability.py", o.plot);
 
@@ -185,7 +226,6 @@ int stability_command(const StabilityOptions& o) {
 
   std::vector<analysis::StabilityCase> refs;
   for (const Case& c : cases) refs.push_back({c.value, &c.model});
-  install_interrupt_handler();
   SharedProgress progress("stability " + base.name, static_cast<long>(cases.size() * kinds.size()), "searches");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
@@ -211,6 +251,7 @@ int stability_command(const StabilityOptions& o) {
     file.commit();
   };
   if (!o.csv.empty()) write_to(o.csv);
+  if (!o.summary.empty()) write_summary_json(o.summary, base.source, base.name, o.param, limits, spec);
   if (interrupted() || limits.size() < cases.size() * kinds.size())
     throw RuntimeFailure("interrupted: " + std::to_string(limits.size()) + " of " +
                          std::to_string(cases.size() * kinds.size()) + " searches finished" +
@@ -225,7 +266,8 @@ void add_stability_command(CLI::App& app, Command& command) {
   auto o = std::make_shared<StabilityOptions>();
   CLI::App* sub = app.add_subcommand(
       "stability", "Largest stable step per integrator across a swept scene parameter (default: stiffness)");
-  add_scene_options(sub, o->scene, /*single_run=*/false);
+  add_scene_options(sub, o->scene, /*single_run=*/false,
+                    "the scene's duration, at most " + csv_number(kDefaultDuration) + " s");
   sub->add_option("--integrators", o->integrators, "Comma-separated integrators")
       ->capture_default_str()
       ->type_name("LIST");
@@ -235,7 +277,10 @@ void add_stability_command(CLI::App& app, Command& command) {
   sub->add_option("--values", o->values,
                   "Comma-separated values of --param (default: the scene's value x 1, 10, 100, 1000, 10000)")
       ->type_name("LIST");
-  sub->add_option("--min-dt", o->min_dt, "Smallest step tried, s (default: estimate / 32)")->type_name("S");
+  sub->add_option("--min-dt", o->min_dt,
+                  "Smallest step tried, s (default: min(scene dt, the smallest 2/max(w,c) estimate of the swept cases) / " +
+                      csv_number(kMinDtDivisor) + ")")
+      ->type_name("S");
   sub->add_option("--max-dt", o->max_dt, "Largest step tried, s, at most T / 20 (default: min(T / 50, 1000 x scene dt))")->type_name("S");
   sub->add_option("--frame-dts", o->frame_dts,
                   "Steps implicit_euler is also run at over T, one per video frame (numbers or "
@@ -253,6 +298,10 @@ void add_stability_command(CLI::App& app, Command& command) {
       ->type_name("FILE.csv");
   sub->add_option("--plot", o->plot, "Draw largest stable dt vs the parameter (needs python3-matplotlib)")
       ->type_name("FILE.png");
+  sub->add_option("--summary", o->summary, "Write each search's result as JSON (docs/summary.md)")
+      ->type_name("FILE.json");
+  add_progress_options(sub);
+  add_no_overwrite_option(sub);
   sub->add_option("--jobs", o->jobs, "Searches at once (default 0: one per core)");
   sub->callback([o, &command] { command = [o] { return stability_command(*o); }; });
 }

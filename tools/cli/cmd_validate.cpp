@@ -1,8 +1,12 @@
-// clothsim validate: parse and check a scene (with --set applied) and say what it models.
-// Exit 0 when valid, 2 with the one-line error otherwise; writes nothing.
+// clothsim validate: parse and check a scene (with --set applied) and say what it models,
+// with the stiffness estimate `stability` prints (src/analysis/stiffness_estimate.h) and each
+// explicit method's predicted step limit from it; a warning on stderr when the scene's dt is
+// above one of them. Exit 0 when valid (warned or not), 2 with the one-line error otherwise;
+// writes nothing.
 #include <cmath>
 #include <cstdio>
 
+#include "analysis/stiffness_estimate.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "model.h"
@@ -10,6 +14,47 @@
 
 namespace clothsim::cli {
 namespace {
+
+std::string seconds(double dt) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g s", dt);
+  return text;
+}
+
+// The estimate 2/w_max (and 2/max(w, c) with the dampers), each explicit method's predicted
+// limit, and one warning line naming every method whose limit the scene's dt is above.
+void print_step_limits(const SceneDef& scene, const Model& model) {
+  const analysis::StiffnessEstimate e = analysis::estimate_stiffness(model);
+  if (!(e.w_max > 0.0) && !(e.c_max > 0.0)) {
+    std::printf("  step limits: none predicted (no springs or dampers on a free particle)\n");
+    return;
+  }
+  std::printf("  stiffness estimate: w_max = %.4g rad/s, 2/w_max = %s; dampers c_max = %.4g /s, 2/max(w,c) = %s\n",
+              e.w_max, seconds(e.dt_springs()).c_str(), e.c_max, seconds(e.dt_with_damping()).c_str());
+  std::string limits, above;
+  bool own_above = false;
+  for (IntegratorKind kind : all_integrators()) {
+    const bool fixed_point = kind == IntegratorKind::ImplicitEuler && scene.implicit.solver == ImplicitSolver::FixedPoint;
+    if (kind == IntegratorKind::ImplicitEuler && !fixed_point) continue;  // backward Euler: no limit
+    const double limit = analysis::predicted_limit(e, kind, scene.implicit);
+    std::string name(integrator_name(kind));
+    if (fixed_point) name += " (fixed_point, " + std::to_string(scene.implicit.fixed_point_iterations) + " iterations)";
+    const std::string value = limit > 0.0 ? seconds(limit) : "none (unstable at every step)";
+    limits += (limits.empty() ? "" : ", ") + name + " " + value;
+    if (scene.dt > limit) {
+      above += (above.empty() ? "" : ", ") + name + " (" + (limit > 0.0 ? value : "unstable at every step") + ")";
+      own_above = own_above || kind == scene.integrator;
+    }
+  }
+  const bool newton = scene.implicit.solver == ImplicitSolver::Newton;
+  std::printf("  predicted step limits: %s%s\n", limits.c_str(), newton ? "; implicit_euler: none" : "");
+  if (above.empty()) return;
+  const std::string consequence =
+      own_above ? "; the scene's integrator " + std::string(integrator_name(scene.integrator)) + " is likely to diverge" : "";
+  std::fflush(stdout);  // the summary first, then the warning, on a terminal as in a log
+  std::fprintf(stderr, "clothsim: warning: %s: dt = %g s is above the predicted step limit of %s%s\n",
+               scene.source.c_str(), scene.dt, above.c_str(), consequence.c_str());
+}
 
 int validate_command(const SceneOptions& o) {
   const SceneDef scene = load_scene_with_options(o);
@@ -30,6 +75,7 @@ int validate_command(const SceneOptions& o) {
   std::printf("  run: %s, dt = %g s, %g s (%.0f steps), %zu scripted actions\n",
               std::string(integrator_name(scene.integrator)).c_str(), scene.dt, scene.duration,
               std::ceil(scene.duration / scene.dt - 1e-9), model.timeline.size());
+  print_step_limits(scene, model);
   return kOk;
 }
 

@@ -24,6 +24,7 @@ class PngSequenceSink final : public FrameSink {
  public:
   PngSequenceSink(std::string dir, PngText meta) : dir_(std::move(dir)), meta_(std::move(meta)) {
     ensure_directory(dir_, "--frames");  // fail before any simulation, not at the first frame
+    refuse_existing_frames(dir_, "--frames");
     writer_ = std::thread([this] { write_loop(); });
   }
 

@@ -2,21 +2,25 @@
 
 #include <cinttypes>
 
+#include "study_common.h"  // csv_text, csv_number: shortest exact form
+
 namespace clothsim::cli {
 
-MetricsWriter::MetricsWriter(const std::string& path) : file_(path) {
+MetricsWriter::MetricsWriter(const std::string& path, const Model& model, IntegratorKind kind, double dt)
+    : file_(path) {
   std::fputs("step,t,kinetic,spring_potential,gravity_potential,total_energy,max_strain,contacts,"
-             "force_evals,newton_iterations,cg_iterations,residual,converged\n",
+             "force_evals,newton_iterations,cg_iterations,residual,converged,scene,integrator,dt\n",
              file_.stream());
+  run_columns_ = "," + csv_text(model.name) + "," + std::string(integrator_name(kind)) + "," + csv_number(dt);
 }
 
 void MetricsWriter::row(const FrameMetrics& m) {
   std::fprintf(file_.stream(),
                "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%" PRId64 ",%" PRId64 ",%" PRId64
-               ",%.6g,%d\n",
+               ",%.6g,%d%s\n",
                m.step, m.t, m.energies.kinetic, m.energies.spring, m.energies.gravity,
                m.energies.total(), m.max_strain, m.contacts, m.force_evals, m.newton_iterations,
-               m.cg_iterations, m.residual, m.converged ? 1 : 0);
+               m.cg_iterations, m.residual, m.converged ? 1 : 0, run_columns_.c_str());
 }
 
 PngText frame_metadata(const Model& model, IntegratorKind kind, double dt) {

@@ -15,14 +15,18 @@ namespace clothsim::cli {
 
 // Columns: the contract's step,t,kinetic,spring_potential,gravity_potential,total_energy,
 // max_strain,contacts,force_evals, then the implicit solver's newton_iterations,
-// cg_iterations (cumulative), residual and converged (of the last step).
+// cg_iterations (cumulative), residual and converged (of the last step), then the run's
+// scene,integrator,dt on every row, so a file says what made it (plot_energy.py labels by
+// them). Columns rather than a header comment: CSV readers (csv.DictReader, pandas) read
+// them without being told to skip comments, and added at the end, old readers are unchanged.
 class MetricsWriter {
  public:
-  explicit MetricsWriter(const std::string& path);
+  MetricsWriter(const std::string& path, const Model& model, IntegratorKind kind, double dt);
   void row(const FrameMetrics& m);
   void commit() { file_.commit(); }
  private:
   AtomicFile file_;
+  std::string run_columns_;  // ",scene,integrator,dt"
 };
 
 // The tEXt chunks of a run's PNGs: scene, source, integrator, dt, software (sinks add t).

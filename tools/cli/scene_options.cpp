@@ -8,14 +8,14 @@
 
 namespace clothsim::cli {
 
-void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run) {
+void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run, const std::string& duration_default) {
   sub->add_option("scene", o.path, "Scene file (YAML; keys in docs/scenes.md)")->required();
   sub->add_option("--set", o.sets,
                   "Override a scene key by its dotted path, e.g. --set cloth.springs.shear.stiffness=1e5 "
                   "(repeatable; VALUE is YAML, so lists work: --set gravity=[0,-1.6,0])")
       ->type_name("KEY=VALUE")
       ->allow_extra_args(false);
-  sub->add_option("--duration", o.duration, "Simulated time in s (default: the scene's duration)");
+  sub->add_option("--duration", o.duration, "Simulated time in s (default: " + duration_default + ")");
   if (single_run) {
     sub->add_option("--integrator", o.integrator,
                     integrator_names_joined(" | ") + " (default: the scene's integrator)");
@@ -30,6 +30,16 @@ void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run) {
            "Time step in s, a number or a fraction (1/60) (default: the scene's dt)")
         ->type_name("S");
   }
+}
+
+void add_picture_options(CLI::App* sub, SceneOptions& o, const std::string& size_of, const std::string& frames_of) {
+  sub->add_option("--width", o.width, "Width of " + size_of + " in pixels (default: the scene's render.width)")
+      ->type_name("PX");
+  sub->add_option("--height", o.height, "Height of " + size_of + " in pixels (default: the scene's render.height)")
+      ->type_name("PX");
+  sub->add_option("--fps", o.fps,
+                  "Output frames per simulated second: " + frames_of + " (default: the scene's render.fps)")
+      ->type_name("F");
 }
 
 IntegratorKind parse_integrator_option(const std::string& name, const std::string& option) {
@@ -70,6 +80,22 @@ SceneDef load_scene_with_options(const SceneOptions& o) {
     scene.dt = *o.dt;
   }
   if (o.integrator) scene.integrator = parse_integrator_option(*o.integrator, "--integrator");
+  // The scene parser's bounds for render.width/height/fps (RenderDef), said as options.
+  const auto pixels = [](std::optional<int> v, const char* option, int& out) {
+    if (!v) return;
+    if (*v < RenderDef::kMinSize || *v > RenderDef::kMaxSize)
+      throw UsageError(std::string(option) + ": must be from " + std::to_string(RenderDef::kMinSize) + " to " +
+                       std::to_string(RenderDef::kMaxSize) + " pixels, got " + std::to_string(*v));
+    out = *v;
+  };
+  pixels(o.width, "--width", scene.render.width);
+  pixels(o.height, "--height", scene.render.height);
+  if (o.fps) {
+    if (!(*o.fps > 0.0) || !std::isfinite(*o.fps) || *o.fps > RenderDef::kMaxFps)
+      throw UsageError("--fps: must be > 0 and <= " + std::to_string(static_cast<int>(RenderDef::kMaxFps)) +
+                       " frames per second, got " + std::to_string(*o.fps));
+    scene.render.fps = *o.fps;
+  }
   return scene;
 }
 

@@ -17,12 +17,22 @@ struct SceneOptions {
   std::optional<double> duration;       // --duration S
   std::optional<std::string> integrator;  // --integrator NAME (when offered)
   std::optional<double> dt;             // --dt S (when offered)
+  std::optional<int> width, height;     // --width/--height px (when offered): render.width/height
+  std::optional<double> fps;            // --fps (when offered): render.fps
 };
 
-// Declares SCENE, --set and --duration; --integrator and --dt only when `single_run`.
-void add_scene_options(CLI::App* sub, SceneOptions& options, bool single_run);
+// Declares SCENE, --set and --duration (its help saying `duration_default`); --integrator and
+// --dt only when `single_run`.
+void add_scene_options(CLI::App* sub, SceneOptions& options, bool single_run,
+                       const std::string& duration_default = "the scene's duration");
+// Declares --width, --height and --fps (run and compare alike): the scene's render.width,
+// render.height and render.fps, overridden. `size_of` says what the size is of, `frames_of`
+// which outputs the frame rate paces.
+void add_picture_options(CLI::App* sub, SceneOptions& options, const std::string& size_of,
+                         const std::string& frames_of);
 
-// Loads and validates the scene with --set applied, then --duration/--integrator/--dt.
+// Loads and validates the scene with --set applied, then --duration/--integrator/--dt and
+// --width/--height/--fps.
 // Throws SceneError (bad scene or --set) or UsageError (bad option value).
 SceneDef load_scene_with_options(const SceneOptions& options);
 

@@ -101,7 +101,7 @@ int run_process(const std::vector<std::string>& args, bool quiet) {
 
 PlotScript::PlotScript(std::string script, std::string png) : png_(std::move(png)) {
   script_ = (fs::path(tools_dir()) / script).string();
-  require_writable_parent(png_, "plot");
+  require_writable_parent(png_, "--plot");
   if (fs::path(png_).extension() != ".png") throw UsageError("--plot: " + png_ + " must end in .png");
   if (!fs::is_regular_file(script_))
     throw RuntimeFailure("--plot: plot script " + script_ + " not found (set CLOTHSIM_TOOLS_DIR to clothsim's tools/ directory)");

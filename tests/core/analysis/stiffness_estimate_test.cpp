@@ -89,5 +89,45 @@ TEST(StiffnessEstimate, WithEveryParticlePinnedThereIsNoLimit) {
   EXPECT_TRUE(std::isinf(e.dt_springs()));
 }
 
+StiffnessEstimate mode(double w, double c) {
+  StiffnessEstimate e;
+  e.w_max = w;
+  e.c_max = c;
+  return e;
+}
+
+TEST(PredictedLimit, UndampedModesHaveTheTextbookLimits) {
+  const StiffnessEstimate e = mode(10.0, 0.0);
+  EXPECT_EQ(predicted_limit(e, IntegratorKind::ExplicitEuler), 0.0);  // never stable
+  EXPECT_EQ(predicted_limit(e, IntegratorKind::Midpoint), 0.0);
+  EXPECT_DOUBLE_EQ(predicted_limit(e, IntegratorKind::SymplecticEuler), 2.0 / 10.0);
+  EXPECT_NEAR(predicted_limit(e, IntegratorKind::Rk4), std::sqrt(8.0) / 10.0, 1e-6);
+  EXPECT_TRUE(std::isinf(predicted_limit(e, IntegratorKind::ImplicitEuler)));
+  ImplicitDef course;  // the course's "implicit": one fixed-point iteration, 1 + z + z^2
+  course.solver = ImplicitSolver::FixedPoint;
+  EXPECT_NEAR(predicted_limit(e, IntegratorKind::ImplicitEuler, course), 1.0 / 10.0, 1e-6);
+}
+
+TEST(PredictedLimit, DampersAloneGiveTheRealAxisReach) {
+  const StiffnessEstimate e = mode(0.0, 100.0);
+  EXPECT_NEAR(predicted_limit(e, IntegratorKind::ExplicitEuler), 2.0 / 100.0, 1e-9);
+  EXPECT_NEAR(predicted_limit(e, IntegratorKind::Midpoint), 2.0 / 100.0, 1e-9);
+  EXPECT_NEAR(predicted_limit(e, IntegratorKind::Rk4), 2.785293563 / 100.0, 1e-8);
+  EXPECT_DOUBLE_EQ(predicted_limit(e, IntegratorKind::SymplecticEuler), 2.0 / 100.0);
+}
+
+TEST(PredictedLimit, MatchesTheClosedFormsOfADampedMode) {
+  // Underdamped (the damped spring.yaml: w = 10, c = 2): explicit Euler needs
+  // |1 + h l|^2 = 1 - h c + h^2 w^2 <= 1, h <= c / w^2; symplectic Euler h^2 w^2 + 2 h c <= 4.
+  EXPECT_NEAR(predicted_limit(mode(10.0, 2.0), IntegratorKind::ExplicitEuler), 2.0 / 100.0, 1e-9);
+  EXPECT_DOUBLE_EQ(predicted_limit(mode(10.0, 2.0), IntegratorKind::SymplecticEuler), (std::sqrt(404.0) - 2.0) / 100.0);
+  // Overdamped (the drape: w ~ 690, c ~ 1.8e4): the fast root l = (-c - sqrt(c^2 - 4 w^2)) / 2.
+  const double w = 690.0, c = 1.8e4, fast = 0.5 * (c + std::sqrt(c * c - 4 * w * w));
+  EXPECT_NEAR(predicted_limit(mode(w, c), IntegratorKind::ExplicitEuler), 2.0 / fast, 1e-9 * 2.0 / fast);
+  EXPECT_NEAR(predicted_limit(mode(w, c), IntegratorKind::Rk4), 2.785293563 / fast, 1e-8 / fast);
+  // Without springs or dampers nothing limits the step.
+  EXPECT_TRUE(std::isinf(predicted_limit(mode(0.0, 0.0), IntegratorKind::ExplicitEuler)));
+}
+
 }  // namespace
 }  // namespace clothsim::analysis

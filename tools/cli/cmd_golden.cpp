@@ -1,0 +1,158 @@
+// clothsim golden check|update MANIFEST.yaml: golden images of users' own scenes, the way
+// pytest-regressions keeps data files. Each manifest entry (golden_manifest.h) is run like
+// `run --still` at each of its times, rendered at its size, and then
+//   check:  compared with its golden image by imgdiff's measure; on a mismatch the render and
+//           an amplified diff are written beside the golden (NAME_tXms.actual.png, .diff.png)
+//           or into --failures DIR. Exit 0 all match, 1 some differ or are missing.
+//   update: the golden images are (re)written.
+// A bad manifest or scene exits 2 before anything is rendered.
+#include <cinttypes>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "gl_options.h"
+#include "golden_manifest.h"
+#include "image_diff.h"
+#include "png_io.h"
+#include "scene_parser.h"
+#include "simulation.h"
+#include "snapshot.h"
+
+namespace clothsim::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct GoldenOptions {
+  std::string manifest;
+  std::string failures_dir;  // empty: beside each golden image
+  GlOptions gl;
+};
+
+// Where a failed check leaves its evidence: "drape_t1500ms.png" -> "drape_t1500ms.actual.png".
+std::string evidence_path(const GoldenOptions& o, const std::string& golden, const char* kind) {
+  const fs::path g(golden);
+  const fs::path dir = o.failures_dir.empty() ? g.parent_path() : fs::path(o.failures_dir);
+  return (dir / (g.stem().string() + "." + kind + ".png")).string();
+}
+
+// Compares one render with its golden image; prints one line; returns whether it matched.
+bool check_one(const GoldenOptions& o, const std::string& golden, const Image& actual, const DiffTolerance& tol) {
+  const std::string name = fs::path(golden).filename().string();
+  const std::string actual_path = evidence_path(o, golden, "actual"), diff_path = evidence_path(o, golden, "diff");
+  std::string problem;
+  bool with_diff = false;
+  if (!fs::exists(golden)) {
+    problem = "missing (`clothsim golden update` writes it)";
+  } else {
+    const Image expected = read_png(golden);
+    if (expected.width != actual.width || expected.height != actual.height) {
+      problem = "golden is " + std::to_string(expected.width) + "x" + std::to_string(expected.height) +
+                ", the render " + std::to_string(actual.width) + "x" + std::to_string(actual.height);
+    } else {
+      const DiffStats stats = compare_images(expected, actual, tol.pixel_threshold);
+      if (within_tolerance(stats, tol)) {
+        std::printf("ok    %s  rms %.3f, max %d, %.3f%% past %d\n", name.c_str(), stats.rms, stats.max,
+                    100.0 * stats.over_fraction, tol.pixel_threshold);
+        fs::remove(actual_path);  // evidence of an earlier failure no longer holds
+        fs::remove(diff_path);
+        return true;
+      }
+      char text[160];
+      std::snprintf(text, sizeof text, "rms %.3f (tolerance %g), max %d, %.3f%% past %d (tolerance %g%%)",
+                    stats.rms, tol.max_rms, stats.max, 100.0 * stats.over_fraction, tol.pixel_threshold,
+                    100.0 * tol.max_over_fraction);
+      problem = text;
+      write_png(diff_path, diff_image(expected, actual));
+      with_diff = true;
+    }
+  }
+  write_png(actual_path, actual);
+  std::printf("FAIL  %s  %s; actual: %s%s\n", name.c_str(), problem.c_str(), actual_path.c_str(),
+              with_diff ? (", diff: " + diff_path).c_str() : "");
+  return false;
+}
+
+int golden_command(const GoldenOptions& o, bool update) {
+  const GoldenManifest manifest = load_golden_manifest(o.manifest);
+  // Every scene is read before any rendering, so a bad one fails at once (exit 2).
+  std::vector<SceneDef> scenes;
+  for (const GoldenEntry& e : manifest.entries) {
+    scenes.push_back(load_scene(e.scene));
+    if (e.integrator) scenes.back().integrator = *e.integrator;
+    if (e.dt) scenes.back().dt = *e.dt;
+  }
+  if (!o.failures_dir.empty() && !update) ensure_directory(o.failures_dir, "--failures");
+  const std::unique_ptr<Renderer> renderer = make_renderer(o.gl);
+
+  int images = 0, bad = 0;
+  for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
+    const GoldenEntry& e = manifest.entries[i];
+    const Model model = build_model(scenes[i]);
+    const IntegratorKind kind = scenes[i].integrator;
+    const double dt = scenes[i].dt;
+    Run run(model, kind, dt);
+    images += static_cast<int>(e.times.size());
+    for (std::size_t k = 0; k < e.times.size(); ++k) {
+      if (interrupted()) throw RuntimeFailure("interrupted; the images listed above are done");
+      const double t = e.times[k];
+      const std::string golden = golden_image_path(manifest, e, t);
+      if (!run.advance_to(t)) {  // this image and the later ones of the entry cannot be made
+        std::printf("FAIL  %s  %s diverged at t = %.6g s: %s\n", fs::path(golden).filename().c_str(),
+                    e.scene.c_str(), run.divergence()->t, run.divergence()->reason.c_str());
+        bad += static_cast<int>(e.times.size() - k);
+        break;
+      }
+      RenderFrame frame = make_render_frame(model, run.state(), {overlay_lines(model, kind, dt, run.state().t), {}});
+      frame.width = e.width;
+      frame.height = e.height;
+      const Image image = renderer->render(frame);
+      if (update) {
+        write_png(golden, image,
+                  with_renderer({{"scene", model.name}, {"integrator", std::string(integrator_name(kind))},
+                                 {"t", std::to_string(t)}, {"software", "clothsim " CLOTHSIM_VERSION}},
+                                *renderer));
+        std::printf("wrote %s\n", golden.c_str());
+      } else if (!check_one(o, golden, image, e.tolerance)) {
+        ++bad;
+      }
+    }
+  }
+  if (update) {
+    std::printf("golden: %d of %d images written (%s)\n", images - bad, images, o.manifest.c_str());
+  } else {
+    std::printf("golden: %d of %d images match (%s)\n", images - bad, images, o.manifest.c_str());
+  }
+  return bad == 0 ? kOk : 1;
+}
+
+}  // namespace
+
+void add_golden_command(CLI::App& app, Command& command) {
+  auto o = std::make_shared<GoldenOptions>();
+  CLI::App* golden = app.add_subcommand(
+      "golden", "Golden images of your own scenes from a manifest: check them, or update them");
+  golden->require_subcommand(1);
+  golden->footer(
+      "Manifest format: docs/golden.md. Exit codes: 0 every image matches (or was written), 1 some\n"
+      "differ, are missing or diverged, 2 a bad manifest or scene (one line: file, line, key).");
+  for (const bool update : {false, true}) {
+    CLI::App* sub = golden->add_subcommand(
+        update ? "update" : "check",
+        update ? "Render every entry and (re)write its golden images beside the manifest"
+               : "Render every entry and compare it with its golden image; on a mismatch write the render "
+                 "(NAME.actual.png) and an amplified diff (NAME.diff.png) beside the golden");
+    sub->add_option("MANIFEST", o->manifest, "The manifest (YAML)")->required()->type_name("MANIFEST.yaml");
+    if (!update)
+      sub->add_option("--failures", o->failures_dir, "Write actual and diff images of failures here instead")
+          ->type_name("DIR");
+    add_gl_options(sub, o->gl);
+    add_progress_options(sub);
+    sub->callback([o, update, &command] { command = [o, update] { return golden_command(*o, update); }; });
+  }
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,94 @@
+#include "progress.h"
+
+#include <unistd.h>
+
+#include <atomic>
+
+#include "cli_common.h"
+
+namespace clothsim::cli {
+
+namespace {
+std::atomic<ProgressMode> g_mode{ProgressMode::automatic};
+std::atomic<bool> g_quiet{false};
+constexpr std::chrono::seconds kLinePeriod{5};  // often enough to see a job alive, rare enough for a log
+}  // namespace
+
+void set_progress_mode(ProgressMode mode) { g_mode = mode; }
+void set_quiet(bool quiet) { g_quiet = quiet; }
+bool quiet() { return g_quiet; }
+
+void add_progress_options(CLI::App* sub) {
+  sub->add_option_function<std::string>(
+         "--progress",
+         [](const std::string& v) {
+           set_progress_mode(v == "always" ? ProgressMode::always : v == "never" ? ProgressMode::never
+                                                                                 : ProgressMode::automatic);
+         },
+         "Progress on stderr: auto (a bar on a terminal, else nothing), always (else a line every 5 s, "
+         "for logs), never (default: auto)")
+      ->check(CLI::IsMember({"auto", "always", "never"}))
+      ->type_name("auto|always|never");
+  sub->add_flag_function("--quiet", [](std::int64_t n) { set_quiet(n > 0); },
+                         "Nothing on stderr but errors and warnings (no progress, no timings)");
+}
+
+void add_no_overwrite_option(CLI::App* sub) {
+  sub->add_flag_function("-n,--no-overwrite", [](std::int64_t n) { set_no_overwrite(n > 0); },
+                         "Refuse to replace an output file that exists (exit 2, before any work)");
+}
+
+Progress::Progress(std::string label, long total, std::string unit)
+    : Progress(std::move(label), total, std::move(unit), g_mode, g_quiet, ::isatty(STDERR_FILENO) == 1, stderr,
+               kLinePeriod) {}
+
+Progress::Progress(std::string label, long total, std::string unit, ProgressMode mode, bool quiet, bool terminal,
+                   std::FILE* out, std::chrono::milliseconds line_period)
+    : label_(std::move(label)), unit_(std::move(unit)), total_(total), out_(out), period_(line_period),
+      start_(std::chrono::steady_clock::now()), last_(start_ - std::chrono::seconds(1)) {
+  if (quiet || mode == ProgressMode::never) style_ = Style::off;
+  else if (terminal) style_ = Style::bar;
+  else style_ = mode == ProgressMode::always ? Style::lines : Style::off;
+  if (style_ == Style::lines) {  // a log shows that the work began, and how much there is
+    line(0, 0.0);
+    last_ = start_;
+  }
+}
+
+Progress::~Progress() { finish(); }
+
+void Progress::finish() {
+  if (style_ == Style::bar) std::fprintf(out_, "\r\033[K");
+  style_ = Style::off;
+}
+
+void Progress::line(long done, double elapsed) {
+  std::fprintf(out_, "%s: %ld/%ld %s", label_.c_str(), done, total_, unit_.c_str());
+  if (done >= total_) std::fprintf(out_, ", done in %.1f s\n", elapsed);
+  else if (done > 0)
+    std::fprintf(out_, ", %.1f s elapsed, %.1f s left\n", elapsed,
+                 elapsed * static_cast<double>(total_ - done) / static_cast<double>(done));
+  else std::fprintf(out_, "\n");
+  std::fflush(out_);
+}
+
+void Progress::update(long done) {
+  if (style_ == Style::off) return;
+  const auto now = std::chrono::steady_clock::now();
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  if (style_ == Style::lines) {
+    if (ended_ || (now - last_ < period_ && done < total_)) return;
+    last_ = now;
+    ended_ = done >= total_;
+    line(done, elapsed);
+    return;
+  }
+  if (now - last_ < std::chrono::milliseconds(100) && done < total_) return;
+  last_ = now;
+  std::fprintf(out_, "\r\033[K%s  %ld/%ld %s", label_.c_str(), done, total_, unit_.c_str());
+  if (done > 0 && done < total_)
+    std::fprintf(out_, "  %.1f s left", elapsed * static_cast<double>(total_ - done) / static_cast<double>(done));
+  std::fflush(out_);
+}
+
+}  // namespace clothsim::cli
