@@ -375,13 +375,21 @@ SphereDef Reader::sphere(const YAML::Node& n, const std::string& path) const {
 
 RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
   RenderDef r;
-  expect_map(n, path, {"width", "height", "fps", "camera", "draw_springs", "draw_particles", "samples"});
+  expect_map(n, path, {"width", "height", "fps", "camera", "draw_springs", "draw_particles", "samples", "msaa"});
   optional(n, path, "width", [&](auto& v, auto& k) { r.width = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
   optional(n, path, "height", [&](auto& v, auto& k) { r.height = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
   optional(n, path, "fps", [&](auto& v, auto& k) { r.fps = in_range(v, k, 0.0, RenderDef::kMaxFps, true); });
   optional(n, path, "draw_springs", [&](auto& v, auto& k) { r.draw_springs = boolean(v, k); });
   optional(n, path, "draw_particles", [&](auto& v, auto& k) { r.draw_particles = boolean(v, k); });
   optional(n, path, "samples", [&](auto& v, auto& k) { r.samples = int_in_range(v, k, 1, 16); });
+  // msaa: 0 (none), 2, 4 or 8 samples; the older `samples` (1 = none) says the same thing.
+  optional(n, path, "msaa", [&](auto& v, auto& k) {
+    if (n["samples"].IsDefined()) fail(v, k, "give msaa or samples, not both");
+    const int m = integer(v, k);
+    if (m != 0 && m != 2 && m != 4 && m != 8)
+      fail(v, k, "value " + v.Scalar() + " is not one of 0, 2, 4, 8");
+    r.samples = m == 0 ? 1 : m;
+  });
   optional(n, path, "camera", [&](auto& v, auto& k) {
     expect_map(v, k, {"eye", "target", "up", "fov"});
     optional(v, k, "eye", [&](auto& w, auto& kk) { r.camera.eye = vec3(w, kk); });

@@ -208,5 +208,17 @@ TEST(SceneParser, SetOnAKeyThatDoesNotExistIsAnErrorNamingTheOverride) {
   EXPECT_NE(std::string(parse_error(yaml, {"spheres.3.radius=1"}).what()).find("--set spheres.3.radius=1"), std::string::npos);
 }
 
+TEST(SceneParser, MsaaIsNoneOrTwoFourOrEightSamples) {
+  EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\nrender: {msaa: 0}\n", "m.yaml").render.samples, 1);
+  EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\nrender: {msaa: 8}\n", "m.yaml").render.samples, 8);
+  EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\nrender: {samples: 2}\n", "m.yaml").render.samples, 2);
+  const SceneError odd = parse_error("cloth: {particles: [3, 3]}\nrender:\n  msaa: 3\n");
+  EXPECT_EQ(odd.line, 3);
+  EXPECT_EQ(odd.key, "render.msaa");
+  EXPECT_NE(std::string(odd.what()).find("not one of 0, 2, 4, 8"), std::string::npos) << odd.what();
+  const SceneError both = parse_error("cloth: {particles: [3, 3]}\nrender:\n  samples: 4\n  msaa: 4\n");
+  EXPECT_EQ(both.key, "render.msaa");
+}
+
 }  // namespace
 }  // namespace clothsim

@@ -68,7 +68,7 @@ BENCHMARK(BM_RenderSheet256_1280x720)->Arg(4)->Arg(1)->Unit(benchmark::kMillisec
 void BM_RenderDrape25_640x360(benchmark::State& st) {
   render_loop(st, scene_frame(25, 1.5, 640, 360, static_cast<int>(st.range(0))));
 }
-BENCHMARK(BM_RenderDrape25_640x360)->Arg(4)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_RenderDrape25_640x360)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 // Arg: zlib level.
 void BM_WritePng_1280x720(benchmark::State& st) {
