@@ -1,5 +1,6 @@
-// Highway's foreach_target.h compiles this file once per x86 target (SSE2 .. AVX-512), each
-// copy inside its own namespace; HWY_EXPORT / HWY_DYNAMIC_DISPATCH pick the copy at run time.
+// Highway's foreach_target.h compiles this file once per x86 target (Highway 1.0's: SCALAR for
+// plain x86-64, SSSE3, SSE4, AVX2, AVX3 = AVX-512), each copy inside its own namespace;
+// HWY_EXPORT / HWY_DYNAMIC_DISPATCH pick the copy at run time.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "spring_kernels.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -170,6 +171,7 @@ double FamilySpringForces(const SpringLayout& layout, const double* HWY_RESTRICT
       const std::size_t k1 = std::min(k0 + kBlock, count);
       for (std::size_t k = k0; k < k1; k += N) {
         const std::size_t a = first + k, b = a + off;  // window indices (k >= base: no wrap)
+        HWY_DASSERT(b + N <= stride);  // debug builds: the window holds what the block touches
         const auto l0 = hn::LoadU(d, rest + k);
         const auto dx = hn::Sub(hn::LoadU(d, xs + a), hn::LoadU(d, xs + b));
         const auto dy = hn::Sub(hn::LoadU(d, ys + a), hn::LoadU(d, ys + b));

@@ -1,23 +1,28 @@
 // The spring force pass in SIMD, over a SpringLayout's grid-stencil families, through Google
-// Highway with runtime dispatch: one binary carries the kernel for SSE2 up to AVX-512 and
-// runs the best one the CPU supports (chosen at the first call).
+// Highway with runtime dispatch: one binary carries the kernel for plain x86-64 (Highway's
+// SCALAR target), SSSE3, SSE4, AVX2 and AVX-512 (AVX3) and runs the best one the CPU supports
+// (chosen at the first call).
 //
-// Per evaluation: x and v are copied into structure-of-arrays scratch (xs, ys, zs, ...); each
-// family is one pass over its positions p in vectors of L lanes, with contiguous unaligned loads
-// of p .. p+L-1 and of p+offset .. p+offset+L-1 (no gathers: they ran slower than scalar code
-// on the project's machine); the force on a is added to one SoA accumulator at p and
-// subtracted from a second one at p + offset, so neither pass stores into lanes another lane of
-// the same vector reads; both accumulators are added back into f (3 x B) at the end.
+// Per evaluation: the positions are walked in blocks (2048), every family in turn within a
+// block. A block copies the particles it reads from x and v (3 x B) into structure-of-arrays
+// scratch (xs, ys, zs, ...), runs each family over its positions p in vectors of L lanes with
+// contiguous unaligned loads of p .. p+L-1 and of p+offset .. p+offset+L-1 (no gathers: they
+// ran slower than scalar code on the project's machine), adds the force on a into one SoA sum
+// at p and subtracts it from a second one at p + offset (no two lanes of a store share a
+// particle, and a pass never stores where its next load overlaps), then adds the particles it
+// finished into f. The scratch is a window of about 2048 + 2 nx particles that slides with the
+// blocks, so it stays in cache on any grid.
 //
 // Numerics. Each spring's force is the scalar reference's (forces.h) to the bit: the same
 // operations in the same order, no fused multiply-add (this file is compiled with
 // -ffp-contract=off and calls Mul and Add, never MulAdd). Only the order in which a particle's
-// spring forces are summed differs from the scalar pass (family by family here, spring list
-// order there), so the two agree to rounding (~1e-16 relative to the largest spring force),
-// not bit for bit. Because lanes never mix and no FMA is used, every target (SSE2, SSE4,
-// AVX2, AVX-512) gives the same bits: a run is bit-identical from run to run and across x86-64
-// CPUs. The largest strain is the exact maximum of the rounded l / l0 (a NaN length sticks),
-// the same number as the scalar pass returns.
+// spring forces are summed differs from the scalar pass ((block, family) order here, spring
+// list order there), so the two agree to rounding (below 1e-15 relative to the largest spring
+// force on the tests' states), not bit for bit. Because lanes never mix, no FMA is used and
+// the blocks do not depend on the lane count, every target (SCALAR .. AVX3) gives the same
+// bits: a run is bit-identical from run to run and across x86-64 CPUs. The largest strain is
+// the exact maximum of the rounded l / l0 (a NaN length sticks), the same number as the scalar
+// pass returns.
 #pragma once
 
 #include <Eigen/Core>

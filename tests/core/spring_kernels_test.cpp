@@ -174,7 +174,7 @@ TEST(SpringKernels, CoincidentEndsGiveNoForceAsInTheScalarPass) {
 }
 
 TEST(SpringKernels, EveryTargetGivesTheSameBits) {
-  // No fused multiply-add and no mixing of lanes: SSE2 .. AVX-512 compute the same numbers.
+  // No fused multiply-add and no mixing of lanes: SCALAR .. AVX3 compute the same numbers.
   const Model m = sheet(37, 23, "structural: {}, shear: {}, bend: {}");
   Eigen::Matrix3Xd x, v;
   perturb(m, x, v, 13);
