@@ -3,14 +3,18 @@
 #include <cmath>
 
 #include "spring_force.h"
+#include "spring_kernels.h"
 
 namespace clothsim {
 
-// The hot loop of every integrator. Springs are streamed as a structure of arrays; the
-// kernel is written out (rather than calling spring_damper_force) so that the compiler keeps
-// everything in registers and the one sqrt and one division per spring are explicit.
-double accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& x,
-                                const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
+namespace {
+
+// The reference loop; returns the largest l / l0 (1 when nothing is stretched). Springs are
+// streamed as a structure of arrays; the kernel is written out (rather than calling
+// spring_damper_force) so that the compiler keeps everything in registers and the one sqrt
+// and one division per spring are explicit.
+double scalar_spring_pass(const Springs& springs, const Eigen::Matrix3Xd& x,
+                          const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
   const std::size_t n = springs.size();
   const std::int32_t* ia = springs.a.data();
   const std::int32_t* ib = springs.b.data();
@@ -26,7 +30,14 @@ double accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& 
     const std::size_t b = 3 * static_cast<std::size_t>(ib[s]);
     const double dx = px[a] - px[b], dy = px[a + 1] - px[b + 1], dz = px[a + 2] - px[b + 2];
     const double l = std::sqrt(dx * dx + dy * dy + dz * dz);
-    if (l > ratio * rest[s] || l != l) ratio = l / rest[s];  // a NaN length sticks: NaN > r is false
+    // l / l0 can exceed ratio only if l >= ratio l0 (rounding is monotone), so the division
+    // runs only then and the result is the exact maximum of the rounded l / l0, whatever the
+    // order of the springs (the SIMD kernel returns the same number). A NaN length enters
+    // and sticks: every later comparison with a NaN ratio is false.
+    if ((l > 0.0 && l >= ratio * rest[s]) || l != l) {
+      const double r = l / rest[s];
+      if (!(r <= ratio)) ratio = r;
+    }
     if (l <= 0.0) continue;  // coincident particles: no direction, no force (as the kernel)
     const double inv_l = 1.0 / l;
     const double ux = dx * inv_l, uy = dy * inv_l, uz = dz * inv_l;
@@ -42,14 +53,29 @@ double accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& 
     pf[b + 1] -= fy;
     pf[b + 2] -= fz;
   }
-  return ratio - 1.0;
+  return ratio;
+}
+
+}  // namespace
+
+double accumulate_spring_forces(const Model& model, const Eigen::Matrix3Xd& x,
+                                const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
+  const SpringLayout& layout = model.spring_layout;
+  if (!layout.covers(model.springs.size())) return scalar_spring_pass(model.springs, x, v, f) - 1.0;
+  const double ratio = accumulate_family_spring_forces(layout, x, v, f);
+  return sticky_max(ratio, scalar_spring_pass(layout.others, x, v, f)) - 1.0;  // x - 1 is monotone
+}
+
+double accumulate_spring_forces_scalar(const Springs& springs, const Eigen::Matrix3Xd& x,
+                                       const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
+  return scalar_spring_pass(springs, x, v, f) - 1.0;
 }
 
 double total_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                     const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& f) {
   const int B = model.num_bodies();
   f.setZero(3, B);
-  const double strain = accumulate_spring_forces(model.springs, x, v, f);
+  const double strain = accumulate_spring_forces(model, x, v, f);
   const double drag = model.air_drag;
   for (int i = 0; i < B; ++i) {
     if (inv_mass[i] == 0.0) {  // pinned particle or kinematic sphere: filtered

@@ -9,11 +9,19 @@
 
 namespace clothsim {
 
-// f (3 x B) += the spring-damper forces of every spring at (x, v). Returns the largest
-// strain (l - l0) / l0 over the springs at x (0 when none is stretched): the divergence check
-// reads it off the step's first force evaluation instead of a second pass over the springs.
-double accumulate_spring_forces(const Springs& springs, const Eigen::Matrix3Xd& x,
-                              const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f);
+// f (3 x B) += the spring-damper forces of the model's springs at (x, v). Returns the largest
+// strain (l - l0) / l0 over the springs at x (0 when none is stretched; NaN when a length is
+// NaN): the divergence check reads it off the step's first force evaluation instead of a
+// second pass over the springs. The grid's stencil families run in the SIMD kernel
+// (spring_kernels.h), any other spring in the scalar loop below; a model whose layout does
+// not cover its springs runs all of them in the scalar loop.
+double accumulate_spring_forces(const Model& model, const Eigen::Matrix3Xd& x,
+                                const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f);
+
+// The scalar reference of the same pass over any spring list, in list order: what the SIMD
+// kernel is tested against, and the path for springs in no family. Same return value.
+double accumulate_spring_forces_scalar(const Springs& springs, const Eigen::Matrix3Xd& x,
+                                       const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f);
 
 // Total force (3 x B) at (x, v): springs, gravity m g on bodies with gravity, drag -c v on
 // cloth particles. Immovable bodies (inv_mass 0) get zero force: they are filtered here.

@@ -115,6 +115,7 @@ Model build_model(const SceneDef& scene) {
   for (int j = 0; j < c.ny; ++j)
     for (int i = 0; i < c.nx; ++i) m.initial_x.col(j * c.nx + i) = grid_position(c, i, j);
   m.springs = build_springs(c, m.initial_x);  // rest lengths from the unstretched grid
+  m.spring_layout = build_spring_layout(m.springs, c.nx, c.ny);
   if (c.initial_stretch != 0.0) {
     const Vec3 axis = Vec3::UnitX();  // the first axis of both planes
     m.initial_x.col(c.nx - 1) += c.initial_stretch * axis;

@@ -15,19 +15,10 @@
 #include <vector>
 
 #include "scene_def.h"
+#include "spring_layout.h"
+#include "springs.h"
 
 namespace clothsim {
-
-enum class SpringType : std::uint8_t { Structural = 0, Shear = 1, Bend = 2 };
-
-// Springs as a structure of arrays (S springs): the force pass streams through them.
-struct Springs {
-  std::vector<std::int32_t> a, b;  // (S) particle indices, a < b
-  std::vector<double> rest;        // (S) rest length l0, m
-  std::vector<double> ks, kd;      // (S) stiffness N/m, damping N s/m
-  std::vector<SpringType> type;    // (S)
-  std::size_t size() const { return a.size(); }
-};
 
 // A change scheduled at a time: pin/unpin a particle or set a kinematic sphere's velocity.
 struct TimedAction {
@@ -51,6 +42,7 @@ struct Model {
   Eigen::Matrix3Xd initial_x, initial_v;  // (3 x B)
 
   Springs springs;
+  SpringLayout spring_layout;  // the same springs in grid-stencil families, for the SIMD pass
 
   // Spheres (S), indexed s; body index P + s.
   std::vector<double> sphere_radius;        // (S) m

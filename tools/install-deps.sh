@@ -7,6 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev            # flat state, sparse Jacobians, conjugate gradient
   libyaml-cpp-dev          # scene files
+  libhwy-dev               # Google Highway: the SIMD spring force kernel, one binary for x86-64 up to AVX-512
   libcli11-dev             # command line
   libosmesa6-dev           # offscreen OpenGL through OSMesa (llvmpipe), no GPU or display
   libegl-dev libegl-mesa0 libgl-dev  # offscreen OpenGL through EGL (surfaceless on Mesa, device on NVIDIA)

@@ -38,7 +38,10 @@ TEST(Run, DrapeFinalStateHashIsUnchanged) {
   clothsim::Run again(m, IntegratorKind::SymplecticEuler, m.dt);
   ASSERT_TRUE(again.advance_to(0.3));
   EXPECT_EQ(state_hash(run.state()), state_hash(again.state()));  // deterministic in-process
-  EXPECT_EQ(state_hash(run.state()), 0xffc192b93c0bafecull) << std::hex << "hash: 0x" << state_hash(run.state());
+  // 0xe40c80b905a92525 since the SIMD spring pass (issue 11): a particle's spring forces are
+  // summed family by family instead of in spring-list order. The same on every x86-64 CPU
+  // (the kernel gives the same bits on every Highway target: spring_kernels_test).
+  EXPECT_EQ(state_hash(run.state()), 0xe40c80b905a92525ull) << std::hex << "hash: 0x" << state_hash(run.state());
 }
 
 TEST(Run, PinnedParticlesNeverMove) {

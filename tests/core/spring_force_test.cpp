@@ -57,7 +57,7 @@ TEST(SpringForce, SystemPassAppliesEqualAndOppositeForces) {
   x << 2, 0, 0.5, 0, -1, 0;
   v << 1, 0, 0, 0.5, 2, 0;
   // It also returns the largest strain, read off the lengths it computes anyway.
-  EXPECT_NEAR(accumulate_spring_forces(s, x, v, f), std::sqrt(4 + 1 + 0.25) - 1.0, 1e-12);
+  EXPECT_NEAR(accumulate_spring_forces_scalar(s, x, v, f), std::sqrt(4 + 1 + 0.25) - 1.0, 1e-12);
   const Vec3 expected = spring_damper_force(x.col(0), x.col(1), v.col(0), v.col(1), 1.0, 10.0, 3.0);
   EXPECT_NEAR((f.col(0) - expected).norm(), 0.0, 1e-12);
   EXPECT_NEAR((f.col(0) + f.col(1)).norm(), 0.0, 1e-12);
