@@ -83,8 +83,10 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A) {
   }
   column_start_.assign(B + 1, 0);
   for (int j = 0; j < B; ++j) column_start_[j + 1] = column_start_[j] + count[j];
-  row_.assign(column_start_[B], 0);
-  value_.assign(column_start_[B], Mat3::Zero());
+  // L's storage waits for the first factorisation: most runs never factor, and on a
+  // 256 x 256 sheet it would be hundreds of MB.
+  row_.clear();
+  value_.clear();
   d_inverse_.assign(B, Mat3::Identity());
   y_.assign(B, Mat3::Zero());
   pattern_.assign(B, 0);
@@ -132,6 +134,10 @@ bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const Velocit
   // order, give Z_i = Y_i^T = L(k, i) D_i, so L(k, i) = Y_i^T D_i^-1 and
   // D_k = A(k, k) - sum_i L(k, i) Y_i.
   ready_ = false;
+  if (value_.size() != static_cast<std::size_t>(column_start_[B])) {
+    row_.assign(column_start_[B], 0);
+    value_.assign(column_start_[B], Mat3::Zero());
+  }
   std::fill(flag_.begin(), flag_.end(), -1);
   std::fill(filled_.begin(), filled_.end(), 0);
   for (int k = 0; k < B; ++k) {

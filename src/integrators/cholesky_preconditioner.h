@@ -38,7 +38,8 @@ namespace clothsim {
 class CholeskyPreconditioner {
  public:
   // Orders A's bodies to reduce fill (AMD on the graph of springs) and computes the factor's
-  // pattern (its elimination tree and column counts): once per model, the only allocating call.
+  // pattern (its elimination tree and column counts): once per model. L itself is allocated
+  // by the first factorize.
   void analyse(const SpringBlockMatrix& A);
   bool analysed() const { return analysed_; }
   void reset() { analysed_ = ready_ = false; }  // a new model: analyse again
@@ -59,7 +60,9 @@ class CholeskyPreconditioner {
   // multiply-add, measured, is folded in (cholesky_preconditioner.cpp).
   double factor_cost() const { return factor_cost_; }
   double solve_cost() const { return solve_cost_; }
-  std::size_t factor_blocks() const { return row_.size(); }  // off-diagonal blocks of L
+  std::size_t factor_blocks() const {  // off-diagonal blocks of L
+    return column_start_.empty() ? 0 : static_cast<std::size_t>(column_start_.back());
+  }
 
  private:
   // Bodies are factored in a fill-reducing order: new index k is body order_[k], body i is
