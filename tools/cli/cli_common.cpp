@@ -110,12 +110,35 @@ namespace {
 std::atomic<int> g_signal{0};  // lock-free, so safe to store from a handler
 extern "C" void on_sigint(int sig) {
   g_signal.store(sig);
-  std::signal(sig, SIG_DFL);  // a second Ctrl-C (or TERM) kills at once
+  // A second signal of either kind kills at once (a batch scheduler's TERM after a Ctrl-C,
+  // or a user's second Ctrl-C while cleanup is stuck). signal() is async-signal-safe.
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
 }
 }  // namespace
 
 bool interrupted() { return g_signal.load(std::memory_order_relaxed) != 0; }
 int interrupt_signal() { return g_signal.load(std::memory_order_relaxed); }
+
+const char* interrupt_signal_name() {
+  const int sig = interrupt_signal();
+  return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
+}
+
+std::string interruption_message(double t, const std::vector<std::string>& kept,
+                                 const std::vector<std::string>& not_written) {
+  char when[64];
+  std::snprintf(when, sizeof when, "%.6g", t);
+  std::string out = std::string("stopped by ") + interrupt_signal_name() + " at t = " + when + " s; ";
+  const auto join = [](const std::vector<std::string>& items) {
+    std::string text;
+    for (const std::string& item : items) text += (text.empty() ? "" : ", ") + item;
+    return text;
+  };
+  out += kept.empty() ? "nothing kept" : "kept " + join(kept);
+  if (!not_written.empty()) out += "; not written: " + join(not_written);
+  return out;
+}
 
 void install_interrupt_handler() {
   struct sigaction sa{};

@@ -77,9 +77,16 @@ class Progress {
 
 // Set by the SIGINT/SIGTERM handler (install_interrupt_handler); long loops poll it and stop
 // cleanly. interrupt_signal() is the signal that arrived (0: none).
+// A second SIGINT or SIGTERM ends the process at once (the handler restores the defaults).
 bool interrupted();
 int interrupt_signal();
+const char* interrupt_signal_name();  // "SIGINT", "SIGTERM"
 void install_interrupt_handler();
+// The one line a stopped command ends with (main adds "clothsim: "), saying exactly what stays
+// on disk and what does not: "stopped by SIGTERM at t = 0.2 s; kept 7 PNGs in out/; not
+// written: m.csv, clip.mp4" ("nothing kept" when `kept` is empty).
+std::string interruption_message(double t, const std::vector<std::string>& kept,
+                                 const std::vector<std::string>& not_written);
 
 // A finite number written as a number ("0.004", "4e-3") or a fraction of two ("1/60", the
 // way a step of one per frame is said); nullopt for anything else (words, "1/0", "1/", "").

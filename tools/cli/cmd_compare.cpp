@@ -11,9 +11,9 @@
 //
 // Outputs are checked before any simulation (unknown integrator or layout, unwritable
 // paths, bad --dt or --times: milliseconds, exit 2 or 1), written under temporary names
-// and renamed when complete. Ctrl-C stops at the next frame, removes the temporaries and
-// exits 130 (143 on SIGTERM; as `run` does) saying what was not written; PNGs already written under
-// --frames stay (each is complete).
+// and named when complete. SIGINT / SIGTERM stop every run before its next step (the renderer
+// never waits on a lane for more than 20 ms without looking), drop the incomplete outputs and
+// exit 130 / 143 saying what stays: PNGs already written under --frames (each is complete).
 //
 // Frame k is the state at t = k / fps for k = 0 .. floor(duration * fps), as in `run`.
 // The summary (stdout) has one row per run; the time breakdown (stderr) says where the
@@ -157,9 +157,8 @@ int compare_command(const CompareOptions& o) {
   const double fps = scene.render.fps;
   const bool with_frames = !o.video.empty() || !o.frames_dir.empty();
   const bool rendering = with_frames || !o.sheet.empty() || o.still_t;
-  const std::vector<Target> targets =
-      plan_targets(scene.duration, fps, with_frames, sheet_times, o.still_t.value_or(-1.0));
-  const int frames = count_frames(targets);
+  const TargetPlan targets(scene.duration, fps, with_frames, sheet_times, o.still_t.value_or(-1.0));
+  const long frames = targets.frames();
 
   // 2. Outputs (each removes its temporary if destroyed before finish()).
   std::unique_ptr<Renderer> renderer;
@@ -182,8 +181,8 @@ int compare_command(const CompareOptions& o) {
   // 3. The runs, one thread each, and the render/compose/encode loop on this thread.
   std::vector<std::unique_ptr<RunWorker>> workers;
   for (std::size_t i = 0; i < kinds.size(); ++i)
-    workers.push_back(std::make_unique<RunWorker>(model, kinds[i], dts[i], targets,
-                                                  grid->cell_width(), grid->cell_height()));
+    workers.push_back(std::make_unique<RunWorker>(model, kinds[i], dts[i], targets, grid->cell_width(),
+                                                  grid->cell_height(), 4, [] { return interrupted(); }));
 
   StageTimes time;
   std::vector<Image> tiles(kinds.size());
@@ -197,27 +196,37 @@ int compare_command(const CompareOptions& o) {
   for (IntegratorKind kind : kinds) labels.emplace_back(integrator_name(kind));
   std::vector<std::vector<Image>> sheet_cells(kinds.size(), std::vector<Image>(sheet_times.size()));
   Image canvas;
-  auto progress = std::make_unique<Progress>("compare " + model.name,
-                                             static_cast<long>(targets.size()), "frames");
+  auto progress = std::make_unique<Progress>("compare " + model.name, targets.size(), "frames");
   TileSnapshot snapshot;
   bool still_written = false;
-  for (std::size_t n = 0; n < targets.size(); ++n) {
-    const Target& target = targets[n];
-    if (interrupted()) {
-      for (auto& w : workers) w->stop();
-      progress.reset();
-      std::string lost = o.video.empty() ? std::string() : o.video + " ";
-      if (!o.sheet.empty()) lost += o.sheet + " ";
-      if (!o.still_out.empty() && !still_written) lost += o.still_out + " ";
-      throw RuntimeFailure("interrupted at t = " + std::to_string(target.t) + " s; " +
-                           (lost.empty() ? std::string("nothing") : lost) + "not written" +
-                           (o.frames_dir.empty() ? "" : " (PNGs so far kept in " + o.frames_dir + ")"));
+  // A signal: the runs stop before their next step, every output not complete is dropped
+  // (each sink removes its temporary), and the message says what stays on disk.
+  const auto stop_here = [&](double t) -> RuntimeFailure {
+    for (auto& w : workers) w->stop();
+    progress.reset();
+    std::vector<std::string> kept, lost;
+    for (auto& sink : tile_pngs) {
+      const std::string left = sink->abandon();
+      if (!left.empty()) kept.push_back(left);
     }
+    if (video) video->abandon();
+    if (still_written) kept.push_back(o.still_out);
+    for (const std::string* out : {&o.video, &o.sheet})
+      if (!out->empty()) lost.push_back(*out);
+    if (!o.still_out.empty() && !still_written) lost.push_back(o.still_out);
+    return RuntimeFailure(interruption_message(t, kept, lost));
+  };
+  TargetPlan::Cursor cursor(targets);
+  long n = 0;
+  for (Target target; cursor.next(target); ++n) {
+    if (interrupted()) throw stop_here(target.t);
     for (std::size_t i = 0; i < workers.size(); ++i) {
       if (frozen[i]) continue;  // a diverged run keeps its last picture
       {
         Stopwatch watch(time.wait);
-        if (!workers[i]->next(snapshot)) continue;
+        const bool got = workers[i]->next(snapshot);
+        if (interrupted()) throw stop_here(target.t);  // next() gives up on a signal
+        if (!got) continue;
       }
       frozen[i] = snapshot.frozen;
       if (rendering) {
@@ -248,7 +257,7 @@ int compare_command(const CompareOptions& o) {
     }
     if (target.column >= 0)
       for (std::size_t i = 0; i < tiles.size(); ++i) sheet_cells[i][target.column] = tiles[i];
-    progress->update(static_cast<long>(n + 1));
+    progress->update(n + 1);
   }
   progress.reset();
 
@@ -280,7 +289,7 @@ int compare_command(const CompareOptions& o) {
   print_summary(model, runs);
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
   std::fprintf(stderr,
-               "compare: %d frames of %dx%d (%zu tiles of %dx%d) in %.1f s wall: simulate %.1f s cpu "
+               "compare: %ld frames of %dx%d (%zu tiles of %dx%d) in %.1f s wall: simulate %.1f s cpu "
                "on %zu threads (renderer waited %.1f s), render %.1f s, compose %.2f s, PNG %.1f s, "
                "encode %.1f s, sheet/still %.1f s\n",
                frames, grid->width(), grid->height(), kinds.size(), grid->cell_width(),

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "cli_common.h"
 #include "commands.h"
@@ -70,20 +72,41 @@ int run_command(const RunOptions& o) {
 
   install_interrupt_handler();
   Run run(model, kind, dt);
+  run.set_stop_check([] { return interrupted(); });  // polled before every step
+  bool still_written = false;
+  // A signal: every output not complete is dropped (the sinks remove their temporaries), and
+  // the message says what stays on disk (PNGs already written under --frames, a still taken).
+  const auto stop_here = [&]() -> RuntimeFailure {
+    std::vector<std::string> kept, lost;
+    if (png_sink) {
+      const std::string left = png_sink->abandon();
+      if (!left.empty()) kept.push_back(left);
+    }
+    if (video_sink) video_sink->abandon();
+    if (o.still_t && still_written) kept.push_back(o.still_out);
+    for (const std::string* out : {&o.metrics, &o.video, &o.state})
+      if (!out->empty()) lost.push_back(*out);
+    if (o.still_t && !still_written) lost.push_back(o.still_out);
+    return RuntimeFailure(interruption_message(run.state().t, kept, lost));
+  };
   Progress progress("run " + model.name, frames, "frames");
   RenderFrame last_good;  // frame 0 (t = 0) is always good: no step has been taken
   bool still_done = !o.still_t;
   const auto take_still = [&] {
     run.advance_to(*o.still_t);
-    if (!run.diverged()) write_png(o.still_out, renderer->render(snapshot_of(run)), frame_metadata(model, kind, dt));
+    if (run.stopped()) throw stop_here();
+    if (!run.diverged()) {
+      write_png(o.still_out, renderer->render(snapshot_of(run)), frame_metadata(model, kind, dt));
+      still_written = true;
+    }
     still_done = true;
   };
   for (long k = 0; k < frames; ++k) {
-    if (interrupted()) throw RuntimeFailure("interrupted: stopped at t = " + std::to_string(run.state().t) +
-                                            " s; no output was written");
+    if (interrupted()) throw stop_here();
     const double target = std::min(static_cast<double>(k) / fps, end);
     if (!still_done && *o.still_t <= target) take_still();
     const bool ok = run.advance_to(target);
+    if (run.stopped()) throw stop_here();
     if (metrics) metrics->row(run.metrics());
     if (png_sink || video_sink) {
       // A run that diverged freezes on its last good frame, as a tile of `compare` does.
@@ -99,6 +122,7 @@ int run_command(const RunOptions& o) {
   }
   if (!still_done && !run.diverged()) take_still();  // a still after the last whole frame
   if (!run.diverged()) run.advance_to(end);  // an end that is not a whole frame
+  if (run.stopped() || interrupted()) throw stop_here();
   progress.finish();
 
   if (metrics) metrics->commit();

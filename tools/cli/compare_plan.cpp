@@ -89,30 +89,54 @@ std::vector<double> parse_times(const std::string& text, double duration) {
   return times;
 }
 
-std::vector<Target> plan_targets(double duration, double fps, bool with_frames,
-                                 const std::vector<double>& sheet_times, double still_t) {
-  std::vector<Target> targets;
-  if (with_frames) {
-    const int last = static_cast<int>(std::floor(duration * fps + 1e-9));
-    for (int k = 0; k <= last; ++k) targets.push_back(Target{std::min(k / fps, duration), k, -1, false});
-  }
-  // The target at time t, inserted in order unless one is already within a microsecond.
-  auto target_at = [&targets](double t) -> Target& {
-    auto at = std::lower_bound(targets.begin(), targets.end(), t - 1e-6,
+TargetPlan::TargetPlan(double duration, double fps, bool with_frames,
+                       const std::vector<double>& sheet_times, double still_t)
+    : duration_(duration), fps_(fps) {
+  // duration * fps is bounded at validation (check_run_bounds), so the cast is defined.
+  if (with_frames) frames_ = static_cast<long>(std::floor(duration * fps + 1e-9)) + 1;
+  // The extra target at time t, inserted in order unless one is already within a microsecond.
+  auto extra_at = [this](double t) -> Target& {
+    auto at = std::lower_bound(extras_.begin(), extras_.end(), t - 1e-6,
                                [](const Target& a, double v) { return a.t < v; });
-    if (at != targets.end() && std::abs(at->t - t) <= 1e-6) return *at;
-    return *targets.insert(at, Target{t, -1, -1, false});
+    if (at != extras_.end() && std::abs(at->t - t) <= 1e-6) return *at;
+    return *extras_.insert(at, Target{t, -1, -1, false});
   };
-  for (std::size_t c = 0; c < sheet_times.size(); ++c)
-    target_at(sheet_times[c]).column = static_cast<int>(c);
-  if (still_t >= 0.0) target_at(still_t).still = true;
-  if (targets.empty()) targets.push_back(Target{duration, -1, -1, false});
-  return targets;
+  for (std::size_t c = 0; c < sheet_times.size(); ++c) extra_at(sheet_times[c]).column = static_cast<int>(c);
+  if (still_t >= 0.0) extra_at(still_t).still = true;
+  if (frames_ == 0 && extras_.empty()) extras_.push_back(Target{duration, -1, -1, false});
+  size_ = frames_;
+  for (Target& e : extras_) {
+    e.frame = static_cast<int>(frame_at(e.t));
+    if (e.frame < 0) ++size_;  // between frames: a target of its own
+  }
 }
 
-int count_frames(const std::vector<Target>& targets) {
-  return static_cast<int>(std::count_if(targets.begin(), targets.end(),
-                                        [](const Target& t) { return t.frame >= 0; }));
+double TargetPlan::frame_time(long k) const { return std::min(static_cast<double>(k) / fps_, duration_); }
+
+long TargetPlan::frame_at(double t) const {
+  if (frames_ == 0) return -1;
+  const long k = std::clamp(static_cast<long>(std::llround(t * fps_)), 0L, frames_ - 1);
+  for (long c : {k - 1, k, k + 1})  // the nearest frame, allowing for rounding either way
+    if (c >= 0 && c < frames_ && std::abs(frame_time(c) - t) <= 1e-6) return c;
+  return -1;
+}
+
+bool TargetPlan::Cursor::next(Target& out) {
+  const TargetPlan& p = *plan_;
+  const bool extra_left = extra_ < p.extras_.size();
+  if (extra_left && (frame_ >= p.frames_ || p.extras_[extra_].frame == frame_ ||
+                     p.extras_[extra_].t < p.frame_time(frame_))) {
+    out = p.extras_[extra_++];
+    if (out.frame >= 0) {
+      out.t = p.frame_time(out.frame);  // the frame's own time, as when there is no extra
+      frame_ = out.frame + 1;
+    }
+    return true;
+  }
+  if (frame_ >= p.frames_) return false;
+  out = Target{p.frame_time(frame_), static_cast<int>(frame_), -1, false};
+  ++frame_;
+  return true;
 }
 
 std::string time_label(double t) {

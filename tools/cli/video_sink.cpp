@@ -35,6 +35,11 @@ class VideoSink final : public FrameSink {
     }
   }
 
+  std::string abandon() override {
+    writer_.reset();  // removes the unfinished file
+    return "";
+  }
+
   void finish() override {
     if (!writer_) throw RuntimeFailure(path_ + ": no frames to encode");
     try {
