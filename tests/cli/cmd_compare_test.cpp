@@ -311,6 +311,27 @@ TEST(CmdCompare, StopsWithinTheBoundAtATinyStepOnEitherSignalLeavingNothing) {
   }
 }
 
+TEST(CmdCompare, SigkillLeavesNoFileAndNoTemporary) {
+  const std::string dir = scratch_dir("compare_sigkill");
+  const auto r = cli::run_clothsim_interrupted(
+      {"compare", kDrape, "--dt", "1e-9", "--width", "320", "--height", "180", "--video", dir + "/v.mp4",
+       "--sheet", dir + "/s.png", "--times", "0.5"},
+      1.0, SIGKILL);
+  EXPECT_EQ(r.exit_code, 128 + SIGKILL);
+  EXPECT_TRUE(cli::only_files(dir, {}));
+}
+
+TEST(CmdCompare, AWriteFailureIsOneLineExit1AndLeavesNothing) {
+  const std::string dir = scratch_dir("compare_fsize");
+  const auto r = cli::run_clothsim({"compare", kDrape, "--duration", "1", "--width", "320", "--height", "180",
+                                    "--video", dir + "/v.mp4"},
+                                   "ulimit -f 16;");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+  EXPECT_TRUE(cli::only_files(dir, {}));
+}
+
 TEST(CmdCompare, AnInterruptedFramesRunSaysWhichPngsItKept) {
   const std::string dir = scratch_dir("compare_interrupt_frames");
   const auto r = cli::run_clothsim_interrupted(

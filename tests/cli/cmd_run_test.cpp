@@ -304,6 +304,37 @@ TEST(CmdRun, StopsWithinTheBoundAtATinyStepOnEitherSignalLeavingNothing) {
   }
 }
 
+// A file-size limit (ulimit -f 16: 8 kB in dash's 512-byte blocks) makes every output's
+// write fail with EFBIG, as a full disk fails with ENOSPC: exit 1, one line with the system's
+// reason, and nothing under the requested name (nor a temporary beside it).
+TEST(CmdRun, AWriteFailureOnAnyOutputIsOneLineExit1AndLeavesNothing) {
+  const std::vector<std::pair<std::string, std::string>> outputs = {
+      {"--state", "s.csv"}, {"--metrics", "m.csv"}, {"--video", "v.mp4"}, {"--frames", "f"}};
+  for (const auto& [option, name] : outputs) {
+    const std::string dir = scratch_dir("run_fsize_" + name);
+    const CliResult r = run_clothsim(
+        {"run", shipped("drape.yaml"), "--duration", "2", option, dir + "/" + name}, "ulimit -f 16;");
+    EXPECT_EQ(r.exit_code, 1) << option << "\n" << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << option << "\n" << r.err;
+    EXPECT_NE(r.err.find("cannot write " + dir + "/" + name), std::string::npos) << option << "\n" << r.err;
+    EXPECT_NE(r.err.find("File too large"), std::string::npos) << option << "\n" << r.err;
+    if (option == "--frames") EXPECT_TRUE(only_files(dir + "/f", {})) << "no PNG, whole or partial";
+    else EXPECT_TRUE(only_files(dir, {})) << option << ": nothing under the name, no temporary";
+  }
+}
+
+// SIGKILL cannot be caught: outputs are created without a name (O_TMPFILE) and named only
+// when complete, so a killed run leaves nothing at all, not even a hidden temporary.
+TEST(CmdRun, SigkillLeavesNoFileAndNoTemporary) {
+  const std::string dir = scratch_dir("run_sigkill");
+  const StoppedResult r = run_clothsim_interrupted(
+      {"run", shipped("drape.yaml"), "--set", "dt=1e-9", "--state", dir + "/s.csv", "--metrics",
+       dir + "/m.csv", "--video", dir + "/v.mp4", "--set", "render.width=64", "--set", "render.height=64"},
+      1.0, SIGKILL);
+  EXPECT_EQ(r.exit_code, 128 + SIGKILL);
+  EXPECT_TRUE(only_files(dir, {}));
+}
+
 TEST(CmdRun, AnInterruptedFramesRunSaysItKeptThePngsItWrote) {
   const std::string dir = scratch_dir("run_interrupt_frames");
   const StoppedResult r = run_clothsim_interrupted(

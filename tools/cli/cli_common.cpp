@@ -35,12 +35,7 @@ void require_writable_parent(const std::string& path, const std::string& what) {
 
 std::string temp_path_beside(const std::string& path) {
   require_writable_parent(path, "output");
-  static std::atomic<int> counter{0};
-  const fs::path p(path);
-  // Hidden, unique, and with the same extension (libavformat picks the container from it).
-  const std::string name = "." + p.stem().string() + ".partial-" + std::to_string(::getpid()) + "-" +
-                           std::to_string(counter++) + p.extension().string();
-  return (p.has_parent_path() ? p.parent_path() / name : fs::path(name)).string();
+  return hidden_temp_name(path);
 }
 
 void ensure_directory(const std::string& dir, const std::string& what) {
@@ -55,24 +50,20 @@ void ensure_directory(const std::string& dir, const std::string& what) {
   if (ec) throw RuntimeFailure("cannot create " + what + " directory " + dir + ": " + ec.message());
 }
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temp_(temp_path_beside(path_)) {
-  stream_ = std::fopen(temp_.c_str(), "wb");
-  if (!stream_) throw RuntimeFailure("cannot write " + path_ + ": " + std::strerror(errno));
-}
-
-AtomicFile::~AtomicFile() {
-  if (stream_) std::fclose(stream_);
-  if (!committed_) std::remove(temp_.c_str());
+AtomicFile::AtomicFile(const std::string& path) {
+  try {
+    file_ = std::make_unique<OutputFile>(path);
+  } catch (const OutputFileError& e) {
+    throw RuntimeFailure(e.what());
+  }
 }
 
 void AtomicFile::commit() {
-  const bool write_ok = std::fflush(stream_) == 0 && !std::ferror(stream_);
-  const bool close_ok = std::fclose(stream_) == 0;
-  stream_ = nullptr;
-  if (!write_ok || !close_ok) throw RuntimeFailure("cannot write " + path_ + ": " + std::strerror(errno));
-  if (std::rename(temp_.c_str(), path_.c_str()) != 0)
-    throw RuntimeFailure("cannot rename " + temp_ + " to " + path_ + ": " + std::strerror(errno));
-  committed_ = true;
+  try {
+    file_->commit();
+  } catch (const OutputFileError& e) {
+    throw RuntimeFailure(e.what());
+  }
 }
 
 bool Progress::enabled() { return ::isatty(STDERR_FILENO) == 1; }

@@ -4,10 +4,13 @@
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "output_file.h"
 
 namespace clothsim::cli {
 
@@ -30,28 +33,21 @@ struct RuntimeFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// A file written under a temporary name beside `path` and renamed onto it by commit().
-// Destroyed uncommitted (an error, an exception, Ctrl-C handled by the caller), it removes
-// the temporary: the requested name never holds a half-written file.
+// A CSV or JSON output: an OutputFile (render/output_file.h: nameless until commit(), so an
+// error, a signal or even SIGKILL leaves nothing under the name) with RuntimeFailure errors.
 class AtomicFile {
  public:
-  explicit AtomicFile(std::string path);  // throws RuntimeFailure if the directory is not writable
-  ~AtomicFile();
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
-  std::FILE* stream() { return stream_; }
-  const std::string& temp_path() const { return temp_; }
-  const std::string& path() const { return path_; }
-  void commit();  // flush, close, rename; throws RuntimeFailure
+  explicit AtomicFile(const std::string& path);  // throws RuntimeFailure if it cannot be created
+  std::FILE* stream() { return file_->stream(); }
+  const std::string& path() const { return file_->path(); }
+  void commit();  // flush, name, close; throws RuntimeFailure "cannot write PATH: reason"
  private:
-  std::string path_, temp_;
-  std::FILE* stream_ = nullptr;
-  bool committed_ = false;
+  std::unique_ptr<OutputFile> file_;
 };
 
-// A temporary path beside `path` (same directory, so rename is atomic), e.g. for writers
-// that open files themselves (libavformat). Throws RuntimeFailure if the directory does
-// not exist or is not writable, naming the path.
+// A hidden temporary path beside `path` for files another process writes (the plot
+// scripts), renamed by the caller. Throws RuntimeFailure if the directory does not exist
+// or is not writable, naming the path.
 std::string temp_path_beside(const std::string& path);
 // Checks before any work is done that `path` can be created: its directory exists and is
 // writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist").

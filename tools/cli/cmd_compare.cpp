@@ -10,8 +10,8 @@
 // compare, divergence is a result (exit 0), shown in the clip and in the summary table.
 //
 // Outputs are checked before any simulation (unknown integrator or layout, unwritable
-// paths, bad --dt or --times: milliseconds, exit 2 or 1), written under temporary names
-// and named when complete. SIGINT / SIGTERM stop every run before its next step (the renderer
+// paths, bad --dt or --times: milliseconds, exit 2 or 1), created without a name and
+// named when complete. SIGINT / SIGTERM stop every run before its next step (the renderer
 // never waits on a lane for more than 20 ms without looking), drop the incomplete outputs and
 // exit 130 / 143 saying what stays: PNGs already written under --frames (each is complete).
 //

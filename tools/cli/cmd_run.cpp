@@ -173,8 +173,8 @@ void add_run_command(CLI::App& app, Command& command) {
       "Exits 3 when the run diverges (non-finite state, strain or kinetic energy past the scene's\n"
       "divergence bounds), saying at which step and time and why; --metrics is then kept up to\n"
       "that point and --state is not written. With --strict, exits 4 when any implicit step did\n"
-      "not converge, saying how many (all outputs are still written). Outputs are written under\n"
-      "temporary names and renamed at the end.\n") + kExitCodesHelp);
+      "not converge, saying how many (all outputs are still written). Outputs are created with\n"
+      "no name (O_TMPFILE) and named only when complete: nothing is left behind, even by SIGKILL.\n") + kExitCodesHelp);
   sub->add_flag("--strict", o->strict,
                 "Exit 4 if any implicit_euler step ended above its Newton tolerance");
   sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at the scene's fps")

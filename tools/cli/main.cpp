@@ -4,6 +4,7 @@
 // 4 an implicit step did not converge (run --strict), 130 / 143 stopped by SIGINT / SIGTERM
 // (after removing temporaries and saying what was kept).
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 
@@ -17,6 +18,10 @@ using namespace clothsim;
 using namespace clothsim::cli;
 
 int main(int argc, char** argv) {
+  // Past a file-size limit (ulimit -f, a batch scheduler's quota) the kernel would kill us
+  // with SIGXFSZ mid-write; ignored, the write fails with EFBIG and the output is dropped
+  // with one line ("cannot write clip.mp4: File too large"), exit 1, like a full disk.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{
       "clothsim " CLOTHSIM_VERSION
       " - a headless mass-spring cloth simulator that shows and measures how time\n"
@@ -67,6 +72,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "clothsim: render: %s\n", e.what());
     return kRuntimeFailure;
   } catch (const PngError& e) {
+    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    return kRuntimeFailure;
+  } catch (const OutputFileError& e) {
     std::fprintf(stderr, "clothsim: %s\n", e.what());
     return kRuntimeFailure;
   } catch (const std::exception& e) {

@@ -2,14 +2,16 @@
 // libavformat. See video_writer.h for the choices; this file is the plumbing.
 #include "video_writer.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
+
+#include "output_file.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -68,10 +70,28 @@ std::string av_error_text(int code) {
   throw VideoError(message);
 }
 
-// Beside the target, so the final rename stays within one filesystem (atomic).
-std::string make_temp_path(const std::string& path) {
-  static std::atomic<int> counter{0};
-  return path + "." + std::to_string(::getpid()) + "." + std::to_string(counter++) + ".tmp";
+// An I/O failure says it as every output does: "cannot write PATH: File too large".
+[[noreturn]] void fail_write(const std::string& path, int code) {
+  take_log_error();  // the muxer's own line repeats the reason
+  throw VideoError("cannot write " + path + ": " + av_error_text(code));
+}
+
+// The MP4's bytes go to the OutputFile's descriptor through a custom AVIOContext (libavformat
+// never opens the file by name for writing, so it never has a name until finish()).
+int write_to_fd(void* opaque, uint8_t* data, int size) {
+  const int fd = *static_cast<int*>(opaque);
+  if (!write_all(fd, data, static_cast<std::size_t>(size))) return AVERROR(errno);
+  return size;
+}
+
+int64_t seek_fd(void* opaque, int64_t offset, int whence) {
+  const int fd = *static_cast<int*>(opaque);
+  if (whence == AVSEEK_SIZE) {
+    struct stat st {};
+    return ::fstat(fd, &st) == 0 ? static_cast<int64_t>(st.st_size) : AVERROR(errno);
+  }
+  const off_t at = ::lseek(fd, static_cast<off_t>(offset), whence & ~AVSEEK_FORCE);
+  return at < 0 ? AVERROR(errno) : static_cast<int64_t>(at);
 }
 
 }  // namespace
@@ -104,7 +124,10 @@ void validate_video_options(const VideoWriterOptions& options) {
 int even_size(int n) { return n + (n & 1); }
 
 struct VideoWriter::Impl {
-  std::string path, temp;
+  std::string path;
+  std::unique_ptr<OutputFile> file;  // nameless until finish()
+  int fd = -1;                       // file's descriptor, the AVIOContext's opaque
+  AVIOContext* io = nullptr;
   int width = 0, height = 0;          // of the input images
   int enc_width = 0, enc_height = 0;  // even
   int frames = 0;
@@ -127,9 +150,12 @@ struct VideoWriter::Impl {
     av_frame_free(&frame);
     avcodec_free_context(&codec);
     if (format) {
-      if (format->pb) avio_closep(&format->pb);
-      avformat_free_context(format);
+      avformat_free_context(format);  // AVFMT_FLAG_CUSTOM_IO: leaves io to us
       format = nullptr;
+    }
+    if (io) {
+      av_freep(&io->buffer);
+      avio_context_free(&io);
     }
   }
 
@@ -144,11 +170,18 @@ struct VideoWriter::Impl {
     if (width <= 0 || height <= 0)
       fail(path, "bad frame size " + std::to_string(width) + "x" + std::to_string(height));
 
-    // Container from the target's extension (the temporary's ends in .tmp).
+    try {
+      file = std::make_unique<OutputFile>(path);
+    } catch (const OutputFileError& e) {
+      throw VideoError(e.what());
+    }
+    fd = file->fd();
+    // Container from the target's extension. The context's url is a name the nameless file
+    // can be reopened by: +faststart reads the file back to move its index to the front.
     const AVOutputFormat* container = av_guess_format(nullptr, path.c_str(), nullptr);
     if (!container || container->video_codec == AV_CODEC_ID_NONE)
       container = av_guess_format("mp4", nullptr, nullptr);
-    int ret = avformat_alloc_output_context2(&format, container, nullptr, temp.c_str());
+    int ret = avformat_alloc_output_context2(&format, container, nullptr, file->reopen_path().c_str());
     if (ret < 0) fail(path, "cannot set up the container", ret);
 
     const AVCodec* encoder = avcodec_find_encoder_by_name("libx264");
@@ -185,8 +218,16 @@ struct VideoWriter::Impl {
     ret = avcodec_parameters_from_context(stream->codecpar, codec);
     if (ret < 0) fail(path, "cannot copy encoder parameters", ret);
 
-    ret = avio_open(&format->pb, temp.c_str(), AVIO_FLAG_WRITE);
-    if (ret < 0) fail(path, "cannot create temporary file " + temp, ret);
+    constexpr int kIoBuffer = 1 << 16;
+    auto* buffer = static_cast<unsigned char*>(av_malloc(kIoBuffer));
+    if (!buffer) fail(path, "out of memory");
+    io = avio_alloc_context(buffer, kIoBuffer, /*write_flag=*/1, &fd, nullptr, write_to_fd, seek_fd);
+    if (!io) {
+      av_free(buffer);
+      fail(path, "out of memory");
+    }
+    format->pb = io;
+    format->flags |= AVFMT_FLAG_CUSTOM_IO;
     AVDictionary* mux_opts = nullptr;
     if (std::strcmp(format->oformat->name, "mp4") == 0 || std::strcmp(format->oformat->name, "mov") == 0)
       av_dict_set(&mux_opts, "movflags", "+faststart", 0);
@@ -245,7 +286,7 @@ struct VideoWriter::Impl {
       av_packet_rescale_ts(packet, codec->time_base, stream->time_base);
       packet->stream_index = stream->index;
       ret = av_interleaved_write_frame(format, packet);  // takes the packet's reference
-      if (ret < 0) fail(path, "cannot write to " + temp, ret);
+      if (ret < 0) fail_write(path, ret);
     }
   }
 };
@@ -254,7 +295,6 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height,
                          const VideoWriterOptions& options)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
-  impl_->temp = make_temp_path(path);
   impl_->width = width;
   impl_->height = height;
   impl_->enc_width = even_size(width);
@@ -263,7 +303,7 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height,
     impl_->open(options);
   } catch (...) {
     impl_->release();
-    std::remove(impl_->temp.c_str());
+    impl_->file.reset();  // dropped, nameless
     throw;
   }
 }
@@ -271,7 +311,7 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height,
 VideoWriter::~VideoWriter() {
   if (!impl_->finished) {
     impl_->release();
-    std::remove(impl_->temp.c_str());
+    impl_->file.reset();
   }
 }
 
@@ -299,13 +339,16 @@ void VideoWriter::finish() {
   if (w.finished) return;
   w.encode(nullptr);  // drain x264's look-ahead
   int ret = av_write_trailer(w.format);  // +faststart rewrites the file here
-  if (ret < 0) fail(w.path, "cannot finish " + w.temp, ret);
-  ret = avio_closep(&w.format->pb);
-  if (ret < 0) fail(w.path, "cannot close " + w.temp, ret);
-  if (std::rename(w.temp.c_str(), w.path.c_str()) != 0)
-    fail(w.path, std::string("cannot rename the finished file onto it: ") + std::strerror(errno));
-  w.finished = true;
+  if (ret < 0) fail_write(w.path, ret);
+  avio_flush(w.io);
+  if (w.io->error < 0) fail_write(w.path, w.io->error);
   w.release();
+  try {
+    w.file->commit();
+  } catch (const OutputFileError& e) {
+    throw VideoError(e.what());
+  }
+  w.finished = true;
 }
 
 int VideoWriter::frames_written() const { return impl_->frames; }
@@ -314,6 +357,5 @@ int VideoWriter::height() const { return impl_->height; }
 int VideoWriter::encoded_width() const { return impl_->enc_width; }
 int VideoWriter::encoded_height() const { return impl_->enc_height; }
 const std::string& VideoWriter::path() const { return impl_->path; }
-const std::string& VideoWriter::temp_path() const { return impl_->temp; }
 
 }  // namespace clothsim
