@@ -5,10 +5,13 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "echo.h"
+
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <sys/stat.h>
@@ -16,11 +19,13 @@
 namespace clothsim {
 
 namespace {
+// One line whatever the input: the file name and the key are user text too (a key can be a
+// megabyte of junk, a path can hold a newline), so both are echoed as excerpts.
 std::string format_error(const std::string& file, int line, const std::string& key,
                          const std::string& what) {
-  std::string out = file;
+  std::string out = excerpt(file, 256);
   if (line > 0) out += ":" + std::to_string(line);
-  if (!key.empty()) out += ": " + key;
+  if (!key.empty()) out += ": " + excerpt(key);
   return out + ": " + what;
 }
 }  // namespace
@@ -55,8 +60,11 @@ class Reader {
       : file_(std::move(file)), overrides_(std::move(overrides)) {}
 
   [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& what) const {
+    // A value under an override ("gravity[1]" under --set gravity=[0,.nan,0]), the override
+    // itself, or a map the override reaches into: the error names the override, not a line.
     for (const auto& [path, text] : overrides_)
-      if (key == path || key.rfind(path + ".", 0) == 0 || path.rfind(key + ".", 0) == 0)
+      if (key == path || key.rfind(path + ".", 0) == 0 || key.rfind(path + "[", 0) == 0 ||
+          path.rfind(key + ".", 0) == 0)
         throw SceneError(file_, 0, "--set " + text, what);
     const int line = node.IsDefined() && !node.Mark().is_null() ? node.Mark().line + 1 : 0;
     throw SceneError(file_, line, key, what);
@@ -86,9 +94,9 @@ class Reader {
     try {
       v = n.as<double>();
     } catch (const YAML::Exception&) {
-      fail(n, key, "expected a number, got '" + n.Scalar() + "'");
+      fail(n, key, "expected a number, got " + in_quotes(n.Scalar()));
     }
-    if (!std::isfinite(v)) fail(n, key, "expected a finite number, got '" + n.Scalar() + "'");
+    if (!std::isfinite(v)) fail(n, key, "expected a finite number, got " + in_quotes(n.Scalar()));
     return v;
   }
 
@@ -97,7 +105,7 @@ class Reader {
     try {
       return n.as<int>();
     } catch (const YAML::Exception&) {
-      fail(n, key, "expected an integer, got '" + n.Scalar() + "'");
+      fail(n, key, "expected an integer, got " + in_quotes(n.Scalar()));
     }
   }
 
@@ -106,7 +114,7 @@ class Reader {
     try {
       return n.as<bool>();
     } catch (const YAML::Exception&) {
-      fail(n, key, "expected true or false, got '" + n.Scalar() + "'");
+      fail(n, key, "expected true or false, got " + in_quotes(n.Scalar()));
     }
   }
 
@@ -128,7 +136,7 @@ class Reader {
     const bool ok = (lo_open ? v > lo : v >= lo) && v <= hi;
     if (!ok) {
       std::ostringstream msg;
-      msg << "value " << n.Scalar() << " out of range: must be " << (lo_open ? "> " : ">= ") << lo;
+      msg << "value " << excerpt(n.Scalar()) << " out of range: must be " << (lo_open ? "> " : ">= ") << lo;
       if (std::isfinite(hi)) msg << " and <= " << hi;
       fail(n, key, msg.str());
     }
@@ -143,7 +151,7 @@ class Reader {
   int int_in_range(const YAML::Node& n, const std::string& key, int lo, int hi) const {
     const int v = integer(n, key);
     if (v < lo || v > hi)
-      fail(n, key, "value " + n.Scalar() + " out of range: must be from " + std::to_string(lo) +
+      fail(n, key, "value " + excerpt(n.Scalar()) + " out of range: must be from " + std::to_string(lo) +
                        " to " + std::to_string(hi));
     return v;
   }
@@ -181,7 +189,7 @@ SceneDef Reader::scene(const YAML::Node& root) const {
   optional(root, "", "dt", [&](auto& n, auto& k) { s.dt = positive(n, k); });
   optional(root, "", "integrator", [&](auto& n, auto& k) {
     const auto kind = parse_integrator(string(n, k));
-    if (!kind) fail(n, k, "unknown integrator '" + n.Scalar() + "' (expected one of: " + integrator_names_joined() + ")");
+    if (!kind) fail(n, k, "unknown integrator " + in_quotes(n.Scalar()) + " (expected one of: " + integrator_names_joined() + ")");
     s.integrator = *kind;
   });
   optional(root, "", "gravity", [&](auto& n, auto& k) { s.gravity = vec3(n, k); });
@@ -250,7 +258,7 @@ ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
     const std::string p = string(v, k);
     if (p == "xz") c.plane = ClothPlane::XZ;
     else if (p == "xy") c.plane = ClothPlane::XY;
-    else fail(v, k, "unknown plane '" + p + "' (expected xz or xy)");
+    else fail(v, k, "unknown plane " + in_quotes(p) + " (expected xz or xy)");
   });
   optional(n, path, "particle_mass", [&](auto& v, auto& k) { c.particle_mass = positive(v, k); });
   optional(n, path, "springs", [&](auto& v, auto& k) {
@@ -265,7 +273,7 @@ ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
       if (mode == "corners") c.pin_mode = PinMode::Corners;
       else if (mode == "top_edge") c.pin_mode = PinMode::TopEdge;
       else if (mode == "none") c.pin_mode = PinMode::None;
-      else fail(v, k, "unknown pinning '" + mode + "' (expected corners, top_edge, none or [[i, j], ...])");
+      else fail(v, k, "unknown pinning " + in_quotes(mode) + " (expected corners, top_edge, none or [[i, j], ...])");
     } else {
       c.pin_mode = PinMode::List;
       c.pinned = grid_list(v, k, c);
@@ -364,7 +372,7 @@ ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const
     const std::string s = string(v, k);
     if (s == "newton") d.solver = ImplicitSolver::Newton;
     else if (s == "fixed_point") d.solver = ImplicitSolver::FixedPoint;
-    else fail(v, k, "unknown solver '" + s + "' (expected newton or fixed_point)");
+    else fail(v, k, "unknown solver " + in_quotes(s) + " (expected newton or fixed_point)");
   });
   optional(n, path, "newton_max_iterations", [&](auto& v, auto& k) { d.newton_max_iterations = int_in_range(v, k, 1, 1000); });
   optional(n, path, "newton_tolerance", [&](auto& v, auto& k) { d.newton_tolerance = positive(v, k); });
@@ -377,58 +385,68 @@ ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const
 // --set KEY=VALUE: walks the dotted key into the tree (creating map entries, so a key the
 // file leaves at its default can be set; list items by index), and puts VALUE, parsed as
 // YAML, there. Whether the key exists in the schema is the reader's unknown-key check.
+// A list index in a --set key: plain decimal digits only (stoul would also take "+0", " 0"
+// and "0x0", so spheres.0x0.radius named sphere 0), at most 9 of them (no overflow).
+std::optional<std::size_t> list_index(const std::string& part) {
+  if (part.empty() || part.size() > 9) return std::nullopt;
+  std::size_t idx = 0;
+  for (char c : part) {
+    if (c < '0' || c > '9') return std::nullopt;
+    idx = idx * 10 + static_cast<std::size_t>(c - '0');
+  }
+  return idx;
+}
+
+// --set KEY=VALUE: walks the dotted key into the tree (creating map entries, so a key the
+// file leaves at its default can be set; list items by index), and puts VALUE, parsed as
+// YAML, there. Whether the key exists in the schema is the reader's unknown-key check.
 void apply_override(YAML::Node& root, const std::string& text, const std::string& file,
                     std::map<std::string, std::string>& applied) {
+  const std::string name = "--set " + text;  // cut to an excerpt when the error is formatted
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw SceneError(file, 0, "--set " + text, "expected KEY=VALUE, e.g. cloth.springs.structural.stiffness=1e5");
+    throw SceneError(file, 0, name, "expected KEY=VALUE, e.g. cloth.springs.structural.stiffness=1e5");
   const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
   YAML::Node parsed;
   try {
-    parsed = YAML::Load(value);
+    const std::vector<YAML::Node> documents = YAML::LoadAll(value);
+    if (documents.size() > 1) throw SceneError(file, 0, name, "value holds more than one YAML document");
+    if (!documents.empty()) parsed = documents.front();
   } catch (const YAML::Exception& e) {
-    throw SceneError(file, 0, "--set " + text, "value is not valid YAML: " + e.msg);
+    throw SceneError(file, 0, name, "value is not valid YAML: " + excerpt(e.msg));
   }
   std::vector<std::string> parts;
   std::stringstream ss(key);
   for (std::string part; std::getline(ss, part, '.');) {
-    if (part.empty()) throw SceneError(file, 0, "--set " + text, "empty component in key '" + key + "'");
+    if (part.empty()) throw SceneError(file, 0, name, "empty component in key " + in_quotes(key));
     parts.push_back(part);
   }
+  if (key.back() == '.') throw SceneError(file, 0, name, "empty component in key " + in_quotes(key));
+  const auto index_into = [&](const YAML::Node& list, const std::string& part) -> std::size_t {
+    const std::optional<std::size_t> idx = list_index(part);
+    if (!idx) throw SceneError(file, 0, name, in_quotes(part) + " is not an index into a list (plain decimal: 0, 1, 2...)");
+    if (*idx >= list.size())
+      throw SceneError(file, 0, name, "index " + part + " is past the end of a list of " + std::to_string(list.size()));
+    return *idx;
+  };
   YAML::Node cur;
   cur.reset(root);
   for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
     const std::string& p = parts[i];
     YAML::Node next;
     if (cur.IsSequence()) {
-      std::size_t idx = 0;
-      try {
-        idx = std::stoul(p);
-      } catch (const std::exception&) {
-        throw SceneError(file, 0, "--set " + text, "'" + p + "' is not an index into a list");
-      }
-      if (idx >= cur.size())
-        throw SceneError(file, 0, "--set " + text, "index " + p + " is past the end of a list of " + std::to_string(cur.size()));
-      next.reset(cur[idx]);
+      next.reset(cur[index_into(cur, p)]);
     } else if (cur.IsMap() || cur.IsNull() || !cur.IsDefined()) {
       next.reset(cur[p]);
     } else {
-      throw SceneError(file, 0, "--set " + text, "'" + p + "' is inside a value that is not a map");
+      throw SceneError(file, 0, name, in_quotes(p) + " is inside a value that is not a map");
     }
     cur.reset(next);
   }
   if (cur.IsSequence()) {
-    std::size_t idx = 0;
-    try {
-      idx = std::stoul(parts.back());
-    } catch (const std::exception&) {
-      throw SceneError(file, 0, "--set " + text, "'" + parts.back() + "' is not an index into a list");
-    }
-    if (idx >= cur.size())
-      throw SceneError(file, 0, "--set " + text, "index past the end of the list");
-    cur[idx] = parsed;
+    cur[index_into(cur, parts.back())] = parsed;
   } else if (cur.IsScalar()) {
-    throw SceneError(file, 0, "--set " + text, "'" + parts.back() + "' is inside a value that is not a map");
+    throw SceneError(file, 0, name, in_quotes(parts.back()) + " is inside a value that is not a map");
   } else {
     cur[parts.back()] = parsed;
   }
@@ -465,11 +483,19 @@ SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
   check_text(yaml_text, source);
   YAML::Node root;
   try {
-    root = YAML::Load(yaml_text);
+    // Every document is read, so that a second one is an error rather than silently ignored
+    // (a scene pasted twice, or a stray "---" before more keys).
+    const std::vector<YAML::Node> documents = YAML::LoadAll(yaml_text);
+    if (documents.size() > 1) {
+      const YAML::Mark at = documents[1].Mark();
+      throw SceneError(source, at.is_null() ? 0 : at.line + 1, "",
+                       "a second YAML document: a scene file holds one (remove the '---' line or the text after it)");
+    }
+    if (!documents.empty()) root = documents.front();
   } catch (const YAML::ParserException& e) {
-    throw SceneError(source, e.mark.is_null() ? 0 : e.mark.line + 1, "", "invalid YAML: " + e.msg);
+    throw SceneError(source, e.mark.is_null() ? 0 : e.mark.line + 1, "", "invalid YAML: " + excerpt(e.msg));
   } catch (const YAML::Exception& e) {
-    throw SceneError(source, 0, "", std::string("invalid YAML: ") + e.what());
+    throw SceneError(source, 0, "", "invalid YAML: " + excerpt(e.what()));
   }
   if (!root.IsMap())
     throw SceneError(source, root.Mark().is_null() ? 0 : root.Mark().line + 1, "",

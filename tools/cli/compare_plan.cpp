@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "cli_common.h"
+#include "echo.h"
 
 namespace clothsim::cli {
 
@@ -14,7 +15,7 @@ namespace {
 // A finite number or fraction ("1/60") or a UsageError naming `option` and the text.
 double parse_number(const std::string& text, const std::string& option) {
   const std::optional<double> value = parse_number_or_fraction(text);
-  if (!value) throw UsageError(option + ": '" + text + "' is not a number (or a fraction like 1/60)");
+  if (!value) throw UsageError(option + ": " + in_quotes(text) + " is not a number (or a fraction like 1/60)");
   return *value;
 }
 
@@ -39,14 +40,14 @@ std::vector<double> parse_dt_list(const std::string& text, const std::vector<Int
   std::vector<bool> named(kinds.size(), false);
   bool bare_seen = false;
   auto check_step = [](double dt, const std::string& item) {
-    if (!(dt > 0.0)) throw UsageError("--dt: step must be > 0 s, got '" + item + "'");
+    if (!(dt > 0.0)) throw UsageError("--dt: step must be > 0 s, got " + in_quotes(item));
   };
   for (const std::string& raw : split_list(text)) {
     const std::string item = trimmed(raw);
-    if (item.empty()) throw UsageError("--dt: empty item in '" + text + "'");
+    if (item.empty()) throw UsageError("--dt: empty item in " + in_quotes(text));
     const auto eq = item.find('=');
     if (eq == std::string::npos) {
-      if (bare_seen) throw UsageError("--dt: more than one step for all runs in '" + text + "'");
+      if (bare_seen) throw UsageError("--dt: more than one step for all runs in " + in_quotes(text));
       bare_seen = true;
       const double dt = parse_number(item, "--dt");
       check_step(dt, item);
@@ -57,13 +58,13 @@ std::vector<double> parse_dt_list(const std::string& text, const std::vector<Int
     const std::string name = trimmed(item.substr(0, eq));
     const auto kind = parse_integrator(name);
     if (!kind)
-      throw UsageError("--dt: unknown integrator '" + name + "' (expected one of: " +
+      throw UsageError("--dt: unknown integrator " + in_quotes(name) + " (expected one of: " +
                        integrator_names_joined() + ")");
     const auto at = std::find(kinds.begin(), kinds.end(), *kind);
     if (at == kinds.end())
-      throw UsageError("--dt: '" + name + "' is not one of the integrators being compared");
+      throw UsageError("--dt: " + in_quotes(name) + " is not one of the integrators being compared");
     const std::size_t i = static_cast<std::size_t>(at - kinds.begin());
-    if (named[i]) throw UsageError("--dt: '" + name + "' is given twice");
+    if (named[i]) throw UsageError("--dt: " + in_quotes(name) + " is given twice");
     const double dt = parse_number(trimmed(item.substr(eq + 1)), "--dt " + name);
     check_step(dt, item);
     dts[i] = dt;
@@ -76,7 +77,7 @@ std::vector<double> parse_times(const std::string& text, double duration) {
   std::vector<double> times;
   for (const std::string& raw : split_list(text)) {
     const std::string item = trimmed(raw);
-    if (item.empty()) throw UsageError("--times: empty item in '" + text + "'");
+    if (item.empty()) throw UsageError("--times: empty item in " + in_quotes(text));
     const double t = parse_number(item, "--times");
     if (t < 0.0 || t > duration + 1e-9)
       throw UsageError("--times: " + item + " s is outside the run (0 to " + seconds(duration) + ")");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cli_common.h"
+#include "echo.h"
 #include "scene_parser.h"
 
 namespace clothsim::cli {
@@ -24,7 +25,7 @@ void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run) {
            "--dt",
            [&o](const std::string& text) {
              const std::optional<double> dt = parse_number_or_fraction(text);
-             if (!dt) throw CLI::ValidationError("--dt: '" + text + "' is not a number (or a fraction like 1/60)");
+             if (!dt) throw CLI::ValidationError("--dt: " + in_quotes(text) + " is not a number (or a fraction like 1/60)");
              o.dt = *dt;
            },
            "Time step in s, a number or a fraction (1/60) (default: the scene's dt)")
@@ -35,7 +36,7 @@ void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run) {
 IntegratorKind parse_integrator_option(const std::string& name, const std::string& option) {
   const auto kind = parse_integrator(name);
   if (!kind)
-    throw UsageError(option + ": unknown integrator '" + name + "' (expected one of: " +
+    throw UsageError(option + ": unknown integrator " + in_quotes(name) + " (expected one of: " +
                      integrator_names_joined() + ")");
   return *kind;
 }
@@ -46,10 +47,10 @@ std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const
     const auto begin = raw.find_first_not_of(" \t");
     const std::string name =
         begin == std::string::npos ? "" : raw.substr(begin, raw.find_last_not_of(" \t") - begin + 1);
-    if (name.empty()) throw UsageError(option + ": empty item in '" + text + "'");
+    if (name.empty()) throw UsageError(option + ": empty item in " + in_quotes(text));
     const IntegratorKind kind = parse_integrator_option(name, option);
     if (std::find(kinds.begin(), kinds.end(), kind) != kinds.end())
-      throw UsageError(option + ": '" + name + "' is listed twice");
+      throw UsageError(option + ": " + in_quotes(name) + " is listed twice");
     kinds.push_back(kind);
   }
   if (kinds.empty())
