@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "echo.h"
+#include "run_bounds.h"
 
 #include <cmath>
 #include <fstream>
@@ -56,8 +57,8 @@ const char* type_name(const YAML::Node& n) {
 // came from --set, so an error in an overridden value names the override, not a line.
 class Reader {
  public:
-  Reader(std::string file, std::map<std::string, std::string> overrides)
-      : file_(std::move(file)), overrides_(std::move(overrides)) {}
+  Reader(std::string file, std::map<std::string, std::string> overrides, bool bound_run)
+      : file_(std::move(file)), overrides_(std::move(overrides)), bound_run_(bound_run) {}
 
   [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& what) const {
     // A value under an override ("gravity[1]" under --set gravity=[0,.nan,0]), the override
@@ -176,6 +177,7 @@ class Reader {
 
   std::string file_;
   std::map<std::string, std::string> overrides_;  // dotted key -> "KEY=VALUE" as typed
+  bool bound_run_;  // check duration / dt and the frame count (run_bounds.h)
 };
 
 SceneDef Reader::scene(const YAML::Node& root) const {
@@ -236,6 +238,22 @@ SceneDef Reader::scene(const YAML::Node& root) const {
     optional(n, k, "max_strain", [&](auto& v, auto& kk) { s.divergence.max_strain = positive(v, kk); });
     optional(n, k, "max_energy_factor", [&](auto& v, auto& kk) { s.divergence.max_energy_factor = positive(v, kk); });
   });
+  // Steps and frames, bounded before anything is allocated for them (run_bounds.h), unless the
+  // caller replaces duration or dt and bounds the result itself. The error names the key at
+  // fault: dt (or duration, when --set gave it or the file has no dt) for too many steps,
+  // duration (or render.fps, when the file has no duration) for too many frames.
+  if (bound_run_) {
+    const std::string too_long = run_bounds_problem(s.duration, s.dt, s.render.fps);
+    if (!too_long.empty()) {
+      const bool by_steps = !(s.duration / s.dt <= kMaxSteps);
+      const bool has_duration = root["duration"].IsDefined();
+      if (by_steps && root["dt"].IsDefined() && !(has_duration && overrides_.count("duration")))
+        fail(root["dt"], "dt", too_long);
+      if (!by_steps && !has_duration && root["render"].IsMap() && root["render"]["fps"].IsDefined())
+        fail(root["render"]["fps"], "render.fps", too_long);
+      fail(root["duration"], "duration", too_long);
+    }
+  }
   return s;
 }
 
@@ -479,7 +497,7 @@ void check_text(const std::string& text, const std::string& file) {
 }  // namespace
 
 SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
-                     const std::vector<std::string>& overrides) {
+                     const std::vector<std::string>& overrides, bool bound_run) {
   check_text(yaml_text, source);
   YAML::Node root;
   try {
@@ -502,10 +520,10 @@ SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
                      std::string("expected a map of scene keys at the top level, got ") + type_name(root));
   std::map<std::string, std::string> applied;
   for (const std::string& o : overrides) apply_override(root, o, source, applied);
-  return Reader(source, applied).scene(root);
+  return Reader(source, applied, bound_run).scene(root);
 }
 
-SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides, bool bound_run) {
   struct stat st{};
   if (::stat(path.c_str(), &st) != 0) throw SceneError(path, 0, "", "cannot open: no such file");
   if (S_ISDIR(st.st_mode)) throw SceneError(path, 0, "", "is a directory, not a scene file");
@@ -513,7 +531,7 @@ SceneDef load_scene(const std::string& path, const std::vector<std::string>& ove
   if (!in) throw SceneError(path, 0, "", "cannot open for reading");
   std::ostringstream buf;
   buf << in.rdbuf();
-  return parse_scene(buf.str(), path, overrides);
+  return parse_scene(buf.str(), path, overrides, bound_run);
 }
 
 }  // namespace clothsim

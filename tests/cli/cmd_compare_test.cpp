@@ -314,7 +314,7 @@ TEST(CmdCompare, StopsWithinTheBoundAtATinyStepOnEitherSignalLeavingNothing) {
 TEST(CmdCompare, SigkillLeavesNoFileAndNoTemporary) {
   const std::string dir = scratch_dir("compare_sigkill");
   const auto r = cli::run_clothsim_interrupted(
-      {"compare", kDrape, "--dt", "1e-9", "--width", "320", "--height", "180", "--video", dir + "/v.mp4",
+      {"compare", kDrape, "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180", "--video", dir + "/v.mp4",
        "--sheet", dir + "/s.png", "--times", "0.5"},
       1.0, SIGKILL);
   EXPECT_EQ(r.exit_code, 128 + SIGKILL);
@@ -335,7 +335,7 @@ TEST(CmdCompare, AWriteFailureIsOneLineExit1AndLeavesNothing) {
 TEST(CmdCompare, AnInterruptedFramesRunSaysWhichPngsItKept) {
   const std::string dir = scratch_dir("compare_interrupt_frames");
   const auto r = cli::run_clothsim_interrupted(
-      {"compare", kDrape, "--integrators", "rk4", "--dt", "1e-9", "--width", "64", "--height", "64",
+      {"compare", kDrape, "--integrators", "rk4", "--dt", "1e-9", "--duration", "1", "--width", "64", "--height", "64",
        "--frames", dir + "/f"},
       1.0, SIGTERM);
   EXPECT_EQ(r.exit_code, 143) << r.err;

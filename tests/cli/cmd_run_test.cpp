@@ -328,7 +328,7 @@ TEST(CmdRun, AWriteFailureOnAnyOutputIsOneLineExit1AndLeavesNothing) {
 TEST(CmdRun, SigkillLeavesNoFileAndNoTemporary) {
   const std::string dir = scratch_dir("run_sigkill");
   const StoppedResult r = run_clothsim_interrupted(
-      {"run", shipped("drape.yaml"), "--set", "dt=1e-9", "--state", dir + "/s.csv", "--metrics",
+      {"run", shipped("drape.yaml"), "--set", "dt=1e-9", "--duration", "1", "--state", dir + "/s.csv", "--metrics",
        dir + "/m.csv", "--video", dir + "/v.mp4", "--set", "render.width=64", "--set", "render.height=64"},
       1.0, SIGKILL);
   EXPECT_EQ(r.exit_code, 128 + SIGKILL);
@@ -338,7 +338,7 @@ TEST(CmdRun, SigkillLeavesNoFileAndNoTemporary) {
 TEST(CmdRun, AnInterruptedFramesRunSaysItKeptThePngsItWrote) {
   const std::string dir = scratch_dir("run_interrupt_frames");
   const StoppedResult r = run_clothsim_interrupted(
-      {"run", shipped("drape.yaml"), "--set", "dt=1e-9", "--frames", dir + "/f", "--set", "render.width=64",
+      {"run", shipped("drape.yaml"), "--set", "dt=1e-9", "--duration", "1", "--frames", dir + "/f", "--set", "render.width=64",
        "--set", "render.height=64"},
       1.0, SIGINT);
   EXPECT_EQ(r.exit_code, 130) << r.err;

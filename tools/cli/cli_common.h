@@ -20,9 +20,11 @@ namespace clothsim::cli {
 enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3, kNotConverged = 4 };
 // The exit codes as --help lists them (clothsim --help, and run --help, which has its own footer).
 inline constexpr const char* kExitCodesHelp =
-    "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene,\n"
-    "3 the simulation diverged (run only), 4 an implicit step did not converge (run --strict),\n"
-    "130 / 143 stopped by SIGINT (Ctrl-C) / SIGTERM.\n";
+    "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene\n"
+    "(also a run over --max-memory or past 1e9 steps / 1e7 frames), 3 the simulation diverged\n"
+    "(run only), 4 an implicit step did not converge (run --strict),\n"
+    "130 / 143 stopped by SIGINT (Ctrl-C) / SIGTERM (at once, whatever the step; a second\n"
+    "signal kills).\n";
 
 // Bad usage or a bad scene: exit 2. The message is the whole one-line error.
 struct UsageError : std::runtime_error {

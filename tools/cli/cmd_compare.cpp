@@ -36,8 +36,11 @@
 #include "compare_runner.h"
 #include "contact_sheet.h"
 #include "frame_sink.h"
+#include "memory_budget.h"
+#include "memory_estimate.h"
 #include "png_io.h"
 #include "renderer.h"
+#include "run_bounds.h"
 #include "run_outputs.h"
 #include "scene_options.h"
 #include "scene_parser.h"
@@ -140,6 +143,10 @@ int compare_command(const CompareOptions& o) {
 
   const SceneDef scene = load_scene_with_options(o.scene);
   const std::vector<double> dts = parse_dt_list(o.dt, kinds, scene.dt);
+  for (std::size_t i = 0; i < kinds.size(); ++i) {  // each lane's steps, bounded like the scene's
+    const std::string too_long = run_bounds_problem(scene.duration, dts[i], scene.render.fps);
+    if (!too_long.empty()) throw UsageError("--dt (" + std::string(integrator_name(kinds[i])) + "): " + too_long);
+  }
   const std::vector<double> sheet_times =
       o.sheet.empty() ? std::vector<double>{} : parse_times(o.times, scene.duration);
   if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= scene.duration + 1e-9))
@@ -153,10 +160,28 @@ int compare_command(const CompareOptions& o) {
   } catch (const LayoutError& e) {
     throw UsageError(std::string("--width/--height: ") + e.what());
   }
-  const Model model = build_model(scene);
   const double fps = scene.render.fps;
   const bool with_frames = !o.video.empty() || !o.frames_dir.empty();
   const bool rendering = with_frames || !o.sheet.empty() || o.still_t;
+
+  // Peak memory, estimated and checked before the Model, the renderer or the encoder exist:
+  // one Model, a run per lane, the renderer at tile size, the tiles, the grid, the PNG
+  // writers' queues (3 tiles each), the contact sheet's cells and the encoder.
+  MemoryBudget budget;
+  budget.add("model", model_bytes(scene));
+  for (IntegratorKind kind : kinds) budget.add(std::string(integrator_name(kind)), run_bytes(scene, kind));
+  if (rendering) {
+    const double lanes = static_cast<double>(kinds.size());
+    const double tile = 4.0 * grid->cell_width() * grid->cell_height(), canvas = 4.0 * grid->width() * grid->height();
+    budget.add("renderer and images " + std::to_string(grid->width()) + "x" + std::to_string(grid->height()),
+               kRendererBytes + render_bytes(grid->cell_width(), grid->cell_height(), scene.render.samples) +
+                   lanes * tile + canvas + (o.frames_dir.empty() ? 0.0 : 3.0 * lanes * tile));
+    if (!o.sheet.empty())
+      budget.add("contact sheet", 2.0 * lanes * static_cast<double>(sheet_times.size()) * tile);
+  }
+  if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid->width(), grid->height()));
+  budget.check(scene.source, o.scene.max_memory);
+  const Model model = build_model(scene);
   const TargetPlan targets(scene.duration, fps, with_frames, sheet_times, o.still_t.value_or(-1.0));
   const long frames = targets.frames();
 

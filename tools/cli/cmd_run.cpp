@@ -12,6 +12,8 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "frame_sink.h"
+#include "memory_budget.h"
+#include "memory_estimate.h"
 #include "png_io.h"
 #include "renderer.h"
 #include "run_outputs.h"
@@ -52,6 +54,20 @@ int run_command(const RunOptions& o) {
   if (!o.video.empty()) require_writable_parent(o.video, "video");
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "still");
 
+  // Peak memory, estimated and checked before the Model, the renderer or the encoder exist.
+  const bool rendering = !o.frames_dir.empty() || !o.video.empty() || o.still_t;
+  MemoryBudget budget;
+  budget.add("model", model_bytes(scene));
+  budget.add(std::string(integrator_name(scene.integrator)), run_bytes(scene, scene.integrator));
+  if (rendering) {
+    const int w = scene.render.width, h = scene.render.height;
+    // The render target, the frame and up to 3 frames queued for the PNG writer.
+    budget.add("renderer " + std::to_string(w) + "x" + std::to_string(h),
+               kRendererBytes + render_bytes(w, h, scene.render.samples) + 4.0 * w * h * 4);
+  }
+  if (!o.video.empty()) budget.add("encoder", encoder_bytes(scene.render.width, scene.render.height));
+  budget.check(scene.source, o.scene.max_memory);
+
   const Model model = build_model(scene);
   const IntegratorKind kind = scene.integrator;
   const double dt = scene.dt;
@@ -63,7 +79,7 @@ int run_command(const RunOptions& o) {
   const long frames = static_cast<long>(std::floor(end * fps + 1e-9)) + 1;  // t = 0 included
 
   std::unique_ptr<Renderer> renderer;
-  if (!o.frames_dir.empty() || !o.video.empty() || o.still_t) renderer = std::make_unique<Renderer>();
+  if (rendering) renderer = std::make_unique<Renderer>();
   std::unique_ptr<MetricsWriter> metrics;
   if (!o.metrics.empty()) metrics = std::make_unique<MetricsWriter>(o.metrics);
   std::unique_ptr<FrameSink> png_sink, video_sink;

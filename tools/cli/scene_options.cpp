@@ -5,6 +5,8 @@
 
 #include "cli_common.h"
 #include "echo.h"
+#include "memory_budget.h"
+#include "run_bounds.h"
 #include "scene_parser.h"
 
 namespace clothsim::cli {
@@ -17,6 +19,7 @@ void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run) {
       ->type_name("KEY=VALUE")
       ->allow_extra_args(false);
   sub->add_option("--duration", o.duration, "Simulated time in s (default: the scene's duration)");
+  add_max_memory_option(sub, o.max_memory);
   if (single_run) {
     sub->add_option("--integrator", o.integrator,
                     integrator_names_joined(" | ") + " (default: the scene's integrator)");
@@ -59,7 +62,8 @@ std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const
 }
 
 SceneDef load_scene_with_options(const SceneOptions& o) {
-  SceneDef scene = load_scene(o.path, o.sets);
+  // --duration and --dt replace the file's values, so the run is bounded once they are in.
+  SceneDef scene = load_scene(o.path, o.sets, /*bound_run=*/!(o.duration || o.dt));
   if (o.duration) {
     if (!(*o.duration >= 0.0) || !std::isfinite(*o.duration))
       throw UsageError("--duration: must be a finite number >= 0 s, got " + std::to_string(*o.duration));
@@ -71,6 +75,10 @@ SceneDef load_scene_with_options(const SceneOptions& o) {
     scene.dt = *o.dt;
   }
   if (o.integrator) scene.integrator = parse_integrator_option(*o.integrator, "--integrator");
+  if (o.duration || o.dt) {  // otherwise the parser bounded the file's (and --set's) values
+    const std::string too_long = run_bounds_problem(scene.duration, scene.dt, scene.render.fps);
+    if (!too_long.empty()) throw UsageError(std::string(o.dt ? "--dt" : "--duration") + ": " + too_long);
+  }
   return scene;
 }
 

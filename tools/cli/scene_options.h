@@ -17,9 +17,10 @@ struct SceneOptions {
   std::optional<double> duration;       // --duration S
   std::optional<std::string> integrator;  // --integrator NAME (when offered)
   std::optional<double> dt;             // --dt S (when offered)
+  std::optional<double> max_memory;     // --max-memory SIZE in bytes (default: memory_budget.h)
 };
 
-// Declares SCENE, --set and --duration; --integrator and --dt only when `single_run`.
+// Declares SCENE, --set, --duration and --max-memory; --integrator and --dt only when `single_run`.
 void add_scene_options(CLI::App* sub, SceneOptions& options, bool single_run);
 
 // Loads and validates the scene with --set applied, then --duration/--integrator/--dt.

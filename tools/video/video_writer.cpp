@@ -2,6 +2,7 @@
 // libavformat. See video_writer.h for the choices; this file is the plumbing.
 #include "video_writer.h"
 
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -54,6 +55,70 @@ std::string take_log_error() {
   std::string text;
   text.swap(g_last_log_error);
   return text;
+}
+
+// x264 reports a failed allocation (x264_malloc: "malloc of size N failed") through its own
+// default logger, straight to stderr, not through av_log, so a failure would print two lines.
+// While the encoder opens, fd 2 goes to a memory file instead: on failure its last line joins
+// the one-line error; on success its text is passed on to stderr unchanged.
+class StderrCapture {
+ public:
+  StderrCapture() {
+    std::fflush(stderr);
+    memory_ = ::memfd_create("clothsim-encoder-log", MFD_CLOEXEC);
+    if (memory_ >= 0) saved_ = ::dup(STDERR_FILENO);
+    if (memory_ < 0 || saved_ < 0 || ::dup2(memory_, STDERR_FILENO) < 0) restore();  // not captured
+  }
+  StderrCapture(const StderrCapture&) = delete;
+  StderrCapture& operator=(const StderrCapture&) = delete;
+  ~StderrCapture() { pass_on(); }
+
+  // Restores stderr; returns what was written meanwhile.
+  std::string release() {
+    std::string text;
+    if (memory_ < 0) return text;
+    std::fflush(stderr);
+    char buffer[4096];
+    for (off_t at = 0;;) {
+      const ssize_t n = ::pread(memory_, buffer, sizeof buffer, at);
+      if (n <= 0) break;
+      text.append(buffer, static_cast<std::size_t>(n));
+      at += n;
+    }
+    restore();
+    return text;
+  }
+  // Restores stderr and writes what was captured to it.
+  void pass_on() {
+    const std::string text = release();
+    if (!text.empty()) write_all(STDERR_FILENO, text.data(), text.size());
+  }
+  // Restores stderr and returns the last non-empty line captured ("" when none).
+  std::string last_line() {
+    std::string text = release();
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.pop_back();
+    const std::size_t start = text.find_last_of("\r\n");
+    if (start != std::string::npos) text.erase(0, start + 1);
+    if (text.size() > 200) text.resize(200);
+    return text;
+  }
+
+ private:
+  void restore() {
+    if (saved_ >= 0) {
+      ::dup2(saved_, STDERR_FILENO);
+      ::close(saved_);
+    }
+    if (memory_ >= 0) ::close(memory_);
+    saved_ = memory_ = -1;
+  }
+  int memory_ = -1, saved_ = -1;
+};
+
+// Keeps `detail` as the failure's explanation when av_log gave none.
+void keep_log_error(const std::string& detail) {
+  std::lock_guard<std::mutex> lock(g_log_mutex);
+  if (g_last_log_error.empty()) g_last_log_error = detail;
 }
 
 std::string av_error_text(int code) {
@@ -209,9 +274,15 @@ struct VideoWriter::Impl {
     AVDictionary* codec_opts = nullptr;
     av_dict_set(&codec_opts, "preset", options.preset.c_str(), 0);
     av_dict_set(&codec_opts, "crf", std::to_string(options.crf).c_str(), 0);
-    ret = avcodec_open2(codec, encoder, &codec_opts);
-    av_dict_free(&codec_opts);
-    if (ret < 0) fail(path, "cannot open the H.264 encoder", ret);
+    {
+      StderrCapture x264_log;
+      ret = avcodec_open2(codec, encoder, &codec_opts);
+      av_dict_free(&codec_opts);
+      if (ret < 0) {
+        keep_log_error(x264_log.last_line());
+        fail(path, "cannot open the H.264 encoder", ret);
+      }
+    }
 
     stream->time_base = codec->time_base;  // a hint: the muxer may pick a finer one
     stream->avg_frame_rate = rate;
