@@ -3,11 +3,13 @@
 // line, so every error can say where it is; every map is checked for keys it does not know.
 #include "scene_parser.h"
 
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include "echo.h"
 #include "run_bounds.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -168,6 +170,7 @@ class Reader {
 
  private:
   ClothDef cloth(const YAML::Node& n, const std::string& path) const;
+  void grid_geometry(const YAML::Node& n, const std::string& path, const ClothDef& c) const;
   std::optional<SpringParams> springs(const YAML::Node& n, const std::string& path) const;
   GridIndex grid_index(const YAML::Node& n, const std::string& key, const ClothDef& c) const;
   std::vector<GridIndex> grid_list(const YAML::Node& n, const std::string& key, const ClothDef& c) const;
@@ -257,6 +260,39 @@ SceneDef Reader::scene(const YAML::Node& root) const {
   return s;
 }
 
+// The grid must be representable: every particle within kMaxReach of the origin (past it,
+// centre + size overflows or loses the spacing), and neighbours at least kMinSpacing apart
+// and 1e-9 of that reach (closer, their distance rounds to 0 or underflows when squared, and
+// the first spring force is 0/0). Found by the fuzzer (tests/fuzz/regressions/).
+void Reader::grid_geometry(const YAML::Node& n, const std::string& path, const ClothDef& c) const {
+  constexpr double kMaxReach = 1e9, kMinSpacing = 1e-6;  // m
+  const bool xz = c.plane == ClothPlane::XZ;
+  const double reach_x = std::abs(c.center.x()) + 0.5 * c.size_x + std::abs(c.initial_stretch);
+  const double reach_2 = std::abs(xz ? c.center.z() : c.center.y()) + 0.5 * c.size_y;
+  const double reach = std::max({reach_x, reach_2, std::abs(c.center.x()), std::abs(c.center.y()), std::abs(c.center.z())});
+  const auto node = [&](const char* key) { return n[key].IsDefined() ? n[key] : n; };
+  if (!(reach <= kMaxReach)) {
+    const char* key = std::abs(c.initial_stretch) > kMaxReach / 2 ? "initial_stretch"
+                      : std::max(c.size_x, c.size_y) > kMaxReach   ? "size"
+                                                                      : "center";
+    std::ostringstream msg;
+    msg << "the cloth reaches " << reach << " m from the origin, more than " << kMaxReach
+        << " m (center, size and initial_stretch together)";
+    fail(node(key), path + "." + key, msg.str());
+  }
+  for (int axis = 0; axis < 2; ++axis) {
+    const int count = axis == 0 ? c.nx : c.ny;
+    if (count < 2) continue;
+    const double spacing = (axis == 0 ? c.size_x : c.size_y) / (count - 1);
+    if (!(spacing >= kMinSpacing && spacing >= 1e-9 * reach)) {
+      std::ostringstream msg;
+      msg << "particles " << spacing << " m apart along axis " << axis << " (size / (particles - 1)), closer than "
+          << std::max(kMinSpacing, 1e-9 * reach) << " m: their springs would have no length";
+      fail(node("size"), path + ".size", msg.str());
+    }
+  }
+}
+
 ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
   ClothDef c;
   expect_map(n, path, {"particles", "size", "center", "plane", "particle_mass", "springs", "pinned",
@@ -300,6 +336,7 @@ ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
   optional(n, path, "initial_stretch", [&](auto& v, auto& k) { c.initial_stretch = number(v, k); });
   optional(n, path, "initial_velocity", [&](auto& v, auto& k) { c.initial_velocity = vec3(v, k); });
   if (c.nx * c.ny < 1) fail(n, path + ".particles", "a cloth needs at least one particle");
+  grid_geometry(n, path, c);
   return c;
 }
 
@@ -415,6 +452,44 @@ std::optional<std::size_t> list_index(const std::string& part) {
   return idx;
 }
 
+// The first YAML document of `text`, and where a second one starts, if any. Not through
+// YAML::LoadAll: yaml-cpp 0.7 (Debian 12) loops forever, allocating until the process dies,
+// on a stray ',' at the top level (yaml-cpp issue #1040; upstream fixed LoadAll in PR #1319,
+// after 0.8.0). Found by the fuzzer (tests/fuzz/regressions/leading_comma*). Here the
+// parser's events are only counted, for two documents at most, and a "document" that starts
+// where the last one did (the parser made no progress) is not one.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& mark) override { starts.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+  std::vector<YAML::Mark> starts;
+};
+
+struct Documents {
+  YAML::Node first;
+  std::optional<YAML::Mark> second;  // where a second document starts
+};
+
+// Throws YAML::Exception as YAML::Load does.
+Documents load_documents(const std::string& text) {
+  Documents d;
+  d.first = YAML::Load(text);
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  DocumentStarts events;
+  for (int k = 0; k < 2 && parser.HandleNextDocument(events); ++k) {
+  }
+  if (events.starts.size() == 2 && events.starts[1].pos != events.starts[0].pos) d.second = events.starts[1];
+  return d;
+}
+
 // --set KEY=VALUE: walks the dotted key into the tree (creating map entries, so a key the
 // file leaves at its default can be set; list items by index), and puts VALUE, parsed as
 // YAML, there. Whether the key exists in the schema is the reader's unknown-key check.
@@ -427,9 +502,9 @@ void apply_override(YAML::Node& root, const std::string& text, const std::string
   const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
   YAML::Node parsed;
   try {
-    const std::vector<YAML::Node> documents = YAML::LoadAll(value);
-    if (documents.size() > 1) throw SceneError(file, 0, name, "value holds more than one YAML document");
-    if (!documents.empty()) parsed = documents.front();
+    const Documents documents = load_documents(value);
+    if (documents.second) throw SceneError(file, 0, name, "value holds more than one YAML document");
+    parsed = documents.first;
   } catch (const YAML::Exception& e) {
     throw SceneError(file, 0, name, "value is not valid YAML: " + excerpt(e.msg));
   }
@@ -503,13 +578,13 @@ SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
   try {
     // Every document is read, so that a second one is an error rather than silently ignored
     // (a scene pasted twice, or a stray "---" before more keys).
-    const std::vector<YAML::Node> documents = YAML::LoadAll(yaml_text);
-    if (documents.size() > 1) {
-      const YAML::Mark at = documents[1].Mark();
+    const Documents documents = load_documents(yaml_text);
+    if (documents.second) {
+      const YAML::Mark at = *documents.second;
       throw SceneError(source, at.is_null() ? 0 : at.line + 1, "",
                        "a second YAML document: a scene file holds one (remove the '---' line or the text after it)");
     }
-    if (!documents.empty()) root = documents.front();
+    root = documents.first;
   } catch (const YAML::ParserException& e) {
     throw SceneError(source, e.mark.is_null() ? 0 : e.mark.line + 1, "", "invalid YAML: " + excerpt(e.msg));
   } catch (const YAML::Exception& e) {

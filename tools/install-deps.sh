@@ -14,6 +14,7 @@ packages=(
   libgtest-dev libbenchmark-dev   # tests and benchmarks
   python3-matplotlib       # tools/plot_*.py figures (run with /usr/bin/python3)
   time                     # GNU time, for tools/benchmarks.sh
+  clang-14 libclang-rt-14-dev   # the libFuzzer target (tools/fuzz.sh): -fsanitize=fuzzer,address,undefined
 )
 
 if [[ $(id -u) -ne 0 ]]; then sudo=sudo; else sudo=; fi
