@@ -78,8 +78,17 @@ struct StoppedResult : CliResult {
 // Starts clothsim, sends it one `signal` after `seconds` (as Ctrl-C in a terminal does: once,
 // to the process; `timeout -s INT` would also signal its whole process group, and a second
 // signal kills by design), and waits for it.
+inline StoppedResult run_clothsim_signalled(const std::vector<std::string>& args, double seconds,
+                                            const std::vector<int>& signals);
 inline StoppedResult run_clothsim_interrupted(const std::vector<std::string>& args, double seconds,
                                               int signal = SIGINT) {
+  return run_clothsim_signalled(args, seconds, {signal});
+}
+
+// Same, sending each of `signals` in turn, at once (SIGSTOP first and SIGCONT last make the
+// ones between arrive together).
+inline StoppedResult run_clothsim_signalled(const std::vector<std::string>& args, double seconds,
+                                            const std::vector<int>& signals) {
   const Capture capture;
   std::vector<std::string> argv_strings = {CLOTHSIM_BINARY};
   argv_strings.insert(argv_strings.end(), args.begin(), args.end());
@@ -97,7 +106,7 @@ inline StoppedResult run_clothsim_interrupted(const std::vector<std::string>& ar
   }
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   const auto sent = std::chrono::steady_clock::now();
-  ::kill(pid, signal);
+  for (const int signal : signals) ::kill(pid, signal);
   int status = 0;
   ::waitpid(pid, &status, 0);
   StoppedResult result;

@@ -332,6 +332,31 @@ TEST(CmdCompare, AWriteFailureIsOneLineExit1AndLeavesNothing) {
   EXPECT_TRUE(cli::only_files(dir, {}));
 }
 
+TEST(CmdCompare, AWriteFailureOnTheContactSheetIsOneLineExit1AndLeavesNothing) {
+  const std::string dir = scratch_dir("compare_fsize_sheet");
+  const auto r = cli::run_clothsim({"compare", kDrape, "--integrators", "rk4", "--duration", "0.2", "--width", "320",
+                                    "--height", "180", "--sheet", dir + "/s.png", "--times", "0.1,0.2"},
+                                   "ulimit -f 16;");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("cannot write " + dir + "/s.png: File too large"), std::string::npos) << r.err;
+  EXPECT_TRUE(cli::only_files(dir, {}));
+}
+
+// Two signals arriving together (the process stopped, signalled twice, continued) reach the
+// handler in two of compare's threads at once: the second still kills.
+TEST(CmdCompare, ASecondSignalOfEitherKindKillsAtOnceLeavingNothing) {
+  const std::string dir = scratch_dir("compare_second_signal");
+  const auto r = cli::run_clothsim_signalled(
+      {"compare", kDrape, "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180", "--video",
+       dir + "/v.mp4"},
+      1.0, {SIGSTOP, SIGINT, SIGTERM, SIGCONT});
+  EXPECT_TRUE(r.exit_code == 128 + SIGINT || r.exit_code == 128 + SIGTERM) << r.exit_code << "\n" << r.err;
+  EXPECT_EQ(r.err.find("stopped by"), std::string::npos) << "killed by the second, not stopped cleanly\n" << r.err;
+  EXPECT_LT(r.seconds_to_exit, 2.0);
+  EXPECT_TRUE(cli::only_files(dir, {}));
+}
+
 TEST(CmdCompare, AnInterruptedFramesRunSaysWhichPngsItKept) {
   const std::string dir = scratch_dir("compare_interrupt_frames");
   const auto r = cli::run_clothsim_interrupted(

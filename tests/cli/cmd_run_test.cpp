@@ -304,6 +304,21 @@ TEST(CmdRun, StopsWithinTheBoundAtATinyStepOnEitherSignalLeavingNothing) {
   }
 }
 
+// A second signal of either kind ends the process at once, whatever the first is doing: both
+// arrive together (the process stopped, signalled twice, continued), the first is handled,
+// the second kills before a word is written. Nothing is left: outputs have no name yet.
+TEST(CmdRun, ASecondSignalOfEitherKindKillsAtOnceLeavingNothing) {
+  const std::string dir = scratch_dir("run_second_signal");
+  const StoppedResult r = run_clothsim_signalled(
+      {"run", shipped("drape.yaml"), "--set", "dt=1e-9", "--duration", "1", "--state", dir + "/s.csv", "--video",
+       dir + "/v.mp4", "--set", "render.width=64", "--set", "render.height=64"},
+      1.0, {SIGSTOP, SIGTERM, SIGINT, SIGCONT});
+  EXPECT_TRUE(r.exit_code == 128 + SIGINT || r.exit_code == 128 + SIGTERM) << r.exit_code << "\n" << r.err;
+  EXPECT_EQ(r.err.find("stopped by"), std::string::npos) << "killed by the second, not stopped cleanly\n" << r.err;
+  EXPECT_LT(r.seconds_to_exit, 2.0);
+  EXPECT_TRUE(only_files(dir, {}));
+}
+
 // A file-size limit (ulimit -f 16: 8 kB in dash's 512-byte blocks) makes every output's
 // write fail with EFBIG, as a full disk fails with ENOSPC: exit 1, one line with the system's
 // reason, and nothing under the requested name (nor a temporary beside it).
