@@ -16,8 +16,8 @@ struct PngError : std::runtime_error {
 
 using PngText = std::vector<std::pair<std::string, std::string>>;  // tEXt key/value chunks
 
-// Writes to a temporary file beside `path` and renames it, so a failed write leaves nothing.
-// Throws PngError with the path and reason.
+// Writes through an OutputFile (named only when complete), so a failed write leaves nothing.
+// Throws PngError "cannot write PATH: reason" (the system's errno text for I/O errors).
 void write_png(const std::string& path, const Image& image, const PngText& text = {},
                int zlib_level = 2);
 // Reads any 8-bit PNG (grey, RGB, RGBA, palette) as RGBA. Throws PngError (missing, corrupt).

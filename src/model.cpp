@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "memory_estimate.h"
 #include "spring_force.h"
 
 namespace clothsim {
@@ -34,6 +35,11 @@ void add_spring(Springs& s, const Eigen::Matrix3Xd& x, int a, int b, const Sprin
 // diagonals, bend to the neighbour two away along each axis.
 Springs build_springs(const ClothDef& c, const Eigen::Matrix3Xd& x) {
   Springs s;
+  // Reserved whole: growing by push_back would hold the old and the new buffer at once, 1.5x
+  // the arrays' final size at the peak, past what model_bytes() promises.
+  const auto count = static_cast<std::size_t>(spring_count(c));
+  s.a.reserve(count), s.b.reserve(count), s.rest.reserve(count), s.ks.reserve(count), s.kd.reserve(count);
+  s.type.reserve(count);
   const auto id = [&](int i, int j) { return j * c.nx + i; };
   if (c.structural) {
     for (int j = 0; j < c.ny; ++j)
@@ -60,6 +66,7 @@ Springs build_springs(const ClothDef& c, const Eigen::Matrix3Xd& x) {
 // Two triangles per grid cell, wound so the front faces +y (xz) or +z (xy).
 std::vector<std::uint32_t> build_triangles(const ClothDef& c) {
   std::vector<std::uint32_t> t;
+  if (c.nx > 1 && c.ny > 1) t.reserve(6 * static_cast<std::size_t>(c.nx - 1) * static_cast<std::size_t>(c.ny - 1));
   for (int j = 0; j + 1 < c.ny; ++j)
     for (int i = 0; i + 1 < c.nx; ++i) {
       const std::uint32_t p00 = j * c.nx + i, p10 = p00 + 1, p01 = p00 + c.nx, p11 = p01 + 1;

@@ -3,12 +3,18 @@
 // line, so every error can say where it is; every map is checked for keys it does not know.
 #include "scene_parser.h"
 
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
+#include "echo.h"
+#include "run_bounds.h"
+
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <sys/stat.h>
@@ -16,11 +22,13 @@
 namespace clothsim {
 
 namespace {
+// One line whatever the input: the file name and the key are user text too (a key can be a
+// megabyte of junk, a path can hold a newline), so both are echoed as excerpts.
 std::string format_error(const std::string& file, int line, const std::string& key,
                          const std::string& what) {
-  std::string out = file;
+  std::string out = excerpt(file, 256);
   if (line > 0) out += ":" + std::to_string(line);
-  if (!key.empty()) out += ": " + key;
+  if (!key.empty()) out += ": " + excerpt(key);
   return out + ": " + what;
 }
 }  // namespace
@@ -51,12 +59,15 @@ const char* type_name(const YAML::Node& n) {
 // came from --set, so an error in an overridden value names the override, not a line.
 class Reader {
  public:
-  Reader(std::string file, std::map<std::string, std::string> overrides)
-      : file_(std::move(file)), overrides_(std::move(overrides)) {}
+  Reader(std::string file, std::map<std::string, std::string> overrides, bool bound_run)
+      : file_(std::move(file)), overrides_(std::move(overrides)), bound_run_(bound_run) {}
 
   [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& what) const {
+    // A value under an override ("gravity[1]" under --set gravity=[0,.nan,0]), the override
+    // itself, or a map the override reaches into: the error names the override, not a line.
     for (const auto& [path, text] : overrides_)
-      if (key == path || key.rfind(path + ".", 0) == 0 || path.rfind(key + ".", 0) == 0)
+      if (key == path || key.rfind(path + ".", 0) == 0 || key.rfind(path + "[", 0) == 0 ||
+          path.rfind(key + ".", 0) == 0)
         throw SceneError(file_, 0, "--set " + text, what);
     const int line = node.IsDefined() && !node.Mark().is_null() ? node.Mark().line + 1 : 0;
     throw SceneError(file_, line, key, what);
@@ -86,9 +97,9 @@ class Reader {
     try {
       v = n.as<double>();
     } catch (const YAML::Exception&) {
-      fail(n, key, "expected a number, got '" + n.Scalar() + "'");
+      fail(n, key, "expected a number, got " + in_quotes(n.Scalar()));
     }
-    if (!std::isfinite(v)) fail(n, key, "expected a finite number, got '" + n.Scalar() + "'");
+    if (!std::isfinite(v)) fail(n, key, "expected a finite number, got " + in_quotes(n.Scalar()));
     return v;
   }
 
@@ -97,7 +108,7 @@ class Reader {
     try {
       return n.as<int>();
     } catch (const YAML::Exception&) {
-      fail(n, key, "expected an integer, got '" + n.Scalar() + "'");
+      fail(n, key, "expected an integer, got " + in_quotes(n.Scalar()));
     }
   }
 
@@ -106,7 +117,7 @@ class Reader {
     try {
       return n.as<bool>();
     } catch (const YAML::Exception&) {
-      fail(n, key, "expected true or false, got '" + n.Scalar() + "'");
+      fail(n, key, "expected true or false, got " + in_quotes(n.Scalar()));
     }
   }
 
@@ -128,7 +139,7 @@ class Reader {
     const bool ok = (lo_open ? v > lo : v >= lo) && v <= hi;
     if (!ok) {
       std::ostringstream msg;
-      msg << "value " << n.Scalar() << " out of range: must be " << (lo_open ? "> " : ">= ") << lo;
+      msg << "value " << excerpt(n.Scalar()) << " out of range: must be " << (lo_open ? "> " : ">= ") << lo;
       if (std::isfinite(hi)) msg << " and <= " << hi;
       fail(n, key, msg.str());
     }
@@ -143,7 +154,7 @@ class Reader {
   int int_in_range(const YAML::Node& n, const std::string& key, int lo, int hi) const {
     const int v = integer(n, key);
     if (v < lo || v > hi)
-      fail(n, key, "value " + n.Scalar() + " out of range: must be from " + std::to_string(lo) +
+      fail(n, key, "value " + excerpt(n.Scalar()) + " out of range: must be from " + std::to_string(lo) +
                        " to " + std::to_string(hi));
     return v;
   }
@@ -159,6 +170,7 @@ class Reader {
 
  private:
   ClothDef cloth(const YAML::Node& n, const std::string& path) const;
+  void grid_geometry(const YAML::Node& n, const std::string& path, const ClothDef& c) const;
   std::optional<SpringParams> springs(const YAML::Node& n, const std::string& path) const;
   std::vector<GridSelection> selection(const YAML::Node& n, const std::string& key, const ClothDef& c,
                                        bool none_allowed) const;
@@ -170,6 +182,7 @@ class Reader {
 
   std::string file_;
   std::map<std::string, std::string> overrides_;  // dotted key -> "KEY=VALUE" as typed
+  bool bound_run_;  // check duration / dt and the frame count (run_bounds.h)
 };
 
 SceneDef Reader::scene(const YAML::Node& root) const {
@@ -183,7 +196,7 @@ SceneDef Reader::scene(const YAML::Node& root) const {
   optional(root, "", "dt", [&](auto& n, auto& k) { s.dt = positive(n, k); });
   optional(root, "", "integrator", [&](auto& n, auto& k) {
     const auto kind = parse_integrator(string(n, k));
-    if (!kind) fail(n, k, "unknown integrator '" + n.Scalar() + "' (expected one of: " + integrator_names_joined() + ")");
+    if (!kind) fail(n, k, "unknown integrator " + in_quotes(n.Scalar()) + " (expected one of: " + integrator_names_joined() + ")");
     s.integrator = *kind;
   });
   optional(root, "", "gravity", [&](auto& n, auto& k) { s.gravity = vec3(n, k); });
@@ -230,7 +243,56 @@ SceneDef Reader::scene(const YAML::Node& root) const {
     optional(n, k, "max_strain", [&](auto& v, auto& kk) { s.divergence.max_strain = positive(v, kk); });
     optional(n, k, "max_energy_factor", [&](auto& v, auto& kk) { s.divergence.max_energy_factor = positive(v, kk); });
   });
+  // Steps and frames, bounded before anything is allocated for them (run_bounds.h), unless the
+  // caller replaces duration or dt and bounds the result itself. The error names the key at
+  // fault: dt (or duration, when --set gave it or the file has no dt) for too many steps,
+  // duration (or render.fps, when the file has no duration) for too many frames.
+  if (bound_run_) {
+    const std::string too_long = run_bounds_problem(s.duration, s.dt, s.render.fps);
+    if (!too_long.empty()) {
+      const bool by_steps = !(s.duration / s.dt <= kMaxSteps);
+      const bool has_duration = root["duration"].IsDefined();
+      if (by_steps && root["dt"].IsDefined() && !(has_duration && overrides_.count("duration")))
+        fail(root["dt"], "dt", too_long);
+      if (!by_steps && !has_duration && root["render"].IsMap() && root["render"]["fps"].IsDefined())
+        fail(root["render"]["fps"], "render.fps", too_long);
+      fail(root["duration"], "duration", too_long);
+    }
+  }
   return s;
+}
+
+// The grid must be representable: every particle within kMaxReach of the origin (past it,
+// centre + size overflows or loses the spacing), and neighbours at least kMinSpacing apart
+// and 1e-9 of that reach (closer, their distance rounds to 0 or underflows when squared, and
+// the first spring force is 0/0). Found by the fuzzer (tests/fuzz/regressions/).
+void Reader::grid_geometry(const YAML::Node& n, const std::string& path, const ClothDef& c) const {
+  constexpr double kMaxReach = 1e9, kMinSpacing = 1e-6;  // m
+  const bool xz = c.plane == ClothPlane::XZ;
+  const double reach_x = std::abs(c.center.x()) + 0.5 * c.size_x + std::abs(c.initial_stretch);
+  const double reach_2 = std::abs(xz ? c.center.z() : c.center.y()) + 0.5 * c.size_y;
+  const double reach = std::max({reach_x, reach_2, std::abs(c.center.x()), std::abs(c.center.y()), std::abs(c.center.z())});
+  const auto node = [&](const char* key) { return n[key].IsDefined() ? n[key] : n; };
+  if (!(reach <= kMaxReach)) {
+    const char* key = std::abs(c.initial_stretch) > kMaxReach / 2 ? "initial_stretch"
+                      : std::max(c.size_x, c.size_y) > kMaxReach   ? "size"
+                                                                      : "center";
+    std::ostringstream msg;
+    msg << "the cloth reaches " << reach << " m from the origin, more than " << kMaxReach
+        << " m (center, size and initial_stretch together)";
+    fail(node(key), path + "." + key, msg.str());
+  }
+  for (int axis = 0; axis < 2; ++axis) {
+    const int count = axis == 0 ? c.nx : c.ny;
+    if (count < 2) continue;
+    const double spacing = (axis == 0 ? c.size_x : c.size_y) / (count - 1);
+    if (!(spacing >= kMinSpacing && spacing >= 1e-9 * reach)) {
+      std::ostringstream msg;
+      msg << "particles " << spacing << " m apart along axis " << axis << " (size / (particles - 1)), closer than "
+          << std::max(kMinSpacing, 1e-9 * reach) << " m: their springs would have no length";
+      fail(node("size"), path + ".size", msg.str());
+    }
+  }
 }
 
 ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
@@ -252,7 +314,7 @@ ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
     const std::string p = string(v, k);
     if (p == "xz") c.plane = ClothPlane::XZ;
     else if (p == "xy") c.plane = ClothPlane::XY;
-    else fail(v, k, "unknown plane '" + p + "' (expected xz or xy)");
+    else fail(v, k, "unknown plane " + in_quotes(p) + " (expected xz or xy)");
   });
   optional(n, path, "particle_mass", [&](auto& v, auto& k) { c.particle_mass = positive(v, k); });
   optional(n, path, "springs", [&](auto& v, auto& k) {
@@ -265,6 +327,7 @@ ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
   optional(n, path, "initial_stretch", [&](auto& v, auto& k) { c.initial_stretch = number(v, k); });
   optional(n, path, "initial_velocity", [&](auto& v, auto& k) { c.initial_velocity = vec3(v, k); });
   if (c.nx * c.ny < 1) fail(n, path + ".particles", "a cloth needs at least one particle");
+  grid_geometry(n, path, c);
   return c;
 }
 
@@ -307,7 +370,7 @@ GridSelection Reader::selection_item(const YAML::Node& n, const std::string& key
     else if (name == "none") fail(n, key, "'none' cannot be listed with other pins");
     else if (!name.empty() && name.find_first_not_of("-0123456789") == std::string::npos)
       fail(n, key, "a number alone is not a particle: write [[i, j]] for one particle, [[i, j], ...] for several");
-    else fail(n, key, "unknown selection '" + name + "' (" + kForms + ")");
+    else fail(n, key, "unknown selection " + in_quotes(name) + " (" + kForms + ")");
     return g;
   }
   if (n.IsSequence()) {
@@ -387,7 +450,7 @@ RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
     if (n["samples"].IsDefined()) fail(v, k, "give msaa or samples, not both");
     const int m = integer(v, k);
     if (m != 0 && m != 2 && m != 4 && m != 8)
-      fail(v, k, "value " + v.Scalar() + " is not one of 0, 2, 4, 8");
+      fail(v, k, "value " + excerpt(v.Scalar()) + " is not one of 0, 2, 4, 8");
     r.samples = m == 0 ? 1 : m;
   });
   optional(n, path, "camera", [&](auto& v, auto& k) {
@@ -409,7 +472,7 @@ ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const
     const std::string s = string(v, k);
     if (s == "newton") d.solver = ImplicitSolver::Newton;
     else if (s == "fixed_point") d.solver = ImplicitSolver::FixedPoint;
-    else fail(v, k, "unknown solver '" + s + "' (expected newton or fixed_point)");
+    else fail(v, k, "unknown solver " + in_quotes(s) + " (expected newton or fixed_point)");
   });
   optional(n, path, "newton_max_iterations", [&](auto& v, auto& k) { d.newton_max_iterations = int_in_range(v, k, 1, 1000); });
   optional(n, path, "newton_tolerance", [&](auto& v, auto& k) { d.newton_tolerance = positive(v, k); });
@@ -422,58 +485,106 @@ ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const
 // --set KEY=VALUE: walks the dotted key into the tree (creating map entries, so a key the
 // file leaves at its default can be set; list items by index), and puts VALUE, parsed as
 // YAML, there. Whether the key exists in the schema is the reader's unknown-key check.
+// A list index in a --set key: plain decimal digits only (stoul would also take "+0", " 0"
+// and "0x0", so spheres.0x0.radius named sphere 0), at most 9 of them (no overflow).
+std::optional<std::size_t> list_index(const std::string& part) {
+  if (part.empty() || part.size() > 9) return std::nullopt;
+  std::size_t idx = 0;
+  for (char c : part) {
+    if (c < '0' || c > '9') return std::nullopt;
+    idx = idx * 10 + static_cast<std::size_t>(c - '0');
+  }
+  return idx;
+}
+
+// The first YAML document of `text`, and where a second one starts, if any. Not through
+// YAML::LoadAll: yaml-cpp 0.7 (Debian 12) loops forever, allocating until the process dies,
+// on a stray ',' at the top level (yaml-cpp issue #1040; upstream fixed LoadAll in PR #1319,
+// after 0.8.0). Found by the fuzzer (tests/fuzz/regressions/leading_comma*). Here the
+// parser's events are only counted, for two documents at most, and a "document" that starts
+// where the last one did (the parser made no progress) is not one.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& mark) override { starts.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+  std::vector<YAML::Mark> starts;
+};
+
+struct Documents {
+  YAML::Node first;
+  std::optional<YAML::Mark> second;  // where a second document starts
+};
+
+// Throws YAML::Exception as YAML::Load does.
+Documents load_documents(const std::string& text) {
+  Documents d;
+  d.first = YAML::Load(text);
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  DocumentStarts events;
+  for (int k = 0; k < 2 && parser.HandleNextDocument(events); ++k) {
+  }
+  if (events.starts.size() == 2 && events.starts[1].pos != events.starts[0].pos) d.second = events.starts[1];
+  return d;
+}
+
+// --set KEY=VALUE: walks the dotted key into the tree (creating map entries, so a key the
+// file leaves at its default can be set; list items by index), and puts VALUE, parsed as
+// YAML, there. Whether the key exists in the schema is the reader's unknown-key check.
 void apply_override(YAML::Node& root, const std::string& text, const std::string& file,
                     std::map<std::string, std::string>& applied) {
+  const std::string name = "--set " + text;  // cut to an excerpt when the error is formatted
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw SceneError(file, 0, "--set " + text, "expected KEY=VALUE, e.g. cloth.springs.structural.stiffness=1e5");
+    throw SceneError(file, 0, name, "expected KEY=VALUE, e.g. cloth.springs.structural.stiffness=1e5");
   const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
   YAML::Node parsed;
   try {
-    parsed = YAML::Load(value);
+    const Documents documents = load_documents(value);
+    if (documents.second) throw SceneError(file, 0, name, "value holds more than one YAML document");
+    parsed = documents.first;
   } catch (const YAML::Exception& e) {
-    throw SceneError(file, 0, "--set " + text, "value is not valid YAML: " + e.msg);
+    throw SceneError(file, 0, name, "value is not valid YAML: " + excerpt(e.msg));
   }
   std::vector<std::string> parts;
   std::stringstream ss(key);
   for (std::string part; std::getline(ss, part, '.');) {
-    if (part.empty()) throw SceneError(file, 0, "--set " + text, "empty component in key '" + key + "'");
+    if (part.empty()) throw SceneError(file, 0, name, "empty component in key " + in_quotes(key));
     parts.push_back(part);
   }
+  if (key.back() == '.') throw SceneError(file, 0, name, "empty component in key " + in_quotes(key));
+  const auto index_into = [&](const YAML::Node& list, const std::string& part) -> std::size_t {
+    const std::optional<std::size_t> idx = list_index(part);
+    if (!idx) throw SceneError(file, 0, name, in_quotes(part) + " is not an index into a list (plain decimal: 0, 1, 2...)");
+    if (*idx >= list.size())
+      throw SceneError(file, 0, name, "index " + part + " is past the end of a list of " + std::to_string(list.size()));
+    return *idx;
+  };
   YAML::Node cur;
   cur.reset(root);
   for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
     const std::string& p = parts[i];
     YAML::Node next;
     if (cur.IsSequence()) {
-      std::size_t idx = 0;
-      try {
-        idx = std::stoul(p);
-      } catch (const std::exception&) {
-        throw SceneError(file, 0, "--set " + text, "'" + p + "' is not an index into a list");
-      }
-      if (idx >= cur.size())
-        throw SceneError(file, 0, "--set " + text, "index " + p + " is past the end of a list of " + std::to_string(cur.size()));
-      next.reset(cur[idx]);
+      next.reset(cur[index_into(cur, p)]);
     } else if (cur.IsMap() || cur.IsNull() || !cur.IsDefined()) {
       next.reset(cur[p]);
     } else {
-      throw SceneError(file, 0, "--set " + text, "'" + p + "' is inside a value that is not a map");
+      throw SceneError(file, 0, name, in_quotes(p) + " is inside a value that is not a map");
     }
     cur.reset(next);
   }
   if (cur.IsSequence()) {
-    std::size_t idx = 0;
-    try {
-      idx = std::stoul(parts.back());
-    } catch (const std::exception&) {
-      throw SceneError(file, 0, "--set " + text, "'" + parts.back() + "' is not an index into a list");
-    }
-    if (idx >= cur.size())
-      throw SceneError(file, 0, "--set " + text, "index past the end of the list");
-    cur[idx] = parsed;
+    cur[index_into(cur, parts.back())] = parsed;
   } else if (cur.IsScalar()) {
-    throw SceneError(file, 0, "--set " + text, "'" + parts.back() + "' is inside a value that is not a map");
+    throw SceneError(file, 0, name, in_quotes(parts.back()) + " is inside a value that is not a map");
   } else {
     cur[parts.back()] = parsed;
   }
@@ -506,25 +617,33 @@ void check_text(const std::string& text, const std::string& file) {
 }  // namespace
 
 SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
-                     const std::vector<std::string>& overrides) {
+                     const std::vector<std::string>& overrides, bool bound_run) {
   check_text(yaml_text, source);
   YAML::Node root;
   try {
-    root = YAML::Load(yaml_text);
+    // Every document is read, so that a second one is an error rather than silently ignored
+    // (a scene pasted twice, or a stray "---" before more keys).
+    const Documents documents = load_documents(yaml_text);
+    if (documents.second) {
+      const YAML::Mark at = *documents.second;
+      throw SceneError(source, at.is_null() ? 0 : at.line + 1, "",
+                       "a second YAML document: a scene file holds one (remove the '---' line or the text after it)");
+    }
+    root = documents.first;
   } catch (const YAML::ParserException& e) {
-    throw SceneError(source, e.mark.is_null() ? 0 : e.mark.line + 1, "", "invalid YAML: " + e.msg);
+    throw SceneError(source, e.mark.is_null() ? 0 : e.mark.line + 1, "", "invalid YAML: " + excerpt(e.msg));
   } catch (const YAML::Exception& e) {
-    throw SceneError(source, 0, "", std::string("invalid YAML: ") + e.what());
+    throw SceneError(source, 0, "", "invalid YAML: " + excerpt(e.what()));
   }
   if (!root.IsMap())
     throw SceneError(source, root.Mark().is_null() ? 0 : root.Mark().line + 1, "",
                      std::string("expected a map of scene keys at the top level, got ") + type_name(root));
   std::map<std::string, std::string> applied;
   for (const std::string& o : overrides) apply_override(root, o, source, applied);
-  return Reader(source, applied).scene(root);
+  return Reader(source, applied, bound_run).scene(root);
 }
 
-SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides, bool bound_run) {
   struct stat st{};
   if (::stat(path.c_str(), &st) != 0) throw SceneError(path, 0, "", "cannot open: no such file");
   if (S_ISDIR(st.st_mode)) throw SceneError(path, 0, "", "is a directory, not a scene file");
@@ -532,7 +651,7 @@ SceneDef load_scene(const std::string& path, const std::vector<std::string>& ove
   if (!in) throw SceneError(path, 0, "", "cannot open for reading");
   std::ostringstream buf;
   buf << in.rdbuf();
-  return parse_scene(buf.str(), path, overrides);
+  return parse_scene(buf.str(), path, overrides, bound_run);
 }
 
 }  // namespace clothsim

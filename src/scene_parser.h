@@ -24,10 +24,13 @@ struct SceneError : std::runtime_error {
 // Reads and validates a scene file. `overrides` are "dotted.key=VALUE" strings (--set),
 // VALUE parsed as YAML, applied before validation; a key the schema does not have is an
 // error. Throws SceneError; an unreadable file is a SceneError with line 0.
-SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+// `bound_run`: refuse more than kMaxSteps steps or kMaxFrames frames (run_bounds.h); false
+// only for a caller that replaces duration or dt (--duration, --dt) and bounds the result.
+SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
+                    bool bound_run = true);
 
 // Same, from text in memory (tests, and scenes built by tools). `source` names it in errors.
 SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
-                     const std::vector<std::string>& overrides = {});
+                     const std::vector<std::string>& overrides = {}, bool bound_run = true);
 
 }  // namespace clothsim

@@ -50,11 +50,16 @@ Run::Run(const Model& model, IntegratorKind kind, double dt)
 
 bool Run::advance_to(double target) {
   if (divergence_) return false;
+  if (stopped_) return true;
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = thread_cpu_seconds();
   const double tolerance = 1e-6 * dt_;
   bool stepped = false;
   while (state_.t < target - tolerance) {
+    if (stop_ && stop_()) {
+      stopped_ = true;
+      break;
+    }
     const std::int64_t from_step = state_.step;
     const double from_t = state_.t;
     last_ = step(model_, state_, kind_, dt_, ws_);

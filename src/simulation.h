@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "collisions.h"
@@ -65,8 +66,15 @@ class Run {
   Run(const Model& model, IntegratorKind kind, double dt);
 
   // Steps until t >= target (within a small tolerance of dt). Returns false once diverged;
-  // divergence() then says at which step and time, and why.
+  // divergence() then says at which step and time, and why. Returns true but short of the
+  // target when the stop check fired (stopped()): callers that stop on a signal check it.
   bool advance_to(double target);
+  // Polled before every step of advance_to, so a run at any step size stops within one step
+  // of being asked (a relaxed atomic load behind a std::function costs a few ns, nothing
+  // beside a step). Once it has returned true the run is stopped for good: advance_to no
+  // longer steps. Set it before advancing; the engine itself knows nothing of signals.
+  void set_stop_check(std::function<bool()> stop) { stop_ = std::move(stop); }
+  bool stopped() const { return stopped_; }
   bool diverged() const { return divergence_.has_value(); }
   const std::optional<Divergence>& divergence() const { return divergence_; }
 
@@ -86,6 +94,8 @@ class Run {
   RunTotals totals_;
   StepReport last_;
   std::optional<Divergence> divergence_;
+  std::function<bool()> stop_;
+  bool stopped_ = false;
 };
 
 }  // namespace clothsim

@@ -17,6 +17,7 @@ packages=(
   libbullet-dev            # a peer in benchmarks only (tools/bench/bullet_peer_bench.cpp)
   python3-matplotlib       # tools/plot_*.py figures (run with /usr/bin/python3)
   time                     # GNU time, for tools/benchmarks.sh
+  clang-14 libclang-rt-14-dev   # the libFuzzer target (tools/fuzz.sh): -fsanitize=fuzzer,address,undefined
 )
 
 if [[ $(id -u) -ne 0 ]]; then sudo=sudo; else sudo=; fi

@@ -1,7 +1,16 @@
 #!/usr/bin/env bash
-# Installs, builds and runs every test (GoogleTest through CTest), on all cores.
+# Installs, builds and runs every test (GoogleTest through CTest), on all cores; then, when
+# clang-14 is present, fuzzes the scene front end for a bounded time (tools/fuzz.sh,
+# CLOTHSIM_FUZZ_SECONDS, default 60; 0 skips it). A fuzzer failure fails the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/build.sh
-cd build
-ctest --output-on-failure -j"$(nproc)" --timeout 600
+(cd build && ctest --output-on-failure -j"$(nproc)" --timeout 600)
+fuzz_seconds=${CLOTHSIM_FUZZ_SECONDS:-60}
+if ((fuzz_seconds > 0)); then
+  if command -v clang++-14 >/dev/null; then
+    tools/fuzz.sh "$fuzz_seconds"
+  else
+    echo "test: clang++-14 not found, fuzzing skipped (tools/install-deps.sh installs it)" >&2
+  fi
+fi

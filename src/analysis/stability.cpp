@@ -8,6 +8,7 @@
 
 #include "analysis/study_run.h"
 #include "analysis/task_pool.h"
+#include "run_bounds.h"
 
 namespace clothsim::analysis {
 namespace {
@@ -63,6 +64,8 @@ void check(const StabilitySpec& spec) {
     msg << "the smallest step tried (" << spec.min_dt << " s) must be below the largest (" << spec.max_dt << " s)";
     throw StudyError(msg.str());
   }
+  const std::string too_long = run_bounds_problem(spec.duration, spec.min_dt, 0.0);
+  if (!too_long.empty()) throw StudyError("at the smallest step tried, " + too_long);
   if (spec.max_dt > spec.duration / kMinTrialSteps * (1 + 1e-12)) {
     std::ostringstream msg;
     msg << "the largest step tried (" << spec.max_dt << " s) leaves fewer than " << kMinTrialSteps

@@ -15,7 +15,7 @@ struct StudyError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-// Polled between runs and between slices of a run (Ctrl-C in the CLI), and told how many
+// Polled between runs and before every step of a run (Ctrl-C in the CLI), and told how many
 // of a study's runs are done, from whichever thread finished one (calls are serialised).
 struct StudyHooks {
   std::function<bool()> stop;

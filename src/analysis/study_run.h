@@ -1,5 +1,5 @@
-// One bounded run of a study: a Run advanced to time T in slices, so a study can be
-// stopped (Ctrl-C) between slices, with its cost measured both as wall time and as the CPU
+// One bounded run of a study: a Run advanced to time T, stoppable (Ctrl-C) before any step
+// (Run's stop check), with its cost measured both as wall time and as the CPU
 // time of the thread that ran it (the figure that does not grow when other processes share
 // the cores). A run that diverges stops there (Run does), which bounds every run of a sweep.
 #pragma once
@@ -24,7 +24,7 @@ struct StudyRun {
 };
 
 // Runs `model` with `kind` at step `dt` until t >= T (Run::advance_to's rule: the last step
-// may pass T by less than dt when dt does not divide T). `stop` is polled between slices.
+// may pass T by less than dt when dt does not divide T). `stop` is polled before every step.
 StudyRun run_to(const Model& model, IntegratorKind kind, double dt, double T,
                 const std::function<bool()>& stop = {});
 

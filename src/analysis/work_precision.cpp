@@ -9,6 +9,7 @@
 #include "analysis/study_run.h"
 #include "analysis/task_pool.h"
 #include "integrator.h"
+#include "run_bounds.h"
 
 namespace clothsim::analysis {
 namespace {
@@ -78,6 +79,10 @@ WorkPrecisionSpec checked(WorkPrecisionSpec spec) {
         throw StudyError("integrator " + std::string(integrator_name(spec.integrators[i])) + " is listed twice");
   if (spec.reference_refinement < 1) throw StudyError("the reference refinement must be >= 1");
   if (!(spec.reference_margin > 0.0)) throw StudyError("the reference margin must be > 0");
+  // The finest run is the second reference, at half the smallest step over the refinement.
+  const std::string too_long =
+      run_bounds_problem(spec.duration, 0.5 * spec.dts.front() / spec.reference_refinement, 0.0);
+  if (!too_long.empty()) throw StudyError("the finest reference run: " + too_long);
   return spec;
 }
 

@@ -70,10 +70,25 @@ inline CliResult run_clothsim(const std::vector<std::string>& args, const std::s
   return capture.collect(std::system(command.c_str()));
 }
 
-// Starts clothsim, sends it one SIGINT after `seconds` (as Ctrl-C in a terminal does: once,
+// A run stopped by a signal, and how long it took to exit once the signal was sent.
+struct StoppedResult : CliResult {
+  double seconds_to_exit = 0.0;
+};
+
+// Starts clothsim, sends it one `signal` after `seconds` (as Ctrl-C in a terminal does: once,
 // to the process; `timeout -s INT` would also signal its whole process group, and a second
-// SIGINT kills by design), and waits for it.
-inline CliResult run_clothsim_interrupted(const std::vector<std::string>& args, double seconds) {
+// signal kills by design), and waits for it.
+inline StoppedResult run_clothsim_signalled(const std::vector<std::string>& args, double seconds,
+                                            const std::vector<int>& signals);
+inline StoppedResult run_clothsim_interrupted(const std::vector<std::string>& args, double seconds,
+                                              int signal = SIGINT) {
+  return run_clothsim_signalled(args, seconds, {signal});
+}
+
+// Same, sending each of `signals` in turn, at once (SIGSTOP first and SIGCONT last make the
+// ones between arrive together).
+inline StoppedResult run_clothsim_signalled(const std::vector<std::string>& args, double seconds,
+                                            const std::vector<int>& signals) {
   const Capture capture;
   std::vector<std::string> argv_strings = {CLOTHSIM_BINARY};
   argv_strings.insert(argv_strings.end(), args.begin(), args.end());
@@ -90,10 +105,14 @@ inline CliResult run_clothsim_interrupted(const std::vector<std::string>& args, 
     ::_exit(127);
   }
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
-  ::kill(pid, SIGINT);
+  const auto sent = std::chrono::steady_clock::now();
+  for (const int signal : signals) ::kill(pid, signal);
   int status = 0;
   ::waitpid(pid, &status, 0);
-  return capture.collect(status);
+  StoppedResult result;
+  static_cast<CliResult&>(result) = capture.collect(status);
+  result.seconds_to_exit = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  return result;
 }
 
 // Number of lines in `text` (a message must be one line).

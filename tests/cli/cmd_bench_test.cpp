@@ -141,5 +141,15 @@ TEST(CmdBench, APythonWithoutMatplotlibIsSaidBeforeAnyRun) {
   EXPECT_TRUE(only_files(dir, {}));
 }
 
+// Steps are bounded before anything runs: the finest reference run of --dts 1e-9 over 1 s
+// (the smallest step / 8 / 2) is 1.6e10 steps.
+TEST(CmdBench, RefusesAStudyPastTheStepLimitAtOnce) {
+  const CliResult r = run_clothsim({"bench", spring(), "--dts", "1e-9", "--duration", "1"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--dts: the finest reference run: duration / dt"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("more than the limit of 1e+09"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace clothsim::testing

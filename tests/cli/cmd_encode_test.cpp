@@ -210,3 +210,27 @@ TEST(CmdEncode, NoOverwriteRefusesAnExistingClipBeforeReadingAnyFrame) {
   EXPECT_NE(r.err.find("-o/--output: " + out + " exists, and -n/--no-overwrite keeps it"), std::string::npos) << r.err;
   EXPECT_EQ(cli::slurp(out), "mine");
 }
+
+TEST(CmdEncode, RefusesAPictureOverMaxMemoryWithTheEncodersShare) {
+  const std::string root = scratch_dir("encode_max_memory");
+  const std::string a = write_sequence(root, "a", 1, 1024, 1024, {kRed});
+  const std::string out = root + "/x.mp4";
+  expect_refused(run_clothsim({"encode", a, "-o", out, "--max-memory", "100M"}), 2, out,
+                 "needs an estimated 152 MB (process 80 MB, tiles 4 MB, frame 1024x1024 4 MB, encoder 64 MB), "
+                 "more than --max-memory 100 MB");
+}
+
+// x264 reports a failed allocation on stderr by itself, not through libav's log; it is
+// captured while the encoder opens. An address-space limit (ulimit -v) that a 4096 x 4096
+// encoder cannot fit in makes the failure real; wherever it strikes first on a machine (x264,
+// the PNG decoder), it is one line, exit 1, and nothing under the name.
+TEST(CmdEncode, AnEncoderThatCannotAllocateIsOneLineExit1AndLeavesNothing) {
+  const std::string root = scratch_dir("encode_no_memory");
+  const std::string a = write_sequence(root, "a", 2, 4096, 4096, {kRed, kBlue});
+  const std::string out = root + "/x.mp4";
+  const auto r = run_clothsim({"encode", a, "-o", out}, "ulimit -v 500000;");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_TRUE(cli::only_files(root, {"a"})) << "no temporary beside it";
+}

@@ -131,5 +131,12 @@ TEST(CmdStability, DrawsTheStabilityMap) {
   EXPECT_TRUE(only_files(dir, {"st.png"}));
 }
 
+TEST(CmdStability, RefusesASmallestStepPastTheStepLimitAtOnce) {
+  const CliResult r = run_clothsim({"stability", spring(), "--min-dt", "1e-12", "--duration", "1"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("at the smallest step tried, duration / dt = 1 s / 1e-12 s"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace clothsim::testing

@@ -73,19 +73,31 @@ TEST(ParseTimes, RejectsTimesOutsideTheRunOrOutOfOrder) {
   EXPECT_NE(usage_error([] { parse_times("1,1", 5.0); }).find("must increase"), std::string::npos);
 }
 
-TEST(PlanTargets, HasOneFramePerStepOfOneOverFpsFromZeroToTheDuration) {
-  const auto targets = plan_targets(5.0, 30.0, true, {});
+// Every target of a plan, walked as compare's threads walk it (tests only: compare never
+// holds them all).
+std::vector<Target> walk(const TargetPlan& plan) {
+  std::vector<Target> out;
+  TargetPlan::Cursor cursor(plan);
+  for (Target t; cursor.next(t);) out.push_back(t);
+  EXPECT_EQ(static_cast<long>(out.size()), plan.size());
+  return out;
+}
+
+TEST(TargetPlan, HasOneFramePerStepOfOneOverFpsFromZeroToTheDuration) {
+  const TargetPlan plan(5.0, 30.0, true, {});
+  const auto targets = walk(plan);
   ASSERT_EQ(targets.size(), 151u);
-  EXPECT_EQ(count_frames(targets), 151);
+  EXPECT_EQ(plan.frames(), 151);
   EXPECT_DOUBLE_EQ(targets.front().t, 0.0);
   EXPECT_DOUBLE_EQ(targets[45].t, 1.5);
   EXPECT_DOUBLE_EQ(targets.back().t, 5.0);
   for (std::size_t k = 0; k < targets.size(); ++k) EXPECT_EQ(targets[k].frame, static_cast<int>(k));
 }
 
-TEST(PlanTargets, MergesSheetTimesOntoFramesOrBetweenThem) {
-  const auto targets = plan_targets(1.0, 10.0, true, {0.5, 0.55}, 0.25);
-  EXPECT_EQ(count_frames(targets), 11);
+TEST(TargetPlan, MergesSheetTimesOntoFramesOrBetweenThem) {
+  const TargetPlan plan(1.0, 10.0, true, {0.5, 0.55}, 0.25);
+  const auto targets = walk(plan);
+  EXPECT_EQ(plan.frames(), 11);
   ASSERT_EQ(targets.size(), 13u) << "0.55 and 0.25 fall between frames; 0.5 is frame 5";
   EXPECT_DOUBLE_EQ(targets[6].t, 0.5);
   EXPECT_EQ(targets[6].frame, 5);
@@ -98,11 +110,31 @@ TEST(PlanTargets, MergesSheetTimesOntoFramesOrBetweenThem) {
   for (std::size_t i = 1; i < targets.size(); ++i) EXPECT_LT(targets[i - 1].t, targets[i].t);
 }
 
-TEST(PlanTargets, WithoutFramesStopsOnlyWhereSomethingIsWanted) {
-  const auto sheet_only = plan_targets(5.0, 30.0, false, {0.5, 2.0});
+TEST(TargetPlan, ASheetTimeAndTheStillAtOneInstantAreOneTarget) {
+  const auto targets = walk(TargetPlan(1.0, 10.0, true, {0.3, 0.95}, 0.3));
+  ASSERT_EQ(targets.size(), 12u) << "0.3 is frame 3 (column and still); 0.95 between frames";
+  EXPECT_EQ(targets[3].frame, 3);
+  EXPECT_EQ(targets[3].column, 0);
+  EXPECT_TRUE(targets[3].still);
+  EXPECT_DOUBLE_EQ(targets[10].t, 0.95);
+  EXPECT_EQ(targets[11].frame, 10);
+}
+
+TEST(TargetPlan, HoldsNoFrameListSoAHugeClipCostsNothingToPlan) {
+  const TargetPlan plan(1e6, 30.0, true, {});  // 30 million frames
+  EXPECT_EQ(plan.frames(), 30'000'001);
+  TargetPlan::Cursor cursor(plan);
+  Target t;
+  for (int k = 0; k < 3; ++k) ASSERT_TRUE(cursor.next(t));
+  EXPECT_EQ(t.frame, 2);
+  EXPECT_DOUBLE_EQ(t.t, 2.0 / 30.0);
+}
+
+TEST(TargetPlan, WithoutFramesStopsOnlyWhereSomethingIsWanted) {
+  const auto sheet_only = walk(TargetPlan(5.0, 30.0, false, {0.5, 2.0}));
   ASSERT_EQ(sheet_only.size(), 2u);
   EXPECT_DOUBLE_EQ(sheet_only.back().t, 2.0);
-  const auto summary_only = plan_targets(5.0, 30.0, false, {});
+  const auto summary_only = walk(TargetPlan(5.0, 30.0, false, {}));
   ASSERT_EQ(summary_only.size(), 1u);
   EXPECT_DOUBLE_EQ(summary_only.front().t, 5.0);
 }

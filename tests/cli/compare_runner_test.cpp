@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
+#include <thread>
+
 #include "test_support.h"
 
 using namespace clothsim;
@@ -20,11 +24,8 @@ cloth: {particles: [4, 4], size: [1, 1], pinned: corners,
         springs: {structural: {stiffness: 20000, damping: 5}}}
 )";
 
-std::vector<Target> frames(int n, double fps) {
-  std::vector<Target> targets;
-  for (int k = 0; k < n; ++k) targets.push_back(Target{k / fps, k, -1, false});
-  return targets;
-}
+// n clip frames at fps: t = 0 .. (n - 1) / fps.
+TargetPlan frames(int n, double fps) { return TargetPlan((n - 1) / fps, fps, true, {}); }
 
 }  // namespace
 
@@ -86,6 +87,26 @@ TEST(RunWorker, StopsWhenAskedEvenWithAFullQueue) {
   worker.stop();
   worker.join();  // returns: the thread saw the stop while blocked on the full queue
   EXPECT_LT(worker.summary().totals.steps, 1000 * 50);
+}
+
+TEST(RunWorker, AnInterruptStopsTheRunMidTargetAndFreesTheCallerOfNext) {
+  // One target 1e9 steps away: without a check inside the stepping loop this would run for
+  // minutes; the interrupt is seen before the next step and next() returns without a snapshot.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const TargetPlan far(1000.0, 1.0, false, {});  // a single target at t = 1000 s
+  std::atomic<bool> signal{false};
+  RunWorker worker(model, IntegratorKind::SymplecticEuler, 1e-6, far, 32, 32, 4, [&] { return signal.load(); });
+  std::thread raiser([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    signal = true;
+  });
+  TileSnapshot snap;
+  EXPECT_FALSE(worker.next(snap));
+  raiser.join();
+  worker.join();
+  const RunSummary s = worker.summary();
+  EXPECT_GT(s.totals.steps, 0);
+  EXPECT_LT(s.totals.steps, 1'000'000'000);
 }
 
 TEST(RunWorker, SaysNotConvergedWithTheStepsMissedSoFar) {

@@ -61,4 +61,21 @@ TEST(LoadSceneWithOptions, RejectsNonPositiveStepsAndNegativeDurations) {
             std::string::npos);
 }
 
+TEST(LoadSceneWithOptions, BoundsTheRunOnceDurationAndDtAreIn) {
+  // The file's 5 s at --set dt=1e-9 would be 5e9 steps, but --duration 1 makes it 1e9: the
+  // limit applies to the run asked for, not to the file's duration it replaces.
+  SceneOptions o;
+  o.path = std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml";
+  o.sets = {"dt=1e-9"};
+  o.duration = 1.0;
+  EXPECT_EQ(usage_error([&] { load_scene_with_options(o); }), "");
+  o.duration = 2.0;
+  EXPECT_NE(usage_error([&] { load_scene_with_options(o); }).find("--duration: duration / dt = 2 s / 1e-09 s"),
+            std::string::npos);
+  o.sets.clear();
+  o.duration.reset();
+  o.dt = 1e-12;
+  EXPECT_NE(usage_error([&] { load_scene_with_options(o); }).find("--dt: duration / dt"), std::string::npos);
+}
+
 }  // namespace

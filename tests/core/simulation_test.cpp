@@ -64,6 +64,19 @@ TEST(Run, StopsAtStepCountNotAccumulatedTime) {
   EXPECT_EQ(run.state().step, 100);
 }
 
+TEST(Run, StopCheckIsPolledBeforeEveryStepAndStopsForGood) {
+  const Model m = model_from_yaml("dt: 1.0e-3\ncloth: {particles: [2, 2], pinned: none}\n");
+  clothsim::Run run(m, IntegratorKind::SymplecticEuler, 1e-3);
+  int polls = 0;
+  run.set_stop_check([&] { return ++polls > 7; });
+  EXPECT_TRUE(run.advance_to(1.0));  // not diverged, but short of the target
+  EXPECT_TRUE(run.stopped());
+  EXPECT_EQ(run.state().step, 7);
+  EXPECT_TRUE(run.advance_to(1.0));  // stopped for good: no further step, no further poll
+  EXPECT_EQ(run.state().step, 7);
+  EXPECT_EQ(polls, 8);
+}
+
 TEST(Events, UnpinReleasesAndPinFreezesAtTheirTimes) {
   const Model m = model_from_yaml(R"(
 dt: 1.0e-3

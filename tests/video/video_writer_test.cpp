@@ -49,10 +49,15 @@ Image quadrants(int w, int h) {
   return image;
 }
 
+// No file but `path` itself has its stem in its name (no ".stem.partial-PID-N.mp4", no
+// "stem.mp4.PID.N.tmp" of the older scheme).
 bool no_temporaries_beside(const std::string& path) {
-  const std::string stem = fs::path(path).filename().string() + ".";
-  for (const auto& entry : fs::directory_iterator(fs::path(path).parent_path()))
-    if (entry.path().filename().string().rfind(stem, 0) == 0) return false;
+  const std::string name = fs::path(path).filename().string();
+  const std::string stem = fs::path(path).stem().string();
+  for (const auto& entry : fs::directory_iterator(fs::path(path).parent_path())) {
+    const std::string other = entry.path().filename().string();
+    if (other != name && other.find(stem) != std::string::npos) return false;
+  }
   return true;
 }
 
@@ -138,11 +143,22 @@ TEST(VideoWriter, ShowsNothingUnderTheNameUntilFinish) {
   VideoWriter writer(path, 32, 32, VideoWriterOptions{30.0, 23, "ultrafast"});
   writer.write(solid(32, 32, 1, 2, 3));
   EXPECT_FALSE(fs::exists(path));
-  EXPECT_TRUE(fs::exists(writer.temp_path()));
-  EXPECT_EQ(fs::path(writer.temp_path()).parent_path(), fs::path(path).parent_path());
+  EXPECT_TRUE(no_temporaries_beside(path)) << "written to a nameless O_TMPFILE";
   writer.finish();
   EXPECT_TRUE(fs::exists(path));
-  EXPECT_FALSE(fs::exists(writer.temp_path()));
+  EXPECT_TRUE(no_temporaries_beside(path));
+  EXPECT_EQ(probe_mp4(path).frames.size(), 1u) << "+faststart read the nameless file back";
+}
+
+TEST(VideoWriter, ReplacesAnExistingFileWhole) {
+  const std::string path = out_path("replaced.mp4");
+  for (int run = 0; run < 2; ++run) {
+    VideoWriter writer(path, 32, 32, VideoWriterOptions{30.0, 23, "ultrafast"});
+    for (int k = 0; k <= run; ++k) writer.write(solid(32, 32, 1, 2, 3));
+    writer.finish();
+  }
+  EXPECT_EQ(probe_mp4(path).frames.size(), 2u);
+  EXPECT_TRUE(no_temporaries_beside(path));
 }
 
 TEST(VideoWriter, RemovesItsTemporaryWhenDestroyedWithoutFinish) {

@@ -4,12 +4,14 @@
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "progress.h"  // Progress, --progress, --quiet: every command uses them
+#include "output_file.h"
 
 namespace clothsim::cli {
 
@@ -19,9 +21,11 @@ namespace clothsim::cli {
 enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3, kNotConverged = 4 };
 // The exit codes as --help lists them (clothsim --help, and run --help, which has its own footer).
 inline constexpr const char* kExitCodesHelp =
-    "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene,\n"
-    "3 the simulation diverged (run only), 4 an implicit step did not converge (run --strict),\n"
-    "130 / 143 stopped by SIGINT (Ctrl-C) / SIGTERM.\n";
+    "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene\n"
+    "(also a run over --max-memory or past 1e9 steps / 1e7 frames), 3 the simulation diverged\n"
+    "(run only), 4 an implicit step did not converge (run --strict),\n"
+    "130 / 143 stopped by SIGINT (Ctrl-C) / SIGTERM (at once, whatever the step; a second\n"
+    "signal kills).\n";
 
 // Bad usage or a bad scene: exit 2. The message is the whole one-line error.
 struct UsageError : std::runtime_error {
@@ -32,28 +36,21 @@ struct RuntimeFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// A file written under a temporary name beside `path` and renamed onto it by commit().
-// Destroyed uncommitted (an error, an exception, Ctrl-C handled by the caller), it removes
-// the temporary: the requested name never holds a half-written file.
+// A CSV or JSON output: an OutputFile (render/output_file.h: nameless until commit(), so an
+// error, a signal or even SIGKILL leaves nothing under the name) with RuntimeFailure errors.
 class AtomicFile {
  public:
-  explicit AtomicFile(std::string path);  // throws RuntimeFailure if the directory is not writable
-  ~AtomicFile();
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
-  std::FILE* stream() { return stream_; }
-  const std::string& temp_path() const { return temp_; }
-  const std::string& path() const { return path_; }
-  void commit();  // flush, close, rename; throws RuntimeFailure
+  explicit AtomicFile(const std::string& path);  // throws RuntimeFailure if it cannot be created
+  std::FILE* stream() { return file_->stream(); }
+  const std::string& path() const { return file_->path(); }
+  void commit();  // flush, name, close; throws RuntimeFailure "cannot write PATH: reason"
  private:
-  std::string path_, temp_;
-  std::FILE* stream_ = nullptr;
-  bool committed_ = false;
+  std::unique_ptr<OutputFile> file_;
 };
 
-// A temporary path beside `path` (same directory, so rename is atomic), e.g. for writers
-// that open files themselves (libavformat). Throws RuntimeFailure if the directory does
-// not exist or is not writable, naming the path.
+// A hidden temporary path beside `path` for files another process writes (the plot
+// scripts), renamed by the caller. Throws RuntimeFailure if the directory does not exist
+// or is not writable, naming the path.
 std::string temp_path_beside(const std::string& path);
 // Checks before any work is done that `path` can be created: its directory exists and is
 // writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist"), or with
@@ -70,9 +67,16 @@ void ensure_directory(const std::string& dir, const std::string& what);
 
 // Set by the SIGINT/SIGTERM handler (install_interrupt_handler); long loops poll it and stop
 // cleanly. interrupt_signal() is the signal that arrived (0: none).
+// A second SIGINT or SIGTERM ends the process at once (the handler restores the defaults).
 bool interrupted();
 int interrupt_signal();
+const char* interrupt_signal_name();  // "SIGINT", "SIGTERM"
 void install_interrupt_handler();
+// The one line a stopped command ends with (main adds "clothsim: "), saying exactly what stays
+// on disk and what does not: "stopped by SIGTERM at t = 0.2 s; kept 7 PNGs in out/; not
+// written: m.csv, clip.mp4" ("nothing kept" when `kept` is empty).
+std::string interruption_message(double t, const std::vector<std::string>& kept,
+                                 const std::vector<std::string>& not_written);
 
 // A finite number written as a number ("0.004", "4e-3") or a fraction of two ("1/60", the
 // way a step of one per frame is said); nullopt for anything else (words, "1/0", "1/", "").

@@ -26,6 +26,8 @@
 #include "analysis/task_pool.h"
 #include "analysis/work_precision.h"
 #include "cli_common.h"
+#include "memory_budget.h"
+#include "memory_estimate.h"
 #include "commands.h"
 #include "scene_options.h"
 #include "scene_parser.h"
@@ -181,6 +183,16 @@ int bench_command(const BenchOptions& o) {
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
 
   scene.duration = std::max(scene.duration, T);  // the model's duration is informational only
+  {
+    // One Model, and a run on each of the pool's threads at once (the dearest integrator's).
+    MemoryBudget budget;
+    budget.add("model", model_bytes(scene));
+    double dearest = 0.0;
+    for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(scene, k));
+    const int threads = analysis::resolve_jobs(o.jobs);
+    budget.add(std::to_string(threads) + " runs at once", threads * dearest);
+    budget.check(scene.source, o.scene.max_memory);
+  }
   const Model model = build_model(scene);
   const double h_ref = spec.dts.front() / spec.reference_refinement;
   std::size_t runs = 0;

@@ -10,10 +10,10 @@
 // compare, divergence is a result (exit 0), shown in the clip and in the summary table.
 //
 // Outputs are checked before any simulation (unknown integrator or layout, unwritable
-// paths, bad --dt or --times: milliseconds, exit 2 or 1), written under temporary names
-// and renamed when complete. Ctrl-C stops at the next frame, removes the temporaries and
-// exits 130 (143 on SIGTERM; as `run` does) saying what was not written; PNGs already written under
-// --frames stay (each is complete).
+// paths, bad --dt or --times: milliseconds, exit 2 or 1), created without a name and
+// named when complete. SIGINT / SIGTERM stop every run before its next step (the renderer
+// never waits on a lane for more than 20 ms without looking), drop the incomplete outputs and
+// exit 130 / 143 saying what stays: PNGs already written under --frames (each is complete).
 //
 // Frame k is the state at t = k / fps for k = 0 .. floor(duration * fps), as in `run`.
 // The summary (stdout) has one row per run; the time breakdown (stderr) says where the
@@ -38,8 +38,11 @@
 #include "frame_sink.h"
 #include "gl_options.h"
 #include "summary_json.h"
+#include "memory_budget.h"
+#include "memory_estimate.h"
 #include "png_io.h"
 #include "renderer.h"
+#include "run_bounds.h"
 #include "run_outputs.h"
 #include "scene_options.h"
 #include "scene_parser.h"
@@ -146,6 +149,10 @@ int compare_command(const CompareOptions& o) {
 
   const SceneDef scene = load_scene_with_options(o.scene);
   const std::vector<double> dts = parse_dt_list(o.dt, kinds, scene.dt);
+  for (std::size_t i = 0; i < kinds.size(); ++i) {  // each lane's steps, bounded like the scene's
+    const std::string too_long = run_bounds_problem(scene.duration, dts[i], scene.render.fps);
+    if (!too_long.empty()) throw UsageError("--dt (" + std::string(integrator_name(kinds[i])) + "): " + too_long);
+  }
   const std::vector<double> sheet_times =
       o.sheet.empty() ? std::vector<double>{} : parse_times(o.times, scene.duration);
   if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= scene.duration + 1e-9))
@@ -158,13 +165,30 @@ int compare_command(const CompareOptions& o) {
   } catch (const LayoutError& e) {
     throw UsageError(std::string("--width/--height: ") + e.what());
   }
-  const Model model = build_model(scene);
   const double fps = scene.render.fps;
   const bool with_frames = !o.video.empty() || !o.frames_dir.empty();
   const bool rendering = with_frames || !o.sheet.empty() || o.still_t;
-  const std::vector<Target> targets =
-      plan_targets(scene.duration, fps, with_frames, sheet_times, o.still_t.value_or(-1.0));
-  const int frames = count_frames(targets);
+
+  // Peak memory, estimated and checked before the Model, the renderer or the encoder exist:
+  // one Model, a run per lane, the renderer at tile size, the tiles, the grid, the PNG
+  // writers' queues (3 tiles each), the contact sheet's cells and the encoder.
+  MemoryBudget budget;
+  budget.add("model", model_bytes(scene));
+  for (IntegratorKind kind : kinds) budget.add(std::string(integrator_name(kind)), run_bytes(scene, kind));
+  if (rendering) {
+    const double lanes = static_cast<double>(kinds.size());
+    const double tile = 4.0 * grid->cell_width() * grid->cell_height(), canvas = 4.0 * grid->width() * grid->height();
+    budget.add("renderer and images " + std::to_string(grid->width()) + "x" + std::to_string(grid->height()),
+               kRendererBytes + render_bytes(grid->cell_width(), grid->cell_height(), scene.render.samples) +
+                   lanes * tile + canvas + (o.frames_dir.empty() ? 0.0 : 3.0 * lanes * tile));
+    if (!o.sheet.empty())
+      budget.add("contact sheet", 2.0 * lanes * static_cast<double>(sheet_times.size()) * tile);
+  }
+  if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid->width(), grid->height()));
+  budget.check(scene.source, o.scene.max_memory);
+  const Model model = build_model(scene);
+  const TargetPlan targets(scene.duration, fps, with_frames, sheet_times, o.still_t.value_or(-1.0));
+  const long frames = targets.frames();
 
   // 2. Outputs (each removes its temporary if destroyed before finish()).
   std::unique_ptr<Renderer> renderer;
@@ -187,8 +211,8 @@ int compare_command(const CompareOptions& o) {
   // 3. The runs, one thread each, and the render/compose/encode loop on this thread.
   std::vector<std::unique_ptr<RunWorker>> workers;
   for (std::size_t i = 0; i < kinds.size(); ++i)
-    workers.push_back(std::make_unique<RunWorker>(model, kinds[i], dts[i], targets,
-                                                  grid->cell_width(), grid->cell_height()));
+    workers.push_back(std::make_unique<RunWorker>(model, kinds[i], dts[i], targets, grid->cell_width(),
+                                                  grid->cell_height(), 4, [] { return interrupted(); }));
 
   StageTimes time;
   std::vector<Image> tiles(kinds.size());
@@ -202,27 +226,37 @@ int compare_command(const CompareOptions& o) {
   for (IntegratorKind kind : kinds) labels.emplace_back(integrator_name(kind));
   std::vector<std::vector<Image>> sheet_cells(kinds.size(), std::vector<Image>(sheet_times.size()));
   Image canvas;
-  auto progress = std::make_unique<Progress>("compare " + model.name,
-                                             static_cast<long>(targets.size()), "frames");
+  auto progress = std::make_unique<Progress>("compare " + model.name, targets.size(), "frames");
   TileSnapshot snapshot;
   bool still_written = false;
-  for (std::size_t n = 0; n < targets.size(); ++n) {
-    const Target& target = targets[n];
-    if (interrupted()) {
-      for (auto& w : workers) w->stop();
-      progress.reset();
-      std::string lost = o.video.empty() ? std::string() : o.video + " ";
-      if (!o.sheet.empty()) lost += o.sheet + " ";
-      if (!o.still_out.empty() && !still_written) lost += o.still_out + " ";
-      throw RuntimeFailure("interrupted at t = " + std::to_string(target.t) + " s; " +
-                           (lost.empty() ? std::string("nothing") : lost) + "not written" +
-                           (o.frames_dir.empty() ? "" : " (PNGs so far kept in " + o.frames_dir + ")"));
+  // A signal: the runs stop before their next step, every output not complete is dropped
+  // (each sink removes its temporary), and the message says what stays on disk.
+  const auto stop_here = [&](double t) -> RuntimeFailure {
+    for (auto& w : workers) w->stop();
+    progress.reset();
+    std::vector<std::string> kept, lost;
+    for (auto& sink : tile_pngs) {
+      const std::string left = sink->abandon();
+      if (!left.empty()) kept.push_back(left);
     }
+    if (video) video->abandon();
+    if (still_written) kept.push_back(o.still_out);
+    for (const std::string* out : {&o.video, &o.sheet})
+      if (!out->empty()) lost.push_back(*out);
+    if (!o.still_out.empty() && !still_written) lost.push_back(o.still_out);
+    return RuntimeFailure(interruption_message(t, kept, lost));
+  };
+  TargetPlan::Cursor cursor(targets);
+  long n = 0;
+  for (Target target; cursor.next(target); ++n) {
+    if (interrupted()) throw stop_here(target.t);
     for (std::size_t i = 0; i < workers.size(); ++i) {
       if (frozen[i]) continue;  // a diverged run keeps its last picture
       {
         Stopwatch watch(time.wait);
-        if (!workers[i]->next(snapshot)) continue;
+        const bool got = workers[i]->next(snapshot);
+        if (interrupted()) throw stop_here(target.t);  // next() gives up on a signal
+        if (!got) continue;
       }
       frozen[i] = snapshot.frozen;
       if (rendering) {
@@ -254,7 +288,7 @@ int compare_command(const CompareOptions& o) {
     }
     if (target.column >= 0)
       for (std::size_t i = 0; i < tiles.size(); ++i) sheet_cells[i][target.column] = tiles[i];
-    progress->update(static_cast<long>(n + 1));
+    progress->update(n + 1);
   }
   progress.reset();
 
@@ -295,7 +329,7 @@ int compare_command(const CompareOptions& o) {
   }
   if (!quiet())
     std::fprintf(stderr,
-               "compare: %d frames of %dx%d (%zu tiles of %dx%d) in %.1f s wall: simulate %.1f s cpu "
+               "compare: %ld frames of %dx%d (%zu tiles of %dx%d) in %.1f s wall: simulate %.1f s cpu "
                "on %zu threads (renderer waited %.1f s), render %.1f s, compose %.2f s, PNG %.1f s, "
                "encode %.1f s, sheet/still %.1f s\n",
                frames, grid->width(), grid->height(), kinds.size(), grid->cell_width(),

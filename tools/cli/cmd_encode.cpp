@@ -25,6 +25,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "memory_budget.h"
 #include "png_io.h"
 #include "tiling.h"
 #include "video_writer.h"
@@ -43,6 +44,7 @@ struct EncodeArgs {
   double fps = 30.0;
   int crf = VideoWriterOptions{}.crf;
   std::string preset = VideoWriterOptions{}.preset;
+  std::optional<double> max_memory;  // --max-memory SIZE in bytes
 };
 
 struct Sequence {
@@ -156,6 +158,17 @@ int run_encode(const EncodeArgs& args) {
     cell_h = std::max(cell_h, seqs.back().height);
   }
   const TileGrid grid(layout, cell_w, cell_h);
+  {
+    // One decoded PNG per tile, the composed frame and the encoder, before any of them exists.
+    MemoryBudget budget;
+    double tiles = 0.0;
+    for (const Sequence& s : seqs) tiles += 4.0 * s.width * s.height;
+    budget.add("tiles", tiles);
+    budget.add("frame " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()),
+               4.0 * grid.width() * grid.height());
+    budget.add("encoder", encoder_bytes(grid.width(), grid.height()));
+    budget.check("encode " + args.output, args.max_memory);
+  }
 
   // 2. Stream: read one PNG per tile, compose, encode; nothing accumulates.
   std::optional<VideoWriter> writer;
@@ -229,6 +242,7 @@ void add_encode_command(CLI::App& app, Command& command) {
   sub->add_option("--crf", args->crf, "x264 quality: 0 lossless .. 51 worst (18-23 typical)")
       ->capture_default_str();
   sub->add_option("--preset", args->preset, "x264 preset, ultrafast .. veryslow")->capture_default_str();
+  add_max_memory_option(sub, args->max_memory);
   sub->callback([&command, args] { command = [args] { return run_encode(*args); }; });
 }
 

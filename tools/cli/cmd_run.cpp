@@ -6,12 +6,16 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "cli_common.h"
 #include "commands.h"
 #include "frame_sink.h"
 #include "gl_options.h"
 #include "summary_json.h"
+#include "memory_budget.h"
+#include "memory_estimate.h"
 #include "png_io.h"
 #include "renderer.h"
 #include "run_outputs.h"
@@ -58,6 +62,20 @@ int run_command(const RunOptions& o) {
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
 
+  // Peak memory, estimated and checked before the Model, the renderer or the encoder exist.
+  const bool rendering = !o.frames_dir.empty() || !o.video.empty() || o.still_t;
+  MemoryBudget budget;
+  budget.add("model", model_bytes(scene));
+  budget.add(std::string(integrator_name(scene.integrator)), run_bytes(scene, scene.integrator));
+  if (rendering) {
+    const int w = scene.render.width, h = scene.render.height;
+    // The render target, the frame and up to 3 frames queued for the PNG writer.
+    budget.add("renderer " + std::to_string(w) + "x" + std::to_string(h),
+               kRendererBytes + render_bytes(w, h, scene.render.samples) + 4.0 * w * h * 4);
+  }
+  if (!o.video.empty()) budget.add("encoder", encoder_bytes(scene.render.width, scene.render.height));
+  budget.check(scene.source, o.scene.max_memory);
+
   const Model model = build_model(scene);
   const IntegratorKind kind = scene.integrator;
   const double dt = scene.dt;
@@ -69,7 +87,7 @@ int run_command(const RunOptions& o) {
   const long frames = static_cast<long>(std::floor(end * fps + 1e-9)) + 1;  // t = 0 included
 
   std::unique_ptr<Renderer> renderer;
-  if (!o.frames_dir.empty() || !o.video.empty() || o.still_t) renderer = make_renderer(o.gl);
+  if (rendering) renderer = make_renderer(o.gl);
   std::unique_ptr<MetricsWriter> metrics;
   if (!o.metrics.empty()) metrics = std::make_unique<MetricsWriter>(o.metrics, model, kind, dt);
   std::unique_ptr<FrameSink> png_sink, video_sink;
@@ -78,20 +96,41 @@ int run_command(const RunOptions& o) {
   if (!o.video.empty()) video_sink = make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset});
 
   Run run(model, kind, dt);
+  run.set_stop_check([] { return interrupted(); });  // polled before every step
+  bool still_written = false;
+  // A signal: every output not complete is dropped (the sinks remove their temporaries), and
+  // the message says what stays on disk (PNGs already written under --frames, a still taken).
+  const auto stop_here = [&]() -> RuntimeFailure {
+    std::vector<std::string> kept, lost;
+    if (png_sink) {
+      const std::string left = png_sink->abandon();
+      if (!left.empty()) kept.push_back(left);
+    }
+    if (video_sink) video_sink->abandon();
+    if (o.still_t && still_written) kept.push_back(o.still_out);
+    for (const std::string* out : {&o.metrics, &o.video, &o.state})
+      if (!out->empty()) lost.push_back(*out);
+    if (o.still_t && !still_written) lost.push_back(o.still_out);
+    return RuntimeFailure(interruption_message(run.state().t, kept, lost));
+  };
   Progress progress("run " + model.name, frames, "frames");
   RenderFrame last_good;  // frame 0 (t = 0) is always good: no step has been taken
   bool still_done = !o.still_t;
   const auto take_still = [&] {
     run.advance_to(*o.still_t);
-    if (!run.diverged()) write_png(o.still_out, renderer->render(snapshot_of(run)), png_text);
+    if (run.stopped()) throw stop_here();
+    if (!run.diverged()) {
+      write_png(o.still_out, renderer->render(snapshot_of(run)), png_text);
+      still_written = true;
+    }
     still_done = true;
   };
   for (long k = 0; k < frames; ++k) {
-    if (interrupted()) throw RuntimeFailure("interrupted: stopped at t = " + std::to_string(run.state().t) +
-                                            " s; no output was written");
+    if (interrupted()) throw stop_here();
     const double target = std::min(static_cast<double>(k) / fps, end);
     if (!still_done && *o.still_t <= target) take_still();
     const bool ok = run.advance_to(target);
+    if (run.stopped()) throw stop_here();
     if (metrics) metrics->row(run.metrics());
     if (png_sink || video_sink) {
       // A run that diverged freezes on its last good frame, as a tile of `compare` does.
@@ -107,6 +146,7 @@ int run_command(const RunOptions& o) {
   }
   if (!still_done && !run.diverged()) take_still();  // a still after the last whole frame
   if (!run.diverged()) run.advance_to(end);  // an end that is not a whole frame
+  if (run.stopped() || interrupted()) throw stop_here();
   progress.finish();
 
   if (metrics) metrics->commit();
@@ -169,8 +209,8 @@ void add_run_command(CLI::App& app, Command& command) {
       "Exits 3 when the run diverges (non-finite state, strain or kinetic energy past the scene's\n"
       "divergence bounds), saying at which step and time and why; --metrics is then kept up to\n"
       "that point and --state is not written. With --strict, exits 4 when any implicit step did\n"
-      "not converge, saying how many (all outputs are still written). Outputs are written under\n"
-      "temporary names and renamed at the end.\n") + kExitCodesHelp);
+      "not converge, saying how many (all outputs are still written). Outputs are created with\n"
+      "no name (O_TMPFILE) and named only when complete: nothing is left behind, even by SIGKILL.\n") + kExitCodesHelp);
   sub->add_flag("--strict", o->strict,
                 "Exit 4 if any implicit_euler step ended above its Newton tolerance");
   sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at --fps")

@@ -36,6 +36,8 @@
 #include "analysis/stability.h"
 #include "analysis/task_pool.h"
 #include "cli_common.h"
+#include "memory_budget.h"
+#include "memory_estimate.h"
 #include "commands.h"
 #include "scene_options.h"
 #include "scene_parser.h"
@@ -184,6 +186,19 @@ int stability_command(const StabilityOptions& o) {
   spec.integrators = kinds;
   spec.duration = o.scene.duration ? *o.scene.duration : std::min(base.duration, kDefaultDuration);
   if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
+  {
+    // Every case's Model (they are all built up front), and a run on each thread at once.
+    MemoryBudget budget;
+    double models = 0.0, dearest = 0.0;
+    for (const analysis::SweepScene& s : scenes) {
+      models += model_bytes(s.scene);
+      for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(s.scene, k));
+    }
+    budget.add(std::to_string(scenes.size()) + " models", models);
+    const int threads = analysis::resolve_jobs(o.jobs);
+    budget.add(std::to_string(threads) + " runs at once", threads * dearest);
+    budget.check(base.source, o.scene.max_memory);
+  }
   std::vector<Case> cases;
   double smallest_estimate = INFINITY;
   for (analysis::SweepScene& s : scenes) {

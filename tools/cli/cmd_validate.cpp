@@ -9,6 +9,8 @@
 #include "analysis/stiffness_estimate.h"
 #include "cli_common.h"
 #include "commands.h"
+#include "memory_budget.h"
+#include "memory_estimate.h"
 #include "model.h"
 #include "scene_options.h"
 
@@ -58,6 +60,11 @@ void print_step_limits(const SceneDef& scene, const Model& model) {
 
 int validate_command(const SceneOptions& o) {
   const SceneDef scene = load_scene_with_options(o);
+  // What a run of the scene (no pictures) would need, checked before the Model is built.
+  MemoryBudget budget;
+  budget.add("model", model_bytes(scene));
+  budget.add(std::string(integrator_name(scene.integrator)), run_bytes(scene, scene.integrator));
+  budget.check(scene.source, o.max_memory);
   const Model model = build_model(scene);
   int by_type[3] = {0, 0, 0};
   for (SpringType t : model.springs.type) ++by_type[static_cast<int>(t)];
@@ -72,9 +79,10 @@ int validate_command(const SceneOptions& o) {
   std::printf("  spheres: %d (%d kinematic, %d dynamic)%s%s\n", model.num_spheres, kinematic,
               model.num_spheres - kinematic, model.has_ground ? ", ground plane" : ", no ground",
               model.air_drag > 0 ? ", air drag" : "");
-  std::printf("  run: %s, dt = %g s, %g s (%.0f steps), %zu scripted actions\n",
+  std::printf("  run: %s, dt = %g s, %g s (%.0f steps), %zu scripted actions; about %s of memory\n",
               std::string(integrator_name(scene.integrator)).c_str(), scene.dt, scene.duration,
-              std::ceil(scene.duration / scene.dt - 1e-9), model.timeline.size());
+              std::ceil(scene.duration / scene.dt - 1e-9), model.timeline.size(),
+              format_bytes(budget.total()).c_str());
   print_step_limits(scene, model);
   return kOk;
 }

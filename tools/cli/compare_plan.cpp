@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "cli_common.h"
+#include "echo.h"
 
 namespace clothsim::cli {
 
@@ -14,7 +15,7 @@ namespace {
 // A finite number or fraction ("1/60") or a UsageError naming `option` and the text.
 double parse_number(const std::string& text, const std::string& option) {
   const std::optional<double> value = parse_number_or_fraction(text);
-  if (!value) throw UsageError(option + ": '" + text + "' is not a number (or a fraction like 1/60)");
+  if (!value) throw UsageError(option + ": " + in_quotes(text) + " is not a number (or a fraction like 1/60)");
   return *value;
 }
 
@@ -39,14 +40,14 @@ std::vector<double> parse_dt_list(const std::string& text, const std::vector<Int
   std::vector<bool> named(kinds.size(), false);
   bool bare_seen = false;
   auto check_step = [](double dt, const std::string& item) {
-    if (!(dt > 0.0)) throw UsageError("--dt: step must be > 0 s, got '" + item + "'");
+    if (!(dt > 0.0)) throw UsageError("--dt: step must be > 0 s, got " + in_quotes(item));
   };
   for (const std::string& raw : split_list(text)) {
     const std::string item = trimmed(raw);
-    if (item.empty()) throw UsageError("--dt: empty item in '" + text + "'");
+    if (item.empty()) throw UsageError("--dt: empty item in " + in_quotes(text));
     const auto eq = item.find('=');
     if (eq == std::string::npos) {
-      if (bare_seen) throw UsageError("--dt: more than one step for all runs in '" + text + "'");
+      if (bare_seen) throw UsageError("--dt: more than one step for all runs in " + in_quotes(text));
       bare_seen = true;
       const double dt = parse_number(item, "--dt");
       check_step(dt, item);
@@ -57,13 +58,13 @@ std::vector<double> parse_dt_list(const std::string& text, const std::vector<Int
     const std::string name = trimmed(item.substr(0, eq));
     const auto kind = parse_integrator(name);
     if (!kind)
-      throw UsageError("--dt: unknown integrator '" + name + "' (expected one of: " +
+      throw UsageError("--dt: unknown integrator " + in_quotes(name) + " (expected one of: " +
                        integrator_names_joined() + ")");
     const auto at = std::find(kinds.begin(), kinds.end(), *kind);
     if (at == kinds.end())
-      throw UsageError("--dt: '" + name + "' is not one of the integrators being compared");
+      throw UsageError("--dt: " + in_quotes(name) + " is not one of the integrators being compared");
     const std::size_t i = static_cast<std::size_t>(at - kinds.begin());
-    if (named[i]) throw UsageError("--dt: '" + name + "' is given twice");
+    if (named[i]) throw UsageError("--dt: " + in_quotes(name) + " is given twice");
     const double dt = parse_number(trimmed(item.substr(eq + 1)), "--dt " + name);
     check_step(dt, item);
     dts[i] = dt;
@@ -76,7 +77,7 @@ std::vector<double> parse_times(const std::string& text, double duration) {
   std::vector<double> times;
   for (const std::string& raw : split_list(text)) {
     const std::string item = trimmed(raw);
-    if (item.empty()) throw UsageError("--times: empty item in '" + text + "'");
+    if (item.empty()) throw UsageError("--times: empty item in " + in_quotes(text));
     const double t = parse_number(item, "--times");
     if (t < 0.0 || t > duration + 1e-9)
       throw UsageError("--times: " + item + " s is outside the run (0 to " + seconds(duration) + ")");
@@ -89,30 +90,54 @@ std::vector<double> parse_times(const std::string& text, double duration) {
   return times;
 }
 
-std::vector<Target> plan_targets(double duration, double fps, bool with_frames,
-                                 const std::vector<double>& sheet_times, double still_t) {
-  std::vector<Target> targets;
-  if (with_frames) {
-    const int last = static_cast<int>(std::floor(duration * fps + 1e-9));
-    for (int k = 0; k <= last; ++k) targets.push_back(Target{std::min(k / fps, duration), k, -1, false});
-  }
-  // The target at time t, inserted in order unless one is already within a microsecond.
-  auto target_at = [&targets](double t) -> Target& {
-    auto at = std::lower_bound(targets.begin(), targets.end(), t - 1e-6,
+TargetPlan::TargetPlan(double duration, double fps, bool with_frames,
+                       const std::vector<double>& sheet_times, double still_t)
+    : duration_(duration), fps_(fps) {
+  // duration * fps is bounded at validation (check_run_bounds), so the cast is defined.
+  if (with_frames) frames_ = static_cast<long>(std::floor(duration * fps + 1e-9)) + 1;
+  // The extra target at time t, inserted in order unless one is already within a microsecond.
+  auto extra_at = [this](double t) -> Target& {
+    auto at = std::lower_bound(extras_.begin(), extras_.end(), t - 1e-6,
                                [](const Target& a, double v) { return a.t < v; });
-    if (at != targets.end() && std::abs(at->t - t) <= 1e-6) return *at;
-    return *targets.insert(at, Target{t, -1, -1, false});
+    if (at != extras_.end() && std::abs(at->t - t) <= 1e-6) return *at;
+    return *extras_.insert(at, Target{t, -1, -1, false});
   };
-  for (std::size_t c = 0; c < sheet_times.size(); ++c)
-    target_at(sheet_times[c]).column = static_cast<int>(c);
-  if (still_t >= 0.0) target_at(still_t).still = true;
-  if (targets.empty()) targets.push_back(Target{duration, -1, -1, false});
-  return targets;
+  for (std::size_t c = 0; c < sheet_times.size(); ++c) extra_at(sheet_times[c]).column = static_cast<int>(c);
+  if (still_t >= 0.0) extra_at(still_t).still = true;
+  if (frames_ == 0 && extras_.empty()) extras_.push_back(Target{duration, -1, -1, false});
+  size_ = frames_;
+  for (Target& e : extras_) {
+    e.frame = static_cast<int>(frame_at(e.t));
+    if (e.frame < 0) ++size_;  // between frames: a target of its own
+  }
 }
 
-int count_frames(const std::vector<Target>& targets) {
-  return static_cast<int>(std::count_if(targets.begin(), targets.end(),
-                                        [](const Target& t) { return t.frame >= 0; }));
+double TargetPlan::frame_time(long k) const { return std::min(static_cast<double>(k) / fps_, duration_); }
+
+long TargetPlan::frame_at(double t) const {
+  if (frames_ == 0) return -1;
+  const long k = std::clamp(static_cast<long>(std::llround(t * fps_)), 0L, frames_ - 1);
+  for (long c : {k - 1, k, k + 1})  // the nearest frame, allowing for rounding either way
+    if (c >= 0 && c < frames_ && std::abs(frame_time(c) - t) <= 1e-6) return c;
+  return -1;
+}
+
+bool TargetPlan::Cursor::next(Target& out) {
+  const TargetPlan& p = *plan_;
+  const bool extra_left = extra_ < p.extras_.size();
+  if (extra_left && (frame_ >= p.frames_ || p.extras_[extra_].frame == frame_ ||
+                     p.extras_[extra_].t < p.frame_time(frame_))) {
+    out = p.extras_[extra_++];
+    if (out.frame >= 0) {
+      out.t = p.frame_time(out.frame);  // the frame's own time, as when there is no extra
+      frame_ = out.frame + 1;
+    }
+    return true;
+  }
+  if (frame_ >= p.frames_) return false;
+  out = Target{p.frame_time(frame_), static_cast<int>(frame_), -1, false};
+  ++frame_;
+  return true;
 }
 
 std::string time_label(double t) {

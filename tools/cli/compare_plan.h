@@ -28,13 +28,39 @@ struct Target {
   bool still = false;  // the --still picture is taken here
 };
 
+// The targets of a compare, in time order, generated as they are needed rather than stored:
+// a clip of duration 5e7 s has more frames than memory holds (validation bounds the count,
+// scene_bounds.h, but a million Target structs per lane would still be waste).
 // Frames at t = k / fps for k = 0 .. floor(duration * fps) (t = 0 and, when it falls on a
 // frame, t = duration included, as `run` does) when `with_frames`; sheet times and the
 // still's time (if >= 0) merged in, a time within a microsecond of a frame being that frame.
 // With no frames, sheet or still, one target at `duration` (a summary-only compare).
-std::vector<Target> plan_targets(double duration, double fps, bool with_frames,
-                                 const std::vector<double>& sheet_times, double still_t = -1.0);
-int count_frames(const std::vector<Target>& targets);
+class TargetPlan {
+ public:
+  TargetPlan(double duration, double fps, bool with_frames, const std::vector<double>& sheet_times,
+             double still_t = -1.0);
+  long size() const { return size_; }      // targets in all
+  long frames() const { return frames_; }  // clip frames among them
+
+  // Walks the plan's targets in order; each walker (a run's thread, the renderer) has its own.
+  class Cursor {
+   public:
+    explicit Cursor(const TargetPlan& plan) : plan_(&plan) {}
+    bool next(Target& out);  // false after the last target
+   private:
+    const TargetPlan* plan_;
+    long frame_ = 0;            // next clip frame
+    std::size_t extra_ = 0;     // next sheet column / still
+  };
+
+ private:
+  double frame_time(long k) const;
+  long frame_at(double t) const;  // the clip frame within a microsecond of t, or -1
+
+  double duration_, fps_;
+  long frames_ = 0, size_ = 0;
+  std::vector<Target> extras_;  // sheet columns and the still (a few), sorted, merged with each other
+};
 
 // "t = 0.5 s" for a contact-sheet column.
 std::string time_label(double t);

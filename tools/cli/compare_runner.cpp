@@ -1,17 +1,18 @@
 #include "compare_runner.h"
 
 #include <cinttypes>
+#include <chrono>
 #include <cstdio>
 
 #include "snapshot.h"
 
 namespace clothsim::cli {
 
-RunWorker::RunWorker(const Model& model, IntegratorKind kind, double dt,
-                     const std::vector<Target>& targets, int tile_width, int tile_height,
-                     std::size_t queue_capacity)
-    : model_(model), kind_(kind), dt_(dt), targets_(targets), tile_w_(tile_width),
-      tile_h_(tile_height), capacity_(std::max<std::size_t>(1, queue_capacity)) {
+RunWorker::RunWorker(const Model& model, IntegratorKind kind, double dt, const TargetPlan& targets,
+                     int tile_width, int tile_height, std::size_t queue_capacity,
+                     std::function<bool()> interrupt)
+    : model_(model), kind_(kind), dt_(dt), targets_(targets), interrupt_(std::move(interrupt)),
+      tile_w_(tile_width), tile_h_(tile_height), capacity_(std::max<std::size_t>(1, queue_capacity)) {
   summary_.kind = kind;
   summary_.dt = dt;
   thread_ = std::thread([this] { work(); });
@@ -23,6 +24,7 @@ RunWorker::~RunWorker() {
 }
 
 void RunWorker::stop() {
+  stop_requested_ = true;
   std::lock_guard<std::mutex> lock(mutex_);
   stop_ = true;
   changed_.notify_all();
@@ -39,7 +41,8 @@ RunSummary RunWorker::summary() const {
 
 bool RunWorker::next(TileSnapshot& out) {
   std::unique_lock<std::mutex> lock(mutex_);
-  changed_.wait(lock, [this] { return !queue_.empty() || done_; });
+  while (!changed_.wait_for(lock, std::chrono::milliseconds(20), [this] { return !queue_.empty() || done_; }))
+    if (interrupt_ && interrupt_()) return false;
   if (queue_.empty()) {
     if (error_) std::rethrow_exception(error_);
     return false;
@@ -88,16 +91,19 @@ RenderFrame RunWorker::snapshot_of(const Run& run) const {
 void RunWorker::work() {
   try {
     Run run(model_, kind_, dt_);
+    run.set_stop_check([this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); });
     // The initial state is the last good frame until a target is reached, so a run that
     // diverges before the first target still has a picture to freeze on.
     RenderFrame last_good = snapshot_of(run);
     double last_good_t = 0.0;
-    for (const Target& target : targets_) {
+    TargetPlan::Cursor cursor(targets_);
+    for (Target target; cursor.next(target);) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         if (stop_) break;
       }
       const bool ok = run.advance_to(target.t);
+      if (run.stopped()) break;
       if (!ok) {
         const Divergence& d = *run.divergence();
         TileSnapshot frozen{std::move(last_good), true};

@@ -11,7 +11,9 @@
 
 #include <condition_variable>
 #include <deque>
+#include <atomic>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -38,16 +40,19 @@ struct RunSummary {
 
 class RunWorker {
  public:
-  // Starts the thread at once. `targets` and `model` must outlive the worker.
-  RunWorker(const Model& model, IntegratorKind kind, double dt, const std::vector<Target>& targets,
-            int tile_width, int tile_height, std::size_t queue_capacity = 4);
+  // Starts the thread at once. `targets` and `model` must outlive the worker. The run stops
+  // before its next step once stop() was called or `interrupt` (if given) returns true.
+  RunWorker(const Model& model, IntegratorKind kind, double dt, const TargetPlan& targets,
+            int tile_width, int tile_height, std::size_t queue_capacity = 4,
+            std::function<bool()> interrupt = {});
   ~RunWorker();  // stops the run and joins
   RunWorker(const RunWorker&) = delete;
   RunWorker& operator=(const RunWorker&) = delete;
 
-  // The snapshot for the next target, in order; blocks while the run computes it.
-  // Returns false when there are no more (after a frozen one, or after the last target).
-  // Rethrows an exception the run raised.
+  // The snapshot for the next target, in order; blocks while the run computes it, but polls
+  // `interrupt` every 20 ms, so the caller is never stuck on a lane after a signal.
+  // Returns false when there are no more (after a frozen one, after the last target, or
+  // interrupted). Rethrows an exception the run raised.
   bool next(TileSnapshot& out);
   // Asks the run to stop at the next target and wakes it if it waits on the queue.
   void stop();
@@ -63,7 +68,9 @@ class RunWorker {
   const Model& model_;
   IntegratorKind kind_;
   double dt_;
-  const std::vector<Target>& targets_;
+  const TargetPlan& targets_;
+  std::function<bool()> interrupt_;
+  std::atomic<bool> stop_requested_{false};  // stop(), read by the run's per-step check
   int tile_w_, tile_h_;
   std::size_t capacity_;
 

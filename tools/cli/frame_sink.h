@@ -18,6 +18,9 @@ class FrameSink {
   // Completes the output (an MP4 is renamed onto its name only here). A sink destroyed
   // without finish() removes what it wrote under a temporary name.
   virtual void finish() = 0;
+  // Stops without completing (a signal): drops what is queued, removes any temporary, and
+  // says what stays on disk ("7 PNGs in out/run", "" for nothing), for the closing message.
+  virtual std::string abandon() = 0;
 };
 
 // frame_00000.png, frame_00001.png ... in `dir` (created if missing), with `meta` as tEXt

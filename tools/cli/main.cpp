@@ -4,10 +4,12 @@
 // 4 an implicit step did not converge (run --strict), 130 / 143 stopped by SIGINT / SIGTERM
 // (after removing temporaries and saying what was kept).
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 
 #include "cli_common.h"
+#include "echo.h"
 #include "commands.h"
 #include "renderer.h"
 #include "png_io.h"
@@ -16,7 +18,18 @@
 using namespace clothsim;
 using namespace clothsim::cli;
 
+namespace {
+// Every error is one line on stderr, whatever a library or the user's text put in it: the
+// messages built here already cut echoed values to 80 characters; this is the last guard
+// (CLI11's messages echo an option's value whole, a library's may hold a newline).
+void say(const std::string& message) { std::fprintf(stderr, "clothsim: %s\n", excerpt(message, 2000).c_str()); }
+}  // namespace
+
 int main(int argc, char** argv) {
+  // Past a file-size limit (ulimit -f, a batch scheduler's quota) the kernel would kill us
+  // with SIGXFSZ mid-write; ignored, the write fails with EFBIG and the output is dropped
+  // with one line ("cannot write clip.mp4: File too large"), exit 1, like a full disk.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{
       "clothsim " CLOTHSIM_VERSION
       " - a headless mass-spring cloth simulator that shows and measures how time\n"
@@ -48,30 +61,33 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help and --version are "errors" with code 0; everything else is bad usage.
     if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    say(e.what());
     return kBadInput;
   }
   try {
     return command();
   } catch (const SceneError& e) {
-    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    say(e.what());
     return kBadInput;
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    say(e.what());
     return kBadInput;
   } catch (const RuntimeFailure& e) {
-    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    say(e.what());
     // A command stopped by a signal says so as a RuntimeFailure; the exit code tells a
     // script it was stopped, not that it failed.
     return interrupted() ? 128 + interrupt_signal() : kRuntimeFailure;
   } catch (const RenderError& e) {
-    std::fprintf(stderr, "clothsim: render: %s\n", e.what());
+    say(std::string("render: ") + e.what());
     return kRuntimeFailure;
   } catch (const PngError& e) {
-    std::fprintf(stderr, "clothsim: %s\n", e.what());
+    say(e.what());
+    return kRuntimeFailure;
+  } catch (const OutputFileError& e) {
+    say(e.what());
     return kRuntimeFailure;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "clothsim: internal error: %s\n", e.what());
+    say(std::string("internal error: ") + e.what());
     return kRuntimeFailure;
   }
 }

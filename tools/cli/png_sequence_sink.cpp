@@ -28,14 +28,18 @@ class PngSequenceSink final : public FrameSink {
     writer_ = std::thread([this] { write_loop(); });
   }
 
-  ~PngSequenceSink() override {
+  ~PngSequenceSink() override { abandon(); }
+
+  std::string abandon() override {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       abandoned_ = true;  // not finished: drop what is queued (each file on disk is whole)
       queue_.clear();
     }
     ready_.notify_all();
-    if (writer_.joinable()) writer_.join();
+    if (writer_.joinable()) writer_.join();  // at most the PNG being written finishes
+    if (written_ == 0) return "";
+    return std::to_string(written_) + (written_ == 1 ? " PNG in " : " PNGs in ") + dir_;
   }
 
   void add(int index, double t, const Image& frame) override {
@@ -81,6 +85,7 @@ class PngSequenceSink final : public FrameSink {
       text.emplace_back("t", time);
       try {
         write_png(dir_ + "/" + name, job.frame, text, kZlibLevel);
+        ++written_;
       } catch (const PngError& e) {
         lock.lock();
         error_ = e.what();  // "cannot write DIR/frame_00012.png: No space left on device"
@@ -100,6 +105,7 @@ class PngSequenceSink final : public FrameSink {
   std::deque<Job> queue_;
   bool finishing_ = false, abandoned_ = false;
   std::string error_;              // first failure; guarded by mutex_ until the writer has joined
+  long written_ = 0;               // PNGs on disk; the writer's alone until it has joined
   std::thread writer_;
 };
 

@@ -4,6 +4,9 @@
 #include <cmath>
 
 #include "cli_common.h"
+#include "echo.h"
+#include "memory_budget.h"
+#include "run_bounds.h"
 #include "scene_parser.h"
 
 namespace clothsim::cli {
@@ -16,6 +19,7 @@ void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run, const st
       ->type_name("KEY=VALUE")
       ->allow_extra_args(false);
   sub->add_option("--duration", o.duration, "Simulated time in s (default: " + duration_default + ")");
+  add_max_memory_option(sub, o.max_memory);
   if (single_run) {
     sub->add_option("--integrator", o.integrator,
                     integrator_names_joined(" | ") + " (default: the scene's integrator)");
@@ -24,7 +28,7 @@ void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run, const st
            "--dt",
            [&o](const std::string& text) {
              const std::optional<double> dt = parse_number_or_fraction(text);
-             if (!dt) throw CLI::ValidationError("--dt: '" + text + "' is not a number (or a fraction like 1/60)");
+             if (!dt) throw CLI::ValidationError("--dt: " + in_quotes(text) + " is not a number (or a fraction like 1/60)");
              o.dt = *dt;
            },
            "Time step in s, a number or a fraction (1/60) (default: the scene's dt)")
@@ -45,7 +49,7 @@ void add_picture_options(CLI::App* sub, SceneOptions& o, const std::string& size
 IntegratorKind parse_integrator_option(const std::string& name, const std::string& option) {
   const auto kind = parse_integrator(name);
   if (!kind)
-    throw UsageError(option + ": unknown integrator '" + name + "' (expected one of: " +
+    throw UsageError(option + ": unknown integrator " + in_quotes(name) + " (expected one of: " +
                      integrator_names_joined() + ")");
   return *kind;
 }
@@ -56,10 +60,10 @@ std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const
     const auto begin = raw.find_first_not_of(" \t");
     const std::string name =
         begin == std::string::npos ? "" : raw.substr(begin, raw.find_last_not_of(" \t") - begin + 1);
-    if (name.empty()) throw UsageError(option + ": empty item in '" + text + "'");
+    if (name.empty()) throw UsageError(option + ": empty item in " + in_quotes(text));
     const IntegratorKind kind = parse_integrator_option(name, option);
     if (std::find(kinds.begin(), kinds.end(), kind) != kinds.end())
-      throw UsageError(option + ": '" + name + "' is listed twice");
+      throw UsageError(option + ": " + in_quotes(name) + " is listed twice");
     kinds.push_back(kind);
   }
   if (kinds.empty())
@@ -68,7 +72,8 @@ std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const
 }
 
 SceneDef load_scene_with_options(const SceneOptions& o) {
-  SceneDef scene = load_scene(o.path, o.sets);
+  // --duration and --dt replace the file's values, so the run is bounded once they are in.
+  SceneDef scene = load_scene(o.path, o.sets, /*bound_run=*/!(o.duration || o.dt));
   if (o.duration) {
     if (!(*o.duration >= 0.0) || !std::isfinite(*o.duration))
       throw UsageError("--duration: must be a finite number >= 0 s, got " + std::to_string(*o.duration));
@@ -95,6 +100,11 @@ SceneDef load_scene_with_options(const SceneOptions& o) {
       throw UsageError("--fps: must be > 0 and <= " + std::to_string(static_cast<int>(RenderDef::kMaxFps)) +
                        " frames per second, got " + std::to_string(*o.fps));
     scene.render.fps = *o.fps;
+  }
+  if (o.duration || o.dt || o.fps) {  // otherwise the parser bounded the file's (and --set's) values
+    const std::string too_long = run_bounds_problem(scene.duration, scene.dt, scene.render.fps);
+    if (!too_long.empty())
+      throw UsageError(std::string(o.dt ? "--dt" : o.duration ? "--duration" : "--fps") + ": " + too_long);
   }
   return scene;
 }

@@ -19,10 +19,11 @@ struct SceneOptions {
   std::optional<double> dt;             // --dt S (when offered)
   std::optional<int> width, height;     // --width/--height px (when offered): render.width/height
   std::optional<double> fps;            // --fps (when offered): render.fps
+  std::optional<double> max_memory;     // --max-memory SIZE in bytes (default: memory_budget.h)
 };
 
-// Declares SCENE, --set and --duration (its help saying `duration_default`); --integrator and
-// --dt only when `single_run`.
+// Declares SCENE, --set, --duration (its help saying `duration_default`) and --max-memory;
+// --integrator and --dt only when `single_run`.
 void add_scene_options(CLI::App* sub, SceneOptions& options, bool single_run,
                        const std::string& duration_default = "the scene's duration");
 // Declares --width, --height and --fps (run and compare alike): the scene's render.width,

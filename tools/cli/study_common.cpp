@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <mutex>
 
+#include "echo.h"
 #include "scene_options.h"
 
 extern char** environ;
@@ -24,9 +25,9 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
   if (items.empty()) throw UsageError(option + ": empty list (expected numbers separated by commas)");
   std::vector<double> values;
   for (const std::string& item : items) {
-    if (item.empty()) throw UsageError(option + ": empty item in '" + text + "'");
+    if (item.empty()) throw UsageError(option + ": empty item in " + in_quotes(text));
     const std::optional<double> v = parse_number_or_fraction(item);
-    if (!v) throw UsageError(option + ": '" + item + "' is not a finite number (or a fraction like 1/60)");
+    if (!v) throw UsageError(option + ": " + in_quotes(item) + " is not a finite number (or a fraction like 1/60)");
     values.push_back(*v);
   }
   return values;

@@ -1,5 +1,5 @@
 // FrameSink over VideoWriter: the MP4 is opened on the first frame (its size is known
-// only then) under a temporary name, and renamed onto its path by finish().
+// only then) as a nameless file, named by finish().
 #include <memory>
 #include <optional>
 
@@ -33,6 +33,11 @@ class VideoSink final : public FrameSink {
     } catch (const VideoError& e) {
       throw RuntimeFailure(e.what());
     }
+  }
+
+  std::string abandon() override {
+    writer_.reset();  // removes the unfinished file
+    return "";
   }
 
   void finish() override {

@@ -2,14 +2,17 @@
 // libavformat. See video_writer.h for the choices; this file is the plumbing.
 #include "video_writer.h"
 
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
+
+#include "output_file.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -54,6 +57,70 @@ std::string take_log_error() {
   return text;
 }
 
+// x264 reports a failed allocation (x264_malloc: "malloc of size N failed") through its own
+// default logger, straight to stderr, not through av_log, so a failure would print two lines.
+// While the encoder opens, fd 2 goes to a memory file instead: on failure its last line joins
+// the one-line error; on success its text is passed on to stderr unchanged.
+class StderrCapture {
+ public:
+  StderrCapture() {
+    std::fflush(stderr);
+    memory_ = ::memfd_create("clothsim-encoder-log", MFD_CLOEXEC);
+    if (memory_ >= 0) saved_ = ::dup(STDERR_FILENO);
+    if (memory_ < 0 || saved_ < 0 || ::dup2(memory_, STDERR_FILENO) < 0) restore();  // not captured
+  }
+  StderrCapture(const StderrCapture&) = delete;
+  StderrCapture& operator=(const StderrCapture&) = delete;
+  ~StderrCapture() { pass_on(); }
+
+  // Restores stderr; returns what was written meanwhile.
+  std::string release() {
+    std::string text;
+    if (memory_ < 0) return text;
+    std::fflush(stderr);
+    char buffer[4096];
+    for (off_t at = 0;;) {
+      const ssize_t n = ::pread(memory_, buffer, sizeof buffer, at);
+      if (n <= 0) break;
+      text.append(buffer, static_cast<std::size_t>(n));
+      at += n;
+    }
+    restore();
+    return text;
+  }
+  // Restores stderr and writes what was captured to it.
+  void pass_on() {
+    const std::string text = release();
+    if (!text.empty()) write_all(STDERR_FILENO, text.data(), text.size());
+  }
+  // Restores stderr and returns the last non-empty line captured ("" when none).
+  std::string last_line() {
+    std::string text = release();
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.pop_back();
+    const std::size_t start = text.find_last_of("\r\n");
+    if (start != std::string::npos) text.erase(0, start + 1);
+    if (text.size() > 200) text.resize(200);
+    return text;
+  }
+
+ private:
+  void restore() {
+    if (saved_ >= 0) {
+      ::dup2(saved_, STDERR_FILENO);
+      ::close(saved_);
+    }
+    if (memory_ >= 0) ::close(memory_);
+    saved_ = memory_ = -1;
+  }
+  int memory_ = -1, saved_ = -1;
+};
+
+// Keeps `detail` as the failure's explanation when av_log gave none.
+void keep_log_error(const std::string& detail) {
+  std::lock_guard<std::mutex> lock(g_log_mutex);
+  if (g_last_log_error.empty()) g_last_log_error = detail;
+}
+
 std::string av_error_text(int code) {
   char buf[AV_ERROR_MAX_STRING_SIZE] = {};
   av_strerror(code, buf, sizeof buf);
@@ -68,10 +135,28 @@ std::string av_error_text(int code) {
   throw VideoError(message);
 }
 
-// Beside the target, so the final rename stays within one filesystem (atomic).
-std::string make_temp_path(const std::string& path) {
-  static std::atomic<int> counter{0};
-  return path + "." + std::to_string(::getpid()) + "." + std::to_string(counter++) + ".tmp";
+// An I/O failure says it as every output does: "cannot write PATH: File too large".
+[[noreturn]] void fail_write(const std::string& path, int code) {
+  take_log_error();  // the muxer's own line repeats the reason
+  throw VideoError("cannot write " + path + ": " + av_error_text(code));
+}
+
+// The MP4's bytes go to the OutputFile's descriptor through a custom AVIOContext (libavformat
+// never opens the file by name for writing, so it never has a name until finish()).
+int write_to_fd(void* opaque, uint8_t* data, int size) {
+  const int fd = *static_cast<int*>(opaque);
+  if (!write_all(fd, data, static_cast<std::size_t>(size))) return AVERROR(errno);
+  return size;
+}
+
+int64_t seek_fd(void* opaque, int64_t offset, int whence) {
+  const int fd = *static_cast<int*>(opaque);
+  if (whence == AVSEEK_SIZE) {
+    struct stat st {};
+    return ::fstat(fd, &st) == 0 ? static_cast<int64_t>(st.st_size) : AVERROR(errno);
+  }
+  const off_t at = ::lseek(fd, static_cast<off_t>(offset), whence & ~AVSEEK_FORCE);
+  return at < 0 ? AVERROR(errno) : static_cast<int64_t>(at);
 }
 
 }  // namespace
@@ -104,7 +189,10 @@ void validate_video_options(const VideoWriterOptions& options) {
 int even_size(int n) { return n + (n & 1); }
 
 struct VideoWriter::Impl {
-  std::string path, temp;
+  std::string path;
+  std::unique_ptr<OutputFile> file;  // nameless until finish()
+  int fd = -1;                       // file's descriptor, the AVIOContext's opaque
+  AVIOContext* io = nullptr;
   int width = 0, height = 0;          // of the input images
   int enc_width = 0, enc_height = 0;  // even
   int frames = 0;
@@ -127,9 +215,12 @@ struct VideoWriter::Impl {
     av_frame_free(&frame);
     avcodec_free_context(&codec);
     if (format) {
-      if (format->pb) avio_closep(&format->pb);
-      avformat_free_context(format);
+      avformat_free_context(format);  // AVFMT_FLAG_CUSTOM_IO: leaves io to us
       format = nullptr;
+    }
+    if (io) {
+      av_freep(&io->buffer);
+      avio_context_free(&io);
     }
   }
 
@@ -144,11 +235,18 @@ struct VideoWriter::Impl {
     if (width <= 0 || height <= 0)
       fail(path, "bad frame size " + std::to_string(width) + "x" + std::to_string(height));
 
-    // Container from the target's extension (the temporary's ends in .tmp).
+    try {
+      file = std::make_unique<OutputFile>(path);
+    } catch (const OutputFileError& e) {
+      throw VideoError(e.what());
+    }
+    fd = file->fd();
+    // Container from the target's extension. The context's url is a name the nameless file
+    // can be reopened by: +faststart reads the file back to move its index to the front.
     const AVOutputFormat* container = av_guess_format(nullptr, path.c_str(), nullptr);
     if (!container || container->video_codec == AV_CODEC_ID_NONE)
       container = av_guess_format("mp4", nullptr, nullptr);
-    int ret = avformat_alloc_output_context2(&format, container, nullptr, temp.c_str());
+    int ret = avformat_alloc_output_context2(&format, container, nullptr, file->reopen_path().c_str());
     if (ret < 0) fail(path, "cannot set up the container", ret);
 
     const AVCodec* encoder = avcodec_find_encoder_by_name("libx264");
@@ -176,17 +274,31 @@ struct VideoWriter::Impl {
     AVDictionary* codec_opts = nullptr;
     av_dict_set(&codec_opts, "preset", options.preset.c_str(), 0);
     av_dict_set(&codec_opts, "crf", std::to_string(options.crf).c_str(), 0);
-    ret = avcodec_open2(codec, encoder, &codec_opts);
-    av_dict_free(&codec_opts);
-    if (ret < 0) fail(path, "cannot open the H.264 encoder", ret);
+    {
+      StderrCapture x264_log;
+      ret = avcodec_open2(codec, encoder, &codec_opts);
+      av_dict_free(&codec_opts);
+      if (ret < 0) {
+        keep_log_error(x264_log.last_line());
+        fail(path, "cannot open the H.264 encoder", ret);
+      }
+    }
 
     stream->time_base = codec->time_base;  // a hint: the muxer may pick a finer one
     stream->avg_frame_rate = rate;
     ret = avcodec_parameters_from_context(stream->codecpar, codec);
     if (ret < 0) fail(path, "cannot copy encoder parameters", ret);
 
-    ret = avio_open(&format->pb, temp.c_str(), AVIO_FLAG_WRITE);
-    if (ret < 0) fail(path, "cannot create temporary file " + temp, ret);
+    constexpr int kIoBuffer = 1 << 16;
+    auto* buffer = static_cast<unsigned char*>(av_malloc(kIoBuffer));
+    if (!buffer) fail(path, "out of memory");
+    io = avio_alloc_context(buffer, kIoBuffer, /*write_flag=*/1, &fd, nullptr, write_to_fd, seek_fd);
+    if (!io) {
+      av_free(buffer);
+      fail(path, "out of memory");
+    }
+    format->pb = io;
+    format->flags |= AVFMT_FLAG_CUSTOM_IO;
     AVDictionary* mux_opts = nullptr;
     if (std::strcmp(format->oformat->name, "mp4") == 0 || std::strcmp(format->oformat->name, "mov") == 0)
       av_dict_set(&mux_opts, "movflags", "+faststart", 0);
@@ -245,7 +357,7 @@ struct VideoWriter::Impl {
       av_packet_rescale_ts(packet, codec->time_base, stream->time_base);
       packet->stream_index = stream->index;
       ret = av_interleaved_write_frame(format, packet);  // takes the packet's reference
-      if (ret < 0) fail(path, "cannot write to " + temp, ret);
+      if (ret < 0) fail_write(path, ret);
     }
   }
 };
@@ -254,7 +366,6 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height,
                          const VideoWriterOptions& options)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
-  impl_->temp = make_temp_path(path);
   impl_->width = width;
   impl_->height = height;
   impl_->enc_width = even_size(width);
@@ -263,7 +374,7 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height,
     impl_->open(options);
   } catch (...) {
     impl_->release();
-    std::remove(impl_->temp.c_str());
+    impl_->file.reset();  // dropped, nameless
     throw;
   }
 }
@@ -271,7 +382,7 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height,
 VideoWriter::~VideoWriter() {
   if (!impl_->finished) {
     impl_->release();
-    std::remove(impl_->temp.c_str());
+    impl_->file.reset();
   }
 }
 
@@ -299,13 +410,16 @@ void VideoWriter::finish() {
   if (w.finished) return;
   w.encode(nullptr);  // drain x264's look-ahead
   int ret = av_write_trailer(w.format);  // +faststart rewrites the file here
-  if (ret < 0) fail(w.path, "cannot finish " + w.temp, ret);
-  ret = avio_closep(&w.format->pb);
-  if (ret < 0) fail(w.path, "cannot close " + w.temp, ret);
-  if (std::rename(w.temp.c_str(), w.path.c_str()) != 0)
-    fail(w.path, std::string("cannot rename the finished file onto it: ") + std::strerror(errno));
-  w.finished = true;
+  if (ret < 0) fail_write(w.path, ret);
+  avio_flush(w.io);
+  if (w.io->error < 0) fail_write(w.path, w.io->error);
   w.release();
+  try {
+    w.file->commit();
+  } catch (const OutputFileError& e) {
+    throw VideoError(e.what());
+  }
+  w.finished = true;
 }
 
 int VideoWriter::frames_written() const { return impl_->frames; }
@@ -314,6 +428,5 @@ int VideoWriter::height() const { return impl_->height; }
 int VideoWriter::encoded_width() const { return impl_->enc_width; }
 int VideoWriter::encoded_height() const { return impl_->enc_height; }
 const std::string& VideoWriter::path() const { return impl_->path; }
-const std::string& VideoWriter::temp_path() const { return impl_->temp; }
 
 }  // namespace clothsim

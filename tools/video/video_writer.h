@@ -15,9 +15,9 @@
 //     The x264 preset trades encode speed for size at that quality.
 //   - Frames are encoded as they arrive (send_frame/receive_packet); only x264's
 //     bounded look-ahead is held, so memory is flat in clip length.
-//   - The file is written under a temporary name beside the target and renamed onto it
-//     by finish(): a crash, an error or Ctrl-C never leaves a truncated MP4 under the
-//     requested name. A writer destroyed without finish() removes its temporary.
+//   - The file is an OutputFile (render/output_file.h), written through a custom
+//     AVIOContext on its descriptor and given its name only by finish(): a crash, an
+//     error, Ctrl-C or SIGKILL never leaves a truncated MP4, or any temporary, behind.
 #pragma once
 
 #include <memory>
@@ -53,18 +53,18 @@ int even_size(int n);
 
 class VideoWriter {
  public:
-  // Opens the encoder and a temporary file beside `path` for frames of width x height
+  // Opens the encoder and a nameless file in `path`'s directory for frames of width x height
   // (odd sizes allowed). The container follows the extension (.mp4, .mov, .mkv), MP4 when
   // it is not recognised. Throws VideoError (directory not writable, encoder missing...).
   VideoWriter(const std::string& path, int width, int height, const VideoWriterOptions& options = {});
-  ~VideoWriter();  // without finish(): stops and removes the temporary
+  ~VideoWriter();  // without finish(): stops, and the nameless file is dropped
   VideoWriter(const VideoWriter&) = delete;
   VideoWriter& operator=(const VideoWriter&) = delete;
 
   // Encodes the next frame (presentation time = frames written / fps). The image must
   // be width x height as given to the constructor. Throws VideoError.
   void write(const Image& frame);
-  // Drains the encoder, writes the index and renames the file onto its name. Throws VideoError.
+  // Drains the encoder, writes the index and names the file. Throws VideoError.
   void finish();
 
   int frames_written() const;
@@ -73,7 +73,6 @@ class VideoWriter {
   int encoded_width() const;  // even, what the stream holds
   int encoded_height() const;
   const std::string& path() const;
-  const std::string& temp_path() const;
 
  private:
   struct Impl;

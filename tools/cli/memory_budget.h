@@ -1,0 +1,49 @@
+// --max-memory: a run's estimated peak memory (src/memory_estimate.h for the engine; the
+// renderer and the encoder here) against a limit, checked before anything large is allocated.
+// Over the limit, the command is refused (exit 2) with the estimate and what it is made of.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace clothsim::cli {
+
+// "4G", "512M", "1.5G", "800MB", "2000000000" (bytes); K, M, G, T are powers of 1024.
+// nullopt for anything else (negative, zero, words).
+std::optional<double> parse_memory_size(const std::string& text);
+// "5.12 GB", "80 MB" (powers of 1024, three significant digits).
+std::string format_bytes(double bytes);
+// Half the physical memory: room for the rest of the machine (and the other jobs of a batch
+// node), and far below where Linux's OOM killer would end the run without a word.
+double default_memory_limit();
+
+// Process, GL and image sizes, from GNU time's peak RSS (BENCHMARKS.md, "Memory estimate").
+inline constexpr double kProcessBytes = 80.0 * 1024 * 1024;   // libraries, a tiny scene: 76 MB
+inline constexpr double kRendererBytes = 80.0 * 1024 * 1024;  // OSMesa / llvmpipe: 35 MB at 320x240
+// The renderer's buffers per pixel of its target: 20 B plus 8 B per MSAA sample (52 B at the
+// default 4 samples; measured 48 B per pixel for a still, frame and PNG included).
+double render_bytes(int width, int height, int samples);
+// x264 (veryfast) and the YUV conversion per pixel of the encoded picture: 64 B (measured
+// 62-75 B on this 2-core machine; x264's frame threads, hence its memory, grow with cores).
+double encoder_bytes(int width, int height);
+
+// Declares --max-memory SIZE on `sub`, parsed into `limit` (bytes).
+void add_max_memory_option(CLI::App* sub, std::optional<double>& limit);
+
+class MemoryBudget {
+ public:
+  MemoryBudget();  // starts with the process itself
+  void add(std::string what, double bytes) { parts_.emplace_back(std::move(what), bytes); }
+  double total() const;
+  // Throws UsageError when total() exceeds `limit` (the default when nullopt): "SOURCE: needs
+  // an estimated 5.6 GB (model 1.3 GB, implicit_euler 4.3 GB, ...), more than --max-memory 2 GB".
+  void check(const std::string& source, const std::optional<double>& limit) const;
+
+ private:
+  std::vector<std::pair<std::string, double>> parts_;
+};
+
+}  // namespace clothsim::cli
