@@ -1,5 +1,8 @@
 #include "memory_estimate.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace clothsim {
 
 namespace {
@@ -10,6 +13,10 @@ constexpr double kModelPerParticle = 96, kModelPerSpring = 40, kPerAction = 64;
 constexpr double kExplicitPerParticle = 192;
 constexpr double kImplicitPerParticle = 256, kImplicitPerSpring = 128;
 constexpr double kPerSphere = 4096;  // measured 3.9 kB, mostly the YAML tree of its entry
+// implicit_euler's sparse factor, when a step needs it: L's 3x3 blocks (76 B each) number
+// about 27 per particle at 25 x 25 and 49 at 64 x 64 (AMD on the grid: growing like log n),
+// so 4 log2(P) per particle bounds them; never more than the solver's cap (implicit_euler.cpp).
+constexpr double kFactorBlockBytes = 80, kMaxFactorBytes = 512.0 * 1024 * 1024;
 }  // namespace
 
 std::int64_t spring_count(const ClothDef& c) {
@@ -34,8 +41,11 @@ double model_bytes(const SceneDef& scene) {
 double run_bytes(const SceneDef& scene, IntegratorKind kind) {
   const double particles = static_cast<double>(scene.cloth.nx) * scene.cloth.ny;
   double bytes = kExplicitPerParticle * particles;
-  if (kind == IntegratorKind::ImplicitEuler)
+  if (kind == IntegratorKind::ImplicitEuler) {
     bytes += kImplicitPerParticle * particles + kImplicitPerSpring * static_cast<double>(spring_count(scene.cloth));
+    const double factor = kFactorBlockBytes * particles * 4.0 * std::log2(std::max(particles, 2.0));
+    bytes += std::min(factor, kMaxFactorBytes);
+  }
   return bytes;
 }
 

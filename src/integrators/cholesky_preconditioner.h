@@ -60,6 +60,10 @@ class CholeskyPreconditioner {
   // multiply-add, measured, is folded in (cholesky_preconditioner.cpp).
   double factor_cost() const { return factor_cost_; }
   double solve_cost() const { return solve_cost_; }
+  // What factorize() allocates for L and D (known after analyse).
+  std::size_t factor_bytes() const {
+    return factor_blocks() * (sizeof(Mat3) + sizeof(int)) + order_.size() * sizeof(Mat3);
+  }
   std::size_t factor_blocks() const {  // off-diagonal blocks of L
     return column_start_.empty() ? 0 : static_cast<std::size_t>(column_start_.back());
   }

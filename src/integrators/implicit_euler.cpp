@@ -96,6 +96,9 @@ constexpr double kReleaseResidual = 1e-2;
 // Every kRetryJacobi-th step starts with block Jacobi even when the last step factored, so a
 // run whose steps have become easy stops factoring.
 constexpr int kRetryJacobi = 16;
+// The largest sparse factor built (its L, cholesky_preconditioner.h): 512 MiB, about a
+// 600 x 600 sheet's (a 64 x 64 sheet's is 15 MB). Larger sheets solve with block Jacobi.
+constexpr std::size_t kMaxFactorBytes = std::size_t{512} << 20;
 
 ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   if (!ws.implicit) ws.implicit.reset(new ImplicitCache);
@@ -218,17 +221,21 @@ class NewtonSolve {
     const Eigen::VectorXd& w = start_.inv_mass;
     assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, single_step_, c_.A);
     if (!c_.factor.analysed()) c_.factor.analyse(c_.A);
+    // A factor past kMaxFactorBytes is never built (block Jacobi throughout): the memory a run
+    // needs stays within what memory_estimate.h promises, whatever the sheet's size.
+    const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;
     const double factor_cost = c_.factor.factor_cost();
-    if (c_.factor.ready() ? factor_work_ > factor_cost : factor_first_) factorize();
+    if (affordable && (c_.factor.ready() ? factor_work_ > factor_cost : factor_first_)) factorize();
 
     settings.from_guess = warm != nullptr;
     if (warm && warm != &c_.d) c_.d = *warm;
-    if (c_.factor.ready()) {
+    if (c_.factor.ready() || !affordable) {
       solve(settings);
     } else {
       // Jacobi until the step's Jacobi work would pay for a factorisation; if the solve is not
       // done by then, factor and go on from where it stopped.
-      const int cap = std::max(1, static_cast<int>(std::ceil(factor_cost - jacobi_work_)));
+      const int cap = static_cast<int>(std::clamp(std::ceil(factor_cost - jacobi_work_), 1.0,
+                                                  static_cast<double>(settings.max_iterations)));
       settings.max_iterations = std::min(settings.max_iterations, cap);
       const CgResult cg = solve(settings);
       if (!cg.converged && !cg.negative_curvature && cg.iterations >= cap && factorize()) {

@@ -38,5 +38,21 @@ TEST(MemoryEstimate, Is2048SquaredImplicitAtAboutTheFiveGigabytesMeasured) {
   EXPECT_LT(total, 5.1 * 1.33);
 }
 
+// implicit_euler may build a sparse factor (cholesky_preconditioner.h): the estimate holds
+// one as large as the 64 x 64 drape's, and never more than the solver's 512 MiB cap.
+TEST(MemoryEstimate, ImplicitEulerCountsItsSparseFactorUpToTheCap) {
+  const SceneDef drape64 = parse_scene(
+      "cloth: {particles: [64, 64], springs: {structural: {}, shear: {}, bend: {}}}\n", "s");
+  const double factor64 = 201488.0 * 76;  // L's blocks measured at 64 x 64 (BENCHMARKS.md)
+  EXPECT_GT(run_bytes(drape64, IntegratorKind::ImplicitEuler) - run_bytes(drape64, IntegratorKind::Rk4), factor64);
+  const SceneDef huge = parse_scene(
+      "cloth: {particles: [2048, 2048], springs: {structural: {}, shear: {}, bend: {}}}\n", "s");
+  const SceneDef bigger = parse_scene(
+      "cloth: {particles: [2048, 1900], springs: {structural: {}, shear: {}, bend: {}}}\n", "s");
+  // Past the cap the factor's share no longer grows: the difference is the solve's own arrays.
+  const double share = run_bytes(huge, IntegratorKind::ImplicitEuler) - run_bytes(bigger, IntegratorKind::ImplicitEuler);
+  EXPECT_LT(share, 2048.0 * 148 * 2000);
+}
+
 }  // namespace
 }  // namespace clothsim
