@@ -185,11 +185,21 @@ TEST(CmdCompare, WritesAStillOfTheWholeGridAtTheRequestedTime) {
   EXPECT_GT(label_pixels, 20) << "the tile is labelled in the still";
 }
 
-TEST(CmdCompare, WithoutOutputsPrintsTheSummaryOnly) {
+TEST(CmdCompare, WithNothingToWriteIsAUsageErrorBeforeAnyWork) {
   const auto r = compare_small({"--integrators", "symplectic_euler"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("nothing to write: give --video"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "") << "refused before the runs: no table";
+}
+
+TEST(CmdCompare, WithASummaryOnlyPrintsTheTableAndWritesTheSummary) {
+  const std::string dir = scratch_dir("compare_summary_only");
+  const auto r = compare_small({"--integrators", "symplectic_euler", "--summary", dir + "/s.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("symplectic_euler"), std::string::npos);
   EXPECT_NE(r.out.find("ok to t = 0.2 s"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir + "/s.json"));
 }
 
 // Pixels of the banners' red text in a PNG.
@@ -224,7 +234,8 @@ TEST(CmdCompare, SaysNotConvergedInTheSummaryAndOnTheTile) {
 
 TEST(CmdCompare, SaysBesideTheTableWhatTheImplicitSolveDidWithContacts) {
   // The small drape rests on its ball from the start: the implicit solve holds contacts.
-  const auto r = compare_small({"--integrators", "implicit_euler,rk4"});
+  const std::string dir = scratch_dir("compare_contacts_table");
+  const auto r = compare_small({"--integrators", "implicit_euler,rk4", "--summary", dir + "/s.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto line_at = r.out.find("\nimplicit_euler: ");
   ASSERT_NE(line_at, std::string::npos) << r.out;
@@ -261,10 +272,11 @@ TEST(CmdCompare, RefusesAnUnwritableVideoPathBeforeSimulating) {
 TEST(CmdCompare, RefusesBadDtAndTimes) {
   const std::string dir = scratch_dir("compare_bad_dt");
   const std::string sheet = dir + "/s.png";
-  expect_refused(compare_small({"--dt", "verlet=1e-3"}), 2, "unknown integrator 'verlet'", "");
-  expect_refused(compare_small({"--integrators", "rk4", "--dt", "midpoint=1e-3"}), 2,
-                 "'midpoint' is not one of the integrators being compared", "");
-  expect_refused(compare_small({"--dt", "-1"}), 2, "must be > 0", "");
+  const std::string summary = dir + "/s.json";
+  expect_refused(compare_small({"--dt", "verlet=1e-3", "--summary", summary}), 2, "unknown integrator 'verlet'", summary);
+  expect_refused(compare_small({"--integrators", "rk4", "--dt", "midpoint=1e-3", "--summary", summary}), 2,
+                 "'midpoint' is not one of the integrators being compared", summary);
+  expect_refused(compare_small({"--dt", "-1", "--summary", summary}), 2, "must be > 0", summary);
   expect_refused(compare_small({"--sheet", sheet, "--times", "0.1,5"}), 2, "outside the run", sheet);
   expect_refused(compare_small({"--sheet", sheet, "--times", "0.2,0.1"}), 2, "must increase", sheet);
   expect_refused(compare_small({"--sheet", sheet}), 2, "--sheet needs --times", sheet);

@@ -132,6 +132,11 @@ int compare_command(const CompareOptions& o) {
                                      : "--sheet needs --times T1,T2,... (the columns)");
   if (o.still_t.has_value() != !o.still_out.empty())
     throw UsageError(o.still_t ? "--still needs -o/--output FILE.png" : "-o/--output goes with --still T");
+  // A comparison that writes nothing would simulate every lane for nothing (the table it
+  // prints is also in --summary): refused before any work.
+  if (o.video.empty() && o.frames_dir.empty() && o.sheet.empty() && !o.still_t && o.summary.empty())
+    throw UsageError("nothing to write: give --video FILE.mp4, --frames DIR, --sheet FILE.png, "
+                     "--still T -o FILE.png or --summary FILE.json");
   try {
     validate_video_options(VideoWriterOptions{30.0, o.crf, o.preset});
   } catch (const std::invalid_argument& e) {
