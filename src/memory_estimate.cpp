@@ -14,8 +14,8 @@ constexpr double kExplicitPerParticle = 192;
 constexpr double kImplicitPerParticle = 256, kImplicitPerSpring = 128;
 constexpr double kPerSphere = 4096;  // measured 3.9 kB, mostly the YAML tree of its entry
 // implicit_euler's sparse factor, when a step needs it: L's 3x3 blocks (76 B each) number
-// about 27 per particle at 25 x 25 and 49 at 64 x 64 (AMD on the grid: growing like log n),
-// so 4 log2(P) per particle bounds them; never more than the solver's cap (implicit_euler.cpp).
+// 27, 49, 69, 88 and 116 per particle at 25², 64², 128², 256² and 300² (AMD on the grid), so
+// 8 log2(P) per particle bounds them; never more than the solver's cap (implicit_euler.cpp).
 constexpr double kFactorBlockBytes = 80, kMaxFactorBytes = 512.0 * 1024 * 1024;
 }  // namespace
 
@@ -43,7 +43,7 @@ double run_bytes(const SceneDef& scene, IntegratorKind kind) {
   double bytes = kExplicitPerParticle * particles;
   if (kind == IntegratorKind::ImplicitEuler) {
     bytes += kImplicitPerParticle * particles + kImplicitPerSpring * static_cast<double>(spring_count(scene.cloth));
-    const double factor = kFactorBlockBytes * particles * 4.0 * std::log2(std::max(particles, 2.0));
+    const double factor = kFactorBlockBytes * particles * 8.0 * std::log2(std::max(particles, 2.0));
     bytes += std::min(factor, kMaxFactorBytes);
   }
   return bytes;

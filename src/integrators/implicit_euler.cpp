@@ -96,8 +96,9 @@ constexpr double kReleaseResidual = 1e-2;
 // Every kRetryJacobi-th step starts with block Jacobi even when the last step factored, so a
 // run whose steps have become easy stops factoring.
 constexpr int kRetryJacobi = 16;
-// The largest sparse factor built (its L, cholesky_preconditioner.h): 512 MiB, about a
-// 600 x 600 sheet's (a 64 x 64 sheet's is 15 MB). Larger sheets solve with block Jacobi.
+// The largest sparse factor built (its L, cholesky_preconditioner.h): 512 MiB, between a
+// 256 x 256 sheet's (424 MiB) and a 300 x 300 sheet's (766 MiB). Larger sheets solve with
+// block Jacobi.
 constexpr std::size_t kMaxFactorBytes = std::size_t{512} << 20;
 
 ImplicitCache& cache_for(const Model& model, Workspace& ws) {
