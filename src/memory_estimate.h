@@ -9,9 +9,12 @@
 // a run's state and scratch 192 B per particle for
 // the explicit family (RK4's stages, the worst of them: measured 192 B over the Model,
 // symplectic Euler 73 B); implicit Euler adds its sparse system, 256 B per particle and 128 B
-// per spring (measured 1 344 B per particle in all, estimated 1 552). A sphere costs about
-// 4 kB, mostly its YAML tree while the file is read. The estimate errs high on purpose; issue
-// 12 measured 5.1 GB at 2048^2 for implicit Euler, estimated here 6.1 GB.
+// per spring (measured 1 344 B per particle in all, estimated 1 552, in runs that did not
+// factor), plus the sparse factor a step may build: 80 B x 8 log2(P) per particle (measured
+// 27-116 blocks of 76 B per particle at 25^2..300^2), never more than the solver's 512 MiB
+// cap. A sphere costs about 4 kB, mostly its YAML tree while the file is read. The estimate
+// errs high on purpose; issue 12 measured 5.1 GB at 2048^2 for implicit Euler, estimated here
+// 6.6 GB with the factor's cap.
 #pragma once
 
 #include <cstdint>

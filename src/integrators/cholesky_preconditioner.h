@@ -57,7 +57,7 @@ class CholeskyPreconditioner {
   // What a factorisation and a solve cost, in block-Jacobi PCG iterations (one block mat-vec
   // and one block-diagonal solve each), from the factor's pattern: a 3x3 block product is 27
   // multiply-adds, against 9 (2 B + 2 S) for the iteration. The ratio of speeds per
-  // multiply-add, measured, is folded in (cholesky_preconditioner.cpp).
+  // multiply-add were measured to be about equal (cholesky_preconditioner.cpp).
   double factor_cost() const { return factor_cost_; }
   double solve_cost() const { return solve_cost_; }
   // What factorize() allocates for L and D (known after analyse).

@@ -235,8 +235,8 @@ class NewtonSolve {
     } else {
       // Jacobi until the step's Jacobi work would pay for a factorisation; if the solve is not
       // done by then, factor and go on from where it stopped.
-      const int cap = static_cast<int>(std::clamp(std::ceil(factor_cost - jacobi_work_), 1.0,
-                                                  static_cast<double>(settings.max_iterations)));
+      // (clamped only so that the cast cannot overflow: an unaffordable factor never gets here)
+      const int cap = static_cast<int>(std::clamp(std::ceil(factor_cost - jacobi_work_), 1.0, 1e9));
       settings.max_iterations = std::min(settings.max_iterations, cap);
       const CgResult cg = solve(settings);
       if (!cg.converged && !cg.negative_curvature && cg.iterations >= cap && factorize()) {

@@ -246,7 +246,7 @@ int compare_command(const CompareOptions& o) {
     }
     if (video) video->abandon();
     if (still_written) kept.push_back(o.still_out);
-    for (const std::string* out : {&o.video, &o.sheet})
+    for (const std::string* out : {&o.video, &o.sheet, &o.summary})
       if (!out->empty()) lost.push_back(*out);
     if (!o.still_out.empty() && !still_written) lost.push_back(o.still_out);
     return RuntimeFailure(interruption_message(t, kept, lost));

@@ -82,7 +82,7 @@ int run_command(const RunOptions& o) {
   const double fps = scene.render.fps;
   // A still alone needs the run only up to its time; any other output needs the whole run.
   const bool still_only = o.still_t && o.metrics.empty() && o.state.empty() && o.frames_dir.empty() &&
-                          o.video.empty();
+                          o.video.empty() && o.summary.empty();
   const double end = still_only ? *o.still_t : scene.duration;
   const long frames = static_cast<long>(std::floor(end * fps + 1e-9)) + 1;  // t = 0 included
 
@@ -108,7 +108,7 @@ int run_command(const RunOptions& o) {
     }
     if (video_sink) video_sink->abandon();
     if (o.still_t && still_written) kept.push_back(o.still_out);
-    for (const std::string* out : {&o.metrics, &o.video, &o.state})
+    for (const std::string* out : {&o.metrics, &o.video, &o.state, &o.summary})
       if (!out->empty()) lost.push_back(*out);
     if (o.still_t && !still_written) lost.push_back(o.still_out);
     return RuntimeFailure(interruption_message(run.state().t, kept, lost));
