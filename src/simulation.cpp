@@ -5,13 +5,11 @@
 #include <cmath>
 
 namespace clothsim {
-namespace {
 double thread_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
-}  // namespace
 
 void apply_due_actions(const Model& model, State& state) {
   // An action at time t_a is due once the clock has reached it; the tolerance keeps an

@@ -61,6 +61,10 @@ struct FrameMetrics {
   bool converged = true;         // last step's solve converged
 };
 
+// CPU time of the calling thread, s: what runs are charged (RunTotals::cpu_seconds), and what a
+// benchmark times a peer library by.
+double thread_cpu_seconds();
+
 class Run {
  public:
   Run(const Model& model, IntegratorKind kind, double dt);

@@ -100,12 +100,11 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A) {
   // the counts came within 20 % for a factorisation (61 against 72, 469 against 481
   // iterations) and for a 15 x 15 solve; a 64 x 64 solve, out of cache, took 1.8 times its
   // count (BENCHMARKS.md). So no correction is folded in.
-  constexpr double kFactorOverhead = 1.0, kSolveOverhead = 1.0;
   const double iteration = 9.0 * (2.0 * B + 2.0 * static_cast<double>(S));
   double factor = 0.0;
   for (int j = 0; j < B; ++j) factor += 27.0 * count[j] * (count[j] + 3.0) / 2.0 + 27.0;
-  factor_cost_ = kFactorOverhead * factor / iteration;
-  solve_cost_ = kSolveOverhead * 9.0 * (2.0 * column_start_[B] + B) / iteration;
+  factor_cost_ = factor / iteration;
+  solve_cost_ = 9.0 * (2.0 * column_start_[B] + B) / iteration;
   filter_.assign(B, Mat3::Identity());
   analysed_ = true;
   ready_ = false;

@@ -67,13 +67,16 @@ cloth: {particles: [3, 3], size: [2, 2], plane: xy, center: [0, 1, 0], springs: 
   EXPECT_NEAR(m.initial_x(0, 2), 1.25, 1e-12);
 }
 
+// The particles a model starts pinned (inverse mass 0), in index order.
+std::vector<int> pinned_particles(const Model& m) {
+  std::vector<int> out;
+  for (int p = 0; p < m.num_particles; ++p)
+    if (m.initial_inv_mass[p] == 0.0) out.push_back(p);
+  return out;
+}
+
 TEST(Model, PinModesFreezeTheRightParticles) {
-  const auto pinned = [](const Model& m) {
-    std::vector<int> out;
-    for (int p = 0; p < m.num_particles; ++p)
-      if (m.initial_inv_mass[p] == 0.0) out.push_back(p);
-    return out;
-  };
+  const auto pinned = pinned_particles;
   EXPECT_EQ(pinned(model_from_yaml("cloth: {particles: [4, 3], pinned: corners}")), (std::vector<int>{0, 3, 8, 11}));
   EXPECT_EQ(pinned(model_from_yaml("cloth: {particles: [4, 3], pinned: top_edge}")), (std::vector<int>{0, 1, 2, 3}));
   EXPECT_EQ(pinned(model_from_yaml("cloth: {particles: [4, 3], pinned: none}")), (std::vector<int>{}));
@@ -84,14 +87,12 @@ TEST(Model, PinModesFreezeTheRightParticles) {
 //    0  1  2  3     row j = 0: top_edge
 //    4  5  6  7
 //    8  9 10 11     row j = 2: bottom_edge; column i = 0: left_edge, i = 3: right_edge
+std::vector<int> pinned_on_4x3(const std::string& spec) {
+  return pinned_particles(model_from_yaml("cloth: {particles: [4, 3], pinned: " + spec + "}"));
+}
+
 TEST(Model, EdgePinsFreezeTheirRowOrColumn) {
-  const auto pinned = [](const std::string& spec) {
-    const Model m = model_from_yaml("cloth: {particles: [4, 3], pinned: " + spec + "}");
-    std::vector<int> out;
-    for (int p = 0; p < m.num_particles; ++p)
-      if (m.initial_inv_mass[p] == 0.0) out.push_back(p);
-    return out;
-  };
+  const auto pinned = pinned_on_4x3;
   EXPECT_EQ(pinned("top_edge"), (std::vector<int>{0, 1, 2, 3}));
   EXPECT_EQ(pinned("bottom_edge"), (std::vector<int>{8, 9, 10, 11}));
   EXPECT_EQ(pinned("left_edge"), (std::vector<int>{0, 4, 8}));
@@ -102,13 +103,7 @@ TEST(Model, EdgePinsFreezeTheirRowOrColumn) {
 }
 
 TEST(Model, RangePinsFreezeTheirColumnsAndRows) {
-  const auto pinned = [](const std::string& spec) {
-    const Model m = model_from_yaml("cloth: {particles: [4, 3], pinned: " + spec + "}");
-    std::vector<int> out;
-    for (int p = 0; p < m.num_particles; ++p)
-      if (m.initial_inv_mass[p] == 0.0) out.push_back(p);
-    return out;
-  };
+  const auto pinned = pinned_on_4x3;
   EXPECT_EQ(pinned("{i: [1, 2], j: [0, 1]}"), (std::vector<int>{1, 2, 5, 6}));
   EXPECT_EQ(pinned("{i: 0}"), pinned("left_edge"));          // an axis left out: all of it
   EXPECT_EQ(pinned("{j: [2, 2]}"), pinned("bottom_edge"));

@@ -33,7 +33,6 @@
 #include <BulletSoftBody/btSoftBodyHelpers.h>
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
 #include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
-#include <ctime>
 #include <memory>
 
 #include "bench_models.h"
@@ -41,12 +40,6 @@
 
 namespace clothsim {
 namespace {
-
-double cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 constexpr double kSimulated = 1.0;  // s: the drape's ball is still until t = 1 s
 
@@ -106,9 +99,9 @@ void BM_BulletSoftBody(benchmark::State& st) {
     st.PauseTiming();
     auto drape = std::make_unique<BulletDrape>(n, iterations);
     st.ResumeTiming();
-    const double start = cpu_seconds();
+    const double start = thread_cpu_seconds();
     for (int k = 0; k < static_cast<int>(kSimulated * rate); ++k) drape->world.stepSimulation(h, 1, h);
-    cpu += cpu_seconds() - start;
+    cpu += thread_cpu_seconds() - start;
     st.PauseTiming();
     const int centre = (n / 2) * n + n / 2;
     centre_height = drape->cloth->m_nodes[centre].m_x.y();
@@ -132,9 +125,8 @@ void clothsim_run(benchmark::State& st, IntegratorKind kind) {
   bool stable = true;
   for (auto _ : st) {
     Run run(model, kind, dt);
-    const double start = cpu_seconds();
     stable = run.advance_to(kSimulated) && stable;
-    cpu += cpu_seconds() - start;
+    cpu += run.totals().cpu_seconds;
     const int n = model.grid_nx;
     centre_height = run.state().x(1, (n / 2) * n + n / 2);
   }
