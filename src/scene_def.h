@@ -97,6 +97,10 @@ struct RenderDef {
   int width = 1280, height = 720;  // pixels
   double fps = 30.0;               // output frames per simulated second
   CameraDef camera;
+  bool camera_auto = false;        // camera: auto, fitted to the cloth and spheres (camera_fit.h)
+  std::string color;               // checker|error|strain|speed; "": the command's default
+                                   // (checker for run, error for compare)
+  std::string overlay = "full";    // full|label|none: what text is drawn on the pictures
   bool draw_springs = false;       // overlay the springs as lines, as the course's UI did
   bool draw_particles = false;
   int samples = 4;                 // MSAA samples

@@ -2,6 +2,7 @@
 // reads. Every field is read by one typed accessor that knows its dotted key and its node's
 // line, so every error can say where it is; every map is checked for keys it does not know.
 #include "scene_parser.h"
+#include "vertex_fields.h"
 
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
@@ -438,7 +439,8 @@ SphereDef Reader::sphere(const YAML::Node& n, const std::string& path) const {
 
 RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
   RenderDef r;
-  expect_map(n, path, {"width", "height", "fps", "camera", "draw_springs", "draw_particles", "samples", "msaa"});
+  expect_map(n, path, {"width", "height", "fps", "camera", "color", "overlay", "draw_springs", "draw_particles",
+                       "samples", "msaa"});
   optional(n, path, "width", [&](auto& v, auto& k) { r.width = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
   optional(n, path, "height", [&](auto& v, auto& k) { r.height = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
   optional(n, path, "fps", [&](auto& v, auto& k) { r.fps = in_range(v, k, 0.0, RenderDef::kMaxFps, true); });
@@ -453,7 +455,23 @@ RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
       fail(v, k, "value " + excerpt(v.Scalar()) + " is not one of 0, 2, 4, 8");
     r.samples = m == 0 ? 1 : m;
   });
+  optional(n, path, "color", [&](auto& v, auto& k) {
+    const std::string c = string(v, k);
+    if (!parse_field_kind(c)) fail(v, k, "unknown colouring " + in_quotes(c) + " (expected checker, error, strain or speed)");
+    r.color = c;
+  });
+  optional(n, path, "overlay", [&](auto& v, auto& k) {
+    const std::string o = string(v, k);
+    if (o != "full" && o != "label" && o != "none") fail(v, k, "unknown overlay " + in_quotes(o) + " (expected full, label or none)");
+    r.overlay = o;
+  });
   optional(n, path, "camera", [&](auto& v, auto& k) {
+    // `camera: auto` frames the cloth and spheres from the scene's own extent.
+    if (v.IsScalar()) {
+      if (v.Scalar() != "auto") fail(v, k, "expected auto or a map of eye, target, up, fov, got " + in_quotes(v.Scalar()));
+      r.camera_auto = true;
+      return;
+    }
     expect_map(v, k, {"eye", "target", "up", "fov"});
     optional(v, k, "eye", [&](auto& w, auto& kk) { r.camera.eye = vec3(w, kk); });
     optional(v, k, "target", [&](auto& w, auto& kk) { r.camera.target = vec3(w, kk); });

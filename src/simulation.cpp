@@ -49,6 +49,7 @@ Run::Run(const Model& model, IntegratorKind kind, double dt)
 bool Run::advance_to(double target) {
   if (divergence_) return false;
   if (stopped_) return true;
+  checkpoint_ = state_;
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = thread_cpu_seconds();
   const double tolerance = 1e-6 * dt_;
@@ -85,6 +86,26 @@ bool Run::advance_to(double target) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   totals_.cpu_seconds += thread_cpu_seconds() - cpu_start;
   return !divergence_;
+}
+
+namespace {
+bool all_finite(const State& s) { return s.x.allFinite() && s.v.allFinite(); }
+}  // namespace
+
+State Run::last_finite_state() const {
+  if (!divergence_) return state_;
+  // The named state itself when finite, else the one before: replay to the earlier of the
+  // two only when needed (the replay's own result tells which).
+  const std::int64_t named = divergence_->step;
+  State s = checkpoint_;
+  Workspace ws;
+  State previous = s;
+  while (s.step < named) {
+    previous = s;
+    step(model_, s, kind_, dt_, ws);
+  }
+  if (all_finite(s)) return s;
+  return previous.step < s.step ? previous : checkpoint_;
 }
 
 FrameMetrics Run::metrics() const {

@@ -89,11 +89,21 @@ class Run {
   const RunTotals& totals() const { return totals_; }
   FrameMetrics metrics() const;  // diagnostics of the current state
 
+  // After divergence: the last state that is still finite, at the step divergence names (a
+  // state past the strain or energy bound is finite and is that state itself; a non-finite one
+  // gives the step before), so a picture of the blow-up shows the cloth as it broke rather
+  // than the last output frame. Replayed from the state the diverging advance_to started
+  // from with a fresh Workspace: a step is a function of the State alone (a copied State
+  // continues bit for bit), so the replay takes exactly the steps the run took. Costs at
+  // most the steps of that one advance_to; nothing is kept per step while the run is healthy.
+  State last_finite_state() const;
+
  private:
   const Model& model_;
   IntegratorKind kind_;
   double dt_;
   State state_;
+  State checkpoint_;  // state_ at the start of the current advance_to (last_finite_state replays it)
   Workspace ws_;
   RunTotals totals_;
   StepReport last_;

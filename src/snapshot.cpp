@@ -86,8 +86,10 @@ RenderFrame make_render_frame(const Model& model, const State& state, const Snap
 }
 
 void mark_diverged(RenderFrame& frame, const Divergence& divergence) {
-  char banner[64];
-  std::snprintf(banner, sizeof banner, "DIVERGED at t = %.4g s", divergence.t);
+  // The time as `run` prints it (%.6g), and the step: the picture and the exit message agree.
+  char banner[96];
+  std::snprintf(banner, sizeof banner, "DIVERGED at t = %.6g s (step %lld)", divergence.t,
+                static_cast<long long>(divergence.step));
   frame.banner = banner;
   frame.overlay_lines.push_back("diverged: " + divergence.reason);
 }

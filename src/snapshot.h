@@ -19,9 +19,9 @@ struct SnapshotText {
 
 RenderFrame make_render_frame(const Model& model, const State& state, const SnapshotText& text);
 
-// Turns the last good frame of a run into its frozen frame: the red banner
-// "DIVERGED at t = ... s" and a last overlay line with the reason. What `run` and
-// `compare` show from the moment a run diverges (the diverged state itself is no picture).
+// Marks a frame of a run's last finite state (Run::last_finite_state) as the frozen frame:
+// the red banner "DIVERGED at t = ... s (step N)" with the time as `run` prints it, and a last
+// overlay line with the reason. What `run` and `compare` show from the moment a run diverges.
 void mark_diverged(RenderFrame& frame, const Divergence& divergence);
 
 // Standard overlay: scene name, integrator, dt and simulated time.

@@ -237,7 +237,7 @@ TEST(CmdCompare, SaysBesideTheTableWhatTheImplicitSolveDidWithContacts) {
   const std::string dir = scratch_dir("compare_contacts_table");
   const auto r = compare_small({"--integrators", "implicit_euler,rk4", "--summary", dir + "/s.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto line_at = r.out.find("\nimplicit_euler: ");
+  const auto line_at = r.out.find("\nimplicit_euler @ 0.0001 s: ");
   ASSERT_NE(line_at, std::string::npos) << r.out;
   long held = -1, projected = -1;
   ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("contacts held in the solve ", line_at),
@@ -246,7 +246,7 @@ TEST(CmdCompare, SaysBesideTheTableWhatTheImplicitSolveDidWithContacts) {
       << r.out;
   EXPECT_GT(held, 0) << r.out;
   EXPECT_GE(projected, 0);
-  EXPECT_EQ(r.out.find("\nrk4: "), std::string::npos) << "explicit runs have no solve to report\n" << r.out;
+  EXPECT_EQ(r.out.find("\nrk4 @ "), std::string::npos) << "explicit runs have no solve to report\n" << r.out;
 }
 
 TEST(CmdCompare, RefusesAnUnknownIntegratorNamingTheChoices) {
@@ -295,7 +295,7 @@ TEST(CmdCompare, StopsCleanlyOnInterruptLeavingNoFileUnderTheName) {
   const std::string out = dir + "/long.mp4";
   // A minute of scene: far more than the 2 s before SIGINT arrives.
   const auto r = cli::run_clothsim_interrupted(
-      {"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "60", "--width", "320",
+      {"compare", kDrape, "--color", "checker", "--set", "cloth.particles=[9,9]", "--duration", "60", "--width", "320",
        "--height", "180", "--video", out},
       2.0);
   EXPECT_EQ(r.exit_code, 130) << "128 + SIGINT\n" << r.err;
@@ -331,7 +331,7 @@ TEST(CmdCompare, StopsWithinTheBoundAtATinyStepOnEitherSignalLeavingNothing) {
   for (const int signal : {SIGINT, SIGTERM}) {
     const std::string dir = scratch_dir("compare_tiny_dt_" + std::to_string(signal));
     const auto r = cli::run_clothsim_interrupted(
-        {"compare", kDrape, "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180",
+        {"compare", kDrape, "--color", "checker", "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180",
          "--video", dir + "/v.mp4", "--sheet", dir + "/s.png", "--times", "0.5"},
         1.0, signal);
     EXPECT_EQ(r.exit_code, 128 + signal) << r.err;
@@ -346,7 +346,7 @@ TEST(CmdCompare, StopsWithinTheBoundAtATinyStepOnEitherSignalLeavingNothing) {
 TEST(CmdCompare, SigkillLeavesNoFileAndNoTemporary) {
   const std::string dir = scratch_dir("compare_sigkill");
   const auto r = cli::run_clothsim_interrupted(
-      {"compare", kDrape, "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180", "--video", dir + "/v.mp4",
+      {"compare", kDrape, "--color", "checker", "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180", "--video", dir + "/v.mp4",
        "--sheet", dir + "/s.png", "--times", "0.5"},
       1.0, SIGKILL);
   EXPECT_EQ(r.exit_code, 128 + SIGKILL);
@@ -355,8 +355,8 @@ TEST(CmdCompare, SigkillLeavesNoFileAndNoTemporary) {
 
 TEST(CmdCompare, AWriteFailureIsOneLineExit1AndLeavesNothing) {
   const std::string dir = scratch_dir("compare_fsize");
-  const auto r = cli::run_clothsim({"compare", kDrape, "--duration", "1", "--width", "320", "--height", "180",
-                                    "--video", dir + "/v.mp4"},
+  const auto r = cli::run_clothsim({"compare", kDrape, "--color", "checker", "--duration", "1", "--width", "320",
+                                    "--height", "180", "--video", dir + "/v.mp4"},
                                    "ulimit -f 16;");
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
@@ -366,7 +366,7 @@ TEST(CmdCompare, AWriteFailureIsOneLineExit1AndLeavesNothing) {
 
 TEST(CmdCompare, AWriteFailureOnTheContactSheetIsOneLineExit1AndLeavesNothing) {
   const std::string dir = scratch_dir("compare_fsize_sheet");
-  const auto r = cli::run_clothsim({"compare", kDrape, "--integrators", "rk4", "--duration", "0.2", "--width", "320",
+  const auto r = cli::run_clothsim({"compare", kDrape, "--color", "checker", "--integrators", "rk4", "--duration", "0.2", "--width", "320",
                                     "--height", "180", "--sheet", dir + "/s.png", "--times", "0.1,0.2"},
                                    "ulimit -f 16;");
   EXPECT_EQ(r.exit_code, 1) << r.err;
@@ -380,7 +380,7 @@ TEST(CmdCompare, AWriteFailureOnTheContactSheetIsOneLineExit1AndLeavesNothing) {
 TEST(CmdCompare, ASecondSignalOfEitherKindKillsAtOnceLeavingNothing) {
   const std::string dir = scratch_dir("compare_second_signal");
   const auto r = cli::run_clothsim_signalled(
-      {"compare", kDrape, "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180", "--video",
+      {"compare", kDrape, "--color", "checker", "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180", "--video",
        dir + "/v.mp4"},
       1.0, {SIGSTOP, SIGINT, SIGTERM, SIGCONT});
   EXPECT_TRUE(r.exit_code == 128 + SIGINT || r.exit_code == 128 + SIGTERM) << r.exit_code << "\n" << r.err;
@@ -392,7 +392,7 @@ TEST(CmdCompare, ASecondSignalOfEitherKindKillsAtOnceLeavingNothing) {
 TEST(CmdCompare, AnInterruptedFramesRunSaysWhichPngsItKept) {
   const std::string dir = scratch_dir("compare_interrupt_frames");
   const auto r = cli::run_clothsim_interrupted(
-      {"compare", kDrape, "--integrators", "rk4", "--dt", "1e-9", "--duration", "1", "--width", "64", "--height", "64",
+      {"compare", kDrape, "--color", "checker", "--integrators", "rk4", "--dt", "1e-9", "--duration", "1", "--width", "64", "--height", "64",
        "--frames", dir + "/f"},
       1.0, SIGTERM);
   EXPECT_EQ(r.exit_code, 143) << r.err;

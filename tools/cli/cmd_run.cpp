@@ -1,5 +1,7 @@
-// clothsim run: one scene, one integrator. Steps to each output frame (the scene's fps),
-// records metrics, renders frames/video/a still if asked, writes the final state.
+// clothsim run: one scene, one integrator: the frame pipeline (frame_pipeline.h) with one
+// lane. Steps to each output frame (the scene's fps), records metrics, renders frames/video/a
+// still if asked, writes the final state. A run that diverges ends there: its pictures show the
+// last finite state with DIVERGED, the time and step this command prints.
 // Exit 3 when the run diverges (metrics up to that point are kept; the state is not written);
 // with --strict, exit 4 when an implicit step did not converge (every output is written).
 #include <cinttypes>
@@ -11,7 +13,12 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "frame_pipeline.h"
 #include "frame_sink.h"
+#include "lanes.h"
+#include "picture_options.h"
+#include "pipeline_outputs.h"
+#include "run_bounds.h"
 #include "gl_options.h"
 #include "summary_json.h"
 #include "memory_budget.h"
@@ -21,7 +28,6 @@
 #include "run_outputs.h"
 #include "scene_options.h"
 #include "simulation.h"
-#include "snapshot.h"
 
 namespace clothsim::cli {
 namespace {
@@ -35,13 +41,9 @@ struct RunOptions {
   std::string preset = VideoOptions{}.preset;
   bool strict = false;
   GlOptions gl;
+  PictureOptions look;
   std::string summary;  // --summary FILE.json
 };
-
-RenderFrame snapshot_of(const Run& run) {
-  const SnapshotText text{overlay_lines(run.model(), run.kind(), run.dt(), run.state().t), {}};
-  return make_render_frame(run.model(), run.state(), text);
-}
 
 int run_command(const RunOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
@@ -52,6 +54,16 @@ int run_command(const RunOptions& o) {
     throw UsageError("--still: time " + std::to_string(*o.still_t) + " s is outside the run (0 to " +
                      std::to_string(scene.duration) + " s)");
   if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
+  const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
+  const bool rendering = !o.frames_dir.empty() || !o.video.empty() || o.still_t;
+  PictureLook look = resolve_picture_look(o.look, scene, {lane}, /*compare=*/false);
+  if (!rendering) look = PictureLook{};  // nothing to colour: no reference lane either
+  if (look.reference) {
+    const std::string too_long = run_bounds_problem(scene.duration, look.reference->dt, scene.render.fps);
+    if (!too_long.empty())
+      throw UsageError("--reference (" + look.reference->name() + "@" + look.reference->step_text +
+                       ", for --color error): " + too_long);
+  }
 
   // Every output is checked before any work, so a typo fails in milliseconds.
   // With -n, an output that exists already is refused here too (exit 2), untouched.
@@ -63,105 +75,66 @@ int run_command(const RunOptions& o) {
   if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
 
   // Peak memory, estimated and checked before the Model, the renderer or the encoder exist.
-  const bool rendering = !o.frames_dir.empty() || !o.video.empty() || o.still_t;
+  const int w = scene.render.width, h = scene.render.height;
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
   budget.add(std::string(integrator_name(scene.integrator)), run_bytes(scene, scene.integrator));
+  if (look.reference) budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind));
   if (rendering) {
-    const int w = scene.render.width, h = scene.render.height;
     // The render target, the frame and up to 3 frames queued for the PNG writer.
     budget.add("renderer " + std::to_string(w) + "x" + std::to_string(h),
                kRendererBytes + render_bytes(w, h, scene.render.samples) + 4.0 * w * h * 4);
+    if (look.color != FieldKind::None && !look.color_range)
+      budget.add("the first second, held for the colour scale",
+                 held_frames_bytes(scene, 1, std::min(1.0, scene.duration) * scene.render.fps + 1.0));
   }
-  if (!o.video.empty()) budget.add("encoder", encoder_bytes(scene.render.width, scene.render.height));
+  if (!o.video.empty()) budget.add("encoder", encoder_bytes(w, h));
   budget.check(scene.source, o.scene.max_memory);
 
   const Model model = build_model(scene);
   const IntegratorKind kind = scene.integrator;
   const double dt = scene.dt;
   const double fps = scene.render.fps;
-  // A still alone needs the run only up to its time; any other output needs the whole run.
+  // A still alone needs the run only up to its time; any other output needs the whole run,
+  // and the final state is the one at the end even when that is not a whole frame.
   const bool still_only = o.still_t && o.metrics.empty() && o.state.empty() && o.frames_dir.empty() &&
                           o.video.empty() && o.summary.empty();
-  const double end = still_only ? *o.still_t : scene.duration;
-  const long frames = static_cast<long>(std::floor(end * fps + 1e-9)) + 1;  // t = 0 included
+  // Frame by frame even with no picture or metrics to take: progress counts frames.
+  const TargetPlan targets(still_only ? *o.still_t : scene.duration, fps, !still_only, {},
+                           o.still_t.value_or(-1.0), /*to_end=*/!still_only);
 
   std::unique_ptr<Renderer> renderer;
   if (rendering) renderer = make_renderer(o.gl);
-  std::unique_ptr<MetricsWriter> metrics;
-  if (!o.metrics.empty()) metrics = std::make_unique<MetricsWriter>(o.metrics, model, kind, dt);
-  std::unique_ptr<FrameSink> png_sink, video_sink;
+  PipelineConfig config;
+  config.rendering = rendering;
+  config.width = w;
+  config.height = h;
+  config.metrics = !o.metrics.empty();
+  config.final_state = !o.state.empty();
+  config.stop_when_all_frozen = true;  // run ends at divergence (exit 3)
+  config.command = "run";
+  apply_look(look, config);
+  FramePipeline pipeline(model, targets, {lane}, config, renderer.get());
   const PngText png_text = renderer ? with_renderer(frame_metadata(model, kind, dt), *renderer) : PngText{};
-  if (!o.frames_dir.empty()) png_sink = make_png_sequence_sink(o.frames_dir, png_text);
-  if (!o.video.empty()) video_sink = make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset});
-
-  Run run(model, kind, dt);
-  run.set_stop_check([] { return interrupted(); });  // polled before every step
-  bool still_written = false;
-  // A signal: every output not complete is dropped (the sinks remove their temporaries), and
-  // the message says what stays on disk (PNGs already written under --frames, a still taken).
-  const auto stop_here = [&]() -> RuntimeFailure {
-    std::vector<std::string> kept, lost;
-    if (png_sink) {
-      const std::string left = png_sink->abandon();
-      if (!left.empty()) kept.push_back(left);
-    }
-    if (video_sink) video_sink->abandon();
-    if (o.still_t && still_written) kept.push_back(o.still_out);
-    for (const std::string* out : {&o.metrics, &o.video, &o.state, &o.summary})
-      if (!out->empty()) lost.push_back(*out);
-    if (o.still_t && !still_written) lost.push_back(o.still_out);
-    return RuntimeFailure(interruption_message(run.state().t, kept, lost));
-  };
-  Progress progress("run " + model.name, frames, "frames");
-  RenderFrame last_good;  // frame 0 (t = 0) is always good: no step has been taken
-  bool still_done = !o.still_t;
-  const auto take_still = [&] {
-    run.advance_to(*o.still_t);
-    if (run.stopped()) throw stop_here();
-    if (!run.diverged()) {
-      write_png(o.still_out, renderer->render(snapshot_of(run)), png_text);
-      still_written = true;
-    }
-    still_done = true;
-  };
-  for (long k = 0; k < frames; ++k) {
-    if (interrupted()) throw stop_here();
-    const double target = std::min(static_cast<double>(k) / fps, end);
-    if (!still_done && *o.still_t <= target) take_still();
-    const bool ok = run.advance_to(target);
-    if (run.stopped()) throw stop_here();
-    if (metrics) metrics->row(run.metrics());
-    if (png_sink || video_sink) {
-      // A run that diverged freezes on its last good frame, as a tile of `compare` does.
-      RenderFrame frame = ok ? snapshot_of(run) : last_good;
-      if (ok) last_good = frame;
-      else mark_diverged(frame, *run.divergence());
-      const Image image = renderer->render(frame);
-      if (png_sink) png_sink->add(static_cast<int>(k), run.state().t, image);
-      if (video_sink) video_sink->add(static_cast<int>(k), run.state().t, image);
-    }
-    progress.update(k + 1);
-    if (!ok) break;
-  }
-  if (!still_done && !run.diverged()) take_still();  // a still after the last whole frame
-  if (!run.diverged()) run.advance_to(end);  // an end that is not a whole frame
-  if (run.stopped() || interrupted()) throw stop_here();
-  progress.finish();
-
-  if (metrics) metrics->commit();
-  if (png_sink) png_sink->finish();
-  if (video_sink) video_sink->finish();
+  if (!o.metrics.empty())
+    pipeline.add(make_metrics_output(std::make_unique<MetricsWriter>(o.metrics, model, kind, dt), o.metrics, 0));
+  if (!o.frames_dir.empty()) pipeline.add(make_frames_output(make_png_sequence_sink(o.frames_dir, png_text), 0));
+  if (!o.video.empty())
+    pipeline.add(make_video_output(make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset}), o.video, Composer{}));
+  if (o.still_t) pipeline.add(make_still_output(o.still_out, Composer{}, png_text));
+  std::vector<std::string> after;  // written once the pipeline is through
+  for (const std::string* out : {&o.state, &o.summary})
+    if (!out->empty()) after.push_back(*out);
+  const PipelineReport report = pipeline.run("run " + model.name, after);
+  const LaneResult& r = report.lanes.front();
 
   // CPU time of the stepping thread is the cost to compare between methods (wall time also
   // counts whatever else the machine is doing).
-  const RunTotals& t = run.totals();
-  const double simulated = run.state().t;
+  const RunTotals& t = r.totals;
   std::printf("%s: %s, dt = %g s, %" PRId64 " steps to t = %.6g s, %" PRId64
               " force evaluations, %.3f s of wall time, %.3f s of CPU (%.3g s of CPU per simulated s)\n",
-              model.name.c_str(), std::string(integrator_name(kind)).c_str(), dt, t.steps,
-              simulated, t.force_evals, t.sim_seconds, t.cpu_seconds,
-              simulated > 0 ? t.cpu_seconds / simulated : 0.0);
+              model.name.c_str(), std::string(integrator_name(kind)).c_str(), dt, t.steps, r.t, t.force_evals,
+              t.sim_seconds, t.cpu_seconds, r.t > 0 ? t.cpu_seconds / r.t : 0.0);
   if (kind == IntegratorKind::ImplicitEuler)
     std::printf("implicit solve: %" PRId64 " Newton iterations, %" PRId64
                 " CG iterations (%" PRId64 " sparse factorizations), largest final residual %.3g, %" PRId64
@@ -169,19 +142,28 @@ int run_command(const RunOptions& o) {
                 " post-step projections\n",
                 t.newton_iterations, t.cg_iterations, t.factorizations, t.max_residual, t.unconverged_steps,
                 t.contact_constraints, t.safety_projections);
-  if (!o.summary.empty())  // written for a diverged run too: that is a result
-    write_summary(o.summary, "run", scene.source,
-                  {lane_json(model.name, kind, dt, t,
-                             run.diverged() ? std::optional<double>(run.divergence()->t) : std::nullopt)
-                       .number("t_reached", run.state().t)
-                       .number("max_residual", t.max_residual)});
-  if (run.diverged()) {
-    const Divergence& d = *run.divergence();
+  if (report.reference)
+    std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU\n",
+                report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
+                report.reference->totals.force_evals, report.reference->totals.cpu_seconds);
+  if (!o.summary.empty()) {  // written for a diverged run too: that is a result
+    std::vector<JsonObject> lanes{lane_json(model.name, kind, dt, t,
+                                            r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
+                                      .number("t_reached", r.t)
+                                      .number("max_residual", t.max_residual)};
+    if (report.reference)
+      lanes.push_back(lane_json(model.name, report.reference->spec.kind, report.reference->spec.dt,
+                                report.reference->totals, std::nullopt)
+                          .text("role", "reference"));
+    write_summary(o.summary, "run", scene.source, lanes);
+  }
+  if (r.divergence) {
+    const Divergence& d = *r.divergence;
     std::fprintf(stderr, "clothsim: %s: diverged at step %" PRId64 ", t = %.6g s: %s\n",
                  scene.source.c_str(), d.step, d.t, d.reason.c_str());
     return kDiverged;
   }
-  if (!o.state.empty()) write_state_csv(o.state, model, run.state());
+  if (!o.state.empty()) write_state_csv(o.state, model, *r.final_state);
   if (o.strict && t.unconverged_steps > 0) {
     std::fprintf(stderr,
                  "clothsim: %s: --strict: %" PRId64 " of %" PRId64
@@ -202,6 +184,7 @@ void add_run_command(CLI::App& app, Command& command) {
   add_gl_options(sub, o->gl);
   add_progress_options(sub);
   add_no_overwrite_option(sub);
+  add_picture_look_options(sub, o->look, /*compare=*/false);
   sub->add_option("--summary", o->summary, "Write what the run did as JSON (docs/summary.md)")->type_name("FILE.json");
   sub->footer(std::string(
       "Prints a summary (steps, force evaluations, wall time; for implicit_euler its Newton and CG\n"

@@ -62,7 +62,8 @@ std::vector<double> parse_dt_list(const std::string& text, const std::vector<Int
                        integrator_names_joined() + ")");
     const auto at = std::find(kinds.begin(), kinds.end(), *kind);
     if (at == kinds.end())
-      throw UsageError("--dt: " + in_quotes(name) + " is not one of the integrators being compared");
+      throw UsageError("--dt: " + in_quotes(name) +
+                       " is not one of the integrators being compared (a lane given as NAME@STEP has its own step)");
     const std::size_t i = static_cast<std::size_t>(at - kinds.begin());
     if (named[i]) throw UsageError("--dt: " + in_quotes(name) + " is given twice");
     const double dt = parse_number(trimmed(item.substr(eq + 1)), "--dt " + name);
@@ -91,7 +92,7 @@ std::vector<double> parse_times(const std::string& text, double duration) {
 }
 
 TargetPlan::TargetPlan(double duration, double fps, bool with_frames,
-                       const std::vector<double>& sheet_times, double still_t)
+                       const std::vector<double>& sheet_times, double still_t, bool to_end)
     : duration_(duration), fps_(fps) {
   // duration * fps is bounded at validation (check_run_bounds), so the cast is defined.
   if (with_frames) frames_ = static_cast<long>(std::floor(duration * fps + 1e-9)) + 1;
@@ -104,7 +105,7 @@ TargetPlan::TargetPlan(double duration, double fps, bool with_frames,
   };
   for (std::size_t c = 0; c < sheet_times.size(); ++c) extra_at(sheet_times[c]).column = static_cast<int>(c);
   if (still_t >= 0.0) extra_at(still_t).still = true;
-  if (frames_ == 0 && extras_.empty()) extras_.push_back(Target{duration, -1, -1, false});
+  if ((frames_ == 0 && extras_.empty()) || to_end) extra_at(duration);
   size_ = frames_;
   for (Target& e : extras_) {
     e.frame = static_cast<int>(frame_at(e.t));

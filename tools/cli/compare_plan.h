@@ -34,12 +34,15 @@ struct Target {
 // Frames at t = k / fps for k = 0 .. floor(duration * fps) (t = 0 and, when it falls on a
 // frame, t = duration included, as `run` does) when `with_frames`; sheet times and the
 // still's time (if >= 0) merged in, a time within a microsecond of a frame being that frame.
-// With no frames, sheet or still, one target at `duration` (a summary-only compare).
+// With no frames, sheet or still, one target at `duration` (a summary-only compare); with
+// `to_end`, a target at `duration` whatever else there is (a run's final state is at its end
+// even when that is not a whole frame).
 class TargetPlan {
  public:
   TargetPlan(double duration, double fps, bool with_frames, const std::vector<double>& sheet_times,
-             double still_t = -1.0);
+             double still_t = -1.0, bool to_end = false);
   long size() const { return size_; }      // targets in all
+  double duration() const { return duration_; }
   long frames() const { return frames_; }  // clip frames among them
 
   // Walks the plan's targets in order; each walker (a run's thread, the renderer) has its own.

@@ -55,6 +55,11 @@ double render_bytes(int width, int height, int samples) {
   return (20.0 + 8.0 * std::min(samples, 4)) * width * height;  // llvmpipe caps MSAA at 4 here
 }
 
+double held_frames_bytes(const SceneDef& scene, std::size_t lanes, double frames) {
+  const double particles = static_cast<double>(scene.cloth.nx) * scene.cloth.ny;
+  return 96.0 * particles * static_cast<double>(lanes) * frames;
+}
+
 double encoder_bytes(int width, int height) { return 64.0 * (width + (width & 1)) * (height + (height & 1)); }
 
 void add_max_memory_option(CLI::App* sub, std::optional<double>& limit) {

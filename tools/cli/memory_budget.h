@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "scene_def.h"
+
 namespace clothsim::cli {
 
 // "4G", "512M", "1.5G", "800MB", "2000000000" (bytes); K, M, G, T are powers of 1024.
@@ -29,6 +31,12 @@ double render_bytes(int width, int height, int samples);
 // x264 (veryfast) and the YUV conversion per pixel of the encoded picture: 64 B (measured
 // 62-75 B on this 2-core machine; x264's frame threads, hence its memory, grow with cores).
 double encoder_bytes(int width, int height);
+
+// Lane frames held back while a colour scale is chosen from the first second's data
+// (frame_pipeline.h): `frames` targets of `lanes` lanes, each a picture's geometry (positions,
+// normals, grid coordinates, triangles: 56 B per particle), the field (4 B) and double
+// positions for the error (24 B): 84 B per particle, counted as 96.
+double held_frames_bytes(const SceneDef& scene, std::size_t lanes, double frames);
 
 // Declares --max-memory SIZE on `sub`, parsed into `limit` (bytes).
 void add_max_memory_option(CLI::App* sub, std::optional<double>& limit);

@@ -1,0 +1,325 @@
+#include "frame_pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+
+#include "cli_common.h"
+#include "frame_decoration.h"
+#include "progress.h"
+#include "snapshot.h"
+
+namespace clothsim::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), start_(Clock::now()) {}
+  ~Stopwatch() { total_ += std::chrono::duration<double>(Clock::now() - start_).count(); }
+ private:
+  double& total_;
+  Clock::time_point start_;
+};
+
+// The first second of a clip, whose data chooses a colour scale not given (at most the run).
+constexpr double kRangeWindow = 1.0;
+
+// One target's worth of lane frames, held until its colour scale is known.
+struct TargetFrames {
+  Target target;
+  std::vector<std::shared_ptr<const LaneFrame>> frames;  // per lane; a frozen lane's repeats
+  std::vector<bool> fresh;
+  std::vector<std::vector<float>> fields;  // per lane, fresh lanes only: the colouring field
+};
+
+}  // namespace
+
+std::optional<OverlayMode> parse_overlay_mode(std::string_view text) {
+  if (text == "full") return OverlayMode::Full;
+  if (text == "label") return OverlayMode::Label;
+  if (text == "none") return OverlayMode::None;
+  return std::nullopt;
+}
+
+std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, const LaneFrame& frame,
+                                      OverlayMode mode, bool single, bool cpu) {
+  std::vector<std::string> lines;
+  if (mode == OverlayMode::None) return lines;
+  if (mode == OverlayMode::Label) {
+    if (single) lines.push_back(lane.label());  // a tile's label is the grid's
+    return lines;
+  }
+  if (single) {
+    lines.push_back(model.name);
+    lines.push_back(lane.label());
+  }
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "t = %.3f s", frame.t);
+  lines.emplace_back(buf);
+  // Force evaluations: the machine-independent cost, the same on every run of the command.
+  int n = std::snprintf(buf, sizeof buf, "%" PRId64 " force evals", frame.totals.force_evals);
+  if (cpu && frame.t > 0.0)  // measured: differs from run to run, so only when asked for
+    std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n), "  %.0f ms cpu/sim s",
+                  1e3 * frame.totals.cpu_seconds / frame.t);
+  lines.emplace_back(buf);
+  return lines;
+}
+
+std::optional<ColorRange> range_from_data(const std::vector<const std::vector<float>*>& fields, FieldKind kind) {
+  double top = 0.0;
+  for (const std::vector<float>* f : fields)
+    for (float v : *f)
+      if (std::isfinite(v) && v > top) top = v;
+  if (!(top > 0.0)) return std::nullopt;
+  const double hi = std::pow(10.0, std::ceil(std::log10(top) - 1e-9));
+  // Four decades for the error: methods differ by orders of magnitude and all should show.
+  const double decades = kind == FieldKind::Error ? 4.0 : 3.0;
+  return ColorRange{hi / std::pow(10.0, decades), hi};
+}
+
+struct FramePipeline::Impl {
+  const Model& model;
+  const TargetPlan& plan;
+  PipelineConfig config;
+  Renderer* renderer;
+  std::vector<LaneSpec> lanes;
+  std::vector<std::optional<Model>> lane_models;  // the fixed-point lanes' own settings
+  std::vector<std::unique_ptr<LaneWorker>> workers;
+  std::unique_ptr<LaneWorker> reference;
+  std::vector<std::unique_ptr<FrameOutput>> outputs;
+  std::vector<double> output_seconds;
+
+  std::vector<std::shared_ptr<const LaneFrame>> current;
+  std::shared_ptr<const LaneFrame> reference_frame;
+  std::vector<bool> frozen;
+  bool reference_frozen = false;
+  std::vector<Image> images;
+  std::vector<EnergyHistory> energy;  // per lane, for the inset
+  std::deque<TargetFrames> held;      // targets waiting for the colour scale
+  std::optional<ColorRange> range;
+  double wait_seconds = 0.0, render_seconds = 0.0;
+  long processed = 0;
+
+  Impl(const Model& m, const TargetPlan& p, std::vector<LaneSpec> l, PipelineConfig c, Renderer* r)
+      : model(m), plan(p), config(std::move(c)), renderer(r), lanes(std::move(l)), range(config.color_range) {}
+
+  LaneNeeds needs(bool is_reference) const {
+    LaneNeeds n;
+    if (is_reference) {
+      n.positions = true;
+      return n;
+    }
+    n.picture = config.rendering;
+    n.metrics = config.metrics || config.inset_energy;
+    n.positions = config.color == FieldKind::Error;
+    if (config.color == FieldKind::Strain || config.color == FieldKind::Speed) n.field = config.color;
+    n.final_state = config.final_state;
+    return n;
+  }
+
+  void start() {
+    const auto interrupt = [] { return interrupted(); };
+    lane_models.resize(lanes.size());
+    for (std::size_t i = 0; i < lanes.size(); ++i)
+      workers.push_back(std::make_unique<LaneWorker>(lane_model(model, lanes[i], lane_models[i]), lanes[i], plan,
+                                                     needs(false), 4, interrupt));
+    if (config.color == FieldKind::Error && config.reference)
+      reference = std::make_unique<LaneWorker>(model, *config.reference, plan, needs(true), 4, interrupt);
+    current.resize(lanes.size());
+    frozen.assign(lanes.size(), false);
+    images.resize(lanes.size());
+    energy.resize(lanes.size());
+    output_seconds.assign(outputs.size(), 0.0);
+  }
+
+  void stop_lanes() {
+    for (auto& w : workers) w->stop();
+    if (reference) reference->stop();
+  }
+
+  // The lanes' frames at `target`; false on a signal.
+  bool collect(const Target& target, TargetFrames& out) {
+    out.target = target;
+    out.fresh.assign(lanes.size(), false);
+    out.fields.assign(lanes.size(), {});
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+      if (!frozen[i]) {  // a diverged lane holds its last picture
+        LaneFrame f;
+        Stopwatch watch(wait_seconds);
+        const bool got = workers[i]->next(f);
+        if (interrupted()) return false;  // next() gives up on a signal
+        if (got) {
+          frozen[i] = f.frozen;
+          current[i] = std::make_shared<const LaneFrame>(std::move(f));
+          out.fresh[i] = true;
+        }
+      }
+    }
+    bool reference_fresh = false;
+    if (reference && !reference_frozen) {
+      LaneFrame f;
+      Stopwatch watch(wait_seconds);
+      const bool got = reference->next(f);
+      if (interrupted()) return false;
+      if (got) {
+        reference_frozen = f.frozen;
+        reference_fresh = !f.frozen;  // a diverged reference measures nothing
+        reference_frame = std::make_shared<const LaneFrame>(std::move(f));
+      }
+    }
+    out.frames = current;
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+      if (!out.fresh[i] || !current[i]) continue;
+      if (config.color == FieldKind::Error) {
+        if (reference_fresh && !current[i]->x.empty())
+          out.fields[i] = vertex_distance(current[i]->x, reference_frame->x);
+      } else {
+        out.fields[i] = current[i]->field;
+      }
+    }
+    return true;
+  }
+
+  bool all_frozen() const { return std::all_of(frozen.begin(), frozen.end(), [](bool f) { return f; }); }
+
+  void fix_range() {
+    if (range || config.color == FieldKind::None) return;
+    std::vector<const std::vector<float>*> data;
+    for (const TargetFrames& t : held)
+      for (const std::vector<float>& f : t.fields) data.push_back(&f);
+    range = range_from_data(data, config.color);
+    const bool from_data = range.has_value();
+    if (!range) range = ColorRange{1e-6, 1e-3};  // a cloth at rest: nothing to scale by
+    if (!quiet())
+      std::fprintf(stderr, "%s: colour scale for %s: %g to %g%s, %s (set it with --color-range LO,HI)\n",
+                   config.command.c_str(), std::string(field_kind_name(config.color)).c_str(), range->lo, range->hi,
+                   field_unit(config.color).c_str(), from_data ? "from the first second" : "the first second is at rest");
+  }
+
+  void process(const TargetFrames& t) {
+    if (config.inset_energy)
+      for (std::size_t i = 0; i < lanes.size(); ++i)
+        if (t.fresh[i] && t.frames[i]) energy[i].add(t.frames[i]->t, t.frames[i]->metrics.energies.total());
+    std::vector<LaneView> views(lanes.size());
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+      views[i] = LaneView{&lanes[i], t.frames[i].get(), config.rendering ? &images[i] : nullptr, t.fresh[i]};
+      if (!config.rendering || !t.fresh[i] || !t.frames[i]) continue;
+      const LaneFrame& f = *t.frames[i];
+      RenderFrame rf = f.frame;
+      rf.width = config.width;
+      rf.height = config.height;
+      if (config.camera) rf.camera = *config.camera;
+      rf.overlay_lines = lane_overlay(model, lanes[i], f, config.overlay, !config.tiles, config.overlay_cpu);
+      if (config.overlay != OverlayMode::None) {
+        if (f.divergence) {
+          mark_diverged(rf, *f.divergence);
+        } else if (f.totals.unconverged_steps > 0) {
+          // An implicit step that missed its tolerance is a result, shown on the picture.
+          char banner[64];
+          std::snprintf(banner, sizeof banner, "NOT CONVERGED (%" PRId64 " steps)", f.totals.unconverged_steps);
+          rf.banner = banner;
+        }
+      }
+      if (config.color != FieldKind::None && !t.fields[i].empty())
+        color_by_field(rf, t.fields[i], config.color, *range);
+      if (config.inset_energy) draw_energy_inset(rf, energy, i, plan.duration());
+      Stopwatch watch(render_seconds);
+      images[i] = renderer->render(rf);
+    }
+    for (std::size_t o = 0; o < outputs.size(); ++o) {
+      Stopwatch watch(output_seconds[o]);
+      outputs[o]->on_target(t.target, views);
+    }
+    ++processed;
+  }
+
+  void flush_held() {
+    fix_range();
+    while (!held.empty()) {
+      process(held.front());
+      held.pop_front();
+    }
+  }
+};
+
+FramePipeline::FramePipeline(const Model& model, const TargetPlan& plan, std::vector<LaneSpec> lanes,
+                             PipelineConfig config, Renderer* renderer)
+    : impl_(std::make_unique<Impl>(model, plan, lanes, std::move(config), renderer)), lanes_(std::move(lanes)) {}
+
+FramePipeline::~FramePipeline() = default;
+
+void FramePipeline::add(std::unique_ptr<FrameOutput> output) { impl_->outputs.push_back(std::move(output)); }
+
+PipelineReport FramePipeline::run(const std::string& progress_label, const std::vector<std::string>& not_written) {
+  Impl& p = *impl_;
+  p.start();
+  auto progress = std::make_unique<Progress>(progress_label, p.plan.size(), "frames");
+  const auto stop_here = [&](double t) -> RuntimeFailure {
+    p.stop_lanes();
+    progress.reset();
+    std::vector<std::string> kept, lost;
+    for (auto& o : p.outputs) o->abandon(kept, lost);
+    lost.insert(lost.end(), not_written.begin(), not_written.end());
+    return RuntimeFailure(interruption_message(t, kept, lost));
+  };
+  // Targets wait for the colour scale while it is chosen from the data (the first second).
+  const bool choosing_range = p.config.color != FieldKind::None && !p.range;
+  const double window_end = std::min(kRangeWindow, p.plan.duration());
+  TargetPlan::Cursor cursor(p.plan);
+  long n = 0;
+  double last_t = 0.0;
+  bool ended = false;  // stop_when_all_frozen, and every lane has diverged
+  for (Target target; cursor.next(target); ++n) {
+    if (interrupted()) throw stop_here(last_t);
+    if (ended) {
+      // A run that diverged ends its clip there; a still or sheet column still to come shows
+      // the held picture of the blow-up.
+      if (!target.still && target.column < 0) continue;
+      target.frame = -1;
+    }
+    TargetFrames frames;
+    if (!p.collect(target, frames)) throw stop_here(target.t);
+    last_t = target.t;
+    if (choosing_range && !p.range) {
+      p.held.push_back(std::move(frames));
+      if (target.t >= window_end - 1e-9 || (p.config.stop_when_all_frozen && p.all_frozen())) p.flush_held();
+    } else {
+      p.process(frames);
+    }
+    progress->update(n + 1);
+    ended = p.config.stop_when_all_frozen && p.all_frozen();
+  }
+  if (interrupted()) throw stop_here(last_t);
+  p.flush_held();  // a clip shorter than the window, or one that stopped inside it
+  progress.reset();
+  for (std::size_t o = 0; o < p.outputs.size(); ++o) {
+    Stopwatch watch(p.output_seconds[o]);
+    p.outputs[o]->finish();
+  }
+
+  PipelineReport report;
+  for (auto& w : p.workers) {
+    w->join();
+    report.lanes.push_back(w->result());
+  }
+  if (p.reference) {
+    p.reference->stop();  // it may be ahead of the last target a run stopped at
+    p.reference->join();
+    report.reference = p.reference->result();
+  }
+  report.color_range = p.range;
+  report.wait_seconds = p.wait_seconds;
+  report.render_seconds = p.render_seconds;
+  for (std::size_t o = 0; o < p.outputs.size(); ++o)
+    report.output_seconds.emplace_back(p.outputs[o]->what(), p.output_seconds[o]);
+  report.targets = p.processed;
+  return report;
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,114 @@
+// The one frame pipeline of `run` and `compare`:
+//
+//     output times (TargetPlan) -> lanes (one simulation each, LaneWorker threads)
+//         -> colouring, overlay, rendering (this thread) -> outputs that watch every target
+//
+// An output (PNG sequence, video, still, contact sheet, metrics) sees every target in time
+// order with every lane's frame and picture; `run` is a pipeline of one lane, `compare` one of
+// several, and neither has a frame loop of its own.
+//
+// A lane that diverges hands over the picture of its last finite state, marked DIVERGED with
+// the time, step and reason; the pipeline holds it for the rest of the clip (a `run` stops
+// there instead: stop_when_all_frozen). Colouring by error runs a reference lane alongside,
+// never shown. A field's colour scale is fixed for the whole clip: given, or chosen from the
+// data of the first second (those targets are held back until it is known, then printed).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "image.h"
+#include "lane_worker.h"
+#include "renderer.h"
+
+namespace clothsim::cli {
+
+enum class OverlayMode { Full, Label, None };
+std::optional<OverlayMode> parse_overlay_mode(std::string_view text);  // full|label|none
+
+struct ColorRange {
+  double lo = 0.0, hi = 0.0;  // field units, 0 < lo < hi (a logarithmic scale)
+};
+
+struct PipelineConfig {
+  bool rendering = false;          // pictures are made (some output shows them)
+  int width = 0, height = 0;       // of each lane's picture (a tile)
+  bool tiles = false;              // pictures are tiles of a grid that labels them (compare)
+  OverlayMode overlay = OverlayMode::Full;
+  bool overlay_cpu = false;        // --overlay-cost cpu: measured CPU time, not deterministic
+  FieldKind color = FieldKind::None;
+  std::optional<ColorRange> color_range;  // --color-range; else from the first second
+  bool inset_energy = false;       // --inset energy
+  bool metrics = false;            // an output reads LaneFrame::metrics
+  bool final_state = false;        // keep the lanes' final states (run --state)
+  bool stop_when_all_frozen = false;  // run: a diverged lane ends the pipeline
+  std::optional<LaneSpec> reference;  // for FieldKind::Error
+  std::optional<RenderCamera> camera;  // replaces the model's (render.camera: auto, fitted)
+  std::string command = "compare";     // for messages: "compare: colour scale ..."
+};
+
+// One lane at one target, as outputs see it.
+struct LaneView {
+  const LaneSpec* spec = nullptr;
+  const LaneFrame* frame = nullptr;  // the lane's latest (a frozen lane's held frame)
+  const Image* image = nullptr;      // its picture, when rendering
+  bool fresh = false;                // handed over at this target (not a held frame)
+};
+
+class FrameOutput {
+ public:
+  virtual ~FrameOutput() = default;
+  virtual std::string what() const = 0;  // "video", "frames", ... for the time breakdown
+  // Every target in time order, with every lane (in lane order).
+  virtual void on_target(const Target& target, const std::vector<LaneView>& lanes) = 0;
+  // Completes the output (named only now); called once after the last target.
+  virtual void finish() = 0;
+  // A signal: drops what is incomplete and says what stays on disk and what is not written.
+  virtual void abandon(std::vector<std::string>& kept, std::vector<std::string>& lost) = 0;
+};
+
+struct PipelineReport {
+  std::vector<LaneResult> lanes;
+  std::optional<LaneResult> reference;
+  std::optional<ColorRange> color_range;  // the scale used
+  double wait_seconds = 0.0, render_seconds = 0.0;  // this thread: waiting on lanes, rendering
+  std::vector<std::pair<std::string, double>> output_seconds;  // per output
+  long targets = 0;  // processed
+};
+
+class FramePipeline {
+ public:
+  // `model` and `plan` must outlive the pipeline; `renderer` is needed when rendering.
+  FramePipeline(const Model& model, const TargetPlan& plan, std::vector<LaneSpec> lanes,
+                PipelineConfig config, Renderer* renderer);
+  ~FramePipeline();
+  void add(std::unique_ptr<FrameOutput> output);
+
+  // Runs every lane through every target, feeding the outputs, then finishes them. On a signal
+  // stops every lane, abandons the outputs and throws RuntimeFailure with the one-line message
+  // of what stays (interruption_message). `not_written` lists outputs the caller writes after
+  // the pipeline (a summary, a state), so the message names them too.
+  PipelineReport run(const std::string& progress_label, const std::vector<std::string>& not_written = {});
+
+  const std::vector<LaneSpec>& lanes() const { return lanes_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::vector<LaneSpec> lanes_;
+};
+
+// The overlay lines of a lane's picture: `single` (run: scene, lane, time, cost) or a tile's
+// (time and cost; the grid labels the tile with the lane). Force evaluations always, measured
+// CPU time only with `cpu`, so the same command gives the same pictures.
+std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, const LaneFrame& frame,
+                                      OverlayMode mode, bool single, bool cpu);
+
+// The colour scale from the first second's data: the largest finite value rounded up to a
+// power of ten, and `decades` below it (error 4, strain and speed 3). nullopt with no positive
+// value (the scene is at rest).
+std::optional<ColorRange> range_from_data(const std::vector<const std::vector<float>*>& fields, FieldKind kind);
+
+}  // namespace clothsim::cli

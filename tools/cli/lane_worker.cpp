@@ -1,0 +1,123 @@
+#include "lane_worker.h"
+
+#include <chrono>
+
+#include "snapshot.h"
+
+namespace clothsim::cli {
+
+LaneWorker::LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
+                       std::size_t queue_capacity, std::function<bool()> interrupt)
+    : model_(model), spec_(std::move(spec)), targets_(targets), needs_(needs), interrupt_(std::move(interrupt)),
+      capacity_(std::max<std::size_t>(1, queue_capacity)) {
+  result_.spec = spec_;
+  thread_ = std::thread([this] { work(); });
+}
+
+LaneWorker::~LaneWorker() {
+  stop();
+  join();
+}
+
+void LaneWorker::stop() {
+  stop_requested_ = true;
+  std::lock_guard<std::mutex> lock(mutex_);
+  stop_ = true;
+  changed_.notify_all();
+}
+
+void LaneWorker::join() {
+  if (thread_.joinable()) thread_.join();
+}
+
+LaneResult LaneWorker::result() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return result_;
+}
+
+bool LaneWorker::next(LaneFrame& out) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!changed_.wait_for(lock, std::chrono::milliseconds(20), [this] { return !queue_.empty() || done_; }))
+    if (interrupt_ && interrupt_()) return false;
+  if (queue_.empty()) {
+    if (error_) std::rethrow_exception(error_);
+    return false;
+  }
+  out = std::move(queue_.front());
+  queue_.pop_front();
+  changed_.notify_all();
+  return true;
+}
+
+void LaneWorker::push(LaneFrame frame) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return queue_.size() < capacity_ || stop_; });
+  if (stop_) return;
+  queue_.push_back(std::move(frame));
+  changed_.notify_all();
+}
+
+// What the outputs need of `state` (the run's current one, or its last finite state).
+LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
+  LaneFrame f;
+  f.t = state.t;
+  f.step = state.step;
+  f.totals = run.totals();
+  if (needs_.picture) f.frame = make_render_frame(model_, state, {});
+  if (needs_.positions) {
+    const Eigen::Index n = 3 * static_cast<Eigen::Index>(model_.num_particles);
+    f.x.assign(state.x.data(), state.x.data() + n);  // particles come first, column-major
+  }
+  if (needs_.field == FieldKind::Strain) f.field = vertex_strain(model_, state);
+  if (needs_.field == FieldKind::Speed) f.field = vertex_speed(model_, state);
+  return f;
+}
+
+void LaneWorker::work() {
+  try {
+    Run run(model_, spec_.kind, spec_.dt);
+    run.set_stop_check([this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); });
+    TargetPlan::Cursor cursor(targets_);
+    double reached = 0.0;
+    for (Target target; cursor.next(target);) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (stop_) break;
+      }
+      const bool ok = run.advance_to(target.t);
+      if (run.stopped()) break;
+      if (!ok) {
+        // The picture (and field) of the last finite state at the step divergence names; the
+        // metrics of the state the run stopped in, which is what `run --metrics` records.
+        const Divergence& d = *run.divergence();
+        LaneFrame frozen = frame_of(run, needs_.picture || needs_.field != FieldKind::None
+                                             ? run.last_finite_state() : run.state());
+        if (needs_.metrics) frozen.metrics = run.metrics();
+        frozen.t = d.t;
+        frozen.divergence = d;
+        frozen.frozen = true;
+        frozen.x.clear();  // no reference exists at the divergence's instant: no error field
+        reached = d.t;
+        push(std::move(frozen));
+        break;
+      }
+      LaneFrame f = frame_of(run, run.state());
+      if (needs_.metrics) f.metrics = run.metrics();
+      reached = run.state().t;
+      push(std::move(f));
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    result_.t = reached;
+    result_.totals = run.totals();
+    result_.divergence = run.divergence();
+    if (needs_.final_state && !run.diverged()) result_.final_state = run.state();
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    error_ = std::current_exception();
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  done_ = true;
+  changed_.notify_all();
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,104 @@
+// One lane of a frame pipeline (frame_pipeline.h) on its own thread. The engine is plain C++
+// and a Run touches only its own state (the Model is shared read-only), so lanes advance
+// concurrently; each hands the pipeline what it needs of a target (the picture's geometry,
+// metrics, positions, a field) through a small bounded queue, which keeps memory flat in clip
+// length and lets a fast lane work ahead of a slow one by only a few targets.
+//
+// A lane that diverges stops stepping and hands over one last, frozen frame: its last finite
+// state (Run::last_finite_state) at the step divergence names, with the divergence. The
+// pipeline holds that picture while other lanes go on.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "compare_plan.h"
+#include "lanes.h"
+#include "render_frame.h"
+#include "simulation.h"
+#include "vertex_fields.h"
+
+namespace clothsim::cli {
+
+// What the pipeline's outputs need of every target; the rest is not computed.
+struct LaneNeeds {
+  bool picture = false;    // the RenderFrame's geometry (make_render_frame)
+  bool metrics = false;    // FrameMetrics: energies and strain (a pass over the springs)
+  bool positions = false;  // double positions, for the error field
+  FieldKind field = FieldKind::None;  // strain or speed, computed on the lane's thread
+  bool final_state = false;  // keep the last State (run --state)
+};
+
+// What a lane hands over at one target.
+struct LaneFrame {
+  double t = 0.0;
+  std::int64_t step = 0;
+  RenderFrame frame;               // geometry only; the pipeline adds overlay, field and size
+  std::vector<double> x;           // (3 x P) particle positions when LaneNeeds::positions
+  std::vector<float> field;        // (P) when LaneNeeds::field is strain or speed
+  FrameMetrics metrics;            // when LaneNeeds::metrics
+  RunTotals totals;                // of the run up to here
+  std::optional<Divergence> divergence;  // set on the frozen frame
+  bool frozen = false;             // diverged: the last finite state, and the lane's last frame
+};
+
+struct LaneResult {
+  LaneSpec spec;
+  double t = 0.0;             // simulated time reached (the last target's, or divergence's)
+  RunTotals totals;           // cpu_seconds: the lane thread's, not inflated by sharing cores
+  std::optional<Divergence> divergence;
+  std::optional<State> final_state;  // LaneNeeds::final_state, unless diverged
+};
+
+class LaneWorker {
+ public:
+  // Starts the thread at once. `model` and `targets` must outlive the worker. The lane stops
+  // before its next step once stop() was called or `interrupt` (if given) returns true.
+  LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
+             std::size_t queue_capacity = 4, std::function<bool()> interrupt = {});
+  ~LaneWorker();  // stops the lane and joins
+  LaneWorker(const LaneWorker&) = delete;
+  LaneWorker& operator=(const LaneWorker&) = delete;
+
+  // The frame for the next target, in order; blocks while the lane computes it, but polls
+  // `interrupt` every 20 ms, so the caller is never stuck on a lane after a signal.
+  // Returns false when there are no more (after a frozen one, after the last target, or
+  // interrupted). Rethrows an exception the lane raised.
+  bool next(LaneFrame& out);
+  // Asks the lane to stop before its next step and wakes it if it waits on the queue.
+  void stop();
+  // Waits for the thread; then result() is final.
+  void join();
+  LaneResult result() const;
+
+ private:
+  void work();
+  void push(LaneFrame frame);
+  LaneFrame frame_of(const Run& run, const State& state) const;
+
+  const Model& model_;
+  LaneSpec spec_;
+  const TargetPlan& targets_;
+  LaneNeeds needs_;
+  std::function<bool()> interrupt_;
+  std::atomic<bool> stop_requested_{false};  // stop(), read by the run's per-step check
+  std::size_t capacity_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<LaneFrame> queue_;
+  bool done_ = false, stop_ = false;
+  std::exception_ptr error_;
+  LaneResult result_;
+  std::thread thread_;
+};
+
+}  // namespace clothsim::cli

@@ -1,0 +1,50 @@
+// How the pictures of `run` and `compare` look, from the scene's render keys and the options
+// that override them: colouring (--color, --color-range, --reference), camera (--camera),
+// overlay text (--overlay, --overlay-cost) and the energy inset (--inset).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "frame_pipeline.h"
+#include "lanes.h"
+#include "scene_def.h"
+
+namespace clothsim::cli {
+
+struct PictureOptions {
+  std::optional<std::string> color;      // --color checker|error|strain|speed
+  std::string color_range;               // --color-range LO,HI
+  std::string reference;                 // --reference NAME[@STEP]
+  std::optional<std::string> camera;     // --camera auto|scene
+  std::optional<std::string> overlay;    // --overlay full|label|none
+  std::string overlay_cost = "evals";    // --overlay-cost evals|cpu
+  std::string inset = "none";            // --inset energy|none
+};
+
+// `compare`: colouring defaults to error (against the reference lane) when the scene says nothing.
+void add_picture_look_options(CLI::App* sub, PictureOptions& options, bool compare);
+
+// The options resolved against the scene, every bad value a UsageError naming the option.
+struct PictureLook {
+  FieldKind color = FieldKind::None;
+  std::optional<ColorRange> color_range;
+  std::optional<LaneSpec> reference;  // with color error
+  bool camera_auto = false;
+  OverlayMode overlay = OverlayMode::Full;
+  bool overlay_cpu = false;
+  bool inset_energy = false;
+};
+PictureLook resolve_picture_look(const PictureOptions& options, const SceneDef& scene, const std::vector<LaneSpec>& lanes,
+                                 bool compare);
+
+// --color-range "1e-6,1e-2": two finite numbers, 0 < LO < HI.
+ColorRange parse_color_range(const std::string& text);
+
+// The pipeline's settings for the look.
+void apply_look(const PictureLook& look, PipelineConfig& config);
+
+}  // namespace clothsim::cli
