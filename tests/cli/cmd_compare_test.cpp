@@ -400,3 +400,104 @@ TEST(CmdCompare, AnInterruptedFramesRunSaysWhichPngsItKept) {
   EXPECT_NE(r.err.find("kept 1 PNG in " + dir + "/f/rk4"), std::string::npos) << r.err;
   EXPECT_TRUE(cli::only_files(dir + "/f/rk4", {"frame_00000.png"}));
 }
+
+namespace {
+
+double png_time(const std::string& path) {
+  PngText text;
+  read_png(path, &text);
+  for (const auto& [key, value] : text)
+    if (key == "t") return std::stod(value);
+  return -1.0;
+}
+
+}  // namespace
+
+TEST(CmdCompare, OneIntegratorAtTwoStepsIsTwoLanesWithTheirOwnFramesAndRows) {
+  const std::string dir = scratch_dir("compare_two_steps");
+  const auto r = compare_small({"--integrators", "rk4@1e-4,rk4@4e-4", "--color", "strain", "--frames", dir + "/f",
+                                "--video", dir + "/v.mp4", "--summary", dir + "/s.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("rk4                                0.0001       2000"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("rk4                                0.0004        500"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(frame_path(dir + "/f", "rk4@1e-4", 6)));
+  EXPECT_TRUE(fs::exists(frame_path(dir + "/f", "rk4@4e-4", 6)));
+  EXPECT_FALSE(same_pixels(read_png(frame_path(dir + "/f", "rk4@1e-4", 6)), read_png(frame_path(dir + "/f", "rk4@4e-4", 6))))
+      << "different steps, different strain: different pictures";
+  const std::string json = cli::slurp(dir + "/s.json");
+  EXPECT_NE(json.find("\"lane\": \"rk4@1e-4\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"lane\": \"rk4@4e-4\""), std::string::npos) << json;
+  EXPECT_TRUE(fs::exists(dir + "/v.mp4"));
+}
+
+TEST(CmdCompare, TheSameCompareTwiceGivesIdenticalFrames) {
+  // Error colouring (the default, with its reference lane and a scale from the data) and the
+  // energy inset: everything drawn is a function of the command, not of the clock.
+  std::vector<std::string> dirs;
+  for (int i = 0; i < 2; ++i) {
+    dirs.push_back(scratch_dir("compare_twice_" + std::to_string(i)));
+    const auto r = compare_small({"--integrators", "explicit_euler,implicit_euler", "--inset", "energy",
+                                  "--frames", dirs.back() + "/f"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  int compared = 0;
+  for (const std::string lane : {"explicit_euler", "implicit_euler"})
+    for (int k = 0; k <= 6; ++k) {
+      ASSERT_TRUE(same_pixels(read_png(frame_path(dirs[0] + "/f", lane, k)), read_png(frame_path(dirs[1] + "/f", lane, k))))
+          << lane << " frame " << k;
+      ++compared;
+    }
+  EXPECT_EQ(compared, 14);
+}
+
+TEST(CmdCompare, ADivergedLaneShowsItsLastFiniteStateAtTheTimeRunReports) {
+  const std::string dir = scratch_dir("compare_diverged_lane");
+  const std::string stiff = std::string(CLOTHSIM_SCENES_DIR) + "/stiff.yaml";
+  const auto c = run_clothsim({"compare", stiff, "--integrators", "explicit_euler,symplectic_euler", "--color",
+                               "checker", "--duration", "1", "--width", "320", "--height", "180", "--frames",
+                               dir + "/f"});
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  const auto r = run_clothsim({"run", stiff, "--integrator", "explicit_euler", "--duration", "1"});
+  ASSERT_EQ(r.exit_code, 3) << r.err;
+  long step = -1;
+  double t = -1;
+  ASSERT_EQ(std::sscanf(r.err.c_str() + r.err.find("diverged at step "), "diverged at step %ld, t = %lf", &step, &t), 2)
+      << r.err;
+  char row[64];
+  std::snprintf(row, sizeof row, "DIVERGED at t = %.6g s (step %ld)", t, step);
+  EXPECT_NE(c.out.find(row), std::string::npos) << "the table says what run says\n" << c.out;
+  // The lane's last PNG is its picture at the divergence's time (not a held output frame);
+  // every later frame holds it.
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir + "/f/explicit_euler")) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  ASSERT_EQ(names.size(), 31u) << "a frame for every target";
+  int at_divergence = 0;
+  std::string first_frozen;
+  for (const std::string& n : names)
+    if (std::abs(png_time(dir + "/f/explicit_euler/" + n) - t) <= 1e-6 * std::max(1.0, t)) {
+      if (first_frozen.empty()) first_frozen = n;
+      ++at_divergence;
+    }
+  ASSERT_FALSE(first_frozen.empty()) << "a picture at t = " << t;
+  EXPECT_EQ(first_frozen, names[names.size() - at_divergence]) << "held to the end";
+  EXPECT_TRUE(same_pixels(read_png(dir + "/f/explicit_euler/" + first_frozen),
+                          read_png(dir + "/f/explicit_euler/" + names.back())));
+}
+
+TEST(CmdCompare, EachNewOptionsBadValueIsExit2BeforeAnyWork) {
+  const std::string dir = scratch_dir("compare_bad_look");
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"--color", "rainbow"}, {"--color-range", "1,0"}, {"--color", "strain", "--reference", "rk4"},
+        {"--camera", "orbit"}, {"--overlay", "loud"}, {"--overlay-cost", "wall"}, {"--inset", "momentum"},
+        {"--integrators", "rk4@0"}, {"--integrators", "rk4@1e-4,rk4@1e-4"}, {"--reference", "rk4@1/0"},
+        {"--set", "render.color=plaid"}, {"--set", "render.overlay=loud"}, {"--set", "render.camera=orbit"}}) {
+    std::vector<std::string> args = bad;
+    args.insert(args.end(), {"--video", dir + "/v.mp4"});
+    const auto r = compare_small(args);
+    EXPECT_EQ(r.exit_code, 2) << bad[0] << " " << bad[1] << "\n" << r.err;
+    EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+    EXPECT_EQ(r.out, "") << "refused before the runs";
+  }
+  EXPECT_TRUE(cli::only_files(dir, {}));
+}

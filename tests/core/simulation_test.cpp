@@ -167,6 +167,32 @@ TEST(Run, TheDivergenceStepIsTheSameWhateverTheOutputTimes) {
   }
 }
 
+// The picture of a blow-up: the last finite state at the step divergence names, replayed from
+// the start of the advance that diverged, the same whatever the output times were.
+TEST(Run, TheLastFiniteStateIsAtTheDivergenceStepAndFinite) {
+  for (const auto& [scene, kind, dt] :
+       {std::tuple{"stiff.yaml", IntegratorKind::ExplicitEuler, 2e-3},
+        std::tuple{"curtain.yaml", IntegratorKind::ExplicitEuler, 3e-3}}) {
+    const Model model = build_model(load_scene(scene_path(scene)));
+    std::vector<State> last;
+    for (const double frame : {1.0 / 30, 0.25}) {
+      clothsim::Run run(model, kind, dt);
+      for (double t = frame; t < model.duration + frame && !run.diverged(); t += frame) run.advance_to(t);
+      ASSERT_TRUE(run.diverged()) << scene;
+      const Divergence& d = *run.divergence();
+      const State s = run.last_finite_state();
+      EXPECT_TRUE(s.x.allFinite() && s.v.allFinite()) << scene;
+      EXPECT_TRUE(s.step == d.step || s.step == d.step - 1) << scene << ": step " << s.step << " for " << d.step;
+      if (s.step == d.step) {
+        EXPECT_EQ(s.t, d.t);
+      }
+      last.push_back(s);
+    }
+    EXPECT_EQ(last[0].step, last[1].step) << scene;
+    EXPECT_EQ((last[0].x - last[1].x).cwiseAbs().maxCoeff(), 0.0) << scene << ": replays take the run's own steps";
+  }
+}
+
 TEST(Run, InfiniteGravityIsDivergenceNotARunToTheEnd) {
   // Each finite, the particles' gravitational energies sum past the largest double.
   const Model model = build_model(load_scene(scene_path("drape.yaml"), {"gravity=[0, -1e308, 0]"}));
