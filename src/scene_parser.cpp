@@ -467,9 +467,11 @@ RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
   });
   optional(n, path, "camera", [&](auto& v, auto& k) {
     // `camera: auto` frames the cloth and spheres from the scene's own extent.
+    // `camera: course` is the course framework's view, the defaults of CameraDef.
     if (v.IsScalar()) {
-      if (v.Scalar() != "auto") fail(v, k, "expected auto or a map of eye, target, up, fov, got " + in_quotes(v.Scalar()));
-      r.camera_auto = true;
+      if (v.Scalar() == "auto") r.camera_auto = true;
+      else if (v.Scalar() == "course") r.camera = CameraDef{};
+      else fail(v, k, "expected auto, course or a map of eye, target, up, fov, got " + in_quotes(v.Scalar()));
       return;
     }
     expect_map(v, k, {"eye", "target", "up", "fov"});

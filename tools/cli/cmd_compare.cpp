@@ -234,6 +234,7 @@ int compare_command(const CompareOptions& o) {
   config.tiles = true;
   config.command = "compare";
   apply_look(look, config);
+  if (look.camera_auto) config.camera = auto_camera(model, static_cast<double>(config.width) / config.height);
   FramePipeline pipeline(model, targets, lanes, config, renderer.get());
   Composer composer{grid, {}};
   for (const LaneSpec& l : lanes) composer.labels.push_back(look.overlay == OverlayMode::None ? "" : l.label());

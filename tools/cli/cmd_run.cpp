@@ -114,6 +114,7 @@ int run_command(const RunOptions& o) {
   config.stop_when_all_frozen = true;  // run ends at divergence (exit 3)
   config.command = "run";
   apply_look(look, config);
+  if (look.camera_auto) config.camera = auto_camera(model, static_cast<double>(w) / h);
   FramePipeline pipeline(model, targets, {lane}, config, renderer.get());
   const PngText png_text = renderer ? with_renderer(frame_metadata(model, kind, dt), *renderer) : PngText{};
   if (!o.metrics.empty())

@@ -2,8 +2,10 @@
 
 #include <cmath>
 
+#include "camera_fit.h"
 #include "cli_common.h"
 #include "echo.h"
+#include "snapshot.h"
 
 namespace clothsim::cli {
 
@@ -81,6 +83,13 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
     throw UsageError("--inset: expected energy or none, got " + in_quotes(o.inset));
   look.inset_energy = o.inset == "energy";
   return look;
+}
+
+RenderCamera auto_camera(const Model& model, double aspect) {
+  const RenderFrame at_rest = make_render_frame(model, initial_state(model), {});
+  CameraFitOptions options;
+  options.fov_deg = at_rest.camera.fov_deg;  // the scene's lens, aimed anew
+  return fit_camera(at_rest.cloth_positions, at_rest.spheres, static_cast<float>(aspect), options);
 }
 
 void apply_look(const PictureLook& look, PipelineConfig& c) {

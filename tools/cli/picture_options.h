@@ -11,6 +11,7 @@
 
 #include "frame_pipeline.h"
 #include "lanes.h"
+#include "model.h"
 #include "scene_def.h"
 
 namespace clothsim::cli {
@@ -43,6 +44,10 @@ PictureLook resolve_picture_look(const PictureOptions& options, const SceneDef& 
 
 // --color-range "1e-6,1e-2": two finite numbers, 0 < LO < HI.
 ColorRange parse_color_range(const std::string& text);
+
+// render.camera: auto: a camera framing the cloth at rest and the spheres (camera_fit.h) for
+// pictures of `aspect` (width / height), fixed for the whole clip.
+RenderCamera auto_camera(const Model& model, double aspect);
 
 // The pipeline's settings for the look.
 void apply_look(const PictureLook& look, PipelineConfig& config);
