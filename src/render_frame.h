@@ -25,6 +25,26 @@ struct RenderSphere {
   Rgb color{0.80f, 0.25f, 0.20f};
 };
 
+// How a per-particle value becomes a colour (RenderFrame::cloth_field): value -> position in
+// [0, 1] (log10 between lo and hi on a log scale, linear otherwise; clamped) -> the colormap
+// of render/colormap.h (viridis: dark purple at lo, yellow at hi).
+struct ColorScale {
+  float lo = 1e-6f, hi = 1e-1f;   // the field's units; lo < hi, both > 0 on a log scale
+  bool log = true;                // on a log scale values <= 0 or not finite show as lo
+  std::string label;              // with units, drawn on the colour bar: "error [m]", "strain"
+  bool show_bar = true;           // the colour bar at the right edge (when cloth_field is set)
+};
+
+// A small graph of one quantity over time drawn in a corner of the frame (the energy inset).
+// The axes come from the caller, who shares them across the tiles of a clip so they compare.
+struct SeriesInset {
+  bool show = false;
+  std::vector<float> t, value;    // (K) samples up to the frame's time, t increasing; s, units
+  float t_lo = 0.f, t_hi = 1.f;   // s: the horizontal axis; t_lo < t_hi
+  float v_lo = 0.f, v_hi = 1.f;   // the vertical axis; v_lo < v_hi; values outside are clamped
+  std::string label;              // with units: "total energy [J]"
+};
+
 struct RenderFrame {
   int width = 1280, height = 720;  // pixels of the image to produce
   int samples = 4;                 // MSAA samples (1 = none)
@@ -39,6 +59,9 @@ struct RenderFrame {
   int checker_cells_u = 8, checker_cells_v = 8;  // checker squares across the cloth
   Rgb cloth_front{0.20f, 0.45f, 0.85f};
   Rgb cloth_back{0.95f, 0.70f, 0.20f};
+  // Colour by a per-particle field instead of the checker (both faces, lit as the checker is).
+  std::vector<float> cloth_field;            // (P) in color_scale's units; empty: the checker
+  ColorScale color_scale;
 
   // Optional spring / particle overlay (the course's UI toggles).
   std::vector<std::uint32_t> spring_lines;   // (2 x L) particle index pairs to draw as lines
@@ -56,6 +79,7 @@ struct RenderFrame {
   // Text drawn over the image with the built-in bitmap font (deterministic across machines).
   std::vector<std::string> overlay_lines;    // top-left, one per line (scene, integrator, dt, t)
   std::string banner;                        // centred, red: e.g. "DIVERGED at t = 1.234 s"
+  SeriesInset inset;                         // bottom-right when inset.show
 };
 
 }  // namespace clothsim
