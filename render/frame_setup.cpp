@@ -4,7 +4,11 @@
 #include <cmath>
 #include <string>
 
+#include "color_bar.h"
+#include "colormap.h"
+#include "overlay_layout.h"
 #include "renderer.h"
+#include "series_inset.h"
 #include "text.h"
 
 namespace clothsim::render {
@@ -107,13 +111,35 @@ void validate_frame(const RenderFrame& f, int max_size) {
          std::to_string(f.spring_lines.size() / 2) + " lines");
   for (const RenderSphere& s : f.spheres)
     if (!(s.radius > 0.f)) fail("a sphere has radius " + std::to_string(s.radius));
+  const auto number = [](float v) { return short_number(v); };
+  if (!f.cloth_field.empty()) {
+    if (f.cloth_field.size() != particles)
+      fail("cloth_field has " + std::to_string(f.cloth_field.size()) + " values, expected " +
+           std::to_string(particles) + " (one per particle) or none");
+    const ColorScale& c = f.color_scale;
+    if (!std::isfinite(c.lo) || !std::isfinite(c.hi) || !(c.lo < c.hi))
+      fail("color_scale runs from " + number(c.lo) + " to " + number(c.hi) + ": lo must be below hi, both finite");
+    if (c.log && !(c.lo > 0.f))
+      fail("color_scale is logarithmic but lo is " + number(c.lo) + ": both ends must be above 0");
+  }
+  if (f.inset.show) {
+    const SeriesInset& in = f.inset;
+    if (in.t.size() != in.value.size())
+      fail("inset has " + std::to_string(in.t.size()) + " times and " + std::to_string(in.value.size()) + " values");
+    if (!std::isfinite(in.t_lo) || !std::isfinite(in.t_hi) || !(in.t_lo < in.t_hi))
+      fail("inset time axis runs from " + number(in.t_lo) + " to " + number(in.t_hi) + ": t_lo must be below t_hi");
+    if (!std::isfinite(in.v_lo) || !std::isfinite(in.v_hi) || !(in.v_lo < in.v_hi))
+      fail("inset value axis runs from " + number(in.v_lo) + " to " + number(in.v_hi) + ": v_lo must be below v_hi");
+  }
 }
 
 
-// Overlay lines top-left, the banner centred in red; sized to the image (2x at 720p).
+// Placed by layout_overlay (overlay_layout.h); the banner last, over everything.
 void draw_overlay(Image& image, const RenderFrame& frame) {
-  const int scale = std::max(1, image.height / 360);
-  const int margin = 4 * scale;
+  const OverlayLayout layout = layout_overlay(frame, image.width, image.height);
+  draw_color_bar(image, frame.color_scale, layout);  // each draws nothing when it has no box
+  draw_series_inset(image, frame.inset, layout);
+  const int scale = layout.scale, margin = layout.margin;
   if (!frame.overlay_lines.empty())
     draw_text_block(image, margin, margin, frame.overlay_lines, {255, 255, 255, 255}, scale);
   if (!frame.banner.empty()) {

@@ -50,11 +50,16 @@ struct PixelRect {
 PixelRect drawn_region(const RenderFrame& frame, const View& view, int margin);
 
 // Throws RenderError naming what is wrong: a size outside 1..max_size, arrays whose lengths
-// disagree, indices past the particles, a sphere without a positive radius.
+// disagree (cloth_field: none or one value per particle), indices past the particles, a sphere
+// without a positive radius, a colour scale with lo >= hi (or lo <= 0 on a log scale), an
+// inset with unequal series or an empty axis range.
 void validate_frame(const RenderFrame& frame, int max_size);
 
-// Overlay lines top-left in white, the banner centred in red, both on dark backdrops;
-// text scale 1 up to 539 rows, 2 at 720p, 3 at 1080p.
+// What is drawn over the rendered picture, on the CPU: overlay lines top-left in white, the
+// colour bar (a field-coloured cloth) at the right edge, the series inset bottom-right, the
+// banner centred in red, all on dark backdrops, placed by layout_overlay (overlay_layout.h).
+// Text scale text_scale_for_height(height) (text.h): cap height >= height / 30, so 1 up to
+// 210 rows, 2 at 360, 4 at 720p, 6 at 1080p.
 void draw_overlay(Image& image, const RenderFrame& frame);
 
 }  // namespace clothsim::render

@@ -18,8 +18,10 @@ namespace clothsim::gl {
 
 // X(typedef suffix, name without "gl"): one line per entry point used in render/ and tests.
 #define CLOTHSIM_GL_FUNCTIONS(X)                                                   \
+  X(ACTIVETEXTURE, ActiveTexture)                                                  \
   X(ATTACHSHADER, AttachShader) X(BINDBUFFER, BindBuffer)                          \
   X(BINDFRAMEBUFFER, BindFramebuffer) X(BINDRENDERBUFFER, BindRenderbuffer)        \
+  X(BINDTEXTURE, BindTexture)                                                      \
   X(BINDVERTEXARRAY, BindVertexArray) X(BLITFRAMEBUFFER, BlitFramebuffer)          \
   X(BUFFERDATA, BufferData) X(CHECKFRAMEBUFFERSTATUS, CheckFramebufferStatus)      \
   X(CLEAR, Clear) X(CLEARCOLOR, ClearColor) X(CLEARDEPTH, ClearDepth)              \
@@ -32,6 +34,7 @@ namespace clothsim::gl {
   X(FINISH, Finish) X(FRAMEBUFFERRENDERBUFFER, FramebufferRenderbuffer)            \
   X(GENBUFFERS, GenBuffers) X(GENFRAMEBUFFERS, GenFramebuffers)                    \
   X(GENRENDERBUFFERS, GenRenderbuffers) X(GENVERTEXARRAYS, GenVertexArrays)        \
+  X(GENTEXTURES, GenTextures)                                                      \
   X(GETERROR, GetError) X(GETFLOATV, GetFloatv) X(GETINTEGERV, GetIntegerv)        \
   X(GETPROGRAMINFOLOG, GetProgramInfoLog) X(GETPROGRAMIV, GetProgramiv)            \
   X(GETSHADERINFOLOG, GetShaderInfoLog) X(GETSHADERIV, GetShaderiv)                \
@@ -40,7 +43,9 @@ namespace clothsim::gl {
   X(PIXELSTOREI, PixelStorei) X(POLYGONOFFSET, PolygonOffset)                      \
   X(READPIXELS, ReadPixels) X(RENDERBUFFERSTORAGE, RenderbufferStorage)            \
   X(RENDERBUFFERSTORAGEMULTISAMPLE, RenderbufferStorageMultisample)                \
-  X(SCISSOR, Scissor) X(SHADERSOURCE, ShaderSource) X(UNIFORM1F, Uniform1f)        \
+  X(SCISSOR, Scissor) X(SHADERSOURCE, ShaderSource)                                \
+  X(TEXIMAGE1D, TexImage1D) X(TEXPARAMETERI, TexParameteri)                        \
+  X(UNIFORM1F, Uniform1f)                                                          \
   X(UNIFORM1I, Uniform1i) X(UNIFORM2F, Uniform2f) X(UNIFORM3F, Uniform3f)          \
   X(UNIFORM4F, Uniform4f) X(UNIFORMMATRIX4FV, UniformMatrix4fv)                    \
   X(USEPROGRAM, UseProgram) X(VERTEXATTRIBPOINTER, VertexAttribPointer)            \
@@ -63,10 +68,12 @@ extern thread_local const Functions* current;
 }  // namespace clothsim::gl
 
 #define CLOTHSIM_GL_CALL(name) (::clothsim::gl::current->name)
+#define glActiveTexture CLOTHSIM_GL_CALL(ActiveTexture)
 #define glAttachShader CLOTHSIM_GL_CALL(AttachShader)
 #define glBindBuffer CLOTHSIM_GL_CALL(BindBuffer)
 #define glBindFramebuffer CLOTHSIM_GL_CALL(BindFramebuffer)
 #define glBindRenderbuffer CLOTHSIM_GL_CALL(BindRenderbuffer)
+#define glBindTexture CLOTHSIM_GL_CALL(BindTexture)
 #define glBindVertexArray CLOTHSIM_GL_CALL(BindVertexArray)
 #define glBlitFramebuffer CLOTHSIM_GL_CALL(BlitFramebuffer)
 #define glBufferData CLOTHSIM_GL_CALL(BufferData)
@@ -93,6 +100,7 @@ extern thread_local const Functions* current;
 #define glGenBuffers CLOTHSIM_GL_CALL(GenBuffers)
 #define glGenFramebuffers CLOTHSIM_GL_CALL(GenFramebuffers)
 #define glGenRenderbuffers CLOTHSIM_GL_CALL(GenRenderbuffers)
+#define glGenTextures CLOTHSIM_GL_CALL(GenTextures)
 #define glGenVertexArrays CLOTHSIM_GL_CALL(GenVertexArrays)
 #define glGetError CLOTHSIM_GL_CALL(GetError)
 #define glGetFloatv CLOTHSIM_GL_CALL(GetFloatv)
@@ -113,6 +121,8 @@ extern thread_local const Functions* current;
 #define glRenderbufferStorageMultisample CLOTHSIM_GL_CALL(RenderbufferStorageMultisample)
 #define glScissor CLOTHSIM_GL_CALL(Scissor)
 #define glShaderSource CLOTHSIM_GL_CALL(ShaderSource)
+#define glTexImage1D CLOTHSIM_GL_CALL(TexImage1D)
+#define glTexParameteri CLOTHSIM_GL_CALL(TexParameteri)
 #define glUniform1f CLOTHSIM_GL_CALL(Uniform1f)
 #define glUniform1i CLOTHSIM_GL_CALL(Uniform1i)
 #define glUniform2f CLOTHSIM_GL_CALL(Uniform2f)

@@ -4,15 +4,15 @@
 //   region        the screen rectangle the cloth, spheres and shadows can cover (frame_setup.h);
 //                 the passes below are scissored to it, the rest of the image is backdrop
 //   lit surfaces  into a multisampled FBO cleared to transparent black: cloth (two-sided,
-//                 checker) and spheres, Blinn-Phong; springs and particles; with a ground,
-//                 clipped at its plane (the ground is opaque)
+//                 checker, or a field through the colormap texture) and spheres, Blinn-Phong;
+//                 springs and particles; with a ground, clipped at its plane (it is opaque)
 //   shadows       cloth and spheres flattened onto the ground along the light (Blinn 1988),
 //                 written as translucent black just above the plane, each pixel once
 //   resolve       MSAA samples averaged into a single-sample FBO (glBlitFramebuffer): colour
 //                 premultiplied by coverage, alpha = coverage
 //   read back     glFinish, glReadPixels, rows flipped to top-down, composited over the
 //                 backdrop (out = colour + (1 - alpha) backdrop), so alpha ends at 255
-//   overlay       text drawn on the CPU with the bitmap font (text.h)
+//   overlay       text, colour bar and series inset drawn on the CPU (frame_setup.h)
 // Why the backdrop and the region: llvmpipe shades on the CPU, with per-sample work under
 // MSAA, so pixels are the cost. Drawing ground and sky every frame cost as much as all the
 // rest; clearing and resolving the whole multisampled image, a third of what remained.
@@ -33,6 +33,7 @@
 #include <cstring>
 #include <string>
 
+#include "colormap.h"
 #include "frame_setup.h"
 #include "gl_context.h"
 #include "gl_math.h"
@@ -99,6 +100,9 @@ struct Renderer::Impl {
 
   GLuint empty_vao = 0;                                         // attribute-less full-screen draw
   GLuint cloth_vao = 0, cloth_positions = 0, cloth_normals = 0, cloth_uv = 0, cloth_triangles = 0;
+  GLuint cloth_field = 0;                                       // (P) scale positions 0..1; zeros without a field
+  GLuint colormap_texture = 0;                                  // 1-D, colormap() at 256 positions
+  std::vector<float> field_positions;                           // scratch for cloth_field
   GLuint lines_vao = 0, line_indices = 0;                       // springs: cloth_positions + indices
   GLuint sphere_vao = 0, sphere_positions = 0, sphere_normals = 0, sphere_triangles = 0;
   GLsizei sphere_index_count = 0;
@@ -199,19 +203,36 @@ void Renderer::Impl::create_objects() {
 
   glGenVertexArrays(1, &empty_vao);
 
-  GLuint buffers[9];
-  glGenBuffers(9, buffers);
+  GLuint buffers[10];
+  glGenBuffers(10, buffers);
   cloth_positions = buffers[0]; cloth_normals = buffers[1]; cloth_uv = buffers[2];
   cloth_triangles = buffers[3]; line_indices = buffers[4];
   sphere_positions = buffers[5]; sphere_normals = buffers[6]; sphere_triangles = buffers[7];
-  ground_positions = buffers[8];
+  ground_positions = buffers[8]; cloth_field = buffers[9];
 
   glGenVertexArrays(1, &cloth_vao);
   glBindVertexArray(cloth_vao);
   attribute(0, cloth_positions, 3);
   attribute(1, cloth_normals, 3);
   attribute(2, cloth_uv, 2);
+  attribute(3, cloth_field, 1);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, cloth_triangles);
+
+  // The colormap as a texture sampled from its one definition (colormap.h): texel i holds
+  // colormap(i / 255), so the cloth and the colour bar drawn on the CPU show the same colours.
+  std::vector<std::uint8_t> texels;
+  for (int i = 0; i < 256; ++i) {
+    const auto c = render::colormap_rgb8(static_cast<float>(i) / 255.f);
+    texels.insert(texels.end(), c.begin(), c.end());
+  }
+  glGenTextures(1, &colormap_texture);
+  glBindTexture(GL_TEXTURE_1D, colormap_texture);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage1D(GL_TEXTURE_1D, 0, GL_RGB8, 256, 0, GL_RGB, GL_UNSIGNED_BYTE, texels.data());
+  glTexParameteri(GL_TEXTURE_1D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_1D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_1D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glBindTexture(GL_TEXTURE_1D, 0);
 
   glGenVertexArrays(1, &lines_vao);
   glBindVertexArray(lines_vao);
@@ -290,6 +311,12 @@ void Renderer::Impl::upload_frame(const RenderFrame& frame, const View& view) {
   upload(GL_ARRAY_BUFFER, cloth_positions, frame.cloth_positions);
   upload(GL_ARRAY_BUFFER, cloth_normals, frame.cloth_normals);
   upload(GL_ARRAY_BUFFER, cloth_uv, frame.cloth_uv);
+  // Always P values, so attribute 3 never reads past its buffer; the shader ignores zeros
+  // unless u_field is set.
+  field_positions.assign(frame.cloth_positions.size() / 3, 0.f);
+  for (std::size_t i = 0; i < frame.cloth_field.size() && i < field_positions.size(); ++i)
+    field_positions[i] = render::scale_position(frame.color_scale, frame.cloth_field[i]);
+  upload(GL_ARRAY_BUFFER, cloth_field, field_positions);
   glBindVertexArray(cloth_vao);
   upload(GL_ELEMENT_ARRAY_BUFFER, cloth_triangles, frame.cloth_triangles);
 
@@ -327,6 +354,10 @@ void Renderer::Impl::draw_lit_surfaces(const RenderFrame& frame, const View& vie
     set(cloth_program, "u_front_color", frame.cloth_front);
     set(cloth_program, "u_back_color", frame.cloth_back);
     set(cloth_program, "u_cells", static_cast<float>(frame.checker_cells_u), static_cast<float>(frame.checker_cells_v));
+    set(cloth_program, "u_field", frame.cloth_field.empty() ? 0 : 1);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_1D, colormap_texture);
+    set(cloth_program, "u_colormap", 0);
     glBindVertexArray(cloth_vao);
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(frame.cloth_triangles.size()), GL_UNSIGNED_INT, nullptr);  // both faces
   }

@@ -41,16 +41,19 @@ const std::string kSurfaceVertex = std::string(kVersion) + R"(
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_uv;
+layout(location = 3) in float a_field;  // cloth: the field's place on its colour scale, 0..1
 uniform mat4 u_view_proj;
 uniform vec4 u_placement;   // xyz offset, w scale
 uniform vec4 u_clip_plane;  // the ground: what lies below it is clipped (when enabled)
 out vec3 v_world;
 out vec3 v_normal;
 out vec2 v_uv;
+out float v_field;
 void main() {
   v_world = u_placement.xyz + u_placement.w * a_position;  // model -> world
   v_normal = a_normal;                                      // uniform scale: normals unchanged
   v_uv = a_uv;
+  v_field = a_field;  // interpolated as a position on the scale, looked up per fragment
   gl_Position = u_view_proj * vec4(v_world, 1.0);           // world -> clip
   gl_ClipDistance[0] = dot(vec4(v_world, 1.0), u_clip_plane);
 }
@@ -60,6 +63,9 @@ const std::string kClothFragment = std::string(kVersion) + kLighting + R"(
 uniform vec3 u_front_color;
 uniform vec3 u_back_color;
 uniform vec2 u_cells;  // checker squares across u and v
+in float v_field;
+uniform bool u_field;          // colour by the field (both faces) instead of the checker
+uniform sampler1D u_colormap;  // render/colormap.h colormap() at 256 positions, display values
 
 // The checker box-filtered over the pixel's footprint (the integral of the square wave,
 // after Inigo Quilez's "filterable procedurals"): crisp up close, its mean colour far away,
@@ -73,8 +79,13 @@ float checker(vec2 p) {
 void main() {
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;                                  // two-sided: face the viewer
-  vec3 base = gl_FrontFacing ? u_front_color : u_back_color;    // front and back differ
-  vec3 albedo = to_linear(mix(base, base * 0.45 + vec3(0.5), checker(v_uv * u_cells)));  // dark/light squares
+  vec3 albedo;
+  if (u_field) {  // texel i holds colormap(i / 255): linear filtering interpolates between them
+    albedo = to_linear(texture(u_colormap, (clamp(v_field, 0.0, 1.0) * 255.0 + 0.5) / 256.0).rgb);
+  } else {
+    vec3 base = gl_FrontFacing ? u_front_color : u_back_color;  // front and back differ
+    albedo = to_linear(mix(base, base * 0.45 + vec3(0.5), checker(v_uv * u_cells)));  // dark/light squares
+  }
   frag_color = to_display(shade(albedo, n, 24.0, 0.10));
 }
 )";

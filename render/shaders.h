@@ -12,7 +12,9 @@ namespace clothsim::shaders {
 // centre and radius; cloth and ground pass (0, 0, 0, 1)).
 extern const std::string kSurfaceVertex;
 
-extern const std::string kClothFragment;   // two-sided, box-filtered checker from the grid uv
+// Two-sided; a box-filtered checker from the grid uv, or with u_field the colormap texture
+// looked up at the field's interpolated scale position (attribute 3).
+extern const std::string kClothFragment;
 extern const std::string kSphereFragment;  // smooth, glossy
 extern const std::string kGroundFragment;  // anti-aliased minor/major grid, fog to the horizon
 

@@ -116,17 +116,6 @@ bool ink(char c, int column, int row) {
   return glyph[row * kGlyphColumns + column] == '#';
 }
 
-// Darkens a rectangle to 35% (integer arithmetic: identical bytes everywhere).
-void darken(Image& image, int x0, int y0, int x1, int y1) {
-  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
-  x1 = std::min(x1, image.width), y1 = std::min(y1, image.height);
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
-      std::uint8_t* p = image.pixel(x, y);
-      for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint8_t>((p[c] * 90) >> 8);
-    }
-}
-
 void draw_glyphs(Image& image, int x, int y, std::string_view text, Rgba8 color, int scale) {
   for (std::size_t i = 0; i < text.size(); ++i) {
     const int left = x + static_cast<int>(i) * kCellWidth * scale;
@@ -145,6 +134,21 @@ void draw_glyphs(Image& image, int x, int y, std::string_view text, Rgba8 color,
 
 }  // namespace
 
+void darken_rect(Image& image, int x0, int y0, int x1, int y1) {
+  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
+  x1 = std::min(x1, image.width), y1 = std::min(y1, image.height);
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      std::uint8_t* p = image.pixel(x, y);
+      for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint8_t>((p[c] * 90) >> 8);
+    }
+}
+
+int text_scale_for_height(int height) {
+  // 7 s >= height / 30  <=>  s >= height / 210.
+  return std::max(1, (height + 7 * 30 - 1) / (7 * 30));
+}
+
 int text_glyph_width() { return kCellWidth; }
 int text_glyph_height() { return kCellHeight; }
 
@@ -157,7 +161,7 @@ void draw_text(Image& image, int x, int y, std::string_view text, Rgba8 color, i
                bool backdrop) {
   scale = std::max(scale, 1);
   if (backdrop && !text.empty())
-    darken(image, x - 2 * scale, y - 2 * scale, x + text_width(text, scale) + 2 * scale,
+    darken_rect(image, x - 2 * scale, y - 2 * scale, x + text_width(text, scale) + 2 * scale,
            y + (kCellHeight + 1) * scale);
   draw_glyphs(image, x, y, text, color, scale);
 }
@@ -168,7 +172,7 @@ void draw_text_block(Image& image, int x, int y, const std::vector<std::string>&
   int width = 0;
   for (const std::string& line : lines) width = std::max(width, text_width(line, scale));
   const int height = static_cast<int>(lines.size()) * kCellHeight * scale;
-  if (width > 0) darken(image, x - 2 * scale, y - 2 * scale, x + width + 2 * scale, y + height + scale);
+  if (width > 0) darken_rect(image, x - 2 * scale, y - 2 * scale, x + width + 2 * scale, y + height + scale);
   for (std::size_t i = 0; i < lines.size(); ++i)
     draw_glyphs(image, x, y + static_cast<int>(i) * kCellHeight * scale, lines[i], color, scale);
 }

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <string>
 
+#include "overlay_layout.h"
 #include "renderer.h"
 #include "render/synthetic_frames.h"
 
@@ -112,7 +114,7 @@ TEST(FrameSetup, ValidationNamesWhatIsWrong) {
 }
 
 TEST(FrameSetup, OverlayTextScalesWithTheImageHeight) {
-  // The same text covers 4x as many pixels at 720p (scale 2) as at 360p (scale 1).
+  // The same text covers 4x as many pixels at 720p (scale 4) as at 360p (scale 2).
   const auto inked = [](int w, int h) {
     Image image(w, h);
     for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = 128;
@@ -124,6 +126,115 @@ TEST(FrameSetup, OverlayTextScalesWithTheImageHeight) {
     return n;
   };
   EXPECT_EQ(inked(1280, 720), 4 * inked(640, 360));
+}
+
+// Rows holding white ink of an overlay line "H" drawn on a grey image of the given height:
+// the cap height a viewer sees.
+int measured_cap_height(int height) {
+  Image image(height * 16 / 9, height);
+  for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = 128;
+  RenderFrame frame;
+  frame.overlay_lines = {"H"};
+  draw_overlay(image, frame);
+  int rows = 0;
+  for (int y = 0; y < image.height; ++y) {
+    bool ink = false;
+    for (int x = 0; x < image.width && !ink; ++x) ink = image.pixel(x, y)[0] == 255;
+    rows += ink;
+  }
+  return rows;
+}
+
+TEST(FrameSetup, OverlayCapHeightIsAtLeastTwelvePixelsAt360RowsAndAThirtiethOfTheHeightAtAnySize) {
+  EXPECT_GE(measured_cap_height(360), 12);
+  EXPECT_EQ(measured_cap_height(180), 7);
+  EXPECT_EQ(measured_cap_height(358), 14);  // a 2x2 tile of a 1280x720 clip
+  EXPECT_EQ(measured_cap_height(360), 14);
+  EXPECT_EQ(measured_cap_height(720), 28);
+  EXPECT_EQ(measured_cap_height(1080), 42);
+  for (int h : {90, 180, 240, 300, 420, 540, 600, 900, 1440})
+    EXPECT_GE(30 * measured_cap_height(h), h) << h << " rows";
+}
+
+RenderFrame field_frame() {
+  RenderFrame f = testing::draped_sheet_frame(64, 36, 5);
+  f.cloth_field.assign(25, 1e-3f);
+  f.color_scale.lo = 1e-6f;
+  f.color_scale.hi = 1e-1f;
+  f.inset.show = true;
+  f.inset.t = {0.f, 0.5f};
+  f.inset.value = {1.f, 2.f};
+  return f;
+}
+
+std::string refusal(const RenderFrame& f) {
+  try {
+    validate_frame(f, 4096);
+  } catch (const RenderError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(FrameSetup, AFieldAndAnInsetThatAgreeWithTheClothPass) {
+  EXPECT_EQ(refusal(field_frame()), "(accepted)");
+  RenderFrame linear = field_frame();
+  linear.color_scale.log = false;
+  linear.color_scale.lo = -1.f;  // below zero is fine on a linear scale
+  EXPECT_EQ(refusal(linear), "(accepted)");
+}
+
+TEST(FrameSetup, AFieldOfTheWrongLengthOrABadScaleIsRefusedByName) {
+  RenderFrame f = field_frame();
+  f.cloth_field.resize(24);
+  EXPECT_EQ(refusal(f), "RenderFrame: cloth_field has 24 values, expected 25 (one per particle) or none");
+  f = field_frame();
+  f.color_scale.lo = 1e-1f;
+  f.color_scale.hi = 1e-3f;
+  EXPECT_EQ(refusal(f), "RenderFrame: color_scale runs from 0.1 to 0.001: lo must be below hi, both finite");
+  f = field_frame();
+  f.color_scale.lo = 0.f;
+  EXPECT_EQ(refusal(f), "RenderFrame: color_scale is logarithmic but lo is 0: both ends must be above 0");
+  f = field_frame();
+  f.color_scale.hi = std::numeric_limits<float>::infinity();
+  EXPECT_NE(refusal(f).find("color_scale"), std::string::npos);
+  // A scale is only checked when there is a field to colour by.
+  f = field_frame();
+  f.cloth_field.clear();
+  f.color_scale.lo = 0.f;
+  EXPECT_EQ(refusal(f), "(accepted)");
+}
+
+TEST(FrameSetup, AnInsetWithUnequalSeriesOrAnEmptyAxisIsRefusedByName) {
+  RenderFrame f = field_frame();
+  f.inset.value.push_back(3.f);
+  EXPECT_EQ(refusal(f), "RenderFrame: inset has 2 times and 3 values");
+  f = field_frame();
+  f.inset.t_hi = f.inset.t_lo;
+  EXPECT_EQ(refusal(f), "RenderFrame: inset time axis runs from 0 to 0: t_lo must be below t_hi");
+  f = field_frame();
+  f.inset.v_lo = 5.f;
+  EXPECT_EQ(refusal(f), "RenderFrame: inset value axis runs from 5 to 1: v_lo must be below v_hi");
+  f.inset.show = false;  // not drawn: not checked
+  EXPECT_EQ(refusal(f), "(accepted)");
+}
+
+TEST(FrameSetup, TheBannerIsDrawnOverTheColourBarAndTheInset) {
+  RenderFrame f = field_frame();
+  f.width = 640;
+  f.height = 360;
+  f.banner = std::string(50, 'W');  // 598 px at scale 2: across the colour bar's panel
+  Image image(640, 360);
+  for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = 128;
+  draw_overlay(image, f);
+  const OverlayLayout l = layout_overlay(f, 640, 360);
+  int red_in_panel = 0;
+  for (int y = l.color_bar.y; y < l.color_bar.bottom(); ++y)
+    for (int x = l.color_bar.x; x < l.color_bar.right(); ++x) {
+      const std::uint8_t* p = image.pixel(x, y);
+      red_in_panel += p[0] == 255 && p[1] == 72 && p[2] == 60;
+    }
+  EXPECT_GT(red_in_panel, 0);
 }
 
 }  // namespace

@@ -2,12 +2,20 @@
 // project's golden images, tests/golden/manifest.yaml, use) checked both ways on the drape
 // frame of the project's goldens: re-rendering passes it, and a real change to the picture
 // (a sphere moved by 10 cm, another cloth colour, a missing shadow) fails it.
-// The golden images themselves are checked through `clothsim golden check` (tests/cli/cmd_golden_test.cpp).
+// The golden images of the shipped scenes are checked through `clothsim golden check`
+// (tests/cli/cmd_golden_test.cpp). One more, of what the renderer draws over a frame (a
+// field-coloured cloth, its colour bar, the energy inset, overlay text at a 360-row tile's
+// scale), is checked here from a frame built by hand: tests/golden/field_colour_bar_inset.png.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include "image_diff.h"
+#include "png_io.h"
+#include "render/synthetic_frames.h"
 #include "renderer.h"
 #include "scene_parser.h"
 #include "simulation.h"
@@ -93,6 +101,61 @@ TEST_F(GoldenTolerance, ADifferentTimeInTheOverlayFails) {
   const DiffStats stats = compare_images(*reference_, renderer().render(relabelled), 16);
   EXPECT_GT(stats.over_fraction, 0.0);
   EXPECT_GT(stats.max, 100);
+}
+
+// The course's drape (closed form, synthetic_frames.h) at a 640x360 tile, coloured by an
+// "error" growing from the sphere's top to the cloth's edge over four decades, with the bar,
+// an energy inset half-way through its time axis, and two overlay lines.
+RenderFrame field_golden_frame() {
+  RenderFrame f = testing::draped_sheet_frame(640, 360, 25);
+  for (std::size_t i = 0; i < f.cloth_positions.size(); i += 3) {
+    const float r = std::hypot(f.cloth_positions[i], f.cloth_positions[i + 2]);  // 0 .. 2.83 m
+    f.cloth_field.push_back(3e-6f * std::pow(10.f, 4.f * r / 2.83f));
+  }
+  f.color_scale.lo = 1e-6f;
+  f.color_scale.hi = 1e-1f;
+  f.color_scale.label = "error [m]";
+  f.overlay_lines = {"drape  rk4 @ 1e-3 s", "t = 1.500 s"};
+  f.inset.show = true;
+  f.inset.label = "total energy [J]";
+  f.inset.t_lo = 0.f;
+  f.inset.t_hi = 3.f;
+  f.inset.v_lo = 30.f;
+  f.inset.v_hi = 60.f;
+  for (int i = 0; i <= 60; ++i) {  // up to t = 1.5 s: a damped wobble on a slow gain
+    const float t = 0.025f * static_cast<float>(i);
+    f.inset.t.push_back(t);
+    f.inset.value.push_back(40.f + 6.f * t + 5.f * std::sin(8.f * t) * std::exp(-t));
+  }
+  return f;
+}
+
+bool updating_goldens() {
+  const char* v = std::getenv("CLOTHSIM_UPDATE_GOLDEN");
+  return v && std::string(v) == "1";
+}
+
+TEST(FieldGolden, AFieldColouredFrameWithItsColourBarAndEnergyInsetMatchesItsGoldenImage) {
+  const std::string golden = std::string(CLOTHSIM_GOLDEN_DIR) + "/field_colour_bar_inset.png";
+  const Image actual = renderer().render(field_golden_frame());
+  if (updating_goldens()) {
+    write_png(golden, actual, {{"Source", "tests/render/golden_image_test.cpp field_golden_frame()"}}, 9);
+    GTEST_SKIP() << "rewrote " << golden;
+  }
+  ASSERT_TRUE(std::filesystem::exists(golden)) << golden << " is missing (CLOTHSIM_UPDATE_GOLDEN=1 writes it)";
+  const Image expected = read_png(golden);
+  ASSERT_EQ(expected.width, actual.width);
+  ASSERT_EQ(expected.height, actual.height);
+  const DiffTolerance tolerance;
+  const DiffStats stats = compare_images(expected, actual, tolerance.pixel_threshold);
+  if (!within_tolerance(stats, tolerance)) {
+    const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/field_colour_bar_inset";
+    write_png(out + ".actual.png", actual);
+    write_png(out + ".diff.png", diff_image(expected, actual));
+    ADD_FAILURE() << "differs from " << golden << ": rms " << stats.rms << ", max " << stats.max << ", "
+                  << 100 * stats.over_fraction << " % of pixels past " << tolerance.pixel_threshold
+                  << "; see " << out << ".diff.png (if intended: CLOTHSIM_UPDATE_GOLDEN=1 ctest -R FieldGolden)";
+  }
 }
 
 }  // namespace

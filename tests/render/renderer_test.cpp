@@ -12,6 +12,9 @@
 #include <vector>
 
 #include "cli/cli_process.h"
+#include "colormap.h"
+#include "frame_setup.h"
+#include "overlay_layout.h"
 #include "render/synthetic_frames.h"
 
 namespace clothsim {
@@ -152,6 +155,80 @@ TEST(Renderer, TheCheckerPatternIsVisibleOnTheCloth) {
   for (int x = image.width / 4; x < 3 * image.width / 4; ++x)
     jumps += std::abs(image.pixel(x + 1, y)[0] - image.pixel(x, y)[0]) > 25;
   EXPECT_GE(jumps, 3);
+}
+
+// A flat sheet seen from straight above, coloured by a field rising from 1e-6 at x = -2 m
+// to 1e-1 at x = +2 m, on a log scale over exactly that range (so a decade per 0.8 m).
+RenderFrame field_sheet_frame(int w, int h) {
+  RenderFrame frame = testing::flat_sheet_frame(w, h, 17);
+  frame.has_ground = false;
+  frame.camera.eye = {0.f, 6.f, -0.5f};
+  for (std::size_t i = 0; i < frame.cloth_positions.size(); i += 3)
+    frame.cloth_field.push_back(std::pow(10.f, -6.f + 5.f * (frame.cloth_positions[i] + 2.f) / 4.f));
+  frame.color_scale.lo = 1e-6f;
+  frame.color_scale.hi = 1e-1f;
+  frame.color_scale.label = "error [m]";
+  frame.color_scale.show_bar = false;
+  return frame;
+}
+
+// The pixel where a world point lands.
+const std::uint8_t* pixel_at(const Image& image, const RenderFrame& frame, gl::Vec3 p) {
+  const gl::Mat4 m = render::make_view(frame).view_proj;
+  const float w = m.at(3, 0) * p.x + m.at(3, 1) * p.y + m.at(3, 2) * p.z + m.at(3, 3);
+  const float x = (m.at(0, 0) * p.x + m.at(0, 1) * p.y + m.at(0, 2) * p.z + m.at(0, 3)) / w;
+  const float y = (m.at(1, 0) * p.x + m.at(1, 1) * p.y + m.at(1, 2) * p.z + m.at(1, 3)) / w;
+  return image.pixel(static_cast<int>((x * 0.5f + 0.5f) * image.width), static_cast<int>((0.5f - y * 0.5f) * image.height));
+}
+
+TEST(Renderer, AFieldColoursTheClothPurpleWhereLowTealInBetweenAndYellowWhereHigh) {
+  const RenderFrame frame = field_sheet_frame(kW * 2, kH * 2);
+  const Image image = shared_renderer().render(frame);
+  const std::uint8_t* low = pixel_at(image, frame, {-1.6f, 0.f, 0.f});   // 1e-5.5
+  const std::uint8_t* mid = pixel_at(image, frame, {0.f, 0.f, 0.f});     // 1e-3.5
+  const std::uint8_t* high = pixel_at(image, frame, {1.6f, 0.f, 0.f});   // 1e-1.5
+  EXPECT_GT(low[2], low[1] + 40) << "viridis' low end: dark purple, blue over green";
+  EXPECT_GT(low[0], low[1] + 20);
+  EXPECT_GT(mid[1], mid[0] + 40) << "the middle: teal, green over red";
+  EXPECT_GT(high[0], high[2] + 80) << "the high end: yellow, red and green over blue";
+  EXPECT_GT(high[1], high[2] + 80);
+  EXPECT_GT(high[1] + high[0], low[1] + low[0] + 200) << "and much lighter";
+  // No checker: along a line of constant field the colour does not alternate.
+  int jumps = 0;
+  for (float z = -1.5f; z < 1.5f; z += 0.05f)
+    jumps += std::abs(pixel_at(image, frame, {0.f, 0.f, z})[1] - pixel_at(image, frame, {0.f, 0.f, z + 0.05f})[1]) > 25;
+  EXPECT_EQ(jumps, 0);
+}
+
+TEST(Renderer, BothFacesOfTheClothShowTheFieldColour) {
+  RenderFrame frame = field_sheet_frame(kW, kH);
+  frame.cloth_field.assign(frame.cloth_field.size(), 1e-7f);  // below lo: the low end, dark purple
+  frame.cloth_back = {0.9f, 0.5f, 0.1f};                      // orange, if the back were used
+  frame.camera.eye = {0.f, -6.f, -0.5f};                      // from below: the back face
+  const auto below = centre_mean(shared_renderer().render(frame));
+  EXPECT_GT(below[2], below[1] + 15) << "purple, not orange";
+}
+
+TEST(Renderer, AFieldFrameCarriesItsColourBarAtTheRightEdge) {
+  RenderFrame frame = field_sheet_frame(320, 180);
+  frame.color_scale.show_bar = true;
+  const Image image = shared_renderer().render(frame);
+  const render::OverlayLayout l = render::layout_overlay(frame, 320, 180);
+  ASSERT_FALSE(l.bar.empty());
+  const auto top = render::colormap_rgb8(1.f - 0.5f / static_cast<float>(l.bar.h));
+  const std::uint8_t* p = image.pixel(l.bar.x + l.bar.w / 2, l.bar.y);
+  EXPECT_EQ((std::array<std::uint8_t, 3>{p[0], p[1], p[2]}), top) << "drawn after read-back: exact bytes";
+}
+
+TEST(Renderer, EmptyFieldAndAHiddenInsetLeaveTheFrameAsBefore) {
+  RenderFrame frame = draped_sheet_frame(kW, kH);
+  frame.overlay_lines = {"drape"};
+  const Image plain = shared_renderer().render(frame);
+  frame.color_scale.label = "strain";
+  frame.inset.t = {0.f, 1.f};
+  frame.inset.value = {1.f, 2.f};
+  frame.inset.label = "total energy [J]";
+  EXPECT_EQ(shared_renderer().render(frame).rgba, plain.rgba);
 }
 
 TEST(Renderer, SpheresCastAShadowOnTheGroundBelowThem) {

@@ -36,6 +36,32 @@ std::string glyph_pattern(char c) {
   return pattern;
 }
 
+TEST(Text, TheScaleForAHeightGivesACapHeightOfAThirtiethOfItAndNoMore) {
+  EXPECT_EQ(text_scale_for_height(180), 1);   // cap 7 px
+  EXPECT_EQ(text_scale_for_height(360), 2);   // 14 px
+  EXPECT_EQ(text_scale_for_height(720), 4);   // 28 px
+  EXPECT_EQ(text_scale_for_height(1080), 6);  // 42 px
+  for (int h = 1; h <= 2160; ++h) {
+    const int s = text_scale_for_height(h);
+    ASSERT_GE(30 * kTextCapHeight * s, h) << h;
+    if (s > 1) {
+      ASSERT_LT(30 * kTextCapHeight * (s - 1), h) << h << ": one step smaller would do";
+    }
+  }
+}
+
+TEST(Text, TheCapHeightIsThatOfTheFontsH) {
+  Image image = grey(text_glyph_width(), text_glyph_height());
+  draw_text(image, 0, 0, "H", kWhite, 1, false);
+  int rows = 0;
+  for (int y = 0; y < image.height; ++y) {
+    bool ink = false;
+    for (int x = 0; x < image.width; ++x) ink = ink || is(image.pixel(x, y), kWhite);
+    rows += ink;
+  }
+  EXPECT_EQ(rows, kTextCapHeight);
+}
+
 TEST(Text, WidthIsOneCellPerCharacterLessTheLastGap) {
   EXPECT_EQ(text_width("", 3), 0);
   EXPECT_EQ(text_width("a", 1), text_glyph_width() - 1);

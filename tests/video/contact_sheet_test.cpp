@@ -61,3 +61,19 @@ TEST(ContactSheet, RefusesCellsThatDoNotMatchTheLabels) {
   EXPECT_THROW(compose_contact_sheet(cells, {"a"}, {"1", "2"}), std::invalid_argument);
   EXPECT_THROW(compose_contact_sheet(cells, {"a", "b"}, {"1", "2", "3"}), std::invalid_argument);
 }
+
+TEST(ContactSheet, RowAndColumnLabelsScaleWithTheCellsAsTileLabelsDo) {
+  // One 640x360 cell under the column label "H": the rows of white ink above the cell are
+  // its cap height, 14 px at scale 2 (the row label sits beside the cell, lower down).
+  std::vector<std::vector<Image>> cells{{solid(640, 360, 90)}};
+  const Image sheet = compose_contact_sheet(cells, {"rk4"}, {"H"});
+  int cell_top = 0;
+  while (cell_top < sheet.height && sheet.pixel(sheet.width / 2, cell_top)[0] != 90) ++cell_top;
+  int rows = 0;
+  for (int y = 0; y < cell_top; ++y) {
+    bool ink = false;
+    for (int x = 0; x < sheet.width && !ink; ++x) ink = sheet.pixel(x, y)[0] == 255 && sheet.pixel(x, y)[2] == 255;
+    rows += ink;
+  }
+  EXPECT_EQ(rows, 14);
+}

@@ -183,3 +183,27 @@ TEST(Blit, ClipsToTheDestination) {
   EXPECT_TRUE(same_rgb(dst.pixel(6, 0), kBlue));
   EXPECT_TRUE(same_rgb(dst.pixel(7, 4), kBlue));
 }
+
+// Rows holding white label ink in one labelled tile `cell_h` rows tall: the cap height of "H".
+int label_cap_height(int cell_h) {
+  const TileGrid grid(GridLayout{1, 1}, cell_h * 16 / 9, cell_h);
+  const Image tile = solid(cell_h * 16 / 9, cell_h, kBlue);
+  Image out;
+  grid.compose({&tile}, {"H"}, out);
+  int rows = 0;
+  for (int y = 0; y < out.height; ++y) {
+    bool ink = false;
+    for (int x = 0; x < out.width && !ink; ++x) ink = same_rgb(out.pixel(x, y), Rgba8{255, 255, 255, 255});
+    rows += ink;
+  }
+  return rows;
+}
+
+TEST(TileGrid, LabelsAreAsLargeAsTheTilesOverlayTextAtTwelvePixelsOrMoreIn360RowTiles) {
+  EXPECT_EQ(label_cap_height(180), 7);
+  EXPECT_EQ(label_cap_height(358), 14);  // a 2x2 tile of a 1280x720 clip
+  EXPECT_GE(label_cap_height(360), 12);
+  EXPECT_EQ(label_cap_height(720), 28);
+  EXPECT_EQ(label_cap_height(1080), 42);
+  EXPECT_EQ(TileGrid(GridLayout{2, 2}, 638, 358).label_scale(), text_scale_for_height(358));
+}

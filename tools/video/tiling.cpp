@@ -84,11 +84,11 @@ int TileGrid::cell_y(int index) const {
   return origin_y_ + (index / layout_.columns) * (cell_h_ + style_.gutter);
 }
 
-// Text about 1/15 of the cell high: scale 1 in a 160x90 thumbnail, 2 in a 640x360 tile.
+// As the renders' own overlay text (text.h): cap height >= 1/30 of the cell height, so a
+// label reads at the size of the tile's overlay: scale 1 in a 320x180 cell, 2 in a 640x360 one.
 int TileGrid::label_scale() const {
   if (style_.label_scale > 0) return style_.label_scale;
-  const double glyph = std::max(1, text_glyph_height());
-  return std::max(1, static_cast<int>(std::lround(cell_h_ / (15.0 * glyph))));
+  return text_scale_for_height(cell_h_);
 }
 
 void TileGrid::compose(const std::vector<const Image*>& tiles,

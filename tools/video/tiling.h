@@ -42,7 +42,7 @@ struct TilingStyle {
   int gutter = 4;                        // pixels between cells (and none around the grid)
   Rgba8 background{24, 24, 28, 255};     // gutters, spare cells, margins
   Rgba8 label_color{255, 255, 255, 255};
-  int label_scale = 0;                   // bitmap font scale; 0: from the cell height
+  int label_scale = 0;                   // bitmap font scale; 0: text_scale_for_height(cell height)
 };
 
 // Where each cell lies in a composed frame.

@@ -1,0 +1,86 @@
+#include "overlay_layout.h"
+
+#include <algorithm>
+#include <cmath>
+
+
+namespace clothsim::render {
+
+namespace {
+
+int line_height(int scale) { return text_glyph_height() * scale; }  // glyph cell: 7 cap + 3
+
+// The inset's panel, bottom-right above the tile label band: about a quarter of the width,
+// wider if its label needs it at the smallest text scale; the label's text steps down from
+// the overlay's scale until it fits a quarter of the width, as a tile label does.
+void place_inset(const RenderFrame& frame, int width, int height, OverlayLayout& l) {
+  const int quarter = width / 4;
+  int s = l.scale;
+  while (s > 1 && text_width(frame.inset.label, s) + 4 * s > quarter) --s;
+  l.inset_scale = s;
+  const int pad = 2 * s;
+  const int w = std::min(std::max(quarter, text_width(frame.inset.label, s) + 2 * pad), width - 2 * l.margin);
+  // The graph keeps room for its two value labels (top and bottom) and about 1:3 proportions.
+  const int plot_h = std::max(2 * line_height(s) + 2 * s, static_cast<int>(std::lround(0.35 * w)));
+  const int title_h = frame.inset.label.empty() ? 0 : line_height(s) + s;
+  const int h = pad + title_h + plot_h + s + line_height(s) + pad;  // ... + time axis labels
+  l.inset = {width - l.margin - w, height - tile_label_band(l.scale) - l.margin - h, w, h};
+  l.plot = {l.inset.x + pad, l.inset.y + pad + title_h, w - 2 * pad, plot_h};
+}
+
+// The colour bar's panel at the right edge, from the top (or below the overlay lines if they
+// reach across), its bar about 40 % of the image high or what is left above the inset.
+void place_color_bar(const RenderFrame& frame, int width, int height, OverlayLayout& l) {
+  const int s = l.scale, pad = 2 * s;
+  const int bar_w = 6 * s, tick_len = 2 * s, gap = s;
+  const int half_label = 4 * s;  // a tick label centred on its tick reaches this far past it
+  const std::string& title = frame.color_scale.label;
+  const int title_h = title.empty() ? 0 : line_height(s) + s;
+  const int overhead = 2 * pad + title_h + 2 * half_label;
+  const int bottom_limit = l.inset.empty() ? height - tile_label_band(s) - l.margin : l.inset.y - l.margin;
+
+  const auto fit = [&](int top) {
+    const int bar_h = std::max(std::min(static_cast<int>(std::lround(0.4 * height)), bottom_limit - top - overhead),
+                               line_height(s));
+    l.ticks = scale_ticks(frame.color_scale, std::max(2, bar_h / (line_height(s) + 2 * s) + 1));
+    int label_w = 0;
+    for (const ScaleTick& t : l.ticks) label_w = std::max(label_w, text_width(t.text, s));
+    const int w = std::max(text_width(title, s), label_w + gap + tick_len + bar_w) + 2 * pad;
+    l.color_bar = {width - l.margin - w, top, w, overhead + bar_h};
+    l.bar = {l.color_bar.right() - pad - bar_w, top + pad + title_h + half_label, bar_w, bar_h};
+    l.title_y = top + pad;
+  };
+  fit(l.margin);
+  if (l.color_bar.overlaps(l.text)) fit(l.text.bottom() + s);  // under long overlay lines
+}
+
+}  // namespace
+
+void fill_box(Image& image, const ImageBox& box, Rgba8 color) {
+  for (int y = std::max(box.y, 0); y < std::min(box.bottom(), image.height); ++y)
+    for (int x = std::max(box.x, 0); x < std::min(box.right(), image.width); ++x)
+      std::copy(color.begin(), color.end(), image.pixel(x, y));
+}
+
+int tile_label_band(int scale) {
+  // draw_tile_label: glyphs 3 s above the tile's bottom edge, backdrop 2 s around them.
+  return 3 * scale + line_height(scale) + 2 * scale;
+}
+
+OverlayLayout layout_overlay(const RenderFrame& frame, int width, int height) {
+  OverlayLayout l;
+  l.scale = text_scale_for_height(height);
+  l.margin = 4 * l.scale;
+  const int s = l.scale;
+  if (!frame.overlay_lines.empty()) {  // as draw_text_block draws them at (margin, margin)
+    int w = 0;
+    for (const std::string& line : frame.overlay_lines) w = std::max(w, text_width(line, s));
+    const int lines = static_cast<int>(frame.overlay_lines.size());
+    if (w > 0) l.text = {l.margin - 2 * s, l.margin - 2 * s, w + 4 * s, lines * line_height(s) + 3 * s};
+  }
+  if (frame.inset.show) place_inset(frame, width, height, l);
+  if (!frame.cloth_field.empty() && frame.color_scale.show_bar) place_color_bar(frame, width, height, l);
+  return l;
+}
+
+}  // namespace clothsim::render

@@ -1,0 +1,67 @@
+// Where each thing drawn over a rendered frame goes, so none covers another:
+//
+//   +--------------------------------------------+
+//   | overlay lines              colour bar panel |   top-left: scene, integrator, dt, t
+//   | (top-left)                 title   [ ]  hi  |   right edge, from the top: the field's
+//   |                                    [ ]      |   legend (below the overlay lines when
+//   |                                    [ ]  lo  |   they are too wide to share the top)
+//   |                                             |
+//   |                              +-----------+  |
+//   |                              | inset     |  |   bottom-right: the series inset
+//   |                              +-----------+  |
+//   | tile label (tools/video/tiling: bottom-left, drawn later by the compositor)
+//   +--------------------------------------------+
+//
+// The bottom band a tile label may cover is kept clear on the right too, so a long label
+// never runs under the inset. The banner (DIVERGED ...) is centred and drawn over everything.
+// Pure arithmetic on the frame's content and the image size: tests check the boxes.
+#pragma once
+
+#include <vector>
+
+#include "colormap.h"
+#include "image.h"
+#include "render_frame.h"
+#include "text.h"
+
+namespace clothsim::render {
+
+// A rectangle of image pixels, top-down (row 0 at the top), half-open: [x, x+w) x [y, y+h).
+struct ImageBox {
+  int x = 0, y = 0, w = 0, h = 0;
+  bool empty() const { return w <= 0 || h <= 0; }
+  int right() const { return x + w; }
+  int bottom() const { return y + h; }
+  bool overlaps(const ImageBox& o) const {
+    return !empty() && !o.empty() && x < o.right() && o.x < right() && y < o.bottom() && o.y < bottom();
+  }
+  bool contains(int px, int py) const { return px >= x && px < right() && py >= y && py < bottom(); }
+};
+
+struct OverlayLayout {
+  int scale = 1;       // text scale: text_scale_for_height(image height)
+  int margin = 4;      // pixels from the image edges: 4 x scale
+  ImageBox text;       // the overlay lines with their backdrop (empty without lines)
+
+  ImageBox color_bar;  // the colour bar's panel (dark backdrop): title, tick labels, bar
+  ImageBox bar;        // the gradient inside it, hi at the top row, lo at the bottom row
+  int title_y = 0;     // top of the title's glyphs (the scale's label), right-aligned in the panel
+  std::vector<ScaleTick> ticks;
+
+  ImageBox inset;      // the series inset's panel (dark backdrop)
+  int inset_scale = 1; // its text scale: the overlay's, or smaller for a long label in its width
+  ImageBox plot;       // the graph area inside the inset
+};
+
+// Fills `box` (clipped to the image) with one colour.
+void fill_box(Image& image, const ImageBox& box, Rgba8 color);
+
+// Rows at the bottom of a tile that its label covers (tools/video/tiling.h draw_tile_label,
+// at text scale `scale`): kept clear of the inset.
+int tile_label_band(int scale);
+
+// Lays out what `frame` draws over an image of width x height: the colour bar when
+// cloth_field is set and color_scale.show_bar, the inset when inset.show.
+OverlayLayout layout_overlay(const RenderFrame& frame, int width, int height);
+
+}  // namespace clothsim::render

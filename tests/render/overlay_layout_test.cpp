@@ -1,0 +1,92 @@
+#include "overlay_layout.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "text.h"
+
+namespace clothsim::render {
+namespace {
+
+// A frame with everything drawn over it: overlay lines, a field with its bar, the inset.
+RenderFrame busy_frame(int w, int h) {
+  RenderFrame f;
+  f.width = w;
+  f.height = h;
+  f.overlay_lines = {"drape  rk4  dt = 1e-4 s", "t = 1.500 s  force evals 60000"};
+  f.cloth_positions.assign(3 * 4, 0.f);
+  f.cloth_field = {1e-5f, 1e-4f, 1e-3f, 1e-2f};
+  f.color_scale.lo = 1e-6f;
+  f.color_scale.hi = 1e-1f;
+  f.color_scale.label = "error [m]";
+  f.inset.show = true;
+  f.inset.label = "total energy [J]";
+  return f;
+}
+
+bool inside_image(const ImageBox& b, int w, int h) { return b.x >= 0 && b.y >= 0 && b.right() <= w && b.bottom() <= h; }
+
+TEST(OverlayLayout, NothingCoversAnythingElseAtEveryTileSize) {
+  for (const auto& [w, h] : {std::pair{320, 180}, std::pair{638, 358}, std::pair{640, 360}, std::pair{1280, 720},
+                            std::pair{1920, 1080}, std::pair{360, 360}, std::pair{1080, 1080}}) {
+    const OverlayLayout l = layout_overlay(busy_frame(w, h), w, h);
+    SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
+    ASSERT_FALSE(l.text.empty());
+    ASSERT_FALSE(l.color_bar.empty());
+    ASSERT_FALSE(l.inset.empty());
+    EXPECT_FALSE(l.text.overlaps(l.color_bar));
+    EXPECT_FALSE(l.text.overlaps(l.inset));
+    EXPECT_FALSE(l.color_bar.overlaps(l.inset));
+    EXPECT_TRUE(inside_image(l.color_bar, w, h));  // (overlay lines are clipped by the caller's width)
+    EXPECT_TRUE(inside_image(l.inset, w, h));
+    // The colour bar at the right edge, the gradient inside its panel, at least a third as tall as the tile.
+    EXPECT_EQ(l.color_bar.right(), w - l.margin);
+    EXPECT_TRUE(l.color_bar.contains(l.bar.x, l.bar.y) && l.color_bar.contains(l.bar.right() - 1, l.bar.bottom() - 1));
+    EXPECT_GE(l.bar.h, h / 3);
+    // The inset bottom-right, above the band a tile label covers, about a quarter of the width.
+    EXPECT_EQ(l.inset.right(), w - l.margin);
+    EXPECT_LE(l.inset.bottom(), h - tile_label_band(l.scale));
+    EXPECT_GE(l.inset.w, w / 4);
+    EXPECT_LE(l.inset.w, w / 3);
+    EXPECT_TRUE(l.inset.contains(l.plot.x, l.plot.y) && l.inset.contains(l.plot.right() - 1, l.plot.bottom() - 1));
+    EXPECT_GE(l.ticks.size(), 3u) << "the decades 1e-6 .. 1e-1, thinned at most to every other";
+  }
+}
+
+TEST(OverlayLayout, TheTextScaleFollowsTheHeight) {
+  EXPECT_EQ(layout_overlay(busy_frame(320, 180), 320, 180).scale, 1);
+  EXPECT_EQ(layout_overlay(busy_frame(640, 360), 640, 360).scale, 2);
+  EXPECT_EQ(layout_overlay(busy_frame(1280, 720), 1280, 720).scale, 4);
+  EXPECT_EQ(layout_overlay(busy_frame(1920, 1080), 1920, 1080).scale, 6);
+}
+
+TEST(OverlayLayout, OverlayLinesAsWideAsTheImagePushTheColourBarBelowThem) {
+  RenderFrame f = busy_frame(640, 360);
+  f.overlay_lines = {std::string(50, 'x')};  // 50 glyphs at scale 2: most of 640 px
+  const OverlayLayout l = layout_overlay(f, 640, 360);
+  EXPECT_GT(l.color_bar.y, l.text.bottom() - 1);
+  EXPECT_FALSE(l.color_bar.overlaps(l.inset));
+}
+
+TEST(OverlayLayout, ABarOnlyWithAFieldAndAnInsetOnlyWhenShown) {
+  RenderFrame f = busy_frame(640, 360);
+  f.cloth_field.clear();
+  f.inset.show = false;
+  OverlayLayout l = layout_overlay(f, 640, 360);
+  EXPECT_TRUE(l.color_bar.empty());
+  EXPECT_TRUE(l.inset.empty());
+  f = busy_frame(640, 360);
+  f.color_scale.show_bar = false;
+  EXPECT_TRUE(layout_overlay(f, 640, 360).color_bar.empty());
+}
+
+TEST(OverlayLayout, ALongInsetLabelStepsItsTextDownToFitAQuarterOfTheWidth) {
+  RenderFrame f = busy_frame(1280, 720);
+  const OverlayLayout l = layout_overlay(f, 1280, 720);
+  EXPECT_LT(l.inset_scale, l.scale);
+  EXPECT_LE(text_width(f.inset.label, l.inset_scale), l.inset.w);
+}
+
+}  // namespace
+}  // namespace clothsim::render
