@@ -6,6 +6,7 @@
 //           or into --failures DIR. Exit 0 all match, 1 some differ or are missing.
 //   update: the golden images are (re)written.
 // A bad manifest or scene exits 2 before anything is rendered.
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <filesystem>
@@ -18,8 +19,9 @@
 #include "image_diff.h"
 #include "png_io.h"
 #include "scene_parser.h"
-#include "simulation.h"
-#include "snapshot.h"
+#include "frame_pipeline.h"
+#include "lanes.h"
+#include "picture_options.h"
 
 namespace clothsim::cli {
 namespace {
@@ -76,6 +78,46 @@ bool check_one(const GoldenOptions& o, const std::string& golden, const Image& a
   return false;
 }
 
+// Checks (or writes) the picture at each of an entry's times as the pipeline reaches it.
+class GoldenOutput final : public FrameOutput {
+ public:
+  GoldenOutput(const GoldenOptions& o, const GoldenManifest& manifest, const GoldenEntry& entry, bool update,
+               const Model& model, const Renderer& renderer, int& bad)
+      : o_(o), manifest_(manifest), entry_(entry), update_(update), model_(model), renderer_(renderer), bad_(bad) {}
+  std::string what() const override { return "golden"; }
+  void on_target(const Target& target, const std::vector<LaneView>& lanes) override {
+    if (target.column < 0) return;
+    const double t = entry_.times[static_cast<std::size_t>(target.column)];
+    const std::string golden = golden_image_path(manifest_, entry_, t);
+    const LaneFrame& f = *lanes.front().frame;
+    if (f.divergence) {  // this image and the later ones of the entry cannot be made
+      std::printf("FAIL  %s  %s diverged at t = %.6g s: %s\n", fs::path(golden).filename().c_str(),
+                  entry_.scene.c_str(), f.divergence->t, f.divergence->reason.c_str());
+      ++bad_;
+      return;
+    }
+    if (update_) {
+      write_png(golden, *lanes.front().image,
+                with_renderer({{"scene", model_.name}, {"integrator", std::string(integrator_name(lanes.front().spec->kind))},
+                               {"t", std::to_string(t)}, {"software", "clothsim " CLOTHSIM_VERSION}},
+                              renderer_));
+      std::printf("wrote %s\n", golden.c_str());
+    } else if (!check_one(o_, golden, *lanes.front().image, entry_.tolerance)) {
+      ++bad_;
+    }
+  }
+  void finish() override {}
+  void abandon(std::vector<std::string>&, std::vector<std::string>&) override {}
+ private:
+  const GoldenOptions& o_;
+  const GoldenManifest& manifest_;
+  const GoldenEntry& entry_;
+  bool update_;
+  const Model& model_;
+  const Renderer& renderer_;
+  int& bad_;
+};
+
 int golden_command(const GoldenOptions& o, bool update) {
   const GoldenManifest manifest = load_golden_manifest(o.manifest);
   // Every scene is read before any rendering, so a bad one fails at once (exit 2).
@@ -91,35 +133,26 @@ int golden_command(const GoldenOptions& o, bool update) {
   int images = 0, bad = 0;
   for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
     const GoldenEntry& e = manifest.entries[i];
-    const Model model = build_model(scenes[i]);
-    const IntegratorKind kind = scenes[i].integrator;
-    const double dt = scenes[i].dt;
-    Run run(model, kind, dt);
+    const SceneDef& scene = scenes[i];
+    const Model model = build_model(scene);
     images += static_cast<int>(e.times.size());
-    for (std::size_t k = 0; k < e.times.size(); ++k) {
-      if (interrupted()) throw RuntimeFailure("interrupted; the images listed above are done");
-      const double t = e.times[k];
-      const std::string golden = golden_image_path(manifest, e, t);
-      if (!run.advance_to(t)) {  // this image and the later ones of the entry cannot be made
-        std::printf("FAIL  %s  %s diverged at t = %.6g s: %s\n", fs::path(golden).filename().c_str(),
-                    e.scene.c_str(), run.divergence()->t, run.divergence()->reason.c_str());
-        bad += static_cast<int>(e.times.size() - k);
-        break;
-      }
-      RenderFrame frame = make_render_frame(model, run.state(), {overlay_lines(model, kind, dt, run.state().t), {}});
-      frame.width = e.width;
-      frame.height = e.height;
-      const Image image = renderer->render(frame);
-      if (update) {
-        write_png(golden, image,
-                  with_renderer({{"scene", model.name}, {"integrator", std::string(integrator_name(kind))},
-                                 {"t", std::to_string(t)}, {"software", "clothsim " CLOTHSIM_VERSION}},
-                                *renderer));
-        std::printf("wrote %s\n", golden.c_str());
-      } else if (!check_one(o, golden, image, e.tolerance)) {
-        ++bad;
-      }
-    }
+    // The pictures `run --still` makes (the frame pipeline with one lane: the scene's camera,
+    // colouring and overlay), one per time, taken as a contact sheet's columns.
+    const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
+    const PictureLook look = resolve_picture_look({}, scene, {lane}, /*compare=*/false);
+    PipelineConfig config;
+    config.rendering = true;
+    config.width = e.width;
+    config.height = e.height;
+    config.stop_when_all_frozen = true;
+    config.command = "golden";
+    apply_look(look, config);
+    if (look.camera_auto) config.camera = auto_camera(model, static_cast<double>(e.width) / e.height);
+    const TargetPlan targets(*std::max_element(e.times.begin(), e.times.end()), scene.render.fps,
+                             /*with_frames=*/false, e.times);
+    FramePipeline pipeline(model, targets, {lane}, config, renderer.get());
+    pipeline.add(std::make_unique<GoldenOutput>(o, manifest, e, update, model, *renderer, bad));
+    pipeline.run("golden " + model.name);
   }
   if (update) {
     std::printf("golden: %d of %d images written (%s)\n", images - bad, images, o.manifest.c_str());
