@@ -99,7 +99,10 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A) {
   // Measured against the hand-written mat-vec (solver_bench, 15 x 15 and 64 x 64 at 1/60 s)
   // the counts came within 20 % for a factorisation (61 against 72, 469 against 481
   // iterations) and for a 15 x 15 solve; a 64 x 64 solve, out of cache, took 1.8 times its
-  // count (BENCHMARKS.md). So no correction is folded in.
+  // count (BENCHMARKS.md). So no correction is folded in. Since the block products run in SIMD
+  // (block_factor_kernels.h) a factorisation costs 0.85 (15 x 15) to 0.62 (64 x 64) times its
+  // count; rescaling the counts made stiff.yaml slower (more factorisations), so they stay
+  // counts; a recalibration by sheet size is open.
   const double iteration = 9.0 * (2.0 * B + 2.0 * static_cast<double>(S));
   double factor = 0.0;
   for (int j = 0; j < B; ++j) factor += 27.0 * count[j] * (count[j] + 3.0) / 2.0 + 27.0;
