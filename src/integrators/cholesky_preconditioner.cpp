@@ -87,8 +87,8 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A) {
   // 256 x 256 sheet it would be hundreds of MB.
   row_.clear();
   value_.clear();
-  d_inverse_.assign(B, Mat3::Identity());
-  y_.assign(B, Mat3::Zero());
+  d_inverse_.assign(static_cast<std::size_t>(kBlock) * B + kBlockSlack, 0.0);
+  y_.assign(static_cast<std::size_t>(kPaddedBlock) * B, 0.0);
   pattern_.assign(B, 0);
   filled_.assign(B, 0);
 
@@ -99,53 +99,76 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A) {
   // Measured against the hand-written mat-vec (solver_bench, 15 x 15 and 64 x 64 at 1/60 s)
   // the counts came within 20 % for a factorisation (61 against 72, 469 against 481
   // iterations) and for a 15 x 15 solve; a 64 x 64 solve, out of cache, took 1.8 times its
-  // count (BENCHMARKS.md). So no correction is folded in.
+  // count (BENCHMARKS.md). So no correction is folded in. Since the block products run in SIMD
+  // (block_factor_kernels.h) a factorisation costs 0.85 (15 x 15) to 0.62 (64 x 64) times its
+  // count; rescaling the counts made stiff.yaml slower (more factorisations), so they stay
+  // counts; a recalibration by sheet size is open.
   const double iteration = 9.0 * (2.0 * B + 2.0 * static_cast<double>(S));
   double factor = 0.0;
   for (int j = 0; j < B; ++j) factor += 27.0 * count[j] * (count[j] + 3.0) / 2.0 + 27.0;
   factor_cost_ = factor / iteration;
   solve_cost_ = 9.0 * (2.0 * column_start_[B] + B) / iteration;
   filter_.assign(B, Mat3::Identity());
+  filtered_.assign(B, 0);
   analysed_ = true;
   ready_ = false;
 }
 
 bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const VelocityFilter& filter) {
   const int B = A.num_bodies();
-  for (std::size_t c = 0; c < filter.size(); ++c)
+  for (std::size_t c = 0; c < filter.size(); ++c) {
     filter_[filter.body[c]] = Mat3::Identity() - filter.normal[c] * filter.normal[c].transpose();
+    filtered_[filter.body[c]] = 1;
+  }
 
   // The matrix in the new order: S P S + (I - S), P on the free directions and the identity
-  // along a held normal.
+  // along a held normal. Only held bodies' blocks need the products (usually a few); a free
+  // pair's block is P's, symmetric, so it goes in as it is whichever end comes first.
   for (int k = 0; k < B; ++k) {
-    const Mat3& F = filter_[order_[k]];
-    diag_[k] = F * A.diag_projected[order_[k]] * F + (Mat3::Identity() - F);
+    const int i = order_[k];
+    if (!filtered_[i]) {
+      diag_[k] = A.diag_projected[i];
+      continue;
+    }
+    const Mat3& F = filter_[i];
+    diag_[k] = F * A.diag_projected[i] * F + (Mat3::Identity() - F);
   }
   std::fill(upper_.begin(), upper_.end(), Mat3::Zero());
   for (std::size_t s = 0; s < A.a.size(); ++s) {
+    if (!filtered_[A.a[s]] && !filtered_[A.b[s]]) {
+      upper_[spring_slot_[s]] += A.off_projected(s);
+      continue;
+    }
     const Mat3 block = filter_[A.a[s]] * A.off_projected(s) * filter_[A.b[s]];
     if (spring_transposed_[s]) upper_[spring_slot_[s]] += block.transpose();
     else upper_[spring_slot_[s]] += block;
   }
-  for (std::size_t c = 0; c < filter.size(); ++c) filter_[filter.body[c]].setIdentity();
+  for (std::size_t c = 0; c < filter.size(); ++c) {
+    filter_[filter.body[c]].setIdentity();
+    filtered_[filter.body[c]] = 0;
+  }
 
   // Up-looking L D L^T in blocks (Davis 2005's ldl_numeric with 3x3 entries). Row k: the
   // blocks Y_i = A(i, k) - sum_j L(i, j) Z_j^T over the reach of column k, in topological
   // order, give Z_i = Y_i^T = L(k, i) D_i, so L(k, i) = Y_i^T D_i^-1 and
-  // D_k = A(k, k) - sum_i L(k, i) Y_i.
+  // D_k = A(k, k) - sum_i L(k, i) Y_i (block_factor_kernels.h runs the products).
   ready_ = false;
-  if (value_.size() != static_cast<std::size_t>(column_start_[B])) {
-    row_.assign(column_start_[B], 0);
-    value_.assign(column_start_[B], Mat3::Zero());
+  const std::size_t blocks = static_cast<std::size_t>(column_start_[B]);
+  if (row_.size() != blocks) {
+    row_.assign(blocks, 0);
+    value_.assign(kBlock * blocks + kBlockSlack, 0.0);
   }
   std::fill(flag_.begin(), flag_.end(), -1);
   std::fill(filled_.begin(), filled_.end(), 0);
+  double d[kPaddedBlock];
   for (int k = 0; k < B; ++k) {
     int top = B;
     flag_[k] = k;
     for (int p = upper_start_[k]; p < upper_start_[k + 1]; ++p) {
       int i = upper_row_[p];
-      y_[i] = upper_[p];
+      double* yi = y_.data() + kPaddedBlock * i;  // scatter A(i, k), padded
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) yi[4 * c + r] = upper_[p](r, c);
       int length = 0;
       for (; flag_[i] != k; i = parent_[i]) {
         pattern_[length++] = i;
@@ -153,25 +176,21 @@ bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const Velocit
       }
       while (length > 0) pattern_[--top] = pattern_[--length];
     }
-    Mat3 d = diag_[k];
-    for (; top < B; ++top) {
-      const int i = pattern_[top];
-      const Mat3 yi = y_[i];
-      y_[i].setZero();
-      const int begin = column_start_[i], end = begin + filled_[i];
-      for (int p = begin; p < end; ++p) y_[row_[p]].noalias() -= value_[p] * yi;
-      const Mat3 l = yi.transpose() * d_inverse_[i];
-      d.noalias() -= l * yi;
-      row_[end] = k;
-      value_[end] = l;
-      ++filled_[i];
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) d[4 * c + r] = diag_[k](r, c);
+      d[4 * c + 3] = 0.0;
     }
-    const Eigen::LLT<Mat3> pivot(d);
-    if (pivot.info() != Eigen::Success || !d.allFinite()) {
-      std::fill(y_.begin(), y_.end(), Mat3::Zero());  // the next factorisation starts from zeros
+    factor_row(k, pattern_.data() + top, B - top, y_.data(), column_start_.data(),
+               filled_.data(), row_.data(), value_.data(), d_inverse_.data(), d);
+    Mat3 dk;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) dk(r, c) = d[4 * c + r];
+    const Eigen::LLT<Mat3> pivot(dk);
+    if (pivot.info() != Eigen::Success || !dk.allFinite()) {
+      std::fill(y_.begin(), y_.end(), 0.0);  // the next factorisation starts from zeros
       return false;
     }
-    d_inverse_[k] = pivot.solve(Mat3::Identity());
+    Eigen::Map<Mat3>(d_inverse_.data() + kBlock * k) = pivot.solve(Mat3::Identity());
   }
   ready_ = true;
   return true;
@@ -179,22 +198,15 @@ bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const Velocit
 
 void CholeskyPreconditioner::apply(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) const {
   const int B = static_cast<int>(order_.size());
-  w_.resize(3, B);
-  for (int k = 0; k < B; ++k) w_.col(k) = r.col(order_[k]);
-  for (int j = 0; j < B; ++j) {  // L u = w
-    const Vec3 u = w_.col(j);
-    for (int p = column_start_[j]; p < column_start_[j + 1]; ++p)
-      w_.col(row_[p]).noalias() -= value_[p] * u;
-  }
-  for (int j = 0; j < B; ++j) w_.col(j) = d_inverse_[j] * Vec3(w_.col(j));  // D v = u
-  for (int j = B - 1; j >= 0; --j) {  // L^T z = v
-    Vec3 v = w_.col(j);
-    for (int p = column_start_[j]; p < column_start_[j + 1]; ++p)
-      v.noalias() -= value_[p].transpose() * w_.col(row_[p]);
-    w_.col(j) = v;
-  }
+  w_.resize(static_cast<std::size_t>(kPaddedVector) * B);
   z.resize(3, B);
-  for (int k = 0; k < B; ++k) z.col(order_[k]) = w_.col(k);
+  PaddedFactor f;
+  f.bodies = B;
+  f.column_start = column_start_.data();
+  f.row = row_.data();
+  f.value = value_.data();
+  f.d_inverse = d_inverse_.data();
+  factor_solve(f, order_.data(), r.data(), z.data(), w_.data());
 }
 
 }  // namespace clothsim

@@ -25,11 +25,14 @@
 // up-looking LDL^T with block entries, bodies in AMD order), since every entry of the matrix
 // belongs to one such block: Eigen's scalar simplicial LLT on the same matrix, indexing every
 // scalar entry, took 2.8 times as long to factor and 1.8 times as long to solve (BENCHMARKS.md).
+// The blocks' products run in SIMD (block_factor_kernels.h), a block column per vector.
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
+#include "integrators/block_factor_kernels.h"
 #include "integrators/sparse_system.h"
 #include "integrators/velocity_filter.h"
 
@@ -62,7 +65,8 @@ class CholeskyPreconditioner {
   double solve_cost() const { return solve_cost_; }
   // What factorize() allocates for L and D (known after analyse).
   std::size_t factor_bytes() const {
-    return factor_blocks() * (sizeof(Mat3) + sizeof(int)) + order_.size() * sizeof(Mat3);
+    return factor_blocks() * (sizeof(Mat3) + sizeof(int)) + order_.size() * sizeof(Mat3) +
+           2 * kBlockSlack * sizeof(double);
   }
   std::size_t factor_blocks() const {  // off-diagonal blocks of L
     return column_start_.empty() ? 0 : static_cast<std::size_t>(column_start_.back());
@@ -84,16 +88,19 @@ class CholeskyPreconditioner {
   // L(row_[p], j) = value_[p] for p in column_start_[j] .. column_start_[j + 1], rows
   // increasing; D's blocks kept inverted.
   std::vector<int> parent_;                // (B) elimination tree
+  // Blocks as block_factor_kernels.h stores them: L's and D^-1's compact (9 doubles, column
+  // major, and kBlockSlack past the last), the row's scratch padded (12).
   std::vector<int> column_start_, row_;
-  std::vector<Mat3> value_, d_inverse_;
+  std::vector<double> value_, d_inverse_;
 
   // Scratch of the up-looking factorisation (one row of L at a time).
-  std::vector<Mat3> y_;
+  std::vector<double> y_;                  // (12 x B)
   std::vector<int> flag_, pattern_, filled_;
-  mutable Eigen::Matrix3Xd w_;             // scratch of apply
+  mutable std::vector<double> w_;          // (4 x B) scratch of apply
 
   double factor_cost_ = 0.0, solve_cost_ = 0.0;
   std::vector<Mat3> filter_;  // (B) S_i (identity for free bodies), scratch for factorize
+  std::vector<std::uint8_t> filtered_;  // (B) 1 where S_i is not the identity, scratch
   bool analysed_ = false, ready_ = false;
 };
 

@@ -220,13 +220,15 @@ class NewtonSolve {
   // cost less than building it again.
   double direction(CgSettings settings, const Eigen::Matrix3Xd* warm) {
     const Eigen::VectorXd& w = start_.inv_mass;
-    assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, single_step_, c_.A);
+    // The block-Jacobi preconditioner is formed only for solves that use it (below).
+    assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, single_step_, c_.A, false);
     if (!c_.factor.analysed()) c_.factor.analyse(c_.A);
     // A factor past kMaxFactorBytes is never built (block Jacobi throughout): the memory a run
     // needs stays within what memory_estimate.h promises, whatever the sheet's size.
     const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;
     const double factor_cost = c_.factor.factor_cost();
     if (affordable && (c_.factor.ready() ? factor_work_ > factor_cost : factor_first_)) factorize();
+    if (!c_.factor.ready()) invert_diagonal(c_.A);
 
     settings.from_guess = warm != nullptr;
     if (warm && warm != &c_.d) c_.d = *warm;

@@ -41,7 +41,7 @@ inline void subtract_block(Mat3& D, double alpha, double beta, const Vec3& u) {
 
 void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
                            const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
-                           bool project, SpringBlockMatrix& A) {
+                           bool project, SpringBlockMatrix& A, bool block_jacobi) {
   const int B = A.num_bodies();
   const Springs& springs = model.springs;
 
@@ -111,7 +111,11 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     }
   }
 
-  for (int i = 0; i < B; ++i) A.diag_inverse[i] = A.diag_projected[i].inverse();
+  if (block_jacobi) invert_diagonal(A);
+}
+
+void invert_diagonal(SpringBlockMatrix& A) {
+  for (int i = 0; i < A.num_bodies(); ++i) A.diag_inverse[i] = A.diag_projected[i].inverse();
 }
 
 // The CG hot loop (one call per iteration): written on raw column-major arrays, as the

@@ -77,10 +77,16 @@ struct SpringBlockMatrix {
 void build_pattern(const Model& model, SpringBlockMatrix& A);
 
 // Refills A = H at the end-of-step positions y (3 x B), with start_length (S) the springs'
-// lengths at the start of the step, exact or projected (above).
+// lengths at the start of the step, exact or projected (above). With `block_jacobi`, also
+// the block-Jacobi preconditioner (diag_inverse); without, it is left stale, for a solver
+// that preconditions with the sparse factor and inverts the diagonal only when it needs to
+// (invert_diagonal: a 3x3 inverse per body, a third of a small sheet's assembly).
 void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
                            const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
-                           bool project, SpringBlockMatrix& A);
+                           bool project, SpringBlockMatrix& A, bool block_jacobi = true);
+
+// A.diag_inverse = A.diag_projected^-1, blockwise.
+void invert_diagonal(SpringBlockMatrix& A);
 
 // y = A p (3 x B).
 void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y);
