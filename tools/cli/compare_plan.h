@@ -43,6 +43,7 @@ class TargetPlan {
              double still_t = -1.0, bool to_end = false);
   long size() const { return size_; }      // targets in all
   double duration() const { return duration_; }
+  double fps() const { return fps_; }
   long frames() const { return frames_; }  // clip frames among them
 
   // Walks the plan's targets in order; each walker (a run's thread, the renderer) has its own.

@@ -116,7 +116,9 @@ struct FramePipeline::Impl {
       return n;
     }
     n.picture = config.rendering;
-    n.metrics = config.metrics || config.inset_energy;
+    n.metrics = config.metrics;
+    // The inset's curve: sampled at the clip's frame rate whatever the targets (a still too).
+    if (config.inset_energy) n.energy_every = 1.0 / plan.fps();
     n.positions = config.color == FieldKind::Error;
     if (config.color == FieldKind::Strain || config.color == FieldKind::Speed) n.field = config.color;
     n.final_state = config.final_state;
@@ -205,7 +207,8 @@ struct FramePipeline::Impl {
   void process(const TargetFrames& t) {
     if (config.inset_energy)
       for (std::size_t i = 0; i < lanes.size(); ++i)
-        if (t.fresh[i] && t.frames[i]) energy[i].add(t.frames[i]->t, t.frames[i]->metrics.energies.total());
+        if (t.fresh[i] && t.frames[i])
+          for (const auto& [time, e] : t.frames[i]->energy) energy[i].add(time, e);
     std::vector<LaneView> views(lanes.size());
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       views[i] = LaneView{&lanes[i], t.frames[i].get(), config.rendering ? &images[i] : nullptr, t.fresh[i]};

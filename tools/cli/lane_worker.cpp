@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "diagnostics.h"
 #include "snapshot.h"
 
 namespace clothsim::cli {
@@ -79,12 +80,27 @@ void LaneWorker::work() {
     run.set_stop_check([this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); });
     TargetPlan::Cursor cursor(targets_);
     double reached = 0.0;
+    long sample = 0;  // the next energy sample, at sample * energy_every
+    std::vector<std::pair<double, double>> energy;
+    const auto record_energy = [&] { energy.emplace_back(run.state().t, compute_energies(model_, run.state()).total()); };
     for (Target target; cursor.next(target);) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         if (stop_) break;
       }
-      const bool ok = run.advance_to(target.t);
+      // Samples between targets: advancing to them takes the same steps (a Run steps until
+      // t >= target), so the energy curve costs a pass over the bodies per sample, no more.
+      bool ok = true;
+      if (needs_.energy_every > 0.0) {
+        for (double ts = static_cast<double>(sample) * needs_.energy_every; ts < target.t - 1e-9 && ok;
+             ts = static_cast<double>(++sample) * needs_.energy_every) {
+          ok = run.advance_to(ts);
+          if (run.stopped()) break;
+          if (ok) record_energy();
+        }
+        if (run.stopped()) break;
+      }
+      if (ok) ok = run.advance_to(target.t);
       if (run.stopped()) break;
       if (!ok) {
         // The picture (and field) of the last finite state at the step divergence names; the
@@ -94,6 +110,7 @@ void LaneWorker::work() {
                                              ? run.last_finite_state() : run.state());
         if (needs_.metrics) frozen.metrics = run.metrics();
         frozen.t = d.t;
+        frozen.energy = std::move(energy);
         frozen.divergence = d;
         frozen.frozen = true;
         frozen.x.clear();  // no reference exists at the divergence's instant: no error field
@@ -103,6 +120,11 @@ void LaneWorker::work() {
       }
       LaneFrame f = frame_of(run, run.state());
       if (needs_.metrics) f.metrics = run.metrics();
+      if (needs_.energy_every > 0.0) {
+        record_energy();
+        f.energy = std::move(energy);
+        energy.clear();
+      }
       reached = run.state().t;
       push(std::move(f));
     }

@@ -35,6 +35,8 @@ struct LaneNeeds {
   bool positions = false;  // double positions, for the error field
   FieldKind field = FieldKind::None;  // strain or speed, computed on the lane's thread
   bool final_state = false;  // keep the last State (run --state)
+  double energy_every = 0.0;  // > 0: total energy sampled this often (s) between targets too,
+                              // so an energy inset has a curve even in a still or a sheet
 };
 
 // What a lane hands over at one target.
@@ -46,6 +48,8 @@ struct LaneFrame {
   std::vector<float> field;        // (P) when LaneNeeds::field is strain or speed
   FrameMetrics metrics;            // when LaneNeeds::metrics
   RunTotals totals;                // of the run up to here
+  std::vector<std::pair<double, double>> energy;  // (t, total energy J) since the last target,
+                                                  // this target's included, when energy_every
   std::optional<Divergence> divergence;  // set on the frozen frame
   bool frozen = false;             // diverged: the last finite state, and the lane's last frame
 };

@@ -98,7 +98,11 @@ void TileGrid::compose(const std::vector<const Image*>& tiles,
                                 std::to_string(layout_.cells()) + " cells");
   if (out.width != canvas_w_ || out.height != canvas_h_) out = Image(canvas_w_, canvas_h_);
   fill_rect(out, 0, 0, canvas_w_, canvas_h_, style_.background);
-  const int scale = label_scale();
+  // One size for every label of the grid: the largest at which the longest fits its cell
+  // (a label stepping down alone would make its lane look less important than the others).
+  int scale = label_scale();
+  for (const std::string& label : labels)
+    while (scale > 1 && text_width(label, scale) + 6 * scale > cell_w_) --scale;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     const int cx = cell_x(static_cast<int>(i)), cy = cell_y(static_cast<int>(i));
     const Image* tile = tiles[i];
