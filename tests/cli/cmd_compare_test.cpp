@@ -501,3 +501,28 @@ TEST(CmdCompare, EachNewOptionsBadValueIsExit2BeforeAnyWork) {
   }
   EXPECT_TRUE(cli::only_files(dir, {}));
 }
+
+TEST(CmdCompare, AStillsColourScaleIsTheClipsChosenFromTheFirstSecond) {
+  const std::string dir = scratch_dir("compare_scale_still");
+  const auto scale_line = [](const std::string& err) {
+    const auto at = err.find("colour scale for error: ");
+    return at == std::string::npos ? std::string() : err.substr(at, err.find('\n', at) - at);
+  };
+  const std::vector<std::string> base{"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "1.2",
+                                      "--width", "320", "--height", "180", "--integrators", "explicit_euler,rk4"};
+  const auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_clothsim(args);
+  };
+  const auto clip = with({"--frames", dir + "/f"});
+  ASSERT_EQ(clip.exit_code, 0) << clip.err;
+  const auto still = with({"--still", "1.2", "-o", dir + "/still.png"});
+  ASSERT_EQ(still.exit_code, 0) << still.err;
+  EXPECT_NE(scale_line(clip.err), "") << clip.err;
+  EXPECT_EQ(scale_line(clip.err), scale_line(still.err));
+  EXPECT_NE(scale_line(clip.err).find("from the first second"), std::string::npos);
+  // The still is the clip's last frame, pixel for pixel (frame 36 at t = 1.2 s).
+  const Image last = read_png(frame_path(dir + "/f", "rk4", 36));
+  EXPECT_NE(find_tile(read_png(dir + "/still.png"), last, last.height / 2).first, -1);
+}

@@ -140,3 +140,25 @@ TEST(TargetPlan, WithoutFramesStopsOnlyWhereSomethingIsWanted) {
 }
 
 TEST(TimeLabel, ReadsAsATime) { EXPECT_EQ(time_label(0.5), "t = 0.5 s"); }
+
+TEST(TargetPlan, AScaleWindowAddsTheFirstSecondsFrameTimesAsTargetsThatTakeNoPicture) {
+  TargetPlan still(5.0, 10.0, false, {}, 2.0);
+  still.with_scale_window(1.0);
+  EXPECT_EQ(still.size(), 12) << "t = 0, 0.1 .. 1.0 and the still";
+  TargetPlan::Cursor c(still);
+  Target t;
+  int shown = 0;
+  double last = -1.0;
+  while (c.next(t)) {
+    EXPECT_GT(t.t, last);
+    last = t.t;
+    EXPECT_EQ(t.frame, -1);
+    shown += t.still;
+  }
+  EXPECT_EQ(shown, 1);
+  EXPECT_DOUBLE_EQ(last, 2.0);
+  TargetPlan clip(5.0, 10.0, true, {});
+  const long frames = clip.size();
+  clip.with_scale_window(1.0);
+  EXPECT_EQ(clip.size(), frames) << "a clip's frames are those instants already";
+}

@@ -191,7 +191,8 @@ int compare_command(const CompareOptions& o) {
     throw UsageError(std::string("--width/--height: ") + e.what());
   }
   const double fps = scene.render.fps;
-  const TargetPlan targets(scene.duration, fps, with_frames, sheet_times, o.still_t.value_or(-1.0));
+  TargetPlan targets(scene.duration, fps, with_frames, sheet_times, o.still_t.value_or(-1.0));
+  if (look.color != FieldKind::None && !look.color_range) targets.with_scale_window(kColorScaleWindow);
 
   // Peak memory, estimated and checked before the Model, the renderer or the encoder exist:
   // one Model (and a copy per fixed-point lane), a run per lane and the reference, the

@@ -148,8 +148,9 @@ int golden_command(const GoldenOptions& o, bool update) {
     config.command = "golden";
     apply_look(look, config);
     if (look.camera_auto) config.camera = auto_camera(model, static_cast<double>(e.width) / e.height);
-    const TargetPlan targets(*std::max_element(e.times.begin(), e.times.end()), scene.render.fps,
-                             /*with_frames=*/false, e.times);
+    TargetPlan targets(*std::max_element(e.times.begin(), e.times.end()), scene.render.fps,
+                       /*with_frames=*/false, e.times);
+    if (look.color != FieldKind::None) targets.with_scale_window(kColorScaleWindow);
     FramePipeline pipeline(model, targets, {lane}, config, renderer.get());
     pipeline.add(std::make_unique<GoldenOutput>(o, manifest, e, update, model, *renderer, bad));
     pipeline.run("golden " + model.name);

@@ -100,8 +100,13 @@ int run_command(const RunOptions& o) {
   const bool still_only = o.still_t && o.metrics.empty() && o.state.empty() && o.frames_dir.empty() &&
                           o.video.empty() && o.summary.empty();
   // Frame by frame even with no picture or metrics to take: progress counts frames.
-  const TargetPlan targets(still_only ? *o.still_t : scene.duration, fps, !still_only, {},
-                           o.still_t.value_or(-1.0), /*to_end=*/!still_only);
+  // A colour scale from the data needs the first second even when the still comes sooner.
+  const bool scale_from_data = look.color != FieldKind::None && !look.color_range;
+  const double end = !still_only ? scene.duration
+                     : scale_from_data ? std::max(*o.still_t, std::min(kColorScaleWindow, scene.duration))
+                                       : *o.still_t;
+  TargetPlan targets(end, fps, !still_only, {}, o.still_t.value_or(-1.0), /*to_end=*/!still_only);
+  if (scale_from_data) targets.with_scale_window(kColorScaleWindow);
 
   std::unique_ptr<Renderer> renderer;
   if (rendering) renderer = make_renderer(o.gl);

@@ -113,6 +113,20 @@ TargetPlan::TargetPlan(double duration, double fps, bool with_frames,
   }
 }
 
+TargetPlan& TargetPlan::with_scale_window(double scale_window) {
+  if (frames_ > 0 || !(scale_window > 0.0)) return *this;  // clip frames are those instants already
+  const long last = static_cast<long>(std::floor(std::min(scale_window, duration_) * fps_ + 1e-9));
+  for (long k = 0; k <= last; ++k) {
+    const double t = std::min(static_cast<double>(k) / fps_, duration_);
+    auto at = std::lower_bound(extras_.begin(), extras_.end(), t - 1e-6,
+                               [](const Target& a, double v) { return a.t < v; });
+    if (at != extras_.end() && std::abs(at->t - t) <= 1e-6) continue;
+    extras_.insert(at, Target{t, -1, -1, false});
+    ++size_;
+  }
+  return *this;
+}
+
 double TargetPlan::frame_time(long k) const { return std::min(static_cast<double>(k) / fps_, duration_); }
 
 long TargetPlan::frame_at(double t) const {

@@ -41,6 +41,10 @@ class TargetPlan {
  public:
   TargetPlan(double duration, double fps, bool with_frames, const std::vector<double>& sheet_times,
              double still_t = -1.0, bool to_end = false);
+  // With `scale_window` > 0, the clip's frame times up to it are targets even when no frame
+  // is written (frame -1: nothing takes a picture there): a colour scale chosen from the first
+  // second's data sees the same instants whether the output is a clip, a sheet or a still.
+  TargetPlan& with_scale_window(double scale_window);
   long size() const { return size_; }      // targets in all
   double duration() const { return duration_; }
   double fps() const { return fps_; }

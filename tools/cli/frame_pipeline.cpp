@@ -27,9 +27,6 @@ class Stopwatch {
   Clock::time_point start_;
 };
 
-// The first second of a clip, whose data chooses a colour scale not given (at most the run).
-constexpr double kRangeWindow = 1.0;
-
 // One target's worth of lane frames, held until its colour scale is known.
 struct TargetFrames {
   Target target;
@@ -101,6 +98,8 @@ struct FramePipeline::Impl {
   bool reference_frozen = false;
   std::vector<Image> images;
   std::vector<EnergyHistory> energy;  // per lane, for the inset
+  // Per lane, a frame handed over but not yet rendered, with its field.
+  std::vector<std::pair<std::shared_ptr<const LaneFrame>, std::vector<float>>> unrendered;
   std::deque<TargetFrames> held;      // targets waiting for the colour scale
   std::optional<ColorRange> range;
   double wait_seconds = 0.0, render_seconds = 0.0;
@@ -137,6 +136,7 @@ struct FramePipeline::Impl {
     frozen.assign(lanes.size(), false);
     images.resize(lanes.size());
     energy.resize(lanes.size());
+    unrendered.resize(lanes.size());
     output_seconds.assign(outputs.size(), 0.0);
   }
 
@@ -209,11 +209,16 @@ struct FramePipeline::Impl {
       for (std::size_t i = 0; i < lanes.size(); ++i)
         if (t.fresh[i] && t.frames[i])
           for (const auto& [time, e] : t.frames[i]->energy) energy[i].add(time, e);
+    // A target no output takes a picture at (one the colour scale looks at) renders nothing;
+    // a lane's new frame is rendered at the first target that shows it.
+    const bool shown = t.target.frame >= 0 || t.target.column >= 0 || t.target.still;
     std::vector<LaneView> views(lanes.size());
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       views[i] = LaneView{&lanes[i], t.frames[i].get(), config.rendering ? &images[i] : nullptr, t.fresh[i]};
-      if (!config.rendering || !t.fresh[i] || !t.frames[i]) continue;
-      const LaneFrame& f = *t.frames[i];
+      if (t.fresh[i]) unrendered[i] = {t.frames[i], t.fields[i]};
+      if (!config.rendering || !shown || !unrendered[i].first) continue;
+      const LaneFrame& f = *unrendered[i].first;
+      const std::vector<float>& field = unrendered[i].second;
       RenderFrame rf = f.frame;
       rf.width = config.width;
       rf.height = config.height;
@@ -229,11 +234,11 @@ struct FramePipeline::Impl {
           rf.banner = banner;
         }
       }
-      if (config.color != FieldKind::None && !t.fields[i].empty())
-        color_by_field(rf, t.fields[i], config.color, *range);
+      if (config.color != FieldKind::None && !field.empty()) color_by_field(rf, field, config.color, *range);
       if (config.inset_energy) draw_energy_inset(rf, energy, i, plan.duration());
       Stopwatch watch(render_seconds);
       images[i] = renderer->render(rf);
+      unrendered[i] = {};
     }
     for (std::size_t o = 0; o < outputs.size(); ++o) {
       Stopwatch watch(output_seconds[o]);
@@ -273,7 +278,7 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
   };
   // Targets wait for the colour scale while it is chosen from the data (the first second).
   const bool choosing_range = p.config.color != FieldKind::None && !p.range;
-  const double window_end = std::min(kRangeWindow, p.plan.duration());
+  const double window_end = std::min(kColorScaleWindow, p.plan.duration());
   TargetPlan::Cursor cursor(p.plan);
   long n = 0;
   double last_t = 0.0;

@@ -28,6 +28,11 @@ namespace clothsim::cli {
 enum class OverlayMode { Full, Label, None };
 std::optional<OverlayMode> parse_overlay_mode(std::string_view text);  // full|label|none
 
+// A colour scale not given is chosen from the data of the clip's first second (or the whole
+// run when shorter): TargetPlan::with_scale_window(kColorScaleWindow) makes those instants
+// targets whatever the outputs.
+inline constexpr double kColorScaleWindow = 1.0;  // s
+
 struct ColorRange {
   double lo = 0.0, hi = 0.0;  // field units, 0 < lo < hi (a logarithmic scale)
 };
