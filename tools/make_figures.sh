@@ -1,7 +1,7 @@
 #!/bin/sh
-# Re-makes every figure of docs/integrators.md ("Choosing an integrator") from the shipped
-# scenes, with the exact commands the page quotes, and keeps each study's CSV beside its
-# figure (docs/images/*.csv) so the numbers in the page can be checked.
+# Re-makes every figure of docs/integrators.md ("Choosing an integrator") and the README's
+# pictures of compare from the shipped scenes, with the exact commands the pages quote, and
+# keeps each study's CSV beside its figure (docs/images/*.csv) so the numbers can be checked.
 #
 #   tools/make_figures.sh [BUILD_DIR]      # BUILD_DIR defaults to build (holding clothsim)
 #
@@ -53,4 +53,8 @@ done
 "$PY" tools/plot_energy.py "$TMP"/explicit_euler.csv "$TMP"/symplectic_euler.csv "$TMP"/midpoint.csv \
   "$TMP"/rk4.csv "$TMP"/implicit_euler.csv --relative \
   --title "drape.yaml, dt = 1e-4 s: total energy - E(0)" --out $OUT/energy_drape.png
+echo "== README: a frame of the default clip, two lanes diverged, a contact sheet"
+"$CLOTHSIM" compare scenes/drape.yaml --still 2.5 -o $OUT/drape_compare.png
+"$CLOTHSIM" compare scenes/drape.yaml --dt 3e-4 --color strain --still 1.5 -o $OUT/drape_diverged.png
+"$CLOTHSIM" compare scenes/drape.yaml --sheet $OUT/drape_sheet.png --times 0.1,0.5,2,4 --width 960 --height 540
 echo "figures in $OUT"

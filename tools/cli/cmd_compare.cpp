@@ -101,7 +101,7 @@ void print_row(const LaneResult& r, const std::string& name) {
               lane_result(r).c_str());
 }
 
-void print_summary(const Model& model, const PipelineReport& report) {
+void print_summary(const Model& model, const PipelineReport& report, FieldKind color) {
   std::printf("%s: %zu lanes\n", model.name.c_str(), report.lanes.size());
   std::printf("%-30s %10s %10s %13s %9s %14s  %s\n", "lane", "dt_s", "steps", "force_evals", "cpu_s",
               "cpu_ms_per_s", "result");
@@ -109,6 +109,18 @@ void print_summary(const Model& model, const PipelineReport& report) {
   if (report.reference) print_row(*report.reference, report.reference->spec.name() + " (reference)");
   // What the implicit solve did, beside the table (0 for the explicit family, so not a column):
   // contacts it held as constraints, and particles the post-step projection still had to move.
+  // The colouring in numbers: how far each lane strayed from the reference (or how strained,
+  // how fast), the largest over the clip and at its end.
+  if (color != FieldKind::None)
+    for (std::size_t i = 0; i < report.lanes.size(); ++i) {
+      const LaneResult& r = report.lanes[i];
+      std::printf("%s @ %s s: %s%s largest %.3g%s, at the end %.3g%s\n", r.spec.name().c_str(),
+                  r.spec.step_text.c_str(), std::string(field_kind_name(color)).c_str(),
+                  color == FieldKind::Error && report.reference
+                      ? (" against " + report.reference->spec.name() + " @ " + report.reference->spec.step_text + " s:").c_str()
+                      : ":",
+                  report.field_max[i], field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
+    }
   for (const LaneResult& r : report.lanes)
     if (r.spec.kind == IntegratorKind::ImplicitEuler)
       std::printf("%s @ %s s: %" PRId64 " Newton and %" PRId64 " CG iterations (%" PRId64
@@ -125,6 +137,11 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
       .number("t_reached", r.t)
       .text("lane", r.spec.name() + "@" + r.spec.step_text)
       .text("role", role);
+}
+
+// A lane's colouring field in numbers (NaN, written null, when it was never coloured).
+JsonObject& with_field(JsonObject& lane, const PipelineReport& report, std::size_t i) {
+  return lane.number("field_max", report.field_max[i]).number("field_last", report.field_last[i]);
 }
 
 int compare_command(const CompareOptions& o) {
@@ -262,13 +279,17 @@ int compare_command(const CompareOptions& o) {
   const PipelineReport report = pipeline.run("compare " + model.name, after);
 
   // 4. The summary.
-  print_summary(model, report);
+  print_summary(model, report, config.color);
   double sim_cpu = 0.0;
   for (const LaneResult& r : report.lanes) sim_cpu += r.totals.cpu_seconds;
   if (report.reference) sim_cpu += report.reference->totals.cpu_seconds;
   if (!o.summary.empty()) {
     std::vector<JsonObject> lanes_json;
-    for (const LaneResult& r : report.lanes) lanes_json.push_back(lane_summary(model, r, "lane"));
+    for (std::size_t i = 0; i < report.lanes.size(); ++i) {
+      JsonObject lane = lane_summary(model, report.lanes[i], "lane");
+      if (config.color != FieldKind::None) with_field(lane, report, i);
+      lanes_json.push_back(lane);
+    }
     if (report.reference) lanes_json.push_back(lane_summary(model, *report.reference, "reference"));
     JsonObject extra;
     extra.text("color", std::string(field_kind_name(config.color)));

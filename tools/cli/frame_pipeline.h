@@ -78,6 +78,10 @@ struct PipelineReport {
   std::vector<LaneResult> lanes;
   std::optional<LaneResult> reference;
   std::optional<ColorRange> color_range;  // the scale used
+  // Per lane, the colouring field's largest value over every target and over the particles,
+  // and its largest value at the last target where the lane had one (NaN when never coloured):
+  // with --color error, how far each lane strayed from the reference, in numbers.
+  std::vector<double> field_max, field_last;
   double wait_seconds = 0.0, render_seconds = 0.0;  // this thread: waiting on lanes, rendering
   std::vector<std::pair<std::string, double>> output_seconds;  // per output
   long targets = 0;  // processed
