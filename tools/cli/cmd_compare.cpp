@@ -122,7 +122,11 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
                   report.field_max[i], field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
     }
   for (const LaneResult& r : report.lanes)
-    if (r.spec.kind == IntegratorKind::ImplicitEuler)
+    if (r.spec.fixed_point)  // the course's one-iteration fixed point: no Newton, no CG, no contacts held
+      std::printf("%s @ %s s: %" PRId64 " fixed-point iterations; post-step projections %" PRId64 "\n",
+                  r.spec.name().c_str(), r.spec.step_text.c_str(), r.totals.newton_iterations,
+                  r.totals.safety_projections);
+    else if (r.spec.kind == IntegratorKind::ImplicitEuler)
       std::printf("%s @ %s s: %" PRId64 " Newton and %" PRId64 " CG iterations (%" PRId64
                   " sparse factorizations), largest final residual %.2g; "
                   "contacts held in the solve %" PRId64 ", post-step projections %" PRId64 "\n",
