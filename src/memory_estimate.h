@@ -10,7 +10,9 @@
 // the explicit family (RK4's stages, the worst of them: measured 192 B over the Model,
 // symplectic Euler 73 B); implicit Euler adds its sparse system, 256 B per particle and 128 B
 // per spring (measured 1 344 B per particle in all, estimated 1 552, in runs that did not
-// factor), plus the sparse factor a step may build: 80 B x 8 log2(P) per particle (measured
+// factor; implicit_euler's reused Newton matrix and line guess, State::implicit_lin_* and
+// implicit_dv_before, then added 147 B per particle at 512^2 (706 against 667 MB peak, GNU
+// time, side by side), which the 208 B of headroom covers), plus the sparse factor a step may build: 80 B x 8 log2(P) per particle (measured
 // 27-116 blocks of 76 B per particle at 25^2..300^2), never more than the solver's 512 MiB
 // cap. A sphere costs about 4 kB, mostly its YAML tree while the file is read. The estimate
 // errs high on purpose; issue 12 measured 5.1 GB at 2048^2 for implicit Euler, estimated here

@@ -22,7 +22,28 @@ struct State {
   // before one), and the particles its contacts held at the end of that step (the active
   // set's first guess).
   Eigen::Matrix3Xd implicit_dv;
+  // The velocity change of the step before that (3 x B, empty before two steps), and whether
+  // the next step starts from the straight line through the two, 2 dv_n - dv_{n-1}, rather
+  // than dv_n: chosen by which of the two guesses the last step's solution lay closer to.
+  Eigen::Matrix3Xd implicit_dv_before;
+  bool implicit_extrapolate = false;
   std::vector<std::int32_t> implicit_held;
+  // The linearisation of the Newton matrix implicit_euler last assembled (sparse_system.h),
+  // which later iterations and steps reuse while the residual shows it still serves: the
+  // end-of-step positions (3 x B), the spring lengths at that step's start (S), the inverse
+  // masses (B) and the step size it was assembled with. The matrix is scratch (in the
+  // Workspace) and a function of these: a Workspace that does not hold it (a fresh one, or one
+  // that last served another State) rebuilds it from them, bit for bit. implicit_lin_id names
+  // the assembly (unique in the process, 0 = none), so a Workspace holding it knows it does.
+  Eigen::Matrix3Xd implicit_lin_y;
+  std::vector<double> implicit_lin_length;
+  Eigen::VectorXd implicit_lin_inv_mass;
+  double implicit_lin_h = 0.0;
+  std::uint64_t implicit_lin_id = 0;
+  // Whether the last step that tried that matrix on a new iterate converged with it (or
+  // contracted its residual enough); if not, steps assemble afresh and try it again only every
+  // 16th step.
+  bool implicit_lin_trusted = true;
   // Whether the last step's linear solves needed the sparse factor
   // (cholesky_preconditioner.h), so that the next factors at its first solve.
   bool implicit_factored = false;

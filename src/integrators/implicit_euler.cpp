@@ -19,7 +19,11 @@
 //    where Phi's decrease is below its rounding, the filtered residual decides instead;
 //  - contacts with the ground and kinematic spheres are constraints of the minimisation,
 //    held by filtering (step_contacts.h), found as an active set.
-// It starts from the previous step's dv when there is one (at small steps dv changes little).
+// It starts from the previous step's dv when there is one (at small steps dv changes little),
+// or from the line through the last two steps' dv where that predicted the last step better
+// (kLineAdvantage). Its Newton matrix is reused across iterations and steps while an iteration
+// with it meets the tolerance or contracts the residual (kReuseContraction); the matrix's
+// linearisation lives in State, so a copied State continues bit for bit.
 // newton_max_iterations = 1 is Baraff & Witkin 1998's step instead: one linear system,
 // linearised about the start of the step (y = x_n, dv = -v_n), with the projected Hessian,
 // solved to cg_tolerance and taken whole, without line search or active-set rounds.
@@ -52,6 +56,8 @@
 //   converged = true: a fixed number of iterations, with no tolerance to miss.
 #include <algorithm>
 #include <cmath>
+#include <atomic>
+#include <cstdint>
 #include <limits>
 
 #include "forces.h"
@@ -76,6 +82,11 @@ struct ImplicitCache {
   Eigen::Matrix3Xd dv, y, r;            // (3 x B) the iterate, its end positions and residual
   Eigen::Matrix3Xd dv_try, y_try, r_try;  // (3 x B) a line-search trial
   Eigen::Matrix3Xd d, rhs;              // (3 x B) the Newton direction and -S r
+  Eigen::Matrix3Xd line_guess;          // (3 x B) 2 dv_n - dv_{n-1}, a first guess
+  // The exact Hessian in A: which assembly it is (State::implicit_lin_id; 0 = none, or A holds
+  // something else), and whether diag_inverse is A's block-Jacobi inverse.
+  std::uint64_t matrix_id = 0;
+  bool jacobi_ready = false;
   CgBuffers cg;
   CholeskyPreconditioner factor;  // built and used within one step
 };
@@ -91,11 +102,42 @@ constexpr int kMaxHalvings = 30;
 constexpr int kMaxContactRounds = 4;
 // The largest CG forcing term (relative tolerance of a Newton direction).
 constexpr double kMaxForcing = 0.1;
+// The forcing term is dropped for the absolute tolerance when |r| times it is below this many
+// Newton tolerances (above: the finishing solve).
+constexpr double kFinishMargin = 10.0;
 // The relative residual below which contacts are let go during a solve.
 constexpr double kReleaseResidual = 1e-2;
 // Every kRetryJacobi-th step starts with block Jacobi even when the last step factored, so a
 // run whose steps have become easy stops factoring.
 constexpr int kRetryJacobi = 16;
+// Reusing the Newton matrix (the Hessian of an earlier iterate, of this step or an earlier
+// one): an iteration with it is judged at the next residual. It served if that residual met
+// the tolerance or fell to at most kReuseContraction times the one before, with the full step
+// taken and CG converged; then the matrix is kept. Otherwise the step assembles afresh at its
+// next iteration, and later steps do so too, trying the old matrix again every
+// kRetryReuse-th step. An iteration with a reused matrix costs about 0.4 of one that
+// assembles (a Phi evaluation and the CG solve, without the assembly), so one that takes the
+// residual down 4 times or more is at least as good as an exact one followed by nothing.
+// A step tries a reused matrix only while more than kReuseReserve iterations of its budget
+// would remain after it, so a reuse that does not serve never costs a step its convergence
+// (with newton_max_iterations 2 or 3 the last two iterations are always exact Newton).
+constexpr double kReuseContraction = 0.25;
+constexpr int kRetryReuse = 16;
+constexpr int kReuseReserve = 2;
+// ... and only at an iterate whose relative residual is below kReuseResidual, where the step
+// left to take is small and any nearby Hessian models it. Far from the solution (a large step's
+// first iterations, at residuals near 1) exact Newton's path decides which minimum of Phi the
+// step finds, and an undamped crumpled sheet at h = 0.5 s found one of higher energy when
+// its first direction came from the last step's matrix.
+constexpr double kReuseResidual = 1e-4;
+// The next step starts on the line through the last two steps' dv only where that line
+// predicted the last step kLineAdvantage times closer than the last dv did: at small steps it
+// does by 100 times and more; at large ones, where Phi may have several minima and the
+// guess decides which one Newton finds, it seldom does.
+constexpr double kLineAdvantage = 4.0;
+
+// Names every assembled Newton matrix in the process (State::implicit_lin_id).
+std::atomic<std::uint64_t> next_matrix_id{1};
 // The largest sparse factor built (its L, cholesky_preconditioner.h): 512 MiB, between a
 // 256 x 256 sheet's (424 MiB) and a 300 x 300 sheet's (766 MiB). Larger sheets solve with
 // block Jacobi.
@@ -108,6 +150,7 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
       c.A.num_springs() != model.springs.size()) {
     build_pattern(model, c.A);
     c.factor.reset();  // analysed when first needed
+    c.matrix_id = 0;
     c.model = &model;
     double sum = 0.0;
     for (std::size_t s = 0; s < model.springs.size(); ++s)
@@ -140,10 +183,23 @@ double impulse_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv,
 // Returns whether it converged.
 class NewtonSolve {
  public:
-  NewtonSolve(const Model& model, const State& start, double h, ImplicitCache& c, StepStats& stats)
-      : model_(model), start_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats),
+  // `start` is read as the step's start throughout; only its record of the Newton matrix's
+  // linearisation (State::implicit_lin_*) is written, when a matrix is assembled.
+  NewtonSolve(const Model& model, State& start, double h, ImplicitCache& c, StepStats& stats)
+      : model_(model), start_(start), record_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats),
         single_step_(cfg_.newton_max_iterations == 1),
-        factor_first_(start.implicit_factored && start.step % kRetryJacobi != 0) {
+        factor_first_(start.implicit_factored && start.step % kRetryJacobi != 0),
+        trusted_(start.implicit_lin_trusted) {
+    // The recorded matrix may serve this step if it was assembled for the same system (the
+    // step size and which bodies move: the matrix's rows for immovable ones are removed) and
+    // last served well, or as a probe every kRetryReuse-th step. Baraff & Witkin's step is
+    // linearised at its own start, always.
+    const int B = model.num_bodies();
+    reuse_ = !single_step_ && start.implicit_lin_id != 0 && start.implicit_lin_h == h &&
+             start.implicit_lin_y.cols() == B &&
+             start.implicit_lin_length.size() == model.springs.size() &&
+             start.implicit_lin_inv_mass.size() == B && start.implicit_lin_inv_mass == start.inv_mass &&
+             (trusted_ || start.step % kRetryReuse == 0);
     // A factor serves one step: the next builds its own, so a copied State continues bit for bit.
     c_.factor.invalidate();
   }
@@ -155,6 +211,7 @@ class NewtonSolve {
 
   void set_scale(double impulse_scale) { impulse_scale_ = impulse_scale; }
   bool factored() const { return factored_; }
+  bool trusted() const { return trusted_; }
 
   // warm: a guess for the first direction (the previous step's dv - the current dv), or null.
   bool iterate(const Eigen::Matrix3Xd* warm) {
@@ -165,6 +222,15 @@ class NewtonSolve {
       const double r_norm = c_.rhs.norm();
       const double scale = std::max(impulse_scale_, momentum_norm(w, c_.dv));
       stats_.residual = r_norm / scale;
+      if (judge_reuse_) {  // the last iteration reused a matrix: did it serve?
+        judge_reuse_ = false;
+        trusted_ = stats_.residual <= cfg_.newton_tolerance ||
+                   (reuse_ok_ && r_norm <= kReuseContraction * reuse_from_);
+        if (!trusted_) {
+          reuse_ = false;
+          ++unserved_;
+        }
+      }
       if (stats_.residual <= cfg_.newton_tolerance) return true;
       // Once the iterate is near a solution its contact impulses mean something: let go of the
       // pulling ones now rather than converge with them held (a held particle the cloth would
@@ -174,7 +240,10 @@ class NewtonSolve {
         evaluate();
         continue;
       }
-      if (stats_.newton_iterations >= cfg_.newton_max_iterations || !std::isfinite(stats_.residual))
+      // (A reused matrix's iteration that did not serve is not charged to the budget: the
+      // step gets every exact iteration it would have had without it.)
+      if (stats_.newton_iterations - unserved_ >= cfg_.newton_max_iterations ||
+          !std::isfinite(stats_.residual))
         return false;
 
       CgSettings settings;
@@ -184,20 +253,42 @@ class NewtonSolve {
       // the Newton test resolves. Baraff & Witkin's single step gets no second chance: its
       // system is solved to cg_tolerance (a loose forcing term would accept the warm start
       // itself as the step).
-      settings.tolerance = single_step_ ? cfg_.cg_tolerance
-                                        : std::max(cfg_.cg_tolerance, std::min(kMaxForcing, stats_.residual));
+      //
+      // Where the forcing term would leave the next residual within kFinishMargin of the
+      // tolerance (|r| times the forcing term, |r|^2, is what a Newton step with a nearly exact
+      // Hessian leaves), the next Newton iteration would be spent on the forcing term alone: this
+      // solve goes down to the absolute tolerance instead (a few CG iterations more, one Newton
+      // iteration fewer: at the drape's 1e-4 s, started from the last dv at about 1e-3 with a
+      // tolerance of 1e-6, steps converged in 1.06 iterations instead of 1.4 on average).
+      const double forcing = std::min(kMaxForcing, stats_.residual);
+      const bool finish = forcing * stats_.residual < kFinishMargin * cfg_.newton_tolerance;
+      settings.tolerance = single_step_ || finish ? cfg_.cg_tolerance
+                                                  : std::max(cfg_.cg_tolerance, forcing);
       settings.absolute_tolerance = 0.1 * cfg_.newton_tolerance * scale;
       const double slope = direction(settings, warm);
       warm = nullptr;
       ++stats_.newton_iterations;
-      if (!(slope < 0.0)) return false;  // no descent left (a non-finite system)
+      if (reused_) {  // judged at the next residual (above)
+        judge_reuse_ = true;
+        reuse_from_ = r_norm;
+      }
+      if (!(slope < 0.0) || (!single_step_ && !line_search(slope))) {
+        // A reused matrix that gives no descent or no step is not a verdict on the iterate:
+        // assemble at it and go on. With the exact Hessian it is (a non-finite system, or
+        // rounding has the last word).
+        if (!reused_) return false;
+        judge_reuse_ = false;
+        trusted_ = reuse_ = false;
+        ++unserved_;
+        continue;
+      }
 
       if (single_step_) {  // Baraff & Witkin: the linearised step, whole
         c_.dv += c_.d;
         evaluate();
         continue;  // measures the residual, then stops at the budget
       }
-      if (!line_search(slope)) return false;
+      reuse_ok_ = reuse_ok_ && alpha_ == 1.0;
       // A particle the step took inside a collider is held from here on (letting go waits
       // until the residual is small, when the impulses mean something: above).
       if (take_in_step_contacts(model_, start_, h_, c_.y, c_.contacts)) {
@@ -219,16 +310,38 @@ class NewtonSolve {
   // (cholesky_preconditioner.h), kept while the iterations spent with it since it was built
   // cost less than building it again.
   double direction(CgSettings settings, const Eigen::Matrix3Xd* warm) {
-    const Eigen::VectorXd& w = start_.inv_mass;
     // The block-Jacobi preconditioner is formed only for solves that use it (below).
-    assemble_step_hessian(model_, w, h_, c_.start_length, c_.y, single_step_, c_.A, false);
+    reused_ = reuse_ && stats_.residual < kReuseResidual &&
+              cfg_.newton_max_iterations - (stats_.newton_iterations - unserved_) > kReuseReserve;
+    if (!reused_) {
+      assemble_step_hessian(model_, start_.inv_mass, h_, c_.start_length, c_.y, single_step_, c_.A, false);
+      c_.jacobi_ready = false;
+      c_.matrix_id = 0;
+      if (!single_step_) {  // recorded in State for later iterations and steps to reuse
+        c_.matrix_id = next_matrix_id.fetch_add(1, std::memory_order_relaxed);
+        record_.implicit_lin_y = c_.y;
+        record_.implicit_lin_length = c_.start_length;
+        record_.implicit_lin_inv_mass = start_.inv_mass;
+        record_.implicit_lin_h = h_;
+        record_.implicit_lin_id = c_.matrix_id;
+      }
+    } else if (c_.matrix_id != start_.implicit_lin_id) {
+      // The recorded matrix, which this Workspace does not hold: rebuilt from State.
+      assemble_step_hessian(model_, start_.implicit_lin_inv_mass, start_.implicit_lin_h,
+                            start_.implicit_lin_length, start_.implicit_lin_y, false, c_.A, false);
+      c_.jacobi_ready = false;
+      c_.matrix_id = start_.implicit_lin_id;
+    }
     if (!c_.factor.analysed()) c_.factor.analyse(c_.A);
     // A factor past kMaxFactorBytes is never built (block Jacobi throughout): the memory a run
     // needs stays within what memory_estimate.h promises, whatever the sheet's size.
     const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;
     const double factor_cost = c_.factor.factor_cost();
     if (affordable && (c_.factor.ready() ? factor_work_ > factor_cost : factor_first_)) factorize();
-    if (!c_.factor.ready()) invert_diagonal(c_.A);
+    if (!c_.factor.ready() && !c_.jacobi_ready) {
+      invert_diagonal(c_.A);
+      c_.jacobi_ready = true;
+    }
 
     settings.from_guess = warm != nullptr;
     if (warm && warm != &c_.d) c_.d = *warm;
@@ -254,6 +367,7 @@ class NewtonSolve {
     const bool factored = c_.factor.ready();
     const CgResult cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter,
                                   factored ? &c_.factor : nullptr);
+    reuse_ok_ = cg.converged;
     stats_.cg_iterations += cg.iterations;
     if (factored) factor_work_ += cg.iterations * (1.0 + c_.factor.solve_cost());
     else jacobi_work_ += cg.iterations;
@@ -270,6 +384,7 @@ class NewtonSolve {
   // Armijo backtracking along d from dv; on success the trial becomes the iterate.
   bool line_search(double slope) {
     double alpha = 1.0;
+    alpha_ = 0.0;
     const double r_norm2 = c_.rhs.squaredNorm();
     for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {
       c_.dv_try.noalias() = c_.dv + alpha * c_.d;
@@ -287,6 +402,7 @@ class NewtonSolve {
         if (!accept) return false;  // rounding has the last word: stop here
       }
       if (accept) {
+        alpha_ = alpha;
         c_.dv.swap(c_.dv_try);
         c_.y.swap(c_.y_try);
         c_.r.swap(c_.r_try);
@@ -299,6 +415,7 @@ class NewtonSolve {
 
   const Model& model_;
   const State& start_;
+  State& record_;  // the same State: its implicit_lin_* only
   double h_;
   const ImplicitDef& cfg_;
   ImplicitCache& c_;
@@ -310,6 +427,15 @@ class NewtonSolve {
   bool factored_ = false;      // this step built a factor
   double jacobi_work_ = 0.0;   // block-Jacobi PCG iterations this step
   double factor_work_ = 0.0;   // the same units spent with the factor since it was built
+  // Reuse of the Newton matrix (kReuseContraction):
+  bool trusted_;               // the recorded matrix served when last tried
+  bool reuse_ = false;         // the next direction may use the matrix in hand
+  bool reused_ = false;        // the last direction did
+  bool judge_reuse_ = false;   // the next residual judges the last direction's matrix
+  bool reuse_ok_ = false;      // that direction's CG converged and its full step was taken
+  double reuse_from_ = 0.0;    // |S r| before it
+  int unserved_ = 0;           // iterations with a reused matrix that did not serve
+  double alpha_ = 0.0;         // the last line search's step
 };
 
 StepStats newton_step(const Model& model, State& state, double h, Workspace& ws) {
@@ -323,18 +449,28 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   // the contacts predicted from the previous step's dv.
   stats.start_strain = spring_lengths(model.springs, state.x, c.start_length);
   const bool have_guess = state.implicit_dv.cols() == B;
-  predict_step_contacts(model, state, h, have_guess ? &state.implicit_dv : nullptr, c.contacts);
+  const bool baraff_witkin = cfg.newton_max_iterations == 1;
+  // The first guess: the last step's dv, or the line through the last two steps' dv where
+  // that predicted the last step better (at small steps dv changes smoothly, and the line
+  // starts Newton about 10 times closer; in a collision it overshoots, and the plain dv wins).
+  const bool have_line = have_guess && state.implicit_dv_before.cols() == B;
+  if (have_line) c.line_guess.noalias() = 2.0 * state.implicit_dv - state.implicit_dv_before;
+  // (Baraff & Witkin's step is warm-started in CG from the last dv, as it always was.)
+  const Eigen::Matrix3Xd* guess = !have_guess ? nullptr
+                                  : have_line && state.implicit_extrapolate && !baraff_witkin
+                                      ? &c.line_guess
+                                      : &state.implicit_dv;
+  predict_step_contacts(model, state, h, guess, c.contacts);
 
   // Baraff & Witkin's step starts at y = x_n (dv = -v_n on movable bodies). A full solve
   // starts from the previous step's dv when there is one: at the small steps explicit methods
   // need, dv changes little from step to step, and Newton starts most of the way there.
   // Either way held particles are moved onto their planes.
-  const bool baraff_witkin = cfg.newton_max_iterations == 1;
   const bool from_guess = have_guess && !baraff_witkin;
   c.dv.resize(3, B);
   for (int i = 0; i < B; ++i) {
     if (w[i] == 0.0) c.dv.col(i).setZero();
-    else if (from_guess) c.dv.col(i) = state.implicit_dv.col(i);
+    else if (from_guess) c.dv.col(i) = guess->col(i);
     else c.dv.col(i) = -state.v.col(i);
   }
   place_on_planes(c.contacts, state, h, c.dv);
@@ -353,7 +489,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   // Baraff & Witkin's direction is warm-started from the previous step's dv in CG instead.
   Eigen::Matrix3Xd* warm = nullptr;
   if (have_guess && baraff_witkin) {
-    c.d = state.implicit_dv - c.dv;
+    c.d = *guess - c.dv;
     for (int i = 0; i < B; ++i)
       if (w[i] == 0.0) c.d.col(i).setZero();
     warm = &c.d;
@@ -368,10 +504,18 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   }
   stats.contact_constraints = static_cast<int>(c.contacts.size());
   state.implicit_factored = newton.factored();
+  if (!baraff_witkin) state.implicit_lin_trusted = newton.trusted();
 
   state.v += c.dv;          // v_{n+1} = v_n + dv (dv = 0 for immovable bodies)
   state.x += h * state.v;   // x_{n+1} = x_n + h v_{n+1}
   respond_to_step_contacts(model, c.contacts, c.r, state);
+  // Which guess the solution lay closer to decides the next step's (a comparison of two
+  // distances the step has already paid for, so the choice is judged, never assumed).
+  state.implicit_extrapolate =
+      have_line && !baraff_witkin &&
+      kLineAdvantage * kLineAdvantage * (c.dv - c.line_guess).squaredNorm() <
+          (c.dv - state.implicit_dv).squaredNorm();
+  state.implicit_dv_before.swap(state.implicit_dv);
   state.implicit_dv = c.dv;
   state.implicit_held = c.contacts.filter.body;
   return stats;

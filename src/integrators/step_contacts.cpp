@@ -54,6 +54,39 @@ Candidate nearest_collider(const Model& model, const State& start, double h, con
   return best;
 }
 
+// Where a particle could be within `slack` beyond an immovable collider's reach: the ground's
+// height and each kinematic sphere's end-of-step centre and reach, gathered once per pass so
+// that the particles far from every collider (most of a sheet) cost a few comparisons each
+// and no square root, instead of nearest_collider's full search. The test is conservative
+// (its bounds are widened by far more than the rounding of the squares), and nearest_collider
+// still decides for every particle that passes it, so the contacts found are the same.
+class NearColliders {
+ public:
+  NearColliders(const Model& model, const State& start, double h, double slack) {
+    const double margin = model.collision.margin;
+    for (int s = 0; s < model.num_spheres; ++s) {
+      if (!is_kinematic_sphere(model, start, s)) continue;
+      const int b = model.sphere_body(s);
+      const double bound = model.sphere_radius[s] + margin + slack;
+      centre_.push_back(start.x.col(b) + h * start.v.col(b));
+      bound2_.push_back(bound * bound * (1.0 + 1e-9) + 1e-18);
+    }
+    ground_ = model.has_ground ? model.ground.height + margin + slack + 1e-9
+                               : -std::numeric_limits<double>::infinity();
+  }
+  bool maybe(const Vec3& at) const {
+    if (at.y() < ground_) return true;
+    for (std::size_t s = 0; s < centre_.size(); ++s)
+      if ((at - centre_[s]).squaredNorm() < bound2_[s]) return true;
+    return false;
+  }
+
+ private:
+  std::vector<Vec3> centre_;
+  std::vector<double> bound2_;
+  double ground_;
+};
+
 void hold(StepContacts& contacts, int p, const Candidate& c) {
   contacts.filter.body.push_back(p);
   contacts.filter.normal.push_back(c.normal);
@@ -77,11 +110,13 @@ void predict_step_contacts(const Model& model, const State& start, double h,
   for (const std::int32_t p : start.implicit_held)
     if (p < model.num_particles) was_held[p] = 1;
   const double margin = model.collision.margin;
+  const NearColliders near(model, start, h, margin);
   for (int p = 0; p < model.num_particles; ++p) {
     if (start.inv_mass[p] == 0.0) continue;
     Vec3 v = start.v.col(p);
     if (guess) v += guess->col(p);
     const Vec3 at = start.x.col(p) + h * v;
+    if (!near.maybe(at)) continue;
     const Candidate c = nearest_collider(model, start, h, start.x.col(p), at);
     if (c.gap < (was_held[p] ? margin : 0.0)) hold(contacts, p, c);
   }
@@ -100,8 +135,9 @@ void place_on_planes(const StepContacts& contacts, const State& start, double h,
 bool take_in_step_contacts(const Model& model, const State& start, double h,
                            const Eigen::Matrix3Xd& y, StepContacts& contacts) {
   bool changed = false;
+  const NearColliders near(model, start, h, 0.0);
   for (int p = 0; p < model.num_particles; ++p) {
-    if (start.inv_mass[p] == 0.0 || contacts.held[p]) continue;
+    if (start.inv_mass[p] == 0.0 || contacts.held[p] || !near.maybe(y.col(p))) continue;
     const Candidate c = nearest_collider(model, start, h, start.x.col(p), y.col(p));
     if (c.gap < 0.0) {
       hold(contacts, p, c);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <limits>
 
 #include "forces.h"
 #include "core/integrators/oscillator.h"
@@ -300,6 +301,123 @@ TEST(ImplicitEuler, ACopiedStateContinuesBitForBit) {
   ASSERT_GT(factorizations, 0) << "the copy is meant to be taken where the factor is in use";
   EXPECT_EQ((state.x - copy.x).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ((state.v - copy.v).cwiseAbs().maxCoeff(), 0.0);
+}
+
+// Reuse of the Newton matrix across iterations and steps (implicit_euler.cpp,
+// kReuseContraction), at the drape's step of 1e-4 s, where it pays: a 15 x 15 sheet hanging
+// from its corners and falling, clear of every collider, so the stated equation is all a step
+// has to meet.
+Model falling_sheet() { return sheet_with_two_spheres({"cloth.particles=[15, 15]"}); }
+
+TEST(ImplicitEuler, ReusesItsNewtonMatrixAcrossStepsAndStillSolvesTheStatedEquation) {
+  const Model model = falling_sheet();
+  State state = initial_state(model);
+  Workspace ws;
+  const double h = 1e-4;
+  const int steps = 300;
+  int assemblies = 0, newton = 0;
+  for (int n = 0; n < steps; ++n) {
+    const State before = state;
+    const StepStats s = step(model, state, kKind, h, ws).stats;
+    ASSERT_TRUE(s.converged) << "step " << n << " residual " << s.residual;
+    assemblies += state.implicit_lin_id != before.implicit_lin_id;  // a new matrix was recorded
+    newton += s.newton_iterations;
+    double scale = 0.0;
+    const double r = stated_residual(model, before, state, h, scale);
+    ASSERT_LE(r, 1.001 * model.implicit.newton_tolerance * scale) << "step " << n;
+  }
+  // The matrix changes little over a step here: most steps solve with an older one.
+  EXPECT_LT(assemblies, steps / 4);
+  // The guess on the line through the last two steps' dv starts Newton close enough that,
+  // with the finishing solve, one iteration a step is the rule.
+  EXPECT_LT(newton, steps * 11 / 10);
+}
+
+TEST(ImplicitEuler, AReusedMatrixIsKeptOnlyWhileItServesAndRebuiltAtTheIterateWhenNot) {
+  // The State's recorded linearisation forged, still marked as serving:
+  //  - start lengths of NaN: a matrix on which PCG fails (no direction at all);
+  //  - end positions of the sheet shrunk about its centre to 1 % or 50 % of its size, so every
+  //    spring is compressed against the recorded start lengths: an indefinite matrix (1 %) or a
+  //    wrong one (50 %).
+  // Whatever the forgery, the step converges to the honest State's step, and the forged matrix
+  // is either replaced by one assembled at the step's iterate and no longer trusted, or kept
+  // because its iteration met the tolerance (at 1e-4 s the mass dominates the Newton matrix,
+  // and truncated CG's first direction on an indefinite one is the block-Jacobi one, which
+  // can be enough). The NaN matrix is always replaced.
+  const Model model = falling_sheet();
+  State state = initial_state(model);
+  Workspace ws;
+  const double h = 1e-4;
+  for (int n = 0; n < 20; ++n) step(model, state, kKind, h, ws);
+  ASSERT_TRUE(state.implicit_lin_trusted);
+  // A kick (10 nm/s at random), so that the step has iterations to do, from an iterate close
+  // enough (relative residual below 1e-4) for a reused matrix to be tried.
+  std::srand(5);
+  state.v += 1e-8 * Eigen::Matrix3Xd::Random(3, model.num_bodies());
+  for (int b = 0; b < model.num_bodies(); ++b)
+    if (state.inv_mass[b] == 0.0) state.v.col(b).setZero();
+  State honest = state;
+  Workspace honest_ws;
+  const StepStats honest_stats = step(model, honest, kKind, h, honest_ws).stats;
+  ASSERT_GE(honest_stats.newton_iterations, 1) << "the kick is meant to leave work to do";
+  for (const double shrink : {0.0, 0.01, 0.5}) {  // 0: the NaN lengths
+    State forged = state;
+    if (shrink == 0.0) {
+      std::fill(forged.implicit_lin_length.begin(), forged.implicit_lin_length.end(),
+                std::numeric_limits<double>::quiet_NaN());
+    } else {
+      const Eigen::Vector3d centre = forged.x.rowwise().mean();
+      forged.implicit_lin_y = (shrink * (forged.x.colwise() - centre)).colwise() + centre;
+    }
+    forged.implicit_lin_id = (std::uint64_t{1} << 62) + static_cast<std::uint64_t>(100 * shrink);
+    Workspace fresh;  // holds no matrix: rebuilds the forged one from State
+    const State before = forged;
+    const StepStats s = step(model, forged, kKind, h, fresh).stats;
+    ASSERT_TRUE(s.converged) << "shrink " << shrink << " residual " << s.residual;
+    double scale = 0.0;
+    const double r = stated_residual(model, before, forged, h, scale);
+    EXPECT_LE(r, 1.001 * model.implicit.newton_tolerance * scale) << "shrink " << shrink;
+    const bool rebuilt = forged.implicit_lin_id != before.implicit_lin_id;
+    EXPECT_EQ(rebuilt, !forged.implicit_lin_trusted) << "shrink " << shrink;
+    if (shrink == 0.0) {
+      EXPECT_TRUE(rebuilt) << "the NaN matrix was kept";
+      // It was tried (an iteration without a direction) before the rebuilt one solved.
+      EXPECT_GE(s.newton_iterations, 2);
+    }
+    // The same step as the honest State's, to the solve's accuracy (|dv| ~ g h; tolerance 1e-6).
+    EXPECT_LT((forged.v - honest.v).cwiseAbs().maxCoeff(), 1e-6 * 9.8 * h * 10) << "shrink " << shrink;
+  }
+}
+
+TEST(ImplicitEuler, ACopiedStateContinuesBitForBitWhileItsNewtonMatrixIsReused) {
+  // At the drape's own step (ball contacts included) the Newton matrix lives across steps; a
+  // copy continued with a fresh Workspace rebuilds it from State and takes the same steps,
+  // and so do two States taking turns on one Workspace (each finds the other's matrix there
+  // and rebuilds its own).
+  const Model model = build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml"));
+  State state = initial_state(model);
+  Workspace ws;
+  for (int n = 0; n < 40; ++n) step(model, state, kKind, model.dt, ws);
+  State copy = state, turn_a = state, turn_b = state, alone_b = state;
+  turn_b.v *= 1.01;  // a different run from the same matrix
+  alone_b.v *= 1.01;
+  Workspace fresh, shared, alone_ws;
+  int reused = 0;
+  for (int n = 0; n < 40; ++n) {
+    const std::uint64_t id = state.implicit_lin_id;
+    step(model, state, kKind, model.dt, ws);
+    reused += state.implicit_lin_id == id;
+    step(model, copy, kKind, model.dt, fresh);
+    step(model, turn_a, kKind, model.dt, shared);
+    step(model, turn_b, kKind, model.dt, shared);
+    step(model, alone_b, kKind, model.dt, alone_ws);
+  }
+  ASSERT_GT(reused, 20) << "the copy is meant to be taken where the matrix is reused";
+  EXPECT_EQ((state.x - copy.x).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((state.v - copy.v).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((state.x - turn_a.x).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((alone_b.x - turn_b.x).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((alone_b.v - turn_b.v).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(ImplicitEuler, SaysSoWhenNewtonHitsItsIterationCapAboveTolerance) {
