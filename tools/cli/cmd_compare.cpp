@@ -222,8 +222,10 @@ int compare_command(const CompareOptions& o) {
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
   for (const LaneSpec& l : lanes)
-    budget.add(l.name() + "@" + l.step_text, run_bytes(scene, l.kind) + (l.fixed_point ? model_bytes(scene) : 0.0));
-  if (look.reference) budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind));
+    budget.add(l.name() + "@" + l.step_text,
+               run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
+  if (look.reference)
+    budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind) + kLaneThreadBytes);
   if (rendering) {
     const double n = static_cast<double>(lanes.size());
     const double tile = 4.0 * grid->cell_width() * grid->cell_height(), canvas = 4.0 * grid->width() * grid->height();

@@ -32,6 +32,12 @@ double render_bytes(int width, int height, int samples);
 // 62-75 B on this 2-core machine; x264's frame threads, hence its memory, grow with cores).
 double encoder_bytes(int width, int height);
 
+// Each lane thread of a frame pipeline beyond the Run itself: glibc's per-thread malloc arena
+// and the thread's stack pages. Calibrated on compare's default clip: with 4 lane threads the
+// estimate was 2-3 % under its peak (245 MiB), with 5 (the reference lane added) 6 % under
+// (253 MiB) until this term, 3 MiB per lane, was counted.
+inline constexpr double kLaneThreadBytes = 3.0 * 1024 * 1024;
+
 // Lane frames held back while a colour scale is chosen from the first second's data
 // (frame_pipeline.h): `frames` targets of `lanes` lanes, each a picture's geometry (positions,
 // normals, grid coordinates, triangles: 56 B per particle), the field (4 B) and double
