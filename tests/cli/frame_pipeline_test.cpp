@@ -1,5 +1,8 @@
 // The frame pipeline's pieces that are not a command: overlay text and the colour scale.
 #include "frame_pipeline.h"
+#include "frame_decoration.h"
+
+#include <cmath>
 
 #include <gtest/gtest.h>
 
@@ -37,4 +40,22 @@ TEST(RangeFromData, RoundsTheLargestValueUpToADecadeAndSpansFourDecadesForTheErr
   EXPECT_NEAR(strain->lo, 1e-6, 1e-21);
   const std::vector<float> zeros(5, 0.f);
   EXPECT_FALSE(range_from_data({&zeros}, FieldKind::Speed)) << "a cloth at rest has no scale";
+}
+
+TEST(EnergyInset, SharesTheAxesButAnExplodingLaneDoesNotFlattenTheOthers) {
+  std::vector<EnergyHistory> lanes(2);
+  for (int k = 0; k <= 10; ++k) {
+    lanes[0].add(0.1 * k, 100.0 - k);               // a damped lane: 100 -> 90 J
+    lanes[1].add(0.1 * k, 100.0 * std::pow(10, k));  // an exploding one
+  }
+  RenderFrame f;
+  draw_energy_inset(f, lanes, 0, 1.0);
+  ASSERT_TRUE(f.inset.show);
+  EXPECT_FLOAT_EQ(f.inset.v_lo, 90.f) << "the data's own low end";
+  EXPECT_FLOAT_EQ(f.inset.v_hi, 300.f) << "E(0) + 2 |E(0)|, not 1e12";
+  EXPECT_EQ(f.inset.value.size(), 11u);
+  EXPECT_FLOAT_EQ(f.inset.t_hi, 1.f);
+  RenderFrame g;
+  draw_energy_inset(g, lanes, 1, 1.0);
+  EXPECT_EQ(g.inset.v_hi, f.inset.v_hi) << "one axis for every tile";
 }

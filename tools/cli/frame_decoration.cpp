@@ -24,6 +24,19 @@ void draw_energy_inset(RenderFrame& frame, const std::vector<EnergyHistory>& lan
         hi = std::max(hi, e);
       }
   if (!(lo <= hi)) return;  // nothing finite yet
+  // A lane whose energy explodes before it is declared diverged would flatten every other
+  // curve: the axis reaches at most 2 |E(0)| either side of the initial energy (the same in
+  // every lane: one scene), and what lies beyond is drawn on the axis' edge.
+  float e0 = std::numeric_limits<float>::quiet_NaN();
+  for (const EnergyHistory& h : lanes)
+    if (!h.e.empty() && std::isfinite(h.e.front())) {
+      e0 = h.e.front();
+      break;
+    }
+  if (std::isfinite(e0) && std::abs(e0) > 0.f) {
+    lo = std::max(lo, e0 - 2.f * std::abs(e0));
+    hi = std::min(hi, e0 + 2.f * std::abs(e0));
+  }
   if (hi - lo < 1e-6f * std::max(1.f, std::abs(hi))) {  // a flat line: give it room
     const float pad = std::max(1e-3f, 0.05f * std::abs(hi));
     lo -= pad;
