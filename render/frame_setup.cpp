@@ -140,8 +140,7 @@ void draw_overlay(Image& image, const RenderFrame& frame) {
   draw_color_bar(image, frame.color_scale, layout);  // each draws nothing when it has no box
   draw_series_inset(image, frame.inset, layout);
   const int scale = layout.scale, margin = layout.margin;
-  if (!frame.overlay_lines.empty())
-    draw_text_block(image, margin, margin, frame.overlay_lines, {255, 255, 255, 255}, scale);
+  if (!layout.lines.empty()) draw_text_block(image, margin, margin, layout.lines, {255, 255, 255, 255}, scale);
   if (!frame.banner.empty()) {
     int banner_scale = 2 * scale;
     while (banner_scale > 1 && text_width(frame.banner, banner_scale) > image.width - 2 * margin) --banner_scale;

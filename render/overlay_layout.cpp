@@ -67,15 +67,41 @@ int tile_label_band(int scale) {
   return 3 * scale + line_height(scale) + 2 * scale;
 }
 
+namespace {
+
+// `line` broken at spaces into pieces no wider than `max_width` at `scale`; a single word wider
+// than that stays whole (and is clipped at the image's edge).
+void wrap_into(const std::string& line, int max_width, int scale, std::vector<std::string>& out) {
+  std::string current;
+  std::size_t start = 0;
+  while (start <= line.size()) {
+    std::size_t end = line.find(' ', start);
+    if (end == std::string::npos) end = line.size();
+    const std::string word = line.substr(start, end - start);
+    const std::string joined = current.empty() ? word : current + " " + word;
+    if (!current.empty() && text_width(joined, scale) > max_width) {
+      out.push_back(current);
+      current = "  " + word;  // continuation lines indented
+    } else {
+      current = joined;
+    }
+    start = end + 1;
+  }
+  out.push_back(current);
+}
+
+}  // namespace
+
 OverlayLayout layout_overlay(const RenderFrame& frame, int width, int height) {
   OverlayLayout l;
   l.scale = text_scale_for_height(height);
   l.margin = 4 * l.scale;
   const int s = l.scale;
-  if (!frame.overlay_lines.empty()) {  // as draw_text_block draws them at (margin, margin)
+  for (const std::string& line : frame.overlay_lines) wrap_into(line, width - 2 * l.margin, s, l.lines);
+  if (!l.lines.empty()) {  // as draw_text_block draws them at (margin, margin)
     int w = 0;
-    for (const std::string& line : frame.overlay_lines) w = std::max(w, text_width(line, s));
-    const int lines = static_cast<int>(frame.overlay_lines.size());
+    for (const std::string& line : l.lines) w = std::max(w, text_width(line, s));
+    const int lines = static_cast<int>(l.lines.size());
     if (w > 0) l.text = {l.margin - 2 * s, l.margin - 2 * s, w + 4 * s, lines * line_height(s) + 3 * s};
   }
   if (frame.inset.show) place_inset(frame, width, height, l);

@@ -42,6 +42,8 @@ struct OverlayLayout {
   int scale = 1;       // text scale: text_scale_for_height(image height)
   int margin = 4;      // pixels from the image edges: 4 x scale
   ImageBox text;       // the overlay lines with their backdrop (empty without lines)
+  std::vector<std::string> lines;  // the overlay lines as drawn: wrapped at spaces to the image's
+                                   // width (a DIVERGED reason is long for a small tile)
 
   ImageBox color_bar;  // the colour bar's panel (dark backdrop): title, tick labels, bar
   ImageBox bar;        // the gradient inside it, hi at the top row, lo at the bottom row

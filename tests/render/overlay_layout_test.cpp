@@ -90,3 +90,26 @@ TEST(OverlayLayout, ALongInsetLabelStepsItsTextDownToFitAQuarterOfTheWidth) {
 
 }  // namespace
 }  // namespace clothsim::render
+
+namespace clothsim::render {
+
+TEST(OverlayLayout, LongLinesWrapAtSpacesToTheImagesWidth) {
+  RenderFrame f;
+  f.overlay_lines = {"t = 0.024 s", "diverged: kinetic energy 7.63e+08 J exceeds the bound 4.08e+08 J"};
+  const OverlayLayout wide = layout_overlay(f, 1280, 360);
+  EXPECT_EQ(wide.lines, f.overlay_lines) << "room enough: as given";
+  const OverlayLayout narrow = layout_overlay(f, 320, 360);
+  ASSERT_GT(narrow.lines.size(), 2u);
+  EXPECT_EQ(narrow.lines[0], "t = 0.024 s");
+  EXPECT_EQ(narrow.lines[1].rfind("diverged: ", 0), 0u);
+  std::string rejoined;
+  for (std::size_t i = 1; i < narrow.lines.size(); ++i) {
+    EXPECT_LE(text_width(narrow.lines[i], narrow.scale), 320 - 2 * narrow.margin) << narrow.lines[i];
+    if (i > 1) EXPECT_EQ(narrow.lines[i].rfind("  ", 0), 0u) << "continuations are indented";
+    rejoined += (i > 1 ? " " : "") + narrow.lines[i].substr(i > 1 ? 2 : 0);
+  }
+  EXPECT_EQ(rejoined, f.overlay_lines[1]) << "no word lost";
+  EXPECT_GE(narrow.text.h, static_cast<int>(narrow.lines.size()) * text_glyph_height() * narrow.scale);
+}
+
+}  // namespace clothsim::render
