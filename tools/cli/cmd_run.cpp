@@ -78,8 +78,10 @@ int run_command(const RunOptions& o) {
   const int w = scene.render.width, h = scene.render.height;
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
-  budget.add(std::string(integrator_name(scene.integrator)), run_bytes(scene, scene.integrator));
-  if (look.reference) budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind));
+  // The run steps on a lane thread of the frame pipeline (kLaneThreadBytes), as the reference does.
+  budget.add(std::string(integrator_name(scene.integrator)), run_bytes(scene, scene.integrator) + kLaneThreadBytes);
+  if (look.reference)
+    budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind) + kLaneThreadBytes);
   if (rendering) {
     // The render target, the frame and up to 3 frames queued for the PNG writer.
     budget.add("renderer " + std::to_string(w) + "x" + std::to_string(h),
