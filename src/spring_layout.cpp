@@ -65,21 +65,30 @@ SpringLayout build_spring_layout(const Springs& springs, int nx, int ny) {
     ++fam.springs;
   }
 
-  // Pass 2: rest lengths by position, padded; the rest to the scalar pass.
+  // Pass 2: rest lengths by position, padded; the rest to the scalar pass. Slots: the
+  // families' padded positions back to back (each a multiple of kSpringLanePad), then others.
+  std::size_t slots = 0;
   for (SpringFamily& fam : out.families) {
     fam.count -= fam.first;
     const std::size_t padded =
         (static_cast<std::size_t>(fam.count) + kSpringLanePad - 1) / kSpringLanePad * kSpringLanePad;
     fam.rest.assign(padded, 0.0);
+    fam.slot_first = slots;
+    slots += padded;
   }
+  out.others_first = slots;
+  out.slot.resize(n);
   for (std::size_t s = 0; s < n; ++s) {
     if (family_of[s] < 0) {
+      out.slot[s] = static_cast<std::int32_t>(slots + out.others.size());
       append(out.others, springs, s);
       continue;
     }
     SpringFamily& fam = out.families[family_of[s]];
     fam.rest[springs.a[s] - fam.first] = springs.rest[s];
+    out.slot[s] = static_cast<std::int32_t>(fam.slot_first + (springs.a[s] - fam.first));
   }
+  out.num_slots = slots + out.others.size();
   return out;
 }
 

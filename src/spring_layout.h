@@ -36,6 +36,7 @@ struct SpringFamily {
   // 0 where the family has no spring (grid edges, the padding).
   std::vector<double> rest;
   std::size_t springs = 0;    // how many positions hold a spring
+  std::size_t slot_first = 0;  // where position 0 sits in the layout's slot order (below)
 };
 
 // Vector loads may run this many doubles past a family's last position and past the last
@@ -48,6 +49,13 @@ struct SpringLayout {
   std::vector<SpringFamily> families;   // in order of first appearance in the springs
   Springs others;                       // springs in no family, in their model order
   std::size_t num_springs = 0;          // springs laid out (families + others)
+  // Slot order, for per-spring arrays a SIMD pass reads by family position (the implicit
+  // step's start lengths and Newton blocks): every family's padded positions in turn (family f
+  // at slot_first .. slot_first + rest.size() - 1, zeros where it holds no spring), then the
+  // others in their order from others_first. Unused slots hold zeros.
+  std::vector<std::int32_t> slot;       // (num_springs) spring s's slot
+  std::size_t others_first = 0;         // slot of others[0]
+  std::size_t num_slots = 0;            // others_first + others.size()
 
   // True when the layout describes a springs array of this many springs and has families
   // to run (otherwise the scalar pass is all there is).
@@ -55,6 +63,12 @@ struct SpringLayout {
     return num_springs == total_springs && !families.empty();
   }
 };
+
+// The slot order a model's per-spring step arrays use: the layout's when it covers the springs,
+// else spring order itself (a stale layout or no grid: the scalar passes only).
+inline std::size_t slot_count(const SpringLayout& layout, std::size_t total_springs) {
+  return layout.covers(total_springs) ? layout.num_slots : total_springs;
+}
 
 // Regroups `springs` over an nx x ny particle grid (p = j nx + i) into stencil families.
 // nx or ny 0 (no grid): every spring goes to `others`.

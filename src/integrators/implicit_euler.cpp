@@ -77,7 +77,7 @@ struct ImplicitCache {
   const Model* model = nullptr;
   double force_scale = 0.0;  // N, sqrt(sum_s (ks_s l0_s)^2): the size of the spring forces' terms
   SpringBlockMatrix A;
-  std::vector<double> start_length;  // (S) l_n
+  std::vector<double> start_length;  // (slots) l_n, by slot (step_lengths)
   StepContacts contacts;
   Eigen::Matrix3Xd dv, y, r;            // (3 x B) the iterate, its end positions and residual
   Eigen::Matrix3Xd dv_try, y_try, r_try;  // (3 x B) a line-search trial
@@ -197,7 +197,7 @@ class NewtonSolve {
     const int B = model.num_bodies();
     reuse_ = !single_step_ && start.implicit_lin_id != 0 && start.implicit_lin_h == h &&
              start.implicit_lin_y.cols() == B &&
-             start.implicit_lin_length.size() == model.springs.size() &&
+             start.implicit_lin_length.size() == slot_count(model.spring_layout, model.springs.size()) &&
              start.implicit_lin_inv_mass.size() == B && start.implicit_lin_inv_mass == start.inv_mass &&
              (trusted_ || start.step % kRetryReuse == 0);
     // A factor serves one step: the next builds its own, so a copied State continues bit for bit.
@@ -447,7 +447,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
 
   // The start of the step: spring lengths l_n (and so the strain of the state we start from),
   // the contacts predicted from the previous step's dv.
-  stats.start_strain = spring_lengths(model.springs, state.x, c.start_length);
+  stats.start_strain = step_lengths(model, state.x, c.start_length);
   const bool have_guess = state.implicit_dv.cols() == B;
   const bool baraff_witkin = cfg.newton_max_iterations == 1;
   // The first guess: the last step's dv, or the line through the last two steps' dv where

@@ -2,20 +2,26 @@
 
 #include <Eigen/LU>  // Matrix3d::inverse (closed form for 3x3)
 
+#include "integrators/potential_kernels.h"
+
 namespace clothsim {
 
 void build_pattern(const Model& model, SpringBlockMatrix& A) {
   const int B = model.num_bodies();
   const std::size_t S = model.springs.size();
+  const SpringLayout& layout = model.spring_layout;
+  const bool families = layout.covers(S);
+  const std::size_t slots = slot_count(layout, S);
   A.a = model.springs.a;
   A.b = model.springs.b;
+  A.layout = families ? &layout : nullptr;
+  A.slot.resize(S);
+  for (std::size_t s = 0; s < S; ++s)
+    A.slot[s] = families ? layout.slot[s] : static_cast<std::int32_t>(s);
   A.diag.assign(B, Mat3::Zero());
-  A.u.assign(S, Vec3::Zero());
-  A.alpha.assign(S, 0.0);
-  A.beta.assign(S, 0.0);
+  for (auto* v : {&A.ux, &A.uy, &A.uz, &A.alpha, &A.beta, &A.alpha_projected, &A.beta_projected})
+    v->assign(slots, 0.0);
   A.diag_projected.assign(B, Mat3::Zero());
-  A.alpha_projected.assign(S, 0.0);
-  A.beta_projected.assign(S, 0.0);
   A.diag_inverse.assign(B, Mat3::Identity());
 }
 
@@ -63,13 +69,14 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
   bool any_compressed = false;
   for (std::size_t s = 0; s < springs.size(); ++s) {
     const int a = A.a[s], b = A.b[s];
+    const std::size_t k_s = A.slot[s];
     const bool move_a = inv_mass[a] != 0.0, move_b = inv_mass[b] != 0.0;
     if (!move_a && !move_b) {
-      A.alpha[s] = A.beta[s] = A.alpha_projected[s] = A.beta_projected[s] = 0.0;
+      A.alpha[k_s] = A.beta[k_s] = A.alpha_projected[k_s] = A.beta_projected[k_s] = 0.0;
       continue;
     }
     const StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), springs.rest[s],
-                                                start_length[s], springs.ks[s], springs.kd[s], h);
+                                                start_length[k_s], springs.ks[s], springs.kd[s], h);
     const double transverse_projected = k.transverse < 0.0 ? 0.0 : k.transverse;
     any_compressed |= k.transverse < 0.0;
     const double alpha_projected = -h2 * (k.axial - transverse_projected);
@@ -78,14 +85,16 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     const double beta = project ? beta_projected : -h2 * k.transverse;
     if (move_a) subtract_block(A.diag[a], alpha, beta, k.u);
     if (move_b) subtract_block(A.diag[b], alpha, beta, k.u);
-    A.u[s] = k.u;
+    A.ux[k_s] = k.u[0];
+    A.uy[k_s] = k.u[1];
+    A.uz[k_s] = k.u[2];
     if (move_a && move_b) {
-      A.alpha[s] = alpha;
-      A.beta[s] = beta;
-      A.alpha_projected[s] = alpha_projected;
-      A.beta_projected[s] = beta_projected;
+      A.alpha[k_s] = alpha;
+      A.beta[k_s] = beta;
+      A.alpha_projected[k_s] = alpha_projected;
+      A.beta_projected[k_s] = beta_projected;
     } else {  // a filtered body's row and column are removed
-      A.alpha[s] = A.beta[s] = A.alpha_projected[s] = A.beta_projected[s] = 0.0;
+      A.alpha[k_s] = A.beta[k_s] = A.alpha_projected[k_s] = A.beta_projected[k_s] = 0.0;
     }
   }
 
@@ -97,17 +106,18 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
       if (!move_a && !move_b) continue;
       // Read back from the exact block (beta = -h^2 transverse) rather than recomputed or
       // stored twice: this pass runs only at iterates with compressed springs.
-      const double transverse = move_a && move_b ? -A.beta[s] / h2 : 0.0;
+      const std::size_t k_s = A.slot[s];
+      const double transverse = move_a && move_b ? -A.beta[k_s] / h2 : 0.0;
       double t = transverse;
       if (!(move_a && move_b)) {  // a filtered pair keeps no block: recompute its tension
-        t = step_spring_block(y.col(a) - y.col(b), springs.rest[s], start_length[s],
+        t = step_spring_block(y.col(a) - y.col(b), springs.rest[s], start_length[k_s],
                               springs.ks[s], springs.kd[s], h).transverse;
       }
       if (t >= 0.0) continue;
       // Projected minus exact is h^2 t (I - u u^T), so the diagonal gets its negative.
       const double delta = h2 * t;
-      if (move_a) subtract_block(A.diag_projected[a], -delta, delta, A.u[s]);
-      if (move_b) subtract_block(A.diag_projected[b], -delta, delta, A.u[s]);
+      if (move_a) subtract_block(A.diag_projected[a], -delta, delta, A.u(s));
+      if (move_b) subtract_block(A.diag_projected[b], -delta, delta, A.u(s));
     }
   }
 
@@ -118,10 +128,10 @@ void invert_diagonal(SpringBlockMatrix& A) {
   for (int i = 0; i < A.num_bodies(); ++i) A.diag_inverse[i] = A.diag_projected[i].inverse();
 }
 
-// The CG hot loop (one call per iteration): written on raw column-major arrays, as the
-// force pass is. A spring block applied to p is alpha u (u . p) + beta p, the same for
-// (a, b) and (b, a).
-void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {
+namespace {
+
+// y = the diagonal blocks times p (3 x B).
+void multiply_diagonal(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {
   const int B = A.num_bodies();
   y.resize(3, B);
   const double* P = p.data();
@@ -134,20 +144,27 @@ void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matr
     yi[1] = D[1] * pi[0] + D[4] * pi[1] + D[7] * pi[2];
     yi[2] = D[2] * pi[0] + D[5] * pi[1] + D[8] * pi[2];
   }
-  const std::size_t S = A.num_springs();
-  const std::int32_t* ia = A.a.data();
-  const std::int32_t* ib = A.b.data();
-  const double* alpha = A.alpha.data();
-  const double* beta = A.beta.data();
-  for (std::size_t s = 0; s < S; ++s) {
-    const double* u = A.u[s].data();
+}
+
+// y += the blocks of springs [0, n) (ends ia, ib; numbers at slot(s)) applied to p, on raw
+// column-major arrays. A spring block applied to p is alpha u (u . p) + beta p, the same for
+// (a, b) and (b, a).
+template <class Slot>
+void multiply_springs(const SpringBlockMatrix& A, std::size_t n, const std::int32_t* ia,
+                      const std::int32_t* ib, const Slot& slot, const Eigen::Matrix3Xd& p,
+                      Eigen::Matrix3Xd& y) {
+  const double* P = p.data();
+  double* Y = y.data();
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::size_t k = slot(s);
+    const double u[3] = {A.ux[k], A.uy[k], A.uz[k]};
     const std::size_t a = 3 * static_cast<std::size_t>(ia[s]);
     const std::size_t b = 3 * static_cast<std::size_t>(ib[s]);
     const double pa0 = P[a], pa1 = P[a + 1], pa2 = P[a + 2];
     const double pb0 = P[b], pb1 = P[b + 1], pb2 = P[b + 2];
-    const double sa = alpha[s] * (u[0] * pa0 + u[1] * pa1 + u[2] * pa2);
-    const double sb = alpha[s] * (u[0] * pb0 + u[1] * pb1 + u[2] * pb2);
-    const double c = beta[s];
+    const double sa = A.alpha[k] * (u[0] * pa0 + u[1] * pa1 + u[2] * pa2);
+    const double sb = A.alpha[k] * (u[0] * pb0 + u[1] * pb1 + u[2] * pb2);
+    const double c = A.beta[k];
     Y[a] += sb * u[0] + c * pb0;
     Y[a + 1] += sb * u[1] + c * pb1;
     Y[a + 2] += sb * u[2] + c * pb2;
@@ -155,6 +172,29 @@ void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matr
     Y[b + 1] += sa * u[1] + c * pa1;
     Y[b + 2] += sa * u[2] + c * pa2;
   }
+}
+
+}  // namespace
+
+// The CG hot loop (one call per iteration).
+void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {
+  if (!A.layout) {
+    multiply_scalar(A, p, y);
+    return;
+  }
+  multiply_diagonal(A, p, y);
+  const SpringLayout& layout = *A.layout;
+  family_multiply(layout, {A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data()},
+                  p, y);
+  const std::size_t first = layout.others_first;
+  multiply_springs(A, layout.others.size(), layout.others.a.data(), layout.others.b.data(),
+                   [first](std::size_t s) { return first + s; }, p, y);
+}
+
+void multiply_scalar(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {
+  multiply_diagonal(A, p, y);
+  multiply_springs(A, A.num_springs(), A.a.data(), A.b.data(),
+                   [&A](std::size_t s) { return static_cast<std::size_t>(A.slot[s]); }, p, y);
 }
 
 }  // namespace clothsim

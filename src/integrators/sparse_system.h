@@ -41,22 +41,34 @@ namespace clothsim {
 // (5 numbers instead of 9, and no 3x3 product to build or to apply: assembly 1.4-1.6 times
 // faster, BENCHMARKS.md). Exact and projected blocks share u and differ only in
 // (alpha, beta) across a compressed spring.
+//
+// The per-spring numbers are stored by the model's slot order (spring_layout.h), as
+// structure of arrays, so the mat-vec runs the layout's families in SIMD with contiguous loads
+// (potential_kernels.h); spring s's are at slot[s]. Slots without a spring hold zeros.
 struct SpringBlockMatrix {
   std::vector<std::int32_t> a, b;  // (S) block (a_s, b_s): the springs' index pairs
+  std::vector<std::int32_t> slot;  // (S) where spring s's numbers are stored
+  // The layout the slots follow (the Model's, which outlives the matrix), or null: slots are
+  // then spring order and every pass is scalar.
+  const SpringLayout* layout = nullptr;
   std::vector<Mat3> diag;          // (B) diagonal blocks
-  std::vector<Vec3> u;             // (S) the spring's direction at the iterate
-  std::vector<double> alpha, beta;  // (S) block at (a_s, b_s); symmetric, so also at (b_s, a_s)
+  std::vector<double> ux, uy, uz;  // (slots) the spring's direction at the iterate
+  std::vector<double> alpha, beta;  // (slots) block at (a_s, b_s); symmetric, so also at (b_s, a_s)
   // The projected matrix's blocks, filled either way: the preconditioners are built from them
   // (block Jacobi here, the sparse factor of cholesky_preconditioner.h), so they are SPD
   // whatever the matrix.
   std::vector<Mat3> diag_projected;                     // (B)
-  std::vector<double> alpha_projected, beta_projected;  // (S)
+  std::vector<double> alpha_projected, beta_projected;  // (slots)
   std::vector<Mat3> diag_inverse;    // (B) the block-Jacobi preconditioner: diag_projected^-1
   int num_bodies() const { return static_cast<int>(diag.size()); }
   std::size_t num_springs() const { return a.size(); }
-  Mat3 off(std::size_t s) const { return block(alpha[s], beta[s], u[s]); }
+  Vec3 u(std::size_t s) const {
+    const std::size_t k = slot[s];
+    return Vec3(ux[k], uy[k], uz[k]);
+  }
+  Mat3 off(std::size_t s) const { return block(alpha[slot[s]], beta[slot[s]], u(s)); }
   Mat3 off_projected(std::size_t s) const {
-    return block(alpha_projected[s], beta_projected[s], u[s]);
+    return block(alpha_projected[slot[s]], beta_projected[slot[s]], u(s));
   }
   // Makes the matrix the projected one (the blocks the preconditioners use).
   void use_projected() {
@@ -76,8 +88,8 @@ struct SpringBlockMatrix {
 // Sizes the pattern for a model's bodies and springs (the only allocating call).
 void build_pattern(const Model& model, SpringBlockMatrix& A);
 
-// Refills A = H at the end-of-step positions y (3 x B), with start_length (S) the springs'
-// lengths at the start of the step, exact or projected (above). With `block_jacobi`, also
+// Refills A = H at the end-of-step positions y (3 x B), with start_length the springs'
+// lengths at the start of the step by slot (step_lengths, step_potential.h), exact or projected (above). With `block_jacobi`, also
 // the block-Jacobi preconditioner (diag_inverse); without, it is left stale, for a solver
 // that preconditions with the sparse factor and inverts the diagonal only when it needs to
 // (invert_diagonal: a 3x3 inverse per body, a third of a small sheet's assembly).
@@ -88,7 +100,11 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
 // A.diag_inverse = A.diag_projected^-1, blockwise.
 void invert_diagonal(SpringBlockMatrix& A);
 
-// y = A p (3 x B).
+// y = A p (3 x B): the diagonal blocks, then the layout's families in SIMD, then the others.
 void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y);
+
+// The scalar reference: the diagonal, then every spring in spring order. The same product to
+// rounding (the order of each entry's sum differs).
+void multiply_scalar(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y);
 
 }  // namespace clothsim

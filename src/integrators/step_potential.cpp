@@ -2,44 +2,45 @@
 
 #include <cmath>
 
+#include "integrators/potential_kernels.h"
 #include "spring_force.h"
+#include "spring_kernels.h"  // sticky_max
 
 namespace clothsim {
 
-double spring_lengths(const Springs& springs, const Eigen::Matrix3Xd& x,
-                      std::vector<double>& length) {
-  length.resize(springs.size());
-  double worst = 0.0;
+namespace {
+
+// The largest l / l0 over springs [0, n) of `springs`, lengths written to length[slot(s)].
+// The ratio rather than the strain, so the scalar and SIMD passes combine exactly (rounding is
+// monotone: max(l / l0) - 1 is max(l / l0 - 1)); a NaN sticks.
+template <class Slot>
+double scalar_lengths(const Springs& springs, const Eigen::Matrix3Xd& x, double* length,
+                      const Slot& slot) {
+  double worst = 1.0;
   for (std::size_t s = 0; s < springs.size(); ++s) {
-    length[s] = (x.col(springs.a[s]) - x.col(springs.b[s])).norm();
-    const double strain = length[s] / springs.rest[s] - 1.0;
-    if (!(strain <= worst)) worst = strain;  // also propagates NaN
+    const double l = (x.col(springs.a[s]) - x.col(springs.b[s])).norm();
+    length[slot(s)] = l;
+    worst = sticky_max(worst, l / springs.rest[s]);
   }
   return worst;
 }
 
-PotentialValue step_potential(const Model& model, const State& start, double h,
-                              const std::vector<double>& start_length, const Eigen::Matrix3Xd& dv,
-                              Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient) {
-  const int B = model.num_bodies();
-  const Eigen::VectorXd& w = start.inv_mass;
-  y.noalias() = start.x + h * (start.v + dv);
-  gradient.setZero(3, B);
-  PotentialValue value;
-
-  // Springs: E_s at y; dE_s/dy_a = T u, so dE_s/ddv_a = h T u (and -h T u for b).
-  const Springs& springs = model.springs;
+// Phi's terms of springs [0, n), start lengths at start_length[slot(s)]: E_s at y;
+// dE_s/dy_a = T u, so dE_s/ddv_a = h T u (and -h T u for b).
+template <class Slot>
+void add_spring_terms(const Springs& springs, const double* start_length, const Slot& slot,
+                      double h, const Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient,
+                      PotentialValue& value) {
   for (std::size_t s = 0; s < springs.size(); ++s) {
     const int a = springs.a[s], b = springs.b[s];
+    const double ln = start_length[slot(s)];
     const Vec3 d = y.col(a) - y.col(b);
     const double l = d.norm();
-    const double e = step_spring_energy(l, springs.rest[s], start_length[s], springs.ks[s],
-                                        springs.kd[s], h);
+    const double e = step_spring_energy(l, springs.rest[s], ln, springs.ks[s], springs.kd[s], h);
     value.phi += e;
     value.magnitude += e;
     if (l <= 0.0) continue;  // no direction: no force (as the force pass)
-    const double T = step_spring_tension(l, springs.rest[s], start_length[s], springs.ks[s],
-                                         springs.kd[s], h);
+    const double T = step_spring_tension(l, springs.rest[s], ln, springs.ks[s], springs.kd[s], h);
     // E is a square of a difference of lengths (l - l0), each known to eps l: its rounding
     // is about |T| eps l, far above eps E for a spring near its rest length.
     value.magnitude += std::abs(T) * l;
@@ -47,10 +48,14 @@ PotentialValue step_potential(const Model& model, const State& start, double h,
     gradient.col(a) += push;
     gradient.col(b) -= push;
   }
+}
 
-  // Bodies: inertia, gravity and drag; immovable bodies are not unknowns.
+// Bodies: inertia, gravity and drag; immovable bodies are not unknowns.
+void add_body_terms(const Model& model, const State& start, double h, const Eigen::Matrix3Xd& dv,
+                    Eigen::Matrix3Xd& gradient, PotentialValue& value) {
+  const Eigen::VectorXd& w = start.inv_mass;
   const double drag = model.air_drag;
-  for (int i = 0; i < B; ++i) {
+  for (int i = 0; i < model.num_bodies(); ++i) {
     if (w[i] == 0.0) {
       gradient.col(i).setZero();
       continue;
@@ -74,6 +79,60 @@ PotentialValue step_potential(const Model& model, const State& start, double h,
       gradient.col(i) += (h * drag) * v;
     }
   }
+}
+
+}  // namespace
+
+double spring_lengths(const Springs& springs, const Eigen::Matrix3Xd& x,
+                      std::vector<double>& length) {
+  length.resize(springs.size());
+  return scalar_lengths(springs, x, length.data(), [](std::size_t s) { return s; }) - 1.0;
+}
+
+double step_lengths(const Model& model, const Eigen::Matrix3Xd& x, std::vector<double>& length) {
+  const SpringLayout& layout = model.spring_layout;
+  if (!layout.covers(model.springs.size())) return spring_lengths(model.springs, x, length);
+  length.resize(layout.num_slots);
+  const double families = family_step_lengths(layout, x, length.data());
+  const double others = scalar_lengths(layout.others, x, length.data() + layout.others_first,
+                                       [](std::size_t s) { return s; });
+  return sticky_max(families, others) - 1.0;
+}
+
+PotentialValue step_potential(const Model& model, const State& start, double h,
+                              const std::vector<double>& start_length, const Eigen::Matrix3Xd& dv,
+                              Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient) {
+  const SpringLayout& layout = model.spring_layout;
+  if (!layout.covers(model.springs.size()))
+    return step_potential_scalar(model, start, h, start_length, dv, y, gradient);
+  y.noalias() = start.x + h * (start.v + dv);
+  gradient.setZero(3, model.num_bodies());
+  PotentialValue value;
+  const FamilyPotential families = family_step_potential(layout, y, start_length.data(), h, gradient);
+  value.phi = families.phi;
+  value.magnitude = families.magnitude;
+  add_spring_terms(layout.others, start_length.data() + layout.others_first,
+                   [](std::size_t s) { return s; }, h, y, gradient, value);
+  add_body_terms(model, start, h, dv, gradient, value);
+  return value;
+}
+
+PotentialValue step_potential_scalar(const Model& model, const State& start, double h,
+                                     const std::vector<double>& start_length,
+                                     const Eigen::Matrix3Xd& dv, Eigen::Matrix3Xd& y,
+                                     Eigen::Matrix3Xd& gradient) {
+  y.noalias() = start.x + h * (start.v + dv);
+  gradient.setZero(3, model.num_bodies());
+  PotentialValue value;
+  const SpringLayout& layout = model.spring_layout;
+  if (layout.covers(model.springs.size())) {
+    add_spring_terms(model.springs, start_length.data(), [&](std::size_t s) { return layout.slot[s]; },
+                     h, y, gradient, value);
+  } else {
+    add_spring_terms(model.springs, start_length.data(), [](std::size_t s) { return s; }, h, y,
+                     gradient, value);
+  }
+  add_body_terms(model, start, h, dv, gradient, value);
   return value;
 }
 

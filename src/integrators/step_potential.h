@@ -25,8 +25,19 @@
 
 namespace clothsim {
 
-// Each spring's length at x (S), written into `length`. Returns the largest strain
-// (l - l0) / l0 of those lengths (0 when none is stretched), as the force pass does.
+// The step's per-spring arrays (the start lengths here, the Newton blocks in sparse_system.h)
+// are stored by the model's slot order (spring_layout.h: family positions, then the others;
+// spring order itself when the layout does not cover the springs), so that the SIMD passes
+// (potential_kernels.h) read them contiguously by family position.
+
+// Each spring's length at x, by slot (slot_count(model.spring_layout, S) entries, zeros at
+// slots without a spring), written into `length`: the family springs in SIMD, the others in
+// the scalar loop. Returns the largest strain (l - l0) / l0 (0 when none is stretched; NaN
+// when a length is NaN).
+double step_lengths(const Model& model, const Eigen::Matrix3Xd& x, std::vector<double>& length);
+
+// The scalar reference: each spring's length at x in spring order (S). The same lengths and
+// strain, bit for bit, as step_lengths.
 double spring_lengths(const Springs& springs, const Eigen::Matrix3Xd& x,
                       std::vector<double>& length);
 
@@ -37,10 +48,18 @@ struct PotentialValue {
 };
 
 // Phi at dv and its gradient r (3 x B, zero on immovable bodies) for the step of size h from
-// `start`; y (3 x B) receives the end-of-step positions x_n + h (v_n + dv). One pass over the
-// springs and one over the bodies: the cost of one force evaluation.
+// `start`, with start_length by slot (step_lengths); y (3 x B) receives the end-of-step
+// positions x_n + h (v_n + dv). One pass over the springs (the families in SIMD, then the
+// others) and one over the bodies: the cost of one force evaluation.
 PotentialValue step_potential(const Model& model, const State& start, double h,
                               const std::vector<double>& start_length, const Eigen::Matrix3Xd& dv,
                               Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient);
+
+// The scalar reference of step_potential: every spring in spring order, then the bodies. The
+// same value and gradient to rounding (the order of the sums differs).
+PotentialValue step_potential_scalar(const Model& model, const State& start, double h,
+                                     const std::vector<double>& start_length,
+                                     const Eigen::Matrix3Xd& dv, Eigen::Matrix3Xd& y,
+                                     Eigen::Matrix3Xd& gradient);
 
 }  // namespace clothsim

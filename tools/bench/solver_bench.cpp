@@ -28,7 +28,7 @@ System system(int which) {
            {}, {}};
   const State st = initial_state(s.model);
   std::vector<double> length;
-  spring_lengths(s.model.springs, st.x, length);
+  step_lengths(s.model, st.x, length);
   build_pattern(s.model, s.A);
   assemble_step_hessian(s.model, st.inv_mass, 1.0 / 60.0, length, st.x, true, s.A);
   s.r = Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
@@ -63,7 +63,7 @@ void BM_SolverAssembly(benchmark::State& st) {
   System s = system(static_cast<int>(st.range(0)));
   const State start = initial_state(s.model);
   std::vector<double> length;
-  spring_lengths(s.model.springs, start.x, length);
+  step_lengths(s.model, start.x, length);
   for (auto _ : st) {
     assemble_step_hessian(s.model, start.inv_mass, 1.0 / 60.0, length, start.x, false, s.A);
     benchmark::DoNotOptimize(s.A.diag.data());

@@ -50,7 +50,7 @@ spheres:
   const int B = s.model.num_bodies();
   st.x += 0.01 * Eigen::Matrix3Xd::Random(3, B);
   std::vector<double> start_length;
-  spring_lengths(s.model.springs, st.x, start_length);
+  step_lengths(s.model, st.x, start_length);
   build_pattern(s.model, s.A);
   assemble_step_hessian(s.model, st.inv_mass, h, start_length, 0.7 * st.x, false, s.A);
   s.b = Eigen::Matrix3Xd::Random(3, B);
@@ -172,7 +172,7 @@ cloth:
 )");
   const State st = initial_state(model);
   std::vector<double> start_length;
-  spring_lengths(model.springs, st.x, start_length);
+  step_lengths(model, st.x, start_length);
   SpringBlockMatrix A;
   build_pattern(model, A);
   assemble_step_hessian(model, st.inv_mass, 0.05, start_length, st.x, true, A);
@@ -192,7 +192,7 @@ TEST(CholeskyPreconditioner, ANonFiniteMatrixIsRefusedAndLeavesNothingBehind) {
   CholeskyPreconditioner factor;
   factor.analyse(s.A);
   SpringBlockMatrix bad = s.A;
-  bad.alpha_projected[3] = std::numeric_limits<double>::quiet_NaN();
+  bad.alpha_projected[bad.slot[3]] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(factor.factorize(bad, VelocityFilter{}));
   EXPECT_FALSE(factor.ready());
   ASSERT_TRUE(factor.factorize(s.A, VelocityFilter{}));

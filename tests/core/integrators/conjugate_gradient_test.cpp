@@ -36,7 +36,7 @@ System system(const std::string& springs, double h) {
   st.x += 0.02 * Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
   st.v = Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
   std::vector<double> start_length;
-  spring_lengths(s.model.springs, st.x, start_length);
+  step_lengths(s.model, st.x, start_length);
   build_pattern(s.model, s.A);
   assemble_step_hessian(s.model, st.inv_mass, h, start_length, st.x + h * st.v, true, s.A);
   s.b = Eigen::Matrix3Xd::Random(3, s.model.num_bodies());

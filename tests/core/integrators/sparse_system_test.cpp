@@ -70,7 +70,7 @@ Assembled assemble(double scale, double h, bool project, bool moving = true,
   s.dv = (moving ? 0.1 : 0.0) * Eigen::Matrix3Xd::Random(3, B);
   for (int b = 0; b < B; ++b)
     if (s.state.inv_mass[b] == 0.0) s.state.v.col(b).setZero(), s.dv.col(b).setZero();
-  spring_lengths(s.model.springs, s.state.x, s.start_length);
+  step_lengths(s.model, s.state.x, s.start_length);
   // Scale the end of the step about the centre: y = scale x_n + h (v + dv) moves through
   // dv_scale = (scale - 1) x_n / h, so springs end stretched or compressed by the factor.
   s.dv.leftCols(P) += (scale - 1.0) / h * s.state.x.leftCols(P);

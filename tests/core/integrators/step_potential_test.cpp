@@ -45,7 +45,7 @@ StepSetup random_setup(unsigned seed) {
   s.dv = Eigen::Matrix3Xd::Random(3, B);
   for (int b = 0; b < B; ++b)
     if (s.start.inv_mass[b] == 0.0) s.start.v.col(b).setZero(), s.dv.col(b).setZero();
-  spring_lengths(s.model.springs, s.start.x, s.start_length);
+  step_lengths(s.model, s.start.x, s.start_length);
   return s;
 }
 

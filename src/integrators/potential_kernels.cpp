@@ -1,0 +1,349 @@
+// Highway's foreach_target.h compiles this file once per x86 target (SCALAR, SSSE3, SSE4,
+// AVX2, AVX3), each copy in its own namespace; HWY_EXPORT / HWY_DYNAMIC_DISPATCH pick one at
+// run time. The walk over blocks and the sliding window are spring_kernels.cpp's.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "integrators/potential_kernels.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/aligned_allocator.h>
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cstddef>
+
+#include "integrators/potential_kernels.h"
+#include "spring_kernels.h"  // sticky_max
+
+#ifndef CLOTHSIM_POTENTIAL_KERNELS_ONCE  // this part once, not once per target
+#define CLOTHSIM_POTENTIAL_KERNELS_ONCE
+namespace clothsim {
+namespace {
+
+// Positions per block, as the force pass (a multiple of kSpringLanePad).
+constexpr std::size_t kBlock = 2048;
+// Phi's partial sums: position k goes to sum k mod kSums. Every target's lane count divides it
+// and every vector starts at a multiple of its lane count, so a vector's lanes are consecutive
+// sums and each sum sees the same springs in the same order on every target.
+constexpr std::size_t kSums = kSpringLanePad;
+// Scratch arrays in a window: 3 inputs (x, y or p) and 6 sums (at a, at b; 3 components each).
+constexpr std::size_t kArrays = 9;
+
+std::size_t window_of(const SpringLayout& layout) {
+  std::size_t reach = 0;
+  for (const SpringFamily& fam : layout.families)
+    reach = std::max(reach, static_cast<std::size_t>(fam.first) + static_cast<std::size_t>(fam.offset));
+  return kBlock + reach + kSpringLanePad;
+}
+
+}  // namespace
+}  // namespace clothsim
+#endif
+
+HWY_BEFORE_NAMESPACE();
+namespace clothsim {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using D = hn::ScalableTag<double>;
+using V = hn::Vec<D>;
+using M = hn::Mask<D>;
+static_assert(HWY_MAX_BYTES / sizeof(double) <= kSpringLanePad, "the layout's padding is a vector");
+
+namespace {  // the helpers' names are spring_kernels.cpp's too
+
+void Deinterleave(const double* HWY_RESTRICT in, std::size_t n, double* HWY_RESTRICT xs,
+                  double* HWY_RESTRICT ys, double* HWY_RESTRICT zs) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  std::size_t p = 0;
+  for (; p + N <= n; p += N) {
+    V X, Y, Z;
+    hn::LoadInterleaved3(d, in + 3 * p, X, Y, Z);
+    hn::StoreU(X, d, xs + p);
+    hn::StoreU(Y, d, ys + p);
+    hn::StoreU(Z, d, zs + p);
+  }
+  for (; p < n; ++p) {
+    xs[p] = in[3 * p];
+    ys[p] = in[3 * p + 1];
+    zs[p] = in[3 * p + 2];
+  }
+}
+
+// out (3 x n, interleaved) += a + b per component.
+void AddInterleaved(const double* const* HWY_RESTRICT a, const double* const* HWY_RESTRICT b,
+                    std::size_t from, std::size_t n, double* HWY_RESTRICT out) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  std::size_t p = 0;
+  for (; p + N <= n; p += N) {
+    V X, Y, Z;
+    hn::LoadInterleaved3(d, out + 3 * p, X, Y, Z);
+    X = hn::Add(X, hn::Add(hn::LoadU(d, a[0] + from + p), hn::LoadU(d, b[0] + from + p)));
+    Y = hn::Add(Y, hn::Add(hn::LoadU(d, a[1] + from + p), hn::LoadU(d, b[1] + from + p)));
+    Z = hn::Add(Z, hn::Add(hn::LoadU(d, a[2] + from + p), hn::LoadU(d, b[2] + from + p)));
+    hn::StoreInterleaved3(X, Y, Z, d, out + 3 * p);
+  }
+  for (; p < n; ++p)
+    for (int c = 0; c < 3; ++c) out[3 * p + c] += a[c][from + p] + b[c][from + p];
+}
+
+// The window a body works on: the input's components and the two sums, indexed in the window.
+struct Window {
+  double* in[3];    // x, y or p
+  double* plus[3];  // contributions at each spring's a
+  double* minus[3]; // contributions at each spring's b
+};
+
+// Walks the layout's families in blocks of kBlock positions (spring_kernels.cpp's scheme):
+// copies the particles a block reads from `in` (3 x P, interleaved) into the window, calls
+// body(fam, k, a, b, w) for each vector of positions k .. k+N-1 of each family (a, b: window
+// indices of its springs' ends), then, when `out` is given, adds the finished particles' sums
+// into it. scratch: kArrays arrays of `stride` >= window_of(layout) doubles.
+template <class Body>
+void Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
+          double* HWY_RESTRICT scratch, std::size_t stride, const Body& body) {
+  const std::size_t N = hn::Lanes(D());
+  const std::size_t P = static_cast<std::size_t>(layout.num_particles);
+  Window w;
+  for (int c = 0; c < 3; ++c) {
+    w.in[c] = scratch + c * stride;
+    w.plus[c] = scratch + (3 + c) * stride;
+    w.minus[c] = scratch + (6 + c) * stride;
+  }
+  const std::size_t arrays = out ? kArrays : 3;  // without an output, no sums to keep
+  std::size_t longest = 0;
+  for (const SpringFamily& fam : layout.families)
+    longest = std::max(longest, static_cast<std::size_t>(fam.count));
+  const std::size_t window = window_of(layout);
+  std::size_t base = 0, copied = 0, flushed = 0;
+  const auto copy_up_to = [&](std::size_t to) {
+    if (to <= copied) return;
+    const std::size_t upto = std::min(to, P), from = copied - base, end = to - base;
+    if (copied < upto) Deinterleave(in + 3 * copied, upto - copied, w.in[0] + from, w.in[1] + from, w.in[2] + from);
+    const std::size_t past = std::max(copied, upto) - base;  // zeros past P
+    for (int c = 0; c < 3; ++c) std::fill(w.in[c] + past, w.in[c] + end, 0.0);
+    if (out)
+      for (int c = 0; c < 3; ++c) {
+        std::fill(w.plus[c] + from, w.plus[c] + end, 0.0);
+        std::fill(w.minus[c] + from, w.minus[c] + end, 0.0);
+      }
+    copied = to;
+  };
+  const auto flush_up_to = [&](std::size_t to) {
+    if (!out || to <= flushed) return;
+    AddInterleaved(w.plus, w.minus, flushed - base, to - flushed, out + 3 * flushed);
+    flushed = to;
+  };
+  for (std::size_t k0 = 0; k0 < longest; k0 += kBlock) {
+    if (k0 > base) {  // slide: particles k0 .. copied - 1 to the front
+      for (std::size_t i = 0; i < arrays; ++i) {
+        double* a = scratch + i * stride;
+        std::copy(a + (k0 - base), a + (copied - base), a);
+      }
+      base = k0;
+    }
+    copy_up_to(std::min(k0 + window, P + kSpringLanePad));
+    for (const SpringFamily& fam : layout.families) {
+      const std::size_t count = static_cast<std::size_t>(fam.count);
+      if (k0 >= count) continue;
+      const std::size_t first = static_cast<std::size_t>(fam.first) - base;
+      const std::size_t off = static_cast<std::size_t>(fam.offset);
+      const std::size_t k1 = std::min(k0 + kBlock, count);
+      for (std::size_t k = k0; k < k1; k += N) {
+        HWY_DASSERT(first + k + off + N <= stride);
+        body(fam, k, first + k, first + k + off, w);
+      }
+    }
+    // Particles below k0 + kBlock are finished: every spring at p has its a <= p.
+    flush_up_to(std::min(k0 + kBlock, P));
+  }
+  flush_up_to(std::min(copied, P));
+}
+
+V Length(const V dx, const V dy, const V dz) {
+  return hn::Sqrt(hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz)));
+}
+
+}  // namespace
+
+// Start-of-step lengths by slot, and the largest l / l0 (as FamilySpringForces).
+double FamilyLengths(const SpringLayout& layout, const double* HWY_RESTRICT x,
+                     double* HWY_RESTRICT length, double* HWY_RESTRICT scratch, std::size_t stride) {
+  const D d;
+  const V zero = hn::Zero(d);
+  V ratio = hn::Set(d, 1.0);
+  Walk(layout, x, nullptr, scratch, stride,
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
+         const V l0 = hn::LoadU(d, fam.rest.data() + k);
+         const V l = Length(hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b)),
+                            hn::Sub(hn::LoadU(d, w.in[1] + a), hn::LoadU(d, w.in[1] + b)),
+                            hn::Sub(hn::LoadU(d, w.in[2] + a), hn::LoadU(d, w.in[2] + b)));
+         const M spring = hn::Gt(l0, zero);
+         hn::StoreU(hn::IfThenElseZero(spring, l), d, length + fam.slot_first + k);
+         const M grows = hn::And(
+             spring, hn::Or(hn::And(hn::Gt(l, zero), hn::Ge(l, hn::Mul(ratio, l0))), hn::IsNaN(l)));
+         if (!hn::AllFalse(d, grows)) {
+           const V q = hn::Div(l, l0);
+           ratio = hn::IfThenElse(hn::AndNot(hn::Le(q, ratio), grows), q, ratio);
+         }
+       });
+  double lanes[kSpringLanePad];
+  hn::StoreU(ratio, d, lanes);
+  double worst = 1.0;
+  for (std::size_t i = 0; i < hn::Lanes(d); ++i) worst = sticky_max(worst, lanes[i]);
+  return worst;
+}
+
+// Phi's spring terms and gradient: step_potential's loop body, lane by lane. sums: 2 kSums
+// partial sums (phi, magnitude), zeroed by the caller.
+void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT y,
+                          const double* HWY_RESTRICT start_length, double h,
+                          double* HWY_RESTRICT gradient, double* HWY_RESTRICT sums,
+                          double* HWY_RESTRICT scratch, std::size_t stride) {
+  const D d;
+  const V zero = hn::Zero(d);
+  const V hv = hn::Set(d, h);
+  double* HWY_RESTRICT phi = sums;
+  double* HWY_RESTRICT magnitude = sums + kSums;
+  const SpringFamily* current = nullptr;
+  V ks = zero, kdh = zero, half_ks = zero, half_kdh = zero;
+  Walk(layout, y, gradient, scratch, stride,
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
+         if (&fam != current) {  // the family's constants, as spring_force.h rounds them
+           current = &fam;
+           ks = hn::Set(d, fam.ks);
+           kdh = hn::Set(d, fam.kd / h);
+           half_ks = hn::Set(d, 0.5 * fam.ks);
+           half_kdh = hn::Set(d, 0.5 * (fam.kd / h));
+         }
+         const V l0 = hn::LoadU(d, fam.rest.data() + k);
+         const V ln = hn::LoadU(d, start_length + fam.slot_first + k);
+         const V dx = hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b));
+         const V dy = hn::Sub(hn::LoadU(d, w.in[1] + a), hn::LoadU(d, w.in[1] + b));
+         const V dz = hn::Sub(hn::LoadU(d, w.in[2] + a), hn::LoadU(d, w.in[2] + b));
+         const V l = Length(dx, dy, dz);
+         const V stretch = hn::Sub(l, l0), rate = hn::Sub(l, ln);
+         // E = 0.5 ks (l - l0)^2 + 0.5 (kd / h) (l - ln)^2, T = ks (l - l0) + (kd / h) (l - ln)
+         const V e = hn::Add(hn::Mul(hn::Mul(half_ks, stretch), stretch),
+                             hn::Mul(hn::Mul(half_kdh, rate), rate));
+         const V T = hn::Add(hn::Mul(ks, stretch), hn::Mul(kdh, rate));
+         const M spring = hn::Gt(l0, zero);
+         const M acts = hn::AndNot(hn::Le(l, zero), spring);  // a direction (or NaN)
+         const V e_in = hn::IfThenElseZero(spring, e);
+         const V m_in = hn::Add(e_in, hn::IfThenElseZero(acts, hn::Mul(hn::Abs(T), l)));
+         const std::size_t j = k % kSums;
+         hn::StoreU(hn::Add(hn::LoadU(d, phi + j), e_in), d, phi + j);
+         hn::StoreU(hn::Add(hn::LoadU(d, magnitude + j), m_in), d, magnitude + j);
+         const V c = hn::Div(hn::Mul(hv, T), l);  // push = (h T / l) d
+         const V px = hn::IfThenElseZero(acts, hn::Mul(c, dx));
+         const V py = hn::IfThenElseZero(acts, hn::Mul(c, dy));
+         const V pz = hn::IfThenElseZero(acts, hn::Mul(c, dz));
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[0] + a), px), d, w.plus[0] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[1] + a), py), d, w.plus[1] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[2] + a), pz), d, w.plus[2] + a);
+         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[0] + b), px), d, w.minus[0] + b);
+         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[1] + b), py), d, w.minus[1] + b);
+         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[2] + b), pz), d, w.minus[2] + b);
+       });
+}
+
+// out += the families' blocks applied to p: sparse_system.cpp's multiply, lane by lane.
+void FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
+                    const double* HWY_RESTRICT p, double* HWY_RESTRICT out,
+                    double* HWY_RESTRICT scratch, std::size_t stride) {
+  const D d;
+  const V zero = hn::Zero(d);
+  Walk(layout, p, out, scratch, stride,
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
+         const std::size_t s = fam.slot_first + k;
+         const V ux = hn::LoadU(d, blocks.ux + s), uy = hn::LoadU(d, blocks.uy + s),
+                 uz = hn::LoadU(d, blocks.uz + s);
+         const V alpha = hn::LoadU(d, blocks.alpha + s), c = hn::LoadU(d, blocks.beta + s);
+         const V pa0 = hn::LoadU(d, w.in[0] + a), pa1 = hn::LoadU(d, w.in[1] + a),
+                 pa2 = hn::LoadU(d, w.in[2] + a);
+         const V pb0 = hn::LoadU(d, w.in[0] + b), pb1 = hn::LoadU(d, w.in[1] + b),
+                 pb2 = hn::LoadU(d, w.in[2] + b);
+         const V sa = hn::Mul(alpha, hn::Add(hn::Add(hn::Mul(ux, pa0), hn::Mul(uy, pa1)), hn::Mul(uz, pa2)));
+         const V sb = hn::Mul(alpha, hn::Add(hn::Add(hn::Mul(ux, pb0), hn::Mul(uy, pb1)), hn::Mul(uz, pb2)));
+         // A position without a spring holds zeros, but 0 p is NaN where p is: masked.
+         const M spring = hn::Gt(hn::LoadU(d, fam.rest.data() + k), zero);
+         const V ya0 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sb, ux), hn::Mul(c, pb0)));
+         const V ya1 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sb, uy), hn::Mul(c, pb1)));
+         const V ya2 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sb, uz), hn::Mul(c, pb2)));
+         const V yb0 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sa, ux), hn::Mul(c, pa0)));
+         const V yb1 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sa, uy), hn::Mul(c, pa1)));
+         const V yb2 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sa, uz), hn::Mul(c, pa2)));
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[0] + a), ya0), d, w.plus[0] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[1] + a), ya1), d, w.plus[1] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[2] + a), ya2), d, w.plus[2] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.minus[0] + b), yb0), d, w.minus[0] + b);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.minus[1] + b), yb1), d, w.minus[1] + b);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.minus[2] + b), yb2), d, w.minus[2] + b);
+       });
+}
+
+const char* PotentialTargetName() { return hwy::TargetName(HWY_TARGET); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace clothsim
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace clothsim {
+
+HWY_EXPORT(FamilyLengths);
+HWY_EXPORT(FamilyPotentialTerms);
+HWY_EXPORT(FamilyMultiply);
+HWY_EXPORT(PotentialTargetName);
+
+namespace {
+
+// Scratch per thread (compare runs lanes on threads), grown, never shrunk: a window of about
+// kBlock + 2 nx particles.
+struct Scratch {
+  double* data;
+  std::size_t stride;
+};
+Scratch scratch_for(const SpringLayout& layout) {
+  thread_local hwy::AlignedFreeUniquePtr<double[]> scratch;
+  thread_local std::size_t capacity = 0;
+  const std::size_t stride = (window_of(layout) + 7) / 8 * 8;  // arrays 64-byte aligned
+  if (kArrays * stride > capacity) {
+    capacity = kArrays * stride;
+    scratch = hwy::AllocateAligned<double>(capacity);
+  }
+  return {scratch.get(), stride};
+}
+
+}  // namespace
+
+double family_step_lengths(const SpringLayout& layout, const Eigen::Matrix3Xd& x, double* length) {
+  const Scratch s = scratch_for(layout);
+  return HWY_DYNAMIC_DISPATCH(FamilyLengths)(layout, x.data(), length, s.data, s.stride);
+}
+
+FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
+                                      const double* start_length, double h,
+                                      Eigen::Matrix3Xd& gradient) {
+  const Scratch s = scratch_for(layout);
+  alignas(64) double sums[2 * kSums] = {};
+  HWY_DYNAMIC_DISPATCH(FamilyPotentialTerms)(layout, y.data(), start_length, h, gradient.data(),
+                                             sums, s.data, s.stride);
+  FamilyPotential out;
+  for (std::size_t j = 0; j < kSums; ++j) {  // in a fixed order (above)
+    out.phi += sums[j];
+    out.magnitude += sums[kSums + j];
+  }
+  return out;
+}
+
+void family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
+                     const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out) {
+  const Scratch s = scratch_for(layout);
+  HWY_DYNAMIC_DISPATCH(FamilyMultiply)(layout, blocks, p.data(), out.data(), s.data, s.stride);
+}
+
+const char* potential_kernel_target() { return HWY_DYNAMIC_DISPATCH(PotentialTargetName)(); }
+
+}  // namespace clothsim
+#endif  // HWY_ONCE

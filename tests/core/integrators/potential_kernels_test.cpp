@@ -1,0 +1,314 @@
+// The implicit step's SIMD passes (start lengths, Phi and its gradient, the block mat-vec)
+// against their scalar references: the same lengths to the bit, the same Phi, gradient and
+// product to rounding, the same NaNs, the same bits on every Highway target this CPU runs, and
+// an implicit run bit-identical from target to target.
+#include "integrators/potential_kernels.h"
+
+#include <gtest/gtest.h>
+#include <hwy/targets.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "integrators/sparse_system.h"
+#include "integrators/step_potential.h"
+#include "simulation.h"
+#include "state.h"
+#include "test_support.h"
+
+namespace clothsim {
+namespace {
+
+using testing::model_from_yaml;
+using testing::scene_path;
+
+const std::vector<std::string> kTypeSets{
+    "structural: {}, shear: {}, bend: {}", "structural: {}", "shear: {}", "bend: {}",
+    "structural: {}, shear: {}",           "structural: {}, bend: {}", "shear: {}, bend: {}"};
+
+// An nx x ny sheet with the given spring types (parameters differing per type), air drag, a
+// pinned corner and a free ball, so the arrays have an immovable body and one past the
+// particles that no spring touches.
+Model sheet(int nx, int ny, const std::string& types) {
+  std::string springs = types;
+  for (const auto& [name, params] : {std::pair{"structural: {}", "structural: {stiffness: 3000, damping: 7}"},
+                                     std::pair{"shear: {}", "shear: {stiffness: 2000, damping: 5}"},
+                                     std::pair{"bend: {}", "bend: {stiffness: 900, damping: 3}"}})
+    if (const auto at = springs.find(name); at != std::string::npos) springs.replace(at, std::strlen(name), params);
+  return model_from_yaml("gravity: [0, -9.8, 0]\nair_drag: 0.2\ncloth: {particles: [" +
+                         std::to_string(nx) + ", " + std::to_string(ny) +
+                         "], size: [2, 1.5], particle_mass: 0.05, pinned: [[0, 0]], springs: {" +
+                         springs + "}}\nspheres: [{center: [0, -2, 0], radius: 0.5, kinematic: false, mass: 2}]\n");
+}
+
+// A start state near the grid (every spring stretched or compressed a little), random
+// velocities and a random dv (seeded), and the start lengths by slot.
+struct StepCase {
+  Model model;
+  State start;
+  Eigen::Matrix3Xd dv;
+  std::vector<double> length;
+};
+
+StepCase step_case(Model m, unsigned seed) {
+  StepCase s{std::move(m), {}, {}, {}};
+  s.start = initial_state(s.model);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int B = s.model.num_bodies();
+  s.dv.resize(3, B);
+  for (int b = 0; b < B; ++b)
+    for (int c = 0; c < 3; ++c) {
+      s.start.x(c, b) += 0.02 * u(rng);
+      s.start.v(c, b) = u(rng);
+      s.dv(c, b) = 0.1 * u(rng);
+    }
+  for (int b = 0; b < B; ++b)
+    if (s.start.inv_mass[b] == 0.0) s.start.v.col(b).setZero(), s.dv.col(b).setZero();
+  step_lengths(s.model, s.start.x, s.length);
+  return s;
+}
+
+constexpr double kH = 1e-3;
+
+// Each spring's length by slot is the scalar loop's to the bit, and so is the strain.
+void expect_same_lengths(const Model& m, const Eigen::Matrix3Xd& x) {
+  std::vector<double> by_slot, by_spring;
+  const double strain = step_lengths(m, x, by_slot);
+  const double reference = spring_lengths(m.springs, x, by_spring);
+  if (std::isnan(reference)) {
+    EXPECT_TRUE(std::isnan(strain));
+  } else {
+    EXPECT_EQ(strain, reference);
+  }
+  ASSERT_EQ(by_slot.size(), slot_count(m.spring_layout, m.springs.size()));
+  for (std::size_t s = 0; s < m.springs.size(); ++s) {
+    const double a = by_slot[m.spring_layout.covers(m.springs.size()) ? m.spring_layout.slot[s] : s];
+    EXPECT_TRUE(a == by_spring[s] || (std::isnan(a) && std::isnan(by_spring[s]))) << "spring " << s;
+  }
+}
+
+// The largest spring term h |T| of Phi's gradient at the end of the step: what "relative per
+// spring force" is relative to.
+double largest_spring_push(const StepCase& s, const Eigen::Matrix3Xd& y) {
+  const Springs& sp = s.model.springs;
+  std::vector<double> ln;
+  spring_lengths(sp, s.start.x, ln);
+  double out = 0.0;
+  for (std::size_t i = 0; i < sp.size(); ++i) {
+    const double l = (y.col(sp.a[i]) - y.col(sp.b[i])).norm();
+    out = std::max(out, kH * std::abs(step_spring_tension(l, sp.rest[i], ln[i], sp.ks[i], sp.kd[i], kH)));
+  }
+  return out;
+}
+
+void expect_same_potential(const StepCase& s) {
+  Eigen::Matrix3Xd y, g, y_ref, g_ref;
+  const PotentialValue a = step_potential(s.model, s.start, kH, s.length, s.dv, y, g);
+  const PotentialValue b = step_potential_scalar(s.model, s.start, kH, s.length, s.dv, y_ref, g_ref);
+  EXPECT_EQ(y, y_ref);
+  EXPECT_LE(std::abs(a.phi - b.phi), 1e-12 * b.magnitude) << a.phi << " vs " << b.phi;
+  EXPECT_LE(std::abs(a.magnitude - b.magnitude), 1e-12 * b.magnitude);
+  const double scale = largest_spring_push(s, y);
+  EXPECT_LE((g - g_ref).cwiseAbs().maxCoeff(), 1e-12 * scale) << "largest spring term " << scale;
+  EXPECT_EQ(g.col(s.model.num_bodies() - 1), g_ref.col(s.model.num_bodies() - 1));  // the ball: no spring
+}
+
+// The exact Newton matrix at the setup's end-of-step positions (compressed springs included).
+SpringBlockMatrix newton_matrix(const StepCase& s) {
+  SpringBlockMatrix A;
+  build_pattern(s.model, A);
+  const Eigen::Matrix3Xd y = s.start.x + kH * (s.start.v + s.dv);
+  assemble_step_hessian(s.model, s.start.inv_mass, kH, s.length, y, false, A);
+  return A;
+}
+
+// Per entry, within 1e-12 of (|A| |p|)_i: the sum of the absolute values of the terms the
+// entry adds up (a relative error per entry that stays meaningful where the terms cancel).
+void expect_same_product(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p) {
+  Eigen::Matrix3Xd out, ref, bound;
+  multiply(A, p, out);
+  multiply_scalar(A, p, ref);
+  SpringBlockMatrix abs = A;
+  for (Mat3& D : abs.diag) D = D.cwiseAbs();
+  for (auto* v : {&abs.ux, &abs.uy, &abs.uz, &abs.alpha, &abs.beta})
+    for (double& x : *v) x = std::abs(x);
+  multiply_scalar(abs, p.cwiseAbs(), bound);
+  EXPECT_TRUE(((out - ref).cwiseAbs().array() <= 1e-12 * bound.array()).all())
+      << "worst " << ((out - ref).cwiseAbs().array() / bound.array().max(1e-300)).maxCoeff();
+}
+
+Eigen::Matrix3Xd random_vector(int B, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::Matrix3Xd p(3, B);
+  for (int b = 0; b < B; ++b)
+    for (int c = 0; c < 3; ++c) p(c, b) = u(rng);
+  return p;
+}
+
+TEST(PotentialKernels, EveryPassMatchesItsScalarReferenceOnEverySheetAndSpringSet) {
+  const std::vector<std::pair<int, int>> sizes{{25, 25}, {64, 64}, {7, 5}, {1, 9}, {9, 1},
+                                               {2, 2},   {3, 3},   {2, 17}, {50, 3}};
+  unsigned seed = 1;
+  for (const auto& [nx, ny] : sizes)
+    for (const std::string& types : kTypeSets) {
+      SCOPED_TRACE(std::to_string(nx) + " x " + std::to_string(ny) + " {" + types + "}");
+      const StepCase s = step_case(sheet(nx, ny, types), seed++);
+      ASSERT_TRUE(s.model.spring_layout.covers(s.model.springs.size()) || s.model.springs.size() == 0);
+      expect_same_lengths(s.model, s.start.x);
+      expect_same_potential(s);
+      expect_same_product(newton_matrix(s), random_vector(s.model.num_bodies(), seed++));
+    }
+}
+
+TEST(PotentialKernels, SpringsOutsideTheFamiliesAndAStaleLayoutRunTheScalarPath) {
+  Model m = sheet(6, 5, "structural: {}, shear: {}");
+  m.springs.a.push_back(0);  // one long spring across the sheet, another stiffness
+  m.springs.b.push_back(29);
+  m.springs.rest.push_back(0.5);
+  m.springs.ks.push_back(123.0);
+  m.springs.kd.push_back(4.0);
+  m.springs.type.push_back(SpringType::Structural);
+  m.spring_layout = build_spring_layout(m.springs, m.grid_nx, m.grid_ny);
+  ASSERT_EQ(m.spring_layout.others.size(), 1u);
+  StepCase s = step_case(m, 7);
+  s.start.x.col(29) += Vec3(5.0, 0.0, 0.0);  // the long spring is the most stretched: its strain wins
+  step_lengths(s.model, s.start.x, s.length);
+  expect_same_lengths(s.model, s.start.x);
+  EXPECT_GT(step_lengths(s.model, s.start.x, s.length), 5.0);
+  expect_same_potential(s);
+  expect_same_product(newton_matrix(s), random_vector(s.model.num_bodies(), 8));
+
+  m.springs.a.pop_back();  // springs changed after the layout was built: spring order, scalar
+  m.springs.b.pop_back();
+  m.springs.rest.pop_back();
+  m.springs.ks.pop_back();
+  m.springs.kd.pop_back();
+  m.springs.type.pop_back();
+  const StepCase stale = step_case(m, 9);
+  EXPECT_EQ(stale.length.size(), m.springs.size());
+  Eigen::Matrix3Xd y, g, y_ref, g_ref;
+  const PotentialValue a = step_potential(stale.model, stale.start, kH, stale.length, stale.dv, y, g);
+  const PotentialValue b = step_potential_scalar(stale.model, stale.start, kH, stale.length, stale.dv, y_ref, g_ref);
+  EXPECT_EQ(a.phi, b.phi);  // the same loop: the same bits
+  EXPECT_EQ(g, g_ref);
+  const SpringBlockMatrix A = newton_matrix(stale);
+  EXPECT_EQ(A.layout, nullptr);
+  Eigen::Matrix3Xd out, ref;
+  multiply(A, random_vector(m.num_bodies(), 10), out);
+  multiply_scalar(A, random_vector(m.num_bodies(), 10), ref);
+  EXPECT_EQ(out, ref);
+}
+
+TEST(PotentialKernels, NaNPropagatesAsInTheScalarPasses) {
+  StepCase s = step_case(sheet(7, 5, "structural: {}, shear: {}, bend: {}"), 11);
+  const auto nan_pattern = [](const Eigen::Matrix3Xd& a) { return a.array().isNaN().eval(); };
+  for (const int particle : {16, 34}) {  // interior, and the last particle (every family's end)
+    StepCase bad = s;
+    bad.dv(1, particle) = std::nan("");
+    Eigen::Matrix3Xd y, g, y_ref, g_ref;
+    const PotentialValue a = step_potential(bad.model, bad.start, kH, bad.length, bad.dv, y, g);
+    const PotentialValue b = step_potential_scalar(bad.model, bad.start, kH, bad.length, bad.dv, y_ref, g_ref);
+    EXPECT_TRUE(std::isnan(a.phi) && std::isnan(b.phi));
+    EXPECT_TRUE((nan_pattern(g) == nan_pattern(g_ref)).all()) << "particle " << particle;
+    bad.start.x(0, particle) = std::nan("");
+    expect_same_lengths(bad.model, bad.start.x);
+    std::vector<double> length;
+    EXPECT_TRUE(std::isnan(step_lengths(bad.model, bad.start.x, length)));
+
+    const SpringBlockMatrix A = newton_matrix(s);
+    Eigen::Matrix3Xd p = random_vector(s.model.num_bodies(), 12), out, ref;
+    p(2, particle) = std::nan("");
+    multiply(A, p, out);
+    multiply_scalar(A, p, ref);
+    EXPECT_TRUE((nan_pattern(out) == nan_pattern(ref)).all()) << "particle " << particle;
+  }
+}
+
+TEST(PotentialKernels, CoincidentEndsGiveNoGradientAsInTheScalarPass) {
+  StepCase s = step_case(sheet(6, 4, "structural: {}, shear: {}, bend: {}"), 5);
+  s.start.v.setZero();
+  s.dv.setZero();
+  s.start.x.col(8) = s.start.x.col(9);  // a structural spring of length 0 at the end of the step
+  s.start.x.col(15) = s.start.x.col(8);  // and a shear one
+  step_lengths(s.model, s.start.x, s.length);
+  Eigen::Matrix3Xd y, g;
+  step_potential(s.model, s.start, kH, s.length, s.dv, y, g);
+  EXPECT_TRUE(g.allFinite());
+  expect_same_potential(s);
+}
+
+TEST(PotentialKernels, EveryTargetGivesTheSameBits) {
+  // No fused multiply-add, no mixing of lanes and Phi summed in 16 fixed partial sums:
+  // SCALAR .. AVX3 compute the same numbers.
+  const StepCase s = step_case(sheet(37, 23, "structural: {}, shear: {}, bend: {}"), 13);
+  const SpringBlockMatrix A = newton_matrix(s);
+  const Eigen::Matrix3Xd p = random_vector(s.model.num_bodies(), 14);
+  struct Bits {
+    std::vector<double> length;
+    double strain, phi, magnitude;
+    Eigen::Matrix3Xd gradient, product;
+  };
+  const auto run = [&] {
+    Bits b;
+    b.strain = step_lengths(s.model, s.start.x, b.length);
+    Eigen::Matrix3Xd y;
+    const PotentialValue v = step_potential(s.model, s.start, kH, s.length, s.dv, y, b.gradient);
+    b.phi = v.phi;
+    b.magnitude = v.magnitude;
+    multiply(A, p, b.product);
+    return b;
+  };
+  const auto same = [](const auto& a, const auto& b, std::size_t n) {
+    return std::memcmp(a, b, sizeof(double) * n) == 0;
+  };
+  const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  std::string names;
+  Bits first;
+  for (std::size_t t = 0; t < targets.size(); ++t) {
+    hwy::SetSupportedTargetsForTest(targets[t]);
+    const std::string name = potential_kernel_target();
+    names += name + " ";
+    const Bits b = run();
+    if (t == 0) first = b;
+    EXPECT_TRUE(same(b.length.data(), first.length.data(), b.length.size())) << name;
+    EXPECT_TRUE(same(&b.strain, &first.strain, 1)) << name;
+    EXPECT_TRUE(same(&b.phi, &first.phi, 1)) << name;
+    EXPECT_TRUE(same(&b.magnitude, &first.magnitude, 1)) << name;
+    EXPECT_TRUE(same(b.gradient.data(), first.gradient.data(), b.gradient.size())) << name;
+    EXPECT_TRUE(same(b.product.data(), first.product.data(), b.product.size())) << name;
+  }
+  hwy::SetSupportedTargetsForTest(0);  // back to the best target
+  std::printf("potential kernel targets compared: %s(default %s)\n", names.c_str(),
+              potential_kernel_target());
+}
+
+// 40 implicit steps of the drape at its 1e-4 s (Newton, CG, matrix reuse, contacts).
+std::vector<double> implicit_drape() {
+  const Model m = build_model(load_scene(scene_path("drape.yaml")));
+  clothsim::Run run(m, IntegratorKind::ImplicitEuler, 1e-4);
+  EXPECT_TRUE(run.advance_to(40 * 1e-4));
+  std::vector<double> out(run.state().x.data(), run.state().x.data() + run.state().x.size());
+  out.insert(out.end(), run.state().v.data(), run.state().v.data() + run.state().v.size());
+  return out;
+}
+
+TEST(PotentialKernels, AnImplicitRunIsBitIdenticalFromTargetToTarget) {
+  const std::vector<double> a = implicit_drape();
+  EXPECT_EQ(std::memcmp(a.data(), implicit_drape().data(), sizeof(double) * a.size()), 0);
+  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    const std::vector<double> b = implicit_drape();
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * a.size()), 0) << potential_kernel_target();
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+}  // namespace
+}  // namespace clothsim
