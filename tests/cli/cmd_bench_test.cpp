@@ -109,7 +109,7 @@ TEST(CmdBench, InterruptKeepsTheRunsFinishedSoFar) {
   const std::string dir = scratch_dir("bench_interrupt");
   const CliResult r = run_clothsim({"bench", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--duration", "2",
                                     "--csv", dir + "/wp.csv"},
-                                   "timeout --preserve-status -s INT 2");
+                                   "timeout --foreground --preserve-status -s INT 2");
   EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_NE(r.err.find("interrupted:"), std::string::npos) << r.err;
   const auto rows = lines(dir + "/wp.csv");

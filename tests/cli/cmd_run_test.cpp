@@ -340,10 +340,12 @@ TEST(Cli, HelpListsEveryExitCodeOfTheContract) {
 }
 
 TEST(CmdRun, StoppedBySigtermExits143AndLeavesNoFile) {
-  // A minute of the drape takes far longer than the 2 s before SIGTERM arrives.
+  // A minute of the drape takes far longer than the 2 s before SIGTERM arrives. --foreground:
+  // without it timeout signals the child and then its whole process group, a second SIGTERM
+  // that (by design) kills at once when it lands after the first was handled.
   const std::string dir = scratch_dir("run_sigterm");
   const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--duration", "60", "--metrics", dir + "/m.csv"},
-                                   "timeout --preserve-status -s TERM 2");
+                                   "timeout --foreground --preserve-status -s TERM 2");
   EXPECT_EQ(r.exit_code, 143) << "128 + SIGTERM\n" << r.err;
   EXPECT_NE(r.err.find("stopped by SIGTERM"), std::string::npos) << r.err;
   EXPECT_TRUE(only_files(dir, {})) << "no metrics and no temporary";
