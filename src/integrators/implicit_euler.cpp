@@ -57,7 +57,10 @@
 #include <algorithm>
 #include <cmath>
 #include <atomic>
+#include <cstdarg>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 #include "forces.h"
@@ -135,6 +138,21 @@ constexpr double kReuseResidual = 1e-4;
 // does by 100 times and more; at large ones, where Phi may have several minima and the
 // guess decides which one Newton finds, it seldom does.
 constexpr double kLineAdvantage = 4.0;
+
+// CLOTHSIM_NEWTON_TRACE=1 in the environment prints the Newton solve's course on stderr, one
+// line per event: each iterate's relative residual, held contacts and Phi; each solve's CG
+// iterations and whether it met negative curvature; each line search's step; each change of
+// the held set. A diagnostic for the hard steps (docs/integrators.md, "Implicit Euler at the
+// extremes": stiff.yaml's impact at 1/30 s was read off it); it changes no number.
+const bool kNewtonTrace = std::getenv("CLOTHSIM_NEWTON_TRACE") != nullptr;
+
+[[gnu::format(printf, 1, 2)]] void trace(const char* format, ...) {
+  if (!kNewtonTrace) return;
+  std::va_list args;
+  va_start(args, format);
+  std::vfprintf(stderr, format, args);
+  va_end(args);
+}
 
 // Names every assembled Newton matrix in the process (State::implicit_lin_id).
 std::atomic<std::uint64_t> next_matrix_id{1};
@@ -231,6 +249,9 @@ class NewtonSolve {
           ++unserved_;
         }
       }
+      trace("newton step %lld iteration %d residual %.3e held %zu phi %.10e\n",
+            static_cast<long long>(start_.step), stats_.newton_iterations, stats_.residual,
+            c_.contacts.size(), phi_.phi);
       if (stats_.residual <= cfg_.newton_tolerance) return true;
       // Once the iterate is near a solution its contact impulses mean something: let go of the
       // pulling ones now rather than converge with them held (a held particle the cloth would
@@ -238,6 +259,7 @@ class NewtonSolve {
       if (stats_.residual < kReleaseResidual && update_step_contacts(model_, start_, h_, c_.y, c_.r, c_.contacts)) {
         place_on_planes(c_.contacts, start_, h_, c_.dv);
         evaluate();
+        trace("  let go / taken in: held %zu\n", c_.contacts.size());
         continue;
       }
       // (A reused matrix's iteration that did not serve is not charged to the budget: the
@@ -291,9 +313,11 @@ class NewtonSolve {
       reuse_ok_ = reuse_ok_ && alpha_ == 1.0;
       // A particle the step took inside a collider is held from here on (letting go waits
       // until the residual is small, when the impulses mean something: above).
+      trace("  line search: step %.3g, slope %.3e, reused matrix %d\n", alpha_, slope, reused_ ? 1 : 0);
       if (take_in_step_contacts(model_, start_, h_, c_.y, c_.contacts)) {
         place_on_planes(c_.contacts, start_, h_, c_.dv);
         evaluate();
+        trace("  taken in: held %zu\n", c_.contacts.size());
       }
     }
   }
@@ -368,6 +392,9 @@ class NewtonSolve {
     const CgResult cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter,
                                   factored ? &c_.factor : nullptr);
     reuse_ok_ = cg.converged;
+    trace("  cg: %d iterations, converged %d, negative curvature %d, relative residual %.2e, factored %d\n",
+          cg.iterations, cg.converged ? 1 : 0, cg.negative_curvature ? 1 : 0, cg.relative_residual,
+          factored ? 1 : 0);
     stats_.cg_iterations += cg.iterations;
     if (factored) factor_work_ += cg.iterations * (1.0 + c_.factor.solve_cost());
     else jacobi_work_ += cg.iterations;
@@ -498,6 +525,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   // Active-set rounds: let go of pulling contacts, take in penetrating particles, resume.
   for (int round = 0; !baraff_witkin && round < kMaxContactRounds; ++round) {
     if (!update_step_contacts(model, state, h, c.y, c.r, c.contacts)) break;
+    trace("  active-set round %d: held %zu\n", round, c.contacts.size());
     place_on_planes(c.contacts, state, h, c.dv);
     newton.evaluate();
     stats.converged = newton.iterate(nullptr);
