@@ -13,6 +13,7 @@
 
 #include "cli/cli_process.h"
 #include "png_io.h"
+#include "run_reports.h"
 #include "video/mp4_probe.h"
 
 namespace fs = std::filesystem;
@@ -401,17 +402,8 @@ TEST(CmdCompare, AnInterruptedFramesRunSaysWhichPngsItKept) {
   EXPECT_TRUE(cli::only_files(dir + "/f/rk4", {"frame_00000.png"}));
 }
 
-namespace {
-
-double png_time(const std::string& path) {
-  PngText text;
-  read_png(path, &text);
-  for (const auto& [key, value] : text)
-    if (key == "t") return std::stod(value);
-  return -1.0;
-}
-
-}  // namespace
+using clothsim::testing::png_time;
+using clothsim::testing::reported_divergence;
 
 TEST(CmdCompare, OneIntegratorAtTwoStepsIsTwoLanesWithTheirOwnFramesAndRows) {
   const std::string dir = scratch_dir("compare_two_steps");
@@ -459,10 +451,8 @@ TEST(CmdCompare, ADivergedLaneShowsItsLastFiniteStateAtTheTimeRunReports) {
   ASSERT_EQ(c.exit_code, 0) << c.err;
   const auto r = run_clothsim({"run", stiff, "--integrator", "explicit_euler", "--duration", "1"});
   ASSERT_EQ(r.exit_code, 3) << r.err;
-  long step = -1;
-  double t = -1;
-  ASSERT_EQ(std::sscanf(r.err.c_str() + r.err.find("diverged at step "), "diverged at step %ld, t = %lf", &step, &t), 2)
-      << r.err;
+  const auto [step, t] = reported_divergence(r.err);
+  ASSERT_GT(step, 0) << r.err;
   char row[64];
   std::snprintf(row, sizeof row, "DIVERGED at t = %.6g s (step %ld)", t, step);
   EXPECT_NE(c.out.find(row), std::string::npos) << "the table says what run says\n" << c.out;

@@ -11,6 +11,7 @@
 
 #include "cli_process.h"
 #include "png_io.h"
+#include "run_reports.h"
 
 namespace clothsim::testing {
 namespace {
@@ -122,24 +123,6 @@ TEST(CmdRun, StrictSucceedsWhenEveryStepConverged) {
   const CliResult r = run_clothsim({"run", shipped("stiff.yaml"), "--duration", "0.1", "--strict"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find(" 0 steps not converged"), std::string::npos) << r.out;
-}
-
-// The "t" a PNG of a run carries (png_sequence_sink: the picture's simulated time).
-double png_time(const std::string& path) {
-  PngText text;
-  read_png(path, &text);
-  for (const auto& [key, value] : text)
-    if (key == "t") return std::stod(value);
-  return -1.0;
-}
-
-// "diverged at step N, t = X s" from run's stderr.
-std::pair<long, double> reported_divergence(const std::string& err) {
-  long step = -1;
-  double t = -1.0;
-  const auto at = err.find("diverged at step ");
-  if (at != std::string::npos) std::sscanf(err.c_str() + at, "diverged at step %ld, t = %lf", &step, &t);
-  return {step, t};
 }
 
 TEST(CmdRun, ADivergedRunsLastPictureIsItsLastFiniteStateAtTheReportedTime) {

@@ -96,13 +96,6 @@ TargetPlan::TargetPlan(double duration, double fps, bool with_frames,
     : duration_(duration), fps_(fps) {
   // duration * fps is bounded at validation (check_run_bounds), so the cast is defined.
   if (with_frames) frames_ = static_cast<long>(std::floor(duration * fps + 1e-9)) + 1;
-  // The extra target at time t, inserted in order unless one is already within a microsecond.
-  auto extra_at = [this](double t) -> Target& {
-    auto at = std::lower_bound(extras_.begin(), extras_.end(), t - 1e-6,
-                               [](const Target& a, double v) { return a.t < v; });
-    if (at != extras_.end() && std::abs(at->t - t) <= 1e-6) return *at;
-    return *extras_.insert(at, Target{t, -1, -1, false});
-  };
   for (std::size_t c = 0; c < sheet_times.size(); ++c) extra_at(sheet_times[c]).column = static_cast<int>(c);
   if (still_t >= 0.0) extra_at(still_t).still = true;
   if ((frames_ == 0 && extras_.empty()) || to_end) extra_at(duration);
@@ -117,14 +110,18 @@ TargetPlan& TargetPlan::with_scale_window(double scale_window) {
   if (frames_ > 0 || !(scale_window > 0.0)) return *this;  // clip frames are those instants already
   const long last = static_cast<long>(std::floor(std::min(scale_window, duration_) * fps_ + 1e-9));
   for (long k = 0; k <= last; ++k) {
-    const double t = std::min(static_cast<double>(k) / fps_, duration_);
-    auto at = std::lower_bound(extras_.begin(), extras_.end(), t - 1e-6,
-                               [](const Target& a, double v) { return a.t < v; });
-    if (at != extras_.end() && std::abs(at->t - t) <= 1e-6) continue;
-    extras_.insert(at, Target{t, -1, -1, false});
-    ++size_;
+    const std::size_t before = extras_.size();
+    extra_at(std::min(static_cast<double>(k) / fps_, duration_));
+    size_ += static_cast<long>(extras_.size() - before);  // frames_ == 0: every extra is a target
   }
   return *this;
+}
+
+Target& TargetPlan::extra_at(double t) {
+  auto at = std::lower_bound(extras_.begin(), extras_.end(), t - 1e-6,
+                             [](const Target& a, double v) { return a.t < v; });
+  if (at != extras_.end() && std::abs(at->t - t) <= 1e-6) return *at;
+  return *extras_.insert(at, Target{t, -1, -1, false});
 }
 
 double TargetPlan::frame_time(long k) const { return std::min(static_cast<double>(k) / fps_, duration_); }

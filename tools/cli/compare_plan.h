@@ -63,6 +63,8 @@ class TargetPlan {
 
  private:
   double frame_time(long k) const;
+  // The extra target at time t, inserted in order unless one is already within a microsecond.
+  Target& extra_at(double t);
   long frame_at(double t) const;  // the clip frame within a microsecond of t, or -1
 
   double duration_, fps_;

@@ -267,7 +267,7 @@ struct FramePipeline::Impl {
 
 FramePipeline::FramePipeline(const Model& model, const TargetPlan& plan, std::vector<LaneSpec> lanes,
                              PipelineConfig config, Renderer* renderer)
-    : impl_(std::make_unique<Impl>(model, plan, lanes, std::move(config), renderer)), lanes_(std::move(lanes)) {}
+    : impl_(std::make_unique<Impl>(model, plan, std::move(lanes), std::move(config), renderer)) {}
 
 FramePipeline::~FramePipeline() = default;
 

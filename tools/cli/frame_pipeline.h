@@ -101,12 +101,9 @@ class FramePipeline {
   // the pipeline (a summary, a state), so the message names them too.
   PipelineReport run(const std::string& progress_label, const std::vector<std::string>& not_written = {});
 
-  const std::vector<LaneSpec>& lanes() const { return lanes_; }
-
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  std::vector<LaneSpec> lanes_;
 };
 
 // The overlay lines of a lane's picture: `single` (run: scene, lane, time, cost) or a tile's
