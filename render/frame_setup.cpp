@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "color_bar.h"
@@ -40,6 +41,24 @@ View make_view(const RenderFrame& frame) {
   if (gl::length(left) < 1e-3f) left = {1.f, 0.f, 0.f};
   v.light_dir = gl::normalize(Vec3{0.f, 1.f, 0.f} + gl::normalize(left) * 0.45f + gl::normalize(back) * 0.35f);
   return v;
+}
+
+float sphere_radius_px(Vec3 center, float radius, const View& view, int height) {
+  constexpr float kInfinite = std::numeric_limits<float>::infinity();
+  const Vec3 to_center = center - view.eye;
+  const float d = gl::length(to_center);
+  if (!(d > radius)) return kInfinite;
+  const float alpha = std::asin(radius / d);
+  const float theta = std::acos(std::clamp(gl::dot(to_center, view.forward) / d, -1.f, 1.f));
+  if (theta + alpha >= 0.5f * 3.14159265f) return kInfinite;
+  const float half_extent = 0.5f * (std::tan(theta + alpha) - std::tan(theta - alpha));  // 1 m ahead of the eye
+  return half_extent * 0.5f * static_cast<float>(height) / view.tan_half_y;
+}
+
+float sphere_shadow_radius_px(Vec3 center, float radius, float ground_height, const View& view, int height) {
+  const float drop = std::max(center.y - ground_height, 0.f) / view.light_dir.y;  // as the shadow vertex shader
+  const Vec3 under = {center.x - view.light_dir.x * drop, ground_height, center.z - view.light_dir.z * drop};
+  return sphere_radius_px(under, radius / view.light_dir.y, view, height);
 }
 
 PixelRect drawn_region(const RenderFrame& frame, const View& view, int margin) {

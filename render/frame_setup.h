@@ -35,6 +35,17 @@ struct View {
 };
 View make_view(const RenderFrame& frame);
 
+// A sphere's radius on screen, in pixels, where its outline is widest: along the line from the
+// image centre through it, where perspective stretches it most (half of tan(theta + alpha) -
+// tan(theta - alpha) for a sphere at angle theta off the view axis and angular radius alpha).
+// Infinite when it reaches the plane through the eye, or holds the eye. For sphere_slices().
+float sphere_radius_px(Vec3 center, float radius, const View& view, int height);
+
+// The same for the shadow a sphere casts on the ground (RenderFrame::ground_height) down the
+// key light: an ellipse r by r / light_dir.y about the point under the centre, measured as a
+// sphere of the larger radius there (at least as large on screen as the ellipse).
+float sphere_shadow_radius_px(Vec3 center, float radius, float ground_height, const View& view, int height);
+
 // A rectangle of pixels in GL's bottom-up coordinates, half-open: [x0, x1) x [y0, y1).
 struct PixelRect {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;

@@ -1,5 +1,6 @@
 #include "meshes.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace clothsim {
@@ -28,6 +29,15 @@ Mesh make_unit_sphere(int slices, int stacks) {
       if (j < stacks - 1) mesh.triangles.insert(mesh.triangles.end(), {b, c, d});      // not at the south pole
     }
   return mesh;
+}
+
+int sphere_slices(float radius_px, float max_error_px) {
+  constexpr int kFewest = 12, kMost = 128;  // 12: still round at a few pixels; 128: 0.25 px at 1300 px
+  if (!(radius_px > max_error_px)) return kFewest;        // tiny (or NaN): any polygon will do
+  if (!std::isfinite(radius_px)) return kMost;             // the eye inside or at the sphere
+  const double half_angle = std::acos(1.0 - static_cast<double>(max_error_px) / radius_px);
+  const int slices = static_cast<int>(std::ceil(3.14159265358979323846 / half_angle));
+  return std::clamp((slices + 3) / 4 * 4, kFewest, kMost);
 }
 
 }  // namespace clothsim

@@ -31,6 +31,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <string>
 
 #include "colormap.h"
@@ -104,8 +105,11 @@ struct Renderer::Impl {
   GLuint colormap_texture = 0;                                  // 1-D, colormap() at 256 positions
   std::vector<float> field_positions;                           // scratch for cloth_field
   GLuint lines_vao = 0, line_indices = 0;                       // springs: cloth_positions + indices
-  GLuint sphere_vao = 0, sphere_positions = 0, sphere_normals = 0, sphere_triangles = 0;
-  GLsizei sphere_index_count = 0;
+  struct SphereMesh {                                           // a unit sphere on the GPU
+    GLuint vao = 0, positions = 0, normals = 0, triangles = 0;
+    GLsizei index_count = 0;
+  };
+  std::map<int, SphereMesh> sphere_meshes;                      // by slices (sphere_slices), made when first asked for
   GLuint ground_vao = 0, ground_positions = 0;
 
   GLuint draw_fbo = 0, draw_color = 0, draw_depth = 0;          // multisampled when samples > 1
@@ -134,6 +138,7 @@ struct Renderer::Impl {
     ~Current() { r.release(); }
   };
   void create_objects();
+  const SphereMesh& sphere_mesh(int slices);
   void ensure_targets(int width, int height, int samples);
   void delete_targets();
   void upload_frame(const RenderFrame& frame, const View& view);
@@ -203,12 +208,11 @@ void Renderer::Impl::create_objects() {
 
   glGenVertexArrays(1, &empty_vao);
 
-  GLuint buffers[10];
-  glGenBuffers(10, buffers);
+  GLuint buffers[7];
+  glGenBuffers(7, buffers);
   cloth_positions = buffers[0]; cloth_normals = buffers[1]; cloth_uv = buffers[2];
   cloth_triangles = buffers[3]; line_indices = buffers[4];
-  sphere_positions = buffers[5]; sphere_normals = buffers[6]; sphere_triangles = buffers[7];
-  ground_positions = buffers[8]; cloth_field = buffers[9];
+  ground_positions = buffers[5]; cloth_field = buffers[6];
 
   glGenVertexArrays(1, &cloth_vao);
   glBindVertexArray(cloth_vao);
@@ -239,18 +243,6 @@ void Renderer::Impl::create_objects() {
   attribute(0, cloth_positions, 3);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, line_indices);
 
-  // 64 x 32 facets: a sphere a third of a 1080p frame high strays < 0.5 px from round;
-  // every triangle costs llvmpipe setup time, so no more than that.
-  const Mesh sphere = make_unit_sphere(64, 32);
-  glGenVertexArrays(1, &sphere_vao);
-  glBindVertexArray(sphere_vao);
-  upload(GL_ARRAY_BUFFER, sphere_positions, sphere.positions);
-  upload(GL_ARRAY_BUFFER, sphere_normals, sphere.normals);
-  attribute(0, sphere_positions, 3);
-  attribute(1, sphere_normals, 3);
-  upload(GL_ELEMENT_ARRAY_BUFFER, sphere_triangles, sphere.triangles);
-  sphere_index_count = static_cast<GLsizei>(sphere.triangles.size());
-
   glGenVertexArrays(1, &ground_vao);
   glBindVertexArray(ground_vao);
   attribute(0, ground_positions, 3);
@@ -265,6 +257,26 @@ void Renderer::Impl::delete_targets() {
   glDeleteRenderbuffers(3, renderbuffers);
   draw_fbo = resolve_fbo = draw_color = draw_depth = resolve_color = 0;
   target_width = target_height = target_samples = 0;
+}
+
+// Each level of detail is built once, at its first use, and kept: a run asks for a few.
+const Renderer::Impl::SphereMesh& Renderer::Impl::sphere_mesh(int slices) {
+  auto [it, made] = sphere_meshes.try_emplace(slices);
+  SphereMesh& m = it->second;
+  if (!made) return m;
+  const Mesh sphere = make_unit_sphere(slices, slices / 2);
+  GLuint buffers[3];
+  glGenBuffers(3, buffers);
+  m.positions = buffers[0], m.normals = buffers[1], m.triangles = buffers[2];
+  glGenVertexArrays(1, &m.vao);
+  glBindVertexArray(m.vao);
+  upload(GL_ARRAY_BUFFER, m.positions, sphere.positions);
+  upload(GL_ARRAY_BUFFER, m.normals, sphere.normals);
+  attribute(0, m.positions, 3);
+  attribute(1, m.normals, 3);
+  upload(GL_ELEMENT_ARRAY_BUFFER, m.triangles, sphere.triangles);
+  m.index_count = static_cast<GLsizei>(sphere.triangles.size());
+  return m;
 }
 
 void Renderer::Impl::ensure_targets(int width, int height, int samples) {
@@ -366,11 +378,12 @@ void Renderer::Impl::draw_lit_surfaces(const RenderFrame& frame, const View& vie
     set_lights(sphere_program, view);
     set_ground_clip(sphere_program, frame);
     glEnable(GL_CULL_FACE);                                         // closed mesh: back faces never show
-    glBindVertexArray(sphere_vao);
     for (const RenderSphere& s : frame.spheres) {
+      const SphereMesh& mesh = sphere_mesh(sphere_slices(sphere_radius_px(gl::to_vec3(s.center), s.radius, view, frame.height)));
+      glBindVertexArray(mesh.vao);
       set_placement(sphere_program, gl::to_vec3(s.center), s.radius);
       set(sphere_program, "u_color", s.color);
-      glDrawElements(GL_TRIANGLES, sphere_index_count, GL_UNSIGNED_INT, nullptr);
+      glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
     }
     glDisable(GL_CULL_FACE);
   }
@@ -429,10 +442,12 @@ void Renderer::Impl::draw_shadows(const RenderFrame& frame, const View& view) {
   glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(frame.cloth_triangles.size()), GL_UNSIGNED_INT, nullptr);
   // A sphere's two halves project onto the same disc with opposite windings: one is enough.
   glEnable(GL_CULL_FACE);
-  glBindVertexArray(sphere_vao);
   for (const RenderSphere& s : frame.spheres) {
+    const SphereMesh& mesh = sphere_mesh(sphere_slices(
+        sphere_shadow_radius_px(gl::to_vec3(s.center), s.radius, frame.ground_height, view, frame.height)));
+    glBindVertexArray(mesh.vao);
     set_placement(shadow_program, gl::to_vec3(s.center), s.radius);
-    glDrawElements(GL_TRIANGLES, sphere_index_count, GL_UNSIGNED_INT, nullptr);
+    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
   }
   glDisable(GL_CULL_FACE);
   glDisable(GL_POLYGON_OFFSET_FILL);

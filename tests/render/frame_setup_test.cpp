@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "overlay_layout.h"
 #include "renderer.h"
@@ -70,6 +74,63 @@ TEST(FrameSetup, TheDrawnRegionHoldsTheClothSpheresAndShadowsWithAMargin) {
   const float t = 2.f / v.light_dir.y;
   EXPECT_TRUE(inside({-v.light_dir.x * t, -2.f, -v.light_dir.z * t}));
   EXPECT_LT(r.width() * r.height(), 320 * 180);  // and it is not the whole image
+}
+
+// Half the widest extent, in pixels, of points on the screen: a projected sphere's (an
+// ellipse's) semi-major axis, found over directions a degree apart.
+float half_widest_extent_px(const std::vector<std::array<float, 2>>& px) {
+  float widest = 0.f;
+  for (int deg = 0; deg < 180; ++deg) {
+    const float c = std::cos(deg * 3.14159265f / 180.f), s = std::sin(deg * 3.14159265f / 180.f);
+    float lo = 1e30f, hi = -1e30f;
+    for (const auto& p : px) lo = std::min(lo, c * p[0] + s * p[1]), hi = std::max(hi, c * p[0] + s * p[1]);
+    widest = std::max(widest, hi - lo);
+  }
+  return 0.5f * widest;
+}
+
+// Points spread over a sphere's surface (a Fibonacci lattice), each through `to_world`
+// (identity, or down the key light onto the ground), projected to pixels.
+std::vector<std::array<float, 2>> projected_sphere(const View& v, int width, int height, Vec3 c, float r,
+                                                   const std::function<Vec3(Vec3)>& to_world) {
+  std::vector<std::array<float, 2>> px;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const float y = 1.f - 2.f * (i + 0.5f) / n, ring = std::sqrt(1.f - y * y), a = 2.39996323f * i;
+    const Vec3 ndc = to_ndc(v.view_proj, to_world(c + Vec3{ring * std::cos(a), y, ring * std::sin(a)} * r));
+    px.push_back({(ndc.x * 0.5f + 0.5f) * width, (ndc.y * 0.5f + 0.5f) * height});
+  }
+  return px;
+}
+
+TEST(FrameSetup, ASpheresRadiusOnScreenIsItsOutlinesSemiMajorAxis) {
+  const RenderFrame frame = testing::draped_sheet_frame(640, 360, 5);
+  const View v = make_view(frame);
+  const auto same = [](Vec3 p) { return p; };
+  for (const Vec3 c : {Vec3{0.f, 0.f, 0.f}, Vec3{2.5f, 0.5f, -1.f}, Vec3{-3.f, -1.f, 2.f}}) {
+    const float measured = half_widest_extent_px(projected_sphere(v, 640, 360, c, 0.6f, same));
+    EXPECT_NEAR(sphere_radius_px(c, 0.6f, v, 360), measured, 0.01f * measured) << c.x << " " << c.y << " " << c.z;
+  }
+  // Twice the image height, twice the pixels.
+  EXPECT_NEAR(sphere_radius_px({0.f, 0.f, 0.f}, 1.f, v, 720), 2.f * sphere_radius_px({0.f, 0.f, 0.f}, 1.f, v, 360), 1e-3f);
+  // Holding the eye, or reaching the plane through it: unbounded.
+  EXPECT_TRUE(std::isinf(sphere_radius_px(v.eye, 0.5f, v, 360)));
+  EXPECT_TRUE(std::isinf(sphere_radius_px(v.eye + v.right * 1.f, 1.5f, v, 360)));
+}
+
+TEST(FrameSetup, ASpheresShadowOnScreenIsNoLargerThanItsMeasure) {
+  const RenderFrame frame = testing::draped_sheet_frame(640, 360, 5);
+  const View v = make_view(frame);
+  const auto down_the_light = [&](Vec3 p) {  // as the shadow vertex shader
+    const float drop = std::max(p.y - frame.ground_height, 0.f) / v.light_dir.y;
+    return Vec3{p.x - v.light_dir.x * drop, frame.ground_height, p.z - v.light_dir.z * drop};
+  };
+  for (const Vec3 c : {Vec3{0.f, 0.f, 0.f}, Vec3{1.5f, 1.f, 1.f}}) {
+    const float shadow = half_widest_extent_px(projected_sphere(v, 640, 360, c, 1.f, down_the_light));
+    const float measure = sphere_shadow_radius_px(c, 1.f, frame.ground_height, v, 360);
+    EXPECT_GE(measure, shadow);          // enough facets for the shadow's outline
+    EXPECT_LE(measure, 2.5f * shadow);   // and not wildly more
+  }
 }
 
 TEST(FrameSetup, TheDrawnRegionIsEverythingWhenSomethingIsBehindTheCameraAndNothingWhenEmpty) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 namespace clothsim {
 namespace {
@@ -37,6 +38,31 @@ TEST(Meshes, UnitSphereTrianglesAreCounterClockwiseFromOutsideAndCoverIt) {
   }
   EXPECT_NEAR(area, 4.0 * M_PI, 0.1 * 4.0 * M_PI);  // a closed surface, slightly inside the sphere
   EXPECT_LT(area, 4.0 * M_PI);
+}
+
+// The outline of a sphere `slices` facets round lies radius (1 - cos(pi / slices)) inside the
+// circle at worst: what sphere_slices bounds.
+double outline_error_px(double radius_px, int slices) { return radius_px * (1.0 - std::cos(M_PI / slices)); }
+
+TEST(Meshes, SphereSlicesAreTheFewestWhoseOutlineStraysAQuarterPixelAtMost) {
+  for (float r = 1.f; r < 1500.f; r *= 1.07f) {
+    const int n = sphere_slices(r);
+    EXPECT_EQ(n % 4, 0) << r;
+    EXPECT_GE(n, 12);
+    EXPECT_LE(n, 128);
+    if (n < 128) {
+      EXPECT_LE(outline_error_px(r, n), kSphereOutlineErrorPx) << r << " px, " << n << " slices";
+    }
+    if (n > 12) {
+      EXPECT_GT(outline_error_px(r, n - 4), kSphereOutlineErrorPx) << r << " px, " << n << " slices";
+    }
+    EXPECT_LE(n, sphere_slices(r * 1.07f)) << "larger spheres never get fewer facets";
+  }
+  EXPECT_EQ(sphere_slices(200.f), 64);  // the fixed mesh it replaces: 0.24 px at 200 px
+  EXPECT_EQ(sphere_slices(0.1f), 12);
+  EXPECT_EQ(sphere_slices(std::nanf("")), 12);
+  EXPECT_EQ(sphere_slices(std::numeric_limits<float>::infinity()), 128);
+  EXPECT_EQ(sphere_slices(100.f, 1.f), 24);  // a coarser bound: fewer facets
 }
 
 }  // namespace
