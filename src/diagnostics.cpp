@@ -1,7 +1,10 @@
 #include "diagnostics.h"
 
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 
 #include "spring_force.h"
 
@@ -31,20 +34,49 @@ double max_strain(const Model& model, const State& state) {
   return worst;
 }
 
+namespace {
+
+// Adding one to a double's exponent field carries into the sign bit exactly when every
+// exponent bit is set: for infinities and NaNs, and only for them. OR-ed over values, the
+// sign bit says whether any was not finite, with no comparison or branch per value.
+constexpr std::uint64_t kExponent = 0x7ff0000000000000u, kExponentOne = 0x0010000000000000u;
+inline std::uint64_t exponent_carry(double value) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return (bits & kExponent) + kExponentOne;
+}
+
+}  // namespace
+
 std::optional<Divergence> check_bodies(const Model& model, const State& state) {
   const auto diverged = [&](const char* what, int body) {
     char buf[160];
     std::snprintf(buf, sizeof buf, "%s (body %d)", what, body);
     return std::optional<Divergence>(Divergence{state.step, state.t, buf});
   };
+  // One pass over the bodies' coordinates: their finiteness (exponent_carry) and the energies.
+  // The body to name is searched for only when some value is not finite. (Tested a column at
+  // a time with Eigen's allFinite, and the energies summed through per-column expressions,
+  // this check cost an explicit Euler step of 25 x 25 a fifth of its time.)
   double kinetic = 0.0, gravity = 0.0;
+  std::uint64_t carried = 0;
+  const double g[3] = {model.gravity.x(), model.gravity.y(), model.gravity.z()};
+  const double* px = state.x.data();
+  const double* pv = state.v.data();
   for (int b = 0; b < model.num_bodies(); ++b) {
-    if (!state.x.col(b).allFinite()) return diverged("non-finite position", b);
-    if (!state.v.col(b).allFinite()) return diverged("non-finite velocity", b);
-    if (!std::isfinite(model.mass[b])) continue;  // kinematic spheres carry no energy of ours
-    kinetic += 0.5 * model.mass[b] * state.v.col(b).squaredNorm();
-    if (model.gravity_on[b]) gravity -= model.mass[b] * model.gravity.dot(state.x.col(b));
+    const double* x = px + 3 * static_cast<std::ptrdiff_t>(b);
+    const double* v = pv + 3 * static_cast<std::ptrdiff_t>(b);
+    for (int k = 0; k < 3; ++k) carried |= exponent_carry(x[k]) | exponent_carry(v[k]);
+    const double m = model.mass[b];
+    if (!std::isfinite(m)) continue;  // kinematic spheres carry no energy of ours
+    kinetic += 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (model.gravity_on[b]) gravity -= m * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]);
   }
+  if (carried >> 63)
+    for (int b = 0; b < model.num_bodies(); ++b) {
+      if (!state.x.col(b).allFinite()) return diverged("non-finite position", b);
+      if (!state.v.col(b).allFinite()) return diverged("non-finite velocity", b);
+    }
   // Finite values can still sum to an infinite energy (gravity of 1e308 on a resting cloth).
   const auto whole = [&](const char* what) {
     return std::optional<Divergence>(Divergence{state.step, state.t, what});

@@ -62,6 +62,25 @@ TEST(Divergence, IsFoundForNonFiniteValuesExcessiveStrainAndEnergy) {
   EXPECT_NE(check_bodies(m, fast)->reason.find("kinetic energy"), std::string::npos);
 }
 
+TEST(Divergence, NamesTheFirstBodyWithANonFiniteValueAndWhichValue) {
+  const Model m = testing::model_from_yaml(kTwo);
+  State s = initial_state(m);
+  s.x(2, 1) = std::numeric_limits<double>::infinity();
+  s.v(0, 1) = std::numeric_limits<double>::quiet_NaN();
+  ASSERT_TRUE(check_bodies(m, s).has_value());
+  EXPECT_EQ(check_bodies(m, s)->reason, "non-finite position (body 1)");  // position before velocity
+  s.x(2, 1) = 0.0;
+  EXPECT_EQ(check_bodies(m, s)->reason, "non-finite velocity (body 1)");
+  s.v(2, 0) = -std::numeric_limits<double>::infinity();
+  EXPECT_EQ(check_bodies(m, s)->reason, "non-finite velocity (body 0)");  // the first body
+  // The largest finite values, and subnormal ones, are finite.
+  State edge = initial_state(m);
+  edge.x(0, 0) = -std::numeric_limits<double>::max();
+  edge.x(2, 1) = std::numeric_limits<double>::denorm_min();
+  edge.v(0, 1) = -std::numeric_limits<double>::denorm_min();
+  EXPECT_FALSE(check_bodies(m, edge).has_value());
+}
+
 TEST(Divergence, NonFiniteEnergiesAreDivergenceEvenWithFiniteValues) {
   const Model m = testing::model_from_yaml(kTwo);
   State s = initial_state(m);
