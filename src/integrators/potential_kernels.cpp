@@ -1,6 +1,7 @@
 // Highway's foreach_target.h compiles this file once per x86 target (SCALAR, SSSE3, SSE4,
 // AVX2, AVX3), each copy in its own namespace; HWY_EXPORT / HWY_DYNAMIC_DISPATCH pick one at
-// run time. The walk over blocks and the sliding window are spring_kernels.cpp's.
+// run time. The walk over blocks and the sliding window are spring_window-inl.h's, shared with
+// the force pass (spring_kernels.cpp).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "integrators/potential_kernels.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -13,26 +14,19 @@
 #include "integrators/potential_kernels.h"
 #include "spring_kernels.h"  // sticky_max
 
+#include "spring_window-inl.h"  // the walk over the families: its window and helpers
+
 #ifndef CLOTHSIM_POTENTIAL_KERNELS_ONCE  // this part once, not once per target
 #define CLOTHSIM_POTENTIAL_KERNELS_ONCE
 namespace clothsim {
 namespace {
 
-// Positions per block, as the force pass (a multiple of kSpringLanePad).
-constexpr std::size_t kBlock = 2048;
 // Phi's partial sums: position k goes to sum k mod kSums. Every target's lane count divides it
 // and every vector starts at a multiple of its lane count, so a vector's lanes are consecutive
 // sums and each sum sees the same springs in the same order on every target.
 constexpr std::size_t kSums = kSpringLanePad;
-// Scratch arrays in a window: 3 inputs (x, y or p) and 6 sums (at a, at b; 3 components each).
+// Window arrays: 3 inputs (x, y or p) and 6 sums (at a, at b; 3 components each).
 constexpr std::size_t kArrays = 9;
-
-std::size_t window_of(const SpringLayout& layout) {
-  std::size_t reach = 0;
-  for (const SpringFamily& fam : layout.families)
-    reach = std::max(reach, static_cast<std::size_t>(fam.first) + static_cast<std::size_t>(fam.offset));
-  return kBlock + reach + kSpringLanePad;
-}
 
 }  // namespace
 }  // namespace clothsim
@@ -48,116 +42,47 @@ using V = hn::Vec<D>;
 using M = hn::Mask<D>;
 static_assert(HWY_MAX_BYTES / sizeof(double) <= kSpringLanePad, "the layout's padding is a vector");
 
-namespace {  // the helpers' names are spring_kernels.cpp's too
+namespace {
 
-void Deinterleave(const double* HWY_RESTRICT in, std::size_t n, double* HWY_RESTRICT xs,
-                  double* HWY_RESTRICT ys, double* HWY_RESTRICT zs) {
-  const D d;
-  const std::size_t N = hn::Lanes(d);
-  std::size_t p = 0;
-  for (; p + N <= n; p += N) {
-    V X, Y, Z;
-    hn::LoadInterleaved3(d, in + 3 * p, X, Y, Z);
-    hn::StoreU(X, d, xs + p);
-    hn::StoreU(Y, d, ys + p);
-    hn::StoreU(Z, d, zs + p);
-  }
-  for (; p < n; ++p) {
-    xs[p] = in[3 * p];
-    ys[p] = in[3 * p + 1];
-    zs[p] = in[3 * p + 2];
-  }
-}
-
-// out (3 x n, interleaved) += a + b per component.
-void AddInterleaved(const double* const* HWY_RESTRICT a, const double* const* HWY_RESTRICT b,
-                    std::size_t from, std::size_t n, double* HWY_RESTRICT out) {
-  const D d;
-  const std::size_t N = hn::Lanes(d);
-  std::size_t p = 0;
-  for (; p + N <= n; p += N) {
-    V X, Y, Z;
-    hn::LoadInterleaved3(d, out + 3 * p, X, Y, Z);
-    X = hn::Add(X, hn::Add(hn::LoadU(d, a[0] + from + p), hn::LoadU(d, b[0] + from + p)));
-    Y = hn::Add(Y, hn::Add(hn::LoadU(d, a[1] + from + p), hn::LoadU(d, b[1] + from + p)));
-    Z = hn::Add(Z, hn::Add(hn::LoadU(d, a[2] + from + p), hn::LoadU(d, b[2] + from + p)));
-    hn::StoreInterleaved3(X, Y, Z, d, out + 3 * p);
-  }
-  for (; p < n; ++p)
-    for (int c = 0; c < 3; ++c) out[3 * p + c] += a[c][from + p] + b[c][from + p];
-}
-
-// The window a body works on: the input's components and the two sums, indexed in the window.
+// The window of a pass over an interleaved 3 x P input (x, y or p): its components, and
+// (when the pass has an output) the two sums, three components each.
 struct Window {
-  double* in[3];    // x, y or p
-  double* plus[3];  // contributions at each spring's a
-  double* minus[3]; // contributions at each spring's b
+  double* in[3];     // x, y or p
+  double* plus[3];   // contributions at each spring's a
+  double* minus[3];  // contributions at each spring's b
+  Window(double* scratch, std::size_t stride) {
+    for (int c = 0; c < 3; ++c) {
+      in[c] = scratch + c * stride;
+      plus[c] = scratch + (3 + c) * stride;
+      minus[c] = scratch + (6 + c) * stride;
+    }
+  }
 };
 
-// Walks the layout's families in blocks of kBlock positions (spring_kernels.cpp's scheme):
-// copies the particles a block reads from `in` (3 x P, interleaved) into the window, calls
-// body(fam, k, a, b, w) for each vector of positions k .. k+N-1 of each family (a, b: window
-// indices of its springs' ends), then, when `out` is given, adds the finished particles' sums
-// into it. scratch: kArrays arrays of `stride` >= window_of(layout) doubles.
+// Walks the families (spring_window-inl.h) with `in` (3 x P) copied into the window; calls
+// body(fam, k, a, b) for each vector of positions k .. k+N-1 (a, b: window indices of its
+// springs' ends); with `out`, adds the finished particles' sums into it.
 template <class Body>
 void Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
-          double* HWY_RESTRICT scratch, std::size_t stride, const Body& body) {
+          double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Body& body) {
   const std::size_t N = hn::Lanes(D());
-  const std::size_t P = static_cast<std::size_t>(layout.num_particles);
-  Window w;
-  for (int c = 0; c < 3; ++c) {
-    w.in[c] = scratch + c * stride;
-    w.plus[c] = scratch + (3 + c) * stride;
-    w.minus[c] = scratch + (6 + c) * stride;
-  }
-  const std::size_t arrays = out ? kArrays : 3;  // without an output, no sums to keep
-  std::size_t longest = 0;
-  for (const SpringFamily& fam : layout.families)
-    longest = std::max(longest, static_cast<std::size_t>(fam.count));
-  const std::size_t window = window_of(layout);
-  std::size_t base = 0, copied = 0, flushed = 0;
-  const auto copy_up_to = [&](std::size_t to) {
-    if (to <= copied) return;
-    const std::size_t upto = std::min(to, P), from = copied - base, end = to - base;
-    if (copied < upto) Deinterleave(in + 3 * copied, upto - copied, w.in[0] + from, w.in[1] + from, w.in[2] + from);
-    const std::size_t past = std::max(copied, upto) - base;  // zeros past P
-    for (int c = 0; c < 3; ++c) std::fill(w.in[c] + past, w.in[c] + end, 0.0);
-    if (out)
-      for (int c = 0; c < 3; ++c) {
-        std::fill(w.plus[c] + from, w.plus[c] + end, 0.0);
-        std::fill(w.minus[c] + from, w.minus[c] + end, 0.0);
-      }
-    copied = to;
+  const auto copy_in = [&](std::size_t particle, std::size_t n, std::size_t at) {
+    window::Deinterleave(in + 3 * particle, n, w.in[0] + at, w.in[1] + at, w.in[2] + at);
   };
-  const auto flush_up_to = [&](std::size_t to) {
-    if (!out || to <= flushed) return;
-    AddInterleaved(w.plus, w.minus, flushed - base, to - flushed, out + 3 * flushed);
-    flushed = to;
+  const auto run = [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
+    const std::size_t off = static_cast<std::size_t>(fam.offset);
+    for (std::size_t k = k0; k < k1; k += N) {
+      HWY_DASSERT(first + k + off + N <= stride);
+      body(fam, k, first + k, first + k + off);
+    }
   };
-  for (std::size_t k0 = 0; k0 < longest; k0 += kBlock) {
-    if (k0 > base) {  // slide: particles k0 .. copied - 1 to the front
-      for (std::size_t i = 0; i < arrays; ++i) {
-        double* a = scratch + i * stride;
-        std::copy(a + (k0 - base), a + (copied - base), a);
-      }
-      base = k0;
-    }
-    copy_up_to(std::min(k0 + window, P + kSpringLanePad));
-    for (const SpringFamily& fam : layout.families) {
-      const std::size_t count = static_cast<std::size_t>(fam.count);
-      if (k0 >= count) continue;
-      const std::size_t first = static_cast<std::size_t>(fam.first) - base;
-      const std::size_t off = static_cast<std::size_t>(fam.offset);
-      const std::size_t k1 = std::min(k0 + kBlock, count);
-      for (std::size_t k = k0; k < k1; k += N) {
-        HWY_DASSERT(first + k + off + N <= stride);
-        body(fam, k, first + k, first + k + off, w);
-      }
-    }
-    // Particles below k0 + kBlock are finished: every spring at p has its a <= p.
-    flush_up_to(std::min(k0 + kBlock, P));
-  }
-  flush_up_to(std::min(copied, P));
+  const auto flush = [&](std::size_t particle, std::size_t n, std::size_t at) {
+    if (!out) return;
+    const double* const plus[] = {w.plus[0] + at, w.plus[1] + at, w.plus[2] + at};
+    const double* const minus[] = {w.minus[0] + at, w.minus[1] + at, w.minus[2] + at};
+    window::AddInterleaved(plus, minus, n, out + 3 * particle);
+  };
+  window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, run, flush);
 }
 
 V Length(const V dx, const V dy, const V dz) {
@@ -172,8 +97,9 @@ double FamilyLengths(const SpringLayout& layout, const double* HWY_RESTRICT x,
   const D d;
   const V zero = hn::Zero(d);
   V ratio = hn::Set(d, 1.0);
-  Walk(layout, x, nullptr, scratch, stride,
-       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
+  const Window w(scratch, stride);
+  Walk(layout, x, nullptr, scratch, stride, w,
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b) {
          const V l0 = hn::LoadU(d, fam.rest.data() + k);
          const V l = Length(hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b)),
                             hn::Sub(hn::LoadU(d, w.in[1] + a), hn::LoadU(d, w.in[1] + b)),
@@ -207,8 +133,9 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
   double* HWY_RESTRICT magnitude = sums + kSums;
   const SpringFamily* current = nullptr;
   V ks = zero, kdh = zero, half_ks = zero, half_kdh = zero;
-  Walk(layout, y, gradient, scratch, stride,
-       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
+  const Window w(scratch, stride);
+  Walk(layout, y, gradient, scratch, stride, w,
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b) {
          if (&fam != current) {  // the family's constants, as spring_force.h rounds them
            current = &fam;
            ks = hn::Set(d, fam.ks);
@@ -253,8 +180,9 @@ void FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
                     double* HWY_RESTRICT scratch, std::size_t stride) {
   const D d;
   const V zero = hn::Zero(d);
-  Walk(layout, p, out, scratch, stride,
-       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
+  const Window w(scratch, stride);
+  Walk(layout, p, out, scratch, stride, w,
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b) {
          const std::size_t s = fam.slot_first + k;
          const V ux = hn::LoadU(d, blocks.ux + s), uy = hn::LoadU(d, blocks.uy + s),
                  uz = hn::LoadU(d, blocks.uz + s);
@@ -299,7 +227,7 @@ HWY_EXPORT(PotentialTargetName);
 namespace {
 
 // Scratch per thread (compare runs lanes on threads), grown, never shrunk: a window of about
-// kBlock + 2 nx particles.
+// kWindowBlock + 2 nx particles.
 struct Scratch {
   double* data;
   std::size_t stride;
@@ -307,7 +235,7 @@ struct Scratch {
 Scratch scratch_for(const SpringLayout& layout) {
   thread_local hwy::AlignedFreeUniquePtr<double[]> scratch;
   thread_local std::size_t capacity = 0;
-  const std::size_t stride = (window_of(layout) + 7) / 8 * 8;  // arrays 64-byte aligned
+  const std::size_t stride = window_stride(layout);
   if (kArrays * stride > capacity) {
     capacity = kArrays * stride;
     scratch = hwy::AllocateAligned<double>(capacity);
