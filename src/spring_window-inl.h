@@ -110,8 +110,9 @@ HWY_INLINE void AddInterleaved(const double* const* HWY_RESTRICT a, const double
 //                              may read up to kSpringLanePad past k1, which holds zeros);
 //   flush(particle, n, at)     particles [particle, particle + n) are finished: every spring
 //                              that reaches them has been run.
+// Returns how many particles were flushed (0 .. F): particles F .. P - 1 no spring reaches.
 template <class CopyIn, class Body, class Flush>
-HWY_INLINE void WalkFamilies(const SpringLayout& layout, double* HWY_RESTRICT scratch,
+HWY_INLINE std::size_t WalkFamilies(const SpringLayout& layout, double* HWY_RESTRICT scratch,
                              std::size_t stride, std::size_t inputs, std::size_t sums,
                              const CopyIn& copy_in, const Body& body, const Flush& flush) {
   const std::size_t P = static_cast<std::size_t>(layout.num_particles);
@@ -157,6 +158,7 @@ HWY_INLINE void WalkFamilies(const SpringLayout& layout, double* HWY_RESTRICT sc
     flush_up_to(std::min(k0 + kWindowBlock, P));
   }
   flush_up_to(std::min(copied, P));  // the rest of the particles any spring reached
+  return flushed;
 }
 
 }  // namespace window

@@ -45,9 +45,9 @@ inline void subtract_block(Mat3& D, double alpha, double beta, const Vec3& u) {
 
 }  // namespace
 
-void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
-                           const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
-                           bool project, SpringBlockMatrix& A, bool block_jacobi) {
+void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+                                  const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
+                                  bool project, SpringBlockMatrix& A, bool block_jacobi) {
   const int B = A.num_bodies();
   const Springs& springs = model.springs;
 
@@ -121,6 +121,70 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     }
   }
 
+  if (block_jacobi) invert_diagonal(A);
+}
+
+void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+                           const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
+                           bool project, SpringBlockMatrix& A, bool block_jacobi) {
+  if (!A.layout) {
+    assemble_step_hessian_scalar(model, inv_mass, h, start_length, y, project, A, block_jacobi);
+    return;
+  }
+  const SpringLayout& layout = *A.layout;
+  const int B = A.num_bodies();
+  FamilyHessian out{A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(),
+                    A.alpha_projected.data(), A.beta_projected.data(), A.diag.data()->data(),
+                    A.diag_projected.data()->data()};
+  out.h = h;
+  out.drag = model.air_drag;
+  out.project = project;
+  // The families write the particles they reach; the rest (bodies past the grid, particles no
+  // spring reaches) get M + h c I here, as the scalar assembly.
+  const int written = static_cast<int>(family_assemble(layout, y, inv_mass, start_length.data(), out));
+  for (int i = written; i < B; ++i) {
+    if (inv_mass[i] == 0.0) {
+      A.diag[i].setIdentity();
+    } else {
+      const double drag = i < model.num_particles ? model.air_drag : 0.0;
+      A.diag[i] = (1.0 / inv_mass[i] + h * drag) * Mat3::Identity();
+    }
+    if (!project) A.diag_projected[i] = A.diag[i];
+  }
+
+  // The others, one by one (none in today's scenes): their exact blocks into diag, their
+  // projected ones into diag_projected.
+  const double h2 = h * h;
+  const Springs& others = layout.others;
+  for (std::size_t j = 0; j < others.size(); ++j) {
+    const int a = others.a[j], b = others.b[j];
+    const std::size_t k_s = layout.others_first + j;
+    const bool move_a = inv_mass[a] != 0.0, move_b = inv_mass[b] != 0.0;
+    A.alpha[k_s] = A.beta[k_s] = A.alpha_projected[k_s] = A.beta_projected[k_s] = 0.0;
+    if (!move_a && !move_b) continue;
+    const StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), others.rest[j],
+                                                start_length[k_s], others.ks[j], others.kd[j], h);
+    const double transverse_projected = k.transverse < 0.0 ? 0.0 : k.transverse;
+    const double alpha_projected = -h2 * (k.axial - transverse_projected);
+    const double beta_projected = -h2 * transverse_projected;
+    const double alpha = project ? alpha_projected : -h2 * (k.axial - k.transverse);
+    const double beta = project ? beta_projected : -h2 * k.transverse;
+    for (const int i : {a, b}) {
+      if (inv_mass[i] == 0.0) continue;
+      subtract_block(A.diag[i], alpha, beta, k.u);
+      if (!project) subtract_block(A.diag_projected[i], alpha_projected, beta_projected, k.u);
+    }
+    A.ux[k_s] = k.u[0];
+    A.uy[k_s] = k.u[1];
+    A.uz[k_s] = k.u[2];
+    if (move_a && move_b) {
+      A.alpha[k_s] = alpha;
+      A.beta[k_s] = beta;
+      A.alpha_projected[k_s] = alpha_projected;
+      A.beta_projected[k_s] = beta_projected;
+    }
+  }
+  if (project) A.diag_projected = A.diag;
   if (block_jacobi) invert_diagonal(A);
 }
 

@@ -89,13 +89,26 @@ struct SpringBlockMatrix {
 void build_pattern(const Model& model, SpringBlockMatrix& A);
 
 // Refills A = H at the end-of-step positions y (3 x B), with start_length the springs'
-// lengths at the start of the step by slot (step_lengths, step_potential.h), exact or projected (above). With `block_jacobi`, also
-// the block-Jacobi preconditioner (diag_inverse); without, it is left stale, for a solver
-// that preconditions with the sparse factor and inverts the diagonal only when it needs to
-// (invert_diagonal: a 3x3 inverse per body, a third of a small sheet's assembly).
+// lengths at the start of the step by slot (step_lengths, step_potential.h), exact or
+// projected (above): the layout's families in SIMD (potential_kernels.h), their blocks'
+// contributions to the diagonal summed per particle as the walk goes, then the others. With
+// `block_jacobi`, also the block-Jacobi preconditioner (diag_inverse); without, it is left
+// stale, for a solver that preconditions with the sparse factor and inverts the diagonal only
+// when it needs to (invert_diagonal: a 3x3 inverse per body).
 void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
                            const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
                            bool project, SpringBlockMatrix& A, bool block_jacobi = true);
+
+// The scalar reference: every spring in spring order, each block through step_spring_block
+// (spring_force.h), the projected diagonal as the exact one corrected for the compressed
+// springs. The same matrix to rounding: the diagonal blocks' sums run in another order, and
+// the SIMD blocks' u and T / l are products with 1 / l rather than quotients (an ulp or two).
+// (Where neither end of a spring moves it leaves the slot's u as it was; the SIMD pass writes
+// it. Either way the block is zero.)
+void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+                                  const std::vector<double>& start_length,
+                                  const Eigen::Matrix3Xd& y, bool project, SpringBlockMatrix& A,
+                                  bool block_jacobi = true);
 
 // A.diag_inverse = A.diag_projected^-1, blockwise.
 void invert_diagonal(SpringBlockMatrix& A);
