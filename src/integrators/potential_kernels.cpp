@@ -62,7 +62,7 @@ struct Window {
 };
 
 // Walks the families (spring_window-inl.h) with `in` (3 x P) copied into the window; calls
-// body(fam, k, a, b) for each vector of positions k .. k+N-1 (a, b: window indices of its
+// body(fam, k, a, b, w) for each vector of positions k .. k+N-1 (a, b: window indices of its
 // springs' ends); with `out`, adds the finished particles' sums into it.
 template <class Body>
 void Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
@@ -75,7 +75,7 @@ void Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY
     const std::size_t off = static_cast<std::size_t>(fam.offset);
     for (std::size_t k = k0; k < k1; k += N) {
       HWY_DASSERT(first + k + off + N <= stride);
-      body(fam, k, first + k, first + k + off);
+      body(fam, k, first + k, first + k + off, w);
     }
   };
   const auto flush = [&](std::size_t particle, std::size_t n, std::size_t at) {
@@ -99,9 +99,8 @@ double FamilyLengths(const SpringLayout& layout, const double* HWY_RESTRICT x,
   const D d;
   const V zero = hn::Zero(d);
   V ratio = hn::Set(d, 1.0);
-  const Window w(scratch, stride);
-  Walk(layout, x, nullptr, scratch, stride, w,
-       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b) {
+  Walk(layout, x, nullptr, scratch, stride, Window(scratch, stride),
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
          const V l0 = hn::LoadU(d, fam.rest.data() + k);
          const V l = Length(hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b)),
                             hn::Sub(hn::LoadU(d, w.in[1] + a), hn::LoadU(d, w.in[1] + b)),
@@ -135,9 +134,8 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
   double* HWY_RESTRICT magnitude = sums + kSums;
   const SpringFamily* current = nullptr;
   V ks = zero, kdh = zero, half_ks = zero, half_kdh = zero;
-  const Window w(scratch, stride);
-  Walk(layout, y, gradient, scratch, stride, w,
-       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b) {
+  Walk(layout, y, gradient, scratch, stride, Window(scratch, stride),
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
          if (&fam != current) {  // the family's constants, as spring_force.h rounds them
            current = &fam;
            ks = hn::Set(d, fam.ks);
@@ -176,15 +174,88 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
        });
 }
 
+// Phi's body terms (step_potential.cpp's add_body_terms, lane by lane) and the end-of-step
+// positions, N bodies at a time, their xyz read and written interleaved: y = x + h (v + dv);
+// gradient = m dv - h m g (bodies with gravity) + h c v (particles, air drag), zero on
+// immovable bodies, written rather than added to (the spring passes add to it after); body i's
+// energy into partial sum i mod kSums. A last partial vector runs on a padded copy.
+void BodyTerms(const BodyArgs& args, double* HWY_RESTRICT y, double* HWY_RESTRICT gradient,
+               double* HWY_RESTRICT sums) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V zero = hn::Zero(d);
+  const V one = hn::Set(d, 1.0);
+  const V half = hn::Set(d, 0.5);
+  const V h = hn::Set(d, args.h);
+  const V gx = hn::Set(d, args.gravity[0]), gy = hn::Set(d, args.gravity[1]), gz = hn::Set(d, args.gravity[2]);
+  const V h_drag = hn::Set(d, args.h * args.drag);
+  const V half_h_drag = hn::Set(d, 0.5 * args.h * args.drag);
+  const std::size_t B = args.bodies, P = args.particles;
+  double* HWY_RESTRICT phi = sums;
+  double* HWY_RESTRICT magnitude = sums + kSums;
+  HWY_ALIGN double tail[3 * 3 * kSpringLanePad + 2 * kSpringLanePad];
+  HWY_ALIGN double tail_out[2 * 3 * kSpringLanePad];
+  HWY_ALIGN double factor[2 * kSpringLanePad];  // per lane: gravity on (1 or 0), drag on
+  for (std::size_t i = 0; i < B; i += N) {
+    const std::size_t lanes = std::min(N, B - i);
+    const double *x = args.x + 3 * i, *v = args.v + 3 * i, *dv = args.dv + 3 * i, *w_at = args.inv_mass + i;
+    double *y_at = y + 3 * i, *g_at = gradient + 3 * i;
+    if (lanes < N) {  // the last bodies, padded with immovable ones (no terms)
+      std::fill(tail, tail + sizeof(tail) / sizeof(double), 0.0);
+      std::copy(x, x + 3 * lanes, tail);
+      std::copy(v, v + 3 * lanes, tail + 3 * N);
+      std::copy(dv, dv + 3 * lanes, tail + 6 * N);
+      std::copy(w_at, w_at + lanes, tail + 9 * N);
+      x = tail, v = tail + 3 * N, dv = tail + 6 * N, w_at = tail + 9 * N;
+      y_at = tail_out, g_at = tail_out + 3 * N;
+    }
+    for (std::size_t j = 0; j < N; ++j) {
+      factor[j] = j < lanes && args.gravity_on[i + j] ? 1.0 : 0.0;
+      factor[N + j] = i + j < P ? 1.0 : 0.0;
+    }
+    V X, Y, Z, VX, VY, VZ, DX, DY, DZ;
+    hn::LoadInterleaved3(d, x, X, Y, Z);
+    hn::LoadInterleaved3(d, v, VX, VY, VZ);
+    hn::LoadInterleaved3(d, dv, DX, DY, DZ);
+    const V vx = hn::Add(VX, DX), vy = hn::Add(VY, DY), vz = hn::Add(VZ, DZ);  // v_n + dv
+    hn::StoreInterleaved3(hn::Add(X, hn::Mul(h, vx)), hn::Add(Y, hn::Mul(h, vy)), hn::Add(Z, hn::Mul(h, vz)), d, y_at);
+    const V w = hn::LoadU(d, w_at);
+    const M moves = hn::Ne(w, zero);
+    const M gravity = hn::And(moves, hn::Ne(hn::Load(d, factor), zero));
+    const M drag = hn::And(moves, hn::Ne(hn::Load(d, factor + N), zero));
+    const V m = hn::Div(one, w);
+    const V hm = hn::Mul(h, m);
+    // inertia 1/2 m |dv|^2, gravity's work h m g . v, drag's dissipation 1/2 h c |v|^2
+    const V inertia = hn::IfThenElseZero(
+        moves, hn::Mul(hn::Mul(half, m), hn::Add(hn::Add(hn::Mul(DX, DX), hn::Mul(DY, DY)), hn::Mul(DZ, DZ))));
+    const V work = hn::IfThenElseZero(
+        gravity, hn::Mul(hm, hn::Add(hn::Add(hn::Mul(gx, vx), hn::Mul(gy, vy)), hn::Mul(gz, vz))));
+    const V dissipation = hn::IfThenElseZero(
+        drag, hn::Mul(half_h_drag, hn::Add(hn::Add(hn::Mul(vx, vx), hn::Mul(vy, vy)), hn::Mul(vz, vz))));
+    const std::size_t k = i % kSums;
+    hn::StoreU(hn::Add(hn::LoadU(d, phi + k), hn::Add(hn::Sub(inertia, work), dissipation)), d, phi + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, magnitude + k), hn::Add(hn::Add(inertia, hn::Abs(work)), dissipation)), d,
+               magnitude + k);
+    const auto component = [&](V dvc, V vc, V gc) {
+      const V g = hn::Sub(hn::Mul(m, dvc), hn::IfThenElseZero(gravity, hn::Mul(hm, gc)));
+      return hn::IfThenElseZero(moves, hn::Add(g, hn::IfThenElseZero(drag, hn::Mul(h_drag, vc))));
+    };
+    hn::StoreInterleaved3(component(DX, vx, gx), component(DY, vy, gy), component(DZ, vz, gz), d, g_at);
+    if (lanes < N) {
+      std::copy(tail_out, tail_out + 3 * lanes, y + 3 * i);
+      std::copy(tail_out + 3 * N, tail_out + 3 * N + 3 * lanes, gradient + 3 * i);
+    }
+  }
+}
+
 // out += the families' blocks applied to p: sparse_system.cpp's multiply, lane by lane.
 void FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
                     const double* HWY_RESTRICT p, double* HWY_RESTRICT out,
                     double* HWY_RESTRICT scratch, std::size_t stride) {
   const D d;
   const V zero = hn::Zero(d);
-  const Window w(scratch, stride);
-  Walk(layout, p, out, scratch, stride, w,
-       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b) {
+  Walk(layout, p, out, scratch, stride, Window(scratch, stride),
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
          const std::size_t s = fam.slot_first + k;
          const V ux = hn::LoadU(d, blocks.ux + s), uy = hn::LoadU(d, blocks.uy + s),
                  uz = hn::LoadU(d, blocks.uz + s);
@@ -372,6 +443,7 @@ HWY_EXPORT(FamilyLengths);
 HWY_EXPORT(FamilyPotentialTerms);
 HWY_EXPORT(FamilyMultiply);
 HWY_EXPORT(FamilyAssemble);
+HWY_EXPORT(BodyTerms);
 HWY_EXPORT(PotentialTargetName);
 
 namespace {
@@ -409,6 +481,19 @@ FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::M
                                              sums, s.data, s.stride);
   FamilyPotential out;
   for (std::size_t j = 0; j < kSums; ++j) {  // in a fixed order (above)
+    out.phi += sums[j];
+    out.magnitude += sums[kSums + j];
+  }
+  return out;
+}
+
+FamilyPotential body_terms(const BodyArgs& args, Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient) {
+  y.resize(3, static_cast<Eigen::Index>(args.bodies));
+  gradient.resize(3, static_cast<Eigen::Index>(args.bodies));
+  alignas(64) double sums[2 * kSums] = {};
+  HWY_DYNAMIC_DISPATCH(BodyTerms)(args, y.data(), gradient.data(), sums);
+  FamilyPotential out;
+  for (std::size_t j = 0; j < kSums; ++j) {  // in a fixed order
     out.phi += sums[j];
     out.magnitude += sums[kSums + j];
   }

@@ -29,6 +29,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
 
 #include "spring_layout.h"
 
@@ -50,6 +52,24 @@ struct FamilyPotential {
 FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
                                       const double* start_length, double h,
                                       Eigen::Matrix3Xd& gradient);
+
+// Phi's body terms and the end-of-step positions, the bodies in SIMD: y (3 x B) = x + h (v + dv),
+// and gradient (3 x B) = the bodies' terms of Phi's gradient, m dv - h m g + h c v (written:
+// the spring passes add to it after), zero on immovable bodies; returns the terms' energies
+// (inertia, gravity's work, drag's dissipation; step_potential.h's PotentialValue), summed in
+// kSpringLanePad partial sums (body i into sum i mod 16), added in order at the end.
+struct BodyArgs {
+  const double* x;          // (3 x B) the start of the step
+  const double* v;          // (3 x B)
+  const double* dv;         // (3 x B) the iterate
+  const double* inv_mass;   // (B)
+  const std::uint8_t* gravity_on;  // (B)
+  std::size_t bodies = 0;     // B
+  std::size_t particles = 0;  // the first P bodies have air drag
+  double h = 0.0, drag = 0.0;
+  double gravity[3] = {0.0, 0.0, 0.0};
+};
+FamilyPotential body_terms(const BodyArgs& args, Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient);
 
 // The spring blocks G_s = alpha u u^T + beta I of the families, by slot (ux, uy, uz, alpha,
 // beta: layout.num_slots each), applied to p: out (3 x B) += G_s p_b at a and G_s p_a at b.

@@ -105,15 +105,25 @@ PotentialValue step_potential(const Model& model, const State& start, double h,
   const SpringLayout& layout = model.spring_layout;
   if (!layout.covers(model.springs.size()))
     return step_potential_scalar(model, start, h, start_length, dv, y, gradient);
-  y.noalias() = start.x + h * (start.v + dv);
-  gradient.setZero(3, model.num_bodies());
-  PotentialValue value;
+  // The bodies first (y, and the gradient's first terms: body_terms in SIMD, the reference's
+  // add_body_terms lane by lane), then the springs add theirs.
+  BodyArgs bodies{start.x.data(), start.v.data(), dv.data(), start.inv_mass.data(), model.gravity_on.data()};
+  bodies.bodies = static_cast<std::size_t>(model.num_bodies());
+  bodies.particles = static_cast<std::size_t>(model.air_drag != 0.0 ? model.num_particles : 0);
+  bodies.h = h;
+  bodies.drag = model.air_drag;
+  for (int c = 0; c < 3; ++c) bodies.gravity[c] = model.gravity[c];
+  const FamilyPotential body = body_terms(bodies, y, gradient);
   const FamilyPotential families = family_step_potential(layout, y, start_length.data(), h, gradient);
-  value.phi = families.phi;
-  value.magnitude = families.magnitude;
+  PotentialValue value;
+  value.phi = families.phi + body.phi;
+  value.magnitude = families.magnitude + body.magnitude;
   add_spring_terms(layout.others, start_length.data() + layout.others_first,
                    [](std::size_t s) { return s; }, h, y, gradient, value);
-  add_body_terms(model, start, h, dv, gradient, value);
+  // Immovable bodies are not unknowns: no gradient there (the springs added theirs).
+  const Eigen::VectorXd& w = start.inv_mass;
+  for (Eigen::Index i = 0; i < w.size(); ++i)
+    if (w[i] == 0.0) gradient.col(i).setZero();
   return value;
 }
 
