@@ -225,6 +225,25 @@ class NewtonSolve {
   void evaluate() {
     phi_ = step_potential(model_, start_, h_, c_.start_length, c_.dv, c_.y, c_.r);
     ++stats_.force_evals;
+    ++y_version_;
+  }
+
+  // take_in_step_contacts at the iterate's y, unless the last scan saw this y with this held
+  // set: it would find what it found then, nothing (the scan is a function of y and the held
+  // set; after an accepted line search the loop's next round asked again at the same y).
+  bool take_in() {
+    if (scanned_y_ == y_version_ && scanned_held_ == held_version_) return false;
+    const bool changed = take_in_step_contacts(model_, start_, h_, c_.y, c_.contacts);
+    if (changed) ++held_version_;
+    scanned_y_ = y_version_;
+    scanned_held_ = held_version_;
+    return changed;
+  }
+  // update_step_contacts at the iterate: let go of the pulling ones, then take in.
+  bool update_contacts() {
+    const bool let_go = let_go_step_contacts(c_.r, c_.contacts);
+    if (let_go) ++held_version_;
+    return take_in() || let_go;
   }
 
   void set_scale(double impulse_scale) { impulse_scale_ = impulse_scale; }
@@ -256,7 +275,7 @@ class NewtonSolve {
       // Once the iterate is near a solution its contact impulses mean something: let go of the
       // pulling ones now rather than converge with them held (a held particle the cloth would
       // lift compresses its neighbours, and the solve then crawls through buckled states).
-      if (stats_.residual < kReleaseResidual && update_step_contacts(model_, start_, h_, c_.y, c_.r, c_.contacts)) {
+      if (stats_.residual < kReleaseResidual && update_contacts()) {
         place_on_planes(c_.contacts, start_, h_, c_.dv);
         evaluate();
         trace("  let go / taken in: held %zu\n", c_.contacts.size());
@@ -314,7 +333,7 @@ class NewtonSolve {
       // A particle the step took inside a collider is held from here on (letting go waits
       // until the residual is small, when the impulses mean something: above).
       trace("  line search: step %.3g, slope %.3e, reused matrix %d\n", alpha_, slope, reused_ ? 1 : 0);
-      if (take_in_step_contacts(model_, start_, h_, c_.y, c_.contacts)) {
+      if (take_in()) {
         place_on_planes(c_.contacts, start_, h_, c_.dv);
         evaluate();
         trace("  taken in: held %zu\n", c_.contacts.size());
@@ -433,6 +452,7 @@ class NewtonSolve {
         c_.dv.swap(c_.dv_try);
         c_.y.swap(c_.y_try);
         c_.r.swap(c_.r_try);
+        ++y_version_;
         phi_ = trial;
         return true;
       }
@@ -463,6 +483,10 @@ class NewtonSolve {
   double reuse_from_ = 0.0;    // |S r| before it
   int unserved_ = 0;           // iterations with a reused matrix that did not serve
   double alpha_ = 0.0;         // the last line search's step
+  // The contact scan's inputs, counted: y_version_ changes with c_.y, held_version_ with the
+  // held set; scanned_* are the pair the last take-in scan saw.
+  std::uint64_t y_version_ = 0, held_version_ = 0;
+  std::uint64_t scanned_y_ = ~std::uint64_t{0}, scanned_held_ = ~std::uint64_t{0};
 };
 
 StepStats newton_step(const Model& model, State& state, double h, Workspace& ws) {
@@ -524,7 +548,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   stats.converged = newton.iterate(warm);
   // Active-set rounds: let go of pulling contacts, take in penetrating particles, resume.
   for (int round = 0; !baraff_witkin && round < kMaxContactRounds; ++round) {
-    if (!update_step_contacts(model, state, h, c.y, c.r, c.contacts)) break;
+    if (!newton.update_contacts()) break;
     trace("  active-set round %d: held %zu\n", round, c.contacts.size());
     place_on_planes(c.contacts, state, h, c.dv);
     newton.evaluate();

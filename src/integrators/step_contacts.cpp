@@ -147,9 +147,7 @@ bool take_in_step_contacts(const Model& model, const State& start, double h,
   return changed;
 }
 
-bool update_step_contacts(const Model& model, const State& start, double h,
-                          const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& gradient,
-                          StepContacts& contacts) {
+bool let_go_step_contacts(const Eigen::Matrix3Xd& gradient, StepContacts& contacts) {
   bool changed = false;
   // Let go of the pulling ones, keeping the order of the rest.
   std::size_t kept = 0;
@@ -171,7 +169,14 @@ bool update_step_contacts(const Model& model, const State& start, double h,
   contacts.filter.normal.resize(kept);
   contacts.plane.resize(kept);
   contacts.collider.resize(kept);
-  return take_in_step_contacts(model, start, h, y, contacts) || changed;
+  return changed;
+}
+
+bool update_step_contacts(const Model& model, const State& start, double h,
+                          const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& gradient,
+                          StepContacts& contacts) {
+  const bool let_go = let_go_step_contacts(gradient, contacts);
+  return take_in_step_contacts(model, start, h, y, contacts) || let_go;
 }
 
 void respond_to_step_contacts(const Model& model, const StepContacts& contacts,
