@@ -63,11 +63,15 @@ struct Window {
 
 // Walks the families (spring_window-inl.h) with `in` (3 x P) copied into the window; calls
 // body(fam, k, a, b, w) for each vector of positions k .. k+N-1 (a, b: window indices of its
-// springs' ends); with `out`, adds the finished particles' sums into it.
+// springs' ends); with `out`, adds the finished particles' sums into it, or, with `diag` (the
+// matrix's diagonal blocks, SpringBlockMatrix::diag_soa of B bodies), writes D_i in_i + the
+// sums there. Returns how many particles it finished.
 template <class Body>
-void Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
-          double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Body& body) {
-  const std::size_t N = hn::Lanes(D());
+std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
+                 double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Body& body,
+                 const double* HWY_RESTRICT diag = nullptr, std::size_t bodies = 0) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
   const auto copy_in = [&](std::size_t particle, std::size_t n, std::size_t at) {
     window::Deinterleave(in + 3 * particle, n, w.in[0] + at, w.in[1] + at, w.in[2] + at);
   };
@@ -80,11 +84,43 @@ void Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY
   };
   const auto flush = [&](std::size_t particle, std::size_t n, std::size_t at) {
     if (!out) return;
-    const double* const plus[] = {w.plus[0] + at, w.plus[1] + at, w.plus[2] + at};
-    const double* const minus[] = {w.minus[0] + at, w.minus[1] + at, w.minus[2] + at};
-    window::AddInterleaved(plus, minus, n, out + 3 * particle);
+    if (!diag) {
+      const double* const plus[] = {w.plus[0] + at, w.plus[1] + at, w.plus[2] + at};
+      const double* const minus[] = {w.minus[0] + at, w.minus[1] + at, w.minus[2] + at};
+      window::AddInterleaved(plus, minus, n, out + 3 * particle);
+      return;
+    }
+    // out_i = D_i p_i + (plus + minus): sparse_system.cpp's multiply_diagonal, then the sums,
+    // with the same operations in the same order.
+    const double* HWY_RESTRICT dxx = diag + particle;
+    const double* HWY_RESTRICT dyy = dxx + bodies;
+    const double* HWY_RESTRICT dzz = dyy + bodies;
+    const double* HWY_RESTRICT dxy = dzz + bodies;
+    const double* HWY_RESTRICT dxz = dxy + bodies;
+    const double* HWY_RESTRICT dyz = dxz + bodies;
+    const double *p0 = w.in[0] + at, *p1 = w.in[1] + at, *p2 = w.in[2] + at;
+    const double *a0 = w.plus[0] + at, *a1 = w.plus[1] + at, *a2 = w.plus[2] + at;
+    const double *b0 = w.minus[0] + at, *b1 = w.minus[1] + at, *b2 = w.minus[2] + at;
+    double* HWY_RESTRICT y = out + 3 * particle;
+    std::size_t i = 0;
+    for (; i + N <= n; i += N) {
+      const V xx = hn::LoadU(d, dxx + i), yy = hn::LoadU(d, dyy + i), zz = hn::LoadU(d, dzz + i);
+      const V xy = hn::LoadU(d, dxy + i), xz = hn::LoadU(d, dxz + i), yz = hn::LoadU(d, dyz + i);
+      const V q0 = hn::LoadU(d, p0 + i), q1 = hn::LoadU(d, p1 + i), q2 = hn::LoadU(d, p2 + i);
+      const V y0 = hn::Add(hn::Add(hn::Mul(xx, q0), hn::Mul(xy, q1)), hn::Mul(xz, q2));
+      const V y1 = hn::Add(hn::Add(hn::Mul(xy, q0), hn::Mul(yy, q1)), hn::Mul(yz, q2));
+      const V y2 = hn::Add(hn::Add(hn::Mul(xz, q0), hn::Mul(yz, q1)), hn::Mul(zz, q2));
+      hn::StoreInterleaved3(hn::Add(y0, hn::Add(hn::LoadU(d, a0 + i), hn::LoadU(d, b0 + i))),
+                            hn::Add(y1, hn::Add(hn::LoadU(d, a1 + i), hn::LoadU(d, b1 + i))),
+                            hn::Add(y2, hn::Add(hn::LoadU(d, a2 + i), hn::LoadU(d, b2 + i))), d, y + 3 * i);
+    }
+    for (; i < n; ++i) {
+      y[3 * i] = (dxx[i] * p0[i] + dxy[i] * p1[i] + dxz[i] * p2[i]) + (a0[i] + b0[i]);
+      y[3 * i + 1] = (dxy[i] * p0[i] + dyy[i] * p1[i] + dyz[i] * p2[i]) + (a1[i] + b1[i]);
+      y[3 * i + 2] = (dxz[i] * p0[i] + dyz[i] * p1[i] + dzz[i] * p2[i]) + (a2[i] + b2[i]);
+    }
   };
-  window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, run, flush);
+  return window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, run, flush);
 }
 
 V Length(const V dx, const V dy, const V dz) {
@@ -248,13 +284,13 @@ void BodyTerms(const BodyArgs& args, double* HWY_RESTRICT y, double* HWY_RESTRIC
   }
 }
 
-// out += the families' blocks applied to p: sparse_system.cpp's multiply, lane by lane.
-void FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
+// out = D p + the families' blocks applied to p: sparse_system.cpp's multiply, lane by lane.
+std::size_t FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
                     const double* HWY_RESTRICT p, double* HWY_RESTRICT out,
                     double* HWY_RESTRICT scratch, std::size_t stride) {
   const D d;
   const V zero = hn::Zero(d);
-  Walk(layout, p, out, scratch, stride, Window(scratch, stride),
+  return Walk(layout, p, out, scratch, stride, Window(scratch, stride),
        [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
          const std::size_t s = fam.slot_first + k;
          const V ux = hn::LoadU(d, blocks.ux + s), uy = hn::LoadU(d, blocks.uy + s),
@@ -280,7 +316,8 @@ void FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
          hn::StoreU(hn::Add(hn::LoadU(d, w.minus[0] + b), yb0), d, w.minus[0] + b);
          hn::StoreU(hn::Add(hn::LoadU(d, w.minus[1] + b), yb1), d, w.minus[1] + b);
          hn::StoreU(hn::Add(hn::LoadU(d, w.minus[2] + b), yb2), d, w.minus[2] + b);
-       });
+       },
+       blocks.diag, blocks.bodies);
 }
 
 // The families' Newton blocks: sparse_system.cpp's assembly (assemble_step_hessian_scalar),
@@ -412,7 +449,13 @@ std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRIC
       }
       for (int e = 0; e < 6; ++e) {
         const V value = e < 3 ? hn::Sub(base, sum[e]) : hn::Neg(sum[e]);
-        hn::Store(hn::IfThenElse(moves, value, e < 3 ? one : zero), d, entry[e]);
+        const V stored = hn::IfThenElse(moves, value, e < 3 ? one : zero);
+        hn::Store(stored, d, entry[e]);
+        if (set == 0) {  // the matrix's blocks again, as structure of arrays (diag_soa)
+          double* soa = out.diag_soa + e * out.bodies + p;
+          if (lanes == N) hn::StoreU(stored, d, soa);
+          else std::copy(entry[e], entry[e] + lanes, soa);
+        }
       }
       double* HWY_RESTRICT diag = (set == 0 ? out.diag : out.diag_projected) + 9 * p;
       for (std::size_t j = 0; j < lanes; ++j, diag += 9) {
@@ -500,10 +543,10 @@ FamilyPotential body_terms(const BodyArgs& args, Eigen::Matrix3Xd& y, Eigen::Mat
   return out;
 }
 
-void family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
-                     const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out) {
+std::size_t family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
+                            const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out) {
   const Scratch s = scratch_for(layout);
-  HWY_DYNAMIC_DISPATCH(FamilyMultiply)(layout, blocks, p.data(), out.data(), s.data, s.stride);
+  return HWY_DYNAMIC_DISPATCH(FamilyMultiply)(layout, blocks, p.data(), out.data(), s.data, s.stride);
 }
 
 std::size_t family_assemble(const SpringLayout& layout, const Eigen::Matrix3Xd& y,

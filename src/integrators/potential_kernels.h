@@ -71,17 +71,22 @@ struct BodyArgs {
 };
 FamilyPotential body_terms(const BodyArgs& args, Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient);
 
-// The spring blocks G_s = alpha u u^T + beta I of the families, by slot (ux, uy, uz, alpha,
-// beta: layout.num_slots each), applied to p: out (3 x B) += G_s p_b at a and G_s p_a at b.
+// The matrix's diagonal blocks D_i and the families' spring blocks G_s = alpha u u^T + beta I,
+// by slot (ux, uy, uz, alpha, beta: layout.num_slots each), applied to p: writes out_i (3 x B,
+// sized by the caller) = D_i p_i + the sum of G_s p_b over the springs with a = i and of
+// G_s p_a over those with b = i, for the particles 0 .. F - 1 (F returned; from F on, which no
+// spring reaches, out is the caller's). D from SpringBlockMatrix::diag_soa.
 struct FamilyBlocks {
   const double* ux;
   const double* uy;
   const double* uz;
   const double* alpha;
   const double* beta;
+  const double* diag;  // (6 B) entries xx, yy, zz, xy, xz, yz, entry e of body i at e B + i
+  std::size_t bodies;  // B
 };
-void family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
-                     const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out);
+std::size_t family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
+                            const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out);
 
 // The families' Newton blocks at end-of-step positions y (3 x B): sparse_system.h's assembly
 // of H = M + h c I - h^2 sum K_s for the springs of the families. Writes, by slot, each
@@ -101,6 +106,8 @@ struct FamilyHessian {
   double* beta_projected;
   double* diag;            // (9 B) column-major 3 x 3 blocks
   double* diag_projected;  // (9 B), unused with `project`
+  double* diag_soa;        // (6 B) diag's blocks again, as SpringBlockMatrix::diag_soa
+  std::size_t bodies = 0;  // B
   double h = 0.0;          // s, the step
   double drag = 0.0;       // N s / m, the particles' air drag c
   bool project = false;

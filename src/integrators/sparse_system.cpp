@@ -23,6 +23,8 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
     v->assign(slots, 0.0);
   A.diag_projected.assign(B, Mat3::Zero());
   A.diag_inverse.assign(B, Mat3::Identity());
+  A.refresh_diagonal_soa();
+  SpringBlockMatrix::to_soa(A.diag_inverse, A.diag_inverse_soa);
 }
 
 namespace {
@@ -121,6 +123,7 @@ void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv
     }
   }
 
+  A.refresh_diagonal_soa();
   if (block_jacobi) invert_diagonal(A);
 }
 
@@ -135,7 +138,8 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
   const int B = A.num_bodies();
   FamilyHessian out{A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(),
                     A.alpha_projected.data(), A.beta_projected.data(), A.diag.data()->data(),
-                    A.diag_projected.data()->data()};
+                    A.diag_projected.data()->data(), A.diag_soa.data()};
+  out.bodies = static_cast<std::size_t>(B);
   out.h = h;
   out.drag = model.air_drag;
   out.project = project;
@@ -185,22 +189,37 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     }
   }
   if (project) A.diag_projected = A.diag;
+  // The bodies the families did not write, in diag_soa too (all of them if others changed
+  // the particles' blocks).
+  for (int i = others.size() == 0 ? written : 0; i < B; ++i) {
+    const Mat3& D = A.diag[i];
+    const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
+    for (int e = 0; e < 6; ++e) A.diag_soa[e * B + i] = entry[e];
+  }
   if (block_jacobi) invert_diagonal(A);
 }
 
 void invert_diagonal(SpringBlockMatrix& A) {
-  for (int i = 0; i < A.num_bodies(); ++i) A.diag_inverse[i] = A.diag_projected[i].inverse();
+  const int B = A.num_bodies();
+  A.diag_inverse_soa.resize(6 * static_cast<std::size_t>(B));
+  for (int i = 0; i < B; ++i) {
+    const Mat3 D = A.diag_projected[i].inverse();  // symmetric: its cofactors pair up exactly
+    A.diag_inverse[i] = D;
+    const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
+    for (int e = 0; e < 6; ++e) A.diag_inverse_soa[e * B + i] = entry[e];
+  }
 }
 
 namespace {
 
-// y = the diagonal blocks times p (3 x B).
-void multiply_diagonal(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {
+// y = the diagonal blocks times p (3 x B), for bodies from..B-1 (y sized 3 x B).
+void multiply_diagonal(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y,
+                       int from = 0) {
   const int B = A.num_bodies();
   y.resize(3, B);
   const double* P = p.data();
   double* Y = y.data();
-  for (int i = 0; i < B; ++i) {
+  for (int i = from; i < B; ++i) {
     const double* D = A.diag[i].data();
     const double* pi = P + 3 * i;
     double* yi = Y + 3 * i;
@@ -246,10 +265,16 @@ void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matr
     multiply_scalar(A, p, y);
     return;
   }
-  multiply_diagonal(A, p, y);
+  // The families' kernel writes y = D p + the families' blocks' terms for the particles it
+  // reaches (the diagonal blocks from diag_soa); the rest of the bodies get D p here.
   const SpringLayout& layout = *A.layout;
-  family_multiply(layout, {A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data()},
-                  p, y);
+  const int B = A.num_bodies();
+  y.resize(3, B);
+  const int written = static_cast<int>(family_multiply(
+      layout, {A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(), A.diag_soa.data(),
+               static_cast<std::size_t>(B)},
+      p, y));
+  multiply_diagonal(A, p, y, written);
   const std::size_t first = layout.others_first;
   multiply_springs(A, layout.others.size(), layout.others.a.data(), layout.others.b.data(),
                    [first](std::size_t s) { return first + s; }, p, y);

@@ -60,6 +60,12 @@ struct SpringBlockMatrix {
   std::vector<Mat3> diag_projected;                     // (B)
   std::vector<double> alpha_projected, beta_projected;  // (slots)
   std::vector<Mat3> diag_inverse;    // (B) the block-Jacobi preconditioner: diag_projected^-1
+  // diag and diag_inverse again, as structure of arrays for the SIMD passes (the mat-vec's
+  // diagonal, the Jacobi solve): entry e of body i's symmetric block at e B + i, entries xx,
+  // yy, zz, xy, xz, yz. assemble_step_hessian and invert_diagonal write both forms; whoever
+  // writes diag otherwise calls refresh_diagonal_soa().
+  std::vector<double> diag_soa;          // (6 B)
+  std::vector<double> diag_inverse_soa;  // (6 B)
   int num_bodies() const { return static_cast<int>(diag.size()); }
   std::size_t num_springs() const { return a.size(); }
   Vec3 u(std::size_t s) const {
@@ -75,6 +81,18 @@ struct SpringBlockMatrix {
     diag = diag_projected;
     alpha = alpha_projected;
     beta = beta_projected;
+    refresh_diagonal_soa();
+  }
+  // diag_soa from diag.
+  void refresh_diagonal_soa() { to_soa(diag, diag_soa); }
+  static void to_soa(const std::vector<Mat3>& blocks, std::vector<double>& soa) {
+    const std::size_t B = blocks.size();
+    soa.resize(6 * B);
+    for (std::size_t i = 0; i < B; ++i) {
+      const Mat3& D = blocks[i];
+      const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
+      for (int e = 0; e < 6; ++e) soa[e * B + i] = entry[e];
+    }
   }
 
  private:
