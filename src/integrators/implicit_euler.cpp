@@ -61,6 +61,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 
 #include "forces.h"
@@ -81,6 +82,11 @@ struct ImplicitCache {
   double force_scale = 0.0;  // N, sqrt(sum_s (ks_s l0_s)^2): the size of the spring forces' terms
   SpringBlockMatrix A;
   std::vector<double> start_length;  // (slots) l_n, by slot (step_lengths)
+  // The springs' lengths at y and at y_try (step_potential's end_length; empty where the
+  // model's springs are not all in families), swapped with them: a step that ends at y
+  // (x_{n+1} = y to the bit, as it does unless a collision or an event moved a particle)
+  // starts the next from y_length rather than a pass over the springs.
+  std::vector<double> y_length, y_try_length;
   StepContacts contacts;
   Eigen::Matrix3Xd dv, y, r;            // (3 x B) the iterate, its end positions and residual
   Eigen::Matrix3Xd dv_try, y_try, r_try;  // (3 x B) a line-search trial
@@ -167,6 +173,7 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   if (c.model != &model || c.A.num_bodies() != model.num_bodies() ||
       c.A.num_springs() != model.springs.size()) {
     build_pattern(model, c.A);
+    c.y_length.clear();
     c.factor.reset();  // analysed when first needed
     c.matrix_id = 0;
     c.model = &model;
@@ -223,7 +230,7 @@ class NewtonSolve {
   }
 
   void evaluate() {
-    phi_ = step_potential(model_, start_, h_, c_.start_length, c_.dv, c_.y, c_.r);
+    phi_ = step_potential(model_, start_, h_, c_.start_length, c_.dv, c_.y, c_.r, &c_.y_length);
     ++stats_.force_evals;
     ++y_version_;
   }
@@ -435,7 +442,7 @@ class NewtonSolve {
     for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {
       c_.dv_try.noalias() = c_.dv + alpha * c_.d;
       const PotentialValue trial =
-          step_potential(model_, start_, h_, c_.start_length, c_.dv_try, c_.y_try, c_.r_try);
+          step_potential(model_, start_, h_, c_.start_length, c_.dv_try, c_.y_try, c_.r_try, &c_.y_try_length);
       ++stats_.force_evals;
       bool accept = trial.phi <= phi_.phi + kArmijo * alpha * slope;
       // Near the solution the decrease falls below what Phi's rounding resolves (its terms
@@ -451,6 +458,7 @@ class NewtonSolve {
         alpha_ = alpha;
         c_.dv.swap(c_.dv_try);
         c_.y.swap(c_.y_try);
+        c_.y_length.swap(c_.y_try_length);
         c_.r.swap(c_.r_try);
         ++y_version_;
         phi_ = trial;
@@ -498,7 +506,17 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
 
   // The start of the step: spring lengths l_n (and so the strain of the state we start from),
   // the contacts predicted from the previous step's dv.
-  stats.start_strain = step_lengths(model, state.x, c.start_length);
+  // (from the last step's end, where the state starts exactly there: the same lengths, bit
+  // for bit, without the pass)
+  const bool ended_here = !c.y_length.empty() && c.y.cols() == B &&
+                          std::memcmp(c.y.data(), state.x.data(), sizeof(double) * 3 * B) == 0;
+  if (ended_here) {
+    c.start_length.swap(c.y_length);
+    stats.start_strain = step_strain(model, c.start_length);
+  } else {
+    stats.start_strain = step_lengths(model, state.x, c.start_length);
+  }
+  c.y_length.clear();  // describes no y until the next evaluation
   const bool have_guess = state.implicit_dv.cols() == B;
   const bool baraff_witkin = cfg.newton_max_iterations == 1;
   // The first guess: the last step's dv, or the line through the last two steps' dv where

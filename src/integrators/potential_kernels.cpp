@@ -157,12 +157,40 @@ double FamilyLengths(const SpringLayout& layout, const double* HWY_RESTRICT x,
   return worst;
 }
 
+// The largest l / l0 of lengths already by slot (FamilyLengths' ratio, without the lengths).
+double FamilyStrain(const SpringLayout& layout, const double* HWY_RESTRICT length) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V zero = hn::Zero(d);
+  V ratio = hn::Set(d, 1.0);
+  for (const SpringFamily& fam : layout.families) {
+    const double* HWY_RESTRICT rest = fam.rest.data();
+    const double* HWY_RESTRICT l_at = length + fam.slot_first;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(fam.count); k += N) {
+      const V l0 = hn::LoadU(d, rest + k), l = hn::LoadU(d, l_at + k);
+      const M spring = hn::Gt(l0, zero);
+      const M grows = hn::And(
+          spring, hn::Or(hn::And(hn::Gt(l, zero), hn::Ge(l, hn::Mul(ratio, l0))), hn::IsNaN(l)));
+      if (!hn::AllFalse(d, grows)) {
+        const V q = hn::Div(l, l0);
+        ratio = hn::IfThenElse(hn::AndNot(hn::Le(q, ratio), grows), q, ratio);
+      }
+    }
+  }
+  double lanes[kSpringLanePad];
+  hn::StoreU(ratio, d, lanes);
+  double worst = 1.0;
+  for (std::size_t i = 0; i < N; ++i) worst = sticky_max(worst, lanes[i]);
+  return worst;
+}
+
 // Phi's spring terms and gradient: step_potential's loop body, lane by lane. sums: 2 kSums
 // partial sums (phi, magnitude), zeroed by the caller.
 void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT y,
                           const double* HWY_RESTRICT start_length, double h,
                           double* HWY_RESTRICT gradient, double* HWY_RESTRICT sums,
-                          double* HWY_RESTRICT scratch, std::size_t stride) {
+                          double* HWY_RESTRICT end_length, double* HWY_RESTRICT scratch,
+                          std::size_t stride) {
   const D d;
   const V zero = hn::Zero(d);
   const V hv = hn::Set(d, h);
@@ -192,6 +220,8 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
          const V T = hn::Add(hn::Mul(ks, stretch), hn::Mul(kdh, rate));
          const M spring = hn::Gt(l0, zero);
          const M acts = hn::AndNot(hn::Le(l, zero), spring);  // a direction (or NaN)
+         // (FamilyLengths' store: the same lengths by slot, for the next step's start)
+         if (end_length) hn::StoreU(hn::IfThenElseZero(spring, l), d, end_length + fam.slot_first + k);
          const V e_in = hn::IfThenElseZero(spring, e);
          const V m_in = hn::Add(e_in, hn::IfThenElseZero(acts, hn::Mul(hn::Abs(T), l)));
          const std::size_t j = k % kSums;
@@ -483,6 +513,7 @@ HWY_AFTER_NAMESPACE();
 namespace clothsim {
 
 HWY_EXPORT(FamilyLengths);
+HWY_EXPORT(FamilyStrain);
 HWY_EXPORT(FamilyPotentialTerms);
 HWY_EXPORT(FamilyMultiply);
 HWY_EXPORT(FamilyAssemble);
@@ -515,13 +546,17 @@ double family_step_lengths(const SpringLayout& layout, const Eigen::Matrix3Xd& x
   return HWY_DYNAMIC_DISPATCH(FamilyLengths)(layout, x.data(), length, s.data, s.stride);
 }
 
+double family_strain(const SpringLayout& layout, const double* length) {
+  return HWY_DYNAMIC_DISPATCH(FamilyStrain)(layout, length);
+}
+
 FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
                                       const double* start_length, double h,
-                                      Eigen::Matrix3Xd& gradient) {
+                                      Eigen::Matrix3Xd& gradient, double* end_length) {
   const Scratch s = scratch_for(layout);
   alignas(64) double sums[2 * kSums] = {};
   HWY_DYNAMIC_DISPATCH(FamilyPotentialTerms)(layout, y.data(), start_length, h, gradient.data(),
-                                             sums, s.data, s.stride);
+                                             sums, end_length, s.data, s.stride);
   FamilyPotential out;
   for (std::size_t j = 0; j < kSums; ++j) {  // in a fixed order (above)
     out.phi += sums[j];

@@ -48,10 +48,15 @@ struct FamilyPotential {
 
 // The families' terms of the step potential at end-of-step positions y (3 x B): returns their
 // energies; gradient (3 x B) += dE_s/ddv = h T u at a and -h T u at b (none where l <= 0).
-// start_length by slot (family_step_lengths).
+// start_length by slot (family_step_lengths). With end_length, also writes there what
+// family_step_lengths(layout, y, end_length) would, bit for bit (the lengths at y).
 FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
                                       const double* start_length, double h,
-                                      Eigen::Matrix3Xd& gradient);
+                                      Eigen::Matrix3Xd& gradient, double* end_length = nullptr);
+
+// The largest l / l0 of the families' lengths by slot: what family_step_lengths returned when
+// it wrote them.
+double family_strain(const SpringLayout& layout, const double* length);
 
 // Phi's body terms and the end-of-step positions, the bodies in SIMD: y (3 x B) = x + h (v + dv),
 // and gradient (3 x B) = the bodies' terms of Phi's gradient, m dv - h m g + h c v (written:

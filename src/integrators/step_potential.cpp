@@ -99,10 +99,24 @@ double step_lengths(const Model& model, const Eigen::Matrix3Xd& x, std::vector<d
   return sticky_max(families, others) - 1.0;
 }
 
+double step_strain(const Model& model, const std::vector<double>& length) {
+  return family_strain(model.spring_layout, length.data()) - 1.0;
+}
+
 PotentialValue step_potential(const Model& model, const State& start, double h,
                               const std::vector<double>& start_length, const Eigen::Matrix3Xd& dv,
-                              Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient) {
+                              Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient,
+                              std::vector<double>* end_length) {
   const SpringLayout& layout = model.spring_layout;
+  double* lengths = nullptr;
+  if (end_length) {
+    if (layout.covers(model.springs.size()) && layout.others.size() == 0) {
+      end_length->resize(layout.num_slots);  // (the gaps stay zero, as step_lengths leaves them)
+      lengths = end_length->data();
+    } else {
+      end_length->clear();
+    }
+  }
   if (!layout.covers(model.springs.size()))
     return step_potential_scalar(model, start, h, start_length, dv, y, gradient);
   // The bodies first (y, and the gradient's first terms: body_terms in SIMD, the reference's
@@ -114,7 +128,7 @@ PotentialValue step_potential(const Model& model, const State& start, double h,
   bodies.drag = model.air_drag;
   for (int c = 0; c < 3; ++c) bodies.gravity[c] = model.gravity[c];
   const FamilyPotential body = body_terms(bodies, y, gradient);
-  const FamilyPotential families = family_step_potential(layout, y, start_length.data(), h, gradient);
+  const FamilyPotential families = family_step_potential(layout, y, start_length.data(), h, gradient, lengths);
   PotentialValue value;
   value.phi = families.phi + body.phi;
   value.magnitude = families.magnitude + body.magnitude;

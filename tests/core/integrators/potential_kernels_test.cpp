@@ -232,6 +232,27 @@ TEST(PotentialKernels, EveryPassMatchesItsScalarReferenceOnEverySheetAndSpringSe
     }
 }
 
+TEST(PotentialKernels, PhisEndLengthsAreTheLengthsAtYBitForBit) {
+  // implicit_euler starts a step from the lengths the last step's final Phi left at its end
+  // positions: they must be step_lengths' own, and so must their strain.
+  for (const auto& [nx, ny] : std::vector<std::pair<int, int>>{{25, 25}, {7, 5}, {1, 9}, {64, 3}}) {
+    SCOPED_TRACE(std::to_string(nx) + " x " + std::to_string(ny));
+    StepCase s = step_case(sheet(nx, ny, "structural: {}, shear: {}, bend: {}"), 21);
+    s.dv(0, nx * ny - 1) = 30.0;  // a stretched spring at the last particle: the strain is its
+    Eigen::Matrix3Xd y, g;
+    std::vector<double> end, at_y;
+    step_potential(s.model, s.start, kH, s.length, s.dv, y, g, &end);
+    const double strain = step_lengths(s.model, y, at_y);
+    ASSERT_EQ(end.size(), at_y.size());
+    for (std::size_t i = 0; i < s.model.springs.size(); ++i) {
+      const std::size_t k = s.model.spring_layout.slot[i];
+      EXPECT_EQ(std::memcmp(&end[k], &at_y[k], sizeof(double)), 0) << "spring " << i;
+    }
+    EXPECT_EQ(step_strain(s.model, end), strain);
+    EXPECT_GT(strain, 0.0);
+  }
+}
+
 TEST(PotentialKernels, SpringsOutsideTheFamiliesAndAStaleLayoutRunTheScalarPath) {
   Model m = sheet(6, 5, "structural: {}, shear: {}");
   m.springs.a.push_back(0);  // one long spring across the sheet, another stiffness
@@ -250,6 +271,12 @@ TEST(PotentialKernels, SpringsOutsideTheFamiliesAndAStaleLayoutRunTheScalarPath)
   expect_same_potential(s);
   expect_same_matrices(s);
   expect_same_product(newton_matrix(s), random_vector(s.model.num_bodies(), 8));
+  {  // with springs outside the families, Phi leaves no end lengths (the step recomputes them)
+    Eigen::Matrix3Xd y, g;
+    std::vector<double> end(3, 1.0);
+    step_potential(s.model, s.start, kH, s.length, s.dv, y, g, &end);
+    EXPECT_TRUE(end.empty());
+  }
 
   m.springs.a.pop_back();  // springs changed after the layout was built: spring order, scalar
   m.springs.b.pop_back();
