@@ -6,6 +6,7 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include <algorithm>
 #include <cstddef>
 
 #include "integrators/cg_kernels.h"
@@ -107,6 +108,48 @@ void Jacobi(const double* HWY_RESTRICT inverse, std::size_t B, const double* HWY
   }
 }
 
+void InvertBlocks(const double* HWY_RESTRICT blocks, std::size_t B, double* HWY_RESTRICT inverse,
+                  double* HWY_RESTRICT soa) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V one = hn::Set(d, 1.0);
+  HWY_ALIGN double in[6][kSums];
+  HWY_ALIGN double out[6][kSums];
+  for (std::size_t i = 0; i < B; i += N) {
+    const std::size_t lanes = i + N <= B ? N : B - i;
+    for (std::size_t j = 0; j < N; ++j) {  // the 6 entries of each block (the rest: identity)
+      const double* D3 = blocks + 9 * (i + (j < lanes ? j : 0));
+      in[0][j] = D3[0], in[1][j] = D3[4], in[2][j] = D3[8];
+      in[3][j] = D3[3], in[4][j] = D3[6], in[5][j] = D3[7];
+    }
+    const V a = hn::Load(d, in[0]), b = hn::Load(d, in[1]), c = hn::Load(d, in[2]);
+    const V e = hn::Load(d, in[3]), f = hn::Load(d, in[4]), g = hn::Load(d, in[5]);  // xy, xz, yz
+    // The adjugate of the symmetric block [a e f; e b g; f g c], over its determinant.
+    const V c00 = hn::Sub(hn::Mul(b, c), hn::Mul(g, g));
+    const V c11 = hn::Sub(hn::Mul(a, c), hn::Mul(f, f));
+    const V c22 = hn::Sub(hn::Mul(a, b), hn::Mul(e, e));
+    const V c01 = hn::Sub(hn::Mul(f, g), hn::Mul(e, c));
+    const V c02 = hn::Sub(hn::Mul(e, g), hn::Mul(b, f));
+    const V c12 = hn::Sub(hn::Mul(e, f), hn::Mul(a, g));
+    const V det = hn::Add(hn::Add(hn::Mul(a, c00), hn::Mul(e, c01)), hn::Mul(f, c02));
+    const V inv_det = hn::Div(one, det);
+    const V entry[6] = {hn::Mul(c00, inv_det), hn::Mul(c11, inv_det), hn::Mul(c22, inv_det),
+                        hn::Mul(c01, inv_det), hn::Mul(c02, inv_det), hn::Mul(c12, inv_det)};
+    for (int k = 0; k < 6; ++k) {
+      hn::Store(entry[k], d, out[k]);
+      if (lanes == N) hn::StoreU(entry[k], d, soa + k * B + i);
+      else std::copy(out[k], out[k] + lanes, soa + k * B + i);
+    }
+    for (std::size_t j = 0; j < lanes; ++j) {
+      double* D3 = inverse + 9 * (i + j);
+      D3[0] = out[0][j], D3[4] = out[1][j], D3[8] = out[2][j];
+      D3[1] = D3[3] = out[3][j];
+      D3[2] = D3[6] = out[4][j];
+      D3[5] = D3[7] = out[5][j];
+    }
+  }
+}
+
 void Xpby(double* HWY_RESTRICT p, const double* HWY_RESTRICT z, double beta, std::size_t n) {
   const D d;
   const std::size_t N = hn::Lanes(d);
@@ -127,6 +170,7 @@ HWY_EXPORT(Dot);
 HWY_EXPORT(UpdateIterate);
 HWY_EXPORT(Jacobi);
 HWY_EXPORT(Xpby);
+HWY_EXPORT(InvertBlocks);
 
 namespace {
 double total(const double* sums) {  // in a fixed order
@@ -153,6 +197,10 @@ double simd_jacobi(const double* inverse, std::size_t B, const double* r, double
   alignas(64) double sums[kSums] = {};
   HWY_DYNAMIC_DISPATCH(Jacobi)(inverse, B, r, z, sums);
   return total(sums);
+}
+
+void simd_invert_blocks(const double* blocks, std::size_t B, double* inverse, double* soa) {
+  HWY_DYNAMIC_DISPATCH(InvertBlocks)(blocks, B, inverse, soa);
 }
 
 void simd_xpby(double* p, const double* z, double beta, std::size_t n) {

@@ -193,12 +193,12 @@ double momentum_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv
   return std::sqrt(sum);
 }
 
-// |h f| at the iterate: M dv - r over movable bodies.
+// |h f| at the iterate: M dv - r over movable bodies (one division per body, not three).
 double impulse_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv,
                     const Eigen::Matrix3Xd& r) {
   double sum = 0.0;
   for (Eigen::Index i = 0; i < inv_mass.size(); ++i) {
-    if (inv_mass[i] != 0.0) sum += (dv.col(i) / inv_mass[i] - r.col(i)).squaredNorm();
+    if (inv_mass[i] != 0.0) sum += ((1.0 / inv_mass[i]) * dv.col(i) - r.col(i)).squaredNorm();
   }
   return std::sqrt(sum);
 }

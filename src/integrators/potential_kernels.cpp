@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "integrators/potential_kernels.h"
@@ -262,6 +263,7 @@ void BodyTerms(const BodyArgs& args, double* HWY_RESTRICT y, double* HWY_RESTRIC
   HWY_ALIGN double tail[3 * 3 * kSpringLanePad + 2 * kSpringLanePad];
   HWY_ALIGN double tail_out[2 * 3 * kSpringLanePad];
   HWY_ALIGN double factor[2 * kSpringLanePad];  // per lane: gravity on (1 or 0), drag on
+  bool factors_all_on = false;                   // factor holds ones only
   for (std::size_t i = 0; i < B; i += N) {
     const std::size_t lanes = std::min(N, B - i);
     const double *x = args.x + 3 * i, *v = args.v + 3 * i, *dv = args.dv + 3 * i, *w_at = args.inv_mass + i;
@@ -275,10 +277,19 @@ void BodyTerms(const BodyArgs& args, double* HWY_RESTRICT y, double* HWY_RESTRIC
       x = tail, v = tail + 3 * N, dv = tail + 6 * N, w_at = tail + 9 * N;
       y_at = tail_out, g_at = tail_out + 3 * N;
     }
-    for (std::size_t j = 0; j < N; ++j) {
-      factor[j] = j < lanes && args.gravity_on[i + j] ? 1.0 : 0.0;
-      factor[N + j] = i + j < P ? 1.0 : 0.0;
+    // Which lanes have gravity and drag: all of them for a vector of cloth particles (the
+    // common case, read as one comparison of N flag bytes), else lane by lane.
+    static constexpr std::uint8_t kAllOn[kSpringLanePad] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+    const bool all_on = lanes == N && i + N <= P && std::memcmp(args.gravity_on + i, kAllOn, N) == 0;
+    if (!all_on) {
+      for (std::size_t j = 0; j < N; ++j) {
+        factor[j] = j < lanes && args.gravity_on[i + j] ? 1.0 : 0.0;
+        factor[N + j] = i + j < P ? 1.0 : 0.0;
+      }
+    } else if (!factors_all_on) {
+      for (std::size_t j = 0; j < N; ++j) factor[j] = factor[N + j] = 1.0;
     }
+    factors_all_on = all_on;
     V X, Y, Z, VX, VY, VZ, DX, DY, DZ;
     hn::LoadInterleaved3(d, x, X, Y, Z);
     hn::LoadInterleaved3(d, v, VX, VY, VZ);

@@ -1,7 +1,7 @@
 #include "integrators/sparse_system.h"
 
-#include <Eigen/LU>  // Matrix3d::inverse (closed form for 3x3)
 
+#include "integrators/cg_kernels.h"
 #include "integrators/potential_kernels.h"
 
 namespace clothsim {
@@ -200,14 +200,11 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
 }
 
 void invert_diagonal(SpringBlockMatrix& A) {
-  const int B = A.num_bodies();
-  A.diag_inverse_soa.resize(6 * static_cast<std::size_t>(B));
-  for (int i = 0; i < B; ++i) {
-    const Mat3 D = A.diag_projected[i].inverse();  // symmetric: its cofactors pair up exactly
-    A.diag_inverse[i] = D;
-    const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
-    for (int e = 0; e < 6; ++e) A.diag_inverse_soa[e * B + i] = entry[e];
-  }
+  const std::size_t B = static_cast<std::size_t>(A.num_bodies());
+  A.diag_inverse.resize(B);
+  A.diag_inverse_soa.resize(6 * B);
+  simd_invert_blocks(A.diag_projected.data()->data(), B, A.diag_inverse.data()->data(),
+                     A.diag_inverse_soa.data());
 }
 
 namespace {

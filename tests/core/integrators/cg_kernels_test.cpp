@@ -7,6 +7,7 @@
 #include <hwy/targets.h>
 
 #include <Eigen/Core>
+#include <Eigen/LU>  // Matrix3d::inverse, the reference
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -72,6 +73,26 @@ TEST(CgKernels, MatchEigenOnEveryLength) {
   }
 }
 
+TEST(CgKernels, InvertsSymmetricBlocksAsEigenDoes) {
+  for (const int B : {1, 7, 8, 9, 625}) {
+    SCOPED_TRACE(B);
+    std::vector<Eigen::Matrix3d> blocks;
+    inverse_blocks(B, 11, blocks);  // symmetric positive definite blocks
+    blocks[0] *= 1e-6;              // and a small one
+    std::vector<Eigen::Matrix3d> inverse(B);
+    std::vector<double> soa(6 * B);
+    simd_invert_blocks(blocks.data()->data(), B, inverse.data()->data(), soa.data());
+    for (int i = 0; i < B; ++i) {
+      const Eigen::Matrix3d ref = blocks[i].inverse();
+      EXPECT_LE((inverse[i] - ref).cwiseAbs().maxCoeff(), 1e-12 * ref.cwiseAbs().maxCoeff()) << "block " << i;
+      EXPECT_EQ(inverse[i], inverse[i].transpose());
+      const double entry[6] = {inverse[i](0, 0), inverse[i](1, 1), inverse[i](2, 2),
+                               inverse[i](0, 1), inverse[i](0, 2), inverse[i](1, 2)};
+      for (int e = 0; e < 6; ++e) EXPECT_EQ(soa[e * B + i], entry[e]);
+    }
+  }
+}
+
 TEST(CgKernels, EveryTargetGivesTheSameBits) {
   const int B = 37;
   const std::size_t n = 3 * B;
@@ -81,12 +102,14 @@ TEST(CgKernels, EveryTargetGivesTheSameBits) {
   struct Bits {
     double pq, rr, rz;
     Eigen::Matrix3Xd x, r, z;
+    std::vector<double> inverse;
   };
   const auto run = [&] {
-    Bits b{0, 0, 0, Eigen::Matrix3Xd::Zero(3, B), r0, Eigen::Matrix3Xd(3, B)};
+    Bits b{0, 0, 0, Eigen::Matrix3Xd::Zero(3, B), r0, Eigen::Matrix3Xd(3, B), std::vector<double>(15 * B)};
     b.pq = simd_dot(p.data(), q.data(), n);
     b.rr = simd_update_iterate(b.x.data(), b.r.data(), p.data(), q.data(), 0.3, n);
     b.rz = simd_jacobi(soa.data(), B, b.r.data(), b.z.data());
+    simd_invert_blocks(blocks.data()->data(), B, b.inverse.data(), b.inverse.data() + 9 * B);
     return b;
   };
   const Bits first = run();
@@ -97,6 +120,8 @@ TEST(CgKernels, EveryTargetGivesTheSameBits) {
     EXPECT_EQ(std::memcmp(&b.rr, &first.rr, sizeof(double)), 0) << hwy::TargetName(target);
     EXPECT_EQ(std::memcmp(&b.rz, &first.rz, sizeof(double)), 0) << hwy::TargetName(target);
     EXPECT_EQ(std::memcmp(b.z.data(), first.z.data(), sizeof(double) * n), 0) << hwy::TargetName(target);
+    EXPECT_EQ(std::memcmp(b.inverse.data(), first.inverse.data(), sizeof(double) * b.inverse.size()), 0)
+        << hwy::TargetName(target);
   }
   hwy::SetSupportedTargetsForTest(0);
 }
