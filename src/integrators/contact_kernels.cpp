@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "integrators/contact_kernels.h"
 
@@ -21,7 +22,7 @@ using D = hn::ScalableTag<double>;
 using V = hn::Vec<D>;
 
 void Screen(const NearScreen& screen, const double* HWY_RESTRICT x, const double* HWY_RESTRICT v,
-            const double* HWY_RESTRICT g, double h, std::size_t n, std::uint8_t* HWY_RESTRICT flag) {
+            const double* HWY_RESTRICT g, double h, std::size_t n, std::vector<std::int32_t>& out) {
   const D d;
   const std::size_t N = hn::Lanes(d);
   const V hv = hn::Set(d, h);
@@ -57,8 +58,10 @@ void Screen(const NearScreen& screen, const double* HWY_RESTRICT x, const double
       const V d2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
       hit = hn::Or(hit, hn::Lt(d2, hn::Set(d, screen.bound2[s])));
     }
+    if (hn::AllFalse(d, hit)) continue;  // most vectors: no particle near anything
     hn::Store(hn::IfThenElseZero(hit, hn::Set(d, 1.0)), d, near);
-    for (std::size_t j = 0; j < lanes; ++j) flag[p + j] = near[j] != 0.0 ? 1 : 0;
+    for (std::size_t j = 0; j < lanes; ++j)
+      if (near[j] != 0.0) out.push_back(static_cast<std::int32_t>(p + j));
   }
 }
 
@@ -72,8 +75,9 @@ namespace clothsim {
 HWY_EXPORT(Screen);
 
 void near_screen(const NearScreen& screen, const double* x, const double* v, const double* g,
-                 double h, std::size_t n, std::uint8_t* flag) {
-  HWY_DYNAMIC_DISPATCH(Screen)(screen, x, v, g, h, n, flag);
+                 double h, std::size_t n, std::vector<std::int32_t>& near) {
+  near.clear();
+  HWY_DYNAMIC_DISPATCH(Screen)(screen, x, v, g, h, n, near);
 }
 
 }  // namespace clothsim

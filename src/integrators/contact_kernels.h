@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace clothsim {
 
@@ -18,9 +19,9 @@ struct NearScreen {
   double ground = 0.0;             // flagged below this height (-inf: no ground)
 };
 
-// flag[p] = 1 where particle p's end position (x + h (v + g), or x + h v without g, or x
-// without v; each 3 x n) may be within a collider's bound, else 0, for p < n.
+// The particles p < n, in order, whose end position (x + h (v + g), or x + h v without g, or x
+// without v; each 3 x n) may be within a collider's bound, into `near` (cleared first).
 void near_screen(const NearScreen& screen, const double* x, const double* v, const double* g,
-                 double h, std::size_t n, std::uint8_t* flag);
+                 double h, std::size_t n, std::vector<std::int32_t>& near);
 
 }  // namespace clothsim

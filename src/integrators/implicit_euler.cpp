@@ -92,6 +92,7 @@ struct ImplicitCache {
   Eigen::Matrix3Xd dv_try, y_try, r_try;  // (3 x B) a line-search trial
   Eigen::Matrix3Xd d, rhs;              // (3 x B) the Newton direction and -S r
   Eigen::Matrix3Xd line_guess;          // (3 x B) 2 dv_n - dv_{n-1}, a first guess
+  Eigen::VectorXd mass_squared;         // (B) 1 / w^2 this step, 0 on immovable bodies
   // The exact Hessian in A: which assembly it is (State::implicit_lin_id; 0 = none, or A holds
   // something else), and whether diag_inverse is A's block-Jacobi inverse.
   std::uint64_t matrix_id = 0;
@@ -185,11 +186,12 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   return c;
 }
 
-double momentum_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv) {
+// |M dv| over movable bodies, with mass_squared[i] = 1 / w_i^2 (0 where w_i = 0): formed once
+// per step, not a division per body at every Newton iteration.
+double momentum_norm(const Eigen::VectorXd& mass_squared, const Eigen::Matrix3Xd& dv) {
   double sum = 0.0;
-  for (Eigen::Index i = 0; i < inv_mass.size(); ++i) {
-    if (inv_mass[i] != 0.0) sum += dv.col(i).squaredNorm() / (inv_mass[i] * inv_mass[i]);
-  }
+  for (Eigen::Index i = 0; i < mass_squared.size(); ++i)
+    if (mass_squared[i] != 0.0) sum += dv.col(i).squaredNorm() * mass_squared[i];
   return std::sqrt(sum);
 }
 
@@ -259,12 +261,11 @@ class NewtonSolve {
 
   // warm: a guess for the first direction (the previous step's dv - the current dv), or null.
   bool iterate(const Eigen::Matrix3Xd* warm) {
-    const Eigen::VectorXd& w = start_.inv_mass;
     for (;;) {
       c_.rhs = -c_.r;
       c_.contacts.filter.apply(c_.rhs);
       const double r_norm = c_.rhs.norm();
-      const double scale = std::max(impulse_scale_, momentum_norm(w, c_.dv));
+      const double scale = std::max(impulse_scale_, momentum_norm(c_.mass_squared, c_.dv));
       stats_.residual = r_norm / scale;
       if (judge_reuse_) {  // the last iteration reused a matrix: did it serve?
         judge_reuse_ = false;
@@ -530,6 +531,8 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
                                       ? &c.line_guess
                                       : &state.implicit_dv;
   predict_step_contacts(model, state, h, guess, c.contacts);
+  c.mass_squared.resize(B);
+  for (int i = 0; i < B; ++i) c.mass_squared[i] = w[i] != 0.0 ? 1.0 / (w[i] * w[i]) : 0.0;
 
   // Baraff & Witkin's step starts at y = x_n (dv = -v_n on movable bodies). A full solve
   // starts from the previous step's dv when there is one: at the small steps explicit methods

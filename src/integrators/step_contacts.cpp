@@ -82,17 +82,16 @@ class NearColliders {
     return false;
   }
   // maybe() for n particles' end positions at once (contact_kernels.h: x, or x + h v, or
-  // x + h (v + g)), into flag (n): the same test in SIMD, whose rounding of the squares the
-  // widened bounds cover as they cover maybe()'s.
+  // x + h (v + g)): the particles that pass, in order. The same test in SIMD, whose rounding
+  // of the squares the widened bounds cover as they cover maybe()'s.
   void screen(const double* x, const double* v, const double* g, double h, std::size_t n,
-              std::vector<std::uint8_t>& flag) const {
-    flag.resize(n);
+              std::vector<std::int32_t>& near) const {
     NearScreen s;
     s.centre = centre_.empty() ? nullptr : centre_.data()->data();
     s.bound2 = bound2_.data();
     s.spheres = centre_.size();
     s.ground = ground_;
-    near_screen(s, x, v, g, h, n, flag.data());
+    near_screen(s, x, v, g, h, n, near);
   }
 
  private:
@@ -127,8 +126,8 @@ void predict_step_contacts(const Model& model, const State& start, double h,
   const NearColliders near(model, start, h, margin);
   near.screen(start.x.data(), start.v.data(), guess ? guess->data() : nullptr, h,
               static_cast<std::size_t>(model.num_particles), contacts.near);
-  for (int p = 0; p < model.num_particles; ++p) {
-    if (!contacts.near[p] || start.inv_mass[p] == 0.0) continue;
+  for (const int p : contacts.near) {
+    if (start.inv_mass[p] == 0.0) continue;
     Vec3 v = start.v.col(p);
     if (guess) v += guess->col(p);
     const Vec3 at = start.x.col(p) + h * v;
@@ -153,9 +152,8 @@ bool take_in_step_contacts(const Model& model, const State& start, double h,
   bool changed = false;
   const NearColliders near(model, start, h, 0.0);
   near.screen(y.data(), nullptr, nullptr, h, static_cast<std::size_t>(model.num_particles), contacts.near);
-  for (int p = 0; p < model.num_particles; ++p) {
-    if (!contacts.near[p] || start.inv_mass[p] == 0.0 || contacts.held[p] || !near.maybe(y.col(p)))
-      continue;
+  for (const int p : contacts.near) {
+    if (start.inv_mass[p] == 0.0 || contacts.held[p] || !near.maybe(y.col(p))) continue;
     const Candidate c = nearest_collider(model, start, h, start.x.col(p), y.col(p));
     if (c.gap < 0.0) {
       hold(contacts, p, c);

@@ -44,7 +44,7 @@ struct StepContacts {
   std::vector<std::uint8_t> held;      // (P) 1 where a particle is held
   std::vector<std::uint8_t> held_before;  // (P) 1 where the last step held a particle
   std::vector<std::uint8_t> let_go;       // (P) 1 where this step let a particle go
-  std::vector<std::uint8_t> near;         // (P) scratch: the last search's SIMD screen
+  std::vector<std::int32_t> near;         // scratch: the particles the last search's SIMD screen passed
 
   std::size_t size() const { return filter.size(); }
 };
