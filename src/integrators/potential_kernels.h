@@ -6,22 +6,19 @@
 // into two sums (at a and at b) so that no two lanes of a store share a particle and a
 // particle's terms are summed in (block, family) order whatever the lane count.
 //
-// Four passes, each what the scalar reference (step_potential.h, sparse_system.h) does for a
-// spring, with the same operations in the same order and no fused multiply-add (this file is
-// compiled with -ffp-contract=off and calls Mul and Add, never MulAdd):
+// Three passes over the springs, each what the scalar reference (step_potential.h,
+// sparse_system.h) does for a spring, with the same operations in the same order and no fused
+// multiply-add (this file is compiled with -ffp-contract=off and calls Mul and Add, never
+// MulAdd), and one over the bodies (Phi's inertia, gravity and drag terms):
 //  - the start-of-step lengths l_n, by slot;
 //  - Phi's spring terms and their gradient at the end-of-step positions y;
 //  - the Newton matrix's spring blocks applied to a vector (the CG mat-vec), with each block's
-//    (u, alpha, beta) read by slot;
-//  - the Newton matrix's assembly: those blocks, and the diagonal blocks they sum into.
+//    (u, alpha, beta) read by slot (their assembly: assembly_kernels.h).
 // Per-spring data are stored by the layout's slot (spring_layout.h): family f's position k at
 // slot_first + k, zeros at the positions without a spring, which every pass masks out.
 //
 // Numerics: only the order in which a particle's (or Phi's) terms are summed differs from the
-// scalar reference, so the two agree to rounding; and the assembly takes u and T / l as
-// products with one reciprocal 1 / l where the reference divides by l four times (one
-// division instead of four: the divider bounds these passes), so its blocks agree with the
-// reference's to an ulp or two, not bit for bit. Phi's sum is taken in 16 partial sums, the
+// scalar reference, so the two agree to rounding. Phi's sum is taken in 16 partial sums, the
 // spring at position k into sum k mod 16 (every target's lane count divides 16), added in
 // order at the end: like the lanes, it does not depend on the target. So every target (SCALAR
 // .. AVX3) gives the same bits, and a run is bit-identical from run to run, thread to thread and
@@ -93,33 +90,6 @@ struct FamilyBlocks {
 std::size_t family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
                             const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out);
 
-// The families' Newton blocks at end-of-step positions y (3 x B): sparse_system.h's assembly
-// of H = M + h c I - h^2 sum K_s for the springs of the families. Writes, by slot, each
-// spring's u and its (alpha, beta), exact or projected per `project`, and the projected pair
-// (zero where an end is immovable: the pair's block is removed); and the diagonal blocks of
-// particles 0 .. F - 1 (F returned; particles from F on, which no spring reaches, are the
-// caller's): (1 / w + h drag) I minus the blocks of the families' springs there, the identity
-// where w = 0; diag_projected likewise with the projected blocks (without `project`).
-// start_length by slot; inv_mass (B).
-struct FamilyHessian {
-  double* ux;  // (slots) outputs
-  double* uy;
-  double* uz;
-  double* alpha;
-  double* beta;
-  double* alpha_projected;
-  double* beta_projected;
-  double* diag;            // (9 B) column-major 3 x 3 blocks
-  double* diag_projected;  // (9 B), unused with `project`
-  double* diag_soa;        // (6 B) diag's blocks again, as SpringBlockMatrix::diag_soa
-  std::size_t bodies = 0;  // B
-  double h = 0.0;          // s, the step
-  double drag = 0.0;       // N s / m, the particles' air drag c
-  bool project = false;
-};
-std::size_t family_assemble(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
-                            const Eigen::VectorXd& inv_mass, const double* start_length,
-                            const FamilyHessian& out);
 
 // The Highway target these kernels run on this CPU.
 const char* potential_kernel_target();

@@ -1,6 +1,7 @@
 #include "integrators/sparse_system.h"
 
 
+#include "integrators/assembly_kernels.h"
 #include "integrators/cg_kernels.h"
 #include "integrators/potential_kernels.h"
 
