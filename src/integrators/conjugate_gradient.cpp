@@ -42,7 +42,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   };
   if (factor && !factor->ready()) factor = nullptr;
   CgResult result;
-  const double b_norm = b.norm();
+  const double b_norm = settings.b_norm >= 0.0 ? settings.b_norm : b.norm();
   if (b_norm == 0.0) {  // x = 0 is exact
     x.setZero(3, b.cols());
     return result;

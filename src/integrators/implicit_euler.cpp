@@ -92,7 +92,9 @@ struct ImplicitCache {
   Eigen::Matrix3Xd dv_try, y_try, r_try;  // (3 x B) a line-search trial
   Eigen::Matrix3Xd d, rhs;              // (3 x B) the Newton direction and -S r
   Eigen::Matrix3Xd line_guess;          // (3 x B) 2 dv_n - dv_{n-1}, a first guess
-  Eigen::VectorXd mass_squared;         // (B) 1 / w^2 this step, 0 on immovable bodies
+  // 1 / w and 1 / w^2 (0 on immovable bodies) for the inverse masses in mass_of, formed again
+  // only when a step's inverse masses differ (a pin or unpin).
+  Eigen::VectorXd mass, mass_squared, mass_of;  // (B)
   // The exact Hessian in A: which assembly it is (State::implicit_lin_id; 0 = none, or A holds
   // something else), and whether diag_inverse is A's block-Jacobi inverse.
   std::uint64_t matrix_id = 0;
@@ -195,12 +197,12 @@ double momentum_norm(const Eigen::VectorXd& mass_squared, const Eigen::Matrix3Xd
   return std::sqrt(sum);
 }
 
-// |h f| at the iterate: M dv - r over movable bodies (one division per body, not three).
-double impulse_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv,
+// |h f| at the iterate: M dv - r over movable bodies (mass[i] = 1 / w_i, 0 where w_i = 0).
+double impulse_norm(const Eigen::VectorXd& mass, const Eigen::Matrix3Xd& dv,
                     const Eigen::Matrix3Xd& r) {
   double sum = 0.0;
-  for (Eigen::Index i = 0; i < inv_mass.size(); ++i) {
-    if (inv_mass[i] != 0.0) sum += ((1.0 / inv_mass[i]) * dv.col(i) - r.col(i)).squaredNorm();
+  for (Eigen::Index i = 0; i < mass.size(); ++i) {
+    if (mass[i] != 0.0) sum += (mass[i] * dv.col(i) - r.col(i)).squaredNorm();
   }
   return std::sqrt(sum);
 }
@@ -264,7 +266,8 @@ class NewtonSolve {
     for (;;) {
       c_.rhs = -c_.r;
       c_.contacts.filter.apply(c_.rhs);
-      const double r_norm = c_.rhs.norm();
+      r_norm2_ = c_.rhs.squaredNorm();  // (the line search's too: rhs stays as it is till then)
+      const double r_norm = std::sqrt(r_norm2_);  // = rhs.norm(), to the bit
       const double scale = std::max(impulse_scale_, momentum_norm(c_.mass_squared, c_.dv));
       stats_.residual = r_norm / scale;
       if (judge_reuse_) {  // the last iteration reused a matrix: did it serve?
@@ -314,6 +317,7 @@ class NewtonSolve {
       settings.tolerance = single_step_ || finish ? cfg_.cg_tolerance
                                                   : std::max(cfg_.cg_tolerance, forcing);
       settings.absolute_tolerance = 0.1 * cfg_.newton_tolerance * scale;
+      settings.b_norm = r_norm;  // |rhs|, which solve_pcg would compute again
       const double slope = direction(settings, warm);
       warm = nullptr;
       ++stats_.newton_iterations;
@@ -439,7 +443,7 @@ class NewtonSolve {
   bool line_search(double slope) {
     double alpha = 1.0;
     alpha_ = 0.0;
-    const double r_norm2 = c_.rhs.squaredNorm();
+    const double r_norm2 = r_norm2_;
     for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {
       c_.dv_try.noalias() = c_.dv + alpha * c_.d;
       const PotentialValue trial =
@@ -492,6 +496,7 @@ class NewtonSolve {
   double reuse_from_ = 0.0;    // |S r| before it
   int unserved_ = 0;           // iterations with a reused matrix that did not serve
   double alpha_ = 0.0;         // the last line search's step
+  double r_norm2_ = 0.0;       // |S r|^2 at the iterate
   // The contact scan's inputs, counted: y_version_ changes with c_.y, held_version_ with the
   // held set; scanned_* are the pair the last take-in scan saw.
   std::uint64_t y_version_ = 0, held_version_ = 0;
@@ -531,8 +536,15 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
                                       ? &c.line_guess
                                       : &state.implicit_dv;
   predict_step_contacts(model, state, h, guess, c.contacts);
-  c.mass_squared.resize(B);
-  for (int i = 0; i < B; ++i) c.mass_squared[i] = w[i] != 0.0 ? 1.0 / (w[i] * w[i]) : 0.0;
+  if (c.mass_of.size() != B || c.mass_of != w) {
+    c.mass_of = w;
+    c.mass.resize(B);
+    c.mass_squared.resize(B);
+    for (int i = 0; i < B; ++i) {
+      c.mass[i] = w[i] != 0.0 ? 1.0 / w[i] : 0.0;
+      c.mass_squared[i] = w[i] != 0.0 ? 1.0 / (w[i] * w[i]) : 0.0;
+    }
+  }
 
   // Baraff & Witkin's step starts at y = x_n (dv = -v_n on movable bodies). A full solve
   // starts from the previous step's dv when there is one: at the small steps explicit methods
@@ -556,7 +568,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   // unconverged for it.
   constexpr double kRoundingFactor = 64.0 * std::numeric_limits<double>::epsilon();
   const double scale_floor = kRoundingFactor * h * c.force_scale / cfg.newton_tolerance;
-  newton.set_scale(std::max(impulse_norm(w, c.dv, c.r), scale_floor));
+  newton.set_scale(std::max(impulse_norm(c.mass, c.dv, c.r), scale_floor));
 
   // Baraff & Witkin's direction is warm-started from the previous step's dv in CG instead.
   Eigen::Matrix3Xd* warm = nullptr;
