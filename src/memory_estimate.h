@@ -12,9 +12,12 @@
 // per spring (measured 1 344 B per particle in all, estimated 1 552, in runs that did not
 // factor; implicit_euler's reused Newton matrix and line guess, State::implicit_lin_* and
 // implicit_dv_before, then added 147 B per particle at 512^2 (706 against 667 MB peak, GNU
-// time, side by side), which the 208 B of headroom covers), plus the sparse factor a step may build: 80 B x 8 log2(P) per particle (measured
-// 27-116 blocks of 76 B per particle at 25^2..300^2), never more than the solver's 512 MiB
-// cap. A sphere costs about 4 kB, mostly its YAML tree while the file is read. The estimate
+// time, side by side), which the 208 B of headroom covers; the SIMD passes' diagonal copies
+// and kept lengths (branch simd-assembly) about 200 B more, 757 348 against 706 084 kB peak at
+// 512^2, under the 982 MB estimated there; but at 2048^2 main itself peaked at 10.6 GB, above
+// the 6.64 GB estimated: to be re-measured), plus the sparse factor a step may build:
+// 80 B x 8 log2(P) per particle (measured 27-116 blocks of 76 B per particle at 25^2..300^2),
+// never more than the solver's 512 MiB cap. A sphere costs about 4 kB, mostly its YAML tree while the file is read. The estimate
 // errs high on purpose; issue 12 measured 5.1 GB at 2048^2 for implicit Euler, estimated here
 // 6.6 GB with the factor's cap.
 #pragma once

@@ -66,16 +66,19 @@ SpringLayout build_spring_layout(const Springs& springs, int nx, int ny) {
   }
 
   // Pass 2: rest lengths by position, padded; the rest to the scalar pass. Slots: the
-  // families' padded positions back to back (each a multiple of kSpringLanePad), then others.
+  // families' padded positions (each a multiple of kSpringLanePad), each after a gap of
+  // slot_gap empty slots, a last gap, then the others.
+  out.slot_gap = out.families.empty() ? 0 : kSpringLanePad;
   std::size_t slots = 0;
   for (SpringFamily& fam : out.families) {
     fam.count -= fam.first;
     const std::size_t padded =
         (static_cast<std::size_t>(fam.count) + kSpringLanePad - 1) / kSpringLanePad * kSpringLanePad;
     fam.rest.assign(padded, 0.0);
-    fam.slot_first = slots;
-    slots += padded;
+    fam.slot_first = slots + out.slot_gap;
+    slots = fam.slot_first + padded;
   }
+  slots += out.slot_gap;
   out.others_first = slots;
   out.slot.resize(n);
   for (std::size_t s = 0; s < n; ++s) {

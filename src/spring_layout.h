@@ -51,9 +51,15 @@ struct SpringLayout {
   std::size_t num_springs = 0;          // springs laid out (families + others)
   // Slot order, for per-spring arrays a SIMD pass reads by family position (the implicit
   // step's start lengths and Newton blocks): every family's padded positions in turn (family f
-  // at slot_first .. slot_first + rest.size() - 1, zeros where it holds no spring), then the
-  // others in their order from others_first. Unused slots hold zeros.
+  // at slot_first .. slot_first + rest.size() - 1, zeros where it holds no spring), each after
+  // slot_gap empty slots and the last followed by as many, then the others in their order from
+  // others_first. Unused slots hold zeros. The gaps let a pass read a family's slots by
+  // particle rather than by position (the springs whose a, or whose b, is p .. p+L-1, for any
+  // vector of particles that meets the family): such a read starts at most L - 1 slots before
+  // the family's first slot or ends as far past its last, in zeros either way (the assembly's
+  // diagonal blocks, potential_kernels.h).
   std::vector<std::int32_t> slot;       // (num_springs) spring s's slot
+  std::size_t slot_gap = 0;             // kSpringLanePad: empty slots before each family and after the last
   std::size_t others_first = 0;         // slot of others[0]
   std::size_t num_slots = 0;            // others_first + others.size()
 

@@ -3,23 +3,33 @@
 #include <algorithm>
 #include <cmath>
 
+#include "integrators/cg_kernels.h"
+
 namespace clothsim {
 
 namespace {
 
 double dot(const Eigen::Matrix3Xd& u, const Eigen::Matrix3Xd& w) {
-  return u.cwiseProduct(w).sum();
+  return simd_dot(u.data(), w.data(), static_cast<std::size_t>(u.size()));
 }
 
-void precondition(const SpringBlockMatrix& A, const CholeskyPreconditioner* factor,
-                  const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) {
+// z = the preconditioner applied to r, filtered; returns r . z. Block Jacobi runs as one SIMD
+// pass that also takes r . z (before the filter: r is in the filter's range, so r . S z =
+// S r . z = r . z, to rounding).
+double precondition(const SpringBlockMatrix& A, const CholeskyPreconditioner* factor,
+                    const VelocityFilter* filter, const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) {
+  double rz;
   if (factor) {
     factor->apply(r, z);
-    return;
+    if (filter) filter->apply(z);
+    rz = dot(r, z);
+  } else {
+    const int B = A.num_bodies();
+    z.resize(3, B);
+    rz = simd_jacobi(A.diag_inverse_soa.data(), static_cast<std::size_t>(B), r.data(), z.data());
+    if (filter) filter->apply(z);
   }
-  const int B = A.num_bodies();
-  z.resize(3, B);
-  for (int i = 0; i < B; ++i) z.col(i).noalias() = A.diag_inverse[i] * r.col(i);
+  return rz;
 }
 
 }  // namespace
@@ -32,7 +42,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   };
   if (factor && !factor->ready()) factor = nullptr;
   CgResult result;
-  const double b_norm = b.norm();
+  const double b_norm = settings.b_norm >= 0.0 ? settings.b_norm : b.norm();
   if (b_norm == 0.0) {  // x = 0 is exact
     x.setZero(3, b.cols());
     return result;
@@ -53,10 +63,9 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   double r_norm = buf.r.norm();
   result.relative_residual = r_norm / b_norm;
   if (r_norm <= stop) return result;  // the guess is already good enough
-  precondition(A, factor, buf.r, buf.z);
-  filtered(buf.z);
+  double rz = precondition(A, factor, filter, buf.r, buf.z);
   buf.p = buf.z;
-  double rz = dot(buf.r, buf.z);
+  const std::size_t n = static_cast<std::size_t>(b.size());
   while (result.iterations < settings.max_iterations) {
     multiply(A, buf.p, buf.q);
     filtered(buf.q);
@@ -69,16 +78,13 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
       return result;
     }
     const double alpha = rz / pq;
-    x.noalias() += alpha * buf.p;
-    buf.r.noalias() -= alpha * buf.q;
+    // x += alpha p, r -= alpha q and |r| in one pass (cg_kernels.h)
+    r_norm = std::sqrt(simd_update_iterate(x.data(), buf.r.data(), buf.p.data(), buf.q.data(), alpha, n));
     ++result.iterations;
-    r_norm = buf.r.norm();
     result.relative_residual = r_norm / b_norm;
     if (r_norm <= stop) return result;
-    precondition(A, factor, buf.r, buf.z);
-    filtered(buf.z);
-    const double rz_next = dot(buf.r, buf.z);
-    buf.p = buf.z + (rz_next / rz) * buf.p;
+    const double rz_next = precondition(A, factor, filter, buf.r, buf.z);
+    simd_xpby(buf.p.data(), buf.z.data(), rz_next / rz, n);  // p = z + beta p
     rz = rz_next;
   }
   result.converged = false;

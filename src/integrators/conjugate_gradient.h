@@ -31,6 +31,7 @@ struct CgSettings {
   double tolerance = 1e-8;          // stop when |b - A x| <= tolerance |b| ...
   double absolute_tolerance = 0.0;  // ... or |b - A x| <= this (the caller's accuracy need)
   bool from_guess = false;          // start from the x passed in (warm start) rather than 0
+  double b_norm = -1.0;             // |b| where the caller has it (negative: solve_pcg takes it)
 };
 
 // Solves A x = b, stopping at either tolerance, after max_iterations, or at the first

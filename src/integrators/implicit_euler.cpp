@@ -61,6 +61,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 
 #include "forces.h"
@@ -81,11 +82,19 @@ struct ImplicitCache {
   double force_scale = 0.0;  // N, sqrt(sum_s (ks_s l0_s)^2): the size of the spring forces' terms
   SpringBlockMatrix A;
   std::vector<double> start_length;  // (slots) l_n, by slot (step_lengths)
+  // The springs' lengths at y and at y_try (step_potential's end_length; empty where the
+  // model's springs are not all in families), swapped with them: a step that ends at y
+  // (x_{n+1} = y to the bit, as it does unless a collision or an event moved a particle)
+  // starts the next from y_length rather than a pass over the springs.
+  std::vector<double> y_length, y_try_length;
   StepContacts contacts;
   Eigen::Matrix3Xd dv, y, r;            // (3 x B) the iterate, its end positions and residual
   Eigen::Matrix3Xd dv_try, y_try, r_try;  // (3 x B) a line-search trial
   Eigen::Matrix3Xd d, rhs;              // (3 x B) the Newton direction and -S r
   Eigen::Matrix3Xd line_guess;          // (3 x B) 2 dv_n - dv_{n-1}, a first guess
+  // 1 / w and 1 / w^2 (0 on immovable bodies) for the inverse masses in mass_of, formed again
+  // only when a step's inverse masses differ (a pin or unpin).
+  Eigen::VectorXd mass, mass_squared, mass_of;  // (B)
   // The exact Hessian in A: which assembly it is (State::implicit_lin_id; 0 = none, or A holds
   // something else), and whether diag_inverse is A's block-Jacobi inverse.
   std::uint64_t matrix_id = 0;
@@ -167,6 +176,7 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   if (c.model != &model || c.A.num_bodies() != model.num_bodies() ||
       c.A.num_springs() != model.springs.size()) {
     build_pattern(model, c.A);
+    c.y_length.clear();
     c.factor.reset();  // analysed when first needed
     c.matrix_id = 0;
     c.model = &model;
@@ -178,20 +188,21 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   return c;
 }
 
-double momentum_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv) {
+// |M dv| over movable bodies, with mass_squared[i] = 1 / w_i^2 (0 where w_i = 0): formed once
+// per step, not a division per body at every Newton iteration.
+double momentum_norm(const Eigen::VectorXd& mass_squared, const Eigen::Matrix3Xd& dv) {
   double sum = 0.0;
-  for (Eigen::Index i = 0; i < inv_mass.size(); ++i) {
-    if (inv_mass[i] != 0.0) sum += dv.col(i).squaredNorm() / (inv_mass[i] * inv_mass[i]);
-  }
+  for (Eigen::Index i = 0; i < mass_squared.size(); ++i)
+    if (mass_squared[i] != 0.0) sum += dv.col(i).squaredNorm() * mass_squared[i];
   return std::sqrt(sum);
 }
 
-// |h f| at the iterate: M dv - r over movable bodies.
-double impulse_norm(const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& dv,
+// |h f| at the iterate: M dv - r over movable bodies (mass[i] = 1 / w_i, 0 where w_i = 0).
+double impulse_norm(const Eigen::VectorXd& mass, const Eigen::Matrix3Xd& dv,
                     const Eigen::Matrix3Xd& r) {
   double sum = 0.0;
-  for (Eigen::Index i = 0; i < inv_mass.size(); ++i) {
-    if (inv_mass[i] != 0.0) sum += (dv.col(i) / inv_mass[i] - r.col(i)).squaredNorm();
+  for (Eigen::Index i = 0; i < mass.size(); ++i) {
+    if (mass[i] != 0.0) sum += (mass[i] * dv.col(i) - r.col(i)).squaredNorm();
   }
   return std::sqrt(sum);
 }
@@ -223,8 +234,27 @@ class NewtonSolve {
   }
 
   void evaluate() {
-    phi_ = step_potential(model_, start_, h_, c_.start_length, c_.dv, c_.y, c_.r);
+    phi_ = step_potential(model_, start_, h_, c_.start_length, c_.dv, c_.y, c_.r, &c_.y_length);
     ++stats_.force_evals;
+    ++y_version_;
+  }
+
+  // take_in_step_contacts at the iterate's y, unless the last scan saw this y with this held
+  // set: it would find what it found then, nothing (the scan is a function of y and the held
+  // set; after an accepted line search the loop's next round asked again at the same y).
+  bool take_in() {
+    if (scanned_y_ == y_version_ && scanned_held_ == held_version_) return false;
+    const bool changed = take_in_step_contacts(model_, start_, h_, c_.y, c_.contacts);
+    if (changed) ++held_version_;
+    scanned_y_ = y_version_;
+    scanned_held_ = held_version_;
+    return changed;
+  }
+  // update_step_contacts at the iterate: let go of the pulling ones, then take in.
+  bool update_contacts() {
+    const bool let_go = let_go_step_contacts(c_.r, c_.contacts);
+    if (let_go) ++held_version_;
+    return take_in() || let_go;
   }
 
   void set_scale(double impulse_scale) { impulse_scale_ = impulse_scale; }
@@ -233,12 +263,12 @@ class NewtonSolve {
 
   // warm: a guess for the first direction (the previous step's dv - the current dv), or null.
   bool iterate(const Eigen::Matrix3Xd* warm) {
-    const Eigen::VectorXd& w = start_.inv_mass;
     for (;;) {
       c_.rhs = -c_.r;
       c_.contacts.filter.apply(c_.rhs);
-      const double r_norm = c_.rhs.norm();
-      const double scale = std::max(impulse_scale_, momentum_norm(w, c_.dv));
+      r_norm2_ = c_.rhs.squaredNorm();  // (the line search's too: rhs stays as it is till then)
+      const double r_norm = std::sqrt(r_norm2_);  // = rhs.norm(), to the bit
+      const double scale = std::max(impulse_scale_, momentum_norm(c_.mass_squared, c_.dv));
       stats_.residual = r_norm / scale;
       if (judge_reuse_) {  // the last iteration reused a matrix: did it serve?
         judge_reuse_ = false;
@@ -256,7 +286,7 @@ class NewtonSolve {
       // Once the iterate is near a solution its contact impulses mean something: let go of the
       // pulling ones now rather than converge with them held (a held particle the cloth would
       // lift compresses its neighbours, and the solve then crawls through buckled states).
-      if (stats_.residual < kReleaseResidual && update_step_contacts(model_, start_, h_, c_.y, c_.r, c_.contacts)) {
+      if (stats_.residual < kReleaseResidual && update_contacts()) {
         place_on_planes(c_.contacts, start_, h_, c_.dv);
         evaluate();
         trace("  let go / taken in: held %zu\n", c_.contacts.size());
@@ -287,6 +317,7 @@ class NewtonSolve {
       settings.tolerance = single_step_ || finish ? cfg_.cg_tolerance
                                                   : std::max(cfg_.cg_tolerance, forcing);
       settings.absolute_tolerance = 0.1 * cfg_.newton_tolerance * scale;
+      settings.b_norm = r_norm;  // |rhs|, which solve_pcg would compute again
       const double slope = direction(settings, warm);
       warm = nullptr;
       ++stats_.newton_iterations;
@@ -314,7 +345,7 @@ class NewtonSolve {
       // A particle the step took inside a collider is held from here on (letting go waits
       // until the residual is small, when the impulses mean something: above).
       trace("  line search: step %.3g, slope %.3e, reused matrix %d\n", alpha_, slope, reused_ ? 1 : 0);
-      if (take_in_step_contacts(model_, start_, h_, c_.y, c_.contacts)) {
+      if (take_in()) {
         place_on_planes(c_.contacts, start_, h_, c_.dv);
         evaluate();
         trace("  taken in: held %zu\n", c_.contacts.size());
@@ -412,11 +443,11 @@ class NewtonSolve {
   bool line_search(double slope) {
     double alpha = 1.0;
     alpha_ = 0.0;
-    const double r_norm2 = c_.rhs.squaredNorm();
+    const double r_norm2 = r_norm2_;
     for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {
       c_.dv_try.noalias() = c_.dv + alpha * c_.d;
       const PotentialValue trial =
-          step_potential(model_, start_, h_, c_.start_length, c_.dv_try, c_.y_try, c_.r_try);
+          step_potential(model_, start_, h_, c_.start_length, c_.dv_try, c_.y_try, c_.r_try, &c_.y_try_length);
       ++stats_.force_evals;
       bool accept = trial.phi <= phi_.phi + kArmijo * alpha * slope;
       // Near the solution the decrease falls below what Phi's rounding resolves (its terms
@@ -432,7 +463,9 @@ class NewtonSolve {
         alpha_ = alpha;
         c_.dv.swap(c_.dv_try);
         c_.y.swap(c_.y_try);
+        c_.y_length.swap(c_.y_try_length);
         c_.r.swap(c_.r_try);
+        ++y_version_;
         phi_ = trial;
         return true;
       }
@@ -463,6 +496,11 @@ class NewtonSolve {
   double reuse_from_ = 0.0;    // |S r| before it
   int unserved_ = 0;           // iterations with a reused matrix that did not serve
   double alpha_ = 0.0;         // the last line search's step
+  double r_norm2_ = 0.0;       // |S r|^2 at the iterate
+  // The contact scan's inputs, counted: y_version_ changes with c_.y, held_version_ with the
+  // held set; scanned_* are the pair the last take-in scan saw.
+  std::uint64_t y_version_ = 0, held_version_ = 0;
+  std::uint64_t scanned_y_ = ~std::uint64_t{0}, scanned_held_ = ~std::uint64_t{0};
 };
 
 StepStats newton_step(const Model& model, State& state, double h, Workspace& ws) {
@@ -474,7 +512,17 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
 
   // The start of the step: spring lengths l_n (and so the strain of the state we start from),
   // the contacts predicted from the previous step's dv.
-  stats.start_strain = step_lengths(model, state.x, c.start_length);
+  // (from the last step's end, where the state starts exactly there: the same lengths, bit
+  // for bit, without the pass)
+  const bool ended_here = !c.y_length.empty() && c.y.cols() == B &&
+                          std::memcmp(c.y.data(), state.x.data(), sizeof(double) * 3 * B) == 0;
+  if (ended_here) {
+    c.start_length.swap(c.y_length);
+    stats.start_strain = step_strain(model, c.start_length);
+  } else {
+    stats.start_strain = step_lengths(model, state.x, c.start_length);
+  }
+  c.y_length.clear();  // describes no y until the next evaluation
   const bool have_guess = state.implicit_dv.cols() == B;
   const bool baraff_witkin = cfg.newton_max_iterations == 1;
   // The first guess: the last step's dv, or the line through the last two steps' dv where
@@ -488,6 +536,15 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
                                       ? &c.line_guess
                                       : &state.implicit_dv;
   predict_step_contacts(model, state, h, guess, c.contacts);
+  if (c.mass_of.size() != B || c.mass_of != w) {
+    c.mass_of = w;
+    c.mass.resize(B);
+    c.mass_squared.resize(B);
+    for (int i = 0; i < B; ++i) {
+      c.mass[i] = w[i] != 0.0 ? 1.0 / w[i] : 0.0;
+      c.mass_squared[i] = w[i] != 0.0 ? 1.0 / (w[i] * w[i]) : 0.0;
+    }
+  }
 
   // Baraff & Witkin's step starts at y = x_n (dv = -v_n on movable bodies). A full solve
   // starts from the previous step's dv when there is one: at the small steps explicit methods
@@ -511,7 +568,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   // unconverged for it.
   constexpr double kRoundingFactor = 64.0 * std::numeric_limits<double>::epsilon();
   const double scale_floor = kRoundingFactor * h * c.force_scale / cfg.newton_tolerance;
-  newton.set_scale(std::max(impulse_norm(w, c.dv, c.r), scale_floor));
+  newton.set_scale(std::max(impulse_norm(c.mass, c.dv, c.r), scale_floor));
 
   // Baraff & Witkin's direction is warm-started from the previous step's dv in CG instead.
   Eigen::Matrix3Xd* warm = nullptr;
@@ -524,7 +581,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   stats.converged = newton.iterate(warm);
   // Active-set rounds: let go of pulling contacts, take in penetrating particles, resume.
   for (int round = 0; !baraff_witkin && round < kMaxContactRounds; ++round) {
-    if (!update_step_contacts(model, state, h, c.y, c.r, c.contacts)) break;
+    if (!newton.update_contacts()) break;
     trace("  active-set round %d: held %zu\n", round, c.contacts.size());
     place_on_planes(c.contacts, state, h, c.dv);
     newton.evaluate();

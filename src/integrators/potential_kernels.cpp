@@ -1,6 +1,7 @@
 // Highway's foreach_target.h compiles this file once per x86 target (SCALAR, SSSE3, SSE4,
 // AVX2, AVX3), each copy in its own namespace; HWY_EXPORT / HWY_DYNAMIC_DISPATCH pick one at
-// run time. The walk over blocks and the sliding window are spring_kernels.cpp's.
+// run time. The walk over blocks and the sliding window are spring_window-inl.h's, shared with
+// the force pass (spring_kernels.cpp).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "integrators/potential_kernels.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -9,30 +10,26 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <vector>
 
 #include "integrators/potential_kernels.h"
 #include "spring_kernels.h"  // sticky_max
+
+#include "spring_window-inl.h"  // the walk over the families: its window and helpers
 
 #ifndef CLOTHSIM_POTENTIAL_KERNELS_ONCE  // this part once, not once per target
 #define CLOTHSIM_POTENTIAL_KERNELS_ONCE
 namespace clothsim {
 namespace {
 
-// Positions per block, as the force pass (a multiple of kSpringLanePad).
-constexpr std::size_t kBlock = 2048;
 // Phi's partial sums: position k goes to sum k mod kSums. Every target's lane count divides it
 // and every vector starts at a multiple of its lane count, so a vector's lanes are consecutive
 // sums and each sum sees the same springs in the same order on every target.
 constexpr std::size_t kSums = kSpringLanePad;
-// Scratch arrays in a window: 3 inputs (x, y or p) and 6 sums (at a, at b; 3 components each).
+// Window arrays, at most: 3 inputs (x, y or p) and 6 sums (at a, at b; 3 components each).
 constexpr std::size_t kArrays = 9;
-
-std::size_t window_of(const SpringLayout& layout) {
-  std::size_t reach = 0;
-  for (const SpringFamily& fam : layout.families)
-    reach = std::max(reach, static_cast<std::size_t>(fam.first) + static_cast<std::size_t>(fam.offset));
-  return kBlock + reach + kSpringLanePad;
-}
 
 }  // namespace
 }  // namespace clothsim
@@ -48,116 +45,83 @@ using V = hn::Vec<D>;
 using M = hn::Mask<D>;
 static_assert(HWY_MAX_BYTES / sizeof(double) <= kSpringLanePad, "the layout's padding is a vector");
 
-namespace {  // the helpers' names are spring_kernels.cpp's too
+namespace {
 
-void Deinterleave(const double* HWY_RESTRICT in, std::size_t n, double* HWY_RESTRICT xs,
-                  double* HWY_RESTRICT ys, double* HWY_RESTRICT zs) {
-  const D d;
-  const std::size_t N = hn::Lanes(d);
-  std::size_t p = 0;
-  for (; p + N <= n; p += N) {
-    V X, Y, Z;
-    hn::LoadInterleaved3(d, in + 3 * p, X, Y, Z);
-    hn::StoreU(X, d, xs + p);
-    hn::StoreU(Y, d, ys + p);
-    hn::StoreU(Z, d, zs + p);
-  }
-  for (; p < n; ++p) {
-    xs[p] = in[3 * p];
-    ys[p] = in[3 * p + 1];
-    zs[p] = in[3 * p + 2];
-  }
-}
-
-// out (3 x n, interleaved) += a + b per component.
-void AddInterleaved(const double* const* HWY_RESTRICT a, const double* const* HWY_RESTRICT b,
-                    std::size_t from, std::size_t n, double* HWY_RESTRICT out) {
-  const D d;
-  const std::size_t N = hn::Lanes(d);
-  std::size_t p = 0;
-  for (; p + N <= n; p += N) {
-    V X, Y, Z;
-    hn::LoadInterleaved3(d, out + 3 * p, X, Y, Z);
-    X = hn::Add(X, hn::Add(hn::LoadU(d, a[0] + from + p), hn::LoadU(d, b[0] + from + p)));
-    Y = hn::Add(Y, hn::Add(hn::LoadU(d, a[1] + from + p), hn::LoadU(d, b[1] + from + p)));
-    Z = hn::Add(Z, hn::Add(hn::LoadU(d, a[2] + from + p), hn::LoadU(d, b[2] + from + p)));
-    hn::StoreInterleaved3(X, Y, Z, d, out + 3 * p);
-  }
-  for (; p < n; ++p)
-    for (int c = 0; c < 3; ++c) out[3 * p + c] += a[c][from + p] + b[c][from + p];
-}
-
-// The window a body works on: the input's components and the two sums, indexed in the window.
+// The window of a pass over an interleaved 3 x P input (x, y or p): its components, and
+// (when the pass has an output) the two sums, three components each.
 struct Window {
-  double* in[3];    // x, y or p
-  double* plus[3];  // contributions at each spring's a
-  double* minus[3]; // contributions at each spring's b
+  double* in[3];     // x, y or p
+  double* plus[3];   // contributions at each spring's a
+  double* minus[3];  // contributions at each spring's b
+  Window(double* scratch, std::size_t stride) {
+    for (int c = 0; c < 3; ++c) {
+      in[c] = scratch + c * stride;
+      plus[c] = scratch + (3 + c) * stride;
+      minus[c] = scratch + (6 + c) * stride;
+    }
+  }
 };
 
-// Walks the layout's families in blocks of kBlock positions (spring_kernels.cpp's scheme):
-// copies the particles a block reads from `in` (3 x P, interleaved) into the window, calls
-// body(fam, k, a, b, w) for each vector of positions k .. k+N-1 of each family (a, b: window
-// indices of its springs' ends), then, when `out` is given, adds the finished particles' sums
-// into it. scratch: kArrays arrays of `stride` >= window_of(layout) doubles.
+// Walks the families (spring_window-inl.h) with `in` (3 x P) copied into the window; calls
+// body(fam, k, a, b, w) for each vector of positions k .. k+N-1 (a, b: window indices of its
+// springs' ends); with `out`, adds the finished particles' sums into it, or, with `diag` (the
+// matrix's diagonal blocks, SpringBlockMatrix::diag_soa of B bodies), writes D_i in_i + the
+// sums there. Returns how many particles it finished.
 template <class Body>
-void Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
-          double* HWY_RESTRICT scratch, std::size_t stride, const Body& body) {
-  const std::size_t N = hn::Lanes(D());
-  const std::size_t P = static_cast<std::size_t>(layout.num_particles);
-  Window w;
-  for (int c = 0; c < 3; ++c) {
-    w.in[c] = scratch + c * stride;
-    w.plus[c] = scratch + (3 + c) * stride;
-    w.minus[c] = scratch + (6 + c) * stride;
-  }
-  const std::size_t arrays = out ? kArrays : 3;  // without an output, no sums to keep
-  std::size_t longest = 0;
-  for (const SpringFamily& fam : layout.families)
-    longest = std::max(longest, static_cast<std::size_t>(fam.count));
-  const std::size_t window = window_of(layout);
-  std::size_t base = 0, copied = 0, flushed = 0;
-  const auto copy_up_to = [&](std::size_t to) {
-    if (to <= copied) return;
-    const std::size_t upto = std::min(to, P), from = copied - base, end = to - base;
-    if (copied < upto) Deinterleave(in + 3 * copied, upto - copied, w.in[0] + from, w.in[1] + from, w.in[2] + from);
-    const std::size_t past = std::max(copied, upto) - base;  // zeros past P
-    for (int c = 0; c < 3; ++c) std::fill(w.in[c] + past, w.in[c] + end, 0.0);
-    if (out)
-      for (int c = 0; c < 3; ++c) {
-        std::fill(w.plus[c] + from, w.plus[c] + end, 0.0);
-        std::fill(w.minus[c] + from, w.minus[c] + end, 0.0);
-      }
-    copied = to;
+std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
+                 double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Body& body,
+                 const double* HWY_RESTRICT diag = nullptr, std::size_t bodies = 0) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const auto copy_in = [&](std::size_t particle, std::size_t n, std::size_t at) {
+    window::Deinterleave(in + 3 * particle, n, w.in[0] + at, w.in[1] + at, w.in[2] + at);
   };
-  const auto flush_up_to = [&](std::size_t to) {
-    if (!out || to <= flushed) return;
-    AddInterleaved(w.plus, w.minus, flushed - base, to - flushed, out + 3 * flushed);
-    flushed = to;
+  const auto run = [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
+    const std::size_t off = static_cast<std::size_t>(fam.offset);
+    for (std::size_t k = k0; k < k1; k += N) {
+      HWY_DASSERT(first + k + off + N <= stride);
+      body(fam, k, first + k, first + k + off, w);
+    }
   };
-  for (std::size_t k0 = 0; k0 < longest; k0 += kBlock) {
-    if (k0 > base) {  // slide: particles k0 .. copied - 1 to the front
-      for (std::size_t i = 0; i < arrays; ++i) {
-        double* a = scratch + i * stride;
-        std::copy(a + (k0 - base), a + (copied - base), a);
-      }
-      base = k0;
+  const auto flush = [&](std::size_t particle, std::size_t n, std::size_t at) {
+    if (!out) return;
+    if (!diag) {
+      const double* const plus[] = {w.plus[0] + at, w.plus[1] + at, w.plus[2] + at};
+      const double* const minus[] = {w.minus[0] + at, w.minus[1] + at, w.minus[2] + at};
+      window::AddInterleaved(plus, minus, n, out + 3 * particle);
+      return;
     }
-    copy_up_to(std::min(k0 + window, P + kSpringLanePad));
-    for (const SpringFamily& fam : layout.families) {
-      const std::size_t count = static_cast<std::size_t>(fam.count);
-      if (k0 >= count) continue;
-      const std::size_t first = static_cast<std::size_t>(fam.first) - base;
-      const std::size_t off = static_cast<std::size_t>(fam.offset);
-      const std::size_t k1 = std::min(k0 + kBlock, count);
-      for (std::size_t k = k0; k < k1; k += N) {
-        HWY_DASSERT(first + k + off + N <= stride);
-        body(fam, k, first + k, first + k + off, w);
-      }
+    // out_i = D_i p_i + (plus + minus): sparse_system.cpp's multiply_diagonal, then the sums,
+    // with the same operations in the same order.
+    const double* HWY_RESTRICT dxx = diag + particle;
+    const double* HWY_RESTRICT dyy = dxx + bodies;
+    const double* HWY_RESTRICT dzz = dyy + bodies;
+    const double* HWY_RESTRICT dxy = dzz + bodies;
+    const double* HWY_RESTRICT dxz = dxy + bodies;
+    const double* HWY_RESTRICT dyz = dxz + bodies;
+    const double *p0 = w.in[0] + at, *p1 = w.in[1] + at, *p2 = w.in[2] + at;
+    const double *a0 = w.plus[0] + at, *a1 = w.plus[1] + at, *a2 = w.plus[2] + at;
+    const double *b0 = w.minus[0] + at, *b1 = w.minus[1] + at, *b2 = w.minus[2] + at;
+    double* HWY_RESTRICT y = out + 3 * particle;
+    std::size_t i = 0;
+    for (; i + N <= n; i += N) {
+      const V xx = hn::LoadU(d, dxx + i), yy = hn::LoadU(d, dyy + i), zz = hn::LoadU(d, dzz + i);
+      const V xy = hn::LoadU(d, dxy + i), xz = hn::LoadU(d, dxz + i), yz = hn::LoadU(d, dyz + i);
+      const V q0 = hn::LoadU(d, p0 + i), q1 = hn::LoadU(d, p1 + i), q2 = hn::LoadU(d, p2 + i);
+      const V y0 = hn::Add(hn::Add(hn::Mul(xx, q0), hn::Mul(xy, q1)), hn::Mul(xz, q2));
+      const V y1 = hn::Add(hn::Add(hn::Mul(xy, q0), hn::Mul(yy, q1)), hn::Mul(yz, q2));
+      const V y2 = hn::Add(hn::Add(hn::Mul(xz, q0), hn::Mul(yz, q1)), hn::Mul(zz, q2));
+      hn::StoreInterleaved3(hn::Add(y0, hn::Add(hn::LoadU(d, a0 + i), hn::LoadU(d, b0 + i))),
+                            hn::Add(y1, hn::Add(hn::LoadU(d, a1 + i), hn::LoadU(d, b1 + i))),
+                            hn::Add(y2, hn::Add(hn::LoadU(d, a2 + i), hn::LoadU(d, b2 + i))), d, y + 3 * i);
     }
-    // Particles below k0 + kBlock are finished: every spring at p has its a <= p.
-    flush_up_to(std::min(k0 + kBlock, P));
-  }
-  flush_up_to(std::min(copied, P));
+    for (; i < n; ++i) {
+      y[3 * i] = (dxx[i] * p0[i] + dxy[i] * p1[i] + dxz[i] * p2[i]) + (a0[i] + b0[i]);
+      y[3 * i + 1] = (dxy[i] * p0[i] + dyy[i] * p1[i] + dyz[i] * p2[i]) + (a1[i] + b1[i]);
+      y[3 * i + 2] = (dxz[i] * p0[i] + dyz[i] * p1[i] + dzz[i] * p2[i]) + (a2[i] + b2[i]);
+    }
+  };
+  return window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, run, flush);
 }
 
 V Length(const V dx, const V dy, const V dz) {
@@ -172,7 +136,7 @@ double FamilyLengths(const SpringLayout& layout, const double* HWY_RESTRICT x,
   const D d;
   const V zero = hn::Zero(d);
   V ratio = hn::Set(d, 1.0);
-  Walk(layout, x, nullptr, scratch, stride,
+  Walk(layout, x, nullptr, scratch, stride, Window(scratch, stride),
        [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
          const V l0 = hn::LoadU(d, fam.rest.data() + k);
          const V l = Length(hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b)),
@@ -194,12 +158,40 @@ double FamilyLengths(const SpringLayout& layout, const double* HWY_RESTRICT x,
   return worst;
 }
 
+// The largest l / l0 of lengths already by slot (FamilyLengths' ratio, without the lengths).
+double FamilyStrain(const SpringLayout& layout, const double* HWY_RESTRICT length) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V zero = hn::Zero(d);
+  V ratio = hn::Set(d, 1.0);
+  for (const SpringFamily& fam : layout.families) {
+    const double* HWY_RESTRICT rest = fam.rest.data();
+    const double* HWY_RESTRICT l_at = length + fam.slot_first;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(fam.count); k += N) {
+      const V l0 = hn::LoadU(d, rest + k), l = hn::LoadU(d, l_at + k);
+      const M spring = hn::Gt(l0, zero);
+      const M grows = hn::And(
+          spring, hn::Or(hn::And(hn::Gt(l, zero), hn::Ge(l, hn::Mul(ratio, l0))), hn::IsNaN(l)));
+      if (!hn::AllFalse(d, grows)) {
+        const V q = hn::Div(l, l0);
+        ratio = hn::IfThenElse(hn::AndNot(hn::Le(q, ratio), grows), q, ratio);
+      }
+    }
+  }
+  double lanes[kSpringLanePad];
+  hn::StoreU(ratio, d, lanes);
+  double worst = 1.0;
+  for (std::size_t i = 0; i < N; ++i) worst = sticky_max(worst, lanes[i]);
+  return worst;
+}
+
 // Phi's spring terms and gradient: step_potential's loop body, lane by lane. sums: 2 kSums
 // partial sums (phi, magnitude), zeroed by the caller.
 void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT y,
                           const double* HWY_RESTRICT start_length, double h,
                           double* HWY_RESTRICT gradient, double* HWY_RESTRICT sums,
-                          double* HWY_RESTRICT scratch, std::size_t stride) {
+                          double* HWY_RESTRICT end_length, double* HWY_RESTRICT scratch,
+                          std::size_t stride) {
   const D d;
   const V zero = hn::Zero(d);
   const V hv = hn::Set(d, h);
@@ -207,7 +199,7 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
   double* HWY_RESTRICT magnitude = sums + kSums;
   const SpringFamily* current = nullptr;
   V ks = zero, kdh = zero, half_ks = zero, half_kdh = zero;
-  Walk(layout, y, gradient, scratch, stride,
+  Walk(layout, y, gradient, scratch, stride, Window(scratch, stride),
        [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
          if (&fam != current) {  // the family's constants, as spring_force.h rounds them
            current = &fam;
@@ -229,6 +221,8 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
          const V T = hn::Add(hn::Mul(ks, stretch), hn::Mul(kdh, rate));
          const M spring = hn::Gt(l0, zero);
          const M acts = hn::AndNot(hn::Le(l, zero), spring);  // a direction (or NaN)
+         // (FamilyLengths' store: the same lengths by slot, for the next step's start)
+         if (end_length) hn::StoreU(hn::IfThenElseZero(spring, l), d, end_length + fam.slot_first + k);
          const V e_in = hn::IfThenElseZero(spring, e);
          const V m_in = hn::Add(e_in, hn::IfThenElseZero(acts, hn::Mul(hn::Abs(T), l)));
          const std::size_t j = k % kSums;
@@ -247,13 +241,97 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
        });
 }
 
-// out += the families' blocks applied to p: sparse_system.cpp's multiply, lane by lane.
-void FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
+// Phi's body terms (step_potential.cpp's add_body_terms, lane by lane) and the end-of-step
+// positions, N bodies at a time, their xyz read and written interleaved: y = x + h (v + dv);
+// gradient = m dv - h m g (bodies with gravity) + h c v (particles, air drag), zero on
+// immovable bodies, written rather than added to (the spring passes add to it after); body i's
+// energy into partial sum i mod kSums. A last partial vector runs on a padded copy.
+void BodyTerms(const BodyArgs& args, double* HWY_RESTRICT y, double* HWY_RESTRICT gradient,
+               double* HWY_RESTRICT sums) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V zero = hn::Zero(d);
+  const V one = hn::Set(d, 1.0);
+  const V half = hn::Set(d, 0.5);
+  const V h = hn::Set(d, args.h);
+  const V gx = hn::Set(d, args.gravity[0]), gy = hn::Set(d, args.gravity[1]), gz = hn::Set(d, args.gravity[2]);
+  const V h_drag = hn::Set(d, args.h * args.drag);
+  const V half_h_drag = hn::Set(d, 0.5 * args.h * args.drag);
+  const std::size_t B = args.bodies, P = args.particles;
+  double* HWY_RESTRICT phi = sums;
+  double* HWY_RESTRICT magnitude = sums + kSums;
+  HWY_ALIGN double tail[3 * 3 * kSpringLanePad + 2 * kSpringLanePad];
+  HWY_ALIGN double tail_out[2 * 3 * kSpringLanePad];
+  HWY_ALIGN double factor[2 * kSpringLanePad];  // per lane: gravity on (1 or 0), drag on
+  bool factors_all_on = false;                   // factor holds ones only
+  for (std::size_t i = 0; i < B; i += N) {
+    const std::size_t lanes = std::min(N, B - i);
+    const double *x = args.x + 3 * i, *v = args.v + 3 * i, *dv = args.dv + 3 * i, *w_at = args.inv_mass + i;
+    double *y_at = y + 3 * i, *g_at = gradient + 3 * i;
+    if (lanes < N) {  // the last bodies, padded with immovable ones (no terms)
+      std::fill(tail, tail + sizeof(tail) / sizeof(double), 0.0);
+      std::copy(x, x + 3 * lanes, tail);
+      std::copy(v, v + 3 * lanes, tail + 3 * N);
+      std::copy(dv, dv + 3 * lanes, tail + 6 * N);
+      std::copy(w_at, w_at + lanes, tail + 9 * N);
+      x = tail, v = tail + 3 * N, dv = tail + 6 * N, w_at = tail + 9 * N;
+      y_at = tail_out, g_at = tail_out + 3 * N;
+    }
+    // Which lanes have gravity and drag: all of them for a vector of cloth particles (the
+    // common case, read as one comparison of N flag bytes), else lane by lane.
+    static constexpr std::uint8_t kAllOn[kSpringLanePad] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+    const bool all_on = lanes == N && i + N <= P && std::memcmp(args.gravity_on + i, kAllOn, N) == 0;
+    if (!all_on) {
+      for (std::size_t j = 0; j < N; ++j) {
+        factor[j] = j < lanes && args.gravity_on[i + j] ? 1.0 : 0.0;
+        factor[N + j] = i + j < P ? 1.0 : 0.0;
+      }
+    } else if (!factors_all_on) {
+      for (std::size_t j = 0; j < N; ++j) factor[j] = factor[N + j] = 1.0;
+    }
+    factors_all_on = all_on;
+    V X, Y, Z, VX, VY, VZ, DX, DY, DZ;
+    hn::LoadInterleaved3(d, x, X, Y, Z);
+    hn::LoadInterleaved3(d, v, VX, VY, VZ);
+    hn::LoadInterleaved3(d, dv, DX, DY, DZ);
+    const V vx = hn::Add(VX, DX), vy = hn::Add(VY, DY), vz = hn::Add(VZ, DZ);  // v_n + dv
+    hn::StoreInterleaved3(hn::Add(X, hn::Mul(h, vx)), hn::Add(Y, hn::Mul(h, vy)), hn::Add(Z, hn::Mul(h, vz)), d, y_at);
+    const V w = hn::LoadU(d, w_at);
+    const M moves = hn::Ne(w, zero);
+    const M gravity = hn::And(moves, hn::Ne(hn::Load(d, factor), zero));
+    const M drag = hn::And(moves, hn::Ne(hn::Load(d, factor + N), zero));
+    const V m = hn::Div(one, w);
+    const V hm = hn::Mul(h, m);
+    // inertia 1/2 m |dv|^2, gravity's work h m g . v, drag's dissipation 1/2 h c |v|^2
+    const V inertia = hn::IfThenElseZero(
+        moves, hn::Mul(hn::Mul(half, m), hn::Add(hn::Add(hn::Mul(DX, DX), hn::Mul(DY, DY)), hn::Mul(DZ, DZ))));
+    const V work = hn::IfThenElseZero(
+        gravity, hn::Mul(hm, hn::Add(hn::Add(hn::Mul(gx, vx), hn::Mul(gy, vy)), hn::Mul(gz, vz))));
+    const V dissipation = hn::IfThenElseZero(
+        drag, hn::Mul(half_h_drag, hn::Add(hn::Add(hn::Mul(vx, vx), hn::Mul(vy, vy)), hn::Mul(vz, vz))));
+    const std::size_t k = i % kSums;
+    hn::StoreU(hn::Add(hn::LoadU(d, phi + k), hn::Add(hn::Sub(inertia, work), dissipation)), d, phi + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, magnitude + k), hn::Add(hn::Add(inertia, hn::Abs(work)), dissipation)), d,
+               magnitude + k);
+    const auto component = [&](V dvc, V vc, V gc) {
+      const V g = hn::Sub(hn::Mul(m, dvc), hn::IfThenElseZero(gravity, hn::Mul(hm, gc)));
+      return hn::IfThenElseZero(moves, hn::Add(g, hn::IfThenElseZero(drag, hn::Mul(h_drag, vc))));
+    };
+    hn::StoreInterleaved3(component(DX, vx, gx), component(DY, vy, gy), component(DZ, vz, gz), d, g_at);
+    if (lanes < N) {
+      std::copy(tail_out, tail_out + 3 * lanes, y + 3 * i);
+      std::copy(tail_out + 3 * N, tail_out + 3 * N + 3 * lanes, gradient + 3 * i);
+    }
+  }
+}
+
+// out = D p + the families' blocks applied to p: sparse_system.cpp's multiply, lane by lane.
+std::size_t FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
                     const double* HWY_RESTRICT p, double* HWY_RESTRICT out,
                     double* HWY_RESTRICT scratch, std::size_t stride) {
   const D d;
   const V zero = hn::Zero(d);
-  Walk(layout, p, out, scratch, stride,
+  return Walk(layout, p, out, scratch, stride, Window(scratch, stride),
        [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
          const std::size_t s = fam.slot_first + k;
          const V ux = hn::LoadU(d, blocks.ux + s), uy = hn::LoadU(d, blocks.uy + s),
@@ -279,7 +357,8 @@ void FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
          hn::StoreU(hn::Add(hn::LoadU(d, w.minus[0] + b), yb0), d, w.minus[0] + b);
          hn::StoreU(hn::Add(hn::LoadU(d, w.minus[1] + b), yb1), d, w.minus[1] + b);
          hn::StoreU(hn::Add(hn::LoadU(d, w.minus[2] + b), yb2), d, w.minus[2] + b);
-       });
+       },
+       blocks.diag, blocks.bodies);
 }
 
 const char* PotentialTargetName() { return hwy::TargetName(HWY_TARGET); }
@@ -292,14 +371,16 @@ HWY_AFTER_NAMESPACE();
 namespace clothsim {
 
 HWY_EXPORT(FamilyLengths);
+HWY_EXPORT(FamilyStrain);
 HWY_EXPORT(FamilyPotentialTerms);
 HWY_EXPORT(FamilyMultiply);
+HWY_EXPORT(BodyTerms);
 HWY_EXPORT(PotentialTargetName);
 
 namespace {
 
 // Scratch per thread (compare runs lanes on threads), grown, never shrunk: a window of about
-// kBlock + 2 nx particles.
+// kWindowBlock + 2 nx particles.
 struct Scratch {
   double* data;
   std::size_t stride;
@@ -307,7 +388,7 @@ struct Scratch {
 Scratch scratch_for(const SpringLayout& layout) {
   thread_local hwy::AlignedFreeUniquePtr<double[]> scratch;
   thread_local std::size_t capacity = 0;
-  const std::size_t stride = (window_of(layout) + 7) / 8 * 8;  // arrays 64-byte aligned
+  const std::size_t stride = window_stride(layout);
   if (kArrays * stride > capacity) {
     capacity = kArrays * stride;
     scratch = hwy::AllocateAligned<double>(capacity);
@@ -322,13 +403,17 @@ double family_step_lengths(const SpringLayout& layout, const Eigen::Matrix3Xd& x
   return HWY_DYNAMIC_DISPATCH(FamilyLengths)(layout, x.data(), length, s.data, s.stride);
 }
 
+double family_strain(const SpringLayout& layout, const double* length) {
+  return HWY_DYNAMIC_DISPATCH(FamilyStrain)(layout, length);
+}
+
 FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
                                       const double* start_length, double h,
-                                      Eigen::Matrix3Xd& gradient) {
+                                      Eigen::Matrix3Xd& gradient, double* end_length) {
   const Scratch s = scratch_for(layout);
   alignas(64) double sums[2 * kSums] = {};
   HWY_DYNAMIC_DISPATCH(FamilyPotentialTerms)(layout, y.data(), start_length, h, gradient.data(),
-                                             sums, s.data, s.stride);
+                                             sums, end_length, s.data, s.stride);
   FamilyPotential out;
   for (std::size_t j = 0; j < kSums; ++j) {  // in a fixed order (above)
     out.phi += sums[j];
@@ -337,11 +422,25 @@ FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::M
   return out;
 }
 
-void family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
-                     const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out) {
-  const Scratch s = scratch_for(layout);
-  HWY_DYNAMIC_DISPATCH(FamilyMultiply)(layout, blocks, p.data(), out.data(), s.data, s.stride);
+FamilyPotential body_terms(const BodyArgs& args, Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient) {
+  y.resize(3, static_cast<Eigen::Index>(args.bodies));
+  gradient.resize(3, static_cast<Eigen::Index>(args.bodies));
+  alignas(64) double sums[2 * kSums] = {};
+  HWY_DYNAMIC_DISPATCH(BodyTerms)(args, y.data(), gradient.data(), sums);
+  FamilyPotential out;
+  for (std::size_t j = 0; j < kSums; ++j) {  // in a fixed order
+    out.phi += sums[j];
+    out.magnitude += sums[kSums + j];
+  }
+  return out;
 }
+
+std::size_t family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
+                            const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out) {
+  const Scratch s = scratch_for(layout);
+  return HWY_DYNAMIC_DISPATCH(FamilyMultiply)(layout, blocks, p.data(), out.data(), s.data, s.stride);
+}
+
 
 const char* potential_kernel_target() { return HWY_DYNAMIC_DISPATCH(PotentialTargetName)(); }
 

@@ -6,13 +6,14 @@
 // into two sums (at a and at b) so that no two lanes of a store share a particle and a
 // particle's terms are summed in (block, family) order whatever the lane count.
 //
-// Three passes, each what the scalar reference (step_potential.h, sparse_system.h) does for a
-// spring, with the same operations in the same order and no fused multiply-add (this file is
-// compiled with -ffp-contract=off and calls Mul and Add, never MulAdd):
+// Three passes over the springs, each what the scalar reference (step_potential.h,
+// sparse_system.h) does for a spring, with the same operations in the same order and no fused
+// multiply-add (this file is compiled with -ffp-contract=off and calls Mul and Add, never
+// MulAdd), and one over the bodies (Phi's inertia, gravity and drag terms):
 //  - the start-of-step lengths l_n, by slot;
 //  - Phi's spring terms and their gradient at the end-of-step positions y;
 //  - the Newton matrix's spring blocks applied to a vector (the CG mat-vec), with each block's
-//    (u, alpha, beta) read by slot.
+//    (u, alpha, beta) read by slot (their assembly: assembly_kernels.h).
 // Per-spring data are stored by the layout's slot (spring_layout.h): family f's position k at
 // slot_first + k, zeros at the positions without a spring, which every pass masks out.
 //
@@ -25,6 +26,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
 
 #include "spring_layout.h"
 
@@ -42,22 +45,51 @@ struct FamilyPotential {
 
 // The families' terms of the step potential at end-of-step positions y (3 x B): returns their
 // energies; gradient (3 x B) += dE_s/ddv = h T u at a and -h T u at b (none where l <= 0).
-// start_length by slot (family_step_lengths).
+// start_length by slot (family_step_lengths). With end_length, also writes there what
+// family_step_lengths(layout, y, end_length) would, bit for bit (the lengths at y).
 FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
                                       const double* start_length, double h,
-                                      Eigen::Matrix3Xd& gradient);
+                                      Eigen::Matrix3Xd& gradient, double* end_length = nullptr);
 
-// The spring blocks G_s = alpha u u^T + beta I of the families, by slot (ux, uy, uz, alpha,
-// beta: layout.num_slots each), applied to p: out (3 x B) += G_s p_b at a and G_s p_a at b.
+// The largest l / l0 of the families' lengths by slot: what family_step_lengths returned when
+// it wrote them.
+double family_strain(const SpringLayout& layout, const double* length);
+
+// Phi's body terms and the end-of-step positions, the bodies in SIMD: y (3 x B) = x + h (v + dv),
+// and gradient (3 x B) = the bodies' terms of Phi's gradient, m dv - h m g + h c v (written:
+// the spring passes add to it after), zero on immovable bodies; returns the terms' energies
+// (inertia, gravity's work, drag's dissipation; step_potential.h's PotentialValue), summed in
+// kSpringLanePad partial sums (body i into sum i mod 16), added in order at the end.
+struct BodyArgs {
+  const double* x;          // (3 x B) the start of the step
+  const double* v;          // (3 x B)
+  const double* dv;         // (3 x B) the iterate
+  const double* inv_mass;   // (B)
+  const std::uint8_t* gravity_on;  // (B)
+  std::size_t bodies = 0;     // B
+  std::size_t particles = 0;  // the first P bodies have air drag
+  double h = 0.0, drag = 0.0;
+  double gravity[3] = {0.0, 0.0, 0.0};
+};
+FamilyPotential body_terms(const BodyArgs& args, Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient);
+
+// The matrix's diagonal blocks D_i and the families' spring blocks G_s = alpha u u^T + beta I,
+// by slot (ux, uy, uz, alpha, beta: layout.num_slots each), applied to p: writes out_i (3 x B,
+// sized by the caller) = D_i p_i + the sum of G_s p_b over the springs with a = i and of
+// G_s p_a over those with b = i, for the particles 0 .. F - 1 (F returned; from F on, which no
+// spring reaches, out is the caller's). D from SpringBlockMatrix::diag_soa.
 struct FamilyBlocks {
   const double* ux;
   const double* uy;
   const double* uz;
   const double* alpha;
   const double* beta;
+  const double* diag;  // (6 B) entries xx, yy, zz, xy, xz, yz, entry e of body i at e B + i
+  std::size_t bodies;  // B
 };
-void family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
-                     const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out);
+std::size_t family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
+                            const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out);
+
 
 // The Highway target these kernels run on this CPU.
 const char* potential_kernel_target();

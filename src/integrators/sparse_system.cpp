@@ -1,7 +1,8 @@
 #include "integrators/sparse_system.h"
 
-#include <Eigen/LU>  // Matrix3d::inverse (closed form for 3x3)
 
+#include "integrators/assembly_kernels.h"
+#include "integrators/cg_kernels.h"
 #include "integrators/potential_kernels.h"
 
 namespace clothsim {
@@ -23,6 +24,8 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
     v->assign(slots, 0.0);
   A.diag_projected.assign(B, Mat3::Zero());
   A.diag_inverse.assign(B, Mat3::Identity());
+  A.refresh_diagonal_soa();
+  SpringBlockMatrix::to_soa(A.diag_inverse, A.diag_inverse_soa);
 }
 
 namespace {
@@ -45,9 +48,9 @@ inline void subtract_block(Mat3& D, double alpha, double beta, const Vec3& u) {
 
 }  // namespace
 
-void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
-                           const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
-                           bool project, SpringBlockMatrix& A, bool block_jacobi) {
+void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+                                  const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
+                                  bool project, SpringBlockMatrix& A, bool block_jacobi) {
   const int B = A.num_bodies();
   const Springs& springs = model.springs;
 
@@ -121,22 +124,100 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     }
   }
 
+  A.refresh_diagonal_soa();
+  if (block_jacobi) invert_diagonal(A);
+}
+
+void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+                           const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
+                           bool project, SpringBlockMatrix& A, bool block_jacobi) {
+  if (!A.layout) {
+    assemble_step_hessian_scalar(model, inv_mass, h, start_length, y, project, A, block_jacobi);
+    return;
+  }
+  const SpringLayout& layout = *A.layout;
+  const int B = A.num_bodies();
+  FamilyHessian out{A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(),
+                    A.alpha_projected.data(), A.beta_projected.data(), A.diag.data()->data(),
+                    A.diag_projected.data()->data(), A.diag_soa.data()};
+  out.bodies = static_cast<std::size_t>(B);
+  out.h = h;
+  out.drag = model.air_drag;
+  out.project = project;
+  // The families write the particles they reach; the rest (bodies past the grid, particles no
+  // spring reaches) get M + h c I here, as the scalar assembly.
+  const int written = static_cast<int>(family_assemble(layout, y, inv_mass, start_length.data(), out));
+  for (int i = written; i < B; ++i) {
+    if (inv_mass[i] == 0.0) {
+      A.diag[i].setIdentity();
+    } else {
+      const double drag = i < model.num_particles ? model.air_drag : 0.0;
+      A.diag[i] = (1.0 / inv_mass[i] + h * drag) * Mat3::Identity();
+    }
+    if (!project) A.diag_projected[i] = A.diag[i];
+  }
+
+  // The others, one by one (none in today's scenes): their exact blocks into diag, their
+  // projected ones into diag_projected.
+  const double h2 = h * h;
+  const Springs& others = layout.others;
+  for (std::size_t j = 0; j < others.size(); ++j) {
+    const int a = others.a[j], b = others.b[j];
+    const std::size_t k_s = layout.others_first + j;
+    const bool move_a = inv_mass[a] != 0.0, move_b = inv_mass[b] != 0.0;
+    A.alpha[k_s] = A.beta[k_s] = A.alpha_projected[k_s] = A.beta_projected[k_s] = 0.0;
+    if (!move_a && !move_b) continue;
+    const StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), others.rest[j],
+                                                start_length[k_s], others.ks[j], others.kd[j], h);
+    const double transverse_projected = k.transverse < 0.0 ? 0.0 : k.transverse;
+    const double alpha_projected = -h2 * (k.axial - transverse_projected);
+    const double beta_projected = -h2 * transverse_projected;
+    const double alpha = project ? alpha_projected : -h2 * (k.axial - k.transverse);
+    const double beta = project ? beta_projected : -h2 * k.transverse;
+    for (const int i : {a, b}) {
+      if (inv_mass[i] == 0.0) continue;
+      subtract_block(A.diag[i], alpha, beta, k.u);
+      if (!project) subtract_block(A.diag_projected[i], alpha_projected, beta_projected, k.u);
+    }
+    A.ux[k_s] = k.u[0];
+    A.uy[k_s] = k.u[1];
+    A.uz[k_s] = k.u[2];
+    if (move_a && move_b) {
+      A.alpha[k_s] = alpha;
+      A.beta[k_s] = beta;
+      A.alpha_projected[k_s] = alpha_projected;
+      A.beta_projected[k_s] = beta_projected;
+    }
+  }
+  if (project) A.diag_projected = A.diag;
+  // The bodies the families did not write, in diag_soa too (all of them if others changed
+  // the particles' blocks).
+  for (int i = others.size() == 0 ? written : 0; i < B; ++i) {
+    const Mat3& D = A.diag[i];
+    const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
+    for (int e = 0; e < 6; ++e) A.diag_soa[e * B + i] = entry[e];
+  }
   if (block_jacobi) invert_diagonal(A);
 }
 
 void invert_diagonal(SpringBlockMatrix& A) {
-  for (int i = 0; i < A.num_bodies(); ++i) A.diag_inverse[i] = A.diag_projected[i].inverse();
+  const std::size_t B = static_cast<std::size_t>(A.num_bodies());
+  A.diag_inverse.resize(B);
+  A.diag_inverse_soa.resize(6 * B);
+  simd_invert_blocks(A.diag_projected.data()->data(), B, A.diag_inverse.data()->data(),
+                     A.diag_inverse_soa.data());
 }
 
 namespace {
 
-// y = the diagonal blocks times p (3 x B).
-void multiply_diagonal(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {
+// y = the diagonal blocks times p (3 x B), for bodies from..B-1 (y sized 3 x B).
+void multiply_diagonal(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y,
+                       int from = 0) {
   const int B = A.num_bodies();
   y.resize(3, B);
   const double* P = p.data();
   double* Y = y.data();
-  for (int i = 0; i < B; ++i) {
+  for (int i = from; i < B; ++i) {
     const double* D = A.diag[i].data();
     const double* pi = P + 3 * i;
     double* yi = Y + 3 * i;
@@ -182,10 +263,16 @@ void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matr
     multiply_scalar(A, p, y);
     return;
   }
-  multiply_diagonal(A, p, y);
+  // The families' kernel writes y = D p + the families' blocks' terms for the particles it
+  // reaches (the diagonal blocks from diag_soa); the rest of the bodies get D p here.
   const SpringLayout& layout = *A.layout;
-  family_multiply(layout, {A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data()},
-                  p, y);
+  const int B = A.num_bodies();
+  y.resize(3, B);
+  const int written = static_cast<int>(family_multiply(
+      layout, {A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(), A.diag_soa.data(),
+               static_cast<std::size_t>(B)},
+      p, y));
+  multiply_diagonal(A, p, y, written);
   const std::size_t first = layout.others_first;
   multiply_springs(A, layout.others.size(), layout.others.a.data(), layout.others.b.data(),
                    [first](std::size_t s) { return first + s; }, p, y);

@@ -60,6 +60,12 @@ struct SpringBlockMatrix {
   std::vector<Mat3> diag_projected;                     // (B)
   std::vector<double> alpha_projected, beta_projected;  // (slots)
   std::vector<Mat3> diag_inverse;    // (B) the block-Jacobi preconditioner: diag_projected^-1
+  // diag and diag_inverse again, as structure of arrays for the SIMD passes (the mat-vec's
+  // diagonal, the Jacobi solve): entry e of body i's symmetric block at e B + i, entries xx,
+  // yy, zz, xy, xz, yz. assemble_step_hessian and invert_diagonal write both forms; whoever
+  // writes diag otherwise calls refresh_diagonal_soa().
+  std::vector<double> diag_soa;          // (6 B)
+  std::vector<double> diag_inverse_soa;  // (6 B)
   int num_bodies() const { return static_cast<int>(diag.size()); }
   std::size_t num_springs() const { return a.size(); }
   Vec3 u(std::size_t s) const {
@@ -75,6 +81,18 @@ struct SpringBlockMatrix {
     diag = diag_projected;
     alpha = alpha_projected;
     beta = beta_projected;
+    refresh_diagonal_soa();
+  }
+  // diag_soa from diag.
+  void refresh_diagonal_soa() { to_soa(diag, diag_soa); }
+  static void to_soa(const std::vector<Mat3>& blocks, std::vector<double>& soa) {
+    const std::size_t B = blocks.size();
+    soa.resize(6 * B);
+    for (std::size_t i = 0; i < B; ++i) {
+      const Mat3& D = blocks[i];
+      const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
+      for (int e = 0; e < 6; ++e) soa[e * B + i] = entry[e];
+    }
   }
 
  private:
@@ -89,13 +107,26 @@ struct SpringBlockMatrix {
 void build_pattern(const Model& model, SpringBlockMatrix& A);
 
 // Refills A = H at the end-of-step positions y (3 x B), with start_length the springs'
-// lengths at the start of the step by slot (step_lengths, step_potential.h), exact or projected (above). With `block_jacobi`, also
-// the block-Jacobi preconditioner (diag_inverse); without, it is left stale, for a solver
-// that preconditions with the sparse factor and inverts the diagonal only when it needs to
-// (invert_diagonal: a 3x3 inverse per body, a third of a small sheet's assembly).
+// lengths at the start of the step by slot (step_lengths, step_potential.h), exact or
+// projected (above): the layout's families in SIMD (potential_kernels.h), their blocks'
+// contributions to the diagonal summed per particle as the walk goes, then the others. With
+// `block_jacobi`, also the block-Jacobi preconditioner (diag_inverse); without, it is left
+// stale, for a solver that preconditions with the sparse factor and inverts the diagonal only
+// when it needs to (invert_diagonal: a 3x3 inverse per body).
 void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
                            const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
                            bool project, SpringBlockMatrix& A, bool block_jacobi = true);
+
+// The scalar reference: every spring in spring order, each block through step_spring_block
+// (spring_force.h), the projected diagonal as the exact one corrected for the compressed
+// springs. The same matrix to rounding: the diagonal blocks' sums run in another order, and
+// the SIMD blocks' u and T / l are products with 1 / l rather than quotients (an ulp or two).
+// (Where neither end of a spring moves it leaves the slot's u as it was; the SIMD pass writes
+// it. Either way the block is zero.)
+void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+                                  const std::vector<double>& start_length,
+                                  const Eigen::Matrix3Xd& y, bool project, SpringBlockMatrix& A,
+                                  bool block_jacobi = true);
 
 // A.diag_inverse = A.diag_projected^-1, blockwise.
 void invert_diagonal(SpringBlockMatrix& A);

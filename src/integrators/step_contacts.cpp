@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "collisions.h"
+#include "integrators/contact_kernels.h"
 
 namespace clothsim {
 namespace {
@@ -80,6 +81,18 @@ class NearColliders {
       if ((at - centre_[s]).squaredNorm() < bound2_[s]) return true;
     return false;
   }
+  // maybe() for n particles' end positions at once (contact_kernels.h: x, or x + h v, or
+  // x + h (v + g)): the particles that pass, in order. The same test in SIMD, whose rounding
+  // of the squares the widened bounds cover as they cover maybe()'s.
+  void screen(const double* x, const double* v, const double* g, double h, std::size_t n,
+              std::vector<std::int32_t>& near) const {
+    NearScreen s;
+    s.centre = centre_.empty() ? nullptr : centre_.data()->data();
+    s.bound2 = bound2_.data();
+    s.spheres = centre_.size();
+    s.ground = ground_;
+    near_screen(s, x, v, g, h, n, near);
+  }
 
  private:
   std::vector<Vec3> centre_;
@@ -111,7 +124,9 @@ void predict_step_contacts(const Model& model, const State& start, double h,
     if (p < model.num_particles) was_held[p] = 1;
   const double margin = model.collision.margin;
   const NearColliders near(model, start, h, margin);
-  for (int p = 0; p < model.num_particles; ++p) {
+  near.screen(start.x.data(), start.v.data(), guess ? guess->data() : nullptr, h,
+              static_cast<std::size_t>(model.num_particles), contacts.near);
+  for (const int p : contacts.near) {
     if (start.inv_mass[p] == 0.0) continue;
     Vec3 v = start.v.col(p);
     if (guess) v += guess->col(p);
@@ -136,7 +151,8 @@ bool take_in_step_contacts(const Model& model, const State& start, double h,
                            const Eigen::Matrix3Xd& y, StepContacts& contacts) {
   bool changed = false;
   const NearColliders near(model, start, h, 0.0);
-  for (int p = 0; p < model.num_particles; ++p) {
+  near.screen(y.data(), nullptr, nullptr, h, static_cast<std::size_t>(model.num_particles), contacts.near);
+  for (const int p : contacts.near) {
     if (start.inv_mass[p] == 0.0 || contacts.held[p] || !near.maybe(y.col(p))) continue;
     const Candidate c = nearest_collider(model, start, h, start.x.col(p), y.col(p));
     if (c.gap < 0.0) {
@@ -147,9 +163,7 @@ bool take_in_step_contacts(const Model& model, const State& start, double h,
   return changed;
 }
 
-bool update_step_contacts(const Model& model, const State& start, double h,
-                          const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& gradient,
-                          StepContacts& contacts) {
+bool let_go_step_contacts(const Eigen::Matrix3Xd& gradient, StepContacts& contacts) {
   bool changed = false;
   // Let go of the pulling ones, keeping the order of the rest.
   std::size_t kept = 0;
@@ -171,7 +185,14 @@ bool update_step_contacts(const Model& model, const State& start, double h,
   contacts.filter.normal.resize(kept);
   contacts.plane.resize(kept);
   contacts.collider.resize(kept);
-  return take_in_step_contacts(model, start, h, y, contacts) || changed;
+  return changed;
+}
+
+bool update_step_contacts(const Model& model, const State& start, double h,
+                          const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& gradient,
+                          StepContacts& contacts) {
+  const bool let_go = let_go_step_contacts(gradient, contacts);
+  return take_in_step_contacts(model, start, h, y, contacts) || let_go;
 }
 
 void respond_to_step_contacts(const Model& model, const StepContacts& contacts,

@@ -44,6 +44,7 @@ struct StepContacts {
   std::vector<std::uint8_t> held;      // (P) 1 where a particle is held
   std::vector<std::uint8_t> held_before;  // (P) 1 where the last step held a particle
   std::vector<std::uint8_t> let_go;       // (P) 1 where this step let a particle go
+  std::vector<std::int32_t> near;         // scratch: the particles the last search's SIMD screen passed
 
   std::size_t size() const { return filter.size(); }
 };
@@ -64,10 +65,12 @@ void place_on_planes(const StepContacts& contacts, const State& start, double h,
 bool take_in_step_contacts(const Model& model, const State& start, double h,
                            const Eigen::Matrix3Xd& y, StepContacts& contacts);
 
+// Lets go of held particles whose impulse pulls (r . n < 0, r the gradient at the iterate) and
+// that were not let go before in this step. Returns whether any was.
+bool let_go_step_contacts(const Eigen::Matrix3Xd& gradient, StepContacts& contacts);
 // After a converged solve at end positions y with gradient r (the contact impulses on held
-// particles): lets go of held particles whose impulse pulls (r . n < 0) and that were not let
-// go before in this step, then takes in free ones inside a collider. Returns whether the set
-// changed.
+// particles): lets go of held particles whose impulse pulls (let_go_step_contacts), then takes
+// in free ones inside a collider. Returns whether the set changed.
 bool update_step_contacts(const Model& model, const State& start, double h,
                           const Eigen::Matrix3Xd& y, const Eigen::Matrix3Xd& gradient,
                           StepContacts& contacts);

@@ -99,21 +99,45 @@ double step_lengths(const Model& model, const Eigen::Matrix3Xd& x, std::vector<d
   return sticky_max(families, others) - 1.0;
 }
 
+double step_strain(const Model& model, const std::vector<double>& length) {
+  return family_strain(model.spring_layout, length.data()) - 1.0;
+}
+
 PotentialValue step_potential(const Model& model, const State& start, double h,
                               const std::vector<double>& start_length, const Eigen::Matrix3Xd& dv,
-                              Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient) {
+                              Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient,
+                              std::vector<double>* end_length) {
   const SpringLayout& layout = model.spring_layout;
+  double* lengths = nullptr;
+  if (end_length) {
+    if (layout.covers(model.springs.size()) && layout.others.size() == 0) {
+      end_length->resize(layout.num_slots);  // (the gaps stay zero, as step_lengths leaves them)
+      lengths = end_length->data();
+    } else {
+      end_length->clear();
+    }
+  }
   if (!layout.covers(model.springs.size()))
     return step_potential_scalar(model, start, h, start_length, dv, y, gradient);
-  y.noalias() = start.x + h * (start.v + dv);
-  gradient.setZero(3, model.num_bodies());
+  // The bodies first (y, and the gradient's first terms: body_terms in SIMD, the reference's
+  // add_body_terms lane by lane), then the springs add theirs.
+  BodyArgs bodies{start.x.data(), start.v.data(), dv.data(), start.inv_mass.data(), model.gravity_on.data()};
+  bodies.bodies = static_cast<std::size_t>(model.num_bodies());
+  bodies.particles = static_cast<std::size_t>(model.air_drag != 0.0 ? model.num_particles : 0);
+  bodies.h = h;
+  bodies.drag = model.air_drag;
+  for (int c = 0; c < 3; ++c) bodies.gravity[c] = model.gravity[c];
+  const FamilyPotential body = body_terms(bodies, y, gradient);
+  const FamilyPotential families = family_step_potential(layout, y, start_length.data(), h, gradient, lengths);
   PotentialValue value;
-  const FamilyPotential families = family_step_potential(layout, y, start_length.data(), h, gradient);
-  value.phi = families.phi;
-  value.magnitude = families.magnitude;
+  value.phi = families.phi + body.phi;
+  value.magnitude = families.magnitude + body.magnitude;
   add_spring_terms(layout.others, start_length.data() + layout.others_first,
                    [](std::size_t s) { return s; }, h, y, gradient, value);
-  add_body_terms(model, start, h, dv, gradient, value);
+  // Immovable bodies are not unknowns: no gradient there (the springs added theirs).
+  const Eigen::VectorXd& w = start.inv_mass;
+  for (Eigen::Index i = 0; i < w.size(); ++i)
+    if (w[i] == 0.0) gradient.col(i).setZero();
   return value;
 }
 

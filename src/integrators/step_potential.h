@@ -51,9 +51,18 @@ struct PotentialValue {
 // `start`, with start_length by slot (step_lengths); y (3 x B) receives the end-of-step
 // positions x_n + h (v_n + dv). One pass over the springs (the families in SIMD, then the
 // others) and one over the bodies: the cost of one force evaluation.
+//
+// With end_length: also the springs' lengths at y by slot, what step_lengths(model, y,
+// *end_length) would write, bit for bit (a step ending at this y starts the next from them),
+// where the families hold every spring; otherwise end_length is cleared.
 PotentialValue step_potential(const Model& model, const State& start, double h,
                               const std::vector<double>& start_length, const Eigen::Matrix3Xd& dv,
-                              Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient);
+                              Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient,
+                              std::vector<double>* end_length = nullptr);
+
+// The largest strain of lengths by slot that step_potential wrote as end_length: what
+// step_lengths returned when it wrote the same lengths.
+double step_strain(const Model& model, const std::vector<double>& length);
 
 // The scalar reference of step_potential: every spring in spring order, then the bodies. The
 // same value and gradient to rounding (the order of the sums differs).

@@ -1,7 +1,7 @@
-// The implicit step's SIMD passes (start lengths, Phi and its gradient, the block mat-vec)
-// against their scalar references: the same lengths to the bit, the same Phi, gradient and
-// product to rounding, the same NaNs, the same bits on every Highway target this CPU runs, and
-// an implicit run bit-identical from target to target.
+// The implicit step's SIMD passes (start lengths, Phi and its gradient, the Newton matrix's
+// assembly, the block mat-vec) against their scalar references: the same lengths to the bit,
+// the same Phi, gradient, matrix and product to rounding, the same NaNs, the same bits on
+// every Highway target this CPU runs, and an implicit run bit-identical from target to target.
 #include "integrators/potential_kernels.h"
 
 #include <gtest/gtest.h>
@@ -141,6 +141,72 @@ void expect_same_product(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p) 
       << "worst " << ((out - ref).cwiseAbs().array() / bound.array().max(1e-300)).maxCoeff();
 }
 
+// The SIMD assembly against the scalar reference, exact or projected, with inverse masses w:
+// per spring, u within 1e-12 (where an end moves: the reference leaves u as it was where
+// neither does) and (alpha, beta) within 1e-12 of h^2 (axial + |T / l|), the size of the
+// block's terms; per body, the diagonal blocks (both) within 1e-12 of the sum of the sizes
+// of the terms they add up.
+void expect_same_matrix(const StepCase& s, const Eigen::VectorXd& w, bool project) {
+  SCOPED_TRACE(project ? "projected" : "exact");
+  const Model& m = s.model;
+  const Eigen::Matrix3Xd y = s.start.x + kH * (s.start.v + s.dv);
+  SpringBlockMatrix A, ref;
+  build_pattern(m, A);
+  build_pattern(m, ref);
+  assemble_step_hessian(m, w, kH, s.length, y, project, A);
+  assemble_step_hessian_scalar(m, w, kH, s.length, y, project, ref);
+  const double h2 = kH * kH;
+  const Springs& sp = m.springs;
+  std::vector<double> bound(m.num_bodies(), 0.0);
+  for (int i = 0; i < m.num_bodies(); ++i)
+    bound[i] = w[i] == 0.0 ? 0.0 : 1.0 / w[i] + kH * (i < m.num_particles ? m.air_drag : 0.0);
+  for (std::size_t i = 0; i < sp.size(); ++i) {
+    const std::size_t k = A.slot[i];
+    ASSERT_EQ(k, static_cast<std::size_t>(ref.slot[i]));
+    const StepSpringBlock block = step_spring_block(y.col(sp.a[i]) - y.col(sp.b[i]), sp.rest[i],
+                                                    s.length[k], sp.ks[i], sp.kd[i], kH);
+    const double size = h2 * (block.axial + std::abs(block.transverse));
+    bound[sp.a[i]] += size;
+    bound[sp.b[i]] += size;
+    if (w[sp.a[i]] != 0.0 || w[sp.b[i]] != 0.0) {
+      EXPECT_LE((A.u(i) - ref.u(i)).cwiseAbs().maxCoeff(), 1e-12) << "spring " << i;
+    }
+    for (const auto& [x, x_ref] : {std::pair{A.alpha[k], ref.alpha[k]}, std::pair{A.beta[k], ref.beta[k]},
+                                   std::pair{A.alpha_projected[k], ref.alpha_projected[k]},
+                                   std::pair{A.beta_projected[k], ref.beta_projected[k]}})
+      EXPECT_LE(std::abs(x - x_ref), 1e-12 * size) << "spring " << i << ": " << x << " vs " << x_ref;
+  }
+  for (int i = 0; i < m.num_bodies(); ++i) {
+    EXPECT_LE((A.diag[i] - ref.diag[i]).cwiseAbs().maxCoeff(), 1e-12 * bound[i]) << "body " << i;
+    EXPECT_LE((A.diag_projected[i] - ref.diag_projected[i]).cwiseAbs().maxCoeff(), 1e-12 * bound[i])
+        << "body " << i;
+    EXPECT_EQ(A.diag[i], A.diag[i].transpose()) << "body " << i;
+    if (w[i] == 0.0) {
+      EXPECT_TRUE(A.diag[i].isIdentity(0.0) && A.diag_projected[i].isIdentity(0.0)) << "body " << i;
+    }
+  }
+  // Every slot without a spring (padding, gaps) holds zeros: the mat-vec reads them.
+  std::vector<char> used(A.alpha.size(), 0);
+  for (std::size_t i = 0; i < sp.size(); ++i) used[A.slot[i]] = 1;
+  for (std::size_t k = 0; k < used.size(); ++k) {
+    if (used[k]) continue;
+    for (const auto* v : {&A.ux, &A.uy, &A.uz, &A.alpha, &A.beta, &A.alpha_projected, &A.beta_projected})
+      ASSERT_EQ((*v)[k], 0.0) << "slot " << k;
+  }
+}
+
+// Both kinds of matrix, with the sheet's own inverse masses and with a pinned pair (a spring
+// neither of whose ends moves) and a pinned particle in the middle of the sheet.
+void expect_same_matrices(const StepCase& s) {
+  expect_same_matrix(s, s.start.inv_mass, false);
+  expect_same_matrix(s, s.start.inv_mass, true);
+  Eigen::VectorXd w = s.start.inv_mass;
+  if (s.model.num_particles < 2) return;
+  w[1] = 0.0;
+  w[s.model.num_particles / 2] = 0.0;
+  expect_same_matrix(s, w, false);
+}
+
 Eigen::Matrix3Xd random_vector(int B, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -161,8 +227,30 @@ TEST(PotentialKernels, EveryPassMatchesItsScalarReferenceOnEverySheetAndSpringSe
       ASSERT_TRUE(s.model.spring_layout.covers(s.model.springs.size()) || s.model.springs.size() == 0);
       expect_same_lengths(s.model, s.start.x);
       expect_same_potential(s);
+      expect_same_matrices(s);
       expect_same_product(newton_matrix(s), random_vector(s.model.num_bodies(), seed++));
     }
+}
+
+TEST(PotentialKernels, PhisEndLengthsAreTheLengthsAtYBitForBit) {
+  // implicit_euler starts a step from the lengths the last step's final Phi left at its end
+  // positions: they must be step_lengths' own, and so must their strain.
+  for (const auto& [nx, ny] : std::vector<std::pair<int, int>>{{25, 25}, {7, 5}, {1, 9}, {64, 3}}) {
+    SCOPED_TRACE(std::to_string(nx) + " x " + std::to_string(ny));
+    StepCase s = step_case(sheet(nx, ny, "structural: {}, shear: {}, bend: {}"), 21);
+    s.dv(0, nx * ny - 1) = 30.0;  // a stretched spring at the last particle: the strain is its
+    Eigen::Matrix3Xd y, g;
+    std::vector<double> end, at_y;
+    step_potential(s.model, s.start, kH, s.length, s.dv, y, g, &end);
+    const double strain = step_lengths(s.model, y, at_y);
+    ASSERT_EQ(end.size(), at_y.size());
+    for (std::size_t i = 0; i < s.model.springs.size(); ++i) {
+      const std::size_t k = s.model.spring_layout.slot[i];
+      EXPECT_EQ(std::memcmp(&end[k], &at_y[k], sizeof(double)), 0) << "spring " << i;
+    }
+    EXPECT_EQ(step_strain(s.model, end), strain);
+    EXPECT_GT(strain, 0.0);
+  }
 }
 
 TEST(PotentialKernels, SpringsOutsideTheFamiliesAndAStaleLayoutRunTheScalarPath) {
@@ -181,7 +269,14 @@ TEST(PotentialKernels, SpringsOutsideTheFamiliesAndAStaleLayoutRunTheScalarPath)
   expect_same_lengths(s.model, s.start.x);
   EXPECT_GT(step_lengths(s.model, s.start.x, s.length), 5.0);
   expect_same_potential(s);
+  expect_same_matrices(s);
   expect_same_product(newton_matrix(s), random_vector(s.model.num_bodies(), 8));
+  {  // with springs outside the families, Phi leaves no end lengths (the step recomputes them)
+    Eigen::Matrix3Xd y, g;
+    std::vector<double> end(3, 1.0);
+    step_potential(s.model, s.start, kH, s.length, s.dv, y, g, &end);
+    EXPECT_TRUE(end.empty());
+  }
 
   m.springs.a.pop_back();  // springs changed after the layout was built: spring order, scalar
   m.springs.b.pop_back();
@@ -220,6 +315,21 @@ TEST(PotentialKernels, NaNPropagatesAsInTheScalarPasses) {
     std::vector<double> length;
     EXPECT_TRUE(std::isnan(step_lengths(bad.model, bad.start.x, length)));
 
+    {  // the assembly at end positions with a NaN: the same NaN blocks as the reference
+      const Eigen::Matrix3Xd y_bad = bad.start.x + kH * (bad.start.v + bad.dv);
+      SpringBlockMatrix A, ref;
+      build_pattern(bad.model, A);
+      build_pattern(bad.model, ref);
+      assemble_step_hessian(bad.model, bad.start.inv_mass, kH, s.length, y_bad, false, A);
+      assemble_step_hessian_scalar(bad.model, bad.start.inv_mass, kH, s.length, y_bad, false, ref);
+      for (int body = 0; body < bad.model.num_bodies(); ++body) {
+        EXPECT_EQ(A.diag[body].array().isNaN().any(), ref.diag[body].array().isNaN().any()) << "body " << body;
+        EXPECT_EQ(A.diag_projected[body].array().isNaN().any(), ref.diag_projected[body].array().isNaN().any())
+            << "body " << body;
+      }
+      for (std::size_t k = 0; k < A.alpha.size(); ++k)
+        EXPECT_EQ(std::isnan(A.alpha[k]), std::isnan(ref.alpha[k])) << "slot " << k;
+    }
     const SpringBlockMatrix A = newton_matrix(s);
     Eigen::Matrix3Xd p = random_vector(s.model.num_bodies(), 12), out, ref;
     p(2, particle) = std::nan("");
@@ -240,6 +350,7 @@ TEST(PotentialKernels, CoincidentEndsGiveNoGradientAsInTheScalarPass) {
   step_potential(s.model, s.start, kH, s.length, s.dv, y, g);
   EXPECT_TRUE(g.allFinite());
   expect_same_potential(s);
+  expect_same_matrices(s);  // an isotropic block where a spring has no direction
 }
 
 TEST(PotentialKernels, EveryTargetGivesTheSameBits) {
@@ -252,9 +363,13 @@ TEST(PotentialKernels, EveryTargetGivesTheSameBits) {
     std::vector<double> length;
     double strain, phi, magnitude;
     Eigen::Matrix3Xd gradient, product;
+    SpringBlockMatrix matrix;
   };
+  const Eigen::Matrix3Xd y_end = s.start.x + kH * (s.start.v + s.dv);
   const auto run = [&] {
     Bits b;
+    build_pattern(s.model, b.matrix);
+    assemble_step_hessian(s.model, s.start.inv_mass, kH, s.length, y_end, false, b.matrix);
     b.strain = step_lengths(s.model, s.start.x, b.length);
     Eigen::Matrix3Xd y;
     const PotentialValue v = step_potential(s.model, s.start, kH, s.length, s.dv, y, b.gradient);
@@ -282,6 +397,16 @@ TEST(PotentialKernels, EveryTargetGivesTheSameBits) {
     EXPECT_TRUE(same(&b.magnitude, &first.magnitude, 1)) << name;
     EXPECT_TRUE(same(b.gradient.data(), first.gradient.data(), b.gradient.size())) << name;
     EXPECT_TRUE(same(b.product.data(), first.product.data(), b.product.size())) << name;
+    const SpringBlockMatrix& H = b.matrix;
+    const SpringBlockMatrix& H0 = first.matrix;
+    for (const auto& [v, v0] : {std::pair{&H.ux, &H0.ux}, std::pair{&H.uy, &H0.uy}, std::pair{&H.uz, &H0.uz},
+                                std::pair{&H.alpha, &H0.alpha}, std::pair{&H.beta, &H0.beta},
+                                std::pair{&H.alpha_projected, &H0.alpha_projected},
+                                std::pair{&H.beta_projected, &H0.beta_projected}})
+      EXPECT_TRUE(same(v->data(), v0->data(), v->size())) << name;
+    EXPECT_TRUE(same(H.diag.data()->data(), H0.diag.data()->data(), 9 * H.diag.size())) << name;
+    EXPECT_TRUE(same(H.diag_projected.data()->data(), H0.diag_projected.data()->data(), 9 * H.diag.size()))
+        << name;
   }
   hwy::SetSupportedTargetsForTest(0);  // back to the best target
   std::printf("potential kernel targets compared: %s(default %s)\n", names.c_str(),
