@@ -11,7 +11,7 @@ namespace {
 // stiffness, damping and type (33 B, rounded up); per scripted action (TimedAction) 48 B.
 constexpr double kModelPerParticle = 96, kModelPerSpring = 40, kPerAction = 64;
 constexpr double kExplicitPerParticle = 192;
-constexpr double kImplicitPerParticle = 256, kImplicitPerSpring = 128;
+constexpr double kImplicitPerParticle = 480, kImplicitPerSpring = 144;
 constexpr double kPerSphere = 4096;  // measured 3.9 kB, mostly the YAML tree of its entry
 // implicit_euler's sparse factor, when a step needs it: L's 3x3 blocks (76 B each) number
 // 27, 49, 69, 88 and 116 per particle at 25², 64², 128², 256² and 300² (AMD on the grid), so

@@ -1,5 +1,5 @@
 // What a scene will cost in memory before any of it is allocated, so that a scene too big for
-// the machine (particles: [2048, 2048] needs about 5 GB for implicit Euler) is refused with
+// the machine (particles: [2048, 2048] needs about 8 GB for implicit Euler) is refused with
 // the estimate instead of swapping or dying of bad_alloc minutes in.
 //
 // Coefficients from GNU time's peak RSS on the drape scene (all three spring types, about 6
@@ -8,18 +8,15 @@
 // up (measured 312 B per particle with its springs, estimated 336), 64 B per scripted action;
 // a run's state and scratch 192 B per particle for
 // the explicit family (RK4's stages, the worst of them: measured 192 B over the Model,
-// symplectic Euler 73 B); implicit Euler adds its sparse system, 256 B per particle and 128 B
-// per spring (measured 1 344 B per particle in all, estimated 1 552, in runs that did not
-// factor; implicit_euler's reused Newton matrix and line guess, State::implicit_lin_* and
-// implicit_dv_before, then added 147 B per particle at 512^2 (706 against 667 MB peak, GNU
-// time, side by side), which the 208 B of headroom covers; the SIMD passes' diagonal copies
-// and kept lengths (branch simd-assembly) about 200 B more, 757 348 against 706 084 kB peak at
-// 512^2, under the 982 MB estimated there; but at 2048^2 main itself peaked at 10.6 GB, above
-// the 6.64 GB estimated: to be re-measured), plus the sparse factor a step may build:
+// symplectic Euler 73 B); implicit Euler adds its sparse system, its reused Newton matrix's
+// inputs and the SIMD passes' copies, 480 B per particle and 144 B per spring: measured 1 356 B
+// per particle over the Model at 2048^2 and 1 359 B at 1024^2 (GNU time, 2 steps, no factor),
+// estimated 1 536; plus the sparse factor a step may build:
 // 80 B x 8 log2(P) per particle (measured 27-116 blocks of 76 B per particle at 25^2..300^2),
 // never more than the solver's 512 MiB cap. A sphere costs about 4 kB, mostly its YAML tree while the file is read. The estimate
-// errs high on purpose; issue 12 measured 5.1 GB at 2048^2 for implicit Euler, estimated here
-// 6.6 GB with the factor's cap.
+// errs high on purpose: at 2048^2 implicit Euler peaks at 7.53 GB, estimated 7.89 GB with the
+// factor's cap (the factor's ordering is skipped where even a factor without fill would pass
+// the cap: cholesky_preconditioner.h; before that the ordering alone took the peak to 11.5 GB).
 #pragma once
 
 #include <cstdint>

@@ -6,6 +6,8 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace clothsim {
 
@@ -30,31 +32,72 @@ std::vector<int> fill_reducing_order(const SpringBlockMatrix& A) {
   return std::vector<int>(permutation.indices().data(), permutation.indices().data() + B);
 }
 
+// Every strictly upper pair of A is a block of L whatever the order (fill only adds): the
+// distinct pairs, counted by a counting sort on the lower index of each spring (two springs
+// on one pair are one block).
+std::size_t distinct_pairs(const SpringBlockMatrix& A) {
+  const int B = A.num_bodies();
+  std::vector<int> start(B + 1, 0), other(A.a.size());
+  for (std::size_t s = 0; s < A.a.size(); ++s) ++start[std::min(A.a[s], A.b[s]) + 1];
+  for (int i = 0; i < B; ++i) start[i + 1] += start[i];
+  std::vector<int> next(start.begin(), start.end() - 1);
+  for (std::size_t s = 0; s < A.a.size(); ++s) other[next[std::min(A.a[s], A.b[s])]++] = std::max(A.a[s], A.b[s]);
+  std::size_t pairs = 0;
+  for (int i = 0; i < B; ++i) {
+    std::sort(other.begin() + start[i], other.begin() + start[i + 1]);
+    pairs += static_cast<std::size_t>(std::unique(other.begin() + start[i], other.begin() + start[i + 1]) -
+                                      (other.begin() + start[i]));
+  }
+  return pairs;
+}
+
 }  // namespace
 
-void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A) {
+void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A, std::size_t budget_bytes) {
   const int B = A.num_bodies();
   const std::size_t S = A.a.size();
+  bodies_ = B;
+  analysed_ = true;
+  ready_ = false;
+  // A factor that cannot fit the budget is known before any ordering: AMD, its triplets and
+  // the pattern would cost gigabytes on a sheet of millions (a 2048 x 2048 run peaked at
+  // 11.5 GB and spent 40 s here, for a factor it was never going to build).
+  blocks_ = distinct_pairs(A);
+  if (factor_bytes() > budget_bytes) {
+    order_.clear();
+    rank_.clear();
+    column_start_.clear();
+    factor_cost_ = solve_cost_ = std::numeric_limits<double>::infinity();
+    return;
+  }
   order_ = fill_reducing_order(A);
   rank_.assign(B, 0);
   for (int k = 0; k < B; ++k) rank_[order_[k]] = k;
 
   // The strictly upper blocks by column (new indices), one slot per body pair: two springs on
-  // one pair add into the same slot.
-  std::vector<std::vector<std::pair<int, std::size_t>>> column(B);  // (row, spring)
-  for (std::size_t s = 0; s < S; ++s) {
-    const int i = rank_[A.a[s]], k = rank_[A.b[s]];
-    column[std::max(i, k)].emplace_back(std::min(i, k), s);
+  // one pair add into the same slot. Springs are sorted into their columns by counting, then
+  // each column by (row, spring).
+  std::vector<int> column_first(B + 1, 0);
+  for (std::size_t s = 0; s < S; ++s) ++column_first[std::max(rank_[A.a[s]], rank_[A.b[s]]) + 1];
+  for (int k = 0; k < B; ++k) column_first[k + 1] += column_first[k];
+  std::vector<std::pair<int, std::size_t>> column(S);  // (row, spring), column by column
+  {
+    std::vector<int> next(column_first.begin(), column_first.end() - 1);
+    for (std::size_t s = 0; s < S; ++s) {
+      const int i = rank_[A.a[s]], k = rank_[A.b[s]];
+      column[next[std::max(i, k)]++] = {std::min(i, k), s};
+    }
   }
   upper_start_.assign(B + 1, 0);
   upper_row_.clear();
   spring_slot_.assign(S, 0);
   spring_transposed_.assign(S, false);
   for (int k = 0; k < B; ++k) {
-    std::sort(column[k].begin(), column[k].end());
-    for (std::size_t e = 0; e < column[k].size(); ++e) {
-      const auto [row, s] = column[k][e];
-      if (e == 0 || row != column[k][e - 1].first) upper_row_.push_back(row);
+    const auto first = column.begin() + column_first[k], last = column.begin() + column_first[k + 1];
+    std::sort(first, last);
+    for (auto e = first; e != last; ++e) {
+      const auto [row, s] = *e;
+      if (e == first || row != (e - 1)->first) upper_row_.push_back(row);
       spring_slot_[s] = static_cast<int>(upper_row_.size()) - 1;
       // The spring's block is A(a, b); the slot holds A(row, k), row < k: A(b, a) = A(a, b)^T
       // when a comes second.
@@ -62,8 +105,6 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A) {
     }
     upper_start_[k + 1] = static_cast<int>(upper_row_.size());
   }
-  upper_.assign(upper_row_.size(), Mat3::Zero());
-  diag_.assign(B, Mat3::Zero());
 
   // The elimination tree and L's column counts (Davis 2005, "Algorithm 849: a concise sparse
   // Cholesky factorization package", ldl_symbolic): row k of L is the set of nodes reached
@@ -83,14 +124,14 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A) {
   }
   column_start_.assign(B + 1, 0);
   for (int j = 0; j < B; ++j) column_start_[j + 1] = column_start_[j] + count[j];
-  // L's storage waits for the first factorisation: most runs never factor, and on a
-  // 256 x 256 sheet it would be hundreds of MB.
+  blocks_ = static_cast<std::size_t>(column_start_[B]);
+  // L's storage and the factorisation's scratch wait for the first factorisation: most runs
+  // never factor, and on a 256 x 256 sheet they would be hundreds of MB.
   row_.clear();
   value_.clear();
-  d_inverse_.assign(static_cast<std::size_t>(kBlock) * B + kBlockSlack, 0.0);
-  y_.assign(static_cast<std::size_t>(kPaddedBlock) * B, 0.0);
-  pattern_.assign(B, 0);
-  filled_.assign(B, 0);
+  upper_.clear();
+  diag_.clear();
+  filter_.clear();
 
   // Costs in block-Jacobi iterations. Factor: each row k of L updates, for every block L(k, j),
   // the blocks above it in column j (one 3x3 product each), and forms L(k, j) and its share of
@@ -108,14 +149,20 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A) {
   for (int j = 0; j < B; ++j) factor += 27.0 * count[j] * (count[j] + 3.0) / 2.0 + 27.0;
   factor_cost_ = factor / iteration;
   solve_cost_ = 9.0 * (2.0 * column_start_[B] + B) / iteration;
-  filter_.assign(B, Mat3::Identity());
-  filtered_.assign(B, 0);
-  analysed_ = true;
-  ready_ = false;
 }
 
 bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const VelocityFilter& filter) {
   const int B = A.num_bodies();
+  if (upper_.size() != upper_row_.size() || diag_.size() != static_cast<std::size_t>(B)) {
+    upper_.assign(upper_row_.size(), Mat3::Zero());  // the first factorisation: its scratch
+    diag_.assign(B, Mat3::Zero());
+    filter_.assign(B, Mat3::Identity());
+    filtered_.assign(B, 0);
+    d_inverse_.assign(static_cast<std::size_t>(kBlock) * B + kBlockSlack, 0.0);
+    y_.assign(static_cast<std::size_t>(kPaddedBlock) * B, 0.0);
+    pattern_.assign(B, 0);
+    filled_.assign(B, 0);
+  }
   for (std::size_t c = 0; c < filter.size(); ++c) {
     filter_[filter.body[c]] = Mat3::Identity() - filter.normal[c] * filter.normal[c].transpose();
     filtered_[filter.body[c]] = 1;

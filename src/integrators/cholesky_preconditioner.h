@@ -30,6 +30,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "integrators/block_factor_kernels.h"
@@ -41,9 +42,12 @@ namespace clothsim {
 class CholeskyPreconditioner {
  public:
   // Orders A's bodies to reduce fill (AMD on the graph of springs) and computes the factor's
-  // pattern (its elimination tree and column counts): once per model. L itself is allocated
-  // by the first factorize.
-  void analyse(const SpringBlockMatrix& A);
+  // pattern (its elimination tree and column counts): once per model. L itself and the
+  // factorisation's scratch are allocated by the first factorize. When even a factor without
+  // fill (one block per pair of A) would take more than `budget_bytes`, it stops after
+  // counting the pairs: factor_bytes() is then that least size, the costs infinite, and the
+  // factor must not be built.
+  void analyse(const SpringBlockMatrix& A, std::size_t budget_bytes = std::numeric_limits<std::size_t>::max());
   bool analysed() const { return analysed_; }
   void reset() { analysed_ = ready_ = false; }  // a new model: analyse again
 
@@ -65,12 +69,11 @@ class CholeskyPreconditioner {
   double solve_cost() const { return solve_cost_; }
   // What factorize() allocates for L and D (known after analyse).
   std::size_t factor_bytes() const {
-    return factor_blocks() * (sizeof(Mat3) + sizeof(int)) + order_.size() * sizeof(Mat3) +
+    return factor_blocks() * (sizeof(Mat3) + sizeof(int)) + bodies_ * sizeof(Mat3) +
            2 * kBlockSlack * sizeof(double);
   }
-  std::size_t factor_blocks() const {  // off-diagonal blocks of L
-    return column_start_.empty() ? 0 : static_cast<std::size_t>(column_start_.back());
-  }
+  // Off-diagonal blocks of L; only a lower bound (A's pairs) when analyse stopped short.
+  std::size_t factor_blocks() const { return blocks_; }
 
  private:
   // Bodies are factored in a fill-reducing order: new index k is body order_[k], body i is
@@ -98,6 +101,7 @@ class CholeskyPreconditioner {
   std::vector<int> flag_, pattern_, filled_;
   mutable std::vector<double> w_;          // (4 x B) scratch of apply
 
+  std::size_t bodies_ = 0, blocks_ = 0;  // factor_bytes()' inputs, set by analyse
   double factor_cost_ = 0.0, solve_cost_ = 0.0;
   std::vector<Mat3> filter_;  // (B) S_i (identity for free bodies), scratch for factorize
   std::vector<std::uint8_t> filtered_;  // (B) 1 where S_i is not the identity, scratch

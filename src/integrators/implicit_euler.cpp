@@ -387,7 +387,7 @@ class NewtonSolve {
       c_.jacobi_ready = false;
       c_.matrix_id = start_.implicit_lin_id;
     }
-    if (!c_.factor.analysed()) c_.factor.analyse(c_.A);
+    if (!c_.factor.analysed()) c_.factor.analyse(c_.A, kMaxFactorBytes);
     // A factor past kMaxFactorBytes is never built (block Jacobi throughout): the memory a run
     // needs stays within what memory_estimate.h promises, whatever the sheet's size.
     const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;

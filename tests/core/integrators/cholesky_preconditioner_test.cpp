@@ -10,6 +10,7 @@
 #include <hwy/targets.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -87,6 +88,42 @@ TEST(CholeskyPreconditioner, InvertsTheProjectedMatrix) {
   factor.apply(s.b, z);
   const Eigen::VectorXd residual = dense_filtered(s.A, {}) * flat(z) - flat(s.b);
   EXPECT_LE(residual.norm(), 1e-10 * s.b.norm());
+}
+
+TEST(CholeskyPreconditioner, AFactorPastTheBudgetIsKnownWithoutOrderingAndNeverBuilt) {
+  const Compressed s = compressed_sheet();
+  CholeskyPreconditioner full;
+  full.analyse(s.A);
+  // Its least size: one block per distinct pair of A (every spring of the sheet joins its
+  // own pair), one D block per body.
+  const std::size_t pairs = s.A.num_springs();
+  ASSERT_GE(full.factor_blocks(), pairs);
+  const std::size_t least = pairs * (sizeof(Mat3) + sizeof(int)) + s.A.num_bodies() * sizeof(Mat3);
+  ASSERT_GT(full.factor_bytes(), least);  // fill, and the slack
+
+  CholeskyPreconditioner capped;
+  capped.analyse(s.A, least - 1);  // below even the factor without fill
+  EXPECT_TRUE(capped.analysed());
+  EXPECT_EQ(capped.factor_blocks(), pairs);
+  EXPECT_GT(capped.factor_bytes(), least - 1);  // what a caller compares with its budget
+  EXPECT_TRUE(std::isinf(capped.factor_cost()));
+  EXPECT_FALSE(capped.ready());
+
+  // Within the budget it is the full analysis.
+  CholeskyPreconditioner within;
+  within.analyse(s.A, full.factor_bytes());
+  EXPECT_EQ(within.factor_blocks(), full.factor_blocks());
+  EXPECT_EQ(within.factor_cost(), full.factor_cost());
+}
+
+TEST(CholeskyPreconditioner, TwoSpringsOnOnePairAreOneBlockOfItsLeastSize) {
+  Compressed s = compressed_sheet();
+  const std::size_t pairs = s.A.num_springs();
+  s.A.a.push_back(s.A.b[0]);  // a second spring on the first pair, the other way round
+  s.A.b.push_back(s.A.a[0]);
+  CholeskyPreconditioner capped;
+  capped.analyse(s.A, 0);
+  EXPECT_EQ(capped.factor_blocks(), pairs);
 }
 
 TEST(CholeskyPreconditioner, HeldNormalsAreTheIdentityAndTheRestIsFiltered) {
