@@ -64,7 +64,7 @@ double FamilySpringForces(const SpringLayout& layout, const double* HWY_RESTRICT
       const auto dx = hn::Sub(hn::LoadU(d, xs + a), hn::LoadU(d, xs + b));
       const auto dy = hn::Sub(hn::LoadU(d, ys + a), hn::LoadU(d, ys + b));
       const auto dz = hn::Sub(hn::LoadU(d, zs + a), hn::LoadU(d, zs + b));
-      const auto l = hn::Sqrt(hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz)));
+      const auto l = window::Length(dx, dy, dz);
       const auto inv_l = hn::Div(one, l);
       const auto ux = hn::Mul(dx, inv_l), uy = hn::Mul(dy, inv_l), uz = hn::Mul(dz, inv_l);
       const auto vrel = hn::Add(
@@ -84,15 +84,7 @@ double FamilySpringForces(const SpringLayout& layout, const double* HWY_RESTRICT
       hn::StoreU(hn::Sub(hn::LoadU(d, fmx + b), fx), d, fmx + b);
       hn::StoreU(hn::Sub(hn::LoadU(d, fmy + b), fy), d, fmy + b);
       hn::StoreU(hn::Sub(hn::LoadU(d, fmz + b), fz), d, fmz + b);
-
-      // Strain: l / l0 can exceed the lane's ratio only if l >= ratio l0 (rounding is
-      // monotone), so the division runs only then; a NaN length always enters and sticks.
-      const auto grows = hn::And(
-          spring, hn::Or(hn::And(hn::Gt(l, zero), hn::Ge(l, hn::Mul(ratio, l0))), hn::IsNaN(l)));
-      if (!hn::AllFalse(d, grows)) {
-        const auto q = hn::Div(l, l0);
-        ratio = hn::IfThenElse(hn::AndNot(hn::Le(q, ratio), grows), q, ratio);
-      }
+      ratio = window::GrowRatio(d, ratio, l, l0, spring);  // the strain, as the scalar pass
     }
   };
   const auto flush = [&](std::size_t particle, std::size_t n, std::size_t at) {
@@ -102,11 +94,7 @@ double FamilySpringForces(const SpringLayout& layout, const double* HWY_RESTRICT
   };
   window::WalkFamilies(layout, scratch, stride, 6, 6, copy_in, body, flush);
 
-  double lanes[kSpringLanePad];
-  hn::StoreU(ratio, d, lanes);
-  double out = 1.0;
-  for (std::size_t i = 0; i < N; ++i) out = sticky_max(out, lanes[i]);
-  return out;
+  return window::WorstRatio(d, ratio);
 }
 
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }

@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "spring_kernels.h"  // sticky_max
 #include "spring_layout.h"
 
 namespace clothsim {
@@ -159,6 +160,36 @@ HWY_INLINE std::size_t WalkFamilies(const SpringLayout& layout, double* HWY_REST
   }
   flush_up_to(std::min(copied, P));  // the rest of the particles any spring reached
   return flushed;
+}
+
+// A spring's length from its ends' differences, summed as the scalar passes sum it.
+template <class V>
+HWY_INLINE V Length(V dx, V dy, V dz) {
+  return hn::Sqrt(hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz)));
+}
+
+// Each lane's largest l / l0 so far, over the lanes where `spring` is set: l / l0 can exceed
+// the lane's ratio only if l >= ratio l0 (rounding is monotone), so the division runs only
+// then, and the result is the exact maximum of the rounded quotients whatever the order; a NaN
+// length always enters and sticks. Every pass that reports strain keeps it so.
+template <class D, class V, class M>
+HWY_INLINE V GrowRatio(D d, V ratio, V l, V l0, M spring) {
+  const V zero = hn::Zero(d);
+  const M grows = hn::And(
+      spring, hn::Or(hn::And(hn::Gt(l, zero), hn::Ge(l, hn::Mul(ratio, l0))), hn::IsNaN(l)));
+  if (hn::AllFalse(d, grows)) return ratio;
+  const V q = hn::Div(l, l0);
+  return hn::IfThenElse(hn::AndNot(hn::Le(q, ratio), grows), q, ratio);
+}
+
+// The largest of GrowRatio's lanes (at least 1), a NaN winning.
+template <class D, class V>
+HWY_INLINE double WorstRatio(D d, V ratio) {
+  double lanes[kSpringLanePad];
+  hn::StoreU(ratio, d, lanes);
+  double worst = 1.0;
+  for (std::size_t i = 0; i < hn::Lanes(d); ++i) worst = sticky_max(worst, lanes[i]);
+  return worst;
 }
 
 }  // namespace window

@@ -25,14 +25,6 @@ using V = hn::Vec<D>;
 using M = hn::Mask<D>;
 static_assert(HWY_MAX_BYTES / sizeof(double) <= kSpringLanePad, "the layout's padding is a vector");
 
-namespace {
-
-V Length(const V dx, const V dy, const V dz) {
-  return hn::Sqrt(hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz)));
-}
-
-}  // namespace
-
 // The families' Newton blocks: sparse_system.cpp's assembly (assemble_step_hessian_scalar),
 // lane by lane, in two passes.
 //  1. Over the springs (the walk, with y and the inverse masses in the window): each block's u
@@ -87,7 +79,7 @@ std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRIC
       const V dx = hn::Sub(hn::LoadU(d, ys + a), hn::LoadU(d, ys + b));
       const V dy = hn::Sub(hn::LoadU(d, ys1 + a), hn::LoadU(d, ys1 + b));
       const V dz = hn::Sub(hn::LoadU(d, ys2 + a), hn::LoadU(d, ys2 + b));
-      const V l = Length(dx, dy, dz);
+      const V l = window::Length(dx, dy, dz);
       const M spring = hn::Gt(l0, zero);
       const M apart = hn::Not(hn::Le(l, zero));  // a direction (or NaN)
       // u = d / l and the transverse stiffness T / l through one division; a spring of

@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "integrators/potential_kernels.h"
-#include "spring_kernels.h"  // sticky_max
 
 #include "spring_window-inl.h"  // the walk over the families: its window and helpers
 
@@ -124,10 +123,6 @@ std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, doub
   return window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, run, flush);
 }
 
-V Length(const V dx, const V dy, const V dz) {
-  return hn::Sqrt(hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz)));
-}
-
 }  // namespace
 
 // Start-of-step lengths by slot, and the largest l / l0 (as FamilySpringForces).
@@ -139,23 +134,14 @@ double FamilyLengths(const SpringLayout& layout, const double* HWY_RESTRICT x,
   Walk(layout, x, nullptr, scratch, stride, Window(scratch, stride),
        [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
          const V l0 = hn::LoadU(d, fam.rest.data() + k);
-         const V l = Length(hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b)),
+         const V l = window::Length(hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b)),
                             hn::Sub(hn::LoadU(d, w.in[1] + a), hn::LoadU(d, w.in[1] + b)),
                             hn::Sub(hn::LoadU(d, w.in[2] + a), hn::LoadU(d, w.in[2] + b)));
          const M spring = hn::Gt(l0, zero);
          hn::StoreU(hn::IfThenElseZero(spring, l), d, length + fam.slot_first + k);
-         const M grows = hn::And(
-             spring, hn::Or(hn::And(hn::Gt(l, zero), hn::Ge(l, hn::Mul(ratio, l0))), hn::IsNaN(l)));
-         if (!hn::AllFalse(d, grows)) {
-           const V q = hn::Div(l, l0);
-           ratio = hn::IfThenElse(hn::AndNot(hn::Le(q, ratio), grows), q, ratio);
-         }
+         ratio = window::GrowRatio(d, ratio, l, l0, spring);
        });
-  double lanes[kSpringLanePad];
-  hn::StoreU(ratio, d, lanes);
-  double worst = 1.0;
-  for (std::size_t i = 0; i < hn::Lanes(d); ++i) worst = sticky_max(worst, lanes[i]);
-  return worst;
+  return window::WorstRatio(d, ratio);
 }
 
 // The largest l / l0 of lengths already by slot (FamilyLengths' ratio, without the lengths).
@@ -169,20 +155,10 @@ double FamilyStrain(const SpringLayout& layout, const double* HWY_RESTRICT lengt
     const double* HWY_RESTRICT l_at = length + fam.slot_first;
     for (std::size_t k = 0; k < static_cast<std::size_t>(fam.count); k += N) {
       const V l0 = hn::LoadU(d, rest + k), l = hn::LoadU(d, l_at + k);
-      const M spring = hn::Gt(l0, zero);
-      const M grows = hn::And(
-          spring, hn::Or(hn::And(hn::Gt(l, zero), hn::Ge(l, hn::Mul(ratio, l0))), hn::IsNaN(l)));
-      if (!hn::AllFalse(d, grows)) {
-        const V q = hn::Div(l, l0);
-        ratio = hn::IfThenElse(hn::AndNot(hn::Le(q, ratio), grows), q, ratio);
-      }
+      ratio = window::GrowRatio(d, ratio, l, l0, hn::Gt(l0, zero));
     }
   }
-  double lanes[kSpringLanePad];
-  hn::StoreU(ratio, d, lanes);
-  double worst = 1.0;
-  for (std::size_t i = 0; i < N; ++i) worst = sticky_max(worst, lanes[i]);
-  return worst;
+  return window::WorstRatio(d, ratio);
 }
 
 // Phi's spring terms and gradient: step_potential's loop body, lane by lane. sums: 2 kSums
@@ -213,7 +189,7 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
          const V dx = hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b));
          const V dy = hn::Sub(hn::LoadU(d, w.in[1] + a), hn::LoadU(d, w.in[1] + b));
          const V dz = hn::Sub(hn::LoadU(d, w.in[2] + a), hn::LoadU(d, w.in[2] + b));
-         const V l = Length(dx, dy, dz);
+         const V l = window::Length(dx, dy, dz);
          const V stretch = hn::Sub(l, l0), rate = hn::Sub(l, ln);
          // E = 0.5 ks (l - l0)^2 + 0.5 (kd / h) (l - ln)^2, T = ks (l - l0) + (kd / h) (l - ln)
          const V e = hn::Add(hn::Mul(hn::Mul(half_ks, stretch), stretch),

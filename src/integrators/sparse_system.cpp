@@ -1,6 +1,5 @@
 #include "integrators/sparse_system.h"
 
-
 #include "integrators/assembly_kernels.h"
 #include "integrators/cg_kernels.h"
 #include "integrators/potential_kernels.h"
@@ -46,6 +45,30 @@ inline void subtract_block(Mat3& D, double alpha, double beta, const Vec3& u) {
   D(2, 1) -= yz;
 }
 
+// A body's diagonal block before the springs: M + h c I (air drag, the (h c / 2) |v|^2 term of
+// Phi, on cloth particles), or the identity for an immovable body (its row is filtered).
+Mat3 mass_block(const Model& model, const Eigen::VectorXd& inv_mass, double h, int i) {
+  if (inv_mass[i] == 0.0) return Mat3::Identity();
+  const double drag = i < model.num_particles ? model.air_drag : 0.0;
+  return (1.0 / inv_mass[i] + h * drag) * Mat3::Identity();
+}
+
+// A spring's block G = -h^2 K = alpha u u^T + beta I, alpha = -h^2 (axial - transverse),
+// beta = -h^2 transverse, and its projection (transverse clamped at 0: positive semi-definite).
+// With `project` the exact block is the projected one.
+struct BlockCoefficients {
+  double alpha, beta, alpha_projected, beta_projected;
+};
+BlockCoefficients block_coefficients(const StepSpringBlock& k, double h2, bool project) {
+  const double transverse_projected = k.transverse < 0.0 ? 0.0 : k.transverse;
+  BlockCoefficients c;
+  c.alpha_projected = -h2 * (k.axial - transverse_projected);
+  c.beta_projected = -h2 * transverse_projected;
+  c.alpha = project ? c.alpha_projected : -h2 * (k.axial - k.transverse);
+  c.beta = project ? c.beta_projected : -h2 * k.transverse;
+  return c;
+}
+
 }  // namespace
 
 void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, double h,
@@ -54,20 +77,11 @@ void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv
   const int B = A.num_bodies();
   const Springs& springs = model.springs;
 
-  // M, plus h c I for air drag (the drag term (h c / 2) |v|^2 of Phi).
-  for (int i = 0; i < B; ++i) {
-    if (inv_mass[i] == 0.0) {
-      A.diag[i].setIdentity();
-    } else {
-      const double drag = i < model.num_particles ? model.air_drag : 0.0;
-      A.diag[i] = (1.0 / inv_mass[i] + h * drag) * Mat3::Identity();
-    }
-  }
+  for (int i = 0; i < B; ++i) A.diag[i] = mass_block(model, inv_mass, h, i);
 
-  // G = -h^2 K = alpha u u^T + beta I with alpha = -h^2 (axial - transverse),
-  // beta = -h^2 transverse; the projection clamps transverse at 0. The diagonal blocks get
-  // -G; the projected diagonal is the exact one corrected for the compressed springs only
-  // (usually few), so the common case pays for one diagonal accumulation.
+  // Each spring's block G (block_coefficients); the diagonal blocks get -G. The projected
+  // diagonal is the exact one corrected for the compressed springs only (usually few), so the
+  // common case pays for one diagonal accumulation.
   const double h2 = h * h;
   bool any_compressed = false;
   for (std::size_t s = 0; s < springs.size(); ++s) {
@@ -80,22 +94,18 @@ void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv
     }
     const StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), springs.rest[s],
                                                 start_length[k_s], springs.ks[s], springs.kd[s], h);
-    const double transverse_projected = k.transverse < 0.0 ? 0.0 : k.transverse;
     any_compressed |= k.transverse < 0.0;
-    const double alpha_projected = -h2 * (k.axial - transverse_projected);
-    const double beta_projected = -h2 * transverse_projected;
-    const double alpha = project ? alpha_projected : -h2 * (k.axial - k.transverse);
-    const double beta = project ? beta_projected : -h2 * k.transverse;
-    if (move_a) subtract_block(A.diag[a], alpha, beta, k.u);
-    if (move_b) subtract_block(A.diag[b], alpha, beta, k.u);
+    const BlockCoefficients c = block_coefficients(k, h2, project);
+    if (move_a) subtract_block(A.diag[a], c.alpha, c.beta, k.u);
+    if (move_b) subtract_block(A.diag[b], c.alpha, c.beta, k.u);
     A.ux[k_s] = k.u[0];
     A.uy[k_s] = k.u[1];
     A.uz[k_s] = k.u[2];
     if (move_a && move_b) {
-      A.alpha[k_s] = alpha;
-      A.beta[k_s] = beta;
-      A.alpha_projected[k_s] = alpha_projected;
-      A.beta_projected[k_s] = beta_projected;
+      A.alpha[k_s] = c.alpha;
+      A.beta[k_s] = c.beta;
+      A.alpha_projected[k_s] = c.alpha_projected;
+      A.beta_projected[k_s] = c.beta_projected;
     } else {  // a filtered body's row and column are removed
       A.alpha[k_s] = A.beta[k_s] = A.alpha_projected[k_s] = A.beta_projected[k_s] = 0.0;
     }
@@ -148,12 +158,7 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
   // spring reaches) get M + h c I here, as the scalar assembly.
   const int written = static_cast<int>(family_assemble(layout, y, inv_mass, start_length.data(), out));
   for (int i = written; i < B; ++i) {
-    if (inv_mass[i] == 0.0) {
-      A.diag[i].setIdentity();
-    } else {
-      const double drag = i < model.num_particles ? model.air_drag : 0.0;
-      A.diag[i] = (1.0 / inv_mass[i] + h * drag) * Mat3::Identity();
-    }
+    A.diag[i] = mass_block(model, inv_mass, h, i);
     if (!project) A.diag_projected[i] = A.diag[i];
   }
 
@@ -169,24 +174,20 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     if (!move_a && !move_b) continue;
     const StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), others.rest[j],
                                                 start_length[k_s], others.ks[j], others.kd[j], h);
-    const double transverse_projected = k.transverse < 0.0 ? 0.0 : k.transverse;
-    const double alpha_projected = -h2 * (k.axial - transverse_projected);
-    const double beta_projected = -h2 * transverse_projected;
-    const double alpha = project ? alpha_projected : -h2 * (k.axial - k.transverse);
-    const double beta = project ? beta_projected : -h2 * k.transverse;
+    const BlockCoefficients c = block_coefficients(k, h2, project);
     for (const int i : {a, b}) {
       if (inv_mass[i] == 0.0) continue;
-      subtract_block(A.diag[i], alpha, beta, k.u);
-      if (!project) subtract_block(A.diag_projected[i], alpha_projected, beta_projected, k.u);
+      subtract_block(A.diag[i], c.alpha, c.beta, k.u);
+      if (!project) subtract_block(A.diag_projected[i], c.alpha_projected, c.beta_projected, k.u);
     }
     A.ux[k_s] = k.u[0];
     A.uy[k_s] = k.u[1];
     A.uz[k_s] = k.u[2];
     if (move_a && move_b) {
-      A.alpha[k_s] = alpha;
-      A.beta[k_s] = beta;
-      A.alpha_projected[k_s] = alpha_projected;
-      A.beta_projected[k_s] = beta_projected;
+      A.alpha[k_s] = c.alpha;
+      A.beta[k_s] = c.beta;
+      A.alpha_projected[k_s] = c.alpha_projected;
+      A.beta_projected[k_s] = c.beta_projected;
     }
   }
   if (project) A.diag_projected = A.diag;
