@@ -17,6 +17,7 @@
 #include "simulation.h"
 #include "spring_force.h"
 #include "state.h"
+#include "kernel_test_support.h"
 #include "test_support.h"
 
 namespace clothsim {
@@ -24,6 +25,9 @@ namespace {
 
 using testing::model_from_yaml;
 using testing::scene_path;
+using testing::add_spring_outside_the_families;
+using testing::for_each_highway_target;
+using testing::typed_springs;
 
 const std::vector<std::string> kTypeSets{
     "structural: {}, shear: {}, bend: {}", "structural: {}", "shear: {}", "bend: {}",
@@ -32,11 +36,7 @@ const std::vector<std::string> kTypeSets{
 // An nx x ny sheet with the given spring types (stiffness and damping differing per type) and a
 // ball, so the force array has a body past the particles the kernel must leave alone.
 Model sheet(int nx, int ny, const std::string& types) {
-  std::string springs = types;
-  for (const auto& [name, params] : {std::pair{"structural: {}", "structural: {stiffness: 3000, damping: 7}"},
-                                     std::pair{"shear: {}", "shear: {stiffness: 2000, damping: 5}"},
-                                     std::pair{"bend: {}", "bend: {stiffness: 900, damping: 3}"}})
-    if (const auto at = springs.find(name); at != std::string::npos) springs.replace(at, std::strlen(name), params);
+  const std::string springs = typed_springs(types);
   return model_from_yaml("cloth: {particles: [" + std::to_string(nx) + ", " + std::to_string(ny) +
                          "], size: [2, 1.5], springs: {" + springs +
                          "}}\nspheres: [{center: [0, -2, 0], radius: 0.5}]\n");
@@ -108,13 +108,7 @@ TEST(SpringKernels, ForcesMatchTheScalarPassOnEverySheetAndSpringSet) {
 
 TEST(SpringKernels, SpringsOutsideTheFamiliesRunInTheScalarPass) {
   Model m = sheet(6, 5, "structural: {}, shear: {}");
-  m.springs.a.push_back(0);  // one long spring across the sheet, another stiffness
-  m.springs.b.push_back(29);
-  m.springs.rest.push_back(0.5);
-  m.springs.ks.push_back(123.0);
-  m.springs.kd.push_back(4.0);
-  m.springs.type.push_back(SpringType::Structural);
-  m.spring_layout = build_spring_layout(m.springs, m.grid_nx, m.grid_ny);
+  add_spring_outside_the_families(m);
   ASSERT_EQ(m.spring_layout.others.size(), 1u);
   Eigen::Matrix3Xd x, v;
   perturb(m, x, v, 7);
@@ -178,21 +172,13 @@ TEST(SpringKernels, EveryTargetGivesTheSameBits) {
   const Model m = sheet(37, 23, "structural: {}, shear: {}, bend: {}");
   Eigen::Matrix3Xd x, v;
   perturb(m, x, v, 13);
-  const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
-  ASSERT_FALSE(targets.empty());
-  std::vector<std::string> names;
-  Pass first{};
-  for (std::size_t t = 0; t < targets.size(); ++t) {
-    hwy::SetSupportedTargetsForTest(targets[t]);
-    names.push_back(spring_kernel_target());
+  const Pass first = simd(m, x, v);
+  const std::string all = for_each_highway_target([&](const char* target) {
     const Pass p = simd(m, x, v);
-    if (t == 0) first = p;
-    EXPECT_EQ(std::memcmp(p.f.data(), first.f.data(), sizeof(double) * p.f.size()), 0) << names.back();
-    EXPECT_EQ(p.strain, first.strain) << names.back();
-  }
-  hwy::SetSupportedTargetsForTest(0);  // back to the best target
-  std::string all;
-  for (const std::string& n : names) all += n + " ";
+    EXPECT_EQ(std::memcmp(p.f.data(), first.f.data(), sizeof(double) * p.f.size()), 0) << target;
+    EXPECT_EQ(p.strain, first.strain) << target;
+  });
+  ASSERT_FALSE(all.empty());
   RecordProperty("targets", all);
   std::printf("spring kernel targets compared: %s(default %s)\n", all.c_str(), spring_kernel_target());
 }
@@ -217,11 +203,7 @@ TEST(SpringKernels, ARunIsBitIdenticalFromRunToRunThreadToThreadAndTargetToTarge
   std::vector<double> c;
   std::thread([&] { c = drape_after_200_steps(); }).join();  // another thread's scratch
   EXPECT_TRUE(same_bits(a, c));
-  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
-    hwy::SetSupportedTargetsForTest(target);
-    EXPECT_TRUE(same_bits(a, drape_after_200_steps())) << spring_kernel_target();
-  }
-  hwy::SetSupportedTargetsForTest(0);
+  for_each_highway_target([&](const char* target) { EXPECT_TRUE(same_bits(a, drape_after_200_steps())) << target; });
 }
 
 }  // namespace

@@ -13,6 +13,8 @@
 #include <random>
 #include <vector>
 
+#include "kernel_test_support.h"
+
 namespace clothsim {
 namespace {
 
@@ -113,17 +115,16 @@ TEST(CgKernels, EveryTargetGivesTheSameBits) {
     return b;
   };
   const Bits first = run();
-  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
-    hwy::SetSupportedTargetsForTest(target);
+  const std::string targets = testing::for_each_highway_target([&](const char* target) {
     const Bits b = run();
-    EXPECT_EQ(std::memcmp(&b.pq, &first.pq, sizeof(double)), 0) << hwy::TargetName(target);
-    EXPECT_EQ(std::memcmp(&b.rr, &first.rr, sizeof(double)), 0) << hwy::TargetName(target);
-    EXPECT_EQ(std::memcmp(&b.rz, &first.rz, sizeof(double)), 0) << hwy::TargetName(target);
-    EXPECT_EQ(std::memcmp(b.z.data(), first.z.data(), sizeof(double) * n), 0) << hwy::TargetName(target);
+    EXPECT_EQ(std::memcmp(&b.pq, &first.pq, sizeof(double)), 0) << target;
+    EXPECT_EQ(std::memcmp(&b.rr, &first.rr, sizeof(double)), 0) << target;
+    EXPECT_EQ(std::memcmp(&b.rz, &first.rz, sizeof(double)), 0) << target;
+    EXPECT_EQ(std::memcmp(b.z.data(), first.z.data(), sizeof(double) * n), 0) << target;
     EXPECT_EQ(std::memcmp(b.inverse.data(), first.inverse.data(), sizeof(double) * b.inverse.size()), 0)
-        << hwy::TargetName(target);
-  }
-  hwy::SetSupportedTargetsForTest(0);
+        << target;
+  });
+  EXPECT_FALSE(targets.empty());
 }
 
 }  // namespace

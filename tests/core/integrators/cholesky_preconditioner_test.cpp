@@ -18,6 +18,7 @@
 #include "integrators/conjugate_gradient.h"
 #include "integrators/step_potential.h"
 #include "state.h"
+#include "kernel_test_support.h"
 #include "test_support.h"
 
 namespace clothsim::testing {
@@ -256,16 +257,11 @@ TEST(CholeskyPreconditioner, EveryTargetFactorsAndSolvesToTheSameBits) {
   };
   const Eigen::Matrix3Xd best = solve();
   EXPECT_LE((dense_filtered(s.A, filter) * flat(best) - flat(s.b)).norm(), 1e-10 * s.b.norm());
-  const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
-  ASSERT_FALSE(targets.empty());
-  std::string names;
-  for (const std::int64_t target : targets) {
-    hwy::SetSupportedTargetsForTest(target);
-    names += std::string(block_factor_target()) + " ";
+  const std::string names = for_each_highway_target([&](const char* target) {
     const Eigen::Matrix3Xd z = solve();
-    EXPECT_EQ(0, std::memcmp(z.data(), best.data(), sizeof(double) * z.size())) << block_factor_target();
-  }
-  hwy::SetSupportedTargetsForTest(0);  // back to the best target
+    EXPECT_EQ(0, std::memcmp(z.data(), best.data(), sizeof(double) * z.size())) << target;
+  });
+  ASSERT_FALSE(names.empty());
   RecordProperty("targets", names);
 }
 

@@ -11,6 +11,8 @@
 #include <random>
 #include <vector>
 
+#include "kernel_test_support.h"
+
 namespace clothsim {
 namespace {
 
@@ -38,8 +40,7 @@ TEST(ContactKernels, ScreenFlagsExactlyThePositionsNearAColliderOnEveryTarget) {
         }
         return near;
       };
-      for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
-        hwy::SetSupportedTargetsForTest(target);
+      testing::for_each_highway_target([&](const char* target) {
         std::vector<std::int32_t> at_x, at_v, at_g, want_x, want_v, want_g;
         near_screen(screen, x.data(), nullptr, nullptr, h, n, at_x);
         near_screen(screen, x.data(), v.data(), nullptr, h, n, at_v);
@@ -49,11 +50,10 @@ TEST(ContactKernels, ScreenFlagsExactlyThePositionsNearAColliderOnEveryTarget) {
           if (expected(x.col(p) + h * v.col(p))) want_v.push_back(p);
           if (expected(x.col(p) + h * (v.col(p) + g.col(p)))) want_g.push_back(p);
         }
-        EXPECT_EQ(at_x, want_x) << hwy::TargetName(target);
-        EXPECT_EQ(at_v, want_v) << hwy::TargetName(target);
-        EXPECT_EQ(at_g, want_g) << hwy::TargetName(target);
-      }
-      hwy::SetSupportedTargetsForTest(0);
+        EXPECT_EQ(at_x, want_x) << target;
+        EXPECT_EQ(at_v, want_v) << target;
+        EXPECT_EQ(at_g, want_g) << target;
+      });
     }
   }
 }

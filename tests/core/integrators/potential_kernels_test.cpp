@@ -17,6 +17,7 @@
 #include "integrators/step_potential.h"
 #include "simulation.h"
 #include "state.h"
+#include "kernel_test_support.h"
 #include "test_support.h"
 
 namespace clothsim {
@@ -24,6 +25,9 @@ namespace {
 
 using testing::model_from_yaml;
 using testing::scene_path;
+using testing::add_spring_outside_the_families;
+using testing::for_each_highway_target;
+using testing::typed_springs;
 
 const std::vector<std::string> kTypeSets{
     "structural: {}, shear: {}, bend: {}", "structural: {}", "shear: {}", "bend: {}",
@@ -33,11 +37,7 @@ const std::vector<std::string> kTypeSets{
 // pinned corner and a free ball, so the arrays have an immovable body and one past the
 // particles that no spring touches.
 Model sheet(int nx, int ny, const std::string& types) {
-  std::string springs = types;
-  for (const auto& [name, params] : {std::pair{"structural: {}", "structural: {stiffness: 3000, damping: 7}"},
-                                     std::pair{"shear: {}", "shear: {stiffness: 2000, damping: 5}"},
-                                     std::pair{"bend: {}", "bend: {stiffness: 900, damping: 3}"}})
-    if (const auto at = springs.find(name); at != std::string::npos) springs.replace(at, std::strlen(name), params);
+  const std::string springs = typed_springs(types);
   return model_from_yaml("gravity: [0, -9.8, 0]\nair_drag: 0.2\ncloth: {particles: [" +
                          std::to_string(nx) + ", " + std::to_string(ny) +
                          "], size: [2, 1.5], particle_mass: 0.05, pinned: [[0, 0]], springs: {" +
@@ -255,13 +255,7 @@ TEST(PotentialKernels, PhisEndLengthsAreTheLengthsAtYBitForBit) {
 
 TEST(PotentialKernels, SpringsOutsideTheFamiliesAndAStaleLayoutRunTheScalarPath) {
   Model m = sheet(6, 5, "structural: {}, shear: {}");
-  m.springs.a.push_back(0);  // one long spring across the sheet, another stiffness
-  m.springs.b.push_back(29);
-  m.springs.rest.push_back(0.5);
-  m.springs.ks.push_back(123.0);
-  m.springs.kd.push_back(4.0);
-  m.springs.type.push_back(SpringType::Structural);
-  m.spring_layout = build_spring_layout(m.springs, m.grid_nx, m.grid_ny);
+  add_spring_outside_the_families(m);
   ASSERT_EQ(m.spring_layout.others.size(), 1u);
   StepCase s = step_case(m, 7);
   s.start.x.col(29) += Vec3(5.0, 0.0, 0.0);  // the long spring is the most stretched: its strain wins
@@ -381,16 +375,9 @@ TEST(PotentialKernels, EveryTargetGivesTheSameBits) {
   const auto same = [](const auto& a, const auto& b, std::size_t n) {
     return std::memcmp(a, b, sizeof(double) * n) == 0;
   };
-  const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
-  ASSERT_FALSE(targets.empty());
-  std::string names;
-  Bits first;
-  for (std::size_t t = 0; t < targets.size(); ++t) {
-    hwy::SetSupportedTargetsForTest(targets[t]);
-    const std::string name = potential_kernel_target();
-    names += name + " ";
+  const Bits first = run();
+  const std::string names = for_each_highway_target([&](const char* name) {
     const Bits b = run();
-    if (t == 0) first = b;
     EXPECT_TRUE(same(b.length.data(), first.length.data(), b.length.size())) << name;
     EXPECT_TRUE(same(&b.strain, &first.strain, 1)) << name;
     EXPECT_TRUE(same(&b.phi, &first.phi, 1)) << name;
@@ -407,8 +394,8 @@ TEST(PotentialKernels, EveryTargetGivesTheSameBits) {
     EXPECT_TRUE(same(H.diag.data()->data(), H0.diag.data()->data(), 9 * H.diag.size())) << name;
     EXPECT_TRUE(same(H.diag_projected.data()->data(), H0.diag_projected.data()->data(), 9 * H.diag.size()))
         << name;
-  }
-  hwy::SetSupportedTargetsForTest(0);  // back to the best target
+  });
+  ASSERT_FALSE(names.empty());
   std::printf("potential kernel targets compared: %s(default %s)\n", names.c_str(),
               potential_kernel_target());
 }
