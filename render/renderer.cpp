@@ -12,9 +12,11 @@
 //                 premultiplied by coverage, alpha = coverage
 //   read back     glFinish, glReadPixels, rows flipped to top-down, composited over the
 //                 backdrop (out = colour + (1 - alpha) backdrop), so alpha ends at 255
+//   fxaa          (RenderFrame::fxaa) the edges of what was drawn smoothed on the CPU, in place
+//                 of MSAA (render/fxaa.h); the backdrop is drawn with 4 samples all the same
 //   overlay       text, colour bar and series inset drawn on the CPU (frame_setup.h)
-// Why the backdrop and the region: llvmpipe shades on the CPU, with per-sample work under
-// MSAA, so pixels are the cost. Drawing ground and sky every frame cost as much as all the
+// Why the backdrop, the region and FXAA: llvmpipe shades on the CPU, with per-sample work under
+// MSAA, so pixels (and samples) are the cost. Drawing ground and sky every frame cost as much as all the
 // rest; clearing and resolving the whole multisampled image, a third of what remained.
 //
 // GL objects (programs, buffers, FBOs, the backdrop) live as long as the Renderer; the FBOs
@@ -36,6 +38,7 @@
 
 #include "colormap.h"
 #include "frame_setup.h"
+#include "fxaa.h"
 #include "gl_context.h"
 #include "gl_math.h"
 #include "meshes.h"
@@ -117,6 +120,7 @@ struct Renderer::Impl {
   int target_width = 0, target_height = 0, target_samples = 0;
 
   std::vector<std::uint8_t> readback;                           // the region's rows, bottom-up, as GL returns them
+  std::vector<std::uint8_t> drawn;                              // FXAA's mask: the region's coverage, top-down
   Image backdrop;                                               // ground + sky, top-down, opaque
   std::vector<float> backdrop_key;                              // what it was rendered for
   std::array<GLint, 4> line_ranges{};                           // first index of each spring type, and the end
@@ -150,6 +154,7 @@ struct Renderer::Impl {
   void ensure_backdrop(const RenderFrame& frame, const View& view);
   void resolve_and_read(const PixelRect& region);
   Image composite_over_backdrop(const PixelRect& region) const;
+  void smooth_edges(Image& image, const PixelRect& region);
 };
 
 Renderer::Renderer(GlBackend backend) : impl_(std::make_unique<Impl>()) {
@@ -489,14 +494,19 @@ void Renderer::Impl::draw_sky(const RenderFrame& frame, const View& view) {
 }
 
 // Renders ground and sky into `backdrop` unless it already shows this camera, size and ground.
+// Under FXAA it is drawn with 4 samples all the same (it is drawn once per camera, and the
+// ground's thin grid lines are what FXAA cannot mend), so the targets may change samples here.
 void Renderer::Impl::ensure_backdrop(const RenderFrame& frame, const View& view) {
   const RenderCamera& c = frame.camera;
+  const int frame_samples = std::clamp(frame.samples, 1, max_samples);
+  const int samples = frame.fxaa ? std::max(frame_samples, std::min(4, max_samples)) : frame_samples;
   std::vector<float> key = {static_cast<float>(frame.width), static_cast<float>(frame.height),
-                            static_cast<float>(target_samples), c.fov_deg, frame.has_ground ? 1.f : 0.f,
+                            static_cast<float>(samples), c.fov_deg, frame.has_ground ? 1.f : 0.f,
                             frame.ground_height, frame.ground_grid_spacing};
   for (const auto* a : {&c.eye, &c.target, &c.up}) key.insert(key.end(), a->begin(), a->end());
   for (const auto* a : {&frame.background, &frame.ground_color}) key.insert(key.end(), a->begin(), a->end());
   if (key == backdrop_key) return;
+  ensure_targets(frame.width, frame.height, samples);
   glBindFramebuffer(GL_FRAMEBUFFER, draw_fbo);
   glViewport(0, 0, frame.width, frame.height);
   glEnable(GL_DEPTH_TEST);
@@ -556,14 +566,28 @@ Image Renderer::Impl::composite_over_backdrop(const PixelRect& region) const {
   return image;
 }
 
+// FXAA over the region, on the pixels the frame drew (readback's alpha: coverage) and their
+// neighbours: the backdrop elsewhere stays as it was drawn.
+void Renderer::Impl::smooth_edges(Image& image, const PixelRect& region) {
+  const int w = region.width(), h = region.height();
+  drawn.resize(static_cast<std::size_t>(w) * h);
+  for (int row = 0; row < h; ++row) {                                  // top-down over the region
+    const std::uint8_t* src = readback.data() + static_cast<std::size_t>(h - 1 - row) * w * 4;
+    std::uint8_t* dst = drawn.data() + static_cast<std::size_t>(row) * w;
+    for (int i = 0; i < w; ++i) dst[i] = src[4 * i + 3];
+  }
+  const int top = target_height - region.y1;                           // GL rows are bottom-up
+  fxaa(image, region.x0, top, region.x1, top + h, drawn.data());
+}
+
 Image Renderer::render(const RenderFrame& frame) {
   Impl& r = *impl_;
   validate_frame(frame, r.max_size);                                   // sizes and indices, before any GL
   const Impl::Current current(r);                                      // ours, on this thread, until we return
-  r.ensure_targets(frame.width, frame.height, std::clamp(frame.samples, 1, r.max_samples));
   const View view = make_view(frame);                                  // camera and key light
   r.upload_frame(frame, view);                                         // cloth, springs, ground quad
   r.ensure_backdrop(frame, view);                                      // ground + sky, once per camera
+  r.ensure_targets(frame.width, frame.height, std::clamp(frame.samples, 1, r.max_samples));
   glBindFramebuffer(GL_FRAMEBUFFER, r.draw_fbo);
   glViewport(0, 0, frame.width, frame.height);
   glEnable(GL_DEPTH_TEST);
@@ -587,6 +611,7 @@ Image Renderer::render(const RenderFrame& frame) {
     glDisable(GL_SCISSOR_TEST);
     r.resolve_and_read(region);                                        // resolve, finish, read
     image = r.composite_over_backdrop(region);                         // flip, over the backdrop
+    if (frame.fxaa) r.smooth_edges(image, region);                     // FXAA on what was drawn
   }
   draw_overlay(image, frame);                                          // text on the CPU
   return image;

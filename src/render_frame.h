@@ -48,6 +48,8 @@ struct SeriesInset {
 struct RenderFrame {
   int width = 1280, height = 720;  // pixels of the image to produce
   int samples = 4;                 // MSAA samples (1 = none)
+  bool fxaa = false;               // then smooth the drawn edges on the CPU (render/fxaa.h); the
+                                   // backdrop, drawn once per camera, keeps 4 samples regardless
   RenderCamera camera;
   Rgb background{0.93f, 0.94f, 0.96f};
 

@@ -440,13 +440,16 @@ SphereDef Reader::sphere(const YAML::Node& n, const std::string& path) const {
 RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
   RenderDef r;
   expect_map(n, path, {"width", "height", "fps", "camera", "color", "overlay", "draw_springs", "draw_particles",
-                       "samples", "msaa"});
+                       "samples", "msaa", "antialias"});
   optional(n, path, "width", [&](auto& v, auto& k) { r.width = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
   optional(n, path, "height", [&](auto& v, auto& k) { r.height = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
   optional(n, path, "fps", [&](auto& v, auto& k) { r.fps = in_range(v, k, 0.0, RenderDef::kMaxFps, true); });
   optional(n, path, "draw_springs", [&](auto& v, auto& k) { r.draw_springs = boolean(v, k); });
   optional(n, path, "draw_particles", [&](auto& v, auto& k) { r.draw_particles = boolean(v, k); });
-  optional(n, path, "samples", [&](auto& v, auto& k) { r.samples = int_in_range(v, k, 1, 16); });
+  optional(n, path, "samples", [&](auto& v, auto& k) {
+    r.samples = int_in_range(v, k, 1, 16);
+    r.samples_given = true;
+  });
   // msaa: 0 (none), 2, 4 or 8 samples; the older `samples` (1 = none) says the same thing.
   optional(n, path, "msaa", [&](auto& v, auto& k) {
     if (n["samples"].IsDefined()) fail(v, k, "give msaa or samples, not both");
@@ -454,6 +457,20 @@ RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
     if (m != 0 && m != 2 && m != 4 && m != 8)
       fail(v, k, "value " + excerpt(v.Scalar()) + " is not one of 0, 2, 4, 8");
     r.samples = m == 0 ? 1 : m;
+    r.samples_given = true;
+  });
+  // antialias: msaa (render.msaa's samples, 4 unless given), fxaa (one sample, edges smoothed
+  // on the CPU) or none. A sample count says msaa or none by itself, so it goes with msaa only.
+  optional(n, path, "antialias", [&](auto& v, auto& k) {
+    const std::string a = string(v, k);
+    if (a != "msaa" && a != "fxaa" && a != "none")
+      fail(v, k, "unknown antialiasing " + in_quotes(a) + " (expected msaa, fxaa or none)");
+    if (r.samples_given && (a != "msaa" || r.samples < 2)) {
+      const char* count = n["msaa"].IsDefined() ? "msaa" : "samples";
+      fail(v, k, std::string("antialias: ") + a + " contradicts " + count + ": " + n[count].Scalar() +
+                     (a == "msaa" ? " (msaa needs 2, 4 or 8 samples)" : " (give a sample count with antialias: msaa only)"));
+    }
+    r.antialias = a;
   });
   optional(n, path, "color", [&](auto& v, auto& k) {
     const std::string c = string(v, k);

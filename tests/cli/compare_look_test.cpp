@@ -69,6 +69,29 @@ TEST(CompareLook, ASheetWithAColourBarMatchesItsGolden) {
                 dir + "/sheet.png", "compare_strain_sheet.png");
 }
 
+TEST(CompareLook, TilesAreSmoothedByFxaaUnlessTheSceneOrTheOptionSaysOtherwise) {
+  const std::string dir = ct::scratch_dir("compare_look_antialias");
+  const auto still = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "0.1",
+                                     "--width", "320", "--height", "180", "--integrators", "symplectic_euler",
+                                     "--color", "checker", "--still", "0.1", "-o", dir + "/" + name + ".png"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = ct::run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return read_png(dir + "/" + name + ".png").rgba;
+  };
+  const auto by_default = still("default", {});
+  EXPECT_EQ(by_default, still("fxaa", {"--antialias", "fxaa"}));
+  const auto msaa = still("msaa", {"--antialias", "msaa"});
+  EXPECT_NE(by_default, msaa);
+  EXPECT_EQ(msaa, still("scene_msaa", {"--set", "render.msaa=4"}));  // a sample count in the scene says msaa
+  EXPECT_NE(msaa, still("none", {"--antialias", "none"}));
+  const auto bad = ct::run_clothsim({"compare", kDrape, "--antialias", "smaa", "--still", "0", "-o", dir + "/bad.png"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--antialias: expected msaa, fxaa or none, got 'smaa'"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir + "/bad.png"));
+}
+
 TEST(CompareLook, TheDefaultClipsClothCoversAQuarterOfEachTile) {
   // The default clip's tiles: 1280x720 in a 2x2 grid. The cloth's pixels are those that
   // differ from the same frame without the cloth (no shadows, so only the cloth counts).

@@ -220,6 +220,30 @@ TEST(SceneParser, MsaaIsNoneOrTwoFourOrEightSamples) {
   EXPECT_EQ(both.key, "render.msaa");
 }
 
+TEST(SceneParser, AntialiasIsMsaaFxaaOrNoneAndAgreesWithASampleCount) {
+  const auto render = [](const std::string& keys) {
+    return parse_scene("cloth: {particles: [3, 3]}\nrender: {" + keys + "}\n", "m.yaml").render;
+  };
+  EXPECT_EQ(render("").antialias, "");  // the command's default (docs/scenes.md)
+  EXPECT_FALSE(render("").samples_given);
+  EXPECT_EQ(render("antialias: fxaa").antialias, "fxaa");
+  EXPECT_EQ(render("antialias: none").antialias, "none");
+  EXPECT_EQ(render("antialias: msaa, msaa: 8").samples, 8);
+  EXPECT_TRUE(render("msaa: 0").samples_given);
+  const SceneError unknown = parse_error("cloth: {particles: [3, 3]}\nrender:\n  antialias: smaa\n");
+  EXPECT_EQ(unknown.line, 3);
+  EXPECT_EQ(unknown.key, "render.antialias");
+  EXPECT_NE(std::string(unknown.what()).find("expected msaa, fxaa or none"), std::string::npos) << unknown.what();
+  // A sample count says msaa (or none) by itself: with another method it is a contradiction.
+  const SceneError fxaa_and_samples = parse_error("cloth: {particles: [3, 3]}\nrender:\n  msaa: 4\n  antialias: fxaa\n");
+  EXPECT_EQ(fxaa_and_samples.line, 4);
+  EXPECT_EQ(fxaa_and_samples.key, "render.antialias");
+  EXPECT_NE(std::string(fxaa_and_samples.what()).find("contradicts msaa: 4"), std::string::npos) << fxaa_and_samples.what();
+  const SceneError msaa_of_none = parse_error("cloth: {particles: [3, 3]}\nrender:\n  samples: 1\n  antialias: msaa\n");
+  EXPECT_EQ(msaa_of_none.key, "render.antialias");
+  EXPECT_NE(std::string(msaa_of_none.what()).find("msaa needs 2, 4 or 8 samples"), std::string::npos) << msaa_of_none.what();
+}
+
 TEST(SceneParser, AnIndexedSetErrorNamesTheOverrideNotALineOfTheFile) {
   const SceneError e = parse_error("cloth: {particles: [3, 3]}\n", {"gravity=[0,.nan,0]"});
   EXPECT_EQ(e.line, 0);

@@ -14,6 +14,7 @@
 #include "cli/cli_process.h"
 #include "colormap.h"
 #include "frame_setup.h"
+#include "image_diff.h"
 #include "overlay_layout.h"
 #include "render/synthetic_frames.h"
 
@@ -328,6 +329,30 @@ TEST(Renderer, MultisamplingSmoothsEdgesAndOneSampleAlsoWorks) {
   EXPECT_EQ(shared_renderer().render(frame).rgba, smooth.rgba);
   // Edge pixels of the sphere: only the multisampled image has colours between red and sky.
   EXPECT_GT(differing_pixels(aliased, smooth), 10);
+}
+
+TEST(Renderer, FxaaBringsAOneSampleFrameCloseToTheMultisampledOne) {
+  RenderFrame frame = draped_sheet_frame(kW * 4, kH * 4);
+  frame.samples = 4;
+  const Image msaa = shared_renderer().render(frame);
+  frame.samples = 1;
+  const Image aliased = shared_renderer().render(frame);
+  frame.fxaa = true;
+  const Image smoothed = shared_renderer().render(frame);
+  const DiffStats before = compare_images(aliased, msaa, 0), after = compare_images(smoothed, msaa, 0);
+  EXPECT_LT(after.rms, 0.9 * before.rms) << "RMS against 4x MSAA " << before.rms << " -> " << after.rms;
+  // Under FXAA the backdrop is drawn with 4 samples all the same: the rows above the cloth,
+  // where only the sky and the ground's far grid show, are the multisampled frame's.
+  const render::View view = render::make_view(frame);
+  const render::PixelRect region = render::drawn_region(frame, view, 0);
+  const int top_rows = frame.height - region.y1;  // GL rows are bottom-up
+  ASSERT_GT(top_rows, 10);
+  for (int y = 0; y < top_rows - 8; ++y)
+    ASSERT_EQ(std::memcmp(smoothed.pixel(0, y), msaa.pixel(0, y), 4 * static_cast<std::size_t>(frame.width)), 0)
+        << "row " << y;
+  // And rendering without FXAA again gives the aliased frame back (targets switch samples).
+  frame.fxaa = false;
+  EXPECT_EQ(shared_renderer().render(frame).rgba, aliased.rgba);
 }
 
 TEST(Renderer, RefusesASizeOfZeroOrAboveTheGlLimit) {

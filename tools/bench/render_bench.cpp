@@ -8,11 +8,13 @@
 //   LP_NUM_THREADS=1 build/tools/bench/render_benchmarks   # llvmpipe rasterizer threads
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
 #include "bench_models.h"
+#include "picture_options.h"
 #include "png_io.h"
 #include "renderer.h"
 #include "simulation.h"
@@ -49,8 +51,8 @@ void render_loop(benchmark::State& st, const RenderFrame& frame) {
   }
   st.counters["frames/s"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
   st.SetLabel(std::to_string(frame.width) + "x" + std::to_string(frame.height) + " " +
-              std::to_string(frame.samples) + "x MSAA, " + std::to_string(frame.cloth_triangles.size() / 3) +
-              " cloth triangles");
+              std::to_string(frame.samples) + "x MSAA" + (frame.fxaa ? " + FXAA" : "") + ", " +
+              std::to_string(frame.cloth_triangles.size() / 3) + " cloth triangles");
 }
 
 // Arg: MSAA samples.
@@ -69,6 +71,18 @@ void BM_RenderDrape25_640x360(benchmark::State& st) {
   render_loop(st, scene_frame(25, 1.5, 640, 360, static_cast<int>(st.range(0))));
 }
 BENCHMARK(BM_RenderDrape25_640x360)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+
+// A tile as `compare` draws the default clip: 638 x 358, the auto camera framing the cloth and
+// the ball (render.camera: auto), the drape at 1.5 s. Arg: MSAA samples, or 0 for FXAA over
+// one sample (render.antialias: fxaa, compare's default).
+void BM_RenderCompareTile(benchmark::State& st) {
+  const int arg = static_cast<int>(st.range(0));
+  RenderFrame frame = scene_frame(25, 1.5, 638, 358, std::max(arg, 1));
+  frame.camera = cli::auto_camera(bench::drape_sheet(25), 638.0 / 358.0);
+  frame.fxaa = arg == 0;
+  render_loop(st, frame);
+}
+BENCHMARK(BM_RenderCompareTile)->Arg(0)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 // Arg: zlib level.
 void BM_WritePng_1280x720(benchmark::State& st) {

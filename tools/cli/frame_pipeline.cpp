@@ -232,6 +232,8 @@ struct FramePipeline::Impl {
       rf.width = config.width;
       rf.height = config.height;
       if (config.camera) rf.camera = *config.camera;
+      rf.samples = config.samples;
+      rf.fxaa = config.fxaa;
       rf.overlay_lines = lane_overlay(model, lanes[i], f, config.overlay, !config.tiles, config.overlay_cpu);
       if (config.overlay != OverlayMode::None) {
         if (f.divergence) {

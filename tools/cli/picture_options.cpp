@@ -36,6 +36,12 @@ void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
   sub->add_option("--inset", o.inset, "energy: a small graph of total energy over time in each picture, on shared axes")
       ->capture_default_str()
       ->type_name("energy|none");
+  sub->add_option("--antialias", o.antialias,
+                  std::string("Smooth edges by msaa (the scene's render.msaa samples, else 4), fxaa (one sample, edges\n"
+                              "smoothed on the CPU: cheaper on llvmpipe) or none. Default: the scene's render.antialias\n"
+                              "or render.msaa, else ") +
+                      (compare ? "fxaa" : "msaa"))
+      ->type_name("msaa|fxaa|none");
 }
 
 ColorRange parse_color_range(const std::string& text) {
@@ -82,6 +88,18 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
   if (o.inset != "energy" && o.inset != "none")
     throw UsageError("--inset: expected energy or none, got " + in_quotes(o.inset));
   look.inset_energy = o.inset == "energy";
+
+  // A sample count in the scene says msaa (or none, at 1) by itself.
+  const RenderDef& r = scene.render;
+  const std::string antialias = o.antialias              ? *o.antialias
+                                : !r.antialias.empty()   ? r.antialias
+                                : r.samples_given        ? (r.samples > 1 ? "msaa" : "none")
+                                : compare                ? "fxaa"
+                                                         : "msaa";
+  if (antialias != "msaa" && antialias != "fxaa" && antialias != "none")
+    throw UsageError("--antialias: expected msaa, fxaa or none, got " + in_quotes(antialias));
+  look.samples = antialias == "msaa" ? (r.samples > 1 ? r.samples : 4) : 1;
+  look.fxaa = antialias == "fxaa";
   return look;
 }
 
@@ -103,6 +121,8 @@ void apply_look(const PictureLook& look, PipelineConfig& c) {
   c.overlay = look.overlay;
   c.overlay_cpu = look.overlay_cpu;
   c.inset_energy = look.inset_energy;
+  c.samples = look.samples;
+  c.fxaa = look.fxaa;
 }
 
 }  // namespace clothsim::cli

@@ -1,6 +1,7 @@
 // How the pictures of `run` and `compare` look, from the scene's render keys and the options
 // that override them: colouring (--color, --color-range, --reference), camera (--camera),
-// overlay text (--overlay, --overlay-cost) and the energy inset (--inset).
+// overlay text (--overlay, --overlay-cost), the energy inset (--inset) and antialiasing
+// (--antialias).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -24,6 +25,7 @@ struct PictureOptions {
   std::optional<std::string> overlay;    // --overlay full|label|none
   std::string overlay_cost = "evals";    // --overlay-cost evals|cpu
   std::string inset = "none";            // --inset energy|none
+  std::optional<std::string> antialias;  // --antialias msaa|fxaa|none
 };
 
 // `compare`: colouring defaults to error (against the reference lane) when the scene says nothing.
@@ -38,6 +40,8 @@ struct PictureLook {
   OverlayMode overlay = OverlayMode::Full;
   bool overlay_cpu = false;
   bool inset_energy = false;
+  int samples = 4;    // MSAA samples (1: none)
+  bool fxaa = false;  // edges smoothed on the CPU (render/fxaa.h)
 };
 PictureLook resolve_picture_look(const PictureOptions& options, const SceneDef& scene, const std::vector<LaneSpec>& lanes,
                                  bool compare);
