@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include "body_terms.h"
+
 #include "model.h"
 
 namespace clothsim {
@@ -22,6 +24,10 @@ double accumulate_spring_forces(const Model& model, const Eigen::Matrix3Xd& x,
 // kernel is tested against, and the path for springs in no family. Same return value.
 double accumulate_spring_forces_scalar(const Springs& springs, const Eigen::Matrix3Xd& x,
                                        const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f);
+
+// What body_terms() reads (body_terms.h), for this model and state.
+BodyTermInputs body_term_inputs(const Model& model, const Eigen::Matrix3Xd& v, const Eigen::VectorXd& inv_mass,
+                                bool times_inverse_mass);
 
 // Total force (3 x B) at (x, v): springs, gravity m g on bodies with gravity, drag -c v on
 // cloth particles. Immovable bodies (inv_mass 0) get zero force: they are filtered here.

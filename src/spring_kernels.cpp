@@ -9,7 +9,9 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 
+#include "body_terms.h"
 #include "spring_kernels.h"
 #include "spring_window-inl.h"  // the walk over the families: its window and helpers
 
@@ -21,13 +23,60 @@ namespace hn = hwy::HWY_NAMESPACE;
 using D = hn::ScalableTag<double>;
 static_assert(HWY_MAX_BYTES / sizeof(double) <= kSpringLanePad, "the layout's padding is a vector");
 
+// Particles [particle, particle + n) finished by the walk: f_i = 0 + (plus + minus), as
+// AddInterleaved adds the sums onto a zeroed f, then body_terms()'s operations in its order, in
+// whole vectors (the sums and v at window index `at` on, each component `stride` apart).
+void FinishParticles(const BodyTermInputs& in, const double* HWY_RESTRICT plus, const double* HWY_RESTRICT minus,
+                     const double* HWY_RESTRICT vel, std::size_t stride, std::size_t n, std::size_t particle,
+                     double* HWY_RESTRICT f) {
+  const D d;
+  const hn::Rebind<std::int32_t, D> d32;
+  const hn::Rebind<std::uint8_t, D> d8;
+  const std::size_t N = hn::Lanes(d);
+  const auto zero = hn::Zero(d);
+  const auto gx = hn::Set(d, in.g[0]), gy = hn::Set(d, in.g[1]), gz = hn::Set(d, in.g[2]);
+  const auto drag = hn::Set(d, in.drag);
+  const auto sum = [&](std::size_t c, std::size_t j) {
+    return hn::Add(zero, hn::Add(hn::LoadU(d, plus + c * stride + j), hn::LoadU(d, minus + c * stride + j)));
+  };
+  std::size_t p = 0;
+  for (; p + N <= n; p += N) {
+    const std::size_t i = particle + p;
+    auto fx = sum(0, p), fy = sum(1, p), fz = sum(2, p);
+    const auto w = hn::LoadU(d, in.inv_mass + i);
+    const auto m = hn::LoadU(d, in.mass + i);
+    const auto gravity = hn::Ne(hn::PromoteTo(d, hn::PromoteTo(d32, hn::LoadU(d8, in.gravity_on + i))), zero);
+    fx = hn::IfThenElse(gravity, hn::Add(fx, hn::Mul(m, gx)), fx);
+    fy = hn::IfThenElse(gravity, hn::Add(fy, hn::Mul(m, gy)), fy);
+    fz = hn::IfThenElse(gravity, hn::Add(fz, hn::Mul(m, gz)), fz);
+    if (in.drag != 0.0) {  // every particle the walk finishes is cloth
+      fx = hn::Sub(fx, hn::Mul(drag, hn::LoadU(d, vel + p)));
+      fy = hn::Sub(fy, hn::Mul(drag, hn::LoadU(d, vel + stride + p)));
+      fz = hn::Sub(fz, hn::Mul(drag, hn::LoadU(d, vel + 2 * stride + p)));
+    }
+    if (in.times_inverse_mass) fx = hn::Mul(fx, w), fy = hn::Mul(fy, w), fz = hn::Mul(fz, w);
+    const auto movable = hn::Ne(w, zero);  // immovable: exactly +0
+    hn::StoreInterleaved3(hn::IfThenElseZero(movable, fx), hn::IfThenElseZero(movable, fy),
+                          hn::IfThenElseZero(movable, fz), d, f + 3 * i);
+  }
+  for (; p < n; ++p) {
+    double* fi = f + 3 * (particle + p);
+    for (std::size_t c = 0; c < 3; ++c) fi[c] = 0.0 + (plus[c * stride + p] + minus[c * stride + p]);
+    body_terms(in, particle + p, fi);
+  }
+}
+
 // The families' forces into f; `scratch` holds 12 window arrays of `stride` >= window_of(layout)
 // doubles (x, v, and the two force sums, each as three components; spring_window-inl.h's walk).
 // Returns the largest l / l0. A particle's forces are summed in (block, family) order: fixed,
 // whatever the lane count.
+// With `terms`, each particle's sum is instead written into f with its body terms applied
+// (body_terms.h), and *finished says how many particles were (0 .. F: the rest no spring
+// reaches, and f's columns from F on are not touched).
 double FamilySpringForces(const SpringLayout& layout, const double* HWY_RESTRICT x,
                           const double* HWY_RESTRICT v, double* HWY_RESTRICT f,
-                          double* HWY_RESTRICT scratch, std::size_t stride) {
+                          double* HWY_RESTRICT scratch, std::size_t stride,
+                          const BodyTermInputs* terms, std::size_t* finished) {
   const D d;
   const std::size_t N = hn::Lanes(d);
   double* HWY_RESTRICT xs = scratch;
@@ -88,11 +137,13 @@ double FamilySpringForces(const SpringLayout& layout, const double* HWY_RESTRICT
     }
   };
   const auto flush = [&](std::size_t particle, std::size_t n, std::size_t at) {
+    if (terms) return FinishParticles(*terms, fpx + at, fmx + at, vxs + at, stride, n, particle, f);
     const double* const plus[] = {fpx + at, fpy + at, fpz + at};
     const double* const minus[] = {fmx + at, fmy + at, fmz + at};
     window::AddInterleaved(plus, minus, n, f + 3 * particle);
   };
-  window::WalkFamilies(layout, scratch, stride, 6, 6, copy_in, body, flush);
+  const std::size_t flushed = window::WalkFamilies(layout, scratch, stride, 6, 6, copy_in, body, flush);
+  if (finished) *finished = flushed;
 
   return window::WorstRatio(d, ratio);
 }
@@ -109,10 +160,11 @@ namespace clothsim {
 HWY_EXPORT(FamilySpringForces);
 HWY_EXPORT(TargetName);
 
-double accumulate_family_spring_forces(const SpringLayout& layout, const Eigen::Matrix3Xd& x,
-                                       const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
-  // Scratch per thread (compare runs lanes on threads), grown, never shrunk: a window of
-  // about kWindowBlock + 2 nx particles, not the whole grid.
+namespace {
+
+// Scratch per thread (compare runs lanes on threads), grown, never shrunk: a window of about
+// kWindowBlock + 2 nx particles, not the whole grid. 12 arrays of window_stride(layout).
+double* window_scratch(const SpringLayout& layout) {
   thread_local hwy::AlignedFreeUniquePtr<double[]> scratch;
   thread_local std::size_t capacity = 0;
   const std::size_t stride = window_stride(layout);
@@ -120,8 +172,22 @@ double accumulate_family_spring_forces(const SpringLayout& layout, const Eigen::
     capacity = 12 * stride;
     scratch = hwy::AllocateAligned<double>(capacity);
   }
-  return HWY_DYNAMIC_DISPATCH(FamilySpringForces)(layout, x.data(), v.data(), f.data(),
-                                                  scratch.get(), stride);
+  return scratch.get();
+}
+
+}  // namespace
+
+double accumulate_family_spring_forces(const SpringLayout& layout, const Eigen::Matrix3Xd& x,
+                                       const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
+  return HWY_DYNAMIC_DISPATCH(FamilySpringForces)(layout, x.data(), v.data(), f.data(), window_scratch(layout),
+                                                  window_stride(layout), nullptr, nullptr);
+}
+
+double family_forces_with_body_terms(const SpringLayout& layout, const Eigen::Matrix3Xd& x,
+                                     const Eigen::Matrix3Xd& v, const BodyTermInputs& terms,
+                                     Eigen::Matrix3Xd& f, std::size_t& finished) {
+  return HWY_DYNAMIC_DISPATCH(FamilySpringForces)(layout, x.data(), v.data(), f.data(), window_scratch(layout),
+                                                  window_stride(layout), &terms, &finished);
 }
 
 const char* spring_kernel_target() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }

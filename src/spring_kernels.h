@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "body_terms.h"
 #include "spring_layout.h"
 
 namespace clothsim {
@@ -36,6 +37,16 @@ namespace clothsim {
 // when a length is NaN). Thread-safe: the scratch is per thread.
 double accumulate_family_spring_forces(const SpringLayout& layout, const Eigen::Matrix3Xd& x,
                                        const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f);
+
+// The same pass with each particle's body terms (body_terms.h) applied as the walk finishes it:
+// f's columns [0, finished) are written, not added to (f need not be zeroed): the particles'
+// spring forces then their body terms, bit for bit what accumulate_family_spring_forces into a
+// zeroed f followed by body_terms() gives. Columns from `finished` on (particles no spring
+// reaches, other bodies) are not touched. The layout's `others` are not run: for layouts
+// without them. Saves the zeroing of f and a second pass over the bodies.
+double family_forces_with_body_terms(const SpringLayout& layout, const Eigen::Matrix3Xd& x,
+                                     const Eigen::Matrix3Xd& v, const BodyTermInputs& terms,
+                                     Eigen::Matrix3Xd& f, std::size_t& finished);
 
 // The Highway target the dispatcher runs on this CPU ("AVX3", "AVX2", "SSE4", ...).
 const char* spring_kernel_target();
