@@ -147,6 +147,29 @@ TEST(CmdCompare, FreezesADivergedTileOnItsLastGoodFrameWhileTheOthersGoOn) {
       << "the other run goes on";
 }
 
+TEST(CmdCompare, ADivergedLanesErrorIsSaidToBeMeasuredOnlyUpToItsBlowUp) {
+  // Error colouring (the default): the lane that blows up in its first frames was measured
+  // only at the frames before, where it had hardly left the reference: its small "largest"
+  // must not read as an accurate lane.
+  const std::string dir = scratch_dir("compare_diverged_error");
+  const auto r = compare_small({"--integrators", "explicit_euler,midpoint", "--dt", "explicit_euler=1e-2",
+                                "--still", "0.1", "-o", dir + "/still.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto line_of = [&](const std::string& lane) {
+    const std::size_t at = r.out.find(lane + " @ ");
+    return at == std::string::npos ? std::string() : r.out.substr(at, r.out.find('\n', at) - at);
+  };
+  const std::string diverged = line_of("explicit_euler"), fine = line_of("midpoint");
+  EXPECT_NE(diverged.find("error against rk4"), std::string::npos) << r.out;
+  double measured = -1.0, blew_up = -1.0;
+  const std::size_t at = diverged.find("(measured to t = ");
+  ASSERT_NE(at, std::string::npos) << diverged;
+  ASSERT_EQ(std::sscanf(diverged.c_str() + at, "(measured to t = %lf s; it diverged at t = %lf s)", &measured, &blew_up), 2)
+      << diverged;
+  EXPECT_LT(measured, blew_up) << diverged;
+  EXPECT_EQ(fine.find("measured to"), std::string::npos) << fine;
+}
+
 TEST(CmdCompare, WritesAContactSheetWhoseCellsAreTheRunsFrames) {
   const std::string dir = scratch_dir("compare_sheet");
   const auto r = compare_small({"--integrators", "symplectic_euler,rk4", "--frames", dir + "/tiles",

@@ -114,12 +114,19 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
   if (color != FieldKind::None)
     for (std::size_t i = 0; i < report.lanes.size(); ++i) {
       const LaneResult& r = report.lanes[i];
-      std::printf("%s @ %s s: %s%s largest %.3g%s, at the end %.3g%s\n", r.spec.name().c_str(),
+      // A lane that diverged was measured only up to its last frame before the blow-up: say so,
+      // or "largest 0 m" would read as a perfect lane.
+      char measured[96] = "";
+      if (r.divergence)
+        std::snprintf(measured, sizeof measured, " (measured to t = %.3g s; it diverged at t = %.6g s)",
+                      report.field_last_t[i], r.divergence->t);
+      std::printf("%s @ %s s: %s%s largest %.3g%s, at the end %.3g%s%s\n", r.spec.name().c_str(),
                   r.spec.step_text.c_str(), std::string(field_kind_name(color)).c_str(),
                   color == FieldKind::Error && report.reference
                       ? (" against " + report.reference->spec.name() + " @ " + report.reference->spec.step_text + " s:").c_str()
                       : ":",
-                  report.field_max[i], field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
+                  report.field_max[i], field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str(),
+                  measured);
     }
   for (const LaneResult& r : report.lanes)
     if (r.spec.fixed_point)  // the course's one-iteration fixed point: no Newton, no CG, no contacts held

@@ -102,7 +102,7 @@ struct FramePipeline::Impl {
   // Per lane, a frame handed over but not yet rendered, with its field.
   std::vector<std::pair<std::shared_ptr<const LaneFrame>, std::vector<float>>> unrendered;
   std::deque<TargetFrames> held;      // targets waiting for the colour scale
-  std::vector<double> field_max, field_last;  // PipelineReport's
+  std::vector<double> field_max, field_last, field_last_t;  // PipelineReport's
   std::optional<ColorRange> range;
   double wait_seconds = 0.0, render_seconds = 0.0;
   long processed = 0;
@@ -140,7 +140,7 @@ struct FramePipeline::Impl {
     energy.resize(lanes.size());
     unrendered.resize(lanes.size());
     field_max.assign(lanes.size(), std::numeric_limits<double>::quiet_NaN());
-    field_last = field_max;
+    field_last = field_last_t = field_max;
     output_seconds.assign(outputs.size(), 0.0);
   }
 
@@ -192,6 +192,7 @@ struct FramePipeline::Impl {
       double largest = 0.0;
       for (float v : out.fields[i]) largest = std::max(largest, static_cast<double>(v));
       field_last[i] = largest;
+      field_last_t[i] = current[i]->t;
       if (!(field_max[i] >= largest)) field_max[i] = largest;
     }
     return true;
@@ -335,6 +336,7 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
   report.color_range = p.range;
   report.field_max = p.field_max;
   report.field_last = p.field_last;
+  report.field_last_t = p.field_last_t;
   report.wait_seconds = p.wait_seconds;
   report.render_seconds = p.render_seconds;
   for (std::size_t o = 0; o < p.outputs.size(); ++o)

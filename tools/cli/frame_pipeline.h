@@ -84,6 +84,7 @@ struct PipelineReport {
   // and its largest value at the last target where the lane had one (NaN when never coloured):
   // with --color error, how far each lane strayed from the reference, in numbers.
   std::vector<double> field_max, field_last;
+  std::vector<double> field_last_t;  // s: the frame field_last is from (NaN: never coloured)
   double wait_seconds = 0.0, render_seconds = 0.0;  // this thread: waiting on lanes, rendering
   std::vector<std::pair<std::string, double>> output_seconds;  // per output
   long targets = 0;  // processed
