@@ -14,6 +14,7 @@
 #include <string>
 
 #include "bench_models.h"
+#include "fxaa.h"
 #include "picture_options.h"
 #include "png_io.h"
 #include "renderer.h"
@@ -83,6 +84,23 @@ void BM_RenderCompareTile(benchmark::State& st) {
   render_loop(st, frame);
 }
 BENCHMARK(BM_RenderCompareTile)->Arg(0)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+
+// FXAA alone on the compare tile above rendered with one sample, over the whole tile (every
+// pixel a candidate: more than the renderer's drawn region and mask give it).
+void BM_FxaaCompareTile(benchmark::State& st) {
+  RenderFrame frame = scene_frame(25, 1.5, 638, 358, 1);
+  frame.camera = cli::auto_camera(bench::drape_sheet(25), 638.0 / 358.0);
+  const Image aliased = renderer().render(frame);
+  Image image;
+  for (auto _ : st) {
+    st.PauseTiming();
+    image = aliased;
+    st.ResumeTiming();
+    fxaa(image, 0, 0, image.width, image.height, nullptr);
+    benchmark::DoNotOptimize(image.rgba.data());
+  }
+}
+BENCHMARK(BM_FxaaCompareTile)->Unit(benchmark::kMicrosecond);
 
 // Arg: zlib level.
 void BM_WritePng_1280x720(benchmark::State& st) {
