@@ -16,8 +16,9 @@
 //                 of MSAA (render/fxaa.h); the backdrop is drawn with 4 samples all the same
 //   overlay       text, colour bar and series inset drawn on the CPU (frame_setup.h)
 // Why the backdrop, the region and FXAA: llvmpipe shades on the CPU, with per-sample work under
-// MSAA, so pixels (and samples) are the cost. Drawing ground and sky every frame cost as much as all the
-// rest; clearing and resolving the whole multisampled image, a third of what remained.
+// MSAA, so pixels and samples are the cost. Drawing ground and sky every frame cost as much as
+// all the rest; clearing and resolving the whole multisampled image, a third of what remained;
+// 4x MSAA on a compare tile, nearly half of the tile (BENCHMARKS.md, "Renderer and PNG").
 //
 // GL objects (programs, buffers, FBOs, the backdrop) live as long as the Renderer; the FBOs
 // are re-made only when the size or sample count changes. Several Renderers may exist in one
