@@ -64,6 +64,7 @@
 #include <cstring>
 #include <limits>
 
+#include "analysis/stiffness_estimate.h"
 #include "forces.h"
 #include "integrator.h"
 #include "integrators/cholesky_preconditioner.h"
@@ -80,6 +81,11 @@ namespace clothsim {
 struct ImplicitCache {
   const Model* model = nullptr;
   double force_scale = 0.0;  // N, sqrt(sum_s (ks_s l0_s)^2): the size of the spring forces' terms
+  // The shortest rest length (m; infinite without springs) and the springs' Gershgorin bounds
+  // on the fastest frequency and damping rate (analysis/stiffness_estimate.h): what the
+  // distance rule for reusing the Newton matrix (kReuseChange) is measured by.
+  double shortest_rest = 0.0;
+  analysis::StiffnessEstimate stiffness;
   SpringBlockMatrix A;
   std::vector<double> start_length;  // (slots) l_n, by slot (step_lengths)
   // The springs' lengths at y and at y_try (step_potential's end_length; empty where the
@@ -142,6 +148,25 @@ constexpr int kReuseReserve = 2;
 // step finds, and an undamped crumpled sheet at h = 0.5 s found one of higher energy when
 // its first direction came from the last step's matrix.
 constexpr double kReuseResidual = 1e-4;
+// ... or at an iterate close enough to the matrix's linearisation point (State::implicit_lin_y)
+// that the matrix is the Hessian there to within kReuseChange, whatever the residual. The
+// matrix depends on the iterate only through the springs' end positions (the held set enters
+// through PCG's filter, not the matrix). Moved by at most delta, a spring turns by at most
+// about 2 delta / l_min, so its block of M^-1 A, of size up to h kd / m + h^2 ks / m, changes by
+// at most twice that; summed over a particle's springs (Gershgorin, with the bounds c_max and
+// w_max^2 of analysis/stiffness_estimate.h), |M^-1 (A(y) - A)| <= 4 (h c_max + (h w_max)^2)
+// delta / l_min to first order. Below the forcing term's cap (kMaxForcing) such a matrix's
+// direction is exact Newton's to within what inexact Newton leaves anyway: the same path, which
+// is what the residual rule protects at large steps (there h w_max >> 1 and the rule allows
+// micrometres, so it seldom acts: the one-step-per-frame table did not change).
+// At the drape's 1e-4 s the residual is large for another reason: after the held set changes,
+// the first guess misses a fast damped transient for 10-30 steps (relative residuals 1e-3 ..
+// 0.05), while the iterate lies within 1e-4 .. 7e-4 m of the last matrix's point, and Newton is
+// paced by CG's forcing term, not by nonlinearity (docs/integrators.md, "Small steps"). There
+// the rule allows 0.44 mm on a 64 x 64 sheet (1.2 mm at 25 x 25), and a reused matrix contracts the residual as an
+// exact one does. (Rest lengths, not current ones: a spring compressed far below its rest
+// length turns faster, which the judgement above still catches.)
+constexpr double kReuseChange = 0.05;
 // The next step starts on the line through the last two steps' dv only where that line
 // predicted the last step kLineAdvantage times closer than the last dv did: at small steps it
 // does by 100 times and more; at large ones, where Phi may have several minima and the
@@ -149,7 +174,9 @@ constexpr double kReuseResidual = 1e-4;
 constexpr double kLineAdvantage = 4.0;
 
 // CLOTHSIM_NEWTON_TRACE=1 in the environment prints the Newton solve's course on stderr, one
-// line per event: each iterate's relative residual, held contacts and Phi; each solve's CG
+// line per event: each step's start (how its predicted held set differs from the last step's,
+// the first guess taken, the distance to the Newton matrix's linearisation point); each
+// iterate's relative residual, held contacts and Phi; each solve's CG
 // iterations and whether it met negative curvature; each line search's step; each change of
 // the held set. A diagnostic for the hard steps (docs/integrators.md, "Implicit Euler at the
 // extremes": stiff.yaml's impact at 1/30 s was read off it); it changes no number.
@@ -184,6 +211,9 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
     for (std::size_t s = 0; s < model.springs.size(); ++s)
       sum += std::pow(model.springs.ks[s] * model.springs.rest[s], 2);
     c.force_scale = std::sqrt(sum);
+    c.shortest_rest = std::numeric_limits<double>::infinity();
+    for (double rest : model.springs.rest) c.shortest_rest = std::min(c.shortest_rest, rest);
+    c.stiffness = analysis::estimate_stiffness(model);
   }
   return c;
 }
@@ -219,6 +249,9 @@ class NewtonSolve {
         single_step_(cfg_.newton_max_iterations == 1),
         factor_first_(start.implicit_factored && start.step % kRetryJacobi != 0),
         trusted_(start.implicit_lin_trusted) {
+    const double springs = h * c_.stiffness.c_max + std::pow(h * c_.stiffness.w_max, 2);
+    reuse_reach_ = springs > 0.0 ? kReuseChange * c_.shortest_rest / (4.0 * springs)
+                                 : std::numeric_limits<double>::infinity();
     // The recorded matrix may serve this step if it was assembled for the same system (the
     // step size and which bodies move: the matrix's rows for immovable ones are removed) and
     // last served well, or as a probe every kRetryReuse-th step. Baraff & Witkin's step is
@@ -366,7 +399,7 @@ class NewtonSolve {
   // cost less than building it again.
   double direction(CgSettings settings, const Eigen::Matrix3Xd* warm) {
     // The block-Jacobi preconditioner is formed only for solves that use it (below).
-    reused_ = reuse_ && stats_.residual < kReuseResidual &&
+    reused_ = reuse_ && (stats_.residual < kReuseResidual || near_linearisation()) &&
               cfg_.newton_max_iterations - (stats_.newton_iterations - unserved_) > kReuseReserve;
     if (!reused_) {
       assemble_step_hessian(model_, start_.inv_mass, h_, c_.start_length, c_.y, single_step_, c_.A, false);
@@ -416,6 +449,16 @@ class NewtonSolve {
       }
     }
     return -c_.rhs.cwiseProduct(c_.d).sum();  // r . d (d is filtered)
+  }
+
+  // Whether every particle's end position at the iterate lies within reuse_reach_ of the
+  // recorded linearisation point (kReuseChange; the spheres have no springs: a kinematic one
+  // moving on changes nothing in the matrix).
+  bool near_linearisation() const {
+    const Eigen::Index P = model_.num_particles;
+    if (P == 0 || reuse_reach_ == std::numeric_limits<double>::infinity()) return true;
+    return (c_.y.leftCols(P) - start_.implicit_lin_y.leftCols(P)).colwise().squaredNorm().maxCoeff() <=
+           reuse_reach_ * reuse_reach_;
   }
 
   CgResult solve(const CgSettings& settings) {
@@ -491,6 +534,7 @@ class NewtonSolve {
   bool trusted_;               // the recorded matrix served when last tried
   bool reuse_ = false;         // the next direction may use the matrix in hand
   bool reused_ = false;        // the last direction did
+  double reuse_reach_ = 0.0;   // m: how far from its linearisation point the matrix may be reused
   bool judge_reuse_ = false;   // the next residual judges the last direction's matrix
   bool reuse_ok_ = false;      // that direction's CG converged and its full step was taken
   double reuse_from_ = 0.0;    // |S r| before it
@@ -502,6 +546,25 @@ class NewtonSolve {
   std::uint64_t y_version_ = 0, held_version_ = 0;
   std::uint64_t scanned_y_ = ~std::uint64_t{0}, scanned_held_ = ~std::uint64_t{0};
 };
+
+// The trace's line at a step's start: how the predicted held set differs from the last step's,
+// which first guess was taken, and how far the start iterate's particles lie from the recorded
+// Newton matrix's linearisation point (largest, m; -1: none recorded).
+void trace_step_start(const Model& model, const State& state, const ImplicitCache& c, const char* guess) {
+  std::vector<char> before(model.num_bodies(), 0), now(model.num_bodies(), 0);
+  for (int b : state.implicit_held) before[b] = 1;
+  for (int b : c.contacts.filter.body) now[b] = 1;
+  int added = 0, dropped = 0;
+  for (int b = 0; b < model.num_bodies(); ++b) {
+    added += now[b] && !before[b];
+    dropped += before[b] && !now[b];
+  }
+  const Eigen::Index P = model.num_particles;
+  const double far = state.implicit_lin_y.cols() != model.num_bodies() || P == 0 ? -1.0
+      : (c.y.leftCols(P) - state.implicit_lin_y.leftCols(P)).colwise().norm().maxCoeff();
+  trace("newton step %lld start: held +%d -%d, guess %s, from the matrix's point %.3e m\n",
+        static_cast<long long>(state.step), added, dropped, guess, far);
+}
 
 StepStats newton_step(const Model& model, State& state, double h, Workspace& ws) {
   const ImplicitDef& cfg = model.implicit;
@@ -560,6 +623,8 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   place_on_planes(c.contacts, state, h, c.dv);
   NewtonSolve newton(model, state, h, c, stats);
   newton.evaluate();
+  if (kNewtonTrace)
+    trace_step_start(model, state, c, !guess ? "none" : guess == &c.line_guess ? "line" : "last dv");
 
   // What the residual is measured against: the step's impulse |h f| at the start or its
   // momentum change |M dv|, floored where f itself is only known to rounding (a spring force
