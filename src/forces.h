@@ -6,7 +6,6 @@
 #include <Eigen/Core>
 
 #include "body_terms.h"
-
 #include "model.h"
 
 namespace clothsim {
