@@ -170,6 +170,18 @@ TEST(CmdCompare, ADivergedLanesErrorIsSaidToBeMeasuredOnlyUpToItsBlowUp) {
   EXPECT_EQ(fine.find("measured to"), std::string::npos) << fine;
 }
 
+TEST(CmdCompare, AReferenceThatDivergesIsWarnedOfAndEveryErrorLineSaysWhereMeasuringStopped) {
+  const std::string dir = scratch_dir("compare_diverged_reference");
+  const auto r = compare_small({"--integrators", "midpoint", "--reference", "explicit_euler@1e-2", "--still", "0.1",
+                                "-o", dir + "/still.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("clothsim: warning: the reference lane explicit_euler @ 1e-2 s diverged at t = "),
+            std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("give --reference NAME@STEP"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("; the reference diverged at t = "), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir + "/still.png"));
+}
+
 TEST(CmdCompare, WritesAContactSheetWhoseCellsAreTheRunsFrames) {
   const std::string dir = scratch_dir("compare_sheet");
   const auto r = compare_small({"--integrators", "symplectic_euler,rk4", "--frames", dir + "/tiles",

@@ -116,10 +116,15 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
       const LaneResult& r = report.lanes[i];
       // A lane that diverged was measured only up to its last frame before the blow-up: say so,
       // or "largest 0 m" would read as a perfect lane.
-      char measured[96] = "";
+      // So was every lane, when the reference it is measured against diverged.
+      char measured[128] = "";
+      const bool reference_diverged = color == FieldKind::Error && report.reference && report.reference->divergence;
       if (r.divergence)
         std::snprintf(measured, sizeof measured, " (measured to t = %.3g s; it diverged at t = %.6g s)",
                       report.field_last_t[i], r.divergence->t);
+      else if (reference_diverged)
+        std::snprintf(measured, sizeof measured, " (measured to t = %.3g s; the reference diverged at t = %.6g s)",
+                      report.field_last_t[i], report.reference->divergence->t);
       std::printf("%s @ %s s: %s%s largest %.3g%s, at the end %.3g%s%s\n", r.spec.name().c_str(),
                   r.spec.step_text.c_str(), std::string(field_kind_name(color)).c_str(),
                   color == FieldKind::Error && report.reference
@@ -293,6 +298,15 @@ int compare_command(const CompareOptions& o) {
 
   // 4. The summary.
   print_summary(model, report, config.color);
+  if (report.reference && report.reference->divergence) {
+    // The error colouring measures nothing after it: say so where a user looks, with the fix.
+    std::fflush(stdout);
+    std::fprintf(stderr,
+                 "clothsim: warning: the reference lane %s @ %s s diverged at t = %.6g s: the error colouring stops "
+                 "there; give --reference NAME@STEP with a smaller step or a stabler method\n",
+                 report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
+                 report.reference->divergence->t);
+  }
   double sim_cpu = 0.0;
   for (const LaneResult& r : report.lanes) sim_cpu += r.totals.cpu_seconds;
   if (report.reference) sim_cpu += report.reference->totals.cpu_seconds;
