@@ -182,6 +182,29 @@ TEST(CmdCompare, AReferenceThatDivergesIsWarnedOfAndEveryErrorLineSaysWhereMeasu
   EXPECT_TRUE(fs::exists(dir + "/still.png"));
 }
 
+TEST(CmdCompare, TheDefaultReferenceStepStaysWithinRk4sPredictedStableStep) {
+  // Lanes at 1/30 s on the stiff cloth: a quarter of that (1/120 s) blows RK4 up at 0.26 s;
+  // the default reference takes RK4's predicted limit instead, rounded down to 2e-4 s.
+  const std::string dir = scratch_dir("compare_stable_reference");
+  const auto r = run_clothsim({"compare", std::string(CLOTHSIM_SCENES_DIR) + "/stiff.yaml", "--integrators",
+                               "implicit_euler@1/30", "--duration", "0.3", "--width", "320", "--height", "180",
+                               "--still", "0.3", "-o", dir + "/still.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t row = r.out.find("rk4 (reference)");
+  ASSERT_NE(row, std::string::npos) << r.out;
+  const std::string line = r.out.substr(row, r.out.find('\n', row) - row);
+  EXPECT_NE(line.find(" 0.0002 "), std::string::npos) << line;
+  EXPECT_NE(line.find("ok to t = 0.3 s"), std::string::npos) << line;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  // A reference the user names is run as given, and on the drape the quarter step stays.
+  const auto given = run_clothsim({"compare", std::string(CLOTHSIM_SCENES_DIR) + "/stiff.yaml", "--integrators",
+                                   "implicit_euler@1/30", "--reference", "rk4@1/120", "--duration", "0.3", "--width",
+                                   "320", "--height", "180", "--still", "0.3", "-o", dir + "/given.png"});
+  EXPECT_NE(given.out.find("rk4 (reference)                   0.00833"), std::string::npos) << given.out;
+  const auto drape = compare_small({"--integrators", "midpoint", "--still", "0.1", "-o", dir + "/drape.png"});
+  EXPECT_NE(drape.out.find("rk4 (reference)                   2.5e-05"), std::string::npos) << drape.out;
+}
+
 TEST(CmdCompare, WritesAContactSheetWhoseCellsAreTheRunsFrames) {
   const std::string dir = scratch_dir("compare_sheet");
   const auto r = compare_small({"--integrators", "symplectic_euler,rk4", "--frames", dir + "/tiles",

@@ -12,7 +12,8 @@
 // shown in the clip and in the summary table.
 //
 // By default the tiles are coloured by each particle's distance from a reference lane (RK4 at
-// a quarter of the smallest step) run alongside and never shown, on one logarithmic scale with
+// a quarter of the smallest step, or at its predicted stable step where that is smaller:
+// fit_reference_to_model) run alongside and never shown, on one logarithmic scale with
 // a colour bar, and each tile counts its force evaluations: which method is more accurate and
 // which is cheaper, on screen.
 //
@@ -253,6 +254,7 @@ int compare_command(const CompareOptions& o) {
   if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid->width(), grid->height()));
   budget.check(scene.source, o.scene.max_memory);
   const Model model = build_model(scene);
+  fit_reference_to_model(look, model, scene);
 
   // 2. The pipeline and its outputs (each removes its temporary if destroyed before finish()).
   std::unique_ptr<Renderer> renderer;
@@ -351,9 +353,9 @@ void add_compare_command(CLI::App& app, Command& command) {
       "Run one scene with several integrators (or one at several steps) at once and show them side by\n"
       "side: a tiled, labelled MP4 (--video), each lane's PNGs (--frames), a contact sheet (--sheet),\n"
       "and a summary table of cost and divergence on stdout. By default each tile is coloured by its\n"
-      "error against a reference lane (RK4 at a quarter of the smallest step) and shows its force\n"
-      "evaluations. Divergence is a result here (exit 0). Without --video or --frames, the lanes stop\n"
-      "at the last --times or --still.");
+      "error against a reference lane (RK4 at a quarter of the smallest step, or at its predicted\n"
+      "stable step if smaller) and shows its force evaluations. Divergence is a result here (exit 0).\n"
+      "Without --video or --frames, the lanes stop at the last --times or --still.");
   add_scene_options(sub, o->scene, /*single_run=*/false);
   add_gl_options(sub, o->gl);
   add_progress_options(sub);

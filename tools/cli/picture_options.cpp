@@ -2,9 +2,11 @@
 
 #include <cmath>
 
+#include "analysis/stiffness_estimate.h"
 #include "camera_fit.h"
 #include "cli_common.h"
 #include "echo.h"
+#include "run_bounds.h"
 #include "snapshot.h"
 
 namespace clothsim::cli {
@@ -20,7 +22,8 @@ void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
                   "The colour scale, fixed for the whole clip (default: from the data of the first second, printed)")
       ->type_name("LO,HI");
   sub->add_option("--reference", o.reference,
-                  "The lane --color error measures against (default: rk4 at a quarter of the smallest lane step)")
+                  "The lane --color error measures against (default: rk4 at a quarter of the smallest lane step, or at rk4's\n"
+                  "predicted stable step on the scene where that is smaller)")
       ->type_name("NAME[@STEP]");
   sub->add_option("--camera", o.camera, "auto: frame the cloth and spheres; scene: the scene's render.camera")
       ->type_name("auto|scene");
@@ -70,7 +73,10 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
   }
   if (!o.reference.empty() && look.color != FieldKind::Error)
     throw UsageError("--reference goes with --color error (it is what the error is measured against)");
-  if (look.color == FieldKind::Error) look.reference = parse_reference(o.reference, lanes);
+  if (look.color == FieldKind::Error) {
+    look.reference = parse_reference(o.reference, lanes);
+    look.reference_is_default = o.reference.empty();
+  }
 
   look.camera_auto = scene.render.camera_auto;
   if (o.camera) {
@@ -101,6 +107,24 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
   look.samples = antialias == "msaa" ? (r.samples > 1 ? r.samples : 4) : 1;
   look.fxaa = antialias == "fxaa";
   return look;
+}
+
+void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene) {
+  if (!look.reference || !look.reference_is_default) return;
+  LaneSpec& ref = *look.reference;
+  const double limit = analysis::predicted_limit(analysis::estimate_stiffness(model), ref.kind, model.implicit);
+  if (!(limit < ref.dt) || !(limit > 0.0)) return;
+  const double decade = std::pow(10.0, std::floor(std::log10(limit)));
+  double nice = decade;
+  for (const double f : {2.0, 5.0})
+    if (f * decade <= limit) nice = f * decade;
+  ref.dt = nice;
+  ref.step_text = step_string(nice);
+  const std::string too_long = run_bounds_problem(scene.duration, ref.dt, scene.render.fps);
+  if (!too_long.empty())
+    throw UsageError("the reference for --color error (" + ref.name() + "@" + ref.step_text +
+                     ", RK4's predicted stable step on this scene): " + too_long +
+                     "; give --reference NAME@STEP or --color checker");
 }
 
 RenderCamera auto_camera(const Model& model, double aspect) {

@@ -36,6 +36,7 @@ struct PictureLook {
   FieldKind color = FieldKind::None;
   std::optional<ColorRange> color_range;
   std::optional<LaneSpec> reference;  // with color error
+  bool reference_is_default = false;  // not from --reference: fit_reference_to_model() may shorten its step
   bool camera_auto = false;
   OverlayMode overlay = OverlayMode::Full;
   bool overlay_cpu = false;
@@ -45,6 +46,14 @@ struct PictureLook {
 };
 PictureLook resolve_picture_look(const PictureOptions& options, const SceneDef& scene, const std::vector<LaneSpec>& lanes,
                                  bool compare);
+
+// The default reference (RK4 at a quarter of the smallest lane step) where that step is above
+// RK4's predicted stability limit on this model (analysis/stiffness_estimate.h: a lower
+// estimate of the true limit): the limit instead, rounded down to 1, 2 or 5 times a power of
+// ten, so the error colouring does not lose its reference to a blow-up (RK4 at 1/120 s on
+// stiff.yaml). The reference's steps are then bounded as every run's (a UsageError naming
+// --reference past the bound). A --reference the user gave is left as given.
+void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene);
 
 // --color-range "1e-6,1e-2": two finite numbers, 0 < LO < HI.
 ColorRange parse_color_range(const std::string& text);
