@@ -132,8 +132,14 @@ struct FramePipeline::Impl {
     for (std::size_t i = 0; i < lanes.size(); ++i)
       workers.push_back(std::make_unique<LaneWorker>(lane_model(model, lanes[i], lane_models[i]), lanes[i], plan,
                                                      needs(false), 4, interrupt));
-    if (config.color == FieldKind::Error && config.reference)
-      reference = std::make_unique<LaneWorker>(model, *config.reference, plan, needs(true), 4, interrupt);
+    if (config.color == FieldKind::Error && config.reference) {
+      // Lanes land on the first step at or past each frame time, not on it: the reference is
+      // stood where the lanes of the smallest step stand (exactly, when its step divides
+      // theirs, as the default's does), so their error is not its time offset times |v|.
+      LaneNeeds n = needs(true);
+      for (const LaneSpec& l : lanes) n.align_to = n.align_to > 0.0 ? std::min(n.align_to, l.dt) : l.dt;
+      reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, 4, interrupt);
+    }
     current.resize(lanes.size());
     frozen.assign(lanes.size(), false);
     images.resize(lanes.size());

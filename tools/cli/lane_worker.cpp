@@ -1,6 +1,7 @@
 #include "lane_worker.h"
 
 #include <chrono>
+#include <cmath>
 
 #include "diagnostics.h"
 #include "snapshot.h"
@@ -100,7 +101,10 @@ void LaneWorker::work() {
         }
         if (run.stopped()) break;
       }
-      if (ok) ok = run.advance_to(target.t);
+      // (Run::advance_to's own rule: the first step time at or past target - 1e-6 of a step.)
+      const double goal =
+          needs_.align_to > 0.0 ? std::ceil(target.t / needs_.align_to - 1e-6) * needs_.align_to : target.t;
+      if (ok) ok = run.advance_to(goal);
       if (run.stopped()) break;
       if (!ok) {
         // The picture (and field) of the last finite state at the step divergence names; the

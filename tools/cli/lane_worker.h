@@ -35,6 +35,9 @@ struct LaneNeeds {
   bool positions = false;  // double positions, for the error field
   FieldKind field = FieldKind::None;  // strain or speed, computed on the lane's thread
   bool final_state = false;  // keep the last State (run --state)
+  double align_to = 0.0;       // > 0: each target rounded up to a multiple of this step (s), where
+                               // a run of that step lands (a Run steps until t >= target): the
+                               // reference lane then stands where the lanes it is compared with do
   double energy_every = 0.0;  // > 0: total energy sampled this often (s) between targets too,
                               // so an energy inset has a curve even in a still or a sheet
 };

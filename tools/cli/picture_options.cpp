@@ -114,16 +114,15 @@ void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDe
   LaneSpec& ref = *look.reference;
   const double limit = analysis::predicted_limit(analysis::estimate_stiffness(model), ref.kind, model.implicit);
   if (!(limit < ref.dt) || !(limit > 0.0)) return;
-  const double decade = std::pow(10.0, std::floor(std::log10(limit)));
-  double nice = decade;
-  for (const double f : {2.0, 5.0})
-    if (f * decade <= limit) nice = f * decade;
-  ref.dt = nice;
-  ref.step_text = step_string(nice);
+  // The smallest lane step divided into whole reference steps (the default is a quarter of
+  // it): the reference still lands where those lanes land (frame_pipeline.cpp).
+  const double lane_step = 4.0 * ref.dt;
+  ref.dt = lane_step / std::ceil(lane_step / limit);
+  ref.step_text = step_string(ref.dt);
   const std::string too_long = run_bounds_problem(scene.duration, ref.dt, scene.render.fps);
   if (!too_long.empty())
     throw UsageError("the reference for --color error (" + ref.name() + "@" + ref.step_text +
-                     ", RK4's predicted stable step on this scene): " + too_long +
+                     ", within RK4's predicted stable step on this scene): " + too_long +
                      "; give --reference NAME@STEP or --color checker");
 }
 

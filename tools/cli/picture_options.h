@@ -49,9 +49,9 @@ PictureLook resolve_picture_look(const PictureOptions& options, const SceneDef& 
 
 // The default reference (RK4 at a quarter of the smallest lane step) where that step is above
 // RK4's predicted stability limit on this model (analysis/stiffness_estimate.h: a lower
-// estimate of the true limit): the limit instead, rounded down to 1, 2 or 5 times a power of
-// ten, so the error colouring does not lose its reference to a blow-up (RK4 at 1/120 s on
-// stiff.yaml). The reference's steps are then bounded as every run's (a UsageError naming
+// estimate of the true limit): the smallest lane step divided into as few whole steps as keep
+// within the limit instead, so the error colouring does not lose its reference to a blow-up
+// (RK4 at 1/120 s on stiff.yaml) and still lands where those lanes land. The reference's steps are then bounded as every run's (a UsageError naming
 // --reference past the bound). A --reference the user gave is left as given.
 void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene);
 
