@@ -8,8 +8,9 @@ namespace clothsim {
 
 namespace {
 
-// FXAA 3.11's "high quality" settings: a pixel is an edge where its cross's luma range is at
-// least 1/8 of its brightest and at least 1/32 of full scale, so dark noise is left alone
+// FXAA 3.11's thresholds: a pixel is an edge where its cross's luma range is at least 1/8 of
+// its brightest ("high quality") and at least 1/32 of full scale ("visible limit"; dark noise
+// below it is left alone)
 // (is_edge); the sub-pixel term at 3/4 strength.
 constexpr float kSubpixel = 0.75f;
 // The search steps along the edge, in pixels (they add up to kFxaaReach): fine near the pixel,
@@ -144,6 +145,9 @@ bool edge_blend(const std::uint8_t* c, int stride, int x, int y, Blend& out) {
 }  // namespace
 
 void fxaa(Image& image, int x0, int y0, int x1, int y1, const std::uint8_t* drawn) {
+  // The mask covers the rectangle as given; the work, its part inside the image.
+  const std::size_t mask_width = static_cast<std::size_t>(std::max(x1 - x0, 0));
+  const int mask_x = std::max(-x0, 0), mask_y = std::max(-y0, 0);  // where the clipped part starts in it
   x0 = std::max(x0, 0);
   y0 = std::max(y0, 0);
   x1 = std::min(x1, image.width);
@@ -158,7 +162,7 @@ void fxaa(Image& image, int x0, int y0, int x1, int y1, const std::uint8_t* draw
   if (drawn) {
     near.assign(static_cast<std::size_t>(w) * h, 0);
     for (int y = 0; y < h; ++y) {
-      const std::uint8_t* d = drawn + static_cast<std::size_t>(y) * w;
+      const std::uint8_t* d = drawn + static_cast<std::size_t>(y + mask_y) * mask_width + mask_x;
       std::uint8_t* out = near.data() + static_cast<std::size_t>(y) * w;
       for (int x = 0; x < w; ++x) {
         if (!d[x]) continue;

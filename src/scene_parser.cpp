@@ -460,15 +460,17 @@ RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
     r.samples_given = true;
   });
   // antialias: msaa (render.msaa's samples, 4 unless given), fxaa (one sample, edges smoothed
-  // on the CPU) or none. A sample count says msaa or none by itself, so it goes with msaa only.
+  // on the CPU) or none. A sample count says msaa or none by itself: given with antialias, it
+  // must say the same.
   optional(n, path, "antialias", [&](auto& v, auto& k) {
     const std::string a = string(v, k);
     if (a != "msaa" && a != "fxaa" && a != "none")
       fail(v, k, "unknown antialiasing " + in_quotes(a) + " (expected msaa, fxaa or none)");
-    if (r.samples_given && (a != "msaa" || r.samples < 2)) {
+    const bool agrees = a == "msaa" ? r.samples > 1 : a == "none" && r.samples == 1;
+    if (r.samples_given && !agrees) {
       const char* count = n["msaa"].IsDefined() ? "msaa" : "samples";
       fail(v, k, std::string("antialias: ") + a + " contradicts " + count + ": " + n[count].Scalar() +
-                     (a == "msaa" ? " (msaa needs 2, 4 or 8 samples)" : " (give a sample count with antialias: msaa only)"));
+                     (a == "msaa" ? " (msaa needs 2, 4 or 8 samples)" : " (a sample count goes with msaa only)"));
     }
     r.antialias = a;
   });

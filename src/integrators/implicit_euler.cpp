@@ -149,9 +149,11 @@ constexpr int kReuseReserve = 2;
 // its first direction came from the last step's matrix.
 constexpr double kReuseResidual = 1e-4;
 // ... or at an iterate close enough to the matrix's linearisation point (State::implicit_lin_y)
-// that the matrix is the Hessian there to within kReuseChange, whatever the residual. The
-// matrix depends on the iterate only through the springs' end positions (the held set enters
-// through PCG's filter, not the matrix). Moved by at most delta, a spring turns by at most
+// that the matrix is the Hessian there to within kReuseChange, whatever the residual. Within a
+// step the matrix depends on the iterate only through the springs' end positions (the held set
+// enters through PCG's filter, not the matrix); across steps also through the start lengths
+// l_n of the dampers' term, which move by about h |v| a step and which the distance does not
+// see: the bound below is looser by that much, and the judgement after the step catches it. Moved by at most delta, a spring turns by at most
 // about 2 delta / l_min, so its block of M^-1 A, of size up to h kd / m + h^2 ks / m, changes by
 // at most twice that; summed over a particle's springs (Gershgorin, with the bounds c_max and
 // w_max^2 of analysis/stiffness_estimate.h), |M^-1 (A(y) - A)| <= 4 (h c_max + (h w_max)^2)

@@ -73,6 +73,7 @@ TEST(BodyTerms, TheFusedPassGivesTheBitsOfTheSpringsThenTheTermsOnEveryTarget) {
       for (const bool times_inverse_mass : {false, true}) {
         Case c = make_case(nx, ny, "structural: {}, shear: {}, bend: {}", drag, 7u + nx);
         c.inv_mass[nx + 1] = 0.0;  // one more particle held still (a pin set by an event)
+        c.model.gravity_on[nx + 2] = 0;  // and one without gravity, inside a whole vector
         const Eigen::Matrix3Xd expected = reference(c, times_inverse_mass);
         for_each_highway_target([&](const char* target) {
           Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Constant(3, c.model.num_bodies(), 12345.0);  // not zeroed

@@ -230,6 +230,7 @@ TEST(SceneParser, AntialiasIsMsaaFxaaOrNoneAndAgreesWithASampleCount) {
   EXPECT_EQ(render("antialias: none").antialias, "none");
   EXPECT_EQ(render("antialias: msaa, msaa: 8").samples, 8);
   EXPECT_TRUE(render("msaa: 0").samples_given);
+  EXPECT_EQ(render("antialias: none, msaa: 0").antialias, "none");  // both say none
   const SceneError unknown = parse_error("cloth: {particles: [3, 3]}\nrender:\n  antialias: smaa\n");
   EXPECT_EQ(unknown.line, 3);
   EXPECT_EQ(unknown.key, "render.antialias");
@@ -238,7 +239,9 @@ TEST(SceneParser, AntialiasIsMsaaFxaaOrNoneAndAgreesWithASampleCount) {
   const SceneError fxaa_and_samples = parse_error("cloth: {particles: [3, 3]}\nrender:\n  msaa: 4\n  antialias: fxaa\n");
   EXPECT_EQ(fxaa_and_samples.line, 4);
   EXPECT_EQ(fxaa_and_samples.key, "render.antialias");
-  EXPECT_NE(std::string(fxaa_and_samples.what()).find("contradicts msaa: 4"), std::string::npos) << fxaa_and_samples.what();
+  EXPECT_NE(std::string(fxaa_and_samples.what()).find("contradicts msaa: 4 (a sample count goes with msaa only)"),
+            std::string::npos)
+      << fxaa_and_samples.what();
   const SceneError msaa_of_none = parse_error("cloth: {particles: [3, 3]}\nrender:\n  samples: 1\n  antialias: msaa\n");
   EXPECT_EQ(msaa_of_none.key, "render.antialias");
   EXPECT_NE(std::string(msaa_of_none.what()).find("msaa needs 2, 4 or 8 samples"), std::string::npos) << msaa_of_none.what();

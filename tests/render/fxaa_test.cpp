@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace clothsim {
@@ -146,10 +148,52 @@ TEST(Fxaa, EachPixelIsBlendedFromThePictureAsItWasSoTheResultIsTheSameTwice) {
   fxaa(a, 0, 0, kW, kH, nullptr);
   fxaa(b, 0, 0, kW, kH, nullptr);
   EXPECT_EQ(a.rgba, b.rgba);
-  // A rectangle reaching past the image is clipped to it.
+  // A rectangle reaching past the image is clipped to it, and a mask given over that rectangle
+  // is read where the clipped part lies in it.
   Image c = staircase(0.3, 10.7);
   fxaa(c, -5, -5, kW + 5, kH + 5, nullptr);
   EXPECT_EQ(c.rgba, a.rgba);
+  const int mw = kW + 10, mh = kH + 10;
+  std::vector<std::uint8_t> all(static_cast<std::size_t>(mw) * mh, 255);
+  Image d = staircase(0.3, 10.7);
+  fxaa(d, -5, -5, kW + 5, kH + 5, all.data());
+  EXPECT_EQ(d.rgba, a.rgba) << "a mask drawn everywhere considers every pixel";
+  std::vector<std::uint8_t> none_but_border(static_cast<std::size_t>(mw) * mh, 0);
+  for (int x = 0; x < mw; ++x) none_but_border[x] = 255;  // the mask's first row lies outside the image
+  Image e = staircase(0.3, 10.7);
+  const Image original = e;
+  fxaa(e, -5, -5, kW + 5, kH + 5, none_but_border.data());
+  EXPECT_EQ(e.rgba, original.rgba) << "only mask rows outside the image are set: nothing to do";
+}
+
+TEST(Fxaa, EachBlendMixesAPixelWithOneOfItsOriginalNeighbours) {
+  // A one-pixel dark line at a shallow slope: blending in place would let a blended pixel feed
+  // its neighbour's blend. Every changed pixel must lie between its own original colour and one
+  // original 4-neighbour's.
+  Image image(kW, kH);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      std::uint8_t* p = image.pixel(x, y);
+      const bool on_line = y == static_cast<int>(20.0 + 0.2 * x);
+      p[0] = p[1] = p[2] = on_line ? kDark : kLight;
+      p[3] = 255;
+    }
+  const Image original = image;
+  fxaa(image, 0, 0, kW, kH, nullptr);
+  int changed = 0;
+  for (int y = 1; y + 1 < kH; ++y)
+    for (int x = 1; x + 1 < kW; ++x) {
+      const int now = image.pixel(x, y)[0], was = original.pixel(x, y)[0];
+      if (now == was) continue;
+      ++changed;
+      bool between = false;
+      for (auto [dx, dy] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
+        const int other = original.pixel(x + dx, y + dy)[0];
+        between = between || (now >= std::min(was, other) && now <= std::max(was, other));
+      }
+      EXPECT_TRUE(between) << "at " << x << ", " << y;
+    }
+  EXPECT_GT(changed, 20);
 }
 
 }  // namespace

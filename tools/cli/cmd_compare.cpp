@@ -120,12 +120,14 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
       // So was every lane, when the reference it is measured against diverged.
       char measured[128] = "";
       const bool reference_diverged = color == FieldKind::Error && report.reference && report.reference->divergence;
+      char upto[48] = "never measured";  // no frame of it had a field (the first was past the blow-up)
+      if (std::isfinite(report.field_last_t[i]))
+        std::snprintf(upto, sizeof upto, "measured to t = %.3g s", report.field_last_t[i]);
       if (r.divergence)
-        std::snprintf(measured, sizeof measured, " (measured to t = %.3g s; it diverged at t = %.6g s)",
-                      report.field_last_t[i], r.divergence->t);
+        std::snprintf(measured, sizeof measured, " (%s; it diverged at t = %.6g s)", upto, r.divergence->t);
       else if (reference_diverged)
-        std::snprintf(measured, sizeof measured, " (measured to t = %.3g s; the reference diverged at t = %.6g s)",
-                      report.field_last_t[i], report.reference->divergence->t);
+        std::snprintf(measured, sizeof measured, " (%s; the reference diverged at t = %.6g s)", upto,
+                      report.reference->divergence->t);
       std::printf("%s @ %s s: %s%s largest %.3g%s, at the end %.3g%s%s\n", r.spec.name().c_str(),
                   r.spec.step_text.c_str(), std::string(field_kind_name(color)).c_str(),
                   color == FieldKind::Error && report.reference
