@@ -139,7 +139,8 @@ int golden_command(const GoldenOptions& o, bool update) {
     // The pictures `run --still` makes (the frame pipeline with one lane: the scene's camera,
     // colouring and overlay), one per time, taken as a contact sheet's columns.
     const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
-    const PictureLook look = resolve_picture_look({}, scene, {lane}, /*compare=*/false);
+    PictureLook look = resolve_picture_look({}, scene, {lane}, /*compare=*/false);
+    fit_reference_to_model(look, model, scene);  // as run does
     PipelineConfig config;
     config.rendering = true;
     config.width = e.width;
