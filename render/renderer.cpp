@@ -500,7 +500,7 @@ void Renderer::Impl::draw_sky(const RenderFrame& frame, const View& view) {
 void Renderer::Impl::ensure_backdrop(const RenderFrame& frame, const View& view) {
   const RenderCamera& c = frame.camera;
   const int frame_samples = std::clamp(frame.samples, 1, max_samples);
-  const int samples = frame.fxaa ? std::max(frame_samples, std::min(4, max_samples)) : frame_samples;
+  const int samples = frame.fxaa ? std::max(frame_samples, std::min(kDefaultMsaaSamples, max_samples)) : frame_samples;
   std::vector<float> key = {static_cast<float>(frame.width), static_cast<float>(frame.height),
                             static_cast<float>(samples), c.fov_deg, frame.has_ground ? 1.f : 0.f,
                             frame.ground_height, frame.ground_grid_spacing};

@@ -45,9 +45,13 @@ struct SeriesInset {
   std::string label;              // with units: "total energy [J]"
 };
 
+// MSAA samples where nothing says otherwise: what `run` draws with, what an FXAA frame's
+// backdrop keeps, and what render.msaa defaults to.
+inline constexpr int kDefaultMsaaSamples = 4;
+
 struct RenderFrame {
   int width = 1280, height = 720;  // pixels of the image to produce
-  int samples = 4;                 // MSAA samples (1 = none)
+  int samples = kDefaultMsaaSamples;  // MSAA samples (1 = none)
   bool fxaa = false;               // then smooth the drawn edges on the CPU (render/fxaa.h); the
                                    // backdrop, drawn once per camera, keeps 4 samples regardless
   RenderCamera camera;

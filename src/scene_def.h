@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "integrator_kind.h"
+#include "render_frame.h"  // kDefaultMsaaSamples
 
 namespace clothsim {
 
@@ -103,7 +104,7 @@ struct RenderDef {
   std::string overlay = "full";    // full|label|none: what text is drawn on the pictures
   bool draw_springs = false;       // overlay the springs as lines, as the course's UI did
   bool draw_particles = false;
-  int samples = 4;                 // MSAA samples (render.msaa / render.samples)
+  int samples = kDefaultMsaaSamples;  // MSAA samples (render.msaa / render.samples)
   bool samples_given = false;      // render.msaa or render.samples appeared in the scene
   std::string antialias;           // msaa|fxaa|none; "": msaa as render.msaa says when it is
                                    // given, else the command's default (msaa for run, fxaa for

@@ -105,7 +105,9 @@ TEST(OverlayLayout, LongLinesWrapAtSpacesToTheImagesWidth) {
   std::string rejoined;
   for (std::size_t i = 1; i < narrow.lines.size(); ++i) {
     EXPECT_LE(text_width(narrow.lines[i], narrow.scale), 320 - 2 * narrow.margin) << narrow.lines[i];
-    if (i > 1) EXPECT_EQ(narrow.lines[i].rfind("  ", 0), 0u) << "continuations are indented";
+    if (i > 1) {
+      EXPECT_EQ(narrow.lines[i].rfind("  ", 0), 0u) << "continuations are indented";
+    }
     rejoined += (i > 1 ? " " : "") + narrow.lines[i].substr(i > 1 ? 2 : 0);
   }
   EXPECT_EQ(rejoined, f.overlay_lines[1]) << "no word lost";

@@ -46,7 +46,7 @@ struct PipelineConfig {
   FieldKind color = FieldKind::None;
   std::optional<ColorRange> color_range;  // --color-range; else from the first second
   bool inset_energy = false;       // --inset energy
-  int samples = 4;                 // MSAA samples of each picture (1: none)
+  int samples = kDefaultMsaaSamples;  // MSAA samples of each picture (1: none)
   bool fxaa = false;               // edges smoothed on the CPU instead (render/fxaa.h)
   bool metrics = false;            // an output reads LaneFrame::metrics
   bool final_state = false;        // keep the lanes' final states (run --state)

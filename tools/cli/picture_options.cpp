@@ -104,7 +104,7 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
                                                          : "msaa";
   if (antialias != "msaa" && antialias != "fxaa" && antialias != "none")
     throw UsageError("--antialias: expected msaa, fxaa or none, got " + in_quotes(antialias));
-  look.samples = antialias == "msaa" ? (r.samples > 1 ? r.samples : 4) : 1;
+  look.samples = antialias == "msaa" ? (r.samples > 1 ? r.samples : kDefaultMsaaSamples) : 1;
   look.fxaa = antialias == "fxaa";
   return look;
 }

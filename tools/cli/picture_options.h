@@ -41,7 +41,7 @@ struct PictureLook {
   OverlayMode overlay = OverlayMode::Full;
   bool overlay_cpu = false;
   bool inset_energy = false;
-  int samples = 4;    // MSAA samples (1: none)
+  int samples = kDefaultMsaaSamples;  // MSAA samples (1: none)
   bool fxaa = false;  // edges smoothed on the CPU (render/fxaa.h)
 };
 PictureLook resolve_picture_look(const PictureOptions& options, const SceneDef& scene, const std::vector<LaneSpec>& lanes,
