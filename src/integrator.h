@@ -46,6 +46,10 @@ StepStats symplectic_euler_step(const Model& model, State& state, double h, Work
 StepStats midpoint_step(const Model& model, State& state, double h, Workspace& ws);
 StepStats rk4_step(const Model& model, State& state, double h, Workspace& ws);
 StepStats implicit_euler_step(const Model& model, State& state, double h, Workspace& ws);
+// How far (m) every particle of an iterate may lie from the Newton matrix's linearisation
+// point for implicit_euler to reuse that matrix whatever the residual (implicit_euler.cpp,
+// kReuseChange): 0.05 l_min / (4 (h c_max + (h w_max)^2)); infinite without springs.
+double implicit_reuse_reach(const Model& model, double h);
 
 StepStats integrate(IntegratorKind kind, const Model& model, State& state, double h, Workspace& ws);
 

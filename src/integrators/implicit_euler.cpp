@@ -242,6 +242,12 @@ double impulse_norm(const Eigen::VectorXd& mass, const Eigen::Matrix3Xd& dv,
 // The Newton iterations of one active set, from the iterate in c (dv, y, r, phi) until the
 // filtered residual is below tolerance or the step's iteration budget is spent.
 // Returns whether it converged.
+// kReuseChange's distance for springs as short as `shortest` and as stiff as `stiffness`.
+double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness, double h) {
+  const double springs = h * stiffness.c_max + std::pow(h * stiffness.w_max, 2);
+  return springs > 0.0 ? kReuseChange * shortest / (4.0 * springs) : std::numeric_limits<double>::infinity();
+}
+
 class NewtonSolve {
  public:
   // `start` is read as the step's start throughout; only its record of the Newton matrix's
@@ -251,9 +257,7 @@ class NewtonSolve {
         single_step_(cfg_.newton_max_iterations == 1),
         factor_first_(start.implicit_factored && start.step % kRetryJacobi != 0),
         trusted_(start.implicit_lin_trusted) {
-    const double springs = h * c_.stiffness.c_max + std::pow(h * c_.stiffness.w_max, 2);
-    reuse_reach_ = springs > 0.0 ? kReuseChange * c_.shortest_rest / (4.0 * springs)
-                                 : std::numeric_limits<double>::infinity();
+    reuse_reach_ = reuse_reach(c_.shortest_rest, c_.stiffness, h);
     // The recorded matrix may serve this step if it was assembled for the same system (the
     // step size and which bodies move: the matrix's rows for immovable ones are removed) and
     // last served well, or as a probe every kRetryReuse-th step. Baraff & Witkin's step is
@@ -704,6 +708,12 @@ StepStats fixed_point_step(const Model& model, State& state, double h, Workspace
 }
 
 }  // namespace
+
+double implicit_reuse_reach(const Model& model, double h) {
+  double shortest = std::numeric_limits<double>::infinity();
+  for (double rest : model.springs.rest) shortest = std::min(shortest, rest);
+  return reuse_reach(shortest, analysis::estimate_stiffness(model), h);
+}
 
 StepStats implicit_euler_step(const Model& model, State& state, double h, Workspace& ws) {
   switch (model.implicit.solver) {

@@ -256,7 +256,7 @@ int compare_command(const CompareOptions& o) {
   if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid->width(), grid->height()));
   budget.check(scene.source, o.scene.max_memory);
   const Model model = build_model(scene);
-  fit_reference_to_model(look, model, scene);
+  fit_reference_to_model(look, model, scene, lanes);
 
   // 2. The pipeline and its outputs (each removes its temporary if destroyed before finish()).
   std::unique_ptr<Renderer> renderer;

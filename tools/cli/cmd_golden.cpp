@@ -140,7 +140,7 @@ int golden_command(const GoldenOptions& o, bool update) {
     // colouring and overlay), one per time, taken as a contact sheet's columns.
     const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
     PictureLook look = resolve_picture_look({}, scene, {lane}, /*compare=*/false);
-    fit_reference_to_model(look, model, scene);  // as run does
+    fit_reference_to_model(look, model, scene, {lane});  // as run does
     PipelineConfig config;
     config.rendering = true;
     config.width = e.width;

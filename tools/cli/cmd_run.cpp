@@ -94,7 +94,7 @@ int run_command(const RunOptions& o) {
   budget.check(scene.source, o.scene.max_memory);
 
   const Model model = build_model(scene);
-  fit_reference_to_model(look, model, scene);
+  fit_reference_to_model(look, model, scene, {lane});
   const IntegratorKind kind = scene.integrator;
   const double dt = scene.dt;
   const double fps = scene.render.fps;

@@ -137,7 +137,7 @@ struct FramePipeline::Impl {
       // stood where the lanes of the smallest step stand (exactly, when its step divides
       // theirs, as the default's does), so their error is not its time offset times |v|.
       LaneNeeds n = needs(true);
-      for (const LaneSpec& l : lanes) n.align_to = n.align_to > 0.0 ? std::min(n.align_to, l.dt) : l.dt;
+      n.align_to = smallest_step(lanes);
       reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, 4, interrupt);
     }
     current.resize(lanes.size());

@@ -104,10 +104,14 @@ std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::str
   return lanes;
 }
 
-LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& lanes) {
+double smallest_step(const std::vector<LaneSpec>& lanes) {
   double smallest = lanes.front().dt;
   for (const LaneSpec& l : lanes) smallest = std::min(smallest, l.dt);
-  LaneSpec ref{IntegratorKind::Rk4, smallest / 4.0, "", false};
+  return smallest;
+}
+
+LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& lanes) {
+  LaneSpec ref{IntegratorKind::Rk4, smallest_step(lanes) / 4.0, "", false};
   if (!trimmed(text).empty()) {
     if (text.find(',') != std::string::npos) throw UsageError("--reference: one lane, got " + in_quotes(text));
     const Item item = parse_item(trimmed(text), "--reference");

@@ -31,6 +31,10 @@ struct LaneSpec {
 // The same integrator may appear at several steps; the same lane twice is an error.
 std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt, double scene_dt);
 
+// The smallest step of the lanes (not empty): what the reference's default step is a quarter
+// of, and where the reference is stood to be compared (frame_pipeline.cpp).
+double smallest_step(const std::vector<LaneSpec>& lanes);
+
 // --reference NAME[@STEP]; "" is RK4 at a quarter of the smallest lane step, the error
 // colouring's default. Without @STEP, a quarter of the smallest lane step too.
 LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& lanes);

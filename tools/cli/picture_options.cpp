@@ -109,14 +109,15 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
   return look;
 }
 
-void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene) {
+void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene,
+                            const std::vector<LaneSpec>& lanes) {
   if (!look.reference || !look.reference_is_default) return;
   LaneSpec& ref = *look.reference;
   const double limit = analysis::predicted_limit(analysis::estimate_stiffness(model), ref.kind, model.implicit);
   if (!(limit < ref.dt) || !(limit > 0.0)) return;
-  // The smallest lane step divided into whole reference steps (the default is a quarter of
-  // it): the reference still lands where those lanes land (frame_pipeline.cpp).
-  const double lane_step = 4.0 * ref.dt;
+  // The smallest lane step divided into whole reference steps: the reference still lands
+  // where those lanes land (frame_pipeline.cpp).
+  const double lane_step = smallest_step(lanes);
   ref.dt = lane_step / std::ceil(lane_step / limit);
   ref.step_text = step_string(ref.dt);
   const std::string too_long = run_bounds_problem(scene.duration, ref.dt, scene.render.fps);

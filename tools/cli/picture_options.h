@@ -53,7 +53,8 @@ PictureLook resolve_picture_look(const PictureOptions& options, const SceneDef& 
 // within the limit instead, so the error colouring does not lose its reference to a blow-up
 // (RK4 at 1/120 s on stiff.yaml) and still lands where those lanes land. The reference's steps are then bounded as every run's (a UsageError naming
 // --reference past the bound). A --reference the user gave is left as given.
-void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene);
+void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene,
+                            const std::vector<LaneSpec>& lanes);
 
 // --color-range "1e-6,1e-2": two finite numbers, 0 < LO < HI.
 ColorRange parse_color_range(const std::string& text);

@@ -11,7 +11,6 @@
 #include <cstdint>
 #include <limits>
 
-#include "analysis/stiffness_estimate.h"
 #include "forces.h"
 #include "integrators/step_potential.h"
 #include "core/integrators/oscillator.h"
@@ -335,6 +334,21 @@ TEST(ImplicitEuler, ReusesItsNewtonMatrixAcrossStepsAndStillSolvesTheStatedEquat
   EXPECT_LT(newton, steps * 11 / 10);
 }
 
+// The falling sheet after 20 steps at h (its recorded matrix trusted), then kicked: every
+// movable body's velocity moved at random by up to `kick` m/s (seeded), so the next step has
+// iterations to do.
+State settled_then_kicked(const Model& model, double h, unsigned seed, double kick) {
+  State state = initial_state(model);
+  Workspace ws;
+  for (int n = 0; n < 20; ++n) step(model, state, kKind, h, ws);
+  EXPECT_TRUE(state.implicit_lin_trusted);
+  std::srand(seed);
+  state.v += kick * Eigen::Matrix3Xd::Random(3, model.num_bodies());
+  for (int b = 0; b < model.num_bodies(); ++b)
+    if (state.inv_mass[b] == 0.0) state.v.col(b).setZero();
+  return state;
+}
+
 TEST(ImplicitEuler, AReusedMatrixIsKeptOnlyWhileItServesAndRebuiltAtTheIterateWhenNot) {
   // The State's recorded linearisation forged, still marked as serving:
   //  - start lengths of NaN: a matrix on which PCG fails (no direction at all);
@@ -347,17 +361,10 @@ TEST(ImplicitEuler, AReusedMatrixIsKeptOnlyWhileItServesAndRebuiltAtTheIterateWh
   // and truncated CG's first direction on an indefinite one is the block-Jacobi one, which
   // can be enough). The NaN matrix is always replaced.
   const Model model = falling_sheet();
-  State state = initial_state(model);
-  Workspace ws;
   const double h = 1e-4;
-  for (int n = 0; n < 20; ++n) step(model, state, kKind, h, ws);
-  ASSERT_TRUE(state.implicit_lin_trusted);
-  // A kick (10 nm/s at random), so that the step has iterations to do, from an iterate close
-  // enough (relative residual below 1e-4) for a reused matrix to be tried.
-  std::srand(5);
-  state.v += 1e-8 * Eigen::Matrix3Xd::Random(3, model.num_bodies());
-  for (int b = 0; b < model.num_bodies(); ++b)
-    if (state.inv_mass[b] == 0.0) state.v.col(b).setZero();
+  // A kick of 10 nm/s: iterations to do, from an iterate close enough (relative residual
+  // below 1e-4) for a reused matrix to be tried.
+  const State state = settled_then_kicked(model, h, 5, 1e-8);
   State honest = state;
   Workspace honest_ws;
   const StepStats honest_stats = step(model, honest, kKind, h, honest_ws).stats;
@@ -391,14 +398,6 @@ TEST(ImplicitEuler, AReusedMatrixIsKeptOnlyWhileItServesAndRebuiltAtTheIterateWh
   }
 }
 
-// How far from its linearisation point implicit_euler.cpp reuses the Newton matrix at any
-// residual (kReuseChange = 0.05): 0.05 l_min / (4 (h c_max + (h w_max)^2)).
-double reuse_reach(const Model& model, double h) {
-  const analysis::StiffnessEstimate e = analysis::estimate_stiffness(model);
-  const double shortest = *std::min_element(model.springs.rest.begin(), model.springs.rest.end());
-  return 0.05 * shortest / (4.0 * (h * e.c_max + std::pow(h * e.w_max, 2)));
-}
-
 TEST(ImplicitEuler, ReusesItsNewtonMatrixFarFromTheSolutionOnlyNearTheMatrixsLinearisationPoint) {
   // A kick (1 mm/s at random) leaves the step far from its solution (relative residual above
   // 1e-4, where the residual rule alone would assemble). The recorded linearisation is forged
@@ -409,20 +408,13 @@ TEST(ImplicitEuler, ReusesItsNewtonMatrixFarFromTheSolutionOnlyNearTheMatrixsLin
   // deformation). Both steps converge to the exact solve's step. (The kinematic sphere moves
   // 0.2 mm a step and the dynamic one falls: the rule looks at the particles only.)
   const Model model = falling_sheet();
-  State state = initial_state(model);
-  Workspace ws;
   const double h = 1e-4;
-  for (int n = 0; n < 20; ++n) step(model, state, kKind, h, ws);
-  ASSERT_TRUE(state.implicit_lin_trusted);
-  std::srand(7);
-  state.v += 1e-3 * Eigen::Matrix3Xd::Random(3, model.num_bodies());
-  for (int b = 0; b < model.num_bodies(); ++b)
-    if (state.inv_mass[b] == 0.0) state.v.col(b).setZero();
+  const State state = settled_then_kicked(model, h, 7, 1e-3);
   State exact = state;
   exact.implicit_lin_id = 0;  // no matrix to reuse: every iteration assembles
   Workspace exact_ws;
   ASSERT_TRUE(step(model, exact, kKind, h, exact_ws).stats.converged);
-  const double reach = reuse_reach(model, h);
+  const double reach = implicit_reuse_reach(model, h);
   ASSERT_GT(reach, 1e3 * h * h * 9.8) << "the forged point is meant to be off by the shift alone";
   for (const double shift : {0.5, 2.0}) {
     State forged = state;
