@@ -94,6 +94,10 @@ void mark_diverged(RenderFrame& frame, const Divergence& divergence) {
   frame.overlay_lines.push_back("diverged: " + divergence.reason);
 }
 
+void mark_not_converged(RenderFrame& frame, std::int64_t steps) {
+  frame.banner = "NOT CONVERGED (" + std::to_string(steps) + (steps == 1 ? " step)" : " steps)");
+}
+
 std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t) {
   char buf[96];
   std::vector<std::string> lines;

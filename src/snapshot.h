@@ -2,6 +2,7 @@
 // spheres, ground, camera, overlay text). The only place the engine meets rendering.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,10 @@ RenderFrame make_render_frame(const Model& model, const State& state, const Snap
 // the red banner "DIVERGED at t = ... s (step N)" with the time as `run` prints it, and a last
 // overlay line with the reason. What `run` and `compare` show from the moment a run diverges.
 void mark_diverged(RenderFrame& frame, const Divergence& divergence);
+
+// Marks a frame of a run whose implicit steps missed their Newton tolerance `steps` times so
+// far (steps > 0): the red banner "NOT CONVERGED (N steps)", "(1 step)" for one.
+void mark_not_converged(RenderFrame& frame, std::int64_t steps);
 
 // Standard overlay: scene name, integrator, dt and simulated time.
 std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t);

@@ -247,9 +247,7 @@ struct FramePipeline::Impl {
           mark_diverged(rf, *f.divergence);
         } else if (f.totals.unconverged_steps > 0) {
           // An implicit step that missed its tolerance is a result, shown on the picture.
-          char banner[64];
-          std::snprintf(banner, sizeof banner, "NOT CONVERGED (%" PRId64 " steps)", f.totals.unconverged_steps);
-          rf.banner = banner;
+          mark_not_converged(rf, f.totals.unconverged_steps);
         }
       }
       if (config.color != FieldKind::None && !field.empty()) color_by_field(rf, field, config.color, *range);

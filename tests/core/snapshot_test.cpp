@@ -1,0 +1,30 @@
+// The banners a frame carries for a run's results: DIVERGED with the time and step as `run`
+// prints them, and NOT CONVERGED with the count of missed implicit steps, in the singular
+// for one.
+#include "snapshot.h"
+
+#include <gtest/gtest.h>
+
+namespace clothsim {
+namespace {
+
+TEST(Snapshot, MarksADivergedFrameWithItsTimeStepAndReason) {
+  RenderFrame frame;
+  frame.overlay_lines = {"t = 0.024 s"};
+  mark_diverged(frame, Divergence{241, 0.0241, "strain 12.3 > 10"});
+  EXPECT_EQ(frame.banner, "DIVERGED at t = 0.0241 s (step 241)");
+  ASSERT_EQ(frame.overlay_lines.size(), 2u);
+  EXPECT_EQ(frame.overlay_lines.back(), "diverged: strain 12.3 > 10");
+}
+
+TEST(Snapshot, CountsMissedImplicitStepsInTheNotConvergedBanner) {
+  RenderFrame frame;
+  mark_not_converged(frame, 1);
+  EXPECT_EQ(frame.banner, "NOT CONVERGED (1 step)");
+  mark_not_converged(frame, 2);
+  EXPECT_EQ(frame.banner, "NOT CONVERGED (2 steps)");
+  EXPECT_TRUE(frame.overlay_lines.empty()) << "the banner alone: the lane goes on";
+}
+
+}  // namespace
+}  // namespace clothsim
