@@ -133,11 +133,12 @@ struct FramePipeline::Impl {
       workers.push_back(std::make_unique<LaneWorker>(lane_model(model, lanes[i], lane_models[i]), lanes[i], plan,
                                                      needs(false), 4, interrupt));
     if (config.color == FieldKind::Error && config.reference) {
-      // Lanes land on the first step at or past each frame time, not on it: the reference is
-      // stood where the lanes of the smallest step stand (exactly, when its step divides
-      // theirs, as the default's does), so their error is not its time offset times |v|.
+      // Lanes land on the first step at or past each frame time, not on it, each at its own
+      // step: the reference hands over its positions at every lane's landing time (its own
+      // step's state where it lands there, as the default's quarter step does, else
+      // interpolated between two), so no lane's error holds a time offset times |v|.
       LaneNeeds n = needs(true);
-      n.align_to = smallest_step(lanes);
+      for (const LaneSpec& lane : lanes) n.stand_for.push_back(lane.dt);
       reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, 4, interrupt);
     }
     current.resize(lanes.size());
@@ -190,7 +191,7 @@ struct FramePipeline::Impl {
       if (!out.fresh[i] || !current[i]) continue;
       if (config.color == FieldKind::Error) {
         if (reference_fresh && !current[i]->x.empty())
-          out.fields[i] = vertex_distance(current[i]->x, reference_frame->x);
+          out.fields[i] = vertex_distance(current[i]->x, reference_frame->x_for[i]);
       } else {
         out.fields[i] = current[i]->field;
       }

@@ -1,9 +1,12 @@
 #include "lane_worker.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "diagnostics.h"
+#include "lane_times.h"
 #include "snapshot.h"
 
 namespace clothsim::cli {
@@ -75,6 +78,55 @@ LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
   return f;
 }
 
+// Advances the reference to the times where runs of the steps in stand_for land at `target`,
+// in increasing order, and fills out.x_for with its positions at each: its state where one of
+// its steps lands there, else the Hermite interpolant through the states of the two steps
+// around it. False once the reference diverged (or the run was stopped).
+bool LaneWorker::stand_in(Run& run, const Target& target, LaneFrame& out) {
+  const std::size_t n = 3 * static_cast<std::size_t>(model_.num_particles);
+  const double H = run.dt();
+  // The reference at its step k (only forward; the last two kept: an interval serves the
+  // lanes whose times fall in it).
+  const auto reach = [&](std::int64_t k) -> const StandSample* {
+    for (const StandSample* s : {&stand_last_, &stand_before_})
+      if (s->step == k) return s;
+    if (k < run.state().step)  // times only increase, and the step before the last is kept
+      throw std::logic_error("the reference lane was asked for a step it has passed");
+    if (!run.advance_to(static_cast<double>(k) * H) || run.stopped()) return nullptr;
+    std::swap(stand_before_, stand_last_);
+    stand_last_.step = run.state().step;
+    stand_last_.x.assign(run.state().x.data(), run.state().x.data() + n);
+    stand_last_.v.assign(run.state().v.data(), run.state().v.data() + n);
+    return stand_last_.step == k ? &stand_last_ : nullptr;
+  };
+  out.x_for.assign(needs_.stand_for.size(), {});
+  stand_landed_.resize(needs_.stand_for.size(), 0);
+  std::vector<std::pair<double, std::size_t>> times;  // (landing time, lane)
+  for (std::size_t j = 0; j < needs_.stand_for.size(); ++j) {
+    const double h = needs_.stand_for[j];
+    stand_landed_[j] = landing_step(target.t, h, stand_landed_[j]);
+    times.emplace_back(static_cast<double>(stand_landed_[j]) * h, j);
+  }
+  std::sort(times.begin(), times.end());
+  for (const auto& [t, j] : times) {
+    if (const std::int64_t k = step_at(t, H); k >= 0) {  // one of the reference's steps
+      const StandSample* at = reach(k);
+      if (!at) return false;
+      out.x_for[j] = at->x;
+      continue;
+    }
+    const std::int64_t before = static_cast<std::int64_t>(std::floor(t / H));
+    const StandSample* a = reach(before);
+    if (!a) return false;
+    const StandSample a_copy = *a;  // (reach may swap the two kept samples)
+    const StandSample* b = reach(before + 1);
+    if (!b) return false;
+    hermite_positions(a_copy.x, a_copy.v, static_cast<double>(before) * H, b->x, b->v,
+                      static_cast<double>(before + 1) * H, t, out.x_for[j]);
+  }
+  return true;
+}
+
 void LaneWorker::work() {
   try {
     Run run(model_, spec_.kind, spec_.dt);
@@ -101,10 +153,8 @@ void LaneWorker::work() {
         }
         if (run.stopped()) break;
       }
-      // (Run::advance_to's own rule: the first step time at or past target - 1e-6 of a step.)
-      const double goal =
-          needs_.align_to > 0.0 ? std::ceil(target.t / needs_.align_to - 1e-6) * needs_.align_to : target.t;
-      if (ok) ok = run.advance_to(goal);
+      LaneFrame stood;  // the reference's positions at the lanes' times
+      if (ok) ok = needs_.stand_for.empty() ? run.advance_to(target.t) : stand_in(run, target, stood);
       if (run.stopped()) break;
       if (!ok) {
         // The picture (and field) of the last finite state at the step divergence names; the
@@ -123,6 +173,7 @@ void LaneWorker::work() {
         break;
       }
       LaneFrame f = frame_of(run, run.state());
+      f.x_for = std::move(stood.x_for);
       if (needs_.metrics) f.metrics = run.metrics();
       if (needs_.energy_every > 0.0) {
         record_energy();

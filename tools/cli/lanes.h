@@ -32,7 +32,7 @@ struct LaneSpec {
 std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt, double scene_dt);
 
 // The smallest step of the lanes (not empty): what the reference's default step is a quarter
-// of, and where the reference is stood to be compared (frame_pipeline.cpp).
+// of (and, where that is above RK4's stable step, divided into whole steps: picture_options.h).
 double smallest_step(const std::vector<LaneSpec>& lanes);
 
 // --reference NAME[@STEP]; "" is RK4 at a quarter of the smallest lane step, the error

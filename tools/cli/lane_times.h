@@ -1,0 +1,32 @@
+// Where a run lands, and the reference between its steps: so that compare's error colouring
+// measures every lane against the reference at the lane's own time.
+//
+// A Run stops at the first step at or past its target (Run::advance_to), so a lane of step h
+// stands up to h past a frame's time, and lanes of different steps stand at different times.
+// The reference lane is run at its own, smaller step and its positions are taken at each
+// lane's landing time: its state where one of its steps lands there, else the cubic Hermite
+// interpolant through its two steps around it (positions and velocities at both: error of
+// order H^4 |x''''| for a reference step H, far below the methods' own where it is smooth; a
+// collision inside the interval makes it first order in H there).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace clothsim::cli {
+
+// The step a run of step h lands on when advanced to `target` from step `from` (Run::advance_to:
+// the first step k >= from with k h >= target - 1e-6 h; its time is k h).
+std::int64_t landing_step(double target, double h, std::int64_t from);
+
+// Within 1e-9 of a step h of a step's time: where a run of step h is to be read as it stands.
+// Returns the step, or -1.
+std::int64_t step_at(double t, double h);
+
+// out = the cubic Hermite interpolant at t of positions xa (velocities va) at ta and xb (vb) at
+// tb > ta, ta <= t <= tb; all of one length.
+void hermite_positions(const std::vector<double>& xa, const std::vector<double>& va, double ta,
+                       const std::vector<double>& xb, const std::vector<double>& vb, double tb, double t,
+                       std::vector<double>& out);
+
+}  // namespace clothsim::cli
