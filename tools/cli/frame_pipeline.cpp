@@ -191,7 +191,7 @@ struct FramePipeline::Impl {
       if (!out.fresh[i] || !current[i]) continue;
       if (config.color == FieldKind::Error) {
         if (reference_fresh && !current[i]->x.empty())
-          out.fields[i] = vertex_distance(current[i]->x, reference_frame->x_for[i]);
+          out.fields[i] = vertex_distance(current[i]->x, *reference_frame->x_for[i]);
       } else {
         out.fields[i] = current[i]->field;
       }

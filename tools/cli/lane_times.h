@@ -1,13 +1,12 @@
-// Where a run lands, and the reference between its steps: so that compare's error colouring
-// measures every lane against the reference at the lane's own time.
+// Where a run lands, and positions between two of its steps: what compare's reference needs to
+// stand in at each lane's own time (reference_stand.h).
 //
 // A Run stops at the first step at or past its target (Run::advance_to), so a lane of step h
 // stands up to h past a frame's time, and lanes of different steps stand at different times.
-// The reference lane is run at its own, smaller step and its positions are taken at each
-// lane's landing time: its state where one of its steps lands there, else the cubic Hermite
-// interpolant through its two steps around it (positions and velocities at both: error of
-// order H^4 |x''''| for a reference step H, far below the methods' own where it is smooth; a
-// collision inside the interval makes it first order in H there).
+// Between two steps of the reference the cubic Hermite interpolant through their positions
+// and velocities has an error of order H^4 |x''''| for a reference step H, far below the
+// methods' own where the motion is smooth; a collision inside the interval makes it first
+// order in H there.
 #pragma once
 
 #include <cstdint>

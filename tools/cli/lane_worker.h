@@ -37,8 +37,8 @@ struct LaneNeeds {
   bool final_state = false;  // keep the last State (run --state)
   // The reference lane: the steps (s) of the lanes it is compared with, in their order. At
   // each target it hands over, in LaneFrame::x_for, its positions at the time where a run of
-  // each step lands (lane_times.h: its own state, or interpolated between its steps), so
-  // each lane is measured at its own time. Empty: positions at its own landing time, in x.
+  // each step lands (reference_stand.h: its own state, or interpolated between its steps),
+  // so each lane is measured at its own time; only those (no picture, metrics or x).
   std::vector<double> stand_for;
   double energy_every = 0.0;  // > 0: total energy sampled this often (s) between targets too,
                               // so an energy inset has a curve even in a still or a sheet
@@ -50,8 +50,8 @@ struct LaneFrame {
   std::int64_t step = 0;
   RenderFrame frame;               // geometry only; the pipeline adds overlay, field and size
   std::vector<double> x;           // (3 x P) particle positions when LaneNeeds::positions
-  std::vector<std::vector<double>> x_for;  // (per LaneNeeds::stand_for step) the same, at the
-                                           // time a run of that step stands
+  // (per LaneNeeds::stand_for step) the same, at the time a run of that step stands
+  std::vector<std::shared_ptr<const std::vector<double>>> x_for;
   std::vector<float> field;        // (P) when LaneNeeds::field is strain or speed
   FrameMetrics metrics;            // when LaneNeeds::metrics
   RunTotals totals;                // of the run up to here
@@ -93,7 +93,8 @@ class LaneWorker {
  private:
   void work();
   void push(LaneFrame frame);
-  bool stand_in(Run& run, const Target& target, LaneFrame& out);
+  void run_targets(Run& run);
+  void serve_reference(Run& run);
   LaneFrame frame_of(const Run& run, const State& state) const;
 
   const Model& model_;
@@ -110,14 +111,6 @@ class LaneWorker {
   bool done_ = false, stop_ = false;
   std::exception_ptr error_;
   LaneResult result_;
-  // stand_in's state between targets: the reference's last two kept steps, and the step each
-  // lane of stand_for last landed on.
-  struct StandSample {
-    std::int64_t step = -1;
-    std::vector<double> x, v;  // particles only, as LaneFrame::x
-  };
-  StandSample stand_last_, stand_before_;
-  std::vector<std::int64_t> stand_landed_;
   std::thread thread_;
 };
 

@@ -1,0 +1,85 @@
+#include "reference_stand.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "lane_times.h"
+
+namespace clothsim::cli {
+
+ReferenceStand::ReferenceStand(const Model& model, Run& run, std::vector<double> lane_steps)
+    : model_(model), run_(run), steps_(std::move(lane_steps)), landed_(steps_.size(), 0),
+      last_slot_(steps_.size()) {}
+
+void ReferenceStand::add(const Target& target) {
+  std::vector<std::shared_ptr<Slot>> slots(steps_.size());
+  for (std::size_t j = 0; j < steps_.size(); ++j) {
+    const std::int64_t k = landing_step(target.t, steps_[j], landed_[j]);
+    if (!last_slot_[j] || k != landed_[j]) {  // a lane that did not step shares its last slot
+      last_slot_[j] = std::make_shared<Slot>();
+      requests_.push(Request{static_cast<double>(k) * steps_[j], asked_++, last_slot_[j]});
+    }
+    landed_[j] = k;
+    slots[j] = last_slot_[j];
+  }
+  pending_.emplace_back(target, std::move(slots));
+}
+
+bool ReferenceStand::front_ready() const {
+  if (pending_.empty()) return false;
+  for (const auto& slot : pending_.front().second)
+    if (!slot->x) return false;
+  return true;
+}
+
+Target ReferenceStand::pop(std::vector<Positions>& positions) {
+  positions.clear();
+  for (const auto& slot : pending_.front().second) positions.push_back(slot->x);
+  const Target target = pending_.front().first;
+  pending_.pop_front();
+  return target;
+}
+
+double ReferenceStand::next_time() const {
+  return requests_.empty() ? std::numeric_limits<double>::infinity() : requests_.top().t;
+}
+
+const ReferenceStand::Sample* ReferenceStand::reach(std::int64_t k) {
+  for (const Sample* s : {&last_, &before_})
+    if (s->step == k) return s;
+  if (k < run_.state().step)  // served in time order: at most one step back, which is kept
+    throw std::logic_error("the reference lane was asked for a step it has passed");
+  if (!run_.advance_to(static_cast<double>(k) * run_.dt()) || run_.stopped()) return nullptr;
+  const std::size_t n = 3 * static_cast<std::size_t>(model_.num_particles);
+  std::swap(before_, last_);
+  last_.step = run_.state().step;
+  last_.x.assign(run_.state().x.data(), run_.state().x.data() + n);
+  last_.v.assign(run_.state().v.data(), run_.state().v.data() + n);
+  return &last_;
+}
+
+bool ReferenceStand::serve_next() {
+  const Request request = requests_.top();
+  const double H = run_.dt(), t = request.t;
+  if (const std::int64_t k = step_at(t, H); k >= 0) {  // one of the reference's own steps
+    const Sample* at = reach(k);
+    if (!at) return false;
+    request.slot->x = std::make_shared<const std::vector<double>>(at->x);
+  } else {
+    const std::int64_t before = static_cast<std::int64_t>(std::floor(t / H));
+    if (!reach(before)) return false;
+    const Sample* b = reach(before + 1);
+    if (!b) return false;
+    if (before_.step != before) throw std::logic_error("the reference lane lost the step before a lane's time");
+    auto x = std::make_shared<std::vector<double>>();
+    hermite_positions(before_.x, before_.v, static_cast<double>(before) * H, b->x, b->v,
+                      static_cast<double>(before + 1) * H, t, *x);
+    request.slot->x = std::move(x);
+  }
+  requests_.pop();
+  return true;
+}
+
+}  // namespace clothsim::cli
