@@ -110,12 +110,8 @@ struct FramePipeline::Impl {
   Impl(const Model& m, const TargetPlan& p, std::vector<LaneSpec> l, PipelineConfig c, Renderer* r)
       : model(m), plan(p), config(std::move(c)), renderer(r), lanes(std::move(l)), range(config.color_range) {}
 
-  LaneNeeds needs(bool is_reference) const {
+  LaneNeeds needs() const {
     LaneNeeds n;
-    if (is_reference) {
-      n.positions = true;
-      return n;
-    }
     n.picture = config.rendering;
     n.metrics = config.metrics;
     // The inset's curve: sampled at the clip's frame rate whatever the targets (a still too).
@@ -131,13 +127,13 @@ struct FramePipeline::Impl {
     lane_models.resize(lanes.size());
     for (std::size_t i = 0; i < lanes.size(); ++i)
       workers.push_back(std::make_unique<LaneWorker>(lane_model(model, lanes[i], lane_models[i]), lanes[i], plan,
-                                                     needs(false), 4, interrupt));
+                                                     needs(), 4, interrupt));
     if (config.color == FieldKind::Error && config.reference) {
       // Lanes land on the first step at or past each frame time, not on it, each at its own
       // step: the reference hands over its positions at every lane's landing time (its own
       // step's state where it lands there, as the default's quarter step does, else
       // interpolated between two), so no lane's error holds a time offset times |v|.
-      LaneNeeds n = needs(true);
+      LaneNeeds n;  // the positions at the lanes' times, nothing else
       for (const LaneSpec& lane : lanes) n.stand_for.push_back(lane.dt);
       reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, 4, interrupt);
     }

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <stdexcept>
 
 #include "diagnostics.h"
 #include "reference_stand.h"
