@@ -161,13 +161,46 @@ TEST(CmdCompare, ADivergedLanesErrorIsSaidToBeMeasuredOnlyUpToItsBlowUp) {
   };
   const std::string diverged = line_of("explicit_euler"), fine = line_of("midpoint");
   EXPECT_NE(diverged.find("error against rk4"), std::string::npos) << r.out;
-  double measured = -1.0, blew_up = -1.0;
-  const std::size_t at = diverged.find("(measured to t = ");
+  double first = -1.0, measured = -1.0, blew_up = -1.0;
+  long frames = 0;
+  const std::size_t at = diverged.find("(measured at ");
   ASSERT_NE(at, std::string::npos) << diverged;
-  ASSERT_EQ(std::sscanf(diverged.c_str() + at, "(measured to t = %lf s; it diverged at t = %lf s)", &measured, &blew_up), 2)
+  ASSERT_EQ(std::sscanf(diverged.c_str() + at, "(measured at %ld frames, t = %lf to %lf s; it diverged at t = %lf s)",
+                        &frames, &first, &measured, &blew_up), 4)
       << diverged;
   EXPECT_LT(measured, blew_up) << diverged;
-  EXPECT_EQ(fine.find("measured to"), std::string::npos) << fine;
+  EXPECT_EQ(fine.find("diverged"), std::string::npos) << fine;
+  // The lane that ran on was measured at every target: the still's, and the colour scale's
+  // first second, which here is the whole 0.2 s (frames at 30 Hz, the scale taken from the data).
+  EXPECT_NE(fine.find("(measured at 7 frames, t = 0 to 0.2 s)"), std::string::npos) << fine;
+}
+
+TEST(CmdCompare, TheColourScaleFromTheDataLeavesOutTheLanesThatDiverged) {
+  // Explicit Euler at 3e-4 s blows up on the drape, its strain reaching 0.6 before it is caught;
+  // RK4 runs on at 0.014. Fitted to both, the scale (0.001 to 1) left RK4 one colour; fitted
+  // to the lanes that ran on, it is 1e-4 to 0.1.
+  const std::string dir = scratch_dir("compare_scale_diverged");
+  const auto r = compare_small({"--integrators", "explicit_euler,rk4", "--dt", "3e-4", "--color", "strain",
+                                "--still", "0.2", "-o", dir + "/still.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("colour scale for strain: 0.0001 to 0.1, from the first second of the lanes that did not diverge"),
+            std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("it diverged at t = "), std::string::npos) << r.out;
+  // Every lane diverged: the scale is theirs, there being no other.
+  const auto all = compare_small({"--integrators", "explicit_euler", "--dt", "3e-4", "--color", "strain", "--still",
+                                  "0.2", "-o", dir + "/all.png"});
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_NE(all.err.find("colour scale for strain: 0.001 to 1, from the first second ("), std::string::npos) << all.err;
+}
+
+TEST(CmdCompare, TheErrorLinesSayWhichFramesTheyCover) {
+  // A contact sheet measures at its columns only (with the scale given, no first second).
+  const std::string dir = scratch_dir("compare_error_cover");
+  const auto r = compare_small({"--integrators", "midpoint", "--sheet", dir + "/sheet.png", "--times", "0.1,0.2",
+                                "--color-range", "1e-6,1e-2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("midpoint @ 0.0001 s: error against rk4 @ 2.5e-05 s: largest "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(measured at 2 frames, t = 0.1 to 0.2 s)"), std::string::npos) << r.out;
 }
 
 TEST(CmdCompare, AReferenceThatDivergesIsWarnedOfAndEveryErrorLineSaysWhereMeasuringStopped) {

@@ -115,26 +115,32 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
   if (color != FieldKind::None)
     for (std::size_t i = 0; i < report.lanes.size(); ++i) {
       const LaneResult& r = report.lanes[i];
-      // A lane that diverged was measured only up to its last frame before the blow-up: say so,
-      // or "largest 0 m" would read as a perfect lane.
-      // So was every lane, when the reference it is measured against diverged.
-      char measured[128] = "";
+      // Which frames the numbers cover: a clip's every frame, a sheet's or a still's only the
+      // times it shows (and the colour scale's first second). A lane that diverged was
+      // measured only up to its last frame before the blow-up: say so, or "largest 0 m" would
+      // read as a perfect lane. So was every lane, when the reference it is measured against
+      // diverged.
       const bool reference_diverged = color == FieldKind::Error && report.reference && report.reference->divergence;
-      char upto[48] = "never measured";  // no frame of it had a field (the first was past the blow-up)
-      if (std::isfinite(report.field_last_t[i]))
-        std::snprintf(upto, sizeof upto, "measured to t = %.3g s", report.field_last_t[i]);
+      std::string measured = " (never measured";  // no frame of it had a field (the first was past the blow-up)
+      if (report.field_count[i] > 0) {
+        char covered[96];
+        std::snprintf(covered, sizeof covered, " (measured at %ld frame%s, t = %.4g to %.4g s", report.field_count[i],
+                      report.field_count[i] == 1 ? "" : "s", report.field_first_t[i], report.field_last_t[i]);
+        measured = covered;
+      }
+      char why[80] = "";
       if (r.divergence)
-        std::snprintf(measured, sizeof measured, " (%s; it diverged at t = %.6g s)", upto, r.divergence->t);
+        std::snprintf(why, sizeof why, "; it diverged at t = %.6g s", r.divergence->t);
       else if (reference_diverged)
-        std::snprintf(measured, sizeof measured, " (%s; the reference diverged at t = %.6g s)", upto,
-                      report.reference->divergence->t);
+        std::snprintf(why, sizeof why, "; the reference diverged at t = %.6g s", report.reference->divergence->t);
+      measured += std::string(why) + ")";
       std::printf("%s @ %s s: %s%s largest %.3g%s, at the end %.3g%s%s\n", r.spec.name().c_str(),
                   r.spec.step_text.c_str(), std::string(field_kind_name(color)).c_str(),
                   color == FieldKind::Error && report.reference
                       ? (" against " + report.reference->spec.name() + " @ " + report.reference->spec.step_text + " s:").c_str()
                       : ":",
                   report.field_max[i], field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str(),
-                  measured);
+                  measured.c_str());
     }
   for (const LaneResult& r : report.lanes)
     if (r.spec.fixed_point)  // the course's one-iteration fixed point: no Newton, no CG, no contacts held
@@ -160,7 +166,11 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
 
 // A lane's colouring field in numbers (NaN, written null, when it was never coloured).
 JsonObject& with_field(JsonObject& lane, const PipelineReport& report, std::size_t i) {
-  return lane.number("field_max", report.field_max[i]).number("field_last", report.field_last[i]);
+  return lane.number("field_max", report.field_max[i])
+      .number("field_last", report.field_last[i])
+      .number("field_frames", static_cast<double>(report.field_count[i]))
+      .number("field_first_t", report.field_first_t[i])
+      .number("field_last_t", report.field_last_t[i]);
 }
 
 int compare_command(const CompareOptions& o) {
@@ -357,7 +367,9 @@ void add_compare_command(CLI::App& app, Command& command) {
       "and a summary table of cost and divergence on stdout. By default each tile is coloured by its\n"
       "error against a reference lane (RK4 at a quarter of the smallest step, or at its predicted\n"
       "stable step if smaller) and shows its force evaluations. Divergence is a result here (exit 0).\n"
-      "Without --video or --frames, the lanes stop at the last --times or --still.");
+      "Without --video or --frames, the lanes stop at the last --times or --still (at 1 s at least when\n"
+      "the colour scale is taken from the first second's data; --color-range LO,HI avoids that).\n"
+      "Beneath the table, each lane's field in numbers, with the frames they cover.");
   add_scene_options(sub, o->scene, /*single_run=*/false);
   add_gl_options(sub, o->gl);
   add_progress_options(sub);

@@ -102,7 +102,8 @@ struct FramePipeline::Impl {
   // Per lane, a frame handed over but not yet rendered, with its field.
   std::vector<std::pair<std::shared_ptr<const LaneFrame>, std::vector<float>>> unrendered;
   std::deque<TargetFrames> held;      // targets waiting for the colour scale
-  std::vector<double> field_max, field_last, field_last_t;  // PipelineReport's
+  std::vector<double> field_max, field_last, field_last_t, field_first_t;  // PipelineReport's
+  std::vector<long> field_count;
   std::optional<ColorRange> range;
   double wait_seconds = 0.0, render_seconds = 0.0;
   long processed = 0;
@@ -143,7 +144,8 @@ struct FramePipeline::Impl {
     energy.resize(lanes.size());
     unrendered.resize(lanes.size());
     field_max.assign(lanes.size(), std::numeric_limits<double>::quiet_NaN());
-    field_last = field_last_t = field_max;
+    field_last = field_last_t = field_first_t = field_max;
+    field_count.assign(lanes.size(), 0);
     output_seconds.assign(outputs.size(), 0.0);
   }
 
@@ -196,6 +198,7 @@ struct FramePipeline::Impl {
       for (float v : out.fields[i]) largest = std::max(largest, static_cast<double>(v));
       field_last[i] = largest;
       field_last_t[i] = current[i]->t;
+      if (field_count[i]++ == 0) field_first_t[i] = current[i]->t;
       if (!(field_max[i] >= largest)) field_max[i] = largest;
     }
     return true;
@@ -205,16 +208,31 @@ struct FramePipeline::Impl {
 
   void fix_range() {
     if (range || config.color == FieldKind::None) return;
+    // Lanes that diverged within the window are left out (unless every lane did): the states
+    // before a blow-up is caught are already far off (strain in the hundreds, speeds of km/s),
+    // and a scale fitted to them would leave every lane that ran on one flat colour. Their
+    // held pictures then show at the top of the scale.
+    const bool all_diverged = all_frozen();
     std::vector<const std::vector<float>*> data;
+    bool left_out = false;
     for (const TargetFrames& t : held)
-      for (const std::vector<float>& f : t.fields) data.push_back(&f);
+      for (std::size_t i = 0; i < t.fields.size(); ++i) {
+        if (frozen[i] && !all_diverged) {
+          left_out = left_out || !t.fields[i].empty();
+          continue;
+        }
+        data.push_back(&t.fields[i]);
+      }
     range = range_from_data(data, config.color);
     const bool from_data = range.has_value();
     if (!range) range = ColorRange{1e-6, 1e-3};  // a cloth at rest: nothing to scale by
     if (!quiet())
       std::fprintf(stderr, "%s: colour scale for %s: %g to %g%s, %s (set it with --color-range LO,HI)\n",
                    config.command.c_str(), std::string(field_kind_name(config.color)).c_str(), range->lo, range->hi,
-                   field_unit(config.color).c_str(), from_data ? "from the first second" : "the first second is at rest");
+                   field_unit(config.color).c_str(),
+                   !from_data  ? "the first second is at rest"
+                   : left_out ? "from the first second of the lanes that did not diverge"
+                              : "from the first second");
   }
 
   void process(const TargetFrames& t) {
@@ -338,6 +356,8 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
   report.field_max = p.field_max;
   report.field_last = p.field_last;
   report.field_last_t = p.field_last_t;
+  report.field_count = p.field_count;
+  report.field_first_t = p.field_first_t;
   report.wait_seconds = p.wait_seconds;
   report.render_seconds = p.render_seconds;
   for (std::size_t o = 0; o < p.outputs.size(); ++o)

@@ -85,6 +85,10 @@ struct PipelineReport {
   // with --color error, how far each lane strayed from the reference, in numbers.
   std::vector<double> field_max, field_last;
   std::vector<double> field_last_t;  // s: the frame field_last is from (NaN: never coloured)
+  // What field_max covers: how many targets had the field, the first one's time. A sheet or a
+  // still samples the targets it shows (and the colour scale's first second), a clip every frame.
+  std::vector<long> field_count;
+  std::vector<double> field_first_t;
   double wait_seconds = 0.0, render_seconds = 0.0;  // this thread: waiting on lanes, rendering
   std::vector<std::pair<std::string, double>> output_seconds;  // per output
   long targets = 0;  // processed
