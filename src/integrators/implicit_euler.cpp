@@ -308,7 +308,8 @@ class NewtonSolve {
       r_norm2_ = c_.rhs.squaredNorm();  // (the line search's too: rhs stays as it is till then)
       const double r_norm = std::sqrt(r_norm2_);  // = rhs.norm(), to the bit
       const double scale = std::max(impulse_scale_, momentum_norm(c_.mass_squared, c_.dv));
-      stats_.residual = r_norm / scale;
+      // (0 / 0 where nothing can move, no spring and no body term: nothing to solve, solved)
+      stats_.residual = r_norm == 0.0 ? 0.0 : r_norm / scale;
       if (judge_reuse_) {  // the last iteration reused a matrix: did it serve?
         judge_reuse_ = false;
         trusted_ = stats_.residual <= cfg_.newton_tolerance ||

@@ -116,11 +116,19 @@ TEST(CmdGolden, ABadManifestExitsTwoWithFileLineAndKey) {
     EXPECT_EQ(line_count(r.err), 1) << r.err;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
   }
+  // Named against the manifest too: a scene that is not there, a time past the scene's end.
   write(dir + "/m.yaml", "goldens:\n  - {scene: nowhere.yaml, times: [1]}\n");
   const CliResult r = run_clothsim({"golden", "check", dir + "/m.yaml"});
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("nowhere.yaml: cannot open: no such file"), std::string::npos) << r.err;
-  EXPECT_TRUE(only_files(dir, {"m.yaml"}));
+  EXPECT_NE(r.err.find("m.yaml:2: goldens[0].scene: no such scene file: "), std::string::npos) << r.err;
+  fs::copy_file(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", dir + "/d.yaml");  // 5 s
+  write(dir + "/m.yaml", "goldens:\n  - scene: d.yaml\n    times: [1, 9]\n");
+  const CliResult late = run_clothsim({"golden", "update", dir + "/m.yaml"});
+  EXPECT_EQ(late.exit_code, 2);
+  EXPECT_EQ(line_count(late.err), 1) << late.err;
+  EXPECT_NE(late.err.find("m.yaml:2: goldens[0].times: 9 s is past the scene's duration (5 s)"), std::string::npos)
+      << late.err;
+  EXPECT_TRUE(only_files(dir, {"m.yaml", "d.yaml"})) << "nothing rendered";
 }
 
 }  // namespace

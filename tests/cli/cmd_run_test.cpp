@@ -53,6 +53,24 @@ TEST(CmdRun, WritesMetricsPerFrameAndTheFinalStateAtFullPrecision) {
   EXPECT_TRUE(only_files(dir, {"m.csv", "s.csv"}));
 }
 
+TEST(CmdRun, TwoOutputsAtOnePathAreAUsageErrorBeforeAnyWork) {
+  // Each would overwrite the other; the second spelling of the path (./, a directory and ..)
+  // is the same file.
+  const std::string dir = scratch_dir("run_shared_output");
+  fs::create_directories(dir + "/sub");
+  const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--duration", "0.1", "--metrics", dir + "/m.csv",
+                                    "--summary", dir + "/sub/../m.csv"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--summary and --metrics both write "), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/m.csv"));
+  const CliResult c = run_clothsim({"compare", shipped("spring.yaml"), "--duration", "0.1", "--width", "320", "--height",
+                                    "180", "--still", "0.1", "-o", dir + "/x.png", "--sheet", dir + "/./x.png",
+                                    "--times", "0.1"});
+  EXPECT_EQ(c.exit_code, 2) << c.err;
+  EXPECT_NE(c.err.find("both write"), std::string::npos) << c.err;
+  EXPECT_FALSE(fs::exists(dir + "/x.png"));
+}
+
 TEST(CmdRun, SameSceneTwiceGivesIdenticalStateFiles) {
   const std::string dir = scratch_dir("run_twice");
   for (const char* name : {"a.csv", "b.csv"})

@@ -35,6 +35,20 @@ void require_writable_parent(const std::string& path, const std::string& what) {
     throw UsageError(what + ": " + path + " exists, and -n/--no-overwrite keeps it");
 }
 
+void refuse_shared_outputs(const std::vector<std::pair<std::string, std::string>>& outputs) {
+  std::vector<std::pair<fs::path, std::string>> seen;
+  for (const auto& [path, what] : outputs) {
+    if (path.empty()) continue;
+    std::error_code ec;
+    fs::path resolved = fs::weakly_canonical(fs::absolute(path, ec), ec);
+    if (ec) resolved = fs::absolute(path).lexically_normal();
+    for (const auto& [other, other_what] : seen)
+      if (other == resolved)
+        throw UsageError(what + " and " + other_what + " both write " + path + ": give each its own path");
+    seen.emplace_back(resolved, what);
+  }
+}
+
 namespace {
 std::atomic<bool> g_no_overwrite{false};
 }  // namespace

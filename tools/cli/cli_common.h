@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "progress.h"  // Progress, --progress, --quiet: every command uses them
@@ -56,6 +57,10 @@ std::string temp_path_beside(const std::string& path);
 // writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist"), or with
 // -n/--no-overwrite UsageError when `path` exists.
 void require_writable_parent(const std::string& path, const std::string& what);
+// Two outputs of one command at the same path (after resolving . and .. and symlinks of the
+// directories) would overwrite each other: a UsageError naming both options, before any work.
+// `outputs`: (path, option) pairs; empty paths are skipped.
+void refuse_shared_outputs(const std::vector<std::pair<std::string, std::string>>& outputs);
 // -n/--no-overwrite (ffmpeg's -n): an output that exists already is a UsageError (exit 2),
 // raised by require_writable_parent() before any work; set by the option (progress.h).
 bool no_overwrite();

@@ -177,6 +177,7 @@ int bench_command(const BenchOptions& o) {
   }
 
   // Outputs are checked (and python/matplotlib found) before minutes of simulation.
+  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   std::unique_ptr<PlotScript> plot;

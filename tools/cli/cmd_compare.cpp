@@ -205,6 +205,8 @@ int compare_command(const CompareOptions& o) {
   const bool rendering = with_frames || !o.sheet.empty() || o.still_t;
   PictureLook look = resolve_picture_look(o.look, scene, lanes, /*compare=*/true);
   if (!rendering) look = PictureLook{};  // a summary alone: no pictures, no reference lane
+  refuse_shared_outputs({{o.video, "--video"}, {o.sheet, "--sheet"}, {o.still_out, "-o/--output"},
+                         {o.summary, "--summary"}, {o.frames_dir, "--frames"}});
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
   if (!o.sheet.empty()) require_writable_parent(o.sheet, "--sheet");
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");

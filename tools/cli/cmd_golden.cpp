@@ -122,10 +122,23 @@ int golden_command(const GoldenOptions& o, bool update) {
   const GoldenManifest manifest = load_golden_manifest(o.manifest);
   // Every scene is read before any rendering, so a bad one fails at once (exit 2).
   std::vector<SceneDef> scenes;
-  for (const GoldenEntry& e : manifest.entries) {
+  for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
+    const GoldenEntry& e = manifest.entries[i];
+    const std::string key = "goldens[" + std::to_string(i) + "]";
+    // Named against the manifest's line: the scene it points at, and times the run has (as
+    // `run --still` refuses a time past the scene's duration).
+    if (!fs::is_regular_file(e.scene))
+      throw SceneError(manifest.path, e.line, key + ".scene", "no such scene file: " + e.scene);
     scenes.push_back(load_scene(e.scene));
     if (e.integrator) scenes.back().integrator = *e.integrator;
     if (e.dt) scenes.back().dt = *e.dt;
+    for (double t : e.times)
+      if (t > scenes.back().duration + 1e-9) {
+        char what[160];
+        std::snprintf(what, sizeof what, "%g s is past the scene's duration (%g s): the run has no picture there", t,
+                      scenes.back().duration);
+        throw SceneError(manifest.path, e.line, key + ".times", what);
+      }
   }
   if (!o.failures_dir.empty() && !update) ensure_directory(o.failures_dir, "--failures");
   const std::unique_ptr<Renderer> renderer = make_renderer(o.gl);

@@ -67,6 +67,8 @@ int run_command(const RunOptions& o) {
 
   // Every output is checked before any work, so a typo fails in milliseconds.
   // With -n, an output that exists already is refused here too (exit 2), untouched.
+  refuse_shared_outputs({{o.metrics, "--metrics"}, {o.state, "--state"}, {o.video, "--video"},
+                         {o.still_out, "-o/--output"}, {o.summary, "--summary"}, {o.frames_dir, "--frames"}});
   if (!o.metrics.empty()) require_writable_parent(o.metrics, "--metrics");
   if (!o.state.empty()) require_writable_parent(o.state, "--state");
   if (!o.video.empty()) require_writable_parent(o.video, "--video");

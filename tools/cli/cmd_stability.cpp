@@ -222,6 +222,7 @@ int stability_command(const StabilityOptions& o) {
     throw UsageError(std::string("stability: ") + e.what() + " (--min-dt, --max-dt, --duration, --precision, --energy-factor, --max-strain)");
   }
 
+  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   std::unique_ptr<PlotScript> plot;

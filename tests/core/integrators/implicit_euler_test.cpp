@@ -569,6 +569,26 @@ TEST(ImplicitEuler, ASpringDecayedToRestStillConverges) {
   EXPECT_EQ(run.totals().unconverged_steps, 0) << "largest residual " << run.totals().max_residual;
 }
 
+TEST(ImplicitEuler, AStepWithNothingToMoveIsConverged) {
+  // A one-particle cloth pinned at its corner: no spring, no free body, a residual of 0 and a
+  // scale of 0. Nothing to solve is solved (0 / 0 had read as not converged: run --strict
+  // exited 4 on it).
+  const Model model = model_from_yaml(R"(
+name: pinned
+cloth:
+  particles: [1, 1]
+  size: [1, 1]
+  pinned: corners
+)");
+  State state = initial_state(model);
+  Workspace ws;
+  for (int n = 0; n < 3; ++n) {
+    const StepStats s = implicit_euler_step(model, state, 1e-2, ws);
+    EXPECT_TRUE(s.converged) << "step " << n;
+    EXPECT_EQ(s.residual, 0.0);
+  }
+}
+
 TEST(ImplicitEuler, SolvesAHardCompressedSheetAtAHugeStep) {
   // Every spring at 60% of its rest length, h = 0.5 s (w h ~ 100): the exact stiffness makes
   // the Newton matrix indefinite here (sparse_system_test), so this exercises the truncated
