@@ -402,13 +402,32 @@ TEST(CmdRun, AWriteFailureOnAnyOutputIsOneLineExit1AndLeavesNothing) {
     EXPECT_EQ(line_count(r.err), 1) << option << "\n" << r.err;
     EXPECT_NE(r.err.find("cannot write " + dir + "/" + name), std::string::npos) << option << "\n" << r.err;
     EXPECT_NE(r.err.find("File too large"), std::string::npos) << option << "\n" << r.err;
-    if (option == "--frames") EXPECT_TRUE(only_files(dir + "/f", {})) << "no PNG, whole or partial";
-    else EXPECT_TRUE(only_files(dir, {})) << option << ": nothing under the name, no temporary";
+    // Nothing under the name, no temporary; for --frames no PNG, whole or partial, and not
+    // the directory it made either.
+    EXPECT_TRUE(only_files(dir, {})) << option;
   }
 }
 
 // SIGKILL cannot be caught: outputs are created without a name (O_TMPFILE) and named only
 // when complete, so a killed run leaves nothing at all, not even a hidden temporary.
+TEST(CmdRun, AWriteFailureSaysWhatItKeptAndDropsTheRest) {
+  // The PNGs written before the failure are whole and stay, as after a signal; the outputs
+  // not finished are dropped, and the line says so.
+  const std::string dir = scratch_dir("run_fsize_several");
+  const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--duration", "2", "--set", "render.width=320",
+                                    "--set", "render.height=180", "--frames", dir + "/f", "--video", dir + "/v.mp4",
+                                    "--state", dir + "/s.csv"},
+                                   "ulimit -f 60;");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("File too large; kept "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" PNGs in " + dir + "/f"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not written: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(dir + "/s.csv"), std::string::npos) << "the state, written after the run\n" << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/v.mp4"));
+  EXPECT_FALSE(fs::exists(dir + "/s.csv"));
+}
+
 TEST(CmdRun, SigkillLeavesNoFileAndNoTemporary) {
   const std::string dir = scratch_dir("run_sigkill");
   const StoppedResult r = run_clothsim_interrupted(

@@ -122,19 +122,22 @@ const char* interrupt_signal_name() {
   return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
 }
 
-std::string interruption_message(double t, const std::vector<std::string>& kept,
-                                 const std::vector<std::string>& not_written) {
-  char when[64];
-  std::snprintf(when, sizeof when, "%.6g", t);
-  std::string out = std::string("stopped by ") + interrupt_signal_name() + " at t = " + when + " s; ";
+std::string what_stays(const std::vector<std::string>& kept, const std::vector<std::string>& not_written) {
   const auto join = [](const std::vector<std::string>& items) {
     std::string text;
     for (const std::string& item : items) text += (text.empty() ? "" : ", ") + item;
     return text;
   };
-  out += kept.empty() ? "nothing kept" : "kept " + join(kept);
+  std::string out = kept.empty() ? "nothing kept" : "kept " + join(kept);
   if (!not_written.empty()) out += "; not written: " + join(not_written);
   return out;
+}
+
+std::string interruption_message(double t, const std::vector<std::string>& kept,
+                                 const std::vector<std::string>& not_written) {
+  char when[64];
+  std::snprintf(when, sizeof when, "%.6g", t);
+  return std::string("stopped by ") + interrupt_signal_name() + " at t = " + when + " s; " + what_stays(kept, not_written);
 }
 
 void install_interrupt_handler() {

@@ -70,6 +70,9 @@ void refuse_existing_frames(const std::string& dir, const std::string& what);
 // Creates `dir` (and parents) if missing; throws RuntimeFailure when impossible.
 void ensure_directory(const std::string& dir, const std::string& what);
 
+// What a stopped or failed command leaves: "kept A, B; not written: C" ("nothing kept").
+std::string what_stays(const std::vector<std::string>& kept, const std::vector<std::string>& not_written);
+
 // Set by the SIGINT/SIGTERM handler (install_interrupt_handler); long loops poll it and stop
 // cleanly. interrupt_signal() is the signal that arrived (0: none).
 // A second SIGINT or SIGTERM ends the process at once (the handler restores the defaults).

@@ -299,7 +299,9 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
   Impl& p = *impl_;
   p.start();
   auto progress = std::make_unique<Progress>(progress_label, p.plan.size(), "frames");
+  bool stopped = false;  // a signal: stop_here's message already says what stays
   const auto stop_here = [&](double t) -> RuntimeFailure {
+    stopped = true;
     p.stop_lanes();
     progress.reset();
     std::vector<std::string> kept, lost;
@@ -307,39 +309,56 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
     lost.insert(lost.end(), not_written.begin(), not_written.end());
     return RuntimeFailure(interruption_message(t, kept, lost));
   };
-  // Targets wait for the colour scale while it is chosen from the data (the first second).
-  const bool choosing_range = p.config.color != FieldKind::None && !p.range;
-  const double window_end = std::min(kColorScaleWindow, p.plan.duration());
-  TargetPlan::Cursor cursor(p.plan);
-  long n = 0;
-  double last_t = 0.0;
-  bool ended = false;  // stop_when_all_frozen, and every lane has diverged
-  for (Target target; cursor.next(target); ++n) {
+  // A failure (a full disk, ulimit -f) is handled as a signal is: the outputs not finished are
+  // dropped, and the one-line error says what stays (the PNGs already written, the outputs
+  // finished before the one that failed) and what is not written.
+  std::size_t finished = 0;
+  try {
+    // Targets wait for the colour scale while it is chosen from the data (the first second).
+    const bool choosing_range = p.config.color != FieldKind::None && !p.range;
+    const double window_end = std::min(kColorScaleWindow, p.plan.duration());
+    TargetPlan::Cursor cursor(p.plan);
+    long n = 0;
+    double last_t = 0.0;
+    bool ended = false;  // stop_when_all_frozen, and every lane has diverged
+    for (Target target; cursor.next(target); ++n) {
+      if (interrupted()) throw stop_here(last_t);
+      if (ended) {
+        // A run that diverged ends its clip there; a still or sheet column still to come shows
+        // the held picture of the blow-up.
+        if (!target.still && target.column < 0) continue;
+        target.frame = -1;
+      }
+      TargetFrames frames;
+      if (!p.collect(target, frames)) throw stop_here(target.t);
+      last_t = target.t;
+      if (choosing_range && !p.range) {
+        p.held.push_back(std::move(frames));
+        if (target.t >= window_end - 1e-9 || (p.config.stop_when_all_frozen && p.all_frozen())) p.flush_held();
+      } else {
+        p.process(frames);
+      }
+      progress->update(n + 1);
+      ended = p.config.stop_when_all_frozen && p.all_frozen();
+    }
     if (interrupted()) throw stop_here(last_t);
-    if (ended) {
-      // A run that diverged ends its clip there; a still or sheet column still to come shows
-      // the held picture of the blow-up.
-      if (!target.still && target.column < 0) continue;
-      target.frame = -1;
+    p.flush_held();  // a clip shorter than the window, or one that stopped inside it
+    progress.reset();
+    for (; finished < p.outputs.size(); ++finished) {
+      Stopwatch watch(p.output_seconds[finished]);
+      p.outputs[finished]->finish();
     }
-    TargetFrames frames;
-    if (!p.collect(target, frames)) throw stop_here(target.t);
-    last_t = target.t;
-    if (choosing_range && !p.range) {
-      p.held.push_back(std::move(frames));
-      if (target.t >= window_end - 1e-9 || (p.config.stop_when_all_frozen && p.all_frozen())) p.flush_held();
-    } else {
-      p.process(frames);
+  } catch (const RuntimeFailure& e) {
+    if (stopped) throw;
+    p.stop_lanes();
+    progress.reset();
+    std::vector<std::string> kept, lost;
+    for (std::size_t o = 0; o < p.outputs.size(); ++o) {
+      if (o < finished) p.outputs[o]->kept(kept);
+      else p.outputs[o]->abandon(kept, lost);
     }
-    progress->update(n + 1);
-    ended = p.config.stop_when_all_frozen && p.all_frozen();
-  }
-  if (interrupted()) throw stop_here(last_t);
-  p.flush_held();  // a clip shorter than the window, or one that stopped inside it
-  progress.reset();
-  for (std::size_t o = 0; o < p.outputs.size(); ++o) {
-    Stopwatch watch(p.output_seconds[o]);
-    p.outputs[o]->finish();
+    lost.insert(lost.end(), not_written.begin(), not_written.end());
+    throw RuntimeFailure(std::string(e.what()) + "; " + what_stays(kept, lost));
   }
 
   PipelineReport report;

@@ -72,8 +72,11 @@ class FrameOutput {
   virtual void on_target(const Target& target, const std::vector<LaneView>& lanes) = 0;
   // Completes the output (named only now); called once after the last target.
   virtual void finish() = 0;
-  // A signal: drops what is incomplete and says what stays on disk and what is not written.
+  // A signal, or another output failing: drops what is incomplete and says what stays on disk
+  // and what is not written.
   virtual void abandon(std::vector<std::string>& kept, std::vector<std::string>& lost) = 0;
+  // After finish(), when a later output failed: what this one wrote, which stays.
+  virtual void kept(std::vector<std::string>& kept) { (void)kept; }
 };
 
 struct PipelineReport {

@@ -28,6 +28,7 @@ class VideoOutput final : public FrameOutput {
     sink_->abandon();
     lost.push_back(path_);
   }
+  void kept(std::vector<std::string>& kept) override { kept.push_back(path_); }
  private:
   std::unique_ptr<FrameSink> sink_;
   std::string path_;
@@ -47,6 +48,10 @@ class FramesOutput final : public FrameOutput {
   void abandon(std::vector<std::string>& kept, std::vector<std::string>&) override {
     const std::string left = sink_->abandon();  // PNGs already written are complete: they stay
     if (!left.empty()) kept.push_back(left);
+  }
+  void kept(std::vector<std::string>& kept) override {
+    const std::string all = sink_->abandon();  // (finished: says what it wrote)
+    if (!all.empty()) kept.push_back(all);
   }
  private:
   std::unique_ptr<FrameSink> sink_;
@@ -69,6 +74,9 @@ class StillOutput final : public FrameOutput {
   void abandon(std::vector<std::string>& kept, std::vector<std::string>& lost) override {
     (written_ ? kept : lost).push_back(path_);
   }
+  void kept(std::vector<std::string>& kept) override {
+    if (written_) kept.push_back(path_);
+  }
  private:
   std::string path_;
   Composer composer_;
@@ -90,6 +98,7 @@ class SheetOutput final : public FrameOutput {
   }
   void finish() override { write_png(path_, compose_contact_sheet(cells_, rows_, columns_), meta_); }
   void abandon(std::vector<std::string>&, std::vector<std::string>& lost) override { lost.push_back(path_); }
+  void kept(std::vector<std::string>& kept) override { kept.push_back(path_); }
  private:
   std::string path_;
   std::vector<std::string> rows_, columns_;
@@ -107,6 +116,7 @@ class MetricsOutput final : public FrameOutput {
   }
   void finish() override { writer_->commit(); }
   void abandon(std::vector<std::string>&, std::vector<std::string>& lost) override { lost.push_back(path_); }
+  void kept(std::vector<std::string>& kept) override { kept.push_back(path_); }
  private:
   std::unique_ptr<MetricsWriter> writer_;
   std::string path_;

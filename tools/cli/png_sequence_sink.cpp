@@ -2,6 +2,7 @@
 // as much as rendering a frame, so it runs on a background thread: add() queues a copy of
 // the frame and returns; a short queue keeps memory flat however long the clip. A failed
 // write is reported by the next add() or by finish(), naming the file.
+#include <filesystem>
 #include <condition_variable>
 #include <cstdio>
 #include <deque>
@@ -23,6 +24,8 @@ constexpr int kZlibLevel = 1;
 class PngSequenceSink final : public FrameSink {
  public:
   PngSequenceSink(std::string dir, PngText meta) : dir_(std::move(dir)), meta_(std::move(meta)) {
+    std::error_code ec;
+    created_ = !std::filesystem::exists(dir_, ec);
     ensure_directory(dir_, "--frames");  // fail before any simulation, not at the first frame
     refuse_existing_frames(dir_, "--frames");
     writer_ = std::thread([this] { write_loop(); });
@@ -38,7 +41,12 @@ class PngSequenceSink final : public FrameSink {
     }
     ready_.notify_all();
     if (writer_.joinable()) writer_.join();  // at most the PNG being written finishes
-    if (written_ == 0) return "";
+    if (written_ == 0) {
+      // Nothing in it: a directory this sink made goes too (a failed compare left one per lane).
+      std::error_code ec;
+      if (created_) std::filesystem::remove(dir_, ec);
+      return "";
+    }
     return std::to_string(written_) + (written_ == 1 ? " PNG in " : " PNGs in ") + dir_;
   }
 
@@ -104,6 +112,7 @@ class PngSequenceSink final : public FrameSink {
   std::condition_variable space_;  // add(): room in the queue, or an error
   std::deque<Job> queue_;
   bool finishing_ = false, abandoned_ = false;
+  bool created_ = false;  // the directory did not exist before this sink
   std::string error_;              // first failure; guarded by mutex_ until the writer has joined
   long written_ = 0;               // PNGs on disk; the writer's alone until it has joined
   std::thread writer_;
