@@ -213,6 +213,22 @@ TEST(CmdCompare, AReferenceThatDivergesIsWarnedOfAndEveryErrorLineSaysWhereMeasu
   EXPECT_NE(r.err.find("give --reference NAME@STEP"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("; the reference diverged at t = "), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(dir + "/still.png"));
+  // The tile, drawn in the checker for want of a reference, says why on the picture: it is
+  // the checker picture plus one overlay line, in the overlay's box at the top left.
+  const auto checker = compare_small({"--integrators", "midpoint", "--color", "checker", "--still", "0.1", "-o",
+                                      dir + "/checker.png"});
+  ASSERT_EQ(checker.exit_code, 0) << checker.err;
+  const Image said = read_png(dir + "/still.png"), plain = read_png(dir + "/checker.png");
+  ASSERT_EQ(said.width, plain.width);
+  int differ = 0, outside = 0;
+  for (int y = 0; y < said.height; ++y)
+    for (int x = 0; x < said.width; ++x)
+      if (!std::equal(said.pixel(x, y), said.pixel(x, y) + 3, plain.pixel(x, y))) {
+        ++differ;
+        outside += y > said.height / 3;
+      }
+  EXPECT_GT(differ, 100) << "a line of text more";
+  EXPECT_EQ(outside, 0) << "only in the overlay's box";
 }
 
 TEST(CmdCompare, TheDefaultReferenceStepStaysWithinRk4sPredictedStableStep) {

@@ -264,6 +264,15 @@ struct FramePipeline::Impl {
           // An implicit step that missed its tolerance is a result, shown on the picture.
           mark_not_converged(rf, f.totals.unconverged_steps);
         }
+        // A lane that ran on but has no error field: the reference it is measured against
+        // blew up. The tile says why it is drawn in the checker, not only stderr.
+        if (!f.divergence && config.color == FieldKind::Error && field.empty() && reference_frame &&
+            reference_frame->divergence) {
+          char line[96];
+          std::snprintf(line, sizeof line, "no error colour (reference diverged at %.3g s)",
+                        reference_frame->divergence->t);
+          rf.overlay_lines.emplace_back(line);
+        }
       }
       if (config.color != FieldKind::None && !field.empty()) color_by_field(rf, field, config.color, *range);
       if (config.inset_energy) draw_energy_inset(rf, energy, i, plan.duration());
