@@ -66,6 +66,11 @@ TEST(ParseLanes, RefusesBadItemsNamingTheOption) {
   EXPECT_NE(usage_error([] { parse_lanes("rk4@1e-4,rk4@1e-4", "", 1e-3); }).find("listed twice"), std::string::npos);
   EXPECT_NE(usage_error([] { parse_lanes("rk4,rk4", "", 1e-3); }).find("listed twice"), std::string::npos);
   EXPECT_NE(usage_error([] { parse_lanes("rk4@", "", 1e-3); }).find("no step after '@'"), std::string::npos);
+  // course names four lanes: offered for --integrators, not for the one --reference lane.
+  EXPECT_NE(usage_error([] { parse_lanes("rk9", "", 1e-3); }).find(", or course)"), std::string::npos);
+  const std::string reference = usage_error([] { parse_reference("rk9@1e-5", parse_lanes("rk4", "", 1e-3)); });
+  EXPECT_NE(reference.find("--reference: unknown integrator 'rk9'"), std::string::npos) << reference;
+  EXPECT_EQ(reference.find("course"), std::string::npos) << reference;
   EXPECT_NE(usage_error([] { parse_lanes("rk4@fast", "", 1e-3); }).find("'fast' in 'rk4@fast' is not a number"),
             std::string::npos);
   EXPECT_NE(usage_error([] { parse_lanes("rk4@0", "", 1e-3); }).find("must be > 0"), std::string::npos);

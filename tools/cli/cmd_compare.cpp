@@ -349,9 +349,9 @@ int compare_command(const CompareOptions& o) {
       outputs += buf;
     }
     std::fprintf(stderr,
-                 "compare: %ld targets of %dx%d (%zu tiles of %dx%d) in %.1f s wall: simulate %.1f s cpu "
+                 "compare: %ld time%s, %dx%d (%zu tiles of %dx%d), in %.1f s wall: simulate %.1f s cpu "
                  "on %zu threads (the renderer waited %.1f s), render %.1f s%s\n",
-                 report.targets, grid->width(), grid->height(), lanes.size(), grid->cell_width(), grid->cell_height(),
+                 report.targets, report.targets == 1 ? "" : "s", grid->width(), grid->height(), lanes.size(), grid->cell_width(), grid->cell_height(),
                  wall, sim_cpu, lanes.size() + (report.reference ? 1 : 0), report.wait_seconds, report.render_seconds,
                  outputs.c_str());
   }

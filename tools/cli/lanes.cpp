@@ -32,7 +32,7 @@ Item parse_item(const std::string& item, const std::string& option) {
   const auto kind = parse_integrator(name);
   if (!kind)
     throw UsageError(option + ": unknown integrator " + in_quotes(name) + " (expected one of: " +
-                     names_or_course() + ")");
+                     (option == "--reference" ? integrator_names_joined() : names_or_course()) + ")");
   out.lane.kind = *kind;
   if (at != std::string::npos) {
     const std::string step = trimmed(item.substr(at + 1));
