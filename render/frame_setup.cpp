@@ -160,13 +160,8 @@ void draw_overlay(Image& image, const RenderFrame& frame) {
   draw_series_inset(image, frame.inset, layout);
   const int scale = layout.scale, margin = layout.margin;
   if (!layout.lines.empty()) draw_text_block(image, margin, margin, layout.lines, {255, 255, 255, 255}, scale);
-  if (!frame.banner.empty()) {
-    int banner_scale = 2 * scale;
-    while (banner_scale > 1 && text_width(frame.banner, banner_scale) > image.width - 2 * margin) --banner_scale;
-    const int x = (image.width - text_width(frame.banner, banner_scale)) / 2;
-    const int y = (image.height - text_glyph_height() * banner_scale) / 2;
-    draw_text(image, x, y, frame.banner, {255, 72, 60, 255}, banner_scale);
-  }
+  if (!frame.banner.empty())
+    draw_text(image, layout.banner.x, layout.banner.y, frame.banner, {255, 72, 60, 255}, layout.banner_scale);
 }
 
 }  // namespace clothsim::render

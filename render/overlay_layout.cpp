@@ -106,6 +106,15 @@ OverlayLayout layout_overlay(const RenderFrame& frame, int width, int height) {
   }
   if (frame.inset.show) place_inset(frame, width, height, l);
   if (!frame.cloth_field.empty() && frame.color_scale.show_bar) place_color_bar(frame, width, height, l);
+  if (!frame.banner.empty()) {
+    const int right = l.color_bar.empty() ? width - l.margin : l.color_bar.x - l.margin;
+    const int room = std::max(right - l.margin, 1);
+    int b = 2 * s;
+    while (b > 1 && text_width(frame.banner, b) > room) --b;
+    l.banner_scale = b;
+    const int w = text_width(frame.banner, b), h = text_glyph_height() * b;
+    l.banner = {l.margin + std::max(0, (room - w) / 2), (height - h) / 2, w, h};
+  }
   return l;
 }
 

@@ -50,6 +50,11 @@ struct OverlayLayout {
   int title_y = 0;     // top of the title's glyphs (the scale's label), right-aligned in the panel
   std::vector<ScaleTick> ticks;
 
+  // The banner (DIVERGED, NOT CONVERGED): centred in the picture left of the colour bar's
+  // panel, so it hides no tick, at twice the text scale or smaller to fit that width.
+  ImageBox banner;
+  int banner_scale = 1;
+
   ImageBox inset;      // the series inset's panel (dark backdrop)
   int inset_scale = 1; // its text scale: the overlay's, or smaller for a long label in its width
   ImageBox plot;       // the graph area inside the inset

@@ -280,22 +280,36 @@ TEST(FrameSetup, AnInsetWithUnequalSeriesOrAnEmptyAxisIsRefusedByName) {
   EXPECT_EQ(refusal(f), "(accepted)");
 }
 
-TEST(FrameSetup, TheBannerIsDrawnOverTheColourBarAndTheInset) {
+TEST(FrameSetup, TheBannerStaysLeftOfTheColourBarAndShrinksToFitThere) {
   RenderFrame f = field_frame();
   f.width = 640;
   f.height = 360;
-  f.banner = std::string(50, 'W');  // 598 px at scale 2: across the colour bar's panel
+  f.banner = std::string(50, 'W');  // 598 px at scale 2: wider than the room left of the bar
   Image image(640, 360);
   for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = 128;
   draw_overlay(image, f);
   const OverlayLayout l = layout_overlay(f, 640, 360);
-  int red_in_panel = 0;
-  for (int y = l.color_bar.y; y < l.color_bar.bottom(); ++y)
-    for (int x = l.color_bar.x; x < l.color_bar.right(); ++x) {
+  ASSERT_FALSE(l.color_bar.empty());
+  int red_in_panel = 0, red = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
       const std::uint8_t* p = image.pixel(x, y);
-      red_in_panel += p[0] == 255 && p[1] == 72 && p[2] == 60;
+      if (p[0] != 255 || p[1] != 72 || p[2] != 60) continue;
+      ++red;
+      red_in_panel += x >= l.color_bar.x && x < l.color_bar.right() && y >= l.color_bar.y && y < l.color_bar.bottom();
     }
-  EXPECT_GT(red_in_panel, 0);
+  EXPECT_GT(red, 0) << "the banner is drawn";
+  EXPECT_EQ(red_in_panel, 0) << "no tick or label of the bar is hidden";
+  EXPECT_LT(l.banner_scale, 2 * l.scale) << "shrunk to the room left of the bar";
+  EXPECT_LE(l.banner.right(), l.color_bar.x);
+  // Without a bar it is centred in the picture at twice the text scale.
+  RenderFrame plain = f;
+  plain.cloth_field.clear();
+  plain.banner = "DIVERGED";
+  const OverlayLayout p = layout_overlay(plain, 640, 360);
+  EXPECT_EQ(p.banner_scale, 2 * p.scale);
+  EXPECT_NEAR(p.banner.x + p.banner.w / 2, 320, p.banner_scale);
+  EXPECT_NEAR(p.banner.y + p.banner.h / 2, 180, p.banner_scale);
 }
 
 }  // namespace
