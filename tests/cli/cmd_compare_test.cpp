@@ -333,6 +333,16 @@ TEST(CmdCompare, WithASummaryOnlyPrintsTheTableAndWritesTheSummary) {
   EXPECT_NE(r.out.find("symplectic_euler"), std::string::npos);
   EXPECT_NE(r.out.find("ok to t = 0.2 s"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(dir + "/s.json"));
+  // No pictures: no reference lane unless --color asks for the field, and a note says so.
+  EXPECT_EQ(r.out.find("(reference)"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("no pictures, so no error measured; --color error puts it in the summary"), std::string::npos)
+      << r.err;
+  const auto measured = compare_small({"--integrators", "symplectic_euler", "--color", "error", "--summary",
+                                       dir + "/e.json"});
+  ASSERT_EQ(measured.exit_code, 0) << measured.err;
+  EXPECT_NE(measured.out.find("error against rk4 @ 2.5e-05 s: largest "), std::string::npos) << measured.out;
+  EXPECT_NE(measured.out.find("(measured at 1 frame, t = 0.2 s)"), std::string::npos) << measured.out;
+  EXPECT_NE(cli::slurp(dir + "/e.json").find("\"field_frames\": 1"), std::string::npos) << cli::slurp(dir + "/e.json");
 }
 
 // Pixels of the banners' red text in a PNG.

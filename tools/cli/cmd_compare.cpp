@@ -124,8 +124,11 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
       std::string measured = " (never measured";  // no frame of it had a field (the first was past the blow-up)
       if (report.field_count[i] > 0) {
         char covered[96];
-        std::snprintf(covered, sizeof covered, " (measured at %ld frame%s, t = %.4g to %.4g s", report.field_count[i],
-                      report.field_count[i] == 1 ? "" : "s", report.field_first_t[i], report.field_last_t[i]);
+        if (report.field_count[i] == 1)
+          std::snprintf(covered, sizeof covered, " (measured at 1 frame, t = %.4g s", report.field_last_t[i]);
+        else
+          std::snprintf(covered, sizeof covered, " (measured at %ld frames, t = %.4g to %.4g s", report.field_count[i],
+                        report.field_first_t[i], report.field_last_t[i]);
         measured = covered;
       }
       char why[80] = "";
@@ -204,7 +207,19 @@ int compare_command(const CompareOptions& o) {
   const bool with_frames = !o.video.empty() || !o.frames_dir.empty();
   const bool rendering = with_frames || !o.sheet.empty() || o.still_t;
   PictureLook look = resolve_picture_look(o.look, scene, lanes, /*compare=*/true);
-  if (!rendering) look = PictureLook{};  // a summary alone: no pictures, no reference lane
+  if (!rendering) {
+    // A summary alone: no pictures. The field is measured only when --color asks for it (the
+    // default reference, RK4 at a quarter step, costs several times the lanes); its scale is
+    // then not chosen (nothing is drawn with it).
+    if (o.look.color && look.color != FieldKind::None) {
+      if (!look.color_range) look.color_range = ColorRange{1e-6, 1e-3};
+    } else {
+      if (look.color != FieldKind::None && !o.summary.empty() && !quiet())
+        std::fprintf(stderr, "compare: no pictures, so no %s measured; --color %s puts it in the summary\n",
+                     std::string(field_kind_name(look.color)).c_str(), std::string(field_kind_name(look.color)).c_str());
+      look = PictureLook{};
+    }
+  }
   refuse_shared_outputs({{o.video, "--video"}, {o.sheet, "--sheet"}, {o.still_out, "-o/--output"},
                          {o.summary, "--summary"}, {o.frames_dir, "--frames"}});
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
