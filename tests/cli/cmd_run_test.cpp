@@ -71,6 +71,15 @@ TEST(CmdRun, TwoOutputsAtOnePathAreAUsageErrorBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(dir + "/x.png"));
 }
 
+TEST(CmdRun, MetricsHaveOneRowPerStepWhereAStepIsLongerThanAFrame) {
+  // 0.1 s steps, frames at 30 Hz: the run stands on each state for three frames; one row each.
+  const std::string dir = scratch_dir("run_metrics_long_steps");
+  const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--integrator", "implicit_euler", "--dt", "0.1",
+                                    "--duration", "0.5", "--metrics", dir + "/m.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(rows(dir + "/m.csv"), 1 + 6);  // header + steps 0 .. 5
+}
+
 TEST(CmdRun, SameSceneTwiceGivesIdenticalStateFiles) {
   const std::string dir = scratch_dir("run_twice");
   for (const char* name : {"a.csv", "b.csv"})

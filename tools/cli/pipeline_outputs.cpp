@@ -112,7 +112,13 @@ class MetricsOutput final : public FrameOutput {
       : writer_(std::move(writer)), path_(std::move(path)), lane_(lane) {}
   std::string what() const override { return "metrics"; }
   void on_target(const Target& target, const std::vector<LaneView>& lanes) override {
-    if (target.frame >= 0 && lanes[lane_].fresh) writer_->row(lanes[lane_].frame->metrics);
+    if (target.frame < 0 || !lanes[lane_].fresh) return;
+    // A step longer than the frame interval stands on one state for several frames: one row
+    // for it, not a copy per frame.
+    const FrameMetrics& m = lanes[lane_].frame->metrics;
+    if (m.step == last_step_) return;
+    last_step_ = m.step;
+    writer_->row(m);
   }
   void finish() override { writer_->commit(); }
   void abandon(std::vector<std::string>&, std::vector<std::string>& lost) override { lost.push_back(path_); }
@@ -121,6 +127,7 @@ class MetricsOutput final : public FrameOutput {
   std::unique_ptr<MetricsWriter> writer_;
   std::string path_;
   std::size_t lane_;
+  std::int64_t last_step_ = -1;
 };
 
 }  // namespace
