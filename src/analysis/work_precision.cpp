@@ -106,7 +106,7 @@ double convergence_order(const std::vector<WorkPrecisionPoint>& points, Integrat
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   int n = 0;
   for (const WorkPrecisionPoint& p : points) {
-    if (p.integrator != kind || !p.finished || !(p.rms_error > 0.0)) continue;
+    if (p.integrator != kind || p.frame_step || !p.finished || !(p.rms_error > 0.0)) continue;
     const double x = std::log(p.dt), y = std::log(p.rms_error);
     sx += x, sy += y, sxx += x * x, sxy += x * y;
     ++n;
@@ -137,6 +137,7 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
       WorkPrecisionPoint p;
       p.integrator = kind;
       p.dt = dt;
+      p.frame_step = std::find(spec.dts.begin(), spec.dts.end(), dt) == spec.dts.end();
       p.rms_error = p.max_error = kNaN;
       tasks.push_back({kind, dt, static_cast<int>(result.points.size())});
       result.points.push_back(p);

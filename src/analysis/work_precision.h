@@ -46,6 +46,8 @@ struct WorkPrecisionSpec {
 struct WorkPrecisionPoint {
   IntegratorKind integrator{};
   double dt = 0.0;                 // s
+  bool frame_step = false;         // one of implicit Euler's frame-rate steps, outside the
+                                   // common list (spec.frame_dts)
   bool finished = false;           // reached T (false: diverged, or stopped by the caller)
   bool diverged = false;
   double diverged_at = 0.0;        // s, when diverged
@@ -96,7 +98,8 @@ PositionError position_error(const Model& model, const Eigen::Matrix3Xd& a,
                              const Eigen::Matrix3Xd& b, const Eigen::VectorXd& free_in_b);
 
 // Observed order of convergence: least-squares slope of log(RMS error) against log(dt) over
-// the finished points of `kind` (NaN with fewer than two).
+// the finished points of `kind` at the common steps (NaN with fewer than two). The frame-rate
+// steps are left out: there w h >> 1, far from the asymptotic regime an order describes.
 double convergence_order(const std::vector<WorkPrecisionPoint>& points, IntegratorKind kind);
 
 }  // namespace clothsim::analysis

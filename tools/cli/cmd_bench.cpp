@@ -99,7 +99,7 @@ void print_table(const WorkPrecisionResult& r, const std::vector<IntegratorKind>
                 std::string(integrator_name(p.integrator)).c_str(), p.dt, p.steps, p.force_evals,
                 p.wall_seconds, p.cpu_seconds, p.rms_error, p.max_error, status);
   }
-  std::printf("observed order (slope of log rms error vs log dt, runs that finished):");
+  std::printf("observed order (slope of log rms error vs log dt, runs that finished, common steps):");
   for (IntegratorKind k : kinds) {
     const double order = analysis::convergence_order(r.points, k);
     if (std::isnan(order)) std::printf("  %s -", std::string(integrator_name(k)).c_str());
