@@ -252,9 +252,15 @@ int stability_command(const StabilityOptions& o) {
   std::printf("%14s %-16s %-48s %10s %12s %6s\n", "value", "integrator", "largest stable dt", "x 2/w_max",
               "x 2/max(w,c)", "trials");
   for (const StabilityLimit& l : limits) {
-    const double dt = l.outcome == StabilityOutcome::Bracketed ? l.stable_dt : NAN;
-    std::printf("%14.6g %-16s %-48s %10.3g %12.3g %6d\n", l.value, std::string(integrator_name(l.integrator)).c_str(),
-                limit_text(l, spec).c_str(), dt / l.estimate.dt_springs(), dt / l.estimate.dt_with_damping(), l.trials);
+    // The ratios to the estimates only for a bracketed limit ("-" where there is none: the CSV
+    // keeps its nan).
+    char springs[16] = "-", damping[16] = "-";
+    if (l.outcome == StabilityOutcome::Bracketed) {
+      std::snprintf(springs, sizeof springs, "%.3g", l.stable_dt / l.estimate.dt_springs());
+      std::snprintf(damping, sizeof damping, "%.3g", l.stable_dt / l.estimate.dt_with_damping());
+    }
+    std::printf("%14.6g %-16s %-48s %10s %12s %6d\n", l.value, std::string(integrator_name(l.integrator)).c_str(),
+                limit_text(l, spec).c_str(), springs, damping, l.trials);
     if (l.failure == analysis::Failure::NotConverged)
       std::printf("%14s %-16s NOT CONVERGED at %.4g s: %s\n", "", "", l.unstable_dt, l.reason.c_str());
     if (!l.frame_steps.empty())
