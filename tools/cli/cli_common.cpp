@@ -122,6 +122,12 @@ const char* interrupt_signal_name() {
   return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
 }
 
+std::string number_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
 std::string what_stays(const std::vector<std::string>& kept, const std::vector<std::string>& not_written) {
   const auto join = [](const std::vector<std::string>& items) {
     std::string text;

@@ -70,6 +70,9 @@ void refuse_existing_frames(const std::string& dir, const std::string& what);
 // Creates `dir` (and parents) if missing; throws RuntimeFailure when impossible.
 void ensure_directory(const std::string& dir, const std::string& what);
 
+// A number for a message as a user writes it: %g with 6 digits ("0.6", not "0.600000").
+std::string number_text(double value);
+
 // What a stopped or failed command leaves: "kept A, B; not written: C" ("nothing kept").
 std::string what_stays(const std::vector<std::string>& kept, const std::vector<std::string>& not_written);
 

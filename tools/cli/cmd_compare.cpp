@@ -244,8 +244,8 @@ int compare_command(const CompareOptions& o) {
   const std::vector<double> sheet_times =
       o.sheet.empty() ? std::vector<double>{} : parse_times(o.times, scene.duration);
   if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= scene.duration + 1e-9))
-    throw UsageError("--still: " + std::to_string(*o.still_t) + " s is outside the run (0 to " +
-                     std::to_string(scene.duration) + " s)");
+    throw UsageError("--still: " + number_text(*o.still_t) + " s is outside the run (0 to " +
+                     number_text(scene.duration) + " s)");
   const int width = scene.render.width, height = scene.render.height;  // the whole grid's (--width/--height)
   std::optional<TileGrid> grid;
   try {

@@ -51,8 +51,8 @@ int run_command(const RunOptions& o) {
   if (o.still_t && o.still_out.empty()) throw UsageError("--still needs -o/--output FILE.png");
   if (!o.still_out.empty() && !o.still_t) throw UsageError("-o/--output goes with --still T");
   if (o.still_t && (*o.still_t < 0.0 || *o.still_t > scene.duration))
-    throw UsageError("--still: time " + std::to_string(*o.still_t) + " s is outside the run (0 to " +
-                     std::to_string(scene.duration) + " s)");
+    throw UsageError("--still: time " + number_text(*o.still_t) + " s is outside the run (0 to " +
+                     number_text(scene.duration) + " s)");
   if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
   const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
   const bool rendering = !o.frames_dir.empty() || !o.video.empty() || o.still_t;

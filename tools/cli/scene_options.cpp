@@ -76,12 +76,12 @@ SceneDef load_scene_with_options(const SceneOptions& o) {
   SceneDef scene = load_scene(o.path, o.sets, /*bound_run=*/!(o.duration || o.dt));
   if (o.duration) {
     if (!(*o.duration >= 0.0) || !std::isfinite(*o.duration))
-      throw UsageError("--duration: must be a finite number >= 0 s, got " + std::to_string(*o.duration));
+      throw UsageError("--duration: must be a finite number >= 0 s, got " + number_text(*o.duration));
     scene.duration = *o.duration;
   }
   if (o.dt) {
     if (!(*o.dt > 0.0) || !std::isfinite(*o.dt))
-      throw UsageError("--dt: must be a finite number > 0 s, got " + std::to_string(*o.dt));
+      throw UsageError("--dt: must be a finite number > 0 s, got " + number_text(*o.dt));
     scene.dt = *o.dt;
   }
   if (o.integrator) scene.integrator = parse_integrator_option(*o.integrator, "--integrator");
@@ -98,7 +98,7 @@ SceneDef load_scene_with_options(const SceneOptions& o) {
   if (o.fps) {
     if (!(*o.fps > 0.0) || !std::isfinite(*o.fps) || *o.fps > RenderDef::kMaxFps)
       throw UsageError("--fps: must be > 0 and <= " + std::to_string(static_cast<int>(RenderDef::kMaxFps)) +
-                       " frames per second, got " + std::to_string(*o.fps));
+                       " frames per second, got " + number_text(*o.fps));
     scene.render.fps = *o.fps;
   }
   if (o.duration || o.dt || o.fps) {  // otherwise the parser bounded the file's (and --set's) values
