@@ -33,7 +33,12 @@ TEST(ParseLanes, StepsWithoutAtComeFromDtOrTheScene) {
   EXPECT_EQ(named[0].dt, 1.0 / 240);
   EXPECT_EQ(named[1].dt, 1e-5);
   EXPECT_EQ(named[2].dt, 1e-3);
-  EXPECT_EQ(lane_directories(named), (std::vector<std::string>{"rk4@0.00416667", "rk4@1e-5", "midpoint"}));
+  // --dt 1/240 is shown as the fraction it was given in, as @1/240 is (not "0.00416667").
+  EXPECT_EQ(named[0].label(), "rk4  dt = 1/240 s");
+  EXPECT_EQ(lane_directories(named), (std::vector<std::string>{"rk4@1_240", "rk4@1e-5", "midpoint"}));
+  EXPECT_EQ(step_string(1.0 / 30.0), "1/30");
+  EXPECT_EQ(step_string(1e-4), "0.0001") << "a decimal %g prints exactly stays one";
+  EXPECT_EQ(step_string(0.0333333), "0.0333333") << "not quite 1/30";
 }
 
 TEST(ParseLanes, CourseIsTheCoursesFourWithItsFixedPointImplicit) {

@@ -1,6 +1,7 @@
 #include "lanes.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "cli_common.h"
@@ -57,6 +58,15 @@ bool same_lane(const LaneSpec& a, const LaneSpec& b) {
 std::string step_string(double dt) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", dt);
+  // A step of one n-th of a second that %g can only round (1/30 s: "0.0333333") is written
+  // as the fraction a user gives it in (--dt 1/30, as @1/30 is shown as written).
+  const double n = std::round(1.0 / dt);
+  std::string digits(buf);  // the significant digits %g printed
+  digits = digits.substr(0, digits.find('e'));
+  digits.erase(std::remove(digits.begin(), digits.end(), '.'), digits.end());
+  digits.erase(0, digits.find_first_not_of('0'));
+  if (digits.size() >= 6 && n >= 2.0 && n <= 1e6 && std::abs(n * dt - 1.0) <= 1e-12)
+    std::snprintf(buf, sizeof buf, "1/%.0f", n);
   return buf;
 }
 
