@@ -37,7 +37,7 @@ void place_color_bar(const RenderFrame& frame, int width, int height, OverlayLay
   const std::string& title = frame.color_scale.label;
   const int title_h = title.empty() ? 0 : line_height(s) + s;
   const int overhead = 2 * pad + title_h + 2 * half_label;
-  const int bottom_limit = l.inset.empty() ? height - tile_label_band(s) - l.margin : l.inset.y - l.margin;
+  int bottom_limit = l.inset.empty() ? height - tile_label_band(s) - l.margin : l.inset.y - l.margin;
 
   const auto fit = [&](int top) {
     const int bar_h = std::max(std::min(static_cast<int>(std::lround(0.4 * height)), bottom_limit - top - overhead),
@@ -52,6 +52,19 @@ void place_color_bar(const RenderFrame& frame, int width, int height, OverlayLay
   };
   fit(l.margin);
   if (l.color_bar.overlaps(l.text)) fit(l.text.bottom() + s);  // under long overlay lines
+  // Squeezed between long overlay lines and the inset (a small tile), the bar would be a few
+  // pixels with its tick labels on each other: it takes the height down to the label band,
+  // and the inset moves left of it.
+  const int min_bar = 3 * (line_height(s) + 2 * s);
+  if (l.bar.h < min_bar && !l.inset.empty()) {
+    bottom_limit = height - tile_label_band(s) - l.margin;
+    fit(l.color_bar.y);
+    const int dx = l.color_bar.x - l.margin - l.inset.right();
+    if (l.inset.x + dx >= l.margin) {
+      l.inset.x += dx;
+      l.plot.x += dx;
+    }
+  }
 }
 
 }  // namespace
