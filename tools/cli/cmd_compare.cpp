@@ -351,7 +351,7 @@ int compare_command(const CompareOptions& o) {
     if (report.reference) lanes_json.push_back(lane_summary(model, *report.reference, "reference"));
     JsonObject extra;
     extra.text("color", std::string(field_kind_name(config.color)));
-    if (report.color_range)
+    if (report.color_range && rendering)  // (a summary alone draws nothing: no scale)
       extra.number("color_range_lo", report.color_range->lo).number("color_range_hi", report.color_range->hi);
     write_summary(o.summary, "compare", scene.source, lanes_json, extra);
   }
