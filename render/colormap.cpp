@@ -92,12 +92,15 @@ std::vector<ScaleTick> scale_ticks(const ColorScale& scale, int max_ticks) {
       add(scale.hi);
       return ticks;
     }
-    int step = 1;  // every decade, or every 2nd, 3rd ... to fit, keeping round exponents
+    int step = 1;  // every decade, or every 2nd, 3rd ... to fit, counted from the top decade
     while ((count + step - 1) / step > max_ticks) ++step;
+    // (from the top: the bar's upper end, which a scale from the data puts at a decade, is
+    // always labelled; counted from exponent 0 instead, 1e-5 .. 1e-1 in three labels had read
+    // 1e-4, 1e-2 and neither end)
     // One style on one bar: plain numbers when every decade is between 0.01 and 1000, else 1eN.
     const bool plain = first >= -2 && last <= 3;
     for (int d = first; d <= last; ++d) {
-      if (((d % step) + step) % step != 0) continue;
+      if ((last - d) % step != 0) continue;
       const double v = std::pow(10.0, d);
       ticks.push_back({scale_position(scale, static_cast<float>(v)), plain ? short_number(v) : "1e" + std::to_string(d)});
     }

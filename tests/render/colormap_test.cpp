@@ -95,6 +95,10 @@ TEST(ScaleTicks, TooManyDecadesForTheBarAreThinnedToRoundExponents) {
   s.lo = 1e-12f;
   s.hi = 1.f;
   EXPECT_EQ(texts(scale_ticks(s, 5)), (std::vector<std::string>{"1e-12", "1e-9", "1e-6", "1e-3", "1e0"}));
+  // Counted from the top decade, so the bar's upper end is labelled: 1e-5 .. 1e-1 in three.
+  s.lo = 1e-5f;
+  s.hi = 1e-1f;
+  EXPECT_EQ(texts(scale_ticks(s, 3)), (std::vector<std::string>{"1e-5", "1e-3", "1e-1"}));
 }
 
 TEST(ScaleTicks, LessThanTwoDecadesAreLabelledAtTheEnds) {
