@@ -257,13 +257,14 @@ TEST(CmdCompare, TheDefaultReferenceStepStaysWithinRk4sPredictedStableStep) {
 
 TEST(CmdCompare, TheReferenceIsComparedAtTheTimeEachLaneStandsAt) {
   // At 1/30 s a lane of 1e-4 s stands at 0.0334 s (the first step past the frame time), one
-  // of 3e-4 s at 0.0336 s, and the reference of 2.5e-5 s would stand at 0.03335 s: up to
-  // 2.5e-4 s apart, which at the cloth's 0.3 m/s is 1.6e-5 to 6.6e-5 m of "error" that neither
-  // method made. Measured at each lane's own time (the reference's step where it lands there,
-  // else interpolated between two), RK4's own error is left: 1.6e-7 and 5.8e-7 m.
+  // of 3.3e-4 s at 0.03366 s, between two steps of the reference's 2.5e-5 s; measured where the
+  // smallest step stands (0.0334 s), the second carried 2.6e-4 s of motion at the cloth's
+  // 0.3 m/s, 8e-5 m of "error" that neither method made. At each lane's own time (the
+  // reference's step where it lands there, else interpolated between two), RK4's own error is
+  // left: 1.6e-7 and 6.4e-7 m.
   const std::string dir = scratch_dir("compare_reference_time");
   const auto r = run_clothsim({"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "0.0333334",
-                               "--width", "320", "--height", "180", "--integrators", "rk4@3e-4,rk4@1e-4", "--still",
+                               "--width", "320", "--height", "180", "--integrators", "rk4@3.3e-4,rk4@1e-4", "--still",
                                "0.0333334", "-o", dir + "/still.png"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto largest = [&](const std::string& lane) {
@@ -272,11 +273,43 @@ TEST(CmdCompare, TheReferenceIsComparedAtTheTimeEachLaneStandsAt) {
     EXPECT_NE(at, std::string::npos) << r.out;
     return at == std::string::npos ? -1.0 : std::stod(r.out.substr(at + head.size()));
   };
-  const double one = largest("rk4 @ 1e-4 s"), three = largest("rk4 @ 3e-4 s");
+  const double one = largest("rk4 @ 1e-4 s"), three = largest("rk4 @ 3.3e-4 s");
   EXPECT_GT(one, 0.0) << r.out;
   EXPECT_LT(one, 1e-6) << "the reference's own step lands where this lane does\n" << r.out;
   EXPECT_GT(three, one) << "the larger step is the less accurate\n" << r.out;
-  EXPECT_LT(three, 3e-6) << "interpolated to 0.0336 s, not 2.5e-4 s of motion\n" << r.out;
+  EXPECT_LT(three, 3e-6) << "interpolated to 0.03366 s, not 2.6e-4 s of motion\n" << r.out;
+}
+
+TEST(CmdCompare, TheReferenceServesLanesOfStepsLongerThanAFrameInTimeOrder) {
+  // A lane of 0.7 s stands at 0.7 s for the first frames while one of 0.3 s needs 0.3 s for
+  // later ones: served in time order across targets (an early version asked the reference to
+  // go back, "internal error"). And steps that land a hair below their targets (Run's 1e-6 of
+  // a step) at a reference that lands on them too.
+  const std::string dir = scratch_dir("compare_reference_order");
+  const auto r = run_clothsim({"compare", kDrape, "--set", "cloth.particles=[9,9]", "--width", "320", "--height",
+                               "180", "--integrators", "rk4@0.3,implicit_euler@0.7", "--duration", "0.5", "--still",
+                               "0.5", "-o", dir + "/long.png"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("implicit_euler @ 0.7 s: error against rk4"), std::string::npos) << r.out;
+  const auto hair = run_clothsim({"compare", std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml", "--integrators",
+                                  "symplectic_euler@0.09999999,midpoint@0.299999999", "--reference",
+                                  "rk4@0.0499999998333333", "--fps", "10", "--duration", "1", "--frames", dir + "/fr"});
+  EXPECT_EQ(hair.exit_code, 0) << hair.err;
+  EXPECT_EQ(hair.err.find("internal error"), std::string::npos) << hair.err;
+}
+
+TEST(CmdCompare, AReferenceThatDivergesStillMeasuresTheTargetsItServed) {
+  // The reference blows up at 2.24 s; the lane of 0.01 s needed it only up to 2 s, and is
+  // measured there, though the lane of 4 s (needing 4 s at every target) never is.
+  const std::string dir = scratch_dir("compare_reference_partial");
+  const auto r = run_clothsim({"compare", std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml", "--integrators",
+                               "rk4@0.01,implicit_euler@4", "--reference", "explicit_euler@0.08", "--color-range",
+                               "1e-6,1", "--sheet", dir + "/e.png", "--times", "0.5,1,1.5,2,3", "--duration", "5"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("(measured at 4 frames, t = 0.5 to 2 s; the reference diverged at t = 2.24 s)"),
+            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("implicit_euler @ 4 s: error against explicit_euler @ 0.08 s: (never measured; the reference"),
+            std::string::npos) << r.out;
 }
 
 TEST(CmdCompare, WritesAContactSheetWhoseCellsAreTheRunsFrames) {
@@ -505,6 +538,21 @@ TEST(CmdCompare, AWriteFailureIsOneLineExit1AndLeavesNothing) {
   EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
   EXPECT_TRUE(cli::only_files(dir, {}));
+}
+
+TEST(CmdCompare, AFailedSheetSaysWhichPngsStay) {
+  // The sheet's PNG write fails (a PngError, not a RuntimeFailure) after the lanes' PNGs were
+  // written: the line says what stays and what is not written, as for any output.
+  const std::string dir = scratch_dir("compare_sheet_fails_frames_stay");
+  const auto r = run_clothsim({"compare", kDrape, "--set", "cloth.particles=[9,9]", "--integrators",
+                               "symplectic_euler@1e-3,rk4@1e-3", "--duration", "0.5", "--frames", dir + "/fr", "--sheet",
+                               dir + "/big.png", "--times", "0.1,0.2,0.3,0.4", "--width", "640", "--height", "360",
+                               "--color-range", "1e-6,1e-2", "--summary", dir + "/sum.json"},
+                              "ulimit -f 100;");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("cannot write " + dir + "/big.png: File too large; kept "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not written: " + dir + "/big.png, " + dir + "/sum.json"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/big.png"));
 }
 
 TEST(CmdCompare, AWriteFailureOnTheContactSheetIsOneLineExit1AndLeavesNothing) {

@@ -39,6 +39,7 @@ TEST(ParseLanes, StepsWithoutAtComeFromDtOrTheScene) {
   EXPECT_EQ(step_string(1.0 / 30.0), "1/30");
   EXPECT_EQ(step_string(1e-4), "0.0001") << "a decimal %g prints exactly stays one";
   EXPECT_EQ(step_string(0.0333333), "0.0333333") << "not quite 1/30";
+  EXPECT_EQ(step_string(0.033333333333333), "0.0333333") << "within 1e-14 of 1/30, still not it";
 }
 
 TEST(ParseLanes, CourseIsTheCoursesFourWithItsFixedPointImplicit) {

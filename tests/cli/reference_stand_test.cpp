@@ -53,7 +53,7 @@ TEST(ReferenceStand, ServesEveryLaneAtItsOwnTimeAcrossTargetsInTimeOrder) {
       continue;
     }
     const double next = added / 30.0;
-    if (added < targets && (stand.empty() || next <= stand.next_time())) {
+    if (added < targets && (stand.empty() || next - stand.landing_slack() <= stand.next_time())) {
       stand.add(Target{next});
       ++added;
       continue;

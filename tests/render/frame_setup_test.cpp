@@ -302,6 +302,15 @@ TEST(FrameSetup, TheBannerStaysLeftOfTheColourBarAndShrinksToFitThere) {
   EXPECT_EQ(red_in_panel, 0) << "no tick or label of the bar is hidden";
   EXPECT_LT(l.banner_scale, 2 * l.scale) << "shrunk to the room left of the bar";
   EXPECT_LE(l.banner.right(), l.color_bar.x);
+  // A tile too narrow for the banner left of the bar, even at scale 1: across the picture,
+  // over the bar, rather than cut.
+  for (const auto& [w, h] : {std::pair{320, 360}, std::pair{256, 144}, std::pair{320, 240}}) {
+    RenderFrame narrow = f;
+    narrow.banner = "DIVERGED at t = 0.0237 s (step 79)";
+    const OverlayLayout n = layout_overlay(narrow, w, h);
+    EXPECT_GE(n.banner.x, 0) << w << "x" << h;
+    EXPECT_LE(n.banner.right(), w) << w << "x" << h << ": not cut";
+  }
   // Without a bar it is centred in the picture at twice the text scale.
   RenderFrame plain = f;
   plain.cloth_field.clear();

@@ -137,13 +137,19 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
       else if (reference_diverged)
         std::snprintf(why, sizeof why, "; the reference diverged at t = %.6g s", report.reference->divergence->t);
       measured += std::string(why) + ")";
-      std::printf("%s @ %s s: %s%s largest %.3g%s, at the end %.3g%s%s\n", r.spec.name().c_str(),
-                  r.spec.step_text.c_str(), std::string(field_kind_name(color)).c_str(),
+      std::string values;  // never measured: no number to quote, the note says why
+      if (report.field_count[i] > 0) {
+        char text[96];
+        std::snprintf(text, sizeof text, " largest %.3g%s, at the end %.3g%s", report.field_max[i],
+                      field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
+        values = text;
+      }
+      std::printf("%s @ %s s: %s%s%s%s\n", r.spec.name().c_str(), r.spec.step_text.c_str(),
+                  std::string(field_kind_name(color)).c_str(),
                   color == FieldKind::Error && report.reference
                       ? (" against " + report.reference->spec.name() + " @ " + report.reference->spec.step_text + " s:").c_str()
                       : ":",
-                  report.field_max[i], field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str(),
-                  measured.c_str());
+                  values.c_str(), measured.c_str());
     }
   for (const LaneResult& r : report.lanes)
     if (r.spec.fixed_point)  // the course's one-iteration fixed point: no Newton, no CG, no contacts held

@@ -188,7 +188,8 @@ struct FramePipeline::Impl {
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       if (!out.fresh[i] || !current[i]) continue;
       if (config.color == FieldKind::Error) {
-        if (reference_fresh && !current[i]->x.empty())
+        // (a reference that diverged hands over the targets it had served in part: null where not)
+        if (reference_fresh && !current[i]->x.empty() && reference_frame->x_for[i])
           out.fields[i] = vertex_distance(current[i]->x, *reference_frame->x_for[i]);
       } else {
         out.fields[i] = current[i]->field;
@@ -357,8 +358,8 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
       Stopwatch watch(p.output_seconds[finished]);
       p.outputs[finished]->finish();
     }
-  } catch (const RuntimeFailure& e) {
-    if (stopped) throw;
+  } catch (const std::runtime_error& e) {  // RuntimeFailure, PngError, RenderError, OutputFileError
+    if (stopped || dynamic_cast<const UsageError*>(&e)) throw;
     p.stop_lanes();
     progress.reset();
     std::vector<std::string> kept, lost;
@@ -367,7 +368,8 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
       else p.outputs[o]->abandon(kept, lost);
     }
     lost.insert(lost.end(), not_written.begin(), not_written.end());
-    throw RuntimeFailure(std::string(e.what()) + "; " + what_stays(kept, lost));
+    const bool render = dynamic_cast<const RenderError*>(&e) != nullptr;  // (said as main says it)
+    throw RuntimeFailure(std::string(render ? "render: " : "") + e.what() + "; " + what_stays(kept, lost));
   }
 
   PipelineReport report;

@@ -101,8 +101,8 @@ void LaneWorker::serve_reference(Run& run) {
       continue;
     }
     // A target at or before the earliest time still needed may need an earlier one: add it
-    // first (a lane lands at or past its target, never before).
-    if (more && (stand.empty() || next.t <= stand.next_time())) {
+    // first (a lane lands at or past its target, less Run::advance_to's tolerance).
+    if (more && (stand.empty() || next.t - stand.landing_slack() <= stand.next_time())) {
       stand.add(next);
       more = cursor.next(next);
       continue;
@@ -110,6 +110,16 @@ void LaneWorker::serve_reference(Run& run) {
     if (stand.empty()) break;  // every target served
     if (!stand.serve_next()) {
       if (run.stopped()) break;
+      // The targets waiting go out with what was served of them (a lane of a small step was
+      // measured up to the blow-up even if one of a large step, needing a later time, was not).
+      while (!stand.empty()) {
+        LaneFrame f;
+        const Target target = stand.pop_partial(f.x_for);
+        f.t = target.t;
+        f.step = run.state().step;
+        f.totals = run.totals();
+        push(std::move(f));
+      }
       LaneFrame frozen;  // a diverged reference measures nothing from here on
       frozen.t = run.divergence()->t;
       frozen.step = run.state().step;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "cli_common.h"
 #include "compare_plan.h"
@@ -65,7 +66,8 @@ std::string step_string(double dt) {
   digits = digits.substr(0, digits.find('e'));
   digits.erase(std::remove(digits.begin(), digits.end(), '.'), digits.end());
   digits.erase(0, digits.find_first_not_of('0'));
-  if (digits.size() >= 6 && n >= 2.0 && n <= 1e6 && std::abs(n * dt - 1.0) <= 1e-12)
+  // (within rounding of 1/n only: 0.033333333333333 is not 1/30, and must not be named so)
+  if (digits.size() >= 6 && n >= 2.0 && n <= 1e6 && std::abs(n * dt - 1.0) <= 4.0 * std::numeric_limits<double>::epsilon())
     std::snprintf(buf, sizeof buf, "1/%.0f", n);
   return buf;
 }

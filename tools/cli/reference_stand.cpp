@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -11,7 +13,9 @@ namespace clothsim::cli {
 
 ReferenceStand::ReferenceStand(const Model& model, Run& run, std::vector<double> lane_steps)
     : model_(model), run_(run), steps_(std::move(lane_steps)), landed_(steps_.size(), 0),
-      last_slot_(steps_.size()) {}
+      last_slot_(steps_.size()) {
+  for (double h : steps_) slack_ = std::max(slack_, 1e-6 * h);
+}
 
 void ReferenceStand::add(const Target& target) {
   std::vector<std::shared_ptr<Slot>> slots(steps_.size());
@@ -34,6 +38,8 @@ bool ReferenceStand::front_ready() const {
   return true;
 }
 
+Target ReferenceStand::pop_partial(std::vector<Positions>& positions) { return pop(positions); }
+
 Target ReferenceStand::pop(std::vector<Positions>& positions) {
   positions.clear();
   for (const auto& slot : pending_.front().second) positions.push_back(slot->x);
@@ -49,8 +55,9 @@ double ReferenceStand::next_time() const {
 const ReferenceStand::Sample* ReferenceStand::reach(std::int64_t k) {
   for (const Sample* s : {&last_, &before_})
     if (s->step == k) return s;
-  if (k < run_.state().step)  // served in time order: at most one step back, which is kept
-    throw std::logic_error("the reference lane was asked for a step it has passed");
+  if (k < run_.state().step)  // served in time order (LaneWorker::serve_reference): never
+    throw std::logic_error("the reference lane was asked for step " + std::to_string(k) + ", having passed it (at " +
+                           std::to_string(run_.state().step) + ")");
   if (!run_.advance_to(static_cast<double>(k) * run_.dt()) || run_.stopped()) return nullptr;
   const std::size_t n = 3 * static_cast<std::size_t>(model_.num_particles);
   std::swap(before_, last_);

@@ -37,6 +37,12 @@ class ReferenceStand {
   Target pop(std::vector<Positions>& positions);
   // The earliest time some target still needs (+inf if none).
   double next_time() const;
+  // How far below its target a lane may land (Run::advance_to's tolerance, 1e-6 of a step):
+  // a target at T needs no time before T - this.
+  double landing_slack() const { return slack_; }
+  // The oldest target with what is known of it (null where a lane's positions are not), removed:
+  // what is left to hand over once the run has diverged.
+  Target pop_partial(std::vector<Positions>& positions);
   // Advances the run to the earliest time needed and serves it. False when the run diverged
   // or was stopped on the way (Run::diverged(), Run::stopped()).
   bool serve_next();
@@ -67,6 +73,7 @@ class ReferenceStand {
   std::deque<std::pair<Target, std::vector<std::shared_ptr<Slot>>>> pending_;
   std::priority_queue<Request, std::vector<Request>, std::greater<Request>> requests_;
   std::uint64_t asked_ = 0;
+  double slack_ = 0.0;
   Sample last_, before_;  // the run's last two kept steps
 };
 
