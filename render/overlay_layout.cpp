@@ -54,9 +54,8 @@ void place_color_bar(const RenderFrame& frame, int width, int height, OverlayLay
   if (l.color_bar.overlaps(l.text)) fit(l.text.bottom() + s);  // under long overlay lines
   // Squeezed between long overlay lines and the inset (a small tile), the bar would be a few
   // pixels with its tick labels on each other: it takes the height down to the label band,
-  // and the inset moves left of it.
-  // (Only where that fits: the inset clear of the text and of the image's left edge; else the
-  // layout stays as it was.)
+  // and the inset moves left of it, where the inset then clears the text and the image's
+  // left edge (else the layout stays as it was).
   const int min_bar = 3 * (line_height(s) + 2 * s);
   if (l.bar.h < min_bar && !l.inset.empty()) {
     const OverlayLayout before = l;
@@ -69,6 +68,25 @@ void place_color_bar(const RenderFrame& frame, int width, int height, OverlayLay
   }
 }
 
+
+// The banner: left of the colour bar where it fits there at scale 1 or more; else across the
+// picture, as a tile too narrow for both must show the banner over the bar rather than cut it.
+// Centred, or below the overlay text where centring would cover it (a DIVERGED reason is
+// several lines in a small tile), if there is room above the label band.
+void place_banner(const RenderFrame& frame, int width, int height, OverlayLayout& l) {
+  const int s = l.scale;
+  const int right = l.color_bar.empty() ? width - l.margin : l.color_bar.x - l.margin;
+  int room = std::max(right - l.margin, 1);
+  if (text_width(frame.banner, 1) > room) room = width - 2 * l.margin;
+  int b = 2 * s;
+  while (b > 1 && text_width(frame.banner, b) > room) --b;
+  l.banner_scale = b;
+  const int w = text_width(frame.banner, b), h = text_glyph_height() * b;
+  int y = (height - h) / 2;
+  if (!l.text.empty() && y < l.text.bottom() + s && l.text.bottom() + s + h <= height - tile_label_band(s))
+    y = l.text.bottom() + s;
+  l.banner = {l.margin + std::max(0, (room - w) / 2), y, w, h};
+}
 }  // namespace
 
 void fill_box(Image& image, const ImageBox& box, Rgba8 color) {
@@ -121,23 +139,7 @@ OverlayLayout layout_overlay(const RenderFrame& frame, int width, int height) {
   }
   if (frame.inset.show) place_inset(frame, width, height, l);
   if (!frame.cloth_field.empty() && frame.color_scale.show_bar) place_color_bar(frame, width, height, l);
-  if (!frame.banner.empty()) {
-    // Left of the bar where it fits there at scale 1 or more; else across the picture, as a
-    // tile too narrow for both must show the banner over the bar rather than cut it.
-    const int right = l.color_bar.empty() ? width - l.margin : l.color_bar.x - l.margin;
-    int room = std::max(right - l.margin, 1);
-    if (text_width(frame.banner, 1) > room) room = width - 2 * l.margin;
-    int b = 2 * s;
-    while (b > 1 && text_width(frame.banner, b) > room) --b;
-    l.banner_scale = b;
-    const int w = text_width(frame.banner, b), h = text_glyph_height() * b;
-    // Centred, or below the overlay text where centring would cover it (a DIVERGED reason is
-    // several lines in a small tile), if there is room above the label band.
-    int y = (height - h) / 2;
-    if (!l.text.empty() && y < l.text.bottom() + s && l.text.bottom() + s + h <= height - tile_label_band(s))
-      y = l.text.bottom() + s;
-    l.banner = {l.margin + std::max(0, (room - w) / 2), y, w, h};
-  }
+  if (!frame.banner.empty()) place_banner(frame, width, height, l);
   return l;
 }
 

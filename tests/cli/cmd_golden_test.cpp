@@ -120,7 +120,7 @@ TEST(CmdGolden, ABadManifestExitsTwoWithFileLineAndKey) {
   write(dir + "/m.yaml", "goldens:\n  - {scene: nowhere.yaml, times: [1]}\n");
   const CliResult r = run_clothsim({"golden", "check", dir + "/m.yaml"});
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("m.yaml:2: goldens[0].scene: no such scene file: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("m.yaml:2: goldens[0].scene: not a scene file (missing, or a directory): "), std::string::npos) << r.err;
   fs::copy_file(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", dir + "/d.yaml");  // 5 s
   write(dir + "/m.yaml", "goldens:\n  - scene: d.yaml\n    times: [1, 9]\n");
   const CliResult late = run_clothsim({"golden", "update", dir + "/m.yaml"});

@@ -27,8 +27,9 @@ TEST(ReferenceStand, ServesEveryLaneAtItsOwnTimeAcrossTargetsInTimeOrder) {
   // Lanes of 0.3 s and 0.05 s (multiples of H: every time they stand at is a step of the
   // reference, so its positions there are a run's state to the bit) and frames at 30 Hz: the
   // first target needs 0.3 s for one lane and 0.05 s for the other, and the next eight need
-  // the second at 0.1 .. 0.3 s, before the reference may go past them.
-  const std::vector<double> steps{0.3, 0.05};
+  // the second at 0.1 .. 0.3 s, before the reference may go past them. A third lane of the
+  // second's step shares its positions (one copy a target, not one a lane).
+  const std::vector<double> steps{0.3, 0.05, 0.05};
   clothsim::Run reference(model, IntegratorKind::SymplecticEuler, H);
   ReferenceStand stand(model, reference, steps);
   std::vector<std::int64_t> landed(steps.size(), 0);
@@ -49,11 +50,12 @@ TEST(ReferenceStand, ServesEveryLaneAtItsOwnTimeAcrossTargetsInTimeOrder) {
         ASSERT_TRUE(x[j]);
         EXPECT_EQ(*x[j], expected) << "target " << target.t << " s, lane " << steps[j] << " s at " << t << " s";
       }
+      EXPECT_EQ(x[1], x[2]) << "lanes of one step share one copy";
       ++popped;
       continue;
     }
     const double next = added / 30.0;
-    if (added < targets && (stand.empty() || next - stand.landing_slack() <= stand.next_time())) {
+    if (added < targets && stand.add_before_serving(next)) {
       stand.add(Target{next});
       ++added;
       continue;

@@ -121,15 +121,18 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
       // read as a perfect lane. So was every lane, when the reference it is measured against
       // diverged.
       const bool reference_diverged = color == FieldKind::Error && report.reference && report.reference->divergence;
-      std::string measured = " (never measured";  // no frame of it had a field (the first was past the blow-up)
+      std::string values, measured = " (never measured";  // never: no number to quote, the note says why
       if (report.field_count[i] > 0) {
-        char covered[96];
+        char text[96];
+        std::snprintf(text, sizeof text, " largest %.3g%s, at the end %.3g%s", report.field_max[i],
+                      field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
+        values = text;
         if (report.field_count[i] == 1)
-          std::snprintf(covered, sizeof covered, " (measured at 1 frame, t = %.4g s", report.field_last_t[i]);
+          std::snprintf(text, sizeof text, " (measured at 1 frame, t = %.4g s", report.field_last_t[i]);
         else
-          std::snprintf(covered, sizeof covered, " (measured at %ld frames, t = %.4g to %.4g s", report.field_count[i],
+          std::snprintf(text, sizeof text, " (measured at %ld frames, t = %.4g to %.4g s", report.field_count[i],
                         report.field_first_t[i], report.field_last_t[i]);
-        measured = covered;
+        measured = text;
       }
       char why[80] = "";
       if (r.divergence)
@@ -137,13 +140,6 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
       else if (reference_diverged)
         std::snprintf(why, sizeof why, "; the reference diverged at t = %.6g s", report.reference->divergence->t);
       measured += std::string(why) + ")";
-      std::string values;  // never measured: no number to quote, the note says why
-      if (report.field_count[i] > 0) {
-        char text[96];
-        std::snprintf(text, sizeof text, " largest %.3g%s, at the end %.3g%s", report.field_max[i],
-                      field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
-        values = text;
-      }
       std::printf("%s @ %s s: %s%s%s%s\n", r.spec.name().c_str(), r.spec.step_text.c_str(),
                   std::string(field_kind_name(color)).c_str(),
                   color == FieldKind::Error && report.reference

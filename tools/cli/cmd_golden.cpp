@@ -128,7 +128,7 @@ int golden_command(const GoldenOptions& o, bool update) {
     // Named against the manifest's line: the scene it points at, and times the run has (as
     // `run --still` refuses a time past the scene's duration).
     if (!fs::is_regular_file(e.scene))
-      throw SceneError(manifest.path, e.line, key + ".scene", "no such scene file: " + e.scene);
+      throw SceneError(manifest.path, e.line, key + ".scene", "not a scene file (missing, or a directory): " + e.scene);
     scenes.push_back(load_scene(e.scene));
     if (e.integrator) scenes.back().integrator = *e.integrator;
     if (e.dt) scenes.back().dt = *e.dt;

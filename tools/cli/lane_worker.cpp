@@ -84,25 +84,23 @@ void LaneWorker::serve_reference(Run& run) {
   TargetPlan::Cursor cursor(targets_);
   Target next;
   bool more = cursor.next(next);
-  double reached = 0.0;
+  const auto hand_over = [&] {  // the oldest target, with what is known of it
+    LaneFrame f;
+    f.t = stand.pop(f.x_for).t;
+    f.step = run.state().step;
+    f.totals = run.totals();
+    push(std::move(f));
+  };
   for (;;) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (stop_) break;
     }
     if (stand.front_ready()) {
-      LaneFrame f;
-      const Target target = stand.pop(f.x_for);
-      f.t = target.t;
-      f.step = run.state().step;
-      f.totals = run.totals();
-      reached = run.state().t;
-      push(std::move(f));
+      hand_over();
       continue;
     }
-    // A target at or before the earliest time still needed may need an earlier one: add it
-    // first (a lane lands at or past its target, less Run::advance_to's tolerance).
-    if (more && (stand.empty() || next.t - stand.landing_slack() <= stand.next_time())) {
+    if (more && stand.add_before_serving(next.t)) {
       stand.add(next);
       more = cursor.next(next);
       continue;
@@ -112,27 +110,19 @@ void LaneWorker::serve_reference(Run& run) {
       if (run.stopped()) break;
       // The targets waiting go out with what was served of them (a lane of a small step was
       // measured up to the blow-up even if one of a large step, needing a later time, was not).
-      while (!stand.empty()) {
-        LaneFrame f;
-        const Target target = stand.pop_partial(f.x_for);
-        f.t = target.t;
-        f.step = run.state().step;
-        f.totals = run.totals();
-        push(std::move(f));
-      }
+      while (!stand.empty()) hand_over();
       LaneFrame frozen;  // a diverged reference measures nothing from here on
       frozen.t = run.divergence()->t;
       frozen.step = run.state().step;
       frozen.totals = run.totals();
       frozen.divergence = run.divergence();
       frozen.frozen = true;
-      reached = frozen.t;
       push(std::move(frozen));
       break;
     }
   }
   std::lock_guard<std::mutex> lock(mutex_);
-  result_.t = reached;
+  result_.t = run.state().t;  // as far as it ran (past the last target where a lane stands past it)
   result_.totals = run.totals();
   result_.divergence = run.divergence();
 }

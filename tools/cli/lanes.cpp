@@ -57,19 +57,17 @@ bool same_lane(const LaneSpec& a, const LaneSpec& b) {
 }  // namespace
 
 std::string step_string(double dt) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", dt);
+  std::string text = number_text(dt);
   // A step of one n-th of a second that %g can only round (1/30 s: "0.0333333") is written
   // as the fraction a user gives it in (--dt 1/30, as @1/30 is shown as written).
   const double n = std::round(1.0 / dt);
-  std::string digits(buf);  // the significant digits %g printed
-  digits = digits.substr(0, digits.find('e'));
+  std::string digits = text.substr(0, text.find('e'));  // the significant digits %g printed
   digits.erase(std::remove(digits.begin(), digits.end(), '.'), digits.end());
   digits.erase(0, digits.find_first_not_of('0'));
   // (within rounding of 1/n only: 0.033333333333333 is not 1/30, and must not be named so)
-  if (digits.size() >= 6 && n >= 2.0 && n <= 1e6 && std::abs(n * dt - 1.0) <= 4.0 * std::numeric_limits<double>::epsilon())
-    std::snprintf(buf, sizeof buf, "1/%.0f", n);
-  return buf;
+  if (digits.size() >= 6 && n >= 2.0 && n < 1e6 && std::abs(n * dt - 1.0) <= 4.0 * std::numeric_limits<double>::epsilon())
+    return "1/" + number_text(n);
+  return text;
 }
 
 std::string LaneSpec::name() const {

@@ -2,10 +2,10 @@
 // as much as rendering a frame, so it runs on a background thread: add() queues a copy of
 // the frame and returns; a short queue keeps memory flat however long the clip. A failed
 // write is reported by the next add() or by finish(), naming the file.
-#include <filesystem>
 #include <condition_variable>
 #include <cstdio>
 #include <deque>
+#include <filesystem>
 #include <mutex>
 #include <thread>
 

@@ -1,33 +1,38 @@
 #include "reference_stand.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
-#include <string>
-#include <algorithm>
 #include <stdexcept>
-#include <utility>
+#include <string>
 
 #include "lane_times.h"
 
 namespace clothsim::cli {
 
-ReferenceStand::ReferenceStand(const Model& model, Run& run, std::vector<double> lane_steps)
-    : model_(model), run_(run), steps_(std::move(lane_steps)), landed_(steps_.size(), 0),
-      last_slot_(steps_.size()) {
-  for (double h : steps_) slack_ = std::max(slack_, 1e-6 * h);
+ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps)
+    : model_(model), run_(run) {
+  for (double h : lane_steps) {
+    const auto at = std::find(steps_.begin(), steps_.end(), h);
+    lane_step_.push_back(static_cast<std::size_t>(at - steps_.begin()));
+    if (at == steps_.end()) steps_.push_back(h);
+    slack_ = std::max(slack_, 1e-6 * h);
+  }
+  landed_.assign(steps_.size(), 0);
+  last_slot_.resize(steps_.size());
 }
 
 void ReferenceStand::add(const Target& target) {
-  std::vector<std::shared_ptr<Slot>> slots(steps_.size());
   for (std::size_t j = 0; j < steps_.size(); ++j) {
     const std::int64_t k = landing_step(target.t, steps_[j], landed_[j]);
-    if (!last_slot_[j] || k != landed_[j]) {  // a lane that did not step shares its last slot
+    if (!last_slot_[j] || k != landed_[j]) {  // a step whose runs did not step shares its last slot
       last_slot_[j] = std::make_shared<Slot>();
       requests_.push(Request{static_cast<double>(k) * steps_[j], asked_++, last_slot_[j]});
     }
     landed_[j] = k;
-    slots[j] = last_slot_[j];
   }
+  std::vector<std::shared_ptr<Slot>> slots;
+  for (std::size_t j : lane_step_) slots.push_back(last_slot_[j]);
   pending_.emplace_back(target, std::move(slots));
 }
 
@@ -37,8 +42,6 @@ bool ReferenceStand::front_ready() const {
     if (!slot->x) return false;
   return true;
 }
-
-Target ReferenceStand::pop_partial(std::vector<Positions>& positions) { return pop(positions); }
 
 Target ReferenceStand::pop(std::vector<Positions>& positions) {
   positions.clear();

@@ -25,24 +25,24 @@ class ReferenceStand {
  public:
   using Positions = std::shared_ptr<const std::vector<double>>;  // (3 x P) particles
 
-  // `run` is the reference's, at its start; `lane_steps` the compared lanes' steps, in order.
-  ReferenceStand(const Model& model, Run& run, std::vector<double> lane_steps);
+  // `run` is the reference's, at its start; `lane_steps` the compared lanes' steps, in order
+  // (lanes of one step share one request and one copy of the positions at each target).
+  ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps);
 
   // Adds the next target (targets in time order).
   void add(const Target& target);
   bool empty() const { return pending_.empty(); }
   // Every lane's positions at the oldest target are known.
   bool front_ready() const;
-  // The oldest target and its positions per lane (front_ready()), removed.
+  // The oldest target and its positions per lane, removed: all of them once front_ready();
+  // after the run diverged, what is known (null where a lane's positions are not).
   Target pop(std::vector<Positions>& positions);
   // The earliest time some target still needs (+inf if none).
   double next_time() const;
-  // How far below its target a lane may land (Run::advance_to's tolerance, 1e-6 of a step):
-  // a target at T needs no time before T - this.
-  double landing_slack() const { return slack_; }
-  // The oldest target with what is known of it (null where a lane's positions are not), removed:
-  // what is left to hand over once the run has diverged.
-  Target pop_partial(std::vector<Positions>& positions);
+  // Whether the next target (at t) must be added before the earliest needed time is served:
+  // it may need an earlier time (a lane lands at or past its target, less Run::advance_to's
+  // tolerance of 1e-6 of a step), or nothing is waiting.
+  bool add_before_serving(double t) const { return empty() || t - slack_ <= next_time(); }
   // Advances the run to the earliest time needed and serves it. False when the run diverged
   // or was stopped on the way (Run::diverged(), Run::stopped()).
   bool serve_next();
@@ -67,9 +67,10 @@ class ReferenceStand {
 
   const Model& model_;
   Run& run_;
-  std::vector<double> steps_;
-  std::vector<std::int64_t> landed_;               // per lane: the step it last landed on
-  std::vector<std::shared_ptr<Slot>> last_slot_;   // per lane: that landing's positions
+  std::vector<double> steps_;                      // the lanes' distinct steps
+  std::vector<std::size_t> lane_step_;             // per lane: its step's index in steps_
+  std::vector<std::int64_t> landed_;               // per step: the step a run of it last landed on
+  std::vector<std::shared_ptr<Slot>> last_slot_;   // per step: that landing's positions
   std::deque<std::pair<Target, std::vector<std::shared_ptr<Slot>>>> pending_;
   std::priority_queue<Request, std::vector<Request>, std::greater<Request>> requests_;
   std::uint64_t asked_ = 0;
