@@ -22,11 +22,12 @@ struct State {
   // before one), and the particles its contacts held at the end of that step (the active
   // set's first guess).
   Eigen::Matrix3Xd implicit_dv;
-  // The velocity change of the step before that (3 x B, empty before two steps), and whether
-  // the next step starts from the straight line through the two, 2 dv_n - dv_{n-1}, rather
-  // than dv_n: chosen by which of the two guesses the last step's solution lay closer to.
-  Eigen::Matrix3Xd implicit_dv_before;
-  bool implicit_extrapolate = false;
+  // The velocity changes of the two steps before that (3 x B each, empty before two and three
+  // steps), and the order of the polynomial through the last steps' dv the next step starts
+  // from: 0 = dv_n, 1 = the line 2 dv_n - dv_{n-1}, 2 = the parabola 3 dv_n - 3 dv_{n-1} +
+  // dv_{n-2}; chosen by which of them the last step's solution lay closest to.
+  Eigen::Matrix3Xd implicit_dv_before, implicit_dv_before2;
+  int implicit_guess_order = 0;
   std::vector<std::int32_t> implicit_held;
   // The linearisation of the Newton matrix implicit_euler last assembled (sparse_system.h),
   // which later iterations and steps reuse while the residual shows it still serves: the
