@@ -67,8 +67,10 @@
 #include "analysis/stiffness_estimate.h"
 #include "forces.h"
 #include "integrator.h"
+#include "integrators/cg_kernels.h"  // simd_dot
 #include "integrators/cholesky_preconditioner.h"
 #include "integrators/conjugate_gradient.h"
+#include "integrators/newton_kernels.h"
 #include "integrators/sparse_system.h"
 #include "integrators/step_contacts.h"
 #include "integrators/step_potential.h"
@@ -229,20 +231,18 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
 // |M dv| over movable bodies, with mass_squared[i] = 1 / w_i^2 (0 where w_i = 0): formed once
 // per step, not a division per body at every Newton iteration.
 double momentum_norm(const Eigen::VectorXd& mass_squared, const Eigen::Matrix3Xd& dv) {
-  double sum = 0.0;
-  for (Eigen::Index i = 0; i < mass_squared.size(); ++i)
-    if (mass_squared[i] != 0.0) sum += dv.col(i).squaredNorm() * mass_squared[i];
-  return std::sqrt(sum);
+  return std::sqrt(simd_weighted_norm2(mass_squared.data(), dv.data(), static_cast<std::size_t>(dv.cols())));
 }
 
 // |h f| at the iterate: M dv - r over movable bodies (mass[i] = 1 / w_i, 0 where w_i = 0).
 double impulse_norm(const Eigen::VectorXd& mass, const Eigen::Matrix3Xd& dv,
                     const Eigen::Matrix3Xd& r) {
-  double sum = 0.0;
-  for (Eigen::Index i = 0; i < mass.size(); ++i) {
-    if (mass[i] != 0.0) sum += (mass[i] * dv.col(i) - r.col(i)).squaredNorm();
-  }
-  return std::sqrt(sum);
+  return std::sqrt(simd_impulse_norm2(mass.data(), dv.data(), r.data(), static_cast<std::size_t>(dv.cols())));
+}
+
+// sum_k a_k b_k over two 3 x B matrices.
+double dot(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
+  return simd_dot(a.data(), b.data(), static_cast<std::size_t>(a.size()));
 }
 
 // The Newton iterations of one active set, from the iterate in c (dv, y, r, phi) until the
@@ -280,22 +280,9 @@ void guess_through(const DvHistory& past, int order, Eigen::Matrix3Xd& out) {
 // quantities the step has already paid for, so the choice is judged, never assumed).
 int next_guess_order(const DvHistory& past, const Eigen::Matrix3Xd& dv) {
   if (past.count == 0) return 0;
-  const double* a = past.dv[0]->data();
-  const double* b = past.count > 1 ? past.dv[1]->data() : nullptr;
-  const double* c = past.count > 2 ? past.dv[2]->data() : nullptr;
-  const double* x = dv.data();
-  const Eigen::Index n = dv.size();
   double miss[kMaxGuessOrder + 1] = {0.0, 0.0, 0.0};
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const double last = x[k] - a[k];
-    miss[0] += last * last;
-    if (!b) continue;
-    const double line = last - (a[k] - b[k]);  // x - (2 a - b)
-    miss[1] += line * line;
-    if (!c) continue;
-    const double parabola = x[k] - (3.0 * (a[k] - b[k]) + c[k]);
-    miss[2] += parabola * parabola;
-  }
+  simd_guess_misses(dv.data(), past.dv[0]->data(), past.count > 1 ? past.dv[1]->data() : nullptr,
+                    past.count > 2 ? past.dv[2]->data() : nullptr, static_cast<std::size_t>(dv.size()), miss);
   int order = 0;
   for (int o = 1; o < past.count; ++o)
     if (kGuessAdvantage * kGuessAdvantage * miss[o] < miss[0] && miss[o] < miss[order]) order = o;
@@ -359,8 +346,8 @@ class NewtonSolve {
     for (;;) {
       c_.rhs = -c_.r;
       c_.contacts.filter.apply(c_.rhs);
-      r_norm2_ = c_.rhs.squaredNorm();  // (the line search's too: rhs stays as it is till then)
-      const double r_norm = std::sqrt(r_norm2_);  // = rhs.norm(), to the bit
+      r_norm2_ = dot(c_.rhs, c_.rhs);  // (the line search's too: rhs stays as it is till then)
+      const double r_norm = std::sqrt(r_norm2_);
       const double scale = std::max(impulse_scale_, momentum_norm(c_.mass_squared, c_.dv));
       // (0 / 0 where nothing can move, no spring and no body term: nothing to solve, solved)
       stats_.residual = r_norm == 0.0 ? 0.0 : r_norm / scale;
@@ -509,17 +496,17 @@ class NewtonSolve {
         solve(settings);
       }
     }
-    return -c_.rhs.cwiseProduct(c_.d).sum();  // r . d (d is filtered)
+    return -dot(c_.rhs, c_.d);  // r . d (d is filtered)
   }
 
   // Whether every particle's end position at the iterate lies within reuse_reach_ of the
   // recorded linearisation point (kReuseChange; the spheres have no springs: a kinematic one
   // moving on changes nothing in the matrix).
   bool near_linearisation() const {
-    const Eigen::Index P = model_.num_particles;
+    const std::size_t P = static_cast<std::size_t>(model_.num_particles);
     if (P == 0 || reuse_reach_ == std::numeric_limits<double>::infinity()) return true;
-    return (c_.y.leftCols(P) - start_.implicit_lin_y.leftCols(P)).colwise().squaredNorm().maxCoeff() <=
-           reuse_reach_ * reuse_reach_;
+    // (NaN: not near)
+    return simd_max_distance2(c_.y.data(), start_.implicit_lin_y.data(), P) <= reuse_reach_ * reuse_reach_;
   }
 
   CgResult solve(const CgSettings& settings) {
@@ -560,7 +547,7 @@ class NewtonSolve {
       if (!accept && -alpha * slope <= resolvable) {
         c_.rhs = c_.r_try;  // scratch (rebuilt at the next iteration): the trial's filtered residual
         c_.contacts.filter.apply(c_.rhs);
-        accept = c_.rhs.squaredNorm() < r_norm2;
+        accept = dot(c_.rhs, c_.rhs) < r_norm2;
         if (!accept) return false;  // rounding has the last word: stop here
       }
       if (accept) {
@@ -674,12 +661,10 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   // need, dv changes little from step to step, and Newton starts most of the way there.
   // Either way held particles are moved onto their planes.
   const bool from_guess = have_guess && !baraff_witkin;
-  c.dv.resize(3, B);
-  for (int i = 0; i < B; ++i) {
+  if (from_guess) c.dv = *guess;
+  else c.dv = -state.v;
+  for (int i = 0; i < B; ++i)
     if (w[i] == 0.0) c.dv.col(i).setZero();
-    else if (from_guess) c.dv.col(i) = guess->col(i);
-    else c.dv.col(i) = -state.v.col(i);
-  }
   place_on_planes(c.contacts, state, h, c.dv);
   NewtonSolve newton(model, state, h, c, stats);
   newton.evaluate();
@@ -716,8 +701,8 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   state.implicit_factored = newton.factored();
   if (!baraff_witkin) state.implicit_lin_trusted = newton.trusted();
 
-  state.v += c.dv;          // v_{n+1} = v_n + dv (dv = 0 for immovable bodies)
-  state.x += h * state.v;   // x_{n+1} = x_n + h v_{n+1}
+  // v_{n+1} = v_n + dv (dv = 0 for immovable bodies), x_{n+1} = x_n + h v_{n+1}
+  simd_finish_step(state.x.data(), state.v.data(), c.dv.data(), h, static_cast<std::size_t>(c.dv.size()));
   respond_to_step_contacts(model, c.contacts, c.r, state);
   // Which guess the solution lay closest to decides the next step's.
   state.implicit_guess_order = baraff_witkin ? 0 : next_guess_order(past, c.dv);
