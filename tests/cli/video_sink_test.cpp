@@ -28,7 +28,11 @@ TEST(VideoSink, OpensOnTheFirstFrameAndAppearsOnlyAtFinish) {
   auto sink = make_video_sink(path, VideoOptions{24.0, 23, "ultrafast"});
   for (int k = 0; k < 4; ++k) sink->add(k, k / 24.0, grey(96, 54, static_cast<std::uint8_t>(40 * k)));
   EXPECT_FALSE(fs::exists(path));
+  EXPECT_EQ(sink->written(), "") << "nothing under the name before finish()";
   sink->finish();
+  EXPECT_EQ(sink->written(), path);
+  sink->abandon();  // after finish(): the clip is complete and stays
+  EXPECT_EQ(sink->written(), path);
   const auto info = test::probe_mp4(path, false);
   EXPECT_EQ(info.width, 96);
   EXPECT_EQ(info.height, 54);
@@ -43,6 +47,11 @@ TEST(VideoSink, LeavesNothingWhenDestroyedUnfinished) {
     auto sink = make_video_sink(dir + "/clip.mp4", VideoOptions{});
     sink->add(0, 0.0, grey(32, 32, 128));
   }
+  EXPECT_TRUE(clothsim::testing::only_files(dir, {}));
+  auto sink = make_video_sink(dir + "/clip.mp4", VideoOptions{});
+  sink->add(0, 0.0, grey(32, 32, 128));
+  sink->abandon();
+  EXPECT_EQ(sink->written(), "");
   EXPECT_TRUE(clothsim::testing::only_files(dir, {}));
 }
 

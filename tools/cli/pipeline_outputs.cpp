@@ -28,7 +28,10 @@ class VideoOutput final : public FrameOutput {
     sink_->abandon();
     lost.push_back(path_);
   }
-  void kept(std::vector<std::string>& kept) override { kept.push_back(path_); }
+  void kept(std::vector<std::string>& kept) override {
+    const std::string mp4 = sink_->written();  // (finished: its path)
+    if (!mp4.empty()) kept.push_back(mp4);
+  }
  private:
   std::unique_ptr<FrameSink> sink_;
   std::string path_;
@@ -46,12 +49,12 @@ class FramesOutput final : public FrameOutput {
   }
   void finish() override { sink_->finish(); }
   void abandon(std::vector<std::string>& kept, std::vector<std::string>&) override {
-    const std::string left = sink_->abandon();  // PNGs already written are complete: they stay
-    if (!left.empty()) kept.push_back(left);
+    sink_->abandon();
+    this->kept(kept);  // PNGs already written are complete: they stay
   }
   void kept(std::vector<std::string>& kept) override {
-    const std::string all = sink_->abandon();  // (finished: says what it wrote)
-    if (!all.empty()) kept.push_back(all);
+    const std::string pngs = sink_->written();
+    if (!pngs.empty()) kept.push_back(pngs);
   }
  private:
   std::unique_ptr<FrameSink> sink_;
