@@ -123,14 +123,20 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
       const bool reference_diverged = color == FieldKind::Error && report.reference && report.reference->divergence;
       std::string values, measured = " (never measured";  // never: no number to quote, the note says why
       if (report.field_count[i] > 0) {
-        char text[96];
+        char text[160];
         std::snprintf(text, sizeof text, " largest %.3g%s, at the end %.3g%s", report.field_max[i],
                       field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
         values = text;
-        if (report.field_count[i] == 1)
+        // A lane whose step is longer than the frame interval stands on one state for several
+        // frames: how many states those frames showed, where it is fewer.
+        const long frames = report.field_count[i], states = report.field_states[i];
+        char distinct[64] = "";
+        if (states < frames)
+          std::snprintf(distinct, sizeof distinct, " (%ld distinct state%s of the lane)", states, states == 1 ? "" : "s");
+        if (frames == 1)
           std::snprintf(text, sizeof text, " (measured at 1 frame, t = %.4g s", report.field_last_t[i]);
         else
-          std::snprintf(text, sizeof text, " (measured at %ld frames, t = %.4g to %.4g s", report.field_count[i],
+          std::snprintf(text, sizeof text, " (measured at %ld frames%s, t = %.4g to %.4g s", frames, distinct,
                         report.field_first_t[i], report.field_last_t[i]);
         measured = text;
       }
@@ -174,6 +180,7 @@ JsonObject& with_field(JsonObject& lane, const PipelineReport& report, std::size
   return lane.number("field_max", report.field_max[i])
       .number("field_last", report.field_last[i])
       .number("field_frames", static_cast<double>(report.field_count[i]))
+      .number("field_states", static_cast<double>(report.field_states[i]))
       .number("field_first_t", report.field_first_t[i])
       .number("field_last_t", report.field_last_t[i]);
 }

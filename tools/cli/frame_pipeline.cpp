@@ -103,7 +103,8 @@ struct FramePipeline::Impl {
   std::vector<std::pair<std::shared_ptr<const LaneFrame>, std::vector<float>>> unrendered;
   std::deque<TargetFrames> held;      // targets waiting for the colour scale
   std::vector<double> field_max, field_last, field_last_t, field_first_t;  // PipelineReport's
-  std::vector<long> field_count;
+  std::vector<long> field_count, field_states;
+  std::vector<std::int64_t> field_step;  // per lane: the step of the last state measured
   std::optional<ColorRange> range;
   double wait_seconds = 0.0, render_seconds = 0.0;
   long processed = 0;
@@ -146,6 +147,8 @@ struct FramePipeline::Impl {
     field_max.assign(lanes.size(), std::numeric_limits<double>::quiet_NaN());
     field_last = field_last_t = field_first_t = field_max;
     field_count.assign(lanes.size(), 0);
+    field_states.assign(lanes.size(), 0);
+    field_step.assign(lanes.size(), -1);
     output_seconds.assign(outputs.size(), 0.0);
   }
 
@@ -200,6 +203,10 @@ struct FramePipeline::Impl {
       field_last[i] = largest;
       field_last_t[i] = current[i]->t;
       if (field_count[i]++ == 0) field_first_t[i] = current[i]->t;
+      if (current[i]->step != field_step[i]) {  // a lane that did not step shows the same state
+        ++field_states[i];
+        field_step[i] = current[i]->step;
+      }
       if (!(field_max[i] >= largest)) field_max[i] = largest;
     }
     return true;
@@ -388,6 +395,7 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
   report.field_last_t = p.field_last_t;
   report.field_count = p.field_count;
   report.field_first_t = p.field_first_t;
+  report.field_states = p.field_states;
   report.wait_seconds = p.wait_seconds;
   report.render_seconds = p.render_seconds;
   for (std::size_t o = 0; o < p.outputs.size(); ++o)
