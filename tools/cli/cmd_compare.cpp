@@ -171,7 +171,7 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
   return lane_json(model.name, r.spec.kind, r.spec.dt, r.totals,
                    r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
       .number("t_reached", r.t)
-      .text("lane", r.spec.name() + "@" + r.spec.step_text)
+      .text("lane", r.spec.spelling())
       .text("role", role);
 }
 
@@ -242,12 +242,12 @@ int compare_command(const CompareOptions& o) {
     for (const std::string& d : lane_dirs) refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
   for (const LaneSpec& l : lanes) {  // every lane's steps, and the reference's, bounded like the scene's
     const std::string too_long = run_bounds_problem(scene.duration, l.dt, scene.render.fps);
-    if (!too_long.empty()) throw UsageError("--dt (" + l.name() + "@" + l.step_text + "): " + too_long);
+    if (!too_long.empty()) throw UsageError("--dt (" + l.spelling() + "): " + too_long);
   }
   if (look.reference) {
     const std::string too_long = run_bounds_problem(scene.duration, look.reference->dt, scene.render.fps);
     if (!too_long.empty())
-      throw UsageError("--reference (" + look.reference->name() + "@" + look.reference->step_text +
+      throw UsageError("--reference (" + look.reference->spelling() +
                        ", for --color error): " + too_long + "; give --reference NAME@STEP or --color checker");
   }
   const std::vector<double> sheet_times =
@@ -273,7 +273,7 @@ int compare_command(const CompareOptions& o) {
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
   for (const LaneSpec& l : lanes)
-    budget.add(l.name() + "@" + l.step_text,
+    budget.add(l.spelling(),
                run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
   if (look.reference)
     budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind) + kLaneThreadBytes);
@@ -313,7 +313,8 @@ int compare_command(const CompareOptions& o) {
   if (look.camera_auto) config.camera = auto_camera(model, static_cast<double>(config.width) / config.height);
   FramePipeline pipeline(model, targets, lanes, config, renderer.get());
   Composer composer{grid, {}};
-  for (const LaneSpec& l : lanes) composer.labels.push_back(look.overlay == OverlayMode::None ? "" : l.label());
+  composer.labels = look.overlay == OverlayMode::None ? std::vector<std::string>(lanes.size())
+                                                     : lane_tile_labels(lanes, *grid);
   if (!o.video.empty())
     pipeline.add(make_video_output(make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset}), o.video, composer));
   if (!o.frames_dir.empty())

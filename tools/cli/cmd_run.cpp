@@ -61,7 +61,7 @@ int run_command(const RunOptions& o) {
   if (look.reference) {
     const std::string too_long = run_bounds_problem(scene.duration, look.reference->dt, scene.render.fps);
     if (!too_long.empty())
-      throw UsageError("--reference (" + look.reference->name() + "@" + look.reference->step_text +
+      throw UsageError("--reference (" + look.reference->spelling() +
                        ", for --color error): " + too_long);
   }
 

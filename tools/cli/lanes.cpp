@@ -77,6 +77,8 @@ std::string LaneSpec::name() const {
 
 std::string LaneSpec::label() const { return name() + "  dt = " + step_text + " s"; }
 
+std::string LaneSpec::spelling() const { return name() + "@" + step_text; }
+
 std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt_text, double scene_dt) {
   std::vector<Item> items;
   for (const std::string& raw : split_list(integrators)) {
@@ -107,7 +109,7 @@ std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::str
     }
     for (const LaneSpec& l : lanes)
       if (same_lane(l, i.lane))
-        throw UsageError("--integrators: " + in_quotes(l.name() + "@" + i.lane.step_text) +
+        throw UsageError("--integrators: " + in_quotes(i.lane.spelling()) +
                          " is listed twice (the same integrator at the same step)");
     lanes.push_back(i.lane);
   }

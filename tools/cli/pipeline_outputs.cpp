@@ -12,6 +12,18 @@ const Image& Composer::picture(const std::vector<LaneView>& lanes, Image& canvas
   return canvas;
 }
 
+std::vector<std::string> lane_tile_labels(const std::vector<LaneSpec>& lanes, const TileGrid& grid) {
+  std::vector<std::string> labels;
+  bool fit = true;
+  for (const LaneSpec& l : lanes) {
+    labels.push_back(l.label());
+    fit = fit && label_fits(labels.back(), grid.cell_width(), 1);
+  }
+  if (!fit)
+    for (std::size_t i = 0; i < lanes.size(); ++i) labels[i] = lanes[i].spelling();
+  return labels;
+}
+
 namespace {
 
 class VideoOutput final : public FrameOutput {
