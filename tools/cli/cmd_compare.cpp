@@ -275,8 +275,12 @@ int compare_command(const CompareOptions& o) {
   for (const LaneSpec& l : lanes)
     budget.add(l.spelling(),
                run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
-  if (look.reference)
+  if (look.reference) {
     budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind) + kLaneThreadBytes);
+    std::vector<double> steps;
+    for (const LaneSpec& l : lanes) steps.push_back(l.dt);
+    budget.add("reference positions at the lanes' times", reference_positions_bytes(scene, steps, targets, kLaneQueueCapacity));
+  }
   if (rendering) {
     const double n = static_cast<double>(lanes.size());
     const double tile = 4.0 * grid->cell_width() * grid->cell_height(), canvas = 4.0 * grid->width() * grid->height();

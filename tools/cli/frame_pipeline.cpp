@@ -129,7 +129,7 @@ struct FramePipeline::Impl {
     lane_models.resize(lanes.size());
     for (std::size_t i = 0; i < lanes.size(); ++i)
       workers.push_back(std::make_unique<LaneWorker>(lane_model(model, lanes[i], lane_models[i]), lanes[i], plan,
-                                                     needs(), 4, interrupt));
+                                                     needs(), kLaneQueueCapacity, interrupt));
     if (config.color == FieldKind::Error && config.reference) {
       // Lanes land on the first step at or past each frame time, not on it, each at its own
       // step: the reference hands over its positions at every lane's landing time (its own
@@ -137,7 +137,7 @@ struct FramePipeline::Impl {
       // interpolated between two), so no lane's error holds a time offset times |v|.
       LaneNeeds n;  // the positions at the lanes' times, nothing else
       for (const LaneSpec& lane : lanes) n.stand_for.push_back(lane.dt);
-      reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, 4, interrupt);
+      reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, kLaneQueueCapacity, interrupt);
     }
     current.resize(lanes.size());
     frozen.assign(lanes.size(), false);
@@ -170,6 +170,9 @@ struct FramePipeline::Impl {
         if (interrupted()) return false;  // next() gives up on a signal
         if (got) {
           frozen[i] = f.frozen;
+          // A lane that diverged has no error from here on: the reference stops serving it
+          // (and running, once no live lane needs it further) before it is asked for this target.
+          if (f.frozen && reference) reference->drop_lane(i);
           current[i] = std::make_shared<const LaneFrame>(std::move(f));
           out.fresh[i] = true;
         }
