@@ -10,6 +10,7 @@
 #include "cli_process.h"
 #include "frame_sink.h"
 #include "png_io.h"
+#include "render/synthetic_frames.h"
 
 namespace clothsim {
 namespace {
@@ -56,18 +57,12 @@ TEST(PngSequenceSink, AFramesDirectoryThatCannotBeMadeFailsBeforeSimulating) {
   EXPECT_TRUE(testing::only_files(dir, {"plain_file"}));
 }
 
-Image grey_frame(int w, int h) {
-  Image image(w, h);
-  for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = (i % 4 == 3) ? 255 : 128;
-  return image;
-}
-
 TEST(PngSequenceSink, SaysWhatItWroteWithoutChangingAnything) {
   // written() is a query: asked after finish(), and again, it names the same PNGs, all of
   // which stay (it was abandon(), an action, that answered this before).
   const std::string dir = scratch_dir("png_sink_written") + "/frames";
   auto sink = cli::make_png_sequence_sink(dir, {});
-  for (int k = 0; k < 3; ++k) sink->add(k, k / 30.0, grey_frame(16, 8));
+  for (int k = 0; k < 3; ++k) sink->add(k, k / 30.0, testing::grey_image(16, 8));
   sink->finish();
   EXPECT_EQ(sink->written(), "3 PNGs in " + dir);
   EXPECT_EQ(sink->written(), "3 PNGs in " + dir) << "asking twice changes nothing";
@@ -77,7 +72,7 @@ TEST(PngSequenceSink, SaysWhatItWroteWithoutChangingAnything) {
 TEST(PngSequenceSink, AbandonedItKeepsTheWholePngsAndSaysSo) {
   const std::string dir = scratch_dir("png_sink_abandoned") + "/frames";
   auto sink = cli::make_png_sequence_sink(dir, {});
-  sink->add(0, 0.0, grey_frame(16, 8));
+  sink->add(0, 0.0, testing::grey_image(16, 8));
   sink->finish();  // (the one frame is on disk: abandon() may not drop it from the queue)
   sink->abandon();
   EXPECT_EQ(sink->written(), "1 PNG in " + dir);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -20,6 +21,43 @@ Model small_drape() {
   return build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", {"cloth.particles=[5,5]"}));
 }
 
+struct Handed {
+  Target target;
+  std::vector<ReferenceStand::Positions> x;  // per lane
+};
+
+// Serves `stand` over `plan` as LaneWorker does (ReferenceStand::add_before_serving decides
+// when a target is added), calling each(targets added, handed over) before every turn;
+// returns the targets as handed over, in order.
+std::vector<Handed> serve_all(ReferenceStand& stand, const TargetPlan& plan,
+                              const std::function<void(std::size_t, std::size_t)>& each = {}) {
+  std::vector<Handed> handed;
+  TargetPlan::Cursor cursor(plan);
+  Target next;
+  bool more = cursor.next(next);
+  std::size_t added = 0;
+  for (;;) {
+    if (each) each(added, handed.size());
+    if (stand.front_ready()) {
+      handed.emplace_back();
+      handed.back().target = stand.pop(handed.back().x);
+      continue;
+    }
+    if (more && stand.add_before_serving(next.t)) {
+      stand.add(next);
+      ++added;
+      more = cursor.next(next);
+      continue;
+    }
+    if (stand.empty()) break;
+    if (!stand.serve_next()) {
+      ADD_FAILURE() << "the reference stopped";
+      break;
+    }
+  }
+  return handed;
+}
+
 }  // namespace
 
 TEST(ReferenceStand, ServesEveryLaneAtItsOwnTimeAcrossTargetsInTimeOrder) {
@@ -31,37 +69,24 @@ TEST(ReferenceStand, ServesEveryLaneAtItsOwnTimeAcrossTargetsInTimeOrder) {
   // the second at 0.1 .. 0.3 s, before the reference may go past them. A third lane of the
   // second's step shares its positions (one copy a target, not one a lane).
   const std::vector<double> steps{0.3, 0.05, 0.05};
+  const TargetPlan plan(0.4, 30.0, true, {});  // 13 targets, 0 .. 0.4 s
   clothsim::Run reference(model, IntegratorKind::SymplecticEuler, H);
-  ReferenceStand stand(model, reference, steps, 0.4);
+  ReferenceStand stand(model, reference, steps, plan.last_time());
   std::vector<std::int64_t> landed(steps.size(), 0);
-  int added = 0, popped = 0;
-  const int targets = 13;  // 0 .. 0.4 s
-  while (popped < targets) {
-    if (stand.front_ready()) {
-      std::vector<ReferenceStand::Positions> x;
-      const Target target = stand.pop(x);
-      ASSERT_EQ(x.size(), steps.size());
-      for (std::size_t j = 0; j < steps.size(); ++j) {
-        landed[j] = landing_step(target.t, steps[j], landed[j]);
-        const double t = static_cast<double>(landed[j]) * steps[j];
-        clothsim::Run direct(model, IntegratorKind::SymplecticEuler, H);
-        ASSERT_TRUE(direct.advance_to(t));
-        const std::vector<double> expected(direct.state().x.data(),
-                                           direct.state().x.data() + 3 * model.num_particles);
-        ASSERT_TRUE(x[j]);
-        EXPECT_EQ(*x[j], expected) << "target " << target.t << " s, lane " << steps[j] << " s at " << t << " s";
-      }
-      EXPECT_EQ(x[1], x[2]) << "lanes of one step share one copy";
-      ++popped;
-      continue;
+  const std::vector<Handed> handed = serve_all(stand, plan);
+  ASSERT_EQ(handed.size(), 13u);
+  for (const auto& [target, x] : handed) {
+    ASSERT_EQ(x.size(), steps.size());
+    for (std::size_t j = 0; j < steps.size(); ++j) {
+      landed[j] = landing_step(target.t, steps[j], landed[j]);
+      const double t = static_cast<double>(landed[j]) * steps[j];
+      clothsim::Run direct(model, IntegratorKind::SymplecticEuler, H);
+      ASSERT_TRUE(direct.advance_to(t));
+      const std::vector<double> expected(direct.state().x.data(), direct.state().x.data() + 3 * model.num_particles);
+      ASSERT_TRUE(x[j]);
+      EXPECT_EQ(*x[j], expected) << "target " << target.t << " s, lane " << steps[j] << " s at " << t << " s";
     }
-    const double next = added / 30.0;
-    if (added < targets && stand.add_before_serving(next)) {
-      stand.add(Target{next});
-      ++added;
-      continue;
-    }
-    ASSERT_TRUE(stand.serve_next());
+    EXPECT_EQ(x[1], x[2]) << "lanes of one step share one copy";
   }
   EXPECT_TRUE(stand.empty());
   EXPECT_LE(reference.state().t, 0.6 + H) << "no further than the last time a lane stands at";
@@ -95,41 +120,6 @@ TEST(ReferenceStand, InterpolatesBetweenItsStepsToWithinTheMethodsError) {
   EXPECT_LT(largest, 1e-6);
 }
 
-namespace {
-
-// Serves `stand` as LaneWorker does over `plan`, calling each(added, handed over) before every
-// turn of the loop; returns the targets' positions as handed over, in order.
-template <class Each>
-std::vector<std::vector<ReferenceStand::Positions>> serve_all(ReferenceStand& stand, const TargetPlan& plan, Each each) {
-  std::vector<std::vector<ReferenceStand::Positions>> handed;
-  TargetPlan::Cursor cursor(plan);
-  Target next;
-  bool more = cursor.next(next);
-  std::size_t added = 0;
-  for (;;) {
-    each(added, handed.size());
-    if (stand.front_ready()) {
-      handed.emplace_back();
-      stand.pop(handed.back());
-      continue;
-    }
-    if (more && stand.add_before_serving(next.t)) {
-      stand.add(next);
-      ++added;
-      more = cursor.next(next);
-      continue;
-    }
-    if (stand.empty()) break;
-    if (!stand.serve_next()) {
-      ADD_FAILURE() << "the reference stopped";
-      break;
-    }
-  }
-  return handed;
-}
-
-}  // namespace
-
 TEST(ReferenceStand, ServesADroppedLaneNoLongerAndRunsNoFurtherThanTheLiveLanesNeed) {
   // A lane of 20 s on a 0.5 s clip stands at 20 s from the second frame on; it diverged there
   // (as rk4@20 does on the drape), and once it is dropped the reference serves the lane of
@@ -153,11 +143,11 @@ TEST(ReferenceStand, ServesADroppedLaneNoLongerAndRunsNoFurtherThanTheLiveLanesN
   EXPECT_EQ(waiting_at_drop, 15u) << "targets 1 .. 15 waited for the lane of 20 s";
   EXPECT_DOUBLE_EQ(stand.horizon(), 0.5);
   ASSERT_EQ(handed.size(), 16u) << "every target goes out";
-  EXPECT_TRUE(handed[0][0]) << "served before it was dropped";
+  EXPECT_TRUE(handed[0].x[0]) << "served before it was dropped";
   for (std::size_t k = 0; k < handed.size(); ++k) {
-    EXPECT_TRUE(handed[k][1]) << "the live lane at target " << k;
+    EXPECT_TRUE(handed[k].x[1]) << "the live lane at target " << k;
     if (k > 0) {
-      EXPECT_FALSE(handed[k][0]) << "the dropped lane at target " << k;
+      EXPECT_FALSE(handed[k].x[0]) << "the dropped lane at target " << k;
     }
   }
   EXPECT_LE(reference.state().t, 0.5 + H + 1e-12);

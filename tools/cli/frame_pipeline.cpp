@@ -53,13 +53,9 @@ std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, 
     if (single) lines.push_back(lane.label());  // a tile's label is the grid's
     return lines;
   }
-  if (single) {
-    lines.push_back(model.name);
-    lines.push_back(lane.label());
-  }
+  // run: the scene, the lane and the time (snapshot.h); a tile: the time, the grid labels it.
+  lines = single ? overlay_lines(model, lane.label(), frame.t) : std::vector<std::string>{overlay_time_line(frame.t)};
   char buf[128];
-  std::snprintf(buf, sizeof buf, "t = %.3f s", frame.t);
-  lines.emplace_back(buf);
   // Force evaluations: the machine-independent cost, the same on every run of the command.
   int n = std::snprintf(buf, sizeof buf, "%" PRId64 " force evals", frame.totals.force_evals);
   if (cpu && frame.t > 0.0)  // measured: differs from run to run, so only when asked for

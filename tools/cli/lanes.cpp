@@ -8,6 +8,7 @@
 #include "cli_common.h"
 #include "compare_plan.h"
 #include "echo.h"
+#include "snapshot.h"
 
 namespace clothsim::cli {
 
@@ -75,7 +76,7 @@ std::string LaneSpec::name() const {
   return fixed_point ? n + " (fixed point)" : n;
 }
 
-std::string LaneSpec::label() const { return name() + "  dt = " + step_text + " s"; }
+std::string LaneSpec::label() const { return integrator_label(name(), step_text); }
 
 std::string LaneSpec::spelling() const { return name() + "@" + step_text; }
 
