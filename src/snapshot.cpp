@@ -98,15 +98,24 @@ void mark_not_converged(RenderFrame& frame, std::int64_t steps) {
   frame.banner = "NOT CONVERGED (" + std::to_string(steps) + (steps == 1 ? " step)" : " steps)");
 }
 
+std::vector<std::string> overlay_lines(const Model& model, const std::string& lane_label, double t) {
+  return {model.name, lane_label, overlay_time_line(t)};
+}
+
 std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t) {
-  char buf[96];
-  std::vector<std::string> lines;
-  lines.push_back(model.name);
-  std::snprintf(buf, sizeof buf, "%s  dt = %.3g s", std::string(integrator_name(kind)).c_str(), dt);
-  lines.push_back(buf);
-  std::snprintf(buf, sizeof buf, "t = %.3f s", t);
-  lines.push_back(buf);
-  return lines;
+  char step[32];
+  std::snprintf(step, sizeof step, "%.3g", dt);
+  return overlay_lines(model, integrator_label(integrator_name(kind), step), t);
+}
+
+std::string integrator_label(std::string_view name, std::string_view step) {
+  return std::string(name) + "  dt = " + std::string(step) + " s";
+}
+
+std::string overlay_time_line(double t) {
+  char line[48];
+  std::snprintf(line, sizeof line, "t = %.3f s", t);
+  return line;
 }
 
 }  // namespace clothsim

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "diagnostics.h"
@@ -29,7 +30,16 @@ void mark_diverged(RenderFrame& frame, const Divergence& divergence);
 // far (steps > 0): the red banner "NOT CONVERGED (N steps)", "(1 step)" for one.
 void mark_not_converged(RenderFrame& frame, std::int64_t steps);
 
-// Standard overlay: scene name, integrator, dt and simulated time.
+// The overlay of a run's picture: the scene, the lane (integrator_label) and the time
+// (overlay_time_line); `run` adds its cost beneath (tools/cli/frame_pipeline.h, lane_overlay),
+// and a compare tile starts at the time, its lane being the grid's label. These functions are
+// where those lines are written, for every picture that has them.
+std::vector<std::string> overlay_lines(const Model& model, const std::string& lane_label, double t);
+// The same for `kind` at step dt, written %.3g (what a scene's own run shows for common steps).
 std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t);
+// "rk4  dt = 1e-4 s": an integrator (`name`) at a step as written (`step`, s).
+std::string integrator_label(std::string_view name, std::string_view step);
+// "t = 1.500 s".
+std::string overlay_time_line(double t);
 
 }  // namespace clothsim

@@ -203,6 +203,30 @@ TEST(CmdCompare, TheErrorLinesSayWhichFramesTheyCover) {
   EXPECT_NE(r.out.find("(measured at 2 frames, t = 0.1 to 0.2 s)"), std::string::npos) << r.out;
 }
 
+TEST(CmdCompare, TheErrorLinesCountTheDistinctStatesOfALaneLongerThanAFrame) {
+  // implicit_euler at 0.1 s against frames at 30 Hz (the colour scale's first second: the
+  // whole 0.2 s, 7 frames): it stands at 0 s, then at 0.1 s for three frames and at 0.2 s for
+  // three. Its numbers come from 3 states of the lane, not 7; symplectic Euler, at 1e-4 s,
+  // steps between every two frames and its line says nothing more.
+  const std::string dir = scratch_dir("compare_error_states");
+  const auto r = compare_small({"--integrators", "implicit_euler@0.1,symplectic_euler", "--still", "0.2", "-o",
+                                dir + "/still.png", "--summary", dir + "/s.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("(measured at 7 frames (3 distinct states of the lane), t = 0 to 0.2 s)"), std::string::npos)
+      << r.out;
+  const std::size_t fine = r.out.find("symplectic_euler @ 0.0001 s: error against");
+  ASSERT_NE(fine, std::string::npos) << r.out;
+  EXPECT_EQ(r.out.substr(fine, r.out.find('\n', fine) - fine).find("distinct"), std::string::npos) << r.out;
+  // The summary keeps field_frames meaning frames, and counts the states beside it.
+  const std::string json = cli::slurp(dir + "/s.json");
+  const std::size_t lane = json.find("\"lane\": \"implicit_euler@0.1\"");
+  ASSERT_NE(lane, std::string::npos) << json;
+  const std::string object = json.substr(json.rfind('{', lane), json.find('}', lane) - json.rfind('{', lane));
+  EXPECT_NE(object.find("\"field_frames\": 7"), std::string::npos) << object;
+  EXPECT_NE(object.find("\"field_states\": 3"), std::string::npos) << object;
+  EXPECT_NE(json.find("\"field_states\": 7"), std::string::npos) << "symplectic Euler: a state a frame\n" << json;
+}
+
 TEST(CmdCompare, AReferenceThatDivergesIsWarnedOfAndEveryErrorLineSaysWhereMeasuringStopped) {
   const std::string dir = scratch_dir("compare_diverged_reference");
   const auto r = compare_small({"--integrators", "midpoint", "--reference", "explicit_euler@1e-2", "--still", "0.1",

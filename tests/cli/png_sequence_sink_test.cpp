@@ -1,12 +1,16 @@
-// The PNG sequence sink (tools/cli/png_sequence_sink.cpp) through `clothsim run --frames`.
+// The PNG sequence sink (tools/cli/png_sequence_sink.cpp), directly and through
+// `clothsim run --frames`.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 
 #include "cli_process.h"
+#include "frame_sink.h"
 #include "png_io.h"
+#include "render/synthetic_frames.h"
 
 namespace clothsim {
 namespace {
@@ -51,6 +55,37 @@ TEST(PngSequenceSink, AFramesDirectoryThatCannotBeMadeFailsBeforeSimulating) {
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find(frames), std::string::npos) << r.err;
   EXPECT_TRUE(testing::only_files(dir, {"plain_file"}));
+}
+
+TEST(PngSequenceSink, SaysWhatItWroteWithoutChangingAnything) {
+  // written() is a query: asked after finish(), and again, it names the same PNGs, all of
+  // which stay (it was abandon(), an action, that answered this before).
+  const std::string dir = scratch_dir("png_sink_written") + "/frames";
+  auto sink = cli::make_png_sequence_sink(dir, {});
+  for (int k = 0; k < 3; ++k) sink->add(k, k / 30.0, testing::grey_image(16, 8));
+  sink->finish();
+  EXPECT_EQ(sink->written(), "3 PNGs in " + dir);
+  EXPECT_EQ(sink->written(), "3 PNGs in " + dir) << "asking twice changes nothing";
+  EXPECT_TRUE(testing::only_files(dir, {"frame_00000.png", "frame_00001.png", "frame_00002.png"}));
+}
+
+TEST(PngSequenceSink, AbandonedItKeepsTheWholePngsAndSaysSo) {
+  const std::string dir = scratch_dir("png_sink_abandoned") + "/frames";
+  auto sink = cli::make_png_sequence_sink(dir, {});
+  sink->add(0, 0.0, testing::grey_image(16, 8));
+  sink->finish();  // (the one frame is on disk: abandon() may not drop it from the queue)
+  sink->abandon();
+  EXPECT_EQ(sink->written(), "1 PNG in " + dir);
+  EXPECT_TRUE(testing::only_files(dir, {"frame_00000.png"}));
+}
+
+TEST(PngSequenceSink, AbandonedBeforeAnyFrameItRemovesTheDirectoryItMadeAndNamesNothing) {
+  const std::string parent = scratch_dir("png_sink_abandoned_empty");
+  auto sink = cli::make_png_sequence_sink(parent + "/frames", {});
+  EXPECT_EQ(sink->written(), "");
+  sink->abandon();
+  EXPECT_EQ(sink->written(), "");
+  EXPECT_TRUE(testing::only_files(parent, {})) << "the directory it made, empty, goes";
 }
 
 }  // namespace

@@ -6,29 +6,26 @@
 #include "cli/cli_process.h"
 #include "cli_common.h"
 #include "frame_sink.h"
+#include "render/synthetic_frames.h"
 #include "video/mp4_probe.h"
 
 namespace fs = std::filesystem;
 using namespace clothsim;
 using namespace clothsim::cli;
 
-namespace {
-
-Image grey(int w, int h, std::uint8_t v) {
-  Image image(w, h);
-  for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = (i % 4 == 3) ? 255 : v;
-  return image;
-}
-
-}  // namespace
+using clothsim::testing::grey_image;
 
 TEST(VideoSink, OpensOnTheFirstFrameAndAppearsOnlyAtFinish) {
   const std::string dir = clothsim::testing::scratch_dir("video_sink_ok");
   const std::string path = dir + "/clip.mp4";
   auto sink = make_video_sink(path, VideoOptions{24.0, 23, "ultrafast"});
-  for (int k = 0; k < 4; ++k) sink->add(k, k / 24.0, grey(96, 54, static_cast<std::uint8_t>(40 * k)));
+  for (int k = 0; k < 4; ++k) sink->add(k, k / 24.0, grey_image(96, 54, static_cast<std::uint8_t>(40 * k)));
   EXPECT_FALSE(fs::exists(path));
+  EXPECT_EQ(sink->written(), "") << "nothing under the name before finish()";
   sink->finish();
+  EXPECT_EQ(sink->written(), path);
+  sink->abandon();  // after finish(): the clip is complete and stays
+  EXPECT_EQ(sink->written(), path);
   const auto info = test::probe_mp4(path, false);
   EXPECT_EQ(info.width, 96);
   EXPECT_EQ(info.height, 54);
@@ -41,8 +38,13 @@ TEST(VideoSink, LeavesNothingWhenDestroyedUnfinished) {
   const std::string dir = clothsim::testing::scratch_dir("video_sink_abandoned");
   {
     auto sink = make_video_sink(dir + "/clip.mp4", VideoOptions{});
-    sink->add(0, 0.0, grey(32, 32, 128));
+    sink->add(0, 0.0, grey_image(32, 32, 128));
   }
+  EXPECT_TRUE(clothsim::testing::only_files(dir, {}));
+  auto sink = make_video_sink(dir + "/clip.mp4", VideoOptions{});
+  sink->add(0, 0.0, grey_image(32, 32, 128));
+  sink->abandon();
+  EXPECT_EQ(sink->written(), "");
   EXPECT_TRUE(clothsim::testing::only_files(dir, {}));
 }
 

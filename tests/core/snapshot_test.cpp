@@ -26,5 +26,16 @@ TEST(Snapshot, CountsMissedImplicitStepsInTheNotConvergedBanner) {
   EXPECT_TRUE(frame.overlay_lines.empty()) << "the banner alone: the lane goes on";
 }
 
+TEST(Snapshot, OverlayLinesAreTheSceneTheLaneAndTheTimeHoweverTheLaneIsGiven) {
+  Model model;
+  model.name = "drape";
+  EXPECT_EQ(overlay_lines(model, integrator_label("implicit_euler", "1/60"), 1.5),
+            (std::vector<std::string>{"drape", "implicit_euler  dt = 1/60 s", "t = 1.500 s"}));
+  // From the integrator and its step: the same lines, the step written %.3g.
+  EXPECT_EQ(overlay_lines(model, IntegratorKind::Rk4, 1e-4, 0.25),
+            (std::vector<std::string>{"drape", "rk4  dt = 0.0001 s", "t = 0.250 s"}));
+  EXPECT_EQ(overlay_time_line(2.0 / 3.0), "t = 0.667 s");
+}
+
 }  // namespace
 }  // namespace clothsim

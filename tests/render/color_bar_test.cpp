@@ -5,16 +5,13 @@
 #include <cmath>
 
 #include "colormap.h"
+#include "render/synthetic_frames.h"
 #include "text.h"
 
 namespace clothsim::render {
 namespace {
 
-Image grey(int w, int h) {
-  Image image(w, h);
-  for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = (i % 4 == 3) ? 255 : 128;
-  return image;
-}
+using testing::grey_image;
 
 RenderFrame field_frame(int w, int h) {
   RenderFrame f;
@@ -22,9 +19,7 @@ RenderFrame field_frame(int w, int h) {
   f.height = h;
   f.cloth_positions.assign(6, 0.f);
   f.cloth_field = {1e-5f, 1e-2f};
-  f.color_scale.lo = 1e-6f;
-  f.color_scale.hi = 1e-1f;
-  f.color_scale.label = "error [m]";
+  testing::set_error_scale(f);
   return f;
 }
 
@@ -41,7 +36,7 @@ int white_pixels(const Image& image, int x0, int y0, int x1, int y1) {
 TEST(ColorBar, TheGradientRunsFromTheHighColourAtTheTopToTheLowAtTheBottomOfItsBox) {
   const RenderFrame f = field_frame(640, 360);
   const OverlayLayout l = layout_overlay(f, 640, 360);
-  Image image = grey(640, 360);
+  Image image = grey_image(640, 360);
   draw_color_bar(image, f.color_scale, l);
   const int x = l.bar.x + l.bar.w / 2;
   EXPECT_TRUE(same(image.pixel(x, l.bar.y), colormap_rgb8(1.f - 0.5f / static_cast<float>(l.bar.h))));
@@ -56,7 +51,7 @@ TEST(ColorBar, TheGradientRunsFromTheHighColourAtTheTopToTheLowAtTheBottomOfItsB
 TEST(ColorBar, EveryTickHasALabelBesideItAndTheTitleIsWrittenAboveTheBar) {
   const RenderFrame f = field_frame(640, 360);
   const OverlayLayout l = layout_overlay(f, 640, 360);
-  Image image = grey(640, 360);
+  Image image = grey_image(640, 360);
   draw_color_bar(image, f.color_scale, l);
   ASSERT_EQ(l.ticks.size(), 6u);  // 1e-6 .. 1e-1
   for (const ScaleTick& tick : l.ticks) {
@@ -72,7 +67,7 @@ TEST(ColorBar, EveryTickHasALabelBesideItAndTheTitleIsWrittenAboveTheBar) {
 TEST(ColorBar, DrawsOnlyInsideItsPanel) {
   const RenderFrame f = field_frame(320, 180);
   const OverlayLayout l = layout_overlay(f, 320, 180);
-  Image image = grey(320, 180);
+  Image image = grey_image(320, 180);
   draw_color_bar(image, f.color_scale, l);
   int outside = 0;
   for (int y = 0; y < 180; ++y)
@@ -85,7 +80,7 @@ TEST(ColorBar, DrawsOnlyInsideItsPanel) {
 TEST(ColorBar, NothingIsDrawnWithoutAField) {
   RenderFrame f = field_frame(320, 180);
   f.cloth_field.clear();
-  Image image = grey(320, 180);
+  Image image = grey_image(320, 180);
   const Image before = image;
   draw_color_bar(image, f.color_scale, layout_overlay(f, 320, 180));
   EXPECT_EQ(image.rgba, before.rgba);

@@ -220,9 +220,8 @@ TEST(FrameSetup, OverlayCapHeightIsAtLeastTwelvePixelsAt360RowsAndAThirtiethOfTh
 RenderFrame field_frame() {
   RenderFrame f = testing::draped_sheet_frame(64, 36, 5);
   f.cloth_field.assign(25, 1e-3f);
-  f.color_scale.lo = 1e-6f;
-  f.color_scale.hi = 1e-1f;
-  f.inset.show = true;
+  testing::set_error_scale(f);
+  testing::show_energy_inset(f, 1.f, 0.f, 1.f);
   f.inset.t = {0.f, 0.5f};
   f.inset.value = {1.f, 2.f};
   return f;

@@ -112,16 +112,9 @@ RenderFrame field_golden_frame() {
     const float r = std::hypot(f.cloth_positions[i], f.cloth_positions[i + 2]);  // 0 .. 2.83 m
     f.cloth_field.push_back(3e-6f * std::pow(10.f, 4.f * r / 2.83f));
   }
-  f.color_scale.lo = 1e-6f;
-  f.color_scale.hi = 1e-1f;
-  f.color_scale.label = "error [m]";
+  testing::set_error_scale(f);
   f.overlay_lines = {"drape  rk4 @ 1e-3 s", "t = 1.500 s"};
-  f.inset.show = true;
-  f.inset.label = "total energy [J]";
-  f.inset.t_lo = 0.f;
-  f.inset.t_hi = 3.f;
-  f.inset.v_lo = 30.f;
-  f.inset.v_hi = 60.f;
+  testing::show_energy_inset(f, 3.f, 30.f, 60.f);
   for (int i = 0; i <= 60; ++i) {  // up to t = 1.5 s: a damped wobble on a slow gain
     const float t = 0.025f * static_cast<float>(i);
     f.inset.t.push_back(t);

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "render/synthetic_frames.h"
 #include "text.h"
 
 namespace clothsim::render {
@@ -17,11 +18,8 @@ RenderFrame busy_frame(int w, int h) {
   f.overlay_lines = {"drape  rk4  dt = 1e-4 s", "t = 1.500 s  force evals 60000"};
   f.cloth_positions.assign(3 * 4, 0.f);
   f.cloth_field = {1e-5f, 1e-4f, 1e-3f, 1e-2f};
-  f.color_scale.lo = 1e-6f;
-  f.color_scale.hi = 1e-1f;
-  f.color_scale.label = "error [m]";
-  f.inset.show = true;
-  f.inset.label = "total energy [J]";
+  testing::set_error_scale(f);
+  testing::show_energy_inset(f, 1.f, 0.f, 1.f);
   return f;
 }
 

@@ -166,9 +166,7 @@ RenderFrame field_sheet_frame(int w, int h) {
   frame.camera.eye = {0.f, 6.f, -0.5f};
   for (std::size_t i = 0; i < frame.cloth_positions.size(); i += 3)
     frame.cloth_field.push_back(std::pow(10.f, -6.f + 5.f * (frame.cloth_positions[i] + 2.f) / 4.f));
-  frame.color_scale.lo = 1e-6f;
-  frame.color_scale.hi = 1e-1f;
-  frame.color_scale.label = "error [m]";
+  testing::set_error_scale(frame);
   frame.color_scale.show_bar = false;
   return frame;
 }

@@ -5,14 +5,12 @@
 #include <cmath>
 #include <limits>
 
+#include "render/synthetic_frames.h"
+
 namespace clothsim::render {
 namespace {
 
-Image grey(int w, int h) {
-  Image image(w, h);
-  for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = (i % 4 == 3) ? 255 : 128;
-  return image;
-}
+using testing::grey_image;
 
 bool amber(const std::uint8_t* p) { return p[0] == 255 && p[1] == 204 && p[2] == 64; }
 
@@ -21,12 +19,7 @@ RenderFrame inset_frame(int w, int h) {
   RenderFrame f;
   f.width = w;
   f.height = h;
-  f.inset.show = true;
-  f.inset.label = "total energy [J]";
-  f.inset.t_lo = 0.f;
-  f.inset.t_hi = 4.f;
-  f.inset.v_lo = 0.f;
-  f.inset.v_hi = 20.f;
+  testing::show_energy_inset(f, 4.f, 0.f, 20.f);
   for (int i = 0; i <= 40; ++i) {
     f.inset.t.push_back(0.05f * static_cast<float>(i));
     f.inset.value.push_back(0.25f * static_cast<float>(i));
@@ -44,7 +37,7 @@ int curve_row(const Image& image, const ImageBox& plot, int x) {
 TEST(SeriesInset, DrawsInTheBottomRightCornerOnlyAndItsCurveRisesWithTheValues) {
   const RenderFrame f = inset_frame(640, 360);
   const OverlayLayout l = layout_overlay(f, 640, 360);
-  Image image = grey(640, 360);
+  Image image = grey_image(640, 360);
   draw_series_inset(image, f.inset, l);
   int outside = 0, curve = 0;
   for (int y = 0; y < 360; ++y)
@@ -71,7 +64,7 @@ TEST(SeriesInset, ValuesPastTheAxisLieOnItsEdgeAndNonFiniteOnesBreakTheCurve) {
   for (std::size_t i = 10; i < 20; ++i) f.inset.value[i] = 1e30f;                                    // far above v_hi
   for (std::size_t i = 25; i < 35; ++i) f.inset.value[i] = std::numeric_limits<float>::quiet_NaN();  // diverged
   const OverlayLayout l = layout_overlay(f, 640, 360);
-  Image image = grey(640, 360);
+  Image image = grey_image(640, 360);
   draw_series_inset(image, f.inset, l);
   const auto column = [&](float t) {
     return l.plot.x + std::max(1, l.scale / 2) + static_cast<int>(std::lround(t / 4.f * static_cast<float>(l.plot.w - 2)));
@@ -85,7 +78,7 @@ TEST(SeriesInset, ValuesPastTheAxisLieOnItsEdgeAndNonFiniteOnesBreakTheCurve) {
 TEST(SeriesInset, NothingIsDrawnWhenNotShown) {
   RenderFrame f = inset_frame(320, 180);
   f.inset.show = false;
-  Image image = grey(320, 180);
+  Image image = grey_image(320, 180);
   const Image before = image;
   draw_series_inset(image, f.inset, layout_overlay(f, 320, 180));
   EXPECT_EQ(image.rgba, before.rgba);

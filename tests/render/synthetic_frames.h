@@ -1,16 +1,44 @@
 // RenderFrames built by hand, independent of the engine: a sheet of cloth (flat, or draped
-// over a sphere by a closed-form shape), spheres and a ground. Deterministic inputs for the
+// over a sphere by a closed-form shape), spheres and a ground, the error scale and the energy
+// inset the overlay tests draw, and the grey picture they draw on. Deterministic inputs for the
 // renderer's unit tests and benchmarks.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
+#include "image.h"
 #include "render_frame.h"
 
 namespace clothsim::testing {
+
+// An opaque picture of one grey level: what overlays are drawn over in their tests.
+inline Image grey_image(int w, int h, std::uint8_t level = 128) {
+  Image image(w, h);
+  for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = (i % 4 == 3) ? 255 : level;
+  return image;
+}
+
+// The error colouring's scale as compare draws it, 1e-6 to 0.1 m (the field itself is the
+// test's).
+inline void set_error_scale(RenderFrame& frame) {
+  frame.color_scale.lo = 1e-6f;
+  frame.color_scale.hi = 1e-1f;
+  frame.color_scale.label = "error [m]";
+}
+
+// The energy inset shown, on axes [0, t_hi] s x [v_lo, v_hi] J (its series are the test's).
+inline void show_energy_inset(RenderFrame& frame, float t_hi, float v_lo, float v_hi) {
+  frame.inset.show = true;
+  frame.inset.label = "total energy [J]";
+  frame.inset.t_lo = 0.f;
+  frame.inset.t_hi = t_hi;
+  frame.inset.v_lo = v_lo;
+  frame.inset.v_hi = v_hi;
+}
 
 // An nx x ny particle sheet over [-size/2, size/2]^2 in x and z, its height given by
 // height(x, z). Vertex normals are area-weighted triangle normals; triangles are

@@ -5,17 +5,15 @@
 #include <set>
 #include <string>
 
+#include "render/synthetic_frames.h"
+
 namespace clothsim {
 namespace {
 
+using testing::grey_image;
+
 constexpr Rgba8 kWhite{255, 255, 255, 255};
 constexpr Rgba8 kRed{250, 10, 20, 255};
-
-Image grey(int w, int h, std::uint8_t v = 128) {
-  Image image(w, h);
-  for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = (i % 4 == 3) ? 255 : v;
-  return image;
-}
 
 bool is(const std::uint8_t* p, Rgba8 c) { return p[0] == c[0] && p[1] == c[1] && p[2] == c[2]; }
 
@@ -28,7 +26,7 @@ int count_colour(const Image& image, Rgba8 c) {
 
 // The glyph of `c` at scale 1 as a string of '#' and '.', for comparing glyphs.
 std::string glyph_pattern(char c) {
-  Image image = grey(text_glyph_width(), text_glyph_height());
+  Image image = grey_image(text_glyph_width(), text_glyph_height());
   draw_text(image, 0, 0, std::string(1, c), kWhite, 1, false);
   std::string pattern;
   for (int y = 0; y < image.height; ++y)
@@ -51,7 +49,7 @@ TEST(Text, TheScaleForAHeightGivesACapHeightOfAThirtiethOfItAndNoMore) {
 }
 
 TEST(Text, TheCapHeightIsThatOfTheFontsH) {
-  Image image = grey(text_glyph_width(), text_glyph_height());
+  Image image = grey_image(text_glyph_width(), text_glyph_height());
   draw_text(image, 0, 0, "H", kWhite, 1, false);
   int rows = 0;
   for (int y = 0; y < image.height; ++y) {
@@ -86,7 +84,7 @@ TEST(Text, UnknownCharactersDrawAsAQuestionMark) {
 TEST(Text, InkStaysInsideTheTextBoxAndScalesByWholePixels) {
   const std::string s = "t = 1.25 s";
   for (int scale : {1, 2, 3}) {
-    Image image = grey(200, 60);
+    Image image = grey_image(200, 60);
     draw_text(image, 10, 20, s, kRed, scale, false);
     const int w = text_width(s, scale), h = text_glyph_height() * scale;
     int inside = 0;
@@ -96,14 +94,14 @@ TEST(Text, InkStaysInsideTheTextBoxAndScalesByWholePixels) {
           EXPECT_TRUE(x >= 10 && x < 10 + w && y >= 20 && y < 20 + h) << x << "," << y;
           ++inside;
         }
-    Image one = grey(200, 60);
+    Image one = grey_image(200, 60);
     draw_text(one, 10, 20, s, kRed, 1, false);
     EXPECT_EQ(inside, count_colour(one, kRed) * scale * scale) << "scale " << scale;
   }
 }
 
 TEST(Text, BackdropDarkensAroundTheTextOnly) {
-  Image image = grey(120, 40, 200);
+  Image image = grey_image(120, 40, 200);
   draw_text(image, 20, 10, "DIVERGED", kRed, 1, true);
   EXPECT_LT(image.pixel(19, 12)[0], 100);  // just left of the first glyph: darkened
   EXPECT_EQ(image.pixel(5, 5)[0], 200);    // far away: untouched
@@ -111,7 +109,7 @@ TEST(Text, BackdropDarkensAroundTheTextOnly) {
 }
 
 TEST(Text, ABlockSharesOneBackdropWithoutDarkerBands) {
-  Image image = grey(160, 80, 200);
+  Image image = grey_image(160, 80, 200);
   draw_text_block(image, 8, 8, {"scene: drape", "t = 0.500 s"}, kWhite, 1);
   // Between the two lines, the backdrop was applied once: same darkness as above the first line.
   const int between = 8 + text_glyph_height() - 1;
@@ -119,7 +117,7 @@ TEST(Text, ABlockSharesOneBackdropWithoutDarkerBands) {
 }
 
 TEST(Text, IsClippedAtTheImageEdges) {
-  Image image = grey(30, 12);
+  Image image = grey_image(30, 12);
   draw_text(image, -7, -4, "clipped text", kWhite, 2, true);
   draw_text(image, 25, 8, "edge", kWhite, 3, true);
   EXPECT_GT(count_colour(image, kWhite), 0);

@@ -140,6 +140,60 @@ TEST(TileGrid, ShrinksALongLabelToItsTileRatherThanSpillingIntoTheNext) {
   EXPECT_EQ(pixels_not(out, grid.cell_x(1), 0, 60, 40, kBlue), 0) << "next tile untouched";
 }
 
+TEST(FitLabel, ShortensWithAnEllipsisKeepingTheFirstWordWhole) {
+  // 158 px (a 2x2 tile of a 320x180 compare) holds 25 glyphs at scale 1 with the margins.
+  EXPECT_EQ(fit_label("midpoint  dt = 0.0001 s", 158, 1), "midpoint  dt = 0.0001 s") << "fits: as given";
+  EXPECT_EQ(fit_label("implicit_euler (fixed point)@0.0001", 158, 1), "implicit_euler (fixed...");
+  EXPECT_EQ(fit_label("implicit_euler (fixed point)@0.0001", 110, 1), "implicit_euler...")
+      << "the name whole rather than a piece of what follows it";
+  EXPECT_EQ(fit_label("implicit_euler@0.0001", 70, 1), "implici...") << "a tile narrower than the name";
+  EXPECT_EQ(fit_label("implicit_euler", 20, 1), "") << "not even the ellipsis fits: no label";
+  EXPECT_TRUE(label_fits(fit_label("implicit_euler (fixed point)@0.0001", 158, 2), 158, 2));
+}
+
+// The columns [first, last] of `tile` (x, w) where `out` differs from `fill` in the bottom
+// rows `band`: where a label, its backdrop included, was drawn. {-1, -1} for nothing.
+std::pair<int, int> drawn_columns(const Image& out, int x, int w, int h, int band, Rgba8 fill) {
+  int first = -1, last = -1;
+  for (int xx = x; xx < x + w; ++xx)
+    for (int y = h - band; y < h; ++y)
+      if (!same_rgb(out.pixel(xx, y), fill)) {
+        if (first < 0) first = xx;
+        last = xx;
+      }
+  return {first, last};
+}
+
+TEST(TileGrid, ALabelTooLongForItsTileIsShortenedInsideItAtEveryWidth) {
+  // The course's fixed-point lane in tiles from 24 to 640 px wide, in both columns of a row
+  // (the right one ends at the canvas's edge, where a label used to be cut mid-glyph): the
+  // label and its backdrop stay inside the tile, clear of its right edge, and the gutter and
+  // the neighbour are untouched.
+  const std::string label = "implicit_euler (fixed point)  dt = 0.0001 s";
+  for (int w : {24, 40, 64, 100, 158, 200, 260, 318, 640}) {
+    const int h = 90;
+    const TileGrid grid(GridLayout{2, 1}, w, h);
+    const Image tile = solid(w, h, kBlue);
+    Image out;
+    grid.compose({&tile, &tile}, {label, label}, out);
+    const int scale = grid.label_scale();
+    const int band = 3 * scale + text_glyph_height() * scale + 2 * scale;
+    for (int i = 0; i < 2; ++i) {
+      const auto [first, last] = drawn_columns(out, grid.cell_x(i), w, h, band, kBlue);
+      SCOPED_TRACE("tile " + std::to_string(i) + " of width " + std::to_string(w));
+      if (w >= 40) {
+        EXPECT_GE(first, 0) << "a label is drawn (at least part of the name)";
+      }
+      if (first >= 0) {
+        EXPECT_GE(first, grid.cell_x(i));
+        EXPECT_LE(last, grid.cell_x(i) + w - 1 - scale) << "the label ends inside its tile";
+      }
+      EXPECT_EQ(pixels_not(out, grid.cell_x(i), 0, w, h - band, kBlue), 0) << "only the label's rows";
+    }
+    EXPECT_EQ(pixels_not(out, w, 0, grid.cell_x(1) - w, h, TilingStyle{}.background), 0) << "gutter untouched";
+  }
+}
+
 TEST(TileGrid, FitsCellsIntoAnExactCanvasEvenWhenTheSizeIsOdd) {
   const TileGrid hd = TileGrid::fit(GridLayout{2, 2}, 1280, 720);
   EXPECT_EQ(hd.width(), 1280);

@@ -123,14 +123,20 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
       const bool reference_diverged = color == FieldKind::Error && report.reference && report.reference->divergence;
       std::string values, measured = " (never measured";  // never: no number to quote, the note says why
       if (report.field_count[i] > 0) {
-        char text[96];
+        char text[160];
         std::snprintf(text, sizeof text, " largest %.3g%s, at the end %.3g%s", report.field_max[i],
                       field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
         values = text;
-        if (report.field_count[i] == 1)
+        // A lane whose step is longer than the frame interval stands on one state for several
+        // frames: how many states those frames showed, where it is fewer.
+        const long frames = report.field_count[i], states = report.field_states[i];
+        char distinct[64] = "";
+        if (states < frames)
+          std::snprintf(distinct, sizeof distinct, " (%ld distinct state%s of the lane)", states, states == 1 ? "" : "s");
+        if (frames == 1)
           std::snprintf(text, sizeof text, " (measured at 1 frame, t = %.4g s", report.field_last_t[i]);
         else
-          std::snprintf(text, sizeof text, " (measured at %ld frames, t = %.4g to %.4g s", report.field_count[i],
+          std::snprintf(text, sizeof text, " (measured at %ld frames%s, t = %.4g to %.4g s", frames, distinct,
                         report.field_first_t[i], report.field_last_t[i]);
         measured = text;
       }
@@ -165,7 +171,7 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
   return lane_json(model.name, r.spec.kind, r.spec.dt, r.totals,
                    r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
       .number("t_reached", r.t)
-      .text("lane", r.spec.name() + "@" + r.spec.step_text)
+      .text("lane", r.spec.spelling())
       .text("role", role);
 }
 
@@ -174,6 +180,7 @@ JsonObject& with_field(JsonObject& lane, const PipelineReport& report, std::size
   return lane.number("field_max", report.field_max[i])
       .number("field_last", report.field_last[i])
       .number("field_frames", static_cast<double>(report.field_count[i]))
+      .number("field_states", static_cast<double>(report.field_states[i]))
       .number("field_first_t", report.field_first_t[i])
       .number("field_last_t", report.field_last_t[i]);
 }
@@ -235,12 +242,12 @@ int compare_command(const CompareOptions& o) {
     for (const std::string& d : lane_dirs) refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
   for (const LaneSpec& l : lanes) {  // every lane's steps, and the reference's, bounded like the scene's
     const std::string too_long = run_bounds_problem(scene.duration, l.dt, scene.render.fps);
-    if (!too_long.empty()) throw UsageError("--dt (" + l.name() + "@" + l.step_text + "): " + too_long);
+    if (!too_long.empty()) throw UsageError("--dt (" + l.spelling() + "): " + too_long);
   }
   if (look.reference) {
     const std::string too_long = run_bounds_problem(scene.duration, look.reference->dt, scene.render.fps);
     if (!too_long.empty())
-      throw UsageError("--reference (" + look.reference->name() + "@" + look.reference->step_text +
+      throw UsageError("--reference (" + look.reference->spelling() +
                        ", for --color error): " + too_long + "; give --reference NAME@STEP or --color checker");
   }
   const std::vector<double> sheet_times =
@@ -266,10 +273,14 @@ int compare_command(const CompareOptions& o) {
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
   for (const LaneSpec& l : lanes)
-    budget.add(l.name() + "@" + l.step_text,
+    budget.add(l.spelling(),
                run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
-  if (look.reference)
+  if (look.reference) {
     budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind) + kLaneThreadBytes);
+    std::vector<double> steps;
+    for (const LaneSpec& l : lanes) steps.push_back(l.dt);
+    budget.add("reference positions at the lanes' times", reference_positions_bytes(scene, steps, targets, kLaneQueueCapacity));
+  }
   if (rendering) {
     const double n = static_cast<double>(lanes.size());
     const double tile = 4.0 * grid->cell_width() * grid->cell_height(), canvas = 4.0 * grid->width() * grid->height();
@@ -306,7 +317,8 @@ int compare_command(const CompareOptions& o) {
   if (look.camera_auto) config.camera = auto_camera(model, static_cast<double>(config.width) / config.height);
   FramePipeline pipeline(model, targets, lanes, config, renderer.get());
   Composer composer{grid, {}};
-  for (const LaneSpec& l : lanes) composer.labels.push_back(look.overlay == OverlayMode::None ? "" : l.label());
+  composer.labels = look.overlay == OverlayMode::None ? std::vector<std::string>(lanes.size())
+                                                     : lane_tile_labels(lanes, *grid);
   if (!o.video.empty())
     pipeline.add(make_video_output(make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset}), o.video, composer));
   if (!o.frames_dir.empty())

@@ -61,7 +61,7 @@ int run_command(const RunOptions& o) {
   if (look.reference) {
     const std::string too_long = run_bounds_problem(scene.duration, look.reference->dt, scene.render.fps);
     if (!too_long.empty())
-      throw UsageError("--reference (" + look.reference->name() + "@" + look.reference->step_text +
+      throw UsageError("--reference (" + look.reference->spelling() +
                        ", for --color error): " + too_long);
   }
 
@@ -76,14 +76,31 @@ int run_command(const RunOptions& o) {
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
 
+  const double fps = scene.render.fps;
+  // A still alone needs the run only up to its time; any other output needs the whole run,
+  // and the final state is the one at the end even when that is not a whole frame.
+  const bool still_only = o.still_t && o.metrics.empty() && o.state.empty() && o.frames_dir.empty() &&
+                          o.video.empty() && o.summary.empty();
+  // Frame by frame even with no picture or metrics to take: progress counts frames.
+  // A colour scale from the data needs the first second even when the still comes sooner.
+  const bool scale_from_data = look.color != FieldKind::None && !look.color_range;
+  const double end = !still_only ? scene.duration
+                     : scale_from_data ? std::max(*o.still_t, std::min(kColorScaleWindow, scene.duration))
+                                       : *o.still_t;
+  TargetPlan targets(end, fps, !still_only, {}, o.still_t.value_or(-1.0), /*to_end=*/!still_only);
+  if (scale_from_data) targets.with_scale_window(kColorScaleWindow);
+
   // Peak memory, estimated and checked before the Model, the renderer or the encoder exist.
   const int w = scene.render.width, h = scene.render.height;
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
   // The run steps on a lane thread of the frame pipeline (kLaneThreadBytes), as the reference does.
   budget.add(std::string(integrator_name(scene.integrator)), run_bytes(scene, scene.integrator) + kLaneThreadBytes);
-  if (look.reference)
+  if (look.reference) {
     budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind) + kLaneThreadBytes);
+    budget.add("reference positions at the run's times",
+               reference_positions_bytes(scene, {lane.dt}, targets, kLaneQueueCapacity));
+  }
   if (rendering) {
     // The render target, the frame and up to 3 frames queued for the PNG writer.
     budget.add("renderer " + std::to_string(w) + "x" + std::to_string(h),
@@ -99,19 +116,6 @@ int run_command(const RunOptions& o) {
   fit_reference_to_model(look, model, scene, {lane});
   const IntegratorKind kind = scene.integrator;
   const double dt = scene.dt;
-  const double fps = scene.render.fps;
-  // A still alone needs the run only up to its time; any other output needs the whole run,
-  // and the final state is the one at the end even when that is not a whole frame.
-  const bool still_only = o.still_t && o.metrics.empty() && o.state.empty() && o.frames_dir.empty() &&
-                          o.video.empty() && o.summary.empty();
-  // Frame by frame even with no picture or metrics to take: progress counts frames.
-  // A colour scale from the data needs the first second even when the still comes sooner.
-  const bool scale_from_data = look.color != FieldKind::None && !look.color_range;
-  const double end = !still_only ? scene.duration
-                     : scale_from_data ? std::max(*o.still_t, std::min(kColorScaleWindow, scene.duration))
-                                       : *o.still_t;
-  TargetPlan targets(end, fps, !still_only, {}, o.still_t.value_or(-1.0), /*to_end=*/!still_only);
-  if (scale_from_data) targets.with_scale_window(kColorScaleWindow);
 
   std::unique_ptr<Renderer> renderer;
   if (rendering) renderer = make_renderer(o.gl);

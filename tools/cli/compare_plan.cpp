@@ -124,6 +124,13 @@ Target& TargetPlan::extra_at(double t) {
   return *extras_.insert(at, Target{t, -1, -1, false});
 }
 
+double TargetPlan::last_time() const {
+  const double frame = frames_ > 0 ? frame_time(frames_ - 1) : 0.0;
+  if (extras_.empty()) return frame;
+  const Target& e = extras_.back();
+  return std::max(frame, e.frame >= 0 ? frame_time(e.frame) : e.t);  // (as Cursor hands it over)
+}
+
 double TargetPlan::frame_time(long k) const { return std::min(static_cast<double>(k) / fps_, duration_); }
 
 long TargetPlan::frame_at(double t) const {

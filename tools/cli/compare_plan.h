@@ -49,6 +49,7 @@ class TargetPlan {
   double duration() const { return duration_; }
   double fps() const { return fps_; }
   long frames() const { return frames_; }  // clip frames among them
+  double last_time() const;                // s: the last target's time (the clip's end, or the last still or column)
 
   // Walks the plan's targets in order; each walker (a run's thread, the renderer) has its own.
   class Cursor {

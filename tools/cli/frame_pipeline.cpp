@@ -53,13 +53,9 @@ std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, 
     if (single) lines.push_back(lane.label());  // a tile's label is the grid's
     return lines;
   }
-  if (single) {
-    lines.push_back(model.name);
-    lines.push_back(lane.label());
-  }
+  // run: the scene, the lane and the time (snapshot.h); a tile: the time, the grid labels it.
+  lines = single ? overlay_lines(model, lane.label(), frame.t) : std::vector<std::string>{overlay_time_line(frame.t)};
   char buf[128];
-  std::snprintf(buf, sizeof buf, "t = %.3f s", frame.t);
-  lines.emplace_back(buf);
   // Force evaluations: the machine-independent cost, the same on every run of the command.
   int n = std::snprintf(buf, sizeof buf, "%" PRId64 " force evals", frame.totals.force_evals);
   if (cpu && frame.t > 0.0)  // measured: differs from run to run, so only when asked for
@@ -103,7 +99,8 @@ struct FramePipeline::Impl {
   std::vector<std::pair<std::shared_ptr<const LaneFrame>, std::vector<float>>> unrendered;
   std::deque<TargetFrames> held;      // targets waiting for the colour scale
   std::vector<double> field_max, field_last, field_last_t, field_first_t;  // PipelineReport's
-  std::vector<long> field_count;
+  std::vector<long> field_count, field_states;
+  std::vector<std::int64_t> field_step;  // per lane: the step of the last state measured
   std::optional<ColorRange> range;
   double wait_seconds = 0.0, render_seconds = 0.0;
   long processed = 0;
@@ -128,7 +125,7 @@ struct FramePipeline::Impl {
     lane_models.resize(lanes.size());
     for (std::size_t i = 0; i < lanes.size(); ++i)
       workers.push_back(std::make_unique<LaneWorker>(lane_model(model, lanes[i], lane_models[i]), lanes[i], plan,
-                                                     needs(), 4, interrupt));
+                                                     needs(), kLaneQueueCapacity, interrupt));
     if (config.color == FieldKind::Error && config.reference) {
       // Lanes land on the first step at or past each frame time, not on it, each at its own
       // step: the reference hands over its positions at every lane's landing time (its own
@@ -136,7 +133,7 @@ struct FramePipeline::Impl {
       // interpolated between two), so no lane's error holds a time offset times |v|.
       LaneNeeds n;  // the positions at the lanes' times, nothing else
       for (const LaneSpec& lane : lanes) n.stand_for.push_back(lane.dt);
-      reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, 4, interrupt);
+      reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, kLaneQueueCapacity, interrupt);
     }
     current.resize(lanes.size());
     frozen.assign(lanes.size(), false);
@@ -146,6 +143,8 @@ struct FramePipeline::Impl {
     field_max.assign(lanes.size(), std::numeric_limits<double>::quiet_NaN());
     field_last = field_last_t = field_first_t = field_max;
     field_count.assign(lanes.size(), 0);
+    field_states.assign(lanes.size(), 0);
+    field_step.assign(lanes.size(), -1);
     output_seconds.assign(outputs.size(), 0.0);
   }
 
@@ -167,6 +166,9 @@ struct FramePipeline::Impl {
         if (interrupted()) return false;  // next() gives up on a signal
         if (got) {
           frozen[i] = f.frozen;
+          // A lane that diverged has no error from here on: the reference stops serving it
+          // (and running, once no live lane needs it further) before it is asked for this target.
+          if (f.frozen && reference) reference->drop_lane(i);
           current[i] = std::make_shared<const LaneFrame>(std::move(f));
           out.fresh[i] = true;
         }
@@ -200,6 +202,10 @@ struct FramePipeline::Impl {
       field_last[i] = largest;
       field_last_t[i] = current[i]->t;
       if (field_count[i]++ == 0) field_first_t[i] = current[i]->t;
+      if (current[i]->step != field_step[i]) {  // a lane that did not step shows the same state
+        ++field_states[i];
+        field_step[i] = current[i]->step;
+      }
       if (!(field_max[i] >= largest)) field_max[i] = largest;
     }
     return true;
@@ -388,6 +394,7 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
   report.field_last_t = p.field_last_t;
   report.field_count = p.field_count;
   report.field_first_t = p.field_first_t;
+  report.field_states = p.field_states;
   report.wait_seconds = p.wait_seconds;
   report.render_seconds = p.render_seconds;
   for (std::size_t o = 0; o < p.outputs.size(); ++o)

@@ -92,6 +92,10 @@ struct PipelineReport {
   // still samples the targets it shows (and the colour scale's first second), a clip every frame.
   std::vector<long> field_count;
   std::vector<double> field_first_t;
+  // How many distinct states of the lane (distinct steps) those targets showed: fewer than
+  // field_count where the lane's step is longer than the frame interval and it stands on one
+  // state for several targets (rk4@0.1 at 30 frames/s: 3 states in the first 0.2 s's 7 frames).
+  std::vector<long> field_states;
   double wait_seconds = 0.0, render_seconds = 0.0;  // this thread: waiting on lanes, rendering
   std::vector<std::pair<std::string, double>> output_seconds;  // per output
   long targets = 0;  // processed

@@ -18,9 +18,13 @@ class FrameSink {
   // Completes the output (an MP4 gets its name only here: render/output_file.h). A sink
   // destroyed without finish() leaves nothing under the name.
   virtual void finish() = 0;
-  // Stops without completing (a signal): drops what is queued, removes any temporary, and
-  // says what stays on disk ("7 PNGs in out/run", "" for nothing), for the closing message.
-  virtual std::string abandon() = 0;
+  // Stops without completing (a signal, another output failing): drops what is queued and
+  // removes any temporary. What stays on disk after it is written()'s to say.
+  virtual void abandon() = 0;
+  // What this sink has on disk under its name, for the closing message of a run that stops
+  // ("7 PNGs in out/run", "clip.mp4" once finished; "" for nothing). A query: it changes
+  // nothing, and is meant after finish() or abandon() (a sink still writing would be counting).
+  virtual std::string written() const = 0;
 };
 
 // frame_00000.png, frame_00001.png ... in `dir` (created if missing), with `meta` as tEXt

@@ -12,7 +12,9 @@ namespace clothsim::cli {
 LaneWorker::LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
                        std::size_t queue_capacity, std::function<bool()> interrupt)
     : model_(model), spec_(std::move(spec)), targets_(targets), needs_(needs), interrupt_(std::move(interrupt)),
+      dropped_(std::make_unique<std::atomic<bool>[]>(needs_.stand_for.size())),
       capacity_(std::max<std::size_t>(1, queue_capacity)) {
+  for (std::size_t i = 0; i < needs_.stand_for.size(); ++i) dropped_[i] = false;
   result_.spec = spec_;
   thread_ = std::thread([this] { work(); });
 }
@@ -27,6 +29,11 @@ void LaneWorker::stop() {
   std::lock_guard<std::mutex> lock(mutex_);
   stop_ = true;
   changed_.notify_all();
+}
+
+void LaneWorker::drop_lane(std::size_t lane) {
+  if (lane >= needs_.stand_for.size() || dropped_[lane].exchange(true)) return;
+  ++drops_;
 }
 
 void LaneWorker::join() {
@@ -80,7 +87,25 @@ LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
 // come due, the earliest needed time is served next, and a target's frame is handed over once
 // every lane's positions for it are known (reference_stand.h).
 void LaneWorker::serve_reference(Run& run) {
-  ReferenceStand stand(model_, run, needs_.stand_for);
+  ReferenceStand stand(model_, run, needs_.stand_for, targets_.last_time());
+  int applied = 0;  // drops_ passed on to the stand
+  const auto apply_drops = [&] {
+    if (drops_.load(std::memory_order_acquire) == applied) return;
+    applied = 0;
+    for (std::size_t i = 0; i < needs_.stand_for.size(); ++i)
+      if (dropped_[i].load(std::memory_order_acquire)) {
+        stand.drop_lane(i);
+        ++applied;
+      }
+  };
+  // Between any two steps: stopped, or no live lane can need a time from here on (every time
+  // a live lane needs is at or before the horizon, and the run only goes forward).
+  const auto asked_to_stop = [this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); };
+  run.set_stop_check([&] {
+    if (asked_to_stop()) return true;
+    apply_drops();
+    return run.state().t >= stand.horizon();
+  });
   TargetPlan::Cursor cursor(targets_);
   Target next;
   bool more = cursor.next(next);
@@ -96,6 +121,7 @@ void LaneWorker::serve_reference(Run& run) {
       std::lock_guard<std::mutex> lock(mutex_);
       if (stop_) break;
     }
+    apply_drops();
     if (stand.front_ready()) {
       hand_over();
       continue;
@@ -107,7 +133,18 @@ void LaneWorker::serve_reference(Run& run) {
     }
     if (stand.empty()) break;  // every target served
     if (!stand.serve_next()) {
-      if (run.stopped()) break;
+      if (run.stopped() && asked_to_stop()) break;
+      if (run.stopped()) {
+        // Past the horizon: what every live lane needs was served (the targets still to add
+        // would need later times), so the targets waiting go out, the dropped lanes' positions
+        // missing, and the rest with none.
+        while (!stand.empty()) hand_over();
+        for (; more; more = cursor.next(next)) {
+          stand.add(next);
+          hand_over();
+        }
+        break;
+      }
       // The targets waiting go out with what was served of them (a lane of a small step was
       // measured up to the blow-up even if one of a large step, needing a later time, was not).
       while (!stand.empty()) hand_over();

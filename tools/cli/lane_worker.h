@@ -69,12 +69,15 @@ struct LaneResult {
   std::optional<State> final_state;  // LaneNeeds::final_state, unless diverged
 };
 
+// Frames a lane of a frame pipeline may compute ahead of the one being shown.
+inline constexpr std::size_t kLaneQueueCapacity = 4;
+
 class LaneWorker {
  public:
   // Starts the thread at once. `model` and `targets` must outlive the worker. The lane stops
   // before its next step once stop() was called or `interrupt` (if given) returns true.
   LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
-             std::size_t queue_capacity = 4, std::function<bool()> interrupt = {});
+             std::size_t queue_capacity = kLaneQueueCapacity, std::function<bool()> interrupt = {});
   ~LaneWorker();  // stops the lane and joins
   LaneWorker(const LaneWorker&) = delete;
   LaneWorker& operator=(const LaneWorker&) = delete;
@@ -86,6 +89,12 @@ class LaneWorker {
   bool next(LaneFrame& out);
   // Asks the lane to stop before its next step and wakes it if it waits on the queue.
   void stop();
+  // The reference lane (LaneNeeds::stand_for): lane `lane` of stand_for diverged, as the frame
+  // it handed over at the target the caller is about to ask this worker for says. Every earlier
+  // target's positions for it were handed over already (targets go out in order); from this one
+  // on they are not served, and once no live lane can need a time the reference has not passed,
+  // it stops running, even in the middle of an advance (ReferenceStand::horizon).
+  void drop_lane(std::size_t lane);
   // Waits for the thread; then result() is final.
   void join();
   LaneResult result() const;
@@ -103,6 +112,10 @@ class LaneWorker {
   LaneNeeds needs_;
   std::function<bool()> interrupt_;
   std::atomic<bool> stop_requested_{false};  // stop(), read by the run's per-step check
+  // The reference: lanes dropped (drop_lane), per stand_for lane, and how many in all, read by
+  // its thread between steps.
+  std::unique_ptr<std::atomic<bool>[]> dropped_;
+  std::atomic<int> drops_{0};
   std::size_t capacity_;
 
   mutable std::mutex mutex_;

@@ -8,6 +8,7 @@
 #include "cli_common.h"
 #include "compare_plan.h"
 #include "echo.h"
+#include "snapshot.h"
 
 namespace clothsim::cli {
 
@@ -75,7 +76,9 @@ std::string LaneSpec::name() const {
   return fixed_point ? n + " (fixed point)" : n;
 }
 
-std::string LaneSpec::label() const { return name() + "  dt = " + step_text + " s"; }
+std::string LaneSpec::label() const { return integrator_label(name(), step_text); }
+
+std::string LaneSpec::spelling() const { return name() + "@" + step_text; }
 
 std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt_text, double scene_dt) {
   std::vector<Item> items;
@@ -107,7 +110,7 @@ std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::str
     }
     for (const LaneSpec& l : lanes)
       if (same_lane(l, i.lane))
-        throw UsageError("--integrators: " + in_quotes(l.name() + "@" + i.lane.step_text) +
+        throw UsageError("--integrators: " + in_quotes(i.lane.spelling()) +
                          " is listed twice (the same integrator at the same step)");
     lanes.push_back(i.lane);
   }

@@ -22,6 +22,7 @@ struct LaneSpec {
 
   std::string name() const;   // "rk4", "implicit_euler (fixed point)"
   std::string label() const;  // name and step: "rk4  dt = 1e-4 s"
+  std::string spelling() const;  // as --integrators spells it: "rk4@1e-4" (--summary's "lane")
 };
 
 // --integrators: "course" (the course's four: explicit Euler, the one-iteration fixed-point

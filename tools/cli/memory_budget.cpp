@@ -11,6 +11,7 @@
 
 #include "cli_common.h"
 #include "echo.h"
+#include "reference_stand.h"
 
 namespace clothsim::cli {
 
@@ -58,6 +59,17 @@ double render_bytes(int width, int height, int samples) {
 double held_frames_bytes(const SceneDef& scene, std::size_t lanes, double frames) {
   const double particles = static_cast<double>(scene.cloth.nx) * scene.cloth.ny;
   return 96.0 * particles * static_cast<double>(lanes) * frames;
+}
+
+double reference_positions_bytes(const SceneDef& scene, const std::vector<double>& lane_steps,
+                                 const TargetPlan& plan, std::size_t queue) {
+  std::vector<double> distinct;
+  for (double h : lane_steps)
+    if (std::find(distinct.begin(), distinct.end(), h) == distinct.end()) distinct.push_back(h);
+  const double copies = static_cast<double>(ReferenceStand::waiting_bound(lane_steps, plan)) +
+                        static_cast<double>(queue) + 2.0;
+  const double particles = static_cast<double>(scene.cloth.nx) * scene.cloth.ny;
+  return 24.0 * particles * (4.0 + copies * static_cast<double>(distinct.size()));
 }
 
 double encoder_bytes(int width, int height) { return 64.0 * (width + (width & 1)) * (height + (height & 1)); }

@@ -122,7 +122,7 @@ void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDe
   ref.step_text = step_string(ref.dt);
   const std::string too_long = run_bounds_problem(scene.duration, ref.dt, scene.render.fps);
   if (!too_long.empty())
-    throw UsageError("the reference for --color error (" + ref.name() + "@" + ref.step_text +
+    throw UsageError("the reference for --color error (" + ref.spelling() +
                      ", within RK4's predicted stable step on this scene): " + too_long +
                      "; give --reference NAME@STEP or --color checker");
 }

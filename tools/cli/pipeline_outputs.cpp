@@ -12,6 +12,18 @@ const Image& Composer::picture(const std::vector<LaneView>& lanes, Image& canvas
   return canvas;
 }
 
+std::vector<std::string> lane_tile_labels(const std::vector<LaneSpec>& lanes, const TileGrid& grid) {
+  std::vector<std::string> labels;
+  bool fit = true;
+  for (const LaneSpec& l : lanes) {
+    labels.push_back(l.label());
+    fit = fit && label_fits(labels.back(), grid.cell_width(), 1);
+  }
+  if (!fit)
+    for (std::size_t i = 0; i < lanes.size(); ++i) labels[i] = lanes[i].spelling();
+  return labels;
+}
+
 namespace {
 
 class VideoOutput final : public FrameOutput {
@@ -28,7 +40,10 @@ class VideoOutput final : public FrameOutput {
     sink_->abandon();
     lost.push_back(path_);
   }
-  void kept(std::vector<std::string>& kept) override { kept.push_back(path_); }
+  void kept(std::vector<std::string>& kept) override {
+    const std::string mp4 = sink_->written();  // (finished: its path)
+    if (!mp4.empty()) kept.push_back(mp4);
+  }
  private:
   std::unique_ptr<FrameSink> sink_;
   std::string path_;
@@ -46,12 +61,12 @@ class FramesOutput final : public FrameOutput {
   }
   void finish() override { sink_->finish(); }
   void abandon(std::vector<std::string>& kept, std::vector<std::string>&) override {
-    const std::string left = sink_->abandon();  // PNGs already written are complete: they stay
-    if (!left.empty()) kept.push_back(left);
+    sink_->abandon();
+    this->kept(kept);  // PNGs already written are complete: they stay
   }
   void kept(std::vector<std::string>& kept) override {
-    const std::string all = sink_->abandon();  // (finished: says what it wrote)
-    if (!all.empty()) kept.push_back(all);
+    const std::string pngs = sink_->written();
+    if (!pngs.empty()) kept.push_back(pngs);
   }
  private:
   std::unique_ptr<FrameSink> sink_;

@@ -2,6 +2,7 @@
 // as much as rendering a frame, so it runs on a background thread: add() queues a copy of
 // the frame and returns; a short queue keeps memory flat however long the clip. A failed
 // write is reported by the next add() or by finish(), naming the file.
+#include <atomic>
 #include <condition_variable>
 #include <cstdio>
 #include <deque>
@@ -33,7 +34,7 @@ class PngSequenceSink final : public FrameSink {
 
   ~PngSequenceSink() override { abandon(); }
 
-  std::string abandon() override {
+  void abandon() override {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       abandoned_ = true;  // not finished: drop what is queued (each file on disk is whole)
@@ -41,13 +42,18 @@ class PngSequenceSink final : public FrameSink {
     }
     ready_.notify_all();
     if (writer_.joinable()) writer_.join();  // at most the PNG being written finishes
-    if (written_ == 0) {
+    if (written_ == 0 && created_) {
       // Nothing in it: a directory this sink made goes too (a failed compare left one per lane).
       std::error_code ec;
-      if (created_) std::filesystem::remove(dir_, ec);
-      return "";
+      std::filesystem::remove(dir_, ec);
     }
-    return std::to_string(written_) + (written_ == 1 ? " PNG in " : " PNGs in ") + dir_;
+  }
+
+  // Every PNG written is complete (written under its name only when whole), so all of them stay.
+  std::string written() const override {
+    const long n = written_;
+    if (n == 0) return "";
+    return std::to_string(n) + (n == 1 ? " PNG in " : " PNGs in ") + dir_;
   }
 
   void add(int index, double t, const Image& frame) override {
@@ -114,7 +120,7 @@ class PngSequenceSink final : public FrameSink {
   bool finishing_ = false, abandoned_ = false;
   bool created_ = false;  // the directory did not exist before this sink
   std::string error_;              // first failure; guarded by mutex_ until the writer has joined
-  long written_ = 0;               // PNGs on disk; the writer's alone until it has joined
+  std::atomic<long> written_{0};   // PNGs on disk, counted by the writer
   std::thread writer_;
 };
 

@@ -10,7 +10,7 @@
 
 namespace clothsim::cli {
 
-ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps)
+ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t)
     : model_(model), run_(run) {
   for (double h : lane_steps) {
     const auto at = std::find(steps_.begin(), steps_.end(), h);
@@ -20,14 +20,28 @@ ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<d
   }
   landed_.assign(steps_.size(), 0);
   last_slot_.resize(steps_.size());
+  live_.assign(lane_steps.size(), true);
+  live_lanes_.assign(steps_.size(), 0);
+  for (std::size_t j : lane_step_) ++live_lanes_[j];
+  for (double h : steps_)  // (formed as add() forms a request's time: none is past it by a rounding)
+    last_needed_.push_back(static_cast<double>(landing_step(last_t, h, 0)) * h);
+  update_horizon();
+}
+
+void ReferenceStand::update_horizon() {
+  horizon_ = -std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < steps_.size(); ++j)
+    if (live_lanes_[j] > 0) horizon_ = std::max(horizon_, last_needed_[j]);
 }
 
 void ReferenceStand::add(const Target& target) {
   for (std::size_t j = 0; j < steps_.size(); ++j) {
     const std::int64_t k = landing_step(target.t, steps_[j], landed_[j]);
-    if (!last_slot_[j] || k != landed_[j]) {  // a step whose runs did not step shares its last slot
+    if (live_lanes_[j] == 0) {
+      last_slot_[j] = nullptr;  // every lane of this step was dropped: nothing to serve
+    } else if (!last_slot_[j] || k != landed_[j]) {  // a step whose runs did not step shares its last slot
       last_slot_[j] = std::make_shared<Slot>();
-      requests_.push(Request{static_cast<double>(k) * steps_[j], asked_++, last_slot_[j]});
+      requests_.insert(Request{static_cast<double>(k) * steps_[j], asked_++, j, last_slot_[j]});
     }
     landed_[j] = k;
   }
@@ -38,21 +52,50 @@ void ReferenceStand::add(const Target& target) {
 
 bool ReferenceStand::front_ready() const {
   if (pending_.empty()) return false;
-  for (const auto& slot : pending_.front().second)
-    if (!slot->x) return false;
+  const auto& slots = pending_.front().second;
+  for (std::size_t lane = 0; lane < slots.size(); ++lane)
+    if (live_[lane] && !slots[lane]->x) return false;
   return true;
 }
 
 Target ReferenceStand::pop(std::vector<Positions>& positions) {
   positions.clear();
-  for (const auto& slot : pending_.front().second) positions.push_back(slot->x);
+  for (const auto& slot : pending_.front().second) positions.push_back(slot ? slot->x : nullptr);
   const Target target = pending_.front().first;
   pending_.pop_front();
   return target;
 }
 
 double ReferenceStand::next_time() const {
-  return requests_.empty() ? std::numeric_limits<double>::infinity() : requests_.top().t;
+  return requests_.empty() ? std::numeric_limits<double>::infinity() : requests_.begin()->t;
+}
+
+void ReferenceStand::drop_lane(std::size_t lane) {
+  if (!live_[lane]) return;
+  live_[lane] = false;
+  const std::size_t j = lane_step_[lane];
+  if (--live_lanes_[j] > 0) return;  // another lane of its step still needs its times
+  for (auto r = requests_.begin(); r != requests_.end();) r = r->step == j ? requests_.erase(r) : std::next(r);
+  update_horizon();
+}
+
+std::size_t ReferenceStand::positions_held() const {
+  std::set<const std::vector<double>*> held;
+  for (const auto& waiting : pending_)
+    for (const auto& slot : waiting.second)
+      if (slot && slot->x) held.insert(slot->x.get());
+  return held.size();
+}
+
+long ReferenceStand::waiting_bound(const std::vector<double>& lane_steps, const TargetPlan& plan) {
+  double largest = 0.0;
+  for (double h : lane_steps) largest = std::max(largest, h);
+  // A target is added only while its time is within the slack of the earliest time still
+  // needed, and the oldest waiting target needs none later than its own plus the largest step
+  // (its landing): the targets waiting lie within that step and twice the slack of the oldest.
+  const double frames = std::floor(largest * (1.0 + 2e-6) * plan.fps()) + 2.0;  // (rounding allowed)
+  const double off_frames = static_cast<double>(plan.size() - plan.frames());
+  return static_cast<long>(std::min(static_cast<double>(plan.size()), frames + off_frames));
 }
 
 const ReferenceStand::Sample* ReferenceStand::reach(std::int64_t k) {
@@ -71,7 +114,7 @@ const ReferenceStand::Sample* ReferenceStand::reach(std::int64_t k) {
 }
 
 bool ReferenceStand::serve_next() {
-  const Request request = requests_.top();
+  const Request request = *requests_.begin();  // (a copy: drop_lane may erase it on the way)
   const double H = run_.dt(), t = request.t;
   if (const std::int64_t k = step_at(t, H); k >= 0) {  // one of the reference's own steps
     const Sample* at = reach(k);
@@ -88,7 +131,7 @@ bool ReferenceStand::serve_next() {
                       static_cast<double>(before + 1) * H, t, *x);
     request.slot->x = std::move(x);
   }
-  requests_.pop();
+  requests_.erase(request);
   return true;
 }
 

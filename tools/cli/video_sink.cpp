@@ -35,15 +35,18 @@ class VideoSink final : public FrameSink {
     }
   }
 
-  std::string abandon() override {
-    writer_.reset();  // removes the unfinished file
-    return "";
+  void abandon() override {
+    if (!finished_) writer_.reset();  // removes the unfinished file (a finished one stays)
   }
+
+  // The MP4 has a name only once finished: before, nothing is on disk under it.
+  std::string written() const override { return finished_ ? path_ : ""; }
 
   void finish() override {
     if (!writer_) throw RuntimeFailure(path_ + ": no frames to encode");
     try {
       writer_->finish();
+      finished_ = true;
     } catch (const VideoError& e) {
       throw RuntimeFailure(e.what());
     }
@@ -53,6 +56,7 @@ class VideoSink final : public FrameSink {
   std::string path_;
   VideoWriterOptions options_;
   std::optional<VideoWriter> writer_;  // destroyed unfinished: removes its temporary
+  bool finished_ = false;
 };
 
 }  // namespace

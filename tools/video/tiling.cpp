@@ -102,7 +102,7 @@ void TileGrid::compose(const std::vector<const Image*>& tiles,
   // (a label stepping down alone would make its lane look less important than the others).
   int scale = label_scale();
   for (const std::string& label : labels)
-    while (scale > 1 && text_width(label, scale) + 6 * scale > cell_w_) --scale;
+    while (scale > 1 && !label_fits(label, cell_w_, scale)) --scale;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     const int cx = cell_x(static_cast<int>(i)), cy = cell_y(static_cast<int>(i));
     const Image* tile = tiles[i];
@@ -134,13 +134,40 @@ void fill_rect(Image& image, int x, int y, int w, int h, Rgba8 color) {
     for (int col = x0; col < x1; ++col) std::memcpy(image.pixel(col, row), color.data(), 4);
 }
 
+bool label_fits(std::string_view label, int width, int scale) {
+  // The glyphs start 3 scale in; their backdrop reaches 2 scale past them, and 1 scale of the
+  // tile is left clear of it on the right.
+  return text_width(label, scale) + 6 * scale <= width;
+}
+
+std::string fit_label(std::string_view label, int width, int scale) {
+  if (label_fits(label, width, scale)) return std::string(label);
+  const std::size_t first_word = std::min(label.find(' '), label.size());
+  std::string cut;
+  // The longest start of the label that fits with "..." (its trailing spaces dropped), if it
+  // keeps the first word whole ...
+  for (std::size_t n = label.size(); n-- > first_word;) {
+    std::string head(label.substr(0, n));
+    while (!head.empty() && head.back() == ' ') head.pop_back();
+    if (head.size() >= first_word && label_fits(head + "...", width, scale)) return head + "...";
+  }
+  // ... else as much of the first word as fits: the tile is narrower than the name.
+  for (std::size_t n = first_word; n-- > 0;)
+    if (label_fits(std::string(label.substr(0, n)) + "...", width, scale))
+      return std::string(label.substr(0, n)) + "...";
+  return "";
+}
+
 void draw_tile_label(Image& image, int x, int y, int w, int h, std::string_view label,
                      Rgba8 color, int scale) {
-  // A long label in a narrow tile steps down in size rather than running off the tile.
-  while (scale > 1 && text_width(label, scale) + 6 * scale > w) --scale;
+  // A long label in a narrow tile steps down in size, then is shortened, rather than running
+  // off the tile.
+  while (scale > 1 && !label_fits(label, w, scale)) --scale;
+  const std::string text = fit_label(label, w, scale);
+  if (text.empty()) return;
   const int margin = 3 * scale;
   const int text_h = text_glyph_height() * scale;
-  draw_text(image, x + margin, y + h - margin - text_h, label, color, scale, /*backdrop=*/true);
+  draw_text(image, x + margin, y + h - margin - text_h, text, color, scale, /*backdrop=*/true);
 }
 
 }  // namespace clothsim

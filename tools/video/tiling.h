@@ -11,7 +11,8 @@
 // apart. Every cell has the same size (the largest tile's); a smaller tile is centred in
 // its cell. Labels are drawn with the bitmap font (render/text.h) at the bottom-left
 // corner of the tile, on a dark backdrop, so they never cover a render's own top-left
-// overlay text.
+// overlay text; a label too long for its tile is drawn smaller, then shortened with "...",
+// and never runs past the tile.
 #pragma once
 
 #include <stdexcept>
@@ -84,8 +85,16 @@ class TileGrid {
 void blit(const Image& src, Image& dst, int x, int y);
 // Fills the rectangle (clipped) with one colour.
 void fill_rect(Image& image, int x, int y, int w, int h, Rgba8 color);
+// Whether `label` fits a tile `width` pixels wide at `scale`, with its margin and backdrop
+// (3 scale on the left, 1 scale clear of the right edge).
+bool label_fits(std::string_view label, int width, int scale);
+// `label` as it fits a tile `width` pixels wide at `scale`: itself, else cut short with "..."
+// but never inside its first word (a lane's integrator name) unless that alone does not fit;
+// "" when not even "..." fits. A label is shortened this way, never cut at the tile's edge.
+std::string fit_label(std::string_view label, int width, int scale);
 // Draws a label with a margin inside the tile whose top-left is (x, y) and size w x h,
-// at its bottom-left corner, at `scale` or smaller if that would not fit the width.
+// at its bottom-left corner, at `scale` or smaller if that would not fit the width, and
+// shortened (fit_label) where it does not fit even at scale 1.
 void draw_tile_label(Image& image, int x, int y, int w, int h, std::string_view label,
                      Rgba8 color, int scale);
 
