@@ -10,19 +10,8 @@
 #include <cstddef>
 
 #include "integrators/cg_kernels.h"
-#include "spring_layout.h"  // kSpringLanePad
+#include "integrators/partial_sums-inl.h"
 
-#ifndef CLOTHSIM_CG_KERNELS_ONCE  // this part once, not once per target
-#define CLOTHSIM_CG_KERNELS_ONCE
-namespace clothsim {
-namespace {
-// Partial sums: entry k goes to sum k mod kSums. Every target's lane count divides it and
-// every vector starts at a multiple of its lane count, so each sum sees the same terms in the
-// same order on every target.
-constexpr std::size_t kSums = kSpringLanePad;
-}  // namespace
-}  // namespace clothsim
-#endif
 
 HWY_BEFORE_NAMESPACE();
 namespace clothsim {
@@ -31,18 +20,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::ScalableTag<double>;
 using V = hn::Vec<D>;
-static_assert(HWY_MAX_BYTES / sizeof(double) <= kSums, "a vector's lanes are consecutive sums");
-
-namespace {
-
-// sums[k mod kSums] += value, for the N lanes of a vector at entry k (k a multiple of N).
-HWY_INLINE void Accumulate(double* HWY_RESTRICT sums, std::size_t k, V value) {
-  const D d;
-  const std::size_t j = k % kSums;
-  hn::StoreU(hn::Add(hn::LoadU(d, sums + j), value), d, sums + j);
-}
-
-}  // namespace
+using partial_sums::Accumulate;
 
 void Dot(const double* HWY_RESTRICT a, const double* HWY_RESTRICT b, std::size_t n,
          double* HWY_RESTRICT sums) {
@@ -50,7 +28,7 @@ void Dot(const double* HWY_RESTRICT a, const double* HWY_RESTRICT b, std::size_t
   const std::size_t N = hn::Lanes(d);
   std::size_t k = 0;
   for (; k + N <= n; k += N) Accumulate(sums, k, hn::Mul(hn::LoadU(d, a + k), hn::LoadU(d, b + k)));
-  for (; k < n; ++k) sums[k % kSums] += a[k] * b[k];
+  for (; k < n; ++k) sums[k % kPartialSums] += a[k] * b[k];
 }
 
 void UpdateIterate(double* HWY_RESTRICT x, double* HWY_RESTRICT r, const double* HWY_RESTRICT p,
@@ -69,7 +47,7 @@ void UpdateIterate(double* HWY_RESTRICT x, double* HWY_RESTRICT r, const double*
   for (; k < n; ++k) {
     x[k] = x[k] + alpha * p[k];
     r[k] = r[k] - alpha * q[k];
-    sums[k % kSums] += r[k] * r[k];
+    sums[k % kPartialSums] += r[k] * r[k];
   }
 }
 
@@ -104,7 +82,7 @@ void Jacobi(const double* HWY_RESTRICT inverse, std::size_t B, const double* HWY
     z[3 * i] = z0;
     z[3 * i + 1] = z1;
     z[3 * i + 2] = z2;
-    sums[i % kSums] += r0 * z0 + r1 * z1 + r2 * z2;
+    sums[i % kPartialSums] += r0 * z0 + r1 * z1 + r2 * z2;
   }
 }
 
@@ -113,8 +91,8 @@ void InvertBlocks(const double* HWY_RESTRICT blocks, std::size_t B, double* HWY_
   const D d;
   const std::size_t N = hn::Lanes(d);
   const V one = hn::Set(d, 1.0);
-  HWY_ALIGN double in[6][kSums];
-  HWY_ALIGN double out[6][kSums];
+  HWY_ALIGN double in[6][kPartialSums];
+  HWY_ALIGN double out[6][kPartialSums];
   for (std::size_t i = 0; i < B; i += N) {
     const std::size_t lanes = i + N <= B ? N : B - i;
     for (std::size_t j = 0; j < N; ++j) {  // the 6 entries of each block (the rest: identity)
@@ -172,31 +150,23 @@ HWY_EXPORT(Jacobi);
 HWY_EXPORT(Xpby);
 HWY_EXPORT(InvertBlocks);
 
-namespace {
-double total(const double* sums) {  // in a fixed order
-  double out = 0.0;
-  for (std::size_t j = 0; j < kSums; ++j) out += sums[j];
-  return out;
-}
-}  // namespace
-
 double simd_dot(const double* a, const double* b, std::size_t n) {
-  alignas(64) double sums[kSums] = {};
+  alignas(64) double sums[kPartialSums] = {};
   HWY_DYNAMIC_DISPATCH(Dot)(a, b, n, sums);
-  return total(sums);
+  return partial_sums_total(sums);
 }
 
 double simd_update_iterate(double* x, double* r, const double* p, const double* q, double alpha,
                            std::size_t n) {
-  alignas(64) double sums[kSums] = {};
+  alignas(64) double sums[kPartialSums] = {};
   HWY_DYNAMIC_DISPATCH(UpdateIterate)(x, r, p, q, alpha, n, sums);
-  return total(sums);
+  return partial_sums_total(sums);
 }
 
 double simd_jacobi(const double* inverse, std::size_t B, const double* r, double* z) {
-  alignas(64) double sums[kSums] = {};
+  alignas(64) double sums[kPartialSums] = {};
   HWY_DYNAMIC_DISPATCH(Jacobi)(inverse, B, r, z, sums);
-  return total(sums);
+  return partial_sums_total(sums);
 }
 
 void simd_invert_blocks(const double* blocks, std::size_t B, double* inverse, double* soa) {

@@ -5,7 +5,7 @@
 //  - p = z + beta p, and a dot product;
 //  - the block-Jacobi preconditioner's 3 x 3 inverses.
 // The vectors are flat arrays (a 3 x B matrix's n = 3 B doubles, or B bodies' xyz). Each sum
-// is taken in 16 fixed partial sums (entry k into sum k mod 16; for r . z, body i into sum i
+// is taken in 16 fixed partial sums (partial_sums-inl.h: entry k into sum k mod 16; for r . z, body i into sum i
 // mod 16), added in order at the end, with no fused multiply-add (this file is compiled with
 // -ffp-contract=off): every Highway target gives the same bits. Against Eigen's expressions
 // (the scalar reference the tests hold them to, within 1e-12 relative) only the order of the

@@ -21,7 +21,7 @@
 //    held by filtering (step_contacts.h), found as an active set.
 // It starts from the previous step's dv when there is one (at small steps dv changes little),
 // or from the line or the parabola through the last two or three steps' dv where that predicted
-// the last step better (kGuessAdvantage). Its Newton matrix is reused across iterations and steps while an iteration
+// the last step better (first_guess.h). Its Newton matrix is reused across iterations and steps while an iteration
 // with it meets the tolerance or contracts the residual (kReuseContraction); the matrix's
 // linearisation lives in State, so a copied State continues bit for bit.
 // newton_max_iterations = 1 is Baraff & Witkin 1998's step instead: one linear system,
@@ -70,6 +70,7 @@
 #include "integrators/cg_kernels.h"  // simd_dot
 #include "integrators/cholesky_preconditioner.h"
 #include "integrators/conjugate_gradient.h"
+#include "integrators/first_guess.h"
 #include "integrators/newton_kernels.h"
 #include "integrators/sparse_system.h"
 #include "integrators/step_contacts.h"
@@ -171,17 +172,6 @@ constexpr double kReuseResidual = 1e-4;
 // exact one does. (Rest lengths, not current ones: a spring compressed far below its rest
 // length turns faster, which the judgement above still catches.)
 constexpr double kReuseChange = 0.05;
-// The next step starts on the line or the parabola through the last steps' dv only where it
-// predicted the last step kGuessAdvantage times closer than the last dv did (and then on the
-// closer of the two): at small steps the line does by 100 times and more, and the parabola
-// about 3 times closer again (the drape at 1e-4 s: 16 % fewer Newton and 26 % fewer CG
-// iterations than with the line alone over its first second at 25 x 25, 12 % and 24 % over
-// 0.3 s at 64 x 64). At large steps, where
-// Phi may have several minima and the guess decides which one Newton finds, neither seldom
-// wins. Higher orders were tried: the cubic through four steps amplifies each step's solve
-// error 15 times (the parabola 7, the line 3) and took more Newton iterations than the parabola.
-constexpr double kGuessAdvantage = 4.0;
-constexpr int kMaxGuessOrder = 2;
 
 // CLOTHSIM_NEWTON_TRACE=1 in the environment prints the Newton solve's course on stderr, one
 // line per event: each step's start (how its predicted held set differs from the last step's,
@@ -252,41 +242,6 @@ double dot(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
 double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness, double h) {
   const double springs = h * stiffness.c_max + std::pow(h * stiffness.w_max, 2);
   return springs > 0.0 ? kReuseChange * shortest / (4.0 * springs) : std::numeric_limits<double>::infinity();
-}
-
-// The last steps' dv, newest first (dv_n, dv_{n-1}, dv_{n-2}), as many as the State holds
-// for B bodies (0 .. 3, each present only with the newer ones).
-struct DvHistory {
-  const Eigen::Matrix3Xd* dv[kMaxGuessOrder + 1] = {nullptr, nullptr, nullptr};
-  int count = 0;
-  DvHistory(const State& state, int B) {
-    for (const Eigen::Matrix3Xd* m : {&state.implicit_dv, &state.implicit_dv_before, &state.implicit_dv_before2}) {
-      if (m->cols() != B) break;
-      dv[count++] = m;
-    }
-  }
-};
-
-// The polynomial of `order` through the last order + 1 steps' dv, extrapolated one step:
-// 2 dv_n - dv_{n-1} (order 1), 3 dv_n - 3 dv_{n-1} + dv_{n-2} (order 2).
-void guess_through(const DvHistory& past, int order, Eigen::Matrix3Xd& out) {
-  if (order == 1) out.noalias() = 2.0 * *past.dv[0] - *past.dv[1];
-  else out.noalias() = 3.0 * (*past.dv[0] - *past.dv[1]) + *past.dv[2];
-}
-
-// The guess order the next step takes: the one whose prediction of this step's solution dv
-// lay closest to it, an extrapolation only if kGuessAdvantage times closer than the last dv.
-// The distances of every order the history allows are taken in one pass (a comparison of
-// quantities the step has already paid for, so the choice is judged, never assumed).
-int next_guess_order(const DvHistory& past, const Eigen::Matrix3Xd& dv) {
-  if (past.count == 0) return 0;
-  double miss[kMaxGuessOrder + 1] = {0.0, 0.0, 0.0};
-  simd_guess_misses(dv.data(), past.dv[0]->data(), past.count > 1 ? past.dv[1]->data() : nullptr,
-                    past.count > 2 ? past.dv[2]->data() : nullptr, static_cast<std::size_t>(dv.size()), miss);
-  int order = 0;
-  for (int o = 1; o < past.count; ++o)
-    if (kGuessAdvantage * kGuessAdvantage * miss[o] < miss[0] && miss[o] < miss[order]) order = o;
-  return order;
 }
 
 class NewtonSolve {
@@ -638,10 +593,8 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   const bool have_guess = past.count > 0;
   const bool baraff_witkin = cfg.newton_max_iterations == 1;
   // The first guess: the last step's dv, or the line or parabola through the last steps' dv
-  // where that predicted the last step better (at small steps dv changes smoothly, and the
-  // line starts Newton about 10 times closer, the parabola about 30; in a collision they
-  // overshoot, and the plain dv wins). (Baraff & Witkin's step is warm-started in CG from the
-  // last dv, as it always was.)
+  // where that predicted the last step better (first_guess.h). (Baraff & Witkin's step is
+  // warm-started in CG from the last dv, as it always was.)
   const int order = baraff_witkin ? 0 : std::min(state.implicit_guess_order, past.count - 1);
   if (order > 0) guess_through(past, order, c.guess);
   const Eigen::Matrix3Xd* guess = !have_guess ? nullptr : order > 0 ? &c.guess : &state.implicit_dv;

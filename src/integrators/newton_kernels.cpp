@@ -11,19 +11,7 @@
 #include <limits>
 
 #include "integrators/newton_kernels.h"
-#include "spring_layout.h"  // kSpringLanePad
-
-#ifndef CLOTHSIM_NEWTON_KERNELS_ONCE  // this part once, not once per target
-#define CLOTHSIM_NEWTON_KERNELS_ONCE
-namespace clothsim {
-namespace {
-// Partial sums: body (or entry) k goes to sum k mod kSums. Every target's lane count divides
-// it and every vector starts at a multiple of its lane count, so each sum sees the same terms
-// in the same order on every target.
-constexpr std::size_t kSums = kSpringLanePad;
-}  // namespace
-}  // namespace clothsim
-#endif
+#include "integrators/partial_sums-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace clothsim {
@@ -32,16 +20,9 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::ScalableTag<double>;
 using V = hn::Vec<D>;
-static_assert(HWY_MAX_BYTES / sizeof(double) <= kSums, "a vector's lanes are consecutive sums");
+using partial_sums::Accumulate;
 
 namespace {
-
-// sums[k mod kSums] += value, for the N lanes of a vector at k (k a multiple of N).
-HWY_INLINE void Accumulate(double* HWY_RESTRICT sums, std::size_t k, V value) {
-  const D d;
-  const std::size_t j = k % kSums;
-  hn::StoreU(hn::Add(hn::LoadU(d, sums + j), value), d, sums + j);
-}
 
 // x^2 + y^2 + z^2, summed as Eigen sums a 3-vector's squaredNorm.
 HWY_INLINE V Norm2(V x, V y, V z) { return hn::Add(hn::Add(hn::Mul(x, x), hn::Mul(y, y)), hn::Mul(z, z)); }
@@ -61,7 +42,7 @@ void WeightedNorm2(const double* HWY_RESTRICT weight, const double* HWY_RESTRICT
     Accumulate(sums, i, hn::IfThenElseZero(hn::Ne(w, hn::Zero(d)), hn::Mul(Norm2(x, y, z), w)));
   }
   for (; i < B; ++i)
-    if (weight[i] != 0.0) sums[i % kSums] += Norm2(v[3 * i], v[3 * i + 1], v[3 * i + 2]) * weight[i];
+    if (weight[i] != 0.0) sums[i % kPartialSums] += Norm2(v[3 * i], v[3 * i + 1], v[3 * i + 2]) * weight[i];
 }
 
 void ImpulseNorm2(const double* HWY_RESTRICT mass, const double* HWY_RESTRICT dv, const double* HWY_RESTRICT r,
@@ -82,19 +63,19 @@ void ImpulseNorm2(const double* HWY_RESTRICT mass, const double* HWY_RESTRICT dv
     if (m == 0.0) continue;
     const double* p = dv + 3 * i;
     const double* q = r + 3 * i;
-    sums[i % kSums] += Norm2(m * p[0] - q[0], m * p[1] - q[1], m * p[2] - q[2]);
+    sums[i % kPartialSums] += Norm2(m * p[0] - q[0], m * p[1] - q[1], m * p[2] - q[2]);
   }
 }
 
-// sums: three sets of kSums, for the last dv, the line and the parabola.
+// sums: three sets of kPartialSums, for the last dv, the line and the parabola.
 void GuessMisses(const double* HWY_RESTRICT dv, const double* HWY_RESTRICT a, const double* HWY_RESTRICT b,
                  const double* HWY_RESTRICT c, std::size_t n, double* HWY_RESTRICT sums) {
   const D d;
   const std::size_t N = hn::Lanes(d);
   const V three = hn::Set(d, 3.0);
   double* HWY_RESTRICT last_sums = sums;
-  double* HWY_RESTRICT line_sums = sums + kSums;
-  double* HWY_RESTRICT parabola_sums = sums + 2 * kSums;
+  double* HWY_RESTRICT line_sums = sums + kPartialSums;
+  double* HWY_RESTRICT parabola_sums = sums + 2 * kPartialSums;
   std::size_t k = 0;
   for (; k + N <= n; k += N) {
     const V x = hn::LoadU(d, dv + k), an = hn::LoadU(d, a + k);
@@ -110,14 +91,14 @@ void GuessMisses(const double* HWY_RESTRICT dv, const double* HWY_RESTRICT a, co
   }
   for (; k < n; ++k) {
     const double last = dv[k] - a[k];
-    last_sums[k % kSums] += last * last;
+    last_sums[k % kPartialSums] += last * last;
     if (!b) continue;
     const double slope = a[k] - b[k];
     const double line = last - slope;
-    line_sums[k % kSums] += line * line;
+    line_sums[k % kPartialSums] += line * line;
     if (!c) continue;
     const double parabola = dv[k] - (3.0 * slope + c[k]);
-    parabola_sums[k % kSums] += parabola * parabola;
+    parabola_sums[k % kPartialSums] += parabola * parabola;
   }
 }
 
@@ -178,34 +159,26 @@ HWY_EXPORT(GuessMisses);
 HWY_EXPORT(MaxDistance2);
 HWY_EXPORT(FinishStep);
 
-namespace {
-double total(const double* sums) {  // in a fixed order
-  double out = 0.0;
-  for (std::size_t j = 0; j < kSums; ++j) out += sums[j];
-  return out;
-}
-}  // namespace
-
 double simd_weighted_norm2(const double* weight, const double* v, std::size_t B) {
-  alignas(64) double sums[kSums] = {};
+  alignas(64) double sums[kPartialSums] = {};
   HWY_DYNAMIC_DISPATCH(WeightedNorm2)(weight, v, B, sums);
-  return total(sums);
+  return partial_sums_total(sums);
 }
 
 double simd_impulse_norm2(const double* mass, const double* dv, const double* r, std::size_t B) {
-  alignas(64) double sums[kSums] = {};
+  alignas(64) double sums[kPartialSums] = {};
   HWY_DYNAMIC_DISPATCH(ImpulseNorm2)(mass, dv, r, B, sums);
-  return total(sums);
+  return partial_sums_total(sums);
 }
 
 void simd_guess_misses(const double* dv, const double* a, const double* b, const double* c, std::size_t n,
                        double miss[3]) {
-  alignas(64) double sums[3 * kSums] = {};
+  alignas(64) double sums[3 * kPartialSums] = {};
   if (!b) c = nullptr;
   HWY_DYNAMIC_DISPATCH(GuessMisses)(dv, a, b, c, n, sums);
-  miss[0] = total(sums);
-  if (b) miss[1] = total(sums + kSums);
-  if (c) miss[2] = total(sums + 2 * kSums);
+  miss[0] = partial_sums_total(sums);
+  if (b) miss[1] = partial_sums_total(sums + kPartialSums);
+  if (c) miss[2] = partial_sums_total(sums + 2 * kPartialSums);
 }
 
 double simd_max_distance2(const double* y, const double* y0, std::size_t P) {

@@ -2,14 +2,17 @@
 // runtime dispatch, as the CG loop's are (cg_kernels.h): the norms the convergence test is
 // measured against, the judgement of the next step's first guess, the distance to the Newton
 // matrix's linearisation point, and the step's final update. Each was a scalar loop with one
-// running sum (a chain of dependent additions, 4 cycles a body) or an Eigen pass of its own:
-// 16 % of an implicit step at the drape's 1e-4 s on 64 x 64 (perf), though none touches a spring.
+// running sum (a chain of dependent additions a body) or an Eigen SSE2 pass of its own. At the
+// drape's 1e-4 s on 64 x 64, newton_step and NewtonSolve::iterate, with these passes inlined,
+// were 16.2 % of the step's profile; with the kernels the two and the kernels are 13.8 %, a
+// few per cent of CPU (BENCHMARKS.md).
 //
 // The vectors are 3 x B matrices' data (body i's xyz at 3 i), the per-body weights B doubles.
-// Sums are taken in 16 fixed partial sums (body i, or entry k, into sum i or k mod 16), added
-// in order at the end, with no fused multiply-add (-ffp-contract=off): every Highway target
-// gives the same bits. Against the scalar expressions they replace (the tests' references)
-// only the order of the sums differs.
+// Sums are taken in fixed partial sums (partial_sums-inl.h: body i, or entry k, into sum i or
+// k mod 16), with no fused multiply-add (-ffp-contract=off): every Highway target gives the same
+// bits. Against the scalar expressions they replace (the tests' references) only the order of
+// the sums differs, which moved the drape's iteration counts by rounding (1 s at 25 x 25: 8 141
+// -> 8 148 Newton, 15 072 -> 15 054 CG iterations).
 #pragma once
 
 #include <cstddef>

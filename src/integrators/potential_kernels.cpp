@@ -14,6 +14,7 @@
 #include <cstring>
 #include <vector>
 
+#include "integrators/partial_sums-inl.h"
 #include "integrators/potential_kernels.h"
 
 #include "spring_window-inl.h"  // the walk over the families: its window and helpers
@@ -23,10 +24,9 @@
 namespace clothsim {
 namespace {
 
-// Phi's partial sums: position k goes to sum k mod kSums. Every target's lane count divides it
-// and every vector starts at a multiple of its lane count, so a vector's lanes are consecutive
-// sums and each sum sees the same springs in the same order on every target.
-constexpr std::size_t kSums = kSpringLanePad;
+// Phi's partial sums (partial_sums-inl.h): position k goes to sum k mod kSums, so a vector's
+// lanes are consecutive sums and each sum sees the same springs in the same order on every target.
+constexpr std::size_t kSums = kPartialSums;
 // Window arrays, at most: 3 inputs (x, y or p) and 6 sums (at a, at b; 3 components each).
 constexpr std::size_t kArrays = 9;
 

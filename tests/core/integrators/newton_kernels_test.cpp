@@ -60,6 +60,12 @@ TEST(NewtonKernels, MatchTheScalarExpressionsOnEveryLength) {
     EXPECT_LE(std::abs(miss[0] - (dv - a).squaredNorm()), 1e-12 * (dv - a).squaredNorm());
     EXPECT_LE(std::abs(miss[1] - (dv - line).squaredNorm()), 1e-12 * (dv - line).squaredNorm());
     EXPECT_LE(std::abs(miss[2] - (dv - parabola).squaredNorm()), 1e-12 * (dv - parabola).squaredNorm());
+    // Without the oldest step the parabola's distance is left as it was; the others are the same.
+    double no_parabola[3] = {-1.0, -1.0, -1.0};
+    simd_guess_misses(dv.data(), a.data(), b.data(), nullptr, n, no_parabola);
+    EXPECT_EQ(no_parabola[0], miss[0]);
+    EXPECT_EQ(no_parabola[1], miss[1]);
+    EXPECT_EQ(no_parabola[2], -1.0);
     // Without the older steps only the orders they allow are written.
     double only_last[3] = {-1.0, -1.0, -1.0};
     simd_guess_misses(dv.data(), a.data(), nullptr, c.data(), n, only_last);
