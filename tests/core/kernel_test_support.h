@@ -4,8 +4,10 @@
 
 #include <hwy/targets.h>
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <cstring>
+#include <random>
 #include <string>
 #include <utility>
 
@@ -30,6 +32,16 @@ std::string for_each_highway_target(Check&& check) {
     check(hwy::TargetName(target));
   }
   return names;
+}
+
+// A 3 x B field of uniform values in [-1, 1), the same for the same seed.
+inline Eigen::Matrix3Xd random_field(int B, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::Matrix3Xd m(3, B);
+  for (int i = 0; i < B; ++i)
+    for (int c = 0; c < 3; ++c) m(c, i) = u(rng);
+  return m;
 }
 
 // "structural: {}, bend: {}" with each type's own stiffness and damping, so a kernel that

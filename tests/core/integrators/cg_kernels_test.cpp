@@ -18,18 +18,11 @@
 namespace clothsim {
 namespace {
 
-Eigen::Matrix3Xd random(int B, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::Matrix3Xd m(3, B);
-  for (int i = 0; i < B; ++i)
-    for (int c = 0; c < 3; ++c) m(c, i) = u(rng);
-  return m;
-}
+using testing::random_field;
 
 // Symmetric positive definite 3 x 3 blocks, as structure of arrays (xx, yy, zz, xy, xz, yz).
 std::vector<double> inverse_blocks(int B, unsigned seed, std::vector<Eigen::Matrix3d>& blocks) {
-  const Eigen::Matrix3Xd r = random(3 * B, seed);
+  const Eigen::Matrix3Xd r = random_field(3 * B, seed);
   std::vector<double> soa(6 * B);
   blocks.resize(B);
   for (int i = 0; i < B; ++i) {
@@ -46,8 +39,8 @@ TEST(CgKernels, MatchEigenOnEveryLength) {
   for (const int B : {1, 2, 3, 5, 8, 13, 16, 17, 625, 4096}) {
     SCOPED_TRACE(B);
     const std::size_t n = 3 * static_cast<std::size_t>(B);
-    const Eigen::Matrix3Xd p = random(B, 1), q = random(B, 2);
-    Eigen::Matrix3Xd x = random(B, 3), r = random(B, 4);
+    const Eigen::Matrix3Xd p = random_field(B, 1), q = random_field(B, 2);
+    Eigen::Matrix3Xd x = random_field(B, 3), r = random_field(B, 4);
     const double alpha = 0.37;
 
     const double pq = simd_dot(p.data(), q.data(), n);
@@ -98,7 +91,7 @@ TEST(CgKernels, InvertsSymmetricBlocksAsEigenDoes) {
 TEST(CgKernels, EveryTargetGivesTheSameBits) {
   const int B = 37;
   const std::size_t n = 3 * B;
-  const Eigen::Matrix3Xd p = random(B, 6), q = random(B, 7), r0 = random(B, 8);
+  const Eigen::Matrix3Xd p = random_field(B, 6), q = random_field(B, 7), r0 = random_field(B, 8);
   std::vector<Eigen::Matrix3d> blocks;
   const std::vector<double> soa = inverse_blocks(B, 9, blocks);
   struct Bits {

@@ -18,14 +18,7 @@
 namespace clothsim {
 namespace {
 
-Eigen::Matrix3Xd random(int B, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::Matrix3Xd m(3, B);
-  for (int i = 0; i < B; ++i)
-    for (int c = 0; c < 3; ++c) m(c, i) = u(rng);
-  return m;
-}
+using testing::random_field;
 
 // Positive weights with every fifth body's 0 (an immovable one).
 Eigen::VectorXd weights(int B, unsigned seed) {
@@ -40,8 +33,8 @@ TEST(NewtonKernels, MatchTheScalarExpressionsOnEveryLength) {
   for (const int B : {1, 2, 3, 5, 8, 13, 16, 17, 625, 4096}) {
     SCOPED_TRACE(B);
     const std::size_t n = 3 * static_cast<std::size_t>(B);
-    const Eigen::Matrix3Xd dv = random(B, 1), r = random(B, 2), a = random(B, 3), b = random(B, 4),
-                           c = random(B, 5);
+    const Eigen::Matrix3Xd dv = random_field(B, 1), r = random_field(B, 2), a = random_field(B, 3), b = random_field(B, 4),
+                           c = random_field(B, 5);
     const Eigen::VectorXd w = weights(B, 6);
 
     double ref = 0.0, size = 0.0;
@@ -87,7 +80,7 @@ TEST(NewtonKernels, MatchTheScalarExpressionsOnEveryLength) {
 
 TEST(NewtonKernels, LeaveOutImmovableBodiesAndReportNaNDistances) {
   const int B = 21;
-  Eigen::Matrix3Xd dv = random(B, 7), r = random(B, 8);
+  Eigen::Matrix3Xd dv = random_field(B, 7), r = random_field(B, 8);
   const Eigen::VectorXd w = weights(B, 9);  // body 3, 8, 13, 18 immovable
   const double clean = simd_weighted_norm2(w.data(), dv.data(), B);
   const double clean_impulse = simd_impulse_norm2(w.data(), dv.data(), r.data(), B);
@@ -98,7 +91,7 @@ TEST(NewtonKernels, LeaveOutImmovableBodiesAndReportNaNDistances) {
   dv(1, 9) = std::numeric_limits<double>::quiet_NaN();  // a movable body's: it shows
   EXPECT_TRUE(std::isnan(simd_weighted_norm2(w.data(), dv.data(), B)));
 
-  const Eigen::Matrix3Xd y0 = random(B, 10);
+  const Eigen::Matrix3Xd y0 = random_field(B, 10);
   for (const int at : {0, 9, 16, 20}) {  // in a vector and in the tail, on any target
     Eigen::Matrix3Xd y = y0;
     y(2, at) = std::numeric_limits<double>::quiet_NaN();
@@ -110,8 +103,8 @@ TEST(NewtonKernels, LeaveOutImmovableBodiesAndReportNaNDistances) {
 TEST(NewtonKernels, EveryTargetGivesTheSameBits) {
   const int B = 37;
   const std::size_t n = 3 * B;
-  const Eigen::Matrix3Xd dv = random(B, 11), r = random(B, 12), a = random(B, 13), b = random(B, 14),
-                         c = random(B, 15);
+  const Eigen::Matrix3Xd dv = random_field(B, 11), r = random_field(B, 12), a = random_field(B, 13), b = random_field(B, 14),
+                         c = random_field(B, 15);
   const Eigen::VectorXd w = weights(B, 16);
   struct Bits {
     double norm, impulse, distance, miss[3];
