@@ -330,6 +330,29 @@ TEST(CmdValidate, RejectsABadSceneWithItsLine) {
   EXPECT_NE(r.err.find("bad.yaml:3: cloth.plane: unknown plane 'yz'"), std::string::npos) << r.err;
 }
 
+// A value is escaped once, where the message echoes it (docs/scenes.md: a newline shows as
+// 'a\nb'), and main's last guard does not escape it again, whichever way the value came in.
+TEST(Cli, AnEchoedValueIsEscapedOnceOnItsOneLine) {
+  const std::string dir = scratch_dir("validate_escaped_once");
+  const std::string scene = write_file(dir, "nl.yaml", "cloth: {particles: [3, 3]}\nintegrator: \"a\\nb\"\n");
+  const auto expect_one_line = [&](const std::vector<std::string>& args, const std::string& expected) {
+    const CliResult r = run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("'a\\\\nb'"), std::string::npos) << "the value escaped twice: " << r.err;
+    EXPECT_TRUE(only_files(dir, {"nl.yaml"}));
+  };
+  // The YAML string "a\nb" holds a newline: shown as 'a\nb'.
+  expect_one_line({"validate", scene}, "nl.yaml:2: integrator: unknown integrator 'a\\nb' (expected one of:");
+  // The same from --set, whose text as typed holds a backslash: shown escaped once, as \\.
+  expect_one_line({"validate", shipped("spring.yaml"), "--set", "integrator=\"a\\nb\""},
+                  "spring.yaml: --set integrator=\"a\\\\nb\": unknown integrator 'a\\nb' (expected one of:");
+  // An option's value holding a newline, echoed by clothsim's message and by a CLI11 validator's.
+  expect_one_line({"validate", shipped("spring.yaml"), "--integrator", "a\nb"}, "--integrator: unknown integrator 'a\\nb'");
+  expect_one_line({"validate", shipped("spring.yaml"), "--max-memory", "a\nb"}, "--max-memory: 'a\\nb' is not a size");
+}
+
 TEST(Cli, HelpExplainsEverySubcommand) {
   const CliResult top = run_clothsim({"--help"});
   EXPECT_EQ(top.exit_code, 0);
