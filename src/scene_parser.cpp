@@ -460,17 +460,21 @@ RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
     r.samples_given = true;
   });
   // antialias: msaa (render.msaa's samples, 4 unless given), fxaa (one sample, edges smoothed
-  // on the CPU) or none. A sample count says msaa or none by itself: given with antialias, it
-  // must say the same.
+  // on the CPU) or none. A sample count says msaa (more than one sample: samples 2 to 16, msaa
+  // 2, 4 or 8) or none (samples 1, msaa 0) by itself: given with antialias, it must say the
+  // same, and fxaa takes none. The message says what the key that gave the count allows.
   optional(n, path, "antialias", [&](auto& v, auto& k) {
     const std::string a = string(v, k);
     if (a != "msaa" && a != "fxaa" && a != "none")
       fail(v, k, "unknown antialiasing " + in_quotes(a) + " (expected msaa, fxaa or none)");
     const bool agrees = a == "msaa" ? r.samples > 1 : a == "none" && r.samples == 1;
     if (r.samples_given && !agrees) {
-      const char* count = n["msaa"].IsDefined() ? "msaa" : "samples";
-      fail(v, k, std::string("antialias: ") + a + " contradicts " + count + ": " + n[count].Scalar() +
-                     (a == "msaa" ? " (msaa needs 2, 4 or 8 samples)" : " (a sample count goes with msaa only)"));
+      const bool by_msaa = n["msaa"].IsDefined();
+      const std::string count = std::string(by_msaa ? "msaa" : "samples") + ": " + n[by_msaa ? "msaa" : "samples"].Scalar();
+      const std::string why = a == "msaa"   ? (by_msaa ? "msaa needs msaa: 2, 4 or 8" : "msaa needs samples: 2 to 16")
+                              : a == "none" ? (by_msaa ? "none is msaa: 0" : "none is samples: 1")
+                                            : "fxaa draws one sample of its own: leave the count out";
+      fail(v, k, a + " contradicts " + count + " (" + why + ")");
     }
     r.antialias = a;
   });

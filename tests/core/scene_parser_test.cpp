@@ -239,12 +239,37 @@ TEST(SceneParser, AntialiasIsMsaaFxaaOrNoneAndAgreesWithASampleCount) {
   const SceneError fxaa_and_samples = parse_error("cloth: {particles: [3, 3]}\nrender:\n  msaa: 4\n  antialias: fxaa\n");
   EXPECT_EQ(fxaa_and_samples.line, 4);
   EXPECT_EQ(fxaa_and_samples.key, "render.antialias");
-  EXPECT_NE(std::string(fxaa_and_samples.what()).find("contradicts msaa: 4 (a sample count goes with msaa only)"),
+  EXPECT_NE(std::string(fxaa_and_samples.what())
+                .find("render.antialias: fxaa contradicts msaa: 4 (fxaa draws one sample of its own: leave the count out)"),
             std::string::npos)
       << fxaa_and_samples.what();
-  const SceneError msaa_of_none = parse_error("cloth: {particles: [3, 3]}\nrender:\n  samples: 1\n  antialias: msaa\n");
-  EXPECT_EQ(msaa_of_none.key, "render.antialias");
-  EXPECT_NE(std::string(msaa_of_none.what()).find("msaa needs 2, 4 or 8 samples"), std::string::npos) << msaa_of_none.what();
+}
+
+TEST(SceneParser, AntialiasMsaaTakesWhatItsMessageSaysEachSampleKeyAllows) {
+  const auto render = [](const std::string& keys) {
+    return parse_scene("cloth: {particles: [3, 3]}\nrender: {" + keys + "}\n", "m.yaml").render;
+  };
+  // samples: any count from 2 to 16 is multisampling (the renderer takes what GL offers).
+  for (int samples = 2; samples <= 16; ++samples)
+    EXPECT_EQ(render("antialias: msaa, samples: " + std::to_string(samples)).samples, samples);
+  for (int msaa : {2, 4, 8}) EXPECT_EQ(render("antialias: msaa, msaa: " + std::to_string(msaa)).samples, msaa);
+  // One sample is none, and the message says what the key that gave it allows for msaa.
+  const SceneError by_samples = parse_error("cloth: {particles: [3, 3]}\nrender:\n  samples: 1\n  antialias: msaa\n");
+  EXPECT_EQ(by_samples.line, 4);
+  EXPECT_EQ(by_samples.key, "render.antialias");
+  EXPECT_NE(std::string(by_samples.what()).find("msaa contradicts samples: 1 (msaa needs samples: 2 to 16)"),
+            std::string::npos)
+      << by_samples.what();
+  const SceneError by_msaa = parse_error("cloth: {particles: [3, 3]}\nrender:\n  msaa: 0\n  antialias: msaa\n");
+  EXPECT_NE(std::string(by_msaa.what()).find("msaa contradicts msaa: 0 (msaa needs msaa: 2, 4 or 8)"), std::string::npos)
+      << by_msaa.what();
+  const SceneError none = parse_error("cloth: {particles: [3, 3]}\nrender:\n  samples: 16\n  antialias: none\n");
+  EXPECT_NE(std::string(none.what()).find("none contradicts samples: 16 (none is samples: 1)"), std::string::npos)
+      << none.what();
+  // From --set, the override is named.
+  const SceneError set = parse_error("cloth: {particles: [3, 3]}\n", {"render.antialias=msaa", "render.samples=1"});
+  EXPECT_EQ(std::string(set.what()),
+            "bad.yaml: --set render.antialias=msaa: msaa contradicts samples: 1 (msaa needs samples: 2 to 16)");
 }
 
 TEST(SceneParser, AnIndexedSetErrorNamesTheOverrideNotALineOfTheFile) {
