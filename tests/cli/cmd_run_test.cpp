@@ -273,6 +273,10 @@ TEST(CmdRun, BadOptionsAreOneLineErrorsAndExitTwo) {
   expect_rejected({"run", scene, "--set", "cloth.springs.structural.stiffnes=5", "--state", dir + "/s.csv"}, 2,
                   "--set cloth.springs.structural.stiffnes=5: unknown key", dir, {});
   expect_rejected({"run", scene, "--set", "dt", "--state", dir + "/s.csv"}, 2, "expected KEY=VALUE", dir, {});
+  expect_rejected({"run", scene, "--set", "spheres.0.radius=0.8", "--state", dir + "/s.csv"}, 2,
+                  "spring.yaml: --set spheres.0.radius=0.8: the scene has no spheres[0] (it has no spheres: give the "
+                  "whole list, --set 'spheres=[...]')",
+                  dir, {});
   expect_rejected({"run", scene, "--frobnicate"}, 2, "frobnicate", dir, {});
 }
 

@@ -280,6 +280,36 @@ TEST(SceneParser, AnIndexedSetErrorNamesTheOverrideNotALineOfTheFile) {
   EXPECT_NE(std::string(particles.what()).find("--set cloth.particles=[3, 0]"), std::string::npos) << particles.what();
 }
 
+TEST(SceneParser, SetIntoAListItemTheSceneDoesNotHaveSaysSoInsteadOfBuildingAMap) {
+  const std::string no_spheres = "cloth: {particles: [3, 3]}\n";
+  const std::string missing = "bad.yaml: --set spheres.0.radius=0.8: the scene has no spheres[0] (it has no spheres: "
+                              "give the whole list, --set 'spheres=[...]')";
+  EXPECT_EQ(std::string(parse_error(no_spheres, {"spheres.0.radius=0.8"}).what()), missing);
+  EXPECT_EQ(std::string(parse_error(no_spheres + "spheres:\n", {"spheres.0.radius=0.8"}).what()), missing)
+      << "a key with no value has no list either";
+  EXPECT_EQ(std::string(parse_error(no_spheres, {"spheres.0={radius: 0.8}"}).what()),
+            "bad.yaml: --set spheres.0={radius: 0.8}: the scene has no spheres[0] (it has no spheres: give the whole "
+            "list, --set 'spheres=[...]')")
+      << "the item itself, as well as a key inside it";
+  EXPECT_EQ(std::string(parse_error(no_spheres + "spheres: []\n", {"spheres.0.radius=0.8"}).what()),
+            "bad.yaml: --set spheres.0.radius=0.8: the scene has no spheres[0] (spheres has 0 items)");
+  const std::string one_sphere = no_spheres + "spheres: [{radius: 1}]\n";
+  EXPECT_EQ(std::string(parse_error(one_sphere, {"spheres.1.radius=0.8"}).what()),
+            "bad.yaml: --set spheres.1.radius=0.8: the scene has no spheres[1] (spheres has 1 item)");
+  EXPECT_EQ(std::string(parse_error(one_sphere, {"spheres.0.motion.0.t=1"}).what()),
+            "bad.yaml: --set spheres.0.motion.0.t=1: the scene has no spheres.0.motion[0] (it has no "
+            "spheres.0.motion: give the whole list, --set 'spheres.0.motion=[...]')");
+  EXPECT_NE(std::string(parse_error(no_spheres, {"events.0.t=1"}).what()).find("the scene has no events[0]"),
+            std::string::npos);
+  EXPECT_NE(std::string(parse_error(no_spheres, {"spheres.0x0.radius=1"}).what())
+                .find("'0x0' is not an index into a list (plain decimal"),
+            std::string::npos);
+  // What the messages suggest works, and a key the file leaves out is still created.
+  EXPECT_DOUBLE_EQ(parse_scene(no_spheres, "x.yaml", {"spheres=[{radius: 0.8}]"}).spheres.at(0).radius, 0.8);
+  EXPECT_DOUBLE_EQ(parse_scene(no_spheres, "x.yaml", {"spheres=[{radius: 0.8}]", "spheres.0.radius=0.5"}).spheres.at(0).radius, 0.5);
+  EXPECT_DOUBLE_EQ(parse_scene(no_spheres, "x.yaml", {"ground.height=-1"}).ground->height, -1.0);
+}
+
 TEST(SceneParser, ListIndicesInSetArePlainDecimalOnly) {
   const std::string yaml = "cloth: {particles: [3, 3]}\nspheres: [{radius: 1}]\n";
   for (const char* bad : {"spheres.0x0.radius=2", "spheres.+0.radius=2", "spheres. 0.radius=2",
