@@ -16,7 +16,9 @@ inline constexpr double kMaxSteps = 1e9;   // duration / dt
 inline constexpr double kMaxFrames = 1e7;  // duration x fps + 1 output frames
 
 // Why a run of `duration` s at step `dt` s with frames at `fps` is refused, or "" when it is
-// within the limits: "duration / dt = 1e+12 steps, more than the limit of 1e+09 (...)".
+// within the limits: "duration / dt = 1 s / 1e-12 s = 1e+12 steps, more than the limit of 1e+09
+// (...)", or "duration x render.fps + 1 = 10000 s x 1000 + 1 = 10000001 output frames, more than the
+// limit of 10000000 (...)": the numbers with as many digits as it takes to differ from the limit.
 std::string run_bounds_problem(double duration, double dt, double fps);
 
 }  // namespace clothsim

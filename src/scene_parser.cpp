@@ -11,6 +11,7 @@
 #include "run_bounds.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -460,17 +461,21 @@ RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
     r.samples_given = true;
   });
   // antialias: msaa (render.msaa's samples, 4 unless given), fxaa (one sample, edges smoothed
-  // on the CPU) or none. A sample count says msaa or none by itself: given with antialias, it
-  // must say the same.
+  // on the CPU) or none. A sample count says msaa (more than one sample: samples 2 to 16, msaa
+  // 2, 4 or 8) or none (samples 1, msaa 0) by itself: given with antialias, it must say the
+  // same, and fxaa takes none. The message says what the key that gave the count allows.
   optional(n, path, "antialias", [&](auto& v, auto& k) {
     const std::string a = string(v, k);
     if (a != "msaa" && a != "fxaa" && a != "none")
       fail(v, k, "unknown antialiasing " + in_quotes(a) + " (expected msaa, fxaa or none)");
     const bool agrees = a == "msaa" ? r.samples > 1 : a == "none" && r.samples == 1;
     if (r.samples_given && !agrees) {
-      const char* count = n["msaa"].IsDefined() ? "msaa" : "samples";
-      fail(v, k, std::string("antialias: ") + a + " contradicts " + count + ": " + n[count].Scalar() +
-                     (a == "msaa" ? " (msaa needs 2, 4 or 8 samples)" : " (a sample count goes with msaa only)"));
+      const bool by_msaa = n["msaa"].IsDefined();
+      const std::string count = std::string(by_msaa ? "msaa" : "samples") + ": " + n[by_msaa ? "msaa" : "samples"].Scalar();
+      const std::string why = a == "msaa"   ? (by_msaa ? "msaa needs msaa: 2, 4 or 8" : "msaa needs samples: 2 to 16")
+                              : a == "none" ? (by_msaa ? "none is msaa: 0" : "none is samples: 1")
+                                            : "fxaa draws one sample of its own: leave the count out";
+      fail(v, k, a + " contradicts " + count + " (" + why + ")");
     }
     r.antialias = a;
   });
@@ -521,9 +526,6 @@ ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const
   return d;
 }
 
-// --set KEY=VALUE: walks the dotted key into the tree (creating map entries, so a key the
-// file leaves at its default can be set; list items by index), and puts VALUE, parsed as
-// YAML, there. Whether the key exists in the schema is the reader's unknown-key check.
 // A list index in a --set key: plain decimal digits only (stoul would also take "+0", " 0"
 // and "0x0", so spheres.0x0.radius named sphere 0), at most 9 of them (no overflow).
 std::optional<std::size_t> list_index(const std::string& part) {
@@ -577,6 +579,9 @@ Documents load_documents(const std::string& text) {
 // --set KEY=VALUE: walks the dotted key into the tree (creating map entries, so a key the
 // file leaves at its default can be set; list items by index), and puts VALUE, parsed as
 // YAML, there. Whether the key exists in the schema is the reader's unknown-key check.
+// A list item is never created: an index into a list the scene does not have, or past its
+// end, is an error naming the item ("the scene has no spheres[0]"), not a map built where the
+// list should be (which the reader would then call "expected a list of spheres, got a map").
 void apply_override(YAML::Node& root, const std::string& text, const std::string& file,
                     std::map<std::string, std::string>& applied) {
   const std::string name = "--set " + text;  // cut to an excerpt when the error is formatted
@@ -599,20 +604,36 @@ void apply_override(YAML::Node& root, const std::string& text, const std::string
     parts.push_back(part);
   }
   if (key.back() == '.') throw SceneError(file, 0, name, "empty component in key " + in_quotes(key));
-  const auto index_into = [&](const YAML::Node& list, const std::string& part) -> std::size_t {
+  // parts[i] of the key, an index into `list`, the node at parts[0 .. i-1] (nothing there:
+  // `list` is undefined or null).
+  const auto index_into = [&](const YAML::Node& list, std::size_t i) -> std::size_t {
+    const std::string& part = parts[i];
     const std::optional<std::size_t> idx = list_index(part);
     if (!idx) throw SceneError(file, 0, name, in_quotes(part) + " is not an index into a list (plain decimal: 0, 1, 2...)");
+    std::string list_key;
+    for (std::size_t k = 0; k < i; ++k) list_key += (k ? "." : "") + parts[k];
+    const std::string item = "the scene has no " + excerpt(list_key) + "[" + part + "]";
+    if (!list.IsSequence())
+      throw SceneError(file, 0, name, item + " (it has no " + excerpt(list_key) + ": give the whole list, --set '" +
+                                          excerpt(list_key) + "=[...]')");
     if (*idx >= list.size())
-      throw SceneError(file, 0, name, "index " + part + " is past the end of a list of " + std::to_string(list.size()));
+      throw SceneError(file, 0, name, item + " (" + excerpt(list_key) + " has " + std::to_string(list.size()) +
+                                          (list.size() == 1 ? " item)" : " items)"));
     return *idx;
+  };
+  // Nothing at the node yet, and a part that can only be an index (no scene key starts with a
+  // digit or a sign): a list item that does not exist.
+  const auto missing_list_item = [&](const YAML::Node& node, const std::string& part) {
+    return (!node.IsDefined() || node.IsNull()) && !part.empty() &&
+           (std::isdigit(static_cast<unsigned char>(part[0])) || part[0] == '+' || part[0] == '-');
   };
   YAML::Node cur;
   cur.reset(root);
   for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
     const std::string& p = parts[i];
     YAML::Node next;
-    if (cur.IsSequence()) {
-      next.reset(cur[index_into(cur, p)]);
+    if (cur.IsSequence() || missing_list_item(cur, p)) {
+      next.reset(cur[index_into(cur, i)]);
     } else if (cur.IsMap() || cur.IsNull() || !cur.IsDefined()) {
       next.reset(cur[p]);
     } else {
@@ -620,8 +641,8 @@ void apply_override(YAML::Node& root, const std::string& text, const std::string
     }
     cur.reset(next);
   }
-  if (cur.IsSequence()) {
-    cur[index_into(cur, parts.back())] = parsed;
+  if (cur.IsSequence() || missing_list_item(cur, parts.back())) {
+    cur[index_into(cur, parts.size() - 1)] = parsed;
   } else if (cur.IsScalar()) {
     throw SceneError(file, 0, name, in_quotes(parts.back()) + " is inside a value that is not a map");
   } else {

@@ -64,12 +64,18 @@ TEST(CmdBench, FailsLoudlyWhenTheReferenceIsNotConverged) {
   // there is zero and halving the reference moves it more than that.
   const std::string dir = scratch_dir("bench_unconverged");
   const CliResult r = run_clothsim({"bench", spring(), "--integrators", "rk4", "--dts", "0.01", "--duration", "1",
-                                    "--reference-refinement", "1", "--csv", dir + "/wp.csv"});
+                                    "--reference-refinement", "1", "--csv", dir + "/wp.csv", "--summary",
+                                    dir + "/wp.json"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("the reference is not converged"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("spring.yaml"), std::string::npos) << r.err;
-  EXPECT_EQ(lines(dir + "/wp.csv").size(), 2u);  // kept for inspection, and said so
+  // Both kept for inspection, and said so.
+  EXPECT_NE(r.err.find("(kept for inspection: " + dir + "/wp.csv, " + dir + "/wp.json); no plot drawn"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(lines(dir + "/wp.csv").size(), 2u);
+  EXPECT_TRUE(only_files(dir, {"wp.csv", "wp.json"}));
 }
 
 TEST(CmdBench, BadStepListsAreOneLineExitTwoAndNothingWritten) {
@@ -102,20 +108,27 @@ TEST(CmdBench, BadStepListsAreOneLineExitTwoAndNothingWritten) {
   }
 }
 
-TEST(CmdBench, InterruptKeepsTheRunsFinishedSoFar) {
+TEST(CmdBench, InterruptKeepsTheRunsFinishedSoFarAndNamesEveryFileThatStays) {
   // The drape's reference runs over 2 s of scene take far longer than the 2 s before SIGINT (the
   // study at 0.2 s had become fast enough to finish first); SIGINT stops the study, which writes
-  // the CSV of what finished (a header at least) and exits 130 (128 + SIGINT) saying so.
+  // the CSV and the summary of what finished (a header at least) and exits 130 (128 + SIGINT),
+  // its one line naming both files as incomplete and the plot as not drawn.
   const std::string dir = scratch_dir("bench_interrupt");
   const CliResult r = run_clothsim({"bench", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--duration", "2",
-                                    "--csv", dir + "/wp.csv"},
+                                    "--csv", dir + "/wp.csv", "--summary", dir + "/wp.json", "--plot", dir + "/wp.png"},
                                    "timeout --foreground --preserve-status -s INT 2");
   EXPECT_EQ(r.exit_code, 130) << r.err;
-  EXPECT_NE(r.err.find("interrupted:"), std::string::npos) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("clothsim: interrupted: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" of 28 runs finished; kept " + dir + "/wp.csv (incomplete), " + dir +
+                       "/wp.json (incomplete); not written: " + dir + "/wp.png"),
+            std::string::npos)
+      << r.err;
   const auto rows = lines(dir + "/wp.csv");
   ASSERT_GE(rows.size(), 1u);
   EXPECT_EQ(rows[0].rfind("integrator,dt,", 0), 0u);
-  EXPECT_TRUE(only_files(dir, {"wp.csv"}));
+  EXPECT_NE(slurp(dir + "/wp.json").find("\"complete\": false"), std::string::npos);
+  EXPECT_TRUE(only_files(dir, {"wp.csv", "wp.json"}));
 }
 
 // python3-matplotlib is one of the project's dependencies (tools/install-deps.sh): the plot

@@ -131,5 +131,39 @@ TEST(CmdGolden, ABadManifestExitsTwoWithFileLineAndKey) {
   EXPECT_TRUE(only_files(dir, {"m.yaml", "d.yaml"})) << "nothing rendered";
 }
 
+// --max-memory as run and compare have it: every entry's run is estimated before anything is
+// rendered, and one over the limit is refused (exit 2) naming its line and the estimate.
+TEST(CmdGolden, AnEntryOverMaxMemoryIsRefusedBeforeAnythingIsRendered) {
+  UserProject p("golden_max_memory");
+  // The first entry fits in 500 MB (about 170 MB); the second, at 4000 x 4000, needs over 1 GB.
+  write(p.manifest,
+        "size: [160, 90]\ngoldens:\n  - scene: my_drape.yaml\n    times: [0.05]\n"
+        "  - scene: my_drape.yaml\n    name: big\n    size: [4000, 4000]\n    times: [0.05]\n");
+  const std::string failures = p.dir + "/failures";
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"golden", "check", p.manifest, "--max-memory", "500M", "--failures", failures},
+        std::vector<std::string>{"golden", "update", p.manifest, "--max-memory", "500M"}}) {
+    const CliResult r = run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("clothsim: " + p.manifest + ":5: goldens[1] (" + p.dir + "/my_drape.yaml): needs an estimated ",
+                          0),
+              0u)
+        << r.err;
+    EXPECT_NE(r.err.find("renderer 4000x4000"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("more than --max-memory 500 MB"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "") << "nothing rendered, not even the first entry";
+    EXPECT_TRUE(only_files(p.dir, {"my_drape.yaml", "goldens.yaml"})) << "nothing written";
+  }
+  // Within the limit, the same entries are rendered.
+  write(p.manifest, "size: [160, 90]\ngoldens:\n  - scene: my_drape.yaml\n    times: [0.05]\n");
+  const CliResult fits = run_clothsim({"golden", "update", p.manifest, "--max-memory", "500M"});
+  EXPECT_EQ(fits.exit_code, 0) << fits.err;
+  EXPECT_TRUE(fs::exists(p.dir + "/my_drape_t50ms.png"));
+  const CliResult bad = run_clothsim({"golden", "check", p.manifest, "--max-memory", "lots"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--max-memory: 'lots' is not a size"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace clothsim::testing

@@ -273,6 +273,10 @@ TEST(CmdRun, BadOptionsAreOneLineErrorsAndExitTwo) {
   expect_rejected({"run", scene, "--set", "cloth.springs.structural.stiffnes=5", "--state", dir + "/s.csv"}, 2,
                   "--set cloth.springs.structural.stiffnes=5: unknown key", dir, {});
   expect_rejected({"run", scene, "--set", "dt", "--state", dir + "/s.csv"}, 2, "expected KEY=VALUE", dir, {});
+  expect_rejected({"run", scene, "--set", "spheres.0.radius=0.8", "--state", dir + "/s.csv"}, 2,
+                  "spring.yaml: --set spheres.0.radius=0.8: the scene has no spheres[0] (it has no spheres: give the "
+                  "whole list, --set 'spheres=[...]')",
+                  dir, {});
   expect_rejected({"run", scene, "--frobnicate"}, 2, "frobnicate", dir, {});
 }
 
@@ -328,6 +332,29 @@ TEST(CmdValidate, RejectsABadSceneWithItsLine) {
   const CliResult r = run_clothsim({"validate", dir + "/bad.yaml"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("bad.yaml:3: cloth.plane: unknown plane 'yz'"), std::string::npos) << r.err;
+}
+
+// A value is escaped once, where the message echoes it (docs/scenes.md: a newline shows as
+// 'a\nb'), and main's last guard does not escape it again, whichever way the value came in.
+TEST(Cli, AnEchoedValueIsEscapedOnceOnItsOneLine) {
+  const std::string dir = scratch_dir("validate_escaped_once");
+  const std::string scene = write_file(dir, "nl.yaml", "cloth: {particles: [3, 3]}\nintegrator: \"a\\nb\"\n");
+  const auto expect_one_line = [&](const std::vector<std::string>& args, const std::string& expected) {
+    const CliResult r = run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("'a\\\\nb'"), std::string::npos) << "the value escaped twice: " << r.err;
+    EXPECT_TRUE(only_files(dir, {"nl.yaml"}));
+  };
+  // The YAML string "a\nb" holds a newline: shown as 'a\nb'.
+  expect_one_line({"validate", scene}, "nl.yaml:2: integrator: unknown integrator 'a\\nb' (expected one of:");
+  // The same from --set, whose text as typed holds a backslash: shown escaped once, as \\.
+  expect_one_line({"validate", shipped("spring.yaml"), "--set", "integrator=\"a\\nb\""},
+                  "spring.yaml: --set integrator=\"a\\\\nb\": unknown integrator 'a\\nb' (expected one of:");
+  // An option's value holding a newline, echoed by clothsim's message and by a CLI11 validator's.
+  expect_one_line({"validate", shipped("spring.yaml"), "--integrator", "a\nb"}, "--integrator: unknown integrator 'a\\nb'");
+  expect_one_line({"validate", shipped("spring.yaml"), "--max-memory", "a\nb"}, "--max-memory: 'a\\nb' is not a size");
 }
 
 TEST(Cli, HelpExplainsEverySubcommand) {

@@ -122,6 +122,26 @@ TEST(CmdStability, AnUnconvergedImplicitRunIsNotStableAndTheCsvSaysSo) {
 }
 
 // python3-matplotlib is one of the project's dependencies: the plot must be drawn.
+TEST(CmdStability, InterruptKeepsTheSearchesFinishedSoFarAndNamesEveryFileThatStays) {
+  // The drape's 20 searches over 2 s of scene take far longer than the 2 s before SIGINT.
+  const std::string dir = scratch_dir("stability_interrupt");
+  const CliResult r = run_clothsim({"stability", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--duration", "2",
+                                    "--csv", dir + "/st.csv", "--summary", dir + "/st.json", "--plot", dir + "/st.png"},
+                                   "timeout --foreground --preserve-status -s INT 2");
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("clothsim: interrupted: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" of 20 searches finished; kept " + dir + "/st.csv (incomplete), " + dir +
+                       "/st.json (incomplete); not written: " + dir + "/st.png"),
+            std::string::npos)
+      << r.err;
+  const auto rows = csv_rows(dir + "/st.csv");
+  ASSERT_GE(rows.size(), 1u);
+  EXPECT_EQ(rows[0].at(0), "param");
+  EXPECT_NE(slurp(dir + "/st.json").find("\"complete\": false"), std::string::npos);
+  EXPECT_TRUE(only_files(dir, {"st.csv", "st.json"}));
+}
+
 TEST(CmdStability, DrawsTheStabilityMap) {
   const std::string dir = scratch_dir("stability_plot");
   const CliResult r = run_clothsim({"stability", spring(), "--integrators", "symplectic_euler,rk4,implicit_euler",

@@ -27,7 +27,7 @@ lane_keys = {"run": ["t_reached", "max_residual"], "compare": ["t_reached"],
              "bench": ["wall_seconds", "rms_error", "max_error"],
              "stability": ["value", "outcome", "stable_dt", "unstable_dt", "failure", "reason", "trials",
                            "w_max", "dt_springs", "dt_with_damping", "frame_steps"]}
-top_keys = {"bench": ["duration", "complete", "reference"], "stability": ["param", "duration", "min_dt", "max_dt"]}
+top_keys = {"bench": ["duration", "complete", "reference"], "stability": ["param", "duration", "min_dt", "max_dt", "complete"]}
 for k in ["clothsim", "command", "source", "lanes"] + top_keys.get(command, []):
     assert k in d, "missing top-level key " + k
 assert d["command"] == command, d["command"]

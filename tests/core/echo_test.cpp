@@ -37,5 +37,23 @@ TEST(Excerpt, NeverSplitsAnEscapeOrAUtf8Character) {
   EXPECT_EQ(accents, std::string(75, 'a') + "\xc3\xa9...");
 }
 
+TEST(OneLine, EscapesRawControlBytesButNotTheEscapesOfAnEchoedValue) {
+  // A message holding an echoed value: its newline is escaped once, by in_quotes(), and stays so.
+  const std::string message = "unknown integrator " + in_quotes("a\nb");
+  ASSERT_EQ(message, "unknown integrator 'a\\nb'");
+  EXPECT_EQ(one_line(message), message);
+  // What no echo went through (a library's message, a path) is made one line here.
+  EXPECT_EQ(one_line("cannot write a\nb.csv:\tFile too large\x1b[31m"),
+            "cannot write a\\nb.csv:\\tFile too large\\x1b[31m");
+  EXPECT_EQ(one_line("C:\\dir"), "C:\\dir") << "a backslash in raw text is shown as it is";
+}
+
+TEST(OneLine, IsIdempotentAndCutsAsExcerptDoes) {
+  const std::string raw = "x\n" + in_quotes("y\tz\\") + std::string(3000, 'w');
+  EXPECT_EQ(one_line(one_line(raw)), one_line(raw));
+  EXPECT_EQ(one_line(raw).size(), 2000u);
+  EXPECT_EQ(one_line(raw).substr(1997), "...");
+}
+
 }  // namespace
 }  // namespace clothsim

@@ -239,12 +239,37 @@ TEST(SceneParser, AntialiasIsMsaaFxaaOrNoneAndAgreesWithASampleCount) {
   const SceneError fxaa_and_samples = parse_error("cloth: {particles: [3, 3]}\nrender:\n  msaa: 4\n  antialias: fxaa\n");
   EXPECT_EQ(fxaa_and_samples.line, 4);
   EXPECT_EQ(fxaa_and_samples.key, "render.antialias");
-  EXPECT_NE(std::string(fxaa_and_samples.what()).find("contradicts msaa: 4 (a sample count goes with msaa only)"),
+  EXPECT_NE(std::string(fxaa_and_samples.what())
+                .find("render.antialias: fxaa contradicts msaa: 4 (fxaa draws one sample of its own: leave the count out)"),
             std::string::npos)
       << fxaa_and_samples.what();
-  const SceneError msaa_of_none = parse_error("cloth: {particles: [3, 3]}\nrender:\n  samples: 1\n  antialias: msaa\n");
-  EXPECT_EQ(msaa_of_none.key, "render.antialias");
-  EXPECT_NE(std::string(msaa_of_none.what()).find("msaa needs 2, 4 or 8 samples"), std::string::npos) << msaa_of_none.what();
+}
+
+TEST(SceneParser, AntialiasMsaaTakesWhatItsMessageSaysEachSampleKeyAllows) {
+  const auto render = [](const std::string& keys) {
+    return parse_scene("cloth: {particles: [3, 3]}\nrender: {" + keys + "}\n", "m.yaml").render;
+  };
+  // samples: any count from 2 to 16 is multisampling (the renderer takes what GL offers).
+  for (int samples = 2; samples <= 16; ++samples)
+    EXPECT_EQ(render("antialias: msaa, samples: " + std::to_string(samples)).samples, samples);
+  for (int msaa : {2, 4, 8}) EXPECT_EQ(render("antialias: msaa, msaa: " + std::to_string(msaa)).samples, msaa);
+  // One sample is none, and the message says what the key that gave it allows for msaa.
+  const SceneError by_samples = parse_error("cloth: {particles: [3, 3]}\nrender:\n  samples: 1\n  antialias: msaa\n");
+  EXPECT_EQ(by_samples.line, 4);
+  EXPECT_EQ(by_samples.key, "render.antialias");
+  EXPECT_NE(std::string(by_samples.what()).find("msaa contradicts samples: 1 (msaa needs samples: 2 to 16)"),
+            std::string::npos)
+      << by_samples.what();
+  const SceneError by_msaa = parse_error("cloth: {particles: [3, 3]}\nrender:\n  msaa: 0\n  antialias: msaa\n");
+  EXPECT_NE(std::string(by_msaa.what()).find("msaa contradicts msaa: 0 (msaa needs msaa: 2, 4 or 8)"), std::string::npos)
+      << by_msaa.what();
+  const SceneError none = parse_error("cloth: {particles: [3, 3]}\nrender:\n  samples: 16\n  antialias: none\n");
+  EXPECT_NE(std::string(none.what()).find("none contradicts samples: 16 (none is samples: 1)"), std::string::npos)
+      << none.what();
+  // From --set, the override is named.
+  const SceneError set = parse_error("cloth: {particles: [3, 3]}\n", {"render.antialias=msaa", "render.samples=1"});
+  EXPECT_EQ(std::string(set.what()),
+            "bad.yaml: --set render.antialias=msaa: msaa contradicts samples: 1 (msaa needs samples: 2 to 16)");
 }
 
 TEST(SceneParser, AnIndexedSetErrorNamesTheOverrideNotALineOfTheFile) {
@@ -253,6 +278,36 @@ TEST(SceneParser, AnIndexedSetErrorNamesTheOverrideNotALineOfTheFile) {
   EXPECT_EQ(std::string(e.what()), "bad.yaml: --set gravity=[0,.nan,0]: expected a finite number, got '.nan'");
   const SceneError particles = parse_error("cloth: {particles: [3, 3]}\n", {"cloth.particles=[3, 0]"});
   EXPECT_NE(std::string(particles.what()).find("--set cloth.particles=[3, 0]"), std::string::npos) << particles.what();
+}
+
+TEST(SceneParser, SetIntoAListItemTheSceneDoesNotHaveSaysSoInsteadOfBuildingAMap) {
+  const std::string no_spheres = "cloth: {particles: [3, 3]}\n";
+  const std::string missing = "bad.yaml: --set spheres.0.radius=0.8: the scene has no spheres[0] (it has no spheres: "
+                              "give the whole list, --set 'spheres=[...]')";
+  EXPECT_EQ(std::string(parse_error(no_spheres, {"spheres.0.radius=0.8"}).what()), missing);
+  EXPECT_EQ(std::string(parse_error(no_spheres + "spheres:\n", {"spheres.0.radius=0.8"}).what()), missing)
+      << "a key with no value has no list either";
+  EXPECT_EQ(std::string(parse_error(no_spheres, {"spheres.0={radius: 0.8}"}).what()),
+            "bad.yaml: --set spheres.0={radius: 0.8}: the scene has no spheres[0] (it has no spheres: give the whole "
+            "list, --set 'spheres=[...]')")
+      << "the item itself, as well as a key inside it";
+  EXPECT_EQ(std::string(parse_error(no_spheres + "spheres: []\n", {"spheres.0.radius=0.8"}).what()),
+            "bad.yaml: --set spheres.0.radius=0.8: the scene has no spheres[0] (spheres has 0 items)");
+  const std::string one_sphere = no_spheres + "spheres: [{radius: 1}]\n";
+  EXPECT_EQ(std::string(parse_error(one_sphere, {"spheres.1.radius=0.8"}).what()),
+            "bad.yaml: --set spheres.1.radius=0.8: the scene has no spheres[1] (spheres has 1 item)");
+  EXPECT_EQ(std::string(parse_error(one_sphere, {"spheres.0.motion.0.t=1"}).what()),
+            "bad.yaml: --set spheres.0.motion.0.t=1: the scene has no spheres.0.motion[0] (it has no "
+            "spheres.0.motion: give the whole list, --set 'spheres.0.motion=[...]')");
+  EXPECT_NE(std::string(parse_error(no_spheres, {"events.0.t=1"}).what()).find("the scene has no events[0]"),
+            std::string::npos);
+  EXPECT_NE(std::string(parse_error(no_spheres, {"spheres.0x0.radius=1"}).what())
+                .find("'0x0' is not an index into a list (plain decimal"),
+            std::string::npos);
+  // What the messages suggest works, and a key the file leaves out is still created.
+  EXPECT_DOUBLE_EQ(parse_scene(no_spheres, "x.yaml", {"spheres=[{radius: 0.8}]"}).spheres.at(0).radius, 0.8);
+  EXPECT_DOUBLE_EQ(parse_scene(no_spheres, "x.yaml", {"spheres=[{radius: 0.8}]", "spheres.0.radius=0.5"}).spheres.at(0).radius, 0.5);
+  EXPECT_DOUBLE_EQ(parse_scene(no_spheres, "x.yaml", {"ground.height=-1"}).ground->height, -1.0);
 }
 
 TEST(SceneParser, ListIndicesInSetArePlainDecimalOnly) {

@@ -230,13 +230,16 @@ int bench_command(const BenchOptions& o) {
   if (!o.csv.empty()) write_to(o.csv);
   if (!o.summary.empty()) write_summary_json(o.summary, scene.source, model.name, result);
 
+  // Both files stay, each holding the runs that finished: the line names them.
   if (interrupted() || !result.complete)
-    throw RuntimeFailure("interrupted: " + std::to_string(result.points.size()) + " of " +
-                         std::to_string(runs) + " runs finished" +
-                         (o.csv.empty() ? "" : " and written to " + o.csv) + "; no plot drawn");
-  if (!ref.converged)
-    throw RuntimeFailure(scene.source + ": " + ref.failure + (o.csv.empty() ? "" : " (" + o.csv + " written for inspection)") +
+    throw RuntimeFailure(study_interrupted_message(result.points.size(), runs, "runs", {o.csv, o.summary}, o.plot));
+  if (!ref.converged) {
+    std::string kept;
+    for (const std::string& path : {o.csv, o.summary})
+      if (!path.empty()) kept += (kept.empty() ? "" : ", ") + path;
+    throw RuntimeFailure(scene.source + ": " + ref.failure + (kept.empty() ? "" : " (kept for inspection: " + kept + ")") +
                          "; no plot drawn");
+  }
   if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", model.name + " (T = " + csv_number(T) + " s)"});
   return kOk;
 }

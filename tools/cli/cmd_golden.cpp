@@ -5,12 +5,14 @@
 //           an amplified diff are written beside the golden (NAME_tXms.actual.png, .diff.png)
 //           or into --failures DIR. Exit 0 all match, 1 some differ or are missing.
 //   update: the golden images are (re)written.
-// A bad manifest or scene exits 2 before anything is rendered.
+// A bad manifest or scene, or an entry whose run would need more than --max-memory, exits 2
+// before anything is rendered.
 #include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "cli_common.h"
 #include "commands.h"
@@ -21,7 +23,9 @@
 #include "scene_parser.h"
 #include "frame_pipeline.h"
 #include "lanes.h"
+#include "memory_budget.h"
 #include "picture_options.h"
+#include "run_budget.h"
 
 namespace clothsim::cli {
 namespace {
@@ -32,6 +36,7 @@ struct GoldenOptions {
   std::string manifest;
   std::string failures_dir;  // empty: beside each golden image
   GlOptions gl;
+  std::optional<double> max_memory;  // --max-memory SIZE in bytes (default: memory_budget.h)
 };
 
 // Where a failed check leaves its evidence: "drape_t1500ms.png" -> "drape_t1500ms.actual.png".
@@ -120,8 +125,10 @@ class GoldenOutput final : public FrameOutput {
 
 int golden_command(const GoldenOptions& o, bool update) {
   const GoldenManifest manifest = load_golden_manifest(o.manifest);
-  // Every scene is read before any rendering, so a bad one fails at once (exit 2).
+  // Every scene is read, and its run's memory estimated, before any rendering, so a bad one
+  // fails at once (exit 2).
   std::vector<SceneDef> scenes;
+  std::vector<PictureLook> looks;
   for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
     const GoldenEntry& e = manifest.entries[i];
     const std::string key = "goldens[" + std::to_string(i) + "]";
@@ -139,6 +146,15 @@ int golden_command(const GoldenOptions& o, bool update) {
                       scenes.back().duration);
         throw SceneError(manifest.path, e.line, key + ".times", what);
       }
+    // The pictures `run --still` makes (the frame pipeline with one lane: the scene's camera,
+    // colouring and overlay), and the peak memory of that run at the entry's size: entries run
+    // one after another, so each is held to --max-memory on its own.
+    const SceneDef& scene = scenes.back();
+    const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
+    looks.push_back(resolve_picture_look({}, scene, {lane}, /*compare=*/false));
+    run_budget(scene, looks.back(), {/*rendering=*/true, e.width, e.height, /*video=*/false})
+        .check(manifest.path + (e.line > 0 ? ":" + std::to_string(e.line) : "") + ": " + key + " (" + e.scene + ")",
+               o.max_memory);
   }
   if (!o.failures_dir.empty() && !update) ensure_directory(o.failures_dir, "--failures");
   const std::unique_ptr<Renderer> renderer = make_renderer(o.gl);
@@ -149,10 +165,9 @@ int golden_command(const GoldenOptions& o, bool update) {
     const SceneDef& scene = scenes[i];
     const Model model = build_model(scene);
     images += static_cast<int>(e.times.size());
-    // The pictures `run --still` makes (the frame pipeline with one lane: the scene's camera,
-    // colouring and overlay), one per time, taken as a contact sheet's columns.
+    // One picture per time, taken as a contact sheet's columns.
     const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
-    PictureLook look = resolve_picture_look({}, scene, {lane}, /*compare=*/false);
+    PictureLook look = looks[i];
     fit_reference_to_model(look, model, scene, {lane});  // as run does
     PipelineConfig config;
     config.rendering = true;
@@ -198,6 +213,7 @@ void add_golden_command(CLI::App& app, Command& command) {
       sub->add_option("--failures", o->failures_dir, "Write actual and diff images of failures here instead")
           ->type_name("DIR");
     add_gl_options(sub, o->gl);
+    add_max_memory_option(sub, o->max_memory);
     add_progress_options(sub);
     sub->callback([o, update, &command] { command = [o, update] { return golden_command(*o, update); }; });
   }

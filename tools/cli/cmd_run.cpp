@@ -22,9 +22,9 @@
 #include "gl_options.h"
 #include "summary_json.h"
 #include "memory_budget.h"
-#include "memory_estimate.h"
 #include "png_io.h"
 #include "renderer.h"
+#include "run_budget.h"
 #include "run_outputs.h"
 #include "scene_options.h"
 #include "simulation.h"
@@ -92,25 +92,7 @@ int run_command(const RunOptions& o) {
 
   // Peak memory, estimated and checked before the Model, the renderer or the encoder exist.
   const int w = scene.render.width, h = scene.render.height;
-  MemoryBudget budget;
-  budget.add("model", model_bytes(scene));
-  // The run steps on a lane thread of the frame pipeline (kLaneThreadBytes), as the reference does.
-  budget.add(std::string(integrator_name(scene.integrator)), run_bytes(scene, scene.integrator) + kLaneThreadBytes);
-  if (look.reference) {
-    budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind) + kLaneThreadBytes);
-    budget.add("reference positions at the run's times",
-               reference_positions_bytes(scene, {lane.dt}, targets, kLaneQueueCapacity));
-  }
-  if (rendering) {
-    // The render target, the frame and up to 3 frames queued for the PNG writer.
-    budget.add("renderer " + std::to_string(w) + "x" + std::to_string(h),
-               kRendererBytes + render_bytes(w, h, scene.render.samples) + 4.0 * w * h * 4);
-    if (look.color != FieldKind::None && !look.color_range)
-      budget.add("the first second, held for the colour scale",
-                 held_frames_bytes(scene, 1, std::min(1.0, scene.duration) * scene.render.fps + 1.0));
-  }
-  if (!o.video.empty()) budget.add("encoder", encoder_bytes(w, h));
-  budget.check(scene.source, o.scene.max_memory);
+  run_budget(scene, look, {rendering, w, h, !o.video.empty(), &targets}).check(scene.source, o.scene.max_memory);
 
   const Model model = build_model(scene);
   fit_reference_to_model(look, model, scene, {lane});

@@ -126,7 +126,7 @@ std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& s
 // failed, and implicit_euler's one-step-per-frame runs.
 void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
                         const std::string& param, const std::vector<StabilityLimit>& limits,
-                        const analysis::StabilitySpec& spec) {
+                        const analysis::StabilitySpec& spec, bool complete) {
   std::vector<JsonObject> lanes;
   for (const StabilityLimit& l : limits) {
     std::vector<JsonObject> frame_steps;
@@ -156,7 +156,11 @@ void write_summary_json(const std::string& path, const std::string& source, cons
                         .array("frame_steps", frame_steps));
   }
   JsonObject extra;
-  extra.text("param", param).number("duration", spec.duration).number("min_dt", spec.min_dt).number("max_dt", spec.max_dt);
+  extra.text("param", param)
+      .number("duration", spec.duration)
+      .number("min_dt", spec.min_dt)
+      .number("max_dt", spec.max_dt)
+      .boolean("complete", complete);
   write_summary(path, "stability", source, lanes, extra);
 }
 
@@ -273,11 +277,12 @@ int stability_command(const StabilityOptions& o) {
     file.commit();
   };
   if (!o.csv.empty()) write_to(o.csv);
-  if (!o.summary.empty()) write_summary_json(o.summary, base.source, base.name, o.param, limits, spec);
-  if (interrupted() || limits.size() < cases.size() * kinds.size())
-    throw RuntimeFailure("interrupted: " + std::to_string(limits.size()) + " of " +
-                         std::to_string(cases.size() * kinds.size()) + " searches finished" +
-                         (o.csv.empty() ? "" : " and written to " + o.csv) + "; no plot drawn");
+  const std::size_t searches = cases.size() * kinds.size();
+  if (!o.summary.empty())
+    write_summary_json(o.summary, base.source, base.name, o.param, limits, spec, limits.size() == searches);
+  // Both files stay, each holding the searches that finished: the line names them.
+  if (interrupted() || limits.size() < searches)
+    throw RuntimeFailure(study_interrupted_message(limits.size(), searches, "searches", {o.csv, o.summary}, o.plot));
   if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", base.name});  // the script adds T from the CSV
   return kOk;
 }

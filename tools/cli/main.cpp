@@ -19,10 +19,11 @@ using namespace clothsim;
 using namespace clothsim::cli;
 
 namespace {
-// Every error is one line on stderr, whatever a library or the user's text put in it: the
-// messages built here already cut echoed values to 80 characters; this is the last guard
-// (CLI11's messages echo an option's value whole, a library's may hold a newline).
-void say(const std::string& message) { std::fprintf(stderr, "clothsim: %s\n", excerpt(message, 2000).c_str()); }
+// Every error is one line on stderr, whatever a library or the user's text put in it. The
+// messages built here already echo the user's values through excerpt() (escaped once, cut to
+// 80 characters); one_line() is the last guard for the rest (CLI11's messages echo an option's
+// value whole, a library's may hold a newline) and leaves those escapes as they are.
+void say(const std::string& message) { std::fprintf(stderr, "clothsim: %s\n", one_line(message).c_str()); }
 }  // namespace
 
 int main(int argc, char** argv) {

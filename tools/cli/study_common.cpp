@@ -153,6 +153,17 @@ void PlotScript::draw_from_csv(const std::string& csv,
   std::printf("plot: %s\n", png_.c_str());
 }
 
+std::string study_interrupted_message(std::size_t finished, std::size_t total, const std::string& unit,
+                                      const std::vector<std::string>& kept, const std::string& plot) {
+  std::vector<std::string> files;
+  for (const std::string& path : kept)
+    if (!path.empty()) files.push_back(finished < total ? path + " (incomplete)" : path);
+  std::vector<std::string> not_written;
+  if (!plot.empty()) not_written.push_back(plot);
+  return "interrupted: " + std::to_string(finished) + " of " + std::to_string(total) + " " + unit + " finished; " +
+         what_stays(files, not_written);
+}
+
 std::vector<double> parse_frame_dts(const std::string& text) {
   if (text == "none") return {};
   std::vector<double> out = parse_number_list(text, "--frame-dts");

@@ -28,6 +28,14 @@ std::vector<double> parse_frame_dts(const std::string& text);
 std::string csv_number(double value);
 std::string csv_text(const std::string& text);
 
+// The line `bench` and `stability` end on when stopped before the study finished (main adds
+// "clothsim: "): how many of its `total` runs or searches finished, and every file that stays
+// on disk, each marked incomplete while some did not finish, and the plot that is not drawn:
+// "interrupted: 3 of 28 runs finished; kept wp.csv (incomplete), wp.json (incomplete); not
+// written: wp.png". `kept`: the CSV and summary written (empty paths skipped); `plot`: "" for none.
+std::string study_interrupted_message(std::size_t finished, std::size_t total, const std::string& unit,
+                                      const std::vector<std::string>& kept, const std::string& plot);
+
 // Progress for work finished on worker threads: update() may be called from any thread.
 class SharedProgress {
  public:
