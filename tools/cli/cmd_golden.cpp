@@ -25,6 +25,7 @@
 #include "lanes.h"
 #include "memory_budget.h"
 #include "picture_options.h"
+#include "run_bounds.h"
 #include "run_budget.h"
 
 namespace clothsim::cli {
@@ -139,6 +140,11 @@ int golden_command(const GoldenOptions& o, bool update) {
     scenes.push_back(load_scene(e.scene));
     if (e.integrator) scenes.back().integrator = *e.integrator;
     if (e.dt) scenes.back().dt = *e.dt;
+    if (e.dt && !e.times.empty()) {  // the parser bounded the scene's own dt; the run goes to the latest still
+      const double latest = *std::max_element(e.times.begin(), e.times.end());
+      const std::string too_long = run_bounds_problem(latest, *e.dt, scenes.back().render.fps);
+      if (!too_long.empty()) throw SceneError(manifest.path, e.line, key + ".dt", too_long);
+    }
     for (double t : e.times)
       if (t > scenes.back().duration + 1e-9) {
         char what[160];
