@@ -40,8 +40,8 @@ TEST_P(SceneFuzzRegression, IsAcceptedOrRefusedOnOneLineNamingTheFile) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Inputs, SceneFuzzRegression, ::testing::ValuesIn(files_in(CLOTHSIM_FUZZ_REGRESSIONS)),
-                         [](const ::testing::TestParamInfo<fs::path>& info) {
-                           std::string name = info.param.stem().string();
+                         [](const ::testing::TestParamInfo<fs::path>& input) {  // (not `info`: the macro's own)
+                           std::string name = input.param.stem().string();
                            for (char& c : name)
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return name;
