@@ -1,5 +1,6 @@
 // RenderFrame: the snapshot the renderer draws, and all it may know of a scene.
-// Filled on the engine side by make_render_frame() (snapshot.h); read by render/.
+// Its geometry filled on the engine side by make_render_frame() (snapshot.h), its words (overlay
+// lines, banner) by the tools that show it (tools/cli/overlay_text.h); read by render/.
 // Plain values only: no Eigen, no GL, so render/ and the engine share nothing else.
 #pragma once
 

@@ -11,7 +11,7 @@
 #include "cli_common.h"
 #include "frame_decoration.h"
 #include "progress.h"
-#include "snapshot.h"
+#include "overlay_text.h"
 
 namespace clothsim::cli {
 
@@ -53,7 +53,7 @@ std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, 
     if (single) lines.push_back(lane.label());  // a tile's label is the grid's
     return lines;
   }
-  // run: the scene, the lane and the time (snapshot.h); a tile: the time, the grid labels it.
+  // run: the scene, the lane and the time (overlay_text.h); a tile: the time, the grid labels it.
   lines = single ? overlay_lines(model, lane.label(), frame.t) : std::vector<std::string>{overlay_time_line(frame.t)};
   char buf[128];
   // Force evaluations: the machine-independent cost, the same on every run of the command.

@@ -8,7 +8,7 @@
 #include "cli_common.h"
 #include "compare_plan.h"
 #include "echo.h"
-#include "snapshot.h"
+#include "overlay_text.h"
 
 namespace clothsim::cli {
 
