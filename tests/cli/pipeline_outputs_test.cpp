@@ -35,7 +35,7 @@ TEST(LaneTileLabels, SpellEveryLaneAsIntegratorsDoesWhereOneDoesNotFit) {
   EXPECT_EQ(labels[3], "rk4@0.0001");
   for (std::size_t i : {0u, 2u, 3u}) EXPECT_TRUE(label_fits(labels[i], 158, 1)) << labels[i];
   // The fixed point's is still too long: the grid shortens its name, keeping its step.
-  EXPECT_EQ(labels[1], "implicit_euler (fixed point)@0.0001");
+  EXPECT_EQ(labels[1], "implicit_euler_fixed_point@0.0001");
   EXPECT_EQ(narrow.shown_labels(labels)[1], "implicit_euler...@0.0001");
 }
 
