@@ -26,15 +26,14 @@ std::string overlay_time_line(double t) {
 
 void mark_diverged(RenderFrame& frame, const Divergence& divergence) {
   // The time as `run` prints it (%.6g), and the step: the picture and the exit message agree.
-  char banner[96];
-  std::snprintf(banner, sizeof banner, "DIVERGED at t = %.6g s (step %lld)", divergence.t,
-                static_cast<long long>(divergence.step));
-  frame.banner = banner;
+  char time[48];
+  std::snprintf(time, sizeof time, "at t = %.6g s", divergence.t);
+  frame.banner = {"DIVERGED", time, "(step " + std::to_string(divergence.step) + ")"};
   frame.overlay_lines.push_back("diverged: " + divergence.reason);
 }
 
 void mark_not_converged(RenderFrame& frame, std::int64_t steps) {
-  frame.banner = "NOT CONVERGED (" + std::to_string(steps) + (steps == 1 ? " step)" : " steps)");
+  frame.banner = {"NOT CONVERGED", "(" + std::to_string(steps) + (steps == 1 ? " step)" : " steps)")};
 }
 
 }  // namespace clothsim::cli

@@ -31,6 +31,8 @@ std::string overlay_time_line(double t);
 // Marks a frame of a run's last finite state (Run::last_finite_state) as the frozen frame:
 // the red banner "DIVERGED at t = ... s (step N)" with the time as `run` prints it, and a last
 // overlay line with the reason. What `run` and `compare` show from the moment a run diverges.
+// The banner's phrases are "DIVERGED", "at t = ... s" and "(step N)": a narrow tile shows them
+// on two lines, and one too narrow for that leaves the step off (render_frame.h).
 void mark_diverged(RenderFrame& frame, const Divergence& divergence);
 
 // Marks a frame of a run whose implicit steps missed their Newton tolerance `steps` times so
