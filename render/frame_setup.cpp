@@ -160,8 +160,16 @@ void draw_overlay(Image& image, const RenderFrame& frame) {
   draw_series_inset(image, frame.inset, layout);
   const int scale = layout.scale, margin = layout.margin;
   if (!layout.lines.empty()) draw_text_block(image, margin, margin, layout.lines, {255, 255, 255, 255}, scale);
-  if (!frame.banner.empty())
-    draw_text(image, layout.banner.x, layout.banner.y, frame.banner, {255, 72, 60, 255}, layout.banner_scale);
+  if (!layout.banner_lines.empty()) {  // one backdrop for its lines, each centred on it
+    const ImageBox& b = layout.banner;
+    const int s = layout.banner_scale, line_h = text_glyph_height() * s;
+    darken_rect(image, b.x - 2 * s, b.y - 2 * s, b.right() + 2 * s, b.bottom() + s);
+    for (std::size_t i = 0; i < layout.banner_lines.size(); ++i) {
+      const std::string& line = layout.banner_lines[i];
+      draw_text(image, b.x + (b.w - text_width(line, s)) / 2, b.y + static_cast<int>(i) * line_h, line,
+                {255, 72, 60, 255}, s, /*backdrop=*/false);
+    }
+  }
 }
 
 }  // namespace clothsim::render

@@ -10,6 +10,27 @@ namespace {
 
 int line_height(int scale) { return text_glyph_height() * scale; }  // glyph cell: 7 cap + 3
 
+// `line` broken at spaces into pieces no wider than `max_width` at `scale`; a single word wider
+// than that stays whole (and is clipped at the image's edge).
+void wrap_into(const std::string& line, int max_width, int scale, std::vector<std::string>& out) {
+  std::string current;
+  std::size_t start = 0;
+  while (start <= line.size()) {
+    std::size_t end = line.find(' ', start);
+    if (end == std::string::npos) end = line.size();
+    const std::string word = line.substr(start, end - start);
+    const std::string joined = current.empty() ? word : current + " " + word;
+    if (!current.empty() && text_width(joined, scale) > max_width) {
+      out.push_back(current);
+      current = "  " + word;  // continuation lines indented
+    } else {
+      current = joined;
+    }
+    start = end + 1;
+  }
+  out.push_back(current);
+}
+
 // The inset's panel, bottom-right above the tile label band: about a quarter of the width,
 // wider if its label needs it at the smallest text scale; the label's text steps down from
 // the overlay's scale until it fits a quarter of the width, as a tile label does.
@@ -69,23 +90,99 @@ void place_color_bar(const RenderFrame& frame, int width, int height, OverlayLay
 }
 
 
-// The banner: left of the colour bar where it fits there at scale 1 or more; else across the
-// picture, as a tile too narrow for both must show the banner over the bar rather than cut it.
-// Centred, or below the overlay text where centring would cover it (a DIVERGED reason is
-// several lines in a small tile), if there is room above the label band.
+// `phrases[0, count)` joined by spaces into lines no wider than `room` at `scale`, a phrase
+// starting a line where it does not fit after the last (one wider than `room` alone on its line).
+std::vector<std::string> pack_phrases(const std::vector<std::string>& phrases, std::size_t count, int room, int scale) {
+  std::vector<std::string> lines;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!lines.empty() && text_width(lines.back() + " " + phrases[i], scale) <= room)
+      lines.back() += " " + phrases[i];
+    else
+      lines.push_back(phrases[i]);
+  }
+  return lines;
+}
+
+bool lines_fit(const std::vector<std::string>& lines, int room, int scale) {
+  for (const std::string& line : lines)
+    if (text_width(line, scale) > room) return false;
+  return lines.size() <= 2;
+}
+
+struct BannerChoice {
+  std::vector<std::string> lines;
+  int scale = 1;
+};
+
+// Every way to write the banner in `room`, best first: its phrases on one line at the largest
+// scale (twice the text's down to 1) where that fits, then on two lines at the largest scale
+// that holds them; then the same without the last phrase, and so on down to the first two
+// (never fewer); last (a tile narrower than a phrase) the first two wrapped at spaces.
+std::vector<BannerChoice> banner_choices(const std::vector<std::string>& phrases, int room, int text_scale) {
+  std::vector<BannerChoice> out;
+  const std::size_t kept = std::min<std::size_t>(2, phrases.size());
+  for (std::size_t count = phrases.size(); count >= std::max<std::size_t>(kept, 1); --count) {
+    std::string one_line;
+    for (std::size_t i = 0; i < count; ++i) one_line += (i ? " " : "") + phrases[i];
+    for (int b = 2 * text_scale; b >= 1; --b)
+      if (text_width(one_line, b) <= room) {
+        out.push_back({{one_line}, b});
+        break;
+      }
+    for (int b = 2 * text_scale; b >= 1; --b) {
+      std::vector<std::string> lines = pack_phrases(phrases, count, room, b);
+      if (lines.size() == 2 && lines_fit(lines, room, b)) {
+        out.push_back({lines, b});
+        break;
+      }
+    }
+  }
+  BannerChoice wrapped;
+  for (std::size_t i = 0; i < kept; ++i) wrap_into(phrases[i], room, 1, wrapped.lines);
+  for (std::string& line : wrapped.lines)  // (the phrase is what is read, not wrap_into's indent)
+    line.erase(0, line.find_first_not_of(' '));
+  out.push_back(wrapped);
+  return out;
+}
+
+// The banner: left of the colour bar where it fits there on two lines at scale 1 or more; else
+// across the picture, as a tile too narrow for both must show the banner over the bar rather
+// than cut it. Centred, or below the overlay text where centring would cover it (a DIVERGED
+// reason is several lines in a small tile), if there is room above the label band; where only
+// a shorter banner has that room (the step left off), the shorter one, so that the text stays
+// readable; where none has, the first choice over the text.
 void place_banner(const RenderFrame& frame, int width, int height, OverlayLayout& l) {
   const int s = l.scale;
   const int right = l.color_bar.empty() ? width - l.margin : l.color_bar.x - l.margin;
   int room = std::max(right - l.margin, 1);
-  if (text_width(frame.banner, 1) > room) room = width - 2 * l.margin;
-  int b = 2 * s;
-  while (b > 1 && text_width(frame.banner, b) > room) --b;
-  l.banner_scale = b;
-  const int w = text_width(frame.banner, b), h = text_glyph_height() * b;
-  int y = (height - h) / 2;
-  if (!l.text.empty() && y < l.text.bottom() + s && l.text.bottom() + s + h <= height - tile_label_band(s))
-    y = l.text.bottom() + s;
-  l.banner = {l.margin + std::max(0, (room - w) / 2), y, w, h};
+  if (!lines_fit(pack_phrases(frame.banner, frame.banner.size(), room, 1), room, 1)) room = std::max(width - 2 * l.margin, 1);
+  const std::vector<BannerChoice> choices = banner_choices(frame.banner, room, s);
+  // Where `c` goes, and whether it leaves the overlay text uncovered.
+  const auto place = [&](const BannerChoice& c, bool& clear) {
+    int w = 0;
+    for (const std::string& line : c.lines) w = std::max(w, text_width(line, c.scale));
+    const int h = static_cast<int>(c.lines.size()) * text_glyph_height() * c.scale;
+    int y = (height - h) / 2;
+    clear = l.text.empty() || y >= l.text.bottom() + s;
+    if (!clear && l.text.bottom() + s + h <= height - tile_label_band(s)) {
+      y = l.text.bottom() + s;
+      clear = true;
+    }
+    return ImageBox{l.margin + std::max(0, (room - w) / 2), y, w, h};
+  };
+  const BannerChoice* chosen = &choices.front();
+  for (const BannerChoice& c : choices) {
+    bool clear = false;
+    place(c, clear);
+    if (clear) {
+      chosen = &c;
+      break;
+    }
+  }
+  bool clear = false;
+  l.banner = place(*chosen, clear);
+  l.banner_lines = chosen->lines;
+  l.banner_scale = chosen->scale;
 }
 }  // namespace
 
@@ -99,31 +196,6 @@ int tile_label_band(int scale) {
   // draw_tile_label: glyphs 3 s above the tile's bottom edge, backdrop 2 s around them.
   return 3 * scale + line_height(scale) + 2 * scale;
 }
-
-namespace {
-
-// `line` broken at spaces into pieces no wider than `max_width` at `scale`; a single word wider
-// than that stays whole (and is clipped at the image's edge).
-void wrap_into(const std::string& line, int max_width, int scale, std::vector<std::string>& out) {
-  std::string current;
-  std::size_t start = 0;
-  while (start <= line.size()) {
-    std::size_t end = line.find(' ', start);
-    if (end == std::string::npos) end = line.size();
-    const std::string word = line.substr(start, end - start);
-    const std::string joined = current.empty() ? word : current + " " + word;
-    if (!current.empty() && text_width(joined, scale) > max_width) {
-      out.push_back(current);
-      current = "  " + word;  // continuation lines indented
-    } else {
-      current = joined;
-    }
-    start = end + 1;
-  }
-  out.push_back(current);
-}
-
-}  // namespace
 
 OverlayLayout layout_overlay(const RenderFrame& frame, int width, int height) {
   OverlayLayout l;

@@ -13,7 +13,8 @@
 //   +--------------------------------------------+
 //
 // The bottom band a tile label may cover is kept clear on the right too, so a long label
-// never runs under the inset. The banner (DIVERGED ...) is centred and drawn over everything.
+// never runs under the inset. The banner (DIVERGED ...) is centred and drawn over everything,
+// on two lines in a tile too narrow for one.
 // Pure arithmetic on the frame's content and the image size: tests check the boxes.
 #pragma once
 
@@ -51,9 +52,13 @@ struct OverlayLayout {
   std::vector<ScaleTick> ticks;
 
   // The banner (DIVERGED, NOT CONVERGED): centred in the picture left of the colour bar's
-  // panel, so it hides no tick, at twice the text scale or smaller to fit that width.
-  ImageBox banner;
+  // panel, so it hides no tick, at twice the text scale or smaller to fit that width; across
+  // the picture where it does not fit there. Its phrases on one line, else on two (each line
+  // centred in the box), the last phrases left off where two lines cannot hold them at scale 1
+  // or where only fewer clear the overlay lines.
+  ImageBox banner;                        // the lines' glyphs (the backdrop reaches 2 scale past)
   int banner_scale = 1;
+  std::vector<std::string> banner_lines;  // as drawn, top to bottom
 
   ImageBox inset;      // the series inset's panel (dark backdrop)
   int inset_scale = 1; // its text scale: the overlay's, or smaller for a long label in its width

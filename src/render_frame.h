@@ -1,5 +1,6 @@
 // RenderFrame: the snapshot the renderer draws, and all it may know of a scene.
-// Filled on the engine side by make_render_frame() (snapshot.h); read by render/.
+// Its geometry filled on the engine side by make_render_frame() (snapshot.h), its words (overlay
+// lines, banner) by the tools that show it (tools/cli/overlay_text.h); read by render/.
 // Plain values only: no Eigen, no GL, so render/ and the engine share nothing else.
 #pragma once
 
@@ -84,7 +85,13 @@ struct RenderFrame {
 
   // Text drawn over the image with the built-in bitmap font (deterministic across machines).
   std::vector<std::string> overlay_lines;    // top-left, one per line (scene, integrator, dt, t)
-  std::string banner;                        // centred, red: e.g. "DIVERGED at t = 1.234 s"
+  // The red banner over everything, centred (DIVERGED, NOT CONVERGED), as phrases, the most
+  // important first: {"DIVERGED", "at t = 1.234 s", "(step 12340)"}. On one line, joined by
+  // spaces, where it fits; else on two lines broken between phrases, never inside one; where
+  // two lines cannot hold them all even at the smallest text, or would cover the overlay lines
+  // where fewer would not, the last phrases are left off, never the first two
+  // (render/overlay_layout.h). Empty: no banner.
+  std::vector<std::string> banner;
   SeriesInset inset;                         // bottom-right when inset.show
 };
 

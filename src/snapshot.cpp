@@ -2,7 +2,6 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cstdio>
 
 namespace clothsim {
 namespace {
@@ -34,7 +33,7 @@ std::vector<float> vertex_normals(const Model& model, const State& state) {
 
 }  // namespace
 
-RenderFrame make_render_frame(const Model& model, const State& state, const SnapshotText& text) {
+RenderFrame make_render_frame(const Model& model, const State& state) {
   RenderFrame f;
   const RenderDef& r = model.render;
   f.width = r.width;
@@ -80,42 +79,7 @@ RenderFrame make_render_frame(const Model& model, const State& state, const Snap
   }
   f.has_ground = model.has_ground;
   if (model.has_ground) f.ground_height = static_cast<float>(model.ground.height);
-  f.overlay_lines = text.lines;
-  f.banner = text.banner;
   return f;
-}
-
-void mark_diverged(RenderFrame& frame, const Divergence& divergence) {
-  // The time as `run` prints it (%.6g), and the step: the picture and the exit message agree.
-  char banner[96];
-  std::snprintf(banner, sizeof banner, "DIVERGED at t = %.6g s (step %lld)", divergence.t,
-                static_cast<long long>(divergence.step));
-  frame.banner = banner;
-  frame.overlay_lines.push_back("diverged: " + divergence.reason);
-}
-
-void mark_not_converged(RenderFrame& frame, std::int64_t steps) {
-  frame.banner = "NOT CONVERGED (" + std::to_string(steps) + (steps == 1 ? " step)" : " steps)");
-}
-
-std::vector<std::string> overlay_lines(const Model& model, const std::string& lane_label, double t) {
-  return {model.name, lane_label, overlay_time_line(t)};
-}
-
-std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t) {
-  char step[32];
-  std::snprintf(step, sizeof step, "%.3g", dt);
-  return overlay_lines(model, integrator_label(integrator_name(kind), step), t);
-}
-
-std::string integrator_label(std::string_view name, std::string_view step) {
-  return std::string(name) + "  dt = " + std::string(step) + " s";
-}
-
-std::string overlay_time_line(double t) {
-  char line[48];
-  std::snprintf(line, sizeof line, "t = %.3f s", t);
-  return line;
 }
 
 }  // namespace clothsim

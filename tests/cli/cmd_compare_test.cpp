@@ -193,6 +193,25 @@ TEST(CmdCompare, TheColourScaleFromTheDataLeavesOutTheLanesThatDiverged) {
   EXPECT_NE(all.err.find("colour scale for strain: 0.001 to 1, from the first second ("), std::string::npos) << all.err;
 }
 
+TEST(CmdCompare, AColourScaleWithNothingMeasuredSaysWhatDivergedNotThatTheClothIsAtRest) {
+  // Every lane, or the reference, blows up before the first frame after t = 0, where all states
+  // are the scene's start and every error is 0: nothing to take the scale from. The message
+  // said "the first second is at rest".
+  const std::string dir = scratch_dir("compare_scale_nothing");
+  const auto one = compare_small({"--integrators", "rk4@0.01", "--still", "0.1", "-o", dir + "/one.png"});
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_NE(one.err.find("a default: the lane diverged at t = "), std::string::npos) << one.err;
+  EXPECT_NE(one.err.find(" before any error above 0 was measured"), std::string::npos) << one.err;
+  const auto two = compare_small({"--integrators", "rk4@0.01,midpoint@0.01", "--still", "0.1", "-o", dir + "/two.png"});
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_NE(two.err.find("a default: every lane diverged (the last at t = "), std::string::npos) << two.err;
+  const auto reference = compare_small({"--integrators", "symplectic_euler", "--reference", "rk4@0.01", "--still", "0.1",
+                                        "-o", dir + "/reference.png"});
+  ASSERT_EQ(reference.exit_code, 0) << reference.err;
+  EXPECT_NE(reference.err.find("a default: the reference diverged at t = "), std::string::npos) << reference.err;
+  for (const auto* r : {&one, &two, &reference}) EXPECT_EQ(r->err.find("at rest"), std::string::npos) << r->err;
+}
+
 TEST(CmdCompare, TheErrorLinesSayWhichFramesTheyCover) {
   // A contact sheet measures at its columns only (with the scale given, no first second).
   const std::string dir = scratch_dir("compare_error_cover");

@@ -110,6 +110,19 @@ TEST(CmdRun, DivergenceExitsThreeSayingWhenAndKeepsMetricsButNoState) {
   EXPECT_TRUE(only_files(dir, {"m.csv"}));
 }
 
+TEST(CmdRun, AColourScaleWithNothingMeasuredSaysTheRunDivergedFirstNotThatTheClothIsAtRest) {
+  // RK4 at 0.01 s blows the drape up at t = 0.03 s, before the first frame after t = 0: its
+  // only error measured is the start's, 0. The message said "the first second is at rest".
+  const std::string dir = scratch_dir("run_scale_diverged");
+  const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--integrator", "rk4", "--dt", "0.01", "--color",
+                                    "error", "--duration", "1", "--still", "0.5", "-o", dir + "/still.png"});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("run: colour scale for error: 1e-06 to 0.001 m, a default: the run diverged at t = 0.03 s "
+                       "before any error above 0 was measured"),
+            std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("at rest"), std::string::npos) << r.err;
+}
+
 TEST(CmdRun, EveryRegisteredIntegratorIsInTheHelpAndRunsByItsName) {
   const CliResult help = run_clothsim({"--help"});
   ASSERT_EQ(help.exit_code, 0);

@@ -104,7 +104,7 @@ TEST(CompareLook, TheDefaultClipsClothCoversAQuarterOfEachTile) {
   clothsim::Run run(model, IntegratorKind::SymplecticEuler, model.dt);
   for (const double t : {0.0, 1.0, 2.5, 5.0}) {
     ASSERT_TRUE(run.advance_to(t));
-    RenderFrame with = make_render_frame(model, run.state(), {});
+    RenderFrame with = make_render_frame(model, run.state());
     with.width = grid.cell_width();
     with.height = grid.cell_height();
     with.camera = camera;

@@ -56,6 +56,39 @@ TEST(ParseLanes, CourseIsTheCoursesFourWithItsFixedPointImplicit) {
   EXPECT_EQ(parse_lanes("course,implicit_euler", "", 1e-4).size(), 5u);
 }
 
+TEST(ParseLanes, EveryLaneIsSpeltAsIntegratorsTakesItBack) {
+  // --summary's "lane" and the narrow tiles' labels: pasted into --integrators, the same lanes.
+  for (const char* list : {"course", "rk4@1e-4,rk4@4e-4,implicit_euler@1/60", "course,implicit_euler,symplectic_euler@2e-4"}) {
+    const auto lanes = parse_lanes(list, "", 1e-4);
+    std::string spelt;
+    for (const LaneSpec& l : lanes) spelt += (spelt.empty() ? "" : ",") + l.spelling();
+    const auto again = parse_lanes(spelt, "", 1.0);  // every step given: the scene's dt unused
+    ASSERT_EQ(again.size(), lanes.size()) << spelt;
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+      EXPECT_EQ(again[i].kind, lanes[i].kind) << spelt;
+      EXPECT_EQ(again[i].dt, lanes[i].dt) << spelt;
+      EXPECT_EQ(again[i].fixed_point, lanes[i].fixed_point) << spelt;
+      EXPECT_EQ(again[i].spelling(), lanes[i].spelling());
+    }
+  }
+  const LaneSpec fixed = parse_lanes("course", "", 1e-4)[1];
+  EXPECT_EQ(fixed.spelling(), "implicit_euler_fixed_point@0.0001");
+  EXPECT_EQ(fixed.name(), "implicit_euler (fixed point)") << "tables and full labels keep the words";
+  // Alone, at its own step or implicit_euler's --dt.
+  const auto alone = parse_lanes("implicit_euler_fixed_point@1/60,implicit_euler_fixed_point", "implicit_euler=1e-3", 1e-4);
+  ASSERT_EQ(alone.size(), 2u);
+  EXPECT_TRUE(alone[0].fixed_point && alone[1].fixed_point);
+  EXPECT_EQ(alone[0].dt, 1.0 / 60);
+  EXPECT_EQ(alone[1].dt, 1e-3);
+  EXPECT_NE(usage_error([] { parse_lanes("course,implicit_euler_fixed_point", "", 1e-4); }).find(
+                "'implicit_euler_fixed_point@0.0001' is listed twice"),
+            std::string::npos);
+  // The reference is an integrator as the scene sets it up, not the course's variant.
+  EXPECT_NE(usage_error([] { parse_reference("implicit_euler_fixed_point@1e-5", parse_lanes("rk4", "", 1e-3)); })
+                .find("--reference: unknown integrator"),
+            std::string::npos);
+}
+
 TEST(ParseLanes, TheLaneModelOfTheFixedPointLaneHasTheCoursesSettings) {
   Model base;
   base.implicit.solver = ImplicitSolver::Newton;

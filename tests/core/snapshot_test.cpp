@@ -1,40 +1,42 @@
-// The banners a frame carries for a run's results: DIVERGED with the time and step as `run`
-// prints them, and NOT CONVERGED with the count of missed implicit steps, in the singular
-// for one.
+// The snapshot the renderer draws: geometry of the state, and no words (the overlay lines and
+// banners are the tools' to write: tools/cli/overlay_text.h, tests/cli/overlay_text_test.cpp).
 #include "snapshot.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "scene_parser.h"
+
 namespace clothsim {
 namespace {
 
-TEST(Snapshot, MarksADivergedFrameWithItsTimeStepAndReason) {
-  RenderFrame frame;
-  frame.overlay_lines = {"t = 0.024 s"};
-  mark_diverged(frame, Divergence{241, 0.0241, "strain 12.3 > 10"});
-  EXPECT_EQ(frame.banner, "DIVERGED at t = 0.0241 s (step 241)");
-  ASSERT_EQ(frame.overlay_lines.size(), 2u);
-  EXPECT_EQ(frame.overlay_lines.back(), "diverged: strain 12.3 > 10");
+TEST(Snapshot, CarriesTheStatesGeometryWithUnitNormalsAndNoText) {
+  const Model model = build_model(parse_scene(R"(
+cloth: {particles: [3, 2], size: [2, 1], plane: xz, center: [0, 1, 0], springs: {structural: {}}}
+spheres: [{center: [0, 0, 0], radius: 0.5, kinematic: true}]
+)", "snapshot"));
+  State state = initial_state(model);
+  state.x(1, 4) += 0.25;  // one particle lifted: its faces tilt, its normal stays unit
+  const RenderFrame f = make_render_frame(model, state);
+  ASSERT_EQ(f.cloth_positions.size(), 3u * 6);
+  EXPECT_FLOAT_EQ(f.cloth_positions[3 * 4 + 1], static_cast<float>(state.x(1, 4)));
+  ASSERT_EQ(f.cloth_normals.size(), 3u * 6);
+  for (int p = 0; p < 6; ++p)
+    EXPECT_NEAR(std::hypot(f.cloth_normals[3 * p], f.cloth_normals[3 * p + 1], f.cloth_normals[3 * p + 2]), 1.0, 1e-6);
+  EXPECT_EQ(f.cloth_triangles, model.triangles);
+  ASSERT_EQ(f.spheres.size(), 1u);
+  EXPECT_FLOAT_EQ(f.spheres[0].radius, 0.5f);
+  EXPECT_TRUE(f.overlay_lines.empty()) << "the words are the tools'";
+  EXPECT_TRUE(f.banner.empty());
 }
 
-TEST(Snapshot, CountsMissedImplicitStepsInTheNotConvergedBanner) {
-  RenderFrame frame;
-  mark_not_converged(frame, 1);
-  EXPECT_EQ(frame.banner, "NOT CONVERGED (1 step)");
-  mark_not_converged(frame, 2);
-  EXPECT_EQ(frame.banner, "NOT CONVERGED (2 steps)");
-  EXPECT_TRUE(frame.overlay_lines.empty()) << "the banner alone: the lane goes on";
-}
-
-TEST(Snapshot, OverlayLinesAreTheSceneTheLaneAndTheTimeHoweverTheLaneIsGiven) {
-  Model model;
-  model.name = "drape";
-  EXPECT_EQ(overlay_lines(model, integrator_label("implicit_euler", "1/60"), 1.5),
-            (std::vector<std::string>{"drape", "implicit_euler  dt = 1/60 s", "t = 1.500 s"}));
-  // From the integrator and its step: the same lines, the step written %.3g.
-  EXPECT_EQ(overlay_lines(model, IntegratorKind::Rk4, 1e-4, 0.25),
-            (std::vector<std::string>{"drape", "rk4  dt = 0.0001 s", "t = 0.250 s"}));
-  EXPECT_EQ(overlay_time_line(2.0 / 3.0), "t = 0.667 s");
+TEST(Snapshot, DrawsTheSpringsOfAClothWithoutTriangles) {
+  const Model chain = build_model(parse_scene("cloth: {particles: [4, 1], springs: {structural: {}}}\n", "chain"));
+  const RenderFrame f = make_render_frame(chain, initial_state(chain));
+  EXPECT_TRUE(f.cloth_triangles.empty());
+  EXPECT_EQ(f.spring_lines.size(), 2u * 3) << "three springs, two ends each";
+  EXPECT_TRUE(f.draw_particles);
 }
 
 }  // namespace

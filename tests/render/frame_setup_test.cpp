@@ -283,7 +283,7 @@ TEST(FrameSetup, TheBannerStaysLeftOfTheColourBarAndShrinksToFitThere) {
   RenderFrame f = field_frame();
   f.width = 640;
   f.height = 360;
-  f.banner = std::string(50, 'W');  // 598 px at scale 2: wider than the room left of the bar
+  f.banner = {std::string(50, 'W')};  // 598 px at scale 2: wider than the room left of the bar
   Image image(640, 360);
   for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = 128;
   draw_overlay(image, f);
@@ -305,7 +305,7 @@ TEST(FrameSetup, TheBannerStaysLeftOfTheColourBarAndShrinksToFitThere) {
   // over the bar, rather than cut.
   for (const auto& [w, h] : {std::pair{320, 360}, std::pair{256, 144}, std::pair{320, 240}}) {
     RenderFrame narrow = f;
-    narrow.banner = "DIVERGED at t = 0.0237 s (step 79)";
+    narrow.banner = {"DIVERGED", "at t = 0.0237 s", "(step 79)"};
     const OverlayLayout n = layout_overlay(narrow, w, h);
     EXPECT_GE(n.banner.x, 0) << w << "x" << h;
     EXPECT_LE(n.banner.right(), w) << w << "x" << h << ": not cut";
@@ -313,11 +313,42 @@ TEST(FrameSetup, TheBannerStaysLeftOfTheColourBarAndShrinksToFitThere) {
   // Without a bar it is centred in the picture at twice the text scale.
   RenderFrame plain = f;
   plain.cloth_field.clear();
-  plain.banner = "DIVERGED";
+  plain.banner = {"DIVERGED"};
   const OverlayLayout p = layout_overlay(plain, 640, 360);
   EXPECT_EQ(p.banner_scale, 2 * p.scale);
   EXPECT_NEAR(p.banner.x + p.banner.w / 2, 320, p.banner_scale);
   EXPECT_NEAR(p.banner.y + p.banner.h / 2, 180, p.banner_scale);
+}
+
+TEST(FrameSetup, ADivergedBannerStaysInsideItsTileAtEveryWidth) {
+  // "DIVERGED at t = 0.0237 s (step 79)" is 203 px at scale 1: it ran off the 158 px tiles of a
+  // 320x180 compare. Drawn into a tile of each width, no red pixel lies in the margin or beyond.
+  for (const auto& [w, h] : {std::pair{98, 58}, std::pair{104, 86}, std::pair{158, 88}, std::pair{200, 112},
+                            std::pair{238, 134}, std::pair{320, 180}, std::pair{638, 358}}) {
+    RenderFrame f;
+    f.width = w;
+    f.height = h;
+    f.overlay_lines = {"t = 0.024 s", "79 force evals", "diverged: kinetic energy 7.63e+08 J exceeds the bound 4.08e+08 J"};
+    f.banner = {"DIVERGED", "at t = 0.0237 s", "(step 79)"};
+    Image image(w, h);
+    for (std::size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = 128;
+    draw_overlay(image, f);
+    const OverlayLayout l = layout_overlay(f, w, h);
+    int red = 0, first = w, last = -1;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const std::uint8_t* p = image.pixel(x, y);
+        if (p[0] != 255 || p[1] != 72 || p[2] != 60) continue;
+        ++red;
+        first = std::min(first, x);
+        last = std::max(last, x);
+      }
+    SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
+    EXPECT_GT(red, 0);
+    EXPECT_GE(first, l.margin) << "inside the left margin";
+    EXPECT_LT(last, w - l.margin) << "not run off the right edge";
+    EXPECT_EQ(l.banner_lines.front().rfind("DIVERGED", 0), 0u);
+  }
 }
 
 }  // namespace

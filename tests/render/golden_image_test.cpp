@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -41,9 +42,13 @@ RenderFrame scene_frame(const GoldenCase& c) {
   const Model model = build_model(scene);
   Run run(model, scene.integrator, scene.dt);
   EXPECT_TRUE(run.advance_to(c.t)) << c.scene << " diverged";
-  SnapshotText text;
-  text.lines = overlay_lines(model, scene.integrator, scene.dt, run.state().t);
-  RenderFrame frame = make_render_frame(model, run.state(), text);
+  RenderFrame frame = make_render_frame(model, run.state());
+  // Overlay lines as `run` writes them (tools/cli/overlay_text.h), spelt out: render/ is
+  // tested without the CLI's library.
+  char lane[64], time[32];
+  std::snprintf(lane, sizeof lane, "%s  dt = %.3g s", std::string(integrator_name(scene.integrator)).c_str(), scene.dt);
+  std::snprintf(time, sizeof time, "t = %.3f s", run.state().t);
+  frame.overlay_lines = {model.name, lane, time};
   frame.width = 320;
   frame.height = 180;
   return frame;

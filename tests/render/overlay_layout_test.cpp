@@ -108,6 +108,48 @@ TEST(OverlayLayout, ALongInsetLabelStepsItsTextDownToFitAQuarterOfTheWidth) {
 
 namespace clothsim::render {
 
+TEST(OverlayLayout, TheBannerFitsItsTileOnTwoLinesKeepingDivergedAndTheTime) {
+  RenderFrame f;
+  f.banner = {"DIVERGED", "at t = 0.0237 s", "(step 79)"};
+  f.overlay_lines = {"t = 0.024 s", "79 force evals"};
+  // Wide: one line, as it always was.
+  const OverlayLayout wide = layout_overlay(f, 640, 360);
+  EXPECT_EQ(wide.banner_lines, (std::vector<std::string>{"DIVERGED at t = 0.0237 s (step 79)"}));
+  // A 2x2 tile of a 320x180 compare: the step on a line of its own.
+  const OverlayLayout tile = layout_overlay(f, 158, 88);
+  EXPECT_EQ(tile.banner_lines, (std::vector<std::string>{"DIVERGED at t = 0.0237 s", "(step 79)"}));
+  // With the reason wrapped on three lines above it, two lines would cover the text: one, the
+  // step left off, fits between the text and the label band.
+  RenderFrame reason = f;
+  reason.overlay_lines.push_back("diverged: kinetic energy 7.63e+08 J exceeds the bound 4.08e+08 J");
+  const OverlayLayout under = layout_overlay(reason, 158, 88);
+  EXPECT_EQ(under.banner_lines, (std::vector<std::string>{"DIVERGED at t = 0.0237 s"}));
+  EXPECT_GE(under.banner.y, under.text.bottom());
+  EXPECT_LE(under.banner.bottom(), 88 - tile_label_band(under.scale));
+  // A 2x2 tile of a 200x120 compare: DIVERGED and the time; the step is left off.
+  const OverlayLayout small = layout_overlay(f, 98, 58);
+  EXPECT_EQ(small.banner_lines, (std::vector<std::string>{"DIVERGED", "at t = 0.0237 s"}));
+  for (int w = 60; w <= 1280; w += 2) {
+    const int h = w * 9 / 16;
+    const OverlayLayout l = layout_overlay(f, w, h);
+    SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
+    const int b = l.banner_scale;
+    // The banner with its backdrop (2 scale around the glyphs) inside the tile, every line in its box.
+    EXPECT_GE(l.banner.x - 2 * b, 0);
+    EXPECT_LE(l.banner.right() + 2 * b, w);
+    for (const std::string& line : l.banner_lines) EXPECT_LE(text_width(line, b), l.banner.w) << line;
+    std::string all;
+    for (const std::string& line : l.banner_lines) all += line + " ";
+    EXPECT_EQ(all.rfind("DIVERGED ", 0), 0u) << all;
+    EXPECT_NE(all.find("0.0237 s"), std::string::npos) << all;
+    if (w >= 98) {  // (narrower, the time itself is wrapped: three lines, taller than a 33-row tile)
+      EXPECT_LE(l.banner_lines.size(), 2u) << all;
+      EXPECT_GE(l.banner.y - 2 * b, 0);
+      EXPECT_LE(l.banner.bottom() + b, h);
+    }
+  }
+}
+
 TEST(OverlayLayout, LongLinesWrapAtSpacesToTheImagesWidth) {
   RenderFrame f;
   f.overlay_lines = {"t = 0.024 s", "diverged: kinetic energy 7.63e+08 J exceeds the bound 4.08e+08 J"};

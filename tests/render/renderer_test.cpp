@@ -289,7 +289,7 @@ TEST(Renderer, TheBannerIsRedAndCentred) {
   RenderFrame frame = draped_sheet_frame(kW * 2, kH * 2);
   frame.spheres.clear();
   const Image without = shared_renderer().render(frame);
-  frame.banner = "DIVERGED at t = 1.234 s";
+  frame.banner = {"DIVERGED", "at t = 1.234 s"};
   const Image with = shared_renderer().render(frame);
   const auto bright_red = [](const std::uint8_t* p) { return p[0] > 200 && p[1] < 120 && p[2] < 120; };
   int centre = 0, elsewhere = 0;

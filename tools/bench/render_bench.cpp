@@ -15,6 +15,7 @@
 
 #include "bench_models.h"
 #include "fxaa.h"
+#include "overlay_text.h"
 #include "picture_options.h"
 #include "png_io.h"
 #include "renderer.h"
@@ -29,9 +30,8 @@ RenderFrame scene_frame(int n, double t, int width, int height, int samples) {
   const Model model = bench::drape_sheet(n);
   Run run(model, model.integrator, model.dt);
   run.advance_to(t);
-  SnapshotText text;
-  text.lines = overlay_lines(model, model.integrator, model.dt, run.state().t);
-  RenderFrame frame = make_render_frame(model, run.state(), text);
+  RenderFrame frame = make_render_frame(model, run.state());
+  frame.overlay_lines = cli::overlay_lines(model, model.integrator, model.dt, run.state().t);
   frame.width = width;
   frame.height = height;
   frame.samples = samples;

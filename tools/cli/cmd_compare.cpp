@@ -410,7 +410,8 @@ void add_compare_command(CLI::App& app, Command& command) {
   sub->add_option("--integrators", o->integrators,
                   "Lanes, one tile each: NAME[@STEP],... (rk4@1e-4,rk4@4e-4,implicit_euler@1/60; the same integrator\n"
                   "may appear at several steps; without @STEP, --dt or the scene's dt), or course: the course's four\n"
-                  "(explicit Euler, the one-iteration fixed-point implicit, midpoint, RK4)")
+                  "(explicit Euler, the one-iteration fixed-point implicit, midpoint, RK4); implicit_euler_fixed_point[@STEP]\n"
+                  "is the course's implicit alone")
       ->capture_default_str();
   sub->add_option("--layout", o->layout,
                   "COLUMNSxROWS: 2x2, 4x1 (side by side), 1x4 (stacked), Nx1, 1xN or auto")

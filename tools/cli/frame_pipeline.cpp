@@ -11,7 +11,7 @@
 #include "cli_common.h"
 #include "frame_decoration.h"
 #include "progress.h"
-#include "snapshot.h"
+#include "overlay_text.h"
 
 namespace clothsim::cli {
 
@@ -53,7 +53,7 @@ std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, 
     if (single) lines.push_back(lane.label());  // a tile's label is the grid's
     return lines;
   }
-  // run: the scene, the lane and the time (snapshot.h); a tile: the time, the grid labels it.
+  // run: the scene, the lane and the time (overlay_text.h); a tile: the time, the grid labels it.
   lines = single ? overlay_lines(model, lane.label(), frame.t) : std::vector<std::string>{overlay_time_line(frame.t)};
   char buf[128];
   // Force evaluations: the machine-independent cost, the same on every run of the command.
@@ -232,14 +232,41 @@ struct FramePipeline::Impl {
       }
     range = range_from_data(data, config.color);
     const bool from_data = range.has_value();
-    if (!range) range = ColorRange{1e-6, 1e-3};  // a cloth at rest: nothing to scale by
+    if (!range) range = ColorRange{1e-6, 1e-3};  // nothing to scale by
     if (!quiet())
       std::fprintf(stderr, "%s: colour scale for %s: %g to %g%s, %s (set it with --color-range LO,HI)\n",
                    config.command.c_str(), std::string(field_kind_name(config.color)).c_str(), range->lo, range->hi,
                    field_unit(config.color).c_str(),
-                   !from_data  ? "the first second is at rest"
+                   !from_data  ? nothing_to_scale_by(all_diverged).c_str()
                    : left_out ? "from the first second of the lanes that did not diverge"
                               : "from the first second");
+  }
+
+  // Why the first second had no value above 0: every lane (or the reference the error is
+  // measured against) diverged before one was measured, its states up to then matching (the
+  // start, where every lane is the scene's initial state); else the cloth is at rest.
+  std::string nothing_to_scale_by(bool all_diverged) const {
+    const std::string field(field_kind_name(config.color));
+    char text[192];
+    if (all_diverged) {
+      double last = 0.0;
+      for (const auto& f : current)
+        if (f && f->divergence) last = std::max(last, f->divergence->t);
+      if (lanes.size() == 1)
+        std::snprintf(text, sizeof text, "a default: the %s diverged at t = %.6g s before any %s above 0 was measured",
+                      config.command == "run" ? "run" : "lane", last, field.c_str());
+      else
+        std::snprintf(text, sizeof text,
+                      "a default: every lane diverged (the last at t = %.6g s) before any %s above 0 was measured", last,
+                      field.c_str());
+      return text;
+    }
+    if (config.color == FieldKind::Error && reference_frame && reference_frame->divergence) {
+      std::snprintf(text, sizeof text, "a default: the reference diverged at t = %.6g s before any error above 0 was measured",
+                    reference_frame->divergence->t);
+      return text;
+    }
+    return "the first second is at rest";
   }
 
   void process(const TargetFrames& t) {

@@ -128,7 +128,8 @@ std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, 
 
 // The colour scale from the first second's data: the largest finite value rounded up to a
 // power of ten, and `decades` below it (error 4, strain and speed 3). nullopt with no positive
-// value (the scene is at rest).
+// value (the scene at rest, or the lanes or the reference diverged before one was measured: the
+// pipeline's message says which).
 std::optional<ColorRange> range_from_data(const std::vector<const std::vector<float>*>& fields, FieldKind kind);
 
 }  // namespace clothsim::cli

@@ -73,7 +73,7 @@ LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
   f.t = state.t;
   f.step = state.step;
   f.totals = run.totals();
-  if (needs_.picture) f.frame = make_render_frame(model_, state, {});
+  if (needs_.picture) f.frame = make_render_frame(model_, state);
   if (needs_.positions) {
     const Eigen::Index n = 3 * static_cast<Eigen::Index>(model_.num_particles);
     f.x.assign(state.x.data(), state.x.data() + n);  // particles come first, column-major

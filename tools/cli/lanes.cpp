@@ -8,7 +8,7 @@
 #include "cli_common.h"
 #include "compare_plan.h"
 #include "echo.h"
-#include "snapshot.h"
+#include "overlay_text.h"
 
 namespace clothsim::cli {
 
@@ -20,7 +20,12 @@ std::string trimmed(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t") - b + 1);
 }
 
-std::string names_or_course() { return integrator_names_joined() + ", or course"; }
+// The course's "implicit" as a lane of its own: implicit_euler as one fixed-point iteration.
+constexpr std::string_view kFixedPointName = "implicit_euler_fixed_point";
+
+std::string names_or_course() {
+  return integrator_names_joined() + ", " + std::string(kFixedPointName) + ", or course";
+}
 
 struct Item {
   LaneSpec lane;
@@ -32,11 +37,14 @@ Item parse_item(const std::string& item, const std::string& option) {
   Item out;
   const auto at = item.find('@');
   const std::string name = trimmed(item.substr(0, at));
-  const auto kind = parse_integrator(name);
+  const bool lanes = option != "--reference";  // the reference is one of the integrators as the scene sets them
+  const bool fixed_point = lanes && name == kFixedPointName;
+  const std::optional<IntegratorKind> kind = fixed_point ? IntegratorKind::ImplicitEuler : parse_integrator(name);
   if (!kind)
     throw UsageError(option + ": unknown integrator " + in_quotes(name) + " (expected one of: " +
-                     (option == "--reference" ? integrator_names_joined() : names_or_course()) + ")");
+                     (lanes ? names_or_course() : integrator_names_joined()) + ")");
   out.lane.kind = *kind;
+  out.lane.fixed_point = fixed_point;
   if (at != std::string::npos) {
     const std::string step = trimmed(item.substr(at + 1));
     if (step.empty()) throw UsageError(option + ": " + in_quotes(item) + " has no step after '@'");
@@ -78,7 +86,9 @@ std::string LaneSpec::name() const {
 
 std::string LaneSpec::label() const { return integrator_label(name(), step_text); }
 
-std::string LaneSpec::spelling() const { return name() + "@" + step_text; }
+std::string LaneSpec::spelling() const {
+  return (fixed_point ? std::string(kFixedPointName) : std::string(integrator_name(kind))) + "@" + step_text;
+}
 
 std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt_text, double scene_dt) {
   std::vector<Item> items;

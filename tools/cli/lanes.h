@@ -22,14 +22,18 @@ struct LaneSpec {
 
   std::string name() const;   // "rk4", "implicit_euler (fixed point)"
   std::string label() const;  // name and step: "rk4  dt = 1e-4 s"
-  std::string spelling() const;  // as --integrators spells it: "rk4@1e-4" (--summary's "lane")
+  // As --integrators spells it, and parses back to this lane: "rk4@1e-4",
+  // "implicit_euler_fixed_point@0.0001" (--summary's "lane").
+  std::string spelling() const;
 };
 
 // --integrators: "course" (the course's four: explicit Euler, the one-iteration fixed-point
-// "implicit", midpoint, RK4) or NAME[@STEP],... with STEP a number or a fraction. An item
-// without @STEP takes its step from --dt ("S", "name=S,...", or both, as before the lanes had
-// steps; name=S applies to that integrator's lanes without @STEP), else the scene's dt.
-// The same integrator may appear at several steps; the same lane twice is an error.
+// "implicit", midpoint, RK4) or NAME[@STEP],... with STEP a number or a fraction, NAME an
+// integrator or implicit_euler_fixed_point (the course's "implicit" alone). An item without
+// @STEP takes its step from --dt ("S", "name=S,...", or both, as before the lanes had steps;
+// name=S applies to that integrator's lanes without @STEP, implicit_euler=S to the fixed point's
+// too), else the scene's dt. The same integrator may appear at several steps; the same lane
+// twice is an error. --reference takes the integrators only.
 std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt, double scene_dt);
 
 // The smallest step of the lanes (not empty): what the reference's default step is a quarter

@@ -128,7 +128,7 @@ void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDe
 }
 
 RenderCamera auto_camera(const Model& model, double aspect) {
-  const RenderFrame at_rest = make_render_frame(model, initial_state(model), {});
+  const RenderFrame at_rest = make_render_frame(model, initial_state(model));
   CameraFitOptions options;
   options.fov_deg = at_rest.camera.fov_deg;  // the scene's lens, aimed anew
   // 40 degrees above the horizon rather than the fit's 30: the drape's cloth, sagging over its

@@ -26,7 +26,8 @@ struct Composer {
 
 // Each lane's tile label in `grid`: "rk4  dt = 1e-4 s", or, where one of them does not fit its
 // tile even at the smallest text, every lane as --integrators spells it ("rk4@1e-4"), shorter
-// and the same form in every tile; the grid shortens with "..." what still does not fit.
+// and the same form in every tile; the grid shortens with "..." what still does not fit, the
+// name and not the step ("sympl...@1e-4"), never two lanes alike (TileGrid::shown_labels).
 std::vector<std::string> lane_tile_labels(const std::vector<LaneSpec>& lanes, const TileGrid& grid);
 
 // Clip frames of every lane's picture, composed, into a FrameSink (the MP4).

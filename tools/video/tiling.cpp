@@ -91,6 +91,19 @@ int TileGrid::label_scale() const {
   return text_scale_for_height(cell_h_);
 }
 
+int TileGrid::label_scale(const std::vector<std::string>& labels) const {
+  // One size for every label of the grid: the largest at which the longest fits its cell
+  // (a label stepping down alone would make its lane look less important than the others).
+  int scale = label_scale();
+  for (const std::string& label : labels)
+    while (scale > 1 && !label_fits(label, cell_w_, scale)) --scale;
+  return scale;
+}
+
+std::vector<std::string> TileGrid::shown_labels(const std::vector<std::string>& labels) const {
+  return fit_labels(labels, cell_w_, label_scale(labels));
+}
+
 void TileGrid::compose(const std::vector<const Image*>& tiles,
                        const std::vector<std::string>& labels, Image& out) const {
   if (static_cast<int>(tiles.size()) > layout_.cells())
@@ -98,11 +111,8 @@ void TileGrid::compose(const std::vector<const Image*>& tiles,
                                 std::to_string(layout_.cells()) + " cells");
   if (out.width != canvas_w_ || out.height != canvas_h_) out = Image(canvas_w_, canvas_h_);
   fill_rect(out, 0, 0, canvas_w_, canvas_h_, style_.background);
-  // One size for every label of the grid: the largest at which the longest fits its cell
-  // (a label stepping down alone would make its lane look less important than the others).
-  int scale = label_scale();
-  for (const std::string& label : labels)
-    while (scale > 1 && !label_fits(label, cell_w_, scale)) --scale;
+  const int scale = label_scale(labels);
+  const std::vector<std::string> shown = shown_labels(labels);
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     const int cx = cell_x(static_cast<int>(i)), cy = cell_y(static_cast<int>(i));
     const Image* tile = tiles[i];
@@ -113,8 +123,8 @@ void TileGrid::compose(const std::vector<const Image*>& tiles,
     const int dx = cx + (cell_w_ - w) / 2, dy = cy + (cell_h_ - h) / 2;
     for (int y = 0; y < h; ++y)
       std::memcpy(out.pixel(dx, dy + y), tile->pixel(sx, sy + y), static_cast<std::size_t>(w) * 4);
-    if (i < labels.size() && !labels[i].empty())
-      draw_tile_label(out, dx, dy, w, h, labels[i], style_.label_color, scale);
+    if (i < shown.size() && !shown[i].empty())
+      draw_tile_label(out, dx, dy, w, h, shown[i], style_.label_color, scale);
   }
 }
 
@@ -140,10 +150,86 @@ bool label_fits(std::string_view label, int width, int scale) {
   return text_width(label, scale) + 6 * scale <= width;
 }
 
+namespace {
+
+// Where the part of a label that shortening keeps whole starts: its last '@', with a name
+// before it and no space after it (a lane as --integrators spells it: the "@1e-4" of
+// "rk4@1e-4"); else the label's end (nothing kept whole).
+std::size_t kept_tail(std::string_view label) {
+  const std::size_t at = label.rfind('@');
+  if (at == std::string_view::npos || at == 0 || at + 1 == label.size() ||
+      label.find(' ', at) != std::string_view::npos)
+    return label.size();
+  return at;
+}
+
+// A start of a label without what a cut leaves dangling before "..." ("implicit_euler_").
+std::string without_dangling(std::string_view head) {
+  while (!head.empty() && (head.back() == ' ' || head.back() == '_' || head.back() == '('))
+    head.remove_suffix(1);
+  return std::string(head);
+}
+
+// How many characters of a name `name_size` long fit before "..." and `tail` (0: none).
+// The font is monospaced: how many, not which.
+std::size_t name_room(std::size_t name_size, std::string_view tail, int width, int scale) {
+  for (std::size_t n = name_size; n > 0; --n)
+    if (label_fits(std::string(n, 'x') + "..." + std::string(tail), width, scale)) return n;
+  return 0;
+}
+
+// Where a label's name ends (at its kept tail, else the label's end), how many characters of
+// it fit with "..." for a cut in the middle, and whether the tail is kept beside them: where
+// there is room for at least 2 (a start and an end), else the tail is dropped (as fit_label
+// drops it: the tile is narrower than a name and a step).
+struct NameRoom {
+  std::size_t at = 0, room = 0;
+  bool tail = false;
+};
+NameRoom name_room_of(std::string_view label, int width, int scale) {
+  if (label.empty()) return {};
+  NameRoom r{kept_tail(label), 0, false};
+  if (r.at < label.size()) {
+    r.room = name_room(r.at - 1, label.substr(r.at), width, scale);
+    r.tail = r.room >= 2;
+  }
+  if (!r.tail) r.room = name_room(r.at - 1, {}, width, scale);
+  return r;
+}
+
+// `label` shortened in the middle of its name, keeping the name's last `end` characters and
+// its kept tail where it fits ("sym...ler@1e-4"); "" where the room has no place for them and
+// a start.
+std::string cut_in_middle(std::string_view label, std::size_t end, int width, int scale) {
+  const NameRoom r = name_room_of(label, width, scale);
+  if (end + 1 > r.room || end >= r.at) return "";
+  const std::string head = without_dangling(label.substr(0, r.room - end));
+  if (head.empty()) return "";
+  return head + "..." + std::string(label.substr(r.at - end, end)) + std::string(r.tail ? label.substr(r.at) : "");
+}
+
+// "..." and as much of the end of `label` as fits with it ("...@1e-4"); "" for none of it.
+std::string end_of(std::string_view label, int width, int scale) {
+  for (std::size_t n = label.size(); n-- > 1;)
+    if (label_fits("..." + std::string(label.substr(label.size() - n)), width, scale))
+      return "..." + std::string(label.substr(label.size() - n));
+  return "";
+}
+
+}  // namespace
+
 std::string fit_label(std::string_view label, int width, int scale) {
   if (label_fits(label, width, scale)) return std::string(label);
+  // A lane's step stays whole and its name is shortened before it ("sympl...@1e-4"): two
+  // lanes of one integrator differ only there.
+  const std::size_t at = kept_tail(label);
+  if (at < label.size())
+    for (std::size_t n = at; n-- > 1;) {
+      const std::string cut = without_dangling(label.substr(0, n));
+      if (!cut.empty() && label_fits(cut + "..." + std::string(label.substr(at)), width, scale))
+        return cut + "..." + std::string(label.substr(at));
+    }
   const std::size_t first_word = std::min(label.find(' '), label.size());
-  std::string cut;
   // The longest start of the label that fits with "..." (its trailing spaces dropped), if it
   // keeps the first word whole ...
   for (std::size_t n = label.size(); n-- > first_word;) {
@@ -156,6 +242,53 @@ std::string fit_label(std::string_view label, int width, int scale) {
     if (label_fits(std::string(label.substr(0, n)) + "...", width, scale))
       return std::string(label.substr(0, n)) + "...";
   return "";
+}
+
+std::vector<std::string> fit_labels(const std::vector<std::string>& labels, int width, int scale) {
+  std::vector<std::string> out;
+  for (const std::string& label : labels) out.push_back(fit_label(label, width, scale));
+  std::vector<bool> settled(out.size(), false);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (settled[i] || out[i] == labels[i]) continue;
+    // The labels shortened to this same text, and whether any two of them differ.
+    std::vector<std::size_t> same;
+    bool differ = false;
+    for (std::size_t j = i; j < out.size(); ++j)
+      if (out[j] == out[i] && out[j] != labels[j]) {
+        same.push_back(j);
+        differ = differ || labels[j] != labels[i];
+        settled[j] = true;
+      }
+    if (!differ) continue;
+    // Cut them in the middle instead, keeping as much of the name's end as of its start first
+    // ("imp...ler@1e-4", "imp...int@1e-4"), then more of the end, then less: the first split
+    // that tells every one apart from the others and from the rest of the grid, the same for all.
+    const std::size_t room = name_room_of(labels[i], width, scale).room, half = std::max<std::size_t>(room / 2, 1);
+    std::vector<std::size_t> ends;
+    for (std::size_t e = half; e < room; ++e) ends.push_back(e);
+    for (std::size_t e = half; e-- > 1;) ends.push_back(e);
+    // Last, for a tile too narrow for a letter of the name beside the step: the end alone
+    // ("...@1e-4").
+    ends.push_back(0);
+    for (std::size_t end : ends) {
+      std::vector<std::string> cut;
+      bool ok = true;
+      for (std::size_t j : same) {
+        cut.push_back(end > 0 ? cut_in_middle(labels[j], end, width, scale) : end_of(labels[j], width, scale));
+        ok = ok && !cut.back().empty();
+      }
+      for (std::size_t a = 0; ok && a < same.size(); ++a) {
+        for (std::size_t b = a + 1; ok && b < same.size(); ++b)
+          ok = cut[a] != cut[b] || labels[same[a]] == labels[same[b]];
+        for (std::size_t m = 0; ok && m < out.size(); ++m)
+          ok = std::find(same.begin(), same.end(), m) != same.end() || out[m] != cut[a];
+      }
+      if (!ok) continue;
+      for (std::size_t a = 0; a < same.size(); ++a) out[same[a]] = cut[a];
+      break;
+    }
+  }
+  return out;
 }
 
 void draw_tile_label(Image& image, int x, int y, int w, int h, std::string_view label,

@@ -11,8 +11,9 @@
 // apart. Every cell has the same size (the largest tile's); a smaller tile is centred in
 // its cell. Labels are drawn with the bitmap font (render/text.h) at the bottom-left
 // corner of the tile, on a dark backdrop, so they never cover a render's own top-left
-// overlay text; a label too long for its tile is drawn smaller, then shortened with "...",
-// and never runs past the tile.
+// overlay text; a label too long for its tile is drawn smaller, then shortened with "..."
+// (a lane's @STEP kept whole, two different labels never shortened alike), and never runs
+// past the tile.
 #pragma once
 
 #include <stdexcept>
@@ -66,6 +67,12 @@ class TileGrid {
   int cell_x(int index) const;  // top-left corner of cell `index` (row-major)
   int cell_y(int index) const;
   int label_scale() const;
+  // The text scale of `labels` in this grid: label_scale(), or smaller, the same for all, where
+  // the longest does not fit its cell (1 at least).
+  int label_scale(const std::vector<std::string>& labels) const;
+  // `labels` as compose() draws them: each as it fits its cell at that scale (fit_labels:
+  // shortened, distinct where they differ).
+  std::vector<std::string> shown_labels(const std::vector<std::string>& labels) const;
 
   // Composes tiles[i] into cell i with labels[i] (empty label: none). Fewer tiles than
   // cells leave the rest as background; more is an error (std::invalid_argument).
@@ -88,10 +95,19 @@ void fill_rect(Image& image, int x, int y, int w, int h, Rgba8 color);
 // Whether `label` fits a tile `width` pixels wide at `scale`, with its margin and backdrop
 // (3 scale on the left, 1 scale clear of the right edge).
 bool label_fits(std::string_view label, int width, int scale);
-// `label` as it fits a tile `width` pixels wide at `scale`: itself, else cut short with "..."
-// but never inside its first word (a lane's integrator name) unless that alone does not fit;
-// "" when not even "..." fits. A label is shortened this way, never cut at the tile's edge.
+// `label` as it fits a tile `width` pixels wide at `scale`: itself, else cut short with "...".
+// A label ending in @TAIL (a lane as --integrators spells it, "symplectic_euler@1e-4") keeps
+// the tail whole and shortens the name before it ("sympl...@1e-4"), where at least one
+// character of the name fits beside it; any other is cut at its end but never inside its
+// first word (a lane's integrator name) unless that alone does not fit. "" when not even
+// "..." fits. A label is shortened this way, never cut at the tile's edge.
 std::string fit_label(std::string_view label, int width, int scale);
+// The labels of one grid, each as fit_label shortens it, and no two alike that differ as
+// given: labels that shorten to the same text ("impl...@1e-4" for implicit_euler@1e-4 and
+// implicit_euler_fixed_point@1e-4) are cut in the middle of the name instead, keeping its
+// start and its end ("imp...ler@1e-4", "imp...int@1e-4"), as wide as fit_label's and distinct
+// from every other label (where the room allows: a tile a few characters wide may not).
+std::vector<std::string> fit_labels(const std::vector<std::string>& labels, int width, int scale);
 // Draws a label with a margin inside the tile whose top-left is (x, y) and size w x h,
 // at its bottom-left corner, at `scale` or smaller if that would not fit the width, and
 // shortened (fit_label) where it does not fit even at scale 1.
