@@ -595,7 +595,7 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   // The first guess: the last step's dv, or the line or parabola through the last steps' dv
   // where that predicted the last step better (first_guess.h). (Baraff & Witkin's step is
   // warm-started in CG from the last dv, as it always was.)
-  const int order = baraff_witkin ? 0 : std::min(state.implicit_guess_order, past.count - 1);
+  const int order = baraff_witkin || !have_guess ? 0 : std::min(state.implicit_guess_order, past.count - 1);
   if (order > 0) guess_through(past, order, c.guess);
   const Eigen::Matrix3Xd* guess = !have_guess ? nullptr : order > 0 ? &c.guess : &state.implicit_dv;
   predict_step_contacts(model, state, h, guess, c.contacts);
