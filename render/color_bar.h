@@ -8,7 +8,7 @@
 
 #include "image.h"
 #include "overlay_layout.h"
-#include "render_frame.h"
+#include "view/render_frame.h"
 
 namespace clothsim::render {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "render_frame.h"
+#include "view/render_frame.h"
 
 namespace clothsim::render {
 

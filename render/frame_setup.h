@@ -5,7 +5,7 @@
 
 #include "gl_math.h"
 #include "image.h"
-#include "render_frame.h"
+#include "view/render_frame.h"
 
 namespace clothsim::render {
 

@@ -22,8 +22,8 @@
 
 #include "colormap.h"
 #include "image.h"
-#include "render_frame.h"
 #include "text.h"
+#include "view/render_frame.h"
 
 namespace clothsim::render {
 

@@ -10,7 +10,7 @@
 
 #include "gl_context.h"
 #include "image.h"
-#include "render_frame.h"
+#include "view/render_frame.h"
 
 namespace clothsim {
 

@@ -4,8 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "model.h"
-#include "scene_parser.h"
+#include "core/model.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
 
 namespace clothsim::testing {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "png_io.h"
+#include "render/png_io.h"
 
 namespace clothsim::testing {
 

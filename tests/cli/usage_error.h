@@ -5,7 +5,7 @@
 #include <functional>
 #include <string>
 
-#include "cli_common.h"
+#include "cli/common/cli_common.h"
 
 namespace clothsim::testing {
 

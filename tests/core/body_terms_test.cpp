@@ -2,7 +2,7 @@
 // them as it finishes each particle (spring_kernels.h family_forces_with_body_terms): bit for
 // bit the springs summed into a zeroed f followed by body_terms() on every body, on every
 // Highway target; and the terms themselves as physics (gravity, drag, 1/m, immovable bodies).
-#include "body_terms.h"
+#include "core/body_terms.h"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +10,10 @@
 #include <random>
 #include <string>
 
-#include "forces.h"
-#include "kernel_test_support.h"
-#include "spring_kernels.h"
 #include "test_support.h"
+#include "core/forces.h"
+#include "core/kernel_test_support.h"
+#include "core/springs/spring_kernels.h"
 
 namespace clothsim {
 namespace {

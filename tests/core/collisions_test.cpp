@@ -1,11 +1,11 @@
 // Contact response: the seed's restitution formula on hand-computed cases, inverse-mass
 // behaviour (pinned and kinematic bodies), momentum, friction, and no penetration after.
-#include "collisions.h"
+#include "core/collisions.h"
 
 #include <gtest/gtest.h>
 
-#include "simulation.h"
 #include "test_support.h"
+#include "core/simulation.h"
 
 namespace clothsim {
 namespace {

@@ -1,5 +1,5 @@
 // Energies, strain and divergence detection on states whose values are known by hand.
-#include "diagnostics.h"
+#include "core/diagnostics.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // The system force pass: gravity, drag, filtering of immovable bodies, Newton's third law.
-#include "forces.h"
+#include "core/forces.h"
 
 #include <gtest/gtest.h>
 
-#include "state.h"
 #include "test_support.h"
+#include "core/state.h"
 
 namespace clothsim {
 namespace {

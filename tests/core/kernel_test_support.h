@@ -11,8 +11,8 @@
 #include <string>
 #include <utility>
 
-#include "model.h"
-#include "spring_layout.h"
+#include "core/model.h"
+#include "core/springs/spring_layout.h"
 
 namespace clothsim::testing {
 

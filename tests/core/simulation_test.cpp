@@ -1,5 +1,5 @@
 // The step and the run: phases in order, events, pinned particles, divergence, determinism.
-#include "simulation.h"
+#include "core/simulation.h"
 
 #include <gtest/gtest.h>
 
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "test_support.h"
+#include "scene/build_model.h"
 
 namespace clothsim {
 namespace {

@@ -4,11 +4,12 @@
 #include <exception>
 #include <typeinfo>
 
-#include "echo.h"
-#include "memory_estimate.h"
-#include "model.h"
-#include "run_bounds.h"
-#include "scene_parser.h"
+#include "core/model.h"
+#include "scene/build_model.h"
+#include "scene/echo.h"
+#include "scene/memory_estimate.h"
+#include "scene/run_bounds.h"
+#include "scene/scene_parser.h"
 
 namespace clothsim::fuzz {
 namespace {

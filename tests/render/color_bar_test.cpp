@@ -1,12 +1,12 @@
-#include "color_bar.h"
+#include "render/color_bar.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "colormap.h"
+#include "render/colormap.h"
 #include "render/synthetic_frames.h"
-#include "text.h"
+#include "render/text.h"
 
 namespace clothsim::render {
 namespace {

@@ -1,4 +1,4 @@
-#include "frame_setup.h"
+#include "render/frame_setup.h"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "overlay_layout.h"
-#include "renderer.h"
+#include "render/overlay_layout.h"
+#include "render/renderer.h"
 #include "render/synthetic_frames.h"
 
 namespace clothsim::render {

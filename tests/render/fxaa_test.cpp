@@ -1,4 +1,4 @@
-#include "fxaa.h"
+#include "render/fxaa.h"
 
 #include <gtest/gtest.h>
 

@@ -1,16 +1,16 @@
 // The GL backends (gl_context.h): names, the environment variable, and that EGL and OSMesa
 // give the same pictures (both are llvmpipe here; on NVIDIA, EGL is the GPU and the
 // golden tolerance is what must hold).
-#include "gl_context.h"
+#include "render/gl_context.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <string>
 
-#include "image_diff.h"
+#include "render/image_diff.h"
+#include "render/renderer.h"
 #include "render/synthetic_frames.h"
-#include "renderer.h"
 
 namespace clothsim {
 namespace {

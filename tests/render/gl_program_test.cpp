@@ -1,10 +1,10 @@
-#include "gl_program.h"
+#include "render/gl_program.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace clothsim {
 namespace {

@@ -3,7 +3,7 @@
 // frame of the project's goldens: re-rendering passes it, and a real change to the picture
 // (a sphere moved by 10 cm, another cloth colour, a missing shadow) fails it.
 // The golden images of the shipped scenes are checked through `clothsim golden check`
-// (tests/cli/cmd_golden_test.cpp). One more, of what the renderer draws over a frame (a
+// (tests/cli/golden/cmd_golden_test.cpp). One more, of what the renderer draws over a frame (a
 // field-coloured cloth, its colour bar, the energy inset, overlay text at a 360-row tile's
 // scale), is checked here from a frame built by hand: tests/golden/field_colour_bar_inset.png.
 #include <gtest/gtest.h>
@@ -14,13 +14,14 @@
 #include <filesystem>
 #include <string>
 
-#include "image_diff.h"
-#include "png_io.h"
+#include "core/simulation.h"
+#include "render/image_diff.h"
+#include "render/png_io.h"
+#include "render/renderer.h"
 #include "render/synthetic_frames.h"
-#include "renderer.h"
-#include "scene_parser.h"
-#include "simulation.h"
-#include "snapshot.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
+#include "view/snapshot.h"
 
 namespace clothsim {
 namespace {
@@ -42,8 +43,8 @@ RenderFrame scene_frame(const GoldenCase& c) {
   const Model model = build_model(scene);
   Run run(model, scene.integrator, scene.dt);
   EXPECT_TRUE(run.advance_to(c.t)) << c.scene << " diverged";
-  RenderFrame frame = make_render_frame(model, run.state());
-  // Overlay lines as `run` writes them (tools/cli/overlay_text.h), spelt out: render/ is
+  RenderFrame frame = make_render_frame(model, run.state(), scene.render);
+  // Overlay lines as `run` writes them (tools/cli/frames/overlay_text.h), spelt out: render/ is
   // tested without the CLI's library.
   char lane[64], time[32];
   std::snprintf(lane, sizeof lane, "%s  dt = %.3g s", std::string(integrator_name(scene.integrator)).c_str(), scene.dt);

@@ -1,4 +1,4 @@
-#include "image_diff.h"
+#include "render/image_diff.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "meshes.h"
+#include "render/meshes.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // OutputFile: nothing under the name until commit(), nothing at all when dropped, the
 // system's reason when the file cannot be made.
-#include "output_file.h"
+#include "render/output_file.h"
 
 #include <gtest/gtest.h>
 

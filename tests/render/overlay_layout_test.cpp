@@ -1,11 +1,11 @@
-#include "overlay_layout.h"
+#include "render/overlay_layout.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "render/synthetic_frames.h"
-#include "text.h"
+#include "render/text.h"
 
 namespace clothsim::render {
 namespace {

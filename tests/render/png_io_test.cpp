@@ -1,4 +1,4 @@
-#include "png_io.h"
+#include "render/png_io.h"
 
 #include <gtest/gtest.h>
 

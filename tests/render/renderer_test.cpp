@@ -1,4 +1,4 @@
-#include "renderer.h"
+#include "render/renderer.h"
 
 #include <gtest/gtest.h>
 
@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "cli/cli_process.h"
-#include "colormap.h"
-#include "frame_setup.h"
-#include "image_diff.h"
-#include "overlay_layout.h"
+#include "render/colormap.h"
+#include "render/frame_setup.h"
+#include "render/image_diff.h"
+#include "render/overlay_layout.h"
 #include "render/synthetic_frames.h"
 
 namespace clothsim {

@@ -1,4 +1,4 @@
-#include "series_inset.h"
+#include "render/series_inset.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
-#include "shaders.h"
+#include "render/shaders.h"
 
 #include <gtest/gtest.h>
 
-#include "gl_program.h"
-#include "renderer.h"
+#include "render/gl_program.h"
+#include "render/renderer.h"
 
 namespace clothsim {
 namespace {

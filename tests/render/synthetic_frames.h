@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
-#include "render_frame.h"
+#include "render/image.h"
+#include "view/render_frame.h"
 
 namespace clothsim::testing {
 

@@ -1,4 +1,4 @@
-#include "text.h"
+#include "render/text.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "contact_sheet.h"
+#include "video/contact_sheet.h"
 
 #include <gtest/gtest.h>
 

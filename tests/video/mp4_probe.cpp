@@ -1,4 +1,4 @@
-#include "mp4_probe.h"
+#include "video/mp4_probe.h"
 
 #include <array>
 #include <fstream>

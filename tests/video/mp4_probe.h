@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
+#include "render/image.h"
 
 namespace clothsim::test {
 

@@ -1,4 +1,4 @@
-#include "tiling.h"
+#include "video/tiling.h"
 
 #include <gtest/gtest.h>
 

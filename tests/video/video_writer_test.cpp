@@ -1,4 +1,4 @@
-#include "video_writer.h"
+#include "video/video_writer.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "mp4_probe.h"
+#include "video/mp4_probe.h"
 
 namespace fs = std::filesystem;
 using clothsim::Image;

@@ -4,15 +4,18 @@
 
 #include <string>
 
-#include "model.h"
-#include "scene_parser.h"
+#include "core/model.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
 
 namespace clothsim::bench {
 
-inline Model drape_sheet(int n) {
+inline SceneDef drape_scene(int n) {
   const std::string path = std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml";
   const std::string side = std::to_string(n);
-  return build_model(load_scene(path, {"cloth.particles=[" + side + "," + side + "]"}));
+  return load_scene(path, {"cloth.particles=[" + side + "," + side + "]"});
 }
+
+inline Model drape_sheet(int n) { return build_model(drape_scene(n)); }
 
 }  // namespace clothsim::bench

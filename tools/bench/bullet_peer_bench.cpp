@@ -37,7 +37,7 @@
 #include <memory>
 
 #include "bench_models.h"
-#include "simulation.h"
+#include "core/simulation.h"
 
 namespace clothsim {
 namespace {

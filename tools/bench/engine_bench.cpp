@@ -4,10 +4,10 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_models.h"
-#include "forces.h"
-#include "simulation.h"
-#include "spring_kernels.h"
-#include "state.h"
+#include "core/forces.h"
+#include "core/simulation.h"
+#include "core/springs/spring_kernels.h"
+#include "core/state.h"
 
 namespace clothsim {
 namespace {

@@ -8,8 +8,8 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_models.h"
-#include "simulation.h"
-#include "state.h"
+#include "core/simulation.h"
+#include "core/state.h"
 
 namespace clothsim {
 namespace {

@@ -8,10 +8,11 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_models.h"
-#include "integrators/cholesky_preconditioner.h"
-#include "integrators/sparse_system.h"
-#include "integrators/step_potential.h"
-#include "state.h"
+#include "core/implicit/sparse_system.h"
+#include "core/implicit/step_potential.h"
+#include "core/linear/cholesky_preconditioner.h"
+#include "core/state.h"
+#include "scene/build_model.h"
 
 namespace clothsim {
 namespace {

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "tiling.h"
-#include "video_writer.h"
+#include "video/tiling.h"
+#include "video/video_writer.h"
 
 namespace {
 

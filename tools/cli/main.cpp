@@ -8,12 +8,12 @@
 #include <cstdio>
 #include <exception>
 
-#include "cli_common.h"
-#include "echo.h"
-#include "commands.h"
-#include "renderer.h"
-#include "png_io.h"
-#include "scene_parser.h"
+#include "cli/common/cli_common.h"
+#include "cli/common/commands.h"
+#include "render/png_io.h"
+#include "render/renderer.h"
+#include "scene/echo.h"
+#include "scene/scene_parser.h"
 
 using namespace clothsim;
 using namespace clothsim::cli;

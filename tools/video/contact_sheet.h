@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
 #include "tiling.h"
+#include "render/image.h"
 
 namespace clothsim {
 

@@ -21,8 +21,8 @@
 #include <string_view>
 #include <vector>
 
-#include "image.h"
-#include "text.h"
+#include "render/image.h"
+#include "render/text.h"
 
 namespace clothsim {
 

@@ -12,7 +12,7 @@
 #include <cstring>
 #include <mutex>
 
-#include "output_file.h"
+#include "render/output_file.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>

@@ -26,7 +26,7 @@
 #include <string_view>
 #include <vector>
 
-#include "image.h"
+#include "render/image.h"
 
 namespace clothsim {
 

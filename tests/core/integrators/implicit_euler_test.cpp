@@ -11,11 +11,12 @@
 #include <cstdint>
 #include <limits>
 
-#include "forces.h"
-#include "integrators/step_potential.h"
+#include "test_support.h"
+#include "core/forces.h"
+#include "core/implicit/step_potential.h"
 #include "core/integrators/oscillator.h"
 #include "core/integrators/whole_state.h"
-#include "test_support.h"
+#include "scene/build_model.h"
 
 namespace clothsim::testing {
 namespace {

@@ -20,10 +20,11 @@
 #include <string>
 #include <vector>
 
-#include "diagnostics.h"
-#include "model.h"
-#include "scene_parser.h"
-#include "simulation.h"
+#include "core/diagnostics.h"
+#include "core/model.h"
+#include "core/simulation.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
 
 namespace clothsim::testing {
 

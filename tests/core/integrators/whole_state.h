@@ -15,9 +15,10 @@
 #include <cmath>
 #include <string>
 
-#include "model.h"
-#include "scene_parser.h"
-#include "simulation.h"
+#include "core/model.h"
+#include "core/simulation.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
 
 namespace clothsim::testing {
 

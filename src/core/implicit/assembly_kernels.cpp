@@ -1,0 +1,208 @@
+// Highway's foreach_target.h compiles this file once per x86 target (SCALAR, SSSE3, SSE4,
+// AVX2, AVX3), each copy in its own namespace; HWY_EXPORT / HWY_DYNAMIC_DISPATCH pick one at
+// run time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/implicit/assembly_kernels.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/aligned_allocator.h>
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "assembly_kernels.h"
+#include "core/springs/spring_window-inl.h"  // the walk over the families: its window and helpers
+
+HWY_BEFORE_NAMESPACE();
+namespace clothsim {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using D = hn::ScalableTag<double>;
+using V = hn::Vec<D>;
+using M = hn::Mask<D>;
+static_assert(HWY_MAX_BYTES / sizeof(double) <= kSpringLanePad, "the layout's padding is a vector");
+
+// The families' Newton blocks: sparse_system.cpp's assembly (assemble_step_hessian_scalar),
+// lane by lane, in two passes.
+//  1. Over the springs (the walk, with y and the inverse masses in the window): each block's u
+//     and (alpha, beta), exact and projected, stored by slot, for now also where an end is
+//     immovable (the block still counts in the other end's diagonal).
+//  2. Over the particles: each diagonal block, M + h c I minus the blocks of the springs whose
+//     a or whose b it is, read from the slots by particle (slot_first - first + p for the
+//     springs at a = p, one offset further back for those at b = p: contiguous loads, no
+//     scatter, no sums kept in between), family after family in a fixed order.
+// Then the blocks with an immovable end are zeroed (their row and column are removed).
+std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRICT y,
+                           const double* HWY_RESTRICT inv_mass, const double* HWY_RESTRICT start_length,
+                           const FamilyHessian& out, std::vector<std::int32_t>& filtered,
+                           double* HWY_RESTRICT scratch, std::size_t stride) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V zero = hn::Zero(d);
+  const V one = hn::Set(d, 1.0);
+  const double h = out.h;
+  const V minus_h2 = hn::Set(d, -(h * h));  // the scalar code's -h2 * (...)
+  const bool project = out.project;
+  double* in[4];  // y, the inverse masses
+  for (int c = 0; c < 4; ++c) in[c] = scratch + c * stride;
+  filtered.clear();
+
+  const auto copy_in = [&](std::size_t particle, std::size_t n, std::size_t at) {
+    window::Deinterleave(y + 3 * particle, n, in[0] + at, in[1] + at, in[2] + at);
+    std::copy(inv_mass + particle, inv_mass + particle + n, in[3] + at);
+  };
+  // (the outputs in locals: stores through a double* could otherwise alias `out`'s pointers)
+  double* HWY_RESTRICT out_ux = out.ux;
+  double* HWY_RESTRICT out_uy = out.uy;
+  double* HWY_RESTRICT out_uz = out.uz;
+  double* HWY_RESTRICT out_alpha = out.alpha;
+  double* HWY_RESTRICT out_beta = out.beta;
+  double* HWY_RESTRICT out_alpha_projected = out.alpha_projected;
+  double* HWY_RESTRICT out_beta_projected = out.beta_projected;
+  const auto blocks = [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
+    const double* HWY_RESTRICT rest = fam.rest.data();
+    const double* HWY_RESTRICT ys = in[0];
+    const double* HWY_RESTRICT ys1 = in[1];
+    const double* HWY_RESTRICT ys2 = in[2];
+    const double* HWY_RESTRICT ws = in[3];
+    const std::size_t off = static_cast<std::size_t>(fam.offset);
+    const V ks = hn::Set(d, fam.ks), kdh = hn::Set(d, fam.kd / h);
+    const V axial = hn::Set(d, fam.ks + fam.kd / h);  // spring_force.h's step_spring_block
+    for (std::size_t k = k0; k < k1; k += N) {
+      const std::size_t a = first + k, b = a + off, s = fam.slot_first + k;
+      HWY_DASSERT(b + N <= stride);
+      const V l0 = hn::LoadU(d, rest + k);
+      const V ln = hn::LoadU(d, start_length + s);
+      const V dx = hn::Sub(hn::LoadU(d, ys + a), hn::LoadU(d, ys + b));
+      const V dy = hn::Sub(hn::LoadU(d, ys1 + a), hn::LoadU(d, ys1 + b));
+      const V dz = hn::Sub(hn::LoadU(d, ys2 + a), hn::LoadU(d, ys2 + b));
+      const V l = window::Length(dx, dy, dz);
+      const M spring = hn::Gt(l0, zero);
+      const M apart = hn::Not(hn::Le(l, zero));  // a direction (or NaN)
+      // u = d / l and the transverse stiffness T / l through one division; a spring of
+      // length 0 has no direction: u = 0, transverse = axial (an isotropic block).
+      const V inv_l = hn::Div(one, l);
+      const V ux = hn::IfThenElseZero(apart, hn::Mul(dx, inv_l));
+      const V uy = hn::IfThenElseZero(apart, hn::Mul(dy, inv_l));
+      const V uz = hn::IfThenElseZero(apart, hn::Mul(dz, inv_l));
+      const V T = hn::Add(hn::Mul(ks, hn::Sub(l, l0)), hn::Mul(kdh, hn::Sub(l, ln)));
+      const V t = hn::IfThenElse(apart, hn::Mul(T, inv_l), axial);
+      const V t_projected = hn::IfThenElse(hn::Lt(t, zero), zero, t);  // NaN stays NaN
+      const V alpha_projected = hn::Mul(minus_h2, hn::Sub(axial, t_projected));
+      const V beta_projected = hn::Mul(minus_h2, t_projected);
+      hn::StoreU(hn::IfThenElseZero(spring, ux), d, out_ux + s);
+      hn::StoreU(hn::IfThenElseZero(spring, uy), d, out_uy + s);
+      hn::StoreU(hn::IfThenElseZero(spring, uz), d, out_uz + s);
+      hn::StoreU(hn::IfThenElseZero(spring, project ? alpha_projected : hn::Mul(minus_h2, hn::Sub(axial, t))),
+                 d, out_alpha + s);
+      hn::StoreU(hn::IfThenElseZero(spring, project ? beta_projected : hn::Mul(minus_h2, t)), d, out_beta + s);
+      hn::StoreU(hn::IfThenElseZero(spring, alpha_projected), d, out_alpha_projected + s);
+      hn::StoreU(hn::IfThenElseZero(spring, beta_projected), d, out_beta_projected + s);
+      const M pinned = hn::And(spring, hn::Or(hn::Eq(hn::LoadU(d, ws + a), zero),
+                                              hn::Eq(hn::LoadU(d, ws + b), zero)));
+      if (!hn::AllFalse(d, pinned)) {  // rare: springs at pinned particles
+        for (std::size_t j = 0; j < N; ++j)
+          if ((ws[a + j] == 0.0 || ws[b + j] == 0.0) && rest[k + j] > 0.0)
+            filtered.push_back(static_cast<std::int32_t>(s + j));
+      }
+    }
+  };
+  window::WalkFamilies(layout, scratch, stride, 4, 0, copy_in, blocks, [](std::size_t, std::size_t, std::size_t) {});
+
+  // Pass 2, N particles at a time (a last partial vector reads its inverse masses from a copy).
+  const std::size_t P = static_cast<std::size_t>(layout.num_particles);
+  const V h_drag = hn::Set(d, h * out.drag);
+  HWY_ALIGN double entry[6][kSpringLanePad];
+  HWY_ALIGN double tail[kSpringLanePad];
+  const std::size_t sets = project ? 1 : 2;
+  for (std::size_t p = 0; p < P; p += N) {
+    const std::size_t lanes = std::min(N, P - p);
+    const double* w_at = inv_mass + p;
+    if (lanes < N) {
+      std::fill(tail, tail + N, 1.0);
+      std::copy(inv_mass + p, inv_mass + P, tail);
+      w_at = tail;
+    }
+    const V w = hn::LoadU(d, w_at);
+    const M moves = hn::Ne(w, zero);
+    const V base = hn::Add(hn::Div(one, w), h_drag);
+    for (std::size_t set = 0; set < sets; ++set) {  // the matrix's blocks, then the projected ones
+      const double* HWY_RESTRICT alpha = set == 0 ? out_alpha : out_alpha_projected;
+      const double* HWY_RESTRICT beta = set == 0 ? out_beta : out_beta_projected;
+      V sum[6] = {zero, zero, zero, zero, zero, zero};  // xx, yy, zz, xy, xz, yz
+      const auto add = [&](std::size_t s) {  // the blocks at slots s .. s+N-1
+        const V ux = hn::LoadU(d, out_ux + s), uy = hn::LoadU(d, out_uy + s), uz = hn::LoadU(d, out_uz + s);
+        const V al = hn::LoadU(d, alpha + s), be = hn::LoadU(d, beta + s);
+        const V aux = hn::Mul(al, ux), auy = hn::Mul(al, uy), auz = hn::Mul(al, uz);
+        sum[0] = hn::Add(sum[0], hn::Add(hn::Mul(aux, ux), be));
+        sum[1] = hn::Add(sum[1], hn::Add(hn::Mul(auy, uy), be));
+        sum[2] = hn::Add(sum[2], hn::Add(hn::Mul(auz, uz), be));
+        sum[3] = hn::Add(sum[3], hn::Mul(aux, uy));
+        sum[4] = hn::Add(sum[4], hn::Mul(aux, uz));
+        sum[5] = hn::Add(sum[5], hn::Mul(auy, uz));
+      };
+      for (const SpringFamily& fam : layout.families) {
+        const std::size_t first = static_cast<std::size_t>(fam.first), count = static_cast<std::size_t>(fam.count);
+        const std::size_t off = static_cast<std::size_t>(fam.offset);
+        // The springs with a in p .. p+N-1, then those with b there (vectors that meet the
+        // family only: the read stays within its slots and gaps).
+        if (p + N > first && p < first + count) add(fam.slot_first + p - first);
+        if (p + N > first + off && p < first + off + count) add(fam.slot_first + p - first - off);
+      }
+      for (int e = 0; e < 6; ++e) {
+        const V value = e < 3 ? hn::Sub(base, sum[e]) : hn::Neg(sum[e]);
+        const V stored = hn::IfThenElse(moves, value, e < 3 ? one : zero);
+        hn::Store(stored, d, entry[e]);
+        if (set == 0) {  // the matrix's blocks again, as structure of arrays (diag_soa)
+          double* soa = out.diag_soa + e * out.bodies + p;
+          if (lanes == N) hn::StoreU(stored, d, soa);
+          else std::copy(entry[e], entry[e] + lanes, soa);
+        }
+      }
+      double* HWY_RESTRICT diag = (set == 0 ? out.diag : out.diag_projected) + 9 * p;
+      for (std::size_t j = 0; j < lanes; ++j, diag += 9) {
+        diag[0] = entry[0][j];
+        diag[4] = entry[1][j];
+        diag[8] = entry[2][j];
+        diag[1] = diag[3] = entry[3][j];
+        diag[2] = diag[6] = entry[4][j];
+        diag[5] = diag[7] = entry[5][j];
+      }
+    }
+  }
+  for (const std::int32_t s : filtered)
+    out.alpha[s] = out.beta[s] = out.alpha_projected[s] = out.beta_projected[s] = 0.0;
+  return P;
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace clothsim
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace clothsim {
+
+HWY_EXPORT(FamilyAssemble);
+
+std::size_t family_assemble(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
+                            const Eigen::VectorXd& inv_mass, const double* start_length,
+                            const FamilyHessian& out) {
+  // Scratch per thread (compare runs lanes on threads), grown, never shrunk: the window's 4
+  // arrays (y, the inverse masses) of about kWindowBlock + 2 nx particles.
+  thread_local hwy::AlignedFreeUniquePtr<double[]> scratch;
+  thread_local std::size_t capacity = 0;
+  thread_local std::vector<std::int32_t> filtered;  // slots of springs at an immovable body
+  const std::size_t stride = window_stride(layout);
+  if (4 * stride > capacity) {
+    capacity = 4 * stride;
+    scratch = hwy::AllocateAligned<double>(capacity);
+  }
+  return HWY_DYNAMIC_DISPATCH(FamilyAssemble)(layout, y.data(), inv_mass.data(), start_length, out,
+                                              filtered, scratch.get(), stride);
+}
+
+}  // namespace clothsim
+#endif  // HWY_ONCE

@@ -1,0 +1,424 @@
+// Highway's foreach_target.h compiles this file once per x86 target (SCALAR, SSSE3, SSE4,
+// AVX2, AVX3), each copy in its own namespace; HWY_EXPORT / HWY_DYNAMIC_DISPATCH pick one at
+// run time. The walk over blocks and the sliding window are spring_window-inl.h's, shared with
+// the force pass (spring_kernels.cpp).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/implicit/potential_kernels.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/aligned_allocator.h>
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "potential_kernels.h"
+#include "core/linear/partial_sums-inl.h"
+
+#include "core/springs/spring_window-inl.h"  // the walk over the families: its window and helpers
+
+#ifndef CLOTHSIM_POTENTIAL_KERNELS_ONCE  // this part once, not once per target
+#define CLOTHSIM_POTENTIAL_KERNELS_ONCE
+namespace clothsim {
+namespace {
+
+// Phi's partial sums (partial_sums-inl.h): position k goes to sum k mod kSums, so a vector's
+// lanes are consecutive sums and each sum sees the same springs in the same order on every target.
+constexpr std::size_t kSums = kPartialSums;
+// Window arrays, at most: 3 inputs (x, y or p) and 6 sums (at a, at b; 3 components each).
+constexpr std::size_t kArrays = 9;
+
+}  // namespace
+}  // namespace clothsim
+#endif
+
+HWY_BEFORE_NAMESPACE();
+namespace clothsim {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using D = hn::ScalableTag<double>;
+using V = hn::Vec<D>;
+using M = hn::Mask<D>;
+static_assert(HWY_MAX_BYTES / sizeof(double) <= kSpringLanePad, "the layout's padding is a vector");
+
+namespace {
+
+// The window of a pass over an interleaved 3 x P input (x, y or p): its components, and
+// (when the pass has an output) the two sums, three components each.
+struct Window {
+  double* in[3];     // x, y or p
+  double* plus[3];   // contributions at each spring's a
+  double* minus[3];  // contributions at each spring's b
+  Window(double* scratch, std::size_t stride) {
+    for (int c = 0; c < 3; ++c) {
+      in[c] = scratch + c * stride;
+      plus[c] = scratch + (3 + c) * stride;
+      minus[c] = scratch + (6 + c) * stride;
+    }
+  }
+};
+
+// Walks the families (spring_window-inl.h) with `in` (3 x P) copied into the window; calls
+// body(fam, k, a, b, w) for each vector of positions k .. k+N-1 (a, b: window indices of its
+// springs' ends); with `out`, adds the finished particles' sums into it, or, with `diag` (the
+// matrix's diagonal blocks, SpringBlockMatrix::diag_soa of B bodies), writes D_i in_i + the
+// sums there. Returns how many particles it finished.
+template <class Body>
+std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
+                 double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Body& body,
+                 const double* HWY_RESTRICT diag = nullptr, std::size_t bodies = 0) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const auto copy_in = [&](std::size_t particle, std::size_t n, std::size_t at) {
+    window::Deinterleave(in + 3 * particle, n, w.in[0] + at, w.in[1] + at, w.in[2] + at);
+  };
+  const auto run = [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
+    const std::size_t off = static_cast<std::size_t>(fam.offset);
+    for (std::size_t k = k0; k < k1; k += N) {
+      HWY_DASSERT(first + k + off + N <= stride);
+      body(fam, k, first + k, first + k + off, w);
+    }
+  };
+  const auto flush = [&](std::size_t particle, std::size_t n, std::size_t at) {
+    if (!out) return;
+    if (!diag) {
+      const double* const plus[] = {w.plus[0] + at, w.plus[1] + at, w.plus[2] + at};
+      const double* const minus[] = {w.minus[0] + at, w.minus[1] + at, w.minus[2] + at};
+      window::AddInterleaved(plus, minus, n, out + 3 * particle);
+      return;
+    }
+    // out_i = D_i p_i + (plus + minus): sparse_system.cpp's multiply_diagonal, then the sums,
+    // with the same operations in the same order.
+    const double* HWY_RESTRICT dxx = diag + particle;
+    const double* HWY_RESTRICT dyy = dxx + bodies;
+    const double* HWY_RESTRICT dzz = dyy + bodies;
+    const double* HWY_RESTRICT dxy = dzz + bodies;
+    const double* HWY_RESTRICT dxz = dxy + bodies;
+    const double* HWY_RESTRICT dyz = dxz + bodies;
+    const double *p0 = w.in[0] + at, *p1 = w.in[1] + at, *p2 = w.in[2] + at;
+    const double *a0 = w.plus[0] + at, *a1 = w.plus[1] + at, *a2 = w.plus[2] + at;
+    const double *b0 = w.minus[0] + at, *b1 = w.minus[1] + at, *b2 = w.minus[2] + at;
+    double* HWY_RESTRICT y = out + 3 * particle;
+    std::size_t i = 0;
+    for (; i + N <= n; i += N) {
+      const V xx = hn::LoadU(d, dxx + i), yy = hn::LoadU(d, dyy + i), zz = hn::LoadU(d, dzz + i);
+      const V xy = hn::LoadU(d, dxy + i), xz = hn::LoadU(d, dxz + i), yz = hn::LoadU(d, dyz + i);
+      const V q0 = hn::LoadU(d, p0 + i), q1 = hn::LoadU(d, p1 + i), q2 = hn::LoadU(d, p2 + i);
+      const V y0 = hn::Add(hn::Add(hn::Mul(xx, q0), hn::Mul(xy, q1)), hn::Mul(xz, q2));
+      const V y1 = hn::Add(hn::Add(hn::Mul(xy, q0), hn::Mul(yy, q1)), hn::Mul(yz, q2));
+      const V y2 = hn::Add(hn::Add(hn::Mul(xz, q0), hn::Mul(yz, q1)), hn::Mul(zz, q2));
+      hn::StoreInterleaved3(hn::Add(y0, hn::Add(hn::LoadU(d, a0 + i), hn::LoadU(d, b0 + i))),
+                            hn::Add(y1, hn::Add(hn::LoadU(d, a1 + i), hn::LoadU(d, b1 + i))),
+                            hn::Add(y2, hn::Add(hn::LoadU(d, a2 + i), hn::LoadU(d, b2 + i))), d, y + 3 * i);
+    }
+    for (; i < n; ++i) {
+      y[3 * i] = (dxx[i] * p0[i] + dxy[i] * p1[i] + dxz[i] * p2[i]) + (a0[i] + b0[i]);
+      y[3 * i + 1] = (dxy[i] * p0[i] + dyy[i] * p1[i] + dyz[i] * p2[i]) + (a1[i] + b1[i]);
+      y[3 * i + 2] = (dxz[i] * p0[i] + dyz[i] * p1[i] + dzz[i] * p2[i]) + (a2[i] + b2[i]);
+    }
+  };
+  return window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, run, flush);
+}
+
+}  // namespace
+
+// Start-of-step lengths by slot, and the largest l / l0 (as FamilySpringForces).
+double FamilyLengths(const SpringLayout& layout, const double* HWY_RESTRICT x,
+                     double* HWY_RESTRICT length, double* HWY_RESTRICT scratch, std::size_t stride) {
+  const D d;
+  const V zero = hn::Zero(d);
+  V ratio = hn::Set(d, 1.0);
+  Walk(layout, x, nullptr, scratch, stride, Window(scratch, stride),
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
+         const V l0 = hn::LoadU(d, fam.rest.data() + k);
+         const V l = window::Length(hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b)),
+                            hn::Sub(hn::LoadU(d, w.in[1] + a), hn::LoadU(d, w.in[1] + b)),
+                            hn::Sub(hn::LoadU(d, w.in[2] + a), hn::LoadU(d, w.in[2] + b)));
+         const M spring = hn::Gt(l0, zero);
+         hn::StoreU(hn::IfThenElseZero(spring, l), d, length + fam.slot_first + k);
+         ratio = window::GrowRatio(d, ratio, l, l0, spring);
+       });
+  return window::WorstRatio(d, ratio);
+}
+
+// The largest l / l0 of lengths already by slot (FamilyLengths' ratio, without the lengths).
+double FamilyStrain(const SpringLayout& layout, const double* HWY_RESTRICT length) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V zero = hn::Zero(d);
+  V ratio = hn::Set(d, 1.0);
+  for (const SpringFamily& fam : layout.families) {
+    const double* HWY_RESTRICT rest = fam.rest.data();
+    const double* HWY_RESTRICT l_at = length + fam.slot_first;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(fam.count); k += N) {
+      const V l0 = hn::LoadU(d, rest + k), l = hn::LoadU(d, l_at + k);
+      ratio = window::GrowRatio(d, ratio, l, l0, hn::Gt(l0, zero));
+    }
+  }
+  return window::WorstRatio(d, ratio);
+}
+
+// Phi's spring terms and gradient: step_potential's loop body, lane by lane. sums: 2 kSums
+// partial sums (phi, magnitude), zeroed by the caller.
+void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT y,
+                          const double* HWY_RESTRICT start_length, double h,
+                          double* HWY_RESTRICT gradient, double* HWY_RESTRICT sums,
+                          double* HWY_RESTRICT end_length, double* HWY_RESTRICT scratch,
+                          std::size_t stride) {
+  const D d;
+  const V zero = hn::Zero(d);
+  const V hv = hn::Set(d, h);
+  double* HWY_RESTRICT phi = sums;
+  double* HWY_RESTRICT magnitude = sums + kSums;
+  const SpringFamily* current = nullptr;
+  V ks = zero, kdh = zero, half_ks = zero, half_kdh = zero;
+  Walk(layout, y, gradient, scratch, stride, Window(scratch, stride),
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
+         if (&fam != current) {  // the family's constants, as spring_force.h rounds them
+           current = &fam;
+           ks = hn::Set(d, fam.ks);
+           kdh = hn::Set(d, fam.kd / h);
+           half_ks = hn::Set(d, 0.5 * fam.ks);
+           half_kdh = hn::Set(d, 0.5 * (fam.kd / h));
+         }
+         const V l0 = hn::LoadU(d, fam.rest.data() + k);
+         const V ln = hn::LoadU(d, start_length + fam.slot_first + k);
+         const V dx = hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b));
+         const V dy = hn::Sub(hn::LoadU(d, w.in[1] + a), hn::LoadU(d, w.in[1] + b));
+         const V dz = hn::Sub(hn::LoadU(d, w.in[2] + a), hn::LoadU(d, w.in[2] + b));
+         const V l = window::Length(dx, dy, dz);
+         const V stretch = hn::Sub(l, l0), rate = hn::Sub(l, ln);
+         // E = 0.5 ks (l - l0)^2 + 0.5 (kd / h) (l - ln)^2, T = ks (l - l0) + (kd / h) (l - ln)
+         const V e = hn::Add(hn::Mul(hn::Mul(half_ks, stretch), stretch),
+                             hn::Mul(hn::Mul(half_kdh, rate), rate));
+         const V T = hn::Add(hn::Mul(ks, stretch), hn::Mul(kdh, rate));
+         const M spring = hn::Gt(l0, zero);
+         const M acts = hn::AndNot(hn::Le(l, zero), spring);  // a direction (or NaN)
+         // (FamilyLengths' store: the same lengths by slot, for the next step's start)
+         if (end_length) hn::StoreU(hn::IfThenElseZero(spring, l), d, end_length + fam.slot_first + k);
+         const V e_in = hn::IfThenElseZero(spring, e);
+         const V m_in = hn::Add(e_in, hn::IfThenElseZero(acts, hn::Mul(hn::Abs(T), l)));
+         const std::size_t j = k % kSums;
+         hn::StoreU(hn::Add(hn::LoadU(d, phi + j), e_in), d, phi + j);
+         hn::StoreU(hn::Add(hn::LoadU(d, magnitude + j), m_in), d, magnitude + j);
+         const V c = hn::Div(hn::Mul(hv, T), l);  // push = (h T / l) d
+         const V px = hn::IfThenElseZero(acts, hn::Mul(c, dx));
+         const V py = hn::IfThenElseZero(acts, hn::Mul(c, dy));
+         const V pz = hn::IfThenElseZero(acts, hn::Mul(c, dz));
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[0] + a), px), d, w.plus[0] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[1] + a), py), d, w.plus[1] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[2] + a), pz), d, w.plus[2] + a);
+         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[0] + b), px), d, w.minus[0] + b);
+         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[1] + b), py), d, w.minus[1] + b);
+         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[2] + b), pz), d, w.minus[2] + b);
+       });
+}
+
+// Phi's body terms (step_potential.cpp's add_body_terms, lane by lane) and the end-of-step
+// positions, N bodies at a time, their xyz read and written interleaved: y = x + h (v + dv);
+// gradient = m dv - h m g (bodies with gravity) + h c v (particles, air drag), zero on
+// immovable bodies, written rather than added to (the spring passes add to it after); body i's
+// energy into partial sum i mod kSums. A last partial vector runs on a padded copy.
+void BodyTerms(const BodyArgs& args, double* HWY_RESTRICT y, double* HWY_RESTRICT gradient,
+               double* HWY_RESTRICT sums) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V zero = hn::Zero(d);
+  const V one = hn::Set(d, 1.0);
+  const V half = hn::Set(d, 0.5);
+  const V h = hn::Set(d, args.h);
+  const V gx = hn::Set(d, args.gravity[0]), gy = hn::Set(d, args.gravity[1]), gz = hn::Set(d, args.gravity[2]);
+  const V h_drag = hn::Set(d, args.h * args.drag);
+  const V half_h_drag = hn::Set(d, 0.5 * args.h * args.drag);
+  const std::size_t B = args.bodies, P = args.particles;
+  double* HWY_RESTRICT phi = sums;
+  double* HWY_RESTRICT magnitude = sums + kSums;
+  HWY_ALIGN double tail[3 * 3 * kSpringLanePad + 2 * kSpringLanePad];
+  HWY_ALIGN double tail_out[2 * 3 * kSpringLanePad];
+  HWY_ALIGN double factor[2 * kSpringLanePad];  // per lane: gravity on (1 or 0), drag on
+  bool factors_all_on = false;                   // factor holds ones only
+  for (std::size_t i = 0; i < B; i += N) {
+    const std::size_t lanes = std::min(N, B - i);
+    const double *x = args.x + 3 * i, *v = args.v + 3 * i, *dv = args.dv + 3 * i, *w_at = args.inv_mass + i;
+    double *y_at = y + 3 * i, *g_at = gradient + 3 * i;
+    if (lanes < N) {  // the last bodies, padded with immovable ones (no terms)
+      std::fill(tail, tail + sizeof(tail) / sizeof(double), 0.0);
+      std::copy(x, x + 3 * lanes, tail);
+      std::copy(v, v + 3 * lanes, tail + 3 * N);
+      std::copy(dv, dv + 3 * lanes, tail + 6 * N);
+      std::copy(w_at, w_at + lanes, tail + 9 * N);
+      x = tail, v = tail + 3 * N, dv = tail + 6 * N, w_at = tail + 9 * N;
+      y_at = tail_out, g_at = tail_out + 3 * N;
+    }
+    // Which lanes have gravity and drag: all of them for a vector of cloth particles (the
+    // common case, read as one comparison of N flag bytes), else lane by lane.
+    static constexpr std::uint8_t kAllOn[kSpringLanePad] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+    const bool all_on = lanes == N && i + N <= P && std::memcmp(args.gravity_on + i, kAllOn, N) == 0;
+    if (!all_on) {
+      for (std::size_t j = 0; j < N; ++j) {
+        factor[j] = j < lanes && args.gravity_on[i + j] ? 1.0 : 0.0;
+        factor[N + j] = i + j < P ? 1.0 : 0.0;
+      }
+    } else if (!factors_all_on) {
+      for (std::size_t j = 0; j < N; ++j) factor[j] = factor[N + j] = 1.0;
+    }
+    factors_all_on = all_on;
+    V X, Y, Z, VX, VY, VZ, DX, DY, DZ;
+    hn::LoadInterleaved3(d, x, X, Y, Z);
+    hn::LoadInterleaved3(d, v, VX, VY, VZ);
+    hn::LoadInterleaved3(d, dv, DX, DY, DZ);
+    const V vx = hn::Add(VX, DX), vy = hn::Add(VY, DY), vz = hn::Add(VZ, DZ);  // v_n + dv
+    hn::StoreInterleaved3(hn::Add(X, hn::Mul(h, vx)), hn::Add(Y, hn::Mul(h, vy)), hn::Add(Z, hn::Mul(h, vz)), d, y_at);
+    const V w = hn::LoadU(d, w_at);
+    const M moves = hn::Ne(w, zero);
+    const M gravity = hn::And(moves, hn::Ne(hn::Load(d, factor), zero));
+    const M drag = hn::And(moves, hn::Ne(hn::Load(d, factor + N), zero));
+    const V m = hn::Div(one, w);
+    const V hm = hn::Mul(h, m);
+    // inertia 1/2 m |dv|^2, gravity's work h m g . v, drag's dissipation 1/2 h c |v|^2
+    const V inertia = hn::IfThenElseZero(
+        moves, hn::Mul(hn::Mul(half, m), hn::Add(hn::Add(hn::Mul(DX, DX), hn::Mul(DY, DY)), hn::Mul(DZ, DZ))));
+    const V work = hn::IfThenElseZero(
+        gravity, hn::Mul(hm, hn::Add(hn::Add(hn::Mul(gx, vx), hn::Mul(gy, vy)), hn::Mul(gz, vz))));
+    const V dissipation = hn::IfThenElseZero(
+        drag, hn::Mul(half_h_drag, hn::Add(hn::Add(hn::Mul(vx, vx), hn::Mul(vy, vy)), hn::Mul(vz, vz))));
+    const std::size_t k = i % kSums;
+    hn::StoreU(hn::Add(hn::LoadU(d, phi + k), hn::Add(hn::Sub(inertia, work), dissipation)), d, phi + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, magnitude + k), hn::Add(hn::Add(inertia, hn::Abs(work)), dissipation)), d,
+               magnitude + k);
+    const auto component = [&](V dvc, V vc, V gc) {
+      const V g = hn::Sub(hn::Mul(m, dvc), hn::IfThenElseZero(gravity, hn::Mul(hm, gc)));
+      return hn::IfThenElseZero(moves, hn::Add(g, hn::IfThenElseZero(drag, hn::Mul(h_drag, vc))));
+    };
+    hn::StoreInterleaved3(component(DX, vx, gx), component(DY, vy, gy), component(DZ, vz, gz), d, g_at);
+    if (lanes < N) {
+      std::copy(tail_out, tail_out + 3 * lanes, y + 3 * i);
+      std::copy(tail_out + 3 * N, tail_out + 3 * N + 3 * lanes, gradient + 3 * i);
+    }
+  }
+}
+
+// out = D p + the families' blocks applied to p: sparse_system.cpp's multiply, lane by lane.
+std::size_t FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
+                    const double* HWY_RESTRICT p, double* HWY_RESTRICT out,
+                    double* HWY_RESTRICT scratch, std::size_t stride) {
+  const D d;
+  const V zero = hn::Zero(d);
+  return Walk(layout, p, out, scratch, stride, Window(scratch, stride),
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
+         const std::size_t s = fam.slot_first + k;
+         const V ux = hn::LoadU(d, blocks.ux + s), uy = hn::LoadU(d, blocks.uy + s),
+                 uz = hn::LoadU(d, blocks.uz + s);
+         const V alpha = hn::LoadU(d, blocks.alpha + s), c = hn::LoadU(d, blocks.beta + s);
+         const V pa0 = hn::LoadU(d, w.in[0] + a), pa1 = hn::LoadU(d, w.in[1] + a),
+                 pa2 = hn::LoadU(d, w.in[2] + a);
+         const V pb0 = hn::LoadU(d, w.in[0] + b), pb1 = hn::LoadU(d, w.in[1] + b),
+                 pb2 = hn::LoadU(d, w.in[2] + b);
+         const V sa = hn::Mul(alpha, hn::Add(hn::Add(hn::Mul(ux, pa0), hn::Mul(uy, pa1)), hn::Mul(uz, pa2)));
+         const V sb = hn::Mul(alpha, hn::Add(hn::Add(hn::Mul(ux, pb0), hn::Mul(uy, pb1)), hn::Mul(uz, pb2)));
+         // A position without a spring holds zeros, but 0 p is NaN where p is: masked.
+         const M spring = hn::Gt(hn::LoadU(d, fam.rest.data() + k), zero);
+         const V ya0 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sb, ux), hn::Mul(c, pb0)));
+         const V ya1 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sb, uy), hn::Mul(c, pb1)));
+         const V ya2 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sb, uz), hn::Mul(c, pb2)));
+         const V yb0 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sa, ux), hn::Mul(c, pa0)));
+         const V yb1 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sa, uy), hn::Mul(c, pa1)));
+         const V yb2 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sa, uz), hn::Mul(c, pa2)));
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[0] + a), ya0), d, w.plus[0] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[1] + a), ya1), d, w.plus[1] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[2] + a), ya2), d, w.plus[2] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.minus[0] + b), yb0), d, w.minus[0] + b);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.minus[1] + b), yb1), d, w.minus[1] + b);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.minus[2] + b), yb2), d, w.minus[2] + b);
+       },
+       blocks.diag, blocks.bodies);
+}
+
+const char* PotentialTargetName() { return hwy::TargetName(HWY_TARGET); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace clothsim
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace clothsim {
+
+HWY_EXPORT(FamilyLengths);
+HWY_EXPORT(FamilyStrain);
+HWY_EXPORT(FamilyPotentialTerms);
+HWY_EXPORT(FamilyMultiply);
+HWY_EXPORT(BodyTerms);
+HWY_EXPORT(PotentialTargetName);
+
+namespace {
+
+// Scratch per thread (compare runs lanes on threads), grown, never shrunk: a window of about
+// kWindowBlock + 2 nx particles.
+struct Scratch {
+  double* data;
+  std::size_t stride;
+};
+Scratch scratch_for(const SpringLayout& layout) {
+  thread_local hwy::AlignedFreeUniquePtr<double[]> scratch;
+  thread_local std::size_t capacity = 0;
+  const std::size_t stride = window_stride(layout);
+  if (kArrays * stride > capacity) {
+    capacity = kArrays * stride;
+    scratch = hwy::AllocateAligned<double>(capacity);
+  }
+  return {scratch.get(), stride};
+}
+
+}  // namespace
+
+double family_step_lengths(const SpringLayout& layout, const Eigen::Matrix3Xd& x, double* length) {
+  const Scratch s = scratch_for(layout);
+  return HWY_DYNAMIC_DISPATCH(FamilyLengths)(layout, x.data(), length, s.data, s.stride);
+}
+
+double family_strain(const SpringLayout& layout, const double* length) {
+  return HWY_DYNAMIC_DISPATCH(FamilyStrain)(layout, length);
+}
+
+FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
+                                      const double* start_length, double h,
+                                      Eigen::Matrix3Xd& gradient, double* end_length) {
+  const Scratch s = scratch_for(layout);
+  alignas(64) double sums[2 * kSums] = {};
+  HWY_DYNAMIC_DISPATCH(FamilyPotentialTerms)(layout, y.data(), start_length, h, gradient.data(),
+                                             sums, end_length, s.data, s.stride);
+  FamilyPotential out;
+  for (std::size_t j = 0; j < kSums; ++j) {  // in a fixed order (above)
+    out.phi += sums[j];
+    out.magnitude += sums[kSums + j];
+  }
+  return out;
+}
+
+FamilyPotential body_terms(const BodyArgs& args, Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient) {
+  y.resize(3, static_cast<Eigen::Index>(args.bodies));
+  gradient.resize(3, static_cast<Eigen::Index>(args.bodies));
+  alignas(64) double sums[2 * kSums] = {};
+  HWY_DYNAMIC_DISPATCH(BodyTerms)(args, y.data(), gradient.data(), sums);
+  FamilyPotential out;
+  for (std::size_t j = 0; j < kSums; ++j) {  // in a fixed order
+    out.phi += sums[j];
+    out.magnitude += sums[kSums + j];
+  }
+  return out;
+}
+
+std::size_t family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
+                            const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out) {
+  const Scratch s = scratch_for(layout);
+  return HWY_DYNAMIC_DISPATCH(FamilyMultiply)(layout, blocks, p.data(), out.data(), s.data, s.stride);
+}
+
+
+const char* potential_kernel_target() { return HWY_DYNAMIC_DISPATCH(PotentialTargetName)(); }
+
+}  // namespace clothsim
+#endif  // HWY_ONCE

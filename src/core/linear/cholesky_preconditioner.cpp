@@ -1,0 +1,259 @@
+#include "cholesky_preconditioner.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace clothsim {
+
+namespace {
+
+// AMD on the bodies' graph (one vertex per body, an edge per spring): the fill of a block
+// factor is the fill of this graph's, so ordering bodies rather than coordinates costs a ninth
+// and keeps each body's three coordinates together. Returns order[new] = old.
+std::vector<int> fill_reducing_order(const SpringBlockMatrix& A) {
+  const int B = A.num_bodies();
+  std::vector<Eigen::Triplet<double, int>> edges;
+  edges.reserve(B + 2 * A.a.size());
+  for (int i = 0; i < B; ++i) edges.emplace_back(i, i, 1.0);
+  for (std::size_t s = 0; s < A.a.size(); ++s) {
+    edges.emplace_back(A.a[s], A.b[s], 1.0);
+    edges.emplace_back(A.b[s], A.a[s], 1.0);
+  }
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> graph(B, B);
+  graph.setFromTriplets(edges.begin(), edges.end());
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> permutation;
+  Eigen::AMDOrdering<int>()(graph, permutation);  // indices()[new] = old, as Eigen's Cholesky uses it
+  return std::vector<int>(permutation.indices().data(), permutation.indices().data() + B);
+}
+
+// Every strictly upper pair of A is a block of L whatever the order (fill only adds): the
+// distinct pairs, counted by a counting sort on the lower index of each spring (two springs
+// on one pair are one block).
+std::size_t distinct_pairs(const SpringBlockMatrix& A) {
+  const int B = A.num_bodies();
+  std::vector<int> start(B + 1, 0), other(A.a.size());
+  for (std::size_t s = 0; s < A.a.size(); ++s) ++start[std::min(A.a[s], A.b[s]) + 1];
+  for (int i = 0; i < B; ++i) start[i + 1] += start[i];
+  std::vector<int> next(start.begin(), start.end() - 1);
+  for (std::size_t s = 0; s < A.a.size(); ++s) other[next[std::min(A.a[s], A.b[s])]++] = std::max(A.a[s], A.b[s]);
+  std::size_t pairs = 0;
+  for (int i = 0; i < B; ++i) {
+    std::sort(other.begin() + start[i], other.begin() + start[i + 1]);
+    pairs += static_cast<std::size_t>(std::unique(other.begin() + start[i], other.begin() + start[i + 1]) -
+                                      (other.begin() + start[i]));
+  }
+  return pairs;
+}
+
+}  // namespace
+
+void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A, std::size_t budget_bytes) {
+  const int B = A.num_bodies();
+  const std::size_t S = A.a.size();
+  bodies_ = B;
+  analysed_ = true;
+  ready_ = false;
+  // A factor that cannot fit the budget is known before any ordering: AMD, its triplets and
+  // the pattern would cost gigabytes on a sheet of millions (a 2048 x 2048 run peaked at
+  // 11.5 GB and spent 40 s here, for a factor it was never going to build).
+  blocks_ = distinct_pairs(A);
+  if (factor_bytes() > budget_bytes) {
+    order_.clear();
+    rank_.clear();
+    column_start_.clear();
+    factor_cost_ = solve_cost_ = std::numeric_limits<double>::infinity();
+    return;
+  }
+  order_ = fill_reducing_order(A);
+  rank_.assign(B, 0);
+  for (int k = 0; k < B; ++k) rank_[order_[k]] = k;
+
+  // The strictly upper blocks by column (new indices), one slot per body pair: two springs on
+  // one pair add into the same slot. Springs are sorted into their columns by counting, then
+  // each column by (row, spring).
+  std::vector<int> column_first(B + 1, 0);
+  for (std::size_t s = 0; s < S; ++s) ++column_first[std::max(rank_[A.a[s]], rank_[A.b[s]]) + 1];
+  for (int k = 0; k < B; ++k) column_first[k + 1] += column_first[k];
+  std::vector<std::pair<int, std::size_t>> column(S);  // (row, spring), column by column
+  {
+    std::vector<int> next(column_first.begin(), column_first.end() - 1);
+    for (std::size_t s = 0; s < S; ++s) {
+      const int i = rank_[A.a[s]], k = rank_[A.b[s]];
+      column[next[std::max(i, k)]++] = {std::min(i, k), s};
+    }
+  }
+  upper_start_.assign(B + 1, 0);
+  upper_row_.clear();
+  spring_slot_.assign(S, 0);
+  spring_transposed_.assign(S, false);
+  for (int k = 0; k < B; ++k) {
+    const auto first = column.begin() + column_first[k], last = column.begin() + column_first[k + 1];
+    std::sort(first, last);
+    for (auto e = first; e != last; ++e) {
+      const auto [row, s] = *e;
+      if (e == first || row != (e - 1)->first) upper_row_.push_back(row);
+      spring_slot_[s] = static_cast<int>(upper_row_.size()) - 1;
+      // The spring's block is A(a, b); the slot holds A(row, k), row < k: A(b, a) = A(a, b)^T
+      // when a comes second.
+      spring_transposed_[s] = rank_[A.a[s]] > rank_[A.b[s]];
+    }
+    upper_start_[k + 1] = static_cast<int>(upper_row_.size());
+  }
+
+  // The elimination tree and L's column counts (Davis 2005, "Algorithm 849: a concise sparse
+  // Cholesky factorization package", ldl_symbolic): row k of L is the set of nodes reached
+  // from A's column k up the tree.
+  parent_.assign(B, -1);
+  flag_.assign(B, -1);
+  std::vector<int> count(B, 0);
+  for (int k = 0; k < B; ++k) {
+    flag_[k] = k;
+    for (int p = upper_start_[k]; p < upper_start_[k + 1]; ++p) {
+      for (int i = upper_row_[p]; flag_[i] != k; i = parent_[i]) {
+        if (parent_[i] == -1) parent_[i] = k;
+        ++count[i];
+        flag_[i] = k;
+      }
+    }
+  }
+  column_start_.assign(B + 1, 0);
+  for (int j = 0; j < B; ++j) column_start_[j + 1] = column_start_[j] + count[j];
+  blocks_ = static_cast<std::size_t>(column_start_[B]);
+  // L's storage and the factorisation's scratch wait for the first factorisation: most runs
+  // never factor, and on a 256 x 256 sheet they would be hundreds of MB.
+  row_.clear();
+  value_.clear();
+  upper_.clear();
+  diag_.clear();
+  filter_.clear();
+
+  // Costs in block-Jacobi iterations. Factor: each row k of L updates, for every block L(k, j),
+  // the blocks above it in column j (one 3x3 product each), and forms L(k, j) and its share of
+  // D_k (two more): sum_j c_j (c_j + 3) / 2 products of 27 multiply-adds. Solve: two 3x3
+  // mat-vecs per block of L and one per body (D^-1), 9 multiply-adds each.
+  // Measured against the hand-written mat-vec (solver_bench, 15 x 15 and 64 x 64 at 1/60 s)
+  // the counts came within 20 % for a factorisation (61 against 72, 469 against 481
+  // iterations) and for a 15 x 15 solve; a 64 x 64 solve, out of cache, took 1.8 times its
+  // count (BENCHMARKS.md). So no correction is folded in. Since the block products run in SIMD
+  // (block_factor_kernels.h) a factorisation costs 0.85 (15 x 15) to 0.62 (64 x 64) times its
+  // count; rescaling the counts made stiff.yaml slower (more factorisations), so they stay
+  // counts; a recalibration by sheet size is open.
+  const double iteration = 9.0 * (2.0 * B + 2.0 * static_cast<double>(S));
+  double factor = 0.0;
+  for (int j = 0; j < B; ++j) factor += 27.0 * count[j] * (count[j] + 3.0) / 2.0 + 27.0;
+  factor_cost_ = factor / iteration;
+  solve_cost_ = 9.0 * (2.0 * column_start_[B] + B) / iteration;
+}
+
+bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const VelocityFilter& filter) {
+  const int B = A.num_bodies();
+  if (upper_.size() != upper_row_.size() || diag_.size() != static_cast<std::size_t>(B)) {
+    upper_.assign(upper_row_.size(), Mat3::Zero());  // the first factorisation: its scratch
+    diag_.assign(B, Mat3::Zero());
+    filter_.assign(B, Mat3::Identity());
+    filtered_.assign(B, 0);
+    d_inverse_.assign(static_cast<std::size_t>(kBlock) * B + kBlockSlack, 0.0);
+    y_.assign(static_cast<std::size_t>(kPaddedBlock) * B, 0.0);
+    pattern_.assign(B, 0);
+    filled_.assign(B, 0);
+  }
+  for (std::size_t c = 0; c < filter.size(); ++c) {
+    filter_[filter.body[c]] = Mat3::Identity() - filter.normal[c] * filter.normal[c].transpose();
+    filtered_[filter.body[c]] = 1;
+  }
+
+  // The matrix in the new order: S P S + (I - S), P on the free directions and the identity
+  // along a held normal. Only held bodies' blocks need the products (usually a few); a free
+  // pair's block is P's, symmetric, so it goes in as it is whichever end comes first.
+  for (int k = 0; k < B; ++k) {
+    const int i = order_[k];
+    if (!filtered_[i]) {
+      diag_[k] = A.diag_projected[i];
+      continue;
+    }
+    const Mat3& F = filter_[i];
+    diag_[k] = F * A.diag_projected[i] * F + (Mat3::Identity() - F);
+  }
+  std::fill(upper_.begin(), upper_.end(), Mat3::Zero());
+  for (std::size_t s = 0; s < A.a.size(); ++s) {
+    if (!filtered_[A.a[s]] && !filtered_[A.b[s]]) {
+      upper_[spring_slot_[s]] += A.off_projected(s);
+      continue;
+    }
+    const Mat3 block = filter_[A.a[s]] * A.off_projected(s) * filter_[A.b[s]];
+    if (spring_transposed_[s]) upper_[spring_slot_[s]] += block.transpose();
+    else upper_[spring_slot_[s]] += block;
+  }
+  for (std::size_t c = 0; c < filter.size(); ++c) {
+    filter_[filter.body[c]].setIdentity();
+    filtered_[filter.body[c]] = 0;
+  }
+
+  // Up-looking L D L^T in blocks (Davis 2005's ldl_numeric with 3x3 entries). Row k: the
+  // blocks Y_i = A(i, k) - sum_j L(i, j) Z_j^T over the reach of column k, in topological
+  // order, give Z_i = Y_i^T = L(k, i) D_i, so L(k, i) = Y_i^T D_i^-1 and
+  // D_k = A(k, k) - sum_i L(k, i) Y_i (block_factor_kernels.h runs the products).
+  ready_ = false;
+  const std::size_t blocks = static_cast<std::size_t>(column_start_[B]);
+  if (row_.size() != blocks) {
+    row_.assign(blocks, 0);
+    value_.assign(kBlock * blocks + kBlockSlack, 0.0);
+  }
+  std::fill(flag_.begin(), flag_.end(), -1);
+  std::fill(filled_.begin(), filled_.end(), 0);
+  double d[kPaddedBlock];
+  for (int k = 0; k < B; ++k) {
+    int top = B;
+    flag_[k] = k;
+    for (int p = upper_start_[k]; p < upper_start_[k + 1]; ++p) {
+      int i = upper_row_[p];
+      double* yi = y_.data() + kPaddedBlock * i;  // scatter A(i, k), padded
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) yi[4 * c + r] = upper_[p](r, c);
+      int length = 0;
+      for (; flag_[i] != k; i = parent_[i]) {
+        pattern_[length++] = i;
+        flag_[i] = k;
+      }
+      while (length > 0) pattern_[--top] = pattern_[--length];
+    }
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) d[4 * c + r] = diag_[k](r, c);
+      d[4 * c + 3] = 0.0;
+    }
+    factor_row(k, pattern_.data() + top, B - top, y_.data(), column_start_.data(),
+               filled_.data(), row_.data(), value_.data(), d_inverse_.data(), d);
+    Mat3 dk;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) dk(r, c) = d[4 * c + r];
+    const Eigen::LLT<Mat3> pivot(dk);
+    if (pivot.info() != Eigen::Success || !dk.allFinite()) {
+      std::fill(y_.begin(), y_.end(), 0.0);  // the next factorisation starts from zeros
+      return false;
+    }
+    Eigen::Map<Mat3>(d_inverse_.data() + kBlock * k) = pivot.solve(Mat3::Identity());
+  }
+  ready_ = true;
+  return true;
+}
+
+void CholeskyPreconditioner::apply(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) const {
+  const int B = static_cast<int>(order_.size());
+  w_.resize(static_cast<std::size_t>(kPaddedVector) * B);
+  z.resize(3, B);
+  PaddedFactor f;
+  f.bodies = B;
+  f.column_start = column_start_.data();
+  f.row = row_.data();
+  f.value = value_.data();
+  f.d_inverse = d_inverse_.data();
+  factor_solve(f, order_.data(), r.data(), z.data(), w_.data());
+}
+
+}  // namespace clothsim

@@ -1,0 +1,52 @@
+// Preconditioned conjugate gradient on a SpringBlockMatrix (Shewchuk, "An Introduction to
+// the Conjugate Gradient Method Without the Agonizing Pain", 1994, B3), with the block-Jacobi
+// preconditioner: the inverse of each body's 3x3 diagonal block. Mass dominates those blocks
+// at small steps (CG then converges in a few iterations); the preconditioner also removes
+// the spread of masses between cloth particles and heavy dynamic spheres.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "cholesky_preconditioner.h"
+#include "core/implicit/sparse_system.h"
+#include "core/implicit/velocity_filter.h"
+
+namespace clothsim {
+
+// Scratch vectors (3 x B), kept by the caller so a solve allocates nothing.
+struct CgBuffers {
+  Eigen::Matrix3Xd r, z, p, q;
+};
+
+struct CgResult {
+  int iterations = 0;
+  double relative_residual = 0.0;  // |b - A x| / |b| as CG's recurrence tracks it
+  bool converged = true;           // false: hit max_iterations above tolerance, or A not SPD
+  bool negative_curvature = false; // stopped at a direction p with p^T A p <= 0 (x is the
+                                   // iterate before it, or p itself if it was the first)
+};
+
+struct CgSettings {
+  int max_iterations = 200;
+  double tolerance = 1e-8;          // stop when |b - A x| <= tolerance |b| ...
+  double absolute_tolerance = 0.0;  // ... or |b - A x| <= this (the caller's accuracy need)
+  bool from_guess = false;          // start from the x passed in (warm start) rather than 0
+  double b_norm = -1.0;             // |b| where the caller has it (negative: solve_pcg takes it)
+};
+
+// Solves A x = b, stopping at either tolerance, after max_iterations, or at the first
+// direction of non-positive curvature (A indefinite: truncated CG, Nocedal & Wright,
+// Algorithm 7.1). With a filter, solves S A S x = S b for x in the range of S (Baraff &
+// Witkin's modified PCG): the residual, the preconditioned residual and A p are filtered, so
+// x never moves along a held normal. The preconditioner is `factor` when given and ready,
+// else block Jacobi (A.diag_inverse).
+// Started from zero, every iterate x_k is a descent direction for the quadratic
+// 0.5 x^T A x - b^T x's gradient at 0 (b . x_k > 0), whatever the iteration it stops at; at
+// negative curvature on the first direction, x is that direction, the preconditioned
+// residual (still b . x > 0), so the caller always has a step to take.
+CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
+                   const CgSettings& settings, CgBuffers& buffers,
+                   const VelocityFilter* filter = nullptr,
+                   const CholeskyPreconditioner* factor = nullptr);
+
+}  // namespace clothsim

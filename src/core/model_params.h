@@ -1,0 +1,40 @@
+// The physical settings a Model carries as a scene gave them: ground, collision, the implicit
+// solver's options and the divergence bounds. Plain values; defaults live here and nowhere else.
+// Units are SI: m, s, kg, N/m, N s/m.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace clothsim {
+
+using Vec3 = Eigen::Vector3d;
+
+struct GroundDef {
+  double height = 0.0;       // m, plane y = height
+  double restitution = 0.0;  // [0, 1]
+  double friction = 0.0;     // Coulomb coefficient, >= 0
+};
+
+struct CollisionDef {
+  double margin = 0.01;                // m, contact distance beyond a surface (the seed's 0.01)
+  bool sphere_sphere = false;          // resolve sphere-sphere contacts
+  double sphere_restitution = 0.8;     // C_R between spheres
+};
+
+enum class ImplicitSolver { Newton, FixedPoint };
+
+struct ImplicitDef {
+  ImplicitSolver solver = ImplicitSolver::Newton;
+  int newton_max_iterations = 20;  // per step; 1 = Baraff-Witkin's single linearised step
+  double newton_tolerance = 1e-6;  // on |M dv - h f(x+h(v+dv), v+dv)| relative to |h f|
+  int cg_max_iterations = 200;
+  double cg_tolerance = 1e-8;      // relative residual of each linear solve
+  int fixed_point_iterations = 1;  // solver: fixed_point; 1 reproduces the course framework
+};
+
+struct DivergenceDef {
+  double max_strain = 10.0;        // stop when a spring exceeds (1 + max_strain) x rest length
+  double max_energy_factor = 1e4;  // stop when kinetic energy exceeds factor x the scene's energy scale
+};
+
+}  // namespace clothsim

@@ -1,0 +1,105 @@
+#include "stiffness_estimate.h"
+
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <vector>
+
+namespace clothsim::analysis {
+
+double StiffnessEstimate::dt_springs() const {
+  return w_max > 0.0 ? 2.0 / w_max : std::numeric_limits<double>::infinity();
+}
+
+double StiffnessEstimate::dt_with_damping() const {
+  const double rate = std::max(w_max, c_max);
+  return rate > 0.0 ? 2.0 / rate : std::numeric_limits<double>::infinity();
+}
+
+StiffnessEstimate estimate_stiffness(const Model& model) {
+  const int P = model.num_particles;
+  // (P) Gershgorin row sums of the scalar Laplacians: |diagonal| + sum |off-diagonal|.
+  std::vector<double> ks_row(P, 0.0), kd_row(P, 0.0);
+  const auto free_particle = [&](int p) { return model.initial_inv_mass[p] > 0.0; };
+  const Springs& s = model.springs;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const int a = s.a[i], b = s.b[i];
+    // Each end's diagonal gets the spring; each end's off-diagonal gets it if the other end is free.
+    const double ka = std::abs(s.ks[i]), da = std::abs(s.kd[i]);
+    ks_row[a] += ka * (free_particle(b) ? 2.0 : 1.0);
+    ks_row[b] += ka * (free_particle(a) ? 2.0 : 1.0);
+    kd_row[a] += da * (free_particle(b) ? 2.0 : 1.0);
+    kd_row[b] += da * (free_particle(a) ? 2.0 : 1.0);
+  }
+  StiffnessEstimate e;
+  double w2 = 0.0;
+  for (int p = 0; p < P; ++p) {
+    if (!free_particle(p)) continue;  // pinned: no row in the free system
+    const double inv_m = model.initial_inv_mass[p];
+    const double row_w2 = ks_row[p] * inv_m;
+    if (row_w2 > w2) w2 = row_w2, e.particle = p;
+    e.c_max = std::max(e.c_max, (kd_row[p] + model.air_drag) * inv_m);
+  }
+  e.w_max = std::sqrt(w2);
+  return e;
+}
+
+namespace {
+
+// Whether |R(z)| <= 1 for R(z) = 1 + S(z), S(z) = sum_{m >= 1} a[m] z^m. Written as
+// 2 Re S + |S|^2 <= 0 so the 1 never enters: near z = 0 on the imaginary axis, |R|^2 - 1 is
+// of order |z|^4 (midpoint) and would vanish in rounding against the 1.
+bool inside(const std::vector<double>& a, std::complex<double> z) {
+  std::complex<double> s = 0.0, zm = 1.0;
+  for (std::size_t m = 1; m < a.size(); ++m) {
+    zm *= z;
+    s += a[m] * zm;
+  }
+  return 2.0 * s.real() + std::norm(s) <= 0.0;
+}
+
+// Largest h with h l inside R's region for both roots l of l^2 + c l + w^2 = 0: scanned down
+// from |h l| = 4 (beyond every region here) in steps of 0.1 %, then bisected. Searching from
+// the top finds the region's far edge, which is the limit the step cannot pass; 0 when no h
+// with |h l| >= 1e-6 is stable (explicit Euler and midpoint on an undamped mode).
+double polynomial_limit(const std::vector<double>& a, double w, double c) {
+  const std::complex<double> root = std::sqrt(std::complex<double>(c * c - 4.0 * w * w, 0.0));
+  const std::complex<double> l1 = 0.5 * (-c + root), l2 = 0.5 * (-c - root);
+  const double fastest = std::max(std::abs(l1), std::abs(l2));
+  const auto stable = [&](double h) { return inside(a, h * l1) && inside(a, h * l2); };
+  const double step = 1.001;
+  for (double h = 4.0 / fastest; h * fastest >= 1e-6; h /= step) {
+    if (!stable(h)) continue;
+    double lo = h, hi = h * step;  // stable, unstable
+    for (int i = 0; i < 60 && hi - lo > 1e-12 * lo; ++i) (stable(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
+    return lo;
+  }
+  return 0.0;
+}
+
+std::vector<double> taylor(int order) {  // 1, 1, 1/2, ..., 1/order!
+  std::vector<double> a{1.0};
+  for (int m = 1; m <= order; ++m) a.push_back(a.back() / m);
+  return a;
+}
+
+}  // namespace
+
+double predicted_limit(const StiffnessEstimate& e, IntegratorKind kind, const ImplicitDef& implicit) {
+  const double w = e.w_max, c = e.c_max;
+  const double inf = std::numeric_limits<double>::infinity();
+  if (!(w > 0.0) && !(c > 0.0)) return inf;  // nothing stiff in the scene
+  switch (kind) {
+    case IntegratorKind::ExplicitEuler: return polynomial_limit(taylor(1), w, c);
+    case IntegratorKind::Midpoint: return polynomial_limit(taylor(2), w, c);
+    case IntegratorKind::Rk4: return polynomial_limit(taylor(4), w, c);
+    case IntegratorKind::SymplecticEuler:
+      return w > 0.0 ? (std::sqrt(c * c + 4.0 * w * w) - c) / (w * w) : 2.0 / c;
+    case IntegratorKind::ImplicitEuler:
+      if (implicit.solver == ImplicitSolver::Newton) return inf;
+      return polynomial_limit(std::vector<double>(implicit.fixed_point_iterations + 2, 1.0), w, c);
+  }
+  return inf;
+}
+
+}  // namespace clothsim::analysis

@@ -1,0 +1,214 @@
+#include "stability.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <sstream>
+
+#include "study_run.h"
+#include "task_pool.h"
+#include "scene/run_bounds.h"
+
+namespace clothsim::analysis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+bool finite_positive(double v) { return v > 0.0 && std::isfinite(v); }
+
+}  // namespace
+
+const char* outcome_name(StabilityOutcome outcome) {
+  switch (outcome) {
+    case StabilityOutcome::Bracketed: return "bracketed";
+    case StabilityOutcome::StableAtMax: return "stable_at_max";
+    case StabilityOutcome::UnstableAtMin: return "unstable_at_min";
+    case StabilityOutcome::Stopped: return "stopped";
+  }
+  return "?";
+}
+
+const char* failure_name(Failure failure) {
+  switch (failure) {
+    case Failure::None: return "";
+    case Failure::Diverged: return "diverged";
+    case Failure::NotConverged: return "not_converged";
+  }
+  return "?";
+}
+
+std::string frame_step_text(const FrameStepResult& r) {
+  std::ostringstream line;
+  line.precision(4);
+  const double per_second = 1.0 / r.dt;
+  if (std::abs(per_second - std::round(per_second)) <= 1e-6 * per_second)
+    line << "1/" << std::round(per_second) << " s: ";
+  else
+    line << r.dt << " s: ";
+  if (r.stopped) line << "stopped";
+  else if (r.failure == Failure::Diverged) line << "diverged at t = " << r.diverged_at << " s";
+  else if (r.failure == Failure::NotConverged)
+    line << r.unconverged_steps << " of " << r.steps << " steps not converged";
+  else line << "ok, " << r.steps << " steps converged";
+  return line.str();
+}
+
+void check(const StabilitySpec& spec) {
+  if (spec.integrators.empty()) throw StudyError("no integrators given");
+  if (!finite_positive(spec.duration)) throw StudyError("the duration must be a finite number > 0 s");
+  if (!finite_positive(spec.min_dt)) throw StudyError("the smallest step tried must be a finite number > 0 s");
+  if (!finite_positive(spec.max_dt)) throw StudyError("the largest step tried must be a finite number > 0 s");
+  if (!(spec.min_dt < spec.max_dt)) {
+    std::ostringstream msg;
+    msg << "the smallest step tried (" << spec.min_dt << " s) must be below the largest (" << spec.max_dt << " s)";
+    throw StudyError(msg.str());
+  }
+  const std::string too_long = run_bounds_problem(spec.duration, spec.min_dt, 0.0);
+  if (!too_long.empty()) throw StudyError("at the smallest step tried, " + too_long);
+  if (spec.max_dt > spec.duration / kMinTrialSteps * (1 + 1e-12)) {
+    std::ostringstream msg;
+    msg << "the largest step tried (" << spec.max_dt << " s) leaves fewer than " << kMinTrialSteps
+        << " steps in T = " << spec.duration << " s, too few for an instability to show; lower it to "
+        << spec.duration / kMinTrialSteps << " s or run longer";
+    throw StudyError(msg.str());
+  }
+  if (!(spec.precision > 0.0 && spec.precision < 1.0)) throw StudyError("the precision must be between 0 and 1");
+  if (!finite_positive(spec.energy_factor)) throw StudyError("the energy factor must be a finite number > 0");
+  if (!finite_positive(spec.max_strain)) throw StudyError("the strain bound must be a finite number > 0");
+  if (spec.first_guess < 0.0 || !std::isfinite(spec.first_guess)) throw StudyError("the first guess must be >= 0 s");
+}
+
+StabilityLimit largest_stable_dt(const Model& model_in, IntegratorKind kind, const StabilitySpec& spec,
+                                 const std::function<bool()>& stop) {
+  check(spec);
+  Model model = model_in;  // a copy with the study's bounds
+  model.divergence.max_energy_factor = spec.energy_factor;
+  model.divergence.max_strain = spec.max_strain;
+
+  StabilityLimit out;
+  out.integrator = kind;
+  out.estimate = estimate_stiffness(model);
+  out.stable_dt = out.unstable_dt = kNaN;
+  bool stopped = false;
+  // How a run that was not stopped failed, if it did.
+  const auto failure_of = [](const StudyRun& run) {
+    if (run.divergence) return Failure::Diverged;
+    if (run.totals.unconverged_steps > 0) return Failure::NotConverged;
+    return Failure::None;
+  };
+  // One trial: true when the run reached T with every step converged; records the smallest
+  // step that failed, and how.
+  const auto stable = [&](double dt) {
+    const StudyRun run = run_to(model, kind, dt, spec.duration, stop);
+    ++out.trials;
+    out.cpu_seconds += run.totals.cpu_seconds;
+    if (run.stopped) stopped = true;
+    const Failure failure = failure_of(run);
+    if (run.finished && failure == Failure::None) {
+      if (!(out.stable_dt >= dt)) out.stable_dt = dt;
+      return true;
+    }
+    if (!stopped && !(out.unstable_dt <= dt)) {
+      out.unstable_dt = dt;
+      out.failure = failure;
+      std::ostringstream why;
+      why.precision(4);
+      if (failure == Failure::Diverged)
+        why << "at t = " << run.divergence->t << " s: " << run.divergence->reason;
+      else
+        why << run.totals.unconverged_steps << " of " << run.totals.steps
+            << " steps not converged (largest final residual " << run.totals.max_residual << ")";
+      out.reason = why.str();
+    }
+    return false;
+  };
+  const auto finish = [&](StabilityOutcome outcome) {
+    out.outcome = stopped ? StabilityOutcome::Stopped : outcome;
+    if (kind == IntegratorKind::ImplicitEuler && !stopped) {
+      for (double dt : spec.frame_dts) {  // one step per frame: reported, not searched
+        const StudyRun run = run_to(model, kind, dt, spec.duration, stop);
+        ++out.trials;
+        out.cpu_seconds += run.totals.cpu_seconds;
+        FrameStepResult r;
+        r.dt = dt;
+        r.stopped = run.stopped;
+        r.failure = failure_of(run);
+        r.steps = run.totals.steps;
+        r.unconverged_steps = run.totals.unconverged_steps;
+        if (run.divergence) r.diverged_at = run.divergence->t;
+        out.frame_steps.push_back(r);
+      }
+    }
+    return out;
+  };
+
+  // 1. The largest step tried.
+  if (stable(spec.max_dt)) return finish(StabilityOutcome::StableAtMax);
+  if (stopped) return finish(StabilityOutcome::Stopped);
+  double lo = kNaN, hi = spec.max_dt;  // lo: stable (once found), hi: unstable
+
+  // 2. Bracket from the first guess, by factors of 2.
+  double guess = spec.first_guess > 0.0 ? spec.first_guess : out.estimate.dt_with_damping();
+  if (!std::isfinite(guess)) guess = spec.max_dt;
+  guess = std::clamp(guess, spec.min_dt, 0.5 * spec.max_dt);
+  if (stable(guess)) {
+    lo = guess;
+    for (double h = 2.0 * lo; h < hi && !stopped; h *= 2.0) {
+      if (stable(h)) lo = h;
+      else hi = h;
+    }
+  } else {
+    hi = guess;
+    for (double h = 0.5 * hi; !stopped; h *= 0.5) {
+      if (h <= spec.min_dt) {  // the last halving lands on min_dt exactly
+        if (stable(spec.min_dt)) lo = spec.min_dt;
+        else hi = spec.min_dt;
+        break;
+      }
+      if (stable(h)) {
+        lo = h;
+        break;
+      }
+      hi = h;
+    }
+    if (stopped) return finish(StabilityOutcome::Stopped);
+    if (std::isnan(lo)) return finish(StabilityOutcome::UnstableAtMin);
+  }
+
+  // 3. Bisect in log dt.
+  while (!stopped && hi / lo > 1.0 + spec.precision) {
+    const double mid = std::sqrt(lo * hi);
+    if (stable(mid)) lo = mid;
+    else hi = mid;
+  }
+  return finish(StabilityOutcome::Bracketed);
+}
+
+std::vector<StabilityLimit> stability_sweep(const std::vector<StabilityCase>& cases, const StabilitySpec& spec,
+                                            const StudyHooks& hooks) {
+  check(spec);
+  const std::size_t per_case = spec.integrators.size();
+  const std::size_t total = cases.size() * per_case;
+  std::vector<StabilityLimit> limits(total);
+  std::vector<bool> done_flags(total, false);
+  std::mutex mutex;
+  long done = 0;
+  parallel_for(total, spec.jobs, [&](std::size_t i) {
+    const StabilityCase& c = cases[i / per_case];
+    StabilityLimit limit = largest_stable_dt(*c.model, spec.integrators[i % per_case], spec, hooks.stop);
+    limit.value = c.value;
+    std::lock_guard<std::mutex> lock(mutex);
+    if (limit.outcome == StabilityOutcome::Stopped) return;
+    limits[i] = std::move(limit);
+    done_flags[i] = true;
+    ++done;
+    if (hooks.progress) hooks.progress(done, static_cast<long>(total));
+  }, hooks.stop);
+  std::vector<StabilityLimit> kept;
+  for (std::size_t i = 0; i < total; ++i)
+    if (done_flags[i]) kept.push_back(std::move(limits[i]));
+  return kept;
+}
+
+}  // namespace clothsim::analysis

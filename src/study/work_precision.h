@@ -1,0 +1,105 @@
+// Work precision: how much error each integrator buys for how much work.
+//
+// For every integrator and step dt, the scene is run to time T and its final cloth
+// positions compared with a reference solution: RMS and largest particle-position
+// difference, over the particles free at T. Cost is recorded as wall time, CPU time of the
+// run's thread and force evaluations (plus Newton and CG iterations for implicit Euler,
+// whose force-evaluation count leaves out its linear solves). A run that diverges stops
+// there and is kept as a marked point without an error.
+//
+// The reference. No closed form exists for a cloth, so the program computes one: RK4 (a
+// fourth-order method, the most accurate of the five) at h = smallest dt / 8, and again at
+// h / 2. The difference between those two is how far the reference itself may be from the
+// truth (for a smooth problem it is ~15/16 of the coarser one's error; a collision makes
+// convergence rougher, which this figure measures rather than assumes). The study is
+// trustworthy only if that figure is much smaller than every error it reports: the check
+// asks for at most a tenth of the smallest RMS error, and a result that fails it says so
+// (the CLI then exits non-zero). Errors are measured against the finer run.
+//
+// Every dt must divide T (T / dt a whole number within 1e-9): then every run, the
+// reference included, ends exactly at T, and no error is a comparison of two times.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "study.h"
+#include "core/integrators/integrator_kind.h"
+#include "core/model.h"
+
+namespace clothsim::analysis {
+
+struct WorkPrecisionSpec {
+  std::vector<IntegratorKind> integrators;
+  std::vector<double> dts;     // s, each > 0 and dividing duration
+  std::vector<double> frame_dts;  // s, steps implicit_euler also runs (one step per video
+                                  // frame: 1/240 .. 1/30 s), each > 0 and dividing duration
+  double duration = 0.0;       // T, s
+  IntegratorKind reference_integrator = IntegratorKind::Rk4;
+  int reference_refinement = 8;    // reference step = smallest dt / this (then halved once more)
+  double reference_margin = 0.1;   // converged: halving's change <= margin x smallest error
+  int jobs = 0;                    // threads; <= 0: hardware_concurrency
+};
+
+struct WorkPrecisionPoint {
+  IntegratorKind integrator{};
+  double dt = 0.0;                 // s
+  bool frame_step = false;         // one of implicit Euler's frame-rate steps, outside the
+                                   // common list (spec.frame_dts)
+  bool finished = false;           // reached T (false: diverged, or stopped by the caller)
+  bool diverged = false;
+  double diverged_at = 0.0;        // s, when diverged
+  std::string reason;              // why it diverged
+  std::int64_t steps = 0, force_evals = 0, newton_iterations = 0, cg_iterations = 0;
+  std::int64_t unconverged_steps = 0;  // implicit steps that ended above their tolerance
+  double wall_seconds = 0.0, cpu_seconds = 0.0;
+  double rms_error = 0.0;          // m, RMS over free particles at T; NaN unless finished
+  double max_error = 0.0;          // m, largest particle distance at T; NaN unless finished
+};
+
+struct ReferenceCheck {
+  IntegratorKind integrator = IntegratorKind::Rk4;
+  double dt = 0.0;                 // s, the finer reference step (errors are measured against it)
+  double change_rms = 0.0;         // m, RMS difference between the runs at 2 dt and dt
+  double change_max = 0.0;         // m, largest particle difference between them
+  double smallest_error = 0.0;     // m, smallest RMS error reported (NaN when no run finished)
+  double margin = 0.1;
+  bool finished = false;           // both reference runs reached T
+  bool converged = false;          // finished, and change_rms <= margin x smallest_error
+  std::string failure;             // why not converged, one sentence (empty when converged)
+};
+
+struct WorkPrecisionResult {
+  double duration = 0.0;           // T, s
+  ReferenceCheck reference;
+  Eigen::Matrix3Xd reference_x;    // (3 x P) cloth particle positions of the finer reference at T
+  std::vector<WorkPrecisionPoint> points;  // integrator by integrator (spec order), dt ascending
+                                           // (implicit_euler's include the frame_dts)
+  bool complete = true;            // false when stopped early (points not run are left out)
+};
+
+// The steps `kind` runs: spec.dts, and for implicit_euler the frame_dts too, ascending.
+std::vector<double> steps_of(const WorkPrecisionSpec& spec, IntegratorKind kind);
+
+// Checks the spec (throws StudyError naming the problem) and returns it with dts sorted.
+WorkPrecisionSpec checked(WorkPrecisionSpec spec);
+
+// Runs the study: the two reference runs and every (integrator, dt), spread over the cores.
+WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& spec,
+                                   const StudyHooks& hooks = {});
+
+// Cloth-position differences over the particles free in `b` (inv_mass > 0): RMS and max, m.
+struct PositionError {
+  double rms = 0.0, max = 0.0;
+};
+PositionError position_error(const Model& model, const Eigen::Matrix3Xd& a,
+                             const Eigen::Matrix3Xd& b, const Eigen::VectorXd& free_in_b);
+
+// Observed order of convergence: least-squares slope of log(RMS error) against log(dt) over
+// the finished points of `kind` at the common steps (NaN with fewer than two). The frame-rate
+// steps are left out: there w h >> 1, far from the asymptotic regime an order describes.
+double convergence_order(const std::vector<WorkPrecisionPoint>& points, IntegratorKind kind);
+
+}  // namespace clothsim::analysis

@@ -1,0 +1,16 @@
+// Engine -> renderer: fill a RenderFrame from the model, the state and the scene's render
+// settings (positions, normals, spheres, ground, camera). The only place the engine meets rendering. The snapshot is data
+// only: the words over it (overlay lines, lane labels, DIVERGED banners) are presentation and
+// are written by the tools that show it (tools/cli/frames/overlay_text.h).
+#pragma once
+
+#include "render_frame.h"
+#include "render_settings.h"
+#include "core/model.h"
+#include "core/state.h"
+
+namespace clothsim {
+
+RenderFrame make_render_frame(const Model& model, const State& state, const RenderDef& look);
+
+}  // namespace clothsim

@@ -1,0 +1,124 @@
+// What compare's pictures show: golden images of an error-coloured still and of a contact
+// sheet with its colour bar, and the default clip's framing (the cloth covers at least a
+// quarter of each tile). CLOTHSIM_UPDATE_GOLDEN=1 rewrites the goldens after an intended change.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "cli/cli_process.h"
+#include "cli/frames/picture_options.h"
+#include "core/simulation.h"
+#include "render/image_diff.h"
+#include "render/png_io.h"
+#include "render/renderer.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
+#include "video/tiling.h"
+#include "view/snapshot.h"
+
+namespace fs = std::filesystem;
+using namespace clothsim;
+namespace ct = clothsim::testing;
+
+namespace {
+
+const std::string kDrape = std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml";
+
+bool updating_goldens() {
+  const char* v = std::getenv("CLOTHSIM_UPDATE_GOLDEN");
+  return v && std::string(v) == "1";
+}
+
+// Makes `out` with compare and holds it to tests/golden/`name` (or rewrites that).
+void expect_golden(const std::vector<std::string>& args, const std::string& out, const std::string& name) {
+  const auto r = ct::run_clothsim(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string golden = std::string(CLOTHSIM_GOLDEN_DIR) + "/" + name;
+  if (updating_goldens()) {
+    fs::copy_file(out, golden, fs::copy_options::overwrite_existing);
+    GTEST_SKIP() << "rewrote " << golden;
+  }
+  ASSERT_TRUE(fs::exists(golden)) << golden << " is missing (CLOTHSIM_UPDATE_GOLDEN=1 writes it)";
+  const Image expected = read_png(golden), actual = read_png(out);
+  ASSERT_EQ(expected.width, actual.width);
+  ASSERT_EQ(expected.height, actual.height);
+  const DiffTolerance tolerance;
+  const DiffStats stats = compare_images(expected, actual, tolerance.pixel_threshold);
+  if (!within_tolerance(stats, tolerance)) {
+    write_png(out + ".diff.png", diff_image(expected, actual));
+    ADD_FAILURE() << out << " differs from " << golden << ": rms " << stats.rms << ", max " << stats.max
+                  << "; see " << out << ".diff.png (if intended: CLOTHSIM_UPDATE_GOLDEN=1 ctest -R CompareLook)";
+  }
+}
+
+}  // namespace
+
+TEST(CompareLook, AnErrorColouredStillMatchesItsGolden) {
+  // The default colouring: error against RK4 at a quarter of the step, its scale from the data.
+  const std::string dir = ct::scratch_dir("compare_look_still");
+  expect_golden({"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "0.3", "--width", "640",
+                 "--height", "360", "--integrators", "explicit_euler,rk4", "--still", "0.3", "-o", dir + "/still.png"},
+                dir + "/still.png", "compare_error_still.png");
+}
+
+TEST(CompareLook, ASheetWithAColourBarMatchesItsGolden) {
+  const std::string dir = ct::scratch_dir("compare_look_sheet");
+  expect_golden({"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "0.3", "--width", "640",
+                 "--height", "360", "--integrators", "symplectic_euler@1e-4,symplectic_euler@1e-3", "--color", "strain",
+                 "--color-range", "1e-5,1e-2", "--sheet", dir + "/sheet.png", "--times", "0.1,0.3"},
+                dir + "/sheet.png", "compare_strain_sheet.png");
+}
+
+TEST(CompareLook, TilesAreSmoothedByFxaaUnlessTheSceneOrTheOptionSaysOtherwise) {
+  const std::string dir = ct::scratch_dir("compare_look_antialias");
+  const auto still = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "0.1",
+                                     "--width", "320", "--height", "180", "--integrators", "symplectic_euler",
+                                     "--color", "checker", "--still", "0.1", "-o", dir + "/" + name + ".png"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = ct::run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return read_png(dir + "/" + name + ".png").rgba;
+  };
+  const auto by_default = still("default", {});
+  EXPECT_EQ(by_default, still("fxaa", {"--antialias", "fxaa"}));
+  const auto msaa = still("msaa", {"--antialias", "msaa"});
+  EXPECT_NE(by_default, msaa);
+  EXPECT_EQ(msaa, still("scene_msaa", {"--set", "render.msaa=4"}));  // a sample count in the scene says msaa
+  EXPECT_NE(msaa, still("none", {"--antialias", "none"}));
+  const auto bad = ct::run_clothsim({"compare", kDrape, "--antialias", "smaa", "--still", "0", "-o", dir + "/bad.png"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--antialias: expected msaa, fxaa or none, got 'smaa'"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir + "/bad.png"));
+}
+
+TEST(CompareLook, TheDefaultClipsClothCoversAQuarterOfEachTile) {
+  // The default clip's tiles: 1280x720 in a 2x2 grid. The cloth's pixels are those that
+  // differ from the same frame without the cloth (no shadows, so only the cloth counts).
+  const SceneDef scene = load_scene(kDrape);
+  ASSERT_TRUE(scene.render.camera_auto) << "the shipped drape is framed automatically";
+  const TileGrid grid = TileGrid::fit(GridLayout{2, 2}, scene.render.width, scene.render.height);
+  const Model model = build_model(scene);
+  const RenderCamera camera = clothsim::cli::auto_camera(model, scene.render, static_cast<double>(grid.cell_width()) / grid.cell_height());
+  Renderer renderer;
+  clothsim::Run run(model, IntegratorKind::SymplecticEuler, model.dt);
+  for (const double t : {0.0, 1.0, 2.5, 5.0}) {
+    ASSERT_TRUE(run.advance_to(t));
+    RenderFrame with = make_render_frame(model, run.state(), scene.render);
+    with.width = grid.cell_width();
+    with.height = grid.cell_height();
+    with.camera = camera;
+    with.shadows = false;
+    RenderFrame without = with;
+    without.cloth_triangles.clear();
+    const Image a = renderer.render(with), b = renderer.render(without);
+    long cloth = 0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x)
+        cloth += !std::equal(a.pixel(x, y), a.pixel(x, y) + 3, b.pixel(x, y));
+    const double share = static_cast<double>(cloth) / (static_cast<double>(a.width) * a.height);
+    EXPECT_GE(share, 0.25) << "t = " << t << " s: the cloth covers " << 100 * share << " % of the tile";
+    RecordProperty("cloth_share_t" + std::to_string(static_cast<int>(10 * t)), std::to_string(share));
+  }
+}

@@ -1,0 +1,61 @@
+// The frame pipeline's pieces that are not a command: overlay text and the colour scale.
+#include "cli/frames/frame_decoration.h"
+#include "cli/frames/frame_pipeline.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+using namespace clothsim;
+using namespace clothsim::cli;
+
+TEST(LaneOverlay, IsDeterministicUnlessCpuIsAskedForAndFollowsTheMode) {
+  Model model;
+  model.name = "drape";
+  const LaneSpec lane{IntegratorKind::Rk4, 1e-4, "1e-4"};
+  LaneFrame f;
+  f.t = 0.5;
+  f.totals.force_evals = 20000;
+  f.totals.cpu_seconds = 0.123;
+  EXPECT_EQ(lane_overlay(model, lane, f, OverlayMode::Full, false, false),
+            (std::vector<std::string>{"t = 0.500 s", "20000 force evals"}))
+      << "a tile: the grid labels it with the lane";
+  EXPECT_EQ(lane_overlay(model, lane, f, OverlayMode::Full, true, false),
+            (std::vector<std::string>{"drape", "rk4  dt = 1e-4 s", "t = 0.500 s", "20000 force evals"}));
+  EXPECT_EQ(lane_overlay(model, lane, f, OverlayMode::Full, false, true).back(), "20000 force evals  246 ms cpu/sim s");
+  EXPECT_EQ(lane_overlay(model, lane, f, OverlayMode::Label, true, false), (std::vector<std::string>{"rk4  dt = 1e-4 s"}));
+  EXPECT_TRUE(lane_overlay(model, lane, f, OverlayMode::Label, false, false).empty());
+  EXPECT_TRUE(lane_overlay(model, lane, f, OverlayMode::None, true, true).empty());
+}
+
+TEST(RangeFromData, RoundsTheLargestValueUpToADecadeAndSpansFourDecadesForTheError) {
+  const std::vector<float> a{0.f, 3e-4f, 2e-6f}, b{0.02f, std::numeric_limits<float>::infinity(), -1.f};
+  const auto error = range_from_data({&a, &b}, FieldKind::Error);
+  ASSERT_TRUE(error);
+  EXPECT_DOUBLE_EQ(error->hi, 0.1);
+  EXPECT_DOUBLE_EQ(error->lo, 1e-5);
+  const auto strain = range_from_data({&a}, FieldKind::Strain);
+  ASSERT_TRUE(strain);
+  EXPECT_NEAR(strain->hi, 1e-3, 1e-18);
+  EXPECT_NEAR(strain->lo, 1e-6, 1e-21);
+  const std::vector<float> zeros(5, 0.f);
+  EXPECT_FALSE(range_from_data({&zeros}, FieldKind::Speed)) << "a cloth at rest has no scale";
+}
+
+TEST(EnergyInset, SharesTheAxesButAnExplodingLaneDoesNotFlattenTheOthers) {
+  std::vector<EnergyHistory> lanes(2);
+  for (int k = 0; k <= 10; ++k) {
+    lanes[0].add(0.1 * k, 100.0 - k);               // a damped lane: 100 -> 90 J
+    lanes[1].add(0.1 * k, 100.0 * std::pow(10, k));  // an exploding one
+  }
+  RenderFrame f;
+  draw_energy_inset(f, lanes, 0, 1.0);
+  ASSERT_TRUE(f.inset.show);
+  EXPECT_FLOAT_EQ(f.inset.v_lo, 90.f) << "the data's own low end";
+  EXPECT_FLOAT_EQ(f.inset.v_hi, 300.f) << "E(0) + 2 |E(0)|, not 1e12";
+  EXPECT_EQ(f.inset.value.size(), 11u);
+  EXPECT_FLOAT_EQ(f.inset.t_hi, 1.f);
+  RenderFrame g;
+  draw_energy_inset(g, lanes, 1, 1.0);
+  EXPECT_EQ(g.inset.v_hi, f.inset.v_hi) << "one axis for every tile";
+}

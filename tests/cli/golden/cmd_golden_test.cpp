@@ -1,0 +1,177 @@
+// `clothsim golden check|update MANIFEST.yaml` as users call it, and the project's own golden
+// images (tests/golden/manifest.yaml) checked through it with each GL backend.
+// CLOTHSIM_UPDATE_GOLDEN=1 makes the project's test rewrite them instead (after an intended
+// change to the picture; commit the new images).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli/cli_process.h"
+
+namespace clothsim::testing {
+namespace {
+namespace fs = std::filesystem;
+
+bool updating_goldens() {
+  const char* v = std::getenv("CLOTHSIM_UPDATE_GOLDEN");
+  return v && std::string(v) == "1";
+}
+
+void project_goldens_through(const std::string& backend) {
+  const std::string manifest = std::string(CLOTHSIM_GOLDEN_DIR) + "/manifest.yaml";
+  const std::string failures = scratch_dir("golden_" + backend);
+  const CliResult r = updating_goldens()
+                          ? run_clothsim({"golden", "update", manifest, "--gl", backend})
+                          : run_clothsim({"golden", "check", manifest, "--gl", backend, "--failures", failures});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err
+                            << "(if the change is intended: CLOTHSIM_UPDATE_GOLDEN=1 ctest -R ProjectGoldens)";
+  EXPECT_NE(r.out.find(updating_goldens() ? "3 of 3 images written" : "3 of 3 images match"), std::string::npos) << r.out;
+}
+
+TEST(ProjectGoldens, MatchThroughEgl) { project_goldens_through("egl"); }
+TEST(ProjectGoldens, MatchThroughOsmesa) { project_goldens_through("osmesa"); }
+
+void write(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+// A user's directory: their own scene (the drape, copied) and a manifest beside it.
+struct UserProject {
+  std::string dir, scene, manifest, golden;
+  explicit UserProject(const std::string& name) : dir(scratch_dir(name)) {
+    scene = dir + "/my_drape.yaml";
+    fs::copy_file(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", scene);
+    manifest = dir + "/goldens.yaml";
+    write(manifest, "size: [160, 90]\ngoldens:\n  - scene: my_drape.yaml\n    times: [0.05, 0.2]\n");
+    golden = dir + "/my_drape_t200ms.png";
+  }
+  void change_scene() {  // a bigger ball: the cloth drapes differently
+    std::string text = slurp(scene);
+    text.replace(text.find("radius: 1.0"), 11, "radius: 1.4");
+    write(scene, text);
+  }
+};
+
+TEST(CmdGolden, UpdateWritesTheImagesAndCheckThenPasses) {
+  UserProject p("golden_user_pass");
+  const CliResult update = run_clothsim({"golden", "update", p.manifest});
+  ASSERT_EQ(update.exit_code, 0) << update.err;
+  EXPECT_TRUE(fs::exists(p.dir + "/my_drape_t50ms.png"));
+  EXPECT_TRUE(fs::exists(p.golden));
+  const CliResult check = run_clothsim({"golden", "check", p.manifest});
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  EXPECT_NE(check.out.find("golden: 2 of 2 images match"), std::string::npos) << check.out;
+  EXPECT_TRUE(only_files(p.dir, {"my_drape.yaml", "goldens.yaml", "my_drape_t50ms.png", "my_drape_t200ms.png"}));
+}
+
+TEST(CmdGolden, AChangedSceneFailsWithTheActualAndDiffImagesBesideAndUpdateRewrites) {
+  UserProject p("golden_user_fail");
+  ASSERT_EQ(run_clothsim({"golden", "update", p.manifest}).exit_code, 0);
+  const std::string before = slurp(p.golden);
+  p.change_scene();
+  const CliResult check = run_clothsim({"golden", "check", p.manifest});
+  EXPECT_EQ(check.exit_code, 1) << check.out << check.err;
+  EXPECT_NE(check.out.find("FAIL  my_drape_t200ms.png"), std::string::npos) << check.out;
+  EXPECT_NE(check.out.find("golden: 0 of 2 images match"), std::string::npos) << check.out;
+  const std::string actual = p.dir + "/my_drape_t200ms.actual.png", diff = p.dir + "/my_drape_t200ms.diff.png";
+  EXPECT_TRUE(fs::exists(actual));
+  EXPECT_TRUE(fs::exists(diff));
+  EXPECT_NE(check.out.find(diff), std::string::npos) << check.out;
+
+  const CliResult update = run_clothsim({"golden", "update", p.manifest});
+  ASSERT_EQ(update.exit_code, 0) << update.err;
+  EXPECT_NE(slurp(p.golden), before);
+  const CliResult again = run_clothsim({"golden", "check", p.manifest});
+  EXPECT_EQ(again.exit_code, 0) << again.out;
+  EXPECT_FALSE(fs::exists(actual));  // the evidence of the old failure is gone
+  EXPECT_FALSE(fs::exists(diff));
+}
+
+TEST(CmdGolden, AMissingGoldenFailsAndSaysHowToMakeIt) {
+  UserProject p("golden_user_missing");
+  const CliResult check = run_clothsim({"golden", "check", p.manifest});
+  EXPECT_EQ(check.exit_code, 1);
+  EXPECT_NE(check.out.find("missing (`clothsim golden update` writes it)"), std::string::npos) << check.out;
+}
+
+TEST(CmdGolden, ABadManifestExitsTwoWithFileLineAndKey) {
+  const std::string dir = scratch_dir("golden_bad_manifest");
+  const struct {
+    std::string text, message;
+  } cases[] = {
+      {"goldens:\n  - scene: a.yaml\n    tims: [1]\n", "m.yaml:3: goldens[0].tims: unknown key"},
+      {"goldens:\n  - scene: a.yaml\n", "m.yaml:2: goldens[0].times: missing"},
+      {"goldens:\n  - scene: a.yaml\n    times: [1, 0.5]\n", "m.yaml:3: goldens[0].times: expected increasing times"},
+      {"size: [320, -1]\ngoldens:\n  - scene: a.yaml\n    times: [1]\n", "m.yaml:1: size[1]: value -1 out of range"},
+      {"goldens:\n  - scene: a.yaml\n    times: [1]\n    integrator: rk5\n", "m.yaml:4: goldens[0].integrator: unknown integrator 'rk5'"},
+      {"goldens:\n  - {scene: a.yaml, times: [1]}\n  - {scene: b/a.yaml, times: [1]}\n",
+       "m.yaml:3: goldens[1].name: writes a_t1000ms.png as goldens[0] does"},
+      {"tolerance: {max_rms: x}\ngoldens: []\n", "m.yaml:1: tolerance.max_rms: expected a number"},
+  };
+  for (const auto& c : cases) {
+    write(dir + "/m.yaml", c.text);
+    const CliResult r = run_clothsim({"golden", "check", dir + "/m.yaml"});
+    EXPECT_EQ(r.exit_code, 2) << c.text;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+  }
+  // Named against the manifest too: a scene that is not there, a time past the scene's end.
+  write(dir + "/m.yaml", "goldens:\n  - {scene: nowhere.yaml, times: [1]}\n");
+  const CliResult r = run_clothsim({"golden", "check", dir + "/m.yaml"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("m.yaml:2: goldens[0].scene: not a scene file (missing, or a directory): "), std::string::npos) << r.err;
+  fs::copy_file(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", dir + "/d.yaml");  // 5 s
+  write(dir + "/m.yaml", "goldens:\n  - scene: d.yaml\n    times: [1, 9]\n");
+  const CliResult late = run_clothsim({"golden", "update", dir + "/m.yaml"});
+  EXPECT_EQ(late.exit_code, 2);
+  EXPECT_EQ(line_count(late.err), 1) << late.err;
+  EXPECT_NE(late.err.find("m.yaml:2: goldens[0].times: 9 s is past the scene's duration (5 s)"), std::string::npos)
+      << late.err;
+  // An entry's own dt is bounded as the scene file's is, over the run to its latest still.
+  write(dir + "/m.yaml", "goldens:\n  - scene: d.yaml\n    dt: 1e-12\n    times: [1]\n");
+  const CliResult tiny = run_clothsim({"golden", "update", dir + "/m.yaml"});
+  EXPECT_EQ(tiny.exit_code, 2);
+  EXPECT_EQ(line_count(tiny.err), 1) << tiny.err;
+  EXPECT_NE(tiny.err.find("m.yaml:2: goldens[0].dt: duration / dt = 1 s / 1e-12 s = 1e+12 steps, more than the limit"),
+            std::string::npos)
+      << tiny.err;
+  EXPECT_TRUE(only_files(dir, {"m.yaml", "d.yaml"})) << "nothing rendered";
+}
+
+// --max-memory as run and compare have it: every entry's run is estimated before anything is
+// rendered, and one over the limit is refused (exit 2) naming its line and the estimate.
+TEST(CmdGolden, AnEntryOverMaxMemoryIsRefusedBeforeAnythingIsRendered) {
+  UserProject p("golden_max_memory");
+  // The first entry fits in 500 MB (about 170 MB); the second, at 4000 x 4000, needs over 1 GB.
+  write(p.manifest,
+        "size: [160, 90]\ngoldens:\n  - scene: my_drape.yaml\n    times: [0.05]\n"
+        "  - scene: my_drape.yaml\n    name: big\n    size: [4000, 4000]\n    times: [0.05]\n");
+  const std::string failures = p.dir + "/failures";
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"golden", "check", p.manifest, "--max-memory", "500M", "--failures", failures},
+        std::vector<std::string>{"golden", "update", p.manifest, "--max-memory", "500M"}}) {
+    const CliResult r = run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("clothsim: " + p.manifest + ":5: goldens[1] (" + p.dir + "/my_drape.yaml): needs an estimated ",
+                          0),
+              0u)
+        << r.err;
+    EXPECT_NE(r.err.find("renderer 4000x4000"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("more than --max-memory 500 MB"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "") << "nothing rendered, not even the first entry";
+    EXPECT_TRUE(only_files(p.dir, {"my_drape.yaml", "goldens.yaml"})) << "nothing written";
+  }
+  // Within the limit, the same entries are rendered.
+  write(p.manifest, "size: [160, 90]\ngoldens:\n  - scene: my_drape.yaml\n    times: [0.05]\n");
+  const CliResult fits = run_clothsim({"golden", "update", p.manifest, "--max-memory", "500M"});
+  EXPECT_EQ(fits.exit_code, 0) << fits.err;
+  EXPECT_TRUE(fs::exists(p.dir + "/my_drape_t50ms.png"));
+  const CliResult bad = run_clothsim({"golden", "check", p.manifest, "--max-memory", "lots"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--max-memory: 'lots' is not a size"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace clothsim::testing

@@ -1,0 +1,169 @@
+// `clothsim bench` as users call it: the CSV and the printed reference check, a reference
+// that is not converged failing loudly, bad step lists answered in one line with exit 2
+// and nothing written, Ctrl-C keeping the runs finished so far, and the plot.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <fstream>
+
+#include "cli/cli_process.h"
+
+namespace clothsim::testing {
+namespace {
+
+std::string spring() { return std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml"; }
+
+std::vector<std::string> lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+TEST(CmdBench, WritesOneRowPerRunAndPrintsTheReferenceCheck) {
+  const std::string dir = scratch_dir("bench_csv");
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "symplectic_euler,rk4", "--dts",
+                                    "0.01,0.005", "--duration", "1", "--csv", dir + "/wp.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_NE(r.out.find("reference check: halving the reference step (rk4, 0.000625 s -> 0.0003125 s)"),
+            std::string::npos)
+      << r.out;
+  const auto rows = lines(dir + "/wp.csv");
+  ASSERT_EQ(rows.size(), 1u + 4u);
+  EXPECT_EQ(rows[0].rfind("integrator,dt,steps,force_evals,", 0), 0u);
+  EXPECT_EQ(rows[1].rfind("symplectic_euler,0.005,200,200,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[4].rfind("rk4,0.01,100,400,", 0), 0u) << rows[4];
+  EXPECT_TRUE(only_files(dir, {"wp.csv"}));
+}
+
+TEST(CmdBench, WithoutDurationRunsToTheDefaultItsHelpStates) {
+  EXPECT_NE(run_clothsim({"bench", "--help"}).out.find("(default: the scene's duration, at most 0.5 s and 8000 x the "
+                                                      "smallest step, rounded down to a multiple of the largest)"),
+            std::string::npos);
+  // spring.yaml: 2 s, dt 1 ms, so steps 0.25 .. 8 ms: min(2, 0.5, 8000 x 0.25 ms) = 0.5 s, down
+  // to a multiple of 8 ms = 0.496 s.
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "symplectic_euler"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("to T = 0.496 s"), std::string::npos) << r.out;
+}
+
+TEST(CmdBench, TakesStepsAsFractions) {
+  const std::string dir = scratch_dir("bench_fractions");
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "symplectic_euler", "--dts", "1/100,1/200",
+                                    "--duration", "1", "--csv", dir + "/wp.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = lines(dir + "/wp.csv");
+  ASSERT_EQ(rows.size(), 1u + 2u);
+  EXPECT_EQ(rows[1].rfind("symplectic_euler,0.005,200,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("symplectic_euler,0.01,100,", 0), 0u) << rows[2];
+}
+
+TEST(CmdBench, FailsLoudlyWhenTheReferenceIsNotConverged) {
+  // --reference-refinement 1: the reference is RK4 at the bench's own step, so RK4's error
+  // there is zero and halving the reference moves it more than that.
+  const std::string dir = scratch_dir("bench_unconverged");
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "rk4", "--dts", "0.01", "--duration", "1",
+                                    "--reference-refinement", "1", "--csv", dir + "/wp.csv", "--summary",
+                                    dir + "/wp.json"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("the reference is not converged"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("spring.yaml"), std::string::npos) << r.err;
+  // Both kept for inspection, and said so.
+  EXPECT_NE(r.err.find("(kept for inspection: " + dir + "/wp.csv, " + dir + "/wp.json); no plot drawn"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(lines(dir + "/wp.csv").size(), 2u);
+  EXPECT_TRUE(only_files(dir, {"wp.csv", "wp.json"}));
+}
+
+TEST(CmdBench, BadStepListsAreOneLineExitTwoAndNothingWritten) {
+  const std::string dir = scratch_dir("bench_bad");
+  const std::string csv = dir + "/wp.csv";
+  struct Case {
+    std::vector<std::string> args;
+    std::string message;
+  };
+  const std::vector<Case> cases{
+      {{"--dts", ""}, "--dts"},  // CLI11's own "required LIST missing"
+      {{"--dts", ","}, "--dts: empty item"},
+      {{"--dts=0.01,-0.005"}, "--dts: -0.005 is not a positive step"},
+      {{"--dts", "0.01,abc"}, "--dts: 'abc' is not a finite number"},
+      {{"--dts", "1/0"}, "--dts: '1/0' is not a finite number (or a fraction like 1/60)"},
+      {{"--frame-dts", "1/60,0"}, "--frame-dts: 0 is not a positive step"},
+      {{"--frame-dts", "sixty"}, "--frame-dts: 'sixty' is not a finite number"},
+      {{"--dts", "0.003", "--duration", "1"}, "--dts: 0.003 does not divide the duration 1 s"},
+      {{"--integrators", "rk5"}, "--integrators: unknown integrator 'rk5'"},
+      {{"--integrators", "rk4,rk4"}, "--integrators: 'rk4' is listed twice"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args{"bench", spring(), "--csv", csv};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const CliResult r = run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 2) << c.message;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_TRUE(only_files(dir, {})) << c.message;
+  }
+}
+
+TEST(CmdBench, InterruptKeepsTheRunsFinishedSoFarAndNamesEveryFileThatStays) {
+  // The drape's reference runs over 2 s of scene take far longer than the 2 s before SIGINT (the
+  // study at 0.2 s had become fast enough to finish first); SIGINT stops the study, which writes
+  // the CSV and the summary of what finished (a header at least) and exits 130 (128 + SIGINT),
+  // its one line naming both files as incomplete and the plot as not drawn.
+  const std::string dir = scratch_dir("bench_interrupt");
+  const CliResult r = run_clothsim({"bench", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--duration", "2",
+                                    "--csv", dir + "/wp.csv", "--summary", dir + "/wp.json", "--plot", dir + "/wp.png"},
+                                   "timeout --foreground --preserve-status -s INT 2");
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("clothsim: interrupted: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" of 28 runs finished; kept " + dir + "/wp.csv (incomplete), " + dir +
+                       "/wp.json (incomplete); not written: " + dir + "/wp.png"),
+            std::string::npos)
+      << r.err;
+  const auto rows = lines(dir + "/wp.csv");
+  ASSERT_GE(rows.size(), 1u);
+  EXPECT_EQ(rows[0].rfind("integrator,dt,", 0), 0u);
+  EXPECT_NE(slurp(dir + "/wp.json").find("\"complete\": false"), std::string::npos);
+  EXPECT_TRUE(only_files(dir, {"wp.csv", "wp.json"}));
+}
+
+// python3-matplotlib is one of the project's dependencies (tools/install-deps.sh): the plot
+// must be drawn, not skipped.
+TEST(CmdBench, DrawsTheWorkPrecisionDiagram) {
+  const std::string dir = scratch_dir("bench_plot");
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "explicit_euler,rk4", "--dts", "0.01,0.005",
+                                    "--duration", "1", "--plot", dir + "/wp.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(dir + "/wp.png").substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_TRUE(only_files(dir, {"wp.png"}));  // the temporary CSV and PNG are gone
+}
+
+TEST(CmdBench, APythonWithoutMatplotlibIsSaidBeforeAnyRun) {
+  const std::string dir = scratch_dir("bench_plot_missing");
+  // /bin/false stands in for a python3 that cannot import matplotlib.
+  const CliResult r = run_clothsim({"bench", spring(), "--dts", "0.01,0.005", "--duration", "1", "--plot",
+                                    dir + "/wp.png"},
+                                   "env CLOTHSIM_PYTHON=/bin/false");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("matplotlib"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");  // no study ran
+  EXPECT_TRUE(only_files(dir, {}));
+}
+
+// Steps are bounded before anything runs: the finest reference run of --dts 1e-9 over 1 s
+// (the smallest step / 8 / 2) is 1.6e10 steps.
+TEST(CmdBench, RefusesAStudyPastTheStepLimitAtOnce) {
+  const CliResult r = run_clothsim({"bench", spring(), "--dts", "1e-9", "--duration", "1"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--dts: the finest reference run: duration / dt"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("more than the limit of 1e+09"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace clothsim::testing

@@ -1,0 +1,169 @@
+// Block-Jacobi PCG on backward-Euler systems of a small sheet: it solves to its tolerance
+// (checked with an independent product), says when it stops at its cap, and is exact in
+// one iteration when the system is block diagonal (no springs: the preconditioner is A^-1).
+#include "core/linear/conjugate_gradient.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_support.h"
+#include "core/implicit/step_potential.h"
+#include "core/state.h"
+
+namespace clothsim::testing {
+namespace {
+
+std::string sheet(const std::string& springs) {
+  return "name: sheet\ncloth:\n  particles: [6, 5]\n  size: [1, 1]\n  particle_mass: 0.1\n"
+         "  pinned: top_edge\n  springs:\n" + springs;
+}
+const std::string kAllSprings =
+    "    structural: {stiffness: 5000, damping: 5}\n"
+    "    shear: {stiffness: 3000, damping: 3}\n"
+    "    bend: {stiffness: 500, damping: 1}\n";
+
+struct System {
+  Model model;
+  SpringBlockMatrix A;
+  Eigen::Matrix3Xd b;
+};
+
+System system(const std::string& springs, double h) {
+  System s{model_from_yaml(sheet(springs)), {}, {}};
+  State st = initial_state(s.model);
+  std::srand(3);
+  st.x += 0.02 * Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
+  st.v = Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
+  std::vector<double> start_length;
+  step_lengths(s.model, st.x, start_length);
+  build_pattern(s.model, s.A);
+  assemble_step_hessian(s.model, st.inv_mass, h, start_length, st.x + h * st.v, true, s.A);
+  s.b = Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
+  for (int i = 0; i < s.model.num_bodies(); ++i)
+    if (st.inv_mass[i] == 0.0) s.b.col(i).setZero();
+  return s;
+}
+
+TEST(ConjugateGradient, SolvesABackwardEulerSystemToItsTolerance) {
+  const System s = system(kAllSprings, 0.02);  // h^2 k / m = 20: far from mass-dominated
+  Eigen::Matrix3Xd x, Ax;
+  CgBuffers buffers;
+  const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{500, 1e-10}, buffers);
+  EXPECT_TRUE(r.converged);
+  EXPECT_GT(r.iterations, 1);
+  EXPECT_LE(r.relative_residual, 1e-10);
+  multiply(s.A, x, Ax);
+  EXPECT_LE((s.b - Ax).norm(), 1e-9 * s.b.norm());  // the recurrence did not drift
+}
+
+TEST(ConjugateGradient, SaysSoWhenItStopsAtItsIterationCap) {
+  const System s = system(kAllSprings, 0.02);
+  Eigen::Matrix3Xd x;
+  CgBuffers buffers;
+  const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{2, 1e-14}, buffers);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.iterations, 2);
+  EXPECT_GT(r.relative_residual, 1e-14);
+}
+
+TEST(ConjugateGradient, ZeroRightHandSideNeedsNoIteration) {
+  const System s = system(kAllSprings, 0.02);
+  Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Ones(3, s.model.num_bodies());
+  CgBuffers buffers;
+  const CgResult r = solve_pcg(s.A, Eigen::Matrix3Xd::Zero(3, s.model.num_bodies()), x, CgSettings{10, 1e-8}, buffers);
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(x.norm(), 0.0);
+}
+
+TEST(ConjugateGradient, BlockJacobiIsExactWithoutSprings) {
+  const System s = system("    {}\n", 0.02);
+  ASSERT_EQ(s.model.springs.size(), 0u);
+  Eigen::Matrix3Xd x;
+  CgBuffers buffers;
+  const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{10, 1e-12}, buffers);
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.iterations, 1);
+}
+
+TEST(ConjugateGradient, AWarmStartNearTheSolutionNeedsFewerIterations) {
+  const System s = system(kAllSprings, 0.02);
+  Eigen::Matrix3Xd exact, x;
+  CgBuffers buffers;
+  const CgResult cold = solve_pcg(s.A, s.b, exact, CgSettings{500, 1e-12}, buffers);
+  ASSERT_TRUE(cold.converged);
+  // From the solution itself: nothing to do.
+  x = exact;
+  EXPECT_EQ(solve_pcg(s.A, s.b, x, CgSettings{500, 1e-10, 0.0, true}, buffers).iterations, 0);
+  // From a guess 1e-3 off: converges, in fewer iterations than from zero, to the same answer.
+  std::srand(11);
+  x = exact + 1e-3 * exact.norm() / std::sqrt(double(exact.size())) * Eigen::Matrix3Xd::Random(3, exact.cols());
+  const CgResult warm = solve_pcg(s.A, s.b, x, CgSettings{500, 1e-12, 0.0, true}, buffers);
+  EXPECT_TRUE(warm.converged);
+  EXPECT_LT(warm.iterations, cold.iterations);
+  EXPECT_LT((x - exact).norm(), 1e-8 * exact.norm());
+}
+
+TEST(ConjugateGradient, StopsAtTheAbsoluteAccuracyTheCallerNeeds) {
+  const System s = system(kAllSprings, 0.02);
+  Eigen::Matrix3Xd x, Ax;
+  CgBuffers buffers;
+  const double need = 1e-3 * s.b.norm();
+  const CgResult loose = solve_pcg(s.A, s.b, x, CgSettings{500, 1e-14, need}, buffers);
+  EXPECT_TRUE(loose.converged);
+  multiply(s.A, x, Ax);
+  EXPECT_LE((s.b - Ax).norm(), need * (1 + 1e-9));
+  const CgResult tight = solve_pcg(s.A, s.b, x, CgSettings{500, 1e-14}, buffers);
+  EXPECT_LT(loose.iterations, tight.iterations);
+}
+
+TEST(ConjugateGradient, AFilteredSolveNeverMovesAlongHeldNormalsAndSolvesTheRest) {
+  const System s = system(kAllSprings, 0.02);
+  VelocityFilter filter;
+  filter.body = {20, 25, 27};
+  filter.normal = {Vec3::UnitY(), Vec3(1, 1, 0).normalized(), Vec3::UnitZ()};
+  Eigen::Matrix3Xd b = s.b, x, Ax;
+  filter.apply(b);
+  CgBuffers buffers;
+  const CgResult r = solve_pcg(s.A, b, x, CgSettings{500, 1e-12}, buffers, &filter);
+  ASSERT_TRUE(r.converged);
+  for (std::size_t c = 0; c < filter.size(); ++c)
+    EXPECT_LT(std::abs(filter.normal[c].dot(x.col(filter.body[c]))), 1e-14 * x.norm());
+  multiply(s.A, x, Ax);
+  Eigen::Matrix3Xd residual = b - Ax;
+  filter.apply(residual);  // S (b - A x) = 0: the reduced system S A S x = S b is solved
+  EXPECT_LE(residual.norm(), 1e-10 * b.norm());
+}
+
+TEST(ConjugateGradient, EveryTruncatedIterateFromZeroDescends) {
+  // Stopped at any iteration, x_k has b . x_k > 0: a descent direction for the Newton step.
+  const System s = system(kAllSprings, 0.02);
+  for (int cap = 1; cap <= 6; ++cap) {
+    Eigen::Matrix3Xd x;
+    CgBuffers buffers;
+    solve_pcg(s.A, s.b, x, CgSettings{cap, 1e-14}, buffers);
+    EXPECT_GT(s.b.cwiseProduct(x).sum(), 0.0) << "after " << cap << " iterations";
+  }
+}
+
+TEST(ConjugateGradient, StopsAtNegativeCurvatureWithTheFirstDirectionAndSaysSo) {
+  System s = system(kAllSprings, 0.02);
+  for (auto& block : s.A.diag) block = -block;  // negative definite: the first p has p.Ap < 0
+  s.A.refresh_diagonal_soa();                    // (the SIMD mat-vec reads this copy)
+  Eigen::Matrix3Xd x;
+  CgBuffers buffers;
+  const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{50, 1e-10}, buffers);
+  EXPECT_FALSE(r.converged);
+  EXPECT_TRUE(r.negative_curvature);
+  EXPECT_EQ(r.iterations, 0);
+  // The first direction itself, the preconditioned right-hand side: still downhill (b . x > 0),
+  // so a Newton solve always has a step to search along.
+  for (int i = 0; i < s.A.num_bodies(); ++i)
+    EXPECT_TRUE(x.col(i).isApprox(s.A.diag_inverse[i] * s.b.col(i), 1e-12) || s.b.col(i).isZero())
+        << "body " << i;
+  EXPECT_GT(s.b.cwiseProduct(x).sum(), 0.0);
+}
+
+}  // namespace
+}  // namespace clothsim::testing

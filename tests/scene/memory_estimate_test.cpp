@@ -1,0 +1,61 @@
+// The memory estimate counts what build_model builds, and grows with what costs memory.
+#include "scene/memory_estimate.h"
+
+#include <gtest/gtest.h>
+
+#include "core/model.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
+
+namespace clothsim {
+namespace {
+
+TEST(MemoryEstimate, CountsTheSpringsTheModelBuilds) {
+  for (const char* springs : {"{structural: {}}", "{shear: {}}", "{bend: {}}", "{structural: {}, shear: {}, bend: {}}"})
+    for (const char* size : {"[1, 1]", "[2, 1]", "[3, 1]", "[7, 5]", "[2, 9]"}) {
+      const SceneDef scene = parse_scene(std::string("cloth: {particles: ") + size + ", springs: " + springs + "}\n", "s");
+      EXPECT_EQ(spring_count(scene.cloth), static_cast<std::int64_t>(build_model(scene).springs.size()))
+          << size << " " << springs;
+    }
+}
+
+TEST(MemoryEstimate, ImplicitEulerCostsMoreThanTheExplicitFamilyAndBothGrowWithTheCloth) {
+  const SceneDef small = parse_scene("cloth: {particles: [10, 10], springs: {structural: {}}}\n", "s");
+  const SceneDef large = parse_scene("cloth: {particles: [100, 100], springs: {structural: {}}}\n", "s");
+  EXPECT_GT(run_bytes(small, IntegratorKind::ImplicitEuler), run_bytes(small, IntegratorKind::Rk4));
+  EXPECT_GT(model_bytes(large), 50 * model_bytes(small));
+  EXPECT_GT(run_bytes(large, IntegratorKind::ImplicitEuler), 50 * run_bytes(small, IntegratorKind::ImplicitEuler));
+}
+
+TEST(MemoryEstimate, Covers2048SquaredImplicitAtItsMeasuredPeak) {
+  // Measured on the drape at 2048 x 2048 (BENCHMARKS.md, "Memory estimate"): 1.2 GB to
+  // validate, a 7 185 MiB (7.02 GiB) peak for two implicit Euler steps. The estimate must cover
+  // it, and may overstate it, by design, but not by more than a third.
+  const SceneDef s = parse_scene(
+      "cloth: {particles: [2048, 2048], springs: {structural: {}, shear: {}, bend: {}}}\n", "s");
+  const double gb = 1024.0 * 1024 * 1024;
+  EXPECT_NEAR(model_bytes(s) / gb, 1.2, 0.2);
+  const double total = (model_bytes(s) + run_bytes(s, IntegratorKind::ImplicitEuler)) / gb;
+  constexpr double kMeasured = 7185.0 / 1024;
+  EXPECT_GT(total, kMeasured);
+  EXPECT_LT(total, kMeasured * 1.33);
+}
+
+// implicit_euler may build a sparse factor (cholesky_preconditioner.h): the estimate holds
+// one as large as the 64 x 64 drape's, and never more than the solver's 512 MiB cap.
+TEST(MemoryEstimate, ImplicitEulerCountsItsSparseFactorUpToTheCap) {
+  const SceneDef drape64 = parse_scene(
+      "cloth: {particles: [64, 64], springs: {structural: {}, shear: {}, bend: {}}}\n", "s");
+  const double factor64 = 14.9 * 1024 * 1024;  // L and D measured at 64 x 64 (BENCHMARKS.md)
+  EXPECT_GT(run_bytes(drape64, IntegratorKind::ImplicitEuler) - run_bytes(drape64, IntegratorKind::Rk4), factor64);
+  const SceneDef huge = parse_scene(
+      "cloth: {particles: [2048, 2048], springs: {structural: {}, shear: {}, bend: {}}}\n", "s");
+  const SceneDef bigger = parse_scene(
+      "cloth: {particles: [2048, 1900], springs: {structural: {}, shear: {}, bend: {}}}\n", "s");
+  // Past the cap the factor's share no longer grows: the difference is the solve's own arrays.
+  const double share = run_bytes(huge, IntegratorKind::ImplicitEuler) - run_bytes(bigger, IntegratorKind::ImplicitEuler);
+  EXPECT_LT(share, 2048.0 * 148 * 2000);
+}
+
+}  // namespace
+}  // namespace clothsim

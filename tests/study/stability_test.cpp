@@ -1,0 +1,178 @@
+// The stability search on spring.yaml made undamped (w = 10 rad/s), against linear theory
+// for x'' = -w^2 x: symplectic Euler stable for w h < 2, RK4 for w h < 2.83, implicit
+// Euler always, explicit Euler and midpoint never.
+//
+// Why T = 400 s and steps down to w h = 0.2: explicit Euler's and midpoint's growth is slow
+// at small h (energy x exp(w^2 h t) and exp(w^4 h^3 t / 4)); to be called unstable their
+// kinetic energy must pass 100 x the energy scale (1.5 J here, from 0.5 J: a factor 300,
+// e^5.7). Over 400 s at w h = 0.2 midpoint grows by e^8 and explicit Euler by e^800, so both
+// are caught at every step tried, yet the spring's 2 particles make each run milliseconds.
+#include "study/stability.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_support.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
+#include "study/study_run.h"
+
+namespace clothsim::analysis {
+namespace {
+
+using testing::scene_path;
+
+constexpr double kOmega = 10.0;  // rad/s, sqrt(k / m)
+
+Model undamped_spring(double stiffness = 100.0) {
+  return build_model(load_scene(scene_path("spring.yaml"),
+                                {"cloth.springs.structural.damping=0",
+                                 "cloth.springs.structural.stiffness=" + std::to_string(stiffness)}));
+}
+
+StabilitySpec long_run(IntegratorKind kind) {
+  StabilitySpec spec;
+  spec.integrators = {kind};
+  spec.duration = 400.0;
+  spec.min_dt = 0.02;  // w h = 0.2
+  spec.max_dt = 1.0;   // w h = 10
+  spec.precision = 0.02;
+  return spec;
+}
+
+TEST(Stability, FindsSymplecticEulersLimitAtOmegaHEqualsTwo) {
+  const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::SymplecticEuler,
+                                             long_run(IntegratorKind::SymplecticEuler));
+  ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed);
+  EXPECT_NEAR(kOmega * l.stable_dt, 2.0, 0.03 * 2.0);
+  EXPECT_LE(l.unstable_dt / l.stable_dt, 1.02 + 1e-12);
+  EXPECT_LE(kOmega * l.stable_dt, 2.0);  // the bracket's stable end is below the limit
+  EXPECT_FALSE(l.reason.empty());
+}
+
+TEST(Stability, FindsRk4sLimitAtOmegaHEqualsTwoPointEightThree) {
+  const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::Rk4, long_run(IntegratorKind::Rk4));
+  ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed);
+  EXPECT_NEAR(kOmega * l.stable_dt, 2.0 * std::sqrt(2.0), 0.03 * 2.83);
+}
+
+TEST(Stability, UnstableRunThatSettlesIntoABoundedWrongOrbitIsStillCaught) {
+  // k = 25 N/m (w = 5): just past RK4's limit the spring's amplitude passes its rest length
+  // and the particle collapses through its pin into a bounded orbit; with the engine's own
+  // strain bound (10) that passed as stable at w h = 3.08. The study's bound (2) catches it.
+  const StabilityLimit l = largest_stable_dt(undamped_spring(25.0), IntegratorKind::Rk4, long_run(IntegratorKind::Rk4));
+  ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed);
+  EXPECT_NEAR(5.0 * l.stable_dt, 2.0 * std::sqrt(2.0), 0.03 * 2.83);
+}
+
+TEST(Stability, ImplicitEulerIsStableAtTheLargestStepTried) {
+  const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::ImplicitEuler,
+                                             long_run(IntegratorKind::ImplicitEuler));
+  EXPECT_EQ(l.outcome, StabilityOutcome::StableAtMax);
+  EXPECT_DOUBLE_EQ(l.stable_dt, 1.0);
+  EXPECT_EQ(l.trials, 1);  // the cap is tried first: nothing invented above it
+}
+
+TEST(Stability, ImplicitEulerIsAlsoRunAtOneStepPerFrameAndReportedApart) {
+  StabilitySpec spec = long_run(IntegratorKind::ImplicitEuler);
+  spec.duration = 2.0;
+  spec.max_dt = 0.1;
+  spec.frame_dts = {1.0 / 60, 1.0 / 30};
+  const StabilityLimit implicit = largest_stable_dt(undamped_spring(), IntegratorKind::ImplicitEuler, spec);
+  EXPECT_EQ(implicit.trials, 3);  // the largest step, then the two frame steps
+  ASSERT_EQ(implicit.frame_steps.size(), 2u);
+  EXPECT_EQ(frame_step_text(implicit.frame_steps[0]), "1/60 s: ok, 120 steps converged");
+  EXPECT_EQ(frame_step_text(implicit.frame_steps[1]), "1/30 s: ok, 60 steps converged");
+  EXPECT_EQ(implicit.failure, Failure::None);
+  spec.integrators = {IntegratorKind::Rk4};
+  EXPECT_TRUE(largest_stable_dt(undamped_spring(), IntegratorKind::Rk4, spec).frame_steps.empty());
+}
+
+TEST(Stability, FrameStepTextSaysHowEachFrameStepEnded) {
+  FrameStepResult r;
+  r.dt = 1.0 / 30;
+  r.steps = 6;
+  r.unconverged_steps = 3;
+  r.failure = Failure::NotConverged;
+  EXPECT_EQ(frame_step_text(r), "1/30 s: 3 of 6 steps not converged");
+  r.failure = Failure::Diverged;
+  r.diverged_at = 0.1;
+  EXPECT_EQ(frame_step_text(r), "1/30 s: diverged at t = 0.1 s");
+  r.dt = 0.003;  // not one over a whole number: in seconds
+  r.failure = Failure::None;
+  EXPECT_EQ(frame_step_text(r), "0.003 s: ok, 6 steps converged");
+}
+
+TEST(Stability, AnImplicitRunWhoseStepsMissedTheirToleranceIsNotStableAndSaysSo) {
+  // Two Newton iterations on a swinging (rotating, so nonlinear) spring meet 1e-10 at steps
+  // up to 0.02 s but not at 0.05 or 0.1 s (measured with `run`), where the run stays bounded
+  // without having computed backward Euler's steps.
+  const Model model = build_model(load_scene(
+      scene_path("spring.yaml"), {"gravity=[0, -9.8, 0]", "implicit.newton_max_iterations=2",
+                                  "implicit.newton_tolerance=1e-10"}));
+  StabilitySpec spec = long_run(IntegratorKind::ImplicitEuler);
+  spec.duration = 2.0;
+  spec.max_dt = 0.1;
+  spec.min_dt = 1e-3;
+  const StabilityLimit l = largest_stable_dt(model, IntegratorKind::ImplicitEuler, spec);
+  ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed) << "reached T at 0.1 s, but unconverged";
+  EXPECT_EQ(l.failure, Failure::NotConverged);
+  EXPECT_NE(l.reason.find("steps not converged (largest final residual "), std::string::npos) << l.reason;
+  EXPECT_GE(l.stable_dt, 0.02);
+  EXPECT_LT(l.unstable_dt, 0.05 * 1.0001);
+  const StudyRun at_limit = run_to(model, IntegratorKind::ImplicitEuler, l.stable_dt, spec.duration);
+  EXPECT_TRUE(at_limit.finished);
+  EXPECT_EQ(at_limit.totals.unconverged_steps, 0) << "the stable end converged at every step";
+}
+
+TEST(Stability, ADivergedRunFailsAsDiverged) {
+  const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::SymplecticEuler,
+                                             long_run(IntegratorKind::SymplecticEuler));
+  EXPECT_EQ(l.failure, Failure::Diverged);
+  EXPECT_EQ(l.reason.rfind("at t = ", 0), 0u) << l.reason;
+}
+
+TEST(Stability, ExplicitEulerAndMidpointAreNeverStableOverALongRun) {
+  for (IntegratorKind kind : {IntegratorKind::ExplicitEuler, IntegratorKind::Midpoint}) {
+    const StabilityLimit l = largest_stable_dt(undamped_spring(), kind, long_run(kind));
+    EXPECT_EQ(l.outcome, StabilityOutcome::UnstableAtMin) << integrator_name(kind);
+    EXPECT_DOUBLE_EQ(l.unstable_dt, 0.02);
+    EXPECT_TRUE(std::isnan(l.stable_dt));
+  }
+}
+
+TEST(Stability, SweepFindsTheLimitFallingAsOneOverTheSquareRootOfStiffness) {
+  const Model soft = undamped_spring(100.0), stiff = undamped_spring(400.0);
+  StabilitySpec spec = long_run(IntegratorKind::SymplecticEuler);
+  spec.integrators = {IntegratorKind::SymplecticEuler, IntegratorKind::ImplicitEuler};
+  spec.jobs = 2;
+  const std::vector<StabilityLimit> limits = stability_sweep({{100.0, &soft}, {400.0, &stiff}}, spec);
+  ASSERT_EQ(limits.size(), 4u);
+  EXPECT_EQ(limits[0].value, 100.0);
+  EXPECT_EQ(limits[0].integrator, IntegratorKind::SymplecticEuler);
+  EXPECT_EQ(limits[1].integrator, IntegratorKind::ImplicitEuler);
+  EXPECT_EQ(limits[2].value, 400.0);
+  EXPECT_NEAR(limits[0].stable_dt / limits[2].stable_dt, 2.0, 0.05);
+  EXPECT_NEAR(limits[2].stable_dt, limits[2].estimate.dt_springs(), 0.03 * 0.1);  // 2 / w, w = 20
+  EXPECT_EQ(limits[3].outcome, StabilityOutcome::StableAtMax);
+}
+
+TEST(Stability, RejectsARangeWithNothingInIt) {
+  StabilitySpec spec = long_run(IntegratorKind::Rk4);
+  spec.min_dt = 1.0;
+  EXPECT_THROW(check(spec), StudyError);
+  spec = long_run(IntegratorKind::Rk4);
+  spec.integrators.clear();
+  EXPECT_THROW(check(spec), StudyError);
+}
+
+TEST(Stability, StoppedSearchIsLeftOutOfTheSweep) {
+  const Model model = undamped_spring();
+  StudyHooks hooks;
+  hooks.stop = [] { return true; };
+  EXPECT_TRUE(stability_sweep({{100.0, &model}}, long_run(IntegratorKind::Rk4), hooks).empty());
+}
+
+}  // namespace
+}  // namespace clothsim::analysis

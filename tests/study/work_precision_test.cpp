@@ -1,0 +1,187 @@
+// The work-precision study on the damped oscillator of spring.yaml (m = 1 kg, k = 100 N/m,
+// d = 2 N s/m, 0.1 m initial stretch, one end pinned): convergence orders from the slopes,
+// the reference against the closed form, and a reference that is not converged caught.
+#include "study/work_precision.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_support.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
+
+namespace clothsim::analysis {
+namespace {
+
+using testing::scene_path;
+
+Model spring_model(const std::vector<std::string>& sets = {}) {
+  return build_model(load_scene(scene_path("spring.yaml"), sets));
+}
+
+WorkPrecisionSpec spring_spec(std::vector<IntegratorKind> kinds) {
+  WorkPrecisionSpec spec;
+  spec.integrators = std::move(kinds);
+  spec.dts = {0.01, 0.005, 0.0025, 0.00125};  // w h = 0.1 .. 0.0125: the asymptotic range
+  spec.duration = 1.0;
+  spec.jobs = 2;
+  return spec;
+}
+
+TEST(WorkPrecision, SlopesOnTheSpringGiveEachMethodsConvergenceOrder) {
+  const Model model = spring_model();
+  const WorkPrecisionResult r = work_precision(
+      model, spring_spec({IntegratorKind::ExplicitEuler, IntegratorKind::SymplecticEuler, IntegratorKind::Midpoint,
+                          IntegratorKind::Rk4, IntegratorKind::ImplicitEuler}));
+  ASSERT_TRUE(r.reference.converged) << r.reference.failure;
+  ASSERT_EQ(r.points.size(), 20u);
+  EXPECT_NEAR(convergence_order(r.points, IntegratorKind::ExplicitEuler), 1.0, 0.2);
+  EXPECT_NEAR(convergence_order(r.points, IntegratorKind::SymplecticEuler), 1.0, 0.2);
+  EXPECT_NEAR(convergence_order(r.points, IntegratorKind::Midpoint), 2.0, 0.2);
+  EXPECT_NEAR(convergence_order(r.points, IntegratorKind::Rk4), 4.0, 0.2);
+  EXPECT_NEAR(convergence_order(r.points, IntegratorKind::ImplicitEuler), 1.0, 0.2);
+  for (const WorkPrecisionPoint& p : r.points) {
+    EXPECT_TRUE(p.finished);
+    EXPECT_EQ(p.steps, std::llround(1.0 / p.dt));  // every run ends exactly at T
+    EXPECT_LE(p.rms_error, p.max_error * (1 + 1e-12));
+  }
+}
+
+TEST(WorkPrecision, TheOrderIsFittedOverTheCommonStepsOnly) {
+  // Errors 1e-4 and 1e-3 at 1e-3 and 1e-2 s: first order. A frame-rate step of 1/30 s whose
+  // error has saturated (w h >> 1) would pull the slope down; it is left out.
+  std::vector<WorkPrecisionPoint> points(3);
+  const double dts[] = {1e-3, 1e-2, 1.0 / 30.0}, errors[] = {1e-4, 1e-3, 2e-3};
+  for (int i = 0; i < 3; ++i) {
+    points[i].integrator = IntegratorKind::ImplicitEuler;
+    points[i].dt = dts[i];
+    points[i].rms_error = errors[i];
+    points[i].finished = true;
+  }
+  points[2].frame_step = true;
+  EXPECT_NEAR(convergence_order(points, IntegratorKind::ImplicitEuler), 1.0, 1e-12);
+  points[2].frame_step = false;
+  EXPECT_LT(convergence_order(points, IntegratorKind::ImplicitEuler), 0.9) << "what it would read with it";
+}
+
+TEST(WorkPrecision, ReferenceMatchesTheClosedFormOfTheDampedOscillator) {
+  const Model model = spring_model();
+  const WorkPrecisionResult r = work_precision(model, spring_spec({IntegratorKind::Rk4}));
+  ASSERT_EQ(r.reference_x.cols(), 2);
+  // u'' + 2 u' + 100 u = 0, u(0) = 0.1, u'(0) = 0: zeta w0 = 1, wd = sqrt(99).
+  const double wd = std::sqrt(99.0), t = 1.0;
+  const double u = 0.1 * std::exp(-t) * (std::cos(wd * t) + std::sin(wd * t) / wd);
+  const double length = (r.reference_x.col(1) - r.reference_x.col(0)).norm();
+  EXPECT_NEAR(length - 1.0, u, 1e-10);
+  EXPECT_LT(r.reference.change_rms, 1e-12);
+  EXPECT_DOUBLE_EQ(r.reference.dt, 0.00125 / 16);
+}
+
+TEST(WorkPrecision, ReferenceCheckFailsWhenTheReferenceIsNotConverged) {
+  // A first-order reference only twice finer than the RK4 runs it judges: halving it moves
+  // the answer by ~1e-4 m, so every "error" it reports is its own (RK4's are ~1e-8 m).
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4});
+  spec.dts = {0.01, 0.005};
+  spec.reference_integrator = IntegratorKind::SymplecticEuler;
+  spec.reference_refinement = 2;
+  const WorkPrecisionResult r = work_precision(spring_model(), spec);
+  EXPECT_TRUE(r.reference.finished);
+  EXPECT_FALSE(r.reference.converged);
+  EXPECT_GT(r.reference.change_rms, r.reference.margin * r.reference.smallest_error);
+  EXPECT_GT(r.reference.change_rms, 1e-5);
+  EXPECT_NE(r.reference.failure.find("not converged"), std::string::npos) << r.reference.failure;
+}
+
+TEST(WorkPrecision, DivergedRunIsKeptWithoutAnError) {
+  // Undamped, explicit Euler at w h = 2.5 grows by |1 + 2.5 i| = 2.7 per step.
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::ExplicitEuler});
+  spec.dts = {0.25, 0.125};
+  spec.duration = 50.0;
+  const WorkPrecisionResult r = work_precision(spring_model({"cloth.springs.structural.damping=0"}), spec);
+  ASSERT_EQ(r.points.size(), 2u);
+  const WorkPrecisionPoint& big = r.points[1];
+  EXPECT_DOUBLE_EQ(big.dt, 0.25);
+  EXPECT_TRUE(big.diverged);
+  EXPECT_FALSE(big.finished);
+  EXPECT_LT(big.diverged_at, 50.0);
+  EXPECT_LT(big.steps, 200);  // stopped early, not run to T
+  EXPECT_TRUE(std::isnan(big.rms_error));
+  EXPECT_FALSE(big.reason.empty());
+}
+
+TEST(WorkPrecision, FrameRateStepsAreRunByImplicitEulerOnlyAndUnconvergedStepsAreCounted) {
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4, IntegratorKind::ImplicitEuler});
+  spec.dts = {0.01, 0.005};
+  spec.frame_dts = {0.02, 0.01, 0.04};  // 0.01 is also a common step: run once
+  // Swinging under gravity the spring rotates, so one linearised step cannot meet 1e-10.
+  const Model model = spring_model({"gravity=[0, -9.8, 0]", "implicit.newton_max_iterations=1",
+                                    "implicit.newton_tolerance=1e-10"});
+  const WorkPrecisionResult r = work_precision(model, spec);
+  std::vector<double> rk4, implicit;
+  for (const WorkPrecisionPoint& p : r.points) {
+    (p.integrator == IntegratorKind::Rk4 ? rk4 : implicit).push_back(p.dt);
+    if (p.integrator == IntegratorKind::Rk4) EXPECT_EQ(p.unconverged_steps, 0);
+    else EXPECT_GT(p.unconverged_steps, p.steps / 2) << "one iteration at 1e-10 misses most steps";
+  }
+  EXPECT_EQ(rk4, (std::vector<double>{0.005, 0.01}));
+  EXPECT_EQ(implicit, (std::vector<double>{0.005, 0.01, 0.02, 0.04}));
+}
+
+TEST(WorkPrecision, RejectsStepListsItCannotRun) {
+  const Model model = spring_model();
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4});
+  spec.dts = {};
+  EXPECT_THROW(work_precision(model, spec), StudyError);
+  spec.dts = {0.01, -0.005};
+  EXPECT_THROW(work_precision(model, spec), StudyError);
+  spec.dts = {0.003};
+  try {
+    checked(spec);
+    FAIL() << "0.003 s does not divide 1 s";
+  } catch (const StudyError& e) {
+    EXPECT_NE(std::string(e.what()).find("0.003 does not divide the duration 1 s"), std::string::npos) << e.what();
+  }
+  spec.dts = {0.01, 0.01};
+  EXPECT_THROW(checked(spec), StudyError);
+  spec.dts = {0.02, 0.01};
+  EXPECT_EQ(checked(spec).dts, (std::vector<double>{0.01, 0.02}));  // sorted
+}
+
+TEST(WorkPrecision, StoppedStudyLeavesOutTheRunsNotMade) {
+  StudyHooks hooks;
+  hooks.stop = [] { return true; };
+  const WorkPrecisionResult r = work_precision(spring_model(), spring_spec({IntegratorKind::Rk4}), hooks);
+  EXPECT_FALSE(r.complete);
+  EXPECT_TRUE(r.points.empty());
+  EXPECT_FALSE(r.reference.converged);
+}
+
+TEST(PositionError, IsTheRmsAndMaxOverParticlesFreeInTheReference) {
+  const Model model = spring_model();  // particle 0 pinned, 1 free
+  Eigen::Matrix3Xd a = Eigen::Matrix3Xd::Zero(3, 2), b = Eigen::Matrix3Xd::Zero(3, 2);
+  a.col(0) << 5, 0, 0;  // pinned: ignored
+  a.col(1) << 3, 4, 0;
+  Eigen::VectorXd inv_mass(2);
+  inv_mass << 0.0, 1.0;
+  const PositionError e = position_error(model, a, b, inv_mass);
+  EXPECT_DOUBLE_EQ(e.rms, 5.0);
+  EXPECT_DOUBLE_EQ(e.max, 5.0);
+}
+
+TEST(ConvergenceOrder, IsTheLeastSquaresSlopeOfLogErrorAgainstLogStep) {
+  std::vector<WorkPrecisionPoint> points;
+  for (double dt : {0.1, 0.05, 0.025}) {
+    WorkPrecisionPoint p;
+    p.integrator = IntegratorKind::Midpoint;
+    p.dt = dt;
+    p.finished = true;
+    p.rms_error = 3.0 * dt * dt;
+    points.push_back(p);
+  }
+  EXPECT_NEAR(convergence_order(points, IntegratorKind::Midpoint), 2.0, 1e-12);
+  EXPECT_TRUE(std::isnan(convergence_order(points, IntegratorKind::Rk4)));
+}
+
+}  // namespace
+}  // namespace clothsim::analysis

@@ -1,0 +1,99 @@
+// What every subcommand shares: exit codes, the two kinds of failure, files that appear
+// whole or not at all, and progress (progress.h).
+#pragma once
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "progress.h"  // Progress, --progress, --quiet: every command uses them
+#include "render/output_file.h"
+
+namespace clothsim::cli {
+
+// The CLI contract's exit codes (DESIGN.md).
+// A run stopped by SIGINT or SIGTERM exits 128 + the signal's number (130, 143), as a shell
+// reports a process killed by it, after cleaning up (main() maps it; see interrupt_signal()).
+enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3, kNotConverged = 4 };
+// The exit codes as --help lists them (clothsim --help, and run --help, which has its own footer).
+inline constexpr const char* kExitCodesHelp =
+    "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene\n"
+    "(also a run over --max-memory or past 1e9 steps / 1e7 frames), 3 the simulation diverged\n"
+    "(run only), 4 an implicit step did not converge (run --strict),\n"
+    "130 / 143 stopped by SIGINT (Ctrl-C) / SIGTERM (at once, whatever the step; a second\n"
+    "signal kills).\n";
+
+// Bad usage or a bad scene: exit 2. The message is the whole one-line error.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// I/O, GL or encoder failure: exit 1.
+struct RuntimeFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A CSV or JSON output: an OutputFile (render/output_file.h: nameless until commit(), so an
+// error, a signal or even SIGKILL leaves nothing under the name) with RuntimeFailure errors.
+class AtomicFile {
+ public:
+  explicit AtomicFile(const std::string& path);  // throws RuntimeFailure if it cannot be created
+  std::FILE* stream() { return file_->stream(); }
+  const std::string& path() const { return file_->path(); }
+  void commit();  // flush, name, close; throws RuntimeFailure "cannot write PATH: reason"
+ private:
+  std::unique_ptr<OutputFile> file_;
+};
+
+// A hidden temporary path beside `path` for files another process writes (the plot
+// scripts), renamed by the caller. Throws RuntimeFailure if the directory does not exist
+// or is not writable, naming the path.
+std::string temp_path_beside(const std::string& path);
+// Checks before any work is done that `path` can be created: its directory exists and is
+// writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist"), or with
+// -n/--no-overwrite UsageError when `path` exists.
+void require_writable_parent(const std::string& path, const std::string& what);
+// Two outputs of one command at the same path (after resolving . and .. and symlinks of the
+// directories) would overwrite each other: a UsageError naming both options, before any work.
+// `outputs`: (path, option) pairs; empty paths are skipped.
+void refuse_shared_outputs(const std::vector<std::pair<std::string, std::string>>& outputs);
+// -n/--no-overwrite (ffmpeg's -n): an output that exists already is a UsageError (exit 2),
+// raised by require_writable_parent() before any work; set by the option (progress.h).
+bool no_overwrite();
+void set_no_overwrite(bool on);
+// With -n, a frames directory holding frame_* files is a UsageError too.
+void refuse_existing_frames(const std::string& dir, const std::string& what);
+// Creates `dir` (and parents) if missing; throws RuntimeFailure when impossible.
+void ensure_directory(const std::string& dir, const std::string& what);
+
+// A number for a message as a user writes it: %g with 6 digits ("0.6", not "0.600000").
+std::string number_text(double value);
+
+// What a stopped or failed command leaves: "kept A, B; not written: C" ("nothing kept").
+std::string what_stays(const std::vector<std::string>& kept, const std::vector<std::string>& not_written);
+
+// Set by the SIGINT/SIGTERM handler (install_interrupt_handler); long loops poll it and stop
+// cleanly. interrupt_signal() is the signal that arrived (0: none).
+// A second SIGINT or SIGTERM ends the process at once (the handler restores the defaults).
+bool interrupted();
+int interrupt_signal();
+const char* interrupt_signal_name();  // "SIGINT", "SIGTERM"
+void install_interrupt_handler();
+// The one line a stopped command ends with (main adds "clothsim: "), saying exactly what stays
+// on disk and what does not: "stopped by SIGTERM at t = 0.2 s; kept 7 PNGs in out/; not
+// written: m.csv, clip.mp4" ("nothing kept" when `kept` is empty).
+std::string interruption_message(double t, const std::vector<std::string>& kept,
+                                 const std::vector<std::string>& not_written);
+
+// A finite number written as a number ("0.004", "4e-3") or a fraction of two ("1/60", the
+// way a step of one per frame is said); nullopt for anything else (words, "1/0", "1/", "").
+std::optional<double> parse_number_or_fraction(const std::string& text);
+
+// Splits "a,b,c" (empty pieces are an error reported by the caller).
+std::vector<std::string> split_list(const std::string& text, char sep = ',');
+
+}  // namespace clothsim::cli

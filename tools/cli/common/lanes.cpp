@@ -1,0 +1,174 @@
+#include "lanes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "cli_common.h"
+#include "cli/compare/compare_plan.h"
+#include "cli/frames/overlay_text.h"
+#include "scene/echo.h"
+
+namespace clothsim::cli {
+
+namespace {
+
+std::string trimmed(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
+// The course's "implicit" as a lane of its own: implicit_euler as one fixed-point iteration.
+constexpr std::string_view kFixedPointName = "implicit_euler_fixed_point";
+
+std::string names_or_course() {
+  return integrator_names_joined() + ", " + std::string(kFixedPointName) + ", or course";
+}
+
+struct Item {
+  LaneSpec lane;
+  bool has_step = false;
+};
+
+// One NAME[@STEP] item of `option`.
+Item parse_item(const std::string& item, const std::string& option) {
+  Item out;
+  const auto at = item.find('@');
+  const std::string name = trimmed(item.substr(0, at));
+  const bool lanes = option != "--reference";  // the reference is one of the integrators as the scene sets them
+  const bool fixed_point = lanes && name == kFixedPointName;
+  const std::optional<IntegratorKind> kind = fixed_point ? IntegratorKind::ImplicitEuler : parse_integrator(name);
+  if (!kind)
+    throw UsageError(option + ": unknown integrator " + in_quotes(name) + " (expected one of: " +
+                     (lanes ? names_or_course() : integrator_names_joined()) + ")");
+  out.lane.kind = *kind;
+  out.lane.fixed_point = fixed_point;
+  if (at != std::string::npos) {
+    const std::string step = trimmed(item.substr(at + 1));
+    if (step.empty()) throw UsageError(option + ": " + in_quotes(item) + " has no step after '@'");
+    const std::optional<double> dt = parse_number_or_fraction(step);
+    if (!dt) throw UsageError(option + ": " + in_quotes(step) + " in " + in_quotes(item) +
+                              " is not a number (or a fraction like 1/60)");
+    if (!(*dt > 0.0)) throw UsageError(option + ": the step in " + in_quotes(item) + " must be > 0 s");
+    out.lane.dt = *dt;
+    out.lane.step_text = step;
+    out.has_step = true;
+  }
+  return out;
+}
+
+bool same_lane(const LaneSpec& a, const LaneSpec& b) {
+  return a.kind == b.kind && a.dt == b.dt && a.fixed_point == b.fixed_point;
+}
+
+}  // namespace
+
+std::string step_string(double dt) {
+  std::string text = number_text(dt);
+  // A step of one n-th of a second that %g can only round (1/30 s: "0.0333333") is written
+  // as the fraction a user gives it in (--dt 1/30, as @1/30 is shown as written).
+  const double n = std::round(1.0 / dt);
+  std::string digits = text.substr(0, text.find('e'));  // the significant digits %g printed
+  digits.erase(std::remove(digits.begin(), digits.end(), '.'), digits.end());
+  digits.erase(0, digits.find_first_not_of('0'));
+  // (within rounding of 1/n only: 0.033333333333333 is not 1/30, and must not be named so)
+  if (digits.size() >= 6 && n >= 2.0 && n < 1e6 && std::abs(n * dt - 1.0) <= 4.0 * std::numeric_limits<double>::epsilon())
+    return "1/" + number_text(n);
+  return text;
+}
+
+std::string LaneSpec::name() const {
+  std::string n(integrator_name(kind));
+  return fixed_point ? n + " (fixed point)" : n;
+}
+
+std::string LaneSpec::label() const { return integrator_label(name(), step_text); }
+
+std::string LaneSpec::spelling() const {
+  return (fixed_point ? std::string(kFixedPointName) : std::string(integrator_name(kind))) + "@" + step_text;
+}
+
+std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt_text, double scene_dt) {
+  std::vector<Item> items;
+  for (const std::string& raw : split_list(integrators)) {
+    const std::string item = trimmed(raw);
+    if (item.empty()) throw UsageError("--integrators: empty item in " + in_quotes(integrators));
+    if (item == "course") {  // the course framework's four, in its order
+      for (IntegratorKind k : {IntegratorKind::ExplicitEuler, IntegratorKind::ImplicitEuler,
+                               IntegratorKind::Midpoint, IntegratorKind::Rk4})
+        items.push_back(Item{LaneSpec{k, 0.0, "", k == IntegratorKind::ImplicitEuler}, false});
+      continue;
+    }
+    items.push_back(parse_item(item, "--integrators"));
+  }
+  if (items.empty())
+    throw UsageError("--integrators: empty list, no integrator given (expected names such as rk4,implicit_euler@1/60)");
+
+  // Lanes without @STEP take --dt as before: per integrator, or one step for all of them.
+  std::vector<IntegratorKind> stepless;
+  for (const Item& i : items)
+    if (!i.has_step && std::find(stepless.begin(), stepless.end(), i.lane.kind) == stepless.end())
+      stepless.push_back(i.lane.kind);
+  const std::vector<double> dts = parse_dt_list(dt_text, stepless, scene_dt);
+  std::vector<LaneSpec> lanes;
+  for (Item& i : items) {
+    if (!i.has_step) {
+      i.lane.dt = dts[static_cast<std::size_t>(std::find(stepless.begin(), stepless.end(), i.lane.kind) - stepless.begin())];
+      i.lane.step_text = step_string(i.lane.dt);
+    }
+    for (const LaneSpec& l : lanes)
+      if (same_lane(l, i.lane))
+        throw UsageError("--integrators: " + in_quotes(i.lane.spelling()) +
+                         " is listed twice (the same integrator at the same step)");
+    lanes.push_back(i.lane);
+  }
+  return lanes;
+}
+
+double smallest_step(const std::vector<LaneSpec>& lanes) {
+  double smallest = lanes.front().dt;
+  for (const LaneSpec& l : lanes) smallest = std::min(smallest, l.dt);
+  return smallest;
+}
+
+LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& lanes) {
+  LaneSpec ref{IntegratorKind::Rk4, smallest_step(lanes) / 4.0, "", false};
+  if (!trimmed(text).empty()) {
+    if (text.find(',') != std::string::npos) throw UsageError("--reference: one lane, got " + in_quotes(text));
+    const Item item = parse_item(trimmed(text), "--reference");
+    ref.kind = item.lane.kind;
+    if (item.has_step) {
+      ref.dt = item.lane.dt;
+      ref.step_text = item.lane.step_text;
+    }
+  }
+  if (ref.step_text.empty()) ref.step_text = step_string(ref.dt);
+  return ref;
+}
+
+const Model& lane_model(const Model& base, const LaneSpec& lane, std::optional<Model>& storage) {
+  if (!lane.fixed_point) return base;
+  // The course framework's "implicit" (docs/integrators.md): one fixed-point iteration.
+  storage.emplace(base);
+  storage->implicit.solver = ImplicitSolver::FixedPoint;
+  storage->implicit.fixed_point_iterations = 1;
+  return *storage;
+}
+
+std::vector<std::string> lane_directories(const std::vector<LaneSpec>& lanes) {
+  std::vector<std::string> dirs;
+  for (const LaneSpec& l : lanes) {
+    const auto same_kind = std::count_if(lanes.begin(), lanes.end(), [&](const LaneSpec& o) { return o.kind == l.kind; });
+    std::string d(integrator_name(l.kind));
+    if (l.fixed_point) d += "_fixed_point";
+    if (same_kind > 1) d += "@" + l.step_text;
+    std::replace(d.begin(), d.end(), '/', '_');
+    std::replace(d.begin(), d.end(), ' ', '_');
+    dirs.push_back(d);
+  }
+  return dirs;
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,59 @@
+// Lanes: what a comparison runs side by side. A lane is one simulation of the scene with one
+// integrator at one step (and, for the course's "implicit", its one-iteration fixed point):
+// `--integrators rk4@1e-4,rk4@4e-4,implicit_euler@1/60` is three lanes, two of them RK4.
+// Every function throws UsageError with a one-line message naming the option.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/integrators/integrator_kind.h"
+#include "core/model.h"
+
+namespace clothsim::cli {
+
+struct LaneSpec {
+  IntegratorKind kind{};
+  double dt = 0.0;
+  std::string step_text;                // the step as the user wrote it ("1/60", "1e-4"), else %g
+  bool fixed_point = false;  // the course's "implicit": implicit_euler as one fixed-point
+                             // iteration (`implicit: {solver: fixed_point, iterations: 1}`)
+
+  std::string name() const;   // "rk4", "implicit_euler (fixed point)"
+  std::string label() const;  // name and step: "rk4  dt = 1e-4 s"
+  // As --integrators spells it, and parses back to this lane: "rk4@1e-4",
+  // "implicit_euler_fixed_point@0.0001" (--summary's "lane").
+  std::string spelling() const;
+};
+
+// --integrators: "course" (the course's four: explicit Euler, the one-iteration fixed-point
+// "implicit", midpoint, RK4) or NAME[@STEP],... with STEP a number or a fraction, NAME an
+// integrator or implicit_euler_fixed_point (the course's "implicit" alone). An item without
+// @STEP takes its step from --dt ("S", "name=S,...", or both, as before the lanes had steps;
+// name=S applies to that integrator's lanes without @STEP, implicit_euler=S to the fixed point's
+// too), else the scene's dt. The same integrator may appear at several steps; the same lane
+// twice is an error. --reference takes the integrators only.
+std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt, double scene_dt);
+
+// The smallest step of the lanes (not empty): what the reference's default step is a quarter
+// of (and, where that is above RK4's stable step, divided into whole steps: picture_options.h).
+double smallest_step(const std::vector<LaneSpec>& lanes);
+
+// --reference NAME[@STEP]; "" is RK4 at a quarter of the smallest lane step, the error
+// colouring's default. Without @STEP, a quarter of the smallest lane step too.
+LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& lanes);
+
+// Directory names for --frames, one per lane: the integrator's name when it is the only
+// lane of that integrator (DIR/rk4, as before lanes had steps), else name@step with '/'
+// spelled '_' (DIR/rk4@1e-4, DIR/implicit_euler@1_60).
+std::vector<std::string> lane_directories(const std::vector<LaneSpec>& lanes);
+
+// The model a lane runs: `base` itself, or for the course's fixed-point lane a copy with the
+// course's implicit settings (`storage` holds the copy).
+const Model& lane_model(const Model& base, const LaneSpec& lane, std::optional<Model>& storage);
+
+// "%g" of a step, the way labels and messages write it.
+std::string step_string(double dt);
+
+}  // namespace clothsim::cli

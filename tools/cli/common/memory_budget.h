@@ -1,0 +1,73 @@
+// --max-memory: a run's estimated peak memory (src/scene/memory_estimate.h for the engine; the
+// renderer and the encoder here) against a limit, checked before anything large is allocated.
+// Over the limit, the command is refused (exit 2) with the estimate and what it is made of.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cli/compare/compare_plan.h"
+#include "scene/scene_def.h"
+
+namespace clothsim::cli {
+
+// "4G", "512M", "1.5G", "800MB", "2000000000" (bytes); K, M, G, T are powers of 1024.
+// nullopt for anything else (negative, zero, words).
+std::optional<double> parse_memory_size(const std::string& text);
+// "5.12 GB", "80 MB" (powers of 1024, three significant digits).
+std::string format_bytes(double bytes);
+// Half the physical memory: room for the rest of the machine (and the other jobs of a batch
+// node), and far below where Linux's OOM killer would end the run without a word.
+double default_memory_limit();
+
+// Process, GL and image sizes, from GNU time's peak RSS (BENCHMARKS.md, "Memory estimate").
+inline constexpr double kProcessBytes = 80.0 * 1024 * 1024;   // libraries, a tiny scene: 76 MB
+inline constexpr double kRendererBytes = 80.0 * 1024 * 1024;  // OSMesa / llvmpipe: 35 MB at 320x240
+// The renderer's buffers per pixel of its target: 20 B plus 8 B per MSAA sample (52 B at the
+// default 4 samples; measured 48 B per pixel for a still, frame and PNG included).
+double render_bytes(int width, int height, int samples);
+// x264 (veryfast) and the YUV conversion per pixel of the encoded picture: 64 B (measured
+// 62-75 B on this 2-core machine; x264's frame threads, hence its memory, grow with cores).
+double encoder_bytes(int width, int height);
+
+// Each lane thread of a frame pipeline beyond the Run itself: glibc's per-thread malloc arena
+// and the thread's stack pages. Calibrated on compare's default clip: with 4 lane threads the
+// estimate was 2-3 % under its peak (245 MiB), with 5 (the reference lane added) 6 % under
+// (253 MiB) until this term, 3 MiB per lane, was counted.
+inline constexpr double kLaneThreadBytes = 3.0 * 1024 * 1024;
+
+// Lane frames held back while a colour scale is chosen from the first second's data
+// (frame_pipeline.h): `frames` targets of `lanes` lanes, each a picture's geometry (positions,
+// normals, grid coordinates, triangles: 56 B per particle), the field (4 B) and double
+// positions for the error (24 B): 84 B per particle, counted as 96.
+double held_frames_bytes(const SceneDef& scene, std::size_t lanes, double frames);
+
+// The reference lane's positions at the lanes' times (reference_stand.h), for lanes of
+// `lane_steps` over `plan`'s targets: its last two steps kept (positions and velocities), and a
+// copy of the positions per distinct lane step for every target waiting for a lane of a larger
+// step (ReferenceStand::waiting_bound: a lane of 20 s on a 30 frames/s clip holds every frame
+// of those 20 s) or handed over and not yet measured (the worker's queue of `queue` frames, one
+// being pushed, the pipeline's). 24 B per particle a copy.
+double reference_positions_bytes(const SceneDef& scene, const std::vector<double>& lane_steps,
+                                 const TargetPlan& plan, std::size_t queue);
+
+// Declares --max-memory SIZE on `sub`, parsed into `limit` (bytes).
+void add_max_memory_option(CLI::App* sub, std::optional<double>& limit);
+
+class MemoryBudget {
+ public:
+  MemoryBudget();  // starts with the process itself
+  void add(std::string what, double bytes) { parts_.emplace_back(std::move(what), bytes); }
+  double total() const;
+  // Throws UsageError when total() exceeds `limit` (the default when nullopt): "SOURCE: needs
+  // an estimated 5.6 GB (model 1.3 GB, implicit_euler 4.3 GB, ...), more than --max-memory 2 GB".
+  void check(const std::string& source, const std::optional<double>& limit) const;
+
+ private:
+  std::vector<std::pair<std::string, double>> parts_;
+};
+
+}  // namespace clothsim::cli

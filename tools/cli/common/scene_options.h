@@ -1,0 +1,48 @@
+// The options every scene-reading subcommand shares (SCENE, --set, --duration, and for a
+// single run --integrator and --dt), and loading a scene with them applied.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene/scene_def.h"
+
+namespace clothsim::cli {
+
+struct SceneOptions {
+  std::string path;
+  std::vector<std::string> sets;        // --set KEY=VALUE, in order
+  std::optional<double> duration;       // --duration S
+  std::optional<std::string> integrator;  // --integrator NAME (when offered)
+  std::optional<double> dt;             // --dt S (when offered)
+  std::optional<int> width, height;     // --width/--height px (when offered): render.width/height
+  std::optional<double> fps;            // --fps (when offered): render.fps
+  std::optional<double> max_memory;     // --max-memory SIZE in bytes (default: memory_budget.h)
+};
+
+// Declares SCENE, --set, --duration (its help saying `duration_default`) and --max-memory;
+// --integrator and --dt only when `single_run`.
+void add_scene_options(CLI::App* sub, SceneOptions& options, bool single_run,
+                       const std::string& duration_default = "the scene's duration");
+// Declares --width, --height and --fps (run and compare alike): the scene's render.width,
+// render.height and render.fps, overridden. `size_of` says what the size is of, `frames_of`
+// which outputs the frame rate paces.
+void add_picture_options(CLI::App* sub, SceneOptions& options, const std::string& size_of,
+                         const std::string& frames_of);
+
+// Loads and validates the scene with --set applied, then --duration/--integrator/--dt and
+// --width/--height/--fps.
+// Throws SceneError (bad scene or --set) or UsageError (bad option value).
+SceneDef load_scene_with_options(const SceneOptions& options);
+
+// Parses an integrator name or throws UsageError naming the option and the valid names.
+IntegratorKind parse_integrator_option(const std::string& name, const std::string& option);
+
+// "rk4, midpoint" -> integrators in order (spaces around names allowed). An empty list, an
+// empty item, an unknown name or a name listed twice is a UsageError naming `option`.
+std::vector<IntegratorKind> parse_integrator_list(const std::string& text,
+                                                  const std::string& option = "--integrators");
+
+}  // namespace clothsim::cli

@@ -1,0 +1,110 @@
+// The reference lane of compare's error colouring, standing in at the lanes' own times.
+//
+// Each lane lands on the first step at or past a target's time (Run::advance_to), so at one
+// target the lanes stand at different times, up to a lane step past it. The reference runs at
+// its own, smaller step and hands over its positions at each lane's time (lane_times.h: its
+// own state where one of its steps lands there, else the Hermite interpolant through its two
+// steps around it). A run only goes forward, so the times are served in increasing order
+// across targets: a lane of a large step may stand, for an early target, past where another
+// lane stands for a later one, and the reference must serve the later one first. Positions
+// already served wait, shared, with their targets until every lane of the oldest is served.
+//
+// A lane that diverged needs nothing more (drop_lane): the reference stops serving it, so a lane
+// of a huge step that blew up on its first step (rk4@20 on a 0.5 s clip asked for t = 20 s)
+// does not keep it running. horizon() is the latest time a lane still live can need, the last
+// target's landing time for the largest live step: from the moment it knows of a lane's
+// divergence (the pipeline drops the lane when its frozen frame arrives), the reference never
+// runs past it by more than one of its own steps (LaneWorker's stop check stops its run there,
+// in the middle of an advance if need be).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <set>
+#include <vector>
+
+#include "compare_plan.h"
+#include "core/simulation.h"
+
+namespace clothsim::cli {
+
+class ReferenceStand {
+ public:
+  using Positions = std::shared_ptr<const std::vector<double>>;  // (3 x P) particles
+
+  // `run` is the reference's, at its start; `lane_steps` the compared lanes' steps, in order
+  // (lanes of one step share one request and one copy of the positions at each target);
+  // `last_t` the last target's time (TargetPlan::last_time).
+  ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t);
+
+  // Adds the next target (targets in time order).
+  void add(const Target& target);
+  bool empty() const { return pending_.empty(); }
+  // Every live lane's positions at the oldest target are known.
+  bool front_ready() const;
+  // The oldest target and its positions per lane, removed: all of them once front_ready();
+  // after the run diverged or stopped, what is known (null where a lane's positions are not,
+  // and for a dropped lane whose were not served before it was dropped).
+  Target pop(std::vector<Positions>& positions);
+  // The earliest time some target still needs (+inf if none).
+  double next_time() const;
+  // Lane `lane` diverged: its times still to serve are not served, and the targets wait for
+  // it no longer. May be called while serve_next() is running the reference (from its stop check).
+  void drop_lane(std::size_t lane);
+  // The latest time a live lane can still need: the last target's landing for the largest live
+  // step (-inf when every lane was dropped). Every request of a live lane is at or before it.
+  double horizon() const { return horizon_; }
+  // Positions (3 x P doubles each) the waiting targets hold now, each shared copy once.
+  std::size_t positions_held() const;
+  // The most targets waiting at once for lanes of `lane_steps` over `plan`'s targets: those
+  // within the largest step (and add_before_serving's slack) of the oldest, at the plan's frame
+  // rate, plus its targets off the frames (sheet columns, a still), never more than the plan.
+  // At most one copy of the positions per distinct step each (compare's memory estimate).
+  static long waiting_bound(const std::vector<double>& lane_steps, const TargetPlan& plan);
+  // Whether the next target (at t) must be added before the earliest needed time is served:
+  // it may need an earlier time (a lane lands at or past its target, less Run::advance_to's
+  // tolerance of 1e-6 of a step), or nothing is waiting.
+  bool add_before_serving(double t) const { return empty() || t - slack_ <= next_time(); }
+  // Advances the run to the earliest time needed and serves it. False when the run diverged
+  // or was stopped on the way (Run::diverged(), Run::stopped()).
+  bool serve_next();
+
+ private:
+  struct Slot {
+    Positions x;  // null until served
+  };
+  struct Request {
+    double t;
+    std::uint64_t order;  // ties in the order asked
+    std::size_t step;     // index in steps_
+    std::shared_ptr<Slot> slot;
+    bool operator<(const Request& o) const { return t != o.t ? t < o.t : order < o.order; }
+  };
+  struct Sample {
+    std::int64_t step = -1;
+    std::vector<double> x, v;
+  };
+  // The run's state at its step k (k not below the older kept sample's), kept; null on
+  // divergence or a stop.
+  const Sample* reach(std::int64_t k);
+  void update_horizon();
+
+  const Model& model_;
+  Run& run_;
+  std::vector<double> steps_;                      // the lanes' distinct steps
+  std::vector<std::size_t> lane_step_;             // per lane: its step's index in steps_
+  std::vector<std::int64_t> landed_;               // per step: the step a run of it last landed on
+  std::vector<std::shared_ptr<Slot>> last_slot_;   // per step: that landing's positions
+  std::vector<double> last_needed_;                // per step: its landing time for the last target
+  std::vector<bool> live_;                         // per lane: not dropped
+  std::vector<int> live_lanes_;                    // per step: its lanes not dropped
+  std::deque<std::pair<Target, std::vector<std::shared_ptr<Slot>>>> pending_;  // per lane a slot
+  std::set<Request> requests_;                     // of live steps only, earliest first
+  std::uint64_t asked_ = 0;
+  double slack_ = 0.0;
+  double horizon_ = 0.0;
+  Sample last_, before_;  // the run's last two kept steps
+};
+
+}  // namespace clothsim::cli

@@ -1,0 +1,33 @@
+// What the pipeline adds to a lane's picture besides the overlay text: the colouring field
+// with its scale, and the energy inset. Kept apart from the pipeline's control flow.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "frame_pipeline.h"
+#include "view/render_frame.h"
+#include "view/vertex_fields.h"
+
+namespace clothsim::cli {
+
+// Total energy of one lane over the targets so far, for the inset.
+struct EnergyHistory {
+  std::vector<float> t, e;
+  void add(double time, double energy) {
+    t.push_back(static_cast<float>(time));
+    e.push_back(static_cast<float>(energy));
+  }
+};
+
+// Colours the cloth by `field` (one value per particle) on the logarithmic scale `range`,
+// with the colour bar labelled with the field and its unit.
+void color_by_field(RenderFrame& frame, const std::vector<float>& field, FieldKind kind, const ColorRange& range);
+
+// The inset of lane `lane`'s total energy over [0, duration], on axes shared by every lane:
+// the energy range is that of all lanes' finite values so far, so tiles compare at a glance,
+// but no wider than 2 |E(0)| either side of the initial energy (an exploding lane would
+// otherwise flatten the rest; its curve runs along the edge).
+void draw_energy_inset(RenderFrame& frame, const std::vector<EnergyHistory>& lanes, std::size_t lane, double duration);
+
+}  // namespace clothsim::cli

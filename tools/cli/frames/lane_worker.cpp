@@ -1,0 +1,242 @@
+#include "lane_worker.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "cli/compare/reference_stand.h"
+#include "core/diagnostics.h"
+#include "view/snapshot.h"
+
+namespace clothsim::cli {
+
+LaneWorker::LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
+                       std::size_t queue_capacity, std::function<bool()> interrupt)
+    : model_(model), spec_(std::move(spec)), targets_(targets), needs_(needs), interrupt_(std::move(interrupt)),
+      dropped_(std::make_unique<std::atomic<bool>[]>(needs_.stand_for.size())),
+      capacity_(std::max<std::size_t>(1, queue_capacity)) {
+  for (std::size_t i = 0; i < needs_.stand_for.size(); ++i) dropped_[i] = false;
+  result_.spec = spec_;
+  thread_ = std::thread([this] { work(); });
+}
+
+LaneWorker::~LaneWorker() {
+  stop();
+  join();
+}
+
+void LaneWorker::stop() {
+  stop_requested_ = true;
+  std::lock_guard<std::mutex> lock(mutex_);
+  stop_ = true;
+  changed_.notify_all();
+}
+
+void LaneWorker::drop_lane(std::size_t lane) {
+  if (lane >= needs_.stand_for.size() || dropped_[lane].exchange(true)) return;
+  ++drops_;
+}
+
+void LaneWorker::join() {
+  if (thread_.joinable()) thread_.join();
+}
+
+LaneResult LaneWorker::result() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return result_;
+}
+
+bool LaneWorker::next(LaneFrame& out) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!changed_.wait_for(lock, std::chrono::milliseconds(20), [this] { return !queue_.empty() || done_; }))
+    if (interrupt_ && interrupt_()) return false;
+  if (queue_.empty()) {
+    if (error_) std::rethrow_exception(error_);
+    return false;
+  }
+  out = std::move(queue_.front());
+  queue_.pop_front();
+  changed_.notify_all();
+  return true;
+}
+
+void LaneWorker::push(LaneFrame frame) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return queue_.size() < capacity_ || stop_; });
+  if (stop_) return;
+  queue_.push_back(std::move(frame));
+  changed_.notify_all();
+}
+
+// What the outputs need of `state` (the run's current one, or its last finite state).
+LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
+  LaneFrame f;
+  f.t = state.t;
+  f.step = state.step;
+  f.totals = run.totals();
+  if (needs_.picture) f.frame = make_render_frame(model_, state, needs_.look);
+  if (needs_.positions) {
+    const Eigen::Index n = 3 * static_cast<Eigen::Index>(model_.num_particles);
+    f.x.assign(state.x.data(), state.x.data() + n);  // particles come first, column-major
+  }
+  if (needs_.field == FieldKind::Strain) f.field = vertex_strain(model_, state);
+  if (needs_.field == FieldKind::Speed) f.field = vertex_speed(model_, state);
+  return f;
+}
+
+// The reference lane's loop (LaneNeeds::stand_for): targets are added as the times they need
+// come due, the earliest needed time is served next, and a target's frame is handed over once
+// every lane's positions for it are known (reference_stand.h).
+void LaneWorker::serve_reference(Run& run) {
+  ReferenceStand stand(model_, run, needs_.stand_for, targets_.last_time());
+  int applied = 0;  // drops_ passed on to the stand
+  const auto apply_drops = [&] {
+    if (drops_.load(std::memory_order_acquire) == applied) return;
+    applied = 0;
+    for (std::size_t i = 0; i < needs_.stand_for.size(); ++i)
+      if (dropped_[i].load(std::memory_order_acquire)) {
+        stand.drop_lane(i);
+        ++applied;
+      }
+  };
+  // Between any two steps: stopped, or no live lane can need a time from here on (every time
+  // a live lane needs is at or before the horizon, and the run only goes forward).
+  const auto asked_to_stop = [this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); };
+  run.set_stop_check([&] {
+    if (asked_to_stop()) return true;
+    apply_drops();
+    return run.state().t >= stand.horizon();
+  });
+  TargetPlan::Cursor cursor(targets_);
+  Target next;
+  bool more = cursor.next(next);
+  const auto hand_over = [&] {  // the oldest target, with what is known of it
+    LaneFrame f;
+    f.t = stand.pop(f.x_for).t;
+    f.step = run.state().step;
+    f.totals = run.totals();
+    push(std::move(f));
+  };
+  for (;;) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_) break;
+    }
+    apply_drops();
+    if (stand.front_ready()) {
+      hand_over();
+      continue;
+    }
+    if (more && stand.add_before_serving(next.t)) {
+      stand.add(next);
+      more = cursor.next(next);
+      continue;
+    }
+    if (stand.empty()) break;  // every target served
+    if (!stand.serve_next()) {
+      if (run.stopped() && asked_to_stop()) break;
+      if (run.stopped()) {
+        // Past the horizon: what every live lane needs was served (the targets still to add
+        // would need later times), so the targets waiting go out, the dropped lanes' positions
+        // missing, and the rest with none.
+        while (!stand.empty()) hand_over();
+        for (; more; more = cursor.next(next)) {
+          stand.add(next);
+          hand_over();
+        }
+        break;
+      }
+      // The targets waiting go out with what was served of them (a lane of a small step was
+      // measured up to the blow-up even if one of a large step, needing a later time, was not).
+      while (!stand.empty()) hand_over();
+      LaneFrame frozen;  // a diverged reference measures nothing from here on
+      frozen.t = run.divergence()->t;
+      frozen.step = run.state().step;
+      frozen.totals = run.totals();
+      frozen.divergence = run.divergence();
+      frozen.frozen = true;
+      push(std::move(frozen));
+      break;
+    }
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  result_.t = run.state().t;  // as far as it ran (past the last target where a lane stands past it)
+  result_.totals = run.totals();
+  result_.divergence = run.divergence();
+}
+
+// A lane's loop: each target in turn, stepped to and handed over (a frozen frame and the end
+// on divergence).
+void LaneWorker::run_targets(Run& run) {
+  TargetPlan::Cursor cursor(targets_);
+  double reached = 0.0;
+  long sample = 0;  // the next energy sample, at sample * energy_every
+  std::vector<std::pair<double, double>> energy;
+  const auto record_energy = [&] { energy.emplace_back(run.state().t, compute_energies(model_, run.state()).total()); };
+  for (Target target; cursor.next(target);) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_) break;
+    }
+    // Samples between targets: advancing to them takes the same steps (a Run steps until
+    // t >= target), so the energy curve costs a pass over the bodies per sample, no more.
+    bool ok = true;
+    if (needs_.energy_every > 0.0) {
+      for (double ts = static_cast<double>(sample) * needs_.energy_every; ts < target.t - 1e-9 && ok;
+           ts = static_cast<double>(++sample) * needs_.energy_every) {
+        ok = run.advance_to(ts);
+        if (run.stopped()) break;
+        if (ok) record_energy();
+      }
+      if (run.stopped()) break;
+    }
+    if (ok) ok = run.advance_to(target.t);
+    if (run.stopped()) break;
+    if (!ok) {
+      // The picture (and field) of the last finite state at the step divergence names; the
+      // metrics of the state the run stopped in, which is what `run --metrics` records.
+      const Divergence& d = *run.divergence();
+      LaneFrame frozen = frame_of(run, needs_.picture || needs_.field != FieldKind::None
+                                           ? run.last_finite_state() : run.state());
+      if (needs_.metrics) frozen.metrics = run.metrics();
+      frozen.t = d.t;
+      frozen.energy = std::move(energy);
+      frozen.divergence = d;
+      frozen.frozen = true;
+      frozen.x.clear();  // no reference exists at the divergence's instant: no error field
+      reached = d.t;
+      push(std::move(frozen));
+      break;
+    }
+    LaneFrame f = frame_of(run, run.state());
+    if (needs_.metrics) f.metrics = run.metrics();
+    if (needs_.energy_every > 0.0) {
+      record_energy();
+      f.energy = std::move(energy);
+      energy.clear();
+    }
+    reached = run.state().t;
+    push(std::move(f));
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  result_.t = reached;
+  result_.totals = run.totals();
+  result_.divergence = run.divergence();
+  if (needs_.final_state && !run.diverged()) result_.final_state = run.state();
+}
+
+void LaneWorker::work() {
+  try {
+    Run run(model_, spec_.kind, spec_.dt);
+    run.set_stop_check([this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); });
+    if (needs_.stand_for.empty()) run_targets(run);
+    else serve_reference(run);
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    error_ = std::current_exception();
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  done_ = true;
+  changed_.notify_all();
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,132 @@
+// One lane of a frame pipeline (frame_pipeline.h) on its own thread. The engine is plain C++
+// and a Run touches only its own state (the Model is shared read-only), so lanes advance
+// concurrently; each hands the pipeline what it needs of a target (the picture's geometry,
+// metrics, positions, a field) through a small bounded queue, which keeps memory flat in clip
+// length and lets a fast lane work ahead of a slow one by only a few targets.
+//
+// A lane that diverges stops stepping and hands over one last, frozen frame: its last finite
+// state (Run::last_finite_state) at the step divergence names, with the divergence. The
+// pipeline holds that picture while other lanes go on.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "cli/common/lanes.h"
+#include "cli/compare/compare_plan.h"
+#include "core/simulation.h"
+#include "view/render_frame.h"
+#include "view/render_settings.h"
+#include "view/vertex_fields.h"
+
+namespace clothsim::cli {
+
+// What the pipeline's outputs need of every target; the rest is not computed.
+struct LaneNeeds {
+  bool picture = false;    // the RenderFrame's geometry (make_render_frame)
+  RenderDef look;          // picture: the scene's camera and what it draws
+  bool metrics = false;    // FrameMetrics: energies and strain (a pass over the springs)
+  bool positions = false;  // double positions, for the error field
+  FieldKind field = FieldKind::None;  // strain or speed, computed on the lane's thread
+  bool final_state = false;  // keep the last State (run --state)
+  // The reference lane: the steps (s) of the lanes it is compared with, in their order. At
+  // each target it hands over, in LaneFrame::x_for, its positions at the time where a run of
+  // each step lands (reference_stand.h: its own state, or interpolated between its steps),
+  // so each lane is measured at its own time; only those (no picture, metrics or x).
+  std::vector<double> stand_for;
+  double energy_every = 0.0;  // > 0: total energy sampled this often (s) between targets too,
+                              // so an energy inset has a curve even in a still or a sheet
+};
+
+// What a lane hands over at one target.
+struct LaneFrame {
+  double t = 0.0;
+  std::int64_t step = 0;
+  RenderFrame frame;               // geometry only; the pipeline adds overlay, field and size
+  std::vector<double> x;           // (3 x P) particle positions when LaneNeeds::positions
+  // (per LaneNeeds::stand_for step) the same, at the time a run of that step stands
+  std::vector<std::shared_ptr<const std::vector<double>>> x_for;
+  std::vector<float> field;        // (P) when LaneNeeds::field is strain or speed
+  FrameMetrics metrics;            // when LaneNeeds::metrics
+  RunTotals totals;                // of the run up to here
+  std::vector<std::pair<double, double>> energy;  // (t, total energy J) since the last target,
+                                                  // this target's included, when energy_every
+  std::optional<Divergence> divergence;  // set on the frozen frame
+  bool frozen = false;             // diverged: the last finite state, and the lane's last frame
+};
+
+struct LaneResult {
+  LaneSpec spec;
+  double t = 0.0;             // simulated time reached (the last target's, or divergence's)
+  RunTotals totals;           // cpu_seconds: the lane thread's, not inflated by sharing cores
+  std::optional<Divergence> divergence;
+  std::optional<State> final_state;  // LaneNeeds::final_state, unless diverged
+};
+
+// Frames a lane of a frame pipeline may compute ahead of the one being shown.
+inline constexpr std::size_t kLaneQueueCapacity = 4;
+
+class LaneWorker {
+ public:
+  // Starts the thread at once. `model` and `targets` must outlive the worker. The lane stops
+  // before its next step once stop() was called or `interrupt` (if given) returns true.
+  LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
+             std::size_t queue_capacity = kLaneQueueCapacity, std::function<bool()> interrupt = {});
+  ~LaneWorker();  // stops the lane and joins
+  LaneWorker(const LaneWorker&) = delete;
+  LaneWorker& operator=(const LaneWorker&) = delete;
+
+  // The frame for the next target, in order; blocks while the lane computes it, but polls
+  // `interrupt` every 20 ms, so the caller is never stuck on a lane after a signal.
+  // Returns false when there are no more (after a frozen one, after the last target, or
+  // interrupted). Rethrows an exception the lane raised.
+  bool next(LaneFrame& out);
+  // Asks the lane to stop before its next step and wakes it if it waits on the queue.
+  void stop();
+  // The reference lane (LaneNeeds::stand_for): lane `lane` of stand_for diverged, as the frame
+  // it handed over at the target the caller is about to ask this worker for says. Every earlier
+  // target's positions for it were handed over already (targets go out in order); from this one
+  // on they are not served, and once no live lane can need a time the reference has not passed,
+  // it stops running, even in the middle of an advance (ReferenceStand::horizon).
+  void drop_lane(std::size_t lane);
+  // Waits for the thread; then result() is final.
+  void join();
+  LaneResult result() const;
+
+ private:
+  void work();
+  void push(LaneFrame frame);
+  void run_targets(Run& run);
+  void serve_reference(Run& run);
+  LaneFrame frame_of(const Run& run, const State& state) const;
+
+  const Model& model_;
+  LaneSpec spec_;
+  const TargetPlan& targets_;
+  LaneNeeds needs_;
+  std::function<bool()> interrupt_;
+  std::atomic<bool> stop_requested_{false};  // stop(), read by the run's per-step check
+  // The reference: lanes dropped (drop_lane), per stand_for lane, and how many in all, read by
+  // its thread between steps.
+  std::unique_ptr<std::atomic<bool>[]> dropped_;
+  std::atomic<int> drops_{0};
+  std::size_t capacity_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<LaneFrame> queue_;
+  bool done_ = false, stop_ = false;
+  std::exception_ptr error_;
+  LaneResult result_;
+  std::thread thread_;
+};
+
+}  // namespace clothsim::cli

@@ -1,0 +1,42 @@
+// The words on a lane's picture: its overlay lines (scene, lane, time), the lane's label, and
+// the banners of a run's results (DIVERGED, NOT CONVERGED). The engine hands over geometry
+// (snapshot.h) and numbers (a Divergence, a count of missed steps); what a picture says about
+// them is presentation, written here for every picture that has it: `run`'s frames, compare's
+// tiles (frame_pipeline.h), the renderer benchmark.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/integrators/integrator_kind.h"
+#include "core/model.h"
+#include "view/render_frame.h"
+
+namespace clothsim::cli {
+
+// The overlay of a run's picture: the scene, the lane (integrator_label) and the time
+// (overlay_time_line); `run` adds its cost beneath (frame_pipeline.h, lane_overlay), and a
+// compare tile starts at the time, its lane being the grid's label.
+std::vector<std::string> overlay_lines(const Model& model, const std::string& lane_label, double t);
+// The same for `kind` at step dt, written %.3g (what a scene's own run shows for common steps).
+std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t);
+// "rk4  dt = 1e-4 s": an integrator (`name`) at a step as written (`step`, s).
+std::string integrator_label(std::string_view name, std::string_view step);
+// "t = 1.500 s".
+std::string overlay_time_line(double t);
+
+// Marks a frame of a run's last finite state (Run::last_finite_state) as the frozen frame:
+// the red banner "DIVERGED at t = ... s (step N)" with the time as `run` prints it, and a last
+// overlay line with the reason. What `run` and `compare` show from the moment a run diverges.
+// The banner's phrases are "DIVERGED", "at t = ... s" and "(step N)": a narrow tile shows them
+// on two lines, and one too narrow for that leaves the step off (render_frame.h).
+void mark_diverged(RenderFrame& frame, const Divergence& divergence);
+
+// Marks a frame of a run whose implicit steps missed their Newton tolerance `steps` times so
+// far (steps > 0): the red banner "NOT CONVERGED (N steps)", "(1 step)" for one.
+void mark_not_converged(RenderFrame& frame, std::int64_t steps);
+
+}  // namespace clothsim::cli

@@ -1,0 +1,82 @@
+// clothsim imgdiff A.png B.png: how far apart two images are, by the same measure the
+// golden-image tests use (render/image_diff.h). Exit 0 within tolerance, 1 outside it,
+// 2 for bad usage (a missing or corrupt PNG, different sizes).
+#include <cstdio>
+#include <memory>
+
+#include "cli/common/cli_common.h"
+#include "cli/common/commands.h"
+#include "render/image_diff.h"
+#include "render/png_io.h"
+
+namespace clothsim::cli {
+namespace {
+
+struct ImgdiffOptions {
+  std::string a, b;
+  std::string diff_path;
+  DiffTolerance tolerance;
+};
+
+Image read_input(const std::string& path) {
+  try {
+    return read_png(path);
+  } catch (const PngError& e) {
+    throw UsageError(e.what());  // "cannot read A.png: not a PNG file": the user's input is bad
+  }
+}
+
+int imgdiff_command(const ImgdiffOptions& o) {
+  const Image a = read_input(o.a);
+  const Image b = read_input(o.b);
+  if (a.width != b.width || a.height != b.height)
+    throw UsageError("imgdiff: " + o.a + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) +
+                     " but " + o.b + " is " + std::to_string(b.width) + "x" + std::to_string(b.height));
+  if (!o.diff_path.empty()) require_writable_parent(o.diff_path, "-o/--output");
+
+  const DiffStats stats = compare_images(a, b, o.tolerance.pixel_threshold);
+  const bool pass = within_tolerance(stats, o.tolerance);
+  std::printf("%s vs %s (%dx%d)\n", o.a.c_str(), o.b.c_str(), a.width, a.height);
+  std::printf("  rms difference     %.4f  (tolerance %g)\n", stats.rms, o.tolerance.max_rms);
+  std::printf("  max difference     %d\n", stats.max);
+  std::printf("  pixels past %-3d    %.4f%%  (tolerance %g%%)\n", o.tolerance.pixel_threshold,
+              100.0 * stats.over_fraction, 100.0 * o.tolerance.max_over_fraction);
+  std::printf("%s\n", pass ? "within tolerance" : "DIFFERENT: outside tolerance");
+  if (!o.diff_path.empty()) {
+    try {
+      write_png(o.diff_path, diff_image(a, b));
+    } catch (const PngError& e) {
+      throw RuntimeFailure(e.what());
+    }
+    std::printf("diff image: %s\n", o.diff_path.c_str());
+  }
+  return pass ? kOk : 1;
+}
+
+}  // namespace
+
+void add_imgdiff_command(CLI::App& app, Command& command) {
+  auto o = std::make_shared<ImgdiffOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "imgdiff", "Compare two PNG images (golden-image tests): RMS and max per-channel difference, "
+                 "share of pixels past a threshold; exit 0 within tolerance, 1 outside, 2 bad input");
+  sub->add_option("A", o->a, "First image (e.g. the golden one)")->required();
+  sub->add_option("B", o->b, "Second image (e.g. the new render)")->required();
+  sub->add_option("-o,--output,--diff", o->diff_path, "Write an amplified difference image here (PNG)")
+      ->type_name("FILE.png");
+  add_no_overwrite_option(sub);
+  sub->add_option("--threshold", o->tolerance.pixel_threshold,
+                  "A pixel differs when some channel differs by more than this (0-255)")
+      ->check(CLI::Range(0, 255))
+      ->capture_default_str();
+  sub->add_option("--max-rms", o->tolerance.max_rms, "Largest RMS difference (0-255 scale) that passes")
+      ->check(CLI::Range(0.0, 255.0))
+      ->capture_default_str();
+  sub->add_option("--max-over", o->tolerance.max_over_fraction,
+                  "Largest share of differing pixels that passes (0-1)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  sub->callback([o, &command] { command = [o] { return imgdiff_command(*o); }; });
+}
+
+}  // namespace clothsim::cli

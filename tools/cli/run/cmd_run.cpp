@@ -1,0 +1,215 @@
+// clothsim run: one scene, one integrator: the frame pipeline (frame_pipeline.h) with one
+// lane. Steps to each output frame (the scene's fps), records metrics, renders frames/video/a
+// still if asked, writes the final state. A run that diverges ends there: its pictures show the
+// last finite state with DIVERGED, the time and step this command prints.
+// Exit 3 when the run diverges (metrics up to that point are kept; the state is not written);
+// with --strict, exit 4 when an implicit step did not converge (every output is written).
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "run_outputs.h"
+#include "cli/common/cli_common.h"
+#include "cli/common/commands.h"
+#include "cli/common/gl_options.h"
+#include "cli/common/lanes.h"
+#include "cli/common/memory_budget.h"
+#include "cli/common/run_budget.h"
+#include "cli/common/scene_options.h"
+#include "cli/common/summary_json.h"
+#include "cli/frames/frame_pipeline.h"
+#include "cli/frames/frame_sink.h"
+#include "cli/frames/picture_options.h"
+#include "cli/frames/pipeline_outputs.h"
+#include "core/simulation.h"
+#include "render/png_io.h"
+#include "render/renderer.h"
+#include "scene/build_model.h"
+#include "scene/run_bounds.h"
+
+namespace clothsim::cli {
+namespace {
+
+struct RunOptions {
+  SceneOptions scene;
+  std::string frames_dir, video, metrics, state;
+  std::optional<double> still_t;
+  std::string still_out;
+  int crf = VideoOptions{}.crf;
+  std::string preset = VideoOptions{}.preset;
+  bool strict = false;
+  GlOptions gl;
+  PictureOptions look;
+  std::string summary;  // --summary FILE.json
+};
+
+int run_command(const RunOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
+  const SceneDef scene = load_scene_with_options(o.scene);
+  if (o.still_t && o.still_out.empty()) throw UsageError("--still needs -o/--output FILE.png");
+  if (!o.still_out.empty() && !o.still_t) throw UsageError("-o/--output goes with --still T");
+  if (o.still_t && (*o.still_t < 0.0 || *o.still_t > scene.duration))
+    throw UsageError("--still: time " + number_text(*o.still_t) + " s is outside the run (0 to " +
+                     number_text(scene.duration) + " s)");
+  if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
+  const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
+  const bool rendering = !o.frames_dir.empty() || !o.video.empty() || o.still_t;
+  PictureLook look = resolve_picture_look(o.look, scene, {lane}, /*compare=*/false);
+  if (!rendering) look = PictureLook{};  // nothing to colour: no reference lane either
+  if (look.reference) {
+    const std::string too_long = run_bounds_problem(scene.duration, look.reference->dt, scene.render.fps);
+    if (!too_long.empty())
+      throw UsageError("--reference (" + look.reference->spelling() +
+                       ", for --color error): " + too_long);
+  }
+
+  // Every output is checked before any work, so a typo fails in milliseconds.
+  // With -n, an output that exists already is refused here too (exit 2), untouched.
+  refuse_shared_outputs({{o.metrics, "--metrics"}, {o.state, "--state"}, {o.video, "--video"},
+                         {o.still_out, "-o/--output"}, {o.summary, "--summary"}, {o.frames_dir, "--frames"}});
+  if (!o.metrics.empty()) require_writable_parent(o.metrics, "--metrics");
+  if (!o.state.empty()) require_writable_parent(o.state, "--state");
+  if (!o.video.empty()) require_writable_parent(o.video, "--video");
+  if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
+  if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
+
+  const double fps = scene.render.fps;
+  // A still alone needs the run only up to its time; any other output needs the whole run,
+  // and the final state is the one at the end even when that is not a whole frame.
+  const bool still_only = o.still_t && o.metrics.empty() && o.state.empty() && o.frames_dir.empty() &&
+                          o.video.empty() && o.summary.empty();
+  // Frame by frame even with no picture or metrics to take: progress counts frames.
+  // A colour scale from the data needs the first second even when the still comes sooner.
+  const bool scale_from_data = look.color != FieldKind::None && !look.color_range;
+  const double end = !still_only ? scene.duration
+                     : scale_from_data ? std::max(*o.still_t, std::min(kColorScaleWindow, scene.duration))
+                                       : *o.still_t;
+  TargetPlan targets(end, fps, !still_only, {}, o.still_t.value_or(-1.0), /*to_end=*/!still_only);
+  if (scale_from_data) targets.with_scale_window(kColorScaleWindow);
+
+  // Peak memory, estimated and checked before the Model, the renderer or the encoder exist.
+  const int w = scene.render.width, h = scene.render.height;
+  run_budget(scene, look, {rendering, w, h, !o.video.empty(), &targets}).check(scene.source, o.scene.max_memory);
+
+  const Model model = build_model(scene);
+  fit_reference_to_model(look, model, scene, {lane});
+  const IntegratorKind kind = scene.integrator;
+  const double dt = scene.dt;
+
+  std::unique_ptr<Renderer> renderer;
+  if (rendering) renderer = make_renderer(o.gl);
+  PipelineConfig config;
+  config.rendering = rendering;
+  config.width = w;
+  config.height = h;
+  config.metrics = !o.metrics.empty();
+  config.final_state = !o.state.empty();
+  config.stop_when_all_frozen = true;  // run ends at divergence (exit 3)
+  config.command = "run";
+  apply_look(look, config);
+  config.scene_render = scene.render;
+  if (look.camera_auto) config.camera = auto_camera(model, scene.render, static_cast<double>(w) / h);
+  FramePipeline pipeline(model, targets, {lane}, config, renderer.get());
+  const PngText png_text = renderer ? with_renderer(frame_metadata(model, kind, dt), *renderer) : PngText{};
+  if (!o.metrics.empty())
+    pipeline.add(make_metrics_output(std::make_unique<MetricsWriter>(o.metrics, model, kind, dt), o.metrics, 0));
+  if (!o.frames_dir.empty()) pipeline.add(make_frames_output(make_png_sequence_sink(o.frames_dir, png_text), 0));
+  if (!o.video.empty())
+    pipeline.add(make_video_output(make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset}), o.video, Composer{}));
+  if (o.still_t) pipeline.add(make_still_output(o.still_out, Composer{}, png_text));
+  std::vector<std::string> after;  // written once the pipeline is through
+  for (const std::string* out : {&o.state, &o.summary})
+    if (!out->empty()) after.push_back(*out);
+  const PipelineReport report = pipeline.run("run " + model.name, after);
+  const LaneResult& r = report.lanes.front();
+
+  // CPU time of the stepping thread is the cost to compare between methods (wall time also
+  // counts whatever else the machine is doing).
+  const RunTotals& t = r.totals;
+  std::printf("%s: %s, dt = %g s, %" PRId64 " steps to t = %.6g s, %" PRId64
+              " force evaluations, %.3f s of wall time, %.3f s of CPU (%.3g s of CPU per simulated s)\n",
+              model.name.c_str(), std::string(integrator_name(kind)).c_str(), dt, t.steps, r.t, t.force_evals,
+              t.sim_seconds, t.cpu_seconds, r.t > 0 ? t.cpu_seconds / r.t : 0.0);
+  if (kind == IntegratorKind::ImplicitEuler)
+    std::printf("implicit solve: %" PRId64 " Newton iterations, %" PRId64
+                " CG iterations (%" PRId64 " sparse factorizations), largest final residual %.3g, %" PRId64
+                " steps not converged; %" PRId64 " contacts held in the solve, %" PRId64
+                " post-step projections\n",
+                t.newton_iterations, t.cg_iterations, t.factorizations, t.max_residual, t.unconverged_steps,
+                t.contact_constraints, t.safety_projections);
+  if (report.reference)
+    std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU\n",
+                report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
+                report.reference->totals.force_evals, report.reference->totals.cpu_seconds);
+  if (!o.summary.empty()) {  // written for a diverged run too: that is a result
+    std::vector<JsonObject> lanes{lane_json(model.name, kind, dt, t,
+                                            r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
+                                      .number("t_reached", r.t)
+                                      .number("max_residual", t.max_residual)};
+    if (report.reference)
+      lanes.push_back(lane_json(model.name, report.reference->spec.kind, report.reference->spec.dt,
+                                report.reference->totals, std::nullopt)
+                          .text("role", "reference"));
+    write_summary(o.summary, "run", scene.source, lanes);
+  }
+  if (r.divergence) {
+    const Divergence& d = *r.divergence;
+    std::fprintf(stderr, "clothsim: %s: diverged at step %" PRId64 ", t = %.6g s: %s\n",
+                 scene.source.c_str(), d.step, d.t, d.reason.c_str());
+    return kDiverged;
+  }
+  if (!o.state.empty()) write_state_csv(o.state, model, *r.final_state);
+  if (o.strict && t.unconverged_steps > 0) {
+    std::fprintf(stderr,
+                 "clothsim: %s: --strict: %" PRId64 " of %" PRId64
+                 " implicit steps did not converge (largest final residual %.3g)\n",
+                 scene.source.c_str(), t.unconverged_steps, t.steps, t.max_residual);
+    return kNotConverged;
+  }
+  return kOk;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, Command& command) {
+  auto o = std::make_shared<RunOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "run", "Run one scene with one integrator: metrics, final state, frames, video, a still");
+  add_scene_options(sub, o->scene, /*single_run=*/true);
+  add_gl_options(sub, o->gl);
+  add_progress_options(sub);
+  add_no_overwrite_option(sub);
+  add_picture_look_options(sub, o->look, /*compare=*/false);
+  sub->add_option("--summary", o->summary, "Write what the run did as JSON (docs/summary.md)")->type_name("FILE.json");
+  sub->footer(std::string(
+      "Prints a summary (steps, force evaluations, wall time; for implicit_euler its Newton and CG\n"
+      "work, steps not converged, contacts held in the solve and post-step projections) on stdout.\n"
+      "Exits 3 when the run diverges (non-finite state, strain or kinetic energy past the scene's\n"
+      "divergence bounds), saying at which step and time and why; --metrics is then kept up to\n"
+      "that point and --state is not written. With --strict, exits 4 when any implicit step did\n"
+      "not converge, saying how many (all outputs are still written). Outputs are created with\n"
+      "no name (O_TMPFILE) and named only when complete: nothing is left behind, even by SIGKILL.\n") + kExitCodesHelp);
+  sub->add_flag("--strict", o->strict,
+                "Exit 4 if any implicit_euler step ended above its Newton tolerance");
+  sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at --fps")
+      ->type_name("DIR");
+  sub->add_option("--video", o->video, "Write an H.264 MP4 of the run")->type_name("FILE.mp4");
+  sub->add_option("--metrics", o->metrics,
+                  "Write one CSV row per output frame: step,t,kinetic,spring_potential,"
+                  "gravity_potential,total_energy,max_strain,contacts,force_evals,...")
+      ->type_name("FILE.csv");
+  sub->add_option("--state", o->state, "Write the final state: id,x,y,z,vx,vy,vz per particle")
+      ->type_name("FILE.csv");
+  sub->add_option("--still", o->still_t, "Render one frame at time T (s) to -o/--output")->type_name("T");
+  sub->add_option("-o,--output,--out", o->still_out, "PNG file for --still")->type_name("FILE.png");
+  add_picture_options(sub, o->scene, "the frames", "--frames, --video and --metrics rows");
+  sub->add_option("--crf", o->crf, "Video quality, x264 CRF 0 (lossless) .. 51")->capture_default_str();
+  sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)")->capture_default_str();
+  sub->callback([o, &command] { command = [o] { return run_command(*o); }; });
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,286 @@
+// clothsim bench SCENE [--integrators a,b,...] [--dts LIST] [--duration T] [--set K=V]...
+//                      [--csv FILE] [--plot FILE.png] [--jobs N] [--reference-refinement N]
+//
+// The work-precision study (src/study/work_precision.h): every integrator at every step
+// size runs the scene to T; each run's final cloth positions are compared with an RK4
+// reference the program computes, and its cost recorded (wall and CPU time, force
+// evaluations). Runs spread over the cores, longest first; a diverged run stops early.
+//
+// Defaults, chosen so `clothsim bench scenes/drape.yaml` takes about a minute on 2 cores:
+// the four seed integrators; six steps from a quarter of the scene's dt to eight times it
+// (scenes set dt near the explicit methods' limit, so the list shows both sides of it);
+// T = min(scene duration, 0.5 s, 8000 x the smallest step), rounded down to a multiple of
+// the largest step so that every step divides it. The reference costs 16 x 8000 RK4 steps
+// at most, which is what bounds T.
+//
+// Exit codes: 0; 2 bad options or scene; 1 I/O, the plot, or a reference that is not
+// converged (the CSV is still written, so the figures can be inspected, but no plot is
+// drawn); 130 / 143 an interrupted study (SIGINT / SIGTERM: the runs finished so far are
+// written to --csv).
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "study_common.h"
+#include "cli/common/cli_common.h"
+#include "cli/common/commands.h"
+#include "cli/common/memory_budget.h"
+#include "cli/common/scene_options.h"
+#include "cli/common/summary_json.h"
+#include "scene/build_model.h"
+#include "scene/memory_estimate.h"
+#include "scene/scene_parser.h"
+#include "study/task_pool.h"
+#include "study/work_precision.h"
+
+namespace clothsim::cli {
+namespace {
+
+using analysis::WorkPrecisionPoint;
+using analysis::WorkPrecisionResult;
+using analysis::WorkPrecisionSpec;
+
+struct BenchOptions {
+  SceneOptions scene;
+  std::string integrators = default_comparison_list();  // the course's four, by name
+  std::optional<std::string> dts;  // not given: derived from the scene's dt
+  std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
+  std::string csv, plot, summary;
+  int jobs = 0;
+  int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
+};
+
+constexpr double kDefaultStepFactors[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
+constexpr double kMaxDefaultDuration = 0.5;    // s
+constexpr double kMaxDefaultSmallSteps = 8000;  // T <= this x the smallest step
+
+// T when --duration is not given: short enough for the reference, a multiple of every step.
+double default_duration(double scene_duration, const std::vector<double>& dts) {
+  const double smallest = *std::min_element(dts.begin(), dts.end());
+  const double largest = *std::max_element(dts.begin(), dts.end());
+  const double cap = std::min({scene_duration, kMaxDefaultDuration, kMaxDefaultSmallSteps * smallest});
+  const double whole = std::floor(cap / largest + 1e-9);
+  if (whole < 1.0) {
+    char msg[200];
+    std::snprintf(msg, sizeof msg, "--dts: the largest step %g s is longer than the default duration %g s; "
+                  "give --duration", largest, cap);
+    throw UsageError(msg);
+  }
+  return whole * largest;
+}
+
+void write_csv(std::FILE* f, const WorkPrecisionResult& r) {
+  std::fprintf(f, "integrator,dt,steps,force_evals,newton_iterations,cg_iterations,wall_seconds,cpu_seconds,"
+                  "rms_error,max_error,diverged,diverged_at,reason,duration,reference_dt,reference_change,"
+                  "unconverged_steps\n");
+  for (const WorkPrecisionPoint& p : r.points)
+    std::fprintf(f, "%s,%s,%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64 ",%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%" PRId64 "\n",
+                 std::string(integrator_name(p.integrator)).c_str(), csv_number(p.dt).c_str(), p.steps,
+                 p.force_evals, p.newton_iterations, p.cg_iterations, csv_number(p.wall_seconds).c_str(),
+                 csv_number(p.cpu_seconds).c_str(), csv_number(p.rms_error).c_str(),
+                 csv_number(p.max_error).c_str(), p.diverged ? 1 : 0,
+                 p.diverged ? csv_number(p.diverged_at).c_str() : "", csv_text(p.reason).c_str(),
+                 csv_number(r.duration).c_str(), csv_number(r.reference.dt).c_str(),
+                 r.reference.finished ? csv_number(r.reference.change_rms).c_str() : "nan",
+                 p.unconverged_steps);
+}
+
+void print_table(const WorkPrecisionResult& r, const std::vector<IntegratorKind>& kinds) {
+  std::printf("%-16s %10s %8s %11s %9s %9s %12s %12s  %s\n", "integrator", "dt (s)", "steps", "force evals",
+              "wall (s)", "cpu (s)", "rms err (m)", "max err (m)", "status");
+  for (const WorkPrecisionPoint& p : r.points) {
+    char status[160];
+    if (p.diverged) std::snprintf(status, sizeof status, "DIVERGED at t = %.4g s: %s", p.diverged_at, p.reason.c_str());
+    else if (p.unconverged_steps > 0)
+      std::snprintf(status, sizeof status, "NOT CONVERGED: %" PRId64 " of %" PRId64 " steps", p.unconverged_steps, p.steps);
+    else std::snprintf(status, sizeof status, "ok");
+    std::printf("%-16s %10.4g %8" PRId64 " %11" PRId64 " %9.3g %9.3g %12.4g %12.4g  %s\n",
+                std::string(integrator_name(p.integrator)).c_str(), p.dt, p.steps, p.force_evals,
+                p.wall_seconds, p.cpu_seconds, p.rms_error, p.max_error, status);
+  }
+  std::printf("observed order (slope of log rms error vs log dt, runs that finished, common steps):");
+  for (IntegratorKind k : kinds) {
+    const double order = analysis::convergence_order(r.points, k);
+    if (std::isnan(order)) std::printf("  %s -", std::string(integrator_name(k)).c_str());
+    else std::printf("  %s %.2f", std::string(integrator_name(k)).c_str(), order);
+  }
+  std::printf("\n");
+}
+
+// Each run a lane (its errors beside the common keys), and the study's T and reference.
+void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
+                        const WorkPrecisionResult& r) {
+  std::vector<JsonObject> lanes;
+  for (const WorkPrecisionPoint& p : r.points) {
+    RunTotals t;
+    t.steps = p.steps;
+    t.force_evals = p.force_evals;
+    t.newton_iterations = p.newton_iterations;
+    t.cg_iterations = p.cg_iterations;
+    t.unconverged_steps = p.unconverged_steps;
+    t.cpu_seconds = p.cpu_seconds;
+    lanes.push_back(lane_json(scene, p.integrator, p.dt, t, p.diverged ? std::optional<double>(p.diverged_at) : std::nullopt)
+                        .number("wall_seconds", p.wall_seconds)
+                        .number("rms_error", p.rms_error)
+                        .number("max_error", p.max_error));
+  }
+  JsonObject reference;
+  reference.text("integrator", std::string(integrator_name(r.reference.integrator)))
+      .number("dt", r.reference.dt)
+      .number("change_rms", r.reference.finished ? r.reference.change_rms : NAN)
+      .boolean("converged", r.reference.converged);
+  JsonObject extra;
+  extra.number("duration", r.duration).boolean("complete", r.complete).object("reference", reference);
+  write_summary(path, "bench", source, lanes, extra);
+}
+
+int bench_command(const BenchOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
+  SceneDef scene = load_scene(o.scene.path, o.scene.sets);
+  const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
+  std::vector<double> dts;
+  if (!o.dts) {
+    for (double f : kDefaultStepFactors) dts.push_back(f * scene.dt);
+  } else {
+    dts = parse_number_list(*o.dts, "--dts");
+    for (double dt : dts)
+      if (!(dt > 0.0)) throw UsageError("--dts: " + csv_number(dt) + " is not a positive step (s)");
+  }
+  double T = 0.0;
+  if (o.scene.duration) {
+    T = *o.scene.duration;
+    if (!(T > 0.0) || !std::isfinite(T)) throw UsageError("--duration: must be a finite number > 0 s");
+  } else {
+    T = default_duration(scene.duration, dts);
+  }
+  if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
+  if (o.reference_refinement < 1) throw UsageError("--reference-refinement: must be >= 1");
+
+  WorkPrecisionSpec spec;
+  spec.integrators = kinds;
+  spec.dts = dts;
+  // One step per video frame for implicit Euler, where it divides T (the default T of a short
+  // study may not be a multiple of 1/30 s: those steps are left out, and said so).
+  for (double dt : parse_frame_dts(o.frame_dts)) {
+    const double n = T / dt;
+    if (std::abs(n - std::round(n)) <= 1e-9 * n && std::round(n) >= 1) spec.frame_dts.push_back(dt);
+    else std::fprintf(stderr, "bench: frame step %g s does not divide T = %g s; left out\n", dt, T);
+  }
+  spec.duration = T;
+  spec.jobs = o.jobs;
+  spec.reference_refinement = o.reference_refinement;
+  try {
+    spec = analysis::checked(spec);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError(std::string("--dts: ") + e.what());
+  }
+
+  // Outputs are checked (and python/matplotlib found) before minutes of simulation.
+  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
+  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
+  std::unique_ptr<PlotScript> plot;
+  if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
+
+  scene.duration = std::max(scene.duration, T);  // the model's duration is informational only
+  {
+    // One Model, and a run on each of the pool's threads at once (the dearest integrator's).
+    MemoryBudget budget;
+    budget.add("model", model_bytes(scene));
+    double dearest = 0.0;
+    for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(scene, k));
+    const int threads = analysis::resolve_jobs(o.jobs);
+    budget.add(std::to_string(threads) + " runs at once", threads * dearest);
+    budget.check(scene.source, o.scene.max_memory);
+  }
+  const Model model = build_model(scene);
+  const double h_ref = spec.dts.front() / spec.reference_refinement;
+  std::size_t runs = 0;
+  for (IntegratorKind k : kinds) runs += analysis::steps_of(spec, k).size();
+  std::printf("bench %s: %zu integrators x %zu steps (%g .. %g s)%s to T = %g s on %d threads; reference %s at "
+              "%g s and %g s\n",
+              model.name.c_str(), kinds.size(), spec.dts.size(), spec.dts.front(), spec.dts.back(),
+              runs > kinds.size() * spec.dts.size() ? ", implicit_euler also at one step per frame" : "", T,
+              std::min<int>(analysis::resolve_jobs(o.jobs), static_cast<int>(runs + 2)),
+              std::string(integrator_name(spec.reference_integrator)).c_str(), h_ref, h_ref / 2);
+  std::fflush(stdout);
+
+  SharedProgress progress("bench " + model.name, static_cast<long>(runs + 2), "runs");
+  analysis::StudyHooks hooks;
+  hooks.stop = [] { return interrupted(); };
+  hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  const WorkPrecisionResult result = analysis::work_precision(model, spec, hooks);
+  progress.finish();
+
+  print_table(result, kinds);
+  const analysis::ReferenceCheck& ref = result.reference;
+  if (ref.finished)
+    std::printf("reference check: halving the reference step (%s, %g s -> %g s) moved the particles by %.3g m RMS "
+                "(%.3g m max); the smallest error reported is %.3g m RMS, %.3g times larger (required: >= %g)\n",
+                std::string(integrator_name(ref.integrator)).c_str(), 2 * ref.dt, ref.dt, ref.change_rms,
+                ref.change_max, ref.smallest_error,
+                ref.change_rms > 0 ? ref.smallest_error / ref.change_rms : INFINITY, 1.0 / ref.margin);
+
+  const auto write_to = [&](const std::string& path) {
+    AtomicFile file(path);
+    write_csv(file.stream(), result);
+    file.commit();
+  };
+  if (!o.csv.empty()) write_to(o.csv);
+  if (!o.summary.empty()) write_summary_json(o.summary, scene.source, model.name, result);
+
+  // Both files stay, each holding the runs that finished: the line names them.
+  if (interrupted() || !result.complete)
+    throw RuntimeFailure(study_interrupted_message(result.points.size(), runs, "runs", {o.csv, o.summary}, o.plot));
+  if (!ref.converged) {
+    std::string kept;
+    for (const std::string& path : {o.csv, o.summary})
+      if (!path.empty()) kept += (kept.empty() ? "" : ", ") + path;
+    throw RuntimeFailure(scene.source + ": " + ref.failure + (kept.empty() ? "" : " (kept for inspection: " + kept + ")") +
+                         "; no plot drawn");
+  }
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", model.name + " (T = " + csv_number(T) + " s)"});
+  return kOk;
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, Command& command) {
+  auto o = std::make_shared<BenchOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "bench", "Work precision: error against an RK4 reference vs cost, per integrator and step size");
+  // The help says the default as default_duration() computes it.
+  add_scene_options(sub, o->scene, /*single_run=*/false,
+                    "the scene's duration, at most " + csv_number(kMaxDefaultDuration) + " s and " +
+                        csv_number(kMaxDefaultSmallSteps) + " x the smallest step, rounded down to a multiple of the largest");
+  sub->add_option("--integrators", o->integrators, "Comma-separated integrators")->capture_default_str()->type_name("LIST");
+  sub->add_option("--dts", o->dts,
+                  "Comma-separated step sizes in s (numbers or fractions: 1/240), each dividing the duration "
+                  "(default: the scene's dt x 0.25, 0.5, 1, 2, 4, 8)")
+      ->type_name("LIST");
+  sub->add_option("--frame-dts", o->frame_dts,
+                  "Steps implicit_euler also runs, one per video frame: numbers or fractions, or 'none' "
+                  "(those that do not divide the duration are left out)")
+      ->capture_default_str()
+      ->type_name("LIST");
+  sub->add_option("--csv", o->csv,
+                  "Write one row per run: integrator,dt,steps,force_evals,...,rms_error,max_error,diverged,"
+                  "...,unconverged_steps")
+      ->type_name("FILE.csv");
+  sub->add_option("--plot", o->plot, "Draw the work-precision diagram (needs python3-matplotlib)")
+      ->type_name("FILE.png");
+  sub->add_option("--summary", o->summary, "Write each run's cost and error as JSON (docs/summary.md)")
+      ->type_name("FILE.json");
+  add_progress_options(sub);
+  add_no_overwrite_option(sub);
+  sub->add_option("--jobs", o->jobs, "Runs at once (default 0: one per core)");
+  sub->add_option("--reference-refinement", o->reference_refinement,
+                  "Reference step = smallest step / N, then halved once more to check it")
+      ->capture_default_str()
+      ->type_name("N");
+  sub->callback([o, &command] { command = [o] { return bench_command(*o); }; });
+}
+
+}  // namespace clothsim::cli

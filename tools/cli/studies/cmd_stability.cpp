@@ -1,0 +1,337 @@
+// clothsim stability SCENE [--integrators a,b,...] [--param KEY] [--values LIST] [--duration T]
+//                          [--set K=V]... [--min-dt S] [--max-dt S] [--precision R]
+//                          [--energy-factor F] [--max-strain S] [--csv FILE] [--plot FILE.png]
+//                          [--jobs N]
+//
+// For each integrator and each value of a swept scene key (applied as --set KEY=VALUE after
+// the user's own --set), the largest step that runs the scene from 0 to T without
+// diverging, found by bisection in log dt (src/study/stability.h). Beside it, the
+// Gershgorin estimates 2 / w_max (springs) and 2 / max(w_max, c_max) (dampers counted)
+// from src/core/stiffness_estimate.h, and each method's margin against them.
+//
+// Defaults, chosen so `clothsim stability scenes/drape.yaml` takes about a minute on 2 cores:
+// the four seed integrators; --param cloth.springs.structural.stiffness at the scene's value
+// x 1, 10, 100, 1000, 10000; T = min(scene duration, 0.2 s); steps tried from 1/32 of
+// min(scene dt, smallest estimate) up to min(T / 50, 1000 x scene dt) (every trial takes
+// at least 50 steps, so an instability has steps to show in); 2 % precision. The
+// scene's damping is kept as it is: on the drape (750 N s/m) the dampers, not the springs,
+// set the explicit methods' limit until the structural stiffness passes ~4e7 N/m, and the
+// second estimate shows it. Sweep damping (--param cloth.springs.structural.damping) or set
+// it to 0 on every spring type to see the springs alone.
+//
+// A trial is stable when it reaches T without diverging and, for implicit_euler, with every
+// step's solve converged: a run whose Newton solve missed its tolerance did not compute
+// backward Euler, so it fails too, and the CSV's `failure` column says which way a search's
+// first failing step failed (diverged | not_converged).
+//
+// Exit codes: 0; 2 bad options, scene or parameter; 1 I/O or the plot; 130 / 143 an
+// interrupted study (SIGINT / SIGTERM: the searches finished so far are written to --csv).
+#include <cinttypes>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "study_common.h"
+#include "cli/common/cli_common.h"
+#include "cli/common/commands.h"
+#include "cli/common/memory_budget.h"
+#include "cli/common/scene_options.h"
+#include "cli/common/summary_json.h"
+#include "scene/build_model.h"
+#include "scene/memory_estimate.h"
+#include "scene/scene_parser.h"
+#include "study/parameter_sweep.h"
+#include "study/stability.h"
+#include "study/task_pool.h"
+
+namespace clothsim::cli {
+namespace {
+
+using analysis::StabilityLimit;
+using analysis::StabilityOutcome;
+
+struct StabilityOptions {
+  SceneOptions scene;
+  std::string integrators = default_comparison_list();  // the course's four, by name
+  std::string param = "cloth.springs.structural.stiffness";
+  std::optional<std::string> values;  // not given: the scene's value x kDefaultValueFactors
+  std::optional<double> min_dt, max_dt;
+  double precision = analysis::StabilitySpec{}.precision;
+  double energy_factor = analysis::StabilitySpec{}.energy_factor;
+  double max_strain = analysis::StabilitySpec{}.max_strain;
+  std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
+  std::string csv, plot, summary;
+  int jobs = 0;
+};
+
+constexpr double kDefaultValueFactors[] = {1.0, 10.0, 100.0, 1000.0, 10000.0};
+constexpr double kDefaultDuration = 0.2;    // s
+constexpr double kMaxDtOverSceneDt = 1000;  // the largest step tried, in scene steps,
+constexpr double kMinStepsAtMaxDt = 50;     // and in steps per run
+constexpr double kMinDtDivisor = 32;        // the smallest step tried: estimate / this
+
+struct Case {
+  double value;
+  Model model;
+};
+
+// "1/240 s: ok, 48 steps converged; 1/30 s: 3 of 6 steps not converged" (implicit_euler).
+std::string frame_steps_text(const StabilityLimit& l) {
+  std::string out;
+  for (const analysis::FrameStepResult& r : l.frame_steps)
+    out += (out.empty() ? "" : "; ") + analysis::frame_step_text(r);
+  return out;
+}
+
+void write_csv(std::FILE* f, const std::string& param, const std::vector<StabilityLimit>& limits,
+               const analysis::StabilitySpec& spec) {
+  std::fprintf(f, "param,value,integrator,outcome,stable_dt,unstable_dt,trials,cpu_seconds,w_max,c_max,"
+                  "dt_springs,dt_with_damping,duration,min_dt,max_dt,precision,reason,failure,"
+                  "frame_steps\n");
+  for (const StabilityLimit& l : limits)
+    std::fprintf(f, "%s,%s,%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n", csv_text(param).c_str(),
+                 csv_number(l.value).c_str(), std::string(integrator_name(l.integrator)).c_str(),
+                 analysis::outcome_name(l.outcome), csv_number(l.stable_dt).c_str(),
+                 csv_number(l.unstable_dt).c_str(), l.trials, csv_number(l.cpu_seconds).c_str(),
+                 csv_number(l.estimate.w_max).c_str(), csv_number(l.estimate.c_max).c_str(),
+                 csv_number(l.estimate.dt_springs()).c_str(), csv_number(l.estimate.dt_with_damping()).c_str(),
+                 csv_number(spec.duration).c_str(), csv_number(spec.min_dt).c_str(),
+                 csv_number(spec.max_dt).c_str(), csv_number(spec.precision).c_str(), csv_text(l.reason).c_str(),
+                 analysis::failure_name(l.failure), csv_text(frame_steps_text(l)).c_str());
+}
+
+std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& spec) {
+  char buf[160];
+  const bool solve = l.failure == analysis::Failure::NotConverged;  // failed by its solve, not by diverging
+  switch (l.outcome) {
+    case StabilityOutcome::Bracketed:
+      std::snprintf(buf, sizeof buf, "%.4g s (%s at %.4g s)", l.stable_dt, solve ? "NOT CONVERGED" : "diverges",
+                    l.unstable_dt);
+      break;
+    case StabilityOutcome::StableAtMax:
+      std::snprintf(buf, sizeof buf, "stable at the largest dt tried (%.4g s)", spec.max_dt);
+      break;
+    case StabilityOutcome::UnstableAtMin:
+      std::snprintf(buf, sizeof buf, "%s at every dt tried (down to %.4g s)",
+                    solve ? "NOT CONVERGED" : "unstable", spec.min_dt);
+      break;
+    case StabilityOutcome::Stopped:
+      std::snprintf(buf, sizeof buf, "stopped");
+      break;
+  }
+  return buf;
+}
+
+// Each search a lane: its largest stable step as dt, the bracket, how the first unstable step
+// failed, and implicit_euler's one-step-per-frame runs.
+void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
+                        const std::string& param, const std::vector<StabilityLimit>& limits,
+                        const analysis::StabilitySpec& spec, bool complete) {
+  std::vector<JsonObject> lanes;
+  for (const StabilityLimit& l : limits) {
+    std::vector<JsonObject> frame_steps;
+    for (const analysis::FrameStepResult& f : l.frame_steps) {
+      JsonObject step;
+      step.number("dt", f.dt)
+          .integer("steps", f.steps)
+          .integer("unconverged_steps", f.unconverged_steps)
+          .number("diverged_at", f.failure == analysis::Failure::Diverged ? std::optional<double>(f.diverged_at)
+                                                                          : std::nullopt)
+          .text("failure", analysis::failure_name(f.failure));
+      frame_steps.push_back(step);
+    }
+    lanes.push_back(lane_json_without_counts(scene, l.integrator,
+                                             std::isfinite(l.stable_dt) ? std::optional<double>(l.stable_dt) : std::nullopt,
+                                             l.cpu_seconds)
+                        .number("value", l.value)
+                        .text("outcome", analysis::outcome_name(l.outcome))
+                        .number("stable_dt", l.stable_dt)
+                        .number("unstable_dt", l.unstable_dt)
+                        .text("failure", analysis::failure_name(l.failure))
+                        .text("reason", l.reason)
+                        .integer("trials", l.trials)
+                        .number("w_max", l.estimate.w_max)
+                        .number("dt_springs", l.estimate.dt_springs())
+                        .number("dt_with_damping", l.estimate.dt_with_damping())
+                        .array("frame_steps", frame_steps));
+  }
+  JsonObject extra;
+  extra.text("param", param)
+      .number("duration", spec.duration)
+      .number("min_dt", spec.min_dt)
+      .number("max_dt", spec.max_dt)
+      .boolean("complete", complete);
+  write_summary(path, "stability", source, lanes, extra);
+}
+
+int stability_command(const StabilityOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
+  const SceneDef base = load_scene(o.scene.path, o.scene.sets);
+  const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
+
+  std::vector<double> values;
+  if (!o.values) {
+    const std::optional<double> current = analysis::parameter_value(o.scene.path, o.scene.sets, o.param);
+    if (!current)
+      throw UsageError("--values: " + base.source + " gives " + o.param +
+                       " no number to scale the default values from; list the values");
+    for (double f : kDefaultValueFactors) values.push_back(f * *current);
+  } else {
+    values = parse_number_list(*o.values, "--values");
+  }
+  std::vector<analysis::SweepScene> scenes;
+  try {
+    scenes = analysis::sweep_scenes(o.scene.path, o.scene.sets, o.param, values);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError("--param " + std::string(e.what()));
+  }
+
+  analysis::StabilitySpec spec;
+  spec.integrators = kinds;
+  spec.duration = o.scene.duration ? *o.scene.duration : std::min(base.duration, kDefaultDuration);
+  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
+  {
+    // Every case's Model (they are all built up front), and a run on each thread at once.
+    MemoryBudget budget;
+    double models = 0.0, dearest = 0.0;
+    for (const analysis::SweepScene& s : scenes) {
+      models += model_bytes(s.scene);
+      for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(s.scene, k));
+    }
+    budget.add(std::to_string(scenes.size()) + " models", models);
+    const int threads = analysis::resolve_jobs(o.jobs);
+    budget.add(std::to_string(threads) + " runs at once", threads * dearest);
+    budget.check(base.source, o.scene.max_memory);
+  }
+  std::vector<Case> cases;
+  double smallest_estimate = INFINITY;
+  for (analysis::SweepScene& s : scenes) {
+    s.scene.duration = spec.duration;
+    cases.push_back({s.value, build_model(s.scene)});
+    smallest_estimate = std::min(smallest_estimate, analysis::estimate_stiffness(cases.back().model).dt_with_damping());
+  }
+  spec.max_dt = o.max_dt ? *o.max_dt : std::min(spec.duration / kMinStepsAtMaxDt, kMaxDtOverSceneDt * base.dt);
+  spec.min_dt = o.min_dt ? *o.min_dt : std::min(base.dt, smallest_estimate) / kMinDtDivisor;
+  spec.precision = o.precision;
+  spec.energy_factor = o.energy_factor;
+  spec.max_strain = o.max_strain;
+  spec.jobs = o.jobs;
+  spec.frame_dts = parse_frame_dts(o.frame_dts);
+  if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
+  if (o.min_dt && !(*o.min_dt > 0.0)) throw UsageError("--min-dt: must be > 0 s");
+  if (o.max_dt && !(*o.max_dt > 0.0)) throw UsageError("--max-dt: must be > 0 s");
+  try {
+    analysis::check(spec);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError(std::string("stability: ") + e.what() + " (--min-dt, --max-dt, --duration, --precision, --energy-factor, --max-strain)");
+  }
+
+  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
+  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
+  std::unique_ptr<PlotScript> plot;
+  if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_stability.py", o.plot);
+
+  std::printf("stability %s: %s over %zu values x %zu integrators, each run 0 to T = %g s; dt tried from %.3g to "
+              "%.3g s, bisection to %g %%; unstable = non-finite, strain > %g, or kinetic energy > %g x %.3g J\n",
+              base.name.c_str(), o.param.c_str(), values.size(), kinds.size(), spec.duration, spec.min_dt,
+              spec.max_dt, 100 * spec.precision, spec.max_strain, spec.energy_factor,
+              cases.front().model.energy_scale);
+  std::printf("%14s %12s %12s %12s %14s\n", "value", "w_max (1/s)", "2/w_max (s)", "c_max (1/s)", "2/max(w,c) (s)");
+  for (const Case& c : cases) {
+    const analysis::StiffnessEstimate e = analysis::estimate_stiffness(c.model);
+    std::printf("%14.6g %12.4g %12.4g %12.4g %14.4g\n", c.value, e.w_max, e.dt_springs(), e.c_max, e.dt_with_damping());
+  }
+  std::fflush(stdout);
+
+  std::vector<analysis::StabilityCase> refs;
+  for (const Case& c : cases) refs.push_back({c.value, &c.model});
+  SharedProgress progress("stability " + base.name, static_cast<long>(cases.size() * kinds.size()), "searches");
+  analysis::StudyHooks hooks;
+  hooks.stop = [] { return interrupted(); };
+  hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  const std::vector<StabilityLimit> limits = analysis::stability_sweep(refs, spec, hooks);
+  progress.finish();
+
+  std::printf("%14s %-16s %-48s %10s %12s %6s\n", "value", "integrator", "largest stable dt", "x 2/w_max",
+              "x 2/max(w,c)", "trials");
+  for (const StabilityLimit& l : limits) {
+    // The ratios to the estimates only for a bracketed limit ("-" where there is none: the CSV
+    // keeps its nan).
+    char springs[16] = "-", damping[16] = "-";
+    if (l.outcome == StabilityOutcome::Bracketed) {
+      std::snprintf(springs, sizeof springs, "%.3g", l.stable_dt / l.estimate.dt_springs());
+      std::snprintf(damping, sizeof damping, "%.3g", l.stable_dt / l.estimate.dt_with_damping());
+    }
+    std::printf("%14.6g %-16s %-48s %10s %12s %6d\n", l.value, std::string(integrator_name(l.integrator)).c_str(),
+                limit_text(l, spec).c_str(), springs, damping, l.trials);
+    if (l.failure == analysis::Failure::NotConverged)
+      std::printf("%14s %-16s NOT CONVERGED at %.4g s: %s\n", "", "", l.unstable_dt, l.reason.c_str());
+    if (!l.frame_steps.empty())
+      std::printf("%14s %-16s one step per frame: %s\n", "", "", frame_steps_text(l).c_str());
+  }
+
+  const auto write_to = [&](const std::string& path) {
+    AtomicFile file(path);
+    write_csv(file.stream(), o.param, limits, spec);
+    file.commit();
+  };
+  if (!o.csv.empty()) write_to(o.csv);
+  const std::size_t searches = cases.size() * kinds.size();
+  if (!o.summary.empty())
+    write_summary_json(o.summary, base.source, base.name, o.param, limits, spec, limits.size() == searches);
+  // Both files stay, each holding the searches that finished: the line names them.
+  if (interrupted() || limits.size() < searches)
+    throw RuntimeFailure(study_interrupted_message(limits.size(), searches, "searches", {o.csv, o.summary}, o.plot));
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", base.name});  // the script adds T from the CSV
+  return kOk;
+}
+
+}  // namespace
+
+void add_stability_command(CLI::App& app, Command& command) {
+  auto o = std::make_shared<StabilityOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "stability", "Largest stable step per integrator across a swept scene parameter (default: stiffness)");
+  add_scene_options(sub, o->scene, /*single_run=*/false,
+                    "the scene's duration, at most " + csv_number(kDefaultDuration) + " s");
+  sub->add_option("--integrators", o->integrators, "Comma-separated integrators")
+      ->capture_default_str()
+      ->type_name("LIST");
+  sub->add_option("--param", o->param, "The numeric scene key to sweep, by its dotted path")
+      ->capture_default_str()
+      ->type_name("KEY");
+  sub->add_option("--values", o->values,
+                  "Comma-separated values of --param (default: the scene's value x 1, 10, 100, 1000, 10000)")
+      ->type_name("LIST");
+  sub->add_option("--min-dt", o->min_dt,
+                  "Smallest step tried, s (default: min(scene dt, the smallest 2/max(w,c) estimate of the swept cases) / " +
+                      csv_number(kMinDtDivisor) + ")")
+      ->type_name("S");
+  sub->add_option("--max-dt", o->max_dt, "Largest step tried, s, at most T / 20 (default: min(T / 50, 1000 x scene dt))")->type_name("S");
+  sub->add_option("--frame-dts", o->frame_dts,
+                  "Steps implicit_euler is also run at over T, one per video frame (numbers or "
+                  "fractions, or 'none'); reported per case, not searched")
+      ->capture_default_str()
+      ->type_name("LIST");
+  sub->add_option("--precision", o->precision, "Relative width of the final bisection bracket")->capture_default_str();
+  sub->add_option("--energy-factor", o->energy_factor,
+                  "Unstable when kinetic energy exceeds this x the scene's energy scale")
+      ->capture_default_str();
+  sub->add_option("--max-strain", o->max_strain,
+                  "Unstable when a spring is stretched past (1 + this) x its rest length")
+      ->capture_default_str();
+  sub->add_option("--csv", o->csv, "Write one row per search: param,value,integrator,outcome,stable_dt,...")
+      ->type_name("FILE.csv");
+  sub->add_option("--plot", o->plot, "Draw largest stable dt vs the parameter (needs python3-matplotlib)")
+      ->type_name("FILE.png");
+  sub->add_option("--summary", o->summary, "Write each search's result as JSON (docs/summary.md)")
+      ->type_name("FILE.json");
+  add_progress_options(sub);
+  add_no_overwrite_option(sub);
+  sub->add_option("--jobs", o->jobs, "Searches at once (default 0: one per core)");
+  sub->callback([o, &command] { command = [o] { return stability_command(*o); }; });
+}
+
+}  // namespace clothsim::cli
