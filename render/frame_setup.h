@@ -3,7 +3,7 @@
 // Plain C++ (no GL), so it is tested on its own.
 #pragma once
 
-#include "gl_math.h"
+#include "render/gl/gl_math.h"
 #include "image.h"
 #include "view/render_frame.h"
 

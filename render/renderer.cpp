@@ -28,7 +28,7 @@
 // must not be used by two threads at once.
 #include "renderer.h"
 
-#include "gl_program.h"
+#include "render/gl/gl_program.h"
 
 #include <algorithm>
 #include <array>
@@ -40,10 +40,10 @@
 #include "colormap.h"
 #include "frame_setup.h"
 #include "fxaa.h"
-#include "gl_context.h"
-#include "gl_math.h"
-#include "meshes.h"
-#include "shaders.h"
+#include "render/gl/gl_context.h"
+#include "render/gl/gl_math.h"
+#include "render/gl/meshes.h"
+#include "render/gl/shaders.h"
 
 namespace clothsim {
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "gl_context.h"
+#include "render/gl/gl_context.h"
 #include "image.h"
 #include "view/render_frame.h"
 

@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "scene_fuzz.h"
+#include "fuzz/scene_fuzz.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string problem = clothsim::fuzz::scene_input_problem(data, size);

@@ -1,8 +1,8 @@
-#include "render/shaders.h"
+#include "render/gl/shaders.h"
 
 #include <gtest/gtest.h>
 
-#include "render/gl_program.h"
+#include "render/gl/gl_program.h"
 #include "render/renderer.h"
 
 namespace clothsim {

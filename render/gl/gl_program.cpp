@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace clothsim::gl {
 

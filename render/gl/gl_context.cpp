@@ -2,7 +2,7 @@
 
 #include <cstdlib>
 
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace clothsim {
 

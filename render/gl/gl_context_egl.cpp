@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "gl_context.h"
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace clothsim {
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "gl_context.h"
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace clothsim {
 

@@ -1,7 +1,7 @@
 // The GL backends (gl_context.h): names, the environment variable, and that EGL and OSMesa
 // give the same pictures (both are llvmpipe here; on NVIDIA, EGL is the GPU and the
 // golden tolerance is what must hold).
-#include "render/gl_context.h"
+#include "render/gl/gl_context.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "render/meshes.h"
+#include "render/gl/meshes.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Checks the layout rules of README's "Layout" section on the checkout it sits in:
+# - nothing loose in src/, and src/core, src/scene, src/study, src/view exist;
+# - every quoted include in src/, render/ and tools/ names a library folder or a file in the
+#   same folder, and no library includes one above it;
+# - no source file over 600 lines, no folder over 25 source files;
+# - no function over 80 lines (Universal Ctags' end: field) beyond the kernels listed below.
+# Prints every breach on one line and exits 1 if there is any.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+fail=0
+say() { echo "layout: $*"; fail=1; }
+
+for d in core scene study view; do [[ -d src/$d ]] || say "src/$d is missing"; done
+for f in src/*.h src/*.cpp; do [[ -e $f ]] && say "$f is loose in src/"; done
+
+# Which libraries a folder may include (its own first).
+allowed() {
+  case $1 in
+    src/core*) echo "core" ;;
+    src/view*) echo "view core" ;;
+    src/scene*) echo "scene view core" ;;
+    src/study*) echo "study scene view core" ;;
+    render*) echo "render view/render_frame.h view/render_settings.h" ;;
+    tools/video*) echo "video render view/render_frame.h" ;;
+    tools/fuzz*) echo "fuzz scene core" ;;  # fuzz/: the shared target in tests/fuzz
+    tools/*) echo "cli video render study scene view core" ;;
+  esac
+}
+while IFS= read -r f; do
+  dir=$(dirname "$f")
+  ok=$(allowed "$dir")
+  while IFS= read -r inc; do
+    [[ -z $inc ]] && continue
+    if [[ $inc != */* ]]; then
+      [[ -e $dir/$inc ]] || say "$f includes \"$inc\", which is not in its folder: name its library"
+      continue
+    fi
+    [[ $inc == hwy/* ]] && continue  # Highway's own headers, quoted as its docs do
+    match=0
+    for a in $ok; do [[ $inc == "$a" || $inc == "$a"/* ]] && match=1; done
+    ((match)) || say "$f includes \"$inc\": $dir may include only: $ok"
+  done < <(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$f")
+done < <(find src render tools -name '*.h' -o -name '*.cpp' | sort)
+
+while read -r n f; do
+  [[ $f == total ]] && continue
+  ((n > 600)) && say "$f has $n lines (at most 600)"
+done < <(find src render tools -name '*.h' -o -name '*.cpp' | xargs wc -l)
+while read -r n d; do
+  ((n > 25)) && say "$d holds $n source files (at most 25)"
+done < <(find src render tools tests -name '*.h' -o -name '*.cpp' | xargs -n1 dirname | sort | uniq -c)
+
+# Kernels allowed past 80 lines, each saying why in its own comment.
+long_ok=" ${CLOTHSIM_LONG_FUNCTIONS_OK:-} "
+if command -v ctags >/dev/null; then
+  while IFS=$'\t' read -r name file rest; do
+    line=$(grep -o 'line:[0-9]*' <<<"$rest" | cut -d: -f2)
+    end=$(grep -o 'end:[0-9]*' <<<"$rest" | cut -d: -f2)
+    [[ -z $line || -z $end ]] && continue
+    len=$((end - line + 1))
+    ((len > 80)) && [[ $long_ok != *" $name "* ]] && say "$file:$line: $name is $len lines (at most 80)"
+  done < <(find src render tools -name '*.cpp' -o -name '*.h' | xargs ctags -x --_xformat='%N	%F	line:%n end:%e' --kinds-c++=f 2>/dev/null)
+else
+  echo "layout: ctags not found, function lengths not checked (apt install universal-ctags)" >&2
+fi
+exit $fail
