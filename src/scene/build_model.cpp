@@ -102,23 +102,11 @@ std::vector<int> selected_particles(const std::vector<GridSelection>& selection,
   return out;
 }
 
-Model build_model(const SceneDef& scene) {
-  Model m;
-  m.name = scene.name;
-  m.source = scene.source;
-  const ClothDef& c = scene.cloth;
-  m.grid_nx = c.nx;
-  m.grid_ny = c.ny;
-  m.num_particles = c.nx * c.ny;
-  m.num_spheres = static_cast<int>(scene.spheres.size());
-  const int P = m.num_particles, B = m.num_bodies();
+namespace {
 
-  m.mass.resize(B);
-  m.initial_inv_mass.resize(B);
-  m.gravity_on.assign(B, 0);
-  m.initial_x.resize(3, B);
-  m.initial_v.setZero(3, B);
-
+// The cloth's particles: grid positions, masses, springs, pins and the initial velocity.
+void add_cloth(Model& m, const ClothDef& c) {
+  const int P = m.num_particles;
   for (int j = 0; j < c.ny; ++j)
     for (int i = 0; i < c.nx; ++i) m.initial_x.col(j * c.nx + i) = grid_position(c, i, j);
   m.springs = build_springs(c, m.initial_x);  // rest lengths from the unstretched grid
@@ -137,9 +125,13 @@ Model build_model(const SceneDef& scene) {
     m.initial_inv_mass[p] = 0.0;
     m.initial_v.col(p).setZero();
   }
+  m.triangles = build_triangles(c);
+}
 
+// The spheres as bodies after the particles; a kinematic sphere's keyframes join the timeline.
+void add_spheres(Model& m, const std::vector<SphereDef>& spheres) {
   for (int s = 0; s < m.num_spheres; ++s) {
-    const SphereDef& d = scene.spheres[s];
+    const SphereDef& d = spheres[s];
     const int b = m.sphere_body(s);
     m.initial_x.col(b) = d.center;
     m.initial_v.col(b) = d.velocity;
@@ -158,8 +150,11 @@ Model build_model(const SceneDef& scene) {
     for (const Keyframe& k : d.motion)
       m.timeline.push_back({TimedAction::Kind::SetVelocity, k.t, b, k.velocity});
   }
+}
 
-  for (const EventDef& e : scene.events) {
+// Pin and unpin events, then the whole timeline in time order (stable: scene order on ties).
+void add_events(Model& m, const std::vector<EventDef>& events, const ClothDef& c) {
+  for (const EventDef& e : events) {
     for (const int p : selected_particles(e.pin, c.nx, c.ny))
       m.timeline.push_back({TimedAction::Kind::Pin, e.t, p, Vec3::Zero()});
     for (const int p : selected_particles(e.unpin, c.nx, c.ny))
@@ -167,31 +162,54 @@ Model build_model(const SceneDef& scene) {
   }
   std::stable_sort(m.timeline.begin(), m.timeline.end(),
                    [](const TimedAction& a, const TimedAction& b) { return a.t < b.t; });
+}
 
+// Energy scale for the divergence bound: the potential energy the scene could release
+// falling through its own size, plus what its springs and motion hold at the start.
+double energy_scale(const Model& m, const ClothDef& c) {
+  const double extent = 1.0 + std::hypot(c.size_x, c.size_y);
+  double scale = 1.0;
+  for (int b = 0; b < m.num_bodies(); ++b)
+    if (std::isfinite(m.mass[b]))
+      scale += m.mass[b] * (m.gravity.norm() * extent + 0.5 * m.initial_v.col(b).squaredNorm());
+  for (std::size_t s = 0; s < m.springs.size(); ++s)
+    scale += spring_energy(m.initial_x.col(m.springs.a[s]), m.initial_x.col(m.springs.b[s]),
+                           m.springs.rest[s], m.springs.ks[s]);
+  return scale;
+}
+
+}  // namespace
+
+Model build_model(const SceneDef& scene) {
+  Model m;
+  m.name = scene.name;
+  m.source = scene.source;
+  const ClothDef& c = scene.cloth;
+  m.grid_nx = c.nx;
+  m.grid_ny = c.ny;
+  m.num_particles = c.nx * c.ny;
+  m.num_spheres = static_cast<int>(scene.spheres.size());
+  const int B = m.num_bodies();
+  m.mass.resize(B);
+  m.initial_inv_mass.resize(B);
+  m.gravity_on.assign(B, 0);
+  m.initial_x.resize(3, B);
+  m.initial_v.setZero(3, B);
+
+  add_cloth(m, c);
+  add_spheres(m, scene.spheres);
+  add_events(m, scene.events, c);
   m.has_ground = scene.ground.has_value();
   if (m.has_ground) m.ground = *scene.ground;
   m.collision = scene.collision;
   m.gravity = scene.gravity;
   m.air_drag = scene.air_drag;
-  m.triangles = build_triangles(c);
   m.duration = scene.duration;
   m.dt = scene.dt;
   m.integrator = scene.integrator;
   m.implicit = scene.implicit;
   m.divergence = scene.divergence;
-
-  // Energy scale for the divergence bound: the potential energy the scene could release
-  // falling through its own size, plus what its springs and motion hold at the start.
-  const double extent = 1.0 + std::hypot(c.size_x, c.size_y);
-  double scale = 1.0;
-  for (int b = 0; b < B; ++b)
-    if (std::isfinite(m.mass[b])) {
-      scale += m.mass[b] * (m.gravity.norm() * extent + 0.5 * m.initial_v.col(b).squaredNorm());
-    }
-  for (std::size_t s = 0; s < m.springs.size(); ++s)
-    scale += spring_energy(m.initial_x.col(m.springs.a[s]), m.initial_x.col(m.springs.b[s]),
-                           m.springs.rest[s], m.springs.ks[s]);
-  m.energy_scale = scale;
+  m.energy_scale = energy_scale(m, c);
   return m;
 }
 

@@ -79,91 +79,83 @@ void check(const StabilitySpec& spec) {
   if (spec.first_guess < 0.0 || !std::isfinite(spec.first_guess)) throw StudyError("the first guess must be >= 0 s");
 }
 
-StabilityLimit largest_stable_dt(const Model& model_in, IntegratorKind kind, const StabilitySpec& spec,
-                                 const std::function<bool()>& stop) {
-  check(spec);
-  Model model = model_in;  // a copy with the study's bounds
-  model.divergence.max_energy_factor = spec.energy_factor;
-  model.divergence.max_strain = spec.max_strain;
+namespace {
 
-  StabilityLimit out;
-  out.integrator = kind;
-  out.estimate = estimate_stiffness(model);
-  out.stable_dt = out.unstable_dt = kNaN;
-  bool stopped = false;
-  // How a run that was not stopped failed, if it did.
-  const auto failure_of = [](const StudyRun& run) {
-    if (run.divergence) return Failure::Diverged;
-    if (run.totals.unconverged_steps > 0) return Failure::NotConverged;
-    return Failure::None;
-  };
+// How a run that was not stopped failed, if it did.
+Failure failure_of(const StudyRun& run) {
+  if (run.divergence) return Failure::Diverged;
+  if (run.totals.unconverged_steps > 0) return Failure::NotConverged;
+  return Failure::None;
+}
+
+// One search for the largest stable step: trials at the largest step, then a bracket by
+// factors of 2 from the first guess, then bisection in log dt. Each trial is a run to T.
+class StableStepSearch {
+ public:
+  StableStepSearch(const Model& model, IntegratorKind kind, const StabilitySpec& spec,
+                   const std::function<bool()>& stop)
+      : model_(model), kind_(kind), spec_(spec), stop_(stop) {
+    model_.divergence.max_energy_factor = spec.energy_factor;  // the study's bounds
+    model_.divergence.max_strain = spec.max_strain;
+    out_.integrator = kind;
+    out_.estimate = estimate_stiffness(model_);
+    out_.stable_dt = out_.unstable_dt = kNaN;
+  }
+
+  StabilityLimit run() {
+    if (stable(spec_.max_dt)) return finish(StabilityOutcome::StableAtMax);
+    if (stopped_) return finish(StabilityOutcome::Stopped);
+    double lo = kNaN, hi = spec_.max_dt;  // lo: stable (once found), hi: unstable
+    if (!bracket(lo, hi)) return finish(stopped_ ? StabilityOutcome::Stopped : StabilityOutcome::UnstableAtMin);
+    bisect(lo, hi);
+    return finish(StabilityOutcome::Bracketed);
+  }
+
+ private:
   // One trial: true when the run reached T with every step converged; records the smallest
   // step that failed, and how.
-  const auto stable = [&](double dt) {
-    const StudyRun run = run_to(model, kind, dt, spec.duration, stop);
-    ++out.trials;
-    out.cpu_seconds += run.totals.cpu_seconds;
-    if (run.stopped) stopped = true;
+  bool stable(double dt) {
+    const StudyRun run = run_to(model_, kind_, dt, spec_.duration, stop_);
+    ++out_.trials;
+    out_.cpu_seconds += run.totals.cpu_seconds;
+    if (run.stopped) stopped_ = true;
     const Failure failure = failure_of(run);
     if (run.finished && failure == Failure::None) {
-      if (!(out.stable_dt >= dt)) out.stable_dt = dt;
+      if (!(out_.stable_dt >= dt)) out_.stable_dt = dt;
       return true;
     }
-    if (!stopped && !(out.unstable_dt <= dt)) {
-      out.unstable_dt = dt;
-      out.failure = failure;
-      std::ostringstream why;
-      why.precision(4);
-      if (failure == Failure::Diverged)
-        why << "at t = " << run.divergence->t << " s: " << run.divergence->reason;
-      else
-        why << run.totals.unconverged_steps << " of " << run.totals.steps
-            << " steps not converged (largest final residual " << run.totals.max_residual << ")";
-      out.reason = why.str();
-    }
+    if (!stopped_ && !(out_.unstable_dt <= dt)) record_failure(dt, run, failure);
     return false;
-  };
-  const auto finish = [&](StabilityOutcome outcome) {
-    out.outcome = stopped ? StabilityOutcome::Stopped : outcome;
-    if (kind == IntegratorKind::ImplicitEuler && !stopped) {
-      for (double dt : spec.frame_dts) {  // one step per frame: reported, not searched
-        const StudyRun run = run_to(model, kind, dt, spec.duration, stop);
-        ++out.trials;
-        out.cpu_seconds += run.totals.cpu_seconds;
-        FrameStepResult r;
-        r.dt = dt;
-        r.stopped = run.stopped;
-        r.failure = failure_of(run);
-        r.steps = run.totals.steps;
-        r.unconverged_steps = run.totals.unconverged_steps;
-        if (run.divergence) r.diverged_at = run.divergence->t;
-        out.frame_steps.push_back(r);
-      }
-    }
-    return out;
-  };
+  }
 
-  // 1. The largest step tried.
-  if (stable(spec.max_dt)) return finish(StabilityOutcome::StableAtMax);
-  if (stopped) return finish(StabilityOutcome::Stopped);
-  double lo = kNaN, hi = spec.max_dt;  // lo: stable (once found), hi: unstable
+  void record_failure(double dt, const StudyRun& run, Failure failure) {
+    out_.unstable_dt = dt;
+    out_.failure = failure;
+    std::ostringstream why;
+    why.precision(4);
+    if (failure == Failure::Diverged)
+      why << "at t = " << run.divergence->t << " s: " << run.divergence->reason;
+    else
+      why << run.totals.unconverged_steps << " of " << run.totals.steps
+          << " steps not converged (largest final residual " << run.totals.max_residual << ")";
+    out_.reason = why.str();
+  }
 
-  // 2. Bracket from the first guess, by factors of 2.
-  double guess = spec.first_guess > 0.0 ? spec.first_guess : out.estimate.dt_with_damping();
-  if (!std::isfinite(guess)) guess = spec.max_dt;
-  guess = std::clamp(guess, spec.min_dt, 0.5 * spec.max_dt);
-  if (stable(guess)) {
-    lo = guess;
-    for (double h = 2.0 * lo; h < hi && !stopped; h *= 2.0) {
-      if (stable(h)) lo = h;
-      else hi = h;
+  // From the first guess by factors of 2 until a stable step lies below an unstable one;
+  // false when none is stable down to the smallest step tried (or the search was stopped).
+  bool bracket(double& lo, double& hi) {
+    double guess = spec_.first_guess > 0.0 ? spec_.first_guess : out_.estimate.dt_with_damping();
+    if (!std::isfinite(guess)) guess = spec_.max_dt;
+    guess = std::clamp(guess, spec_.min_dt, 0.5 * spec_.max_dt);
+    if (stable(guess)) {
+      lo = guess;
+      for (double h = 2.0 * lo; h < hi && !stopped_; h *= 2.0) (stable(h) ? lo : hi) = h;
+      return true;
     }
-  } else {
     hi = guess;
-    for (double h = 0.5 * hi; !stopped; h *= 0.5) {
-      if (h <= spec.min_dt) {  // the last halving lands on min_dt exactly
-        if (stable(spec.min_dt)) lo = spec.min_dt;
-        else hi = spec.min_dt;
+    for (double h = 0.5 * hi; !stopped_; h *= 0.5) {
+      if (h <= spec_.min_dt) {  // the last halving lands on min_dt exactly
+        (stable(spec_.min_dt) ? lo : hi) = spec_.min_dt;
         break;
       }
       if (stable(h)) {
@@ -172,17 +164,56 @@ StabilityLimit largest_stable_dt(const Model& model_in, IntegratorKind kind, con
       }
       hi = h;
     }
-    if (stopped) return finish(StabilityOutcome::Stopped);
-    if (std::isnan(lo)) return finish(StabilityOutcome::UnstableAtMin);
+    return !stopped_ && !std::isnan(lo);
   }
 
-  // 3. Bisect in log dt.
-  while (!stopped && hi / lo > 1.0 + spec.precision) {
-    const double mid = std::sqrt(lo * hi);
-    if (stable(mid)) lo = mid;
-    else hi = mid;
+  // In log dt until hi / lo is within the precision, or the midpoint no longer differs from
+  // an end in double precision (a precision near 1e-16 would otherwise never end).
+  void bisect(double& lo, double& hi) {
+    while (!stopped_ && hi / lo > 1.0 + spec_.precision) {
+      const double mid = std::sqrt(lo * hi);
+      if (!(mid > lo && mid < hi)) break;
+      (stable(mid) ? lo : hi) = mid;
+    }
   }
-  return finish(StabilityOutcome::Bracketed);
+
+  // implicit_euler at one step per frame: reported beside the search, not searched.
+  void add_frame_steps() {
+    for (double dt : spec_.frame_dts) {
+      const StudyRun run = run_to(model_, kind_, dt, spec_.duration, stop_);
+      ++out_.trials;
+      out_.cpu_seconds += run.totals.cpu_seconds;
+      FrameStepResult r;
+      r.dt = dt;
+      r.stopped = run.stopped;
+      r.failure = failure_of(run);
+      r.steps = run.totals.steps;
+      r.unconverged_steps = run.totals.unconverged_steps;
+      if (run.divergence) r.diverged_at = run.divergence->t;
+      out_.frame_steps.push_back(r);
+    }
+  }
+
+  StabilityLimit finish(StabilityOutcome outcome) {
+    out_.outcome = stopped_ ? StabilityOutcome::Stopped : outcome;
+    if (kind_ == IntegratorKind::ImplicitEuler && !stopped_) add_frame_steps();
+    return out_;
+  }
+
+  Model model_;  // a copy with the study's bounds
+  IntegratorKind kind_;
+  const StabilitySpec& spec_;
+  const std::function<bool()>& stop_;
+  StabilityLimit out_;
+  bool stopped_ = false;
+};
+
+}  // namespace
+
+StabilityLimit largest_stable_dt(const Model& model, IntegratorKind kind, const StabilitySpec& spec,
+                                 const std::function<bool()>& stop) {
+  check(spec);
+  return StableStepSearch(model, kind, spec, stop).run();
 }
 
 std::vector<StabilityLimit> stability_sweep(const std::vector<StabilityCase>& cases, const StabilitySpec& spec,

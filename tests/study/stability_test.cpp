@@ -51,6 +51,16 @@ TEST(Stability, FindsSymplecticEulersLimitAtOmegaHEqualsTwo) {
   EXPECT_FALSE(l.reason.empty());
 }
 
+TEST(Stability, APrecisionFinerThanDoublesEndsWhereTheBracketCanNoLongerShrink) {
+  StabilitySpec spec = long_run(IntegratorKind::SymplecticEuler);
+  spec.duration = 40.0;
+  spec.precision = 1e-16;  // 1 + 1e-16 == 1: hi / lo never passes it
+  const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::SymplecticEuler, spec);
+  ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed);
+  EXPECT_LE(l.unstable_dt / l.stable_dt, 1.0 + 1e-15) << "bisected down to adjacent doubles";
+  EXPECT_LT(l.trials, 200);
+}
+
 TEST(Stability, FindsRk4sLimitAtOmegaHEqualsTwoPointEightThree) {
   const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::Rk4, long_run(IntegratorKind::Rk4));
   ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed);
