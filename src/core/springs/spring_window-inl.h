@@ -28,9 +28,8 @@
 
 namespace clothsim {
 
-// Positions per block (a multiple of kSpringLanePad, so of every target's lane count); 2048
-// ran 3-4 % faster than 1024 and 4096 for the force pass at 256 x 256, its window (12 arrays
-// of 2048 + 2 nx + 16 doubles, 250 kB there) well inside L2.
+// Positions per block (a multiple of kSpringLanePad, so of every target's lane count): small
+// enough that a block's window stays in L2 (BENCHMARKS.md, "Spring force pass", has the sizes tried).
 inline constexpr std::size_t kWindowBlock = 2048;
 
 // How many particles a window holds: a block's positions, the farthest b = first + offset

@@ -23,20 +23,17 @@ std::string format_bytes(double bytes);
 // node), and far below where Linux's OOM killer would end the run without a word.
 double default_memory_limit();
 
-// Process, GL and image sizes, from GNU time's peak RSS (BENCHMARKS.md, "Memory estimate").
-inline constexpr double kProcessBytes = 80.0 * 1024 * 1024;   // libraries, a tiny scene: 76 MB
-inline constexpr double kRendererBytes = 80.0 * 1024 * 1024;  // OSMesa / llvmpipe: 35 MB at 320x240
-// The renderer's buffers per pixel of its target: 20 B plus 8 B per MSAA sample (52 B at the
-// default 4 samples; measured 48 B per pixel for a still, frame and PNG included).
+// Process, GL and image sizes, each rounded up from peak RSS (BENCHMARKS.md, "Memory estimate").
+inline constexpr double kProcessBytes = 80.0 * 1024 * 1024;   // libraries and a tiny scene
+inline constexpr double kRendererBytes = 80.0 * 1024 * 1024;  // OSMesa / llvmpipe's own
+// The renderer's buffers per pixel of its target: 20 B plus 8 B per MSAA sample.
 double render_bytes(int width, int height, int samples);
-// x264 (veryfast) and the YUV conversion per pixel of the encoded picture: 64 B (measured
-// 62-75 B on this 2-core machine; x264's frame threads, hence its memory, grow with cores).
+// x264 (veryfast) and the YUV conversion per pixel of the encoded picture; x264's frame
+// threads, hence its memory, grow with the machine's cores.
 double encoder_bytes(int width, int height);
 
 // Each lane thread of a frame pipeline beyond the Run itself: glibc's per-thread malloc arena
-// and the thread's stack pages. Calibrated on compare's default clip: with 4 lane threads the
-// estimate was 2-3 % under its peak (245 MiB), with 5 (the reference lane added) 6 % under
-// (253 MiB) until this term, 3 MiB per lane, was counted.
+// and the thread's stack pages.
 inline constexpr double kLaneThreadBytes = 3.0 * 1024 * 1024;
 
 // Lane frames held back while a colour scale is chosen from the first second's data

@@ -131,9 +131,8 @@ RenderCamera auto_camera(const Model& model, const RenderDef& scene_render, doub
   const RenderFrame at_rest = make_render_frame(model, initial_state(model), scene_render);
   CameraFitOptions options;
   options.fov_deg = at_rest.camera.fov_deg;  // the scene's lens, aimed anew
-  // 40 degrees above the horizon rather than the fit's 30: the drape's cloth, sagging over its
-  // ball, covers 34-39 % of a default-clip tile from 0 to 5 s at 40 degrees and falls to 23 %
-  // at 30 (CompareLook.TheDefaultClipsClothCoversAQuarterOfEachTile measures it).
+  // 40 degrees above the horizon rather than the fit's 30: a cloth sagging over its ball keeps
+  // about a third of a tile (CompareLook.TheDefaultClipsClothCoversAQuarterOfEachTile).
   options.elevation_deg = 40.f;
   return fit_camera(at_rest.cloth_positions, at_rest.spheres, static_cast<float>(aspect), options);
 }

@@ -18,8 +18,8 @@ namespace clothsim::cli {
 namespace {
 
 constexpr std::size_t kMaxQueued = 3;  // frames waiting for the writer; add() blocks beyond this
-// zlib level 1: about 5% larger files than level 2 for 5% less time (render_benchmarks,
-// BM_WritePng), and at 720p writing a frame takes as long as rendering one.
+// zlib level 1: at 720p writing a frame takes as long as rendering one, so speed beats a few
+// per cent of file size (BENCHMARKS.md, "Renderer and PNG").
 constexpr int kZlibLevel = 1;
 
 class PngSequenceSink final : public FrameSink {
