@@ -32,12 +32,12 @@ void wrap_into(const std::string& line, int max_width, int scale, std::vector<st
 }
 
 // The inset's panel, bottom-right above the tile label band: about a quarter of the width,
-// wider if its label needs it at the smallest text scale; the label's text steps down from
-// the overlay's scale until it fits a quarter of the width, as a tile label does.
+// wider if its label needs it at the overlay's text scale (one text size in a picture); the
+// label's text steps down only where it would take more than a third of the width.
 void place_inset(const RenderFrame& frame, int width, int height, OverlayLayout& l) {
   const int quarter = width / 4;
   int s = l.scale;
-  while (s > 1 && text_width(frame.inset.label, s) + 4 * s > quarter) --s;
+  while (s > 1 && text_width(frame.inset.label, s) + 4 * s > width / 3) --s;
   l.inset_scale = s;
   const int pad = 2 * s;
   const int w = std::min(std::max(quarter, text_width(frame.inset.label, s) + 2 * pad), width - 2 * l.margin);
@@ -114,29 +114,21 @@ struct BannerChoice {
   int scale = 1;
 };
 
-// Every way to write the banner in `room`, best first: its phrases on one line at the largest
-// scale (twice the text's down to 1) where that fits, then on two lines at the largest scale
-// that holds them; then the same without the last phrase, and so on down to the first two
-// (never fewer); last (a tile narrower than a phrase) the first two wrapped at spaces.
+// Every way to write the banner in `room`, best first: at the text's own scale (one text size
+// in a picture), its phrases on one line, else on two; then the same without the last phrase,
+// and so on down to the first two (never fewer); only then the same at smaller scales; last
+// (a tile narrower than a phrase) the first two wrapped at spaces.
 std::vector<BannerChoice> banner_choices(const std::vector<std::string>& phrases, int room, int text_scale) {
   std::vector<BannerChoice> out;
   const std::size_t kept = std::min<std::size_t>(2, phrases.size());
-  for (std::size_t count = phrases.size(); count >= std::max<std::size_t>(kept, 1); --count) {
-    std::string one_line;
-    for (std::size_t i = 0; i < count; ++i) one_line += (i ? " " : "") + phrases[i];
-    for (int b = 2 * text_scale; b >= 1; --b)
-      if (text_width(one_line, b) <= room) {
-        out.push_back({{one_line}, b});
-        break;
-      }
-    for (int b = 2 * text_scale; b >= 1; --b) {
+  for (int b = text_scale; b >= 1; --b)
+    for (std::size_t count = phrases.size(); count >= std::max<std::size_t>(kept, 1); --count) {
+      std::string one_line;
+      for (std::size_t i = 0; i < count; ++i) one_line += (i ? " " : "") + phrases[i];
+      if (text_width(one_line, b) <= room) out.push_back({{one_line}, b});
       std::vector<std::string> lines = pack_phrases(phrases, count, room, b);
-      if (lines.size() == 2 && lines_fit(lines, room, b)) {
-        out.push_back({lines, b});
-        break;
-      }
+      if (lines.size() == 2 && lines_fit(lines, room, b)) out.push_back({lines, b});
     }
-  }
   BannerChoice wrapped;
   for (std::size_t i = 0; i < kept; ++i) wrap_into(phrases[i], room, 1, wrapped.lines);
   for (std::string& line : wrapped.lines)  // (the phrase is what is read, not wrap_into's indent)

@@ -52,16 +52,16 @@ struct OverlayLayout {
   std::vector<ScaleTick> ticks;
 
   // The banner (DIVERGED, NOT CONVERGED): centred in the picture left of the colour bar's
-  // panel, so it hides no tick, at twice the text scale or smaller to fit that width; across
-  // the picture where it does not fit there. Its phrases on one line, else on two (each line
-  // centred in the box), the last phrases left off where two lines cannot hold them at scale 1
-  // or where only fewer clear the overlay lines.
+  // panel, so it hides no tick, at the text scale (smaller only where not even its first two
+  // phrases fit that width on two lines); across the picture where it does not fit there. Its
+  // phrases on one line, else on two (each line centred in the box), the last phrases left
+  // off where two lines cannot hold them or where only fewer clear the overlay lines.
   ImageBox banner;                        // the lines' glyphs (the backdrop reaches 2 scale past)
   int banner_scale = 1;
   std::vector<std::string> banner_lines;  // as drawn, top to bottom
 
   ImageBox inset;      // the series inset's panel (dark backdrop)
-  int inset_scale = 1; // its text scale: the overlay's, or smaller for a long label in its width
+  int inset_scale = 1; // its text scale: the overlay's, smaller only for a label over a third of the width
   ImageBox plot;       // the graph area inside the inset
 };
 

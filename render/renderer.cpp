@@ -42,6 +42,7 @@
 #include "fxaa.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/gl_math.h"
+#include "render/gl/gl_uniforms.h"
 #include "render/gl/meshes.h"
 #include "render/gl/shaders.h"
 
@@ -51,24 +52,7 @@ using namespace render;  // frame_setup.h: View, lights, colour conventions
 
 namespace {
 
-// Uniform setters by name (a few dozen lookups a frame; cheaper than the clarity they buy).
-void set(GLuint p, const char* name, float v) { glUniform1f(glGetUniformLocation(p, name), v); }
-void set(GLuint p, const char* name, int v) { glUniform1i(glGetUniformLocation(p, name), v); }
-void set(GLuint p, const char* name, Vec3 v) { glUniform3f(glGetUniformLocation(p, name), v.x, v.y, v.z); }
-void set(GLuint p, const char* name, const Rgb& c) { glUniform3f(glGetUniformLocation(p, name), c[0], c[1], c[2]); }
-void set(GLuint p, const char* name, float a, float b) { glUniform2f(glGetUniformLocation(p, name), a, b); }
-void set(GLuint p, const char* name, const Mat4& m) {
-  glUniformMatrix4fv(glGetUniformLocation(p, name), 1, GL_FALSE, m.data());
-}
-void set_placement(GLuint p, Vec3 offset, float scale) {
-  glUniform4f(glGetUniformLocation(p, "u_placement"), offset.x, offset.y, offset.z, scale);
-}
-
-template <class T>
-void upload(GLenum target, GLuint buffer, const std::vector<T>& data) {
-  glBindBuffer(target, buffer);
-  glBufferData(target, static_cast<GLsizeiptr>(data.size() * sizeof(T)), data.data(), GL_STREAM_DRAW);
-}
+using gl::attribute, gl::set, gl::set_placement, gl::upload;  // render/gl/gl_uniforms.h
 
 // Camera and lights for the lit programs (kLighting in shaders.cpp).
 void set_lights(GLuint program, const View& view) {
@@ -83,12 +67,6 @@ void set_lights(GLuint program, const View& view) {
 // Points above the ground plane y = h have a positive distance (gl_ClipDistance[0]).
 void set_ground_clip(GLuint program, const RenderFrame& frame) {
   glUniform4f(glGetUniformLocation(program, "u_clip_plane"), 0.f, 1.f, 0.f, -frame.ground_height);
-}
-
-void attribute(GLuint index, GLuint buffer, int components) {
-  glBindBuffer(GL_ARRAY_BUFFER, buffer);
-  glEnableVertexAttribArray(index);
-  glVertexAttribPointer(index, components, GL_FLOAT, GL_FALSE, 0, nullptr);
 }
 
 }  // namespace

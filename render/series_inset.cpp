@@ -47,10 +47,11 @@ void draw_series_inset(Image& image, const SeriesInset& inset, const OverlayLayo
   const int axis = std::max(1, s / 2);
   fill_box(image, {plot.x, plot.y, axis, plot.h}, kAxis);
   fill_box(image, {plot.x, plot.bottom() - axis, plot.w, axis}, kAxis);
-  const int inner_x = plot.x + axis + s;
-  draw_text(image, inner_x, plot.y + s, short_number(inset.v_hi), kAxisText, s, false);
-  draw_text(image, inner_x, plot.bottom() - axis - s - kTextCapHeight * s, short_number(inset.v_lo), kAxisText, s,
-            false);
+  // The value range at the right edge: the curve grows from the left and reaches it only at the end.
+  const std::string v_hi = short_number(inset.v_hi), v_lo = short_number(inset.v_lo);
+  draw_text(image, plot.right() - s - text_width(v_hi, s), plot.y + s, v_hi, kAxisText, s, false);
+  draw_text(image, plot.right() - s - text_width(v_lo, s), plot.bottom() - axis - s - kTextCapHeight * s, v_lo,
+            kAxisText, s, false);
   const int axis_label_y = plot.bottom() + s;
   const std::string t_lo = short_number(inset.t_lo) + " s", t_hi = short_number(inset.t_hi) + " s";
   draw_text(image, plot.x, axis_label_y, t_lo, kAxisText, s, false);

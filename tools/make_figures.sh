@@ -1,6 +1,6 @@
 #!/bin/sh
-# Re-makes every figure of docs/integrators.md ("Choosing an integrator") and the README's
-# pictures of compare from the shipped scenes, with the exact commands the pages quote, and
+# Re-makes every figure of docs/integrators.md ("Choosing an integrator"), the README's and
+# docs/cli.md's pictures from the shipped scenes, with the exact commands the pages quote, and
 # keeps each study's CSV beside its figure (docs/images/*.csv) so the numbers can be checked.
 #
 #   tools/make_figures.sh [BUILD_DIR]      # BUILD_DIR defaults to build (holding clothsim)
@@ -53,8 +53,12 @@ done
 "$PY" tools/plot_energy.py "$TMP"/explicit_euler.csv "$TMP"/symplectic_euler.csv "$TMP"/midpoint.csv \
   "$TMP"/rk4.csv "$TMP"/implicit_euler.csv --relative \
   --title "drape.yaml, dt = 1e-4 s: total energy - E(0)" --out $OUT/energy_drape.png
-echo "== README: a frame of the default clip, two lanes diverged, a contact sheet"
-"$CLOTHSIM" compare scenes/drape.yaml --still 2.5 -o $OUT/drape_compare.png
-"$CLOTHSIM" compare scenes/drape.yaml --dt 3e-4 --color strain --still 1.5 -o $OUT/drape_diverged.png
+echo "== README: the default clip, the extremes, one method at two steps; docs/cli.md: diverged lanes, a sheet"
+"$CLOTHSIM" compare scenes/drape.yaml --still 2.5 -o $OUT/drape_compare.png --width 640 --height 360
+"$CLOTHSIM" compare scenes/drape.yaml --overlay-cost cpu --width 640 --height 360 \
+  --integrators explicit_euler@1e-4,midpoint@2e-4,rk4@4e-4,implicit_euler@1/60 --still 1 -o $OUT/drape_extremes.png
+"$CLOTHSIM" compare scenes/drape.yaml --color strain --width 640 --height 360 \
+  --integrators rk4@1e-4,rk4@3e-4,symplectic_euler@1e-4,symplectic_euler@3e-4 --still 1.5 -o $OUT/drape_steps.png
+"$CLOTHSIM" compare scenes/drape.yaml --dt 3e-4 --color strain --still 1.5 -o $OUT/drape_diverged.png --width 640 --height 360
 "$CLOTHSIM" compare scenes/drape.yaml --sheet $OUT/drape_sheet.png --times 0.1,0.5,2,4 --width 960 --height 540
 echo "figures in $OUT"

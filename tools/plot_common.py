@@ -78,3 +78,48 @@ def save(fig, out):
         sys.exit(1)
     finally:
         plt.close(fig)
+
+
+# Offsets (points) tried for a point's label, nearest first: right-above, right-below,
+# left-above, left-below, then further out.
+LABEL_OFFSETS = [(4, 3), (4, -9), (-4, 3), (-4, -9), (8, 10), (8, -16), (-8, 10), (-8, -16)]
+
+
+def place_labels(ax, items, fontsize=6):
+    """Labels points without overlap: items are (x, y, text, color) in data coordinates.
+
+    Each label takes the first offset whose box clears every label placed before it and every
+    point; where none does, the first. Call after the axes' scales and limits are set.
+    """
+    fig = ax.figure
+    fig.canvas.draw()  # settles the limits, so data -> display is final
+    renderer = fig.canvas.get_renderer()
+    scale = fig.dpi / 72.0
+    points = [ax.transData.transform((x, y)) for x, y, _, _ in items]
+    taken = []
+    for (x, y, text, color), (px, py) in zip(items, points):
+        probe = ax.text(0, 0, text, fontsize=fontsize)
+        box = probe.get_window_extent(renderer)
+        probe.remove()
+        w, h = box.width, box.height
+        choice = None
+        for dx, dy in LABEL_OFFSETS:
+            x0 = px + dx * scale - (w if dx < 0 else 0)
+            y0 = py + dy * scale
+            rect = (x0, y0, x0 + w, y0 + h)
+            if not any(_overlaps(rect, t) for t in taken) and \
+                    not any(_overlaps(rect, (qx - 3, qy - 3, qx + 3, qy + 3)) for qx, qy in points):
+                choice = (dx, dy, rect)
+                break
+        if choice is None:
+            dx, dy = LABEL_OFFSETS[0]
+            x0 = px + dx * scale
+            choice = (dx, dy, (x0, py + dy * scale, x0 + w, py + dy * scale + h))
+        dx, dy, rect = choice
+        taken.append(rect)
+        ax.annotate(text, (x, y), textcoords="offset points", xytext=(dx, dy), fontsize=fontsize,
+                    color=color, ha="right" if dx < 0 else "left")
+
+
+def _overlaps(a, b):
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]

@@ -5,8 +5,8 @@ Two panels, error (log) against cost (log): time and force evaluations. Time is 
 time of the thread that made the run by default (--time cpu): on an idle machine it is the
 run's wall time, and it stays so when other processes share the cores, which the wall
 clock (--time wall) does not. One line per integrator through the runs that
-finished, labelled with their step; runs that diverged are marked with a cross along the
-top edge at their cost; runs with implicit steps that did not converge (column
+finished, labelled with their step (labels placed clear of each other); runs that
+diverged are marked with a cross along the top edge at their cost, labelled with their step; runs with implicit steps that did not converge (column
 unconverged_steps, when present) are drawn hollow and circled in red: their error is not
 backward Euler's. The dotted line is the reference's own resolution (how much halving its
 step moved it): errors near it are not measured, only bounded.
@@ -53,6 +53,7 @@ def main():
 
     fig, axes = pc.plt.subplots(1, 2, figsize=(12, 5.2), sharey=True)
     panels = [(axes[0], time_key, time_label), (axes[1], "force_evals", "force evaluations")]
+    step_labels = {ax: [] for ax in axes}  # (x, y, step, colour): placed once the limits are known
     for ax, key, label in panels:
         for name, rs in runs.items():
             color, marker = pc.style(name)
@@ -61,9 +62,7 @@ def main():
             xs = [max(pc.number(r[key]), 1e-6) for r in ok]
             ys = [pc.number(r["rms_error"]) for r in ok]
             ax.plot(xs, ys, color=color, marker=marker, label=name)
-            for r, x, y in zip(ok, xs, ys):
-                ax.annotate(f"{pc.number(r['dt']):.3g}", (x, y), textcoords="offset points", xytext=(4, 3),
-                            fontsize=6, color=color)
+            step_labels[ax].extend((x, y, f"{pc.number(r['dt']):.3g}", color) for r, x, y in zip(ok, xs, ys))
             missed = [(x, y) for r, x, y in zip(ok, xs, ys) if unconverged(r)]
             if missed:  # hollow: the line's filled marker painted over in white, then circled
                 ax.scatter([x for x, _ in missed], [y for _, y in missed], marker=marker, s=40,
@@ -72,8 +71,9 @@ def main():
                            edgecolors="red", linewidths=1.5, zorder=4)
             bad = [r for r in rs if r["diverged"] == "1"]
             if bad:
-                ax.scatter([max(pc.number(r[key]), 1e-6) for r in bad], [top] * len(bad), marker="x",
-                           color=color, s=50, zorder=3)
+                bx = [max(pc.number(r[key]), 1e-6) for r in bad]
+                ax.scatter(bx, [top] * len(bad), marker="x", color=color, s=50, zorder=3)
+                step_labels[ax].extend((x, top, f"{pc.number(r['dt']):.3g}", color) for r, x in zip(bad, bx))
         if ref:
             ax.axhline(max(ref), color="gray", linestyle=":", linewidth=1)
         ax.set_xscale("log")
@@ -94,8 +94,11 @@ def main():
         labels.append("reference resolution")
     axes[1].legend(handles, labels, fontsize=8, loc="lower left")
     fig.suptitle(("work precision: " + args.title) if args.title else "work precision")
-    fig.text(0.5, 0.005, "points labelled with their step dt (s); lower left is better", ha="center", fontsize=8)
+    fig.text(0.5, 0.005, "points labelled with their step dt (s), crosses too; lower left is better",
+             ha="center", fontsize=8)
     fig.tight_layout(rect=(0, 0.02, 1, 0.96))
+    for ax in axes:
+        pc.place_labels(ax, step_labels[ax])
     pc.save(fig, args.out)
 
 

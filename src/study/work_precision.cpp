@@ -116,22 +116,18 @@ double convergence_order(const std::vector<WorkPrecisionPoint>& points, Integrat
   return denom != 0.0 ? (n * sxy - sx * sy) / denom : kNaN;
 }
 
-WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& spec_in,
-                                   const StudyHooks& hooks) {
-  const WorkPrecisionSpec spec = checked(spec_in);
-  const double T = spec.duration;
-  const double h_coarse = spec.dts.front() / spec.reference_refinement;
-  const double h_fine = 0.5 * h_coarse;
+namespace {
 
-  // Task list: the two reference runs, then every (integrator, dt).
-  struct Task {
-    IntegratorKind kind;
-    double dt;
-    int point;  // index into result.points, or -1 / -2 for the coarse / fine reference
-  };
-  std::vector<Task> tasks{{spec.reference_integrator, h_coarse, -1}, {spec.reference_integrator, h_fine, -2}};
-  WorkPrecisionResult result;
-  result.duration = T;
+// One run of the study: the reference (point -1 coarse, -2 fine) or result.points[point].
+struct Task {
+  IntegratorKind kind;
+  double dt;
+  int point;
+};
+
+// The two reference runs, then every (integrator, dt), dearest first; fills result.points.
+std::vector<Task> plan_tasks(const WorkPrecisionSpec& spec, double h_coarse, WorkPrecisionResult& result) {
+  std::vector<Task> tasks{{spec.reference_integrator, h_coarse, -1}, {spec.reference_integrator, 0.5 * h_coarse, -2}};
   for (IntegratorKind kind : spec.integrators)
     for (double dt : steps_of(spec, kind)) {
       WorkPrecisionPoint p;
@@ -142,44 +138,54 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
       tasks.push_back({kind, dt, static_cast<int>(result.points.size())});
       result.points.push_back(p);
     }
+  const double T = spec.duration;
   std::stable_sort(tasks.begin(), tasks.end(), [&](const Task& a, const Task& b) {
     return cost_estimate(a.kind, T, a.dt) > cost_estimate(b.kind, T, b.dt);
   });
+  return tasks;
+}
 
-  std::vector<StudyRun> runs(result.points.size());
-  std::vector<bool> ran(result.points.size(), false);
-  StudyRun coarse, fine;
+struct StudyRuns {
+  std::vector<StudyRun> points;  // by result.points index
+  std::vector<bool> ran;         // whether points[k] ran to its end (not stopped)
+  StudyRun coarse, fine;         // the reference at h and h / 2
+};
+
+StudyRuns run_tasks(const Model& model, const WorkPrecisionSpec& spec, const std::vector<Task>& tasks,
+                    std::size_t points, const StudyHooks& hooks) {
+  StudyRuns runs;
+  runs.points.resize(points);
+  runs.ran.assign(points, false);
   std::mutex mutex;
   long done = 0;
   const long total = static_cast<long>(tasks.size());
   parallel_for(tasks.size(), spec.jobs, [&](std::size_t i) {
     const Task& task = tasks[i];
-    StudyRun run = run_to(model, task.kind, task.dt, T, hooks.stop);
+    StudyRun run = run_to(model, task.kind, task.dt, spec.duration, hooks.stop);
     std::lock_guard<std::mutex> lock(mutex);
     if (run.stopped) return;  // incomplete: neither a result nor a divergence
-    if (task.point == -1) coarse = std::move(run);
-    else if (task.point == -2) fine = std::move(run);
-    else runs[task.point] = std::move(run), ran[task.point] = true;
+    if (task.point == -1) runs.coarse = std::move(run);
+    else if (task.point == -2) runs.fine = std::move(run);
+    else runs.points[task.point] = std::move(run), runs.ran[task.point] = true;
     ++done;
     if (hooks.progress) hooks.progress(done, total);
   }, hooks.stop);
+  return runs;
+}
 
-  // Errors against the finer reference, once both references are in.
+// The points that ran, with their cost, outcome and error against the finer reference.
+void collect_points(const Model& model, const StudyRuns& runs, WorkPrecisionResult& result) {
   ReferenceCheck& ref = result.reference;
-  ref.integrator = spec.reference_integrator;
-  ref.dt = h_fine;
-  ref.margin = spec.reference_margin;
-  ref.finished = coarse.finished && fine.finished;
-  if (fine.finished) result.reference_x = fine.final_state.x.leftCols(model.num_particles);
+  const StudyRun& fine = runs.fine;
   std::vector<WorkPrecisionPoint> kept;
   ref.smallest_error = kNaN;
   for (std::size_t k = 0; k < result.points.size(); ++k) {
-    if (!ran[k]) {
+    if (!runs.ran[k]) {
       result.complete = false;
       continue;
     }
     WorkPrecisionPoint p = result.points[k];
-    const StudyRun& run = runs[k];
+    const StudyRun& run = runs.points[k];
     p.finished = run.finished;
     p.diverged = run.divergence.has_value();
     if (p.diverged) p.diverged_at = run.divergence->t, p.reason = run.divergence->reason;
@@ -194,28 +200,46 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
       const PositionError e = position_error(model, run.final_state.x, fine.final_state.x, fine.final_state.inv_mass);
       p.rms_error = e.rms;
       p.max_error = e.max;
-      if (!( ref.smallest_error <= e.rms)) ref.smallest_error = e.rms;
+      if (!(ref.smallest_error <= e.rms)) ref.smallest_error = e.rms;
     }
     kept.push_back(std::move(p));
   }
   result.points = std::move(kept);
+}
 
+// Whether a free particle of `s` lies within two contact margins of a sphere or the ground.
+bool cloth_touches(const Model& model, const State& s) {
+  const double reach = 2.0 * model.collision.margin;
+  for (int p = 0; p < model.num_particles; ++p) {
+    if (!(s.inv_mass[p] > 0.0)) continue;
+    if (model.has_ground && s.x(1, p) <= model.ground.height + reach) return true;
+    for (int k = 0; k < model.num_spheres; ++k)
+      if ((s.x.col(p) - s.x.col(model.sphere_body(k))).norm() <= model.sphere_radius[k] + reach) return true;
+  }
+  return false;
+}
+
+// The reference's verdict: finished, and halving its step moved it by less than the margin
+// times the smallest error reported; `failure` says why not.
+void judge_reference(const Model& model, const StudyRuns& runs, double h_fine, WorkPrecisionResult& result) {
+  ReferenceCheck& ref = result.reference;
   std::ostringstream why;
   why.precision(3);
   const std::string ref_name(integrator_name(ref.integrator));
   if (!ref.finished) {
-    const StudyRun& bad = !coarse.finished ? coarse : fine;
-    const double h = !coarse.finished ? h_coarse : h_fine;
+    const StudyRun& bad = !runs.coarse.finished ? runs.coarse : runs.fine;
+    const double h = !runs.coarse.finished ? 2 * h_fine : h_fine;
     if (bad.divergence)
       why << "the reference run (" << ref_name << " at dt = " << h << " s) diverged at t = "
           << bad.divergence->t << " s (" << bad.divergence->reason << ")";
     else
       why << "the reference run (" << ref_name << " at dt = " << h << " s) was stopped before T";
   } else {
-    const PositionError change = position_error(model, coarse.final_state.x, fine.final_state.x,
-                                                fine.final_state.inv_mass);
+    const PositionError change = position_error(model, runs.coarse.final_state.x, runs.fine.final_state.x,
+                                                runs.fine.final_state.inv_mass);
     ref.change_rms = change.rms;
     ref.change_max = change.max;
+    ref.contact_at_end = cloth_touches(model, runs.fine.final_state);
     // No finished point: nothing reported to compare with, so nothing the reference could spoil.
     const bool resolves = std::isnan(ref.smallest_error) || ref.change_rms <= ref.margin * ref.smallest_error;
     if (!resolves)
@@ -226,7 +250,87 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
   }
   ref.failure = why.str();
   ref.converged = ref.failure.empty();
+}
+
+}  // namespace
+
+WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& spec_in,
+                                   const StudyHooks& hooks) {
+  const WorkPrecisionSpec spec = checked(spec_in);
+  const double h_coarse = spec.dts.front() / spec.reference_refinement;
+  WorkPrecisionResult result;
+  result.duration = spec.duration;
+  const std::vector<Task> tasks = plan_tasks(spec, h_coarse, result);
+  const StudyRuns runs = run_tasks(model, spec, tasks, result.points.size(), hooks);
+
+  ReferenceCheck& ref = result.reference;
+  ref.integrator = spec.reference_integrator;
+  ref.dt = 0.5 * h_coarse;
+  ref.margin = spec.reference_margin;
+  ref.finished = runs.coarse.finished && runs.fine.finished;
+  if (runs.fine.finished) result.reference_x = runs.fine.final_state.x.leftCols(model.num_particles);
+  collect_points(model, runs, result);
+  judge_reference(model, runs, ref.dt, result);
   return result;
+}
+
+int nominal_order(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::Midpoint: return 2;
+    case IntegratorKind::Rk4: return 4;
+    default: return 1;
+  }
+}
+
+namespace {
+
+std::string metres(double m) {
+  std::ostringstream out;
+  out.precision(2);
+  out << m << " m";
+  return out.str();
+}
+
+// The finished points of `kind` at the common steps with an error to fit.
+std::vector<const WorkPrecisionPoint*> fitted_points(const WorkPrecisionResult& r, IntegratorKind kind) {
+  std::vector<const WorkPrecisionPoint*> out;
+  for (const WorkPrecisionPoint& p : r.points)
+    if (p.integrator == kind && !p.frame_step && p.finished && p.rms_error > 0.0) out.push_back(&p);
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> order_shortfall(const WorkPrecisionResult& r, IntegratorKind kind) {
+  const double order = convergence_order(r.points, kind);
+  if (std::isnan(order) || order >= 0.5 * nominal_order(kind)) return {};
+  const std::vector<const WorkPrecisionPoint*> fitted = fitted_points(r, kind);
+  double smallest = INFINITY, largest_dt = 0.0;
+  for (const WorkPrecisionPoint* p : fitted) smallest = std::min(smallest, p->rms_error), largest_dt = std::max(largest_dt, p->dt);
+  const ReferenceCheck& ref = r.reference;
+  std::vector<std::string> why;
+  if (ref.finished && (!ref.converged || smallest < 30.0 * ref.change_rms))
+    why.push_back("reference not converged: its own change on halving (" + metres(ref.change_rms) +
+                  " RMS) is within 30x of these errors (smallest " + metres(smallest) +
+                  "); try --reference-refinement 16 or larger --dts");
+  if (ref.contact_at_end)
+    why.push_back("contact-limited: the cloth touches a sphere or the ground at T, and a contact is resolved once "
+                  "per step, a non-smooth correction no method's order survives (errors level off near " +
+                  metres(smallest) + "); try a --duration that ends before the first contact");
+  if (smallest < 1e-11)
+    why.push_back("round-off: the smallest errors (" + metres(smallest) + ") reach double precision; drop the smallest --dts");
+  const double steps = r.duration / largest_dt;
+  if (steps < 20.0) {
+    std::ostringstream t;
+    t.precision(3);
+    t << "T too short: T = " << r.duration << " s holds only " << steps << " of the largest steps (" << largest_dt
+      << " s), so start-up, not the asymptotic error, is measured; try a longer --duration";
+    why.push_back(t.str());
+  }
+  if (why.empty())
+    why.push_back("the steps may lie outside the asymptotic range (w h not small for the stiffest springs); "
+                  "try smaller --dts");
+  return why;
 }
 
 }  // namespace clothsim::analysis

@@ -68,6 +68,8 @@ struct ReferenceCheck {
   double margin = 0.1;
   bool finished = false;           // both reference runs reached T
   bool converged = false;          // finished, and change_rms <= margin x smallest_error
+  bool contact_at_end = false;     // a free particle of the finer reference lies within two
+                                   // contact margins of a sphere or the ground at T
   std::string failure;             // why not converged, one sentence (empty when converged)
 };
 
@@ -101,5 +103,16 @@ PositionError position_error(const Model& model, const Eigen::Matrix3Xd& a,
 // the finished points of `kind` at the common steps (NaN with fewer than two). The frame-rate
 // steps are left out: there w h >> 1, far from the asymptotic regime an order describes.
 double convergence_order(const std::vector<WorkPrecisionPoint>& points, IntegratorKind kind);
+
+// The order each method has on a smooth problem (DESIGN.md, "Integrators"): 1, 1, 2, 4, 1.
+int nominal_order(IntegratorKind kind);
+
+// Why `kind`'s observed order is under half its nominal order, and what to try, one sentence
+// per cause found: the reference not converged, or within 30x of the errors it judges; the
+// cloth touching a sphere or the ground at T (contact-limited: a contact is resolved once per
+// step, a non-smooth correction no method's order survives); errors at round-off; T holding
+// fewer than 20 of the largest steps (T too short); else the steps outside the asymptotic
+// range. Empty when the order is not that low or cannot be measured.
+std::vector<std::string> order_shortfall(const WorkPrecisionResult& r, IntegratorKind kind);
 
 }  // namespace clothsim::analysis

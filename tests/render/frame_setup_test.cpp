@@ -299,7 +299,7 @@ TEST(FrameSetup, TheBannerStaysLeftOfTheColourBarAndShrinksToFitThere) {
     }
   EXPECT_GT(red, 0) << "the banner is drawn";
   EXPECT_EQ(red_in_panel, 0) << "no tick or label of the bar is hidden";
-  EXPECT_LT(l.banner_scale, 2 * l.scale) << "shrunk to the room left of the bar";
+  EXPECT_LT(l.banner_scale, l.scale) << "shrunk to the room left of the bar";
   EXPECT_LE(l.banner.right(), l.color_bar.x);
   // A tile too narrow for the banner left of the bar, even at scale 1: across the picture,
   // over the bar, rather than cut.
@@ -310,12 +310,12 @@ TEST(FrameSetup, TheBannerStaysLeftOfTheColourBarAndShrinksToFitThere) {
     EXPECT_GE(n.banner.x, 0) << w << "x" << h;
     EXPECT_LE(n.banner.right(), w) << w << "x" << h << ": not cut";
   }
-  // Without a bar it is centred in the picture at twice the text scale.
+  // Without a bar it is centred in the picture at the text scale (one text size in a picture).
   RenderFrame plain = f;
   plain.cloth_field.clear();
   plain.banner = {"DIVERGED"};
   const OverlayLayout p = layout_overlay(plain, 640, 360);
-  EXPECT_EQ(p.banner_scale, 2 * p.scale);
+  EXPECT_EQ(p.banner_scale, p.scale);
   EXPECT_NEAR(p.banner.x + p.banner.w / 2, 320, p.banner_scale);
   EXPECT_NEAR(p.banner.y + p.banner.h / 2, 180, p.banner_scale);
 }

@@ -33,7 +33,7 @@ inline void set_error_scale(RenderFrame& frame) {
 // The energy inset shown, on axes [0, t_hi] s x [v_lo, v_hi] J (its series are the test's).
 inline void show_energy_inset(RenderFrame& frame, float t_hi, float v_lo, float v_hi) {
   frame.inset.show = true;
-  frame.inset.label = "total energy [J]";
+  frame.inset.label = "E-E(0) [J]";
   frame.inset.t_lo = 0.f;
   frame.inset.t_hi = t_hi;
   frame.inset.v_lo = v_lo;

@@ -183,5 +183,65 @@ TEST(ConvergenceOrder, IsTheLeastSquaresSlopeOfLogErrorAgainstLogStep) {
   EXPECT_TRUE(std::isnan(convergence_order(points, IntegratorKind::Rk4)));
 }
 
+// A study whose `kind` runs at `dts` with errors `errors` against a converged reference.
+WorkPrecisionResult synthetic_study(IntegratorKind kind, const std::vector<double>& dts,
+                                    const std::vector<double>& errors, double duration) {
+  WorkPrecisionResult r;
+  r.duration = duration;
+  r.reference.finished = r.reference.converged = true;
+  r.reference.change_rms = 1e-12;
+  for (std::size_t i = 0; i < dts.size(); ++i) {
+    WorkPrecisionPoint p;
+    p.integrator = kind;
+    p.dt = dts[i];
+    p.finished = true;
+    p.rms_error = p.max_error = errors[i];
+    r.points.push_back(p);
+  }
+  return r;
+}
+
+bool mentions(const std::vector<std::string>& lines, const std::string& what) {
+  for (const std::string& line : lines)
+    if (line.find(what) != std::string::npos) return true;
+  return false;
+}
+
+TEST(OrderShortfall, IsSilentWhereTheOrderHolds) {
+  const WorkPrecisionResult r = synthetic_study(IntegratorKind::Rk4, {1e-3, 2e-3, 4e-3}, {1e-8, 16e-8, 256e-8}, 1.0);
+  EXPECT_TRUE(order_shortfall(r, IntegratorKind::Rk4).empty());
+  EXPECT_TRUE(order_shortfall(r, IntegratorKind::Midpoint).empty()) << "no points: nothing to explain";
+}
+
+TEST(OrderShortfall, NamesContactWhenErrorsLevelOffWithTheClothOnASphere) {
+  WorkPrecisionResult r = synthetic_study(IntegratorKind::Rk4, {1e-4, 2e-4, 4e-4}, {6e-3, 6.1e-3, 6.2e-3}, 1.6);
+  std::vector<std::string> why = order_shortfall(r, IntegratorKind::Rk4);
+  EXPECT_FALSE(mentions(why, "contact-limited"));
+  ASSERT_EQ(why.size(), 1u) << "no cause found: the general advice";
+  EXPECT_TRUE(mentions(why, "smaller --dts")) << why[0];
+  r.reference.contact_at_end = true;
+  why = order_shortfall(r, IntegratorKind::Rk4);
+  ASSERT_EQ(why.size(), 1u);
+  EXPECT_TRUE(mentions(why, "contact-limited")) << why[0];
+  EXPECT_TRUE(mentions(why, "--duration")) << why[0];
+}
+
+TEST(OrderShortfall, NamesAnUnconvergedReferenceAndAShortT) {
+  WorkPrecisionResult r = synthetic_study(IntegratorKind::Midpoint, {0.01, 0.02, 0.04}, {1e-6, 1.5e-6, 2e-6}, 0.4);
+  r.reference.change_rms = 1e-7;  // within 30x of the smallest error
+  const std::vector<std::string> why = order_shortfall(r, IntegratorKind::Midpoint);
+  EXPECT_TRUE(mentions(why, "reference not converged"));
+  EXPECT_TRUE(mentions(why, "--reference-refinement"));
+  EXPECT_TRUE(mentions(why, "T too short")) << "0.4 s holds 10 steps of 0.04 s";
+}
+
+TEST(WorkPrecision, TheReferenceSaysWhetherTheClothTouchesTheGroundAtT) {
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4});
+  spec.dts = {0.01};
+  EXPECT_FALSE(work_precision(spring_model(), spec).reference.contact_at_end);
+  // The free end stays at y = 0, 0.015 m above the ground: within two margins (0.02 m).
+  EXPECT_TRUE(work_precision(spring_model({"ground.height=-0.015"}), spec).reference.contact_at_end);
+}
+
 }  // namespace
 }  // namespace clothsim::analysis

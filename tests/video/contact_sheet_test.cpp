@@ -77,3 +77,52 @@ TEST(ContactSheet, RowAndColumnLabelsScaleWithTheCellsAsTileLabelsDo) {
   }
   EXPECT_EQ(rows, 14);
 }
+
+TEST(ContactSheet, IsExactlyTheAskedSizeWithCellsShrunkToFit) {
+  // Four 640x360 cells in a row would make a sheet over 2560 px wide; asked for 960x540 it
+  // is 960x540, its cells shrunk alike (aspect kept) and still in order.
+  std::vector<std::vector<Image>> cells(2);
+  for (int r = 0; r < 2; ++r)
+    for (int c = 0; c < 4; ++c) cells[r].push_back(solid(640, 360, 40 + 50 * r + 10 * c));
+  const TilingStyle style;
+  const Image sheet = compose_contact_sheet(cells, {"explicit_euler", "rk4"}, {"0.1", "0.5", "2", "4"}, style, 960, 540);
+  EXPECT_EQ(sheet.width, 960);
+  EXPECT_EQ(sheet.height, 540);
+  int left = -1, top = -1;
+  for (int y = 0; y < sheet.height && left < 0; ++y)
+    for (int x = 0; x < sheet.width && left < 0; ++x)
+      if (sheet.pixel(x, y)[0] == 40) left = x, top = y;
+  ASSERT_GE(left, 0);
+  int cell_w = 0;
+  while (sheet.pixel(left + cell_w, top)[0] == 40) ++cell_w;
+  EXPECT_LT(cell_w, 240) << "four cells and the row labels in 960 px";
+  EXPECT_GT(cell_w, 150);
+  EXPECT_EQ(sheet.pixel(left + 3 * (cell_w + style.gutter) + cell_w / 2, top + 5)[0], 70) << "the fourth column";
+  EXPECT_GT(text_pixels(sheet, 0, top, left, cell_w / 2, style.background), 10) << "the row label stays";
+}
+
+TEST(ContactSheet, SmallCellsAreCentredNotEnlarged) {
+  std::vector<std::vector<Image>> cells{{solid(80, 45, 90)}};
+  const Image sheet = compose_contact_sheet(cells, {"rk4"}, {"1"}, TilingStyle{}, 400, 300);
+  EXPECT_EQ(sheet.width, 400);
+  EXPECT_EQ(sheet.height, 300);
+  int n = 0;
+  for (int y = 0; y < sheet.height; ++y)
+    for (int x = 0; x < sheet.width; ++x) n += sheet.pixel(x, y)[0] == 90;
+  EXPECT_EQ(n, 80 * 45);
+}
+
+TEST(Downscale, AveragesThePixelsEachOutputPixelCovers) {
+  Image src(4, 2);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) {
+      const auto v = static_cast<std::uint8_t>(x < 2 ? 100 : 200);
+      std::uint8_t* p = src.pixel(x, y);
+      p[0] = p[1] = p[2] = v;
+      p[3] = 255;
+    }
+  const Image out = downscale(src, 2, 1);
+  EXPECT_EQ(out.pixel(0, 0)[0], 100);
+  EXPECT_EQ(out.pixel(1, 0)[0], 200);
+  EXPECT_EQ(out.pixel(1, 0)[3], 255);
+}

@@ -92,11 +92,12 @@ int TileGrid::label_scale() const {
 }
 
 int TileGrid::label_scale(const std::vector<std::string>& labels) const {
-  // One size for every label of the grid: the largest at which the longest fits its cell
-  // (a label stepping down alone would make its lane look less important than the others).
+  // One size for all text of the grid, the tiles' overlay's: a label too long for its cell is
+  // shortened (fit_labels), never drawn smaller than the time beside it. Smaller only where
+  // not even "..." fits at that size.
   int scale = label_scale();
   for (const std::string& label : labels)
-    while (scale > 1 && !label_fits(label, cell_w_, scale)) --scale;
+    while (scale > 1 && !label.empty() && fit_label(label, cell_w_, scale).empty()) --scale;
   return scale;
 }
 
@@ -293,9 +294,9 @@ std::vector<std::string> fit_labels(const std::vector<std::string>& labels, int 
 
 void draw_tile_label(Image& image, int x, int y, int w, int h, std::string_view label,
                      Rgba8 color, int scale) {
-  // A long label in a narrow tile steps down in size, then is shortened, rather than running
-  // off the tile.
-  while (scale > 1 && !label_fits(label, w, scale)) --scale;
+  // A long label in a narrow tile is shortened at the given size (the grid's one text size),
+  // smaller only where not even "..." fits.
+  while (scale > 1 && fit_label(label, w, scale).empty()) --scale;
   const std::string text = fit_label(label, w, scale);
   if (text.empty()) return;
   const int margin = 3 * scale;

@@ -11,7 +11,8 @@
 // apart. Every cell has the same size (the largest tile's); a smaller tile is centred in
 // its cell. Labels are drawn with the bitmap font (render/text.h) at the bottom-left
 // corner of the tile, on a dark backdrop, so they never cover a render's own top-left
-// overlay text; a label too long for its tile is drawn smaller, then shortened with "..."
+// overlay text, at the size of that text (one size across the grid); a label too long for
+// its tile is shortened with "..."
 // (a lane's @STEP kept whole, two different labels never shortened alike), and never runs
 // past the tile.
 #pragma once
@@ -67,8 +68,8 @@ class TileGrid {
   int cell_x(int index) const;  // top-left corner of cell `index` (row-major)
   int cell_y(int index) const;
   int label_scale() const;
-  // The text scale of `labels` in this grid: label_scale(), or smaller, the same for all, where
-  // the longest does not fit its cell (1 at least).
+  // The text scale of `labels` in this grid: label_scale() (long labels are shortened), smaller
+  // only where not even "..." of one fits its cell (1 at least).
   int label_scale(const std::vector<std::string>& labels) const;
   // `labels` as compose() draws them: each as it fits its cell at that scale (fit_labels:
   // shortened, distinct where they differ).
@@ -109,8 +110,8 @@ std::string fit_label(std::string_view label, int width, int scale);
 // from every other label (where the room allows: a tile a few characters wide may not).
 std::vector<std::string> fit_labels(const std::vector<std::string>& labels, int width, int scale);
 // Draws a label with a margin inside the tile whose top-left is (x, y) and size w x h,
-// at its bottom-left corner, at `scale` or smaller if that would not fit the width, and
-// shortened (fit_label) where it does not fit even at scale 1.
+// at its bottom-left corner, at `scale`, shortened (fit_label) where it does not fit; smaller
+// only where not even "..." fits.
 void draw_tile_label(Image& image, int x, int y, int w, int h, std::string_view label,
                      Rgba8 color, int scale);
 

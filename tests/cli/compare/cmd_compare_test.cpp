@@ -14,6 +14,7 @@
 #include "cli/cli_process.h"
 #include "cli/run_reports.h"
 #include "render/png_io.h"
+#include "video/contact_sheet.h"
 #include "video/mp4_probe.h"
 
 namespace fs = std::filesystem;
@@ -355,22 +356,26 @@ TEST(CmdCompare, AReferenceThatDivergesStillMeasuresTheTargetsItServed) {
             std::string::npos) << r.out;
 }
 
-TEST(CmdCompare, WritesAContactSheetWhoseCellsAreTheRunsFrames) {
+TEST(CmdCompare, WritesAContactSheetOfTheAskedSizeWhoseCellsAreTheRunsFrames) {
   const std::string dir = scratch_dir("compare_sheet");
   const auto r = compare_small({"--integrators", "symplectic_euler,rk4", "--frames", dir + "/tiles",
                                 "--sheet", dir + "/sheet.png", "--times", "0,0.1,0.2"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Image sheet = read_png(dir + "/sheet.png");
-  // 320x180 in 2x2 (auto for 2 runs is 2x1): cells (320 - 4) / 2 = 158 wide, 180 high.
-  EXPECT_GT(sheet.width, 3 * 158 + 2 * 4);
-  EXPECT_GT(sheet.height, 2 * 180 + 4);
+  EXPECT_EQ(sheet.width, 320) << "--width";
+  EXPECT_EQ(sheet.height, 180) << "--height";
+  // Lanes of 320x180 in 2x1: frames (320 - 4) / 2 = 158 wide, 180 high, shrunk alike to fit.
+  const double f = contact_sheet_shrink(158, 180, {"symplectic_euler  dt = 0.0001 s", "rk4  dt = 0.0001 s"}, 3,
+                                        TilingStyle{}, 320, 180);
+  ASSERT_LT(f, 1.0);
+  const int w = static_cast<int>(158 * f), h = static_cast<int>(180 * f);
   // t = 0.1 s is frame 3: rk4's frame 3 sits in the second row, second column.
-  const auto sym0 = find_tile(sheet, read_png(frame_path(dir + "/tiles", "symplectic_euler", 0)));
-  const auto rk4_3 = find_tile(sheet, read_png(frame_path(dir + "/tiles", "rk4", 3)));
+  const auto sym0 = find_tile(sheet, downscale(read_png(frame_path(dir + "/tiles", "symplectic_euler", 0)), w, h));
+  const auto rk4_3 = find_tile(sheet, downscale(read_png(frame_path(dir + "/tiles", "rk4", 3)), w, h));
   ASSERT_GE(sym0.first, 0) << "symplectic_euler at t = 0 is a cell of the sheet";
   ASSERT_GE(rk4_3.first, 0) << "rk4 at t = 0.1 s is a cell of the sheet";
-  EXPECT_EQ(rk4_3.first, sym0.first + 158 + 4);
-  EXPECT_EQ(rk4_3.second, sym0.second + 180 + 4);
+  EXPECT_EQ(rk4_3.first, sym0.first + w + 4);
+  EXPECT_EQ(rk4_3.second, sym0.second + h + 4);
   EXPECT_GT(sym0.first, 0) << "row labels on the left";
   EXPECT_GT(sym0.second, 0) << "column labels on top";
 }
@@ -587,11 +592,14 @@ TEST(CmdCompare, AFailedSheetSaysWhichPngsStay) {
   // The sheet's PNG write fails (a PngError, not a RuntimeFailure) after the lanes' PNGs were
   // written: the line says what stays and what is not written, as for any output.
   const std::string dir = scratch_dir("compare_sheet_fails_frames_stay");
+  // Six lanes in 1280x720: frames of 425x358 (about 60 kB each), the sheet the whole 1280x720
+  // (about 105 kB), so an 80 kB limit stops the sheet only.
   const auto r = run_clothsim({"compare", kDrape, "--set", "cloth.particles=[9,9]", "--integrators",
-                               "symplectic_euler@1e-3,rk4@1e-3", "--duration", "0.5", "--frames", dir + "/fr", "--sheet",
-                               dir + "/big.png", "--times", "0.1,0.2,0.3,0.4", "--width", "640", "--height", "360",
-                               "--color-range", "1e-6,1e-2", "--summary", dir + "/sum.json"},
-                              "ulimit -f 100;");
+                               "symplectic_euler@1e-3,rk4@1e-3,midpoint@1e-3,rk4@5e-4,midpoint@5e-4,symplectic_euler@5e-4",
+                               "--duration", "0.5", "--frames", dir + "/fr", "--sheet", dir + "/big.png", "--times",
+                               "0.1,0.2,0.3,0.4", "--width", "1280", "--height", "720", "--color-range", "1e-6,1e-2",
+                               "--summary", dir + "/sum.json"},
+                              "ulimit -f 160;");  // (sh: 512-byte blocks)
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("cannot write " + dir + "/big.png: File too large; kept "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("not written: " + dir + "/big.png, " + dir + "/sum.json"), std::string::npos) << r.err;

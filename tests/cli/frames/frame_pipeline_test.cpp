@@ -42,20 +42,26 @@ TEST(RangeFromData, RoundsTheLargestValueUpToADecadeAndSpansFourDecadesForTheErr
   EXPECT_FALSE(range_from_data({&zeros}, FieldKind::Speed)) << "a cloth at rest has no scale";
 }
 
-TEST(EnergyInset, SharesTheAxesButAnExplodingLaneDoesNotFlattenTheOthers) {
-  std::vector<EnergyHistory> lanes(2);
+TEST(EnergyInset, ShowsTheChangeSinceTheStartOnSharedAxesAnExplodingLaneCannotFlatten) {
+  std::vector<EnergyHistory> lanes(3);
   for (int k = 0; k <= 10; ++k) {
     lanes[0].add(0.1 * k, 100.0 - k);               // a damped lane: 100 -> 90 J
-    lanes[1].add(0.1 * k, 100.0 * std::pow(10, k));  // an exploding one
+    lanes[1].add(0.1 * k, 100.0 + 0.5 * k);         // a gaining one: 100 -> 105 J
+    lanes[2].add(0.1 * k, 100.0 * std::pow(10, k));  // an exploding one
   }
   RenderFrame f;
   draw_energy_inset(f, lanes, 0, 1.0);
   ASSERT_TRUE(f.inset.show);
-  EXPECT_FLOAT_EQ(f.inset.v_lo, 90.f) << "the data's own low end";
-  EXPECT_FLOAT_EQ(f.inset.v_hi, 300.f) << "E(0) + 2 |E(0)|, not 1e12";
-  EXPECT_EQ(f.inset.value.size(), 11u);
+  EXPECT_EQ(f.inset.label, "E-E(0) [J]");
+  ASSERT_EQ(f.inset.value.size(), 11u);
+  EXPECT_FLOAT_EQ(f.inset.value.front(), 0.f);
+  EXPECT_FLOAT_EQ(f.inset.value.back(), -10.f);
+  EXPECT_FLOAT_EQ(f.inset.v_lo, -10.f) << "the data's own low end";
+  EXPECT_FLOAT_EQ(f.inset.v_hi, 200.f) << "2 |E(0)| above the start, not 1e12";
   EXPECT_FLOAT_EQ(f.inset.t_hi, 1.f);
   RenderFrame g;
   draw_energy_inset(g, lanes, 1, 1.0);
+  EXPECT_FLOAT_EQ(g.inset.value.back(), 5.f) << "the gain reads apart from the loss";
   EXPECT_EQ(g.inset.v_hi, f.inset.v_hi) << "one axis for every tile";
+  EXPECT_EQ(g.inset.v_lo, f.inset.v_lo);
 }

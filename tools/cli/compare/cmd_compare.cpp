@@ -336,7 +336,7 @@ int compare_command(const CompareOptions& o) {
     std::vector<std::string> rows, columns;
     for (const LaneSpec& l : lanes) rows.push_back(l.label());
     for (double t : sheet_times) columns.push_back(time_label(t));
-    pipeline.add(make_sheet_output(o.sheet, rows, columns, meta));
+    pipeline.add(make_sheet_output(o.sheet, rows, columns, meta, width, height));
   }
 
   // 3. Run it.

@@ -15,42 +15,46 @@ void color_by_field(RenderFrame& frame, const std::vector<float>& field, FieldKi
   frame.color_scale.show_bar = true;
 }
 
+namespace {
+
+// The lanes' common initial energy (one scene): the first finite first sample, NaN if none.
+float initial_energy(const std::vector<EnergyHistory>& lanes) {
+  for (const EnergyHistory& h : lanes)
+    if (!h.e.empty() && std::isfinite(h.e.front())) return h.e.front();
+  return std::numeric_limits<float>::quiet_NaN();
+}
+
+}  // namespace
+
 void draw_energy_inset(RenderFrame& frame, const std::vector<EnergyHistory>& lanes, std::size_t lane, double duration) {
-  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  const float e0 = initial_energy(lanes);
+  if (!std::isfinite(e0)) return;  // nothing finite yet
+  // The change since t = 0 rather than the total: the lanes share E(0), so what each gains or
+  // loses is what differs, and a few joules apart no longer sit on one line at 5e3 J.
+  float lo = 0.f, hi = 0.f;
   for (const EnergyHistory& h : lanes)
     for (float e : h.e)
-      if (std::isfinite(e)) {
-        lo = std::min(lo, e);
-        hi = std::max(hi, e);
-      }
-  if (!(lo <= hi)) return;  // nothing finite yet
+      if (std::isfinite(e)) lo = std::min(lo, e - e0), hi = std::max(hi, e - e0);
   // A lane whose energy explodes before it is declared diverged would flatten every other
-  // curve: the axis reaches at most 2 |E(0)| either side of the initial energy (the same in
-  // every lane: one scene), and what lies beyond is drawn on the axis' edge.
-  float e0 = std::numeric_limits<float>::quiet_NaN();
-  for (const EnergyHistory& h : lanes)
-    if (!h.e.empty() && std::isfinite(h.e.front())) {
-      e0 = h.e.front();
-      break;
-    }
-  if (std::isfinite(e0) && std::abs(e0) > 0.f) {
-    lo = std::max(lo, e0 - 2.f * std::abs(e0));
-    hi = std::min(hi, e0 + 2.f * std::abs(e0));
-  }
-  if (hi - lo < 1e-6f * std::max(1.f, std::abs(hi))) {  // a flat line: give it room
-    const float pad = std::max(1e-3f, 0.05f * std::abs(hi));
+  // curve: the axis reaches at most 2 |E(0)| either way, and what lies beyond is drawn on its edge.
+  const float cap = 2.f * std::max(std::abs(e0), 1e-3f);
+  lo = std::max(lo, -cap);
+  hi = std::min(hi, cap);
+  if (hi - lo < 1e-6f * std::max(1.f, std::abs(e0))) {  // a flat line: give it room
+    const float pad = std::max(1e-3f, 0.05f * std::abs(e0));
     lo -= pad;
     hi += pad;
   }
   auto& inset = frame.inset;
   inset.show = true;
   inset.t = lanes[lane].t;
-  inset.value = lanes[lane].e;
+  inset.value.clear();
+  for (float e : lanes[lane].e) inset.value.push_back(e - e0);
   inset.t_lo = 0.f;
   inset.t_hi = static_cast<float>(std::max(duration, 1e-9));
   inset.v_lo = lo;
   inset.v_hi = hi;
-  inset.label = "total energy [J]";
+  inset.label = "E-E(0) [J]";
 }
 
 }  // namespace clothsim::cli

@@ -24,9 +24,9 @@ struct EnergyHistory {
 // with the colour bar labelled with the field and its unit.
 void color_by_field(RenderFrame& frame, const std::vector<float>& field, FieldKind kind, const ColorRange& range);
 
-// The inset of lane `lane`'s total energy over [0, duration], on axes shared by every lane:
-// the energy range is that of all lanes' finite values so far, so tiles compare at a glance,
-// but no wider than 2 |E(0)| either side of the initial energy (an exploding lane would
+// The inset of lane `lane`'s energy change E(t) - E(0) over [0, duration], on axes shared by
+// every lane (they share E(0): one scene), zero included, so a lane that gains and one that
+// loses read apart at a glance; no wider than 2 |E(0)| either way (an exploding lane would
 // otherwise flatten the rest; its curve runs along the edge).
 void draw_energy_inset(RenderFrame& frame, const std::vector<EnergyHistory>& lanes, std::size_t lane, double duration);
 

@@ -17,7 +17,7 @@ std::vector<std::string> lane_tile_labels(const std::vector<LaneSpec>& lanes, co
   bool fit = true;
   for (const LaneSpec& l : lanes) {
     labels.push_back(l.label());
-    fit = fit && label_fits(labels.back(), grid.cell_width(), 1);
+    fit = fit && label_fits(labels.back(), grid.cell_width(), grid.label_scale());
   }
   if (!fit)
     for (std::size_t i = 0; i < lanes.size(); ++i) labels[i] = lanes[i].spelling();
@@ -102,16 +102,17 @@ class StillOutput final : public FrameOutput {
 
 class SheetOutput final : public FrameOutput {
  public:
-  SheetOutput(std::string path, std::vector<std::string> rows, std::vector<std::string> columns, PngText meta)
+  SheetOutput(std::string path, std::vector<std::string> rows, std::vector<std::string> columns, PngText meta,
+              int width, int height)
       : path_(std::move(path)), rows_(std::move(rows)), columns_(std::move(columns)), meta_(std::move(meta)),
-        cells_(rows_.size(), std::vector<Image>(columns_.size())) {}
+        cells_(rows_.size(), std::vector<Image>(columns_.size())), width_(width), height_(height) {}
   std::string what() const override { return "sheet"; }
   void on_target(const Target& target, const std::vector<LaneView>& lanes) override {
     if (target.column < 0) return;
     for (std::size_t i = 0; i < lanes.size() && i < cells_.size(); ++i)
       cells_[i][static_cast<std::size_t>(target.column)] = *lanes[i].image;
   }
-  void finish() override { write_png(path_, compose_contact_sheet(cells_, rows_, columns_), meta_); }
+  void finish() override { write_png(path_, compose_contact_sheet(cells_, rows_, columns_, {}, width_, height_), meta_); }
   void abandon(std::vector<std::string>&, std::vector<std::string>& lost) override { lost.push_back(path_); }
   void kept(std::vector<std::string>& kept) override { kept.push_back(path_); }
  private:
@@ -119,6 +120,7 @@ class SheetOutput final : public FrameOutput {
   std::vector<std::string> rows_, columns_;
   PngText meta_;
   std::vector<std::vector<Image>> cells_;
+  int width_, height_;  // the sheet's size (0: the cells' own)
 };
 
 class MetricsOutput final : public FrameOutput {
@@ -157,8 +159,10 @@ std::unique_ptr<FrameOutput> make_still_output(std::string path, Composer compos
   return std::make_unique<StillOutput>(std::move(path), std::move(composer), std::move(meta));
 }
 std::unique_ptr<FrameOutput> make_sheet_output(std::string path, std::vector<std::string> row_labels,
-                                               std::vector<std::string> column_labels, PngText meta) {
-  return std::make_unique<SheetOutput>(std::move(path), std::move(row_labels), std::move(column_labels), std::move(meta));
+                                               std::vector<std::string> column_labels, PngText meta, int width,
+                                               int height) {
+  return std::make_unique<SheetOutput>(std::move(path), std::move(row_labels), std::move(column_labels), std::move(meta),
+                                       width, height);
 }
 std::unique_ptr<FrameOutput> make_metrics_output(std::unique_ptr<MetricsWriter> writer, std::string path, std::size_t lane) {
   return std::make_unique<MetricsOutput>(std::move(writer), std::move(path), lane);

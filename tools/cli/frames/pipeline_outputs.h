@@ -25,7 +25,7 @@ struct Composer {
 };
 
 // Each lane's tile label in `grid`: "rk4  dt = 1e-4 s", or, where one of them does not fit its
-// tile even at the smallest text, every lane as --integrators spells it ("rk4@1e-4"), shorter
+// tile at the grid's text size, every lane as --integrators spells it ("rk4@1e-4"), shorter
 // and the same form in every tile; the grid shortens with "..." what still does not fit, the
 // name and not the step ("sympl...@1e-4"), never two lanes alike (TileGrid::shown_labels).
 std::vector<std::string> lane_tile_labels(const std::vector<LaneSpec>& lanes, const TileGrid& grid);
@@ -39,9 +39,10 @@ std::unique_ptr<FrameOutput> make_frames_output(std::unique_ptr<FrameSink> sink,
 // The composed picture at the still's target, written to `path`.
 std::unique_ptr<FrameOutput> make_still_output(std::string path, Composer composer, PngText meta);
 
-// One row per lane, one column per sheet time; written at finish().
+// One row per lane, one column per sheet time, width x height (compose_contact_sheet); written at finish().
 std::unique_ptr<FrameOutput> make_sheet_output(std::string path, std::vector<std::string> row_labels,
-                                               std::vector<std::string> column_labels, PngText meta);
+                                               std::vector<std::string> column_labels, PngText meta, int width,
+                                               int height);
 
 // One CSV row per clip frame of one lane (run --metrics), the diverged state's row included.
 std::unique_ptr<FrameOutput> make_metrics_output(std::unique_ptr<MetricsWriter> writer, std::string path, std::size_t lane);

@@ -107,6 +107,9 @@ void print_table(const WorkPrecisionResult& r, const std::vector<IntegratorKind>
     else std::printf("  %s %.2f", std::string(integrator_name(k)).c_str(), order);
   }
   std::printf("\n");
+  for (IntegratorKind k : kinds)  // an order well below the method's, explained
+    for (const std::string& why : analysis::order_shortfall(r, k))
+      std::printf("%s below its order %d: %s\n", std::string(integrator_name(k)).c_str(), analysis::nominal_order(k), why.c_str());
 }
 
 // Each run a lane (its errors beside the common keys), and the study's T and reference.

@@ -1,0 +1,62 @@
+#!/bin/sh
+# Every figure of a course report (docs/report.md), one clothsim command each, into OUT_DIR.
+#
+#   tools/report_figures.sh [--small] [OUT_DIR] [BUILD_DIR]
+#
+# OUT_DIR defaults to report/, BUILD_DIR to build (holding clothsim). --small runs each command
+# on a 9 x 9 cloth for 0.3 s at 320 x 180 (the test, ctest -R ReportFigures): the same commands,
+# smaller, so a change that breaks one is caught in seconds. Needs python3-matplotlib for the
+# stability plots. Stops at the first command that fails, naming it.
+set -eu
+cd "$(dirname "$0")/.."
+SMALL=
+if [ "${1:-}" = "--small" ]; then SMALL=1; shift; fi
+OUT=${1:-report}
+BUILD=${2:-build}
+CLOTHSIM=$BUILD/clothsim
+[ -x "$CLOTHSIM" ] || { echo "report_figures.sh: $CLOTHSIM not found (build first, or pass the build directory)" >&2; exit 1; }
+mkdir -p "$OUT"
+
+# A reduced run of the same command: a coarse cloth, a short clip, small pictures.
+if [ -n "$SMALL" ]; then
+  SCENE="--set cloth.particles=[9,9] --duration 0.3"
+  SIZE="--width 320 --height 180"
+  TIMES=0.1,0.2,0.3
+  STILL=0.2
+  STUDY="--set cloth.particles=[9,9] --duration 0.05"
+else
+  SCENE=
+  SIZE=
+  TIMES=0.1,0.5,2,4
+  STILL=2
+  STUDY=
+fi
+
+figure() {  # figure NAME OUTPUT COMMAND...: runs it, and fails naming it unless OUTPUT is written
+  name=$1
+  output=$2
+  shift 2
+  echo "== $name: $*"
+  start=$(date +%s)
+  "$@" || { echo "report_figures.sh: $name failed: $*" >&2; exit 1; }
+  [ -s "$output" ] || { echo "report_figures.sh: $name wrote no $output" >&2; exit 1; }
+  echo "== $name: $output in $(($(date +%s) - start)) s"
+}
+
+# 1. The integrator clip and its contact sheet.
+figure clip "$OUT/clip.mp4" "$CLOTHSIM" compare scenes/drape.yaml $SCENE $SIZE --video "$OUT/clip.mp4" --quiet
+figure sheet "$OUT/sheet.png" "$CLOTHSIM" compare scenes/drape.yaml $SCENE --sheet "$OUT/sheet.png" --times $TIMES \
+  ${SIZE:---width 1280 --height 720} --quiet
+# 2. Speed and accuracy at about equal cost: the table on stdout, the same in JSON.
+figure table "$OUT/table.json" "$CLOTHSIM" compare scenes/drape.yaml $SCENE --color error --overlay-cost cpu \
+  --integrators explicit_euler@1e-4,midpoint@2e-4,rk4@4e-4,implicit_euler@1/60 --summary "$OUT/table.json" --quiet
+# 3. Where each method breaks as the springs stiffen.
+figure stiffness "$OUT/stability_ks.png" "$CLOTHSIM" stability scenes/drape.yaml $STUDY --csv "$OUT/stability_ks.csv" \
+  --plot "$OUT/stability_ks.png" --quiet
+# 4. The effect of the damper on where each method breaks.
+figure damping "$OUT/stability_kd.png" "$CLOTHSIM" stability scenes/drape.yaml $STUDY --param cloth.springs.structural.damping \
+  --values 75,750,7500 --csv "$OUT/stability_kd.csv" --plot "$OUT/stability_kd.png" --quiet
+# 5. Energy: each lane's E(t) - E(0) in its tile, on shared axes.
+figure energy "$OUT/energy.png" "$CLOTHSIM" compare scenes/drape.yaml $SCENE $SIZE --inset energy --color checker \
+  --integrators explicit_euler@2e-4,symplectic_euler@2e-4,rk4@2e-4,implicit_euler@1/60 --still $STILL -o "$OUT/energy.png" --quiet
+echo "figures in $OUT"
