@@ -102,6 +102,32 @@ std::vector<int> selected_particles(const std::vector<GridSelection>& selection,
   return out;
 }
 
+namespace {
+// The spheres as bodies P.., their keyframes on the timeline.
+void add_spheres(const SceneDef& scene, Model& m) {
+  for (int s = 0; s < m.num_spheres; ++s) {
+    const SphereDef& d = scene.spheres[s];
+    const int b = m.sphere_body(s);
+    m.initial_x.col(b) = d.center;
+    m.initial_v.col(b) = d.velocity;
+    if (d.kinematic) {
+      m.mass[b] = std::numeric_limits<double>::infinity();
+      m.initial_inv_mass[b] = 0.0;
+    } else {
+      m.mass[b] = d.mass;
+      m.initial_inv_mass[b] = 1.0 / d.mass;
+      m.gravity_on[b] = d.gravity ? 1 : 0;
+    }
+    m.sphere_radius.push_back(d.radius);
+    m.sphere_restitution.push_back(d.restitution);
+    m.sphere_friction.push_back(d.friction);
+    m.sphere_kinematic.push_back(d.kinematic ? 1 : 0);
+    for (const Keyframe& k : d.motion)
+      m.timeline.push_back({TimedAction::Kind::SetVelocity, k.t, b, k.velocity});
+  }
+}
+}  // namespace
+
 Model build_model(const SceneDef& scene) {
   Model m;
   m.name = scene.name;
@@ -138,26 +164,7 @@ Model build_model(const SceneDef& scene) {
     m.initial_v.col(p).setZero();
   }
 
-  for (int s = 0; s < m.num_spheres; ++s) {
-    const SphereDef& d = scene.spheres[s];
-    const int b = m.sphere_body(s);
-    m.initial_x.col(b) = d.center;
-    m.initial_v.col(b) = d.velocity;
-    if (d.kinematic) {
-      m.mass[b] = std::numeric_limits<double>::infinity();
-      m.initial_inv_mass[b] = 0.0;
-    } else {
-      m.mass[b] = d.mass;
-      m.initial_inv_mass[b] = 1.0 / d.mass;
-      m.gravity_on[b] = d.gravity ? 1 : 0;
-    }
-    m.sphere_radius.push_back(d.radius);
-    m.sphere_restitution.push_back(d.restitution);
-    m.sphere_friction.push_back(d.friction);
-    m.sphere_kinematic.push_back(d.kinematic ? 1 : 0);
-    for (const Keyframe& k : d.motion)
-      m.timeline.push_back({TimedAction::Kind::SetVelocity, k.t, b, k.velocity});
-  }
+  add_spheres(scene, m);
 
   for (const EventDef& e : scene.events) {
     for (const int p : selected_particles(e.pin, c.nx, c.ny))
@@ -178,6 +185,7 @@ Model build_model(const SceneDef& scene) {
   m.dt = scene.dt;
   m.integrator = scene.integrator;
   m.implicit = scene.implicit;
+  m.solvers = scene.solvers;
   m.divergence = scene.divergence;
 
   // Energy scale for the divergence bound: the potential energy the scene could release

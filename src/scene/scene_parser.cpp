@@ -46,7 +46,7 @@ SceneDef Reader::scene(const YAML::Node& root) const {
   s.source = file_;
   expect_map(root, "", {"name", "duration", "dt", "integrator", "gravity", "air_drag", "cloth",
                         "spheres", "ground", "collision", "events", "render", "implicit",
-                        "divergence"});
+                        "divergence", "xpbd", "projective_dynamics", "vbd"});
   optional(root, "", "name", [&](auto& n, auto& k) { s.name = string(n, k); });
   optional(root, "", "duration", [&](auto& n, auto& k) { s.duration = non_negative(n, k); });
   optional(root, "", "dt", [&](auto& n, auto& k) { s.dt = positive(n, k); });
@@ -94,6 +94,7 @@ SceneDef Reader::scene(const YAML::Node& root) const {
   });
   optional(root, "", "render", [&](auto& n, auto& k) { s.render = render(n, k); });
   optional(root, "", "implicit", [&](auto& n, auto& k) { s.implicit = implicit(n, k); });
+  solvers(root, s.solvers);
   optional(root, "", "divergence", [&](auto& n, auto& k) {
     expect_map(n, k, {"max_strain", "max_energy_factor"});
     optional(n, k, "max_strain", [&](auto& v, auto& kk) { s.divergence.max_strain = positive(v, kk); });

@@ -157,6 +157,7 @@ class Reader {
   SphereDef sphere(const YAML::Node& n, const std::string& path) const;
   RenderDef render(const YAML::Node& n, const std::string& path) const;
   ImplicitDef implicit(const YAML::Node& n, const std::string& path) const;
+  void solvers(const YAML::Node& root, SolverDefs& d) const;
 
   std::string file_;
   std::map<std::string, std::string> overrides_;  // dotted key -> "KEY=VALUE" as typed
