@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
   add_run_command(app, command);
   add_compare_command(app, command);
   add_bench_command(app, command);
+  add_converge_command(app, command);
   add_stability_command(app, command);
   add_validate_command(app, command);
   add_encode_command(app, command);
