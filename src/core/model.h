@@ -16,6 +16,7 @@
 
 #include "core/integrators/integrator_kind.h"
 #include "core/model_params.h"
+#include "core/solvers/solver_params.h"
 #include "core/springs/spring_layout.h"
 #include "core/springs/springs.h"
 
@@ -64,6 +65,7 @@ struct Model {
   double duration = 0.0, dt = 0.0;
   IntegratorKind integrator = IntegratorKind::SymplecticEuler;
   ImplicitDef implicit;
+  SolverDefs solvers;  // xpbd, projective_dynamics, vbd options
   DivergenceDef divergence;
   double energy_scale = 1.0;  // J, what kinetic energy is compared with to call a run diverged
 

@@ -98,6 +98,10 @@ double predicted_limit(const StiffnessEstimate& e, IntegratorKind kind, const Im
     case IntegratorKind::ImplicitEuler:
       if (implicit.solver == ImplicitSolver::Newton) return inf;
       return polynomial_limit(std::vector<double>(implicit.fixed_point_iterations + 2, 1.0), w, c);
+    case IntegratorKind::Xpbd:  // descent on a potential bounded below: no linear limit
+    case IntegratorKind::ProjectiveDynamics:
+    case IntegratorKind::Vbd:
+      return inf;
   }
   return inf;
 }

@@ -208,6 +208,7 @@ Model build_model(const SceneDef& scene) {
   m.dt = scene.dt;
   m.integrator = scene.integrator;
   m.implicit = scene.implicit;
+  m.solvers = scene.solvers;
   m.divergence = scene.divergence;
   m.energy_scale = energy_scale(m, c);
   return m;

@@ -11,6 +11,7 @@
 
 #include "core/integrators/integrator_kind.h"
 #include "core/model_params.h"
+#include "core/solvers/solver_params.h"
 #include "view/render_settings.h"
 
 namespace clothsim {
@@ -86,6 +87,7 @@ struct SceneDef {
   std::vector<EventDef> events;
   RenderDef render;
   ImplicitDef implicit;
+  SolverDefs solvers;  // xpbd, projective_dynamics, vbd blocks
   DivergenceDef divergence;
 };
 

@@ -2,7 +2,7 @@
 // reads. Every field is read by one typed accessor that knows its dotted key and its node's
 // line, so every error can say where it is; every map is checked for keys it does not know.
 #include "scene_parser.h"
-#include "view/vertex_fields.h"
+#include "scene_reader.h"
 
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
@@ -14,10 +14,8 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
-#include <functional>
 #include <map>
 #include <optional>
-#include <set>
 #include <sstream>
 #include <sys/stat.h>
 
@@ -41,158 +39,14 @@ SceneError::SceneError(std::string file_, int line_, std::string key_, const std
       line(line_),
       key(std::move(key_)) {}
 
-namespace {
-
-std::string join(const std::string& path, const std::string& key) {
-  return path.empty() ? key : path + "." + key;
-}
-
-const char* type_name(const YAML::Node& n) {
-  switch (n.Type()) {
-    case YAML::NodeType::Map: return "a map";
-    case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Scalar: return "a scalar";
-    case YAML::NodeType::Null: return "nothing (null)";
-    default: return "nothing";
-  }
-}
-
-// Reads one scene's YAML tree into a SceneDef. Holds the file name and which dotted keys
-// came from --set, so an error in an overridden value names the override, not a line.
-class Reader {
- public:
-  Reader(std::string file, std::map<std::string, std::string> overrides, bool bound_run)
-      : file_(std::move(file)), overrides_(std::move(overrides)), bound_run_(bound_run) {}
-
-  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& what) const {
-    // A value under an override ("gravity[1]" under --set gravity=[0,.nan,0]), the override
-    // itself, or a map the override reaches into: the error names the override, not a line.
-    for (const auto& [path, text] : overrides_)
-      if (key == path || key.rfind(path + ".", 0) == 0 || key.rfind(path + "[", 0) == 0 ||
-          path.rfind(key + ".", 0) == 0)
-        throw SceneError(file_, 0, "--set " + text, what);
-    const int line = node.IsDefined() && !node.Mark().is_null() ? node.Mark().line + 1 : 0;
-    throw SceneError(file_, line, key, what);
-  }
-
-  // Checks that `node` is a map whose keys are all in `allowed`, with no duplicates.
-  void expect_map(const YAML::Node& node, const std::string& path,
-                  std::initializer_list<const char*> allowed) const {
-    if (!node.IsMap()) fail(node, path, std::string("expected a map, got ") + type_name(node));
-    std::set<std::string> seen;
-    for (const auto& kv : node) {
-      const std::string k = kv.first.Scalar();
-      bool known = false;
-      for (const char* a : allowed) known = known || k == a;
-      if (!known) {
-        std::string list;
-        for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-        fail(kv.first, join(path, k), "unknown key (expected one of: " + list + ")");
-      }
-      if (!seen.insert(k).second) fail(kv.first, join(path, k), "duplicate key");
-    }
-  }
-
-  double number(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsScalar()) fail(n, key, std::string("expected a number, got ") + type_name(n));
-    double v = 0.0;
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(n, key, "expected a number, got " + in_quotes(n.Scalar()));
-    }
-    if (!std::isfinite(v)) fail(n, key, "expected a finite number, got " + in_quotes(n.Scalar()));
-    return v;
-  }
-
-  int integer(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsScalar()) fail(n, key, std::string("expected an integer, got ") + type_name(n));
-    try {
-      return n.as<int>();
-    } catch (const YAML::Exception&) {
-      fail(n, key, "expected an integer, got " + in_quotes(n.Scalar()));
-    }
-  }
-
-  bool boolean(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsScalar()) fail(n, key, std::string("expected true or false, got ") + type_name(n));
-    try {
-      return n.as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(n, key, "expected true or false, got " + in_quotes(n.Scalar()));
-    }
-  }
-
-  std::string string(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsScalar()) fail(n, key, std::string("expected a string, got ") + type_name(n));
-    return n.Scalar();
-  }
-
-  Vec3 vec3(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsSequence() || n.size() != 3)
-      fail(n, key, "expected a list of 3 numbers [x, y, z]");
-    return Vec3(number(n[0], key + "[0]"), number(n[1], key + "[1]"), number(n[2], key + "[2]"));
-  }
-
-  // Range checks: `lo`/`hi` bounds, inclusive unless stated; messages give the allowed range.
-  double in_range(const YAML::Node& n, const std::string& key, double lo, double hi,
-                  bool lo_open = false) const {
-    const double v = number(n, key);
-    const bool ok = (lo_open ? v > lo : v >= lo) && v <= hi;
-    if (!ok) {
-      std::ostringstream msg;
-      msg << "value " << excerpt(n.Scalar()) << " out of range: must be " << (lo_open ? "> " : ">= ") << lo;
-      if (std::isfinite(hi)) msg << " and <= " << hi;
-      fail(n, key, msg.str());
-    }
-    return v;
-  }
-  double positive(const YAML::Node& n, const std::string& key) const {
-    return in_range(n, key, 0.0, INFINITY, true);
-  }
-  double non_negative(const YAML::Node& n, const std::string& key) const {
-    return in_range(n, key, 0.0, INFINITY);
-  }
-  int int_in_range(const YAML::Node& n, const std::string& key, int lo, int hi) const {
-    const int v = integer(n, key);
-    if (v < lo || v > hi)
-      fail(n, key, "value " + excerpt(n.Scalar()) + " out of range: must be from " + std::to_string(lo) +
-                       " to " + std::to_string(hi));
-    return v;
-  }
-
-  // Calls `read(value_node, dotted_key)` if `key` is present in `map`.
-  void optional(const YAML::Node& map, const std::string& path, const char* key,
-                const std::function<void(const YAML::Node&, const std::string&)>& read) const {
-    const YAML::Node n = map[key];
-    if (n.IsDefined()) read(n, join(path, key));
-  }
-
-  SceneDef scene(const YAML::Node& root) const;
-
- private:
-  ClothDef cloth(const YAML::Node& n, const std::string& path) const;
-  void grid_geometry(const YAML::Node& n, const std::string& path, const ClothDef& c) const;
-  std::optional<SpringParams> springs(const YAML::Node& n, const std::string& path) const;
-  std::vector<GridSelection> selection(const YAML::Node& n, const std::string& key, const ClothDef& c,
-                                       bool none_allowed) const;
-  GridSelection selection_item(const YAML::Node& n, const std::string& key, const ClothDef& c) const;
-  void index_range(const YAML::Node& n, const std::string& key, int size, int& lo, int& hi) const;
-  SphereDef sphere(const YAML::Node& n, const std::string& path) const;
-  RenderDef render(const YAML::Node& n, const std::string& path) const;
-  ImplicitDef implicit(const YAML::Node& n, const std::string& path) const;
-
-  std::string file_;
-  std::map<std::string, std::string> overrides_;  // dotted key -> "KEY=VALUE" as typed
-  bool bound_run_;  // check duration / dt and the frame count (run_bounds.h)
-};
+namespace scene_detail {
 
 SceneDef Reader::scene(const YAML::Node& root) const {
   SceneDef s;
   s.source = file_;
   expect_map(root, "", {"name", "duration", "dt", "integrator", "gravity", "air_drag", "cloth",
                         "spheres", "ground", "collision", "events", "render", "implicit",
-                        "divergence"});
+                        "divergence", "xpbd", "projective_dynamics", "vbd"});
   optional(root, "", "name", [&](auto& n, auto& k) { s.name = string(n, k); });
   optional(root, "", "duration", [&](auto& n, auto& k) { s.duration = non_negative(n, k); });
   optional(root, "", "dt", [&](auto& n, auto& k) { s.dt = positive(n, k); });
@@ -240,6 +94,7 @@ SceneDef Reader::scene(const YAML::Node& root) const {
   });
   optional(root, "", "render", [&](auto& n, auto& k) { s.render = render(n, k); });
   optional(root, "", "implicit", [&](auto& n, auto& k) { s.implicit = implicit(n, k); });
+  solvers(root, s.solvers);
   optional(root, "", "divergence", [&](auto& n, auto& k) {
     expect_map(n, k, {"max_strain", "max_energy_factor"});
     optional(n, k, "max_strain", [&](auto& v, auto& kk) { s.divergence.max_strain = positive(v, kk); });
@@ -264,267 +119,11 @@ SceneDef Reader::scene(const YAML::Node& root) const {
   return s;
 }
 
-// The grid must be representable: every particle within kMaxReach of the origin (past it,
-// centre + size overflows or loses the spacing), and neighbours at least kMinSpacing apart
-// and 1e-9 of that reach (closer, their distance rounds to 0 or underflows when squared, and
-// the first spring force is 0/0). Found by the fuzzer (tests/fuzz/regressions/).
-void Reader::grid_geometry(const YAML::Node& n, const std::string& path, const ClothDef& c) const {
-  constexpr double kMaxReach = 1e9, kMinSpacing = 1e-6;  // m
-  const bool xz = c.plane == ClothPlane::XZ;
-  const double reach_x = std::abs(c.center.x()) + 0.5 * c.size_x + std::abs(c.initial_stretch);
-  const double reach_2 = std::abs(xz ? c.center.z() : c.center.y()) + 0.5 * c.size_y;
-  const double reach = std::max({reach_x, reach_2, std::abs(c.center.x()), std::abs(c.center.y()), std::abs(c.center.z())});
-  const auto node = [&](const char* key) { return n[key].IsDefined() ? n[key] : n; };
-  if (!(reach <= kMaxReach)) {
-    const char* key = std::abs(c.initial_stretch) > kMaxReach / 2 ? "initial_stretch"
-                      : std::max(c.size_x, c.size_y) > kMaxReach   ? "size"
-                                                                      : "center";
-    std::ostringstream msg;
-    msg << "the cloth reaches " << reach << " m from the origin, more than " << kMaxReach
-        << " m (center, size and initial_stretch together)";
-    fail(node(key), path + "." + key, msg.str());
-  }
-  for (int axis = 0; axis < 2; ++axis) {
-    const int count = axis == 0 ? c.nx : c.ny;
-    if (count < 2) continue;
-    const double spacing = (axis == 0 ? c.size_x : c.size_y) / (count - 1);
-    if (!(spacing >= kMinSpacing && spacing >= 1e-9 * reach)) {
-      std::ostringstream msg;
-      msg << "particles " << spacing << " m apart along axis " << axis << " (size / (particles - 1)), closer than "
-          << std::max(kMinSpacing, 1e-9 * reach) << " m: their springs would have no length";
-      fail(node("size"), path + ".size", msg.str());
-    }
-  }
-}
+}  // namespace scene_detail
 
-ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
-  ClothDef c;
-  expect_map(n, path, {"particles", "size", "center", "plane", "particle_mass", "springs", "pinned",
-                       "initial_stretch", "initial_velocity"});
-  optional(n, path, "particles", [&](auto& v, auto& k) {
-    if (!v.IsSequence() || v.size() != 2) fail(v, k, "expected [nx, ny], particles along each axis");
-    c.nx = int_in_range(v[0], k + "[0]", 1, 2048);
-    c.ny = int_in_range(v[1], k + "[1]", 1, 2048);
-  });
-  optional(n, path, "size", [&](auto& v, auto& k) {
-    if (!v.IsSequence() || v.size() != 2) fail(v, k, "expected [width, height] in m");
-    c.size_x = positive(v[0], k + "[0]");
-    c.size_y = positive(v[1], k + "[1]");
-  });
-  optional(n, path, "center", [&](auto& v, auto& k) { c.center = vec3(v, k); });
-  optional(n, path, "plane", [&](auto& v, auto& k) {
-    const std::string p = string(v, k);
-    if (p == "xz") c.plane = ClothPlane::XZ;
-    else if (p == "xy") c.plane = ClothPlane::XY;
-    else fail(v, k, "unknown plane " + in_quotes(p) + " (expected xz or xy)");
-  });
-  optional(n, path, "particle_mass", [&](auto& v, auto& k) { c.particle_mass = positive(v, k); });
-  optional(n, path, "springs", [&](auto& v, auto& k) {
-    expect_map(v, k, {"structural", "shear", "bend"});
-    c.structural = springs(v["structural"], k + ".structural");
-    c.shear = springs(v["shear"], k + ".shear");
-    c.bend = springs(v["bend"], k + ".bend");
-  });
-  optional(n, path, "pinned", [&](auto& v, auto& k) { c.pinned = selection(v, k, c, true); });
-  optional(n, path, "initial_stretch", [&](auto& v, auto& k) { c.initial_stretch = number(v, k); });
-  optional(n, path, "initial_velocity", [&](auto& v, auto& k) { c.initial_velocity = vec3(v, k); });
-  if (c.nx * c.ny < 1) fail(n, path + ".particles", "a cloth needs at least one particle");
-  grid_geometry(n, path, c);
-  return c;
-}
-
-std::optional<SpringParams> Reader::springs(const YAML::Node& n, const std::string& path) const {
-  if (!n.IsDefined()) return std::nullopt;  // omitted type: not built
-  expect_map(n, path, {"stiffness", "damping"});
-  SpringParams p;
-  optional(n, path, "stiffness", [&](auto& v, auto& k) { p.stiffness = non_negative(v, k); });
-  optional(n, path, "damping", [&](auto& v, auto& k) { p.damping = non_negative(v, k); });
-  return p;
-}
-
-// The forms of a particle selection (docs/scenes.md, "Pinning"): one item, or a list of
-// items, each a named set, a particle [i, j], or a range {i: [i0, i1], j: [j0, j1]}.
-std::vector<GridSelection> Reader::selection(const YAML::Node& n, const std::string& key, const ClothDef& c,
-                                             bool none_allowed) const {
-  if (n.IsScalar() && n.Scalar() == "none") {
-    if (!none_allowed) fail(n, key, "'none' selects no particle; leave the key out instead");
-    return {};
-  }
-  if (!n.IsSequence()) return {selection_item(n, key, c)};  // corners, top_edge, {i: ..., j: ...}
-  std::vector<GridSelection> out;
-  for (std::size_t i = 0; i < n.size(); ++i) out.push_back(selection_item(n[i], key + "." + std::to_string(i), c));
-  return out;
-}
-
-GridSelection Reader::selection_item(const YAML::Node& n, const std::string& key, const ClothDef& c) const {
-  static const char* const kForms =
-      "expected corners, top_edge, bottom_edge, left_edge, right_edge, a particle [i, j] or a range "
-      "{i: [first, last], j: [first, last]}";
-  GridSelection g;
-  if (n.IsScalar()) {
-    using K = GridSelection::Kind;
-    const std::string name = n.Scalar();
-    if (name == "corners") g.kind = K::Corners;
-    else if (name == "top_edge") g.kind = K::TopEdge;
-    else if (name == "bottom_edge") g.kind = K::BottomEdge;
-    else if (name == "left_edge") g.kind = K::LeftEdge;
-    else if (name == "right_edge") g.kind = K::RightEdge;
-    else if (name == "none") fail(n, key, "'none' cannot be listed with other pins");
-    else if (!name.empty() && name.find_first_not_of("-0123456789") == std::string::npos)
-      fail(n, key, "a number alone is not a particle: write [[i, j]] for one particle, [[i, j], ...] for several");
-    else fail(n, key, "unknown selection " + in_quotes(name) + " (" + kForms + ")");
-    return g;
-  }
-  if (n.IsSequence()) {
-    if (n.size() != 2) fail(n, key, "expected a particle index [i, j]");
-    g.i0 = g.i1 = integer(n[0], key + "[0]");
-    g.j0 = g.j1 = integer(n[1], key + "[1]");
-    if (g.i0 < 0 || g.i0 >= c.nx || g.j0 < 0 || g.j0 >= c.ny)
-      fail(n, key, "particle [" + std::to_string(g.i0) + ", " + std::to_string(g.j0) + "] is outside the " +
-                       std::to_string(c.nx) + " x " + std::to_string(c.ny) + " grid");
-    return g;
-  }
-  if (!n.IsMap()) fail(n, key, std::string(kForms) + ", got " + type_name(n));
-  expect_map(n, key, {"i", "j"});
-  if (n.size() == 0) fail(n, key, "a range needs i (columns), j (rows) or both");
-  g.i1 = c.nx - 1;  // a range leaves out an axis to take all of it
-  g.j1 = c.ny - 1;
-  optional(n, key, "i", [&](auto& v, auto& k) { index_range(v, k, c.nx, g.i0, g.i1); });
-  optional(n, key, "j", [&](auto& v, auto& k) { index_range(v, k, c.ny, g.j0, g.j1); });
-  return g;
-}
-
-// One axis of a range: an index, or [first, last] inclusive, each 0 .. size - 1.
-void Reader::index_range(const YAML::Node& n, const std::string& key, int size, int& lo, int& hi) const {
-  if (n.IsScalar()) {
-    lo = hi = int_in_range(n, key, 0, size - 1);
-    return;
-  }
-  if (!n.IsSequence() || n.size() != 2) fail(n, key, "expected an index or [first, last]");
-  lo = int_in_range(n[0], key + "[0]", 0, size - 1);
-  hi = int_in_range(n[1], key + "[1]", 0, size - 1);
-  if (lo > hi) fail(n, key, "[" + std::to_string(lo) + ", " + std::to_string(hi) + "] runs backwards: expected [first, last]");
-}
-
-SphereDef Reader::sphere(const YAML::Node& n, const std::string& path) const {
-  SphereDef s;
-  expect_map(n, path, {"center", "radius", "kinematic", "mass", "gravity", "restitution",
-                       "friction", "velocity", "motion"});
-  optional(n, path, "center", [&](auto& v, auto& k) { s.center = vec3(v, k); });
-  optional(n, path, "radius", [&](auto& v, auto& k) { s.radius = positive(v, k); });
-  optional(n, path, "kinematic", [&](auto& v, auto& k) { s.kinematic = boolean(v, k); });
-  optional(n, path, "mass", [&](auto& v, auto& k) {
-    s.mass = positive(v, k);
-    if (s.kinematic) fail(v, k, "a kinematic sphere has no mass (set kinematic: false for a dynamic one)");
-  });
-  optional(n, path, "gravity", [&](auto& v, auto& k) { s.gravity = boolean(v, k); });
-  optional(n, path, "restitution", [&](auto& v, auto& k) { s.restitution = in_range(v, k, 0, 1); });
-  optional(n, path, "friction", [&](auto& v, auto& k) { s.friction = non_negative(v, k); });
-  optional(n, path, "velocity", [&](auto& v, auto& k) { s.velocity = vec3(v, k); });
-  optional(n, path, "motion", [&](auto& v, auto& k) {
-    if (!s.kinematic) fail(v, k, "only a kinematic sphere follows scripted motion");
-    if (!v.IsSequence()) fail(v, k, "expected a list of keyframes [{t: s, velocity: [x, y, z]}, ...]");
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const std::string p = k + "." + std::to_string(i);
-      expect_map(v[i], p, {"t", "velocity"});
-      if (!v[i]["t"].IsDefined() || !v[i]["velocity"].IsDefined())
-        fail(v[i], p, "a keyframe needs t and velocity");
-      Keyframe kf{non_negative(v[i]["t"], p + ".t"), vec3(v[i]["velocity"], p + ".velocity")};
-      if (!s.motion.empty() && kf.t < s.motion.back().t)
-        fail(v[i]["t"], p + ".t", "keyframes must be in increasing time");
-      s.motion.push_back(kf);
-    }
-  });
-  return s;
-}
-
-RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
-  RenderDef r;
-  expect_map(n, path, {"width", "height", "fps", "camera", "color", "overlay", "draw_springs", "draw_particles",
-                       "samples", "msaa", "antialias"});
-  optional(n, path, "width", [&](auto& v, auto& k) { r.width = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
-  optional(n, path, "height", [&](auto& v, auto& k) { r.height = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
-  optional(n, path, "fps", [&](auto& v, auto& k) { r.fps = in_range(v, k, 0.0, RenderDef::kMaxFps, true); });
-  optional(n, path, "draw_springs", [&](auto& v, auto& k) { r.draw_springs = boolean(v, k); });
-  optional(n, path, "draw_particles", [&](auto& v, auto& k) { r.draw_particles = boolean(v, k); });
-  optional(n, path, "samples", [&](auto& v, auto& k) {
-    r.samples = int_in_range(v, k, 1, 16);
-    r.samples_given = true;
-  });
-  // msaa: 0 (none), 2, 4 or 8 samples; the older `samples` (1 = none) says the same thing.
-  optional(n, path, "msaa", [&](auto& v, auto& k) {
-    if (n["samples"].IsDefined()) fail(v, k, "give msaa or samples, not both");
-    const int m = integer(v, k);
-    if (m != 0 && m != 2 && m != 4 && m != 8)
-      fail(v, k, "value " + excerpt(v.Scalar()) + " is not one of 0, 2, 4, 8");
-    r.samples = m == 0 ? 1 : m;
-    r.samples_given = true;
-  });
-  // antialias: msaa (render.msaa's samples, 4 unless given), fxaa (one sample, edges smoothed
-  // on the CPU) or none. A sample count says msaa (more than one sample: samples 2 to 16, msaa
-  // 2, 4 or 8) or none (samples 1, msaa 0) by itself: given with antialias, it must say the
-  // same, and fxaa takes none. The message says what the key that gave the count allows.
-  optional(n, path, "antialias", [&](auto& v, auto& k) {
-    const std::string a = string(v, k);
-    if (a != "msaa" && a != "fxaa" && a != "none")
-      fail(v, k, "unknown antialiasing " + in_quotes(a) + " (expected msaa, fxaa or none)");
-    const bool agrees = a == "msaa" ? r.samples > 1 : a == "none" && r.samples == 1;
-    if (r.samples_given && !agrees) {
-      const bool by_msaa = n["msaa"].IsDefined();
-      const std::string count = std::string(by_msaa ? "msaa" : "samples") + ": " + n[by_msaa ? "msaa" : "samples"].Scalar();
-      const std::string why = a == "msaa"   ? (by_msaa ? "msaa needs msaa: 2, 4 or 8" : "msaa needs samples: 2 to 16")
-                              : a == "none" ? (by_msaa ? "none is msaa: 0" : "none is samples: 1")
-                                            : "fxaa draws one sample of its own: leave the count out";
-      fail(v, k, a + " contradicts " + count + " (" + why + ")");
-    }
-    r.antialias = a;
-  });
-  optional(n, path, "color", [&](auto& v, auto& k) {
-    const std::string c = string(v, k);
-    if (!parse_field_kind(c)) fail(v, k, "unknown colouring " + in_quotes(c) + " (expected checker, error, strain or speed)");
-    r.color = c;
-  });
-  optional(n, path, "overlay", [&](auto& v, auto& k) {
-    const std::string o = string(v, k);
-    if (o != "full" && o != "label" && o != "none") fail(v, k, "unknown overlay " + in_quotes(o) + " (expected full, label or none)");
-    r.overlay = o;
-  });
-  optional(n, path, "camera", [&](auto& v, auto& k) {
-    // `camera: auto` frames the cloth and spheres from the scene's own extent.
-    // `camera: course` is the course framework's view, the defaults of CameraDef.
-    if (v.IsScalar()) {
-      if (v.Scalar() == "auto") r.camera_auto = true;
-      else if (v.Scalar() == "course") r.camera = CameraDef{};
-      else fail(v, k, "expected auto, course or a map of eye, target, up, fov, got " + in_quotes(v.Scalar()));
-      return;
-    }
-    expect_map(v, k, {"eye", "target", "up", "fov"});
-    optional(v, k, "eye", [&](auto& w, auto& kk) { r.camera.eye = vec3(w, kk); });
-    optional(v, k, "target", [&](auto& w, auto& kk) { r.camera.target = vec3(w, kk); });
-    optional(v, k, "up", [&](auto& w, auto& kk) { r.camera.up = vec3(w, kk); });
-    optional(v, k, "fov", [&](auto& w, auto& kk) { r.camera.fov = in_range(w, kk, 1.0, 170.0); });
-    if ((r.camera.eye - r.camera.target).norm() == 0.0) fail(v, k, "eye and target coincide");
-  });
-  return r;
-}
-
-ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const {
-  ImplicitDef d;
-  expect_map(n, path, {"solver", "newton_max_iterations", "newton_tolerance", "cg_max_iterations",
-                       "cg_tolerance", "iterations"});
-  optional(n, path, "solver", [&](auto& v, auto& k) {
-    const std::string s = string(v, k);
-    if (s == "newton") d.solver = ImplicitSolver::Newton;
-    else if (s == "fixed_point") d.solver = ImplicitSolver::FixedPoint;
-    else fail(v, k, "unknown solver " + in_quotes(s) + " (expected newton or fixed_point)");
-  });
-  optional(n, path, "newton_max_iterations", [&](auto& v, auto& k) { d.newton_max_iterations = int_in_range(v, k, 1, 1000); });
-  optional(n, path, "newton_tolerance", [&](auto& v, auto& k) { d.newton_tolerance = positive(v, k); });
-  optional(n, path, "cg_max_iterations", [&](auto& v, auto& k) { d.cg_max_iterations = int_in_range(v, k, 1, 100000); });
-  optional(n, path, "cg_tolerance", [&](auto& v, auto& k) { d.cg_tolerance = positive(v, k); });
-  optional(n, path, "iterations", [&](auto& v, auto& k) { d.fixed_point_iterations = int_in_range(v, k, 1, 1000); });
-  return d;
-}
+namespace {
+using scene_detail::Reader;
+using scene_detail::type_name;
 
 // A list index in a --set key: plain decimal digits only (stoul would also take "+0", " 0"
 // and "0x0", so spheres.0x0.radius named sphere 0), at most 9 of them (no overflow).

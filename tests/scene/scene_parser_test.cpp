@@ -101,6 +101,31 @@ TEST(SceneParser, WrongTypeIsAnErrorWithItsLine) {
   EXPECT_EQ(list.key, "gravity");
 }
 
+TEST(SceneParser, SolverBlocksSetIterationsAndRefuseBadCounts) {
+  const SceneDef s = parse_scene("cloth: {particles: [3, 3]}\nxpbd: {iterations: 4}\n"
+                                 "projective_dynamics: {iterations: 7, chebyshev_rho: 0.9}\nvbd: {iterations: 3}\n",
+                                 "ok.yaml");
+  EXPECT_EQ(s.solvers.xpbd.iterations, 4);
+  EXPECT_EQ(s.solvers.projective_dynamics.iterations, 7);
+  EXPECT_EQ(s.solvers.projective_dynamics.chebyshev_rho, 0.9);
+  EXPECT_EQ(s.solvers.vbd.iterations, 3);
+  EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\n", "ok.yaml").solvers.vbd.iterations, 10);
+  struct Case { const char* yaml; const char* key; };
+  const Case cases[] = {
+      {"cloth: {particles: [3, 3]}\nxpbd: {iterations: 0}\n", "xpbd.iterations"},
+      {"cloth: {particles: [3, 3]}\nvbd: {iterations: -2}\n", "vbd.iterations"},
+      {"cloth: {particles: [3, 3]}\nvbd: {iterations: many}\n", "vbd.iterations"},
+      {"cloth: {particles: [3, 3]}\nvbd: {iterations: 1000001}\n", "vbd.iterations"},
+      {"cloth: {particles: [3, 3]}\nprojective_dynamics: {chebyshev_rho: 1}\n", "projective_dynamics.chebyshev_rho"},
+      {"cloth: {particles: [3, 3]}\nxpbd: {substeps: 3}\n", "xpbd.substeps"},
+  };
+  for (const Case& c : cases) {
+    const SceneError e = parse_error(c.yaml);
+    EXPECT_EQ(e.line, 2) << c.yaml << " -> " << e.what();
+    EXPECT_EQ(e.key, c.key) << c.yaml << " -> " << e.what();
+  }
+}
+
 TEST(SceneParser, OutOfRangeValuesAreErrors) {
   struct Case { const char* yaml; int line; const char* key; };
   const Case cases[] = {

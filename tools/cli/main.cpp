@@ -3,6 +3,7 @@
 // 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene, 3 diverged,
 // 4 an implicit step did not converge (run --strict), 130 / 143 stopped by SIGINT / SIGTERM
 // (after removing temporaries and saying what was kept).
+#include <algorithm>
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
@@ -37,9 +38,11 @@ int main(int argc, char** argv) {
       "integrators trade speed for accuracy. Scenes are YAML (see docs/scenes.md)."};
   app.require_subcommand(1);
   std::string integrators = "Integrators (--integrator NAME, scene key integrator:):\n";
+  std::size_t width = 0;
+  for (const IntegratorInfo& info : integrator_registry()) width = std::max(width, info.name.size() + 2);
   for (const IntegratorInfo& info : integrator_registry()) {
     std::string name(info.name);
-    name.resize(18, ' ');
+    name.resize(width, ' ');
     integrators += "  " + name + std::string(info.description) + "\n";
   }
   app.footer(
@@ -51,6 +54,7 @@ int main(int argc, char** argv) {
   add_run_command(app, command);
   add_compare_command(app, command);
   add_bench_command(app, command);
+  add_converge_command(app, command);
   add_stability_command(app, command);
   add_validate_command(app, command);
   add_encode_command(app, command);

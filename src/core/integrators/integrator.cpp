@@ -29,6 +29,15 @@ const Entry kRegistry[] = {
     {{IntegratorKind::ImplicitEuler, "implicit_euler", 0, 2,
       "backward Euler: Newton + PCG, contacts in the solve (or fixed point)"},
      implicit_euler_step},
+    {{IntegratorKind::Xpbd, "xpbd", 0, 0,
+      "XPBD (Macklin et al. 2016): compliant distance constraints, Gauss-Seidel"},
+     xpbd_step},
+    {{IntegratorKind::ProjectiveDynamics, "projective_dynamics", 0, 0,
+      "projective dynamics (Liu et al. 2013): local-global on Phi, prefactored"},
+     projective_dynamics_step},
+    {{IntegratorKind::Vbd, "vbd", 0, 0,
+      "vertex block descent (Chen et al. 2024): per-vertex Newton on Phi"},
+     vbd_step},
 };
 
 const Entry& entry(IntegratorKind kind) {

@@ -28,6 +28,11 @@ struct StepStats {
   int contact_constraints = 0;  // implicit_euler: contacts held inside the solve this step
 };
 
+struct SolverCache;  // xpbd's, projective_dynamics' and vbd's scratch (solvers/solver_cache.h)
+struct SolverCacheDeleter {
+  void operator()(SolverCache* cache) const;
+};
+
 struct ImplicitCache;  // the implicit solver's sparse pattern and buffers (implicit_euler.cpp)
 struct ImplicitCacheDeleter {  // defined beside ImplicitCache, so the type stays private there
   void operator()(ImplicitCache* cache) const;
@@ -39,6 +44,7 @@ struct ImplicitCacheDeleter {  // defined beside ImplicitCache, so the type stay
 struct Workspace {
   Eigen::Matrix3Xd a, x1, v1, a1, x2, v2, a2, a3;  // (3 x B) scratch
   std::unique_ptr<ImplicitCache, ImplicitCacheDeleter> implicit;
+  std::unique_ptr<SolverCache, SolverCacheDeleter> solvers;
 };
 
 StepStats explicit_euler_step(const Model& model, State& state, double h, Workspace& ws);
@@ -46,6 +52,9 @@ StepStats symplectic_euler_step(const Model& model, State& state, double h, Work
 StepStats midpoint_step(const Model& model, State& state, double h, Workspace& ws);
 StepStats rk4_step(const Model& model, State& state, double h, Workspace& ws);
 StepStats implicit_euler_step(const Model& model, State& state, double h, Workspace& ws);
+StepStats xpbd_step(const Model& model, State& state, double h, Workspace& ws);
+StepStats projective_dynamics_step(const Model& model, State& state, double h, Workspace& ws);
+StepStats vbd_step(const Model& model, State& state, double h, Workspace& ws);
 // How far (m) every particle of an iterate may lie from the Newton matrix's linearisation
 // point for implicit_euler to reuse that matrix whatever the residual (implicit_euler.cpp,
 // kReuseChange): 0.05 l_min / (4 (h c_max + (h w_max)^2)); infinite without springs.
@@ -53,8 +62,8 @@ double implicit_reuse_reach(const Model& model, double h);
 
 StepStats integrate(IntegratorKind kind, const Model& model, State& state, double h, Workspace& ws);
 
-// Force evaluations per step of the explicit family (1, 1, 2, 4); 0 for implicit_euler,
-// whose cost depends on its solver.
+// Force evaluations per step of the explicit family (1, 1, 2, 4); 0 for implicit_euler and
+// the iterative solvers, whose cost depends on their iterations.
 int nominal_force_evals(IntegratorKind kind);
 
 }  // namespace clothsim

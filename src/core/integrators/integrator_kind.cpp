@@ -2,6 +2,11 @@
 
 namespace clothsim {
 
+bool is_iterative_solver(IntegratorKind kind) {
+  return kind == IntegratorKind::Xpbd || kind == IntegratorKind::ProjectiveDynamics ||
+         kind == IntegratorKind::Vbd;
+}
+
 std::string_view integrator_name(IntegratorKind kind) {
   for (const IntegratorInfo& info : integrator_registry())
     if (info.kind == kind) return info.name;

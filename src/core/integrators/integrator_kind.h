@@ -1,4 +1,4 @@
-// The five integrators by name. The enum is what a scene's `integrator:` key and the
+// The integrators by name. The enum is what a scene's `integrator:` key and the
 // CLI's --integrator parse into; the step dispatches on it in integrator.cpp.
 #pragma once
 
@@ -15,7 +15,14 @@ enum class IntegratorKind {
   Midpoint,         // RK2 through the half-step state               2 force evals
   Rk4,              // classic Runge-Kutta 4 on (x, v)               4 force evals
   ImplicitEuler,    // backward Euler, Newton + PCG (or fixed point)  1 + solver work
+  Xpbd,             // Macklin et al. 2016 compliant constraints        ~1 spring pass / iteration
+  ProjectiveDynamics,  // Liu et al. 2013 local-global on Phi          pass + factored solve / iteration
+  Vbd,              // Chen et al. 2024 vertex block descent on Phi    ~1 spring pass / iteration
 };
+
+// Whether the kind is one of the iterative solvers whose iteration count a scene block,
+// --iterations and a lane's `:N` set (xpbd, projective_dynamics, vbd).
+bool is_iterative_solver(IntegratorKind kind);
 
 // Everything said about an integrator outside its step function, in one table (the
 // registry, integrators/integrator.cpp), which names, help texts and default lists read.

@@ -101,6 +101,31 @@ TEST(ParseLanes, TheLaneModelOfTheFixedPointLaneHasTheCoursesSettings) {
   EXPECT_EQ(&lane_model(base, parse_lanes("implicit_euler", "", 1e-4)[0], none), &base);
 }
 
+TEST(ParseLanes, IterationsFollowAColonAndShowInLabelsAndSpellings) {
+  const auto lanes = parse_lanes("xpbd@1/600:1,xpbd@1/60:10,implicit_euler@1/60:1,vbd:5", "", 1e-3);
+  ASSERT_EQ(lanes.size(), 4u);
+  EXPECT_EQ(lanes[0].iterations, 1);
+  EXPECT_EQ(lanes[0].dt, 1.0 / 600);
+  EXPECT_EQ(lanes[0].spelling(), "xpbd@1/600:1");
+  EXPECT_EQ(lanes[1].label(), "xpbd:10  dt = 1/60 s");
+  EXPECT_EQ(lanes[2].name(), "implicit_euler:1 (Baraff & Witkin)");
+  EXPECT_EQ(lanes[3].dt, 1e-3);
+  Model base;
+  std::optional<Model> storage;
+  EXPECT_EQ(lane_model(base, lanes[2], storage).implicit.newton_max_iterations, 1);
+  EXPECT_EQ(lane_model(base, lanes[3], storage).solvers.vbd.iterations, 5);
+  const auto again = parse_lanes(lanes[0].spelling(), "", 1e-3);
+  EXPECT_EQ(again[0].iterations, 1);
+}
+
+TEST(ParseLanes, RefusesBadIterationCounts) {
+  for (const char* bad : {"vbd:0", "vbd:-3", "vbd:ten", "vbd:1000001", "vbd:", "vbd@1/60:1.5"})
+    EXPECT_NE(usage_error([&] { parse_lanes(bad, "", 1e-3); }).find("is not a whole number from 1 to 1000000"),
+              std::string::npos) << bad;
+  EXPECT_NE(usage_error([] { parse_lanes("rk4:3", "", 1e-3); }).find("rk4 has no iterations"), std::string::npos);
+  EXPECT_EQ(usage_error([] { parse_lanes("vbd:5,vbd:6", "", 1e-3); }), "") << "two lanes, not one twice";
+}
+
 TEST(ParseLanes, RefusesBadItemsNamingTheOption) {
   EXPECT_NE(usage_error([] { parse_lanes("rk4@1e-4,rk4@1e-4", "", 1e-3); }).find("listed twice"), std::string::npos);
   EXPECT_NE(usage_error([] { parse_lanes("rk4,rk4", "", 1e-3); }).find("listed twice"), std::string::npos);

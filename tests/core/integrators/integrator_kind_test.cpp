@@ -12,7 +12,7 @@ namespace {
 
 TEST(IntegratorRegistry, EveryKindHasOneRowInEnumOrderAndParsesByItsName) {
   const auto& registry = integrator_registry();
-  ASSERT_EQ(registry.size(), 5u);
+  ASSERT_EQ(registry.size(), 8u);
   std::set<std::string_view> names;
   for (std::size_t i = 0; i < registry.size(); ++i) {
     const IntegratorInfo& info = registry[i];
@@ -24,6 +24,16 @@ TEST(IntegratorRegistry, EveryKindHasOneRowInEnumOrderAndParsesByItsName) {
     EXPECT_FALSE(info.description.empty());
   }
   EXPECT_FALSE(parse_integrator("runge_kutta").has_value());
+}
+
+TEST(IntegratorRegistry, TheIterativeSolversAreTheThreeWithIterationBlocks) {
+  EXPECT_EQ(parse_integrator("xpbd"), IntegratorKind::Xpbd);
+  EXPECT_EQ(parse_integrator("projective_dynamics"), IntegratorKind::ProjectiveDynamics);
+  EXPECT_EQ(parse_integrator("vbd"), IntegratorKind::Vbd);
+  int iterative = 0;
+  for (IntegratorKind k : all_integrators()) iterative += is_iterative_solver(k) ? 1 : 0;
+  EXPECT_EQ(iterative, 3);
+  EXPECT_FALSE(is_iterative_solver(IntegratorKind::ImplicitEuler));
 }
 
 TEST(IntegratorRegistry, TheDefaultComparisonIsTheCoursesFourByName) {

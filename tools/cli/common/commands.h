@@ -18,6 +18,7 @@ void add_encode_command(CLI::App& app, Command& command);
 void add_imgdiff_command(CLI::App& app, Command& command);
 void add_bench_command(CLI::App& app, Command& command);
 void add_stability_command(CLI::App& app, Command& command);
+void add_converge_command(CLI::App& app, Command& command);
 void add_golden_command(CLI::App& app, Command& command);
 
 }  // namespace clothsim::cli

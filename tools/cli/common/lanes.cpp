@@ -27,14 +27,23 @@ std::string names_or_course() {
   return integrator_names_joined() + ", " + std::string(kFixedPointName) + ", or course";
 }
 
+bool has_iterations(IntegratorKind kind) {
+  return kind == IntegratorKind::ImplicitEuler || is_iterative_solver(kind);
+}
+
 struct Item {
   LaneSpec lane;
   bool has_step = false;
 };
 
-// One NAME[@STEP] item of `option`.
-Item parse_item(const std::string& item, const std::string& option) {
+// One NAME[@STEP][:N] item of `option`.
+Item parse_item(const std::string& typed, const std::string& option) {
   Item out;
+  const auto colon = typed.find(':');
+  const std::string item = trimmed(typed.substr(0, colon));
+  if (colon != std::string::npos)
+    out.lane.iterations = parse_iteration_count(trimmed(typed.substr(colon + 1)),
+                                                option + ": the iterations in " + in_quotes(typed));
   const auto at = item.find('@');
   const std::string name = trimmed(item.substr(0, at));
   const bool lanes = option != "--reference";  // the reference is one of the integrators as the scene sets them
@@ -45,6 +54,8 @@ Item parse_item(const std::string& item, const std::string& option) {
                      (lanes ? names_or_course() : integrator_names_joined()) + ")");
   out.lane.kind = *kind;
   out.lane.fixed_point = fixed_point;
+  if (out.lane.iterations > 0 && !has_iterations(*kind))
+    throw UsageError(option + ": " + name + " has no iterations to set (in " + in_quotes(typed) + ")");
   if (at != std::string::npos) {
     const std::string step = trimmed(item.substr(at + 1));
     if (step.empty()) throw UsageError(option + ": " + in_quotes(item) + " has no step after '@'");
@@ -60,7 +71,8 @@ Item parse_item(const std::string& item, const std::string& option) {
 }
 
 bool same_lane(const LaneSpec& a, const LaneSpec& b) {
-  return a.kind == b.kind && a.dt == b.dt && a.fixed_point == b.fixed_point;
+  return a.kind == b.kind && a.dt == b.dt && a.fixed_point == b.fixed_point &&
+         a.iterations == b.iterations;
 }
 
 }  // namespace
@@ -81,13 +93,42 @@ std::string step_string(double dt) {
 
 std::string LaneSpec::name() const {
   std::string n(integrator_name(kind));
-  return fixed_point ? n + " (fixed point)" : n;
+  if (iterations > 0) n += ":" + std::to_string(iterations);
+  if (fixed_point) return n + " (fixed point)";
+  if (kind == IntegratorKind::ImplicitEuler && iterations == 1) return n + " (Baraff & Witkin)";
+  return n;
 }
 
 std::string LaneSpec::label() const { return integrator_label(name(), step_text); }
 
 std::string LaneSpec::spelling() const {
-  return (fixed_point ? std::string(kFixedPointName) : std::string(integrator_name(kind))) + "@" + step_text;
+  return (fixed_point ? std::string(kFixedPointName) : std::string(integrator_name(kind))) + "@" + step_text +
+         (iterations > 0 ? ":" + std::to_string(iterations) : "");
+}
+
+int parse_iteration_count(const std::string& text, const std::string& what) {
+  const std::string range = "a whole number from 1 to " + std::to_string(kMaxSolverIterations);
+  if (text.empty() || text.size() > 9 || text.find_first_not_of("0123456789") != std::string::npos)
+    throw UsageError(what + ": " + in_quotes(text) + " is not " + range);
+  const long n = std::stol(text);
+  if (n < 1 || n > kMaxSolverIterations) throw UsageError(what + ": " + text + " is not " + range);
+  return static_cast<int>(n);
+}
+
+void set_iterations(Model& model, IntegratorKind kind, bool fixed_point, int iterations,
+                    const std::string& what) {
+  switch (kind) {
+    case IntegratorKind::ImplicitEuler:
+      if (fixed_point || model.implicit.solver == ImplicitSolver::FixedPoint)
+        model.implicit.fixed_point_iterations = iterations;
+      else model.implicit.newton_max_iterations = iterations;
+      return;
+    case IntegratorKind::Xpbd: model.solvers.xpbd.iterations = iterations; return;
+    case IntegratorKind::ProjectiveDynamics: model.solvers.projective_dynamics.iterations = iterations; return;
+    case IntegratorKind::Vbd: model.solvers.vbd.iterations = iterations; return;
+    default:
+      throw UsageError(what + ": " + std::string(integrator_name(kind)) + " has no iterations to set");
+  }
 }
 
 std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt_text, double scene_dt) {
@@ -149,11 +190,14 @@ LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& l
 }
 
 const Model& lane_model(const Model& base, const LaneSpec& lane, std::optional<Model>& storage) {
-  if (!lane.fixed_point) return base;
-  // The course framework's "implicit" (docs/integrators.md): one fixed-point iteration.
+  if (!lane.fixed_point && lane.iterations == 0) return base;
   storage.emplace(base);
-  storage->implicit.solver = ImplicitSolver::FixedPoint;
-  storage->implicit.fixed_point_iterations = 1;
+  if (lane.fixed_point) {  // the course framework's "implicit" (docs/integrators.md)
+    storage->implicit.solver = ImplicitSolver::FixedPoint;
+    storage->implicit.fixed_point_iterations = 1;
+  }
+  if (lane.iterations > 0)
+    set_iterations(*storage, lane.kind, lane.fixed_point, lane.iterations, "--integrators");
   return *storage;
 }
 
@@ -164,6 +208,7 @@ std::vector<std::string> lane_directories(const std::vector<LaneSpec>& lanes) {
     std::string d(integrator_name(l.kind));
     if (l.fixed_point) d += "_fixed_point";
     if (same_kind > 1) d += "@" + l.step_text;
+    if (same_kind > 1 && l.iterations > 0) d += "_" + std::to_string(l.iterations);
     std::replace(d.begin(), d.end(), '/', '_');
     std::replace(d.begin(), d.end(), ' ', '_');
     dirs.push_back(d);

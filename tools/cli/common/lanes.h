@@ -19,16 +19,20 @@ struct LaneSpec {
   std::string step_text;                // the step as the user wrote it ("1/60", "1e-4"), else %g
   bool fixed_point = false;  // the course's "implicit": implicit_euler as one fixed-point
                              // iteration (`implicit: {solver: fixed_point, iterations: 1}`)
+  int iterations = 0;  // `:N`: the solver's iterations (implicit_euler: its Newton cap; the
+                       // fixed point: its iterations); 0 = as the scene sets them
 
-  std::string name() const;   // "rk4", "implicit_euler (fixed point)"
+  // "rk4", "implicit_euler (fixed point)", "vbd:10", "implicit_euler:1 (Baraff & Witkin)"
+  std::string name() const;
   std::string label() const;  // name and step: "rk4  dt = 1e-4 s"
   // As --integrators spells it, and parses back to this lane: "rk4@1e-4",
-  // "implicit_euler_fixed_point@0.0001" (--summary's "lane").
+  // "implicit_euler_fixed_point@0.0001", "xpbd@1/600:1" (--summary's "lane").
   std::string spelling() const;
 };
 
 // --integrators: "course" (the course's four: explicit Euler, the one-iteration fixed-point
-// "implicit", midpoint, RK4) or NAME[@STEP],... with STEP a number or a fraction, NAME an
+// "implicit", midpoint, RK4) or NAME[@STEP][:N],... with N the lane's iterations (an
+// iterative solver's, implicit_euler's Newton cap, the fixed point's count) and STEP a number or a fraction, NAME an
 // integrator or implicit_euler_fixed_point (the course's "implicit" alone). An item without
 // @STEP takes its step from --dt ("S", "name=S,...", or both, as before the lanes had steps;
 // name=S applies to that integrator's lanes without @STEP, implicit_euler=S to the fixed point's
@@ -49,9 +53,18 @@ LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& l
 // spelled '_' (DIR/rk4@1e-4, DIR/implicit_euler@1_60).
 std::vector<std::string> lane_directories(const std::vector<LaneSpec>& lanes);
 
-// The model a lane runs: `base` itself, or for the course's fixed-point lane a copy with the
-// course's implicit settings (`storage` holds the copy).
+// The model a lane runs: `base` itself, or a copy with the course's implicit settings (the
+// fixed-point lane) and the lane's iterations (`storage` holds the copy).
 const Model& lane_model(const Model& base, const LaneSpec& lane, std::optional<Model>& storage);
+
+// An iteration count as typed (`:N`, --iterations): a whole number from 1 to
+// kMaxSolverIterations, else UsageError naming `what`.
+int parse_iteration_count(const std::string& text, const std::string& what);
+
+// Sets the iterations `kind` runs with in `model` (see LaneSpec::iterations); UsageError naming
+// `what` for an integrator without iterations (the explicit family).
+void set_iterations(Model& model, IntegratorKind kind, bool fixed_point, int iterations,
+                    const std::string& what);
 
 // "%g" of a step, the way labels and messages write it.
 std::string step_string(double dt);

@@ -44,17 +44,107 @@ struct RunOptions {
   GlOptions gl;
   PictureOptions look;
   std::string summary;  // --summary FILE.json
+  std::string iterations;  // --iterations N, as typed
 };
 
-int run_command(const RunOptions& o) {
-  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
-  const SceneDef scene = load_scene_with_options(o.scene);
+// Usage checks that need the scene: --still's time, --crf, --iterations.
+void check_run_usage(const RunOptions& o, const SceneDef& scene) {
   if (o.still_t && o.still_out.empty()) throw UsageError("--still needs -o/--output FILE.png");
   if (!o.still_out.empty() && !o.still_t) throw UsageError("-o/--output goes with --still T");
   if (o.still_t && (*o.still_t < 0.0 || *o.still_t > scene.duration))
     throw UsageError("--still: time " + number_text(*o.still_t) + " s is outside the run (0 to " +
                      number_text(scene.duration) + " s)");
   if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
+  if (!o.iterations.empty()) {  // checked on a scratch model: the real one is built later
+    Model probe;
+    set_iterations(probe, scene.integrator, false, parse_iteration_count(o.iterations, "--iterations"),
+                   "--iterations");
+  }
+}
+
+// Every output is checked before any work, so a typo fails in milliseconds.
+// With -n, an output that exists already is refused here too (exit 2), untouched.
+void check_run_outputs(const RunOptions& o) {
+  refuse_shared_outputs({{o.metrics, "--metrics"}, {o.state, "--state"}, {o.video, "--video"},
+                         {o.still_out, "-o/--output"}, {o.summary, "--summary"}, {o.frames_dir, "--frames"}});
+  if (!o.metrics.empty()) require_writable_parent(o.metrics, "--metrics");
+  if (!o.state.empty()) require_writable_parent(o.state, "--state");
+  if (!o.video.empty()) require_writable_parent(o.video, "--video");
+  if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
+  if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
+}
+
+// The model the run steps: the scene's, with --iterations applied.
+Model run_model(const RunOptions& o, const SceneDef& scene) {
+  Model model = build_model(scene);
+  if (!o.iterations.empty())
+    set_iterations(model, scene.integrator, false, parse_iteration_count(o.iterations, "--iterations"),
+                   "--iterations");
+  return model;
+}
+
+// The summary line(s) on stdout: steps, cost and, for the implicit solve, its work.
+void print_run_totals(const Model& model, IntegratorKind kind, double dt, const LaneResult& r,
+                      const PipelineReport& report) {
+  const RunTotals& t = r.totals;
+  // CPU time of the stepping thread is the cost to compare between methods (wall time also
+  // counts whatever else the machine is doing).
+  std::printf("%s: %s, dt = %g s, %" PRId64 " steps to t = %.6g s, %" PRId64
+              " force evaluations, %.3f s of wall time, %.3f s of CPU (%.3g s of CPU per simulated s)\n",
+              model.name.c_str(), std::string(integrator_name(kind)).c_str(), dt, t.steps, r.t, t.force_evals,
+              t.sim_seconds, t.cpu_seconds, r.t > 0 ? t.cpu_seconds / r.t : 0.0);
+  if (kind == IntegratorKind::ImplicitEuler)
+    std::printf("implicit solve: %" PRId64 " Newton iterations, %" PRId64
+                " CG iterations (%" PRId64 " sparse factorizations), largest final residual %.3g, %" PRId64
+                " steps not converged; %" PRId64 " contacts held in the solve, %" PRId64
+                " post-step projections\n",
+                t.newton_iterations, t.cg_iterations, t.factorizations, t.max_residual, t.unconverged_steps,
+                t.contact_constraints, t.safety_projections);
+  if (is_iterative_solver(kind))
+    std::printf("%s: %" PRId64 " iterations, %" PRId64 " factorizations\n",
+                std::string(integrator_name(kind)).c_str(), t.newton_iterations, t.factorizations);
+  if (report.reference)
+    std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU\n",
+                report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
+                report.reference->totals.force_evals, report.reference->totals.cpu_seconds);
+}
+
+void write_run_summary(const RunOptions& o, const SceneDef& scene, const Model& model, const LaneResult& r,
+                       const PipelineReport& report) {
+  std::vector<JsonObject> lanes{lane_json(model.name, scene.integrator, scene.dt, r.totals,
+                                          r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
+                                    .number("t_reached", r.t)
+                                    .number("max_residual", r.totals.max_residual)};
+  if (report.reference)
+    lanes.push_back(lane_json(model.name, report.reference->spec.kind, report.reference->spec.dt,
+                              report.reference->totals, std::nullopt)
+                        .text("role", "reference"));
+  write_summary(o.summary, "run", scene.source, lanes);
+}
+
+// What the pipeline does for this run: render or not, which tables, the picture's look.
+PipelineConfig run_config(const RunOptions& o, const SceneDef& scene, const Model& model,
+                          const PictureLook& look, bool rendering) {
+  PipelineConfig config;
+  config.rendering = rendering;
+  config.width = scene.render.width;
+  config.height = scene.render.height;
+  config.metrics = !o.metrics.empty();
+  config.final_state = !o.state.empty();
+  config.stop_when_all_frozen = true;  // run ends at divergence (exit 3)
+  config.command = "run";
+  apply_look(look, config);
+  config.scene_render = scene.render;
+  if (look.camera_auto)
+    config.camera = auto_camera(model, scene.render, static_cast<double>(scene.render.width) / scene.render.height);
+  return config;
+}
+
+int run_command(const RunOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
+  const SceneDef scene = load_scene_with_options(o.scene);
+  check_run_usage(o, scene);
   const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
   const bool rendering = !o.frames_dir.empty() || !o.video.empty() || o.still_t;
   PictureLook look = resolve_picture_look(o.look, scene, {lane}, /*compare=*/false);
@@ -65,17 +155,7 @@ int run_command(const RunOptions& o) {
       throw UsageError("--reference (" + look.reference->spelling() +
                        ", for --color error): " + too_long);
   }
-
-  // Every output is checked before any work, so a typo fails in milliseconds.
-  // With -n, an output that exists already is refused here too (exit 2), untouched.
-  refuse_shared_outputs({{o.metrics, "--metrics"}, {o.state, "--state"}, {o.video, "--video"},
-                         {o.still_out, "-o/--output"}, {o.summary, "--summary"}, {o.frames_dir, "--frames"}});
-  if (!o.metrics.empty()) require_writable_parent(o.metrics, "--metrics");
-  if (!o.state.empty()) require_writable_parent(o.state, "--state");
-  if (!o.video.empty()) require_writable_parent(o.video, "--video");
-  if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
-  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
-  if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
+  check_run_outputs(o);
 
   const double fps = scene.render.fps;
   // A still alone needs the run only up to its time; any other output needs the whole run,
@@ -95,24 +175,14 @@ int run_command(const RunOptions& o) {
   const int w = scene.render.width, h = scene.render.height;
   run_budget(scene, look, {rendering, w, h, !o.video.empty(), &targets}).check(scene.source, o.scene.max_memory);
 
-  const Model model = build_model(scene);
+  const Model model = run_model(o, scene);
   fit_reference_to_model(look, model, scene, {lane});
   const IntegratorKind kind = scene.integrator;
   const double dt = scene.dt;
 
   std::unique_ptr<Renderer> renderer;
   if (rendering) renderer = make_renderer(o.gl);
-  PipelineConfig config;
-  config.rendering = rendering;
-  config.width = w;
-  config.height = h;
-  config.metrics = !o.metrics.empty();
-  config.final_state = !o.state.empty();
-  config.stop_when_all_frozen = true;  // run ends at divergence (exit 3)
-  config.command = "run";
-  apply_look(look, config);
-  config.scene_render = scene.render;
-  if (look.camera_auto) config.camera = auto_camera(model, scene.render, static_cast<double>(w) / h);
+  const PipelineConfig config = run_config(o, scene, model, look, rendering);
   FramePipeline pipeline(model, targets, {lane}, config, renderer.get());
   const PngText png_text = renderer ? with_renderer(frame_metadata(model, kind, dt), *renderer) : PngText{};
   if (!o.metrics.empty())
@@ -127,35 +197,9 @@ int run_command(const RunOptions& o) {
   const PipelineReport report = pipeline.run("run " + model.name, after);
   const LaneResult& r = report.lanes.front();
 
-  // CPU time of the stepping thread is the cost to compare between methods (wall time also
-  // counts whatever else the machine is doing).
   const RunTotals& t = r.totals;
-  std::printf("%s: %s, dt = %g s, %" PRId64 " steps to t = %.6g s, %" PRId64
-              " force evaluations, %.3f s of wall time, %.3f s of CPU (%.3g s of CPU per simulated s)\n",
-              model.name.c_str(), std::string(integrator_name(kind)).c_str(), dt, t.steps, r.t, t.force_evals,
-              t.sim_seconds, t.cpu_seconds, r.t > 0 ? t.cpu_seconds / r.t : 0.0);
-  if (kind == IntegratorKind::ImplicitEuler)
-    std::printf("implicit solve: %" PRId64 " Newton iterations, %" PRId64
-                " CG iterations (%" PRId64 " sparse factorizations), largest final residual %.3g, %" PRId64
-                " steps not converged; %" PRId64 " contacts held in the solve, %" PRId64
-                " post-step projections\n",
-                t.newton_iterations, t.cg_iterations, t.factorizations, t.max_residual, t.unconverged_steps,
-                t.contact_constraints, t.safety_projections);
-  if (report.reference)
-    std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU\n",
-                report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
-                report.reference->totals.force_evals, report.reference->totals.cpu_seconds);
-  if (!o.summary.empty()) {  // written for a diverged run too: that is a result
-    std::vector<JsonObject> lanes{lane_json(model.name, kind, dt, t,
-                                            r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
-                                      .number("t_reached", r.t)
-                                      .number("max_residual", t.max_residual)};
-    if (report.reference)
-      lanes.push_back(lane_json(model.name, report.reference->spec.kind, report.reference->spec.dt,
-                                report.reference->totals, std::nullopt)
-                          .text("role", "reference"));
-    write_summary(o.summary, "run", scene.source, lanes);
-  }
+  print_run_totals(model, kind, dt, r, report);
+  if (!o.summary.empty()) write_run_summary(o, scene, model, r, report);  // a diverged run too
   if (r.divergence) {
     const Divergence& d = *r.divergence;
     std::fprintf(stderr, "clothsim: %s: diverged at step %" PRId64 ", t = %.6g s: %s\n",
@@ -193,6 +237,10 @@ void add_run_command(CLI::App& app, Command& command) {
       "that point and --state is not written. With --strict, exits 4 when any implicit step did\n"
       "not converge, saying how many (all outputs are still written). Outputs are created with\n"
       "no name (O_TMPFILE) and named only when complete: nothing is left behind, even by SIGKILL.\n") + kExitCodesHelp);
+  sub->add_option("--iterations", o->iterations,
+                  "Iterations per step: xpbd, projective_dynamics and vbd's sweeps, implicit_euler's "
+                  "Newton cap (1: Baraff & Witkin's single linearised step)")
+      ->type_name("N");
   sub->add_flag("--strict", o->strict,
                 "Exit 4 if any implicit_euler step ended above its Newton tolerance");
   sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at --fps")

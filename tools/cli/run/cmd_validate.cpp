@@ -39,6 +39,7 @@ void print_step_limits(const SceneDef& scene, const Model& model) {
   for (IntegratorKind kind : all_integrators()) {
     const bool fixed_point = kind == IntegratorKind::ImplicitEuler && scene.implicit.solver == ImplicitSolver::FixedPoint;
     if (kind == IntegratorKind::ImplicitEuler && !fixed_point) continue;  // backward Euler: no limit
+    if (is_iterative_solver(kind)) continue;  // descent on Phi or constraints: no linear limit
     const double limit = analysis::predicted_limit(e, kind, scene.implicit);
     std::string name(integrator_name(kind));
     if (fixed_point) name += " (fixed_point, " + std::to_string(scene.implicit.fixed_point_iterations) + " iterations)";

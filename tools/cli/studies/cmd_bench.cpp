@@ -139,10 +139,8 @@ void write_summary_json(const std::string& path, const std::string& source, cons
   write_summary(path, "bench", source, lanes, extra);
 }
 
-int bench_command(const BenchOptions& o) {
-  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
-  SceneDef scene = load_scene(o.scene.path, o.scene.sets);
-  const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
+// The study to run: steps (--dts or the scene's x kDefaultStepFactors), T, the frame steps.
+WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds) {
   std::vector<double> dts;
   if (!o.dts) {
     for (double f : kDefaultStepFactors) dts.push_back(f * scene.dt);
@@ -175,10 +173,29 @@ int bench_command(const BenchOptions& o) {
   spec.jobs = o.jobs;
   spec.reference_refinement = o.reference_refinement;
   try {
-    spec = analysis::checked(spec);
+    return analysis::checked(spec);
   } catch (const analysis::StudyError& e) {
     throw UsageError(std::string("--dts: ") + e.what());
   }
+}
+
+// One Model, and a run on each of the pool's threads at once (the dearest integrator's).
+void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds) {
+  MemoryBudget budget;
+  budget.add("model", model_bytes(scene));
+  double dearest = 0.0;
+  for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(scene, k));
+  const int threads = analysis::resolve_jobs(o.jobs);
+  budget.add(std::to_string(threads) + " runs at once", threads * dearest);
+  budget.check(scene.source, o.scene.max_memory);
+}
+
+int bench_command(const BenchOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
+  SceneDef scene = load_scene(o.scene.path, o.scene.sets);
+  const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
+  const WorkPrecisionSpec spec = plan_bench(o, scene, kinds);
+  const double T = spec.duration;
 
   // Outputs are checked (and python/matplotlib found) before minutes of simulation.
   refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
@@ -188,16 +205,7 @@ int bench_command(const BenchOptions& o) {
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
 
   scene.duration = std::max(scene.duration, T);  // the model's duration is informational only
-  {
-    // One Model, and a run on each of the pool's threads at once (the dearest integrator's).
-    MemoryBudget budget;
-    budget.add("model", model_bytes(scene));
-    double dearest = 0.0;
-    for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(scene, k));
-    const int threads = analysis::resolve_jobs(o.jobs);
-    budget.add(std::to_string(threads) + " runs at once", threads * dearest);
-    budget.check(scene.source, o.scene.max_memory);
-  }
+  check_bench_memory(o, scene, kinds);
   const Model model = build_model(scene);
   const double h_ref = spec.dts.front() / spec.reference_refinement;
   std::size_t runs = 0;

@@ -165,12 +165,9 @@ void write_summary_json(const std::string& path, const std::string& source, cons
   write_summary(path, "stability", source, lanes, extra);
 }
 
-int stability_command(const StabilityOptions& o) {
-  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
-  const SceneDef base = load_scene(o.scene.path, o.scene.sets);
-  const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
-
-  std::vector<double> values;
+// The swept scenes: --values, or the scene's value of --param times kDefaultValueFactors.
+std::vector<analysis::SweepScene> sweep_cases(const StabilityOptions& o, const SceneDef& base,
+                                              std::vector<double>& values) {
   if (!o.values) {
     const std::optional<double> current = analysis::parameter_value(o.scene.path, o.scene.sets, o.param);
     if (!current)
@@ -180,37 +177,31 @@ int stability_command(const StabilityOptions& o) {
   } else {
     values = parse_number_list(*o.values, "--values");
   }
-  std::vector<analysis::SweepScene> scenes;
   try {
-    scenes = analysis::sweep_scenes(o.scene.path, o.scene.sets, o.param, values);
+    return analysis::sweep_scenes(o.scene.path, o.scene.sets, o.param, values);
   } catch (const analysis::StudyError& e) {
     throw UsageError("--param " + std::string(e.what()));
   }
+}
 
-  analysis::StabilitySpec spec;
-  spec.integrators = kinds;
-  spec.duration = o.scene.duration ? *o.scene.duration : std::min(base.duration, kDefaultDuration);
-  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
-  {
-    // Every case's Model (they are all built up front), and a run on each thread at once.
-    MemoryBudget budget;
-    double models = 0.0, dearest = 0.0;
-    for (const analysis::SweepScene& s : scenes) {
-      models += model_bytes(s.scene);
-      for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(s.scene, k));
-    }
-    budget.add(std::to_string(scenes.size()) + " models", models);
-    const int threads = analysis::resolve_jobs(o.jobs);
-    budget.add(std::to_string(threads) + " runs at once", threads * dearest);
-    budget.check(base.source, o.scene.max_memory);
+// Every case's Model (they are all built up front), and a run on each thread at once.
+void check_stability_memory(const StabilityOptions& o, const SceneDef& base, const std::vector<analysis::SweepScene>& scenes,
+                            const std::vector<IntegratorKind>& kinds) {
+  MemoryBudget budget;
+  double models = 0.0, dearest = 0.0;
+  for (const analysis::SweepScene& s : scenes) {
+    models += model_bytes(s.scene);
+    for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(s.scene, k));
   }
-  std::vector<Case> cases;
-  double smallest_estimate = INFINITY;
-  for (analysis::SweepScene& s : scenes) {
-    s.scene.duration = spec.duration;
-    cases.push_back({s.value, build_model(s.scene)});
-    smallest_estimate = std::min(smallest_estimate, analysis::estimate_stiffness(cases.back().model).dt_with_damping());
-  }
+  budget.add(std::to_string(scenes.size()) + " models", models);
+  const int threads = analysis::resolve_jobs(o.jobs);
+  budget.add(std::to_string(threads) + " runs at once", threads * dearest);
+  budget.check(base.source, o.scene.max_memory);
+}
+
+// The search's bounds and rules: --min-dt/--max-dt (or from the scene and the stiffest case), the rest as given.
+void finish_stability_spec(const StabilityOptions& o, const SceneDef& base, double smallest_estimate,
+                           analysis::StabilitySpec& spec) {
   spec.max_dt = o.max_dt ? *o.max_dt : std::min(spec.duration / kMinStepsAtMaxDt, kMaxDtOverSceneDt * base.dt);
   spec.min_dt = o.min_dt ? *o.min_dt : std::min(base.dt, smallest_estimate) / kMinDtDivisor;
   spec.precision = o.precision;
@@ -226,6 +217,50 @@ int stability_command(const StabilityOptions& o) {
   } catch (const analysis::StudyError& e) {
     throw UsageError(std::string("stability: ") + e.what() + " (--min-dt, --max-dt, --duration, --precision, --energy-factor, --max-strain)");
   }
+}
+
+// The limits found, one row per value and integrator.
+void print_limits(const std::vector<StabilityLimit>& limits, const analysis::StabilitySpec& spec) {
+  std::printf("%14s %-16s %-48s %10s %12s %6s\n", "value", "integrator", "largest stable dt", "x 2/w_max",
+              "x 2/max(w,c)", "trials");
+  for (const StabilityLimit& l : limits) {
+    // The ratios to the estimates only for a bracketed limit ("-" where there is none: the CSV
+    // keeps its nan).
+    char springs[16] = "-", damping[16] = "-";
+    if (l.outcome == StabilityOutcome::Bracketed) {
+      std::snprintf(springs, sizeof springs, "%.3g", l.stable_dt / l.estimate.dt_springs());
+      std::snprintf(damping, sizeof damping, "%.3g", l.stable_dt / l.estimate.dt_with_damping());
+    }
+    std::printf("%14.6g %-16s %-48s %10s %12s %6d\n", l.value, std::string(integrator_name(l.integrator)).c_str(),
+                limit_text(l, spec).c_str(), springs, damping, l.trials);
+    if (l.failure == analysis::Failure::NotConverged)
+      std::printf("%14s %-16s NOT CONVERGED at %.4g s: %s\n", "", "", l.unstable_dt, l.reason.c_str());
+    if (!l.frame_steps.empty())
+      std::printf("%14s %-16s one step per frame: %s\n", "", "", frame_steps_text(l).c_str());
+  }
+}
+
+int stability_command(const StabilityOptions& o) {
+  install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
+  const SceneDef base = load_scene(o.scene.path, o.scene.sets);
+  const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
+
+  std::vector<double> values;
+  std::vector<analysis::SweepScene> scenes = sweep_cases(o, base, values);
+
+  analysis::StabilitySpec spec;
+  spec.integrators = kinds;
+  spec.duration = o.scene.duration ? *o.scene.duration : std::min(base.duration, kDefaultDuration);
+  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
+  check_stability_memory(o, base, scenes, kinds);
+  std::vector<Case> cases;
+  double smallest_estimate = INFINITY;
+  for (analysis::SweepScene& s : scenes) {
+    s.scene.duration = spec.duration;
+    cases.push_back({s.value, build_model(s.scene)});
+    smallest_estimate = std::min(smallest_estimate, analysis::estimate_stiffness(cases.back().model).dt_with_damping());
+  }
+  finish_stability_spec(o, base, smallest_estimate, spec);
 
   refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
@@ -254,23 +289,7 @@ int stability_command(const StabilityOptions& o) {
   const std::vector<StabilityLimit> limits = analysis::stability_sweep(refs, spec, hooks);
   progress.finish();
 
-  std::printf("%14s %-16s %-48s %10s %12s %6s\n", "value", "integrator", "largest stable dt", "x 2/w_max",
-              "x 2/max(w,c)", "trials");
-  for (const StabilityLimit& l : limits) {
-    // The ratios to the estimates only for a bracketed limit ("-" where there is none: the CSV
-    // keeps its nan).
-    char springs[16] = "-", damping[16] = "-";
-    if (l.outcome == StabilityOutcome::Bracketed) {
-      std::snprintf(springs, sizeof springs, "%.3g", l.stable_dt / l.estimate.dt_springs());
-      std::snprintf(damping, sizeof damping, "%.3g", l.stable_dt / l.estimate.dt_with_damping());
-    }
-    std::printf("%14.6g %-16s %-48s %10s %12s %6d\n", l.value, std::string(integrator_name(l.integrator)).c_str(),
-                limit_text(l, spec).c_str(), springs, damping, l.trials);
-    if (l.failure == analysis::Failure::NotConverged)
-      std::printf("%14s %-16s NOT CONVERGED at %.4g s: %s\n", "", "", l.unstable_dt, l.reason.c_str());
-    if (!l.frame_steps.empty())
-      std::printf("%14s %-16s one step per frame: %s\n", "", "", frame_steps_text(l).c_str());
-  }
+  print_limits(limits, spec);
 
   const auto write_to = [&](const std::string& path) {
     AtomicFile file(path);

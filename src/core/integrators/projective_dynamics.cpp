@@ -1,0 +1,48 @@
+// Projective dynamics (Liu, Bargteil, O'Brien and Kavan 2013) on the whole scene model: from
+// the inertial target, `iterations` local-global iterations on the step's G
+// (solvers/pd_kernels.h), each a pass over the springs (local projections) and one solve with
+// the prefactored matrix M/h^2 + L (+ the contact weights); v = (y - x_n)/h. Each spring and
+// its damper are one spring of stiffness ks + kd/h about a blended rest length, so G is
+// exactly implicit_euler's Phi and converged PD is backward Euler. Contacts are multipliers
+// in the right-hand side raised by each solve's penetration (Uzawa; solvers/pd_kernels.h says
+// why not Bouaziz et al.'s weighted terms). With projective_dynamics.chebyshev_rho > 0, Wang 2015's
+// Chebyshev semi-iterative acceleration from the third iteration on.
+#include "integrator.h"
+#include "core/solvers/solver_cache.h"
+
+namespace clothsim {
+namespace {
+
+// Wang 2015: y_{k+1} = omega_{k+1} (local-global(y_k) - y_{k-1}) + y_{k-1}, with c.y holding
+// local-global(y_k) and c.y_before y_{k-1}.
+void accelerate(SolverCache& c, int k, double rho, double& omega) {
+  omega = chebyshev_omega(k, rho, omega);
+  if (k >= 2) c.y = omega * (c.y - c.y_before) + c.y_before;
+}
+
+}  // namespace
+
+StepStats projective_dynamics_step(const Model& model, State& state, double h, Workspace& ws) {
+  SolverCache& c = solver_cache(ws);
+  build_step_problem(model, state, h, c.problem);
+  StepStats stats;
+  stats.factorizations = pd_prepare_factor(model, c.problem, state.inv_mass, c.pd) ? 1 : 0;
+  const double rho = model.solvers.projective_dynamics.chebyshev_rho;
+  const int iterations = iteration_count(model, IntegratorKind::ProjectiveDynamics);
+  c.y = c.problem.target;
+  c.lambda.assign(model.num_particles, 0.0);
+  double omega = 1.0;
+  c.y_before = c.y;
+  for (int k = 1; k <= iterations; ++k) {
+    c.y_next = c.y;  // y_k
+    pd_iteration(model, c.problem, c.pd, c.y, c.rhs, c.lambda);
+    if (rho > 0.0) accelerate(c, k, rho, omega);
+    c.y_before = c.y_next;
+  }
+  stats.newton_iterations = iterations;
+  stats.start_strain = max_start_strain(model, c.problem);
+  finish_step(c.problem, c.y, state);
+  return stats;
+}
+
+}  // namespace clothsim

@@ -1,0 +1,64 @@
+// XPBD (Macklin, Mueller and Chentanez 2016) on the whole scene model:
+//     predict y = yhat (inertia, gravity and the air drag, implicitly: step_problem.h), then
+//     `iterations` Gauss-Seidel sweeps, each over every spring as a compliant distance
+//     constraint (compliance 1/ks, damping beta = kd) and every particle against the
+//     ground and kinematic spheres (inequality constraints with friction); v = (y - x_n)/h.
+// Converged, it solves backward Euler with two changes from implicit_euler's Phi: each
+// constraint's gradient is taken at the iterate it is projected from, so the solution keeps no
+// geometric stiffness (the transverse (T/l)(I - P) term), and the damper's rate is
+// u . (v_a - v_b) at the end of the step rather than (l - ln) / h (docs/integrators.md).
+// Substeps are smaller steps: xpbd@1/600:1 is Macklin et al. 2019's "Small steps".
+#include "integrator.h"
+#include "core/solvers/solver_cache.h"
+#include "core/solvers/xpbd_kernels.h"
+
+namespace clothsim {
+namespace {
+
+void project_springs(const Model& model, const StepProblem& p, const Eigen::VectorXd& inv_mass,
+                     Eigen::Matrix3Xd& y, std::vector<double>& lambda) {
+  const Springs& s = model.springs;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    Vec3 ya = y.col(s.a[k]), yb = y.col(s.b[k]);
+    lambda[k] += solve_distance_constraint(ya, yb, p.start.col(s.a[k]), p.start.col(s.b[k]),
+                                           inv_mass[s.a[k]], inv_mass[s.b[k]], s.rest[k], s.ks[k],
+                                           s.kd[k], p.h, lambda[k]);
+    y.col(s.a[k]) = ya;
+    y.col(s.b[k]) = yb;
+  }
+}
+
+void project_contacts(const Model& model, const StepProblem& p, Eigen::Matrix3Xd& y) {
+  for (int i = 0; i < model.num_particles; ++i) {
+    if (p.weight[i] == 0.0) continue;
+    Vec3 yi = y.col(i);
+    for_each_penetration(p.colliders, yi, [&](const Penetration& c) {
+      solve_contact_constraint(yi, p.start.col(i), p.h, c);
+    });
+    y.col(i) = yi;
+  }
+}
+
+}  // namespace
+
+StepStats xpbd_step(const Model& model, State& state, double h, Workspace& ws) {
+  SolverCache& cache = solver_cache(ws);
+  StepProblem& p = cache.problem;
+  build_step_problem(model, state, h, p);
+  Eigen::Matrix3Xd& y = cache.y;
+  y = p.target;
+  cache.lambda.assign(model.springs.size(), 0.0);
+  const bool contacts = p.colliders.ground || !p.colliders.centre.empty();
+  const int iterations = iteration_count(model, IntegratorKind::Xpbd);
+  for (int it = 0; it < iterations; ++it) {
+    project_springs(model, p, state.inv_mass, y, cache.lambda);
+    if (contacts) project_contacts(model, p, y);
+  }
+  StepStats stats;
+  stats.newton_iterations = iterations;
+  stats.start_strain = max_start_strain(model, p);
+  finish_step(p, y, state);
+  return stats;
+}
+
+}  // namespace clothsim

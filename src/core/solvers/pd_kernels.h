@@ -1,0 +1,49 @@
+// Projective dynamics' two halves (Liu, Bargteil, O'Brien and Kavan 2013, "Fast Simulation of
+// Mass-Spring Systems") over the step's G (step_problem.h), each spring a term
+// k/2 |y_a - y_b - p_s|^2 with |p_s| its blended rest length:
+//     local:  p_s = rest_s (y_a - y_b) / |y_a - y_b|;
+//     global: (A + L) y = A yhat + J p, with A = diag(a_i), L the springs' Laplacian
+//             (weights k_s), J p the springs' projections scattered to their ends;
+// Contacts are forces lambda_i n_i in the right-hand side, one multiplier per particle
+// raised by the depth the last solve left it at (Uzawa's iteration on the one-sided
+// constraint, step a_i = m_i/h^2 + c/h, clamped at 0; the matrix's full diagonal overshoots
+// where contacts share springs), so the matrix stays constant and, converged,
+// the contact is held exactly: not Bouaziz et al. 2014's weighted terms, which change the
+// matrix with every contact set and, stiff, freeze the particles they hold. The matrix is the same for x, y and z, so one scalar factor of
+// the free bodies serves the three columns; it depends only on h and the pins, so it is
+// factored when one of them changes and reused otherwise.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <cstdint>
+#include <vector>
+
+#include "step_problem.h"
+
+namespace clothsim {
+
+struct PdFactor {
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  std::vector<std::int32_t> free_index;  // (B) row of a movable body, -1 where immovable
+  Eigen::VectorXd inv_mass;              // (B) the pin set it was built for
+  double h = 0.0;
+  const Model* model = nullptr;
+  bool analysed = false;
+  int factorizations = 0;                // numeric factorizations so far
+};
+
+// Refactors when h or the pins differ from the factor's. Returns whether it did.
+bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::VectorXd& inv_mass,
+                       PdFactor& f);
+
+// One local-global iteration: y <- the global solve with the projections taken at y and the
+// contact forces lambda (P, N; zeros at the step's start), then lambda updated at the new y.
+void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, Eigen::Matrix3Xd& y,
+                  Eigen::MatrixX3d& rhs, std::vector<double>& lambda);
+
+// Wang 2015's Chebyshev weights: omega_1 = 1, omega_2 = 2 / (2 - rho^2),
+// omega_{k+1} = 4 / (4 - rho^2 omega_k).
+double chebyshev_omega(int k, double rho, double previous);
+
+}  // namespace clothsim

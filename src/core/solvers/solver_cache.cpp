@@ -1,0 +1,34 @@
+#include "solver_cache.h"
+
+#include <cmath>
+
+namespace clothsim {
+
+void SolverCacheDeleter::operator()(SolverCache* cache) const { delete cache; }
+
+SolverCache& solver_cache(Workspace& ws) {
+  if (!ws.solvers) ws.solvers.reset(new SolverCache);
+  return *ws.solvers;
+}
+
+int iteration_count(const Model& model, IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::Xpbd: return model.solvers.xpbd.iterations;
+    case IntegratorKind::ProjectiveDynamics: return model.solvers.projective_dynamics.iterations;
+    case IntegratorKind::Vbd: return model.solvers.vbd.iterations;
+    default: return 0;
+  }
+}
+
+double max_start_strain(const Model& model, const StepProblem& p) {
+  double strain = 0.0;
+  const Springs& s = model.springs;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double e = (p.start_length[k] - s.rest[k]) / s.rest[k];
+    if (std::isnan(e)) return e;
+    strain = std::max(strain, e);
+  }
+  return strain;
+}
+
+}  // namespace clothsim

@@ -1,0 +1,33 @@
+// The iterative solvers' scratch, kept in the run's Workspace: sizes, the VBD colouring and
+// the projective-dynamics factor (a function of h and the pins, rebuilt when one
+// changes). Nothing in it changes a step's result: a fresh cache gives the same bits.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "pd_kernels.h"
+#include "step_problem.h"
+#include "vbd_kernels.h"
+#include "core/integrators/integrator.h"
+
+namespace clothsim {
+
+struct SolverCache {
+  StepProblem problem;
+  Eigen::Matrix3Xd y, y_before, y_next, acceleration;  // (3 x B)
+  std::vector<double> lambda;  // XPBD's multipliers (S), PD's contact forces (P)
+  Eigen::MatrixX3d rhs;                                // PD's global right-hand side
+  PdFactor pd;
+  VbdGraph vbd;
+};
+
+SolverCache& solver_cache(Workspace& ws);
+
+// The iteration count the model's solver block asks for (xpbd, projective_dynamics, vbd).
+int iteration_count(const Model& model, IntegratorKind kind);
+
+// The largest strain (ln - l0) / l0 of the step's start lengths (StepStats::start_strain).
+double max_start_strain(const Model& model, const StepProblem& p);
+
+}  // namespace clothsim

@@ -1,0 +1,41 @@
+// Vertex block descent (Chen, Kirchhoff, Li, Chen, Macklin, Tanaka 2024, "Vertex Block
+// Descent"): Gauss-Seidel over the vertices, each moved by one 3x3 Newton step on the step's G
+// (step_problem.h) with every other vertex held, colour by colour so that no two vertices of
+// a colour share a spring (the order a parallel sweep would take; here it runs on one core).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "step_problem.h"
+
+namespace clothsim {
+
+// A contact's penalty stiffness relative to the vertex's own a_i (the paper's quadratic
+// collision energy k_c/2 d^2 along the normal).
+constexpr double kVbdContactStiffness = 1e4;
+
+// The springs at each vertex and a greedy colouring, built once per model.
+struct VbdGraph {
+  std::vector<std::int32_t> start;   // (B + 1) CSR offsets into `spring`
+  std::vector<std::int32_t> spring;  // spring indices incident to each body
+  std::vector<std::vector<std::int32_t>> colours;  // bodies by colour, ascending
+  const Model* model = nullptr;
+  std::size_t springs = 0;
+};
+
+void build_vbd_graph(const Model& model, VbdGraph& g);
+
+// The paper's adaptive first guess y = x + h v + h^2 a~, with a~ the acceleration a's
+// component along gravity clamped to [0, |g|] (full gravity for a falling vertex, none for one
+// that rests). The paper measures a as (v_n - v_{n-1}) / h; a State keeps no previous
+// velocity, so a is the force evaluation at the step's start (a step stays a function of the
+// State alone).
+void vbd_initial_guess(const Model& model, const StepProblem& p, const State& state,
+                       const Eigen::Matrix3Xd& acceleration, Eigen::Matrix3Xd& y);
+
+// One sweep: every movable vertex, colour by colour, takes its 3x3 Newton step.
+void vbd_sweep(const Model& model, const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y);
+
+}  // namespace clothsim

@@ -1,0 +1,59 @@
+// `clothsim converge` as users call it: the CSV's rows and columns, the table, and bad
+// options answered in one line with exit 2 and nothing written.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "cli/cli_process.h"
+
+namespace clothsim::testing {
+namespace {
+
+std::string stiff() { return std::string(CLOTHSIM_SCENES_DIR) + "/stiff.yaml"; }
+
+TEST(CmdConverge, WritesOneRowPerMethodStateAndIterationCount) {
+  const std::string dir = scratch_dir("converge");
+  const CliResult r = run_clothsim({"converge", stiff(), "--dt", "1/30", "--states", "2", "--max-iterations", "3",
+                                    "--integrators", "vbd,implicit_euler", "--csv", dir + "/c.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("to 1 mm"), std::string::npos) << r.out;
+  std::ifstream in(dir + "/c.csv");
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header, "scene,method,state,t,iterations,rms_distance,max_distance,gradient_norm,cpu_seconds");
+  int rows = 0;
+  for (std::string line; std::getline(in, line);) ++rows;
+  EXPECT_EQ(rows, 2 * 2 * 3);
+}
+
+TEST(CmdConverge, BadOptionsAreOneLineExitTwoAndNothingWritten) {
+  const std::string dir = scratch_dir("converge_bad");
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"--states", "0"}, {"--max-iterations", "-4"}, {"--max-iterations", "1e9"},
+        {"--integrators", "rk4"}, {"--dt", "fast"}}) {
+    std::vector<std::string> args{"converge", stiff(), "--csv", dir + "/c.csv"};
+    args.insert(args.end(), bad.begin(), bad.end());
+    const CliResult r = run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 2) << bad[0] << " " << bad[1];
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/c.csv"));
+  }
+}
+
+TEST(CmdRunIterations, BadCountsAndIntegratorsWithoutIterationsAreRefused) {
+  for (const char* bad : {"0", "-1", "ten", "1000001"}) {
+    const CliResult r = run_clothsim({"run", stiff(), "--integrator", "vbd", "--iterations", bad});
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find("--iterations"), std::string::npos) << r.err;
+  }
+  const CliResult rk4 = run_clothsim({"run", stiff(), "--integrator", "rk4", "--iterations", "3"});
+  EXPECT_EQ(rk4.exit_code, 2);
+  EXPECT_NE(rk4.err.find("rk4 has no iterations"), std::string::npos) << rk4.err;
+  const CliResult ok = run_clothsim({"run", stiff(), "--integrator", "xpbd", "--iterations", "2", "--duration", "0.1"});
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("xpbd: 100 iterations"), std::string::npos) << ok.out;  // 50 steps of 2
+}
+
+}  // namespace
+}  // namespace clothsim::testing

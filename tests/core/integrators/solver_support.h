@@ -1,0 +1,94 @@
+// Shared by the iterative solvers' tests: a sheet without contacts, random states, and the
+// converged backward-Euler step from them (implicit_euler at a tight tolerance).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/integrators/integrator.h"
+#include "core/simulation.h"
+#include "test_support.h"
+
+namespace clothsim::testing {
+
+// A 9x9 sheet, two corners pinned, the seed's springs and dampers, drag; no collider.
+inline Model free_sheet(const std::vector<std::string>& sets = {}) {
+  return model_from_yaml(R"(
+name: free_sheet
+duration: 1
+dt: 0.0166666666666667
+air_drag: 0.01
+cloth:
+  particles: [9, 9]
+  size: [2, 2]
+  center: [0, 1, 0]
+  plane: xz
+  particle_mass: 0.2
+  springs:
+    structural: {stiffness: 2000, damping: 20}
+    shear:      {stiffness: 2000, damping: 20}
+    bend:       {stiffness: 500, damping: 5}
+  pinned: [[0, 0], [8, 0]]
+implicit: {newton_tolerance: 1.0e-12, newton_max_iterations: 200}
+)", sets);
+}
+
+// The initial state with positions moved up to `spread` m and random velocities up to 1 m/s.
+inline State random_state(const Model& model, unsigned seed, double spread = 0.02) {
+  State s = initial_state(model);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < model.num_particles; ++i) {
+    if (s.inv_mass[i] == 0.0) continue;
+    for (int d = 0; d < 3; ++d) s.x(d, i) += spread * u(rng), s.v(d, i) = u(rng);
+  }
+  return s;
+}
+
+// One step of `kind` from `start` (collisions included, as step() takes it).
+inline State one_step(const Model& model, const State& start, IntegratorKind kind, double h) {
+  State s = start;
+  Workspace ws;
+  step(model, s, kind, h, ws);
+  return s;
+}
+
+// max |x - x_ref| over the particles relative to max |x_ref - x_start|.
+inline double relative_distance(const State& x, const State& ref, const State& start) {
+  return (x.x - ref.x).colwise().norm().maxCoeff() / (ref.x - start.x).colwise().norm().maxCoeff();
+}
+
+inline Model with_iterations(Model m, IntegratorKind kind, int n) {
+  if (kind == IntegratorKind::Xpbd) m.solvers.xpbd.iterations = n;
+  if (kind == IntegratorKind::ProjectiveDynamics) m.solvers.projective_dynamics.iterations = n;
+  if (kind == IntegratorKind::Vbd) m.solvers.vbd.iterations = n;
+  return m;
+}
+
+}  // namespace clothsim::testing
+
+namespace clothsim::testing {
+
+// Total energy after each of 120 steps never above the one before by more than rounding: a
+// sheet with two pins and no collider has no external work.
+inline void expect_no_energy_gain(const Model& model, IntegratorKind kind, double h) {
+  State s = initial_state(model);
+  Workspace ws;
+  double before = compute_energies(model, s).total();
+  for (int i = 0; i < 120; ++i) {
+    step(model, s, kind, h, ws);
+    const double now = compute_energies(model, s).total();
+    ASSERT_LE(now, before + 1e-9 * std::abs(before)) << "step " << i;
+    before = now;
+  }
+}
+
+inline void expect_finite_run(const std::string& scene, IntegratorKind kind, double h) {
+  const Model model = build_model(load_scene(scene));
+  clothsim::Run run(model, kind, h);
+  EXPECT_TRUE(run.advance_to(model.duration));
+  EXPECT_TRUE(run.state().x.allFinite());
+}
+
+}  // namespace clothsim::testing

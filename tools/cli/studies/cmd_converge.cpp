@@ -1,0 +1,165 @@
+// clothsim converge SCENE [--dt S] [--integrators LIST] [--states K] [--max-iterations N]
+//                        [--csv F] [--plot F.png] [--summary F.json]
+// The iterative solvers against the step they approximate (study/convergence.h): from K
+// states along a converged implicit_euler run, one step of every method with 1..N iterations,
+// its distance from the converged backward-Euler step, Phi's gradient norm and its CPU time.
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+
+#include "study_common.h"
+#include "cli/common/cli_common.h"
+#include "cli/common/commands.h"
+#include "cli/common/lanes.h"
+#include "cli/common/scene_options.h"
+#include "cli/common/summary_json.h"
+#include "scene/build_model.h"
+#include "scene/echo.h"
+#include "study/convergence.h"
+
+namespace clothsim::cli {
+namespace {
+
+struct ConvergeOptions {
+  SceneOptions scene;
+  std::string dt = "1/60";
+  std::string integrators = "xpbd,projective_dynamics,vbd,implicit_euler";
+  std::string states = "5", max_iterations = "50";
+  std::string csv, plot, summary;
+};
+
+std::vector<IntegratorKind> parse_methods(const std::string& text) {
+  std::vector<IntegratorKind> out;
+  for (const std::string& name : split_list(text)) {
+    const auto kind = parse_integrator(name);
+    if (!kind || !(is_iterative_solver(*kind) || *kind == IntegratorKind::ImplicitEuler))
+      throw UsageError("--integrators: " + in_quotes(name) +
+                       " is not an iterative method (expected xpbd, projective_dynamics, vbd or implicit_euler)");
+    out.push_back(*kind);
+  }
+  if (out.empty()) throw UsageError("--integrators: no method given");
+  return out;
+}
+
+ConvergenceSpec plan(const ConvergeOptions& o) {
+  ConvergenceSpec spec;
+  const std::optional<double> h = parse_number_or_fraction(o.dt);
+  if (!h || !(*h > 0.0)) throw UsageError("--dt: " + in_quotes(o.dt) + " is not a step > 0 s (a number or 1/60)");
+  spec.h = *h;
+  spec.states = parse_iteration_count(o.states, "--states");
+  spec.max_iterations = parse_iteration_count(o.max_iterations, "--max-iterations");
+  spec.methods = parse_methods(o.integrators);
+  return spec;
+}
+
+void write_csv(std::FILE* f, const std::string& scene, const std::vector<ConvergencePoint>& points) {
+  std::fprintf(f, "scene,method,state,t,iterations,rms_distance,max_distance,gradient_norm,cpu_seconds\n");
+  for (const ConvergencePoint& p : points)
+    std::fprintf(f, "%s,%s,%d,%s,%d,%s,%s,%s,%s\n", csv_text(scene).c_str(),
+                 std::string(integrator_name(p.method)).c_str(), p.state, csv_number(p.t).c_str(), p.iterations,
+                 csv_number(p.rms).c_str(), csv_number(p.max).c_str(), csv_number(p.gradient).c_str(),
+                 csv_number(p.cpu_seconds).c_str());
+}
+
+// Per method and iteration count, the mean over the states of the RMS distance and the CPU.
+struct Mean { double rms = 0.0, cpu = 0.0; int n = 0; };
+std::map<std::pair<int, int>, Mean> means(const std::vector<ConvergencePoint>& points) {
+  std::map<std::pair<int, int>, Mean> out;
+  for (const ConvergencePoint& p : points) {
+    Mean& m = out[{static_cast<int>(p.method), p.iterations}];
+    m.rms += p.rms, m.cpu += p.cpu_seconds, ++m.n;
+  }
+  for (auto& [key, m] : out) m.rms /= m.n, m.cpu /= m.n;
+  return out;
+}
+
+// The fewest iterations (and their CPU) whose mean RMS distance is within `tolerance`.
+std::string first_within(const std::map<std::pair<int, int>, Mean>& table, IntegratorKind k, double tolerance) {
+  for (const auto& [key, m] : table)
+    if (key.first == static_cast<int>(k) && m.rms <= tolerance) {
+      char text[64];
+      std::snprintf(text, sizeof text, "%4d it, %8.3g s", key.second, m.cpu);
+      return text;
+    }
+  return "     not reached";
+}
+
+void print_table(const ConvergenceSpec& spec, const std::vector<ConvergencePoint>& points) {
+  const auto table = means(points);
+  std::printf("%-20s %12s %12s   %-18s %-18s\n", "method", "rms@1 it (m)", "rms@N it (m)", "to 1 cm", "to 1 mm");
+  for (IntegratorKind k : spec.methods) {
+    const Mean first = table.at({static_cast<int>(k), 1}), last = table.at({static_cast<int>(k), spec.max_iterations});
+    std::printf("%-20s %12.3g %12.3g   %-18s %-18s\n", std::string(integrator_name(k)).c_str(), first.rms, last.rms,
+                first_within(table, k, 1e-2).c_str(), first_within(table, k, 1e-3).c_str());
+  }
+}
+
+void write_json(const std::string& path, const std::string& source, const ConvergenceSpec& spec,
+                const std::vector<ConvergencePoint>& points) {
+  std::vector<JsonObject> lanes;
+  for (const auto& [key, m] : means(points))
+    lanes.push_back(JsonObject()
+                        .text("integrator", std::string(integrator_name(static_cast<IntegratorKind>(key.first))))
+                        .number("dt", spec.h)
+                        .integer("iterations", key.second)
+                        .number("mean_rms_distance", m.rms)
+                        .number("mean_cpu_seconds", m.cpu));
+  write_summary(path, "converge", source, lanes,
+                JsonObject().integer("states", spec.states).integer("max_iterations", spec.max_iterations));
+}
+
+int converge_command(const ConvergeOptions& o) {
+  install_interrupt_handler();
+  const SceneDef scene = load_scene_with_options(o.scene);
+  const ConvergenceSpec spec = plan(o);
+  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
+  for (const auto& [path, what] : {std::pair{o.csv, "--csv"}, {o.summary, "--summary"}})
+    if (!path.empty()) require_writable_parent(path, what);
+  std::unique_ptr<PlotScript> plot;
+  if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_convergence.py", o.plot);
+  const Model model = build_model(scene);
+  std::printf("converge %s: %d states at dt = %s s, %zu methods x 1..%d iterations, against converged "
+              "backward Euler\n", model.name.c_str(), spec.states, step_string(spec.h).c_str(), spec.methods.size(),
+              spec.max_iterations);
+  std::fflush(stdout);
+  SharedProgress progress("converge " + model.name, static_cast<long>(spec.states * spec.methods.size()), "sweeps");
+  const auto points = convergence_study(model, spec, [&](int done, int total) { progress.update(done, total); });
+  progress.finish();
+  print_table(spec, points);
+  const auto write_to = [&](const std::string& path) {
+    AtomicFile file(path);
+    write_csv(file.stream(), model.name, points);
+    file.commit();
+  };
+  if (!o.csv.empty()) write_to(o.csv);
+  if (!o.summary.empty()) write_json(o.summary, scene.source, spec, points);
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", model.name + " (dt = " + step_string(spec.h) + " s)"});
+  return kOk;
+}
+
+}  // namespace
+
+void add_converge_command(CLI::App& app, Command& command) {
+  auto o = std::make_shared<ConvergeOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "converge", "Distance of xpbd, projective_dynamics, vbd and capped Newton from converged backward Euler, "
+                  "per iteration and CPU");
+  add_scene_options(sub, o->scene, /*single_run=*/false);
+  sub->add_option("--dt", o->dt, "Step, s (a number or a fraction)")->capture_default_str()->type_name("S");
+  sub->add_option("--integrators", o->integrators, "Iterative methods")->capture_default_str()->type_name("LIST");
+  sub->add_option("--states", o->states, "States along the converged run")->capture_default_str()->type_name("K");
+  sub->add_option("--max-iterations", o->max_iterations, "Iterations 1..N per method")
+      ->capture_default_str()->type_name("N");
+  sub->add_option("--csv", o->csv, "One row per method, state and iteration count")->type_name("FILE.csv");
+  sub->add_option("--plot", o->plot, "Distance against iterations and CPU, log-log (python3-matplotlib)")
+      ->type_name("FILE.png");
+  sub->add_option("--summary", o->summary, "Mean distance and CPU per method and iteration as JSON")
+      ->type_name("FILE.json");
+  add_progress_options(sub);
+  add_no_overwrite_option(sub);
+  sub->callback([o, &command] { command = [o] { return converge_command(*o); }; });
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,56 @@
+#!/usr/bin/python3
+"""The convergence figure of a `clothsim converge --csv` file.
+
+Two panels, RMS distance from the converged backward-Euler step (log) against iterations
+(log) and against the step's CPU time (log): one line per method, the mean over the states.
+
+    /usr/bin/python3 tools/plot_convergence.py --csv converge.csv --out converge.png
+"""
+import argparse
+from collections import OrderedDict, defaultdict
+
+import plot_common as pc
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--csv", required=True, help="output of clothsim converge --csv")
+    ap.add_argument("--out", required=True, help="PNG to write")
+    ap.add_argument("--title", default="", help="figure title")
+    args = ap.parse_args()
+
+    rows = pc.read_rows(args.csv)
+    pc.require(rows, args.csv, ["method", "iterations", "rms_distance", "cpu_seconds"])
+    sums = OrderedDict()
+    for r in rows:
+        per = sums.setdefault(r["method"], defaultdict(lambda: [0.0, 0.0, 0]))
+        cell = per[int(r["iterations"])]
+        cell[0] += pc.number(r["rms_distance"])
+        cell[1] += pc.number(r["cpu_seconds"])
+        cell[2] += 1
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 5))
+    for method, per in sums.items():
+        its = sorted(per)
+        rms = [max(per[i][0] / per[i][2], 1e-16) for i in its]
+        cpu = [max(per[i][1] / per[i][2], 1e-7) for i in its]
+        left.loglog(its, rms, marker=".", label=method)
+        right.loglog(cpu, rms, marker=".", label=method)
+    for ax, xlabel in ((left, "iterations per step"), (right, "CPU per step (s)")):
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("RMS distance from backward Euler (m)")
+        ax.axhline(1e-2, color="grey", linestyle=":", linewidth=0.8)
+        ax.axhline(1e-3, color="grey", linestyle=":", linewidth=0.8)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+    if args.title:
+        fig.suptitle(args.title)
+    fig.tight_layout()
+    fig.savefig(args.out, dpi=100)
+
+
+if __name__ == "__main__":
+    main()
