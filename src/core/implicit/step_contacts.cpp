@@ -120,7 +120,7 @@ void predict_step_contacts(const Model& model, const State& start, double h,
   // Held last step: likely resting on the collider, so held again unless it is leaving.
   std::vector<std::uint8_t>& was_held = contacts.held_before;
   was_held.assign(model.num_particles, 0);
-  for (const std::int32_t p : start.implicit_held)
+  for (const std::int32_t p : start.implicit.held)
     if (p < model.num_particles) was_held[p] = 1;
   const double margin = model.collision.margin;
   const NearColliders near(model, start, h, margin);

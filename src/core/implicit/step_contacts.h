@@ -51,7 +51,7 @@ struct StepContacts {
 
 // The contacts predicted for the step of size h from `start`: particles whose predicted end
 // position x + h (v + guess) lies inside the reach (r + margin) of the ground or a kinematic
-// sphere, or, for those in start.implicit_held, within a further margin of it (guess: the
+// sphere, or, for those in start.implicit.held, within a further margin of it (guess: the
 // previous step's dv, or none).
 void predict_step_contacts(const Model& model, const State& start, double h,
                            const Eigen::Matrix3Xd* guess, StepContacts& contacts);

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "integrator_kind.h"
@@ -28,8 +29,8 @@ struct StepStats {
   int contact_constraints = 0;  // implicit_euler: contacts held inside the solve this step
 };
 
-struct ImplicitCache;  // the implicit solver's sparse pattern and buffers (implicit_euler.cpp)
-struct ImplicitCacheDeleter {  // defined beside ImplicitCache, so the type stays private there
+struct ImplicitCache;  // the implicit solver's sparse pattern and buffers (implicit/implicit_cache.h)
+struct ImplicitCacheDeleter {  // defined beside ImplicitCache, so this header need not include it
   void operator()(ImplicitCache* cache) const;
 };
 
@@ -39,6 +40,9 @@ struct ImplicitCacheDeleter {  // defined beside ImplicitCache, so the type stay
 struct Workspace {
   Eigen::Matrix3Xd a, x1, v1, a1, x2, v2, a2, a3;  // (3 x B) scratch
   std::unique_ptr<ImplicitCache, ImplicitCacheDeleter> implicit;
+  // Receives implicit_euler's Newton trace, one line per event (docs/integrators.md, "The
+  // Newton trace"); empty: no trace. The tool sets it; the engine reads no environment.
+  std::function<void(const char* line)> newton_trace;
 };
 
 StepStats explicit_euler_step(const Model& model, State& state, double h, Workspace& ws);
