@@ -25,6 +25,9 @@ constexpr int kRetryReuse = 16;           // an untrusted recorded matrix is pro
 constexpr int kReuseReserve = 2;          // exact iterations a trial must leave in the budget
 constexpr double kReuseResidual = 1e-4;   // reuse at any distance below this residual...
 constexpr double kReuseChange = 0.05;     // ...or where the matrix is this close to exact
+constexpr int kStallWindow = 50;          // iterations without progress that make a stall
+constexpr double kStallResidual = 0.5;    // progress: the residual halves...
+constexpr double kStallPhi = 1e-6;        // ...or Phi falls by this fraction of its size
 // The largest sparse factor built (L's bytes): larger sheets solve with block Jacobi, so a
 // run stays within what memory_estimate.h promises.
 constexpr std::size_t kMaxFactorBytes = std::size_t{512} << 20;
@@ -59,6 +62,16 @@ void NewtonTracer::operator()(const char* format, ...) const {
   std::vsnprintf(line, sizeof line, format, args);
   va_end(args);
   (*sink_)(line);
+}
+
+bool StallWatch::stalled(int iteration, double residual, const PotentialValue& at, int window) {
+  if (residual <= kStallResidual * best || at.phi < phi - kStallPhi * at.magnitude) {
+    best = std::min(best, residual);
+    phi = at.phi;
+    mark = iteration;
+    return false;
+  }
+  return iteration - mark >= window;
 }
 
 double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness, double h) {
@@ -154,7 +167,8 @@ bool NewtonSolve::iterate(const Eigen::Matrix3Xd* warm) {
       trace_("  let go / taken in: held %zu\n", c_.contacts.size());
       continue;
     }
-    if (out_of_budget()) return false;
+    if (out_of_budget() || stall_.stalled(stats_.newton_iterations, stats_.residual, phi_, kStallWindow))
+      return false;
     const bool reused = may_reuse();
     if (reused) reuse_.start_trial(r.norm);
     const double slope = direction(cg_settings(r.norm, r.scale), warm, reused);

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 #include "implicit_cache.h"
 #include "step_potential.h"
@@ -64,6 +65,18 @@ struct FactorAccount {
   bool built = false;         // this step built a factor
   double jacobi_work = 0.0;   // block-Jacobi PCG iterations this step
   double factor_work = 0.0;   // the same units spent with the factor since it was built
+};
+
+// Whether the solve still makes progress: a step is NOT CONVERGED when it stalls, not when it
+// has taken some number of iterations. Progress is the residual halving from its best at the
+// last mark, or Phi falling by a meaningful fraction of its size since then (a globalised
+// Newton crawling through a buckled state lowers Phi while its residual wanders).
+struct StallWatch {
+  double best = std::numeric_limits<double>::infinity();     // residual at the last mark
+  double phi = std::numeric_limits<double>::infinity();      // J, Phi at the last mark
+  int mark = 0;                                              // Newton iteration of the last mark
+  // Called at each iterate; true once `window` iterations passed without progress.
+  bool stalled(int iteration, double residual, const PotentialValue& at, int window);
 };
 
 // The inputs of the last take-in scan, counted: y_version changes with the iterate,
@@ -129,6 +142,7 @@ class NewtonSolve {
   MatrixReuse reuse_;
   FactorAccount account_;
   ContactScan scan_;
+  StallWatch stall_;
   double alpha_ = 0.0;    // the last line search's step
   double r_norm2_ = 0.0;  // |S r|^2 at the iterate
 };
