@@ -42,13 +42,15 @@
 //   force_evals        evaluations of Phi and r (each a pass over the springs, as a force
 //                      evaluation): 1 at the start + 1 per line-search trial (Baraff &
 //                      Witkin: 1 for its step) + 1 each time the held set changes.
-//   newton_iterations  linear solves, each preceded by one Hessian assembly (1 = B & W).
+//   newton_iterations  linear solves, each with a freshly assembled or a reused Newton
+//                      matrix (1 = B & W).
 //   cg_iterations      PCG iterations summed over those solves (each one block mat-vec, and
 //                      one block-diagonal or one factored solve).
 //   factorizations     sparse Cholesky factors built (0 where block Jacobi sufficed).
 //   residual           the final relative residual |S r| / scale.
-//   converged          residual <= newton_tolerance within newton_max_iterations (counted
-//                      over the whole step, active-set rounds included).
+//   converged          residual <= newton_tolerance before the solve stalled or reached
+//                      newton_max_iterations (counted over the whole step, active-set rounds
+//                      included; a stall: newton_solve.h, StallWatch).
 //   contact_constraints  particles held on a collider's plane at the end of the solve.
 // StepStats, fixed_point:
 //   force_evals = 1 + K, newton_iterations = K, cg_iterations = 0,

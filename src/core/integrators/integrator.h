@@ -23,7 +23,7 @@ struct StepStats {
   int cg_iterations = 0;      // summed over the step's linear solves
   int factorizations = 0;     // implicit_euler: sparse Cholesky factors of the step's matrix
   double residual = 0.0;      // final relative residual of the implicit solve
-  bool converged = true;      // false when a solve hit its iteration cap above tolerance
+  bool converged = true;      // false when a solve stalled or hit its cap above tolerance
   double start_strain = 0.0;  // largest (l - l0) / l0 of the state the step started from, read
                               // off the step's first force evaluation (no extra spring pass)
   int contact_constraints = 0;  // implicit_euler: contacts held inside the solve this step
