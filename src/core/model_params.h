@@ -25,7 +25,9 @@ enum class ImplicitSolver { Newton, FixedPoint };
 
 struct ImplicitDef {
   ImplicitSolver solver = ImplicitSolver::Newton;
-  int newton_max_iterations = 20;  // per step; 1 = Baraff-Witkin's single linearised step
+  // Per step; 1 = Baraff-Witkin's single linearised step. The default is a backstop: a step
+  // stops when it converges or stalls (core/implicit/newton_solve.h, StallWatch).
+  int newton_max_iterations = 500;
   double newton_tolerance = 1e-6;  // on |M dv - h f(x+h(v+dv), v+dv)| relative to |h f|
   int cg_max_iterations = 200;
   double cg_tolerance = 1e-8;      // relative residual of each linear solve

@@ -79,6 +79,8 @@ class Run {
   // longer steps. Set it before advancing; the engine itself knows nothing of signals.
   void set_stop_check(std::function<bool()> stop) { stop_ = std::move(stop); }
   bool stopped() const { return stopped_; }
+  // Where implicit_euler's Newton trace goes (Workspace::newton_trace); unset: nowhere.
+  void set_newton_trace(std::function<void(const char* line)> sink) { ws_.newton_trace = std::move(sink); }
   bool diverged() const { return divergence_.has_value(); }
   const std::optional<Divergence>& divergence() const { return divergence_; }
 

@@ -10,6 +10,35 @@
 
 namespace clothsim {
 
+// implicit_euler's solver state, kept in State (not in scratch) so that a copied State
+// continues bit for bit. B = bodies, P = particles, S = spring slots (slot_count of the
+// model's spring layout). Empty arrays mean "no history yet".
+struct ImplicitSolverState {
+  // The first guess (first_guess.h): the last three steps' velocity changes, and the order of
+  // the polynomial through them the next step starts from (0 = dv_n, 1 = the line,
+  // 2 = the parabola), chosen by which of them the last solution lay closest to.
+  Eigen::Matrix3Xd dv;          // (3 x B) m/s, the last step's v_{n+1} - v_n
+  Eigen::Matrix3Xd dv_before;   // (3 x B) m/s, the step before's
+  Eigen::Matrix3Xd dv_before2;  // (3 x B) m/s, the one before that
+  int guess_order = 0;          // 0, 1 or 2
+  std::vector<std::int32_t> held;  // (<= P) particles held on a collider at the last step's end
+  // The point the last recorded Newton matrix was assembled at (sparse_system.h). The matrix
+  // is scratch and a function of these, so a Workspace that does not hold it rebuilds it.
+  struct Linearisation {
+    Eigen::Matrix3Xd y;           // (3 x B) m, the iterate's end-of-step positions
+    std::vector<double> length;   // (S) m, spring lengths at that step's start
+    Eigen::VectorXd inv_mass;     // (B) 1/kg
+    double h = 0.0;               // s, the step size; 0 = nothing recorded
+    std::int64_t assemblies = 0;  // matrices recorded over this State's history (a count)
+  } lin;
+  // Whether the recorded matrix served when last tried on a new iterate; if not, steps
+  // assemble afresh and probe it again only now and then.
+  bool lin_trusted = true;
+  // Whether the last step needed the sparse factor (cholesky_preconditioner.h), so that the
+  // next builds it at its first solve.
+  bool factored = false;
+};
+
 struct State {
   Eigen::Matrix3Xd x;         // (3 x B) body positions, m (particles, then sphere centres)
   Eigen::Matrix3Xd v;         // (3 x B) body velocities, m/s
@@ -17,37 +46,7 @@ struct State {
   double t = 0.0;             // s
   std::int64_t step = 0;      // steps taken
   std::size_t next_action = 0;  // index into model.timeline of the first action not yet applied
-  // implicit_euler's solver state, kept here (not in scratch) so a copied State continues bit
-  // for bit: its last step's velocity change, the next step's first guess (3 x B, empty
-  // before one), and the particles its contacts held at the end of that step (the active
-  // set's first guess).
-  Eigen::Matrix3Xd implicit_dv;
-  // The velocity changes of the two steps before that (3 x B each, empty before two and three
-  // steps), and the order of the polynomial through the last steps' dv the next step starts
-  // from: 0 = dv_n, 1 = the line 2 dv_n - dv_{n-1}, 2 = the parabola 3 dv_n - 3 dv_{n-1} +
-  // dv_{n-2}; chosen by which of them the last step's solution lay closest to.
-  Eigen::Matrix3Xd implicit_dv_before, implicit_dv_before2;
-  int implicit_guess_order = 0;
-  std::vector<std::int32_t> implicit_held;
-  // The linearisation of the Newton matrix implicit_euler last assembled (sparse_system.h),
-  // which later iterations and steps reuse while the residual shows it still serves: the
-  // end-of-step positions (3 x B), the spring lengths at that step's start (S), the inverse
-  // masses (B) and the step size it was assembled with. The matrix is scratch (in the
-  // Workspace) and a function of these: a Workspace that does not hold it (a fresh one, or one
-  // that last served another State) rebuilds it from them, bit for bit. implicit_lin_id names
-  // the assembly (unique in the process, 0 = none), so a Workspace holding it knows it does.
-  Eigen::Matrix3Xd implicit_lin_y;
-  std::vector<double> implicit_lin_length;
-  Eigen::VectorXd implicit_lin_inv_mass;
-  double implicit_lin_h = 0.0;
-  std::uint64_t implicit_lin_id = 0;
-  // Whether the last step that tried that matrix on a new iterate converged with it (or
-  // contracted its residual enough); if not, steps assemble afresh and try it again only every
-  // 16th step.
-  bool implicit_lin_trusted = true;
-  // Whether the last step's linear solves needed the sparse factor
-  // (cholesky_preconditioner.h), so that the next factors at its first solve.
-  bool implicit_factored = false;
+  ImplicitSolverState implicit;  // implicit_euler's warm start and Newton-matrix record
 };
 
 // The state at t = 0, with the actions scheduled at t = 0 applied.

@@ -26,7 +26,8 @@ using M = hn::Mask<D>;
 static_assert(HWY_MAX_BYTES / sizeof(double) <= kSpringLanePad, "the layout's padding is a vector");
 
 // The families' Newton blocks: sparse_system.cpp's assembly (assemble_step_hessian_scalar),
-// lane by lane, in two passes.
+// lane by lane, in two passes. Long on purpose (a kernel): both passes read the same
+// copied-in window of lanes and write through the same restrict-qualified outputs.
 //  1. Over the springs (the walk, with y and the inverse masses in the window): each block's u
 //     and (alpha, beta), exact and projected, stored by slot, for now also where an end is
 //     immovable (the block still counts in the other end's diagonal).

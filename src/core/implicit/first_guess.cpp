@@ -7,7 +7,7 @@
 namespace clothsim {
 
 DvHistory::DvHistory(const State& state, int B) {
-  for (const Eigen::Matrix3Xd* m : {&state.implicit_dv, &state.implicit_dv_before, &state.implicit_dv_before2}) {
+  for (const Eigen::Matrix3Xd* m : {&state.implicit.dv, &state.implicit.dv_before, &state.implicit.dv_before2}) {
     if (m->cols() != B) break;
     dv[count++] = m;
   }

@@ -120,7 +120,7 @@ void predict_step_contacts(const Model& model, const State& start, double h,
   // Held last step: likely resting on the collider, so held again unless it is leaving.
   std::vector<std::uint8_t>& was_held = contacts.held_before;
   was_held.assign(model.num_particles, 0);
-  for (const std::int32_t p : start.implicit_held)
+  for (const std::int32_t p : start.implicit.held)
     if (p < model.num_particles) was_held[p] = 1;
   const double margin = model.collision.margin;
   const NearColliders near(model, start, h, margin);
@@ -163,15 +163,20 @@ bool take_in_step_contacts(const Model& model, const State& start, double h,
   return changed;
 }
 
+// A held particle that pulls does positive work on the cloth as the step ends (the constraint
+// drags it towards the collider), so it is let go each time it pulls, up to kMaxLetGo times a
+// step: once was not enough, as one taken in again could end the step pulling (docs/integrators.md).
+constexpr std::uint8_t kMaxLetGo = 3;
+
 bool let_go_step_contacts(const Eigen::Matrix3Xd& gradient, StepContacts& contacts) {
   bool changed = false;
   // Let go of the pulling ones, keeping the order of the rest.
   std::size_t kept = 0;
   for (std::size_t c = 0; c < contacts.size(); ++c) {
     const int p = contacts.filter.body[c];
-    if (!contacts.let_go[p] && contacts.filter.normal[c].dot(gradient.col(p)) < 0.0) {
+    if (contacts.let_go[p] < kMaxLetGo && contacts.filter.normal[c].dot(gradient.col(p)) < 0.0) {
       contacts.held[p] = 0;
-      contacts.let_go[p] = 1;
+      ++contacts.let_go[p];
       changed = true;
       continue;
     }

@@ -13,8 +13,8 @@
 // a collider's reach (from the previous step's velocity change), and those the previous step
 // held that are predicted to end within the margin band; during it, a free particle that an
 // iterate takes inside a collider is taken in at once; after it, a held particle whose
-// contact impulse r . n pulls towards the collider is let go (once a step: a particle let go
-// and taken in again stays, so the rounds end), and the solve resumes from where it was. Then the
+// contact impulse r . n pulls towards the collider is let go (at most three times a step, so
+// the rounds end), and the solve resumes from where it was. Then the
 // seed's restitution response acts on the held particles' velocities (collisions.h), with
 // friction bounded by the impulse the solve's constraint exerted.
 //
@@ -43,7 +43,7 @@ struct StepContacts {
   std::vector<std::int32_t> collider;  // (C) sphere index, or -1 for the ground
   std::vector<std::uint8_t> held;      // (P) 1 where a particle is held
   std::vector<std::uint8_t> held_before;  // (P) 1 where the last step held a particle
-  std::vector<std::uint8_t> let_go;       // (P) 1 where this step let a particle go
+  std::vector<std::uint8_t> let_go;       // (P) how many times this step let a particle go
   std::vector<std::int32_t> near;         // scratch: the particles the last search's SIMD screen passed
 
   std::size_t size() const { return filter.size(); }
@@ -51,7 +51,7 @@ struct StepContacts {
 
 // The contacts predicted for the step of size h from `start`: particles whose predicted end
 // position x + h (v + guess) lies inside the reach (r + margin) of the ground or a kinematic
-// sphere, or, for those in start.implicit_held, within a further margin of it (guess: the
+// sphere, or, for those in start.implicit.held, within a further margin of it (guess: the
 // previous step's dv, or none).
 void predict_step_contacts(const Model& model, const State& start, double h,
                            const Eigen::Matrix3Xd* guess, StepContacts& contacts);
@@ -66,7 +66,7 @@ bool take_in_step_contacts(const Model& model, const State& start, double h,
                            const Eigen::Matrix3Xd& y, StepContacts& contacts);
 
 // Lets go of held particles whose impulse pulls (r . n < 0, r the gradient at the iterate) and
-// that were not let go before in this step. Returns whether any was.
+// that were let go fewer than three times this step. Returns whether any was.
 bool let_go_step_contacts(const Eigen::Matrix3Xd& gradient, StepContacts& contacts);
 // After a converged solve at end positions y with gradient r (the contact impulses on held
 // particles): lets go of held particles whose impulse pulls (let_go_step_contacts), then takes

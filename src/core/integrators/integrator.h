@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "integrator_kind.h"
@@ -22,7 +23,7 @@ struct StepStats {
   int cg_iterations = 0;      // summed over the step's linear solves
   int factorizations = 0;     // implicit_euler: sparse Cholesky factors of the step's matrix
   double residual = 0.0;      // final relative residual of the implicit solve
-  bool converged = true;      // false when a solve hit its iteration cap above tolerance
+  bool converged = true;      // false when a solve stalled or hit its cap above tolerance
   double start_strain = 0.0;  // largest (l - l0) / l0 of the state the step started from, read
                               // off the step's first force evaluation (no extra spring pass)
   int contact_constraints = 0;  // implicit_euler: contacts held inside the solve this step
@@ -33,8 +34,8 @@ struct SolverCacheDeleter {
   void operator()(SolverCache* cache) const;
 };
 
-struct ImplicitCache;  // the implicit solver's sparse pattern and buffers (implicit_euler.cpp)
-struct ImplicitCacheDeleter {  // defined beside ImplicitCache, so the type stays private there
+struct ImplicitCache;  // the implicit solver's sparse pattern and buffers (implicit/implicit_cache.h)
+struct ImplicitCacheDeleter {  // defined beside ImplicitCache, so this header need not include it
   void operator()(ImplicitCache* cache) const;
 };
 
@@ -45,6 +46,9 @@ struct Workspace {
   Eigen::Matrix3Xd a, x1, v1, a1, x2, v2, a2, a3;  // (3 x B) scratch
   std::unique_ptr<ImplicitCache, ImplicitCacheDeleter> implicit;
   std::unique_ptr<SolverCache, SolverCacheDeleter> solvers;
+  // Receives implicit_euler's Newton trace, one line per event (docs/integrators.md, "The
+  // Newton trace"); empty: no trace. The tool sets it; the engine reads no environment.
+  std::function<void(const char* line)> newton_trace;
 };
 
 StepStats explicit_euler_step(const Model& model, State& state, double h, Workspace& ws);

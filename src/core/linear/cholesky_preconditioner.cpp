@@ -55,13 +55,11 @@ std::size_t distinct_pairs(const SpringBlockMatrix& A) {
 
 void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A, std::size_t budget_bytes) {
   const int B = A.num_bodies();
-  const std::size_t S = A.a.size();
   bodies_ = B;
   analysed_ = true;
   ready_ = false;
   // A factor that cannot fit the budget is known before any ordering: AMD, its triplets and
-  // the pattern would cost gigabytes on a sheet of millions (a 2048 x 2048 run peaked at
-  // 11.5 GB and spent 40 s here, for a factor it was never going to build).
+  // the pattern would cost gigabytes on a sheet of millions (BENCHMARKS.md).
   blocks_ = distinct_pairs(A);
   if (factor_bytes() > budget_bytes) {
     order_.clear();
@@ -73,10 +71,27 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A, std::size_t bud
   order_ = fill_reducing_order(A);
   rank_.assign(B, 0);
   for (int k = 0; k < B; ++k) rank_[order_[k]] = k;
+  build_upper_pattern(A);
+  const std::vector<int> count = count_columns(B);
+  column_start_.assign(B + 1, 0);
+  for (int j = 0; j < B; ++j) column_start_[j + 1] = column_start_[j] + count[j];
+  blocks_ = static_cast<std::size_t>(column_start_[B]);
+  // L's storage and the factorisation's scratch wait for the first factorisation: most runs
+  // never factor, and on a 256 x 256 sheet they would be hundreds of MB.
+  row_.clear();
+  value_.clear();
+  upper_.clear();
+  diag_.clear();
+  filter_.clear();
+  estimate_costs(count, A.a.size());
+}
 
-  // The strictly upper blocks by column (new indices), one slot per body pair: two springs on
-  // one pair add into the same slot. Springs are sorted into their columns by counting, then
-  // each column by (row, spring).
+// The strictly upper blocks by column (new indices), one slot per body pair: two springs on
+// one pair add into the same slot. Springs are sorted into their columns by counting, then
+// each column by (row, spring).
+void CholeskyPreconditioner::build_upper_pattern(const SpringBlockMatrix& A) {
+  const int B = A.num_bodies();
+  const std::size_t S = A.a.size();
   std::vector<int> column_first(B + 1, 0);
   for (std::size_t s = 0; s < S; ++s) ++column_first[std::max(rank_[A.a[s]], rank_[A.b[s]]) + 1];
   for (int k = 0; k < B; ++k) column_first[k + 1] += column_first[k];
@@ -99,16 +114,17 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A, std::size_t bud
       const auto [row, s] = *e;
       if (e == first || row != (e - 1)->first) upper_row_.push_back(row);
       spring_slot_[s] = static_cast<int>(upper_row_.size()) - 1;
-      // The spring's block is A(a, b); the slot holds A(row, k), row < k: A(b, a) = A(a, b)^T
-      // when a comes second.
+      // The slot holds A(row, k), row < k: A(b, a) = A(a, b)^T when a comes second.
       spring_transposed_[s] = rank_[A.a[s]] > rank_[A.b[s]];
     }
     upper_start_[k + 1] = static_cast<int>(upper_row_.size());
   }
+}
 
-  // The elimination tree and L's column counts (Davis 2005, "Algorithm 849: a concise sparse
-  // Cholesky factorization package", ldl_symbolic): row k of L is the set of nodes reached
-  // from A's column k up the tree.
+// The elimination tree and L's column counts (Davis 2005, "Algorithm 849: a concise sparse
+// Cholesky factorization package", ldl_symbolic): row k of L is the set of nodes reached
+// from A's column k up the tree.
+std::vector<int> CholeskyPreconditioner::count_columns(int B) {
   parent_.assign(B, -1);
   flag_.assign(B, -1);
   std::vector<int> count(B, 0);
@@ -122,28 +138,15 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A, std::size_t bud
       }
     }
   }
-  column_start_.assign(B + 1, 0);
-  for (int j = 0; j < B; ++j) column_start_[j + 1] = column_start_[j] + count[j];
-  blocks_ = static_cast<std::size_t>(column_start_[B]);
-  // L's storage and the factorisation's scratch wait for the first factorisation: most runs
-  // never factor, and on a 256 x 256 sheet they would be hundreds of MB.
-  row_.clear();
-  value_.clear();
-  upper_.clear();
-  diag_.clear();
-  filter_.clear();
+  return count;
+}
 
-  // Costs in block-Jacobi iterations. Factor: each row k of L updates, for every block L(k, j),
-  // the blocks above it in column j (one 3x3 product each), and forms L(k, j) and its share of
-  // D_k (two more): sum_j c_j (c_j + 3) / 2 products of 27 multiply-adds. Solve: two 3x3
-  // mat-vecs per block of L and one per body (D^-1), 9 multiply-adds each.
-  // Measured against the hand-written mat-vec (solver_bench, 15 x 15 and 64 x 64 at 1/60 s)
-  // the counts came within 20 % for a factorisation (61 against 72, 469 against 481
-  // iterations) and for a 15 x 15 solve; a 64 x 64 solve, out of cache, took 1.8 times its
-  // count (BENCHMARKS.md). So no correction is folded in. Since the block products run in SIMD
-  // (block_factor_kernels.h) a factorisation costs 0.85 (15 x 15) to 0.62 (64 x 64) times its
-  // count; rescaling the counts made stiff.yaml slower (more factorisations), so they stay
-  // counts; a recalibration by sheet size is open.
+// Costs in block-Jacobi iterations, counted in multiply-adds (how well the counts match the
+// clock: BENCHMARKS.md). Factor: row k updates, for every block L(k, j), the blocks above it
+// in column j, and forms L(k, j) and its share of D_k: sum_j c_j (c_j + 3) / 2 products of 27.
+// Solve: two 3x3 mat-vecs per block of L and one per body (D^-1), 9 each.
+void CholeskyPreconditioner::estimate_costs(const std::vector<int>& count, std::size_t S) {
+  const int B = static_cast<int>(count.size());
   const double iteration = 9.0 * (2.0 * B + 2.0 * static_cast<double>(S));
   double factor = 0.0;
   for (int j = 0; j < B; ++j) factor += 27.0 * count[j] * (count[j] + 3.0) / 2.0 + 27.0;
@@ -152,25 +155,34 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A, std::size_t bud
 }
 
 bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const VelocityFilter& filter) {
+  allocate_scratch(A.num_bodies());
+  load_filtered(A, filter);
+  ready_ = factor_rows(A.num_bodies());
+  return ready_;
+}
+
+// The first factorisation's scratch (analyse leaves it unallocated).
+void CholeskyPreconditioner::allocate_scratch(int B) {
+  if (upper_.size() == upper_row_.size() && diag_.size() == static_cast<std::size_t>(B)) return;
+  upper_.assign(upper_row_.size(), Mat3::Zero());
+  diag_.assign(B, Mat3::Zero());
+  filter_.assign(B, Mat3::Identity());
+  filtered_.assign(B, 0);
+  d_inverse_.assign(static_cast<std::size_t>(kBlock) * B + kBlockSlack, 0.0);
+  y_.assign(static_cast<std::size_t>(kPaddedBlock) * B, 0.0);
+  pattern_.assign(B, 0);
+  filled_.assign(B, 0);
+}
+
+// The matrix in the new order: S P S + (I - S), P on the free directions and the identity
+// along a held normal. Only held bodies' blocks need the products (usually a few); a free
+// pair's block is P's, symmetric, so it goes in as it is whichever end comes first.
+void CholeskyPreconditioner::load_filtered(const SpringBlockMatrix& A, const VelocityFilter& filter) {
   const int B = A.num_bodies();
-  if (upper_.size() != upper_row_.size() || diag_.size() != static_cast<std::size_t>(B)) {
-    upper_.assign(upper_row_.size(), Mat3::Zero());  // the first factorisation: its scratch
-    diag_.assign(B, Mat3::Zero());
-    filter_.assign(B, Mat3::Identity());
-    filtered_.assign(B, 0);
-    d_inverse_.assign(static_cast<std::size_t>(kBlock) * B + kBlockSlack, 0.0);
-    y_.assign(static_cast<std::size_t>(kPaddedBlock) * B, 0.0);
-    pattern_.assign(B, 0);
-    filled_.assign(B, 0);
-  }
   for (std::size_t c = 0; c < filter.size(); ++c) {
     filter_[filter.body[c]] = Mat3::Identity() - filter.normal[c] * filter.normal[c].transpose();
     filtered_[filter.body[c]] = 1;
   }
-
-  // The matrix in the new order: S P S + (I - S), P on the free directions and the identity
-  // along a held normal. Only held bodies' blocks need the products (usually a few); a free
-  // pair's block is P's, symmetric, so it goes in as it is whichever end comes first.
   for (int k = 0; k < B; ++k) {
     const int i = order_[k];
     if (!filtered_[i]) {
@@ -194,11 +206,14 @@ bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const Velocit
     filter_[filter.body[c]].setIdentity();
     filtered_[filter.body[c]] = 0;
   }
+}
 
-  // Up-looking L D L^T in blocks (Davis 2005's ldl_numeric with 3x3 entries). Row k: the
-  // blocks Y_i = A(i, k) - sum_j L(i, j) Z_j^T over the reach of column k, in topological
-  // order, give Z_i = Y_i^T = L(k, i) D_i, so L(k, i) = Y_i^T D_i^-1 and
-  // D_k = A(k, k) - sum_i L(k, i) Y_i (block_factor_kernels.h runs the products).
+// Up-looking L D L^T in blocks (Davis 2005's ldl_numeric with 3x3 entries). Row k: the
+// blocks Y_i = A(i, k) - sum_j L(i, j) Z_j^T over the reach of column k, in topological
+// order, give Z_i = Y_i^T = L(k, i) D_i, so L(k, i) = Y_i^T D_i^-1 and
+// D_k = A(k, k) - sum_i L(k, i) Y_i (block_factor_kernels.h runs the products).
+// False where a pivot block is not SPD (a non-finite matrix).
+bool CholeskyPreconditioner::factor_rows(int B) {
   ready_ = false;
   const std::size_t blocks = static_cast<std::size_t>(column_start_[B]);
   if (row_.size() != blocks) {
@@ -209,20 +224,7 @@ bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const Velocit
   std::fill(filled_.begin(), filled_.end(), 0);
   double d[kPaddedBlock];
   for (int k = 0; k < B; ++k) {
-    int top = B;
-    flag_[k] = k;
-    for (int p = upper_start_[k]; p < upper_start_[k + 1]; ++p) {
-      int i = upper_row_[p];
-      double* yi = y_.data() + kPaddedBlock * i;  // scatter A(i, k), padded
-      for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r) yi[4 * c + r] = upper_[p](r, c);
-      int length = 0;
-      for (; flag_[i] != k; i = parent_[i]) {
-        pattern_[length++] = i;
-        flag_[i] = k;
-      }
-      while (length > 0) pattern_[--top] = pattern_[--length];
-    }
+    const int top = scatter_column(k, B);
     for (int c = 0; c < 3; ++c) {
       for (int r = 0; r < 3; ++r) d[4 * c + r] = diag_[k](r, c);
       d[4 * c + 3] = 0.0;
@@ -239,8 +241,27 @@ bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const Velocit
     }
     Eigen::Map<Mat3>(d_inverse_.data() + kBlock * k) = pivot.solve(Mat3::Identity());
   }
-  ready_ = true;
   return true;
+}
+
+// Scatters column k's upper blocks into y (padded) and lists the reach of column k up the
+// elimination tree in pattern_[top .. B), in topological order. Returns top.
+int CholeskyPreconditioner::scatter_column(int k, int B) {
+  int top = B;
+  flag_[k] = k;
+  for (int p = upper_start_[k]; p < upper_start_[k + 1]; ++p) {
+    int i = upper_row_[p];
+    double* yi = y_.data() + kPaddedBlock * i;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) yi[4 * c + r] = upper_[p](r, c);
+    int length = 0;
+    for (; flag_[i] != k; i = parent_[i]) {
+      pattern_[length++] = i;
+      flag_[i] = k;
+    }
+    while (length > 0) pattern_[--top] = pattern_[--length];
+  }
+  return top;
 }
 
 void CholeskyPreconditioner::apply(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) const {

@@ -76,6 +76,14 @@ class CholeskyPreconditioner {
   std::size_t factor_blocks() const { return blocks_; }
 
  private:
+  void build_upper_pattern(const SpringBlockMatrix& A);       // analyse: A's blocks by column
+  std::vector<int> count_columns(int B);                      // analyse: elimination tree, counts
+  void estimate_costs(const std::vector<int>& count, std::size_t S);
+  void allocate_scratch(int B);                                // factorize: first time only
+  void load_filtered(const SpringBlockMatrix& A, const VelocityFilter& filter);
+  bool factor_rows(int B);
+  int scatter_column(int k, int B);
+
   // Bodies are factored in a fill-reducing order: new index k is body order_[k], body i is
   // new index rank_[i]. The matrix's strictly upper blocks (i < k, new indices) by column k:
   // upper_start_[k] .. upper_start_[k + 1] in upper_row_, filled from the springs listed in

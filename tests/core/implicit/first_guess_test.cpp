@@ -21,7 +21,7 @@ constexpr int kBodies = 7;
 template <class F>
 State history(int n, int count, F f) {
   State s;
-  Eigen::Matrix3Xd* slots[3] = {&s.implicit_dv, &s.implicit_dv_before, &s.implicit_dv_before2};
+  Eigen::Matrix3Xd* slots[3] = {&s.implicit.dv, &s.implicit.dv_before, &s.implicit.dv_before2};
   for (int j = 0; j < count; ++j) *slots[j] = f(n - j);
   return s;
 }
@@ -81,7 +81,7 @@ TEST(FirstGuess, OnlyTheOrdersTheHistoryAllows) {
   EXPECT_EQ(DvHistory(history(5, 3, parabola), kBodies + 1).count, 0);
   // Nor are older steps without the newer ones.
   State gap = history(5, 3, parabola);
-  gap.implicit_dv_before.resize(3, 0);
+  gap.implicit.dv_before.resize(3, 0);
   EXPECT_EQ(DvHistory(gap, kBodies).count, 1);
 }
 

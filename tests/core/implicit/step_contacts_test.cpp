@@ -91,11 +91,17 @@ TEST(StepContacts, LetsGoOfPullingContactsOnceAndTakesInPenetratingOnes) {
   EXPECT_TRUE(update_step_contacts(m, s, h, y, r, contacts));
   ASSERT_EQ(contacts.size(), 1u);
   EXPECT_EQ(contacts.filter.body[0], 1);
-  // Let go once: taken in again (it ends inside the ball), it is not let go a second time.
+  // Let go each time it pulls, three times a step at most: taken in again (it ends inside the
+  // ball) after its third release, it stays held, so the rounds end.
   Eigen::Matrix3Xd inside = y;
   inside(1, 0) = 1.0;
+  for (int release = 2; release <= 3; ++release) {
+    EXPECT_TRUE(take_in_step_contacts(m, s, h, inside, contacts));
+    ASSERT_EQ(contacts.size(), 2u);
+    EXPECT_TRUE(let_go_step_contacts(r, contacts)) << "release " << release;
+    ASSERT_EQ(contacts.size(), 1u);
+  }
   EXPECT_TRUE(take_in_step_contacts(m, s, h, inside, contacts));
-  ASSERT_EQ(contacts.size(), 2u);
   EXPECT_FALSE(update_step_contacts(m, s, h, inside, r, contacts));
   EXPECT_EQ(contacts.size(), 2u);
 }

@@ -333,7 +333,7 @@ TEST(ImplicitEuler, ReusesItsNewtonMatrixAcrossStepsAndStillSolvesTheStatedEquat
   const int steps = 300;
   int assemblies = 0, newton = 0;
   fall(steps, 1e-4, [&](int, const State& before, const State& after, const StepStats& s) {
-    assemblies += after.implicit_lin_id != before.implicit_lin_id;  // a new matrix was recorded
+    assemblies += after.implicit.lin.assemblies != before.implicit.lin.assemblies;  // a new matrix was recorded
     newton += s.newton_iterations;
   });
   // The matrix changes little over a step here: most steps solve with an older one.
@@ -354,8 +354,8 @@ TEST(ImplicitEuler, ConvergesAtTheExtrapolatedGuessWithoutALinearSolveWhereTheMo
   fall(steps, 1e-4, [&](int n, const State&, const State& after, const StepStats& s) {
     // An order is taken only once a step has judged it: after step n the history held n steps'
     // dv, and a line needs two of them, a parabola three.
-    ASSERT_LE(after.implicit_guess_order, std::min(std::max(n - 1, 0), 2)) << "step " << n;
-    ++taken[after.implicit_guess_order];
+    ASSERT_LE(after.implicit.guess_order, std::min(std::max(n - 1, 0), 2)) << "step " << n;
+    ++taken[after.implicit.guess_order];
     if (s.newton_iterations == 0) {
       ++at_guess;
       EXPECT_EQ(s.cg_iterations, 0);
@@ -373,7 +373,7 @@ State settled_then_kicked(const Model& model, double h, unsigned seed, double ki
   State state = initial_state(model);
   Workspace ws;
   for (int n = 0; n < 20; ++n) step(model, state, kKind, h, ws);
-  EXPECT_TRUE(state.implicit_lin_trusted);
+  EXPECT_TRUE(state.implicit.lin_trusted);
   std::srand(seed);
   state.v += kick * Eigen::Matrix3Xd::Random(3, model.num_bodies());
   for (int b = 0; b < model.num_bodies(); ++b)
@@ -404,13 +404,12 @@ TEST(ImplicitEuler, AReusedMatrixIsKeptOnlyWhileItServesAndRebuiltAtTheIterateWh
   for (const double shrink : {0.0, 0.01, 0.5}) {  // 0: the NaN lengths
     State forged = state;
     if (shrink == 0.0) {
-      std::fill(forged.implicit_lin_length.begin(), forged.implicit_lin_length.end(),
+      std::fill(forged.implicit.lin.length.begin(), forged.implicit.lin.length.end(),
                 std::numeric_limits<double>::quiet_NaN());
     } else {
       const Eigen::Vector3d centre = forged.x.rowwise().mean();
-      forged.implicit_lin_y = (shrink * (forged.x.colwise() - centre)).colwise() + centre;
+      forged.implicit.lin.y = (shrink * (forged.x.colwise() - centre)).colwise() + centre;
     }
-    forged.implicit_lin_id = (std::uint64_t{1} << 62) + static_cast<std::uint64_t>(100 * shrink);
     Workspace fresh;  // holds no matrix: rebuilds the forged one from State
     const State before = forged;
     const StepStats s = step(model, forged, kKind, h, fresh).stats;
@@ -418,8 +417,8 @@ TEST(ImplicitEuler, AReusedMatrixIsKeptOnlyWhileItServesAndRebuiltAtTheIterateWh
     double scale = 0.0;
     const double r = stated_residual(model, before, forged, h, scale);
     EXPECT_LE(r, 1.001 * model.implicit.newton_tolerance * scale) << "shrink " << shrink;
-    const bool rebuilt = forged.implicit_lin_id != before.implicit_lin_id;
-    EXPECT_EQ(rebuilt, !forged.implicit_lin_trusted) << "shrink " << shrink;
+    const bool rebuilt = forged.implicit.lin.assemblies != before.implicit.lin.assemblies;
+    EXPECT_EQ(rebuilt, !forged.implicit.lin_trusted) << "shrink " << shrink;
     if (shrink == 0.0) {
       EXPECT_TRUE(rebuilt) << "the NaN matrix was kept";
       // It was tried (an iteration without a direction) before the rebuilt one solved.
@@ -443,24 +442,23 @@ TEST(ImplicitEuler, ReusesItsNewtonMatrixFarFromTheSolutionOnlyNearTheMatrixsLin
   const double h = 1e-4;
   const State state = settled_then_kicked(model, h, 7, 1e-3);
   State exact = state;
-  exact.implicit_lin_id = 0;  // no matrix to reuse: every iteration assembles
+  exact.implicit.lin.h = 0.0;  // no matrix to reuse: every iteration assembles
   Workspace exact_ws;
   ASSERT_TRUE(step(model, exact, kKind, h, exact_ws).stats.converged);
   const double reach = implicit_reuse_reach(model, h);
   ASSERT_GT(reach, 1e3 * h * h * 9.8) << "the forged point is meant to be off by the shift alone";
   for (const double shift : {0.5, 2.0}) {
     State forged = state;
-    forged.implicit_lin_y = state.x + h * state.v;
-    forged.implicit_lin_y.row(0).array() += shift * reach;
-    forged.implicit_lin_length = std::vector<double>(forged.implicit_lin_length.size());
-    step_lengths(model, state.x, forged.implicit_lin_length);
-    forged.implicit_lin_id = (std::uint64_t{1} << 61) + static_cast<std::uint64_t>(10 * shift);
-    forged.implicit_lin_trusted = true;
+    forged.implicit.lin.y = state.x + h * state.v;
+    forged.implicit.lin.y.row(0).array() += shift * reach;
+    forged.implicit.lin.length = std::vector<double>(forged.implicit.lin.length.size());
+    step_lengths(model, state.x, forged.implicit.lin.length);
+    forged.implicit.lin_trusted = true;
     Workspace fresh;  // rebuilds the forged matrix from State
     const State before = forged;
     const StepStats s = step(model, forged, kKind, h, fresh).stats;
     ASSERT_TRUE(s.converged) << "shift " << shift << " residual " << s.residual;
-    const bool assembled = forged.implicit_lin_id != before.implicit_lin_id;
+    const bool assembled = forged.implicit.lin.assemblies != before.implicit.lin.assemblies;
     EXPECT_EQ(assembled, shift > 1.0) << "shift " << shift << ", " << s.newton_iterations << " iterations";
     EXPECT_LT((forged.v - exact.v).cwiseAbs().maxCoeff(), 1e-6 * 9.8 * h * 10) << "shift " << shift;
   }
@@ -482,14 +480,14 @@ TEST(ImplicitEuler, AfterTheHeldSetChangesAReusedMatrixSolvesTheStepTheExactOneS
     const State before = state;
     const StepStats s = step(model, state, kKind, h, ws).stats;
     ASSERT_TRUE(s.converged) << "step " << n;
-    if (state.implicit_held != before.implicit_held) last_change = n;
-    const bool reused = state.implicit_lin_id == before.implicit_lin_id;
+    if (state.implicit.held != before.implicit.held) last_change = n;
+    const bool reused = state.implicit.lin.assemblies == before.implicit.lin.assemblies;
     if (n - last_change > 30 || !reused || s.newton_iterations < 2) continue;
     State exact = before;
-    exact.implicit_lin_id = 0;
+    exact.implicit.lin.h = 0.0;
     Workspace exact_ws;
     ASSERT_TRUE(step(model, exact, kKind, h, exact_ws).stats.converged) << "step " << n;
-    EXPECT_EQ(exact.implicit_held, state.implicit_held) << "step " << n;
+    EXPECT_EQ(exact.implicit.held, state.implicit.held) << "step " << n;
     EXPECT_LT((exact.v - state.v).cwiseAbs().maxCoeff(), 1e-6 * 9.8 * h * 10) << "step " << n;
     ++checked;
   }
@@ -511,9 +509,9 @@ TEST(ImplicitEuler, ACopiedStateContinuesBitForBitWhileItsNewtonMatrixIsReused) 
   Workspace fresh, shared, alone_ws;
   int reused = 0;
   for (int n = 0; n < 40; ++n) {
-    const std::uint64_t id = state.implicit_lin_id;
+    const std::int64_t assemblies = state.implicit.lin.assemblies;
     step(model, state, kKind, model.dt, ws);
-    reused += state.implicit_lin_id == id;
+    reused += state.implicit.lin.assemblies == assemblies;
     step(model, copy, kKind, model.dt, fresh);
     step(model, turn_a, kKind, model.dt, shared);
     step(model, turn_b, kKind, model.dt, shared);
@@ -590,7 +588,7 @@ TEST(ImplicitEuler, BaraffWitkinsSingleStepSolvesItsLinearSystemEveryStep) {
   EXPECT_GE(t.cg_iterations, t.steps - 1);  // one block-Jacobi iteration solves a lone particle
   EXPECT_LT(t.max_residual, 1e-5);
   // Linearised at its own start, it never starts from an extrapolated guess.
-  EXPECT_EQ(run.state().implicit_guess_order, 0);
+  EXPECT_EQ(run.state().implicit.guess_order, 0);
 }
 
 TEST(ImplicitEuler, ASpringDecayedToRestStillConverges) {

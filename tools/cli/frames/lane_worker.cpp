@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 
 #include "cli/compare/reference_stand.h"
 #include "core/diagnostics.h"
@@ -228,6 +230,8 @@ void LaneWorker::work() {
   try {
     Run run(model_, spec_.kind, spec_.dt);
     run.set_stop_check([this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); });
+    // CLOTHSIM_NEWTON_TRACE=1: implicit_euler's Newton trace on stderr (docs/integrators.md).
+    if (std::getenv("CLOTHSIM_NEWTON_TRACE")) run.set_newton_trace([](const char* line) { std::fputs(line, stderr); });
     if (needs_.stand_for.empty()) run_targets(run);
     else serve_reference(run);
   } catch (...) {

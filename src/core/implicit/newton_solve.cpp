@@ -1,0 +1,345 @@
+#include "newton_solve.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <limits>
+
+#include "newton_kernels.h"
+#include "step_contacts.h"
+
+namespace clothsim {
+
+namespace {
+
+// docs/integrators.md, "Newton's constants", says why each has its value.
+constexpr double kArmijo = 1e-4;          // Armijo's sufficient decrease
+constexpr int kMaxHalvings = 30;          // line-search halvings from the full step
+constexpr double kMaxForcing = 0.1;       // the largest CG forcing term (inexact Newton)
+constexpr double kFinishMargin = 10.0;    // solve to the absolute tolerance within this many
+constexpr double kReleaseResidual = 1e-2;  // let contacts go below this relative residual
+constexpr int kRetryJacobi = 16;          // every 16th step starts with block Jacobi again
+constexpr double kReuseContraction = 0.25;  // a reused matrix served if |r| fell 4 times
+constexpr int kRetryReuse = 16;           // an untrusted recorded matrix is probed every 16th step
+constexpr int kReuseReserve = 2;          // exact iterations a trial must leave in the budget
+constexpr double kReuseResidual = 1e-4;   // reuse at any distance below this residual...
+constexpr double kReuseChange = 0.05;     // ...or where the matrix is this close to exact
+constexpr int kStallWindow = 50;          // iterations without progress that make a stall
+constexpr double kStallResidual = 0.5;    // progress: the residual halves...
+constexpr double kStallPhi = 1e-6;        // ...or Phi falls by this fraction of its size
+// The largest sparse factor built (L's bytes): larger sheets solve with block Jacobi, so a
+// run stays within what memory_estimate.h promises.
+constexpr std::size_t kMaxFactorBytes = std::size_t{512} << 20;
+
+// |M dv| over movable bodies (mass_squared[i] = 1 / w_i^2, 0 where w_i = 0).
+double momentum_norm(const Eigen::VectorXd& mass_squared, const Eigen::Matrix3Xd& dv) {
+  return std::sqrt(simd_weighted_norm2(mass_squared.data(), dv.data(), static_cast<std::size_t>(dv.cols())));
+}
+
+// sum_k a_k b_k over two 3 x B matrices.
+double dot(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
+  return simd_dot(a.data(), b.data(), static_cast<std::size_t>(a.size()));
+}
+
+// Whether the State's record was made for this system: the same step size and the same
+// movable bodies (the matrix's rows for immovable ones are removed).
+bool record_fits(const Model& model, const State& start, double h) {
+  const ImplicitSolverState::Linearisation& lin = start.implicit.lin;
+  const int B = model.num_bodies();
+  return lin.h != 0.0 && lin.h == h && lin.y.cols() == B &&
+         lin.length.size() == slot_count(model.spring_layout, model.springs.size()) &&
+         lin.inv_mass.size() == B && lin.inv_mass == start.inv_mass;
+}
+
+}  // namespace
+
+void NewtonTracer::operator()(const char* format, ...) const {
+  if (!sink_) return;
+  char line[512];
+  std::va_list args;
+  va_start(args, format);
+  std::vsnprintf(line, sizeof line, format, args);
+  va_end(args);
+  (*sink_)(line);
+}
+
+bool StallWatch::stalled(int iteration, double residual, const PotentialValue& at, int window) {
+  if (residual <= kStallResidual * best || at.phi < phi - kStallPhi * at.magnitude) {
+    best = std::min(best, residual);
+    phi = at.phi;
+    mark = iteration;
+    return false;
+  }
+  return iteration - mark >= window;
+}
+
+double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness, double h) {
+  const double springs = h * stiffness.c_max + std::pow(h * stiffness.w_max, 2);
+  return springs > 0.0 ? kReuseChange * shortest / (4.0 * springs) : std::numeric_limits<double>::infinity();
+}
+
+NewtonSolve::NewtonSolve(const Model& model, State& start, double h, ImplicitCache& c, StepStats& stats,
+                         const NewtonTracer& trace)
+    : model_(model), start_(start), record_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats),
+      trace_(trace), single_step_(cfg_.newton_max_iterations == 1) {
+  account_.first = start.implicit.factored && start.step % kRetryJacobi != 0;
+  reuse_.trusted = start.implicit.lin_trusted;
+  reuse_.reach = reuse_reach(c_.shortest_rest, c_.stiffness, h);
+  // The recorded matrix may serve if it fits and last served, or as a probe every
+  // kRetryReuse-th step. Baraff & Witkin's step is linearised at its own start, always.
+  const bool allowed = !single_step_ && record_fits(model, start, h) &&
+                       (reuse_.trusted || start.step % kRetryReuse == 0);
+  reuse_.phase = allowed ? MatrixReuse::Phase::Allowed : MatrixReuse::Phase::Barred;
+  // A factor serves one step: the next builds its own, so a copied State continues bit for bit.
+  c_.factor.invalidate();
+}
+
+void NewtonSolve::evaluate() {
+  phi_ = step_potential(model_, start_, h_, c_.start_length, c_.dv, c_.y, c_.r, &c_.y_length);
+  ++stats_.force_evals;
+  ++scan_.y_version;
+}
+
+// take_in_step_contacts at the iterate, unless the last scan saw this y with this held set
+// (it would find nothing new: the scan is a function of the two).
+bool NewtonSolve::take_in() {
+  if (!scan_.fresh()) return false;
+  const bool changed = take_in_step_contacts(model_, start_, h_, c_.y, c_.contacts);
+  if (changed) ++scan_.held_version;
+  scan_.mark();
+  return changed;
+}
+
+bool NewtonSolve::update_contacts() {
+  const bool let_go = let_go_step_contacts(c_.r, c_.contacts);
+  if (let_go) ++scan_.held_version;
+  return take_in() || let_go;
+}
+
+NewtonSolve::Residual NewtonSolve::measure_residual() {
+  c_.rhs = -c_.r;
+  c_.contacts.filter.apply(c_.rhs);
+  r_norm2_ = dot(c_.rhs, c_.rhs);  // (the line search's too: rhs stays as it is till then)
+  const double r_norm = std::sqrt(r_norm2_);
+  const double scale = std::max(impulse_scale_, momentum_norm(c_.mass_squared, c_.dv));
+  // (0 / 0 where nothing can move, no spring and no body term: nothing to solve, solved)
+  stats_.residual = r_norm == 0.0 ? 0.0 : r_norm / scale;
+  if (reuse_.phase == MatrixReuse::Phase::OnTrial)
+    reuse_.judge(stats_.residual <= cfg_.newton_tolerance ||
+                 (reuse_.trial_clean && r_norm <= kReuseContraction * reuse_.trial_from));
+  return {r_norm, scale};
+}
+
+// Directions on trial that did not serve are not charged: the step keeps every exact iteration.
+bool NewtonSolve::out_of_budget() const {
+  return stats_.newton_iterations - reuse_.unserved >= cfg_.newton_max_iterations ||
+         !std::isfinite(stats_.residual);
+}
+
+// Inexact Newton: CG's relative tolerance is the forcing term |r| / scale, capped at
+// kMaxForcing; where that would leave the next residual within kFinishMargin of the
+// tolerance, the solve goes to the absolute tolerance at once. Baraff & Witkin's single step
+// is solved to cg_tolerance: a loose one would accept its warm start as the step.
+CgSettings NewtonSolve::cg_settings(double r_norm, double scale) const {
+  CgSettings settings;
+  settings.max_iterations = cfg_.cg_max_iterations;
+  const double forcing = std::min(kMaxForcing, stats_.residual);
+  const bool finish = forcing * stats_.residual < kFinishMargin * cfg_.newton_tolerance;
+  settings.tolerance = single_step_ || finish ? cfg_.cg_tolerance : std::max(cfg_.cg_tolerance, forcing);
+  settings.absolute_tolerance = 0.1 * cfg_.newton_tolerance * scale;
+  settings.b_norm = r_norm;  // |rhs|, which solve_pcg would compute again
+  return settings;
+}
+
+bool NewtonSolve::iterate(const Eigen::Matrix3Xd* warm) {
+  for (;;) {
+    const Residual r = measure_residual();
+    trace_("newton step %lld iteration %d residual %.3e held %zu phi %.10e\n",
+           static_cast<long long>(start_.step), stats_.newton_iterations, stats_.residual,
+           c_.contacts.size(), phi_.phi);
+    if (stats_.residual <= cfg_.newton_tolerance) return true;
+    // Near a solution the contact impulses mean something: let go of the pulling ones now
+    // rather than converge with them held (the solve would crawl through buckled states).
+    if (stats_.residual < kReleaseResidual && update_contacts()) {
+      place_on_planes(c_.contacts, start_, h_, c_.dv);
+      evaluate();
+      trace_("  let go / taken in: held %zu\n", c_.contacts.size());
+      continue;
+    }
+    if (out_of_budget() || stall_.stalled(stats_.newton_iterations, stats_.residual, phi_, kStallWindow))
+      return false;
+    const bool reused = may_reuse();
+    if (reused) reuse_.start_trial(r.norm);
+    const double slope = direction(cg_settings(r.norm, r.scale), warm, reused);
+    warm = nullptr;
+    ++stats_.newton_iterations;
+    if (!take_step(slope, reused)) {
+      // With the exact Hessian, no descent or no step ends the solve (a non-finite system, or
+      // rounding has the last word); with a reused one, assemble at the iterate and go on.
+      if (!reused) return false;
+      reuse_.fail();
+    }
+  }
+}
+
+// Moves the iterate along d (whole for Baraff & Witkin, by line search otherwise) and takes
+// in the particles the step took inside a collider. False: no descent or no step.
+bool NewtonSolve::take_step(double slope, bool reused) {
+  if (!(slope < 0.0) || (!single_step_ && !line_search(slope))) return false;
+  if (single_step_) {  // Baraff & Witkin: the linearised step, whole
+    c_.dv += c_.d;
+    evaluate();
+    return true;  // the next round measures the residual, then stops at the budget
+  }
+  reuse_.trial_clean = reuse_.trial_clean && alpha_ == 1.0;
+  trace_("  line search: step %.3g, slope %.3e, reused matrix %d\n", alpha_, slope, reused ? 1 : 0);
+  // Letting go waits until the residual is small (iterate); taking in does not.
+  if (take_in()) {
+    place_on_planes(c_.contacts, start_, h_, c_.dv);
+    evaluate();
+    trace_("  taken in: held %zu\n", c_.contacts.size());
+  }
+  return true;
+}
+
+// A direction may use the matrix in hand near the solution (kReuseResidual) or near the
+// matrix's linearisation point (kReuseChange), while kReuseReserve exact iterations remain.
+bool NewtonSolve::may_reuse() const {
+  return reuse_.allowed() && (stats_.residual < kReuseResidual || near_linearisation()) &&
+         cfg_.newton_max_iterations - (stats_.newton_iterations - reuse_.unserved) > kReuseReserve;
+}
+
+// Whether every particle's end position lies within reach of the recorded linearisation point
+// (the spheres have no springs: a kinematic one moving on changes nothing in the matrix).
+bool NewtonSolve::near_linearisation() const {
+  const std::size_t P = static_cast<std::size_t>(model_.num_particles);
+  if (P == 0 || reuse_.reach == std::numeric_limits<double>::infinity()) return true;
+  const double reach = reuse_.reach;  // (NaN: not near)
+  return simd_max_distance2(c_.y.data(), start_.implicit.lin.y.data(), P) <= reach * reach;
+}
+
+// The Newton direction d (in c.d) and its slope r . d: truncated PCG on the exact Hessian
+// (Baraff & Witkin: the projected one), which stops at negative curvature with a direction
+// that is still downhill (Nocedal & Wright, Algorithm 7.1).
+double NewtonSolve::direction(CgSettings settings, const Eigen::Matrix3Xd* warm, bool reused) {
+  prepare_matrix(reused);
+  choose_preconditioner();
+  const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;
+  settings.from_guess = warm != nullptr;
+  if (warm && warm != &c_.d) c_.d = *warm;
+  if (c_.factor.ready() || !affordable) {
+    solve(settings);
+  } else {
+    // Block Jacobi until this step's Jacobi work would pay for a factor; if the solve is not
+    // done by then, factor and go on from where it stopped (a descent direction already).
+    // (clamped only so that the cast cannot overflow: an unaffordable factor never gets here)
+    const double left = c_.factor.factor_cost() - account_.jacobi_work;
+    const int cap = static_cast<int>(std::clamp(std::ceil(left), 1.0, 1e9));
+    settings.max_iterations = std::min(settings.max_iterations, cap);
+    const CgResult cg = solve(settings);
+    if (!cg.converged && !cg.negative_curvature && cg.iterations >= cap && factorize()) {
+      settings.max_iterations = cfg_.cg_max_iterations;
+      settings.from_guess = true;
+      solve(settings);
+    }
+  }
+  return -dot(c_.rhs, c_.d);  // r . d (d is filtered)
+}
+
+// The matrix for this direction: assembled at the iterate, or the matrix in hand (rebuilt from
+// State's record where this Workspace holds another).
+void NewtonSolve::prepare_matrix(bool reused) {
+  if (!reused) {
+    assemble_step_hessian(model_, start_.inv_mass, h_, c_.start_length, c_.y, single_step_, c_.A, false);
+    c_.jacobi_ready = false;
+    c_.holds_record = false;
+    if (!single_step_) record_linearisation();
+  } else if (!c_.holds(start_.implicit.lin)) {
+    const ImplicitSolverState::Linearisation& lin = start_.implicit.lin;
+    assemble_step_hessian(model_, lin.inv_mass, lin.h, lin.length, lin.y, false, c_.A, false);
+    c_.jacobi_ready = false;
+    c_.record = lin;
+    c_.holds_record = true;
+  }
+}
+
+// Writes the point the matrix was just assembled at into State, for later iterations and steps.
+void NewtonSolve::record_linearisation() {
+  ImplicitSolverState::Linearisation& lin = record_.implicit.lin;
+  lin.y = c_.y;
+  lin.length = c_.start_length;
+  lin.inv_mass = start_.inv_mass;
+  lin.h = h_;
+  ++lin.assemblies;
+  c_.record = lin;
+  c_.holds_record = true;
+}
+
+// Rent against buy: block Jacobi while the step's Jacobi iterations cost less than a sparse
+// factor, then the factor, rebuilt once the work done with it would pay for a new one.
+void NewtonSolve::choose_preconditioner() {
+  if (!c_.factor.analysed()) c_.factor.analyse(c_.A, kMaxFactorBytes);
+  const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;
+  const double factor_cost = c_.factor.factor_cost();
+  if (affordable && (c_.factor.ready() ? account_.factor_work > factor_cost : account_.first)) factorize();
+  if (!c_.factor.ready() && !c_.jacobi_ready) {
+    invert_diagonal(c_.A);
+    c_.jacobi_ready = true;
+  }
+}
+
+CgResult NewtonSolve::solve(const CgSettings& settings) {
+  const bool factored = c_.factor.ready();
+  const CgResult cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter,
+                                factored ? &c_.factor : nullptr);
+  reuse_.trial_clean = cg.converged;
+  trace_("  cg: %d iterations, converged %d, negative curvature %d, relative residual %.2e, factored %d\n",
+         cg.iterations, cg.converged ? 1 : 0, cg.negative_curvature ? 1 : 0, cg.relative_residual,
+         factored ? 1 : 0);
+  stats_.cg_iterations += cg.iterations;
+  if (factored) account_.factor_work += cg.iterations * (1.0 + c_.factor.solve_cost());
+  else account_.jacobi_work += cg.iterations;
+  return cg;
+}
+
+bool NewtonSolve::factorize() {
+  account_.built = true;
+  account_.factor_work = 0.0;
+  ++stats_.factorizations;
+  return c_.factor.factorize(c_.A, c_.contacts.filter);
+}
+
+// Armijo backtracking along d from dv; on success the trial becomes the iterate. Where Phi's
+// decrease is below its rounding (its terms dwarf their changes), the filtered residual decides.
+bool NewtonSolve::line_search(double slope) {
+  double alpha = 1.0;
+  alpha_ = 0.0;
+  const double resolvable = 64.0 * std::numeric_limits<double>::epsilon();
+  for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {
+    c_.dv_try.noalias() = c_.dv + alpha * c_.d;
+    const PotentialValue trial =
+        step_potential(model_, start_, h_, c_.start_length, c_.dv_try, c_.y_try, c_.r_try, &c_.y_try_length);
+    ++stats_.force_evals;
+    bool accept = trial.phi <= phi_.phi + kArmijo * alpha * slope;
+    if (!accept && -alpha * slope <= resolvable * phi_.magnitude) {
+      c_.rhs = c_.r_try;  // scratch (rebuilt at the next iteration): the trial's filtered residual
+      c_.contacts.filter.apply(c_.rhs);
+      accept = dot(c_.rhs, c_.rhs) < r_norm2_;
+      if (!accept) return false;  // rounding has the last word: stop here
+    }
+    if (accept) {
+      alpha_ = alpha;
+      c_.dv.swap(c_.dv_try);
+      c_.y.swap(c_.y_try);
+      c_.y_length.swap(c_.y_try_length);
+      c_.r.swap(c_.r_try);
+      ++scan_.y_version;
+      phi_ = trial;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace clothsim

@@ -1,0 +1,153 @@
+// The Newton iterations of one backward Euler step (implicit_euler.cpp states the equation and
+// the method; docs/integrators.md explains the constants in newton_solve.cpp).
+//
+// NewtonSolve keeps three small records of its course, each with named transitions:
+//   MatrixReuse   whether a direction may use the Newton matrix in hand instead of assembling
+//                 one, and the verdict on a direction that did (judged at the next residual);
+//   FactorAccount block-Jacobi and factored PCG work this step, which decides when a sparse
+//                 factor pays for itself (rent against buy);
+//   ContactScan   which iterate and held set the last take-in scan saw, so it is not repeated.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+#include "implicit_cache.h"
+#include "step_potential.h"
+#include "core/integrators/integrator.h"
+
+namespace clothsim {
+
+// Formats the trace's lines for Workspace::newton_trace (nothing when it is empty).
+class NewtonTracer {
+ public:
+  explicit NewtonTracer(const Workspace& ws) : sink_(ws.newton_trace ? &ws.newton_trace : nullptr) {}
+  bool on() const { return sink_ != nullptr; }
+  [[gnu::format(printf, 2, 3)]] void operator()(const char* format, ...) const;
+
+ private:
+  const std::function<void(const char*)>* sink_;
+};
+
+// Whether the next Newton direction may be taken with the matrix in hand (the recorded one, or
+// one assembled earlier this step) and, once one was, whether it served.
+struct MatrixReuse {
+  enum class Phase {
+    Barred,   // every direction assembles at its iterate
+    Allowed,  // a direction may use the matrix in hand
+    OnTrial,  // the last direction used it: the next residual judges it
+  };
+  Phase phase = Phase::Barred;
+  bool trusted = true;        // the recorded matrix served when last judged (State's lin_trusted)
+  double reach = 0.0;         // m, how far from its linearisation point the matrix may serve
+  double trial_from = 0.0;    // |S r| before the direction on trial
+  bool trial_clean = false;   // that direction's CG converged and its full step was taken
+  int unserved = 0;           // directions on trial that did not serve (not charged to the budget)
+
+  bool allowed() const { return phase != Phase::Barred; }
+  void start_trial(double r_norm) {
+    phase = Phase::OnTrial;
+    trial_from = r_norm;
+  }
+  // The direction on trial served if the residual met the tolerance or contracted enough.
+  void judge(bool served) {
+    phase = served ? Phase::Allowed : Phase::Barred;
+    trusted = served;
+    unserved += !served;
+  }
+  // A direction on trial gave no descent or no step: not a verdict on the iterate.
+  void fail() { judge(false); }
+};
+
+// Block-Jacobi against sparse-factor PCG work this step, in block-Jacobi iterations.
+struct FactorAccount {
+  bool first = false;         // the last step needed the factor: build it at the first solve
+  bool built = false;         // this step built a factor
+  double jacobi_work = 0.0;   // block-Jacobi PCG iterations this step
+  double factor_work = 0.0;   // the same units spent with the factor since it was built
+};
+
+// Whether the solve still makes progress: a step is NOT CONVERGED when it stalls, not when it
+// has taken some number of iterations. Progress is the residual halving from its best at the
+// last mark, or Phi falling by a meaningful fraction of its size since then (a globalised
+// Newton crawling through a buckled state lowers Phi while its residual wanders).
+struct StallWatch {
+  double best = std::numeric_limits<double>::infinity();     // residual at the last mark
+  double phi = std::numeric_limits<double>::infinity();      // J, Phi at the last mark
+  int mark = 0;                                              // Newton iteration of the last mark
+  // Called at each iterate; true once `window` iterations passed without progress.
+  bool stalled(int iteration, double residual, const PotentialValue& at, int window);
+};
+
+// The inputs of the last take-in scan, counted: y_version changes with the iterate,
+// held_version with the held set.
+struct ContactScan {
+  std::uint64_t y_version = 0, held_version = 0;
+  std::uint64_t scanned_y = ~std::uint64_t{0}, scanned_held = ~std::uint64_t{0};
+  bool fresh() const { return scanned_y != y_version || scanned_held != held_version; }
+  void mark() {
+    scanned_y = y_version;
+    scanned_held = held_version;
+  }
+};
+
+class NewtonSolve {
+ public:
+  // `start` is read as the step's start throughout; only its record of the Newton matrix's
+  // linearisation (State::implicit.lin) is written, when a matrix is assembled.
+  NewtonSolve(const Model& model, State& start, double h, ImplicitCache& c, StepStats& stats,
+              const NewtonTracer& trace);
+
+  void evaluate();           // Phi, r and y at c.dv
+  bool update_contacts();    // let go of pulling contacts, then take in; whether the set changed
+  void set_scale(double impulse_scale) { impulse_scale_ = impulse_scale; }
+  // Newton iterations from the iterate in c until the filtered residual is below tolerance
+  // or the step's budget is spent; warm: a CG start for the first direction, or null.
+  // Returns whether it converged.
+  bool iterate(const Eigen::Matrix3Xd* warm);
+  bool factored() const { return account_.built; }
+  bool trusted() const { return reuse_.trusted; }
+
+ private:
+  struct Residual {
+    double norm;   // N s, |S r|
+    double scale;  // N s, what it is measured against: max(|h f| at the start, |M dv|)
+  };
+  Residual measure_residual();  // at the iterate; sets rhs and stats.residual, judges a trial
+  bool out_of_budget() const;
+  CgSettings cg_settings(double r_norm, double scale) const;
+  bool take_step(double slope, bool reused);
+  bool take_in();
+  double direction(CgSettings settings, const Eigen::Matrix3Xd* warm, bool reused);
+  bool may_reuse() const;
+  void prepare_matrix(bool reused);
+  void record_linearisation();
+  void choose_preconditioner();
+  bool near_linearisation() const;
+  CgResult solve(const CgSettings& settings);
+  bool factorize();
+  bool line_search(double slope);
+
+  const Model& model_;
+  const State& start_;
+  State& record_;  // the same State: its implicit.lin only
+  double h_;
+  const ImplicitDef& cfg_;
+  ImplicitCache& c_;
+  StepStats& stats_;
+  const NewtonTracer& trace_;
+  PotentialValue phi_;
+  double impulse_scale_ = 0.0;
+  const bool single_step_;  // newton_max_iterations = 1: Baraff & Witkin's step
+  MatrixReuse reuse_;
+  FactorAccount account_;
+  ContactScan scan_;
+  StallWatch stall_;
+  double alpha_ = 0.0;    // the last line search's step
+  double r_norm2_ = 0.0;  // |S r|^2 at the iterate
+};
+
+// MatrixReuse::reach for springs as short as `shortest` and as stiff as `stiffness`.
+double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness, double h);
+
+}  // namespace clothsim
