@@ -174,8 +174,11 @@ bool is_x264_preset(std::string_view name) {
 }
 
 void validate_video_options(const VideoWriterOptions& options) {
-  if (!std::isfinite(options.fps) || options.fps <= 0.0 || options.fps > 1000.0)
-    throw std::invalid_argument("fps must be in (0, 1000], got " + std::to_string(options.fps));
+  if (!std::isfinite(options.fps) || options.fps < kMinFps || options.fps > 1000.0) {
+    char text[96];
+    std::snprintf(text, sizeof text, "fps must be in [%g, 1000] (frames per second), got %g", kMinFps, options.fps);
+    throw std::invalid_argument(text);
+  }
   if (options.crf < 0 || options.crf > 51)
     throw std::invalid_argument("crf must be in 0..51, got " + std::to_string(options.crf));
   if (!is_x264_preset(options.preset)) {
@@ -197,6 +200,7 @@ struct VideoWriter::Impl {
   int enc_width = 0, enc_height = 0;  // even
   int frames = 0;
   bool finished = false;
+  std::function<bool()> stop;  // stop_when()
 
   AVFormatContext* format = nullptr;
   AVCodecContext* codec = nullptr;
@@ -292,7 +296,9 @@ struct VideoWriter::Impl {
     constexpr int kIoBuffer = 1 << 16;
     auto* buffer = static_cast<unsigned char*>(av_malloc(kIoBuffer));
     if (!buffer) fail(path, "out of memory");
-    io = avio_alloc_context(buffer, kIoBuffer, /*write_flag=*/1, &fd, nullptr, write_to_fd, seek_fd);
+    // A stream (pipe, device, stdout) is written forward only: no seek, no read-back.
+    io = avio_alloc_context(buffer, kIoBuffer, /*write_flag=*/1, &fd, nullptr, write_to_fd,
+                            file->streaming() ? nullptr : seek_fd);
     if (!io) {
       av_free(buffer);
       fail(path, "out of memory");
@@ -300,8 +306,9 @@ struct VideoWriter::Impl {
     format->pb = io;
     format->flags |= AVFMT_FLAG_CUSTOM_IO;
     AVDictionary* mux_opts = nullptr;
+    if (file->streaming()) io->seekable = 0;
     if (std::strcmp(format->oformat->name, "mp4") == 0 || std::strcmp(format->oformat->name, "mov") == 0)
-      av_dict_set(&mux_opts, "movflags", "+faststart", 0);
+      av_dict_set(&mux_opts, "movflags", file->streaming() ? "+frag_keyframe+empty_moov+default_base_moof" : "+faststart", 0);
     ret = avformat_write_header(format, &mux_opts);
     av_dict_free(&mux_opts);
     if (ret < 0) fail(path, "cannot write the container header", ret);
@@ -351,6 +358,7 @@ struct VideoWriter::Impl {
     int ret = avcodec_send_frame(codec, picture);
     if (ret < 0) fail(path, "encoder refused a frame", ret);
     for (;;) {
+      if (!picture && stop && stop()) fail(path, "stopped");  // draining: abandon, do not wait
       ret = avcodec_receive_packet(codec, packet);
       if (ret == AVERROR(EAGAIN) || ret == AVERROR_EOF) return;
       if (ret < 0) fail(path, "encoding failed", ret);
@@ -421,6 +429,8 @@ void VideoWriter::finish() {
   }
   w.finished = true;
 }
+
+void VideoWriter::stop_when(std::function<bool()> stop) { impl_->stop = std::move(stop); }
 
 int VideoWriter::frames_written() const { return impl_->frames; }
 int VideoWriter::width() const { return impl_->width; }

@@ -98,7 +98,7 @@ class PngSequenceSink final : public FrameSink {
       PngText text = meta_;
       text.emplace_back("t", time);
       try {
-        write_png(dir_ + "/" + name, job.frame, text, kZlibLevel);
+        write_png(dir_ + "/" + name, job.frame, text, kZlibLevel, Replace::kUnlinkFirst);  // no hidden link to leave
         ++written_;
       } catch (const PngError& e) {
         lock.lock();

@@ -173,7 +173,7 @@ int run_encode(const EncodeArgs& args) {
   // 2. Stream: read one PNG per tile, compose, encode; nothing accumulates.
   std::optional<VideoWriter> writer;
   try {
-    writer.emplace(args.output, grid.width(), grid.height(), video);
+    writer.emplace(args.output, grid.width(), grid.height(), video).stop_when(interrupted);
   } catch (const VideoError& e) {
     throw RuntimeFailure(e.what());
   }
@@ -207,6 +207,8 @@ int run_encode(const EncodeArgs& args) {
   try {
     writer->finish();
   } catch (const VideoError& e) {
+    if (interrupted())
+      throw RuntimeFailure("interrupted while finishing the clip; " + args.output + " not written");
     throw RuntimeFailure(e.what());
   }
   progress.reset();
