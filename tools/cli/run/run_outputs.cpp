@@ -17,10 +17,13 @@ MetricsWriter::MetricsWriter(const std::string& path, const Model& model, Integr
 void MetricsWriter::row(const FrameMetrics& m) {
   std::fprintf(file_.stream(),
                "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%" PRId64 ",%" PRId64 ",%" PRId64
-               ",%.6g,%d%s\n",
+               ",%.6g,%d",
                m.step, m.t, m.energies.kinetic, m.energies.spring, m.energies.gravity,
                m.energies.total(), m.max_strain, m.contacts, m.force_evals, m.newton_iterations,
-               m.cg_iterations, m.residual, m.converged ? 1 : 0, run_columns_.c_str());
+               m.cg_iterations, m.residual, m.converged ? 1 : 0);
+  // Written whole, not through %s: a cell is never cut at a byte it holds.
+  std::fwrite(run_columns_.data(), 1, run_columns_.size(), file_.stream());
+  std::fputc('\n', file_.stream());
 }
 
 PngText frame_metadata(const Model& model, IntegratorKind kind, double dt) {

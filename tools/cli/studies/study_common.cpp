@@ -47,9 +47,12 @@ std::string csv_number(double value) {
 }
 
 std::string csv_text(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  const auto control = [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; };
+  if (text.find_first_of(",\"") == std::string::npos && std::none_of(text.begin(), text.end(), control)) return text;
+  // Quoted (RFC 4180), and a control byte (a newline, CR, ESC, NUL) made a space: a cell is
+  // one line of text in any reader, and a terminal showing the file obeys nothing in it.
   std::string quoted = "\"";
-  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, control(c) ? ' ' : c);
   return quoted + "\"";
 }
 

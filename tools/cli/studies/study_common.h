@@ -23,8 +23,9 @@ inline constexpr const char* kDefaultFrameDts = "1/240,1/120,1/60,1/30";
 // --frame-dts: "none", or steps as numbers or fractions ("1/60"); a UsageError names the item.
 std::vector<double> parse_frame_dts(const std::string& text);
 
-// A CSV cell: numbers in the shortest form that reads back exactly (nan stays "nan"), and text quoted when it holds a comma
-// or a quote (RFC 4180), so a divergence reason cannot break a row.
+// A CSV cell: numbers in the shortest form that reads back exactly (nan stays "nan"), and text
+// quoted when it holds a comma, a quote or a control byte (RFC 4180; control bytes become
+// spaces), so no text can break a row.
 std::string csv_number(double value);
 std::string csv_text(const std::string& text);
 
