@@ -86,5 +86,21 @@ TEST(RunOutputs, MetricsThroughASymlinkReplaceItsTargetAndKeepTheLink) {
   EXPECT_TRUE(only_files(dir, {"m.csv", "real.csv"}));
 }
 
+// A file-size limit stops the state (the largest file) after the metrics and summary were
+// written: the one line says so, rather than only "cannot write s.csv".
+TEST(RunOutputs, AWriteFailureNamesTheFilesKeptAndNotWritten) {
+  const std::string dir = scratch_dir("run_outputs_ulimit");
+  const CliResult r = run_clothsim({"run", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--duration", "0.1",
+                                    "--state", dir + "/s.csv", "--metrics", dir + "/m.csv", "--summary", dir + "/s.json"},
+                                   "ulimit -f 50;");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("cannot write " + dir + "/s.csv: File too large; kept " + dir + "/m.csv, " + dir +
+                       "/s.json; not written: " + dir + "/s.csv"),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(only_files(dir, {"m.csv", "s.json"}));
+}
+
 }  // namespace
 }  // namespace clothsim::testing

@@ -145,7 +145,8 @@ int run_command(const RunOptions& o) {
     std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU\n",
                 report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
                 report.reference->totals.force_evals, report.reference->totals.cpu_seconds);
-  if (!o.summary.empty()) {  // written for a diverged run too: that is a result
+  RunFiles files({o.metrics, o.video, o.still_t ? o.still_out : "", o.frames_dir}, after);  // run_outputs.h
+  files.write(o.summary, [&] {  // written for a diverged run too: that is a result
     std::vector<JsonObject> lanes{lane_json(model.name, kind, dt, t,
                                             r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
                                       .number("t_reached", r.t)
@@ -155,14 +156,14 @@ int run_command(const RunOptions& o) {
                                 report.reference->totals, std::nullopt)
                           .text("role", "reference"));
     write_summary(o.summary, "run", scene.source, lanes);
-  }
+  });
   if (r.divergence) {
     const Divergence& d = *r.divergence;
     std::fprintf(stderr, "clothsim: %s: diverged at step %" PRId64 ", t = %.6g s: %s\n",
                  scene.source.c_str(), d.step, d.t, d.reason.c_str());
     return kDiverged;
   }
-  if (!o.state.empty()) write_state_csv(o.state, model, *r.final_state);
+  files.write(o.state, [&] { write_state_csv(o.state, model, *r.final_state); });
   if (o.strict && t.unconverged_steps > 0) {
     std::fprintf(stderr,
                  "clothsim: %s: --strict: %" PRId64 " of %" PRId64
