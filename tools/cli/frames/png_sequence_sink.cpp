@@ -52,7 +52,7 @@ class PngSequenceSink final : public FrameSink {
   // Every PNG written is complete (written under its name only when whole), so all of them stay.
   std::string written() const override {
     const long n = written_;
-    if (n == 0) return "";
+    if (n == 0 || !std::filesystem::is_directory(dir_)) return "";  // removed meanwhile: nothing kept
     return std::to_string(n) + (n == 1 ? " PNG in " : " PNGs in ") + dir_;
   }
 

@@ -51,7 +51,7 @@ int run_command(const RunOptions& o) {
   const SceneDef scene = load_scene_with_options(o.scene);
   if (o.still_t && o.still_out.empty()) throw UsageError("--still needs -o/--output FILE.png");
   if (!o.still_out.empty() && !o.still_t) throw UsageError("-o/--output goes with --still T");
-  if (o.still_t && (*o.still_t < 0.0 || *o.still_t > scene.duration))
+  if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= scene.duration))  // NaN too
     throw UsageError("--still: time " + number_text(*o.still_t) + " s is outside the run (0 to " +
                      number_text(scene.duration) + " s)");
   if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
