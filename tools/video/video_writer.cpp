@@ -238,7 +238,14 @@ struct VideoWriter::Impl {
     }
     if (width <= 0 || height <= 0)
       fail(path, "bad frame size " + std::to_string(width) + "x" + std::to_string(height));
+    open_container();
+    open_encoder(options);
+    open_muxer();
+    open_frames();
+  }
 
+  // The nameless file and the container its extension names.
+  void open_container() {
     try {
       file = std::make_unique<OutputFile>(path);
     } catch (const OutputFileError& e) {
@@ -250,8 +257,13 @@ struct VideoWriter::Impl {
     const AVOutputFormat* container = av_guess_format(nullptr, path.c_str(), nullptr);
     if (!container || container->video_codec == AV_CODEC_ID_NONE)
       container = av_guess_format("mp4", nullptr, nullptr);
-    int ret = avformat_alloc_output_context2(&format, container, nullptr, file->reopen_path().c_str());
+    const int ret = avformat_alloc_output_context2(&format, container, nullptr, file->reopen_path().c_str());
     if (ret < 0) fail(path, "cannot set up the container", ret);
+  }
+
+  // libx264 at the options' rate, preset and quality, tagged BT.709 limited range.
+  void open_encoder(const VideoWriterOptions& options) {
+    int ret = 0;
 
     const AVCodec* encoder = avcodec_find_encoder_by_name("libx264");
     if (!encoder) fail(path, "this FFmpeg has no libx264 encoder");
@@ -292,6 +304,10 @@ struct VideoWriter::Impl {
     stream->avg_frame_rate = rate;
     ret = avcodec_parameters_from_context(stream->codecpar, codec);
     if (ret < 0) fail(path, "cannot copy encoder parameters", ret);
+  }
+
+  // Our AVIOContext on the file's descriptor, and the container's header.
+  void open_muxer() {
 
     constexpr int kIoBuffer = 1 << 16;
     auto* buffer = static_cast<unsigned char*>(av_malloc(kIoBuffer));
@@ -309,9 +325,13 @@ struct VideoWriter::Impl {
     if (file->streaming()) io->seekable = 0;
     if (std::strcmp(format->oformat->name, "mp4") == 0 || std::strcmp(format->oformat->name, "mov") == 0)
       av_dict_set(&mux_opts, "movflags", file->streaming() ? "+frag_keyframe+empty_moov+default_base_moof" : "+faststart", 0);
-    ret = avformat_write_header(format, &mux_opts);
+    const int ret = avformat_write_header(format, &mux_opts);
     av_dict_free(&mux_opts);
     if (ret < 0) fail(path, "cannot write the container header", ret);
+  }
+
+  // The reused yuv420p frame and the RGBA -> YUV converter.
+  void open_frames() {
 
     frame = av_frame_alloc();
     packet = av_packet_alloc();
@@ -323,7 +343,7 @@ struct VideoWriter::Impl {
     frame->colorspace = AVCOL_SPC_BT709;
     frame->color_primaries = AVCOL_PRI_BT709;
     frame->color_trc = AVCOL_TRC_BT709;
-    ret = av_frame_get_buffer(frame, 0);
+    const int ret = av_frame_get_buffer(frame, 0);
     if (ret < 0) fail(path, "cannot allocate a frame", ret);
 
     // Same size in and out: swscale only converts. Full-range RGB in, BT.709 limited-range

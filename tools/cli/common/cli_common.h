@@ -25,7 +25,7 @@ inline constexpr const char* kExitCodesHelp =
     "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene\n"
     "(also a run over --max-memory or past 1e9 steps / 1e7 frames), 3 the simulation diverged\n"
     "(run only), 4 an implicit step did not converge (run --strict),\n"
-    "130 / 143 / 129 stopped by SIGINT (Ctrl-C) / SIGTERM / SIGHUP (at once, whatever the\n"
+    "130 / 143 stopped by SIGINT (Ctrl-C) / SIGTERM, 129 by SIGHUP (at once, whatever the\n"
     "step; a second signal kills). What stays when: docs/outputs.md.\n";
 
 // Bad usage or a bad scene: exit 2. The message is the whole one-line error.
