@@ -26,6 +26,12 @@ namespace {
 void say(const std::string& message) { std::fprintf(stderr, "clothsim: %s\n", one_line(message).c_str()); }
 }  // namespace
 
+// Before the shared libraries' constructors too (Mesa's LLVM takes tens of milliseconds to
+// start): an executable's .preinit_array runs ahead of every other initialiser, so a signal
+// from the first instant after loading is answered, not met by the default action.
+static void install_early(int, char**, char**) { install_signal_handlers(); }
+[[gnu::used, gnu::section(".preinit_array")]] static void (*const early_signals)(int, char**, char**) = install_early;
+
 int main(int argc, char** argv) {
   install_signal_handlers();  // before any work: a signal at any moment is answered (docs/outputs.md)
   // Past a file-size limit (ulimit -f, a batch scheduler's quota) the kernel would kill us

@@ -179,6 +179,7 @@ void install_signal_handlers() {
 void install_interrupt_handler() { g_polling = true; }
 
 int exit_code_after(int code) {
+  g_polling = false;  // from here (libraries' teardown) a signal ends the process at once
   if (!interrupted()) return code;
   // The work was done when the signal was seen (after the last poll): every output stands.
   std::fprintf(stderr, "clothsim: stopped by %s after the work was done; every output is written\n",
