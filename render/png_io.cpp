@@ -86,7 +86,8 @@ bool encode(std::FILE* file, const Image& image, int zlib_level, std::vector<png
 
 }  // namespace
 
-void write_png(const std::string& path, const Image& image, const PngText& text, int zlib_level) {
+void write_png(const std::string& path, const Image& image, const PngText& text, int zlib_level,
+               Replace replace) {
   if (image.empty()) throw PngError("cannot write " + path + ": the image is empty");
   if (image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
     throw PngError("cannot write " + path + ": the image's pixel buffer does not match its size");
@@ -104,7 +105,7 @@ void write_png(const std::string& path, const Image& image, const PngText& text,
 
   std::optional<OutputFile> file;
   try {
-    file.emplace(path);
+    file.emplace(path, replace);
   } catch (const OutputFileError& e) {
     throw PngError(e.what());
   }

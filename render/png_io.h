@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "image.h"
+#include "output_file.h"  // Replace
 
 namespace clothsim {
 
@@ -18,8 +19,9 @@ using PngText = std::vector<std::pair<std::string, std::string>>;  // tEXt key/v
 
 // Writes through an OutputFile (named only when complete), so a failed write leaves nothing.
 // Throws PngError "cannot write PATH: reason" (the system's errno text for I/O errors).
+// `replace`: how an existing file goes (output_file.h; a frame sequence removes it first).
 void write_png(const std::string& path, const Image& image, const PngText& text = {},
-               int zlib_level = 2);
+               int zlib_level = 2, Replace replace = Replace::kAtomic);
 // Reads any 8-bit PNG (grey, RGB, RGBA, palette) as RGBA. Throws PngError (missing, corrupt).
 Image read_png(const std::string& path, PngText* text = nullptr);
 

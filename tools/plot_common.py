@@ -63,7 +63,16 @@ def fail(message):
 
 
 def save(fig, out):
-    """Writes the PNG under a temporary name and renames it, so `out` is whole or absent."""
+    """Writes the PNG under a temporary name and renames it, so `out` is whole or absent.
+    A descriptor (/dev/fd/N: clothsim's nameless file) or a device is written straight."""
+    if out.startswith("/dev/fd/") or (os.path.exists(out) and not os.path.isfile(out)):
+        try:
+            fig.savefig(out, dpi=120, format="png")
+        except OSError as e:
+            fail(f"cannot write {out}: {e.strerror}")
+        finally:
+            plt.close(fig)
+        return
     directory = os.path.dirname(os.path.abspath(out))
     if not os.path.isdir(directory):
         fail(f"cannot write {out}: directory {directory} does not exist")

@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "echo.h"
+#include "names.h"
 #include "run_bounds.h"
 
 #include <algorithm>
@@ -47,7 +48,10 @@ SceneDef Reader::scene(const YAML::Node& root) const {
   expect_map(root, "", {"name", "duration", "dt", "integrator", "gravity", "air_drag", "cloth",
                         "spheres", "ground", "collision", "events", "render", "implicit",
                         "divergence", "xpbd", "projective_dynamics", "vbd"});
-  optional(root, "", "name", [&](auto& n, auto& k) { s.name = string(n, k); });
+  optional(root, "", "name", [&](auto& n, auto& k) {
+    s.name = string(n, k);
+    if (const std::string problem = name_problem(s.name); !problem.empty()) fail(n, k, problem);  // names.h
+  });
   optional(root, "", "duration", [&](auto& n, auto& k) { s.duration = non_negative(n, k); });
   optional(root, "", "dt", [&](auto& n, auto& k) { s.dt = positive(n, k); });
   optional(root, "", "integrator", [&](auto& n, auto& k) {

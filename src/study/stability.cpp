@@ -73,7 +73,8 @@ void check(const StabilitySpec& spec) {
         << spec.duration / kMinTrialSteps << " s or run longer";
     throw StudyError(msg.str());
   }
-  if (!(spec.precision > 0.0 && spec.precision < 1.0)) throw StudyError("the precision must be between 0 and 1");
+  // Below ~1e-15 the bracket's ends are neighbouring doubles and bisection cannot narrow it.
+  if (!(spec.precision >= 1e-12 && spec.precision < 1.0)) throw StudyError("the precision must be from 1e-12 to 1");
   if (!finite_positive(spec.energy_factor)) throw StudyError("the energy factor must be a finite number > 0");
   if (!finite_positive(spec.max_strain)) throw StudyError("the strain bound must be a finite number > 0");
   if (spec.first_guess < 0.0 || !std::isfinite(spec.first_guess)) throw StudyError("the first guess must be >= 0 s");

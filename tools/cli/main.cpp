@@ -1,8 +1,8 @@
 // clothsim: see and measure how time integrators trade speed for accuracy.
 // Dispatches to one subcommand and maps failures to the exit codes of the CLI contract:
 // 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene, 3 diverged,
-// 4 an implicit step did not converge (run --strict), 130 / 143 stopped by SIGINT / SIGTERM
-// (after removing temporaries and saying what was kept).
+// 4 an implicit step did not converge (run --strict), 130 / 143 / 129 stopped by SIGINT /
+// SIGTERM / SIGHUP (after removing temporaries and saying what was kept).
 #include <algorithm>
 #include <CLI/CLI.hpp>
 #include <csignal>
@@ -27,7 +27,14 @@ namespace {
 void say(const std::string& message) { std::fprintf(stderr, "clothsim: %s\n", one_line(message).c_str()); }
 }  // namespace
 
+// Before the shared libraries' constructors too (Mesa's LLVM takes tens of milliseconds to
+// start): an executable's .preinit_array runs ahead of every other initialiser, so a signal
+// from the first instant after loading is answered, not met by the default action.
+static void install_early(int, char**, char**) { install_signal_handlers(); }
+[[gnu::used, gnu::section(".preinit_array")]] static void (*const early_signals)(int, char**, char**) = install_early;
+
 int main(int argc, char** argv) {
+  install_signal_handlers();  // before any work: a signal at any moment is answered (docs/outputs.md)
   // Past a file-size limit (ulimit -f, a batch scheduler's quota) the kernel would kill us
   // with SIGXFSZ mid-write; ignored, the write fails with EFBIG and the output is dropped
   // with one line ("cannot write clip.mp4: File too large"), exit 1, like a full disk.
@@ -70,7 +77,7 @@ int main(int argc, char** argv) {
     return kBadInput;
   }
   try {
-    return command();
+    return exit_code_after(command());
   } catch (const SceneError& e) {
     say(e.what());
     return kBadInput;

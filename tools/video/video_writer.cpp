@@ -174,8 +174,11 @@ bool is_x264_preset(std::string_view name) {
 }
 
 void validate_video_options(const VideoWriterOptions& options) {
-  if (!std::isfinite(options.fps) || options.fps <= 0.0 || options.fps > 1000.0)
-    throw std::invalid_argument("fps must be in (0, 1000], got " + std::to_string(options.fps));
+  if (!std::isfinite(options.fps) || options.fps < kMinFps || options.fps > 1000.0) {
+    char text[96];
+    std::snprintf(text, sizeof text, "fps must be in [%g, 1000] (frames per second), got %g", kMinFps, options.fps);
+    throw std::invalid_argument(text);
+  }
   if (options.crf < 0 || options.crf > 51)
     throw std::invalid_argument("crf must be in 0..51, got " + std::to_string(options.crf));
   if (!is_x264_preset(options.preset)) {
@@ -197,6 +200,7 @@ struct VideoWriter::Impl {
   int enc_width = 0, enc_height = 0;  // even
   int frames = 0;
   bool finished = false;
+  std::function<bool()> stop;  // stop_when()
 
   AVFormatContext* format = nullptr;
   AVCodecContext* codec = nullptr;
@@ -234,7 +238,14 @@ struct VideoWriter::Impl {
     }
     if (width <= 0 || height <= 0)
       fail(path, "bad frame size " + std::to_string(width) + "x" + std::to_string(height));
+    open_container();
+    open_encoder(options);
+    open_muxer();
+    open_frames();
+  }
 
+  // The nameless file and the container its extension names.
+  void open_container() {
     try {
       file = std::make_unique<OutputFile>(path);
     } catch (const OutputFileError& e) {
@@ -246,8 +257,13 @@ struct VideoWriter::Impl {
     const AVOutputFormat* container = av_guess_format(nullptr, path.c_str(), nullptr);
     if (!container || container->video_codec == AV_CODEC_ID_NONE)
       container = av_guess_format("mp4", nullptr, nullptr);
-    int ret = avformat_alloc_output_context2(&format, container, nullptr, file->reopen_path().c_str());
+    const int ret = avformat_alloc_output_context2(&format, container, nullptr, file->reopen_path().c_str());
     if (ret < 0) fail(path, "cannot set up the container", ret);
+  }
+
+  // libx264 at the options' rate, preset and quality, tagged BT.709 limited range.
+  void open_encoder(const VideoWriterOptions& options) {
+    int ret = 0;
 
     const AVCodec* encoder = avcodec_find_encoder_by_name("libx264");
     if (!encoder) fail(path, "this FFmpeg has no libx264 encoder");
@@ -288,11 +304,17 @@ struct VideoWriter::Impl {
     stream->avg_frame_rate = rate;
     ret = avcodec_parameters_from_context(stream->codecpar, codec);
     if (ret < 0) fail(path, "cannot copy encoder parameters", ret);
+  }
+
+  // Our AVIOContext on the file's descriptor, and the container's header.
+  void open_muxer() {
 
     constexpr int kIoBuffer = 1 << 16;
     auto* buffer = static_cast<unsigned char*>(av_malloc(kIoBuffer));
     if (!buffer) fail(path, "out of memory");
-    io = avio_alloc_context(buffer, kIoBuffer, /*write_flag=*/1, &fd, nullptr, write_to_fd, seek_fd);
+    // A stream (pipe, device, stdout) is written forward only: no seek, no read-back.
+    io = avio_alloc_context(buffer, kIoBuffer, /*write_flag=*/1, &fd, nullptr, write_to_fd,
+                            file->streaming() ? nullptr : seek_fd);
     if (!io) {
       av_free(buffer);
       fail(path, "out of memory");
@@ -300,11 +322,16 @@ struct VideoWriter::Impl {
     format->pb = io;
     format->flags |= AVFMT_FLAG_CUSTOM_IO;
     AVDictionary* mux_opts = nullptr;
+    if (file->streaming()) io->seekable = 0;
     if (std::strcmp(format->oformat->name, "mp4") == 0 || std::strcmp(format->oformat->name, "mov") == 0)
-      av_dict_set(&mux_opts, "movflags", "+faststart", 0);
-    ret = avformat_write_header(format, &mux_opts);
+      av_dict_set(&mux_opts, "movflags", file->streaming() ? "+frag_keyframe+empty_moov+default_base_moof" : "+faststart", 0);
+    const int ret = avformat_write_header(format, &mux_opts);
     av_dict_free(&mux_opts);
     if (ret < 0) fail(path, "cannot write the container header", ret);
+  }
+
+  // The reused yuv420p frame and the RGBA -> YUV converter.
+  void open_frames() {
 
     frame = av_frame_alloc();
     packet = av_packet_alloc();
@@ -316,7 +343,7 @@ struct VideoWriter::Impl {
     frame->colorspace = AVCOL_SPC_BT709;
     frame->color_primaries = AVCOL_PRI_BT709;
     frame->color_trc = AVCOL_TRC_BT709;
-    ret = av_frame_get_buffer(frame, 0);
+    const int ret = av_frame_get_buffer(frame, 0);
     if (ret < 0) fail(path, "cannot allocate a frame", ret);
 
     // Same size in and out: swscale only converts. Full-range RGB in, BT.709 limited-range
@@ -351,6 +378,7 @@ struct VideoWriter::Impl {
     int ret = avcodec_send_frame(codec, picture);
     if (ret < 0) fail(path, "encoder refused a frame", ret);
     for (;;) {
+      if (!picture && stop && stop()) fail(path, "stopped");  // draining: abandon, do not wait
       ret = avcodec_receive_packet(codec, packet);
       if (ret == AVERROR(EAGAIN) || ret == AVERROR_EOF) return;
       if (ret < 0) fail(path, "encoding failed", ret);
@@ -421,6 +449,8 @@ void VideoWriter::finish() {
   }
   w.finished = true;
 }
+
+void VideoWriter::stop_when(std::function<bool()> stop) { impl_->stop = std::move(stop); }
 
 int VideoWriter::frames_written() const { return impl_->frames; }
 int VideoWriter::width() const { return impl_->width; }

@@ -10,7 +10,8 @@
 //     the stream is tagged (matrix, primaries, transfer, range) so none has to guess,
 //     and the RGB -> YUV conversion uses the same BT.709 matrix it claims.
 //   - +faststart: the index (moov atom) goes to the front on finish, so a browser can
-//     start playing before it has the whole file.
+//     start playing before it has the whole file. Streamed to a pipe or device (which cannot
+//     be read back), the MP4 is fragmented instead (empty_moov + frag_keyframe).
 //   - CRF (constant quality) rather than a bitrate: the clip's size follows its content.
 //     The x264 preset trades encode speed for size at that quality.
 //   - Frames are encoded as they arrive (send_frame/receive_packet); only x264's
@@ -20,6 +21,7 @@
 //     error, Ctrl-C or SIGKILL never leaves a truncated MP4, or any temporary, behind.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -41,10 +43,14 @@ struct VideoWriterOptions {
   std::string preset = "veryfast";  // x264 preset: speed against file size at equal quality
 };
 
+// The slowest rate a stream can carry: its time base is 1/fps as a fraction of integers up
+// to 100000 (a frame every 1000 s).
+inline constexpr double kMinFps = 0.001;
+
 // x264's presets, fastest first ("ultrafast" ... "placebo").
 const std::vector<std::string>& x264_presets();
 bool is_x264_preset(std::string_view name);
-// Checks options before any work: fps finite and > 0, crf in 0..51, a known preset.
+// Checks options before any work: fps in [kMinFps, 1000], crf in 0..51, a known preset.
 // Throws std::invalid_argument with a one-line message naming the bad option.
 void validate_video_options(const VideoWriterOptions& options);
 
@@ -66,6 +72,9 @@ class VideoWriter {
   void write(const Image& frame);
   // Drains the encoder, writes the index and names the file. Throws VideoError.
   void finish();
+  // Polled between packets while finish() drains the encoder (placebo holds seconds of
+  // look-ahead): true abandons the clip at once with VideoError "PATH: stopped".
+  void stop_when(std::function<bool()> stop);
 
   int frames_written() const;
   int width() const;          // as given

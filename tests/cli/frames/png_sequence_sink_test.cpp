@@ -69,6 +69,15 @@ TEST(PngSequenceSink, SaysWhatItWroteWithoutChangingAnything) {
   EXPECT_TRUE(testing::only_files(dir, {"frame_00000.png", "frame_00001.png", "frame_00002.png"}));
 }
 
+TEST(PngSequenceSink, AFolderRemovedMeanwhileIsNotReportedAsKept) {
+  const std::string dir = scratch_dir("png_sink_removed") + "/frames";
+  auto sink = cli::make_png_sequence_sink(dir, {});
+  sink->add(0, 0.0, testing::grey_image(16, 8));
+  sink->finish();
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(sink->written(), "");
+}
+
 TEST(PngSequenceSink, AbandonedItKeepsTheWholePngsAndSaysSo) {
   const std::string dir = scratch_dir("png_sink_abandoned") + "/frames";
   auto sink = cli::make_png_sequence_sink(dir, {});

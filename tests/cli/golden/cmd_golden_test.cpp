@@ -139,6 +139,23 @@ TEST(CmdGolden, ABadManifestExitsTwoWithFileLineAndKey) {
   EXPECT_TRUE(only_files(dir, {"m.yaml", "d.yaml"})) << "nothing rendered";
 }
 
+// A name is a name (scene/names.h): "goldens.yaml\0" once cut the image path at the NUL and
+// wrote a PNG over the manifest itself.
+TEST(CmdGolden, AHostileNameIsRefusedAndOverwritesNothing) {
+  UserProject p("golden_hostile_name");
+  for (const char* name : {"goldens.yaml\\0", "my_drape.yaml\\0", "../escaped", "a\\x1b[2Jb", "x\\u202Ey"}) {
+    write(p.manifest, std::string("size: [160, 90]\ngoldens:\n  - scene: my_drape.yaml\n    times: [0.05]\n    name: \"") + name + "\"\n");
+    const std::string before = slurp(p.manifest), scene = slurp(p.scene);
+    const CliResult r = run_clothsim({"golden", "update", p.manifest});
+    EXPECT_EQ(r.exit_code, 2) << name;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("goldens.yaml:5: goldens[0].name: holds"), std::string::npos) << r.err;
+    EXPECT_EQ(slurp(p.manifest), before);
+    EXPECT_EQ(slurp(p.scene), scene);
+    EXPECT_TRUE(only_files(p.dir, {"my_drape.yaml", "goldens.yaml"}));
+  }
+}
+
 // --max-memory as run and compare have it: every entry's run is estimated before anything is
 // rendered, and one over the limit is refused (exit 2) naming its line and the estimate.
 TEST(CmdGolden, AnEntryOverMaxMemoryIsRefusedBeforeAnythingIsRendered) {

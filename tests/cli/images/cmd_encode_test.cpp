@@ -198,6 +198,8 @@ TEST(CmdEncode, RefusesBadEncoderOptions) {
   expect_refused(run_clothsim({"encode", a, "--preset", "ludicrous", "-o", out}), 2, out,
                  "unknown x264 preset 'ludicrous'");
   expect_refused(run_clothsim({"encode", a, "--fps", "0", "-o", out}), 2, out, "fps");
+  // A rate whose time base no 32-bit fraction holds: said as a range, not "Invalid argument".
+  expect_refused(run_clothsim({"encode", a, "--fps", "1e-9", "-o", out}), 2, out, "fps must be in [0.001, 1000]");
 }
 
 TEST(CmdEncode, NoOverwriteRefusesAnExistingClipBeforeReadingAnyFrame) {

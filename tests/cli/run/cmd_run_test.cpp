@@ -590,5 +590,15 @@ TEST(CmdRun, PlotEnergyLabelsEachLineByItsMetricsColumns) {
   EXPECT_EQ(labels("rk4.csv chain.csv"), "['spring: rk4, dt = 0.005 s', 'chain: symplectic_euler, dt = 0.0001 s']\n");
 }
 
+// NaN compares false with every bound: it is refused like a time outside the run.
+TEST(CmdRun, AStillAtNanIsRefused) {
+  const std::string dir = scratch_dir("run_still_nan");
+  const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--still", "nan", "-o", dir + "/x.png"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--still: time nan s is outside the run"), std::string::npos) << r.err;
+  EXPECT_TRUE(only_files(dir, {}));
+}
+
 }  // namespace
 }  // namespace clothsim::testing

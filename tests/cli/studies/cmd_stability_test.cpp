@@ -158,5 +158,14 @@ TEST(CmdStability, RefusesASmallestStepPastTheStepLimitAtOnce) {
   EXPECT_NE(r.err.find("at the smallest step tried, duration / dt = 1 s / 1e-12 s"), std::string::npos) << r.err;
 }
 
+// Below ~1e-15 the bracket's ends are neighbouring doubles: 1e-16 once bisected forever.
+TEST(CmdStability, APrecisionFinerThanDoublesCanResolveIsRefused) {
+  const CliResult r = run_clothsim({"stability", spring(), "--precision", "1e-16", "--integrators",
+                                    "symplectic_euler", "--values", "1e6"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("the precision must be from 1e-12 to 1"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace clothsim::testing

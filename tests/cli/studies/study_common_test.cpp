@@ -25,3 +25,18 @@ TEST(StudyInterruptedMessage, FilesWrittenAfterEveryRunFinishedAreNotCalledIncom
 
 }  // namespace
 }  // namespace clothsim::cli
+
+namespace clothsim::cli {
+namespace {
+
+TEST(CsvText, QuotesWhatWouldBreakARowAndBlanksControlBytes) {
+  EXPECT_EQ(csv_text("drape"), "drape");
+  EXPECT_EQ(csv_text("a,b"), "\"a,b\"");
+  EXPECT_EQ(csv_text("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(csv_text("a\r\nb"), "\"a  b\"");
+  EXPECT_EQ(csv_text("\x1b[2J"), "\" [2J\"");
+  EXPECT_EQ(csv_text(std::string("a\0b", 3)), "\"a b\"") << "a NUL cuts nothing";
+}
+
+}  // namespace
+}  // namespace clothsim::cli

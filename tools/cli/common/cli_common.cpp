@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace clothsim::cli {
@@ -19,26 +20,40 @@ std::string parent_of(const std::string& path) {
   const fs::path p(path);
   return p.has_parent_path() ? p.parent_path().string() : std::string(".");
 }
+bool is_character_device(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
+}
 }  // namespace
 
 void require_writable_parent(const std::string& path, const std::string& what) {
   if (path.empty()) throw RuntimeFailure(what + ": empty output path");
-  const std::string dir = parent_of(path);
+  OutputTarget target;
+  try {
+    target = resolve_output(path);
+  } catch (const OutputFileError& e) {
+    throw RuntimeFailure(e.what());
+  }
+  if (target.streams) {  // a device, FIFO or descriptor is written through: no directory entry is made
+    if (target.fd == STDOUT_FILENO) claim_stdout();  // before any "wrote ..." reaches it
+    return;
+  }
+  const std::string dir = parent_of(target.path);
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw RuntimeFailure("cannot write " + what + " " + path + ": directory " + dir + " does not exist");
   if (::access(dir.c_str(), W_OK | X_OK) != 0)
     throw RuntimeFailure("cannot write " + what + " " + path + ": directory " + dir + " is not writable");
-  if (fs::is_directory(path, ec))
+  if (fs::is_directory(target.path, ec))
     throw RuntimeFailure("cannot write " + what + " " + path + ": it is a directory");
-  if (no_overwrite() && fs::exists(path, ec))
+  if (no_overwrite() && fs::exists(target.path, ec))
     throw UsageError(what + ": " + path + " exists, and -n/--no-overwrite keeps it");
 }
 
 void refuse_shared_outputs(const std::vector<std::pair<std::string, std::string>>& outputs) {
   std::vector<std::pair<fs::path, std::string>> seen;
   for (const auto& [path, what] : outputs) {
-    if (path.empty()) continue;
+    if (path.empty() || is_character_device(path)) continue;  // --metrics /dev/null --state /dev/null
     std::error_code ec;
     fs::path resolved = fs::weakly_canonical(fs::absolute(path, ec), ec);
     if (ec) resolved = fs::absolute(path).lexically_normal();
@@ -54,7 +69,10 @@ std::atomic<bool> g_no_overwrite{false};
 }  // namespace
 
 bool no_overwrite() { return g_no_overwrite; }
-void set_no_overwrite(bool on) { g_no_overwrite = on; }
+void set_no_overwrite(bool on) {
+  g_no_overwrite = on;
+  set_no_clobber(on);  // and checked again, atomically, as each file is named
+}
 
 void refuse_existing_frames(const std::string& dir, const std::string& what) {
   if (!no_overwrite()) return;
@@ -99,27 +117,74 @@ void AtomicFile::commit() {
 }
 
 namespace {
-std::atomic<int> g_signal{0};  // lock-free, so safe to store from a handler
-extern "C" void on_sigint(int sig) {
-  // A second signal of either kind kills at once (a batch scheduler's TERM after a Ctrl-C,
-  // or a user's second Ctrl-C while cleanup is stuck): the handler is removed by the first,
-  // and a second that reaches another thread's handler before that (both arrived together;
-  // the suite's test does exactly this) finds the first recorded and kills by itself.
-  // signal() and raise() are async-signal-safe.
+std::atomic<int> g_signal{0};       // lock-free, so safe to store from a handler
+std::atomic<bool> g_polling{false};  // the command polls interrupted() (install_interrupt_handler)
+constexpr int kAnsweredSignals[] = {SIGINT, SIGTERM, SIGHUP};
+
+const char* signal_name(int sig) {
+  return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
+}
+
+void write_text(const char* text) {
+  for (std::size_t left = std::strlen(text); left > 0;) {
+    const ssize_t n = ::write(STDERR_FILENO, text, left);
+    if (n <= 0) return;
+    text += n;
+    left -= static_cast<std::size_t>(n);
+  }
+}
+
+// A signal before the command polls for one (parsing, loading, a command with nothing long to
+// stop): nothing of it is worth finishing, so the process ends here, saying what stays. The
+// outputs still being written are nameless (OutputFile) and vanish with the process.
+[[noreturn]] void stop_at_once(int sig) {
+  write_text("clothsim: stopped by ");
+  write_text(signal_name(sig));
+  write_text(committed_outputs() == 0 ? "; nothing written\n" : "; the files already written stay, nothing else\n");
+  ::_exit(128 + sig);
+}
+
+extern "C" void on_signal(int sig) {
+  // A second signal of any of the three kills at once (a batch scheduler's TERM after a
+  // Ctrl-C, or a user's second Ctrl-C while cleanup is stuck): the handler is removed by the
+  // first, and a second that reaches another thread's handler before that (both arrived
+  // together; the suite's test does exactly this) finds the first recorded and kills by itself.
+  // signal(), raise(), write() and _exit() are async-signal-safe.
   int none = 0;
   const bool first = g_signal.compare_exchange_strong(none, sig);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
-  if (!first) std::raise(sig);  // delivered, with the default action, as the handler returns
+  for (const int s : kAnsweredSignals) std::signal(s, SIG_DFL);
+  if (!first) {
+    std::raise(sig);  // delivered, with the default action, as the handler returns
+    return;
+  }
+  if (!g_polling.load()) stop_at_once(sig);
 }
 }  // namespace
 
 bool interrupted() { return g_signal.load(std::memory_order_relaxed) != 0; }
 int interrupt_signal() { return g_signal.load(std::memory_order_relaxed); }
+const char* interrupt_signal_name() { return signal_name(interrupt_signal()); }
 
-const char* interrupt_signal_name() {
-  const int sig = interrupt_signal();
-  return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  for (const int s : kAnsweredSignals) sigaddset(&sa.sa_mask, s);  // one handler at a time
+  for (const int s : kAnsweredSignals) sigaction(s, &sa, nullptr);
+  // A reader that goes away (`-o - | head -c 100`) makes the write fail with EPIPE, reported
+  // on one line like any write error, instead of killing the process without a word.
+  std::signal(SIGPIPE, SIG_IGN);
+}
+
+void install_interrupt_handler() { g_polling = true; }
+
+int exit_code_after(int code) {
+  g_polling = false;  // from here (libraries' teardown) a signal ends the process at once
+  if (!interrupted()) return code;
+  // The work was done when the signal was seen (after the last poll): every output stands.
+  std::fprintf(stderr, "clothsim: stopped by %s after the work was done; every output is written\n",
+               interrupt_signal_name());
+  return 128 + interrupt_signal();
 }
 
 std::string number_text(double value) {
@@ -144,14 +209,6 @@ std::string interruption_message(double t, const std::vector<std::string>& kept,
   char when[64];
   std::snprintf(when, sizeof when, "%.6g", t);
   return std::string("stopped by ") + interrupt_signal_name() + " at t = " + when + " s; " + what_stays(kept, not_written);
-}
-
-void install_interrupt_handler() {
-  struct sigaction sa{};
-  sa.sa_handler = on_sigint;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
 }
 
 std::optional<double> parse_number_or_fraction(const std::string& text) {

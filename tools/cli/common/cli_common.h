@@ -17,16 +17,16 @@
 namespace clothsim::cli {
 
 // The CLI contract's exit codes (DESIGN.md).
-// A run stopped by SIGINT or SIGTERM exits 128 + the signal's number (130, 143), as a shell
-// reports a process killed by it, after cleaning up (main() maps it; see interrupt_signal()).
+// A run stopped by SIGINT, SIGTERM or SIGHUP exits 128 + the signal's number (130, 143, 129),
+// as a shell reports a process killed by it, after cleaning up (main() maps it).
 enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3, kNotConverged = 4 };
 // The exit codes as --help lists them (clothsim --help, and run --help, which has its own footer).
 inline constexpr const char* kExitCodesHelp =
     "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene\n"
     "(also a run over --max-memory or past 1e9 steps / 1e7 frames), 3 the simulation diverged\n"
     "(run only), 4 an implicit step did not converge (run --strict),\n"
-    "130 / 143 stopped by SIGINT (Ctrl-C) / SIGTERM (at once, whatever the step; a second\n"
-    "signal kills).\n";
+    "130 / 143 stopped by SIGINT (Ctrl-C) / SIGTERM, 129 by SIGHUP (at once, whatever the\n"
+    "step; a second signal kills). What stays when: docs/outputs.md.\n";
 
 // Bad usage or a bad scene: exit 2. The message is the whole one-line error.
 struct UsageError : std::runtime_error {
@@ -76,13 +76,20 @@ std::string number_text(double value);
 // What a stopped or failed command leaves: "kept A, B; not written: C" ("nothing kept").
 std::string what_stays(const std::vector<std::string>& kept, const std::vector<std::string>& not_written);
 
-// Set by the SIGINT/SIGTERM handler (install_interrupt_handler); long loops poll it and stop
-// cleanly. interrupt_signal() is the signal that arrived (0: none).
-// A second SIGINT or SIGTERM ends the process at once (the handler restores the defaults).
+// Signals (docs/outputs.md): SIGINT, SIGTERM and SIGHUP are answered by every command, with
+// exit 128 + the signal's number (130, 143, 129) and one line saying what stays.
+// install_signal_handlers() is main's first act. Until a command calls
+// install_interrupt_handler(), a signal ends the process at once (nothing is being written
+// then but nameless files); after it, the handler only records the signal, and the command's
+// loops poll interrupted() and stop cleanly. A second signal ends the process at once.
+void install_signal_handlers();
+void install_interrupt_handler();  // "from here on this command polls interrupted()"
 bool interrupted();
-int interrupt_signal();
-const char* interrupt_signal_name();  // "SIGINT", "SIGTERM"
-void install_interrupt_handler();
+int interrupt_signal();                // 0: none
+const char* interrupt_signal_name();  // "SIGINT", "SIGTERM", "SIGHUP"
+// What main returns for a command that ended with `code`: 128 + the signal when one arrived
+// after the command's last poll (saying so on stderr), so no signal is lost.
+int exit_code_after(int code);
 // The one line a stopped command ends with (main adds "clothsim: "), saying exactly what stays
 // on disk and what does not: "stopped by SIGTERM at t = 0.2 s; kept 7 PNGs in out/; not
 // written: m.csv, clip.mp4" ("nothing kept" when `kept` is empty).

@@ -374,7 +374,7 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
         target.frame = -1;
       }
       TargetFrames frames;
-      if (!p.collect(target, frames)) throw stop_here(target.t);
+      if (!p.collect(target, frames)) throw stop_here(last_t);  // where the run stood, not where it was going
       last_t = target.t;
       if (choosing_range && !p.range) {
         p.held.push_back(std::move(frames));

@@ -52,7 +52,7 @@ class PngSequenceSink final : public FrameSink {
   // Every PNG written is complete (written under its name only when whole), so all of them stay.
   std::string written() const override {
     const long n = written_;
-    if (n == 0) return "";
+    if (n == 0 || !std::filesystem::is_directory(dir_)) return "";  // removed meanwhile: nothing kept
     return std::to_string(n) + (n == 1 ? " PNG in " : " PNGs in ") + dir_;
   }
 
@@ -98,7 +98,7 @@ class PngSequenceSink final : public FrameSink {
       PngText text = meta_;
       text.emplace_back("t", time);
       try {
-        write_png(dir_ + "/" + name, job.frame, text, kZlibLevel);
+        write_png(dir_ + "/" + name, job.frame, text, kZlibLevel, Replace::kUnlinkFirst);  // no hidden link to leave
         ++written_;
       } catch (const PngError& e) {
         lock.lock();

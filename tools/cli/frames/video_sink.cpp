@@ -28,7 +28,7 @@ class VideoSink final : public FrameSink {
 
   void add(int /*index*/, double /*t*/, const Image& frame) override {
     try {
-      if (!writer_) writer_.emplace(path_, frame.width, frame.height, options_);
+      if (!writer_) writer_.emplace(path_, frame.width, frame.height, options_).stop_when(interrupted);
       writer_->write(frame);
     } catch (const VideoError& e) {
       throw RuntimeFailure(e.what());

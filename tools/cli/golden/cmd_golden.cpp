@@ -4,7 +4,9 @@
 //   check:  compared with its golden image by imgdiff's measure; on a mismatch the render and
 //           an amplified diff are written beside the golden (NAME_tXms.actual.png, .diff.png)
 //           or into --failures DIR. Exit 0 all match, 1 some differ or are missing.
-//   update: the golden images are (re)written.
+//   update: the golden images are (re)written, all or none: each is rendered into a nameless
+//           file, and they are named together once every one was made.
+// SIGINT, SIGTERM and SIGHUP stop it with one line of what stays (docs/outputs.md).
 // A bad manifest or scene, or an entry whose run would need more than --max-memory, exits 2
 // before anything is rendered.
 #include <algorithm>
@@ -48,8 +50,17 @@ std::string evidence_path(const GoldenOptions& o, const std::string& golden, con
   return (dir / (g.stem().string() + "." + kind + ".png")).string();
 }
 
+// What the entries' runs leave: `update` holds every golden image nameless until all are
+// rendered (all or nothing), `check` the evidence of the failures found so far.
+struct GoldenWork {
+  std::vector<std::unique_ptr<OutputFile>> staged;  // update: named together by commit_all()
+  std::vector<std::string> evidence;                 // check: .actual.png and .diff.png written
+  int bad = 0;                                       // images that differ, are missing or diverged
+};
+
 // Compares one render with its golden image; prints one line; returns whether it matched.
-bool check_one(const GoldenOptions& o, const std::string& golden, const Image& actual, const DiffTolerance& tol) {
+bool check_one(const GoldenOptions& o, const std::string& golden, const Image& actual, const DiffTolerance& tol,
+               std::vector<std::string>& evidence) {
   const std::string name = fs::path(golden).filename().string();
   const std::string actual_path = evidence_path(o, golden, "actual"), diff_path = evidence_path(o, golden, "diff");
   std::string problem;
@@ -76,10 +87,12 @@ bool check_one(const GoldenOptions& o, const std::string& golden, const Image& a
                     100.0 * tol.max_over_fraction);
       problem = text;
       write_png(diff_path, diff_image(expected, actual));
+      evidence.push_back(diff_path);
       with_diff = true;
     }
   }
   write_png(actual_path, actual);
+  evidence.push_back(actual_path);
   std::printf("FAIL  %s  %s; actual: %s%s\n", name.c_str(), problem.c_str(), actual_path.c_str(),
               with_diff ? (", diff: " + diff_path).c_str() : "");
   return false;
@@ -89,8 +102,8 @@ bool check_one(const GoldenOptions& o, const std::string& golden, const Image& a
 class GoldenOutput final : public FrameOutput {
  public:
   GoldenOutput(const GoldenOptions& o, const GoldenManifest& manifest, const GoldenEntry& entry, bool update,
-               const Model& model, const Renderer& renderer, int& bad)
-      : o_(o), manifest_(manifest), entry_(entry), update_(update), model_(model), renderer_(renderer), bad_(bad) {}
+               const Model& model, const Renderer& renderer, GoldenWork& work)
+      : o_(o), manifest_(manifest), entry_(entry), update_(update), model_(model), renderer_(renderer), work_(work) {}
   std::string what() const override { return "golden"; }
   void on_target(const Target& target, const std::vector<LaneView>& lanes) override {
     if (target.column < 0) return;
@@ -100,21 +113,28 @@ class GoldenOutput final : public FrameOutput {
     if (f.divergence) {  // this image and the later ones of the entry cannot be made
       std::printf("FAIL  %s  %s diverged at t = %.6g s: %s\n", fs::path(golden).filename().c_str(),
                   entry_.scene.c_str(), f.divergence->t, f.divergence->reason.c_str());
-      ++bad_;
+      ++work_.bad;
       return;
     }
     if (update_) {
-      write_png(golden, *lanes.front().image,
+      // Into a nameless file held until every image is made (written through /proc/self/fd).
+      work_.staged.push_back(std::make_unique<OutputFile>(golden));
+      write_png(work_.staged.back()->reopen_path(), *lanes.front().image,
                 with_renderer({{"scene", model_.name}, {"integrator", std::string(integrator_name(lanes.front().spec->kind))},
                                {"t", std::to_string(t)}, {"software", "clothsim " CLOTHSIM_VERSION}},
                               renderer_));
-      std::printf("wrote %s\n", golden.c_str());
-    } else if (!check_one(o_, golden, *lanes.front().image, entry_.tolerance)) {
-      ++bad_;
+    } else if (!check_one(o_, golden, *lanes.front().image, entry_.tolerance, work_.evidence)) {
+      ++work_.bad;
     }
   }
   void finish() override {}
-  void abandon(std::vector<std::string>&, std::vector<std::string>&) override {}
+  void abandon(std::vector<std::string>& kept, std::vector<std::string>& lost) override {
+    if (update_) {
+      lost.push_back("every golden image (update writes all or none)");
+    } else {
+      kept.insert(kept.end(), work_.evidence.begin(), work_.evidence.end());
+    }
+  }
  private:
   const GoldenOptions& o_;
   const GoldenManifest& manifest_;
@@ -122,15 +142,26 @@ class GoldenOutput final : public FrameOutput {
   bool update_;
   const Model& model_;
   const Renderer& renderer_;
-  int& bad_;
+  GoldenWork& work_;
 };
 
-int golden_command(const GoldenOptions& o, bool update) {
-  const GoldenManifest manifest = load_golden_manifest(o.manifest);
-  // Every scene is read, and its run's memory estimated, before any rendering, so a bad one
-  // fails at once (exit 2).
-  std::vector<SceneDef> scenes;
-  std::vector<PictureLook> looks;
+// update's end: every image made, so all are named now, one rename each.
+void commit_all(GoldenWork& work) {
+  for (std::size_t i = 0; i < work.staged.size(); ++i) {
+    try {
+      work.staged[i]->commit();
+    } catch (const OutputFileError& e) {
+      throw RuntimeFailure(std::string(e.what()) + "; " + std::to_string(i) + " of " +
+                           std::to_string(work.staged.size()) + " golden images written before it");
+    }
+    std::printf("wrote %s\n", work.staged[i]->path().c_str());
+  }
+}
+
+// Every scene is read, and its run's memory estimated, before any rendering, so a bad one
+// fails at once (exit 2).
+void load_entries(const GoldenOptions& o, const GoldenManifest& manifest, std::vector<SceneDef>& scenes,
+                  std::vector<PictureLook>& looks) {
   for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
     const GoldenEntry& e = manifest.entries[i];
     const std::string key = "goldens[" + std::to_string(i) + "]";
@@ -163,10 +194,19 @@ int golden_command(const GoldenOptions& o, bool update) {
         .check(manifest.path + (e.line > 0 ? ":" + std::to_string(e.line) : "") + ": " + key + " (" + e.scene + ")",
                o.max_memory);
   }
+}
+
+int golden_command(const GoldenOptions& o, bool update) {
+  install_interrupt_handler();  // the pipeline polls; a signal stops it with one line of what stays
+  const GoldenManifest manifest = load_golden_manifest(o.manifest);
+  std::vector<SceneDef> scenes;
+  std::vector<PictureLook> looks;
+  load_entries(o, manifest, scenes, looks);
   if (!o.failures_dir.empty() && !update) ensure_directory(o.failures_dir, "--failures");
   const std::unique_ptr<Renderer> renderer = make_renderer(o.gl);
 
-  int images = 0, bad = 0;
+  int images = 0;
+  GoldenWork work;
   for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
     const GoldenEntry& e = manifest.entries[i];
     const SceneDef& scene = scenes[i];
@@ -189,15 +229,21 @@ int golden_command(const GoldenOptions& o, bool update) {
                        /*with_frames=*/false, e.times);
     if (look.color != FieldKind::None) targets.with_scale_window(kColorScaleWindow);
     FramePipeline pipeline(model, targets, {lane}, config, renderer.get());
-    pipeline.add(std::make_unique<GoldenOutput>(o, manifest, e, update, model, *renderer, bad));
+    pipeline.add(std::make_unique<GoldenOutput>(o, manifest, e, update, model, *renderer, work));
     pipeline.run("golden " + model.name);
   }
-  if (update) {
-    std::printf("golden: %d of %d images written (%s)\n", images - bad, images, o.manifest.c_str());
-  } else {
-    std::printf("golden: %d of %d images match (%s)\n", images - bad, images, o.manifest.c_str());
+  if (update && work.bad > 0) {
+    std::printf("golden: %d of %d images could not be made; nothing written (update writes all or none) (%s)\n",
+                work.bad, images, o.manifest.c_str());
+    return 1;
   }
-  return bad == 0 ? kOk : 1;
+  if (update) {
+    commit_all(work);
+    std::printf("golden: %d of %d images written (%s)\n", images, images, o.manifest.c_str());
+  } else {
+    std::printf("golden: %d of %d images match (%s)\n", images - work.bad, images, o.manifest.c_str());
+  }
+  return work.bad == 0 ? kOk : 1;
 }
 
 }  // namespace

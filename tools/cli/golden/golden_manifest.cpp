@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "scene/names.h"
 #include "scene/scene_parser.h"
 
 namespace clothsim::cli {
@@ -97,7 +98,9 @@ class ManifestReader {
     const std::string scene = text(n["scene"], key + ".scene");
     e.scene = fs::path(scene).is_absolute() ? scene : (dir / scene).lexically_normal().string();
     e.name = n["name"] ? text(n["name"], key + ".name") : fs::path(scene).stem().string();
-    if (e.name.find('/') != std::string::npos) fail(n["name"], key + ".name", "a file stem, without '/'");
+    // The name becomes NAME_tXms.png beside the manifest: a NUL or '/' would write elsewhere.
+    if (const std::string problem = name_problem(e.name); !problem.empty())
+      n["name"] ? fail(n["name"], key + ".name", problem) : fail(n["scene"], key + ".scene", "its file stem " + problem);
     if (n["integrator"]) {
       e.integrator = parse_integrator(text(n["integrator"], key + ".integrator"));
       if (!e.integrator)

@@ -123,16 +123,8 @@ std::string dir_label(const std::string& dir) {
   return p.filename().string();
 }
 
-int run_encode(const EncodeArgs& args) {
-  install_interrupt_handler();
-  // 1. Everything that can be wrong with the command, before any encoding.
-  VideoWriterOptions video{args.fps, args.crf, args.preset};
-  try {
-    validate_video_options(video);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(std::string("encode: ") + e.what());
-  }
-  std::vector<std::string> labels;
+// --labels (one per directory, or the directories' names) and --layout, checked.
+GridLayout check_labels_and_layout(const EncodeArgs& args, std::vector<std::string>& labels) {
   if (!args.labels.empty()) {
     labels = split_list(args.labels);
     if (labels.size() != args.dirs.size())
@@ -147,6 +139,32 @@ int run_encode(const EncodeArgs& args) {
   } catch (const LayoutError& e) {
     throw UsageError(std::string("encode: --layout: ") + e.what());
   }
+  return layout;
+}
+
+// One decoded PNG per tile, the composed frame and the encoder, before any of them exists.
+void check_encode_budget(const EncodeArgs& args, const std::vector<Sequence>& seqs, const TileGrid& grid) {
+  MemoryBudget budget;
+  double tiles = 0.0;
+  for (const Sequence& s : seqs) tiles += 4.0 * s.width * s.height;
+  budget.add("tiles", tiles);
+  budget.add("frame " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()),
+             4.0 * grid.width() * grid.height());
+  budget.add("encoder", encoder_bytes(grid.width(), grid.height()));
+  budget.check("encode " + args.output, args.max_memory);
+}
+
+int run_encode(const EncodeArgs& args) {
+  install_interrupt_handler();
+  // 1. Everything that can be wrong with the command, before any encoding.
+  VideoWriterOptions video{args.fps, args.crf, args.preset};
+  try {
+    validate_video_options(video);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("encode: ") + e.what());
+  }
+  std::vector<std::string> labels;
+  const GridLayout layout = check_labels_and_layout(args, labels);
   require_writable_parent(args.output, "-o/--output");
 
   std::vector<Sequence> seqs;
@@ -158,22 +176,12 @@ int run_encode(const EncodeArgs& args) {
     cell_h = std::max(cell_h, seqs.back().height);
   }
   const TileGrid grid(layout, cell_w, cell_h);
-  {
-    // One decoded PNG per tile, the composed frame and the encoder, before any of them exists.
-    MemoryBudget budget;
-    double tiles = 0.0;
-    for (const Sequence& s : seqs) tiles += 4.0 * s.width * s.height;
-    budget.add("tiles", tiles);
-    budget.add("frame " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()),
-               4.0 * grid.width() * grid.height());
-    budget.add("encoder", encoder_bytes(grid.width(), grid.height()));
-    budget.check("encode " + args.output, args.max_memory);
-  }
+  check_encode_budget(args, seqs, grid);
 
   // 2. Stream: read one PNG per tile, compose, encode; nothing accumulates.
   std::optional<VideoWriter> writer;
   try {
-    writer.emplace(args.output, grid.width(), grid.height(), video);
+    writer.emplace(args.output, grid.width(), grid.height(), video).stop_when(interrupted);
   } catch (const VideoError& e) {
     throw RuntimeFailure(e.what());
   }
@@ -207,6 +215,8 @@ int run_encode(const EncodeArgs& args) {
   try {
     writer->finish();
   } catch (const VideoError& e) {
+    if (interrupted())
+      throw RuntimeFailure("interrupted while finishing the clip; " + args.output + " not written");
     throw RuntimeFailure(e.what());
   }
   progress.reset();

@@ -51,7 +51,7 @@ struct RunOptions {
 void check_run_usage(const RunOptions& o, const SceneDef& scene) {
   if (o.still_t && o.still_out.empty()) throw UsageError("--still needs -o/--output FILE.png");
   if (!o.still_out.empty() && !o.still_t) throw UsageError("-o/--output goes with --still T");
-  if (o.still_t && (*o.still_t < 0.0 || *o.still_t > scene.duration))
+  if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= scene.duration))  // NaN too
     throw UsageError("--still: time " + number_text(*o.still_t) + " s is outside the run (0 to " +
                      number_text(scene.duration) + " s)");
   if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
@@ -199,14 +199,15 @@ int run_command(const RunOptions& o) {
 
   const RunTotals& t = r.totals;
   print_run_totals(model, kind, dt, r, report);
-  if (!o.summary.empty()) write_run_summary(o, scene, model, r, report);  // a diverged run too
+  RunFiles files({o.metrics, o.video, o.still_t ? o.still_out : "", o.frames_dir}, after);  // run_outputs.h
+  files.write(o.summary, [&] { write_run_summary(o, scene, model, r, report); });  // a diverged run too
   if (r.divergence) {
     const Divergence& d = *r.divergence;
     std::fprintf(stderr, "clothsim: %s: diverged at step %" PRId64 ", t = %.6g s: %s\n",
                  scene.source.c_str(), d.step, d.t, d.reason.c_str());
     return kDiverged;
   }
-  if (!o.state.empty()) write_state_csv(o.state, model, *r.final_state);
+  files.write(o.state, [&] { write_state_csv(o.state, model, *r.final_state); });
   if (o.strict && t.unconverged_steps > 0) {
     std::fprintf(stderr,
                  "clothsim: %s: --strict: %" PRId64 " of %" PRId64

@@ -1,5 +1,6 @@
 #include "run_outputs.h"
 
+#include <algorithm>
 #include <cinttypes>
 
 #include "cli/studies/study_common.h"  // csv_text, csv_number: shortest exact form
@@ -17,10 +18,13 @@ MetricsWriter::MetricsWriter(const std::string& path, const Model& model, Integr
 void MetricsWriter::row(const FrameMetrics& m) {
   std::fprintf(file_.stream(),
                "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%" PRId64 ",%" PRId64 ",%" PRId64
-               ",%.6g,%d%s\n",
+               ",%.6g,%d",
                m.step, m.t, m.energies.kinetic, m.energies.spring, m.energies.gravity,
                m.energies.total(), m.max_strain, m.contacts, m.force_evals, m.newton_iterations,
-               m.cg_iterations, m.residual, m.converged ? 1 : 0, run_columns_.c_str());
+               m.cg_iterations, m.residual, m.converged ? 1 : 0);
+  // Written whole, not through %s: a cell is never cut at a byte it holds.
+  std::fwrite(run_columns_.data(), 1, run_columns_.size(), file_.stream());
+  std::fputc('\n', file_.stream());
 }
 
 PngText frame_metadata(const Model& model, IntegratorKind kind, double dt) {
@@ -29,6 +33,24 @@ PngText frame_metadata(const Model& model, IntegratorKind kind, double dt) {
   return {{"scene", model.name}, {"source", model.source},
           {"integrator", std::string(integrator_name(kind))}, {"dt", dt_text},
           {"software", "clothsim " CLOTHSIM_VERSION}};
+}
+
+RunFiles::RunFiles(const std::vector<std::string>& finished, const std::vector<std::string>& after) {
+  for (const std::string& path : finished)
+    if (!path.empty()) kept_.push_back(path);
+  for (const std::string& path : after)
+    if (!path.empty()) pending_.push_back(path);
+}
+
+void RunFiles::write(const std::string& path, const std::function<void()>& write_file) {
+  if (path.empty()) return;
+  try {
+    write_file();
+  } catch (const RuntimeFailure& e) {
+    throw RuntimeFailure(std::string(e.what()) + "; " + what_stays(kept_, pending_));
+  }
+  kept_.push_back(path);
+  pending_.erase(std::find(pending_.begin(), pending_.end(), path));
 }
 
 void write_state_csv(const std::string& path, const Model& model, const State& state) {

@@ -3,7 +3,9 @@
 // all, and the metadata every PNG of a run carries.
 #pragma once
 
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "cli/common/cli_common.h"
 #include "core/model.h"
@@ -31,6 +33,20 @@ class MetricsWriter {
 
 // The tEXt chunks of a run's PNGs: scene, source, integrator, dt, software (sinks add t).
 PngText frame_metadata(const Model& model, IntegratorKind kind, double dt);
+
+// The files a run has finished and the ones it writes after its frames (--summary, --state):
+// a failure writing one of those (a full disk, ulimit -f) says what stays, as a signal does:
+// "cannot write s.csv: File too large; kept m.csv, s.json; not written: s.csv".
+class RunFiles {
+ public:
+  // `finished`: written by the pipeline; `after`: still to write, in order (empty paths skipped).
+  RunFiles(const std::vector<std::string>& finished, const std::vector<std::string>& after);
+  // Runs `write_file` for `path` (nothing when `path` is empty); on a RuntimeFailure rethrows
+  // it with what stays appended.
+  void write(const std::string& path, const std::function<void()>& write_file);
+ private:
+  std::vector<std::string> kept_, pending_;
+};
 
 // Header id,x,y,z,vx,vy,vz; %.17g, so a state read back is bit-identical.
 void write_state_csv(const std::string& path, const Model& model, const State& state);

@@ -1,21 +1,22 @@
 #include "study_common.h"
 
 #include <fcntl.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <csignal>
 #include <mutex>
+#include <optional>
 
 #include "cli/common/scene_options.h"
 #include "scene/echo.h"
-
-extern char** environ;
 
 namespace clothsim::cli {
 namespace fs = std::filesystem;
@@ -46,9 +47,12 @@ std::string csv_number(double value) {
 }
 
 std::string csv_text(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  const auto control = [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; };
+  if (text.find_first_of(",\"") == std::string::npos && std::none_of(text.begin(), text.end(), control)) return text;
+  // Quoted (RFC 4180), and a control byte (a newline, CR, ESC, NUL) made a space: a cell is
+  // one line of text in any reader, and a terminal showing the file obeys nothing in it.
   std::string quoted = "\"";
-  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, control(c) ? ' ' : c);
   return quoted + "\"";
 }
 
@@ -78,23 +82,56 @@ std::string tools_dir() {
 
 namespace {
 
-// Runs argv (argv[0] a path), stdout to /dev/null unless `quiet` is false; returns the exit code.
-int run_process(const std::vector<std::string>& args, bool quiet) {
+constexpr int kChildFirstFd = 3;  // the descriptors handed to a plot script: its PNG, its CSV
+
+// The child's side of run_process, between fork and exec: async-signal-safe calls only.
+[[noreturn]] void exec_child(char* const* argv, pid_t parent, bool quiet, const std::vector<int>& fds) {
+  ::setpgid(0, 0);                      // its own group: a Ctrl-C reaches us, and we end it
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // it never outlives us, even after our SIGKILL
+  if (::getppid() != parent) ::_exit(127);  // we died before prctl took hold
+  for (const int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) ::signal(s, SIG_DFL);
+  sigset_t none;
+  sigemptyset(&none);
+  ::sigprocmask(SIG_SETMASK, &none, nullptr);
+  if (quiet) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDOUT_FILENO);
+    ::dup2(null, STDERR_FILENO);
+  }
+  // Out of the way first (a source may itself be 3 or 4), then into place; dup2 clears
+  // close-on-exec on the copy.
+  int high[8];
+  const std::size_t n = std::min<std::size_t>(fds.size(), 8);
+  for (std::size_t i = 0; i < n; ++i) high[i] = ::fcntl(fds[i], F_DUPFD, 64);
+  for (std::size_t i = 0; i < n; ++i) ::dup2(high[i], kChildFirstFd + static_cast<int>(i));
+  ::execv(argv[0], argv);
+  ::_exit(127);
+}
+
+// Runs argv (argv[0] a path), stdout and stderr to /dev/null when `quiet`, `fds` as the
+// child's descriptors 3, 4...; returns the exit code, or -1 when stopped by a signal (the
+// child's whole group killed and reaped first) or when it could not start.
+int run_process(const std::vector<std::string>& args, bool quiet, const std::vector<int>& fds = {}) {
   std::vector<char*> argv;
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  if (quiet) {
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  }
-  pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) return -1;
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid < 0) return -1;
+  if (pid == 0) exec_child(argv.data(), parent, quiet, fds);
+  ::setpgid(pid, pid);  // also here, so the kill below cannot race the child's own setpgid
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+  for (;;) {
+    const pid_t done = ::waitpid(pid, &status, WNOHANG);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR) return -1;
+    if (interrupted()) {  // polled: the signal may have gone to any thread
+      ::kill(-pid, SIGKILL);
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+      return -1;
+    }
+    ::usleep(10000);  // 10 ms: a signal is answered within that
+  }
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
@@ -115,41 +152,54 @@ PlotScript::PlotScript(std::string script, std::string png) : png_(std::move(png
     throw RuntimeFailure("--plot needs matplotlib for " + python_ + " (apt-get install python3-matplotlib)");
 }
 
-void PlotScript::draw(const std::vector<std::string>& args) const {
-  const std::string temp = temp_path_beside(png_);
+void PlotScript::draw(const std::vector<std::string>& args) const { draw(args, -1); }
+
+void PlotScript::draw(const std::vector<std::string>& args, int csv_fd) const {
+  // The script writes into a nameless file of ours (or the device or pipe the PNG streams to)
+  // through /dev/fd/3: killed at any moment, it leaves nothing under any name.
+  std::optional<OutputFile> out;
+  try {
+    out.emplace(png_);
+  } catch (const OutputFileError& e) {
+    throw RuntimeFailure(e.what());
+  }
   std::vector<std::string> argv{python_, script_};
   argv.insert(argv.end(), args.begin(), args.end());
   argv.push_back("--out");
-  argv.push_back(temp);
-  const int code = run_process(argv, false);
-  if (code != 0) {
-    std::remove(temp.c_str());
+  argv.push_back("/dev/fd/" + std::to_string(kChildFirstFd));
+  std::vector<int> fds{out->fd()};
+  if (csv_fd >= 0) fds.push_back(csv_fd);
+  const int code = run_process(argv, false, fds);
+  if (interrupted()) throw RuntimeFailure(std::string("stopped by ") + interrupt_signal_name() +
+                                          " while drawing the plot; " + png_ + " not written");
+  if (code != 0)
     throw RuntimeFailure("--plot: " + script_ + " failed (exit " + std::to_string(code) + "); no plot written");
-  }
-  if (std::rename(temp.c_str(), png_.c_str()) != 0) {
-    std::remove(temp.c_str());
-    throw RuntimeFailure("cannot rename " + temp + " to " + png_ + ": " + std::strerror(errno));
+  try {
+    out->commit();
+  } catch (const OutputFileError& e) {
+    throw RuntimeFailure(e.what());
   }
 }
 
 void PlotScript::draw_from_csv(const std::string& csv,
                                const std::function<void(const std::string&)>& write_csv,
                                const std::vector<std::string>& args) const {
-  struct RemoveOnExit {  // the temporary CSV goes whether the script succeeds or throws
-    std::string path;
-    ~RemoveOnExit() {
-      if (!path.empty()) std::remove(path.c_str());
-    }
-  } temp;
+  // Without --csv, the script reads a nameless CSV of ours through /proc/self/fd: nothing to
+  // remove afterwards, nothing left by a kill.
+  std::optional<OutputFile> temp;
   std::string source = csv;
   if (source.empty()) {
-    temp.path = temp_path_beside(png_ + ".csv");
-    write_csv(temp.path);
-    source = temp.path;
+    try {
+      temp.emplace(png_ + ".csv");
+    } catch (const OutputFileError& e) {
+      throw RuntimeFailure(e.what());
+    }
+    write_csv(temp->reopen_path());
+    source = "/dev/fd/" + std::to_string(kChildFirstFd + 1);
   }
   std::vector<std::string> all{"--csv", source};
   all.insert(all.end(), args.begin(), args.end());
-  draw(all);
+  draw(all, temp ? temp->fd() : -1);
   std::printf("plot: %s\n", png_.c_str());
 }
 

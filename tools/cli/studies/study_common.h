@@ -23,8 +23,9 @@ inline constexpr const char* kDefaultFrameDts = "1/240,1/120,1/60,1/30";
 // --frame-dts: "none", or steps as numbers or fractions ("1/60"); a UsageError names the item.
 std::vector<double> parse_frame_dts(const std::string& text);
 
-// A CSV cell: numbers in the shortest form that reads back exactly (nan stays "nan"), and text quoted when it holds a comma
-// or a quote (RFC 4180), so a divergence reason cannot break a row.
+// A CSV cell: numbers in the shortest form that reads back exactly (nan stays "nan"), and text
+// quoted when it holds a comma, a quote or a control byte (RFC 4180; control bytes become
+// spaces), so no text can break a row.
 std::string csv_number(double value);
 std::string csv_text(const std::string& text);
 
@@ -55,16 +56,19 @@ class PlotScript {
   // Throws RuntimeFailure when the script, python3 or matplotlib is missing, and checks
   // that `png` can be written.
   PlotScript(std::string script, std::string png);
-  // Runs python3 SCRIPT ARGS... --out TMP.png and renames TMP onto the requested name.
-  // Throws RuntimeFailure when the script fails (its stderr is passed through).
+  // Runs python3 SCRIPT ARGS... --out /dev/fd/3, a nameless file of ours named when the
+  // script succeeds; the script is in its own process group, dies with us, and is killed on
+  // a signal. Throws RuntimeFailure when the script fails (its stderr is passed through) or a
+  // signal stops it.
   void draw(const std::vector<std::string>& args) const;
   // Draws from the study's CSV: `csv` when the user asked for one (already written there),
-  // otherwise a temporary CSV written by `write_csv(path)` beside the PNG and removed after.
+  // otherwise a nameless CSV written by `write_csv(path)` and read by the script as /dev/fd/4.
   // Passes "--csv PATH" before `args`, and says "plot: PNG" on stdout.
   void draw_from_csv(const std::string& csv, const std::function<void(const std::string&)>& write_csv,
                      const std::vector<std::string>& args) const;
   const std::string& png() const { return png_; }
  private:
+  void draw(const std::vector<std::string>& args, int csv_fd) const;  // csv_fd: the child's /dev/fd/4
   std::string python_, script_, png_;
 };
 

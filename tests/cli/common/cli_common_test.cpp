@@ -1,0 +1,121 @@
+// Signals as every command answers them (cli_common.h, docs/outputs.md): SIGINT, SIGTERM and
+// SIGHUP at any moment give 128 + N and one line of what stays; a plot script never
+// outlives the command and leaves nothing; golden update writes all or none.
+#include "cli/common/cli_common.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "cli/cli_process.h"
+
+namespace clothsim::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string scene(const std::string& name) { return std::string(CLOTHSIM_SCENES_DIR) + "/" + name; }
+
+// Running (a zombie no one reaps, as under a container's init, does not count).
+bool process_exists(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  if (!std::getline(stat, text)) return false;
+  const std::size_t end = text.rfind(')');
+  return end != std::string::npos && end + 2 < text.size() && text[end + 2] != 'Z';
+}
+
+TEST(Signals, SighupStopsARunWith129AndSaysWhatStays) {
+  const std::string dir = scratch_dir("signals_hup");
+  const StoppedResult r = run_clothsim_interrupted(
+      {"run", scene("drape.yaml"), "--duration", "5", "--frames", dir + "/fr", "--metrics", dir + "/m.csv"}, 1.0,
+      SIGHUP);
+  EXPECT_EQ(r.exit_code, 129) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("stopped by SIGHUP at t = "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not written: " + dir + "/m.csv"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/m.csv"));
+}
+
+// imgdiff waits on a FIFO nobody writes: a command with nothing to poll is still answered.
+TEST(Signals, ACommandThatDoesNotPollEndsAtOnceSayingNothingWasWritten) {
+  const std::string dir = scratch_dir("signals_no_poll");
+  ASSERT_EQ(::mkfifo((dir + "/a.png").c_str(), 0600), 0);
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
+    const StoppedResult r =
+        run_clothsim_interrupted({"imgdiff", dir + "/a.png", dir + "/a.png", "--diff", dir + "/d.png"}, 0.5, signal);
+    EXPECT_EQ(r.exit_code, 128 + signal) << r.err;
+    EXPECT_EQ(r.err, std::string("clothsim: stopped by ") + (signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "SIGHUP") +
+                         "; nothing written\n");
+    EXPECT_LT(r.seconds_to_exit, 1.0);
+  }
+  EXPECT_TRUE(only_files(dir, {"a.png"}));
+}
+
+// A stand-in for python3 that passes the matplotlib check, then records its pid and hangs as
+// a slow plot would.
+std::string hanging_python(const std::string& dir) {
+  const std::string path = dir + "/python";
+  std::ofstream(path) << "#!/bin/sh\n[ \"$1\" = -c ] && exit 0\necho $$ > " << dir << "/plot.pid\nexec sleep 30\n";
+  fs::permissions(path, fs::perms::owner_all);
+  return path;
+}
+
+pid_t plot_pid(const std::string& dir) {
+  std::ifstream in(dir + "/plot.pid");
+  pid_t pid = -1;
+  in >> pid;
+  return pid;
+}
+
+TEST(Signals, APlotScriptIsKilledAndReapedOnASignalAndLeavesNothing) {
+  const std::string dir = scratch_dir("signals_plot");
+  ::setenv("CLOTHSIM_PYTHON", hanging_python(dir).c_str(), 1);
+  const StoppedResult r = run_clothsim_interrupted(
+      {"bench", scene("spring.yaml"), "--dts", "0.01,0.005", "--duration", "1", "--plot", dir + "/wp.png"}, 3.0,
+      SIGTERM);
+  ::unsetenv("CLOTHSIM_PYTHON");
+  EXPECT_EQ(r.exit_code, 143) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("stopped by SIGTERM while drawing the plot; " + dir + "/wp.png not written"), std::string::npos)
+      << r.err;
+  EXPECT_LT(r.seconds_to_exit, 1.0);
+  const pid_t child = plot_pid(dir);
+  ASSERT_GT(child, 0) << "the plot had started";
+  EXPECT_FALSE(process_exists(child)) << "the plot script outlived the command";
+  EXPECT_TRUE(only_files(dir, {"python", "plot.pid"}));
+}
+
+TEST(Signals, APlotScriptDiesWithACommandKilledBySigkill) {
+  const std::string dir = scratch_dir("signals_plot_kill");
+  ::setenv("CLOTHSIM_PYTHON", hanging_python(dir).c_str(), 1);
+  const StoppedResult r = run_clothsim_interrupted(
+      {"bench", scene("spring.yaml"), "--dts", "0.01,0.005", "--duration", "1", "--plot", dir + "/wp.png"}, 3.0,
+      SIGKILL);
+  ::unsetenv("CLOTHSIM_PYTHON");
+  EXPECT_EQ(r.exit_code, 128 + SIGKILL);
+  const pid_t child = plot_pid(dir);
+  ASSERT_GT(child, 0) << "the plot had started";
+  for (int i = 0; i < 100 && process_exists(child); ++i) ::usleep(10000);
+  EXPECT_FALSE(process_exists(child)) << "PR_SET_PDEATHSIG";
+  EXPECT_TRUE(only_files(dir, {"python", "plot.pid"}));
+}
+
+TEST(Signals, GoldenUpdateStoppedChangesNoGoldenImage) {
+  const std::string dir = scratch_dir("signals_golden");
+  fs::copy_file(scene("drape.yaml"), dir + "/d.yaml");
+  std::ofstream(dir + "/m.yaml") << "size: [160, 90]\ngoldens:\n  - {scene: d.yaml, times: [0.05, 4]}\n";
+  const StoppedResult r = run_clothsim_interrupted({"golden", "update", dir + "/m.yaml"}, 1.0, SIGTERM);
+  EXPECT_EQ(r.exit_code, 143) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("stopped by SIGTERM at t = "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not written: every golden image (update writes all or none)"), std::string::npos) << r.err;
+  EXPECT_TRUE(only_files(dir, {"d.yaml", "m.yaml"})) << "the image at 0.05 s, made before the signal, is not named";
+}
+
+}  // namespace
+}  // namespace clothsim::testing
