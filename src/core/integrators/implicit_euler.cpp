@@ -406,6 +406,7 @@ class NewtonSolve {
               cfg_.newton_max_iterations - (stats_.newton_iterations - unserved_) > kReuseReserve;
     if (!reused_) {
       assemble_step_hessian(model_, start_.inv_mass, h_, c_.start_length, c_.y, single_step_, c_.A, false);
+      ++stats_.assemblies;
       c_.jacobi_ready = false;
       c_.matrix_id = 0;
       if (!single_step_) {  // recorded in State for later iterations and steps to reuse
@@ -420,6 +421,7 @@ class NewtonSolve {
       // The recorded matrix, which this Workspace does not hold: rebuilt from State.
       assemble_step_hessian(model_, start_.implicit_lin_inv_mass, start_.implicit_lin_h,
                             start_.implicit_lin_length, start_.implicit_lin_y, false, c_.A, false);
+      ++stats_.assemblies;
       c_.jacobi_ready = false;
       c_.matrix_id = start_.implicit_lin_id;
     }
@@ -473,6 +475,7 @@ class NewtonSolve {
           cg.iterations, cg.converged ? 1 : 0, cg.negative_curvature ? 1 : 0, cg.relative_residual,
           factored ? 1 : 0);
     stats_.cg_iterations += cg.iterations;
+    if (factored) stats_.factored_cg_iterations += cg.iterations;
     if (factored) factor_work_ += cg.iterations * (1.0 + c_.factor.solve_cost());
     else jacobi_work_ += cg.iterations;
     return cg;
