@@ -95,6 +95,8 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
                    r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
       .number("t_reached", r.t)
       .number("spring_passes", spring_passes(r.totals))
+      .number("max_strain", r.totals.max_strain)
+      .number("projected_steps", static_cast<double>(r.totals.projected_steps))
       .number("spring_passes_per_s", t > 0 ? spring_passes(r.totals) / t : std::nan(""))
       .text("lane", r.spec.spelling())
       .text("role", role);
@@ -135,11 +137,11 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
     print_row(report.lanes[i], context.names[i], report.wrong.empty() ? "" : report.wrong[i]);
   if (report.reference) print_row(*report.reference, report.reference->spec.name() + " (reference)", "");
-  for (std::size_t i = 0; i < report.lanes.size(); ++i)
-    std::printf("%s @ %s s: step: %s\n", context.names[i].c_str(), report.lanes[i].spec.step_text.c_str(),
-                context.step_choice[i].c_str());
   if (color != FieldKind::None) print_fields(report, color);
   print_solver_work(report);
+  for (std::size_t i = 0; i < report.lanes.size(); ++i)
+    std::printf("step of %s: %s s, %s\n", context.names[i].c_str(), report.lanes[i].spec.step_text.c_str(),
+                context.step_choice[i].c_str());
 }
 
 std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& report, FieldKind color,
@@ -150,6 +152,7 @@ std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& 
     lane.text("step_choice", context.step_choice[i]).text("name", context.names[i]);
     const std::string wrong = report.wrong.empty() ? "" : report.wrong[i];
     lane.text("result", lane_result(report.lanes[i], wrong)).text("wrong", wrong);
+    if (!report.energy_rise.empty()) lane.number("energy_rise", report.energy_rise[i]);
     if (color != FieldKind::None) with_field(lane, report, i);
     lanes.push_back(lane);
   }

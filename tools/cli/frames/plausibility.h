@@ -19,8 +19,8 @@
 
 namespace clothsim::cli {
 
-inline constexpr double kErrorFraction = 0.25;
-inline constexpr double kProjectedFraction = 0.5;
+inline constexpr double kErrorFraction = 0.1;
+inline constexpr double kProjectedFraction = 0.25;
 inline constexpr double kStrainBound = 0.5;
 inline constexpr double kEnergyRise = 0.1;
 inline constexpr long kMinSteps = 100;
