@@ -33,6 +33,7 @@
 // (stderr) says where the wall time went.
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -62,6 +63,8 @@
 #include "render/renderer.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
+#include "scene/echo.h"
+#include "scene/param_keys.h"
 #include "scene/run_bounds.h"
 #include "scene/scene_parser.h"
 #include "video/tiling.h"
@@ -81,6 +84,8 @@ struct CompareOptions {
   std::string video, frames_dir, dt, sheet, times, still_out;
   std::optional<double> still_t;
   std::vector<std::string> match{"cost"};  // --match cost | error TOL | none
+  std::string vary;                         // --vary KEY=V1,V2,...
+  bool integrators_given = false;           // --integrators on the command line (a --vary grid's rows)
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
   GlOptions gl;
@@ -101,7 +106,25 @@ struct ComparePlan {
   std::optional<TargetPlan> targets;
   std::vector<std::string> lane_dirs;
   std::optional<Model> model;
+  // --vary: per value, its scene and model (a deque: the pipeline keeps pointers), and per
+  // lane the model it runs; the tiles' labels ("ks = 2e4", or "rk4  ks = 2e4" in a grid).
+  std::vector<SceneDef> vary_scenes;
+  std::deque<Model> vary_models;
+  std::vector<const Model*> lane_models;
+  std::vector<std::string> labels;
+  std::vector<std::string> values;  // per lane: its value's label alone ("ks = 2e4")
 };
+
+// --vary draws no error colouring (each value is its own scene, with no one reference): strain
+// unless --color says otherwise.
+PictureOptions look_options(const CompareOptions& o) {
+  PictureOptions look = o.look;
+  if (!o.vary.empty() && !look.color) look.color = "strain";
+  if (!o.vary.empty() && look.color == "error")
+    throw UsageError("--color error: --vary runs a scene per value, with no one reference to measure against; "
+                     "use --color strain, speed or checker");
+  return look;
+}
 
 // The options that go together, and an output to write, before the scene is read.
 void check_option_pairs(const CompareOptions& o) {
@@ -124,7 +147,7 @@ void check_option_pairs(const CompareOptions& o) {
 
 // The pictures' look; a summary alone draws none.
 PictureLook resolve_look(const CompareOptions& o, const ComparePlan& p) {
-  PictureLook look = resolve_picture_look(o.look, p.scene, p.lanes, /*compare=*/true);
+  PictureLook look = resolve_picture_look(look_options(o), p.scene, p.lanes, /*compare=*/true);
   if (p.rendering) return look;
   // The field is measured only when --color asks for it (the default reference, RK4 at a
   // quarter step, costs several times the lanes); its scale is then not chosen.
@@ -183,6 +206,7 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
   const SceneDef& scene = p.scene;
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
+  for (const SceneDef& s : p.vary_scenes) budget.add("model for --vary", model_bytes(s));
   for (const LaneSpec& l : p.lanes)
     budget.add(l.spelling(), run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
   if (p.look.reference) {
@@ -210,12 +234,68 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
 
 // The lanes' steps by --match (step_matching.h), and their names.
 void choose_steps(const CompareOptions& o, ComparePlan& p) {
+  if (!o.vary.empty()) {  // the values compared at one step: what changes is the parameter
+    p.context.step_choice.assign(p.lanes.size(), "the lane's step (--vary compares the values at one step)");
+    return;
+  }
   const MatchRequest match = parse_match(o.match);
   const std::vector<bool> free = free_lanes(o.integrators, o.dt, p.scene.dt);
   const MatchClip clip{p.scene.duration, p.scene.render.fps, p.scene.dt};
   const LaneSpec reference = parse_reference(o.look.reference, p.lanes);
   p.context.step_choice = match_steps(*p.model, p.lanes, free, match, clip, reference);
-  for (const LaneSpec& l : p.lanes) p.context.names.push_back(l.name());
+}
+
+// The rows' names: the --vary labels where there are, else each lane's name.
+void name_lanes(ComparePlan& p) {
+  p.context.names.clear();
+  for (std::size_t i = 0; i < p.lanes.size(); ++i)
+    p.context.names.push_back(p.lanes[i].name() + (p.values.empty() ? "" : ", " + p.values[i]));
+}
+
+// --vary KEY=V1,V2,...: a scene per value (the user's --set, then the key's), and the lanes
+// repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
+void plan_variation(const CompareOptions& o, ComparePlan& p) {
+  const auto eq = o.vary.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == o.vary.size())
+    throw UsageError("--vary: expected KEY=V1,V2,... (ks=2e3,2e4,2e5), got " + in_quotes(o.vary));
+  ParamKey key;
+  try {
+    key = resolve_param_key(o.vary.substr(0, eq), p.scene);
+  } catch (const ParamKeyError& e) {
+    throw UsageError(std::string("--vary: ") + e.what());
+  }
+  std::vector<double> values;
+  for (const std::string& item : split_list(o.vary.substr(eq + 1))) {
+    const std::optional<double> v = parse_number_or_fraction(item);
+    if (!v) throw UsageError("--vary: " + in_quotes(item) + " is not a number");
+    values.push_back(*v);
+  }
+  const std::vector<LaneSpec> rows =
+      o.integrators_given ? p.lanes : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
+  for (double v : values) {
+    SceneOptions with = o.scene;
+    for (const std::string& set : param_sets(key, v)) with.sets.push_back(set);
+    p.vary_scenes.push_back(load_scene_with_options(with));  // a bad value: the parser's message names it
+  }
+  p.lanes.clear();
+  p.lane_dirs.clear();
+  const std::vector<std::string> row_dirs = lane_directories(rows);
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (double v : values) {
+      p.lanes.push_back(rows[r]);
+      const std::string label = param_label(key, v);
+      p.labels.push_back(rows.size() > 1 ? rows[r].name() + "  " + label : label);
+      p.values.push_back(label);
+      std::string dir = row_dirs[r] + "_" + label;
+      dir.erase(std::remove(dir.begin(), dir.end(), ' '), dir.end());
+      p.lane_dirs.push_back(dir);
+    }
+}
+
+// A --vary grid: a column per value, a row per integrator.
+std::string grid_layout_text(const ComparePlan& p) {
+  const std::size_t columns = p.vary_scenes.size();
+  return std::to_string(columns) + "x" + std::to_string(p.lanes.size() / columns);
 }
 
 // 1. Everything that can be wrong, before any simulation; the steps chosen.
@@ -225,18 +305,24 @@ ComparePlan plan_compare(const CompareOptions& o) {
   p.scene = load_scene_with_options(o.scene);
   p.lanes = parse_lanes(o.integrators, o.dt, p.scene.dt);
   parse_match(o.match);  // a bad --match before any pilot runs
-  try {
-    p.layout = parse_layout(o.layout, static_cast<int>(p.lanes.size()));
-  } catch (const LayoutError& e) {
-    throw UsageError(std::string("--layout: ") + e.what());
-  }
   p.with_frames = !o.video.empty() || !o.frames_dir.empty();
   p.rendering = p.with_frames || !o.sheet.empty() || o.still_t;
   p.lane_dirs = lane_directories(p.lanes);
+  if (!o.vary.empty()) plan_variation(o, p);
+  try {
+    p.layout = parse_layout(o.layout == "auto" && !o.vary.empty() ? grid_layout_text(p) : o.layout,
+                            static_cast<int>(p.lanes.size()));
+  } catch (const LayoutError& e) {
+    throw UsageError(std::string("--layout: ") + e.what());
+  }
   resolve_look(o, p);  // bad --color, --camera, ... before any pilot runs
   check_paths(o, p);
   p.model.emplace(build_model(p.scene));
+  for (const SceneDef& s : p.vary_scenes) p.vary_models.push_back(build_model(s));
+  if (!p.vary_models.empty())  // lanes row by row, a value per column
+    for (std::size_t i = 0; i < p.lanes.size(); ++i) p.lane_models.push_back(&p.vary_models[i % p.vary_models.size()]);
   choose_steps(o, p);
+  name_lanes(p);
   p.look = resolve_look(o, p);  // the reference's step follows the lanes'
   check_bounds(o, p);
   p.targets.emplace(p.scene.duration, p.scene.render.fps, p.with_frames, p.sheet_times, o.still_t.value_or(-1.0));
@@ -253,6 +339,7 @@ PipelineConfig pipeline_config(const ComparePlan& p) {
   config.height = p.grid->cell_height();
   config.tiles = true;
   config.judge = true;
+  config.lane_models = p.lane_models;
   config.command = "compare";
   apply_look(p.look, config);
   config.scene_render = p.scene.render;
@@ -266,7 +353,8 @@ void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& p
   const Model& model = *p.model;
   Composer composer{p.grid, {}};
   composer.labels = p.look.overlay == OverlayMode::None ? std::vector<std::string>(p.lanes.size())
-                                                        : lane_tile_labels(p.lanes, *p.grid);
+                    : p.labels.empty()                  ? lane_tile_labels(p.lanes, *p.grid)
+                                                        : p.labels;
   if (!o.video.empty())
     pipeline.add(make_video_output(make_video_sink(o.video, VideoOptions{p.scene.render.fps, o.crf, o.preset}), o.video,
                                    composer));
@@ -281,7 +369,7 @@ void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& p
   if (o.still_t) pipeline.add(make_still_output(o.still_out, composer, meta));
   if (!o.sheet.empty()) {
     std::vector<std::string> rows, columns;
-    for (const LaneSpec& l : p.lanes) rows.push_back(l.label());
+    for (std::size_t i = 0; i < p.lanes.size(); ++i) rows.push_back(p.labels.empty() ? p.lanes[i].label() : p.labels[i]);
     for (double t : p.sheet_times) columns.push_back(time_label(t));
     pipeline.add(make_sheet_output(o.sheet, rows, columns, meta));
   }
@@ -388,6 +476,12 @@ void add_compare_command(CLI::App& app, Command& command) {
                   "(the largest step within TOL metres of the reference at every frame, by bisection) or none (the scene's)")
       ->expected(1, 2)
       ->type_name("cost|error TOL|none");
+  sub->add_option("--vary", o->vary,
+                  "Lanes by a parameter's value, labelled 'ks = 2e4': KEY a dotted scene path, a glob over the spring\n"
+                  "types (cloth.springs.*.stiffness) or ks / kd (every spring type's stiffness / damping). With\n"
+                  "--integrators, a grid: a row per integrator, a column per value; without, the scene's integrator.\n"
+                  "The lanes run at one step (no --match); colour by strain unless --color says otherwise")
+      ->type_name("KEY=V1,V2,...");
   sub->add_option("--layout", o->layout,
                   "COLUMNSxROWS: 2x2, 4x1 (side by side), 1x4 (stacked), Nx1, 1xN or auto")
       ->capture_default_str();
@@ -409,7 +503,10 @@ void add_compare_command(CLI::App& app, Command& command) {
   add_picture_options(sub, o->scene, "the whole grid", "--frames and --video");
   sub->add_option("--crf", o->crf, "Video quality, x264 CRF 0 (lossless) .. 51")->capture_default_str();
   sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)")->capture_default_str();
-  sub->callback([o, &command] { command = [o] { return compare_command(*o); }; });
+  sub->callback([o, sub, &command] {
+    o->integrators_given = sub->get_option("--integrators")->count() > 0;
+    command = [o] { return compare_command(*o); };
+  });
 }
 
 }  // namespace clothsim::cli

@@ -51,7 +51,7 @@ std::string measured_note(const PipelineReport& report, std::size_t i, FieldKind
 
 // The colouring in numbers: how far each lane strayed from the reference (or how strained,
 // how fast), the largest over the clip and at its end.
-void print_fields(const PipelineReport& report, FieldKind color) {
+void print_fields(const PipelineReport& report, FieldKind color, const std::vector<std::string>& names) {
   for (std::size_t i = 0; i < report.lanes.size(); ++i) {
     const LaneResult& r = report.lanes[i];
     std::string values;
@@ -65,7 +65,7 @@ void print_fields(const PipelineReport& report, FieldKind color) {
                                     ? " against " + report.reference->spec.name() + " @ " +
                                           report.reference->spec.step_text + " s:"
                                     : ":";
-    std::printf("%s @ %s s: %s%s%s%s\n", r.spec.name().c_str(), r.spec.step_text.c_str(),
+    std::printf("%s @ %s s: %s%s%s%s\n", names[i].c_str(), r.spec.step_text.c_str(),
                 std::string(field_kind_name(color)).c_str(), against.c_str(), values.c_str(),
                 measured_note(report, i, color).c_str());
   }
@@ -73,20 +73,22 @@ void print_fields(const PipelineReport& report, FieldKind color) {
 
 // What the implicit solve did, beside the table (0 for the explicit family, so not a column):
 // contacts it held as constraints, and particles the post-step projection still had to move.
-void print_solver_work(const PipelineReport& report) {
-  for (const LaneResult& r : report.lanes)
+void print_solver_work(const PipelineReport& report, const std::vector<std::string>& names) {
+  for (std::size_t i = 0; i < report.lanes.size(); ++i) {
+    const LaneResult& r = report.lanes[i];
     if (r.spec.fixed_point)  // the course's one-iteration fixed point: no Newton, no CG, no contacts held
       std::printf("%s @ %s s: %" PRId64 " fixed-point iterations; post-step projections %" PRId64 " on %" PRId64
                   " of %" PRId64 " steps, largest strain %.3g\n",
-                  r.spec.name().c_str(), r.spec.step_text.c_str(), r.totals.newton_iterations,
+                  names[i].c_str(), r.spec.step_text.c_str(), r.totals.newton_iterations,
                   r.totals.safety_projections, r.totals.projected_steps, r.totals.steps, r.totals.max_strain);
     else if (r.spec.kind == IntegratorKind::ImplicitEuler)
       std::printf("%s @ %s s: %" PRId64 " Newton and %" PRId64 " CG iterations (%" PRId64 " assemblies, %" PRId64
                   " sparse factorizations), largest final residual %.2g; "
                   "contacts held in the solve %" PRId64 ", post-step projections %" PRId64 "\n",
-                  r.spec.name().c_str(), r.spec.step_text.c_str(), r.totals.newton_iterations, r.totals.cg_iterations,
+                  names[i].c_str(), r.spec.step_text.c_str(), r.totals.newton_iterations, r.totals.cg_iterations,
                   r.totals.assemblies, r.totals.factorizations, r.totals.max_residual, r.totals.contact_constraints,
                   r.totals.safety_projections);
+  }
 }
 
 JsonObject lane_summary(const Model& model, const LaneResult& r, const std::string& role) {
@@ -137,8 +139,8 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
     print_row(report.lanes[i], context.names[i], report.wrong.empty() ? "" : report.wrong[i]);
   if (report.reference) print_row(*report.reference, report.reference->spec.name() + " (reference)", "");
-  if (color != FieldKind::None) print_fields(report, color);
-  print_solver_work(report);
+  if (color != FieldKind::None) print_fields(report, color, context.names);
+  print_solver_work(report, context.names);
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
     std::printf("step of %s: %s s, %s\n", context.names[i].c_str(), report.lanes[i].spec.step_text.c_str(),
                 context.step_choice[i].c_str());
