@@ -118,3 +118,43 @@ TEST(CmdCompareMatch, TheCoursesFixedPointAtStiffSpringsIsWrongNotOk) {
   EXPECT_NE(json.find("\"result\": \"WRONG: projected on"), std::string::npos) << json;
   EXPECT_TRUE(fs::exists(dir + "/still.png"));
 }
+
+TEST(CmdCompareMatch, VaryMakesLanesByValueLabelledByTheAliasAndAGridWithIntegrators) {
+  const std::string dir = scratch_dir("compare_vary");
+  const auto r = compare_small({"--vary", "ks=2e3,2e5", "--integrators", "symplectic_euler,rk4", "--frames",
+                                dir + "/f", "--summary", dir + "/s.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("drape: 4 lanes"), std::string::npos) << r.out;
+  // Row by row: an integrator per row, a value per column; each lane its own scene.
+  const std::string soft = row_of(r.out, "symplectic_euler, ks = 2000"), stiff = row_of(r.out, "rk4, ks = 2e5");
+  ASSERT_FALSE(soft.empty()) << r.out;
+  ASSERT_FALSE(stiff.empty()) << r.out;
+  EXPECT_LT(r.out.find("symplectic_euler, ks = 2e5"), r.out.find("rk4, ks = 2000")) << r.out;
+  // Softer springs stretch more: the strain numbers beneath the table say so.
+  double soft_strain = 0.0, stiff_strain = 0.0;
+  const auto strain_of = [&](const std::string& name) {
+    const std::size_t at = r.out.find(name + " @ 0.0001 s: strain: largest ");
+    double v = -1.0;
+    if (at != std::string::npos) std::sscanf(r.out.c_str() + at + name.size() + 29, "%lf", &v);
+    return v;
+  };
+  soft_strain = strain_of("symplectic_euler, ks = 2000");
+  stiff_strain = strain_of("symplectic_euler, ks = 2e5");
+  EXPECT_GT(soft_strain, 3.0 * stiff_strain) << r.out;
+  EXPECT_TRUE(fs::exists(dir + "/f/symplectic_euler_ks=2000/frame_00000.png"));
+  EXPECT_TRUE(fs::exists(dir + "/f/rk4_ks=2e5/frame_00006.png"));
+}
+
+TEST(CmdCompareMatch, VaryRefusesABadKeyOrErrorColouringInOneLine) {
+  const std::string dir = scratch_dir("compare_vary_bad");
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"--vary", "spheres.*.radius=1,2"}, std::vector<std::string>{"--vary", "ks"},
+        std::vector<std::string>{"--vary", "ks=1,2", "--color", "error"}}) {
+    std::vector<std::string> args = bad;
+    args.insert(args.end(), {"--video", dir + "/v.mp4"});
+    const auto r = compare_small(args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/v.mp4"));
+  }
+}
