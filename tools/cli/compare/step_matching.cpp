@@ -99,7 +99,9 @@ std::vector<std::string> match_cost(const Model& model, std::vector<LaneSpec>& l
     }
     const auto [h, pilots] = step_for_cost(model, lanes[i], clip.scene_dt, cost[i], target, window);
     set_step(lanes[i], h);
-    how[i] = format("matched on cost by %.0f pilot runs over the clip's first %g s", pilots, window) +
+    how[i] = format(pilots == 1 ? "matched on cost by %.0f pilot run over the clip's first %g s"
+                                : "matched on cost by %.0f pilot runs over the clip's first %g s",
+                    pilots, window) +
              format(" to %.3g spring passes per simulated s", target) + ", as " + name;
   }
   return how;
