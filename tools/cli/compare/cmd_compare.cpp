@@ -113,6 +113,7 @@ struct ComparePlan {
   std::vector<const Model*> lane_models;
   std::vector<std::string> labels;
   std::vector<std::string> values;  // per lane: its value's label alone ("ks = 2e4")
+  std::optional<LaneSpec> error_reference;  // --match error: the reference the steps were matched against
 };
 
 // --vary draws no error colouring (each value is its own scene, with no one reference): strain
@@ -243,6 +244,7 @@ void choose_steps(const CompareOptions& o, ComparePlan& p) {
   const MatchClip clip{p.scene.duration, p.scene.render.fps, p.scene.dt};
   const LaneSpec reference = parse_reference(o.look.reference, p.lanes);
   p.context.step_choice = match_steps(*p.model, p.lanes, free, match, clip, reference);
+  if (match.kind == MatchKind::Error) p.error_reference = error_reference(reference, clip.fps);
 }
 
 // The rows' names: the --vary labels where there are, else each lane's name.
@@ -323,7 +325,14 @@ ComparePlan plan_compare(const CompareOptions& o) {
     for (std::size_t i = 0; i < p.lanes.size(); ++i) p.lane_models.push_back(&p.vary_models[i % p.vary_models.size()]);
   choose_steps(o, p);
   name_lanes(p);
-  p.look = resolve_look(o, p);  // the reference's step follows the lanes'
+  p.look = resolve_look(o, p);
+  // Tiles matched on error are coloured against the reference they were matched against, so
+  // the clip's numbers and the match agree (the default's quarter of the smallest matched step
+  // would be another run, and on a scene with contacts no two references agree to the bit).
+  if (p.error_reference && p.look.reference && p.look.reference_is_default) {
+    p.look.reference = p.error_reference;
+    p.look.reference_is_default = false;
+  }  // the reference's step follows the lanes'
   check_bounds(o, p);
   p.targets.emplace(p.scene.duration, p.scene.render.fps, p.with_frames, p.sheet_times, o.still_t.value_or(-1.0));
   if (p.look.color != FieldKind::None && !p.look.color_range) p.targets->with_scale_window(kColorScaleWindow);

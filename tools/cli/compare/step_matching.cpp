@@ -19,7 +19,6 @@ constexpr double kPilotWindow = 2.0;    // s of the clip a search pilot runs (th
 constexpr double kFirstPilotWindow = 0.1;  // s: the pilot at the scene's step, only to rank the lanes
 constexpr double kCostTolerance = 0.05; // a pilot within 5 % of the target cost is taken
 constexpr int kMaxPilots = 6;
-constexpr long kMaxStepsPerFrame = 1L << 20;  // error bisection: the finest step tried, 1 / (fps k)
 
 std::string format(const char* fmt, double a, double b = 0.0) {
   char buf[160];
@@ -108,12 +107,16 @@ std::vector<std::string> match_cost(const Model& model, std::vector<LaneSpec>& l
 }
 
 
+// Steps a frame of the reference: 1 / (fps K) at most its step, landing on the frames.
+long reference_steps_per_frame(const LaneSpec& reference, double fps) {
+  return std::max(1L, static_cast<long>(std::ceil(1.0 / (fps * reference.dt))));
+}
+
 // The reference's particle positions (3 x P) at every frame of the clip, from steps of
 // 1 / (fps K) that land on the frames exactly; stops where the reference diverges.
 std::vector<Eigen::Matrix3Xd> reference_frames(const Model& model, const LaneSpec& reference, const MatchClip& clip) {
-  const long K = std::max(1L, static_cast<long>(std::ceil(1.0 / (clip.fps * reference.dt))));
   std::optional<Model> storage;
-  Run run(lane_model(model, reference, storage), reference.kind, 1.0 / (clip.fps * static_cast<double>(K)));
+  Run run(lane_model(model, reference, storage), reference.kind, error_reference(reference, clip.fps).dt);
   std::vector<Eigen::Matrix3Xd> frames;
   const long last = static_cast<long>(std::floor(clip.duration * clip.fps + 1e-9));
   for (long k = 0; k <= last; ++k) {
@@ -138,16 +141,18 @@ bool within(const Model& model, const LaneSpec& lane, long k, const std::vector<
 }
 
 // The smallest k (the largest step 1 / (fps k)) within tolerance: k doubled until a trial
-// passes, then bisected between the last that failed and it. 0 when none up to the cap does.
+// passes, then bisected between the last that failed and it. 0 when none does up to `cap`
+// (the reference's own steps a frame: no finer step is measured by it).
 std::pair<long, int> smallest_passing_k(const Model& model, const LaneSpec& lane,
-                                        const std::vector<Eigen::Matrix3Xd>& frames, double tolerance, double fps) {
+                                        const std::vector<Eigen::Matrix3Xd>& frames, double tolerance, double fps,
+                                        long cap) {
   int trials = 0;
   const auto passes = [&](long k) { return ++trials, within(model, lane, k, frames, tolerance, fps); };
   long bad = 0, good = 1;
   while (!passes(good)) {
     bad = good;
-    if (good >= kMaxStepsPerFrame) return {0, trials};
-    good *= 2;
+    if (good >= cap) return {0, trials};
+    good = std::min(2 * good, cap);
   }
   while (good - bad > 1) {
     const long mid = bad + (good - bad) / 2;
@@ -162,11 +167,13 @@ std::vector<std::string> match_error(const Model& model, std::vector<LaneSpec>& 
   std::vector<std::string> how(lanes.size(), "your step");
   for (std::size_t i = 0; i < lanes.size(); ++i) {
     if (!free[i]) continue;
-    const auto [k, trials] = smallest_passing_k(model, lanes[i], frames, tolerance, clip.fps);
+    const long cap = reference_steps_per_frame(reference, clip.fps);
+    const auto [k, trials] = smallest_passing_k(model, lanes[i], frames, tolerance, clip.fps, cap);
     const std::string against = " against " + reference.name() + " @ " + step_string(reference.dt) + " s";
     if (k == 0) {
-      how[i] = format("error %g m not reached at any step down to 1/(fps x %.0f): the scene's step", tolerance,
-                      static_cast<double>(kMaxStepsPerFrame)) + against;
+      how[i] = format("error %g m not reached at any step down to the reference's, 1/(fps x %.0f)", tolerance,
+                      static_cast<double>(cap)) +
+               format(", in %.0f trial runs: the scene's step", trials) + against;
       continue;
     }
     set_step(lanes[i], 1.0 / (clip.fps * static_cast<double>(k)));
@@ -178,6 +185,14 @@ std::vector<std::string> match_error(const Model& model, std::vector<LaneSpec>& 
 }
 
 }  // namespace
+
+LaneSpec error_reference(const LaneSpec& reference, double fps) {
+  LaneSpec out = reference;
+  const double K = static_cast<double>(reference_steps_per_frame(reference, fps));
+  out.dt = 1.0 / (fps * K);
+  out.step_text = "1/" + number_text(fps * K);
+  return out;
+}
 
 MatchRequest parse_match(const std::vector<std::string>& words) {
   if (words.size() == 1 && words[0] == "cost") return {MatchKind::Cost, 0.0};

@@ -50,6 +50,10 @@ struct MatchClip {
 std::vector<std::string> match_steps(const Model& model, std::vector<LaneSpec>& lanes, const std::vector<bool>& free,
                                      const MatchRequest& request, const MatchClip& clip, const LaneSpec& reference);
 
+// The reference `error` matching runs: `reference` at the largest step 1 / (fps K) not above
+// its own, so it lands on every frame.
+LaneSpec error_reference(const LaneSpec& reference, double fps);
+
 // Spring-pass equivalents per simulated second of `lane` at step h over the first `window`
 // seconds (up to divergence): a pilot run.
 double pilot_cost(const Model& model, const LaneSpec& lane, double h, double window);
