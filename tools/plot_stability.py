@@ -20,7 +20,8 @@ from collections import OrderedDict
 
 import plot_common as pc
 
-UNITS = {"stiffness": "N/m", "damping": "N s/m", "particle_mass": "kg", "air_drag": "N s/m", "mass": "kg"}
+UNITS = {"stiffness": "N/m", "damping": "N s/m", "particle_mass": "kg", "air_drag": "N s/m", "mass": "kg",
+         "ks": "N/m", "kd": "N s/m"}  # ks, kd: the aliases of scene/param_keys.h
 
 
 def unit_of(param):

@@ -68,10 +68,16 @@ bool Run::advance_to(double target) {
     totals_.newton_iterations += last_.stats.newton_iterations;
     totals_.cg_iterations += last_.stats.cg_iterations;
     totals_.factorizations += last_.stats.factorizations;
+    totals_.assemblies += last_.stats.assemblies;
+    totals_.factored_cg_iterations += last_.stats.factored_cg_iterations;
+    totals_.max_strain = std::max(totals_.max_strain, last_.stats.start_strain);
     if (!last_.stats.converged) ++totals_.unconverged_steps;
     totals_.max_residual = std::max(totals_.max_residual, last_.stats.residual);
     totals_.contact_constraints += last_.stats.contact_constraints;
-    if (kind_ == IntegratorKind::ImplicitEuler) totals_.safety_projections += last_.contacts.projected;
+    if (kind_ == IntegratorKind::ImplicitEuler) {
+      totals_.safety_projections += last_.contacts.projected;
+      if (last_.contacts.projected > 0) ++totals_.projected_steps;
+    }
     // Every step: the state it started from against the strain bound (its first force pass
     // measured it), then the state it reached against the rest. Nothing here depends on
     // which outputs are watching, so a run diverges at the same step whatever is written.

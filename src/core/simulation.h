@@ -37,6 +37,10 @@ struct RunTotals {
   std::int64_t newton_iterations = 0;
   std::int64_t cg_iterations = 0;
   std::int64_t factorizations = 0;      // implicit_euler: sparse Cholesky factors
+  std::int64_t assemblies = 0;          // implicit_euler: Newton matrices assembled
+  std::int64_t factored_cg_iterations = 0;  // of cg_iterations, preconditioned by a factor
+  std::int64_t projected_steps = 0;     // implicit_euler: steps whose post-step projection moved a particle
+  double max_strain = 0.0;              // largest strain a step started from (its first force pass)
   std::int64_t unconverged_steps = 0;   // implicit solves that hit their cap
   double max_residual = 0.0;            // largest final residual of any step
   std::int64_t contact_constraints = 0; // implicit_euler: contacts held inside the solves

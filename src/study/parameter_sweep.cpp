@@ -45,6 +45,12 @@ std::string set_text(const std::string& param, double value) {
 
 std::vector<SweepScene> sweep_scenes(const std::string& path, const std::vector<std::string>& sets,
                                      const std::string& param, const std::vector<double>& values) {
+  return sweep_scenes(path, sets, std::vector<std::string>{param}, values);
+}
+
+std::vector<SweepScene> sweep_scenes(const std::string& path, const std::vector<std::string>& sets,
+                                     const std::vector<std::string>& params, const std::vector<double>& values) {
+  const std::string param = params.empty() ? std::string() : params.front();  // checked as the others
   if (param.empty()) throw StudyError("the swept parameter is empty");
   if (values.empty()) throw StudyError("no values given (an empty list)");
   for (double v : values)
@@ -63,7 +69,7 @@ std::vector<SweepScene> sweep_scenes(const std::string& path, const std::vector<
   std::vector<SweepScene> out;
   for (double v : values) {
     std::vector<std::string> with = sets;
-    with.push_back(set_text(param, v));
+    for (const std::string& p : params) with.push_back(set_text(p, v));
     try {
       out.push_back({v, load_scene(path, with)});
     } catch (const SceneError&) {

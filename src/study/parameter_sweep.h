@@ -25,6 +25,10 @@ struct SweepScene {
 // SceneError (scene_parser.h) when the file, a --set or a value is rejected.
 std::vector<SweepScene> sweep_scenes(const std::string& path, const std::vector<std::string>& sets,
                                      const std::string& param, const std::vector<double>& values);
+// The same with every key of `params` set to each value (a glob or an alias resolved by
+// scene/param_keys.h: the course's one ks is three keys).
+std::vector<SweepScene> sweep_scenes(const std::string& path, const std::vector<std::string>& sets,
+                                     const std::vector<std::string>& params, const std::vector<double>& values);
 
 // The value the scene file (or the last --set of the key) gives `param`, if it gives one as
 // a number; nullopt when the key is absent (its default applies) or not a number.

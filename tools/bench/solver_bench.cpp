@@ -3,7 +3,8 @@
 // iterations; the counters here print those estimates beside the timings):
 //   build/tools/bench/clothsim_benchmarks --benchmark_filter='Solver'
 // The matrix is the projected step Hessian at the scene's initial state, h = 1/60 s, on
-// stiff.yaml (15 x 15) and the drape resized to 64 x 64. One block-Jacobi iteration is about
+// stiff.yaml (15 x 15), the drape resized to 64 x 64 and the drape's own 25 x 25 (arg 2: what
+// core/work_units.h's table is calibrated on). One block-Jacobi iteration is about
 // one BM_SolverBlockMatVec plus one BM_SolverJacobi.
 #include <benchmark/benchmark.h>
 
@@ -25,7 +26,7 @@ struct System {
 
 System system(int which) {
   System s{which == 0 ? build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/stiff.yaml", {}))
-                      : bench::drape_sheet(64),
+                      : bench::drape_sheet(which == 1 ? 64 : 25),
            {}, {}};
   const State st = initial_state(s.model);
   std::vector<double> length;
@@ -36,7 +37,7 @@ System system(int which) {
   return s;
 }
 
-const char* name(int which) { return which == 0 ? "stiff 15x15" : "drape 64x64"; }
+const char* name(int which) { return which == 0 ? "stiff 15x15" : which == 1 ? "drape 64x64" : "drape 25x25"; }
 
 void BM_SolverBlockMatVec(benchmark::State& st) {
   const System s = system(static_cast<int>(st.range(0)));
@@ -47,7 +48,7 @@ void BM_SolverBlockMatVec(benchmark::State& st) {
   }
   st.SetLabel(name(static_cast<int>(st.range(0))));
 }
-BENCHMARK(BM_SolverBlockMatVec)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SolverBlockMatVec)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 void BM_SolverJacobi(benchmark::State& st) {
   const System s = system(static_cast<int>(st.range(0)));
@@ -58,7 +59,7 @@ void BM_SolverJacobi(benchmark::State& st) {
   }
   st.SetLabel(name(static_cast<int>(st.range(0))));
 }
-BENCHMARK(BM_SolverJacobi)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SolverJacobi)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 void BM_SolverAssembly(benchmark::State& st) {
   System s = system(static_cast<int>(st.range(0)));
@@ -71,7 +72,7 @@ void BM_SolverAssembly(benchmark::State& st) {
   }
   st.SetLabel(name(static_cast<int>(st.range(0))));
 }
-BENCHMARK(BM_SolverAssembly)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SolverAssembly)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 void BM_SolverFactorize(benchmark::State& st) {
   const System s = system(static_cast<int>(st.range(0)));
@@ -82,7 +83,7 @@ void BM_SolverFactorize(benchmark::State& st) {
   st.counters["L_blocks"] = static_cast<double>(factor.factor_blocks());
   st.SetLabel(name(static_cast<int>(st.range(0))));
 }
-BENCHMARK(BM_SolverFactorize)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SolverFactorize)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 void BM_SolverFactoredSolve(benchmark::State& st) {
   const System s = system(static_cast<int>(st.range(0)));
@@ -97,7 +98,7 @@ void BM_SolverFactoredSolve(benchmark::State& st) {
   st.counters["est_jacobi_iterations"] = factor.solve_cost();
   st.SetLabel(name(static_cast<int>(st.range(0))));
 }
-BENCHMARK(BM_SolverFactoredSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SolverFactoredSolve)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace clothsim

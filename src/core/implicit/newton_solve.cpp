@@ -252,12 +252,14 @@ double NewtonSolve::direction(CgSettings settings, const Eigen::Matrix3Xd* warm,
 void NewtonSolve::prepare_matrix(bool reused) {
   if (!reused) {
     assemble_step_hessian(model_, start_.inv_mass, h_, c_.start_length, c_.y, single_step_, c_.A, false);
+    ++stats_.assemblies;
     c_.jacobi_ready = false;
     c_.holds_record = false;
     if (!single_step_) record_linearisation();
   } else if (!c_.holds(start_.implicit.lin)) {
     const ImplicitSolverState::Linearisation& lin = start_.implicit.lin;
     assemble_step_hessian(model_, lin.inv_mass, lin.h, lin.length, lin.y, false, c_.A, false);
+    ++stats_.assemblies;
     c_.jacobi_ready = false;
     c_.record = lin;
     c_.holds_record = true;
@@ -298,6 +300,7 @@ CgResult NewtonSolve::solve(const CgSettings& settings) {
          cg.iterations, cg.converged ? 1 : 0, cg.negative_curvature ? 1 : 0, cg.relative_residual,
          factored ? 1 : 0);
   stats_.cg_iterations += cg.iterations;
+  if (factored) stats_.factored_cg_iterations += cg.iterations;
   if (factored) account_.factor_work += cg.iterations * (1.0 + c_.factor.solve_cost());
   else account_.jacobi_work += cg.iterations;
   return cg;

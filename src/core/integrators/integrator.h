@@ -22,6 +22,8 @@ struct StepStats {
   int newton_iterations = 0;  // implicit_euler (newton); fixed-point iterations for fixed_point
   int cg_iterations = 0;      // summed over the step's linear solves
   int factorizations = 0;     // implicit_euler: sparse Cholesky factors of the step's matrix
+  int assemblies = 0;         // implicit_euler: Newton matrices assembled (reuse skips some)
+  int factored_cg_iterations = 0;  // of cg_iterations, those preconditioned by the factor
   double residual = 0.0;      // final relative residual of the implicit solve
   bool converged = true;      // false when a solve stalled or hit its cap above tolerance
   double start_strain = 0.0;  // largest (l - l0) / l0 of the state the step started from, read

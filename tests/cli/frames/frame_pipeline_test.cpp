@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/work_units.h"
+
 using namespace clothsim;
 using namespace clothsim::cli;
 
@@ -18,11 +20,17 @@ TEST(LaneOverlay, IsDeterministicUnlessCpuIsAskedForAndFollowsTheMode) {
   f.totals.force_evals = 20000;
   f.totals.cpu_seconds = 0.123;
   EXPECT_EQ(lane_overlay(model, lane, f, OverlayMode::Full, false, false),
-            (std::vector<std::string>{"t = 0.500 s", "20000 force evals"}))
+            (std::vector<std::string>{"t = 0.500 s", "40k passes/sim s"}))
       << "a tile: the grid labels it with the lane";
   EXPECT_EQ(lane_overlay(model, lane, f, OverlayMode::Full, true, false),
-            (std::vector<std::string>{"drape", "rk4  dt = 1e-4 s", "t = 0.500 s", "20000 force evals"}));
-  EXPECT_EQ(lane_overlay(model, lane, f, OverlayMode::Full, false, true).back(), "20000 force evals  246 ms cpu/sim s");
+            (std::vector<std::string>{"drape", "rk4  dt = 1e-4 s", "t = 0.500 s", "40k passes/sim s"}));
+  EXPECT_EQ(lane_overlay(model, lane, f, OverlayMode::Full, false, true).back(), "40k passes/sim s  246 ms cpu/sim s");
+  // An implicit lane's Newton work counts (core/work_units.h): not its force evaluations alone.
+  LaneFrame implicit = f;
+  implicit.totals.force_evals = 1000;
+  implicit.totals.assemblies = 1000;
+  implicit.totals.cg_iterations = 3000;
+  EXPECT_GT(spring_passes(implicit.totals), 2.0 * 1000 + 3000);
   EXPECT_EQ(lane_overlay(model, lane, f, OverlayMode::Label, true, false), (std::vector<std::string>{"rk4  dt = 1e-4 s"}));
   EXPECT_TRUE(lane_overlay(model, lane, f, OverlayMode::Label, false, false).empty());
   EXPECT_TRUE(lane_overlay(model, lane, f, OverlayMode::None, true, true).empty());

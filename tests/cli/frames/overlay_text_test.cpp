@@ -38,5 +38,18 @@ TEST(OverlayText, OverlayLinesAreTheSceneTheLaneAndTheTimeHoweverTheLaneIsGiven)
   EXPECT_EQ(overlay_time_line(2.0 / 3.0), "t = 0.667 s");
 }
 
+TEST(OverlayText, MarksAWrongFrameWithItsVerdictOnePhraseALine) {
+  RenderFrame frame;
+  mark_wrong(frame, "WRONG: projected on 44% of steps, strain 1.7");
+  EXPECT_EQ(frame.banner, (std::vector<std::string>{"WRONG", "projected on 44% of steps", "strain 1.7"}));
+}
+
+TEST(OverlayText, TheCostLineIsWorkPerSimulatedSecondWithCpuOnlyWhenAsked) {
+  EXPECT_EQ(cost_line(5000.0, 0.07, 0.5, false), "10k passes/sim s");
+  EXPECT_EQ(cost_line(5000.0, 0.07, 0.5, true), "10k passes/sim s  140 ms cpu/sim s");
+  EXPECT_EQ(cost_line(2.5e6, 0.0, 1.0, false), "2.5M passes/sim s");
+  EXPECT_EQ(cost_line(0.0, 0.0, 0.0, true), "0 passes") << "at t = 0 there is no rate yet";
+}
+
 }  // namespace
 }  // namespace clothsim::cli

@@ -83,7 +83,7 @@ TEST(PictureOptions, EachBadValueIsRefusedNamingTheOption) {
   EXPECT_NE(refused(o).find("--overlay: expected full, label or none"), std::string::npos);
   o = {};
   o.overlay_cost = "wall";
-  EXPECT_NE(refused(o).find("--overlay-cost: expected evals or cpu"), std::string::npos);
+  EXPECT_NE(refused(o).find("--overlay-cost: expected work or cpu"), std::string::npos);
   o = {};
   o.inset = "momentum";
   EXPECT_NE(refused(o).find("--inset: expected energy or none"), std::string::npos);

@@ -52,6 +52,28 @@ TEST(CmdStability, FindsTheUndampedSpringsLimitsAndPrintsTheEstimate) {
   EXPECT_TRUE(only_files(dir, {"st.csv"}));
 }
 
+TEST(CmdStability, TheAliasKsSweepsEverySpringTypeAndLabelsTheSweepKs) {
+  // The spring scene has one structural spring: ks is that key, and the limits are the same
+  // as the dotted path's; the CSV's param column (the plot's axis) says ks.
+  const std::string dir = scratch_dir("stability_alias");
+  const std::vector<std::string> base{"stability", spring(), "--set", "cloth.springs.structural.damping=0",
+                                      "--integrators", "symplectic_euler", "--values", "100", "--duration", "400",
+                                      "--min-dt", "0.02", "--max-dt", "1"};
+  std::vector<std::string> alias = base, path = base;
+  alias.insert(alias.end(), {"--param", "ks", "--csv", dir + "/ks.csv"});
+  path.insert(path.end(), {"--param", "cloth.springs.structural.stiffness", "--csv", dir + "/path.csv"});
+  ASSERT_EQ(run_clothsim(alias).exit_code, 0);
+  ASSERT_EQ(run_clothsim(path).exit_code, 0);
+  const auto by_alias = csv_rows(dir + "/ks.csv"), by_path = csv_rows(dir + "/path.csv");
+  ASSERT_EQ(by_alias.size(), 2u);
+  ASSERT_EQ(by_path.size(), 2u);
+  EXPECT_EQ(by_alias[1][0], "ks");
+  EXPECT_EQ(by_alias[1][4], by_path[1][4]) << "the same sweep, named two ways";
+  const CliResult glob = run_clothsim({"stability", spring(), "--param", "spheres.*.radius", "--values", "1"});
+  EXPECT_EQ(glob.exit_code, 2) << glob.err;
+  EXPECT_NE(glob.err.find("--param"), std::string::npos) << glob.err;
+}
+
 TEST(CmdStability, WithoutDurationRunsToTheDefaultItsHelpStates) {
   EXPECT_NE(run_clothsim({"stability", "--help"}).out.find("--duration FLOAT            Simulated time in s "
                                                           "(default: the scene's duration, at most 0.2 s)"),

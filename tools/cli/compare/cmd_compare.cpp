@@ -11,11 +11,16 @@
 // a DIVERGED banner while the others go on: in compare, divergence is a result (exit 0),
 // shown in the clip and in the summary table.
 //
-// By default the tiles are coloured by each particle's distance from a reference lane (RK4 at
-// a quarter of the smallest step, or at its predicted stable step where that is smaller:
-// fit_reference_to_model) run alongside and never shown, on one logarithmic scale with
-// a colour bar, and each tile counts its force evaluations: which method is more accurate and
-// which is cheaper, on screen.
+// By default the lanes are matched on cost (step_matching.h: each free lane at the step where
+// its work per simulated second equals the cheapest lane's at the scene's step) and the tiles
+// coloured by each particle's distance from a reference lane (RK4 at a quarter of the smallest
+// step, or at its predicted stable step where that is smaller: fit_reference_to_model) run
+// alongside and never shown, on one logarithmic scale with a colour bar; each tile shows its
+// work and CPU time, and a lane that is finite but implausible is marked WRONG
+// (plausibility.h): what each method buys for the same cost, on screen.
+//
+// The command reads as its phases: plan (check everything, build the model, choose the
+// steps), outputs (the pipeline and what it feeds), run, report.
 //
 // Outputs are checked before any simulation (unknown integrator or layout, unwritable
 // paths, bad --dt or --times: milliseconds, exit 2 or 1), created without a name and
@@ -28,6 +33,7 @@
 // (stderr) says where the wall time went.
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -38,6 +44,8 @@
 #include <vector>
 
 #include "compare_plan.h"
+#include "compare_summary.h"
+#include "step_matching.h"
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
 #include "cli/common/gl_options.h"
@@ -55,6 +63,8 @@
 #include "render/renderer.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
+#include "scene/echo.h"
+#include "scene/param_keys.h"
 #include "scene/run_bounds.h"
 #include "scene/scene_parser.h"
 #include "video/tiling.h"
@@ -73,6 +83,9 @@ struct CompareOptions {
   std::string layout = "auto";
   std::string video, frames_dir, dt, sheet, times, still_out;
   std::optional<double> still_t;
+  std::vector<std::string> match{"cost"};  // --match cost | error TOL | none
+  std::string vary;                         // --vary KEY=V1,V2,...
+  bool integrators_given = false;           // --integrators on the command line (a --vary grid's rows)
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
   GlOptions gl;
@@ -80,117 +93,42 @@ struct CompareOptions {
   std::string summary;  // --summary FILE.json
 };
 
-// The result column: what became of a lane.
-std::string lane_result(const LaneResult& r) {
-  char result[192];
-  if (r.divergence)
-    std::snprintf(result, sizeof result, "DIVERGED at t = %.6g s (step %" PRId64 "): %s", r.divergence->t,
-                  r.divergence->step, r.divergence->reason.c_str());
-  else if (r.totals.unconverged_steps > 0)
-    std::snprintf(result, sizeof result,
-                  "NOT CONVERGED: %" PRId64 " of %" PRId64 " steps, max residual %.2g (to t = %.4g s)",
-                  r.totals.unconverged_steps, r.totals.steps, r.totals.max_residual, r.t);
-  else
-    std::snprintf(result, sizeof result, "ok to t = %.4g s", r.t);
-  return result;
+// Everything compare does, worked out and checked before any lane runs.
+struct ComparePlan {
+  SceneDef scene;
+  std::vector<LaneSpec> lanes;
+  SummaryContext context;  // the lanes' names and how their steps were chosen
+  GridLayout layout;
+  PictureLook look;
+  bool with_frames = false, rendering = false;
+  std::vector<double> sheet_times;
+  std::optional<TileGrid> grid;
+  std::optional<TargetPlan> targets;
+  std::vector<std::string> lane_dirs;
+  std::optional<Model> model;
+  // --vary: per value, its scene and model (a deque: the pipeline keeps pointers), and per
+  // lane the model it runs; the tiles' labels ("ks = 2e4", or "rk4  ks = 2e4" in a grid).
+  std::vector<SceneDef> vary_scenes;
+  std::deque<Model> vary_models;
+  std::vector<const Model*> lane_models;
+  std::vector<std::string> labels;
+  std::vector<std::string> values;  // per lane: its value's label alone ("ks = 2e4")
+  std::optional<LaneSpec> error_reference;  // --match error: the reference the steps were matched against
+};
+
+// --vary draws no error colouring (each value is its own scene, with no one reference): strain
+// unless --color says otherwise.
+PictureOptions look_options(const CompareOptions& o) {
+  PictureOptions look = o.look;
+  if (!o.vary.empty() && !look.color) look.color = "strain";
+  if (!o.vary.empty() && look.color == "error")
+    throw UsageError("--color error: --vary runs a scene per value, with no one reference to measure against; "
+                     "use --color strain, speed or checker");
+  return look;
 }
 
-void print_row(const LaneResult& r, const std::string& name) {
-  // Cost per simulated second over the time actually simulated (up to divergence).
-  const double simulated = r.divergence ? r.divergence->t : r.t;
-  std::printf("%-30s %10.3g %10" PRId64 " %13" PRId64 " %9.3f %14.1f  %s\n", name.c_str(), r.spec.dt, r.totals.steps,
-              r.totals.force_evals, r.totals.cpu_seconds, simulated > 0 ? 1e3 * r.totals.cpu_seconds / simulated : 0.0,
-              lane_result(r).c_str());
-}
-
-void print_summary(const Model& model, const PipelineReport& report, FieldKind color) {
-  std::printf("%s: %zu lanes\n", model.name.c_str(), report.lanes.size());
-  std::printf("%-30s %10s %10s %13s %9s %14s  %s\n", "lane", "dt_s", "steps", "force_evals", "cpu_s",
-              "cpu_ms_per_s", "result");
-  for (const LaneResult& r : report.lanes) print_row(r, r.spec.name());
-  if (report.reference) print_row(*report.reference, report.reference->spec.name() + " (reference)");
-  // What the implicit solve did, beside the table (0 for the explicit family, so not a column):
-  // contacts it held as constraints, and particles the post-step projection still had to move.
-  // The colouring in numbers: how far each lane strayed from the reference (or how strained,
-  // how fast), the largest over the clip and at its end.
-  if (color != FieldKind::None)
-    for (std::size_t i = 0; i < report.lanes.size(); ++i) {
-      const LaneResult& r = report.lanes[i];
-      // Which frames the numbers cover: a clip's every frame, a sheet's or a still's only the
-      // times it shows (and the colour scale's first second). A lane that diverged was
-      // measured only up to its last frame before the blow-up: say so, or "largest 0 m" would
-      // read as a perfect lane. So was every lane, when the reference it is measured against
-      // diverged.
-      const bool reference_diverged = color == FieldKind::Error && report.reference && report.reference->divergence;
-      std::string values, measured = " (never measured";  // never: no number to quote, the note says why
-      if (report.field_count[i] > 0) {
-        char text[160];
-        std::snprintf(text, sizeof text, " largest %.3g%s, at the end %.3g%s", report.field_max[i],
-                      field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
-        values = text;
-        // A lane whose step is longer than the frame interval stands on one state for several
-        // frames: how many states those frames showed, where it is fewer.
-        const long frames = report.field_count[i], states = report.field_states[i];
-        char distinct[64] = "";
-        if (states < frames)
-          std::snprintf(distinct, sizeof distinct, " (%ld distinct state%s of the lane)", states, states == 1 ? "" : "s");
-        if (frames == 1)
-          std::snprintf(text, sizeof text, " (measured at 1 frame, t = %.4g s", report.field_last_t[i]);
-        else
-          std::snprintf(text, sizeof text, " (measured at %ld frames%s, t = %.4g to %.4g s", frames, distinct,
-                        report.field_first_t[i], report.field_last_t[i]);
-        measured = text;
-      }
-      char why[80] = "";
-      if (r.divergence)
-        std::snprintf(why, sizeof why, "; it diverged at t = %.6g s", r.divergence->t);
-      else if (reference_diverged)
-        std::snprintf(why, sizeof why, "; the reference diverged at t = %.6g s", report.reference->divergence->t);
-      measured += std::string(why) + ")";
-      std::printf("%s @ %s s: %s%s%s%s\n", r.spec.name().c_str(), r.spec.step_text.c_str(),
-                  std::string(field_kind_name(color)).c_str(),
-                  color == FieldKind::Error && report.reference
-                      ? (" against " + report.reference->spec.name() + " @ " + report.reference->spec.step_text + " s:").c_str()
-                      : ":",
-                  values.c_str(), measured.c_str());
-    }
-  for (const LaneResult& r : report.lanes)
-    if (r.spec.fixed_point)  // the course's one-iteration fixed point: no Newton, no CG, no contacts held
-      std::printf("%s @ %s s: %" PRId64 " fixed-point iterations; post-step projections %" PRId64 "\n",
-                  r.spec.name().c_str(), r.spec.step_text.c_str(), r.totals.newton_iterations,
-                  r.totals.safety_projections);
-    else if (r.spec.kind == IntegratorKind::ImplicitEuler)
-      std::printf("%s @ %s s: %" PRId64 " Newton and %" PRId64 " CG iterations (%" PRId64
-                  " sparse factorizations), largest final residual %.2g; "
-                  "contacts held in the solve %" PRId64 ", post-step projections %" PRId64 "\n",
-                  r.spec.name().c_str(), r.spec.step_text.c_str(), r.totals.newton_iterations, r.totals.cg_iterations,
-                  r.totals.factorizations, r.totals.max_residual, r.totals.contact_constraints,
-                  r.totals.safety_projections);
-}
-
-JsonObject lane_summary(const Model& model, const LaneResult& r, const std::string& role) {
-  return lane_json(model.name, r.spec.kind, r.spec.dt, r.totals,
-                   r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
-      .number("t_reached", r.t)
-      .text("lane", r.spec.spelling())
-      .text("role", role);
-}
-
-// A lane's colouring field in numbers (NaN, written null, when it was never coloured).
-JsonObject& with_field(JsonObject& lane, const PipelineReport& report, std::size_t i) {
-  return lane.number("field_max", report.field_max[i])
-      .number("field_last", report.field_last[i])
-      .number("field_frames", static_cast<double>(report.field_count[i]))
-      .number("field_states", static_cast<double>(report.field_states[i]))
-      .number("field_first_t", report.field_first_t[i])
-      .number("field_last_t", report.field_last_t[i]);
-}
-
-int compare_command(const CompareOptions& o) {
-  const auto wall_start = Clock::now();
-  install_interrupt_handler();  // first: Ctrl-C during setup is then seen at the first frame
-
-  // 1. Everything that can be wrong, before any simulation.
+// The options that go together, and an output to write, before the scene is read.
+void check_option_pairs(const CompareOptions& o) {
   if (o.sheet.empty() != o.times.empty())
     throw UsageError(o.sheet.empty() ? "--times goes with --sheet FILE.png"
                                      : "--sheet needs --times T1,T2,... (the columns)");
@@ -206,30 +144,25 @@ int compare_command(const CompareOptions& o) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--video: ") + e.what());
   }
-  const SceneDef scene = load_scene_with_options(o.scene);
-  const std::vector<LaneSpec> lanes = parse_lanes(o.integrators, o.dt, scene.dt);
-  GridLayout layout;
-  try {
-    layout = parse_layout(o.layout, static_cast<int>(lanes.size()));
-  } catch (const LayoutError& e) {
-    throw UsageError(std::string("--layout: ") + e.what());
+}
+
+// The pictures' look; a summary alone draws none.
+PictureLook resolve_look(const CompareOptions& o, const ComparePlan& p) {
+  PictureLook look = resolve_picture_look(look_options(o), p.scene, p.lanes, /*compare=*/true);
+  if (p.rendering) return look;
+  // The field is measured only when --color asks for it (the default reference, RK4 at a
+  // quarter step, costs several times the lanes); its scale is then not chosen.
+  if (o.look.color && look.color != FieldKind::None) {
+    if (!look.color_range) look.color_range = ColorRange{1e-6, 1e-3};
+    return look;
   }
-  const bool with_frames = !o.video.empty() || !o.frames_dir.empty();
-  const bool rendering = with_frames || !o.sheet.empty() || o.still_t;
-  PictureLook look = resolve_picture_look(o.look, scene, lanes, /*compare=*/true);
-  if (!rendering) {
-    // A summary alone: no pictures. The field is measured only when --color asks for it (the
-    // default reference, RK4 at a quarter step, costs several times the lanes); its scale is
-    // then not chosen (nothing is drawn with it).
-    if (o.look.color && look.color != FieldKind::None) {
-      if (!look.color_range) look.color_range = ColorRange{1e-6, 1e-3};
-    } else {
-      if (look.color != FieldKind::None && !o.summary.empty() && !quiet())
-        std::fprintf(stderr, "compare: no pictures, so no %s measured; --color %s puts it in the summary\n",
-                     std::string(field_kind_name(look.color)).c_str(), std::string(field_kind_name(look.color)).c_str());
-      look = PictureLook{};
-    }
-  }
+  if (look.color != FieldKind::None && !o.summary.empty() && !quiet())
+    std::fprintf(stderr, "compare: no pictures, so no %s measured; --color %s puts it in the summary\n",
+                 std::string(field_kind_name(look.color)).c_str(), std::string(field_kind_name(look.color)).c_str());
+  return PictureLook{};
+}
+
+void check_paths(const CompareOptions& o, const ComparePlan& p) {
   refuse_shared_outputs({{o.video, "--video"}, {o.sheet, "--sheet"}, {o.still_out, "-o/--output"},
                          {o.summary, "--summary"}, {o.frames_dir, "--frames"}});
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
@@ -238,113 +171,253 @@ int compare_command(const CompareOptions& o) {
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty() && fs::exists(o.frames_dir) && !fs::is_directory(o.frames_dir))
     throw RuntimeFailure("cannot write --frames into " + o.frames_dir + ": not a directory");
-  const std::vector<std::string> lane_dirs = lane_directories(lanes);
   if (!o.frames_dir.empty())
-    for (const std::string& d : lane_dirs) refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
-  for (const LaneSpec& l : lanes) {  // every lane's steps, and the reference's, bounded like the scene's
-    const std::string too_long = run_bounds_problem(scene.duration, l.dt, scene.render.fps);
+    for (const std::string& d : p.lane_dirs) refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
+}
+
+// Every lane's steps, and the reference's, bounded like the scene's; the sheet's and the
+// still's times within the run; the grid within the picture.
+void check_bounds(const CompareOptions& o, ComparePlan& p) {
+  for (const LaneSpec& l : p.lanes) {
+    const std::string too_long = run_bounds_problem(p.scene.duration, l.dt, p.scene.render.fps);
     if (!too_long.empty()) throw UsageError("--dt (" + l.spelling() + "): " + too_long);
   }
-  if (look.reference) {
-    const std::string too_long = run_bounds_problem(scene.duration, look.reference->dt, scene.render.fps);
+  if (p.look.reference) {
+    const std::string too_long = run_bounds_problem(p.scene.duration, p.look.reference->dt, p.scene.render.fps);
     if (!too_long.empty())
-      throw UsageError("--reference (" + look.reference->spelling() +
+      throw UsageError("--reference (" + p.look.reference->spelling() +
                        ", for --color error): " + too_long + "; give --reference NAME@STEP or --color checker");
   }
-  const std::vector<double> sheet_times =
-      o.sheet.empty() ? std::vector<double>{} : parse_times(o.times, scene.duration);
-  if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= scene.duration + 1e-9))
+  p.sheet_times = o.sheet.empty() ? std::vector<double>{} : parse_times(o.times, p.scene.duration);
+  if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= p.scene.duration + 1e-9))
     throw UsageError("--still: " + number_text(*o.still_t) + " s is outside the run (0 to " +
-                     number_text(scene.duration) + " s)");
-  const int width = scene.render.width, height = scene.render.height;  // the whole grid's (--width/--height)
-  std::optional<TileGrid> grid;
+                     number_text(p.scene.duration) + " s)");
   try {
-    grid.emplace(TileGrid::fit(layout, width, height));
+    p.grid.emplace(TileGrid::fit(p.layout, p.scene.render.width, p.scene.render.height));  // the whole grid's
   } catch (const LayoutError& e) {
     throw UsageError(std::string("--width/--height: ") + e.what());
   }
-  const double fps = scene.render.fps;
-  TargetPlan targets(scene.duration, fps, with_frames, sheet_times, o.still_t.value_or(-1.0));
-  if (look.color != FieldKind::None && !look.color_range) targets.with_scale_window(kColorScaleWindow);
+}
 
-  // Peak memory, estimated and checked before the Model, the renderer or the encoder exist:
-  // one Model (and a copy per fixed-point lane), a run per lane and the reference, the
-  // renderer at tile size, the tiles, the grid, the PNG writers' queues (3 tiles each), the
-  // contact sheet's cells, the first second held for the colour scale, and the encoder.
+// Peak memory, estimated and checked before the renderer or the encoder exist: one Model (and
+// a copy per fixed-point lane), a run per lane and the reference, the renderer at tile size,
+// the tiles, the grid, the PNG writers' queues (3 tiles each), the contact sheet's cells, the
+// first second held for the colour scale, and the encoder.
+void check_memory(const CompareOptions& o, const ComparePlan& p) {
+  const SceneDef& scene = p.scene;
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
-  for (const LaneSpec& l : lanes)
-    budget.add(l.spelling(),
-               run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
-  if (look.reference) {
-    budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind) + kLaneThreadBytes);
+  for (const SceneDef& s : p.vary_scenes) budget.add("model for --vary", model_bytes(s));
+  for (const LaneSpec& l : p.lanes)
+    budget.add(l.spelling(), run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
+  if (p.look.reference) {
+    budget.add("reference " + p.look.reference->name(), run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
     std::vector<double> steps;
-    for (const LaneSpec& l : lanes) steps.push_back(l.dt);
-    budget.add("reference positions at the lanes' times", reference_positions_bytes(scene, steps, targets, kLaneQueueCapacity));
+    for (const LaneSpec& l : p.lanes) steps.push_back(l.dt);
+    budget.add("reference positions at the lanes' times",
+               reference_positions_bytes(scene, steps, *p.targets, kLaneQueueCapacity));
   }
-  if (rendering) {
-    const double n = static_cast<double>(lanes.size());
-    const double tile = 4.0 * grid->cell_width() * grid->cell_height(), canvas = 4.0 * grid->width() * grid->height();
-    budget.add("renderer and images " + std::to_string(grid->width()) + "x" + std::to_string(grid->height()),
-               kRendererBytes + render_bytes(grid->cell_width(), grid->cell_height(), scene.render.samples) +
-                   n * tile + 2.0 * canvas + (o.frames_dir.empty() ? 0.0 : 3.0 * n * tile));
-    if (!o.sheet.empty())
-      budget.add("contact sheet", 2.0 * n * static_cast<double>(sheet_times.size()) * tile);
-    if (look.color != FieldKind::None && !look.color_range)
+  const TileGrid& grid = *p.grid;
+  if (p.rendering) {
+    const double n = static_cast<double>(p.lanes.size());
+    const double tile = 4.0 * grid.cell_width() * grid.cell_height(), canvas = 4.0 * grid.width() * grid.height();
+    budget.add("renderer and images " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()),
+               kRendererBytes + render_bytes(grid.cell_width(), grid.cell_height(), scene.render.samples) + n * tile +
+                   2.0 * canvas + (o.frames_dir.empty() ? 0.0 : 3.0 * n * tile));
+    if (!o.sheet.empty()) budget.add("contact sheet", 2.0 * n * static_cast<double>(p.sheet_times.size()) * tile);
+    if (p.look.color != FieldKind::None && !p.look.color_range)
       budget.add("the first second, held for the colour scale",
-                 held_frames_bytes(scene, lanes.size(), std::min(1.0, scene.duration) * fps + 1.0));
+                 held_frames_bytes(scene, p.lanes.size(), std::min(1.0, scene.duration) * scene.render.fps + 1.0));
   }
-  if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid->width(), grid->height()));
+  if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid.width(), grid.height()));
   budget.check(scene.source, o.scene.max_memory);
-  const Model model = build_model(scene);
-  fit_reference_to_model(look, model, scene, lanes);
+}
 
-  // 2. The pipeline and its outputs (each removes its temporary if destroyed before finish()).
-  std::unique_ptr<Renderer> renderer;
-  if (rendering) {
-    renderer = make_renderer(o.gl);  // a GL failure shows up now
-    if (std::max(grid->cell_width(), grid->cell_height()) > renderer->max_size())
-      throw UsageError("--width/--height: tiles of " + std::to_string(grid->cell_width()) + "x" +
-                       std::to_string(grid->cell_height()) + " exceed the renderer's limit of " +
-                       std::to_string(renderer->max_size()) + " pixels");
+// The lanes' steps by --match (step_matching.h), and their names.
+void choose_steps(const CompareOptions& o, ComparePlan& p) {
+  if (!o.vary.empty()) {  // the values compared at one step: what changes is the parameter
+    p.context.step_choice.assign(p.lanes.size(), "the lane's step (--vary compares the values at one step)");
+    return;
   }
+  const MatchRequest match = parse_match(o.match);
+  const std::vector<bool> free = free_lanes(o.integrators, o.dt, p.scene.dt);
+  const MatchClip clip{p.scene.duration, p.scene.render.fps, p.scene.dt};
+  const LaneSpec reference = parse_reference(o.look.reference, p.lanes);
+  p.context.step_choice = match_steps(*p.model, p.lanes, free, match, clip, reference);
+  if (match.kind == MatchKind::Error) p.error_reference = error_reference(reference, clip.fps);
+}
+
+// The rows' names: the --vary labels where there are, else each lane's name.
+void name_lanes(ComparePlan& p) {
+  p.context.names.clear();
+  for (std::size_t i = 0; i < p.lanes.size(); ++i)
+    p.context.names.push_back(p.lanes[i].name() + (p.values.empty() ? "" : ", " + p.values[i]));
+}
+
+// --vary KEY=V1,V2,...: a scene per value (the user's --set, then the key's), and the lanes
+// repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
+void plan_variation(const CompareOptions& o, ComparePlan& p) {
+  const auto eq = o.vary.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == o.vary.size())
+    throw UsageError("--vary: expected KEY=V1,V2,... (ks=2e3,2e4,2e5), got " + in_quotes(o.vary));
+  ParamKey key;
+  try {
+    key = resolve_param_key(o.vary.substr(0, eq), p.scene);
+  } catch (const ParamKeyError& e) {
+    throw UsageError(std::string("--vary: ") + e.what());
+  }
+  std::vector<double> values;
+  for (const std::string& item : split_list(o.vary.substr(eq + 1))) {
+    const std::optional<double> v = parse_number_or_fraction(item);
+    if (!v) throw UsageError("--vary: " + in_quotes(item) + " is not a number");
+    values.push_back(*v);
+  }
+  const std::vector<LaneSpec> rows =
+      o.integrators_given ? p.lanes : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
+  for (double v : values) {
+    SceneOptions with = o.scene;
+    for (const std::string& set : param_sets(key, v)) with.sets.push_back(set);
+    p.vary_scenes.push_back(load_scene_with_options(with));  // a bad value: the parser's message names it
+  }
+  p.lanes.clear();
+  p.lane_dirs.clear();
+  const std::vector<std::string> row_dirs = lane_directories(rows);
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (double v : values) {
+      p.lanes.push_back(rows[r]);
+      const std::string label = param_label(key, v);
+      p.labels.push_back(rows.size() > 1 ? rows[r].name() + "  " + label : label);
+      p.values.push_back(label);
+      std::string dir = row_dirs[r] + "_" + label;
+      dir.erase(std::remove(dir.begin(), dir.end(), ' '), dir.end());
+      p.lane_dirs.push_back(dir);
+    }
+}
+
+// A --vary grid: a column per value, a row per integrator.
+std::string grid_layout_text(const ComparePlan& p) {
+  const std::size_t columns = p.vary_scenes.size();
+  return std::to_string(columns) + "x" + std::to_string(p.lanes.size() / columns);
+}
+
+// 1. Everything that can be wrong, before any simulation; the steps chosen.
+ComparePlan plan_compare(const CompareOptions& o) {
+  check_option_pairs(o);
+  ComparePlan p;
+  p.scene = load_scene_with_options(o.scene);
+  p.lanes = parse_lanes(o.integrators, o.dt, p.scene.dt);
+  parse_match(o.match);  // a bad --match before any pilot runs
+  p.with_frames = !o.video.empty() || !o.frames_dir.empty();
+  p.rendering = p.with_frames || !o.sheet.empty() || o.still_t;
+  p.lane_dirs = lane_directories(p.lanes);
+  if (!o.vary.empty()) plan_variation(o, p);
+  try {
+    p.layout = parse_layout(o.layout == "auto" && !o.vary.empty() ? grid_layout_text(p) : o.layout,
+                            static_cast<int>(p.lanes.size()));
+  } catch (const LayoutError& e) {
+    throw UsageError(std::string("--layout: ") + e.what());
+  }
+  resolve_look(o, p);  // bad --color, --camera, ... before any pilot runs
+  check_paths(o, p);
+  p.model.emplace(build_model(p.scene));
+  for (const SceneDef& s : p.vary_scenes) p.vary_models.push_back(build_model(s));
+  if (!p.vary_models.empty())  // lanes row by row, a value per column
+    for (std::size_t i = 0; i < p.lanes.size(); ++i) p.lane_models.push_back(&p.vary_models[i % p.vary_models.size()]);
+  choose_steps(o, p);
+  name_lanes(p);
+  p.look = resolve_look(o, p);
+  // Tiles matched on error are coloured against the reference they were matched against, so
+  // the clip's numbers and the match agree (the default's quarter of the smallest matched step
+  // would be another run, and on a scene with contacts no two references agree to the bit).
+  if (p.error_reference && p.look.reference && p.look.reference_is_default) {
+    p.look.reference = p.error_reference;
+    p.look.reference_is_default = false;
+  }  // the reference's step follows the lanes'
+  check_bounds(o, p);
+  p.targets.emplace(p.scene.duration, p.scene.render.fps, p.with_frames, p.sheet_times, o.still_t.value_or(-1.0));
+  if (p.look.color != FieldKind::None && !p.look.color_range) p.targets->with_scale_window(kColorScaleWindow);
+  check_memory(o, p);
+  fit_reference_to_model(p.look, *p.model, p.scene, p.lanes);
+  return p;
+}
+
+PipelineConfig pipeline_config(const ComparePlan& p) {
   PipelineConfig config;
-  config.rendering = rendering;
-  config.width = grid->cell_width();
-  config.height = grid->cell_height();
+  config.rendering = p.rendering;
+  config.width = p.grid->cell_width();
+  config.height = p.grid->cell_height();
   config.tiles = true;
+  config.judge = true;
+  config.lane_models = p.lane_models;
   config.command = "compare";
-  apply_look(look, config);
-  config.scene_render = scene.render;
-  if (look.camera_auto) config.camera = auto_camera(model, scene.render, static_cast<double>(config.width) / config.height);
-  FramePipeline pipeline(model, targets, lanes, config, renderer.get());
-  Composer composer{grid, {}};
-  composer.labels = look.overlay == OverlayMode::None ? std::vector<std::string>(lanes.size())
-                                                     : lane_tile_labels(lanes, *grid);
+  apply_look(p.look, config);
+  config.scene_render = p.scene.render;
+  if (p.look.camera_auto)
+    config.camera = auto_camera(*p.model, p.scene.render, static_cast<double>(config.width) / config.height);
+  return config;
+}
+
+// 2. The outputs the pipeline feeds (each removes its temporary if destroyed before finish()).
+void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& pipeline, Renderer* renderer) {
+  const Model& model = *p.model;
+  Composer composer{p.grid, {}};
+  composer.labels = p.look.overlay == OverlayMode::None ? std::vector<std::string>(p.lanes.size())
+                    : p.labels.empty()                  ? lane_tile_labels(p.lanes, *p.grid)
+                                                        : p.labels;
   if (!o.video.empty())
-    pipeline.add(make_video_output(make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset}), o.video, composer));
+    pipeline.add(make_video_output(make_video_sink(o.video, VideoOptions{p.scene.render.fps, o.crf, o.preset}), o.video,
+                                   composer));
   if (!o.frames_dir.empty())
-    for (std::size_t i = 0; i < lanes.size(); ++i)
+    for (std::size_t i = 0; i < p.lanes.size(); ++i)
       pipeline.add(make_frames_output(
-          make_png_sequence_sink((fs::path(o.frames_dir) / lane_dirs[i]).string(),
-                                 with_renderer(frame_metadata(model, lanes[i].kind, lanes[i].dt), *renderer)),
+          make_png_sequence_sink((fs::path(o.frames_dir) / p.lane_dirs[i]).string(),
+                                 with_renderer(frame_metadata(model, p.lanes[i].kind, p.lanes[i].dt), *renderer)),
           i));
   const PngText meta = renderer ? with_renderer({{"scene", model.name}, {"software", "clothsim " CLOTHSIM_VERSION}}, *renderer)
                                 : PngText{};
   if (o.still_t) pipeline.add(make_still_output(o.still_out, composer, meta));
   if (!o.sheet.empty()) {
     std::vector<std::string> rows, columns;
-    for (const LaneSpec& l : lanes) rows.push_back(l.label());
-    for (double t : sheet_times) columns.push_back(time_label(t));
-    pipeline.add(make_sheet_output(o.sheet, rows, columns, meta, width, height));
+    for (std::size_t i = 0; i < p.lanes.size(); ++i) rows.push_back(p.labels.empty() ? p.lanes[i].label() : p.labels[i]);
+    for (double t : p.sheet_times) columns.push_back(time_label(t));
+    pipeline.add(make_sheet_output(o.sheet, rows, columns, meta, p.grid->width(), p.grid->height()));
   }
+}
 
-  // 3. Run it.
-  const std::vector<std::string> after = o.summary.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.summary};
-  const PipelineReport report = pipeline.run("compare " + model.name, after);
+std::unique_ptr<Renderer> make_checked_renderer(const CompareOptions& o, const ComparePlan& p) {
+  if (!p.rendering) return nullptr;
+  std::unique_ptr<Renderer> renderer = make_renderer(o.gl);  // a GL failure shows up now
+  if (std::max(p.grid->cell_width(), p.grid->cell_height()) > renderer->max_size())
+    throw UsageError("--width/--height: tiles of " + std::to_string(p.grid->cell_width()) + "x" +
+                     std::to_string(p.grid->cell_height()) + " exceed the renderer's limit of " +
+                     std::to_string(renderer->max_size()) + " pixels");
+  return renderer;
+}
 
-  // 4. The summary.
-  print_summary(model, report, config.color);
+// The time breakdown on stderr: where the wall time went.
+void print_breakdown(const ComparePlan& p, const PipelineReport& report, double wall) {
+  double sim_cpu = 0.0;
+  for (const LaneResult& r : report.lanes) sim_cpu += r.totals.cpu_seconds;
+  if (report.reference) sim_cpu += report.reference->totals.cpu_seconds;
+  std::string outputs;
+  for (const auto& [what, seconds] : report.output_seconds) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, ", %s %.1f s", what.c_str(), seconds);
+    outputs += buf;
+  }
+  const TileGrid& grid = *p.grid;
+  std::fprintf(stderr,
+               "compare: %ld time%s, %dx%d (%zu tiles of %dx%d), in %.1f s wall: simulate %.1f s cpu "
+               "on %zu threads (the renderer waited %.1f s), render %.1f s%s\n",
+               report.targets, report.targets == 1 ? "" : "s", grid.width(), grid.height(), p.lanes.size(),
+               grid.cell_width(), grid.cell_height(), wall, sim_cpu, p.lanes.size() + (report.reference ? 1 : 0),
+               report.wait_seconds, report.render_seconds, outputs.c_str());
+}
+
+// 4. The table, the warnings, the JSON and the breakdown.
+void report_compare(const CompareOptions& o, const ComparePlan& p, const PipelineReport& report, FieldKind color,
+                    Clock::time_point wall_start) {
+  print_summary(*p.model, report, color, p.context);
   if (report.reference && report.reference->divergence) {
     // The error colouring measures nothing after it: say so where a user looks, with the fix.
     std::fflush(stdout);
@@ -354,38 +427,28 @@ int compare_command(const CompareOptions& o) {
                  report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
                  report.reference->divergence->t);
   }
-  double sim_cpu = 0.0;
-  for (const LaneResult& r : report.lanes) sim_cpu += r.totals.cpu_seconds;
-  if (report.reference) sim_cpu += report.reference->totals.cpu_seconds;
   if (!o.summary.empty()) {
-    std::vector<JsonObject> lanes_json;
-    for (std::size_t i = 0; i < report.lanes.size(); ++i) {
-      JsonObject lane = lane_summary(model, report.lanes[i], "lane");
-      if (config.color != FieldKind::None) with_field(lane, report, i);
-      lanes_json.push_back(lane);
-    }
-    if (report.reference) lanes_json.push_back(lane_summary(model, *report.reference, "reference"));
     JsonObject extra;
-    extra.text("color", std::string(field_kind_name(config.color)));
-    if (report.color_range && rendering)  // (a summary alone draws nothing: no scale)
+    extra.text("color", std::string(field_kind_name(color)));
+    extra.text("match", o.match.front() + (o.match.size() > 1 ? " " + o.match[1] : ""));
+    if (report.color_range && p.rendering)  // (a summary alone draws nothing: no scale)
       extra.number("color_range_lo", report.color_range->lo).number("color_range_hi", report.color_range->hi);
-    write_summary(o.summary, "compare", scene.source, lanes_json, extra);
+    write_summary(o.summary, "compare", p.scene.source, summary_lanes(*p.model, report, color, p.context), extra);
   }
-  const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  if (!quiet()) {
-    std::string outputs;
-    for (const auto& [what, seconds] : report.output_seconds) {
-      char buf[64];
-      std::snprintf(buf, sizeof buf, ", %s %.1f s", what.c_str(), seconds);
-      outputs += buf;
-    }
-    std::fprintf(stderr,
-                 "compare: %ld time%s, %dx%d (%zu tiles of %dx%d), in %.1f s wall: simulate %.1f s cpu "
-                 "on %zu threads (the renderer waited %.1f s), render %.1f s%s\n",
-                 report.targets, report.targets == 1 ? "" : "s", grid->width(), grid->height(), lanes.size(), grid->cell_width(), grid->cell_height(),
-                 wall, sim_cpu, lanes.size() + (report.reference ? 1 : 0), report.wait_seconds, report.render_seconds,
-                 outputs.c_str());
-  }
+  if (!quiet()) print_breakdown(p, report, std::chrono::duration<double>(Clock::now() - wall_start).count());
+}
+
+int compare_command(const CompareOptions& o) {
+  const auto wall_start = Clock::now();
+  install_interrupt_handler();  // first: Ctrl-C during setup is then seen at the first frame
+  const ComparePlan p = plan_compare(o);
+  const std::unique_ptr<Renderer> renderer = make_checked_renderer(o, p);
+  const PipelineConfig config = pipeline_config(p);
+  FramePipeline pipeline(*p.model, *p.targets, p.lanes, config, renderer.get());
+  add_outputs(o, p, pipeline, renderer.get());
+  const std::vector<std::string> after = o.summary.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.summary};
+  const PipelineReport report = pipeline.run("compare " + p.model->name, after);  // 3. run it
+  report_compare(o, p, report, config.color, wall_start);
   return kOk;
 }
 
@@ -397,9 +460,10 @@ void add_compare_command(CLI::App& app, Command& command) {
       "compare",
       "Run one scene with several integrators (or one at several steps) at once and show them side by\n"
       "side: a tiled, labelled MP4 (--video), each lane's PNGs (--frames), a contact sheet (--sheet),\n"
-      "and a summary table of cost and divergence on stdout. By default each tile is coloured by its\n"
-      "error against a reference lane (RK4 at a quarter of the smallest step, or at its predicted\n"
-      "stable step if smaller) and shows its force evaluations. Divergence is a result here (exit 0).\n"
+      "and a summary table of cost and divergence on stdout. By default the lanes are matched on cost\n"
+      "(--match), each tile is coloured by its error against a reference lane (RK4 at a quarter of the\n"
+      "smallest step, or at its predicted stable step if smaller) and shows its work and CPU time, and a\n"
+      "finite but implausible lane is marked WRONG. Divergence is a result here (exit 0).\n"
       "Without --video or --frames, the lanes stop at the last --times or --still (at 1 s at least when\n"
       "the colour scale is taken from the first second's data; --color-range LO,HI avoids that).\n"
       "Beneath the table, each lane's field in numbers, with the frames they cover.");
@@ -415,6 +479,18 @@ void add_compare_command(CLI::App& app, Command& command) {
                   "(explicit Euler, the one-iteration fixed-point implicit, midpoint, RK4); implicit_euler_fixed_point[@STEP]\n"
                   "is the course's implicit alone")
       ->capture_default_str();
+  sub->add_option("--match", o->match,
+                  "Each lane's step, for lanes without @STEP or --dt: cost (default: the step where its work per\n"
+                  "simulated second, in spring-pass equivalents, equals the cheapest lane's at the scene's step), error TOL\n"
+                  "(the largest step within TOL metres of the reference at every frame, by bisection) or none (the scene's)")
+      ->expected(1, 2)
+      ->type_name("cost|error TOL|none");
+  sub->add_option("--vary", o->vary,
+                  "Lanes by a parameter's value, labelled 'ks = 2e4': KEY a dotted scene path, a glob over the spring\n"
+                  "types (cloth.springs.*.stiffness) or ks / kd (every spring type's stiffness / damping). With\n"
+                  "--integrators, a grid: a row per integrator, a column per value; without, the scene's integrator.\n"
+                  "The lanes run at one step (no --match); colour by strain unless --color says otherwise")
+      ->type_name("KEY=V1,V2,...");
   sub->add_option("--layout", o->layout,
                   "COLUMNSxROWS: 2x2, 4x1 (side by side), 1x4 (stacked), Nx1, 1xN or auto")
       ->capture_default_str();
@@ -436,7 +512,10 @@ void add_compare_command(CLI::App& app, Command& command) {
   add_picture_options(sub, o->scene, "the whole grid", "--frames and --video");
   sub->add_option("--crf", o->crf, "Video quality, x264 CRF 0 (lossless) .. 51")->capture_default_str();
   sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)")->capture_default_str();
-  sub->callback([o, &command] { command = [o] { return compare_command(*o); }; });
+  sub->callback([o, sub, &command] {
+    o->integrators_given = sub->get_option("--integrators")->count() > 0;
+    command = [o] { return compare_command(*o); };
+  });
 }
 
 }  // namespace clothsim::cli

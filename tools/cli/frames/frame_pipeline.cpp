@@ -10,6 +10,8 @@
 
 #include "frame_decoration.h"
 #include "overlay_text.h"
+#include "plausibility.h"
+#include "core/work_units.h"
 #include "cli/common/cli_common.h"
 #include "cli/common/progress.h"
 
@@ -34,6 +36,7 @@ struct TargetFrames {
   std::vector<std::shared_ptr<const LaneFrame>> frames;  // per lane; a frozen lane's repeats
   std::vector<bool> fresh;
   std::vector<std::vector<float>> fields;  // per lane, fresh lanes only: the colouring field
+  std::vector<std::string> wrong;          // per lane: the plausibility verdict so far ("" none)
 };
 
 }  // namespace
@@ -55,13 +58,7 @@ std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, 
   }
   // run: the scene, the lane and the time (overlay_text.h); a tile: the time, the grid labels it.
   lines = single ? overlay_lines(model, lane.label(), frame.t) : std::vector<std::string>{overlay_time_line(frame.t)};
-  char buf[128];
-  // Force evaluations: the machine-independent cost, the same on every run of the command.
-  int n = std::snprintf(buf, sizeof buf, "%" PRId64 " force evals", frame.totals.force_evals);
-  if (cpu && frame.t > 0.0)  // measured: differs from run to run, so only when asked for
-    std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n), "  %.0f ms cpu/sim s",
-                  1e3 * frame.totals.cpu_seconds / frame.t);
-  lines.emplace_back(buf);
+  lines.push_back(cost_line(spring_passes(frame.totals), frame.totals.cpu_seconds, frame.t, cpu));
   return lines;
 }
 
@@ -101,6 +98,8 @@ struct FramePipeline::Impl {
   std::vector<double> field_max, field_last, field_last_t, field_first_t;  // PipelineReport's
   std::vector<long> field_count, field_states;
   std::vector<std::int64_t> field_step;  // per lane: the step of the last state measured
+  std::vector<double> energy0, energy_rise;  // per lane: E(0) and the largest E(t) - E(0), J
+  std::vector<std::string> wrong;            // per lane: the plausibility verdict ("" none)
   std::optional<ColorRange> range;
   double wait_seconds = 0.0, render_seconds = 0.0;
   long processed = 0;
@@ -112,7 +111,7 @@ struct FramePipeline::Impl {
     LaneNeeds n;
     n.picture = config.rendering;
     n.look = config.scene_render;
-    n.metrics = config.metrics;
+    n.metrics = config.metrics || config.judge;  // judging reads the energies
     // The inset's curve: sampled at the clip's frame rate whatever the targets (a still too).
     if (config.inset_energy) n.energy_every = 1.0 / plan.fps();
     n.positions = config.color == FieldKind::Error;
@@ -125,8 +124,8 @@ struct FramePipeline::Impl {
     const auto interrupt = [] { return interrupted(); };
     lane_models.resize(lanes.size());
     for (std::size_t i = 0; i < lanes.size(); ++i)
-      workers.push_back(std::make_unique<LaneWorker>(lane_model(model, lanes[i], lane_models[i]), lanes[i], plan,
-                                                     needs(), kLaneQueueCapacity, interrupt));
+      workers.push_back(std::make_unique<LaneWorker>(lane_model(model_of(i), lanes[i], lane_models[i]), lanes[i],
+                                                     plan, needs(), kLaneQueueCapacity, interrupt));
     if (config.color == FieldKind::Error && config.reference) {
       // Lanes land on the first step at or past each frame time, not on it, each at its own
       // step: the reference hands over its positions at every lane's landing time (its own
@@ -146,7 +145,27 @@ struct FramePipeline::Impl {
     field_count.assign(lanes.size(), 0);
     field_states.assign(lanes.size(), 0);
     field_step.assign(lanes.size(), -1);
+    energy0.assign(lanes.size(), std::numeric_limits<double>::quiet_NaN());
+    energy_rise.assign(lanes.size(), 0.0);
+    wrong.assign(lanes.size(), "");
     output_seconds.assign(outputs.size(), 0.0);
+  }
+
+  const Model& model_of(std::size_t lane) const {
+    return config.lane_models.empty() ? model : *config.lane_models[lane];
+  }
+
+  // The plausibility evidence a fresh frame adds (energy), and the verdict once a rule breaks.
+  void judge(std::size_t i) {
+    const LaneFrame& f = *current[i];
+    if (f.divergence) return;  // DIVERGED says more
+    const double e = f.metrics.energies.total();
+    if (std::isnan(energy0[i])) energy0[i] = e;
+    if (std::isfinite(e)) energy_rise[i] = std::max(energy_rise[i], e - energy0[i]);
+    if (!wrong[i].empty()) return;
+    LaneEvidence evidence{f.totals, config.color == FieldKind::Error && field_count[i] > 0 ? field_max[i] : -1.0,
+                          energy_rise[i]};
+    if (const auto verdict = implausible(model_of(i), evidence)) wrong[i] = *verdict;
   }
 
   void stop_lanes() {
@@ -209,6 +228,10 @@ struct FramePipeline::Impl {
       }
       if (!(field_max[i] >= largest)) field_max[i] = largest;
     }
+    if (config.judge)
+      for (std::size_t i = 0; i < lanes.size(); ++i)
+        if (out.fresh[i] && current[i]) judge(i);
+    out.wrong = wrong;
     return true;
   }
 
@@ -291,13 +314,15 @@ struct FramePipeline::Impl {
       if (config.camera) rf.camera = *config.camera;
       rf.samples = config.samples;
       rf.fxaa = config.fxaa;
-      rf.overlay_lines = lane_overlay(model, lanes[i], f, config.overlay, !config.tiles, config.overlay_cpu);
+      rf.overlay_lines = lane_overlay(model_of(i), lanes[i], f, config.overlay, !config.tiles, config.overlay_cpu);
       if (config.overlay != OverlayMode::None) {
         if (f.divergence) {
           mark_diverged(rf, *f.divergence);
         } else if (f.totals.unconverged_steps > 0) {
           // An implicit step that missed its tolerance is a result, shown on the picture.
           mark_not_converged(rf, f.totals.unconverged_steps);
+        } else if (!t.wrong.empty() && !t.wrong[i].empty()) {
+          mark_wrong(rf, t.wrong[i]);  // finite, but not this cloth's motion
         }
         // A lane that ran on but has no error field: the reference it is measured against
         // blew up. The tile says why it is drawn in the checker, not only stderr.
@@ -322,6 +347,106 @@ struct FramePipeline::Impl {
     ++processed;
   }
 
+  // The phases of run(): every target through the lanes and the outputs, the outputs
+  // finished, and on a signal or a failure what stays said in one line.
+  std::unique_ptr<Progress> progress;
+  std::vector<std::string> not_written;  // outputs the caller writes after the pipeline
+  bool stopped = false;                  // a signal: stop_here's message already says what stays
+  std::size_t finished = 0;              // outputs finished
+
+  RuntimeFailure stop_here(double t) {
+    stopped = true;
+    stop_lanes();
+    progress.reset();
+    std::vector<std::string> kept, lost;
+    for (auto& o : outputs) o->abandon(kept, lost);
+    lost.insert(lost.end(), not_written.begin(), not_written.end());
+    return RuntimeFailure(interruption_message(t, kept, lost));
+  }
+
+  // A failure (a full disk, ulimit -f) is handled as a signal is: the outputs not finished are
+  // dropped, and the one-line error says what stays (the PNGs already written, the outputs
+  // finished before the one that failed) and what is not written.
+  RuntimeFailure failure(const std::runtime_error& e) {
+    stop_lanes();
+    progress.reset();
+    std::vector<std::string> kept, lost;
+    for (std::size_t o = 0; o < outputs.size(); ++o) {
+      if (o < finished) outputs[o]->kept(kept);
+      else outputs[o]->abandon(kept, lost);
+    }
+    lost.insert(lost.end(), not_written.begin(), not_written.end());
+    const bool render = dynamic_cast<const RenderError*>(&e) != nullptr;  // (said as main says it)
+    return RuntimeFailure(std::string(render ? "render: " : "") + e.what() + "; " + what_stays(kept, lost));
+  }
+
+  void walk_targets() {
+    // Targets wait for the colour scale while it is chosen from the data (the first second).
+    const bool choosing_range = config.color != FieldKind::None && !range;
+    const double window_end = std::min(kColorScaleWindow, plan.duration());
+    TargetPlan::Cursor cursor(plan);
+    long n = 0;
+    double last_t = 0.0;
+    bool ended = false;  // stop_when_all_frozen, and every lane has diverged
+    for (Target target; cursor.next(target); ++n) {
+      if (interrupted()) throw stop_here(last_t);
+      if (ended) {
+        // A run that diverged ends its clip there; a still or sheet column still to come shows
+        // the held picture of the blow-up.
+        if (!target.still && target.column < 0) continue;
+        target.frame = -1;
+      }
+      TargetFrames frames;
+      if (!collect(target, frames)) throw stop_here(last_t);  // where the run stood, not where it was going
+      last_t = target.t;
+      if (choosing_range && !range) {
+        held.push_back(std::move(frames));
+        if (target.t >= window_end - 1e-9 || (config.stop_when_all_frozen && all_frozen())) flush_held();
+      } else {
+        process(frames);
+      }
+      progress->update(n + 1);
+      ended = config.stop_when_all_frozen && all_frozen();
+    }
+    if (interrupted()) throw stop_here(last_t);
+    flush_held();  // a clip shorter than the window, or one that stopped inside it
+  }
+
+  void finish_outputs() {
+    progress.reset();
+    for (; finished < outputs.size(); ++finished) {
+      Stopwatch watch(output_seconds[finished]);
+      outputs[finished]->finish();
+    }
+  }
+
+  PipelineReport report() {
+    PipelineReport r;
+    for (auto& w : workers) {
+      w->join();
+      r.lanes.push_back(w->result());
+    }
+    if (reference) {
+      reference->stop();  // it may be ahead of the last target a run stopped at
+      reference->join();
+      r.reference = reference->result();
+    }
+    r.color_range = range;
+    r.field_max = field_max;
+    r.field_last = field_last;
+    r.field_last_t = field_last_t;
+    r.field_count = field_count;
+    r.field_first_t = field_first_t;
+    r.field_states = field_states;
+    r.wait_seconds = wait_seconds;
+    r.render_seconds = render_seconds;
+    for (std::size_t o = 0; o < outputs.size(); ++o) r.output_seconds.emplace_back(outputs[o]->what(), output_seconds[o]);
+    r.targets = processed;
+    r.wrong = wrong;
+    r.energy_rise = energy_rise;
+    return r;
+  }
+
   void flush_held() {
     fix_range();
     while (!held.empty()) {
@@ -341,94 +466,17 @@ void FramePipeline::add(std::unique_ptr<FrameOutput> output) { impl_->outputs.pu
 
 PipelineReport FramePipeline::run(const std::string& progress_label, const std::vector<std::string>& not_written) {
   Impl& p = *impl_;
+  p.not_written = not_written;
   p.start();
-  auto progress = std::make_unique<Progress>(progress_label, p.plan.size(), "frames");
-  bool stopped = false;  // a signal: stop_here's message already says what stays
-  const auto stop_here = [&](double t) -> RuntimeFailure {
-    stopped = true;
-    p.stop_lanes();
-    progress.reset();
-    std::vector<std::string> kept, lost;
-    for (auto& o : p.outputs) o->abandon(kept, lost);
-    lost.insert(lost.end(), not_written.begin(), not_written.end());
-    return RuntimeFailure(interruption_message(t, kept, lost));
-  };
-  // A failure (a full disk, ulimit -f) is handled as a signal is: the outputs not finished are
-  // dropped, and the one-line error says what stays (the PNGs already written, the outputs
-  // finished before the one that failed) and what is not written.
-  std::size_t finished = 0;
+  p.progress = std::make_unique<Progress>(progress_label, p.plan.size(), "frames");
   try {
-    // Targets wait for the colour scale while it is chosen from the data (the first second).
-    const bool choosing_range = p.config.color != FieldKind::None && !p.range;
-    const double window_end = std::min(kColorScaleWindow, p.plan.duration());
-    TargetPlan::Cursor cursor(p.plan);
-    long n = 0;
-    double last_t = 0.0;
-    bool ended = false;  // stop_when_all_frozen, and every lane has diverged
-    for (Target target; cursor.next(target); ++n) {
-      if (interrupted()) throw stop_here(last_t);
-      if (ended) {
-        // A run that diverged ends its clip there; a still or sheet column still to come shows
-        // the held picture of the blow-up.
-        if (!target.still && target.column < 0) continue;
-        target.frame = -1;
-      }
-      TargetFrames frames;
-      if (!p.collect(target, frames)) throw stop_here(last_t);  // where the run stood, not where it was going
-      last_t = target.t;
-      if (choosing_range && !p.range) {
-        p.held.push_back(std::move(frames));
-        if (target.t >= window_end - 1e-9 || (p.config.stop_when_all_frozen && p.all_frozen())) p.flush_held();
-      } else {
-        p.process(frames);
-      }
-      progress->update(n + 1);
-      ended = p.config.stop_when_all_frozen && p.all_frozen();
-    }
-    if (interrupted()) throw stop_here(last_t);
-    p.flush_held();  // a clip shorter than the window, or one that stopped inside it
-    progress.reset();
-    for (; finished < p.outputs.size(); ++finished) {
-      Stopwatch watch(p.output_seconds[finished]);
-      p.outputs[finished]->finish();
-    }
+    p.walk_targets();
+    p.finish_outputs();
   } catch (const std::runtime_error& e) {  // RuntimeFailure, PngError, RenderError, OutputFileError
-    if (stopped || dynamic_cast<const UsageError*>(&e)) throw;
-    p.stop_lanes();
-    progress.reset();
-    std::vector<std::string> kept, lost;
-    for (std::size_t o = 0; o < p.outputs.size(); ++o) {
-      if (o < finished) p.outputs[o]->kept(kept);
-      else p.outputs[o]->abandon(kept, lost);
-    }
-    lost.insert(lost.end(), not_written.begin(), not_written.end());
-    const bool render = dynamic_cast<const RenderError*>(&e) != nullptr;  // (said as main says it)
-    throw RuntimeFailure(std::string(render ? "render: " : "") + e.what() + "; " + what_stays(kept, lost));
+    if (p.stopped || dynamic_cast<const UsageError*>(&e)) throw;
+    throw p.failure(e);
   }
-
-  PipelineReport report;
-  for (auto& w : p.workers) {
-    w->join();
-    report.lanes.push_back(w->result());
-  }
-  if (p.reference) {
-    p.reference->stop();  // it may be ahead of the last target a run stopped at
-    p.reference->join();
-    report.reference = p.reference->result();
-  }
-  report.color_range = p.range;
-  report.field_max = p.field_max;
-  report.field_last = p.field_last;
-  report.field_last_t = p.field_last_t;
-  report.field_count = p.field_count;
-  report.field_first_t = p.field_first_t;
-  report.field_states = p.field_states;
-  report.wait_seconds = p.wait_seconds;
-  report.render_seconds = p.render_seconds;
-  for (std::size_t o = 0; o < p.outputs.size(); ++o)
-    report.output_seconds.emplace_back(p.outputs[o]->what(), p.output_seconds[o]);
-  report.targets = p.processed;
-  return report;
+  return p.report();
 }
 
 }  // namespace clothsim::cli

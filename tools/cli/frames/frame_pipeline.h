@@ -42,7 +42,8 @@ struct PipelineConfig {
   int width = 0, height = 0;       // of each lane's picture (a tile)
   bool tiles = false;              // pictures are tiles of a grid that labels them (compare)
   OverlayMode overlay = OverlayMode::Full;
-  bool overlay_cpu = false;        // --overlay-cost cpu: measured CPU time, not deterministic
+  bool overlay_cpu = false;        // --overlay-cost cpu: measured CPU time beside the work units
+  bool judge = false;              // compare: judge each lane's plausibility (plausibility.h), WRONG on its tile
   FieldKind color = FieldKind::None;
   std::optional<ColorRange> color_range;  // --color-range; else from the first second
   bool inset_energy = false;       // --inset energy
@@ -55,6 +56,9 @@ struct PipelineConfig {
   RenderDef scene_render;          // the scene's render block: camera, springs, particles
   std::optional<RenderCamera> camera;  // replaces the model's (render.camera: auto, fitted)
   std::string command = "compare";     // for messages: "compare: colour scale ..."
+  // Per lane, the model it runs when it is not the pipeline's (compare --vary); empty: the
+  // pipeline's model for every lane (a fixed-point lane's copy made from it).
+  std::vector<const Model*> lane_models;
 };
 
 // One lane at one target, as outputs see it.
@@ -100,6 +104,10 @@ struct PipelineReport {
   double wait_seconds = 0.0, render_seconds = 0.0;  // this thread: waiting on lanes, rendering
   std::vector<std::pair<std::string, double>> output_seconds;  // per output
   long targets = 0;  // processed
+  // Per lane: the verdict of plausibility.h ("" for a plausible lane), and the largest rise of
+  // its total energy above E(0), J (with PipelineConfig::judge).
+  std::vector<std::string> wrong;
+  std::vector<double> energy_rise;
 };
 
 class FramePipeline {
@@ -122,8 +130,9 @@ class FramePipeline {
 };
 
 // The overlay lines of a lane's picture: `single` (run: scene, lane, time, cost) or a tile's
-// (time and cost; the grid labels the tile with the lane). Force evaluations always, measured
-// CPU time only with `cpu`, so the same command gives the same pictures.
+// (time and cost; the grid labels the tile with the lane). The cost in spring-pass
+// equivalents always (core/work_units.h: an implicit lane's Newton work counted, not only its
+// force evaluations), measured CPU time beside it only with `cpu` (overlay_text.h, cost_line).
 std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, const LaneFrame& frame,
                                       OverlayMode mode, bool single, bool cpu);
 

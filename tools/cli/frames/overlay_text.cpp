@@ -36,4 +36,34 @@ void mark_not_converged(RenderFrame& frame, std::int64_t steps) {
   frame.banner = {"NOT CONVERGED", "(" + std::to_string(steps) + (steps == 1 ? " step)" : " steps)")};
 }
 
+void mark_wrong(RenderFrame& frame, const std::string& verdict) {
+  std::string rest = verdict.rfind("WRONG: ", 0) == 0 ? verdict.substr(7) : verdict;
+  frame.banner = {"WRONG"};
+  for (std::size_t at; (at = rest.find(", ")) != std::string::npos; rest = rest.substr(at + 2))
+    frame.banner.push_back(rest.substr(0, at));
+  if (!rest.empty()) frame.banner.push_back(rest);
+}
+
+namespace {
+// 10.0k, 1.23M: three figures and a suffix, short enough for a narrow tile.
+std::string short_count(double n) {
+  char buf[32];
+  if (n >= 1e6) std::snprintf(buf, sizeof buf, "%.3gM", n / 1e6);
+  else if (n >= 1e3) std::snprintf(buf, sizeof buf, "%.3gk", n / 1e3);
+  else std::snprintf(buf, sizeof buf, "%.0f", n);
+  return buf;
+}
+}  // namespace
+
+std::string cost_line(double passes, double cpu_seconds, double t, bool cpu) {
+  if (!(t > 0.0)) return short_count(passes) + " passes";
+  std::string line = short_count(passes / t) + " passes/sim s";
+  if (cpu) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "  %.0f ms cpu/sim s", 1e3 * cpu_seconds / t);
+    line += buf;
+  }
+  return line;
+}
+
 }  // namespace clothsim::cli

@@ -39,4 +39,13 @@ void mark_diverged(RenderFrame& frame, const Divergence& divergence);
 // far (steps > 0): the red banner "NOT CONVERGED (N steps)", "(1 step)" for one.
 void mark_not_converged(RenderFrame& frame, std::int64_t steps);
 
+// Marks a frame of a lane judged implausible (plausibility.h): the red banner "WRONG" over the
+// verdict's phrases (`verdict` as implausible() gives it, "WRONG: a, b"), one per line.
+void mark_wrong(RenderFrame& frame, const std::string& verdict);
+
+// The cost line of a picture: spring-pass equivalents (core/work_units.h) per simulated
+// second, the same on every run of a command, and with `cpu` the measured CPU time beside
+// them ("10.0k passes/sim s  71 ms cpu/sim s"); at t = 0 the work so far.
+std::string cost_line(double passes, double cpu_seconds, double t, bool cpu);
+
 }  // namespace clothsim::cli

@@ -32,10 +32,10 @@ void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
                   "(default: the scene's render.overlay, full)")
       ->type_name("full|label|none");
   sub->add_option("--overlay-cost", o.overlay_cost,
-                  "evals: force evaluations (the same on every run); cpu: also measured CPU ms per simulated s "
-                  "(differs from run to run)")
-      ->capture_default_str()
-      ->type_name("evals|cpu");
+                  std::string("work: spring-pass equivalents per simulated s (docs/compare.md; the same on every run);\n"
+                              "cpu: measured CPU ms per simulated s beside them (differs from run to run). Default: ") +
+                      (compare ? "cpu" : "work"))
+      ->type_name("work|cpu");
   sub->add_option("--inset", o.inset, "energy: a small graph of total energy over time in each picture, on shared axes")
       ->capture_default_str()
       ->type_name("energy|none");
@@ -88,9 +88,10 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
   const std::optional<OverlayMode> mode = parse_overlay_mode(overlay);
   if (!mode) throw UsageError("--overlay: expected full, label or none, got " + in_quotes(overlay));
   look.overlay = *mode;
-  if (o.overlay_cost != "evals" && o.overlay_cost != "cpu")
-    throw UsageError("--overlay-cost: expected evals or cpu, got " + in_quotes(o.overlay_cost));
-  look.overlay_cpu = o.overlay_cost == "cpu";
+  const std::string cost = o.overlay_cost.empty() ? (compare ? "cpu" : "work") : o.overlay_cost;
+  if (cost != "work" && cost != "evals" && cost != "cpu")
+    throw UsageError("--overlay-cost: expected work or cpu, got " + in_quotes(cost));
+  look.overlay_cpu = cost == "cpu";
   if (o.inset != "energy" && o.inset != "none")
     throw UsageError("--inset: expected energy or none, got " + in_quotes(o.inset));
   look.inset_energy = o.inset == "energy";

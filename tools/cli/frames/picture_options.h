@@ -23,7 +23,7 @@ struct PictureOptions {
   std::string reference;                 // --reference NAME[@STEP]
   std::optional<std::string> camera;     // --camera auto|scene
   std::optional<std::string> overlay;    // --overlay full|label|none
-  std::string overlay_cost = "evals";    // --overlay-cost evals|cpu
+  std::string overlay_cost;              // --overlay-cost work|cpu (evals: work); "": cpu in compare, work in run
   std::string inset = "none";            // --inset energy|none
   std::optional<std::string> antialias;  // --antialias msaa|fxaa|none
 };

@@ -41,6 +41,7 @@
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 #include "scene/scene_parser.h"
+#include "scene/param_keys.h"
 #include "study/parameter_sweep.h"
 #include "study/stability.h"
 #include "study/task_pool.h"
@@ -168,8 +169,14 @@ void write_summary_json(const std::string& path, const std::string& source, cons
 // The swept scenes: --values, or the scene's value of --param times kDefaultValueFactors.
 std::vector<analysis::SweepScene> sweep_cases(const StabilityOptions& o, const SceneDef& base,
                                               std::vector<double>& values) {
+  ParamKey key;  // a path, a glob or an alias (ks, kd): scene/param_keys.h
+  try {
+    key = resolve_param_key(o.param, base);
+  } catch (const ParamKeyError& e) {
+    throw UsageError("--param " + std::string(e.what()));
+  }
   if (!o.values) {
-    const std::optional<double> current = analysis::parameter_value(o.scene.path, o.scene.sets, o.param);
+    const std::optional<double> current = analysis::parameter_value(o.scene.path, o.scene.sets, key.paths.front());
     if (!current)
       throw UsageError("--values: " + base.source + " gives " + o.param +
                        " no number to scale the default values from; list the values");
@@ -178,7 +185,7 @@ std::vector<analysis::SweepScene> sweep_cases(const StabilityOptions& o, const S
     values = parse_number_list(*o.values, "--values");
   }
   try {
-    return analysis::sweep_scenes(o.scene.path, o.scene.sets, o.param, values);
+    return analysis::sweep_scenes(o.scene.path, o.scene.sets, key.paths, values);
   } catch (const analysis::StudyError& e) {
     throw UsageError("--param " + std::string(e.what()));
   }
@@ -318,7 +325,9 @@ void add_stability_command(CLI::App& app, Command& command) {
   sub->add_option("--integrators", o->integrators, "Comma-separated integrators")
       ->capture_default_str()
       ->type_name("LIST");
-  sub->add_option("--param", o->param, "The numeric scene key to sweep, by its dotted path")
+  sub->add_option("--param", o->param,
+                  "The numeric scene key to sweep: a dotted path, a glob over the spring types (cloth.springs.*.stiffness)\n"
+                  "or ks / kd (every spring type's stiffness / damping); the plot's axis is labelled as written")
       ->capture_default_str()
       ->type_name("KEY");
   sub->add_option("--values", o->values,

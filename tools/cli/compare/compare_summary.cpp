@@ -1,0 +1,165 @@
+#include "compare_summary.h"
+
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+
+#include "core/work_units.h"
+
+namespace clothsim::cli {
+
+namespace {
+
+// Cost per simulated second over the time actually simulated (up to divergence).
+double simulated(const LaneResult& r) { return r.divergence ? r.divergence->t : r.t; }
+
+void print_row(const LaneResult& r, const std::string& name, const std::string& wrong) {
+  const double t = simulated(r);
+  std::printf("%-30s %10.3g %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", name.c_str(), r.spec.dt,
+              r.totals.steps, r.totals.force_evals, t > 0 ? spring_passes(r.totals) / t : 0.0, r.totals.cpu_seconds,
+              t > 0 ? 1e3 * r.totals.cpu_seconds / t : 0.0, lane_result(r, wrong).c_str());
+}
+
+// Which frames a lane's field numbers cover, and why a lane that diverged (or whose reference
+// did) was measured only up to then: else "largest 0 m" would read as a perfect lane.
+std::string measured_note(const PipelineReport& report, std::size_t i, FieldKind color) {
+  const LaneResult& r = report.lanes[i];
+  std::string measured = " (never measured";  // never: no number to quote, the note says why
+  if (report.field_count[i] > 0) {
+    char text[160];
+    // A lane whose step is longer than the frame interval stands on one state for several
+    // frames: how many states those frames showed, where it is fewer.
+    const long frames = report.field_count[i], states = report.field_states[i];
+    char distinct[64] = "";
+    if (states < frames)
+      std::snprintf(distinct, sizeof distinct, " (%ld distinct state%s of the lane)", states, states == 1 ? "" : "s");
+    if (frames == 1)
+      std::snprintf(text, sizeof text, " (measured at 1 frame, t = %.4g s", report.field_last_t[i]);
+    else
+      std::snprintf(text, sizeof text, " (measured at %ld frames%s, t = %.4g to %.4g s", frames, distinct,
+                    report.field_first_t[i], report.field_last_t[i]);
+    measured = text;
+  }
+  const bool reference_diverged = color == FieldKind::Error && report.reference && report.reference->divergence;
+  char why[80] = "";
+  if (r.divergence)
+    std::snprintf(why, sizeof why, "; it diverged at t = %.6g s", r.divergence->t);
+  else if (reference_diverged)
+    std::snprintf(why, sizeof why, "; the reference diverged at t = %.6g s", report.reference->divergence->t);
+  return measured + why + ")";
+}
+
+// The colouring in numbers: how far each lane strayed from the reference (or how strained,
+// how fast), the largest over the clip and at its end.
+void print_fields(const PipelineReport& report, FieldKind color, const std::vector<std::string>& names) {
+  for (std::size_t i = 0; i < report.lanes.size(); ++i) {
+    const LaneResult& r = report.lanes[i];
+    std::string values;
+    if (report.field_count[i] > 0) {
+      char text[160];
+      std::snprintf(text, sizeof text, " largest %.3g%s, at the end %.3g%s", report.field_max[i],
+                    field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
+      values = text;
+    }
+    const std::string against = color == FieldKind::Error && report.reference
+                                    ? " against " + report.reference->spec.name() + " @ " +
+                                          report.reference->spec.step_text + " s:"
+                                    : ":";
+    std::printf("%s @ %s s: %s%s%s%s\n", names[i].c_str(), r.spec.step_text.c_str(),
+                std::string(field_kind_name(color)).c_str(), against.c_str(), values.c_str(),
+                measured_note(report, i, color).c_str());
+  }
+}
+
+// What the implicit solve did, beside the table (0 for the explicit family, so not a column):
+// contacts it held as constraints, and particles the post-step projection still had to move.
+void print_solver_work(const PipelineReport& report, const std::vector<std::string>& names) {
+  for (std::size_t i = 0; i < report.lanes.size(); ++i) {
+    const LaneResult& r = report.lanes[i];
+    if (r.spec.fixed_point)  // the course's one-iteration fixed point: no Newton, no CG, no contacts held
+      std::printf("%s @ %s s: %" PRId64 " fixed-point iterations; post-step projections %" PRId64 " on %" PRId64
+                  " of %" PRId64 " steps, largest strain %.3g\n",
+                  names[i].c_str(), r.spec.step_text.c_str(), r.totals.newton_iterations,
+                  r.totals.safety_projections, r.totals.projected_steps, r.totals.steps, r.totals.max_strain);
+    else if (r.spec.kind == IntegratorKind::ImplicitEuler)
+      std::printf("%s @ %s s: %" PRId64 " Newton and %" PRId64 " CG iterations (%" PRId64 " assemblies, %" PRId64
+                  " sparse factorizations), largest final residual %.2g; "
+                  "contacts held in the solve %" PRId64 ", post-step projections %" PRId64 "\n",
+                  names[i].c_str(), r.spec.step_text.c_str(), r.totals.newton_iterations, r.totals.cg_iterations,
+                  r.totals.assemblies, r.totals.factorizations, r.totals.max_residual, r.totals.contact_constraints,
+                  r.totals.safety_projections);
+  }
+}
+
+JsonObject lane_summary(const Model& model, const LaneResult& r, const std::string& role) {
+  const double t = simulated(r);
+  return lane_json(model.name, r.spec.kind, r.spec.dt, r.totals,
+                   r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
+      .number("t_reached", r.t)
+      .number("spring_passes", spring_passes(r.totals))
+      .number("max_strain", r.totals.max_strain)
+      .number("projected_steps", static_cast<double>(r.totals.projected_steps))
+      .number("spring_passes_per_s", t > 0 ? spring_passes(r.totals) / t : std::nan(""))
+      .text("lane", r.spec.spelling())
+      .text("role", role);
+}
+
+// A lane's colouring field in numbers (NaN, written null, when it was never coloured).
+JsonObject& with_field(JsonObject& lane, const PipelineReport& report, std::size_t i) {
+  return lane.number("field_max", report.field_max[i])
+      .number("field_last", report.field_last[i])
+      .number("field_frames", static_cast<double>(report.field_count[i]))
+      .number("field_states", static_cast<double>(report.field_states[i]))
+      .number("field_first_t", report.field_first_t[i])
+      .number("field_last_t", report.field_last_t[i]);
+}
+
+}  // namespace
+
+std::string lane_result(const LaneResult& r, const std::string& wrong) {
+  char result[192];
+  if (r.divergence)
+    std::snprintf(result, sizeof result, "DIVERGED at t = %.6g s (step %" PRId64 "): %s", r.divergence->t,
+                  r.divergence->step, r.divergence->reason.c_str());
+  else if (r.totals.unconverged_steps > 0)
+    std::snprintf(result, sizeof result,
+                  "NOT CONVERGED: %" PRId64 " of %" PRId64 " steps, max residual %.2g (to t = %.4g s)",
+                  r.totals.unconverged_steps, r.totals.steps, r.totals.max_residual, r.t);
+  else if (!wrong.empty())
+    std::snprintf(result, sizeof result, "%s (to t = %.4g s)", wrong.c_str(), r.t);
+  else
+    std::snprintf(result, sizeof result, "ok to t = %.4g s", r.t);
+  return result;
+}
+
+void print_summary(const Model& model, const PipelineReport& report, FieldKind color, const SummaryContext& context) {
+  std::printf("%s: %zu lanes\n", model.name.c_str(), report.lanes.size());
+  std::printf("%-30s %10s %10s %13s %12s %9s %14s  %s\n", "lane", "dt_s", "steps", "force_evals", "passes_per_s",
+              "cpu_s", "cpu_ms_per_s", "result");
+  for (std::size_t i = 0; i < report.lanes.size(); ++i)
+    print_row(report.lanes[i], context.names[i], report.wrong.empty() ? "" : report.wrong[i]);
+  if (report.reference) print_row(*report.reference, report.reference->spec.name() + " (reference)", "");
+  if (color != FieldKind::None) print_fields(report, color, context.names);
+  print_solver_work(report, context.names);
+  for (std::size_t i = 0; i < report.lanes.size(); ++i)
+    std::printf("step of %s: %s s, %s\n", context.names[i].c_str(), report.lanes[i].spec.step_text.c_str(),
+                context.step_choice[i].c_str());
+}
+
+std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& report, FieldKind color,
+                                      const SummaryContext& context) {
+  std::vector<JsonObject> lanes;
+  for (std::size_t i = 0; i < report.lanes.size(); ++i) {
+    JsonObject lane = lane_summary(model, report.lanes[i], "lane");
+    lane.text("step_choice", context.step_choice[i]).text("name", context.names[i]);
+    const std::string wrong = report.wrong.empty() ? "" : report.wrong[i];
+    lane.text("result", lane_result(report.lanes[i], wrong)).text("wrong", wrong);
+    if (!report.energy_rise.empty()) lane.number("energy_rise", report.energy_rise[i]);
+    if (color != FieldKind::None) with_field(lane, report, i);
+    lanes.push_back(lane);
+  }
+  if (report.reference) lanes.push_back(lane_summary(model, *report.reference, "reference"));
+  return lanes;
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,32 @@
+// What `clothsim compare` says when its lanes have run: the table on stdout (one row per lane
+// and the reference's, with the work in spring-pass equivalents beside the CPU time, and a
+// result that says DIVERGED, NOT CONVERGED, WRONG or ok), how each lane's step was chosen
+// (--match), each lane's colouring field in numbers, and the same in --summary's JSON.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cli/common/lanes.h"
+#include "cli/common/summary_json.h"
+#include "cli/frames/frame_pipeline.h"
+#include "core/model.h"
+
+namespace clothsim::cli {
+
+// What the summary shows beside the pipeline's report.
+struct SummaryContext {
+  std::vector<std::string> names;        // per lane: its row's name ("rk4", "ks = 2e4 rk4")
+  std::vector<std::string> step_choice;  // per lane: how its step was chosen (--match)
+};
+
+// The result column: DIVERGED at ..., NOT CONVERGED ..., WRONG: ... or ok to t = ...
+std::string lane_result(const LaneResult& r, const std::string& wrong);
+
+void print_summary(const Model& model, const PipelineReport& report, FieldKind color, const SummaryContext& context);
+
+// --summary's lanes: the pipeline's report as JSON objects (docs/summary.md), the reference last.
+std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& report, FieldKind color,
+                                      const SummaryContext& context);
+
+}  // namespace clothsim::cli
