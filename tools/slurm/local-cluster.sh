@@ -77,6 +77,7 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_CPU_Memory
 JobAcctGatherType=jobacct_gather/none
 SchedulerType=sched/backfill
+SchedulerParameters=sched_min_interval=100000,sched_interval=1  # us: the next wave of array tasks starts at once, not 2 s later
 ReturnToService=2
 KillWait=10
 MinJobAge=300
