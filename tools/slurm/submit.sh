@@ -9,7 +9,8 @@
 # the merge job (--dependency=afterok:ARRAY) runs `clothsim merge` into F (and the plot).
 # --plot is merge's, so it is taken off the shards' command. Both job ids are printed;
 # with --wait the script waits for the merge and exits with its exit code (1 when the
-# array failed and the merge never ran). Logs: F.task-%a.log (task 0 runs shard 1) and F.merge.log.
+# array failed and the merge never ran; requeue the failed tasks, then run F.merge.sh).
+# Logs: F.task-%a.log (task 0 runs shard 1) and F.merge.log.
 # Every task may be requeued (scontrol requeue, preemption): a rerun skips what is done.
 set -euo pipefail
 
@@ -74,6 +75,10 @@ array_opts=(--array="0-$((tasks - 1))" --cpus-per-task="$cpus" --requeue --job-n
 
 array_id=$(sbatch "${common[@]}" "${array_opts[@]}" --wrap "exec $shard_command")
 array_id=${array_id%%;*}
+# Slurm cancels the merge once a task fails (afterok can then never hold, even after a
+# requeue): the merge command is kept in F.merge.sh to run by hand after requeued tasks.
+printf '#!/bin/sh\n%s\n' "$merge_command" >"$csv.merge.sh"
+chmod +x "$csv.merge.sh"
 merge_id=$(sbatch "${common[@]}" --dependency="afterok:$array_id" --kill-on-invalid-dep=yes \
   --job-name="clothsim-merge" --output="$csv.merge.log" --wrap "exec $merge_command")
 merge_id=${merge_id%%;*}
@@ -95,7 +100,8 @@ code=$(job_field ExitCode)
 [[ -z $code ]] && code=$(sacct -n -X -P -j "$merge_id" -o ExitCode 2>/dev/null | head -1)
 code=${code%%:*}
 if [[ $state == CANCELLED* && $code == 0 ]]; then
-  echo "submit: merge job $merge_id was cancelled (a shard failed? see $csv.task-*.log)" >&2
+  echo "submit: merge job $merge_id was cancelled: a task failed (see $csv.task-*.log); requeue it" \
+       "(scontrol requeue ${array_id}_I), then run $csv.merge.sh" >&2
   exit 1
 fi
 echo "submit: merge job $merge_id $state, exit code $code (log $csv.merge.log)" >&2
