@@ -130,7 +130,8 @@ struct StabilityCase {
 
 // A search's rough cost in force-evaluation equivalents, for sharding only (shard.h): the
 // steps of a trial near the predicted limit (clamped to the range tried), times the
-// evaluations per step; searches take similar numbers of trials.
+// evaluations per step (implicit_euler: 8 x (1 + w_max dt)); searches take similar numbers
+// of trials.
 double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec& spec);
 
 // Every (case, integrator) search, spread over the cores; results case by case, integrators
