@@ -191,8 +191,8 @@ double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec&
   const double limit = predicted_limit(e, kind, model.implicit);
   const double dt = std::clamp(std::isfinite(limit) && limit > 0.0 ? limit : spec.max_dt, spec.min_dt, spec.max_dt);
   const int evals = nominal_force_evals(kind);
-  // An implicit step's CG work grows with the stiffness the step spans, w_max dt (fits the
-  // drape's searches within 20 % over 3 decades of stiffness, docs/cluster.md).
+  // An implicit step's CG work grows with the stiffness the step spans, w_max dt (the
+  // drape's implicit searches do, over 3 decades of stiffness: docs/cluster.md).
   const double per_step = evals > 0 ? evals : 8.0 * (1.0 + (std::isfinite(e.w_max) ? e.w_max * dt : 0.0));
   return (spec.duration / dt) * per_step;
 }
