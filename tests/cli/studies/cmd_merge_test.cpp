@@ -86,6 +86,21 @@ TEST(CmdMerge, ListsMissingAndIncompleteShardsAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir + "/m.csv"));
 }
 
+TEST(CmdMerge, AMergedBenchChecksItsReferenceAsOneProcessDoes) {
+  // The chain's errors are at rounding level: its RK4 reference cannot resolve them.
+  const std::string dir = scratch_dir("merge_bench_reference");
+  const std::string chain = std::string(CLOTHSIM_SCENES_DIR) + "/chain.yaml";
+  const CliResult whole = run_clothsim({"bench", chain, "--csv", dir + "/one.csv"});
+  ASSERT_EQ(whole.exit_code, 1) << whole.err;
+  for (const char* k : {"1/2", "2/2"})
+    ASSERT_EQ(run_clothsim({"bench", chain, "--csv", dir + "/p.csv", "--shard", k}).exit_code, 0) << k;
+  const CliResult r = run_clothsim({"merge", dir + "/p.csv.shard-1-of-2", dir + "/p.csv.shard-2-of-2", "--csv",
+                                    dir + "/m.csv"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("the reference is not converged"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(dir + "/m.csv"));
+}
+
 TEST(CmdMerge, AShardNeedsACsvAndLeavesThePlotToMerge) {
   const std::string dir = scratch_dir("merge_options");
   std::vector<std::string> no_csv = study("", "1/2");

@@ -9,11 +9,18 @@
 // different studies, scenes, options, versions or shard counts. Lists every missing and
 // incomplete shard and exits 1 without writing anything.
 //
+// A merged bench ends as the single-process one does: a reference not converged against the
+// smallest error keeps the CSV, draws no plot and exits 1.
+//
 // Exit codes: 0; 2 bad options or shards that do not belong together; 1 missing or
-// incomplete shards, I/O, the plot.
+// incomplete shards, a bench reference not converged, I/O, the plot.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
+#include <sstream>
 
 #include "study_common.h"
 #include "study_shard.h"
@@ -21,6 +28,7 @@
 #include "cli/common/commands.h"
 #include "cli/common/progress.h"
 #include "study/study.h"
+#include "study/work_precision.h"
 
 namespace clothsim::cli {
 namespace {
@@ -123,6 +131,47 @@ std::string merged_csv(const std::vector<ShardPart>& parts) {
   return csv;
 }
 
+// One CSV line's cells (RFC 4180 quotes, as csv_text writes them).
+std::vector<std::string> csv_cells(const std::string& line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') cells.back() += c, ++i;
+    else if (c == '"') quoted = !quoted;
+    else if (c == ',' && !quoted) cells.emplace_back();
+    else cells.back() += c;
+  }
+  return cells;
+}
+
+// bench's last check, which needs every error (work_precision.h): the reference's own
+// change at most reference_margin x the smallest RMS error. "" when it holds.
+std::string bench_reference_problem(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = csv_cells(line);
+  const auto column = [&](const char* name) { return std::find(header.begin(), header.end(), name) - header.begin(); };
+  const std::size_t rms_at = column("rms_error"), change_at = column("reference_change");
+  double smallest = NAN, change = NAN;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = csv_cells(line);
+    if (cells.size() != header.size()) continue;
+    const double rms = std::strtod(cells[rms_at].c_str(), nullptr);
+    if (std::isfinite(rms) && !(smallest <= rms)) smallest = rms;
+    change = std::strtod(cells[change_at].c_str(), nullptr);
+  }
+  const double margin = analysis::WorkPrecisionSpec{}.reference_margin;
+  char why[300] = "";
+  if (std::isnan(change))
+    std::snprintf(why, sizeof why, "the reference runs did not both reach T (see a shard's log)");
+  else if (std::isfinite(smallest) && change > margin * smallest)
+    std::snprintf(why, sizeof why, "the reference is not converged: halving its step moved the particles by %.3g m "
+                  "RMS, more than %g x the smallest error reported (%.3g m)", change, margin, smallest);
+  return why;
+}
+
 int merge_command(const MergeOptions& o) {
   refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
@@ -148,6 +197,10 @@ int merge_command(const MergeOptions& o) {
   else write_to(o.csv);
   std::fprintf(o.csv.empty() ? stderr : stdout, "merge: %s of %s, %zu shards, %zu rows%s%s\n", p.study.c_str(),
                p.scene.c_str(), parts.size(), p.total_items, o.csv.empty() ? "" : " -> ", o.csv.c_str());
+  const std::string reference = p.study == "bench" ? bench_reference_problem(csv) : "";
+  if (!reference.empty())  // as the single-process bench: the CSV stays for inspection, no plot
+    throw RuntimeFailure(p.scene + ": " + reference + (o.csv.empty() ? "" : " (kept for inspection: " + o.csv + ")") +
+                         "; no plot drawn");
   if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", p.title});
   return kOk;
 }
