@@ -34,7 +34,7 @@ fi
 work=$(mktemp -d /var/tmp/clothsim-cluster-test.XXXXXX)
 cleanup() {
   if ((ok)); then rm -rf "$work"; else echo "test_cluster: kept $work for inspection" >&2; fi
-  ((started)) && tools/slurm/local-cluster.sh stop
+  ((started)) && "$root/tools/slurm/local-cluster.sh" stop
   return 0
 }
 trap cleanup EXIT
