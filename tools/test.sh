@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Installs, builds and runs every test (GoogleTest through CTest), on all cores; then, when
+# Installs, builds and runs every test (GoogleTest through CTest), on all cores, and the
+# Slurm cluster test (tools/slurm/test_cluster.sh); then, when
 # clang-14 is present, fuzzes the scene front end for a bounded time (tools/fuzz.sh,
 # CLOTHSIM_FUZZ_SECONDS, default 60; 0 skips it). A fuzzer failure fails the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/build.sh
 (cd build && ctest --output-on-failure -j"$(nproc)" --timeout 600)
+# Sharded studies on a local one-node Slurm cluster (installs slurm-wlm and munge when
+# missing; skipped with a message where Slurm cannot run, e.g. without root).
+tools/slurm/test_cluster.sh build/clothsim
 fuzz_seconds=${CLOTHSIM_FUZZ_SECONDS:-60}
 if ((fuzz_seconds > 0)); then
   if command -v clang++-14 >/dev/null; then

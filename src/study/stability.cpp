@@ -9,6 +9,7 @@
 #include "study_run.h"
 #include "task_pool.h"
 #include "scene/run_bounds.h"
+#include "core/integrators/integrator.h"
 
 namespace clothsim::analysis {
 namespace {
@@ -217,21 +218,41 @@ StabilityLimit largest_stable_dt(const Model& model, IntegratorKind kind, const 
   return StableStepSearch(model, kind, spec, stop).run();
 }
 
+double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec& spec) {
+  const StiffnessEstimate e = estimate_stiffness(model);
+  const double limit = predicted_limit(e, kind, model.implicit);
+  const double dt = std::clamp(std::isfinite(limit) && limit > 0.0 ? limit : spec.max_dt, spec.min_dt, spec.max_dt);
+  const int evals = nominal_force_evals(kind);
+  // An implicit step's CG work grows with the stiffness the step spans, w_max dt (the
+  // drape's implicit searches do, over 3 decades of stiffness: docs/cluster.md).
+  const double per_step = evals > 0 ? evals : 8.0 * (1.0 + (std::isfinite(e.w_max) ? e.w_max * dt : 0.0));
+  return (spec.duration / dt) * per_step;
+}
+
 std::vector<StabilityLimit> stability_sweep(const std::vector<StabilityCase>& cases, const StabilitySpec& spec,
                                             const StudyHooks& hooks) {
+  std::vector<std::size_t> items(cases.size() * spec.integrators.size());
+  for (std::size_t i = 0; i < items.size(); ++i) items[i] = i;
+  return stability_sweep_items(cases, spec, items, hooks);
+}
+
+std::vector<StabilityLimit> stability_sweep_items(const std::vector<StabilityCase>& cases, const StabilitySpec& spec,
+                                                  const std::vector<std::size_t>& items, const StudyHooks& hooks,
+                                                  const std::function<void(std::size_t, const StabilityLimit&)>& finished) {
   check(spec);
   const std::size_t per_case = spec.integrators.size();
-  const std::size_t total = cases.size() * per_case;
+  const std::size_t total = items.size();
   std::vector<StabilityLimit> limits(total);
   std::vector<bool> done_flags(total, false);
   std::mutex mutex;
   long done = 0;
   parallel_for(total, spec.jobs, [&](std::size_t i) {
-    const StabilityCase& c = cases[i / per_case];
-    StabilityLimit limit = largest_stable_dt(*c.model, spec.integrators[i % per_case], spec, hooks.stop);
+    const StabilityCase& c = cases[items[i] / per_case];
+    StabilityLimit limit = largest_stable_dt(*c.model, spec.integrators[items[i] % per_case], spec, hooks.stop);
     limit.value = c.value;
     std::lock_guard<std::mutex> lock(mutex);
     if (limit.outcome == StabilityOutcome::Stopped) return;
+    if (finished) finished(items[i], limit);
     limits[i] = std::move(limit);
     done_flags[i] = true;
     ++done;

@@ -128,9 +128,21 @@ struct StabilityCase {
   const Model* model = nullptr;
 };
 
+// A search's rough cost in force-evaluation equivalents, for sharding only (shard.h): the
+// steps of a trial near the predicted limit (clamped to the range tried), times the
+// evaluations per step (implicit_euler: 8 x (1 + w_max dt)); searches take similar numbers
+// of trials.
+double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec& spec);
+
 // Every (case, integrator) search, spread over the cores; results case by case, integrators
 // in spec order. Searches the caller stopped are left out.
 std::vector<StabilityLimit> stability_sweep(const std::vector<StabilityCase>& cases,
                                             const StabilitySpec& spec, const StudyHooks& hooks = {});
+
+// The searches `items` only (item = case index x integrators + integrator index, ascending),
+// `finished` told of each as it completes (calls serialised): a shard's part (shard.h).
+std::vector<StabilityLimit> stability_sweep_items(
+    const std::vector<StabilityCase>& cases, const StabilitySpec& spec, const std::vector<std::size_t>& items,
+    const StudyHooks& hooks = {}, const std::function<void(std::size_t, const StabilityLimit&)>& finished = {});
 
 }  // namespace clothsim::analysis

@@ -30,13 +30,46 @@ std::int64_t whole_steps(double T, double dt) {
   return rounded >= 1.0 && std::abs(n - rounded) <= 1e-9 * rounded ? static_cast<std::int64_t>(rounded) : 0;
 }
 
-// Rough cost of a run in force-evaluation equivalents, for scheduling only (longest first).
+}  // namespace
+
 double cost_estimate(IntegratorKind kind, double T, double dt) {
   const int evals = nominal_force_evals(kind);
   return (T / dt) * (evals > 0 ? evals : 8);  // an implicit step: a few Newton/CG rounds
 }
 
-}  // namespace
+std::vector<WorkPrecisionPoint> planned_points(const WorkPrecisionSpec& spec) {
+  std::vector<WorkPrecisionPoint> points;
+  for (IntegratorKind kind : spec.integrators)
+    for (double dt : steps_of(spec, kind)) {
+      WorkPrecisionPoint p;
+      p.integrator = kind;
+      p.dt = dt;
+      p.frame_step = std::find(spec.dts.begin(), spec.dts.end(), dt) == spec.dts.end();
+      p.rms_error = p.max_error = kNaN;
+      points.push_back(p);
+    }
+  return points;
+}
+
+WorkPrecisionPoint measured_point(WorkPrecisionPoint p, const StudyRun& run, const Model& model,
+                                  const State* reference) {
+  p.finished = run.finished;
+  p.diverged = run.divergence.has_value();
+  if (p.diverged) p.diverged_at = run.divergence->t, p.reason = run.divergence->reason;
+  p.steps = run.totals.steps;
+  p.force_evals = run.totals.force_evals;
+  p.newton_iterations = run.totals.newton_iterations;
+  p.cg_iterations = run.totals.cg_iterations;
+  p.unconverged_steps = run.totals.unconverged_steps;
+  p.wall_seconds = run.totals.sim_seconds;
+  p.cpu_seconds = run.totals.cpu_seconds;
+  if (p.finished && reference) {
+    const PositionError e = position_error(model, run.final_state.x, reference->x, reference->inv_mass);
+    p.rms_error = e.rms;
+    p.max_error = e.max;
+  }
+  return p;
+}
 
 // The steps `kind` runs: the common list, and for implicit Euler the frame-rate steps too.
 std::vector<double> steps_of(const WorkPrecisionSpec& spec, IntegratorKind kind) {
@@ -128,16 +161,9 @@ struct Task {
 // The two reference runs, then every (integrator, dt), dearest first; fills result.points.
 std::vector<Task> plan_tasks(const WorkPrecisionSpec& spec, double h_coarse, WorkPrecisionResult& result) {
   std::vector<Task> tasks{{spec.reference_integrator, h_coarse, -1}, {spec.reference_integrator, 0.5 * h_coarse, -2}};
-  for (IntegratorKind kind : spec.integrators)
-    for (double dt : steps_of(spec, kind)) {
-      WorkPrecisionPoint p;
-      p.integrator = kind;
-      p.dt = dt;
-      p.frame_step = std::find(spec.dts.begin(), spec.dts.end(), dt) == spec.dts.end();
-      p.rms_error = p.max_error = kNaN;
-      tasks.push_back({kind, dt, static_cast<int>(result.points.size())});
-      result.points.push_back(p);
-    }
+  result.points = planned_points(spec);
+  for (std::size_t k = 0; k < result.points.size(); ++k)
+    tasks.push_back({result.points[k].integrator, result.points[k].dt, static_cast<int>(k)});
   const double T = spec.duration;
   std::stable_sort(tasks.begin(), tasks.end(), [&](const Task& a, const Task& b) {
     return cost_estimate(a.kind, T, a.dt) > cost_estimate(b.kind, T, b.dt);
@@ -184,24 +210,8 @@ void collect_points(const Model& model, const StudyRuns& runs, WorkPrecisionResu
       result.complete = false;
       continue;
     }
-    WorkPrecisionPoint p = result.points[k];
-    const StudyRun& run = runs.points[k];
-    p.finished = run.finished;
-    p.diverged = run.divergence.has_value();
-    if (p.diverged) p.diverged_at = run.divergence->t, p.reason = run.divergence->reason;
-    p.steps = run.totals.steps;
-    p.force_evals = run.totals.force_evals;
-    p.newton_iterations = run.totals.newton_iterations;
-    p.cg_iterations = run.totals.cg_iterations;
-    p.unconverged_steps = run.totals.unconverged_steps;
-    p.wall_seconds = run.totals.sim_seconds;
-    p.cpu_seconds = run.totals.cpu_seconds;
-    if (p.finished && fine.finished) {
-      const PositionError e = position_error(model, run.final_state.x, fine.final_state.x, fine.final_state.inv_mass);
-      p.rms_error = e.rms;
-      p.max_error = e.max;
-      if (!(ref.smallest_error <= e.rms)) ref.smallest_error = e.rms;
-    }
+    WorkPrecisionPoint p = measured_point(result.points[k], runs.points[k], model, fine.finished ? &fine.final_state : nullptr);
+    if (p.finished && fine.finished && !(ref.smallest_error <= p.rms_error)) ref.smallest_error = p.rms_error;
     kept.push_back(std::move(p));
   }
   result.points = std::move(kept);

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "study.h"
+#include "study_run.h"
 #include "core/integrators/integrator_kind.h"
 #include "core/model.h"
 
@@ -84,6 +85,15 @@ struct WorkPrecisionResult {
 
 // The steps `kind` runs: spec.dts, and for implicit_euler the frame_dts too, ascending.
 std::vector<double> steps_of(const WorkPrecisionSpec& spec, IntegratorKind kind);
+
+// The study's points in the order it reports them (integrator by integrator, dt ascending),
+// not yet run: a point's index is its item number in a sharded bench (shard.h).
+std::vector<WorkPrecisionPoint> planned_points(const WorkPrecisionSpec& spec);
+// Rough cost of a run in force-evaluation equivalents, for scheduling and sharding only.
+double cost_estimate(IntegratorKind kind, double T, double dt);
+// `p` with the run's outcome and cost, and its error against `reference` (nullptr: none).
+WorkPrecisionPoint measured_point(WorkPrecisionPoint p, const StudyRun& run, const Model& model,
+                                  const State* reference);
 
 // Checks the spec (throws StudyError naming the problem) and returns it with dts sorted.
 WorkPrecisionSpec checked(WorkPrecisionSpec spec);

@@ -20,5 +20,6 @@ void add_bench_command(CLI::App& app, Command& command);
 void add_stability_command(CLI::App& app, Command& command);
 void add_converge_command(CLI::App& app, Command& command);
 void add_golden_command(CLI::App& app, Command& command);
+void add_merge_command(CLI::App& app, Command& command);  // studies/cmd_merge.cpp
 
 }  // namespace clothsim::cli

@@ -21,9 +21,11 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "study_common.h"
+#include "study_shard.h"
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
 #include "cli/common/memory_budget.h"
@@ -34,6 +36,7 @@
 #include "scene/scene_parser.h"
 #include "study/task_pool.h"
 #include "study/work_precision.h"
+#include "study/work_precision_shard.h"
 
 namespace clothsim::cli {
 namespace {
@@ -48,6 +51,7 @@ struct BenchOptions {
   std::optional<std::string> dts;  // not given: derived from the scene's dt
   std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
   std::string csv, plot, summary;
+  std::string shard;  // --shard K/N|auto (study_shard.h)
   int jobs = 0;
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
 };
@@ -139,6 +143,48 @@ void write_summary_json(const std::string& path, const std::string& source, cons
   write_summary(path, "bench", source, lanes, extra);
 }
 
+// A shard's reference: saved in its directory, so a rerun measures against it without running it.
+analysis::ShardReference shard_reference(const StudyShard& shard, const Model& model, const WorkPrecisionSpec& spec,
+                                         const analysis::StudyHooks& hooks) {
+  const std::string path = shard.dir() + "/reference";
+  try {
+    if (std::filesystem::exists(path)) return analysis::read_reference(analysis::read_whole_file(path));
+    analysis::ShardReference ref = analysis::run_reference(model, spec, hooks);
+    if (!ref.stopped) analysis::write_file_atomically(path, analysis::reference_text(ref, model.num_particles));
+    return ref;
+  } catch (const analysis::StudyError& e) {
+    throw RuntimeFailure(path + ": " + e.what() + "; remove it to run the reference again");
+  } catch (const std::runtime_error& e) {
+    throw RuntimeFailure(e.what());
+  }
+}
+
+// --shard: this process's part of the runs, each journaled as it finishes (study_shard.h).
+int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSpec& spec,
+                const analysis::StudyHooks& hooks) {
+  WorkPrecisionResult row;  // one point at a time, with the study's T and reference
+  row.duration = spec.duration;
+  ShardPlan plan{"bench", o.scene.path, o.scene.sets, "", model.name + " (T = " + csv_number(spec.duration) + " s)",
+                 first_line(written_text([&](std::FILE* f) { write_csv(f, row); })), {}};
+  for (const WorkPrecisionPoint& p : analysis::planned_points(spec)) {
+    plan.plan += ";" + std::string(integrator_name(p.integrator)) + " " + csv_number(p.dt);
+    plan.costs.push_back(analysis::cost_estimate(p.integrator, spec.duration, p.dt));
+  }
+  plan.plan += ";T " + csv_number(spec.duration) + ";reference " + std::string(integrator_name(spec.reference_integrator)) +
+               " /" + std::to_string(spec.reference_refinement);
+  StudyShard shard(o.shard, o.csv, o.plot, o.summary, plan);
+  if (shard.todo().empty()) return shard.finish();
+  const analysis::ShardReference ref = shard_reference(shard, model, spec, hooks);
+  row.reference.dt = ref.dt;
+  row.reference.finished = ref.finished;
+  row.reference.change_rms = ref.change_rms;
+  analysis::run_points(model, spec, ref, shard.todo(), hooks, [&](std::size_t item, const WorkPrecisionPoint& p) {
+    row.points = {p};
+    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, row); })));
+  });
+  return shard.finish();
+}
+
 // The study to run: steps (--dts or the scene's x kDefaultStepFactors), T, the frame steps.
 WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds) {
   std::vector<double> dts;
@@ -222,6 +268,7 @@ int bench_command(const BenchOptions& o) {
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
   hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  if (!o.shard.empty()) return bench_shard(o, model, spec, hooks);
   const WorkPrecisionResult result = analysis::work_precision(model, spec, hooks);
   progress.finish();
 
@@ -287,6 +334,7 @@ void add_bench_command(CLI::App& app, Command& command) {
   add_progress_options(sub);
   add_no_overwrite_option(sub);
   sub->add_option("--jobs", o->jobs, "Runs at once (default 0: one per core)");
+  add_shard_option(sub, o->shard);
   sub->add_option("--reference-refinement", o->reference_refinement,
                   "Reference step = smallest step / N, then halved once more to check it")
       ->capture_default_str()

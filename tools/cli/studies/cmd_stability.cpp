@@ -33,6 +33,7 @@
 #include <memory>
 
 #include "study_common.h"
+#include "study_shard.h"
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
 #include "cli/common/memory_budget.h"
@@ -63,6 +64,7 @@ struct StabilityOptions {
   double max_strain = analysis::StabilitySpec{}.max_strain;
   std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
   std::string csv, plot, summary;
+  std::string shard;  // --shard K/N|auto (study_shard.h)
   int jobs = 0;
 };
 
@@ -164,6 +166,26 @@ void write_summary_json(const std::string& path, const std::string& source, cons
       .number("max_dt", spec.max_dt)
       .boolean("complete", complete);
   write_summary(path, "stability", source, lanes, extra);
+}
+
+// --shard: this process's part of the searches, each journaled as it finishes (study_shard.h).
+int stability_shard(const StabilityOptions& o, const std::string& title, const std::vector<analysis::StabilityCase>& refs,
+                    const analysis::StabilitySpec& spec, const analysis::StudyHooks& hooks) {
+  ShardPlan plan{"stability", o.scene.path, o.scene.sets, o.param, title,
+                 first_line(written_text([&](std::FILE* f) { write_csv(f, o.param, {}, spec); })), {}};
+  for (const analysis::StabilityCase& c : refs)
+    for (IntegratorKind k : spec.integrators) {
+      plan.plan += ";" + csv_number(c.value) + " " + std::string(integrator_name(k));
+      plan.costs.push_back(analysis::search_cost(*c.model, k, spec));
+    }
+  for (double x : {spec.duration, spec.min_dt, spec.max_dt, spec.precision, spec.energy_factor, spec.max_strain})
+    plan.plan += ";" + csv_number(x);
+  for (double dt : spec.frame_dts) plan.plan += ";frame " + csv_number(dt);
+  StudyShard shard(o.shard, o.csv, o.plot, o.summary, plan);
+  analysis::stability_sweep_items(refs, spec, shard.todo(), hooks, [&](std::size_t item, const StabilityLimit& l) {
+    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, o.param, {l}, spec); })));
+  });
+  return shard.finish();
 }
 
 // The swept scenes: --values, or the scene's value of --param times kDefaultValueFactors.
@@ -293,6 +315,7 @@ int stability_command(const StabilityOptions& o) {
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
   hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  if (!o.shard.empty()) return stability_shard(o, base.name, refs, spec, hooks);
   const std::vector<StabilityLimit> limits = analysis::stability_sweep(refs, spec, hooks);
   progress.finish();
 
@@ -359,6 +382,7 @@ void add_stability_command(CLI::App& app, Command& command) {
   add_progress_options(sub);
   add_no_overwrite_option(sub);
   sub->add_option("--jobs", o->jobs, "Searches at once (default 0: one per core)");
+  add_shard_option(sub, o->shard);
   sub->callback([o, &command] { command = [o] { return stability_command(*o); }; });
 }
 

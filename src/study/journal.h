@@ -1,0 +1,45 @@
+// A shard's journal: one file per finished work item, so a shard stopped at any instant
+// (SIGTERM then SIGKILL at a Slurm time limit, a node failure, `scontrol requeue`) keeps
+// every item it finished, and a rerun skips them.
+//
+// Each item is written to a temporary file and renamed into place, so an item file is
+// whole or absent, never half-written, whatever kills the process. A log line per recorded
+// item (appended, one write each) lets a test check that no finished item ran twice.
+//
+// Layout of DIR: provenance (shard.h's record), items/ITEM (the item's payload, a CSV row),
+// log ("ITEM\n" per record call, in the order they finished).
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace clothsim::analysis {
+
+class Journal {
+ public:
+  // Opens DIR, creating it and DIR/items when absent. Throws std::runtime_error naming DIR.
+  explicit Journal(std::string dir);
+  bool done(std::size_t item) const;
+  std::size_t size() const;
+  // Writes the item's payload atomically; safe from several threads at once.
+  void record(std::size_t item, const std::string& payload);
+  const std::string& dir() const { return dir_; }
+
+  // Every finished item's payload, by item.
+  static std::map<std::size_t, std::string> read_items(const std::string& dir);
+
+ private:
+  std::string dir_;
+  std::map<std::size_t, std::string> items_;
+  mutable std::mutex mutex_;
+};
+
+// Writes `text` to PATH through a temporary file in the same folder and a rename.
+// Throws std::runtime_error naming PATH.
+void write_file_atomically(const std::string& path, const std::string& text);
+// The whole file; throws std::runtime_error naming PATH.
+std::string read_whole_file(const std::string& path);
+
+}  // namespace clothsim::analysis

@@ -1,0 +1,121 @@
+// `clothsim merge` and --shard as users call them: parts joined into the single-process
+// CSV; parts of other studies refused in one line naming the file (exit 2); missing and
+// incomplete parts listed (exit 1), nothing written.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "cli/cli_process.h"
+
+namespace clothsim::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string spring() { return std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml"; }
+
+std::vector<std::string> study(const std::string& csv, const std::string& shard, const std::string& values = "100,400") {
+  return {"stability", spring(), "--integrators", "symplectic_euler,rk4", "--values", values, "--duration", "20",
+          "--min-dt", "0.01", "--max-dt", "0.5", "--jobs", "1", "--csv", csv, "--shard", shard};
+}
+
+// The CSV without its cpu_seconds column (the 8th), which measures the machine.
+std::string untimed(const std::string& path) {
+  std::string out;
+  std::istringstream in(slurp(path));
+  for (std::string line; std::getline(in, line);) {
+    std::size_t a = 0;
+    for (int i = 0; i < 7; ++i) a = line.find(',', a) + 1;
+    out += line.substr(0, a) + line.substr(line.find(',', a) + 1) + "\n";
+  }
+  return out;
+}
+
+TEST(CmdMerge, JoinsShardsIntoWhatOneProcessWrites) {
+  const std::string dir = scratch_dir("merge_join");
+  for (const char* k : {"1/3", "2/3", "3/3"}) ASSERT_EQ(run_clothsim(study(dir + "/p.csv", k)).exit_code, 0) << k;
+  std::vector<std::string> whole = study(dir + "/one.csv", "1/1");
+  whole.resize(whole.size() - 2);  // without --shard
+  ASSERT_EQ(run_clothsim(whole).exit_code, 0);
+  const CliResult r = run_clothsim({"merge", dir + "/p.csv.shard-1-of-3", dir + "/p.csv.shard-2-of-3",
+                                    dir + "/p.csv.shard-3-of-3", "--csv", dir + "/m.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(untimed(dir + "/m.csv"), untimed(dir + "/one.csv"));
+}
+
+TEST(CmdMerge, ARerunOfAShardRunsNothingItFinished) {
+  const std::string dir = scratch_dir("merge_rerun");
+  ASSERT_EQ(run_clothsim(study(dir + "/p.csv", "1/2")).exit_code, 0);
+  const CliResult again = run_clothsim(study(dir + "/p.csv", "1/2"));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.out.find(" finished before, 0 to run"), std::string::npos) << again.out;
+  EXPECT_EQ(again.out.find(" 0 finished before"), std::string::npos) << again.out;
+  const auto items = std::distance(fs::directory_iterator(dir + "/p.csv.shard-1-of-2/items"), fs::directory_iterator());
+  EXPECT_GT(items, 0);
+  EXPECT_EQ(line_count(slurp(dir + "/p.csv.shard-1-of-2/log")), items);  // one record per item, none twice
+}
+
+TEST(CmdMerge, RefusesShardsOfAnotherStudyNamingTheFile) {
+  const std::string dir = scratch_dir("merge_refuse");
+  ASSERT_EQ(run_clothsim(study(dir + "/a.csv", "1/2")).exit_code, 0);
+  ASSERT_EQ(run_clothsim(study(dir + "/b.csv", "2/2", "100,500")).exit_code, 0);
+  const CliResult r = run_clothsim({"merge", dir + "/a.csv.shard-1-of-2", dir + "/b.csv.shard-2-of-2"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("b.csv.shard-2-of-2: a shard of a different study options"), std::string::npos) << r.err;
+  const CliResult not_shard = run_clothsim({"merge", dir});
+  EXPECT_EQ(not_shard.exit_code, 2);
+  EXPECT_NE(not_shard.err.find("not a shard"), std::string::npos) << not_shard.err;
+  // The same directory reused for a different study is refused before any work.
+  const CliResult reuse = run_clothsim(study(dir + "/a.csv", "1/2", "100,600"));
+  EXPECT_EQ(reuse.exit_code, 2);
+  EXPECT_NE(reuse.err.find("holds a part of another study"), std::string::npos) << reuse.err;
+}
+
+TEST(CmdMerge, ListsMissingAndIncompleteShardsAndWritesNothing) {
+  const std::string dir = scratch_dir("merge_missing");
+  ASSERT_EQ(run_clothsim(study(dir + "/p.csv", "1/3")).exit_code, 0);
+  ASSERT_EQ(run_clothsim(study(dir + "/p.csv", "3/3")).exit_code, 0);
+  const std::string items = dir + "/p.csv.shard-3-of-3/items";
+  fs::remove(fs::directory_iterator(items)->path());  // as if stopped before its last item
+  const CliResult r = run_clothsim({"merge", dir + "/p.csv.shard-1-of-3", dir + "/p.csv.shard-3-of-3", "--csv",
+                                    dir + "/m.csv"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("missing: shard 2/3 (" + dir + "/p.csv.shard-2-of-3)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("incomplete: " + dir + "/p.csv.shard-3-of-3"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/m.csv"));
+}
+
+TEST(CmdMerge, AMergedBenchChecksItsReferenceAsOneProcessDoes) {
+  // The chain's errors are at rounding level: its RK4 reference cannot resolve them.
+  const std::string dir = scratch_dir("merge_bench_reference");
+  const std::string chain = std::string(CLOTHSIM_SCENES_DIR) + "/chain.yaml";
+  const CliResult whole = run_clothsim({"bench", chain, "--csv", dir + "/one.csv"});
+  ASSERT_EQ(whole.exit_code, 1) << whole.err;
+  for (const char* k : {"1/2", "2/2"})
+    ASSERT_EQ(run_clothsim({"bench", chain, "--csv", dir + "/p.csv", "--shard", k}).exit_code, 0) << k;
+  const CliResult r = run_clothsim({"merge", dir + "/p.csv.shard-1-of-2", dir + "/p.csv.shard-2-of-2", "--csv",
+                                    dir + "/m.csv"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("the reference is not converged"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(dir + "/m.csv"));
+}
+
+TEST(CmdMerge, AShardNeedsACsvAndLeavesThePlotToMerge) {
+  const std::string dir = scratch_dir("merge_options");
+  std::vector<std::string> no_csv = study("", "1/2");
+  no_csv.erase(no_csv.end() - 4, no_csv.end() - 2);
+  const CliResult a = run_clothsim(no_csv);
+  EXPECT_EQ(a.exit_code, 2);
+  EXPECT_NE(a.err.find("--shard: needs --csv"), std::string::npos) << a.err;
+  std::vector<std::string> bad = study(dir + "/p.csv", "3/2");
+  EXPECT_EQ(run_clothsim(bad).exit_code, 2);
+  bad = study(dir + "/p.csv", "auto");
+  const CliResult b = run_clothsim(bad, "env -u SLURM_ARRAY_TASK_ID ");
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("SLURM_ARRAY_TASK_ID"), std::string::npos) << b.err;
+  EXPECT_FALSE(fs::exists(dir + "/p.csv.shard-1-of-2"));
+}
+
+}  // namespace
+}  // namespace clothsim::testing
