@@ -51,14 +51,16 @@ TEST(Stability, FindsSymplecticEulersLimitAtOmegaHEqualsTwo) {
   EXPECT_FALSE(l.reason.empty());
 }
 
-TEST(Stability, APrecisionFinerThanDoublesEndsWhereTheBracketCanNoLongerShrink) {
+TEST(Stability, TheFinestPrecisionEndsAndAFinerOneIsRefused) {
   StabilitySpec spec = long_run(IntegratorKind::SymplecticEuler);
   spec.duration = 40.0;
-  spec.precision = 1e-16;  // 1 + 1e-16 == 1: hi / lo never passes it
+  spec.precision = 1e-12;
   const StabilityLimit l = largest_stable_dt(undamped_spring(), IntegratorKind::SymplecticEuler, spec);
   ASSERT_EQ(l.outcome, StabilityOutcome::Bracketed);
-  EXPECT_LE(l.unstable_dt / l.stable_dt, 1.0 + 1e-15) << "bisected down to adjacent doubles";
-  EXPECT_LT(l.trials, 200);
+  EXPECT_LE(l.unstable_dt / l.stable_dt, 1.0 + 1e-12);
+  EXPECT_LT(l.trials, 100);
+  spec.precision = 1e-16;  // 1 + 1e-16 == 1: hi / lo could never pass it
+  EXPECT_THROW(largest_stable_dt(undamped_spring(), IntegratorKind::SymplecticEuler, spec), StudyError);
 }
 
 TEST(Stability, FindsRk4sLimitAtOmegaHEqualsTwoPointEightThree) {

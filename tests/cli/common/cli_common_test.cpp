@@ -108,7 +108,8 @@ TEST(Signals, APlotScriptDiesWithACommandKilledBySigkill) {
 TEST(Signals, GoldenUpdateStoppedChangesNoGoldenImage) {
   const std::string dir = scratch_dir("signals_golden");
   fs::copy_file(scene("drape.yaml"), dir + "/d.yaml");
-  std::ofstream(dir + "/m.yaml") << "size: [160, 90]\ngoldens:\n  - {scene: d.yaml, times: [0.05, 4]}\n";
+  // dt 1e-5: about 5 s of work on an idle machine, so the signal at 1 s lands inside it.
+  std::ofstream(dir + "/m.yaml") << "size: [160, 90]\ngoldens:\n  - {scene: d.yaml, times: [0.05, 4], dt: 1.0e-5}\n";
   const StoppedResult r = run_clothsim_interrupted({"golden", "update", dir + "/m.yaml"}, 1.0, SIGTERM);
   EXPECT_EQ(r.exit_code, 143) << r.err;
   EXPECT_EQ(line_count(r.err), 1) << r.err;
