@@ -51,8 +51,9 @@ while read -r n d; do
   ((n > 25)) && say "$d holds $n source files (at most 25)"
 done < <(find src render tools tests -name '*.h' -o -name '*.cpp' | xargs -n1 dirname | sort | uniq -c)
 
-# Kernels allowed past 80 lines, each saying why in its own comment.
-long_ok=" ${CLOTHSIM_LONG_FUNCTIONS_OK:-} "
+# Kernels allowed past 80 lines, each saying why in its own comment: FamilyAssemble, the SIMD
+# Newton-block assembly (core/implicit/assembly_kernels.cpp). Add more with the variable.
+long_ok=" FamilyAssemble ${CLOTHSIM_LONG_FUNCTIONS_OK:-} "
 if command -v ctags >/dev/null; then
   while IFS=$'\t' read -r name file rest; do
     line=$(grep -o 'line:[0-9]*' <<<"$rest" | cut -d: -f2)
