@@ -58,7 +58,7 @@ ClothDef Reader::cloth(const YAML::Node& n, const std::string& path) const {
     else if (p == "xy") c.plane = ClothPlane::XY;
     else fail(v, k, "unknown plane " + in_quotes(p) + " (expected xz or xy)");
   });
-  optional(n, path, "particle_mass", [&](auto& v, auto& k) { c.particle_mass = positive(v, k); });
+  optional(n, path, "particle_mass", [&](auto& v, auto& k) { c.particle_mass = mass(v, k); });
   optional(n, path, "springs", [&](auto& v, auto& k) {
     expect_map(v, k, {"structural", "shear", "bend"});
     c.structural = springs(v["structural"], k + ".structural");

@@ -13,7 +13,7 @@ SphereDef Reader::sphere(const YAML::Node& n, const std::string& path) const {
   optional(n, path, "radius", [&](auto& v, auto& k) { s.radius = positive(v, k); });
   optional(n, path, "kinematic", [&](auto& v, auto& k) { s.kinematic = boolean(v, k); });
   optional(n, path, "mass", [&](auto& v, auto& k) {
-    s.mass = positive(v, k);
+    s.mass = mass(v, k);
     if (s.kinematic) fail(v, k, "a kinematic sphere has no mass (set kinematic: false for a dynamic one)");
   });
   optional(n, path, "gravity", [&](auto& v, auto& k) { s.gravity = boolean(v, k); });

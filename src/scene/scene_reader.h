@@ -126,6 +126,12 @@ class Reader {
   double positive(const YAML::Node& n, const std::string& key) const {
     return in_range(n, key, 0.0, INFINITY, true);
   }
+  // A mass: > 0 and large enough that its inverse, which the engine works in, is finite.
+  double mass(const YAML::Node& n, const std::string& key) const {
+    const double m = positive(n, key);
+    if (!std::isfinite(1.0 / m)) fail(n, key, "mass " + n.Scalar() + " kg is too small: its inverse is infinite");
+    return m;
+  }
   double non_negative(const YAML::Node& n, const std::string& key) const {
     return in_range(n, key, 0.0, INFINITY);
   }

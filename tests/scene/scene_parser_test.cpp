@@ -131,6 +131,8 @@ TEST(SceneParser, OutOfRangeValuesAreErrors) {
   const Case cases[] = {
       {"cloth:\n  particles: [3, 3]\n  particle_mass: -1\n", 3, "cloth.particle_mass"},
       {"cloth:\n  particles: [3, 3]\n  particle_mass: 0\n", 3, "cloth.particle_mass"},
+      {"cloth:\n  particles: [3, 3]\n  particle_mass: 4.9e-324\n", 3, "cloth.particle_mass"},
+      {"cloth: {particles: [2, 1]}\nspheres:\n  - {kinematic: false, mass: 4.9e-324}\n", 3, "spheres.0.mass"},
       {"cloth:\n  particles: [0, 3]\n", 2, "cloth.particles[0]"},
       {"dt: 0\ncloth: {particles: [3, 3]}\n", 1, "dt"},
       {"dt: -1e-4\ncloth: {particles: [3, 3]}\n", 1, "dt"},
