@@ -53,12 +53,10 @@ done
 "$PY" tools/plot_energy.py "$TMP"/explicit_euler.csv "$TMP"/symplectic_euler.csv "$TMP"/midpoint.csv \
   "$TMP"/rk4.csv "$TMP"/implicit_euler.csv --relative \
   --title "drape.yaml, dt = 1e-4 s: total energy - E(0)" --out $OUT/energy_drape.png
-echo "== README: the default clip, the extremes, one method at two steps; docs/cli.md: diverged lanes, a sheet"
+echo "== README: the default clip, the same step, parameter lanes; docs/cli.md: diverged lanes, a sheet"
 "$CLOTHSIM" compare scenes/drape.yaml --still 2.5 -o $OUT/drape_compare.png --width 640 --height 360
-"$CLOTHSIM" compare scenes/drape.yaml --overlay-cost cpu --width 640 --height 360 \
-  --integrators explicit_euler@1e-4,midpoint@2e-4,rk4@4e-4,implicit_euler@1/60 --still 1 -o $OUT/drape_extremes.png
-"$CLOTHSIM" compare scenes/drape.yaml --color strain --width 640 --height 360 \
-  --integrators rk4@1e-4,rk4@3e-4,symplectic_euler@1e-4,symplectic_euler@3e-4 --still 1.5 -o $OUT/drape_steps.png
+"$CLOTHSIM" compare scenes/drape.yaml --match none --still 2.5 -o $OUT/drape_same_step.png --width 640 --height 360
+"$CLOTHSIM" compare scenes/drape.yaml --vary ks=2e3,2e4,2e5 --width 960 --height 360 --still 1.5 -o $OUT/drape_vary.png
 "$CLOTHSIM" compare scenes/drape.yaml --dt 3e-4 --color strain --still 1.5 -o $OUT/drape_diverged.png --width 640 --height 360
 "$CLOTHSIM" compare scenes/drape.yaml --sheet $OUT/drape_sheet.png --times 0.1,0.5,2,4 --width 960 --height 540
 echo "figures in $OUT"
