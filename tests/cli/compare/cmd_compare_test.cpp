@@ -91,6 +91,16 @@ TEST(CmdCompare, MakesATwoByTwoClipOfTheFourDefaultIntegrators) {
   EXPECT_TRUE(cli::only_files(dir, {"drape.mp4"})) << "no temporaries left";
 }
 
+TEST(CmdCompare, ANewtonCapAskedForIsNotCalledNotConverged) {
+  const std::string dir = scratch_dir("compare_newton_cap");
+  const auto r = compare_small({"--integrators", "implicit_euler@1/30:1,implicit_euler@1/30", "--still", "0.2", "-o",
+                                dir + "/s.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Newton capped at 1"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("NOT CONVERGED"), std::string::npos) << "the uncapped lane converges, the capped one is as asked\n"
+                                                            << r.out;
+}
+
 TEST(CmdCompare, KeepsEveryTilesPngsAndTheyAreTheClipsTiles) {
   const std::string dir = scratch_dir("compare_frames");
   const auto r = compare_small({"--integrators", "midpoint,rk4", "--layout", "1xN", "--frames",

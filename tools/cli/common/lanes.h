@@ -28,6 +28,9 @@ struct LaneSpec {
   // As --integrators spells it, and parses back to this lane: "rk4@1e-4",
   // "implicit_euler_fixed_point@0.0001", "xpbd@1/600:1" (--summary's "lane").
   std::string spelling() const;
+  // implicit_euler's Newton capped at :N by the user: its steps stop at N iterations on purpose,
+  // so a residual above tolerance is the method asked for, not a stalled solve.
+  bool newton_capped() const { return iterations > 0 && kind == IntegratorKind::ImplicitEuler && !fixed_point; }
 };
 
 // --integrators: "course" (the course's four: explicit Euler, the one-iteration fixed-point

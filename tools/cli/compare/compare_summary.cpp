@@ -121,6 +121,9 @@ std::string lane_result(const LaneResult& r, const std::string& wrong) {
   if (r.divergence)
     std::snprintf(result, sizeof result, "DIVERGED at t = %.6g s (step %" PRId64 "): %s", r.divergence->t,
                   r.divergence->step, r.divergence->reason.c_str());
+  else if (r.totals.unconverged_steps > 0 && r.spec.newton_capped())
+    std::snprintf(result, sizeof result, "ok to t = %.4g s (Newton capped at %d: residual up to %.2g)", r.t,
+                  r.spec.iterations, r.totals.max_residual);
   else if (r.totals.unconverged_steps > 0)
     std::snprintf(result, sizeof result,
                   "NOT CONVERGED: %" PRId64 " of %" PRId64 " steps, max residual %.2g (to t = %.4g s)",

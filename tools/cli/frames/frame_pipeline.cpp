@@ -318,8 +318,8 @@ struct FramePipeline::Impl {
       if (config.overlay != OverlayMode::None) {
         if (f.divergence) {
           mark_diverged(rf, *f.divergence);
-        } else if (f.totals.unconverged_steps > 0) {
-          // An implicit step that missed its tolerance is a result, shown on the picture.
+        } else if (f.totals.unconverged_steps > 0 && !lanes[i].newton_capped()) {
+          // An implicit step that stalled above its tolerance is a result, shown on the picture.
           mark_not_converged(rf, f.totals.unconverged_steps);
         } else if (!t.wrong.empty() && !t.wrong[i].empty()) {
           mark_wrong(rf, t.wrong[i]);  // finite, but not this cloth's motion
