@@ -167,6 +167,23 @@ bool decode(std::FILE* file, Image& image, PngText* text, ErrorSink* sink, std::
 
 }  // namespace
 
+PngSize read_png_size(const std::string& path) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
+  if (!file) throw PngError("cannot read " + path + ": " + reason());
+  png_byte head[24] = {};  // signature, then the IHDR chunk's length, type, width and height
+  if (std::fread(head, 1, sizeof head, file.get()) != sizeof head || png_sig_cmp(head, 0, 8) != 0)
+    throw PngError("cannot read " + path + ": not a PNG file");
+  if (std::memcmp(head + 12, "IHDR", 4) != 0) throw PngError("cannot read " + path + ": corrupt PNG (no IHDR first)");
+  const auto be32 = [&](int at) {
+    return (std::uint32_t(head[at]) << 24) | (std::uint32_t(head[at + 1]) << 16) | (std::uint32_t(head[at + 2]) << 8) |
+           std::uint32_t(head[at + 3]);
+  };
+  const std::uint32_t w = be32(16), h = be32(20);
+  if (w == 0 || h == 0 || w > 0x7fffffffu || h > 0x7fffffffu)
+    throw PngError("cannot read " + path + ": corrupt PNG (size " + std::to_string(w) + "x" + std::to_string(h) + ")");
+  return {static_cast<int>(w), static_cast<int>(h)};
+}
+
 Image read_png(const std::string& path, PngText* text) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
   if (!file) throw PngError("cannot read " + path + ": " + reason());

@@ -25,4 +25,11 @@ void write_png(const std::string& path, const Image& image, const PngText& text 
 // Reads any 8-bit PNG (grey, RGB, RGBA, palette) as RGBA. Throws PngError (missing, corrupt).
 Image read_png(const std::string& path, PngText* text = nullptr);
 
+// A PNG's width and height from its header alone, so a size can be judged before decoding.
+// Throws PngError (missing, not a PNG, no IHDR first).
+struct PngSize {
+  int width = 0, height = 0;
+};
+PngSize read_png_size(const std::string& path);
+
 }  // namespace clothsim

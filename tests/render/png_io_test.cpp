@@ -58,6 +58,19 @@ std::vector<std::string> names_in(const std::string& dir) {
   return names;
 }
 
+TEST(PngIo, ReadsTheSizeFromTheHeaderAloneAndRefusesWhatIsNotAPng) {
+  const std::string dir = scratch("size");
+  const std::string path = dir + "/size.png";
+  write_png(path, Image(7, 3));
+  const PngSize size = read_png_size(path);
+  EXPECT_EQ(size.width, 7);
+  EXPECT_EQ(size.height, 3);
+  const std::string text = dir + "/not.png";
+  std::ofstream(text) << "not a png at all, but long enough to hold a header";
+  EXPECT_THROW(read_png_size(text), PngError);
+  EXPECT_THROW(read_png_size(dir + "/missing.png"), PngError);
+}
+
 TEST(PngIo, ReadsAReferenceRgbFileTopRowFirst) {
   const Image image = read_png(write_bytes(scratch("ref_rgb") + "/rgb.png", kRgb2x2));
   ASSERT_EQ(image.width, 2);

@@ -41,6 +41,34 @@ Pair write_pair(const std::string& name, int changed, int amount, int bw = 40) {
   return p;
 }
 
+// A PNG's signature and IHDR alone, claiming w x h pixels: enough for a size read from the header.
+std::string png_header_only(const std::string& path, std::uint32_t w, std::uint32_t h) {
+  const unsigned char head[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+                                static_cast<unsigned char>(w >> 24), static_cast<unsigned char>(w >> 16),
+                                static_cast<unsigned char>(w >> 8), static_cast<unsigned char>(w),
+                                static_cast<unsigned char>(h >> 24), static_cast<unsigned char>(h >> 16),
+                                static_cast<unsigned char>(h >> 8), static_cast<unsigned char>(h), 8, 6, 0, 0, 0};
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(head), sizeof head);
+  return path;
+}
+
+TEST(CmdImgdiff, ImagesPastMaxMemoryAreRefusedFromTheirHeadersBeforeDecoding) {
+  const std::string dir = scratch_dir("imgdiff_huge");
+  const std::string big = png_header_only(dir + "/big.png", 20000, 20000);  // no pixel data: never decoded
+  const auto r = run_clothsim({"imgdiff", big, big, "--max-memory", "500M"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("two 20000x20000 images"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("more than --max-memory 500 MB"), std::string::npos) << r.err;
+}
+
+TEST(CmdImgdiff, ImagesOfDifferentSizesAreRefusedFromTheirHeaders) {
+  const std::string dir = scratch_dir("imgdiff_sizes");
+  const auto r = run_clothsim({"imgdiff", png_header_only(dir + "/a.png", 40, 30), png_header_only(dir + "/b.png", 20000, 20000)});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("is 40x30 but"), std::string::npos) << r.err;
+}
+
 TEST(CmdImgdiff, IdenticalImagesAreWithinToleranceAndExitZero) {
   const Pair p = write_pair("same", 0, 0);
   const auto r = run_clothsim({"imgdiff", p.a, p.b});

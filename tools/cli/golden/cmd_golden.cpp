@@ -68,11 +68,14 @@ bool check_one(const GoldenOptions& o, const std::string& golden, const Image& a
   if (!fs::exists(golden)) {
     problem = "missing (`clothsim golden update` writes it)";
   } else {
-    const Image expected = read_png(golden);
-    if (expected.width != actual.width || expected.height != actual.height) {
-      problem = "golden is " + std::to_string(expected.width) + "x" + std::to_string(expected.height) +
+    // The size from the header first: a golden of another size is never decoded (a huge one
+    // would otherwise take memory the budget did not count).
+    const PngSize size = read_png_size(golden);
+    if (size.width != actual.width || size.height != actual.height) {
+      problem = "golden is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
                 ", the render " + std::to_string(actual.width) + "x" + std::to_string(actual.height);
     } else {
+      const Image expected = read_png(golden);
       const DiffStats stats = compare_images(expected, actual, tol.pixel_threshold);
       if (within_tolerance(stats, tol)) {
         std::printf("ok    %s  rms %.3f, max %d, %.3f%% past %d\n", name.c_str(), stats.rms, stats.max,

@@ -3,9 +3,11 @@
 // 2 for bad usage (a missing or corrupt PNG, different sizes).
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/memory_budget.h"
 #include "render/image_diff.h"
 #include "render/png_io.h"
 
@@ -16,22 +18,39 @@ struct ImgdiffOptions {
   std::string a, b;
   std::string diff_path;
   DiffTolerance tolerance;
+  std::optional<double> max_memory;  // --max-memory
 };
 
-Image read_input(const std::string& path) {
+// A missing or corrupt PNG is the user's input, a usage error ("cannot read A.png: not a PNG file").
+template <class Read>
+auto read_input(const Read& read) {
   try {
-    return read_png(path);
+    return read();
   } catch (const PngError& e) {
-    throw UsageError(e.what());  // "cannot read A.png: not a PNG file": the user's input is bad
+    throw UsageError(e.what());
   }
 }
 
-int imgdiff_command(const ImgdiffOptions& o) {
-  const Image a = read_input(o.a);
-  const Image b = read_input(o.b);
+std::string size_text(const PngSize& s) { return std::to_string(s.width) + "x" + std::to_string(s.height); }
+
+// From the headers alone, before decoding: equal sizes, and the decoded images (4 bytes a pixel
+// each, and the difference image) within --max-memory.
+void check_inputs(const ImgdiffOptions& o) {
+  const PngSize a = read_input([&] { return read_png_size(o.a); });
+  const PngSize b = read_input([&] { return read_png_size(o.b); });
   if (a.width != b.width || a.height != b.height)
-    throw UsageError("imgdiff: " + o.a + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) +
-                     " but " + o.b + " is " + std::to_string(b.width) + "x" + std::to_string(b.height));
+    throw UsageError("imgdiff: " + o.a + " is " + size_text(a) + " but " + o.b + " is " + size_text(b));
+  const double image_bytes = 4.0 * a.width * a.height;
+  MemoryBudget budget;
+  budget.add("two " + size_text(a) + " images", 2 * image_bytes);
+  if (!o.diff_path.empty()) budget.add("the difference image", image_bytes);
+  budget.check(o.a, o.max_memory);
+}
+
+int imgdiff_command(const ImgdiffOptions& o) {
+  check_inputs(o);
+  const Image a = read_input([&] { return read_png(o.a); });
+  const Image b = read_input([&] { return read_png(o.b); });
   if (!o.diff_path.empty()) require_writable_parent(o.diff_path, "-o/--output");
 
   const DiffStats stats = compare_images(a, b, o.tolerance.pixel_threshold);
@@ -65,6 +84,7 @@ void add_imgdiff_command(CLI::App& app, Command& command) {
   sub->add_option("-o,--output,--diff", o->diff_path, "Write an amplified difference image here (PNG)")
       ->type_name("FILE.png");
   add_no_overwrite_option(sub);
+  add_max_memory_option(sub, o->max_memory);
   sub->add_option("--threshold", o->tolerance.pixel_threshold,
                   "A pixel differs when some channel differs by more than this (0-255)")
       ->check(CLI::Range(0, 255))
