@@ -11,6 +11,8 @@ namespace {
 // stiffness, damping and type (33 B, rounded up); per scripted action (TimedAction) 48 B.
 constexpr double kModelPerParticle = 96, kModelPerSpring = 40, kPerAction = 64;
 constexpr double kExplicitPerParticle = 192;
+constexpr double kRk4ExtraPerParticle = 104;  // its stages' scratch beyond the explicit family's
+constexpr double kFinalStatePerParticle = 64;  // a kept copy of x, v and inverse masses
 constexpr double kImplicitPerParticle = 480, kImplicitPerSpring = 144;
 constexpr double kPerSphere = 4096;  // measured 3.9 kB, mostly the YAML tree of its entry
 // implicit_euler's sparse factor, when a step needs it: L's 3x3 blocks (76 B each) number
@@ -41,12 +43,18 @@ double model_bytes(const SceneDef& scene) {
 double run_bytes(const SceneDef& scene, IntegratorKind kind) {
   const double particles = static_cast<double>(scene.cloth.nx) * scene.cloth.ny;
   double bytes = kExplicitPerParticle * particles;
+  if (kind == IntegratorKind::Rk4) bytes += kRk4ExtraPerParticle * particles;
   if (kind == IntegratorKind::ImplicitEuler) {
     bytes += kImplicitPerParticle * particles + kImplicitPerSpring * static_cast<double>(spring_count(scene.cloth));
     const double factor = kFactorBlockBytes * particles * 8.0 * std::log2(std::max(particles, 2.0));
     bytes += std::min(factor, kMaxFactorBytes);
   }
   return bytes;
+}
+
+double final_state_bytes(const SceneDef& scene) {
+  const double bodies = static_cast<double>(scene.cloth.nx) * scene.cloth.ny + static_cast<double>(scene.spheres.size());
+  return kFinalStatePerParticle * bodies;
 }
 
 }  // namespace clothsim

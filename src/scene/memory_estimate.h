@@ -18,5 +18,7 @@ std::int64_t spring_count(const ClothDef& cloth);
 double model_bytes(const SceneDef& scene);
 // Bytes of one run of `kind` on that Model (state, integrator scratch, implicit system).
 double run_bytes(const SceneDef& scene, IntegratorKind kind);
+// Bytes of the final state a run keeps to write it (run --state).
+double final_state_bytes(const SceneDef& scene);
 
 }  // namespace clothsim

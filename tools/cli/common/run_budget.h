@@ -15,6 +15,7 @@ struct RunPictures {
   bool rendering = false;
   int width = 0, height = 0;  // pixels
   bool video = false;
+  bool final_state = false;   // the last state is kept to write it (run --state)
   // The times the run stands at, for the positions the reference holds while a target waits
   // (memory_budget.h, reference_positions_bytes); null where the caller has no plan yet.
   const TargetPlan* targets = nullptr;

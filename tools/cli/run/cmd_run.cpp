@@ -173,7 +173,8 @@ int run_command(const RunOptions& o) {
 
   // Peak memory, estimated and checked before the Model, the renderer or the encoder exist.
   const int w = scene.render.width, h = scene.render.height;
-  run_budget(scene, look, {rendering, w, h, !o.video.empty(), &targets}).check(scene.source, o.scene.max_memory);
+  run_budget(scene, look, {rendering, w, h, !o.video.empty(), !o.state.empty(), &targets})
+      .check(scene.source, o.scene.max_memory);
 
   const Model model = run_model(o, scene);
   fit_reference_to_model(look, model, scene, {lane});
