@@ -27,8 +27,33 @@ STYLE = {
 }
 
 
+# A lane's variant of its integrator (bench and stability spell lanes as compare takes them:
+# "implicit_euler_fixed_point", "xpbd:10"): the integrator's colour, another marker.
+FIXED_POINT = "implicit_euler_fixed_point"
+VARIANT_MARKERS = ["P", "X", "*", "h", "p"]
+
+
 def style(name):
-    return STYLE.get(name, ("tab:gray", "."))
+    if name in STYLE:
+        return STYLE[name]
+    base, _, iterations = name.partition(":")
+    if base == FIXED_POINT:
+        color = "tab:brown" if not iterations else "tab:pink"
+        return color, "P"
+    color = STYLE.get(base, ("tab:gray", "."))[0]
+    if not iterations:
+        return color, "."
+    return color, VARIANT_MARKERS[int(iterations) % len(VARIANT_MARKERS)] if iterations.isdigit() else "."
+
+
+def lane_label(name):
+    """A lane as compare labels it (LaneSpec::name): "implicit_euler (fixed point)", "xpbd:10"."""
+    base, colon, iterations = name.partition(":")
+    if base == FIXED_POINT:
+        return "implicit_euler" + colon + iterations + " (fixed point)"
+    if base == "implicit_euler" and iterations == "1":
+        return name + " (Baraff & Witkin)"
+    return name
 
 
 def read_rows(path):

@@ -68,17 +68,17 @@ def main():
         found = [r for r in rs if r["outcome"] == "bracketed"]
         if found:
             ax.plot([pc.number(r["value"]) for r in found], [pc.number(r["stable_dt"]) for r in found],
-                    color=color, marker=marker, label=name)
+                    color=color, marker=marker, label=pc.lane_label(name))
         above = [r for r in rs if r["outcome"] == "stable_at_max"]
         if above:
             ax.scatter([pc.number(r["value"]) for r in above], [pc.number(r["max_dt"]) for r in above],
                        marker="^", s=80, facecolors="none", edgecolors=color, linewidths=1.5,
-                       label=f"{name}: stable at the largest dt tried")
+                       label=f"{pc.lane_label(name)}: stable at the largest dt tried")
         below = [r for r in rs if r["outcome"] == "unstable_at_min"]
         if below:
             ax.scatter([pc.number(r["value"]) for r in below], [pc.number(r["min_dt"]) for r in below],
                        marker="v", s=80, facecolors="none", edgecolors=color, linewidths=1.5,
-                       label=f"{name}: unstable at every dt tried")
+                       label=f"{pc.lane_label(name)}: unstable at every dt tried")
     # Marks drawn as two overlaid artists (a hollow marker, circled in red) get one legend
     # entry each, as the pair: (artists, label).
     paired = []

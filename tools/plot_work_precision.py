@@ -61,7 +61,7 @@ def main():
                         key=lambda r: pc.number(r["dt"]))
             xs = [max(pc.number(r[key]), 1e-6) for r in ok]
             ys = [pc.number(r["rms_error"]) for r in ok]
-            ax.plot(xs, ys, color=color, marker=marker, label=name)
+            ax.plot(xs, ys, color=color, marker=marker, label=pc.lane_label(name))
             step_labels[ax].extend((x, y, f"{pc.number(r['dt']):.3g}", color) for r, x, y in zip(ok, xs, ys))
             missed = [(x, y) for r, x, y in zip(ok, xs, ys) if unconverged(r)]
             if missed:  # hollow: the line's filled marker painted over in white, then circled

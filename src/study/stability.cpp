@@ -229,6 +229,10 @@ double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec&
   return (spec.duration / dt) * per_step;
 }
 
+const Model& case_lane_model(const StabilityCase& c, std::size_t lane) {
+  return lane < c.lane_models.size() && c.lane_models[lane] ? *c.lane_models[lane] : *c.model;
+}
+
 std::vector<StabilityLimit> stability_sweep(const std::vector<StabilityCase>& cases, const StabilitySpec& spec,
                                             const StudyHooks& hooks) {
   std::vector<std::size_t> items(cases.size() * spec.integrators.size());
@@ -248,8 +252,10 @@ std::vector<StabilityLimit> stability_sweep_items(const std::vector<StabilityCas
   long done = 0;
   parallel_for(total, spec.jobs, [&](std::size_t i) {
     const StabilityCase& c = cases[items[i] / per_case];
-    StabilityLimit limit = largest_stable_dt(*c.model, spec.integrators[items[i] % per_case], spec, hooks.stop);
+    const std::size_t lane = items[i] % per_case;
+    StabilityLimit limit = largest_stable_dt(case_lane_model(c, lane), spec.integrators[lane], spec, hooks.stop);
     limit.value = c.value;
+    limit.lane = lane;
     std::lock_guard<std::mutex> lock(mutex);
     if (limit.outcome == StabilityOutcome::Stopped) return;
     if (finished) finished(items[i], limit);

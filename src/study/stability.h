@@ -49,6 +49,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "study.h"
@@ -102,6 +103,7 @@ std::string frame_step_text(const FrameStepResult& r);
 
 struct StabilityLimit {
   IntegratorKind integrator{};
+  std::size_t lane = 0;        // index into spec.integrators
   double value = 0.0;          // the swept parameter's value (0 outside a sweep)
   StabilityOutcome outcome = StabilityOutcome::Stopped;
   double stable_dt = 0.0;      // s, largest dt that ran to T (NaN when none did)
@@ -124,9 +126,16 @@ StabilityLimit largest_stable_dt(const Model& model, IntegratorKind kind, const 
 
 // A swept parameter's value and the model it gives.
 struct StabilityCase {
+  StabilityCase() = default;
+  StabilityCase(double v, const Model* m, std::vector<const Model*> lanes = {})
+      : value(v), model(m), lane_models(std::move(lanes)) {}
   double value = 0.0;
   const Model* model = nullptr;
+  // Per integrators entry, the model that lane searches (nullptr: `model`): a lane's own
+  // solver settings (the fixed point, iteration counts) on this case's model. Empty: `model`.
+  std::vector<const Model*> lane_models;
 };
+const Model& case_lane_model(const StabilityCase& c, std::size_t lane);
 
 // A search's rough cost in force-evaluation equivalents, for sharding only (shard.h): the
 // steps of a trial near the predicted limit (clamped to the range tried), times the

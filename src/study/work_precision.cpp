@@ -37,12 +37,21 @@ double cost_estimate(IntegratorKind kind, double T, double dt) {
   return (T / dt) * (evals > 0 ? evals : 8);  // an implicit step: a few Newton/CG rounds
 }
 
+std::string lane_name(const WorkPrecisionSpec& spec, std::size_t i) {
+  return i < spec.lane_names.size() ? spec.lane_names[i] : std::string(integrator_name(spec.integrators[i]));
+}
+
+const Model& lane_model(const WorkPrecisionSpec& spec, std::size_t i, const Model& model) {
+  return i < spec.lane_models.size() && spec.lane_models[i] ? *spec.lane_models[i] : model;
+}
+
 std::vector<WorkPrecisionPoint> planned_points(const WorkPrecisionSpec& spec) {
   std::vector<WorkPrecisionPoint> points;
-  for (IntegratorKind kind : spec.integrators)
-    for (double dt : steps_of(spec, kind)) {
+  for (std::size_t lane = 0; lane < spec.integrators.size(); ++lane)
+    for (double dt : steps_of(spec, spec.integrators[lane])) {
       WorkPrecisionPoint p;
-      p.integrator = kind;
+      p.integrator = spec.integrators[lane];
+      p.lane = lane;
       p.dt = dt;
       p.frame_step = std::find(spec.dts.begin(), spec.dts.end(), dt) == spec.dts.end();
       p.rms_error = p.max_error = kNaN;
@@ -106,10 +115,14 @@ WorkPrecisionSpec checked(WorkPrecisionSpec spec) {
   std::sort(spec.dts.begin(), spec.dts.end());
   for (std::size_t i = 1; i < spec.dts.size(); ++i)
     if (spec.dts[i] == spec.dts[i - 1]) throw StudyError("step size " + seconds_text(spec.dts[i]) + " is listed twice");
+  if (!spec.lane_names.empty() && spec.lane_names.size() != spec.integrators.size())
+    throw StudyError("lane names: one per integrator, or none");
+  if (!spec.lane_models.empty() && spec.lane_models.size() != spec.integrators.size())
+    throw StudyError("lane models: one per integrator, or none");
   for (std::size_t i = 0; i < spec.integrators.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
-      if (spec.integrators[i] == spec.integrators[j])
-        throw StudyError("integrator " + std::string(integrator_name(spec.integrators[i])) + " is listed twice");
+      if (lane_name(spec, i) == lane_name(spec, j))
+        throw StudyError("integrator " + lane_name(spec, i) + " is listed twice");
   if (spec.reference_refinement < 1) throw StudyError("the reference refinement must be >= 1");
   if (!(spec.reference_margin > 0.0)) throw StudyError("the reference margin must be > 0");
   // The finest run is the second reference, at half the smallest step over the refinement.
@@ -135,11 +148,15 @@ PositionError position_error(const Model& model, const Eigen::Matrix3Xd& a, cons
   return e;
 }
 
-double convergence_order(const std::vector<WorkPrecisionPoint>& points, IntegratorKind kind) {
+namespace {
+
+// The least-squares slope over the finished common-step points `take` accepts.
+template <class Take>
+double fitted_order(const std::vector<WorkPrecisionPoint>& points, Take take) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   int n = 0;
   for (const WorkPrecisionPoint& p : points) {
-    if (p.integrator != kind || p.frame_step || !p.finished || !(p.rms_error > 0.0)) continue;
+    if (!take(p) || p.frame_step || !p.finished || !(p.rms_error > 0.0)) continue;
     const double x = std::log(p.dt), y = std::log(p.rms_error);
     sx += x, sy += y, sxx += x * x, sxy += x * y;
     ++n;
@@ -149,6 +166,16 @@ double convergence_order(const std::vector<WorkPrecisionPoint>& points, Integrat
   return denom != 0.0 ? (n * sxy - sx * sy) / denom : kNaN;
 }
 
+}  // namespace
+
+double convergence_order(const std::vector<WorkPrecisionPoint>& points, IntegratorKind kind) {
+  return fitted_order(points, [&](const WorkPrecisionPoint& p) { return p.integrator == kind; });
+}
+
+double lane_convergence_order(const std::vector<WorkPrecisionPoint>& points, std::size_t lane) {
+  return fitted_order(points, [&](const WorkPrecisionPoint& p) { return p.lane == lane; });
+}
+
 namespace {
 
 // One run of the study: the reference (point -1 coarse, -2 fine) or result.points[point].
@@ -156,6 +183,7 @@ struct Task {
   IntegratorKind kind;
   double dt;
   int point;
+  std::size_t lane = 0;  // the point's lane (its model)
 };
 
 // The two reference runs, then every (integrator, dt), dearest first; fills result.points.
@@ -163,7 +191,7 @@ std::vector<Task> plan_tasks(const WorkPrecisionSpec& spec, double h_coarse, Wor
   std::vector<Task> tasks{{spec.reference_integrator, h_coarse, -1}, {spec.reference_integrator, 0.5 * h_coarse, -2}};
   result.points = planned_points(spec);
   for (std::size_t k = 0; k < result.points.size(); ++k)
-    tasks.push_back({result.points[k].integrator, result.points[k].dt, static_cast<int>(k)});
+    tasks.push_back({result.points[k].integrator, result.points[k].dt, static_cast<int>(k), result.points[k].lane});
   const double T = spec.duration;
   std::stable_sort(tasks.begin(), tasks.end(), [&](const Task& a, const Task& b) {
     return cost_estimate(a.kind, T, a.dt) > cost_estimate(b.kind, T, b.dt);
@@ -187,7 +215,8 @@ StudyRuns run_tasks(const Model& model, const WorkPrecisionSpec& spec, const std
   const long total = static_cast<long>(tasks.size());
   parallel_for(tasks.size(), spec.jobs, [&](std::size_t i) {
     const Task& task = tasks[i];
-    StudyRun run = run_to(model, task.kind, task.dt, spec.duration, hooks.stop);
+    const Model& run_model = task.point >= 0 ? lane_model(spec, task.lane, model) : model;
+    StudyRun run = run_to(run_model, task.kind, task.dt, spec.duration, hooks.stop);
     std::lock_guard<std::mutex> lock(mutex);
     if (run.stopped) return;  // incomplete: neither a result nor a divergence
     if (task.point == -1) runs.coarse = std::move(run);
@@ -301,20 +330,35 @@ std::string metres(double m) {
   return out.str();
 }
 
-// The finished points of `kind` at the common steps with an error to fit.
-std::vector<const WorkPrecisionPoint*> fitted_points(const WorkPrecisionResult& r, IntegratorKind kind) {
+// The finished points `take` accepts at the common steps with an error to fit.
+template <class Take>
+std::vector<const WorkPrecisionPoint*> fitted_points(const WorkPrecisionResult& r, Take take) {
   std::vector<const WorkPrecisionPoint*> out;
   for (const WorkPrecisionPoint& p : r.points)
-    if (p.integrator == kind && !p.frame_step && p.finished && p.rms_error > 0.0) out.push_back(&p);
+    if (take(p) && !p.frame_step && p.finished && p.rms_error > 0.0) out.push_back(&p);
   return out;
 }
+
+std::vector<std::string> shortfall(const WorkPrecisionResult& r, double order, IntegratorKind kind,
+                                   const std::vector<const WorkPrecisionPoint*>& fitted);
 
 }  // namespace
 
 std::vector<std::string> order_shortfall(const WorkPrecisionResult& r, IntegratorKind kind) {
-  const double order = convergence_order(r.points, kind);
+  const auto take = [&](const WorkPrecisionPoint& p) { return p.integrator == kind; };
+  return shortfall(r, convergence_order(r.points, kind), kind, fitted_points(r, take));
+}
+
+std::vector<std::string> lane_order_shortfall(const WorkPrecisionResult& r, std::size_t lane, IntegratorKind kind) {
+  const auto take = [&](const WorkPrecisionPoint& p) { return p.lane == lane; };
+  return shortfall(r, lane_convergence_order(r.points, lane), kind, fitted_points(r, take));
+}
+
+namespace {
+
+std::vector<std::string> shortfall(const WorkPrecisionResult& r, double order, IntegratorKind kind,
+                                   const std::vector<const WorkPrecisionPoint*>& fitted) {
   if (std::isnan(order) || order >= 0.5 * nominal_order(kind)) return {};
-  const std::vector<const WorkPrecisionPoint*> fitted = fitted_points(r, kind);
   double smallest = INFINITY, largest_dt = 0.0;
   for (const WorkPrecisionPoint* p : fitted) smallest = std::min(smallest, p->rms_error), largest_dt = std::max(largest_dt, p->dt);
   const ReferenceCheck& ref = r.reference;
@@ -342,5 +386,7 @@ std::vector<std::string> order_shortfall(const WorkPrecisionResult& r, Integrato
                   "try smaller --dts");
   return why;
 }
+
+}  // namespace
 
 }  // namespace clothsim::analysis

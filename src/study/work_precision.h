@@ -33,7 +33,12 @@
 namespace clothsim::analysis {
 
 struct WorkPrecisionSpec {
-  std::vector<IntegratorKind> integrators;
+  std::vector<IntegratorKind> integrators;  // the study's lanes, in order
+  // Per lane (each empty, or one per integrators entry): its name, unique, as rows and plots
+  // label it (empty: the integrator's), and the model it runs on (nullptr: the study's), so
+  // one integrator may run as several lanes (implicit_euler and its fixed point, xpbd:10).
+  std::vector<std::string> lane_names;
+  std::vector<const Model*> lane_models;
   std::vector<double> dts;     // s, each > 0 and dividing duration
   std::vector<double> frame_dts;  // s, steps implicit_euler also runs (one step per video
                                   // frame: 1/240 .. 1/30 s), each > 0 and dividing duration
@@ -46,6 +51,7 @@ struct WorkPrecisionSpec {
 
 struct WorkPrecisionPoint {
   IntegratorKind integrator{};
+  std::size_t lane = 0;            // index into spec.integrators
   double dt = 0.0;                 // s
   bool frame_step = false;         // one of implicit Euler's frame-rate steps, outside the
                                    // common list (spec.frame_dts)
@@ -89,6 +95,9 @@ std::vector<double> steps_of(const WorkPrecisionSpec& spec, IntegratorKind kind)
 // The study's points in the order it reports them (integrator by integrator, dt ascending),
 // not yet run: a point's index is its item number in a sharded bench (shard.h).
 std::vector<WorkPrecisionPoint> planned_points(const WorkPrecisionSpec& spec);
+// Lane `i`'s name (spec.lane_names, else the integrator's) and model (spec.lane_models, else `model`).
+std::string lane_name(const WorkPrecisionSpec& spec, std::size_t i);
+const Model& lane_model(const WorkPrecisionSpec& spec, std::size_t i, const Model& model);
 // Rough cost of a run in force-evaluation equivalents, for scheduling and sharding only.
 double cost_estimate(IntegratorKind kind, double T, double dt);
 // `p` with the run's outcome and cost, and its error against `reference` (nullptr: none).
@@ -113,6 +122,7 @@ PositionError position_error(const Model& model, const Eigen::Matrix3Xd& a,
 // the finished points of `kind` at the common steps (NaN with fewer than two). The frame-rate
 // steps are left out: there w h >> 1, far from the asymptotic regime an order describes.
 double convergence_order(const std::vector<WorkPrecisionPoint>& points, IntegratorKind kind);
+double lane_convergence_order(const std::vector<WorkPrecisionPoint>& points, std::size_t lane);
 
 // The order each method has on a smooth problem (DESIGN.md, "Integrators"): 1, 1, 2, 4, 1.
 int nominal_order(IntegratorKind kind);
@@ -124,5 +134,7 @@ int nominal_order(IntegratorKind kind);
 // fewer than 20 of the largest steps (T too short); else the steps outside the asymptotic
 // range. Empty when the order is not that low or cannot be measured.
 std::vector<std::string> order_shortfall(const WorkPrecisionResult& r, IntegratorKind kind);
+// The same for one lane of `kind` (its points only).
+std::vector<std::string> lane_order_shortfall(const WorkPrecisionResult& r, std::size_t lane, IntegratorKind kind);
 
 }  // namespace clothsim::analysis

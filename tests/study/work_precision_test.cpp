@@ -243,5 +243,28 @@ TEST(WorkPrecision, TheReferenceSaysWhetherTheClothTouchesTheGroundAtT) {
   EXPECT_TRUE(work_precision(spring_model({"ground.height=-0.015"}), spec).reference.contact_at_end);
 }
 
+// Two lanes of one integrator, each on its own model: the points carry their lane, each
+// lane's order is fitted over its own points, and a lane runs its model's solver.
+TEST(WorkPrecision, LanesOfOneIntegratorRunOnTheirOwnModels) {
+  const Model model = spring_model();
+  Model fixed_point = model;
+  fixed_point.implicit.solver = ImplicitSolver::FixedPoint;
+  fixed_point.implicit.fixed_point_iterations = 1;
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::ImplicitEuler, IntegratorKind::ImplicitEuler});
+  spec.dts = {0.01, 0.005};
+  spec.lane_names = {"implicit_euler", "implicit_euler_fixed_point"};
+  spec.lane_models = {nullptr, &fixed_point};
+  const WorkPrecisionResult r = work_precision(model, spec);
+  ASSERT_EQ(r.points.size(), 4u);
+  EXPECT_EQ(r.points[0].lane, 0u);
+  EXPECT_EQ(r.points[3].lane, 1u);
+  EXPECT_EQ(r.points[2].newton_iterations, r.points[2].steps);  // the fixed point's one iteration a step
+  EXPECT_NE(r.points[0].rms_error, r.points[2].rms_error);
+  EXPECT_NEAR(lane_convergence_order(r.points, 0), 1.0, 0.2);
+  EXPECT_NEAR(lane_convergence_order(r.points, 1), 1.0, 0.3);
+  spec.lane_names = {"implicit_euler", "implicit_euler"};
+  EXPECT_THROW(checked(spec), StudyError);
+}
+
 }  // namespace
 }  // namespace clothsim::analysis

@@ -161,3 +161,13 @@ TEST(ParseReference, DefaultsToRk4AtAQuarterOfTheSmallestStep) {
   EXPECT_NE(usage_error([&] { parse_reference("nope@1", lanes); }).find("--reference: unknown integrator"),
             std::string::npos);
 }
+
+TEST(ParseStudyLanes, TakesCompareLanesWithoutStepsAndSpellsThemWithout) {
+  const std::vector<LaneSpec> lanes = parse_study_lanes("course,xpbd:10,implicit_euler:1", "no step");
+  std::vector<std::string> spelt;
+  for (const LaneSpec& l : lanes) spelt.push_back(l.stepless_spelling());
+  EXPECT_EQ(spelt, (std::vector<std::string>{"explicit_euler", "implicit_euler_fixed_point", "midpoint", "rk4",
+                                             "xpbd:10", "implicit_euler:1"}));
+  EXPECT_EQ(usage_error([] { parse_study_lanes("rk4@1e-3", "no step"); }), "--integrators: 'rk4@1e-3': no step");
+  EXPECT_EQ(usage_error([] { parse_study_lanes("course,rk4", "no step"); }), "--integrators: 'rk4' is listed twice");
+}

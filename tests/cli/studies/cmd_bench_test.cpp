@@ -165,5 +165,37 @@ TEST(CmdBench, RefusesAStudyPastTheStepLimitAtOnce) {
   EXPECT_NE(r.err.find("more than the limit of 1e+09"), std::string::npos) << r.err;
 }
 
+// bench takes compare's lanes: `course` is four rows labelled as compare labels its lanes,
+// the CSV's integrator column holds each lane's spelling, and a lane's own settings apply.
+TEST(CmdBench, TakesTheCourseAndIterationLanesAndLabelsThemAsCompareDoes) {
+  const std::string dir = scratch_dir("bench_lanes");
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "course,xpbd:3", "--dts", "0.01,0.005",
+                                    "--duration", "1", "--frame-dts", "1/10", "--csv", dir + "/wp.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("implicit_euler (fixed point)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  xpbd:3 "), std::string::npos) << r.out;
+  const auto rows = lines(dir + "/wp.csv");
+  ASSERT_EQ(rows.size(), 1u + 5u * 2u + 1u);  // five lanes at two steps, the fixed point at 1/10 s too
+  std::vector<std::string> names;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const std::string name = rows[i].substr(0, rows[i].find(','));
+    if (names.empty() || names.back() != name) names.push_back(name);
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"explicit_euler", "implicit_euler_fixed_point", "midpoint", "rk4",
+                                             "xpbd:3"}));
+  EXPECT_TRUE(only_files(dir, {"wp.csv"}));
+}
+
+TEST(CmdBench, ALaneStepIsOneLineExitTwoSayingBenchSweepsTheStep) {
+  const std::string dir = scratch_dir("bench_lane_step");
+  for (const char* lanes : {"rk4@1e-3", "course,xpbd@1/600:3"}) {
+    const CliResult r = run_clothsim({"bench", spring(), "--integrators", lanes, "--csv", dir + "/wp.csv"});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("bench sweeps the step (--dts), so a lane takes no @STEP"), std::string::npos) << r.err;
+    EXPECT_TRUE(only_files(dir, {}));
+  }
+}
+
 }  // namespace
 }  // namespace clothsim::testing

@@ -189,5 +189,38 @@ TEST(CmdStability, APrecisionFinerThanDoublesCanResolveIsRefused) {
   EXPECT_NE(r.err.find("the precision must be from 1e-12 to 1"), std::string::npos) << r.err;
 }
 
+// stability takes compare's lanes, each searched on its own settings: the course's one-iteration
+// fixed point is stable only for w h <= 1 on the undamped spring (w = 10: 0.1 s), implicit
+// Euler's converged Newton solve at every step tried; xpbd:3 is searched and labelled so.
+TEST(CmdStability, SearchesEachLaneOnItsOwnSettingsAndLabelsItAsCompareDoes) {
+  const std::string dir = scratch_dir("stability_lanes");
+  const CliResult r = run_clothsim({"stability", spring(), "--set", "cloth.springs.structural.damping=0",
+                                    "--integrators", "implicit_euler,implicit_euler_fixed_point,xpbd:3", "--values",
+                                    "100", "--duration", "20", "--min-dt", "0.01", "--max-dt", "0.5",
+                                    "--frame-dts", "1/30", "--csv", dir + "/st.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("implicit_euler (fixed point)"), std::string::npos) << r.out;
+  const auto rows = csv_rows(dir + "/st.csv");
+  ASSERT_EQ(rows.size(), 1u + 3u);
+  EXPECT_EQ(rows[1][2], "implicit_euler");
+  EXPECT_EQ(rows[2][2], "implicit_euler_fixed_point");
+  EXPECT_EQ(rows[3][2], "xpbd:3");
+  EXPECT_EQ(rows[1][3], "stable_at_max");
+  EXPECT_EQ(rows[2][3], "bracketed");
+  const double fixed_point = std::atof(rows[2][4].c_str());
+  EXPECT_NEAR(fixed_point, 0.1, 0.03 * 0.1);  // w h = 1
+  EXPECT_LT(fixed_point, std::atof(rows[1][4].c_str()));
+}
+
+TEST(CmdStability, ALaneStepIsOneLineExitTwoSayingTheStepIsSearched) {
+  const std::string dir = scratch_dir("stability_lane_step");
+  const CliResult r = run_clothsim({"stability", spring(), "--integrators", "xpbd@1e-3:3", "--csv", dir + "/st.csv"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("stability searches the step, so a lane takes no @STEP (its :N stays fixed while the step "
+                       "is searched)"), std::string::npos) << r.err;
+  EXPECT_TRUE(only_files(dir, {}));
+}
+
 }  // namespace
 }  // namespace clothsim::testing

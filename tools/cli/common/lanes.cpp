@@ -106,6 +106,30 @@ std::string LaneSpec::spelling() const {
          (iterations > 0 ? ":" + std::to_string(iterations) : "");
 }
 
+std::string LaneSpec::stepless_spelling() const {
+  return (fixed_point ? std::string(kFixedPointName) : std::string(integrator_name(kind))) +
+         (iterations > 0 ? ":" + std::to_string(iterations) : "");
+}
+
+std::vector<LaneSpec> parse_study_lanes(const std::string& integrators, const std::string& why_no_step) {
+  const std::vector<std::string> items = split_list(integrators);
+  std::vector<LaneSpec> lanes;
+  for (const std::string& raw : items) {
+    const std::string item = trimmed(raw);
+    if (item.find('@') != std::string::npos) throw UsageError("--integrators: " + in_quotes(item) + ": " + why_no_step);
+    if (item.empty()) return parse_lanes(integrators, "", 1.0);  // its message for an empty item
+  }
+  if (items.empty()) return parse_lanes(integrators, "", 1.0);  // its message for an empty list
+  for (const std::string& raw : items)  // the step is the study's, not the lane's: 1 s stands in
+    for (const LaneSpec& lane : parse_lanes(trimmed(raw), "", 1.0)) {
+      for (const LaneSpec& l : lanes)
+        if (l.stepless_spelling() == lane.stepless_spelling())
+          throw UsageError("--integrators: " + in_quotes(lane.stepless_spelling()) + " is listed twice");
+      lanes.push_back(lane);
+    }
+  return lanes;
+}
+
 int parse_iteration_count(const std::string& text, const std::string& what) {
   const std::string range = "a whole number from 1 to " + std::to_string(kMaxSolverIterations);
   if (text.empty() || text.size() > 9 || text.find_first_not_of("0123456789") != std::string::npos)

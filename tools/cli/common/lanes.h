@@ -28,6 +28,9 @@ struct LaneSpec {
   // As --integrators spells it, and parses back to this lane: "rk4@1e-4",
   // "implicit_euler_fixed_point@0.0001", "xpbd@1/600:1" (--summary's "lane").
   std::string spelling() const;
+  // The spelling without a step, for the studies that choose the steps themselves (bench,
+  // stability): "rk4", "implicit_euler_fixed_point", "xpbd:10".
+  std::string stepless_spelling() const;
   // implicit_euler's Newton capped at :N by the user: its steps stop at N iterations on purpose,
   // so a residual above tolerance is the method asked for, not a stalled solve.
   bool newton_capped() const { return iterations > 0 && kind == IntegratorKind::ImplicitEuler && !fixed_point; }
@@ -42,6 +45,10 @@ struct LaneSpec {
 // too), else the scene's dt. The same integrator may appear at several steps; the same lane
 // twice is an error. --reference takes the integrators only.
 std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt, double scene_dt);
+
+// --integrators of a study that chooses the steps itself (bench sweeps them, stability searches
+// them): the same lanes, an @STEP refused with UsageError "--integrators: ITEM: <why_no_step>".
+std::vector<LaneSpec> parse_study_lanes(const std::string& integrators, const std::string& why_no_step);
 
 // The smallest step of the lanes (not empty): what the reference's default step is a quarter
 // of (and, where that is above RK4's stable step, divided into whole steps: picture_options.h).

@@ -1,4 +1,4 @@
-// clothsim bench SCENE [--integrators a,b,...] [--dts LIST] [--duration T] [--set K=V]...
+// clothsim bench SCENE [--integrators LANES] [--dts LIST] [--duration T] [--set K=V]...
 //                      [--csv FILE] [--plot FILE.png] [--jobs N] [--reference-refinement N]
 //
 // The work-precision study (src/study/work_precision.h): every integrator at every step
@@ -28,6 +28,7 @@
 #include "study_shard.h"
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/lanes.h"
 #include "cli/common/memory_budget.h"
 #include "cli/common/scene_options.h"
 #include "cli/common/summary_json.h"
@@ -75,13 +76,16 @@ double default_duration(double scene_duration, const std::vector<double>& dts) {
   return whole * largest;
 }
 
-void write_csv(std::FILE* f, const WorkPrecisionResult& r) {
+// Lane spellings (LaneSpec::stepless_spelling), by point.lane: the CSV's and summary's names.
+using LaneNames = std::vector<std::string>;
+
+void write_csv(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
   std::fprintf(f, "integrator,dt,steps,force_evals,newton_iterations,cg_iterations,wall_seconds,cpu_seconds,"
                   "rms_error,max_error,diverged,diverged_at,reason,duration,reference_dt,reference_change,"
                   "unconverged_steps\n");
   for (const WorkPrecisionPoint& p : r.points)
     std::fprintf(f, "%s,%s,%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64 ",%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%" PRId64 "\n",
-                 std::string(integrator_name(p.integrator)).c_str(), csv_number(p.dt).c_str(), p.steps,
+                 names[p.lane].c_str(), csv_number(p.dt).c_str(), p.steps,
                  p.force_evals, p.newton_iterations, p.cg_iterations, csv_number(p.wall_seconds).c_str(),
                  csv_number(p.cpu_seconds).c_str(), csv_number(p.rms_error).c_str(),
                  csv_number(p.max_error).c_str(), p.diverged ? 1 : 0,
@@ -91,8 +95,9 @@ void write_csv(std::FILE* f, const WorkPrecisionResult& r) {
                  p.unconverged_steps);
 }
 
-void print_table(const WorkPrecisionResult& r, const std::vector<IntegratorKind>& kinds) {
-  std::printf("%-16s %10s %8s %11s %9s %9s %12s %12s  %s\n", "integrator", "dt (s)", "steps", "force evals",
+// Rows and orders labelled as compare labels its lanes (LaneSpec::name).
+void print_table(const WorkPrecisionResult& r, const std::vector<LaneSpec>& lanes) {
+  std::printf("%-28s %10s %8s %11s %9s %9s %12s %12s  %s\n", "integrator", "dt (s)", "steps", "force evals",
               "wall (s)", "cpu (s)", "rms err (m)", "max err (m)", "status");
   for (const WorkPrecisionPoint& p : r.points) {
     char status[160];
@@ -100,25 +105,25 @@ void print_table(const WorkPrecisionResult& r, const std::vector<IntegratorKind>
     else if (p.unconverged_steps > 0)
       std::snprintf(status, sizeof status, "NOT CONVERGED: %" PRId64 " of %" PRId64 " steps", p.unconverged_steps, p.steps);
     else std::snprintf(status, sizeof status, "ok");
-    std::printf("%-16s %10.4g %8" PRId64 " %11" PRId64 " %9.3g %9.3g %12.4g %12.4g  %s\n",
-                std::string(integrator_name(p.integrator)).c_str(), p.dt, p.steps, p.force_evals,
+    std::printf("%-28s %10.4g %8" PRId64 " %11" PRId64 " %9.3g %9.3g %12.4g %12.4g  %s\n",
+                lanes[p.lane].name().c_str(), p.dt, p.steps, p.force_evals,
                 p.wall_seconds, p.cpu_seconds, p.rms_error, p.max_error, status);
   }
   std::printf("observed order (slope of log rms error vs log dt, runs that finished, common steps):");
-  for (IntegratorKind k : kinds) {
-    const double order = analysis::convergence_order(r.points, k);
-    if (std::isnan(order)) std::printf("  %s -", std::string(integrator_name(k)).c_str());
-    else std::printf("  %s %.2f", std::string(integrator_name(k)).c_str(), order);
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    const double order = analysis::lane_convergence_order(r.points, i);
+    if (std::isnan(order)) std::printf("  %s -", lanes[i].name().c_str());
+    else std::printf("  %s %.2f", lanes[i].name().c_str(), order);
   }
   std::printf("\n");
-  for (IntegratorKind k : kinds)  // an order well below the method's, explained
-    for (const std::string& why : analysis::order_shortfall(r, k))
-      std::printf("%s below its order %d: %s\n", std::string(integrator_name(k)).c_str(), analysis::nominal_order(k), why.c_str());
+  for (std::size_t i = 0; i < lanes.size(); ++i)  // an order well below the method's, explained
+    for (const std::string& why : analysis::lane_order_shortfall(r, i, lanes[i].kind))
+      std::printf("%s below its order %d: %s\n", lanes[i].name().c_str(), analysis::nominal_order(lanes[i].kind), why.c_str());
 }
 
 // Each run a lane (its errors beside the common keys), and the study's T and reference.
 void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
-                        const WorkPrecisionResult& r) {
+                        const WorkPrecisionResult& r, const LaneNames& names) {
   std::vector<JsonObject> lanes;
   for (const WorkPrecisionPoint& p : r.points) {
     RunTotals t;
@@ -132,6 +137,7 @@ void write_summary_json(const std::string& path, const std::string& source, cons
                         .number("wall_seconds", p.wall_seconds)
                         .number("rms_error", p.rms_error)
                         .number("max_error", p.max_error));
+    if (names[p.lane] != integrator_name(p.integrator)) lanes.back().text("lane", names[p.lane]);
   }
   JsonObject reference;
   reference.text("integrator", std::string(integrator_name(r.reference.integrator)))
@@ -160,14 +166,14 @@ analysis::ShardReference shard_reference(const StudyShard& shard, const Model& m
 }
 
 // --shard: this process's part of the runs, each journaled as it finishes (study_shard.h).
-int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSpec& spec,
+int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSpec& spec, const LaneNames& names,
                 const analysis::StudyHooks& hooks) {
   WorkPrecisionResult row;  // one point at a time, with the study's T and reference
   row.duration = spec.duration;
   ShardPlan plan{"bench", o.scene.path, o.scene.sets, "", model.name + " (T = " + csv_number(spec.duration) + " s)",
-                 first_line(written_text([&](std::FILE* f) { write_csv(f, row); })), {}};
+                 first_line(written_text([&](std::FILE* f) { write_csv(f, row, names); })), {}};
   for (const WorkPrecisionPoint& p : analysis::planned_points(spec)) {
-    plan.plan += ";" + std::string(integrator_name(p.integrator)) + " " + csv_number(p.dt);
+    plan.plan += ";" + names[p.lane] + " " + csv_number(p.dt);  // the lane: its model is part of the item
     plan.costs.push_back(analysis::cost_estimate(p.integrator, spec.duration, p.dt));
   }
   plan.plan += ";T " + csv_number(spec.duration) + ";reference " + std::string(integrator_name(spec.reference_integrator)) +
@@ -180,13 +186,13 @@ int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSp
   row.reference.change_rms = ref.change_rms;
   analysis::run_points(model, spec, ref, shard.todo(), hooks, [&](std::size_t item, const WorkPrecisionPoint& p) {
     row.points = {p};
-    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, row); })));
+    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, row, names); })));
   });
   return shard.finish();
 }
 
 // The study to run: steps (--dts or the scene's x kDefaultStepFactors), T, the frame steps.
-WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds) {
+WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<LaneSpec>& lanes) {
   std::vector<double> dts;
   if (!o.dts) {
     for (double f : kDefaultStepFactors) dts.push_back(f * scene.dt);
@@ -206,7 +212,10 @@ WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const
   if (o.reference_refinement < 1) throw UsageError("--reference-refinement: must be >= 1");
 
   WorkPrecisionSpec spec;
-  spec.integrators = kinds;
+  for (const LaneSpec& l : lanes) {
+    spec.integrators.push_back(l.kind);
+    spec.lane_names.push_back(l.stepless_spelling());
+  }
   spec.dts = dts;
   // One step per video frame for implicit Euler, where it divides T (the default T of a short
   // study may not be a multiple of 1/30 s: those steps are left out, and said so).
@@ -239,8 +248,11 @@ void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std:
 int bench_command(const BenchOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene(o.scene.path, o.scene.sets);
-  const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
-  const WorkPrecisionSpec spec = plan_bench(o, scene, kinds);
+  const std::vector<LaneSpec> lanes =
+      parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
+  std::vector<IntegratorKind> kinds;
+  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
+  WorkPrecisionSpec spec = plan_bench(o, scene, lanes);
   const double T = spec.duration;
 
   // Outputs are checked (and python/matplotlib found) before minutes of simulation.
@@ -253,6 +265,10 @@ int bench_command(const BenchOptions& o) {
   scene.duration = std::max(scene.duration, T);  // the model's duration is informational only
   check_bench_memory(o, scene, kinds);
   const Model model = build_model(scene);
+  std::vector<std::optional<Model>> lane_storage(lanes.size());  // the lanes' own solver settings
+  for (std::size_t i = 0; i < lanes.size(); ++i)
+    spec.lane_models.push_back(&cli::lane_model(model, lanes[i], lane_storage[i]));
+  const LaneNames& names = spec.lane_names;
   const double h_ref = spec.dts.front() / spec.reference_refinement;
   std::size_t runs = 0;
   for (IntegratorKind k : kinds) runs += analysis::steps_of(spec, k).size();
@@ -268,11 +284,11 @@ int bench_command(const BenchOptions& o) {
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
   hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
-  if (!o.shard.empty()) return bench_shard(o, model, spec, hooks);
+  if (!o.shard.empty()) return bench_shard(o, model, spec, names, hooks);
   const WorkPrecisionResult result = analysis::work_precision(model, spec, hooks);
   progress.finish();
 
-  print_table(result, kinds);
+  print_table(result, lanes);
   const analysis::ReferenceCheck& ref = result.reference;
   if (ref.finished)
     std::printf("reference check: halving the reference step (%s, %g s -> %g s) moved the particles by %.3g m RMS "
@@ -283,11 +299,11 @@ int bench_command(const BenchOptions& o) {
 
   const auto write_to = [&](const std::string& path) {
     AtomicFile file(path);
-    write_csv(file.stream(), result);
+    write_csv(file.stream(), result, names);
     file.commit();
   };
   if (!o.csv.empty()) write_to(o.csv);
-  if (!o.summary.empty()) write_summary_json(o.summary, scene.source, model.name, result);
+  if (!o.summary.empty()) write_summary_json(o.summary, scene.source, model.name, result, names);
 
   // Both files stay, each holding the runs that finished: the line names them.
   if (interrupted() || !result.complete)
@@ -313,7 +329,7 @@ void add_bench_command(CLI::App& app, Command& command) {
   add_scene_options(sub, o->scene, /*single_run=*/false,
                     "the scene's duration, at most " + csv_number(kMaxDefaultDuration) + " s and " +
                         csv_number(kMaxDefaultSmallSteps) + " x the smallest step, rounded down to a multiple of the largest");
-  sub->add_option("--integrators", o->integrators, "Comma-separated integrators")->capture_default_str()->type_name("LIST");
+  sub->add_option("--integrators", o->integrators, "Comma-separated lanes as compare takes them, without @STEP: NAME[:N], implicit_euler_fixed_point, course")->capture_default_str()->type_name("LIST");
   sub->add_option("--dts", o->dts,
                   "Comma-separated step sizes in s (numbers or fractions: 1/240), each dividing the duration "
                   "(default: the scene's dt x 0.25, 0.5, 1, 2, 4, 8)")

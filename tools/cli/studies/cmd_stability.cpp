@@ -1,4 +1,4 @@
-// clothsim stability SCENE [--integrators a,b,...] [--param KEY] [--values LIST] [--duration T]
+// clothsim stability SCENE [--integrators LANES] [--param KEY] [--values LIST] [--duration T]
 //                          [--set K=V]... [--min-dt S] [--max-dt S] [--precision R]
 //                          [--energy-factor F] [--max-strain S] [--csv FILE] [--plot FILE.png]
 //                          [--jobs N]
@@ -36,6 +36,7 @@
 #include "study_shard.h"
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/lanes.h"
 #include "cli/common/memory_budget.h"
 #include "cli/common/scene_options.h"
 #include "cli/common/summary_json.h"
@@ -77,7 +78,11 @@ constexpr double kMinDtDivisor = 32;        // the smallest step tried: estimate
 struct Case {
   double value;
   Model model;
+  std::vector<std::optional<Model>> lane_models;  // per lane, its own solver settings (cli::lane_model)
 };
+
+// Lane spellings (LaneSpec::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
+using LaneNames = std::vector<std::string>;
 
 // "1/240 s: ok, 48 steps converged; 1/30 s: 3 of 6 steps not converged" (implicit_euler).
 std::string frame_steps_text(const StabilityLimit& l) {
@@ -88,13 +93,13 @@ std::string frame_steps_text(const StabilityLimit& l) {
 }
 
 void write_csv(std::FILE* f, const std::string& param, const std::vector<StabilityLimit>& limits,
-               const analysis::StabilitySpec& spec) {
+               const analysis::StabilitySpec& spec, const LaneNames& names) {
   std::fprintf(f, "param,value,integrator,outcome,stable_dt,unstable_dt,trials,cpu_seconds,w_max,c_max,"
                   "dt_springs,dt_with_damping,duration,min_dt,max_dt,precision,reason,failure,"
                   "frame_steps\n");
   for (const StabilityLimit& l : limits)
     std::fprintf(f, "%s,%s,%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n", csv_text(param).c_str(),
-                 csv_number(l.value).c_str(), std::string(integrator_name(l.integrator)).c_str(),
+                 csv_number(l.value).c_str(), names[l.lane].c_str(),
                  analysis::outcome_name(l.outcome), csv_number(l.stable_dt).c_str(),
                  csv_number(l.unstable_dt).c_str(), l.trials, csv_number(l.cpu_seconds).c_str(),
                  csv_number(l.estimate.w_max).c_str(), csv_number(l.estimate.c_max).c_str(),
@@ -130,7 +135,7 @@ std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& s
 // failed, and implicit_euler's one-step-per-frame runs.
 void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
                         const std::string& param, const std::vector<StabilityLimit>& limits,
-                        const analysis::StabilitySpec& spec, bool complete) {
+                        const analysis::StabilitySpec& spec, const LaneNames& names, bool complete) {
   std::vector<JsonObject> lanes;
   for (const StabilityLimit& l : limits) {
     std::vector<JsonObject> frame_steps;
@@ -158,6 +163,7 @@ void write_summary_json(const std::string& path, const std::string& source, cons
                         .number("dt_springs", l.estimate.dt_springs())
                         .number("dt_with_damping", l.estimate.dt_with_damping())
                         .array("frame_steps", frame_steps));
+    if (names[l.lane] != integrator_name(l.integrator)) lanes.back().text("lane", names[l.lane]);
   }
   JsonObject extra;
   extra.text("param", param)
@@ -170,20 +176,20 @@ void write_summary_json(const std::string& path, const std::string& source, cons
 
 // --shard: this process's part of the searches, each journaled as it finishes (study_shard.h).
 int stability_shard(const StabilityOptions& o, const std::string& title, const std::vector<analysis::StabilityCase>& refs,
-                    const analysis::StabilitySpec& spec, const analysis::StudyHooks& hooks) {
+                    const analysis::StabilitySpec& spec, const LaneNames& names, const analysis::StudyHooks& hooks) {
   ShardPlan plan{"stability", o.scene.path, o.scene.sets, o.param, title,
-                 first_line(written_text([&](std::FILE* f) { write_csv(f, o.param, {}, spec); })), {}};
+                 first_line(written_text([&](std::FILE* f) { write_csv(f, o.param, {}, spec, names); })), {}};
   for (const analysis::StabilityCase& c : refs)
-    for (IntegratorKind k : spec.integrators) {
-      plan.plan += ";" + csv_number(c.value) + " " + std::string(integrator_name(k));
-      plan.costs.push_back(analysis::search_cost(*c.model, k, spec));
+    for (std::size_t lane = 0; lane < spec.integrators.size(); ++lane) {  // the lane: its model is part of the item
+      plan.plan += ";" + csv_number(c.value) + " " + names[lane];
+      plan.costs.push_back(analysis::search_cost(analysis::case_lane_model(c, lane), spec.integrators[lane], spec));
     }
   for (double x : {spec.duration, spec.min_dt, spec.max_dt, spec.precision, spec.energy_factor, spec.max_strain})
     plan.plan += ";" + csv_number(x);
   for (double dt : spec.frame_dts) plan.plan += ";frame " + csv_number(dt);
   StudyShard shard(o.shard, o.csv, o.plot, o.summary, plan);
   analysis::stability_sweep_items(refs, spec, shard.todo(), hooks, [&](std::size_t item, const StabilityLimit& l) {
-    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, o.param, {l}, spec); })));
+    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, o.param, {l}, spec, names); })));
   });
   return shard.finish();
 }
@@ -249,8 +255,10 @@ void finish_stability_spec(const StabilityOptions& o, const SceneDef& base, doub
 }
 
 // The limits found, one row per value and integrator.
-void print_limits(const std::vector<StabilityLimit>& limits, const analysis::StabilitySpec& spec) {
-  std::printf("%14s %-16s %-48s %10s %12s %6s\n", "value", "integrator", "largest stable dt", "x 2/w_max",
+// Rows labelled as compare labels its lanes (LaneSpec::name).
+void print_limits(const std::vector<StabilityLimit>& limits, const analysis::StabilitySpec& spec,
+                  const std::vector<LaneSpec>& lanes) {
+  std::printf("%14s %-28s %-48s %10s %12s %6s\n", "value", "integrator", "largest stable dt", "x 2/w_max",
               "x 2/max(w,c)", "trials");
   for (const StabilityLimit& l : limits) {
     // The ratios to the estimates only for a bracketed limit ("-" where there is none: the CSV
@@ -260,19 +268,23 @@ void print_limits(const std::vector<StabilityLimit>& limits, const analysis::Sta
       std::snprintf(springs, sizeof springs, "%.3g", l.stable_dt / l.estimate.dt_springs());
       std::snprintf(damping, sizeof damping, "%.3g", l.stable_dt / l.estimate.dt_with_damping());
     }
-    std::printf("%14.6g %-16s %-48s %10s %12s %6d\n", l.value, std::string(integrator_name(l.integrator)).c_str(),
+    std::printf("%14.6g %-28s %-48s %10s %12s %6d\n", l.value, lanes[l.lane].name().c_str(),
                 limit_text(l, spec).c_str(), springs, damping, l.trials);
     if (l.failure == analysis::Failure::NotConverged)
-      std::printf("%14s %-16s NOT CONVERGED at %.4g s: %s\n", "", "", l.unstable_dt, l.reason.c_str());
+      std::printf("%14s %-28s NOT CONVERGED at %.4g s: %s\n", "", "", l.unstable_dt, l.reason.c_str());
     if (!l.frame_steps.empty())
-      std::printf("%14s %-16s one step per frame: %s\n", "", "", frame_steps_text(l).c_str());
+      std::printf("%14s %-28s one step per frame: %s\n", "", "", frame_steps_text(l).c_str());
   }
 }
 
 int stability_command(const StabilityOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   const SceneDef base = load_scene(o.scene.path, o.scene.sets);
-  const std::vector<IntegratorKind> kinds = parse_integrator_list(o.integrators, "--integrators");
+  const std::vector<LaneSpec> lanes = parse_study_lanes(
+      o.integrators, "stability searches the step, so a lane takes no @STEP (its :N stays fixed while the step is searched); drop it");
+  std::vector<IntegratorKind> kinds;
+  LaneNames names;
+  for (const LaneSpec& l : lanes) kinds.push_back(l.kind), names.push_back(l.stepless_spelling());
 
   std::vector<double> values;
   std::vector<analysis::SweepScene> scenes = sweep_cases(o, base, values);
@@ -286,7 +298,7 @@ int stability_command(const StabilityOptions& o) {
   double smallest_estimate = INFINITY;
   for (analysis::SweepScene& s : scenes) {
     s.scene.duration = spec.duration;
-    cases.push_back({s.value, build_model(s.scene)});
+    cases.push_back({s.value, build_model(s.scene), {}});
     smallest_estimate = std::min(smallest_estimate, analysis::estimate_stiffness(cases.back().model).dt_with_damping());
   }
   finish_stability_spec(o, base, smallest_estimate, spec);
@@ -310,26 +322,31 @@ int stability_command(const StabilityOptions& o) {
   std::fflush(stdout);
 
   std::vector<analysis::StabilityCase> refs;
-  for (const Case& c : cases) refs.push_back({c.value, &c.model});
+  for (Case& c : cases) {
+    refs.push_back({c.value, &c.model, {}});
+    c.lane_models.resize(lanes.size());
+    for (std::size_t i = 0; i < lanes.size(); ++i)
+      refs.back().lane_models.push_back(&cli::lane_model(c.model, lanes[i], c.lane_models[i]));
+  }
   SharedProgress progress("stability " + base.name, static_cast<long>(cases.size() * kinds.size()), "searches");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
   hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
-  if (!o.shard.empty()) return stability_shard(o, base.name, refs, spec, hooks);
+  if (!o.shard.empty()) return stability_shard(o, base.name, refs, spec, names, hooks);
   const std::vector<StabilityLimit> limits = analysis::stability_sweep(refs, spec, hooks);
   progress.finish();
 
-  print_limits(limits, spec);
+  print_limits(limits, spec, lanes);
 
   const auto write_to = [&](const std::string& path) {
     AtomicFile file(path);
-    write_csv(file.stream(), o.param, limits, spec);
+    write_csv(file.stream(), o.param, limits, spec, names);
     file.commit();
   };
   if (!o.csv.empty()) write_to(o.csv);
   const std::size_t searches = cases.size() * kinds.size();
   if (!o.summary.empty())
-    write_summary_json(o.summary, base.source, base.name, o.param, limits, spec, limits.size() == searches);
+    write_summary_json(o.summary, base.source, base.name, o.param, limits, spec, names, limits.size() == searches);
   // Both files stay, each holding the searches that finished: the line names them.
   if (interrupted() || limits.size() < searches)
     throw RuntimeFailure(study_interrupted_message(limits.size(), searches, "searches", {o.csv, o.summary}, o.plot));
@@ -345,7 +362,7 @@ void add_stability_command(CLI::App& app, Command& command) {
       "stability", "Largest stable step per integrator across a swept scene parameter (default: stiffness)");
   add_scene_options(sub, o->scene, /*single_run=*/false,
                     "the scene's duration, at most " + csv_number(kDefaultDuration) + " s");
-  sub->add_option("--integrators", o->integrators, "Comma-separated integrators")
+  sub->add_option("--integrators", o->integrators, "Comma-separated lanes as compare takes them, without @STEP: NAME[:N], implicit_euler_fixed_point, course")
       ->capture_default_str()
       ->type_name("LIST");
   sub->add_option("--param", o->param,
