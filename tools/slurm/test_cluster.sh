@@ -33,6 +33,7 @@ if ! tools/slurm/local-cluster.sh status >/dev/null 2>&1; then
 fi
 work=$(mktemp -d /var/tmp/clothsim-cluster-test.XXXXXX)
 cleanup() {
+  cd "$root"  # out of the folder about to go, so the stop runs in one that exists
   if ((ok)); then rm -rf "$work"; else echo "test_cluster: kept $work for inspection" >&2; fi
   ((started)) && "$root/tools/slurm/local-cluster.sh" stop
   return 0
