@@ -104,7 +104,7 @@ void MemoryBudget::check(const std::string& source, const std::optional<double>&
   throw UsageError(source + ": needs an estimated " + format_bytes(needed) + " (" + parts + "), more than " +
                    (limit ? "--max-memory " + format_bytes(allowed)
                           : "the " + format_bytes(allowed) + " allowed by default (half the physical memory)") +
-                   "; use fewer particles or a smaller picture, or raise --max-memory");
+                   "; " + remedy_ + ", or raise --max-memory");
 }
 
 }  // namespace clothsim::cli

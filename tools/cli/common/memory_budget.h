@@ -62,8 +62,11 @@ class MemoryBudget {
   // Throws UsageError when total() exceeds `limit` (the default when nullopt): "SOURCE: needs
   // an estimated 5.6 GB (model 1.3 GB, implicit_euler 4.3 GB, ...), more than --max-memory 2 GB".
   void check(const std::string& source, const std::optional<double>& limit) const;
+  // What the message suggests before raising the limit.
+  void set_remedy(std::string remedy) { remedy_ = std::move(remedy); }
 
  private:
+  std::string remedy_ = "use fewer particles or a smaller picture";
   std::vector<std::pair<std::string, double>> parts_;
 };
 

@@ -44,6 +44,7 @@ void check_inputs(const ImgdiffOptions& o) {
   MemoryBudget budget;
   budget.add("two " + size_text(a) + " images", 2 * image_bytes);
   if (!o.diff_path.empty()) budget.add("the difference image", image_bytes);
+  budget.set_remedy("compare smaller images");
   budget.check(o.a, o.max_memory);
 }
 
