@@ -91,4 +91,20 @@ inline void expect_finite_run(const std::string& scene, IntegratorKind kind, dou
   EXPECT_TRUE(run.state().x.allFinite());
 }
 
+// From random states of the free sheet (no contact): `kind` approaches the converged backward
+// Euler step of size h as its iterations grow, to 1e-6 relative at 2000.
+inline void expect_reaches_backward_euler_without_contact(IntegratorKind kind, double h) {
+  const Model model = free_sheet();
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const State start = random_state(model, seed);
+    const State be = one_step(model, start, IntegratorKind::ImplicitEuler, h);
+    const auto distance_at = [&](int iterations) {
+      return relative_distance(one_step(with_iterations(model, kind, iterations), start, kind, h), be, start);
+    };
+    const double at10 = distance_at(10), at100 = distance_at(100), at2000 = distance_at(2000);
+    EXPECT_LT(at100, 0.2 * at10) << "seed " << seed;
+    EXPECT_LT(at2000, 1e-6) << "seed " << seed;
+  }
+}
+
 }  // namespace clothsim::testing
