@@ -284,7 +284,11 @@ int bench_command(const BenchOptions& o) {
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
   hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
-  if (!o.shard.empty()) return bench_shard(o, model, spec, names, hooks);
+  if (!o.shard.empty()) {
+    const int code = bench_shard(o, model, spec, names, hooks);
+    progress.finish();  // clears the progress line, as the whole study's end does
+    return code;
+  }
   const WorkPrecisionResult result = analysis::work_precision(model, spec, hooks);
   progress.finish();
 

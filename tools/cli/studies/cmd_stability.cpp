@@ -332,7 +332,11 @@ int stability_command(const StabilityOptions& o) {
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
   hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
-  if (!o.shard.empty()) return stability_shard(o, base.name, refs, spec, names, hooks);
+  if (!o.shard.empty()) {
+    const int code = stability_shard(o, base.name, refs, spec, names, hooks);
+    progress.finish();  // clears the progress line, as the whole study's end does
+    return code;
+  }
   const std::vector<StabilityLimit> limits = analysis::stability_sweep(refs, spec, hooks);
   progress.finish();
 
