@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli/cli_process.h"
+#include "cli/compare/compare_small.h"
 
 namespace fs = std::filesystem;
 namespace cli = clothsim::testing;
@@ -17,15 +18,8 @@ using clothsim::testing::scratch_dir;
 
 namespace {
 
-const std::string kDrape = std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml";
-
-// compare on a 9 x 9 drape over 0.2 s, plus `extra` arguments.
-cli::CliResult compare_small(std::vector<std::string> extra) {
-  std::vector<std::string> args = {"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "0.2",
-                                   "--width", "320", "--height", "180", "--preset", "ultrafast"};
-  args.insert(args.end(), extra.begin(), extra.end());
-  return run_clothsim(args);
-}
+using clothsim::testing::compare_small;
+using clothsim::testing::kDrape;
 
 // The table's row for `lane` (its first line starting with the name and a space).
 std::string row_of(const std::string& out, const std::string& lane) {

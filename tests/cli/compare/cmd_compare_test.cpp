@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/cli_process.h"
+#include "cli/compare/compare_small.h"
 #include "cli/run_reports.h"
 #include "render/png_io.h"
 #include "video/contact_sheet.h"
@@ -25,16 +26,8 @@ using clothsim::testing::scratch_dir;
 
 namespace {
 
-const std::string kDrape = std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml";
-
-// compare on the small drape, plus `extra` arguments.
-cli::CliResult compare_small(std::vector<std::string> extra) {
-  std::vector<std::string> args = {"compare", kDrape, "--set", "cloth.particles=[9,9]",
-                                   "--duration", "0.2", "--width", "320", "--height", "180",
-                                   "--preset", "ultrafast"};
-  args.insert(args.end(), extra.begin(), extra.end());
-  return run_clothsim(args);
-}
+using clothsim::testing::compare_small;
+using clothsim::testing::kDrape;
 
 std::string frame_path(const std::string& dir, const std::string& integrator, int k) {
   char name[32];
