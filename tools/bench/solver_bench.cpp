@@ -7,9 +7,14 @@
 // core/work_units.h's table is calibrated on). One block-Jacobi iteration is about
 // one BM_SolverBlockMatVec plus one BM_SolverJacobi.
 #include <benchmark/benchmark.h>
+#include <time.h>
+
+#include <algorithm>
+#include <string>
 
 #include "bench_models.h"
 #include "core/implicit/sparse_system.h"
+#include "core/integrators/integrator.h"
 #include "core/implicit/step_potential.h"
 #include "core/linear/cholesky_preconditioner.h"
 #include "core/state.h"
@@ -99,6 +104,63 @@ void BM_SolverFactoredSolve(benchmark::State& st) {
   st.SetLabel(name(static_cast<int>(st.range(0))));
 }
 BENCHMARK(BM_SolverFactoredSolve)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+// One iteration of an iterative solver in spring passes (BENCHMARKS.md, "The iterative
+// solvers"): (a step of 55 iterations - a step of 5) / 50 over one symplectic Euler step of
+// the same sheet, each the least thread CPU time of its repeats, all in this one process.
+// Args: solver (0 xpbd, 1 projective_dynamics, 2 vbd) and the drape's side n.
+//   build/tools/bench/clothsim_benchmarks --benchmark_filter='SolverIteration'
+double thread_cpu() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+template <class F>
+double least_time(int repeats, F&& f) {
+  double best = 1e300;
+  for (int r = 0; r < repeats; ++r) {
+    const double t0 = thread_cpu();
+    f();
+    best = std::min(best, thread_cpu() - t0);
+  }
+  return best;
+}
+
+const IntegratorKind kSolvers[] = {IntegratorKind::Xpbd, IntegratorKind::ProjectiveDynamics, IntegratorKind::Vbd};
+
+void BM_SolverIteration(benchmark::State& st) {
+  const IntegratorKind kind = kSolvers[st.range(0)];
+  const int n = static_cast<int>(st.range(1));
+  Model few = bench::drape_sheet(n), many = few;
+  for (Model* m : {&few, &many}) {
+    const int it = m == &few ? 5 : 55;
+    m->solvers.xpbd.iterations = m->solvers.projective_dynamics.iterations = m->solvers.vbd.iterations = it;
+  }
+  const State start = initial_state(few);
+  Workspace ws;
+  State s = start;
+  integrate(kind, few, s, 1.0 / 60.0, ws);  // builds the factor or the colouring
+  const int repeats = n >= 256 ? 2 : 5;
+  double pass = 0.0, per_iteration = 0.0;
+  for (auto _ : st) {
+    pass = least_time(repeats * 4, [&] {
+      s = start;
+      integrate(IntegratorKind::SymplecticEuler, few, s, 1e-4, ws);
+    });
+    const double t5 = least_time(repeats, [&] { s = start, integrate(kind, few, s, 1.0 / 60.0, ws); });
+    const double t55 = least_time(repeats, [&] { s = start, integrate(kind, many, s, 1.0 / 60.0, ws); });
+    per_iteration = (t55 - t5) / 50.0;
+  }
+  st.counters["pass_us"] = 1e6 * pass;
+  st.counters["iteration_us"] = 1e6 * per_iteration;
+  st.counters["passes_per_iteration"] = per_iteration / pass;
+  st.SetLabel(std::string(integrator_name(kind)) + " " + std::to_string(n) + "x" + std::to_string(n));
+}
+BENCHMARK(BM_SolverIteration)
+    ->ArgsProduct({{0, 1, 2}, {25, 64, 256}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace clothsim
