@@ -29,13 +29,14 @@ StepStats projective_dynamics_step(const Model& model, State& state, double h, W
   stats.factorizations = pd_prepare_factor(model, c.problem, state.inv_mass, c.pd) ? 1 : 0;
   const double rho = model.solvers.projective_dynamics.chebyshev_rho;
   const int iterations = iteration_count(model, IntegratorKind::ProjectiveDynamics);
+  pd_prepare_step(model, c.problem, c.pd, c.pd_system);
   c.y = c.problem.target;
   c.lambda.assign(model.num_particles, 0.0);
   double omega = 1.0;
   c.y_before = c.y;
   for (int k = 1; k <= iterations; ++k) {
     c.y_next = c.y;  // y_k
-    pd_iteration(model, c.problem, c.pd, c.y, c.rhs, c.lambda);
+    pd_iteration(model, c.problem, c.pd, c.y, c.pd_system, c.lambda);
     if (rho > 0.0) accelerate(c, k, rho, omega);
     c.y_before = c.y_next;
   }

@@ -3,6 +3,8 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 
+#include "pd_local_kernels.h"
+
 namespace clothsim {
 namespace {
 
@@ -11,6 +13,14 @@ void number_free_bodies(const Eigen::VectorXd& inv_mass, PdFactor& f) {
   std::int32_t row = 0;
   for (Eigen::Index i = 0; i < inv_mass.size(); ++i)
     if (inv_mass[i] != 0.0) f.free_index[i] = row++;
+}
+
+// Each free body's row in the factor's order: Eigen's solve takes P b, row free_index -> P's index.
+void number_factor_rows(PdFactor& f) {
+  const auto& perm = f.ldlt.permutationP().indices();
+  f.row.assign(f.free_index.size(), -1);
+  for (std::size_t i = 0; i < f.free_index.size(); ++i)
+    if (f.free_index[i] >= 0) f.row[i] = perm.size() > 0 ? perm[f.free_index[i]] : f.free_index[i];
 }
 
 Eigen::SparseMatrix<double> global_matrix(const Model& model, const StepProblem& p,
@@ -33,18 +43,36 @@ Eigen::SparseMatrix<double> global_matrix(const Model& model, const StepProblem&
   return A;
 }
 
-// Adds each spring's projection k p_s (and a fixed end's position) to its free ends' rows.
+bool by_families(const Model& model) {
+  const SpringLayout& layout = model.spring_layout;
+  return layout.covers(model.springs.size()) && layout.others.size() == 0 &&
+         layout.num_particles == model.num_particles;
+}
+
+// The scalar local step: each spring's projection k p_s added to its free ends' rows.
 void scatter_spring_projections(const Model& model, const StepProblem& p, const PdFactor& f,
-                                const Eigen::Matrix3Xd& y, Eigen::MatrixX3d& rhs) {
+                                const Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& z) {
   const Springs& s = model.springs;
   for (std::size_t k = 0; k < s.size(); ++k) {
-    const int ra = f.free_index[s.a[k]], rb = f.free_index[s.b[k]];
+    const int ra = f.row[s.a[k]], rb = f.row[s.b[k]];
     const Vec3 d = y.col(s.a[k]) - y.col(s.b[k]);
     const double l = d.norm();
     const Vec3 proj = l > 0.0 ? Vec3((p.rest[k] / l) * d) : Vec3(Vec3::Zero());
     const double w = p.stiffness[k];
-    if (ra >= 0) rhs.row(ra) += (w * (rb >= 0 ? proj : Vec3(proj + y.col(s.b[k])))).transpose();
-    if (rb >= 0) rhs.row(rb) -= (w * (ra >= 0 ? proj : Vec3(proj - y.col(s.a[k])))).transpose();
+    if (ra >= 0) z.col(ra) += w * proj;
+    if (rb >= 0) z.col(rb) -= w * proj;
+  }
+}
+
+// Uzawa: each multiplier raised by the depth the solve left its particle at, clamped at 0.
+void update_contact_forces(const Model& model, const StepProblem& p, const PdFactor& f,
+                           const Eigen::Matrix3Xd& y, PdSystem& s, std::vector<double>& lambda) {
+  s.pushed.clear();
+  for (int i = 0; i < model.num_particles; ++i) {
+    if (f.free_index[i] < 0) continue;
+    const Penetration c = deepest_penetration(p.colliders, y.col(i));
+    if (c.depth > 0.0 || lambda[i] > 0.0) lambda[i] = std::max(0.0, lambda[i] + p.weight[i] * c.depth);
+    if (lambda[i] > 0.0) s.pushed.push_back(i);
   }
 }
 
@@ -65,27 +93,68 @@ bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::Ve
   const Eigen::SparseMatrix<double> A = global_matrix(model, p, f);
   if (!f.analysed) f.ldlt.analyzePattern(A), f.analysed = true;  // the pattern is the pins'
   f.ldlt.factorize(A);
+  number_factor_rows(f);
   ++f.factorizations;
   return true;
 }
 
+void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f, PdSystem& s) {
+  s.base.setZero(3, f.ldlt.rows());
+  s.pushed.clear();
+  for (std::size_t i = 0; i < f.row.size(); ++i)
+    if (f.row[i] >= 0) s.base.col(f.row[i]) = p.weight[i] * p.target.col(i);
+  const Springs& sp = model.springs;
+  for (std::size_t k = 0; k < sp.size(); ++k) {  // an immovable end stays at its target
+    const int ra = f.row[sp.a[k]], rb = f.row[sp.b[k]];
+    if (ra >= 0 && rb < 0) s.base.col(ra) += p.stiffness[k] * p.target.col(sp.b[k]);
+    if (rb >= 0 && ra < 0) s.base.col(rb) += p.stiffness[k] * p.target.col(sp.a[k]);
+  }
+  if (!by_families(model)) return;
+  const SpringLayout& layout = model.spring_layout;
+  s.rest.assign(layout.num_slots + layout.slot_gap, 0.0);
+  for (std::size_t k = 0; k < sp.size(); ++k) s.rest[layout.slot[k]] = p.rest[k];
+}
+
 void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, Eigen::Matrix3Xd& y,
-                  Eigen::MatrixX3d& rhs, std::vector<double>& lambda) {
-  rhs.setZero(f.ldlt.rows(), 3);
-  for (std::size_t i = 0; i < f.free_index.size(); ++i)
-    if (f.free_index[i] >= 0) rhs.row(f.free_index[i]) = p.weight[i] * p.target.col(i).transpose();
-  for (std::size_t i = 0; i < lambda.size(); ++i)
-    if (lambda[i] > 0.0)
-      rhs.row(f.free_index[i]) += lambda[i] * deepest_penetration(p.colliders, y.col(i)).normal.transpose();
-  scatter_spring_projections(model, p, f, y, rhs);
-  const Eigen::MatrixX3d solved = f.ldlt.solve(rhs);
-  for (std::size_t i = 0; i < f.free_index.size(); ++i)
-    if (f.free_index[i] >= 0) y.col(i) = solved.row(f.free_index[i]).transpose();
+                  PdSystem& s, std::vector<double>& lambda) {
+  s.z = s.base;
+  if (by_families(model))
+    pd_family_projections(model.spring_layout, y, s.rest.data(), p.h, f.row.data(), s.z);
+  else
+    scatter_spring_projections(model, p, f, y, s.z);
+  for (std::int32_t i : s.pushed)
+    s.z.col(f.row[i]) += lambda[i] * deepest_penetration(p.colliders, y.col(i)).normal;
+  pd_solve_in_place(f, s.z);
+  for (std::size_t i = 0; i < f.row.size(); ++i)
+    if (f.row[i] >= 0) y.col(i) = s.z.col(f.row[i]);
   if (!p.colliders.ground && p.colliders.centre.empty()) return;
-  for (int i = 0; i < model.num_particles; ++i) {
-    if (f.free_index[i] < 0) continue;
-    const Penetration c = deepest_penetration(p.colliders, y.col(i));
-    if (c.depth > 0.0 || lambda[i] > 0.0) lambda[i] = std::max(0.0, lambda[i] + p.weight[i] * c.depth);
+  update_contact_forces(model, p, f, y, s, lambda);
+}
+
+void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z) {
+  const auto& L = f.ldlt.matrixL().nestedExpression();  // strictly lower, unit diagonal implied
+  const int* start = L.outerIndexPtr();
+  const int* row = L.innerIndexPtr();
+  const double* value = L.valuePtr();
+  const Eigen::VectorXd& D = f.ldlt.vectorD();
+  const Eigen::Index n = z.cols();
+  for (Eigen::Index j = 0; j < n; ++j) {  // L w = z, by columns of L
+    const Vec3 zj = z.col(j);
+    for (int e = start[j]; e < start[j + 1]; ++e) z.col(row[e]) -= value[e] * zj;
+  }
+  for (Eigen::Index j = 0; j < n; ++j) z.col(j) /= D[j];
+  for (Eigen::Index j = n - 1; j >= 0; --j) {  // L^T x = w, by rows of L^T
+    // Four partial sums: one would chain every entry's multiply-add on the last.
+    Vec3 s0 = Vec3::Zero(), s1 = Vec3::Zero(), s2 = Vec3::Zero(), s3 = Vec3::Zero();
+    int e = start[j];
+    for (; e + 4 <= start[j + 1]; e += 4) {
+      s0 += value[e] * z.col(row[e]);
+      s1 += value[e + 1] * z.col(row[e + 1]);
+      s2 += value[e + 2] * z.col(row[e + 2]);
+      s3 += value[e + 3] * z.col(row[e + 3]);
+    }
+    for (; e < start[j + 1]; ++e) s0 += value[e] * z.col(row[e]);
+    z.col(j) -= (s0 + s1) + (s2 + s3);
   }
 }
 

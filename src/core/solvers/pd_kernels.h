@@ -9,9 +9,13 @@
 // constraint, step a_i = m_i/h^2 + c/h, clamped at 0; the matrix's full diagonal overshoots
 // where contacts share springs), so the matrix stays constant and, converged,
 // the contact is held exactly: not Bouaziz et al. 2014's weighted terms, which change the
-// matrix with every contact set and, stiff, freeze the particles they hold. The matrix is the same for x, y and z, so one scalar factor of
-// the free bodies serves the three columns; it depends only on h and the pins, so it is
-// factored when one of them changes and reused otherwise.
+// matrix with every contact set and, stiff, freeze the particles they hold. The matrix is the
+// same for x, y and z, so one scalar LDL^T factor (Liu et al.'s prefactored Cholesky) serves
+// the three columns, solved together in one sweep over the factor each way; it depends only
+// on h and the pins, so it is factored when one of them changes and reused otherwise.
+//
+// The local step runs by the grid's stencil families in SIMD (pd_local_kernels.h) when the
+// model's spring layout covers every spring, else as a scalar pass over the spring list.
 #pragma once
 
 #include <Eigen/Core>
@@ -26,6 +30,7 @@ namespace clothsim {
 struct PdFactor {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
   std::vector<std::int32_t> free_index;  // (B) row of a movable body, -1 where immovable
+  std::vector<std::int32_t> row;         // (B) its row in the factor's (permuted) order, or -1
   Eigen::VectorXd inv_mass;              // (B) the pin set it was built for
   double h = 0.0;
   const Model* model = nullptr;
@@ -33,14 +38,28 @@ struct PdFactor {
   int factorizations = 0;                // numeric factorizations so far
 };
 
+// One step's right-hand side pieces and scratch, in the factor's row order.
+struct PdSystem {
+  Eigen::Matrix3Xd base;         // (3 x n) A yhat + the springs' pull towards immovable ends
+  Eigen::Matrix3Xd z;            // (3 x n) the right-hand side, then the solve
+  std::vector<double> rest;      // (slots) blended rest lengths by the layout's slot order
+  std::vector<std::int32_t> pushed;  // particles whose contact multiplier is positive
+};
+
 // Refactors when h or the pins differ from the factor's. Returns whether it did.
 bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::VectorXd& inv_mass,
                        PdFactor& f);
 
+// The step's constant part of the right-hand side and, with a layout, the rest lengths by slot.
+void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f, PdSystem& s);
+
 // One local-global iteration: y <- the global solve with the projections taken at y and the
 // contact forces lambda (P, N; zeros at the step's start), then lambda updated at the new y.
 void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, Eigen::Matrix3Xd& y,
-                  Eigen::MatrixX3d& rhs, std::vector<double>& lambda);
+                  PdSystem& s, std::vector<double>& lambda);
+
+// z <- (L D L^T)^-1 z for the three columns at once (z in the factor's row order).
+void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z);
 
 // Wang 2015's Chebyshev weights: omega_1 = 1, omega_2 = 2 / (2 - rho^2),
 // omega_{k+1} = 4 / (4 - rho^2 omega_k).

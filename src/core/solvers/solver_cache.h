@@ -17,7 +17,7 @@ struct SolverCache {
   StepProblem problem;
   Eigen::Matrix3Xd y, y_before, y_next, acceleration;  // (3 x B)
   std::vector<double> lambda;  // XPBD's multipliers (S), PD's contact forces (P)
-  Eigen::MatrixX3d rhs;                                // PD's global right-hand side
+  PdSystem pd_system;                                  // PD's right-hand side and solve
   PdFactor pd;
   VbdGraph vbd;
 };

@@ -1,0 +1,20 @@
+// Projective dynamics' local step in SIMD over the grid's stencil families (spring_layout.h),
+// walked as the force pass walks them (spring_window-inl.h): contiguous loads of each
+// family's ends, the projections summed at a and at b in separate arrays, each particle's sum
+// added to its row of the right-hand side when the walk finishes it. A spring's term is the
+// scalar pass's, k (rest / l) d, with k = ks + kd/h one value per family.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "core/springs/spring_layout.h"
+
+namespace clothsim {
+
+// z.col(row[i]) += sum over the springs at particle i of +-k p_s, for every particle with
+// row[i] >= 0 (z in the factor's order); rest: the blended rest lengths by slot.
+void pd_family_projections(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
+                           const double* rest, double h, const std::int32_t* row, Eigen::Matrix3Xd& z);
+
+}  // namespace clothsim
