@@ -8,8 +8,11 @@
 // geometric stiffness (the transverse (T/l)(I - P) term), and the damper's rate is
 // u . (v_a - v_b) at the end of the step rather than (l - ln) / h (docs/integrators.md).
 // Substeps are smaller steps: xpbd@1/600:1 is Macklin et al. 2019's "Small steps".
+// On a grid the sweep goes family set by family set in SIMD (solvers/xpbd_family_kernels.h);
+// other models sweep the spring list in its order.
 #include "integrator.h"
 #include "core/solvers/solver_cache.h"
+#include "core/solvers/xpbd_family_kernels.h"
 #include "core/solvers/xpbd_kernels.h"
 
 namespace clothsim {
@@ -39,25 +42,43 @@ void project_contacts(const Model& model, const StepProblem& p, Eigen::Matrix3Xd
   }
 }
 
+void sweep_spring_list(const Model& model, const StepProblem& p, const State& state, int iterations,
+                       SolverCache& cache) {
+  const bool contacts = p.colliders.ground || !p.colliders.centre.empty();
+  cache.lambda.assign(model.springs.size(), 0.0);
+  for (int it = 0; it < iterations; ++it) {
+    project_springs(model, p, state.inv_mass, cache.y, cache.lambda);
+    if (contacts) project_contacts(model, p, cache.y);
+  }
+}
+
+void sweep_families(const Model& model, const StepProblem& p, const State& state, int iterations,
+                    SolverCache& cache) {
+  const bool contacts = p.colliders.ground || !p.colliders.centre.empty();
+  xpbd_load_families(model, p, state.inv_mass, cache.y, cache.xpbd);
+  for (int it = 0; it < iterations; ++it) {
+    xpbd_family_sweep(model, p.h, cache.xpbd);
+    if (contacts) xpbd_family_contacts(model, p, cache.xpbd);
+  }
+  xpbd_store_families(cache.xpbd, model.num_particles, cache.y);
+}
+
 }  // namespace
 
 StepStats xpbd_step(const Model& model, State& state, double h, Workspace& ws) {
   SolverCache& cache = solver_cache(ws);
   StepProblem& p = cache.problem;
   build_step_problem(model, state, h, p);
-  Eigen::Matrix3Xd& y = cache.y;
-  y = p.target;
-  cache.lambda.assign(model.springs.size(), 0.0);
-  const bool contacts = p.colliders.ground || !p.colliders.centre.empty();
+  cache.y = p.target;
   const int iterations = iteration_count(model, IntegratorKind::Xpbd);
-  for (int it = 0; it < iterations; ++it) {
-    project_springs(model, p, state.inv_mass, y, cache.lambda);
-    if (contacts) project_contacts(model, p, y);
-  }
+  if (xpbd_by_families(model))
+    sweep_families(model, p, state, iterations, cache);
+  else
+    sweep_spring_list(model, p, state, iterations, cache);
   StepStats stats;
   stats.newton_iterations = iterations;
   stats.start_strain = max_start_strain(model, p);
-  finish_step(p, y, state);
+  finish_step(p, cache.y, state);
   return stats;
 }
 

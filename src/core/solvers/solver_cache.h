@@ -9,6 +9,7 @@
 #include "pd_kernels.h"
 #include "step_problem.h"
 #include "vbd_kernels.h"
+#include "xpbd_family_kernels.h"
 #include "core/integrators/integrator.h"
 
 namespace clothsim {
@@ -20,6 +21,7 @@ struct SolverCache {
   PdSystem pd_system;                                  // PD's right-hand side and solve
   PdFactor pd;
   VbdGraph vbd;
+  XpbdFamilies xpbd;                                    // XPBD's sets and SoA iterate
 };
 
 SolverCache& solver_cache(Workspace& ws);
