@@ -1,9 +1,7 @@
 #include "vbd_kernels.h"
 
-#include <Eigen/Dense>
 #include <algorithm>
-
-#include "core/springs/spring_force.h"
+#include <cmath>
 
 namespace clothsim {
 namespace {
@@ -15,14 +13,15 @@ void build_incidence(const Model& model, VbdGraph& g) {
   for (std::size_t k = 0; k < s.size(); ++k) ++g.start[s.a[k] + 1], ++g.start[s.b[k] + 1];
   for (int i = 0; i < B; ++i) g.start[i + 1] += g.start[i];
   g.spring.assign(g.start[B], 0);
+  g.neighbour.assign(g.start[B], 0);
   std::vector<std::int32_t> fill(g.start.begin(), g.start.end() - 1);
   for (std::size_t k = 0; k < s.size(); ++k) {
+    g.neighbour[fill[s.a[k]]] = s.b[k];
     g.spring[fill[s.a[k]]++] = static_cast<std::int32_t>(k);
+    g.neighbour[fill[s.b[k]]] = s.a[k];
     g.spring[fill[s.b[k]]++] = static_cast<std::int32_t>(k);
   }
 }
-
-int other_end(const Springs& s, int k, int i) { return s.a[k] == i ? s.b[k] : s.a[k]; }
 
 // Greedy, in body order: each body takes the smallest colour none of its neighbours has.
 void colour_greedily(const Model& model, VbdGraph& g) {
@@ -32,7 +31,7 @@ void colour_greedily(const Model& model, VbdGraph& g) {
   for (int i = 0; i < B; ++i) {
     taken.assign(taken.size(), 0);
     for (int e = g.start[i]; e < g.start[i + 1]; ++e) {
-      const int c = colour[other_end(model.springs, g.spring[e], i)];
+      const int c = colour[g.neighbour[e]];
       if (c < 0) continue;
       if (c >= static_cast<int>(taken.size())) taken.resize(c + 1, 0);
       taken[c] = 1;
@@ -44,25 +43,52 @@ void colour_greedily(const Model& model, VbdGraph& g) {
   }
 }
 
+// A symmetric 3x3 matrix by its six entries (the per-vertex Hessian, accumulated without
+// forming 3x3 products).
+struct Sym3 {
+  double xx, yy, zz, xy, xz, yz;
+  void add_outer(double c, const Vec3& d) {
+    xx += c * d.x() * d.x(), yy += c * d.y() * d.y(), zz += c * d.z() * d.z();
+    xy += c * d.x() * d.y(), xz += c * d.x() * d.z(), yz += c * d.y() * d.z();
+  }
+  void add_diagonal(double c) { xx += c, yy += c, zz += c; }
+  // H^-1 b by the adjugate (H is positive definite: a_i I plus PSD terms).
+  Vec3 solve(const Vec3& b) const {
+    const double cxx = yy * zz - yz * yz, cxy = xz * yz - xy * zz, cxz = xy * yz - xz * yy;
+    const double cyy = xx * zz - xz * xz, cyz = xy * xz - xx * yz, czz = xx * yy - xy * xy;
+    const double det = xx * cxx + xy * cxy + xz * cxz;
+    return Vec3(cxx * b.x() + cxy * b.y() + cxz * b.z(), cxy * b.x() + cyy * b.y() + cyz * b.z(),
+                cxz * b.x() + cyz * b.y() + czz * b.z()) / det;
+  }
+};
+
 // The vertex's gradient f and Hessian H of G with the others held: inertia, its springs
-// (Hessian blocks projected PSD, spring_force.h) and the contact penalties.
-void vertex_system(const Model& model, const StepProblem& p, const VbdGraph& g,
-                   const Eigen::Matrix3Xd& y, int i, Vec3& f, Mat3& H) {
-  const Springs& s = model.springs;
+// (each block K = k P + (T/l)(I - P), T/l clamped at 0: spring_force.h's projected
+// step_spring_hessian, with T = k (l - blended rest)) and the contact penalties.
+void vertex_system(const StepProblem& p, const VbdGraph& g, const Eigen::Matrix3Xd& y, int i, Vec3& f,
+                   Sym3& H) {
   const Vec3 yi = y.col(i);
   f = p.weight[i] * (yi - p.target.col(i));
-  H = p.weight[i] * Mat3::Identity();
+  H = Sym3{p.weight[i], p.weight[i], p.weight[i], 0.0, 0.0, 0.0};
   for (int e = g.start[i]; e < g.start[i + 1]; ++e) {
     const int k = g.spring[e];
-    const Vec3 d = yi - y.col(other_end(s, k, i));
-    const double l = d.norm();
-    if (l > 0.0) f += (p.stiffness[k] * (l - p.rest[k]) / l) * d;
-    H += step_spring_hessian(d, s.rest[k], p.start_length[k], s.ks[k], s.kd[k], p.h, true);
+    const Vec3 d = yi - y.col(g.neighbour[e]);
+    const double l2 = d.squaredNorm(), l = std::sqrt(l2);
+    const double stiffness = p.stiffness[k];
+    if (!(l > 0.0)) {  // no direction: the isotropic stand-in
+      H.add_diagonal(stiffness);
+      continue;
+    }
+    const double tension_per_length = stiffness * (l - p.rest[k]) / l;
+    f += tension_per_length * d;
+    const double transverse = std::max(0.0, tension_per_length);
+    H.add_outer((stiffness - transverse) / l2, d);
+    H.add_diagonal(transverse);
   }
   const double kc = kVbdContactStiffness * p.weight[i];
   for_each_penetration(p.colliders, yi, [&](const Penetration& c) {
     f -= (kc * c.depth) * c.normal;
-    H += kc * (c.normal * c.normal.transpose());
+    H.add_outer(kc, c.normal);
   });
 }
 
@@ -89,14 +115,14 @@ void vbd_initial_guess(const Model& model, const StepProblem& p, const State& st
   }
 }
 
-void vbd_sweep(const Model& model, const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y) {
+void vbd_sweep(const Model&, const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y) {
   Vec3 f;
-  Mat3 H;
+  Sym3 H;
   for (const std::vector<std::int32_t>& colour : g.colours)
     for (std::int32_t i : colour) {
       if (p.weight[i] == 0.0) continue;
-      vertex_system(model, p, g, y, i, f, H);
-      const Vec3 step = H.ldlt().solve(-f);
+      vertex_system(p, g, y, i, f, H);
+      const Vec3 step = H.solve(-f);
       if (step.allFinite()) y.col(i) += step;
     }
 }

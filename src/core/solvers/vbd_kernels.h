@@ -20,6 +20,7 @@ constexpr double kVbdContactStiffness = 1e4;
 struct VbdGraph {
   std::vector<std::int32_t> start;   // (B + 1) CSR offsets into `spring`
   std::vector<std::int32_t> spring;  // spring indices incident to each body
+  std::vector<std::int32_t> neighbour;  // the other end of each of those springs
   std::vector<std::vector<std::int32_t>> colours;  // bodies by colour, ascending
   const Model* model = nullptr;
   std::size_t springs = 0;
