@@ -7,8 +7,22 @@
 #include "integrator.h"
 #include "core/forces.h"
 #include "core/solvers/solver_cache.h"
+#include "core/solvers/vbd_grid_kernels.h"
 
 namespace clothsim {
+namespace {
+
+// On a grid: the particles' sweeps in SIMD over the grid's nine colours, then the other
+// bodies' (dynamic spheres: no springs, so no coupling within the step).
+void sweep_grid(const Model& model, int iterations, SolverCache& c) {
+  vbd_load_grid(model, c.problem, c.y, c.vbd_grid);
+  for (int it = 0; it < iterations; ++it) vbd_grid_sweep(model, c.problem, c.vbd_grid);
+  vbd_store_grid(model, c.vbd_grid, c.y);
+  if (model.num_bodies() > model.num_particles)
+    for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y, model.num_particles);
+}
+
+}  // namespace
 
 StepStats vbd_step(const Model& model, State& state, double h, Workspace& ws) {
   SolverCache& c = solver_cache(ws);
@@ -19,7 +33,10 @@ StepStats vbd_step(const Model& model, State& state, double h, Workspace& ws) {
   stats.force_evals = 1;
   vbd_initial_guess(model, c.problem, state, c.acceleration, c.y);
   const int iterations = iteration_count(model, IntegratorKind::Vbd);
-  for (int it = 0; it < iterations; ++it) vbd_sweep(model, c.problem, c.vbd, c.y);
+  if (vbd_by_grid(model))
+    sweep_grid(model, iterations, c);
+  else
+    for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y);
   stats.newton_iterations = iterations;
   finish_step(c.problem, c.y, state);
   return stats;

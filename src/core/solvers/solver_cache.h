@@ -8,6 +8,7 @@
 
 #include "pd_kernels.h"
 #include "step_problem.h"
+#include "vbd_grid_kernels.h"
 #include "vbd_kernels.h"
 #include "xpbd_family_kernels.h"
 #include "core/integrators/integrator.h"
@@ -21,6 +22,7 @@ struct SolverCache {
   PdSystem pd_system;                                  // PD's right-hand side and solve
   PdFactor pd;
   VbdGraph vbd;
+  VbdGrid vbd_grid;                                    // VBD's colour-major grid
   XpbdFamilies xpbd;                                    // XPBD's sets and SoA iterate
 };
 

@@ -115,12 +115,12 @@ void vbd_initial_guess(const Model& model, const StepProblem& p, const State& st
   }
 }
 
-void vbd_sweep(const Model&, const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y) {
+void vbd_sweep(const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y, int first_body) {
   Vec3 f;
   Sym3 H;
   for (const std::vector<std::int32_t>& colour : g.colours)
     for (std::int32_t i : colour) {
-      if (p.weight[i] == 0.0) continue;
+      if (i < first_body || p.weight[i] == 0.0) continue;
       vertex_system(p, g, y, i, f, H);
       const Vec3 step = H.solve(-f);
       if (step.allFinite()) y.col(i) += step;

@@ -36,7 +36,7 @@ void build_vbd_graph(const Model& model, VbdGraph& g);
 void vbd_initial_guess(const Model& model, const StepProblem& p, const State& state,
                        const Eigen::Matrix3Xd& acceleration, Eigen::Matrix3Xd& y);
 
-// One sweep: every movable vertex, colour by colour, takes its 3x3 Newton step.
-void vbd_sweep(const Model& model, const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y);
+// One sweep: every movable vertex from first_body on, colour by colour, takes its 3x3 Newton step.
+void vbd_sweep(const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y, int first_body = 0);
 
 }  // namespace clothsim
