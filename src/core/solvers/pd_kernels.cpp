@@ -2,7 +2,9 @@
 
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <iterator>
 
+#include "contact_scan_kernels.h"
 #include "pd_local_kernels.h"
 
 namespace clothsim {
@@ -65,10 +67,14 @@ void scatter_spring_projections(const Model& model, const StepProblem& p, const 
 }
 
 // Uzawa: each multiplier raised by the depth the solve left its particle at, clamped at 0.
+// Only particles inside a reach or already pushed can change.
 void update_contact_forces(const Model& model, const StepProblem& p, const PdFactor& f,
                            const Eigen::Matrix3Xd& y, PdSystem& s, std::vector<double>& lambda) {
+  particles_in_reach(p.colliders, y, static_cast<std::size_t>(model.num_particles), s.inside);
+  s.visit.clear();
+  std::set_union(s.inside.begin(), s.inside.end(), s.pushed.begin(), s.pushed.end(), std::back_inserter(s.visit));
   s.pushed.clear();
-  for (int i = 0; i < model.num_particles; ++i) {
+  for (const std::int32_t i : s.visit) {
     if (f.free_index[i] < 0) continue;
     const Penetration c = deepest_penetration(p.colliders, y.col(i));
     if (c.depth > 0.0 || lambda[i] > 0.0) lambda[i] = std::max(0.0, lambda[i] + p.weight[i] * c.depth);

@@ -43,7 +43,8 @@ struct PdSystem {
   Eigen::Matrix3Xd base;         // (3 x n) A yhat + the springs' pull towards immovable ends
   Eigen::Matrix3Xd z;            // (3 x n) the right-hand side, then the solve
   std::vector<double> rest;      // (slots) blended rest lengths by the layout's slot order
-  std::vector<std::int32_t> pushed;  // particles whose contact multiplier is positive
+  std::vector<std::int32_t> pushed;  // particles whose contact multiplier is positive, ascending
+  std::vector<std::int32_t> inside, visit;  // scratch: particles in a collider's reach; the union
 };
 
 // Refactors when h or the pins differ from the factor's. Returns whether it did.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "contact_scan_kernels.h"
 #include "xpbd_family_kernels.h"
 #include "xpbd_kernels.h"
 
@@ -174,15 +175,14 @@ void xpbd_family_sweep(const Model& model, double h, XpbdFamilies& f) {
 
 void xpbd_family_contacts(const Model& model, const StepProblem& p, XpbdFamilies& f) {
   const std::size_t s = f.stride;
-  for (int i = 0; i < model.num_particles; ++i) {
+  particles_in_reach(p.colliders, f.y.data(), s, static_cast<std::size_t>(model.num_particles), f.touching);
+  for (const std::int32_t i : f.touching) {
     if (f.w[i] == 0.0) continue;
     Vec3 yi(f.y[i], f.y[s + i], f.y[2 * s + i]);
-    bool touched = false;
     for_each_penetration(p.colliders, yi, [&](const Penetration& c) {
       solve_contact_constraint(yi, p.start.col(i), p.h, c);
-      touched = true;
     });
-    if (touched) f.y[i] = yi.x(), f.y[s + i] = yi.y(), f.y[2 * s + i] = yi.z();
+    f.y[i] = yi.x(), f.y[s + i] = yi.y(), f.y[2 * s + i] = yi.z();
   }
 }
 

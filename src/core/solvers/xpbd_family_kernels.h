@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -34,6 +35,7 @@ struct XpbdFamilies {
   double h = 0.0;
   // Per step, structure of arrays (component c of particle i at c stride + i):
   std::vector<double> y, start;           // (3 stride) iterate, x_n
+  std::vector<std::int32_t> touching;      // particles inside a collider's reach
   std::vector<std::vector<double>> lambda;  // (F) multipliers by position
 };
 

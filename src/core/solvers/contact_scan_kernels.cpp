@@ -1,0 +1,96 @@
+// Highway's foreach_target.h compiles this file once per x86 target; HWY_DYNAMIC_DISPATCH
+// picks one at run time (as spring_kernels.cpp).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/solvers/contact_scan_kernels.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "contact_scan_kernels.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace clothsim {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using D = hn::ScalableTag<double>;
+using V = hn::Vec<D>;
+
+// Lanes inside some reach, with the scalar test's arithmetic (r = sqrt((dx^2 + dy^2) + dz^2)).
+HWY_INLINE hn::Mask<D> InReach(const Colliders& c, V x, V y, V z) {
+  const D d;
+  auto inside = hn::Lt(y, hn::Set(d, c.ground ? c.ground_reach : -HUGE_VAL));
+  for (std::size_t q = 0; q < c.centre.size(); ++q) {
+    const V dx = hn::Sub(x, hn::Set(d, c.centre[q].x()));
+    const V dy = hn::Sub(y, hn::Set(d, c.centre[q].y()));
+    const V dz = hn::Sub(z, hn::Set(d, c.centre[q].z()));
+    const V r = hn::Sqrt(hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz)));
+    inside = hn::Or(inside, hn::Not(hn::Ge(r, hn::Set(d, c.reach[q]))));  // a NaN r enters, as there
+  }
+  return inside;
+}
+
+HWY_INLINE void Collect(const D d, hn::Mask<D> inside, std::size_t first, std::size_t n,
+                        std::vector<std::int32_t>& out) {
+  if (hn::AllFalse(d, inside)) return;
+  double lanes[HWY_MAX_BYTES / sizeof(double)];
+  hn::StoreU(hn::IfThenElseZero(inside, hn::Set(d, 1.0)), d, lanes);
+  for (std::size_t k = 0; k < hn::Lanes(d) && first + k < n; ++k)
+    if (lanes[k] != 0.0) out.push_back(static_cast<std::int32_t>(first + k));
+}
+
+void ScanSoa(const Colliders& c, const double* HWY_RESTRICT y, std::size_t stride, std::size_t n,
+             std::vector<std::int32_t>& out) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  std::size_t i = 0;
+  for (; i + N <= n; i += N)
+    Collect(d, InReach(c, hn::LoadU(d, y + i), hn::LoadU(d, y + stride + i), hn::LoadU(d, y + 2 * stride + i)), i, n, out);
+  for (; i < n; ++i) {
+    const auto one = InReach(c, hn::Set(d, y[i]), hn::Set(d, y[stride + i]), hn::Set(d, y[2 * stride + i]));
+    if (!hn::AllFalse(d, one)) out.push_back(static_cast<std::int32_t>(i));
+  }
+}
+
+void ScanColumns(const Colliders& c, const double* HWY_RESTRICT y, std::size_t n, std::vector<std::int32_t>& out) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  std::size_t i = 0;
+  for (; i + N <= n; i += N) {
+    V x0, x1, x2;
+    hn::LoadInterleaved3(d, y + 3 * i, x0, x1, x2);
+    Collect(d, InReach(c, x0, x1, x2), i, n, out);
+  }
+  for (; i < n; ++i) {
+    const auto one = InReach(c, hn::Set(d, y[3 * i]), hn::Set(d, y[3 * i + 1]), hn::Set(d, y[3 * i + 2]));
+    if (!hn::AllFalse(d, one)) out.push_back(static_cast<std::int32_t>(i));
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace clothsim
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace clothsim {
+
+HWY_EXPORT(ScanSoa);
+HWY_EXPORT(ScanColumns);
+
+void particles_in_reach(const Colliders& c, const double* y, std::size_t stride, std::size_t n,
+                        std::vector<std::int32_t>& inside) {
+  inside.clear();
+  HWY_DYNAMIC_DISPATCH(ScanSoa)(c, y, stride, n, inside);
+}
+
+void particles_in_reach(const Colliders& c, const Eigen::Matrix3Xd& y, std::size_t n,
+                        std::vector<std::int32_t>& inside) {
+  inside.clear();
+  HWY_DYNAMIC_DISPATCH(ScanColumns)(c, y.data(), n, inside);
+}
+
+}  // namespace clothsim
+#endif  // HWY_ONCE
