@@ -2,8 +2,8 @@
 // first guess, `iterations` Gauss-Seidel sweeps over a colouring of the springs' graph, each
 // vertex taking one 3x3 Newton step on the step's G with the others held (solvers/
 // vbd_kernels.h); v = (y - x_n)/h. G is implicit_euler's Phi (the seed's dampers as
-// (kd/h)(l - ln)), so converged VBD is backward Euler; contacts are the paper's quadratic
-// penalty along the collider's normal, not implicit_euler's held planes.
+// (kd/h)(l - ln)), so converged VBD is backward Euler; contacts are hard constraints on
+// implicit_euler's held planes (solvers/vbd_kernels.h's vbd_hold), not the paper's penalty.
 #include "integrator.h"
 #include "core/forces.h"
 #include "core/solvers/solver_cache.h"
@@ -19,7 +19,7 @@ void sweep_grid(const Model& model, int iterations, SolverCache& c) {
   for (int it = 0; it < iterations; ++it) vbd_grid_sweep(model, c.problem, c.vbd_grid);
   vbd_store_grid(model, c.vbd_grid, c.y);
   if (model.num_bodies() > model.num_particles)
-    for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y, model.num_particles);
+    for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts, model.num_particles);
 }
 
 }  // namespace
@@ -32,11 +32,12 @@ StepStats vbd_step(const Model& model, State& state, double h, Workspace& ws) {
   stats.start_strain = accelerations(model, state.x, state.v, state.inv_mass, c.acceleration);
   stats.force_evals = 1;
   vbd_initial_guess(model, c.problem, state, c.acceleration, c.y);
+  c.vbd_contacts.assign(model.num_particles, VbdContact{});
   const int iterations = iteration_count(model, IntegratorKind::Vbd);
   if (vbd_by_grid(model))
     sweep_grid(model, iterations, c);
   else
-    for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y);
+    for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts);
   stats.newton_iterations = iterations;
   finish_step(c.problem, c.y, state);
   return stats;

@@ -66,8 +66,9 @@ void scatter_spring_projections(const Model& model, const StepProblem& p, const 
   }
 }
 
-// Uzawa: each multiplier raised by the depth the solve left its particle at, clamped at 0.
-// Only particles inside a reach or already pushed can change.
+// Uzawa: each multiplier raised by the depth the solve left its particle below its plane,
+// clamped at 0. A particle takes its plane when it first enters a collider's reach in the
+// step; only particles inside a reach or already pushed can change.
 void update_contact_forces(const Model& model, const StepProblem& p, const PdFactor& f,
                            const Eigen::Matrix3Xd& y, PdSystem& s, std::vector<double>& lambda) {
   particles_in_reach(p.colliders, y, static_cast<std::size_t>(model.num_particles), s.inside);
@@ -76,8 +77,8 @@ void update_contact_forces(const Model& model, const StepProblem& p, const PdFac
   s.pushed.clear();
   for (const std::int32_t i : s.visit) {
     if (f.free_index[i] < 0) continue;
-    const Penetration c = deepest_penetration(p.colliders, y.col(i));
-    if (c.depth > 0.0 || lambda[i] > 0.0) lambda[i] = std::max(0.0, lambda[i] + p.weight[i] * c.depth);
+    if (!s.planed[i]) held_plane(p.colliders, p.start.col(i), y.col(i), s.normal[i], s.plane[i]), s.planed[i] = 1;
+    lambda[i] = std::max(0.0, lambda[i] + p.weight[i] * (s.plane[i] - s.normal[i].dot(y.col(i))));
     if (lambda[i] > 0.0) s.pushed.push_back(i);
   }
 }
@@ -107,6 +108,9 @@ bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::Ve
 void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f, PdSystem& s) {
   s.base.setZero(3, f.ldlt.rows());
   s.pushed.clear();
+  s.planed.assign(model.num_particles, 0);
+  s.normal.resize(model.num_particles);
+  s.plane.resize(model.num_particles);
   for (std::size_t i = 0; i < f.row.size(); ++i)
     if (f.row[i] >= 0) s.base.col(f.row[i]) = p.weight[i] * p.target.col(i);
   const Springs& sp = model.springs;
@@ -128,8 +132,7 @@ void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, E
     pd_family_projections(model.spring_layout, y, s.rest.data(), p.h, f.row.data(), s.z);
   else
     scatter_spring_projections(model, p, f, y, s.z);
-  for (std::int32_t i : s.pushed)
-    s.z.col(f.row[i]) += lambda[i] * deepest_penetration(p.colliders, y.col(i)).normal;
+  for (std::int32_t i : s.pushed) s.z.col(f.row[i]) += lambda[i] * s.normal[i];
   pd_solve_in_place(f, s.z);
   for (std::size_t i = 0; i < f.row.size(); ++i)
     if (f.row[i] >= 0) y.col(i) = s.z.col(f.row[i]);

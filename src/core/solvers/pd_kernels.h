@@ -5,11 +5,15 @@
 //     global: (A + L) y = A yhat + J p, with A = diag(a_i), L the springs' Laplacian
 //             (weights k_s), J p the springs' projections scattered to their ends;
 // Contacts are forces lambda_i n_i in the right-hand side, one multiplier per particle
-// raised by the depth the last solve left it at (Uzawa's iteration on the one-sided
-// constraint, step a_i = m_i/h^2 + c/h, clamped at 0; the matrix's full diagonal overshoots
-// where contacts share springs), so the matrix stays constant and, converged,
-// the contact is held exactly: not Bouaziz et al. 2014's weighted terms, which change the
-// matrix with every contact set and, stiff, freeze the particles they hold. The matrix is the
+// raised by the depth the last solve left it below its plane (Uzawa's iteration on the
+// one-sided constraint n_i . y_i >= plane_i, step a_i = m_i/h^2 + c/h, clamped at 0; the
+// matrix's full diagonal overshoots where contacts share springs), so the matrix stays
+// constant and, converged, the contact is held exactly: not Bouaziz et al. 2014's weighted
+// terms, which change the matrix with every contact set and, stiff, freeze the particles
+// they hold. The plane is implicit_euler's held plane (step_contacts.h: normal from the
+// collider's end-of-step centre to the particle's start, at reach + clearance), taken when
+// the particle first enters a collider's reach in the step, so converged PD is converged
+// implicit_euler with contacts too. The matrix is the
 // same for x, y and z, so one scalar LDL^T factor (Liu et al.'s prefactored Cholesky) serves
 // the three columns, solved together in one sweep over the factor each way; it depends only
 // on h and the pins, so it is factored when one of them changes and reused otherwise.
@@ -45,6 +49,9 @@ struct PdSystem {
   std::vector<double> rest;      // (slots) blended rest lengths by the layout's slot order
   std::vector<std::int32_t> pushed;  // particles whose contact multiplier is positive, ascending
   std::vector<std::int32_t> inside, visit;  // scratch: particles in a collider's reach; the union
+  std::vector<std::uint8_t> planed;  // (P) 1 once a particle has taken its contact plane this step
+  std::vector<Vec3> normal;          // (P) that plane's normal
+  std::vector<double> plane;         // (P) n . y on it, m
 };
 
 // Refactors when h or the pins differ from the factor's. Returns whether it did.

@@ -23,6 +23,7 @@ struct SolverCache {
   PdFactor pd;
   VbdGraph vbd;
   VbdGrid vbd_grid;                                    // VBD's colour-major grid
+  std::vector<VbdContact> vbd_contacts;                // (P) VBD's contacts on the spring graph
   XpbdFamilies xpbd;                                    // XPBD's sets and SoA iterate
 };
 

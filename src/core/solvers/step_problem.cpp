@@ -3,7 +3,12 @@
 #include <cmath>
 #include <limits>
 
+#include "core/implicit/step_contacts.h"
+
 namespace clothsim {
+
+static_assert(kHeldClearance == kContactClearance, "the solvers hold contacts where implicit_euler does");
+
 namespace {
 
 void build_colliders(const Model& model, const State& state, double h, Colliders& c) {
@@ -72,6 +77,20 @@ Penetration deepest_penetration(const Colliders& c, const Vec3& y) {
     best = Penetration{r > 0.0 ? Vec3(d / r) : Vec3(Vec3::UnitY()), c.reach[k] - r, c.friction[k], c.velocity[k]};
   }
   return best;
+}
+
+void held_plane(const Colliders& c, const Vec3& from, const Vec3& y, Vec3& normal, double& plane) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < c.centre.size(); ++k) {
+    const double gap = (y - c.centre[k]).norm() - c.reach[k];
+    if (gap >= best) continue;
+    const Vec3 out = from - c.centre[k];
+    const double len = out.norm();
+    normal = len > 1e-12 ? Vec3(out / len) : Vec3(Vec3::UnitY());
+    plane = normal.dot(c.centre[k]) + c.reach[k] + kHeldClearance;
+    best = gap;
+  }
+  if (c.ground && y.y() - c.ground_reach < best) normal = Vec3::UnitY(), plane = c.ground_reach + kHeldClearance;
 }
 
 void build_step_problem(const Model& model, const State& state, double h, StepProblem& p) {

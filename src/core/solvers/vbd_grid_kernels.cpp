@@ -24,10 +24,27 @@ int mod3(int v) { return v - 3 * floor_div3(v); }
 struct ColourSweep {
   const VbdGrid* g;
   const double* stiffness;  // (12) ks + kd/h of each step's family
-  const Colliders* colliders;
+  const StepProblem* p;
+  VbdGrid* grid;            // the contacts and held flags it writes
   double* y;
   int ci, cj;
 };
+
+// vbd_hold for the lanes whose flag is set: lane k is the vertex at colour-major at + k, e its
+// Hessian's entries by lane.
+void hold_lane(const ColourSweep& w, const double* flag, const double (*e)[16], std::size_t lanes, std::size_t at) {
+  VbdGrid& g = *w.grid;
+  const std::size_t total = 9 * g.block;
+  for (std::size_t k = 0; k < lanes; ++k) {
+    if (flag[k] == 0.0) continue;
+    const std::size_t v = at + k;
+    Vec3 y(g.y[v], g.y[total + v], g.y[2 * total + v]);
+    const double H[6] = {e[0][k], e[1][k], e[2][k], e[3][k], e[4][k], e[5][k]};
+    vbd_hold(w.p->colliders, w.p->start.col(g.particle[v]), H, y, g.contact[v]);
+    g.held[v] = g.contact[v].held;
+    g.y[v] = y.x(), g.y[total + v] = y.y(), g.y[2 * total + v] = y.z();
+  }
+}
 
 }  // namespace
 }  // namespace clothsim
@@ -53,35 +70,30 @@ HWY_INLINE void AddOuter(Sys& s, V c, V dx, V dy, V dz) {
 
 HWY_INLINE void AddDiagonal(Sys& s, V c) { s.xx = hn::Add(s.xx, c), s.yy = hn::Add(s.yy, c), s.zz = hn::Add(s.zz, c); }
 
-// The contact penalties (vbd_kernels.h): the ground, then each kinematic sphere.
-HWY_INLINE void AddContacts(const Colliders& c, V kc, V y0, V y1, V y2, Sys& s) {
+// Lanes inside some collider's reach (for_each_penetration's test; a NaN distance enters).
+HWY_INLINE hn::Mask<D> InReach(const Colliders& c, V x, V y, V z) {
   const D d;
-  const V zero = hn::Zero(d);
-  if (c.ground) {
-    const V depth = hn::Sub(hn::Set(d, c.ground_reach), y1);
-    const V k = hn::IfThenElseZero(hn::Gt(depth, zero), kc);
-    s.fy = hn::Sub(s.fy, hn::Mul(k, depth));
-    s.yy = hn::Add(s.yy, k);
-  }
+  auto inside = hn::Lt(y, hn::Set(d, c.ground ? c.ground_reach : -HUGE_VAL));
   for (std::size_t q = 0; q < c.centre.size(); ++q) {
-    const V dx = hn::Sub(y0, hn::Set(d, c.centre[q].x()));
-    const V dy = hn::Sub(y1, hn::Set(d, c.centre[q].y()));
-    const V dz = hn::Sub(y2, hn::Set(d, c.centre[q].z()));
+    const V dx = hn::Sub(x, hn::Set(d, c.centre[q].x()));
+    const V dy = hn::Sub(y, hn::Set(d, c.centre[q].y()));
+    const V dz = hn::Sub(z, hn::Set(d, c.centre[q].z()));
     const V r = hn::Sqrt(hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz)));
-    const V reach = hn::Set(d, c.reach[q]);
-    const auto inside = hn::Lt(r, reach);
-    if (hn::AllFalse(d, inside)) continue;
-    const auto centred = hn::Le(r, zero);  // no direction: straight up, as for_each_penetration
-    const V inv_r = hn::Div(hn::Set(d, 1.0), r);
-    const V nx = hn::IfThenZeroElse(centred, hn::Mul(dx, inv_r));
-    const V ny = hn::IfThenElse(centred, hn::Set(d, 1.0), hn::Mul(dy, inv_r));
-    const V nz = hn::IfThenZeroElse(centred, hn::Mul(dz, inv_r));
-    const V k = hn::IfThenElseZero(inside, kc);
-    const V push = hn::Mul(k, hn::Sub(reach, r));
-    s.fx = hn::Sub(s.fx, hn::Mul(push, nx)), s.fy = hn::Sub(s.fy, hn::Mul(push, ny));
-    s.fz = hn::Sub(s.fz, hn::Mul(push, nz));
-    AddOuter(s, k, nx, ny, nz);
+    inside = hn::Or(inside, hn::Not(hn::Ge(r, hn::Set(d, c.reach[q]))));
   }
+  return inside;
+}
+
+// The lanes in `hold` take vbd_hold (vbd_kernels.h) one by one, after the vector's store.
+HWY_INLINE void HoldLanes(const ColourSweep& w, const Sys& s, hn::Mask<D> hold, std::size_t at) {
+  const D d;
+  constexpr std::size_t kMax = HWY_MAX_BYTES / sizeof(double);
+  static_assert(kMax <= 16, "hold_lane's lane arrays");
+  double flag[16], e[6][16];
+  hn::StoreU(hn::IfThenElseZero(hold, hn::Set(d, 1.0)), d, flag);
+  const V entries[6] = {s.xx, s.yy, s.zz, s.xy, s.xz, s.yz};
+  for (int k = 0; k < 6; ++k) hn::StoreU(entries[k], d, e[k]);
+  hold_lane(w, flag, e, hn::Lanes(d), at);
 }
 
 // Every vertex of colour (ci, cj), a vector of consecutive ones at a time: its system, then
@@ -102,7 +114,8 @@ void SweepColour(const ColourSweep& w) {
                static_cast<std::ptrdiff_t>(floor_div3(j) * static_cast<int>(RW) + floor_div3(i));
   }
   const V zero = hn::Zero(d);
-  const V contact_scale = hn::Set(d, kVbdContactStiffness);
+  const Colliders& colliders = w.p->colliders;
+  const bool any_collider = colliders.ground || !colliders.centre.empty();
   for (int r = 0; r < g.rows; ++r) {
     const std::size_t row = colour * B + static_cast<std::size_t>(r + 1) * RW + 1;
     for (std::size_t m = 0; m < static_cast<std::size_t>(g.columns); m += N) {
@@ -131,7 +144,6 @@ void SweepColour(const ColourSweep& w) {
         AddOuter(s, hn::IfThenElseZero(apart, hn::Div(hn::Sub(k, transverse), l2)), dx, dy, dz);
         AddDiagonal(s, transverse);
       }
-      AddContacts(*w.colliders, hn::Mul(contact_scale, a), y0, y1, y2, s);
       // step = -H^-1 f by the adjugate (as Sym3::solve)
       const V cxx = hn::Sub(hn::Mul(s.yy, s.zz), hn::Mul(s.yz, s.yz));
       const V cxy = hn::Sub(hn::Mul(s.xz, s.yz), hn::Mul(s.xy, s.zz));
@@ -146,9 +158,12 @@ void SweepColour(const ColourSweep& w) {
       const V sz = hn::Mul(hn::Add(hn::Add(hn::Mul(cxz, s.fx), hn::Mul(cyz, s.fy)), hn::Mul(czz, s.fz)), minus_inv_det);
       const V size = hn::Add(hn::Add(hn::Abs(sx), hn::Abs(sy)), hn::Abs(sz));
       const auto take = hn::And(in_row, hn::And(hn::Gt(a, zero), hn::Lt(size, hn::Set(d, HUGE_VAL))));  // movable, finite
-      hn::StoreU(hn::Add(y0, hn::IfThenElseZero(take, sx)), d, y[0] + at);
-      hn::StoreU(hn::Add(y1, hn::IfThenElseZero(take, sy)), d, y[1] + at);
-      hn::StoreU(hn::Add(y2, hn::IfThenElseZero(take, sz)), d, y[2] + at);
+      const V n0 = hn::Add(y0, hn::IfThenElseZero(take, sx)), n1 = hn::Add(y1, hn::IfThenElseZero(take, sy));
+      const V n2 = hn::Add(y2, hn::IfThenElseZero(take, sz));
+      hn::StoreU(n0, d, y[0] + at), hn::StoreU(n1, d, y[1] + at), hn::StoreU(n2, d, y[2] + at);
+      if (!any_collider) continue;
+      const auto hold = hn::And(take, hn::Or(InReach(colliders, n0, n1, n2), hn::Gt(hn::LoadU(d, g.held.data() + at), zero)));
+      if (!hn::AllFalse(d, hold)) HoldLanes(w, s, hold, at);
     }
   }
 }
@@ -172,10 +187,12 @@ void build_grid(const Model& model, VbdGrid& g) {
   g.row_width = static_cast<std::size_t>(g.columns) + 2;
   g.block = (static_cast<std::size_t>(g.rows) + 2) * g.row_width + kSpringLanePad;
   g.index.resize(static_cast<std::size_t>(model.num_particles));
+  g.particle.assign(9 * g.block, 0);
   for (int p = 0; p < model.num_particles; ++p) {
     const int i = p % g.nx, j = p / g.nx;
     g.index[p] = static_cast<std::int32_t>(static_cast<std::size_t>(i % 3 + 3 * (j % 3)) * g.block +
                                            static_cast<std::size_t>(j / 3 + 1) * g.row_width + (i / 3 + 1));
+    g.particle[g.index[p]] = p;
   }
   for (std::size_t f = 0; f < layout.families.size(); ++f) {
     g.steps.push_back({static_cast<int>(f), layout.families[f].di, layout.families[f].dj});
@@ -210,6 +227,8 @@ void vbd_load_grid(const Model& model, const StepProblem& p, const Eigen::Matrix
   g.y.assign(3 * total, 0.0);
   g.target.assign(3 * total, 0.0);
   g.weight.assign(total, 0.0);
+  g.held.assign(total, 0.0);
+  g.contact.assign(total, VbdContact{});
   for (int i = 0; i < model.num_particles; ++i) {
     const std::size_t at = static_cast<std::size_t>(g.index[i]);
     g.weight[at] = p.weight[i];
@@ -228,7 +247,7 @@ void vbd_grid_sweep(const Model& model, const StepProblem& p, VbdGrid& g) {
   }
   for (int cj = 0; cj < 3; ++cj)
     for (int ci = 0; ci < 3; ++ci)
-      HWY_DYNAMIC_DISPATCH(SweepColour)(ColourSweep{&g, stiffness, &p.colliders, g.y.data(), ci, cj});
+      HWY_DYNAMIC_DISPATCH(SweepColour)(ColourSweep{&g, stiffness, &p, &g, g.y.data(), ci, cj});
 }
 
 void vbd_store_grid(const Model& model, const VbdGrid& g, Eigen::Matrix3Xd& y) {

@@ -9,7 +9,8 @@
 // (r + 1) RW + m + 1 of c's block, RW = ceil(nx / 3) + 2 (a halo column and row each side).
 // The neighbour of a run of colour-c vertices m .. m + L - 1 by a step (di, dj) is then a
 // run of colour c' vertices, shifted by floor((ci + di) / 3) columns and floor((cj + dj) / 3)
-// rows: contiguous loads, no gathers. Each vertex's 3x3 Newton step is vbd_kernels.h's.
+// rows: contiguous loads, no gathers. Each vertex's 3x3 Newton step is vbd_kernels.h's, and
+// so is its contact (vbd_hold, on the few lanes inside a reach or held).
 #pragma once
 
 #include <Eigen/Core>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "step_problem.h"
+#include "vbd_kernels.h"
 
 namespace clothsim {
 
@@ -27,6 +29,7 @@ struct VbdGrid {
   int nx = 0, ny = 0, columns = 0, rows = 0;  // grid; colour subgrid ceil(nx/3) x ceil(ny/3)
   std::size_t row_width = 0, block = 0;        // RW; doubles per colour block (halo, padding)
   std::vector<std::int32_t> index;             // (P) particle -> colour-major index
+  std::vector<std::int32_t> particle;          // (9 block) colour-major index -> particle (0 if none)
   struct Step { int family = 0, di = 0, dj = 0; };
   std::vector<Step> steps;                     // (12) each family's step, forwards and back
   std::vector<std::int32_t> spring_at;         // (12 x 9 block) spring along step s, or -1
@@ -34,6 +37,8 @@ struct VbdGrid {
   std::vector<double> y, target;               // (3 x 9 block)
   std::vector<double> weight;                  // (9 block) a_i, 0 where immovable or no vertex
   std::vector<double> rest;                    // (12 x 9 block) blended rest length, -1: none
+  std::vector<double> held;                    // (9 block) 1 where the last step held a vertex
+  std::vector<VbdContact> contact;             // (9 block) each vertex's contact (vbd_kernels.h)
 };
 
 // True when VBD's grid sweep applies (every spring in the layout's families, P = nx ny).

@@ -64,7 +64,7 @@ struct Sym3 {
 
 // The vertex's gradient f and Hessian H of G with the others held: inertia, its springs
 // (each block K = k P + (T/l)(I - P), T/l clamped at 0: spring_force.h's projected
-// step_spring_hessian, with T = k (l - blended rest)) and the contact penalties.
+// step_spring_hessian, with T = k (l - blended rest)); contacts are held after the step.
 void vertex_system(const StepProblem& p, const VbdGraph& g, const Eigen::Matrix3Xd& y, int i, Vec3& f,
                    Sym3& H) {
   const Vec3 yi = y.col(i);
@@ -85,11 +85,12 @@ void vertex_system(const StepProblem& p, const VbdGraph& g, const Eigen::Matrix3
     H.add_outer((stiffness - transverse) / l2, d);
     H.add_diagonal(transverse);
   }
-  const double kc = kVbdContactStiffness * p.weight[i];
-  for_each_penetration(p.colliders, yi, [&](const Penetration& c) {
-    f -= (kc * c.depth) * c.normal;
-    H.add_outer(kc, c.normal);
-  });
+}
+
+bool inside_a_reach(const Colliders& c, const Vec3& y) {
+  bool inside = false;
+  for_each_penetration(c, y, [&](const Penetration&) { inside = true; });
+  return inside;
 }
 
 }  // namespace
@@ -115,7 +116,22 @@ void vbd_initial_guess(const Model& model, const StepProblem& p, const State& st
   }
 }
 
-void vbd_sweep(const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y, int first_body) {
+void vbd_hold(const Colliders& colliders, const Vec3& from, const double H[6], Vec3& y, VbdContact& c) {
+  if (!c.held && !inside_a_reach(colliders, y)) return;
+  if (!c.planed) held_plane(colliders, from, y, c.normal, c.plane), c.planed = 1;
+  const double below = c.plane - c.normal.dot(y);
+  c.held = below > 0.0;
+  if (!c.held) return;
+  const Sym3 h{H[0], H[1], H[2], H[3], H[4], H[5]};
+  const Vec3 w = h.solve(c.normal);
+  const double curvature = c.normal.dot(w);
+  y += (below / curvature) * w;
+  y += (c.plane - c.normal.dot(y)) * c.normal;  // rounding: exactly on the plane
+}
+
+void vbd_sweep(const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y, std::vector<VbdContact>& contacts,
+               int first_body) {
+  const bool colliders = p.colliders.ground || !p.colliders.centre.empty();
   Vec3 f;
   Sym3 H;
   for (const std::vector<std::int32_t>& colour : g.colours)
@@ -123,7 +139,11 @@ void vbd_sweep(const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y, int
       if (i < first_body || p.weight[i] == 0.0) continue;
       vertex_system(p, g, y, i, f, H);
       const Vec3 step = H.solve(-f);
-      if (step.allFinite()) y.col(i) += step;
+      if (!step.allFinite()) continue;
+      Vec3 yi = y.col(i) + step;
+      const double entries[6] = {H.xx, H.yy, H.zz, H.xy, H.xz, H.yz};
+      if (colliders && i < static_cast<std::int32_t>(contacts.size())) vbd_hold(p.colliders, p.start.col(i), entries, yi, contacts[i]);
+      y.col(i) = yi;
     }
 }
 

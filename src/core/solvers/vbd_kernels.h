@@ -12,10 +12,6 @@
 
 namespace clothsim {
 
-// A contact's penalty stiffness relative to the vertex's own a_i (the paper's quadratic
-// collision energy k_c/2 d^2 along the normal).
-constexpr double kVbdContactStiffness = 1e4;
-
 // The springs at each vertex and a greedy colouring, built once per model.
 struct VbdGraph {
   std::vector<std::int32_t> start;   // (B + 1) CSR offsets into `spring`
@@ -36,7 +32,24 @@ void build_vbd_graph(const Model& model, VbdGraph& g);
 void vbd_initial_guess(const Model& model, const StepProblem& p, const State& state,
                        const Eigen::Matrix3Xd& acceleration, Eigen::Matrix3Xd& y);
 
-// One sweep: every movable vertex from first_body on, colour by colour, takes its 3x3 Newton step.
-void vbd_sweep(const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y, int first_body = 0);
+// A vertex's contact within a step: implicit_euler's held plane (step_problem.h), taken when
+// the vertex first enters a collider's reach, and whether its last step was held on it.
+struct VbdContact {
+  Vec3 normal = Vec3::UnitY();
+  double plane = 0.0;
+  std::uint8_t planed = 0, held = 0;
+};
+
+// Contacts as hard constraints (in place of the paper's penalty, so that converged VBD is
+// converged implicit_euler): after a vertex's Newton step to y, a vertex inside a collider's
+// reach or held at its last step keeps n . y >= plane; below it, y moves to its local
+// quadratic's minimiser on the plane, y += mu H^-1 n with mu = (plane - n . y) / (n . H^-1 n).
+// H: the vertex's Hessian as xx, yy, zz, xy, xz, yz.
+void vbd_hold(const Colliders& colliders, const Vec3& from, const double H[6], Vec3& y, VbdContact& c);
+
+// One sweep: every movable vertex from first_body on, colour by colour, takes its 3x3 Newton
+// step; `contacts` (B) holds their contacts through the step.
+void vbd_sweep(const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y, std::vector<VbdContact>& contacts,
+               int first_body = 0);
 
 }  // namespace clothsim

@@ -107,4 +107,24 @@ inline void expect_reaches_backward_euler_without_contact(IntegratorKind kind, d
   }
 }
 
+// On the drape lying on the ball at 1/60 s (t = 0.9 s), `kind` reaches the converged
+// backward-Euler step, contacts held on implicit_euler's planes, to 1e-6 relative at
+// `iterations` (grid = false: the model without its spring layout, the solvers' scalar paths).
+inline void expect_reaches_backward_euler_with_contact(IntegratorKind kind, int iterations, bool grid = true) {
+  Model model = build_model(load_scene(scene_path("drape.yaml")));
+  model.implicit.newton_tolerance = 1e-12;
+  model.implicit.newton_max_iterations = 200;
+  clothsim::Run run(model, IntegratorKind::ImplicitEuler, 1.0 / 60.0);
+  run.advance_to(0.9);  // the cloth lies on the ball
+  const State& start = run.state();
+  const State be = one_step(model, start, IntegratorKind::ImplicitEuler, 1.0 / 60.0);
+  if (!grid) model.spring_layout = SpringLayout{};
+  const auto distance_at = [&](int n) {
+    return relative_distance(one_step(with_iterations(model, kind, n), start, kind, 1.0 / 60.0), be, start);
+  };
+  const double few = distance_at(10), many = distance_at(iterations);
+  EXPECT_GT(few, 1e-4);  // far at 10: the test can tell
+  EXPECT_LT(many, 1e-6);
+}
+
 }  // namespace clothsim::testing
