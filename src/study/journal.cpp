@@ -37,6 +37,18 @@ bool item_number(const std::string& name, std::size_t& item) {
   return true;
 }
 
+// DIR/FOLDER's item files, by item.
+std::map<std::size_t, std::string> read_folder(const std::string& dir, const char* folder) {
+  std::map<std::size_t, std::string> items;
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(fs::path(dir) / folder, ec)) {
+    std::size_t item = 0;
+    if (item_number(e.path().filename().string(), item)) items[item] = read_whole_file(e.path().string());
+  }
+  if (ec) throw std::runtime_error(dir + ": cannot read the journal: " + ec.message());
+  return items;
+}
+
 }  // namespace
 
 void write_file_atomically(const std::string& path, const std::string& text) {
@@ -74,6 +86,7 @@ std::string read_whole_file(const std::string& path) {
 Journal::Journal(std::string dir) : dir_(std::move(dir)) {
   std::error_code ec;
   fs::create_directories(fs::path(dir_) / "items", ec);
+  if (!ec) fs::create_directories(fs::path(dir_) / "lanes", ec);
   if (ec) throw std::runtime_error(dir_ + ": cannot create the journal: " + ec.message());
   items_ = read_items(dir_);
 }
@@ -88,8 +101,9 @@ std::size_t Journal::size() const {
   return items_.size();
 }
 
-void Journal::record(std::size_t item, const std::string& payload) {
+void Journal::record(std::size_t item, const std::string& payload, const std::string& lane) {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (!lane.empty()) write_file_atomically((fs::path(dir_) / "lanes" / std::to_string(item)).string(), lane);
   write_file_atomically((fs::path(dir_) / "items" / std::to_string(item)).string(), payload);
   items_[item] = payload;
   const std::string log = (fs::path(dir_) / "log").string();
@@ -101,15 +115,8 @@ void Journal::record(std::size_t item, const std::string& payload) {
   if (n != static_cast<ssize_t>(line.size())) throw io_error(log, "cannot append");
 }
 
-std::map<std::size_t, std::string> Journal::read_items(const std::string& dir) {
-  std::map<std::size_t, std::string> items;
-  std::error_code ec;
-  for (const fs::directory_entry& e : fs::directory_iterator(fs::path(dir) / "items", ec)) {
-    std::size_t item = 0;
-    if (item_number(e.path().filename().string(), item)) items[item] = read_whole_file(e.path().string());
-  }
-  if (ec) throw std::runtime_error(dir + ": cannot read the journal: " + ec.message());
-  return items;
-}
+std::map<std::size_t, std::string> Journal::read_items(const std::string& dir) { return read_folder(dir, "items"); }
+
+std::map<std::size_t, std::string> Journal::read_lanes(const std::string& dir) { return read_folder(dir, "lanes"); }
 
 }  // namespace clothsim::analysis

@@ -7,7 +7,8 @@
 // item (appended, one write each) lets a test check that no finished item ran twice.
 //
 // Layout of DIR: provenance (shard.h's record), items/ITEM (the item's payload, a CSV row),
-// log ("ITEM\n" per record call, in the order they finished).
+// lanes/ITEM (optional: the item's --summary lane, JSON, written before items/ITEM so a
+// finished item has it), log ("ITEM\n" per record call, in the order they finished).
 #pragma once
 
 #include <cstddef>
@@ -23,12 +24,15 @@ class Journal {
   explicit Journal(std::string dir);
   bool done(std::size_t item) const;
   std::size_t size() const;
-  // Writes the item's payload atomically; safe from several threads at once.
-  void record(std::size_t item, const std::string& payload);
+  // Writes the item's payload (and its lane, when not empty) atomically; safe from several
+  // threads at once.
+  void record(std::size_t item, const std::string& payload, const std::string& lane = "");
   const std::string& dir() const { return dir_; }
 
   // Every finished item's payload, by item.
   static std::map<std::size_t, std::string> read_items(const std::string& dir);
+  // Every finished item's lane, by item (items recorded without one are absent).
+  static std::map<std::size_t, std::string> read_lanes(const std::string& dir);
 
  private:
   std::string dir_;

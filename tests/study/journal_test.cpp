@@ -42,6 +42,19 @@ TEST(Journal, KeepsRecordedItemsForTheNextProcess) {
   EXPECT_EQ(items.at(10), "c,d\n");
 }
 
+TEST(Journal, KeepsEachItemsSummaryLaneBesideItsRow) {
+  const std::string dir = fresh_dir("journal_lanes");
+  {
+    Journal j(dir);
+    j.record(2, "a,b\n", "{\n  \"x\": 1\n}");
+    j.record(5, "c,d\n");  // no lane
+  }
+  const auto lanes = Journal::read_lanes(dir);
+  ASSERT_EQ(lanes.size(), 1u);
+  EXPECT_EQ(lanes.at(2), "{\n  \"x\": 1\n}");
+  EXPECT_EQ(Journal::read_items(dir).size(), 2u);
+}
+
 TEST(Journal, IgnoresTemporariesLeftByAKilledWriter) {
   const std::string dir = fresh_dir("journal_temporaries");
   Journal j(dir);

@@ -59,6 +59,10 @@ start_munge() {
   $sudo cp /run/munge/clothsim-munged.pid "$state/munged.pid"
 }
 
+# slurmctld 22.05 starts pending jobs (an array's next wave, a merge whose dependency is
+# met) on a scheduling pass, not when a task ends: sched_interval=1 runs one every second
+# (default 60), the most it allows; without it each wave and the merge waited 2-3 s more
+# (docs/cluster.md, "Where the overhead goes").
 write_conf() {
   local cpus mem_mb
   cpus=$(nproc)
@@ -77,7 +81,7 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_CPU_Memory
 JobAcctGatherType=jobacct_gather/none
 SchedulerType=sched/backfill
-SchedulerParameters=sched_min_interval=100000,sched_interval=1  # us: the next wave of array tasks starts at once, not 2 s later
+SchedulerParameters=sched_min_interval=100000,sched_interval=1
 ReturnToService=2
 KillWait=10
 MinJobAge=300

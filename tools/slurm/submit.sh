@@ -2,12 +2,13 @@
 # Runs a clothsim study as a Slurm job array plus a dependent merge job (docs/cluster.md):
 #
 #   tools/slurm/submit.sh [--tasks N] [--partition P] [--time T] [--cpus-per-task C] [--mem M]
-#                         [--wait] -- clothsim STUDY SCENE ... --csv F [--plot F.png]
+#                         [--wait] -- clothsim STUDY ARGS... --csv F [--plot F.png] [--summary F.json]
 #
-# Task i of the array runs `clothsim STUDY ... --shard auto` (part i+1 of N, written to
-# F.shard-K-of-N/, with --jobs C and --max-memory from SLURM_MEM_PER_NODE unless given);
-# the merge job (--dependency=afterok:ARRAY) runs `clothsim merge` into F (and the plot).
-# --plot is merge's, so it is taken off the shards' command. Both job ids are printed;
+# STUDY is bench, stability or `golden check`. Task i of the array runs `clothsim STUDY ...
+# --shard auto` (part i+1 of N, written to F.shard-K-of-N/, with --jobs C (not golden) and
+# --max-memory from SLURM_MEM_PER_NODE unless given); the merge job
+# (--dependency=afterok:ARRAY) runs `clothsim merge` into F (and the plot and summary).
+# --plot and --summary are merge's, so they are taken off the shards' command. Both job ids are printed;
 # with --wait the script waits for the merge and exits with its exit code (1 when the
 # array failed and the merge never ran; requeue the failed tasks, then run F.merge.sh).
 # Logs: F.task-%a.log (task 0 runs shard 1) and F.merge.log.
@@ -40,36 +41,44 @@ clothsim=$(command -v "$1" 2>/dev/null) || fail "$1: no such program"
 clothsim=$(realpath "$clothsim")
 study=$2
 shift 2
-[[ $study == bench || $study == stability ]] || fail "$study: only bench and stability take --shard"
+if [[ $study == golden ]]; then
+  [[ ${1:-} == check ]] || fail "golden ${1:-}: only golden check takes --shard"
+  study="golden check"
+  shift
+fi
+[[ $study == bench || $study == stability || $study == "golden check" ]] ||
+  fail "$study: only bench, stability and golden check take --shard"
 
 # The shards' arguments: the study's, without --plot (merge draws it); --csv is kept.
-args=() csv= plot= has_jobs=0 has_mem=0
+args=() csv= plot= summary= has_jobs=0 has_mem=0
 while (($#)); do
   case $1 in
     --plot) plot=${2:?}; shift 2 ;;
     --plot=*) plot=${1#--plot=}; shift ;;
+    --summary) summary=${2:?}; shift 2 ;;
+    --summary=*) summary=${1#--summary=}; shift ;;
     --csv) csv=${2:?}; args+=("$1" "$2"); shift 2 ;;
     --csv=*) csv=${1#--csv=}; args+=("$1"); shift ;;
     --shard|--shard=*) fail "--shard: submit.sh adds --shard auto itself" ;;
-    --summary|--summary=*) fail "--summary: merge writes no summary yet; leave it out" ;;
     *) [[ $1 == --jobs* ]] && has_jobs=1; [[ $1 == --max-memory* ]] && has_mem=1; args+=("$1"); shift ;;
   esac
 done
 [[ -n $csv ]] || fail "the study needs --csv F (the shards write F.shard-K-of-N/, the merge writes F)"
-((has_jobs)) || args+=(--jobs "$cpus")
+[[ $study == "golden check" ]] || ((has_jobs)) || args+=(--jobs "$cpus")  # golden renders one entry at a time
 
 # A shard's command line, quoted for the job's shell; the memory limit is Slurm's when set.
-shard_command=$(printf '%q ' "$clothsim" "$study" "${args[@]}" --shard auto)
+shard_command=$(printf '%q ' "$clothsim" $study "${args[@]}" --shard auto)
 ((has_mem)) || shard_command+=' ${SLURM_MEM_PER_NODE:+--max-memory ${SLURM_MEM_PER_NODE}M}'
 merge_command=$(printf '%q ' "$clothsim" merge)
 for ((k = 1; k <= tasks; k++)); do merge_command+=$(printf '%q ' "$csv.shard-$k-of-$tasks"); done
 merge_command+=$(printf '%q ' --csv "$csv")
 [[ -n $plot ]] && merge_command+=$(printf '%q ' --plot "$plot")
+[[ -n $summary ]] && merge_command+=$(printf '%q ' --summary "$summary")
 
 common=(--parsable)
 [[ -n $partition ]] && common+=(--partition="$partition")
 [[ -n $time_limit ]] && common+=(--time="$time_limit")
-array_opts=(--array="0-$((tasks - 1))" --cpus-per-task="$cpus" --requeue --job-name="clothsim-$study"
+array_opts=(--array="0-$((tasks - 1))" --cpus-per-task="$cpus" --requeue --job-name="clothsim-${study% check}"
             --output="$csv.task-%a.log")
 [[ -n $mem ]] && array_opts+=(--mem="$mem")
 
@@ -94,7 +103,7 @@ while :; do
   case $state in
     COMPLETED|FAILED|CANCELLED*|TIMEOUT|OUT_OF_MEMORY|NODE_FAIL|PREEMPTED|BOOT_FAIL|DEADLINE) break ;;
   esac
-  sleep 1
+  sleep 0.1  # the controller starts jobs on its once-a-second pass; a 1 s poll added 0.5 s on average
 done
 code=$(job_field ExitCode)
 [[ -z $code ]] && code=$(sacct -n -X -P -j "$merge_id" -o ExitCode 2>/dev/null | head -1)

@@ -4,7 +4,9 @@
 # munge when missing), then
 # 1. a 4-shard stability sweep and 2. a 4-shard bench through submit.sh --wait, each merged
 #    CSV equal to the same study run in one process (timing columns aside);
-# 3. a 2-shard stability sweep whose first task is stopped mid-run with
+#    and the merged --summary equal to the single-process one (timing aside);
+# 3. a 2-shard `golden check` of a 4-entry manifest: merged report, CSV and summary equal;
+# 4. a 2-shard stability sweep whose first task is stopped mid-run with
 #    `scancel --signal=TERM`, then requeued: its finished items are kept, none runs twice,
 #    and the merge equals the single-process CSV.
 # Skipped, saying why, only where Slurm cannot run: not root and no password-less sudo, or
@@ -55,6 +57,19 @@ same_rows() {
   cmp -s <(untimed "$1") <(untimed "$2") || { diff <(untimed "$1") <(untimed "$2") | head -5 >&2; fail "$3: $1 differs from $2"; }
   say "$3: merged $1 = single-process $2 ($(($(wc -l <"$2") - 1)) rows, timing columns aside)"
 }
+# Two --summary files equal but for their timing keys.
+same_summary() {
+  /usr/bin/python3 - "$1" "$2" <<'EOF' || fail "$3: $1 differs from $2"
+import json, sys
+def untimed(x):
+    if isinstance(x, dict):
+        return {k: untimed(v) for k, v in x.items() if k not in ("wall_seconds", "cpu_seconds")}
+    return [untimed(v) for v in x] if isinstance(x, list) else x
+a, b = (untimed(json.load(open(p))) for p in sys.argv[1:3])
+sys.exit(0 if a == b else 1)
+EOF
+  say "$3: merged summary $1 = single-process $2 (timing aside)"
+}
 seconds() { date +%s.%N; }
 
 stability=(stability "$scene" --duration 0.1 --values 2e4,2e5,2e6,2e7,2e8)
@@ -70,6 +85,9 @@ t2=$(seconds)
 "$clothsim" "${stability[@]}" --jobs 2 --csv s2.csv >/dev/null
 t3=$(seconds)
 same_rows s4.csv s1.csv "stability"
+"$clothsim" "${stability[@]}" --jobs 2 --summary s1.json >/dev/null
+"$root/tools/slurm/submit.sh" --tasks 2 --wait -- "$clothsim" "${stability[@]}" --csv s5.csv --summary s5.json >/dev/null
+same_summary s5.json s1.json "stability"
 say "$(awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" 'BEGIN { printf "stability wall time: 4 shards %.1f s, one process --jobs 1 %.1f s (%.2fx), --jobs 2 %.1f s (%.2fx)", b - a, c - b, (b - a) / (c - b), d - c, (b - a) / (d - c) }')"
 
 # 2. Bench, 4 shards.
@@ -77,7 +95,22 @@ say "$(awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" 'BEGIN { printf "stabilit
 "$clothsim" "${bench[@]}" --jobs 2 --csv b1.csv >/dev/null
 same_rows b4.csv b1.csv "bench"
 
-# 3. A task stopped by SIGTERM mid-run, requeued: nothing finished runs twice.
+# 3. Golden check, 2 shards: the merge reports what one check reports.
+cp "$scene" drape.yaml
+cp "$root/scenes/spring.yaml" spring.yaml
+printf '%s\n' "size: [96, 54]" "goldens:" "  - {scene: drape.yaml, times: [0.05, 0.1]}" \
+  "  - {scene: spring.yaml, times: [0.5]}" "  - {scene: drape.yaml, name: drape_rk4, integrator: rk4, times: [0.05]}" \
+  "  - {scene: drape.yaml, name: drape_mid, integrator: midpoint, times: [0.1]}" >goldens.yaml
+"$clothsim" golden update goldens.yaml >/dev/null
+"$clothsim" golden check goldens.yaml --csv g1.csv --summary g1.json >g1.out
+"$root/tools/slurm/submit.sh" --tasks 2 --wait -- "$clothsim" golden check goldens.yaml --csv g2.csv \
+  --summary g2.json
+cmp -s g1.csv g2.csv || fail "golden: g2.csv differs from g1.csv"
+cmp -s <(grep -E '^(ok|FAIL|golden:)' g1.out) <(grep -E '^(ok|FAIL|golden:)' g2.csv.merge.log) ||
+  fail "golden: the merged report (g2.csv.merge.log) differs from one check's (g1.out)"
+same_summary g2.json g1.json "golden"
+
+# 4. A task stopped by SIGTERM mid-run, requeued: nothing finished runs twice.
 out=$("$root/tools/slurm/submit.sh" --tasks 2 -- "$clothsim" "${stability[@]}" --csv r.csv)
 array=$(sed -n 's/^array job \([0-9]*\) .*/\1/p' <<<"$out")
 journal=r.csv.shard-1-of-2

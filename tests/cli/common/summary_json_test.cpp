@@ -1,4 +1,4 @@
-// --summary FILE.json of run, compare, bench and stability: each parses (Python's json
+// --summary FILE.json of run, compare, bench, stability and golden check: each parses (Python's json
 // module, as a script reading it would) and has the fields docs/summary.md lists, with the
 // run's true figures; and JsonObject's output is JSON (escapes, NaN as null, nesting).
 #include "cli/common/summary_json.h"
@@ -26,8 +26,10 @@ common = ["scene", "integrator", "dt", "steps", "force_evaluations", "cpu_second
 lane_keys = {"run": ["t_reached", "max_residual"], "compare": ["t_reached"],
              "bench": ["wall_seconds", "rms_error", "max_error"],
              "stability": ["value", "outcome", "stable_dt", "unstable_dt", "failure", "reason", "trials",
-                           "w_max", "dt_springs", "dt_with_damping", "frame_steps"]}
-top_keys = {"bench": ["duration", "complete", "reference"], "stability": ["param", "duration", "min_dt", "max_dt", "complete"]}
+                           "w_max", "dt_springs", "dt_with_damping", "frame_steps"],
+             "golden": ["entry", "name", "images"]}
+top_keys = {"bench": ["duration", "complete", "reference"], "stability": ["param", "duration", "min_dt", "max_dt", "complete"],
+            "golden": ["complete", "images", "matching"]}
 for k in ["clothsim", "command", "source", "lanes"] + top_keys.get(command, []):
     assert k in d, "missing top-level key " + k
 assert d["command"] == command, d["command"]
@@ -100,11 +102,30 @@ TEST(SummaryJson, StabilityWritesOneLanePerSearch) {
   EXPECT_EQ(lanes.rfind(R"([["symplectic_euler", 0.)", 0), 0u) << lanes;  // the largest stable dt
 }
 
+TEST(SummaryJson, GoldenCheckWritesOneLanePerEntry) {
+  const std::string dir = scratch_dir("summary_golden");
+  std::ofstream(dir + "/m.yaml") << "size: [64, 36]\ngoldens:\n  - scene: " << spring() << "\n    times: [0.1, 0.2]\n";
+  const CliResult r = run_clothsim({"golden", "check", dir + "/m.yaml", "--summary", dir + "/g.json"});
+  ASSERT_EQ(r.exit_code, 1) << r.err;  // no golden images yet: both missing
+  const std::string lanes = check_summary(dir + "/g.json", "golden", 1);
+  EXPECT_EQ(lanes.rfind(R"([["symplectic_euler", )", 0), 0u) << lanes;
+  EXPECT_NE(slurp(dir + "/g.json").find("\"matching\": 0"), std::string::npos);
+}
+
 TEST(SummaryJson, AnUnwritableSummaryFailsBeforeAnyWork) {
   const CliResult r = run_clothsim({"run", spring(), "--summary", "/nonexistent/dir/s.json"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_EQ(r.out, "");
+}
+
+TEST(JsonObject, AnObjectDumpedEarlierIsPlacedAsIfBuiltInPlace) {
+  cli::JsonObject inner;
+  inner.integer("n", 3).array("list", {cli::JsonObject().number("x", 0.5)});
+  cli::JsonObject built, restored;
+  built.text("a", "b").array("lanes", {inner, inner});
+  restored.text("a", "b").array("lanes", {cli::JsonObject::from_dump(inner.dump()), cli::JsonObject::from_dump(inner.dump() + "\n")});
+  EXPECT_EQ(restored.dump(), built.dump());
 }
 
 TEST(JsonObject, WritesEscapedTextNullForNonFiniteAndNesting) {

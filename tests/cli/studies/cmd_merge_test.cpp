@@ -31,6 +31,16 @@ std::string untimed(const std::string& path) {
   return out;
 }
 
+// A summary without its timing lines (cpu_seconds, wall_seconds: they measure the machine).
+std::string untimed_json(const std::string& path) {
+  std::istringstream in(slurp(path));
+  std::string out;
+  for (std::string line; std::getline(in, line);)
+    if (line.find("\"cpu_seconds\"") == std::string::npos && line.find("\"wall_seconds\"") == std::string::npos)
+      out += line + "\n";
+  return out;
+}
+
 TEST(CmdMerge, JoinsShardsIntoWhatOneProcessWrites) {
   const std::string dir = scratch_dir("merge_join");
   for (const char* k : {"1/3", "2/3", "3/3"}) ASSERT_EQ(run_clothsim(study(dir + "/p.csv", k)).exit_code, 0) << k;
@@ -90,15 +100,39 @@ TEST(CmdMerge, AMergedBenchChecksItsReferenceAsOneProcessDoes) {
   // The chain's errors are at rounding level: its RK4 reference cannot resolve them.
   const std::string dir = scratch_dir("merge_bench_reference");
   const std::string chain = std::string(CLOTHSIM_SCENES_DIR) + "/chain.yaml";
-  const CliResult whole = run_clothsim({"bench", chain, "--csv", dir + "/one.csv"});
+  const CliResult whole = run_clothsim({"bench", chain, "--csv", dir + "/one.csv", "--summary", dir + "/one.json"});
   ASSERT_EQ(whole.exit_code, 1) << whole.err;
   for (const char* k : {"1/2", "2/2"})
     ASSERT_EQ(run_clothsim({"bench", chain, "--csv", dir + "/p.csv", "--shard", k}).exit_code, 0) << k;
   const CliResult r = run_clothsim({"merge", dir + "/p.csv.shard-1-of-2", dir + "/p.csv.shard-2-of-2", "--csv",
-                                    dir + "/m.csv"});
+                                    dir + "/m.csv", "--summary", dir + "/m.json"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("the reference is not converged"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::exists(dir + "/m.csv"));
+  EXPECT_NE(slurp(dir + "/m.json").find("\"converged\": false"), std::string::npos);
+  EXPECT_EQ(untimed_json(dir + "/m.json"), untimed_json(dir + "/one.json"));
+}
+
+TEST(CmdMerge, TheMergedSummaryIsWhatOneProcessWritesButForTiming) {
+  const std::string dir = scratch_dir("merge_summary");
+  std::vector<std::string> stab = study(dir + "/s.csv", "1/1");
+  stab[3] = "symplectic_euler,rk4,implicit_euler";  // implicit_euler's frame_steps too
+  std::vector<std::string> bench{"bench", spring(), "--integrators", "symplectic_euler,rk4", "--dts", "0.01,0.02",
+                                 "--duration", "2", "--jobs", "1", "--csv", dir + "/b.csv", "--shard", "1/1"};
+  for (std::vector<std::string> args : {stab, bench}) {
+    const std::string csv = args[args.size() - 3];
+    for (const char* k : {"1/2", "2/2"}) {
+      args.back() = k;
+      ASSERT_EQ(run_clothsim(args).exit_code, 0) << csv << " " << k;
+    }
+    args.resize(args.size() - 4);  // one process: without --csv and --shard
+    args.insert(args.end(), {"--summary", csv + ".one.json"});
+    ASSERT_EQ(run_clothsim(args).exit_code, 0) << csv;
+    const CliResult m = run_clothsim({"merge", csv + ".shard-1-of-2", csv + ".shard-2-of-2", "--summary", csv + ".json"});
+    ASSERT_EQ(m.exit_code, 0) << m.err;
+    EXPECT_EQ(untimed_json(csv + ".json"), untimed_json(csv + ".one.json")) << csv;
+    EXPECT_NE(untimed_json(csv + ".json").find("\"complete\": true"), std::string::npos);
+  }
 }
 
 TEST(CmdMerge, AShardNeedsACsvAndLeavesThePlotToMerge) {

@@ -70,7 +70,19 @@ JsonObject& JsonObject::append(const JsonObject& other) {
   return *this;
 }
 
+JsonObject JsonObject::from_dump(std::string dumped) {
+  JsonObject o;
+  while (!dumped.empty() && (dumped.back() == '\n' || dumped.back() == ' ')) dumped.pop_back();
+  o.dumped_ = std::move(dumped);
+  return o;
+}
+
 std::string JsonObject::dump(int indent) const {
+  if (!dumped_.empty()) {  // dumped at indent 0: each later line moves in by this indent
+    std::string out;
+    for (const char c : dumped_) out += c == '\n' ? "\n" + std::string(2 * indent, ' ') : std::string(1, c);
+    return out;
+  }
   if (members_.empty()) return "{}";
   const std::string pad(2 * (indent + 1), ' '), close(2 * indent, ' ');
   std::string out = "{\n";

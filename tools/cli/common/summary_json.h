@@ -27,7 +27,11 @@ class JsonObject {
   JsonObject& array(const std::string& key, const std::vector<JsonObject>& values);
   JsonObject& append(const JsonObject& other);  // other's members after these
   std::string dump(int indent = 0) const;  // pretty-printed, two spaces a level
+  // An object serialised earlier by dump() (a sharded study's lane, kept on disk), placed
+  // as it was: `clothsim merge` writes the summary one process writes.
+  static JsonObject from_dump(std::string dumped);
  private:
+  std::string dumped_;  // from_dump's text; empty for an object built key by key
   struct Member {
     std::string key;
     enum Kind { kScalar, kObject, kArray } kind = kScalar;

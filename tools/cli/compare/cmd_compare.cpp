@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "compare_plan.h"
+#include "compare_shard.h"
 #include "compare_summary.h"
 #include "step_matching.h"
 #include "cli/common/cli_common.h"
@@ -91,6 +92,7 @@ struct CompareOptions {
   GlOptions gl;
   PictureOptions look;
   std::string summary;  // --summary FILE.json
+  std::string shard;    // --shard K/N|auto, with --frames only (compare_shard.h)
 };
 
 // Everything compare does, worked out and checked before any lane runs.
@@ -438,10 +440,29 @@ void report_compare(const CompareOptions& o, const ComparePlan& p, const Pipelin
   if (!quiet()) print_breakdown(p, report, std::chrono::duration<double>(Clock::now() - wall_start).count());
 }
 
+// --shard: the plan of the whole comparison, narrowed to this part's lanes (compare_shard.h).
+void keep_shard_lanes(const CompareOptions& o, ComparePlan& p) {
+  const FramesShardPlan shard{o.shard, o.frames_dir, p.look.color != FieldKind::None && !p.look.color_range, p.scene.duration,
+                              p.model->num_particles, p.targets->frames(), p.grid->cell_width(), p.grid->cell_height()};
+  const std::vector<std::size_t> keep = frames_shard_lanes(shard, p.lanes, p.lane_dirs);
+  const auto narrow = [&keep](auto& per_lane) {
+    if (per_lane.empty()) return;
+    std::remove_reference_t<decltype(per_lane)> kept;
+    for (std::size_t i : keep) kept.push_back(per_lane[i]);
+    per_lane = kept;
+  };
+  narrow(p.lanes), narrow(p.lane_dirs), narrow(p.lane_models), narrow(p.labels), narrow(p.values);
+  narrow(p.context.names), narrow(p.context.step_choice);
+}
+
 int compare_command(const CompareOptions& o) {
   const auto wall_start = Clock::now();
   install_interrupt_handler();  // first: Ctrl-C during setup is then seen at the first frame
-  const ComparePlan p = plan_compare(o);
+  if (!o.shard.empty())
+    check_frames_shard_outputs(o.frames_dir, !o.video.empty() || !o.sheet.empty() || o.still_t || !o.summary.empty());
+  ComparePlan p = plan_compare(o);
+  if (!o.shard.empty()) keep_shard_lanes(o, p);
+  if (p.lanes.empty()) return kOk;  // a part with no lane (more parts than lanes)
   const std::unique_ptr<Renderer> renderer = make_checked_renderer(o, p);
   const PipelineConfig config = pipeline_config(p);
   FramePipeline pipeline(*p.model, *p.targets, p.lanes, config, renderer.get());
@@ -473,6 +494,7 @@ void add_compare_command(CLI::App& app, Command& command) {
   add_no_overwrite_option(sub);
   add_picture_look_options(sub, o->look, /*compare=*/true);
   sub->add_option("--summary", o->summary, "Write what each lane did as JSON (docs/summary.md)")->type_name("FILE.json");
+  add_frames_shard_option(sub, o->shard);
   sub->add_option("--integrators", o->integrators,
                   "Lanes, one tile each: NAME[@STEP],... (rk4@1e-4,rk4@4e-4,implicit_euler@1/60; the same integrator\n"
                   "may appear at several steps; without @STEP, --dt or the scene's dt), or course: the course's four\n"

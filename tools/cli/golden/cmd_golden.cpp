@@ -6,6 +6,9 @@
 //           or into --failures DIR. Exit 0 all match, 1 some differ or are missing.
 //   update: the golden images are (re)written, all or none: each is rendered into a nameless
 //           file, and they are named together once every one was made.
+// check also writes a row per image (--csv) and a lane per entry (--summary), and runs a part
+// of the manifest with --shard K/N|auto (entries split by estimated cost; `clothsim merge`
+// joins the parts into the report, CSV and summary of one check: docs/cluster.md).
 // SIGINT, SIGTERM and SIGHUP stop it with one line of what stays (docs/outputs.md).
 // A bad manifest or scene, or an entry whose run would need more than --max-memory, exits 2
 // before anything is rendered.
@@ -17,6 +20,7 @@
 #include <optional>
 
 #include "golden_manifest.h"
+#include "golden_report.h"
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
 #include "cli/common/gl_options.h"
@@ -25,11 +29,15 @@
 #include "cli/common/run_budget.h"
 #include "cli/frames/frame_pipeline.h"
 #include "cli/frames/picture_options.h"
+#include "cli/studies/study_common.h"
+#include "cli/studies/study_shard.h"
 #include "render/image_diff.h"
 #include "render/png_io.h"
 #include "scene/build_model.h"
 #include "scene/run_bounds.h"
 #include "scene/scene_parser.h"
+#include "study/journal.h"
+#include "study/work_precision.h"
 
 namespace clothsim::cli {
 namespace {
@@ -39,6 +47,7 @@ namespace fs = std::filesystem;
 struct GoldenOptions {
   std::string manifest;
   std::string failures_dir;  // empty: beside each golden image
+  std::string csv, summary, shard;  // check only
   GlOptions gl;
   std::optional<double> max_memory;  // --max-memory SIZE in bytes (default: memory_budget.h)
 };
@@ -55,58 +64,61 @@ std::string evidence_path(const GoldenOptions& o, const std::string& golden, con
 struct GoldenWork {
   std::vector<std::unique_ptr<OutputFile>> staged;  // update: named together by commit_all()
   std::vector<std::string> evidence;                 // check: .actual.png and .diff.png written
+  std::vector<GoldenVerdict> verdicts;               // check: one per image, in manifest order
   int bad = 0;                                       // images that differ, are missing or diverged
 };
 
-// Compares one render with its golden image; prints one line; returns whether it matched.
-bool check_one(const GoldenOptions& o, const std::string& golden, const Image& actual, const DiffTolerance& tol,
-               std::vector<std::string>& evidence) {
-  const std::string name = fs::path(golden).filename().string();
+// Compares one render with its golden image, writing the evidence of a mismatch.
+GoldenVerdict check_one(const GoldenOptions& o, const std::string& golden, const Image& actual, const DiffTolerance& tol,
+                        std::vector<std::string>& evidence) {
+  GoldenVerdict v;
+  v.image = fs::path(golden).filename().string();
+  v.threshold = tol.pixel_threshold;
   const std::string actual_path = evidence_path(o, golden, "actual"), diff_path = evidence_path(o, golden, "diff");
-  std::string problem;
-  bool with_diff = false;
   if (!fs::exists(golden)) {
-    problem = "missing (`clothsim golden update` writes it)";
+    v.problem = "missing (`clothsim golden update` writes it)";
   } else {
     // The size from the header first: a golden of another size is never decoded (a huge one
     // would otherwise take memory the budget did not count).
     const PngSize size = read_png_size(golden);
     if (size.width != actual.width || size.height != actual.height) {
-      problem = "golden is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
-                ", the render " + std::to_string(actual.width) + "x" + std::to_string(actual.height);
+      v.problem = "golden is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+                  ", the render " + std::to_string(actual.width) + "x" + std::to_string(actual.height);
     } else {
       const Image expected = read_png(golden);
       const DiffStats stats = compare_images(expected, actual, tol.pixel_threshold);
+      v.rms = stats.rms;
+      v.max = stats.max;
+      v.over_fraction = stats.over_fraction;
       if (within_tolerance(stats, tol)) {
-        std::printf("ok    %s  rms %.3f, max %d, %.3f%% past %d\n", name.c_str(), stats.rms, stats.max,
-                    100.0 * stats.over_fraction, tol.pixel_threshold);
+        v.ok = true;
         fs::remove(actual_path);  // evidence of an earlier failure no longer holds
         fs::remove(diff_path);
-        return true;
+        return v;
       }
       char text[160];
       std::snprintf(text, sizeof text, "rms %.3f (tolerance %g), max %d, %.3f%% past %d (tolerance %g%%)",
                     stats.rms, tol.max_rms, stats.max, 100.0 * stats.over_fraction, tol.pixel_threshold,
                     100.0 * tol.max_over_fraction);
-      problem = text;
+      v.problem = text;
       write_png(diff_path, diff_image(expected, actual));
       evidence.push_back(diff_path);
-      with_diff = true;
+      v.diff = diff_path;
     }
   }
   write_png(actual_path, actual);
   evidence.push_back(actual_path);
-  std::printf("FAIL  %s  %s; actual: %s%s\n", name.c_str(), problem.c_str(), actual_path.c_str(),
-              with_diff ? (", diff: " + diff_path).c_str() : "");
-  return false;
+  v.actual = actual_path;
+  return v;
 }
 
 // Checks (or writes) the picture at each of an entry's times as the pipeline reaches it.
 class GoldenOutput final : public FrameOutput {
  public:
-  GoldenOutput(const GoldenOptions& o, const GoldenManifest& manifest, const GoldenEntry& entry, bool update,
+  GoldenOutput(const GoldenOptions& o, const GoldenManifest& manifest, std::size_t entry, bool update,
                const Model& model, const Renderer& renderer, GoldenWork& work)
-      : o_(o), manifest_(manifest), entry_(entry), update_(update), model_(model), renderer_(renderer), work_(work) {}
+      : o_(o), manifest_(manifest), index_(entry), entry_(manifest.entries[entry]), update_(update), model_(model),
+        renderer_(renderer), work_(work) {}
   std::string what() const override { return "golden"; }
   void on_target(const Target& target, const std::vector<LaneView>& lanes) override {
     if (target.column < 0) return;
@@ -114,9 +126,14 @@ class GoldenOutput final : public FrameOutput {
     const std::string golden = golden_image_path(manifest_, entry_, t);
     const LaneFrame& f = *lanes.front().frame;
     if (f.divergence) {  // this image and the later ones of the entry cannot be made
-      std::printf("FAIL  %s  %s diverged at t = %.6g s: %s\n", fs::path(golden).filename().c_str(),
-                  entry_.scene.c_str(), f.divergence->t, f.divergence->reason.c_str());
-      ++work_.bad;
+      char problem[400];
+      std::snprintf(problem, sizeof problem, "%s diverged at t = %.6g s: %s", entry_.scene.c_str(), f.divergence->t,
+                    f.divergence->reason.c_str());
+      GoldenVerdict v;
+      v.image = fs::path(golden).filename().string();
+      v.threshold = entry_.tolerance.pixel_threshold;
+      v.problem = problem;
+      report(v, t);
       return;
     }
     if (update_) {
@@ -126,8 +143,8 @@ class GoldenOutput final : public FrameOutput {
                 with_renderer({{"scene", model_.name}, {"integrator", std::string(integrator_name(lanes.front().spec->kind))},
                                {"t", std::to_string(t)}, {"software", "clothsim " CLOTHSIM_VERSION}},
                               renderer_));
-    } else if (!check_one(o_, golden, *lanes.front().image, entry_.tolerance, work_.evidence)) {
-      ++work_.bad;
+    } else {
+      report(check_one(o_, golden, *lanes.front().image, entry_.tolerance, work_.evidence), t);
     }
   }
   void finish() override {}
@@ -139,8 +156,18 @@ class GoldenOutput final : public FrameOutput {
     }
   }
  private:
+  void report(GoldenVerdict v, double t) {
+    v.entry = index_;
+    v.t = t;
+    for (char& c : v.problem)
+      if (c == '\n' || c == '\r') c = ' ';  // one CSV row, one report line
+    std::printf("%s\n", golden_report_line(v).c_str());
+    work_.bad += v.ok ? 0 : 1;
+    work_.verdicts.push_back(v);
+  }
   const GoldenOptions& o_;
   const GoldenManifest& manifest_;
+  std::size_t index_;
   const GoldenEntry& entry_;
   bool update_;
   const Model& model_;
@@ -199,6 +226,102 @@ void load_entries(const GoldenOptions& o, const GoldenManifest& manifest, std::v
   }
 }
 
+// An entry's run, as run --still makes its pictures: each time a contact sheet's column,
+// checked (or staged) as the pipeline reaches it. Returns the run's lane (totals, divergence).
+LaneResult run_entry(const GoldenOptions& o, const GoldenManifest& manifest, std::size_t i, const SceneDef& scene,
+                     const PictureLook& entry_look, const Model& model, Renderer& renderer, bool update,
+                     GoldenWork& work, const std::vector<std::string>& not_written = {}) {
+  const GoldenEntry& e = manifest.entries[i];
+  const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
+  PictureLook look = entry_look;
+  fit_reference_to_model(look, model, scene, {lane});  // as run does
+  PipelineConfig config;
+  config.rendering = true;
+  config.width = e.width;
+  config.height = e.height;
+  config.stop_when_all_frozen = true;
+  config.command = "golden";
+  apply_look(look, config);
+  config.scene_render = scene.render;
+  if (look.camera_auto) config.camera = auto_camera(model, scene.render, static_cast<double>(e.width) / e.height);
+  TargetPlan targets(*std::max_element(e.times.begin(), e.times.end()), scene.render.fps,
+                     /*with_frames=*/false, e.times);
+  if (look.color != FieldKind::None) targets.with_scale_window(kColorScaleWindow);
+  FramePipeline pipeline(model, targets, {lane}, config, &renderer);
+  pipeline.add(std::make_unique<GoldenOutput>(o, manifest, i, update, model, renderer, work));
+  return pipeline.run("golden " + model.name, not_written).lanes.front();
+}
+
+// An entry in the summary: its run as a lane (the common keys), its name and its images.
+JsonObject entry_lane_json(const GoldenEntry& e, std::size_t i, const SceneDef& scene, const Model& model,
+                           const LaneResult& r, const std::vector<GoldenVerdict>& verdicts) {
+  std::vector<JsonObject> images;
+  for (const GoldenVerdict& v : verdicts)
+    if (v.entry == i) images.push_back(golden_image_json(v));
+  JsonObject lane = lane_json(model.name, scene.integrator, scene.dt, r.totals,
+                              r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt);
+  lane.integer("entry", static_cast<std::int64_t>(i)).text("name", e.name).array("images", images);
+  return lane;
+}
+
+// An entry's estimated cost in particle-force-evaluations: its run to the latest time and
+// its pictures, a pixel counted as kPixelCost of them (docs/cluster.md).
+constexpr double kPixelCost = 1.0;
+double entry_cost(const GoldenEntry& e, const SceneDef& scene) {
+  const double latest = *std::max_element(e.times.begin(), e.times.end());
+  const double run = analysis::cost_estimate(scene.integrator, latest, scene.dt) * scene.cloth.nx * scene.cloth.ny;
+  return run + kPixelCost * static_cast<double>(e.times.size()) * e.width * e.height;
+}
+
+// What a part of the check is a part of: every entry's scene bytes and settings.
+ShardPlan golden_plan(const GoldenOptions& o, const GoldenManifest& manifest, const std::vector<SceneDef>& scenes) {
+  ShardPlan plan{"golden", o.manifest, {}, "failures " + o.failures_dir, o.manifest, golden_csv_header(), {}};
+  for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
+    const GoldenEntry& e = manifest.entries[i];
+    plan.plan += ";" + e.scene + " " + analysis::hash_text(analysis::read_whole_file(e.scene)) + " " + e.name + " " +
+                 std::string(integrator_name(scenes[i].integrator)) + " " + csv_number(scenes[i].dt) + " " +
+                 std::to_string(e.width) + "x" + std::to_string(e.height);
+    for (double t : e.times) plan.plan += " " + csv_number(t);
+    plan.costs.push_back(entry_cost(e, scenes[i]));
+  }
+  return plan;
+}
+
+// --shard: this process's entries, each journaled with its rows and lane as it finishes. A
+// part whose images differ still exits 0 (the array's merge job must run): merge fails.
+int golden_shard(const GoldenOptions& o, const GoldenManifest& manifest, const std::vector<SceneDef>& scenes,
+                 const std::vector<PictureLook>& looks) {
+  StudyShard shard(o.shard, o.csv, "", o.summary, golden_plan(o, manifest, scenes));
+  if (shard.todo().empty()) return shard.finish();
+  const std::unique_ptr<Renderer> renderer = make_renderer(o.gl);
+  for (std::size_t i : shard.todo()) {
+    GoldenWork work;
+    const Model model = build_model(scenes[i]);
+    const LaneResult r = run_entry(o, manifest, i, scenes[i], looks[i], model, *renderer, false, work);
+    std::string rows;
+    for (const GoldenVerdict& v : work.verdicts) rows += golden_csv_row(v);
+    shard.record(i, rows, entry_lane_json(manifest.entries[i], i, scenes[i], model, r, work.verdicts).dump());
+  }
+  return shard.finish();
+}
+
+// check's --csv and --summary, once every entry ran.
+void write_check_outputs(const GoldenOptions& o, const std::vector<JsonObject>& lanes, const GoldenWork& work) {
+  if (!o.csv.empty()) {
+    AtomicFile file(o.csv);
+    std::fprintf(file.stream(), "%s\n", golden_csv_header().c_str());
+    for (const GoldenVerdict& v : work.verdicts) std::fputs(golden_csv_row(v).c_str(), file.stream());
+    file.commit();
+  }
+  if (!o.summary.empty()) write_summary(o.summary, "golden", o.manifest, lanes, golden_summary_keys(work.verdicts));
+}
+
+void check_outputs_writable(const GoldenOptions& o) {
+  refuse_shared_outputs({{o.csv, "--csv"}, {o.summary, "--summary"}});
+  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  if (!o.summary.empty() && o.shard.empty()) require_writable_parent(o.summary, "--summary");
+}
+
 int golden_command(const GoldenOptions& o, bool update) {
   install_interrupt_handler();  // the pipeline polls; a signal stops it with one line of what stays
   const GoldenManifest manifest = load_golden_manifest(o.manifest);
@@ -206,34 +329,21 @@ int golden_command(const GoldenOptions& o, bool update) {
   std::vector<PictureLook> looks;
   load_entries(o, manifest, scenes, looks);
   if (!o.failures_dir.empty() && !update) ensure_directory(o.failures_dir, "--failures");
+  check_outputs_writable(o);
+  if (!o.shard.empty()) return golden_shard(o, manifest, scenes, looks);
   const std::unique_ptr<Renderer> renderer = make_renderer(o.gl);
 
   int images = 0;
   GoldenWork work;
+  std::vector<JsonObject> lanes;
+  std::vector<std::string> not_written;  // written once every entry ran
+  for (const std::string& path : {o.csv, o.summary})
+    if (!path.empty()) not_written.push_back(path);
   for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
-    const GoldenEntry& e = manifest.entries[i];
-    const SceneDef& scene = scenes[i];
-    const Model model = build_model(scene);
-    images += static_cast<int>(e.times.size());
-    // One picture per time, taken as a contact sheet's columns.
-    const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
-    PictureLook look = looks[i];
-    fit_reference_to_model(look, model, scene, {lane});  // as run does
-    PipelineConfig config;
-    config.rendering = true;
-    config.width = e.width;
-    config.height = e.height;
-    config.stop_when_all_frozen = true;
-    config.command = "golden";
-    apply_look(look, config);
-    config.scene_render = scene.render;
-    if (look.camera_auto) config.camera = auto_camera(model, scene.render, static_cast<double>(e.width) / e.height);
-    TargetPlan targets(*std::max_element(e.times.begin(), e.times.end()), scene.render.fps,
-                       /*with_frames=*/false, e.times);
-    if (look.color != FieldKind::None) targets.with_scale_window(kColorScaleWindow);
-    FramePipeline pipeline(model, targets, {lane}, config, renderer.get());
-    pipeline.add(std::make_unique<GoldenOutput>(o, manifest, e, update, model, *renderer, work));
-    pipeline.run("golden " + model.name);
+    const Model model = build_model(scenes[i]);
+    images += static_cast<int>(manifest.entries[i].times.size());
+    const LaneResult r = run_entry(o, manifest, i, scenes[i], looks[i], model, *renderer, update, work, not_written);
+    lanes.push_back(entry_lane_json(manifest.entries[i], i, scenes[i], model, r, work.verdicts));
   }
   if (update && work.bad > 0) {
     std::printf("golden: %d of %d images could not be made; nothing written (update writes all or none) (%s)\n",
@@ -243,9 +353,10 @@ int golden_command(const GoldenOptions& o, bool update) {
   if (update) {
     commit_all(work);
     std::printf("golden: %d of %d images written (%s)\n", images, images, o.manifest.c_str());
-  } else {
-    std::printf("golden: %d of %d images match (%s)\n", images - work.bad, images, o.manifest.c_str());
+    return kOk;
   }
+  write_check_outputs(o, lanes, work);
+  std::printf("%s\n", golden_tally(work.verdicts, o.manifest).c_str());
   return work.bad == 0 ? kOk : 1;
 }
 
@@ -266,9 +377,14 @@ void add_golden_command(CLI::App& app, Command& command) {
                : "Render every entry and compare it with its golden image; on a mismatch write the render "
                  "(NAME.actual.png) and an amplified diff (NAME.diff.png) beside the golden");
     sub->add_option("MANIFEST", o->manifest, "The manifest (YAML)")->required()->type_name("MANIFEST.yaml");
-    if (!update)
+    if (!update) {
       sub->add_option("--failures", o->failures_dir, "Write actual and diff images of failures here instead")
           ->type_name("DIR");
+      sub->add_option("--csv", o->csv, "Write one row per image: entry,image,t,result,rms,max,...")->type_name("FILE.csv");
+      sub->add_option("--summary", o->summary, "Write each entry's run and images as JSON (docs/summary.md)")
+          ->type_name("FILE.json");
+      add_shard_option(sub, o->shard);
+    }
     add_gl_options(sub, o->gl);
     add_max_memory_option(sub, o->max_memory);
     add_progress_options(sub);

@@ -121,24 +121,26 @@ void print_table(const WorkPrecisionResult& r, const std::vector<LaneSpec>& lane
       std::printf("%s below its order %d: %s\n", lanes[i].name().c_str(), analysis::nominal_order(lanes[i].kind), why.c_str());
 }
 
-// Each run a lane (its errors beside the common keys), and the study's T and reference.
+// A run as a lane: its errors beside the common keys.
+JsonObject run_lane_json(const std::string& scene, const WorkPrecisionPoint& p, const LaneNames& names) {
+  RunTotals t;
+  t.steps = p.steps;
+  t.force_evals = p.force_evals;
+  t.newton_iterations = p.newton_iterations;
+  t.cg_iterations = p.cg_iterations;
+  t.unconverged_steps = p.unconverged_steps;
+  t.cpu_seconds = p.cpu_seconds;
+  JsonObject lane = lane_json(scene, p.integrator, p.dt, t, p.diverged ? std::optional<double>(p.diverged_at) : std::nullopt);
+  lane.number("wall_seconds", p.wall_seconds).number("rms_error", p.rms_error).number("max_error", p.max_error);
+  if (names[p.lane] != integrator_name(p.integrator)) lane.text("lane", names[p.lane]);
+  return lane;
+}
+
+// Each run a lane, and the study's T and reference.
 void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
                         const WorkPrecisionResult& r, const LaneNames& names) {
   std::vector<JsonObject> lanes;
-  for (const WorkPrecisionPoint& p : r.points) {
-    RunTotals t;
-    t.steps = p.steps;
-    t.force_evals = p.force_evals;
-    t.newton_iterations = p.newton_iterations;
-    t.cg_iterations = p.cg_iterations;
-    t.unconverged_steps = p.unconverged_steps;
-    t.cpu_seconds = p.cpu_seconds;
-    lanes.push_back(lane_json(scene, p.integrator, p.dt, t, p.diverged ? std::optional<double>(p.diverged_at) : std::nullopt)
-                        .number("wall_seconds", p.wall_seconds)
-                        .number("rms_error", p.rms_error)
-                        .number("max_error", p.max_error));
-    if (names[p.lane] != integrator_name(p.integrator)) lanes.back().text("lane", names[p.lane]);
-  }
+  for (const WorkPrecisionPoint& p : r.points) lanes.push_back(run_lane_json(scene, p, names));
   JsonObject reference;
   reference.text("integrator", std::string(integrator_name(r.reference.integrator)))
       .number("dt", r.reference.dt)
@@ -186,7 +188,8 @@ int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSp
   row.reference.change_rms = ref.change_rms;
   analysis::run_points(model, spec, ref, shard.todo(), hooks, [&](std::size_t item, const WorkPrecisionPoint& p) {
     row.points = {p};
-    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, row, names); })));
+    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, row, names); })),
+                 run_lane_json(model.name, p, names).dump());
   });
   return shard.finish();
 }

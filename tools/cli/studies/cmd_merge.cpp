@@ -1,19 +1,22 @@
-// clothsim merge SHARD... [--csv FILE] [--plot FILE.png]
+// clothsim merge SHARD... [--csv FILE] [--summary FILE.json] [--plot FILE.png]
 //
-// Joins the parts of a sharded study (bench or stability run with --shard K/N, each writing
-// a directory F.shard-K-of-N/, study_shard.h) into the CSV the study writes in one process:
-// the same header, the same rows in the same order (timing columns aside, which measure
-// the machine each part ran on). Without --csv the CSV goes to stdout.
+// Joins the parts of a sharded study (bench, stability or golden check run with --shard K/N,
+// each writing a directory F.shard-K-of-N/, study_shard.h) into what the study writes in one
+// process: the CSV (the same header, the same rows in the same order), the --summary JSON and
+// the figure, timing aside (it measures the machine each part ran on). Without --csv, a
+// study's CSV goes to stdout (golden's stdout is its report: a line per image, the tally).
+// Each study's own ending is a row of kStudyMerges.
 //
 // Refuses, with one line naming the file: a directory that is not a shard, and shards of
 // different studies, scenes, options, versions or shard counts. Lists every missing and
 // incomplete shard and exits 1 without writing anything.
 //
 // A merged bench ends as the single-process one does: a reference not converged against the
-// smallest error keeps the CSV, draws no plot and exits 1.
+// smallest error keeps the CSV, draws no plot and exits 1. A merged golden check with an
+// image that differs, is missing or diverged exits 1, naming the manifest entries.
 //
 // Exit codes: 0; 2 bad options or shards that do not belong together; 1 missing or
-// incomplete shards, a bench reference not converged, I/O, the plot.
+// incomplete shards, a bench reference not converged, a golden image failed, I/O, the plot.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +30,8 @@
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
 #include "cli/common/progress.h"
+#include "cli/common/summary_json.h"
+#include "cli/golden/golden_report.h"
 #include "study/study.h"
 #include "study/work_precision.h"
 
@@ -35,7 +40,7 @@ namespace {
 
 struct MergeOptions {
   std::vector<std::string> shards;
-  std::string csv, plot;
+  std::string csv, plot, summary;
 };
 
 struct ShardPart {
@@ -131,20 +136,6 @@ std::string merged_csv(const std::vector<ShardPart>& parts) {
   return csv;
 }
 
-// One CSV line's cells (RFC 4180 quotes, as csv_text writes them).
-std::vector<std::string> csv_cells(const std::string& line) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (c == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') cells.back() += c, ++i;
-    else if (c == '"') quoted = !quoted;
-    else if (c == ',' && !quoted) cells.emplace_back();
-    else cells.back() += c;
-  }
-  return cells;
-}
-
 // bench's last check, which needs every error (work_precision.h): the reference's own
 // change at most reference_margin x the smallest RMS error. "" when it holds.
 std::string bench_reference_problem(const std::string& csv) {
@@ -172,9 +163,122 @@ std::string bench_reference_problem(const std::string& csv) {
   return why;
 }
 
-int merge_command(const MergeOptions& o) {
-  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}});
-  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+// The merged study: the first part's record, the CSV one process writes, and (for --summary)
+// each item's lane as the shard dumped it, in item order.
+struct MergedStudy {
+  const analysis::Provenance& provenance;
+  std::string csv;
+  std::vector<JsonObject> lanes;
+};
+
+// The first row's cells by column: the settings every row of a study repeats.
+std::map<std::string, std::string> first_row(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string header, row;
+  std::getline(in, header);
+  std::getline(in, row);
+  const std::vector<std::string> names = csv_cells(header), cells = csv_cells(row);
+  std::map<std::string, std::string> by_name;
+  for (std::size_t i = 0; i < names.size() && i < cells.size(); ++i) by_name[names[i]] = cells[i];
+  return by_name;
+}
+
+double number(const std::string& cell) { return cell.empty() ? NAN : std::strtod(cell.c_str(), nullptr); }
+
+JsonObject stability_keys(const MergedStudy& m) {
+  std::map<std::string, std::string> row = first_row(m.csv);
+  JsonObject keys;
+  keys.text("param", row["param"])
+      .number("duration", number(row["duration"]))
+      .number("min_dt", number(row["min_dt"]))
+      .number("max_dt", number(row["max_dt"]))
+      .boolean("complete", true);
+  return keys;
+}
+
+JsonObject bench_keys(const MergedStudy& m) {
+  std::map<std::string, std::string> row = first_row(m.csv);
+  JsonObject reference;
+  reference.text("integrator", std::string(integrator_name(analysis::WorkPrecisionSpec{}.reference_integrator)))
+      .number("dt", number(row["reference_dt"]))
+      .number("change_rms", number(row["reference_change"]))
+      .boolean("converged", bench_reference_problem(m.csv).empty());
+  JsonObject keys;
+  keys.number("duration", number(row["duration"])).boolean("complete", true).object("reference", reference);
+  return keys;
+}
+
+// As the single-process bench ends: a reference not converged fails it, CSV kept, no plot.
+std::string bench_conclusion(const MergedStudy& m, const std::string& csv_path) {
+  const std::string why = bench_reference_problem(m.csv);
+  if (why.empty()) return "";
+  return m.provenance.scene + ": " + why + (csv_path.empty() ? "" : " (kept for inspection: " + csv_path + ")") +
+         "; no plot drawn";
+}
+
+std::vector<GoldenVerdict> golden_verdicts(const std::string& csv) {
+  std::vector<GoldenVerdict> verdicts;
+  std::istringstream in(after_first_line(csv));
+  for (std::string row; std::getline(in, row);) verdicts.push_back(parse_golden_row(row));
+  return verdicts;
+}
+
+JsonObject golden_keys(const MergedStudy& m) { return golden_summary_keys(golden_verdicts(m.csv)); }
+
+// What one golden check prints (a line per image, the tally); a failed image fails the merge.
+std::string golden_conclusion(const MergedStudy& m, const std::string&) {
+  const std::vector<GoldenVerdict> verdicts = golden_verdicts(m.csv);
+  for (const GoldenVerdict& v : verdicts) std::printf("%s\n", golden_report_line(v).c_str());
+  std::printf("%s\n", golden_tally(verdicts, m.provenance.scene).c_str());
+  const std::string failed = golden_failures(verdicts);
+  return failed.empty() ? "" : "golden check of " + m.provenance.scene + " failed: " + failed;
+}
+
+// What merge does for each study beyond joining its rows.
+struct StudyMerge {
+  const char* study;
+  const char* plot_script;  // nullptr: the study draws no figure
+  bool csv_to_stdout;       // without --csv (golden's stdout is its report)
+  JsonObject (*summary_keys)(const MergedStudy&);  // the summary's own keys beside its lanes
+  // Prints what the study prints at its end; says why it fails ("" when it does not).
+  std::string (*conclusion)(const MergedStudy&, const std::string& csv_path);
+};
+
+const StudyMerge kStudyMerges[] = {
+    {"stability", "plot_stability.py", true, stability_keys, nullptr},
+    {"bench", "plot_work_precision.py", true, bench_keys, bench_conclusion},
+    {"golden", nullptr, false, golden_keys, golden_conclusion},
+};
+
+const StudyMerge& study_merge(const ShardPart& part) {
+  for (const StudyMerge& m : kStudyMerges)
+    if (part.provenance.study == m.study) return m;
+  throw UsageError(part.dir + ": a shard of '" + part.provenance.study + "', which this clothsim does not merge");
+}
+
+// Every item's summary lane, in item order.
+std::vector<JsonObject> merged_lanes(const std::vector<ShardPart>& parts) {
+  std::map<std::size_t, std::string> lanes;
+  for (const ShardPart& p : parts) {
+    std::map<std::size_t, std::string> mine;
+    try {
+      mine = analysis::Journal::read_lanes(p.dir);
+    } catch (const std::runtime_error& e) {
+      throw RuntimeFailure(e.what());
+    }
+    for (std::size_t item : p.provenance.items) {
+      if (!mine.count(item))
+        throw RuntimeFailure(p.dir + ": item " + std::to_string(item) + " has no summary lane (lanes/" +
+                             std::to_string(item) + "); rerun the shard to write --summary");
+      lanes[item] = mine[item];
+    }
+  }
+  std::vector<JsonObject> out;
+  for (const auto& [item, lane] : lanes) out.push_back(JsonObject::from_dump(lane));
+  return out;
+}
+
+std::vector<ShardPart> complete_parts(const MergeOptions& o) {
   std::vector<ShardPart> parts;
   for (const std::string& dir : o.shards) parts.push_back(read_part(dir));
   check_same_study(parts);
@@ -183,24 +287,34 @@ int merge_command(const MergeOptions& o) {
     std::fputs(missing.c_str(), stderr);
     throw RuntimeFailure("merge: the study is not complete (above); nothing written");
   }
-  std::unique_ptr<PlotScript> plot;
+  return parts;
+}
+
+int merge_command(const MergeOptions& o) {
+  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
+  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
+  const std::vector<ShardPart> parts = complete_parts(o);
+  const StudyMerge& study = study_merge(parts.front());
   const analysis::Provenance& p = parts.front().provenance;
-  if (!o.plot.empty())
-    plot = std::make_unique<PlotScript>(p.study == "bench" ? "plot_work_precision.py" : "plot_stability.py", o.plot);
-  const std::string csv = merged_csv(parts);
+  if (!o.plot.empty() && !study.plot_script) throw UsageError("--plot: " + p.study + " draws no figure");
+  std::unique_ptr<PlotScript> plot;
+  if (!o.plot.empty()) plot = std::make_unique<PlotScript>(study.plot_script, o.plot);
+  MergedStudy merged{p, merged_csv(parts), o.summary.empty() ? std::vector<JsonObject>{} : merged_lanes(parts)};
   const auto write_to = [&](const std::string& path) {
     AtomicFile file(path);
-    std::fputs(csv.c_str(), file.stream());
+    std::fputs(merged.csv.c_str(), file.stream());
     file.commit();
   };
-  if (o.csv.empty()) std::fputs(csv.c_str(), stdout);
-  else write_to(o.csv);
-  std::fprintf(o.csv.empty() ? stderr : stdout, "merge: %s of %s, %zu shards, %zu rows%s%s\n", p.study.c_str(),
+  if (!o.csv.empty()) write_to(o.csv);
+  else if (study.csv_to_stdout) std::fputs(merged.csv.c_str(), stdout);
+  if (!o.summary.empty()) write_summary(o.summary, p.study, p.scene, merged.lanes, study.summary_keys(merged));
+  const bool quiet_stdout = o.csv.empty() && study.csv_to_stdout;
+  std::fprintf(quiet_stdout ? stderr : stdout, "merge: %s of %s, %zu shards, %zu items%s%s\n", p.study.c_str(),
                p.scene.c_str(), parts.size(), p.total_items, o.csv.empty() ? "" : " -> ", o.csv.c_str());
-  const std::string reference = p.study == "bench" ? bench_reference_problem(csv) : "";
-  if (!reference.empty())  // as the single-process bench: the CSV stays for inspection, no plot
-    throw RuntimeFailure(p.scene + ": " + reference + (o.csv.empty() ? "" : " (kept for inspection: " + o.csv + ")") +
-                         "; no plot drawn");
+  std::fflush(stdout);
+  const std::string problem = study.conclusion ? study.conclusion(merged, o.csv) : "";
+  if (!problem.empty()) throw RuntimeFailure(problem);
   if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", p.title});
   return kOk;
 }
@@ -210,11 +324,12 @@ int merge_command(const MergeOptions& o) {
 void add_merge_command(CLI::App& app, Command& command) {
   auto o = std::make_shared<MergeOptions>();
   CLI::App* sub = app.add_subcommand(
-      "merge", "Join the shards of a sharded bench or stability study (--shard K/N) into its CSV and plot");
+      "merge", "Join the shards of a sharded bench, stability or golden check (--shard K/N) into what one process writes");
   sub->add_option("shards", o->shards, "The shard directories (F.shard-K-of-N), all of one study")
       ->required()
       ->type_name("SHARD...");
   sub->add_option("--csv", o->csv, "Write the merged CSV here (default: stdout)")->type_name("FILE.csv");
+  sub->add_option("--summary", o->summary, "Write the study's --summary JSON (docs/summary.md)")->type_name("FILE.json");
   sub->add_option("--plot", o->plot, "Draw the study's figure (needs python3-matplotlib)")->type_name("FILE.png");
   add_no_overwrite_option(sub);
   sub->callback([o, &command] { command = [o] { return merge_command(*o); }; });

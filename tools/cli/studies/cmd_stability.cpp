@@ -131,40 +131,44 @@ std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& s
   return buf;
 }
 
-// Each search a lane: its largest stable step as dt, the bracket, how the first unstable step
+// A search as a lane: its largest stable step as dt, the bracket, how the first unstable step
 // failed, and implicit_euler's one-step-per-frame runs.
+JsonObject search_lane_json(const std::string& scene, const StabilityLimit& l, const LaneNames& names) {
+  std::vector<JsonObject> frame_steps;
+  for (const analysis::FrameStepResult& f : l.frame_steps) {
+    JsonObject step;
+    step.number("dt", f.dt)
+        .integer("steps", f.steps)
+        .integer("unconverged_steps", f.unconverged_steps)
+        .number("diverged_at", f.failure == analysis::Failure::Diverged ? std::optional<double>(f.diverged_at)
+                                                                        : std::nullopt)
+        .text("failure", analysis::failure_name(f.failure));
+    frame_steps.push_back(step);
+  }
+  JsonObject lane = lane_json_without_counts(scene, l.integrator,
+                                             std::isfinite(l.stable_dt) ? std::optional<double>(l.stable_dt) : std::nullopt,
+                                             l.cpu_seconds);
+  lane.number("value", l.value)
+      .text("outcome", analysis::outcome_name(l.outcome))
+      .number("stable_dt", l.stable_dt)
+      .number("unstable_dt", l.unstable_dt)
+      .text("failure", analysis::failure_name(l.failure))
+      .text("reason", l.reason)
+      .integer("trials", l.trials)
+      .number("w_max", l.estimate.w_max)
+      .number("dt_springs", l.estimate.dt_springs())
+      .number("dt_with_damping", l.estimate.dt_with_damping())
+      .array("frame_steps", frame_steps);
+  if (names[l.lane] != integrator_name(l.integrator)) lane.text("lane", names[l.lane]);
+  return lane;
+}
+
+// Each search a lane, and the sweep's key, T and range.
 void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
                         const std::string& param, const std::vector<StabilityLimit>& limits,
                         const analysis::StabilitySpec& spec, const LaneNames& names, bool complete) {
   std::vector<JsonObject> lanes;
-  for (const StabilityLimit& l : limits) {
-    std::vector<JsonObject> frame_steps;
-    for (const analysis::FrameStepResult& f : l.frame_steps) {
-      JsonObject step;
-      step.number("dt", f.dt)
-          .integer("steps", f.steps)
-          .integer("unconverged_steps", f.unconverged_steps)
-          .number("diverged_at", f.failure == analysis::Failure::Diverged ? std::optional<double>(f.diverged_at)
-                                                                          : std::nullopt)
-          .text("failure", analysis::failure_name(f.failure));
-      frame_steps.push_back(step);
-    }
-    lanes.push_back(lane_json_without_counts(scene, l.integrator,
-                                             std::isfinite(l.stable_dt) ? std::optional<double>(l.stable_dt) : std::nullopt,
-                                             l.cpu_seconds)
-                        .number("value", l.value)
-                        .text("outcome", analysis::outcome_name(l.outcome))
-                        .number("stable_dt", l.stable_dt)
-                        .number("unstable_dt", l.unstable_dt)
-                        .text("failure", analysis::failure_name(l.failure))
-                        .text("reason", l.reason)
-                        .integer("trials", l.trials)
-                        .number("w_max", l.estimate.w_max)
-                        .number("dt_springs", l.estimate.dt_springs())
-                        .number("dt_with_damping", l.estimate.dt_with_damping())
-                        .array("frame_steps", frame_steps));
-    if (names[l.lane] != integrator_name(l.integrator)) lanes.back().text("lane", names[l.lane]);
-  }
+  for (const StabilityLimit& l : limits) lanes.push_back(search_lane_json(scene, l, names));
   JsonObject extra;
   extra.text("param", param)
       .number("duration", spec.duration)
@@ -189,7 +193,8 @@ int stability_shard(const StabilityOptions& o, const std::string& title, const s
   for (double dt : spec.frame_dts) plan.plan += ";frame " + csv_number(dt);
   StudyShard shard(o.shard, o.csv, o.plot, o.summary, plan);
   analysis::stability_sweep_items(refs, spec, shard.todo(), hooks, [&](std::size_t item, const StabilityLimit& l) {
-    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, o.param, {l}, spec, names); })));
+    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, o.param, {l}, spec, names); })),
+                 search_lane_json(title, l, names).dump());
   });
   return shard.finish();
 }

@@ -82,9 +82,9 @@ StudyShard::StudyShard(const std::string& shard_option, const std::string& csv, 
   std::fflush(stdout);
 }
 
-void StudyShard::record(std::size_t item, const std::string& row) {
+void StudyShard::record(std::size_t item, const std::string& row, const std::string& lane) {
   try {
-    journal_->record(item, row);
+    journal_->record(item, row, lane);
   } catch (const std::runtime_error& e) {
     throw RuntimeFailure(e.what());
   }
@@ -112,6 +112,20 @@ std::string written_text(const std::function<void(std::FILE*)>& write) {
   std::string text(buffer, size);
   std::free(buffer);
   return text;
+}
+
+// One CSV line's cells (RFC 4180 quotes, as csv_text writes them).
+std::vector<std::string> csv_cells(const std::string& line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') cells.back() += c, ++i;
+    else if (c == '"') quoted = !quoted;
+    else if (c == ',' && !quoted) cells.emplace_back();
+    else cells.back() += c;
+  }
+  return cells;
 }
 
 std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }

@@ -1,7 +1,7 @@
-// --shard K/N|auto on bench and stability (src/study/shard.h): the study's part this process
+// --shard K/N|auto on bench, stability and golden check (src/study/shard.h): the study's part this process
 // runs, and where it goes. With --csv F, shard K of N writes the directory F.shard-K-of-N/:
-// its provenance record and a journal of finished items (src/study/journal.h), one CSV row
-// each; `clothsim merge` joins the directories into F. A rerun of the same command (a
+// its provenance record and a journal of finished items (src/study/journal.h), each with its
+// CSV row(s) and its --summary lane; `clothsim merge` joins the directories into F. A rerun of the same command (a
 // requeued array task) finds the directory and runs only what it does not hold.
 #pragma once
 
@@ -21,7 +21,7 @@ void add_shard_option(CLI::App* sub, std::string& shard);
 
 // What a study tells its shard about itself.
 struct ShardPlan {
-  std::string study;                  // "stability", "bench"
+  std::string study;                  // "stability", "bench", "golden"
   std::string scene_path;             // as given
   std::vector<std::string> sets;      // --set, in order
   std::string plan;                   // the resolved options and item list, as text (hashed)
@@ -42,7 +42,8 @@ class StudyShard {
              const std::string& summary, const ShardPlan& plan);
   // This part's items that are not finished yet, ascending.
   const std::vector<std::size_t>& todo() const { return todo_; }
-  void record(std::size_t item, const std::string& row);
+  // The item's CSV row(s) and its --summary lane (JsonObject::dump()), for merge.
+  void record(std::size_t item, const std::string& row, const std::string& lane);
   const std::string& dir() const { return journal_->dir(); }
   // Says what is finished; RuntimeFailure (exit 130/143 when a signal stopped it) if not all.
   int finish() const;
@@ -55,6 +56,8 @@ class StudyShard {
 
 // The text a CSV writer writes to a stream (`write` is given a temporary one).
 std::string written_text(const std::function<void(std::FILE*)>& write);
+// One CSV line's cells (RFC 4180 quotes, as csv_text writes them).
+std::vector<std::string> csv_cells(const std::string& line);
 // Its first line (without the newline) and the rest.
 std::string first_line(const std::string& text);
 std::string after_first_line(const std::string& text);
