@@ -24,7 +24,7 @@ using D = hn::ScalableTag<double>;
 // back a value another lane has just moved.
 void ProjectSet(const SpringFamily& fam, const double* HWY_RESTRICT rest, const double* HWY_RESTRICT gain,
                 const std::pair<std::size_t, std::size_t>* runs, std::size_t num_runs, double h,
-                std::size_t stride, double* HWY_RESTRICT y, const double* HWY_RESTRICT start,
+                std::size_t stride, double* HWY_RESTRICT y, const double* HWY_RESTRICT gap, std::size_t gap_stride,
                 const double* HWY_RESTRICT w, double* HWY_RESTRICT lambda) {
   const D d;
   const std::size_t N = hn::Lanes(d);
@@ -32,7 +32,7 @@ void ProjectSet(const SpringFamily& fam, const double* HWY_RESTRICT rest, const 
   const auto cs = hn::Set(d, fam.ks * h * h);  // alpha~^-1
   const auto kdh = hn::Set(d, fam.kd * h);
   double* HWY_RESTRICT c[3] = {y, y + stride, y + 2 * stride};
-  const double* HWY_RESTRICT s[3] = {start, start + stride, start + 2 * stride};
+  const double* HWY_RESTRICT s[3] = {gap, gap + gap_stride, gap + 2 * gap_stride};  // x_a - x_b
   const std::size_t off = static_cast<std::size_t>(fam.offset);
   for (std::size_t r = 0; r < num_runs; ++r) {
     for (std::size_t q = runs[r].first; q < runs[r].second; q += N) {
@@ -51,7 +51,7 @@ void ProjectSet(const SpringFamily& fam, const double* HWY_RESTRICT rest, const 
       decltype(hn::Zero(d)) u[3];
       for (int k = 0; k < 3; ++k) {
         u[k] = hn::Mul(dd[k], inv_l);
-        const auto moved = hn::Sub(hn::Sub(ya[k], hn::LoadU(d, s[k] + a)), hn::Sub(yb[k], hn::LoadU(d, s[k] + b)));
+        const auto moved = hn::Sub(dd[k], hn::LoadU(d, s[k] + q));  // (y_a - x_a) - (y_b - x_b)
         rate = hn::Add(rate, hn::Mul(u[k], moved));
       }
       const auto numerator = hn::Sub(hn::Sub(hn::Mul(hn::Neg(cs), hn::Sub(l, l0)), lam), hn::Mul(kdh, rate));
@@ -151,7 +151,6 @@ void xpbd_load_families(const Model& model, const StepProblem& p, const Eigen::V
   if (f.model != &model || f.springs != model.springs.size()) build_sets(model, f), f.w.clear();
   const int P = model.num_particles;
   to_soa(y, P, f.stride, f.y);
-  to_soa(p.start, P, f.stride, f.start);
   const bool pins_changed = f.w.size() != f.stride || !std::equal(f.w.begin(), f.w.begin() + P, inv_mass.data());
   if (pins_changed) {
     f.w.assign(f.stride, 0.0);
@@ -160,7 +159,17 @@ void xpbd_load_families(const Model& model, const StepProblem& p, const Eigen::V
   if (pins_changed || f.h != p.h) build_gains(model, p.h, f);
   const auto& families = model.spring_layout.families;
   f.lambda.resize(families.size());
-  for (std::size_t k = 0; k < families.size(); ++k) f.lambda[k].assign(families[k].rest.size() + kSpringLanePad, 0.0);
+  f.gap.resize(families.size());
+  for (std::size_t k = 0; k < families.size(); ++k) {
+    const SpringFamily& fam = families[k];
+    const std::size_t len = fam.rest.size() + kSpringLanePad;
+    f.lambda[k].assign(len, 0.0);
+    f.gap[k].assign(3 * len, 0.0);
+    for (std::size_t q = 0; q < static_cast<std::size_t>(fam.count); ++q) {
+      const int a = fam.first + static_cast<int>(q), b = a + fam.offset;
+      for (std::size_t c = 0; c < 3; ++c) f.gap[k][c * len + q] = p.start(static_cast<Eigen::Index>(c), a) - p.start(static_cast<Eigen::Index>(c), b);
+    }
+  }
 }
 
 void xpbd_family_sweep(const Model& model, double h, XpbdFamilies& f) {
@@ -169,7 +178,8 @@ void xpbd_family_sweep(const Model& model, double h, XpbdFamilies& f) {
     for (std::size_t set = 0; set < 2; ++set) {
       const auto& runs = f.runs[2 * k + set];
       HWY_DYNAMIC_DISPATCH(ProjectSet)(families[k], f.rest[2 * k + set].data(), f.gain[2 * k + set].data(), runs.data(), runs.size(), h,
-                                       f.stride, f.y.data(), f.start.data(), f.w.data(), f.lambda[k].data());
+                                       f.stride, f.y.data(), f.gap[k].data(), f.lambda[k].size(), f.w.data(),
+                                       f.lambda[k].data());
     }
 }
 
