@@ -18,7 +18,8 @@ void sweep_grid(const Model& model, int iterations, SolverCache& c) {
   vbd_load_grid(model, c.problem, c.y, c.vbd_grid);
   for (int it = 0; it < iterations; ++it) vbd_grid_sweep(model, c.problem, c.vbd_grid);
   vbd_store_grid(model, c.vbd_grid, c.y);
-  if (model.num_bodies() > model.num_particles)
+  const Eigen::VectorXd& a = c.problem.weight;
+  if ((a.tail(model.num_bodies() - model.num_particles).array() > 0.0).any())  // a dynamic sphere
     for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts, model.num_particles);
 }
 

@@ -19,48 +19,84 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::ScalableTag<double>;
 
+using V = hn::Vec<D>;
+
+// The projection of a vector of springs (xpbd_kernels.h's formula): their multipliers' change
+// (0 where no spring acts) and unit directions u, from the ends, the rest lengths, multipliers,
+// gains 1 / denominator and start separations.
+HWY_INLINE V Project(const V ya[3], const V yb[3], V l0, V lam, V g, const V gap[3], V cs, V kdh, V u[3]) {
+  const D d;
+  const V zero = hn::Zero(d);
+  V dd[3];
+  for (int k = 0; k < 3; ++k) dd[k] = hn::Sub(ya[k], yb[k]);
+  const V l = hn::Sqrt(hn::Add(hn::Add(hn::Mul(dd[0], dd[0]), hn::Mul(dd[1], dd[1])), hn::Mul(dd[2], dd[2])));
+  const auto acts = hn::AndNot(hn::Le(l, zero), hn::Gt(g, zero));
+  const V inv_l = hn::IfThenElseZero(acts, hn::Div(hn::Set(d, 1.0), l));  // 0: u = 0 where no spring acts
+  V rate = zero;  // grad C . (y - x_n) = u . ((y_a - y_b) - (x_a - x_b))
+  for (int k = 0; k < 3; ++k) {
+    u[k] = hn::Mul(dd[k], inv_l);
+    rate = hn::Add(rate, hn::Mul(u[k], hn::Sub(dd[k], gap[k])));
+  }
+  const V numerator = hn::Sub(hn::Sub(hn::Mul(hn::Neg(cs), hn::Sub(l, l0)), lam), hn::Mul(kdh, rate));
+  return hn::IfThenElseZero(acts, hn::Mul(numerator, g));
+}
+
 // One set of one family: for each run, vectors of positions projected at once. The ends
 // at b are re-read after the stores at a, so a lane outside the set (adding 0) never writes
 // back a value another lane has just moved.
 void ProjectSet(const SpringFamily& fam, const double* HWY_RESTRICT rest, const double* HWY_RESTRICT gain,
                 const std::pair<std::size_t, std::size_t>* runs, std::size_t num_runs, double h,
-                std::size_t stride, double* HWY_RESTRICT y, const double* HWY_RESTRICT start,
+                std::size_t stride, double* HWY_RESTRICT y, const double* HWY_RESTRICT gap, std::size_t gap_stride,
                 const double* HWY_RESTRICT w, double* HWY_RESTRICT lambda) {
   const D d;
   const std::size_t N = hn::Lanes(d);
-  const auto zero = hn::Zero(d), one = hn::Set(d, 1.0);
-  const auto cs = hn::Set(d, fam.ks * h * h);  // alpha~^-1
-  const auto kdh = hn::Set(d, fam.kd * h);
+  const V cs = hn::Set(d, fam.ks * h * h), kdh = hn::Set(d, fam.kd * h);  // alpha~^-1, kd h
   double* HWY_RESTRICT c[3] = {y, y + stride, y + 2 * stride};
-  const double* HWY_RESTRICT s[3] = {start, start + stride, start + 2 * stride};
+  const double* HWY_RESTRICT s[3] = {gap, gap + gap_stride, gap + 2 * gap_stride};
   const std::size_t off = static_cast<std::size_t>(fam.offset);
   for (std::size_t r = 0; r < num_runs; ++r) {
     for (std::size_t q = runs[r].first; q < runs[r].second; q += N) {
       const std::size_t a = static_cast<std::size_t>(fam.first) + q, b = a + off;
-      const auto l0 = hn::LoadU(d, rest + q);
-      const auto lam = hn::LoadU(d, lambda + q);
-      const auto wa = hn::LoadU(d, w + a), wb = hn::LoadU(d, w + b);
-      const auto g = hn::LoadU(d, gain + q);
-      decltype(hn::Zero(d)) ya[3], yb[3], dd[3];
+      V ya[3], yb[3], gq[3], u[3];
       for (int k = 0; k < 3; ++k)
-        ya[k] = hn::LoadU(d, c[k] + a), yb[k] = hn::LoadU(d, c[k] + b), dd[k] = hn::Sub(ya[k], yb[k]);
-      const auto l = hn::Sqrt(hn::Add(hn::Add(hn::Mul(dd[0], dd[0]), hn::Mul(dd[1], dd[1])), hn::Mul(dd[2], dd[2])));
-      const auto acts = hn::AndNot(hn::Le(l, zero), hn::Gt(g, zero));
-      const auto inv_l = hn::IfThenElseZero(acts, hn::Div(one, l));  // 0: u = 0 where no spring acts
-      auto rate = zero;  // grad C . (y - x_n)
-      decltype(hn::Zero(d)) u[3];
-      for (int k = 0; k < 3; ++k) {
-        u[k] = hn::Mul(dd[k], inv_l);
-        const auto moved = hn::Sub(hn::Sub(ya[k], hn::LoadU(d, s[k] + a)), hn::Sub(yb[k], hn::LoadU(d, s[k] + b)));
-        rate = hn::Add(rate, hn::Mul(u[k], moved));
-      }
-      const auto numerator = hn::Sub(hn::Sub(hn::Mul(hn::Neg(cs), hn::Sub(l, l0)), lam), hn::Mul(kdh, rate));
-      const auto dlam = hn::IfThenElseZero(acts, hn::Mul(numerator, g));
+        ya[k] = hn::LoadU(d, c[k] + a), yb[k] = hn::LoadU(d, c[k] + b), gq[k] = hn::LoadU(d, s[k] + q);
+      const V lam = hn::LoadU(d, lambda + q);
+      const V dlam = Project(ya, yb, hn::LoadU(d, rest + q), lam, hn::LoadU(d, gain + q), gq, cs, kdh, u);
       hn::StoreU(hn::Add(lam, dlam), d, lambda + q);
-      const auto ta = hn::Mul(wa, dlam), tb = hn::Mul(wb, dlam);
+      const V ta = hn::Mul(hn::LoadU(d, w + a), dlam), tb = hn::Mul(hn::LoadU(d, w + b), dlam);
       for (int k = 0; k < 3; ++k) hn::StoreU(hn::Add(ya[k], hn::Mul(ta, u[k])), d, c[k] + a);
       for (int k = 0; k < 3; ++k) hn::StoreU(hn::Sub(hn::LoadU(d, c[k] + b), hn::Mul(tb, u[k])), d, c[k] + b);
     }
+  }
+}
+
+// A set of the row-wise family (i, j) -> (i + 1, j): its springs join p, p + 1 for every p of
+// one parity, so a vector of 2L consecutive particles, deinterleaved, is L springs' a ends and
+// their b ends, and a vector of 2L positions is L of the set's positions: no lane is masked
+// for being outside the set. `q0`: the set's first position.
+void ProjectPairs(const SpringFamily& fam, const double* HWY_RESTRICT rest, const double* HWY_RESTRICT gain,
+                  std::size_t q0, double h, std::size_t stride, double* HWY_RESTRICT y,
+                  const double* HWY_RESTRICT gap, std::size_t gap_stride, const double* HWY_RESTRICT w,
+                  double* HWY_RESTRICT lambda) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V cs = hn::Set(d, fam.ks * h * h), kdh = hn::Set(d, fam.kd * h);
+  double* HWY_RESTRICT c[3] = {y, y + stride, y + 2 * stride};
+  const double* HWY_RESTRICT s[3] = {gap, gap + gap_stride, gap + 2 * gap_stride};
+  V skip;  // the other set's half of a pair of vectors
+  for (std::size_t q = q0; q < static_cast<std::size_t>(fam.count); q += 2 * N) {
+    const std::size_t a = static_cast<std::size_t>(fam.first) + q;
+    V ya[3], yb[3], gq[3], u[3], l0, g, lam, other, wa, wb;
+    for (int k = 0; k < 3; ++k) hn::LoadInterleaved2(d, c[k] + a, ya[k], yb[k]), hn::LoadInterleaved2(d, s[k] + q, gq[k], skip);
+    hn::LoadInterleaved2(d, rest + q, l0, skip);
+    hn::LoadInterleaved2(d, gain + q, g, skip);
+    hn::LoadInterleaved2(d, lambda + q, lam, other);
+    hn::LoadInterleaved2(d, w + a, wa, wb);
+    const V dlam = Project(ya, yb, l0, lam, g, gq, cs, kdh, u);
+    hn::StoreInterleaved2(hn::Add(lam, dlam), other, d, lambda + q);
+    const V ta = hn::Mul(wa, dlam), tb = hn::Mul(wb, dlam);
+    for (int k = 0; k < 3; ++k)
+      hn::StoreInterleaved2(hn::Add(ya[k], hn::Mul(ta, u[k])), hn::Sub(yb[k], hn::Mul(tb, u[k])), d, c[k] + a);
   }
 }
 
@@ -72,6 +108,7 @@ HWY_AFTER_NAMESPACE();
 namespace clothsim {
 
 HWY_EXPORT(ProjectSet);
+HWY_EXPORT(ProjectPairs);
 
 namespace {
 
@@ -151,7 +188,6 @@ void xpbd_load_families(const Model& model, const StepProblem& p, const Eigen::V
   if (f.model != &model || f.springs != model.springs.size()) build_sets(model, f), f.w.clear();
   const int P = model.num_particles;
   to_soa(y, P, f.stride, f.y);
-  to_soa(p.start, P, f.stride, f.start);
   const bool pins_changed = f.w.size() != f.stride || !std::equal(f.w.begin(), f.w.begin() + P, inv_mass.data());
   if (pins_changed) {
     f.w.assign(f.stride, 0.0);
@@ -160,16 +196,34 @@ void xpbd_load_families(const Model& model, const StepProblem& p, const Eigen::V
   if (pins_changed || f.h != p.h) build_gains(model, p.h, f);
   const auto& families = model.spring_layout.families;
   f.lambda.resize(families.size());
-  for (std::size_t k = 0; k < families.size(); ++k) f.lambda[k].assign(families[k].rest.size() + kSpringLanePad, 0.0);
+  f.gap.resize(families.size());
+  for (std::size_t k = 0; k < families.size(); ++k) {
+    const SpringFamily& fam = families[k];
+    const std::size_t len = fam.rest.size() + kSpringLanePad;
+    f.lambda[k].assign(len, 0.0);
+    f.gap[k].assign(3 * len, 0.0);
+    for (std::size_t q = 0; q < static_cast<std::size_t>(fam.count); ++q) {
+      const int a = fam.first + static_cast<int>(q), b = a + fam.offset;
+      for (std::size_t c = 0; c < 3; ++c) f.gap[k][c * len + q] = p.start(static_cast<Eigen::Index>(c), a) - p.start(static_cast<Eigen::Index>(c), b);
+    }
+  }
 }
 
 void xpbd_family_sweep(const Model& model, double h, XpbdFamilies& f) {
   const auto& families = model.spring_layout.families;
   for (std::size_t k = 0; k < families.size(); ++k)
     for (std::size_t set = 0; set < 2; ++set) {
-      const auto& runs = f.runs[2 * k + set];
-      HWY_DYNAMIC_DISPATCH(ProjectSet)(families[k], f.rest[2 * k + set].data(), f.gain[2 * k + set].data(), runs.data(), runs.size(), h,
-                                       f.stride, f.y.data(), f.start.data(), f.w.data(), f.lambda[k].data());
+      const SpringFamily& fam = families[k];
+      const std::size_t len = f.lambda[k].size(), at = 2 * k + set;
+      if (fam.dj == 0 && fam.di == 1) {  // pairs: the set's positions are those of a's parity `set`
+        const std::size_t q0 = (set + static_cast<std::size_t>(fam.first)) & 1;
+        HWY_DYNAMIC_DISPATCH(ProjectPairs)(fam, f.rest[at].data(), f.gain[at].data(), q0, h, f.stride, f.y.data(),
+                                           f.gap[k].data(), len, f.w.data(), f.lambda[k].data());
+        continue;
+      }
+      const auto& runs = f.runs[at];
+      HWY_DYNAMIC_DISPATCH(ProjectSet)(fam, f.rest[at].data(), f.gain[at].data(), runs.data(), runs.size(), h,
+                                       f.stride, f.y.data(), f.gap[k].data(), len, f.w.data(), f.lambda[k].data());
     }
 }
 

@@ -34,7 +34,8 @@ struct XpbdFamilies {
   std::vector<std::vector<double>> gain;  // (2 F) 1 / the projection's denominator, 0: none
   double h = 0.0;
   // Per step, structure of arrays (component c of particle i at c stride + i):
-  std::vector<double> y, start;           // (3 stride) iterate, x_n
+  std::vector<double> y;                  // (3 stride) the iterate
+  std::vector<std::vector<double>> gap;   // (F) x_a - x_b at the step's start by position, 3 rows of lambda's length
   std::vector<std::int32_t> touching;      // particles inside a collider's reach
   std::vector<std::vector<double>> lambda;  // (F) multipliers by position
 };
@@ -42,7 +43,8 @@ struct XpbdFamilies {
 // True when the model's springs are all in its layout's families (the SIMD sweep applies).
 bool xpbd_by_families(const Model& model);
 
-// Readies the sets (once per model) and loads the step: y (3 x B), x_n and the inverse masses.
+// Readies the sets (once per model) and loads the step: y (3 x B), the springs' start
+// separations and the inverse masses.
 void xpbd_load_families(const Model& model, const StepProblem& p, const Eigen::VectorXd& inv_mass,
                         const Eigen::Matrix3Xd& y, XpbdFamilies& f);
 
