@@ -19,7 +19,10 @@ StepStats vbd_step(const Model& model, State& state, double h, Workspace& ws) {
   stats.force_evals = 1;
   vbd_initial_guess(model, c.problem, state, c.acceleration, c.y);
   const int iterations = iteration_count(model, IntegratorKind::Vbd);
-  for (int it = 0; it < iterations; ++it) vbd_sweep(model, c.problem, c.vbd, c.y);
+  for (int it = 0; it < iterations; ++it) {
+    vbd_sweep(model, c.problem, c.vbd, c.y);
+    if (ws.on_iteration) ws.on_iteration(it + 1, c.y);
+  }
   stats.newton_iterations = iterations;
   finish_step(c.problem, c.y, state);
   return stats;

@@ -53,6 +53,7 @@ StepStats xpbd_step(const Model& model, State& state, double h, Workspace& ws) {
   for (int it = 0; it < iterations; ++it) {
     project_springs(model, p, state.inv_mass, y, cache.lambda);
     if (contacts) project_contacts(model, p, y);
+    if (ws.on_iteration) ws.on_iteration(it + 1, y);
   }
   StepStats stats;
   stats.newton_iterations = iterations;
