@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <iterator>
+
 #include "core/simulation.h"
 #include "core/solvers/step_problem.h"
 #include "test_support.h"
@@ -146,6 +149,31 @@ TEST(Convergence, ItemsAreStatesTimesMethodsAndAStopKeepsFinishedItemsOnly) {
                                               });
   EXPECT_FALSE(complete);
   EXPECT_EQ(finished, 1);
+}
+
+// A shard runs some items from the states it samples itself: its rows are the whole study's.
+TEST(Convergence, ItemsRunApartGiveTheWholeStudysRows) {
+  ConvergenceSpec spec;
+  spec.states = 2;
+  spec.max_iterations = 3;
+  spec.methods = {IntegratorKind::Xpbd, IntegratorKind::ImplicitEuler};
+  const Model model = small_drape();
+  const auto whole = convergence_study(model, spec);
+  std::vector<ConvergencePoint> apart;
+  for (std::vector<std::size_t> part : {std::vector<std::size_t>{0, 3}, {1, 2}})
+    run_convergence_items(model, spec, part, {}, [&](std::size_t item, const std::vector<ConvergencePoint>& p) {
+      std::copy(p.begin(), p.end(), std::back_inserter(apart));
+      EXPECT_EQ(p.front().state, static_cast<int>(item / 2));
+    });
+  ASSERT_EQ(apart.size(), whole.size());
+  for (const ConvergencePoint& p : apart) {
+    const auto same = std::find_if(whole.begin(), whole.end(), [&](const ConvergencePoint& w) {
+      return w.method == p.method && w.state == p.state && w.iterations == p.iterations;
+    });
+    ASSERT_NE(same, whole.end());
+    EXPECT_EQ(same->rms, p.rms);
+    EXPECT_EQ(same->gradient, p.gradient);
+  }
 }
 
 }  // namespace

@@ -40,7 +40,8 @@ clothsim=$(command -v "$1" 2>/dev/null) || fail "$1: no such program"
 clothsim=$(realpath "$clothsim")
 study=$2
 shift 2
-[[ $study == bench || $study == stability ]] || fail "$study: only bench and stability take --shard"
+[[ $study == bench || $study == stability || $study == converge ]] ||
+  fail "$study: only bench, stability and converge take --shard"
 
 # The shards' arguments: the study's, without --plot (merge draws it); --csv is kept.
 args=() csv= plot= has_jobs=0 has_mem=0
@@ -56,7 +57,7 @@ while (($#)); do
   esac
 done
 [[ -n $csv ]] || fail "the study needs --csv F (the shards write F.shard-K-of-N/, the merge writes F)"
-((has_jobs)) || args+=(--jobs "$cpus")
+((has_jobs)) || [[ $study == converge ]] || args+=(--jobs "$cpus")  # converge runs one sweep at a time
 
 # A shard's command line, quoted for the job's shell; the memory limit is Slurm's when set.
 shard_command=$(printf '%q ' "$clothsim" "$study" "${args[@]}" --shard auto)

@@ -1,6 +1,6 @@
 // clothsim merge SHARD... [--csv FILE] [--plot FILE.png]
 //
-// Joins the parts of a sharded study (bench or stability run with --shard K/N, each writing
+// Joins the parts of a sharded study (bench, stability or converge run with --shard K/N, each writing
 // a directory F.shard-K-of-N/, study_shard.h) into the CSV the study writes in one process:
 // the same header, the same rows in the same order (timing columns aside, which measure
 // the machine each part ran on). Without --csv the CSV goes to stdout.
@@ -186,7 +186,10 @@ int merge_command(const MergeOptions& o) {
   std::unique_ptr<PlotScript> plot;
   const analysis::Provenance& p = parts.front().provenance;
   if (!o.plot.empty())
-    plot = std::make_unique<PlotScript>(p.study == "bench" ? "plot_work_precision.py" : "plot_stability.py", o.plot);
+    plot = std::make_unique<PlotScript>(p.study == "bench"      ? "plot_work_precision.py"
+                                        : p.study == "converge" ? "plot_convergence.py"
+                                                                : "plot_stability.py",
+                                        o.plot);
   const std::string csv = merged_csv(parts);
   const auto write_to = [&](const std::string& path) {
     AtomicFile file(path);
@@ -210,7 +213,7 @@ int merge_command(const MergeOptions& o) {
 void add_merge_command(CLI::App& app, Command& command) {
   auto o = std::make_shared<MergeOptions>();
   CLI::App* sub = app.add_subcommand(
-      "merge", "Join the shards of a sharded bench or stability study (--shard K/N) into its CSV and plot");
+      "merge", "Join the shards of a sharded bench, stability or converge study (--shard K/N) into its CSV and plot");
   sub->add_option("shards", o->shards, "The shard directories (F.shard-K-of-N), all of one study")
       ->required()
       ->type_name("SHARD...");
