@@ -29,9 +29,7 @@ def main():
         cell[1] += pc.number(r["cpu_seconds"])
         cell[2] += 1
 
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pc.plt
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 5))
     for method, per in sums.items():
         its = sorted(per)
@@ -49,7 +47,7 @@ def main():
     if args.title:
         fig.suptitle(args.title)
     fig.tight_layout()
-    fig.savefig(args.out, dpi=100)
+    pc.save(fig, args.out)  # the CLI passes a descriptor (/dev/fd/3): the format is named there
 
 
 if __name__ == "__main__":

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "core/simulation.h"
 #include "core/solvers/step_problem.h"
@@ -18,6 +20,15 @@ Model reference_model(const Model& model) {
   return m;
 }
 
+// The run the states are taken from: Newton converged as a run converges it (the scene's
+// tolerance), which is half the reference's cost at 64 x 64; the states are start points only.
+Model sampling_model(const Model& model) {
+  Model m = model;
+  m.implicit.solver = ImplicitSolver::Newton;
+  m.implicit.newton_max_iterations = std::max(m.implicit.newton_max_iterations, 200);
+  return m;
+}
+
 void set_iterations(Model& m, IntegratorKind kind, int n) {
   if (kind == IntegratorKind::ImplicitEuler) m.implicit.newton_max_iterations = n;
   if (kind == IntegratorKind::Xpbd) m.solvers.xpbd.iterations = n;
@@ -25,63 +36,193 @@ void set_iterations(Model& m, IntegratorKind kind, int n) {
   if (kind == IntegratorKind::Vbd) m.solvers.vbd.iterations = n;
 }
 
-// K states along the converged run, evenly in steps over the scene's duration.
-std::vector<State> sample_states(const Model& reference, double h, int k) {
-  const long steps = std::max<long>(1, std::lround(reference.duration / h));
-  std::vector<State> states;
-  State s = initial_state(reference);
+// Rough spring passes of one iteration (BENCHMARKS.md, "The iterative solvers"), and of
+// measuring a point (its end of step, its distance and Phi's gradient).
+double passes_per_iteration(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::Xpbd: return 7.0;
+    case IntegratorKind::ProjectiveDynamics: return 16.0;
+    case IntegratorKind::Vbd: return 17.0;
+    default: return 25.0;  // a Newton iteration
+  }
+}
+constexpr double kMeasurePasses = 3.0;
+constexpr int kTypicalNewtonIterations = 8;
+
+// One state's start: the state, its step problem (for Phi's gradient and for ending a watched
+// step) and the converged backward-Euler step from it.
+struct Start {
+  int index = 0;
+  State state;
+  StepProblem problem;
+  State reference;
+};
+
+Start make_start(const Model& model, const ConvergenceSpec& spec, int index, State state) {
+  Start s;
+  s.index = index;
+  s.reference = converged_step(model, state, spec.h);
+  build_step_problem(model, state, spec.h, s.problem);
+  s.state = std::move(state);
+  return s;
+}
+
+ConvergencePoint measured(const Model& model, const Start& s, IntegratorKind method, int iterations,
+                          const State& end) {
+  ConvergencePoint p{method, s.index, s.state.t, iterations};
+  const int P = model.num_particles;
+  const Eigen::VectorXd d = (end.x.leftCols(P) - s.reference.x.leftCols(P)).colwise().norm();
+  p.rms = std::sqrt(d.squaredNorm() / P);
+  p.max = d.maxCoeff();
+  Eigen::Matrix3Xd gradient;
+  p.gradient = step_gradient(model, s.problem, end.x, gradient);
+  return p;
+}
+
+// The step ended at iterate y as step() ends it: v = (y - x_n) / h, x = y, then the contact
+// response (positions only are measured; time and events move no particle).
+State ended_at(const Model& model, const Start& s, const Eigen::Matrix3Xd& y) {
+  State end = s.state;
+  finish_step(s.problem, y, end);
+  resolve_collisions(model, end);
+  return end;
+}
+
+// xpbd, projective_dynamics, vbd: one step of N iterations, every iteration measured with the
+// thread's CPU clock paused. A point's CPU is the step's up to that iteration plus the step's
+// end (what a step of n iterations costs). The caches (a factor, a colouring) are warmed first
+// by a step of one iteration, as a run's first step warms them for the rest.
+std::vector<ConvergencePoint> watched_sweep(const Model& model, const ConvergenceSpec& spec, const Start& s,
+                                            IntegratorKind method) {
+  Model m = model;
   Workspace ws;
-  for (int i = 0; i < k; ++i) {
-    const long at = std::max<long>(1, steps * i / k);
-    while (s.step < at) step(reference, s, IntegratorKind::ImplicitEuler, h, ws);
+  set_iterations(m, method, 1);
+  State warm = s.state;
+  step(m, warm, method, spec.h, ws);
+  set_iterations(m, method, spec.max_iterations);
+  std::vector<ConvergencePoint> points(static_cast<std::size_t>(spec.max_iterations));
+  double start = 0.0, paused = 0.0;
+  ws.on_iteration = [&](int n, const Eigen::Matrix3Xd& y) {
+    const double at = thread_cpu_seconds();
+    ConvergencePoint& p = points[static_cast<std::size_t>(n - 1)];
+    p = measured(model, s, method, n, ended_at(model, s, y));
+    p.cpu_seconds = at - start - paused;
+    paused += thread_cpu_seconds() - at;
+  };
+  State end = s.state;
+  start = thread_cpu_seconds();
+  step(m, end, method, spec.h, ws);
+  for (const ConvergencePoint& p : points)  // every iteration told: a solver that stops early breaks the sweep
+    if (p.iterations == 0) throw std::logic_error(std::string(integrator_name(method)) + " skipped an iteration");
+  const double tail = thread_cpu_seconds() - start - paused - points.back().cpu_seconds;
+  for (ConvergencePoint& p : points) p.cpu_seconds += tail;
+  return points;
+}
+
+// Capped Newton: a step per cap n, until one ends kNewtonSlack short of its cap (every larger
+// cap takes that same step, so its point stands for theirs). Empty when `stop` fired.
+std::vector<ConvergencePoint> newton_sweep(const Model& model, const ConvergenceSpec& spec, const Start& s,
+                                           const std::function<bool()>& stop) {
+  Model m = model;
+  m.implicit.solver = ImplicitSolver::Newton;
+  Workspace ws;
+  State warm = s.state;
+  step(m, warm, IntegratorKind::ImplicitEuler, spec.h, ws);  // warm the caches
+  std::vector<ConvergencePoint> points;
+  bool settled = false;
+  for (int n = 1; n <= spec.max_iterations; ++n) {
+    if (settled) {
+      points.push_back(points.back());
+      points.back().iterations = n;
+      continue;
+    }
+    if (stop && stop()) return {};
+    set_iterations(m, IntegratorKind::ImplicitEuler, n);
+    State end = s.state;
+    const double cpu = thread_cpu_seconds();
+    const StepReport report = step(m, end, IntegratorKind::ImplicitEuler, spec.h, ws);
+    const double spent = thread_cpu_seconds() - cpu;
+    points.push_back(measured(model, s, IntegratorKind::ImplicitEuler, n, end));
+    points.back().cpu_seconds = spent;
+    settled = report.stats.newton_iterations + kNewtonSlack <= n;
+  }
+  return points;
+}
+
+}  // namespace
+
+std::vector<ConvergenceItem> convergence_items(const ConvergenceSpec& spec) {
+  std::vector<ConvergenceItem> items;
+  for (int k = 0; k < spec.states; ++k)
+    for (IntegratorKind method : spec.methods) items.push_back({k, method});
+  return items;
+}
+
+double convergence_item_cost(const ConvergenceSpec& spec, const ConvergenceItem& item) {
+  const double n = spec.max_iterations;
+  if (item.method != IntegratorKind::ImplicitEuler)
+    return n * (passes_per_iteration(item.method) + kMeasurePasses);
+  const double reruns = std::min(n, static_cast<double>(kTypicalNewtonIterations + kNewtonSlack));
+  return passes_per_iteration(item.method) * reruns * (reruns + 1.0) / 2.0 + reruns * kMeasurePasses;
+}
+
+std::vector<State> convergence_states(const Model& model, const ConvergenceSpec& spec, int count,
+                                      const std::function<bool()>& stop) {
+  const Model sampling = sampling_model(model);
+  const long steps = std::max<long>(1, std::lround(model.duration / spec.h));
+  std::vector<State> states;
+  State s = initial_state(sampling);
+  Workspace ws;
+  for (int i = 0; i < count; ++i) {
+    const long at = std::max<long>(1, steps * i / spec.states);
+    while (s.step < at) {
+      if (stop && stop()) return {};
+      step(sampling, s, IntegratorKind::ImplicitEuler, spec.h, ws);
+    }
     states.push_back(s);
   }
   return states;
 }
 
-void measure(const Model& model, const State& end, const State& reference, ConvergencePoint& p,
-             double h, const State& start) {
-  const int P = model.num_particles;
-  const Eigen::VectorXd d = (end.x.leftCols(P) - reference.x.leftCols(P)).colwise().norm();
-  p.rms = std::sqrt(d.squaredNorm() / P);
-  p.max = d.maxCoeff();
-  StepProblem problem;
-  build_step_problem(model, start, h, problem);
-  Eigen::Matrix3Xd gradient;
-  p.gradient = step_gradient(model, problem, end.x, gradient);
+State converged_step(const Model& model, const State& start, double h) {
+  const Model reference = reference_model(model);
+  State end = start;
+  Workspace ws;
+  step(reference, end, IntegratorKind::ImplicitEuler, h, ws);
+  return end;
 }
 
-}  // namespace
+bool run_convergence_items(const Model& model, const ConvergenceSpec& spec, const std::vector<std::size_t>& items,
+                           const analysis::StudyHooks& hooks, const ConvergenceItemDone& finished) {
+  const std::vector<ConvergenceItem> all = convergence_items(spec);
+  if (items.empty()) return true;
+  const std::vector<State> states = convergence_states(model, spec, all[items.back()].state + 1, hooks.stop);
+  if (states.empty()) return false;
+  Start start;
+  start.index = -1;
+  long done = 0;
+  for (std::size_t item : items) {
+    if (hooks.stop && hooks.stop()) return false;
+    const ConvergenceItem& it = all[item];
+    if (it.state != start.index) start = make_start(model, spec, it.state, states[static_cast<std::size_t>(it.state)]);
+    const std::vector<ConvergencePoint> points = it.method == IntegratorKind::ImplicitEuler
+                                                     ? newton_sweep(model, spec, start, hooks.stop)
+                                                     : watched_sweep(model, spec, start, it.method);
+    if (points.empty()) return false;
+    finished(item, points);
+    if (hooks.progress) hooks.progress(++done, static_cast<long>(items.size()));
+  }
+  return true;
+}
 
 std::vector<ConvergencePoint> convergence_study(const Model& model, const ConvergenceSpec& spec,
-                                                const std::function<void(int, int)>& progress) {
-  const Model reference = reference_model(model);
-  const std::vector<State> states = sample_states(reference, spec.h, spec.states);
+                                                const analysis::StudyHooks& hooks) {
+  std::vector<std::size_t> items(convergence_items(spec).size());
+  for (std::size_t i = 0; i < items.size(); ++i) items[i] = i;
   std::vector<ConvergencePoint> points;
-  const int total = static_cast<int>(states.size() * spec.methods.size());
-  int done = 0;
-  for (std::size_t k = 0; k < states.size(); ++k) {
-    State be = states[k];
-    Workspace ref_ws;
-    step(reference, be, IntegratorKind::ImplicitEuler, spec.h, ref_ws);
-    for (IntegratorKind method : spec.methods) {
-      Model m = model;  // one model and workspace per sweep: a factor or colouring is reused,
-      Workspace ws;     // as in a run, and the CPU is the iterations'
-      State warm = states[k];
-      step(m, warm, method, spec.h, ws);  // warm the caches
-      for (int n = 1; n <= spec.max_iterations; ++n) {
-        set_iterations(m, method, n);
-        State s = states[k];
-        const double cpu = thread_cpu_seconds();
-        step(m, s, method, spec.h, ws);
-        ConvergencePoint p{method, static_cast<int>(k), states[k].t, n};
-        p.cpu_seconds = thread_cpu_seconds() - cpu;
-        measure(model, s, be, p, spec.h, states[k]);
-        points.push_back(p);
-      }
-      if (progress) progress(++done, total);
-    }
-  }
+  run_convergence_items(model, spec, items, hooks, [&](std::size_t, const std::vector<ConvergencePoint>& item_points) {
+    points.insert(points.end(), item_points.begin(), item_points.end());
+  });
   return points;
 }
 

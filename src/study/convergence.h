@@ -6,15 +6,26 @@
 // reference, and every method takes one step with 1, 2, ..., N iterations. Each point records
 // the distance of that step's end positions from the reference (RMS and max over the
 // particles, m), the norm of Phi's gradient at them (N s; nonzero at a solution held by
-// contacts, whose forces it leaves out) and the step's CPU time. A step with n iterations is
-// run afresh for every n, so a study costs about N^2 / 2 iterations per method and state.
+// contacts, whose forces it leaves out) and the step's CPU time.
+//
+// xpbd, projective_dynamics and vbd take one step of N iterations, watched after every
+// iteration (Workspace::on_iteration): their iteration n of N is the step with n iterations,
+// since nothing in them depends on N (no stopping rule; Chebyshev's weights depend on n alone).
+// Capped Newton is not watched: its cap steers it (a reused Newton matrix must leave two exact
+// iterations in the budget; at the cap its active-set rounds end it; a cap of 1 is Baraff &
+// Witkin's step), so its step with n iterations is run afresh for every n, until one ends
+// kNewtonSlack short of its cap: every larger cap takes that same step. So a study costs about
+// N iterations per solver and state, and (m + 2)^2 / 2 for Newton converging in m.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <vector>
 
 #include "core/integrators/integrator_kind.h"
 #include "core/model.h"
+#include "core/state.h"
+#include "study.h"
 
 namespace clothsim {
 
@@ -32,11 +43,39 @@ struct ConvergencePoint {
   int iterations = 0;
   double rms = 0.0, max = 0.0;  // m, from the converged backward-Euler step
   double gradient = 0.0;        // N s, |grad Phi| at the step's end positions
-  double cpu_seconds = 0.0;     // the step's CPU time
+  double cpu_seconds = 0.0;     // the step's CPU time (of the thread; measuring excluded)
 };
 
-// `progress(done, total)` is called after each method's sweep from a state.
+// A Newton step of m iterations under a cap of m + 2 or more took the same step as under any
+// larger cap: each of its directions saw more than 2 iterations left in the budget, all a
+// reused matrix asks (newton_solve.cpp, kReuseReserve), and none reached the cap.
+inline constexpr int kNewtonSlack = 2;
+
+// The study's work items, one sweep of 1..N iterations each: item k * methods + m is state k
+// and spec.methods[m], the order of the rows.
+struct ConvergenceItem {
+  int state = 0;
+  IntegratorKind method{};
+};
+std::vector<ConvergenceItem> convergence_items(const ConvergenceSpec& spec);
+// Rough cost of an item in spring passes, for the shard split only.
+double convergence_item_cost(const ConvergenceSpec& spec, const ConvergenceItem& item);
+
+// The first `count` of the K start states (count <= K), along the converged run. Empty when
+// `stop` returned true first.
+std::vector<State> convergence_states(const Model& model, const ConvergenceSpec& spec, int count,
+                                      const std::function<bool()>& stop = {});
+// The reference: `start` after one backward-Euler step converged to 1e-10.
+State converged_step(const Model& model, const State& start, double h);
+
+// Runs `items` (ascending indices into convergence_items(spec)), telling `finished` of each
+// item's N points as it completes. Returns false when hooks.stop ended it before the last.
+using ConvergenceItemDone = std::function<void(std::size_t item, const std::vector<ConvergencePoint>& points)>;
+bool run_convergence_items(const Model& model, const ConvergenceSpec& spec, const std::vector<std::size_t>& items,
+                           const analysis::StudyHooks& hooks, const ConvergenceItemDone& finished);
+
+// Every item's points, in item order (those of the items finished, when hooks.stop fired).
 std::vector<ConvergencePoint> convergence_study(const Model& model, const ConvergenceSpec& spec,
-                                                const std::function<void(int, int)>& progress = {});
+                                                const analysis::StudyHooks& hooks = {});
 
 }  // namespace clothsim

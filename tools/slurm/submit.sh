@@ -4,7 +4,7 @@
 #   tools/slurm/submit.sh [--tasks N] [--partition P] [--time T] [--cpus-per-task C] [--mem M]
 #                         [--wait] -- clothsim STUDY ARGS... --csv F [--plot F.png] [--summary F.json]
 #
-# STUDY is bench, stability or `golden check`. Task i of the array runs `clothsim STUDY ...
+# STUDY is bench, stability, converge or `golden check`. Task i of the array runs `clothsim STUDY ...
 # --shard auto` (part i+1 of N, written to F.shard-K-of-N/, with --jobs C (not golden) and
 # --max-memory from SLURM_MEM_PER_NODE unless given); the merge job
 # (--dependency=afterok:ARRAY) runs `clothsim merge` into F (and the plot and summary).
@@ -46,8 +46,8 @@ if [[ $study == golden ]]; then
   study="golden check"
   shift
 fi
-[[ $study == bench || $study == stability || $study == "golden check" ]] ||
-  fail "$study: only bench, stability and golden check take --shard"
+[[ $study == bench || $study == stability || $study == converge || $study == "golden check" ]] ||
+  fail "$study: only bench, stability, converge and golden check take --shard"
 
 # The shards' arguments: the study's, without --plot (merge draws it); --csv is kept.
 args=() csv= plot= summary= has_jobs=0 has_mem=0
@@ -64,7 +64,8 @@ while (($#)); do
   esac
 done
 [[ -n $csv ]] || fail "the study needs --csv F (the shards write F.shard-K-of-N/, the merge writes F)"
-[[ $study == "golden check" ]] || ((has_jobs)) || args+=(--jobs "$cpus")  # golden renders one entry at a time
+# golden renders one entry at a time, converge runs one sweep at a time: neither takes --jobs
+[[ $study == "golden check" || $study == converge ]] || ((has_jobs)) || args+=(--jobs "$cpus")
 
 # A shard's command line, quoted for the job's shell; the memory limit is Slurm's when set.
 shard_command=$(printf '%q ' "$clothsim" $study "${args[@]}" --shard auto)

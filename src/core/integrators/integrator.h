@@ -51,6 +51,10 @@ struct Workspace {
   // Receives implicit_euler's Newton trace, one line per event (docs/integrators.md, "The
   // Newton trace"); empty: no trace. The tool sets it; the engine reads no environment.
   std::function<void(const char* line)> newton_trace;
+  // Told after each iteration of xpbd, projective_dynamics and vbd its number (from 1) and the
+  // end-of-step positions it reached (3 x B), before the step ends there; empty: not called.
+  // The convergence study (study/convergence.h) records every iteration of one step with it.
+  std::function<void(int iteration, const Eigen::Matrix3Xd& y)> on_iteration;
 };
 
 StepStats explicit_euler_step(const Model& model, State& state, double h, Workspace& ws);

@@ -39,6 +39,7 @@ StepStats projective_dynamics_step(const Model& model, State& state, double h, W
     pd_iteration(model, c.problem, c.pd, c.y, c.pd_system, c.lambda);
     if (rho > 0.0) accelerate(c, k, rho, omega);
     c.y_before = c.y_next;
+    if (ws.on_iteration) ws.on_iteration(k, c.y);
   }
   stats.newton_iterations = iterations;
   stats.start_strain = max_start_strain(model, c.problem);

@@ -14,9 +14,15 @@ namespace {
 
 // On a grid: the particles' sweeps in SIMD over the grid's nine colours, then the other
 // bodies' (dynamic spheres: no springs, so no coupling within the step).
-void sweep_grid(const Model& model, int iterations, SolverCache& c) {
+// The observer sees the particles' iterate in y (the sweeps keep it in the grid's arrays).
+void sweep_grid(const Model& model, int iterations, SolverCache& c, const Workspace& ws) {
   vbd_load_grid(model, c.problem, c.y, c.vbd_grid);
-  for (int it = 0; it < iterations; ++it) vbd_grid_sweep(model, c.problem, c.vbd_grid);
+  for (int it = 0; it < iterations; ++it) {
+    vbd_grid_sweep(model, c.problem, c.vbd_grid);
+    if (!ws.on_iteration) continue;
+    vbd_store_grid(model, c.vbd_grid, c.y);
+    ws.on_iteration(it + 1, c.y);
+  }
   vbd_store_grid(model, c.vbd_grid, c.y);
   const Eigen::VectorXd& a = c.problem.weight;
   if ((a.tail(model.num_bodies() - model.num_particles).array() > 0.0).any())  // a dynamic sphere
@@ -36,9 +42,12 @@ StepStats vbd_step(const Model& model, State& state, double h, Workspace& ws) {
   c.vbd_contacts.assign(model.num_particles, VbdContact{});
   const int iterations = iteration_count(model, IntegratorKind::Vbd);
   if (vbd_by_grid(model))
-    sweep_grid(model, iterations, c);
+    sweep_grid(model, iterations, c, ws);
   else
-    for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts);
+    for (int it = 0; it < iterations; ++it) {
+      vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts);
+      if (ws.on_iteration) ws.on_iteration(it + 1, c.y);
+    }
   stats.newton_iterations = iterations;
   finish_step(c.problem, c.y, state);
   return stats;

@@ -43,22 +43,27 @@ void project_contacts(const Model& model, const StepProblem& p, Eigen::Matrix3Xd
 }
 
 void sweep_spring_list(const Model& model, const StepProblem& p, const State& state, int iterations,
-                       SolverCache& cache) {
+                       SolverCache& cache, const Workspace& ws) {
   const bool contacts = p.colliders.ground || !p.colliders.centre.empty();
   cache.lambda.assign(model.springs.size(), 0.0);
   for (int it = 0; it < iterations; ++it) {
     project_springs(model, p, state.inv_mass, cache.y, cache.lambda);
     if (contacts) project_contacts(model, p, cache.y);
+    if (ws.on_iteration) ws.on_iteration(it + 1, cache.y);
   }
 }
 
+// The observer sees the iterate in y: the sweeps keep it in the families' own arrays.
 void sweep_families(const Model& model, const StepProblem& p, const State& state, int iterations,
-                    SolverCache& cache) {
+                    SolverCache& cache, const Workspace& ws) {
   const bool contacts = p.colliders.ground || !p.colliders.centre.empty();
   xpbd_load_families(model, p, state.inv_mass, cache.y, cache.xpbd);
   for (int it = 0; it < iterations; ++it) {
     xpbd_family_sweep(model, p.h, cache.xpbd);
     if (contacts) xpbd_family_contacts(model, p, cache.xpbd);
+    if (!ws.on_iteration) continue;
+    xpbd_store_families(cache.xpbd, model.num_particles, cache.y);
+    ws.on_iteration(it + 1, cache.y);
   }
   xpbd_store_families(cache.xpbd, model.num_particles, cache.y);
 }
@@ -72,9 +77,9 @@ StepStats xpbd_step(const Model& model, State& state, double h, Workspace& ws) {
   cache.y = p.target;
   const int iterations = iteration_count(model, IntegratorKind::Xpbd);
   if (xpbd_by_families(model))
-    sweep_families(model, p, state, iterations, cache);
+    sweep_families(model, p, state, iterations, cache, ws);
   else
-    sweep_spring_list(model, p, state, iterations, cache);
+    sweep_spring_list(model, p, state, iterations, cache, ws);
   StepStats stats;
   stats.newton_iterations = iterations;
   stats.start_strain = max_start_strain(model, p);

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "cli/cli_process.h"
 
@@ -25,6 +26,48 @@ TEST(CmdConverge, WritesOneRowPerMethodStateAndIterationCount) {
   int rows = 0;
   for (std::string line; std::getline(in, line);) ++rows;
   EXPECT_EQ(rows, 2 * 2 * 3);
+}
+
+std::vector<std::string> small_study(const std::string& csv) {
+  return {"converge", stiff(), "--dt", "1/30", "--states", "2", "--max-iterations", "3",
+          "--integrators", "xpbd,implicit_euler", "--csv", csv};
+}
+
+// The CSV without its last column, cpu_seconds, which measures the machine.
+std::string untimed(const std::string& path) {
+  std::string out;
+  std::istringstream in(slurp(path));
+  for (std::string line; std::getline(in, line);) out += line.substr(0, line.rfind(',')) + "\n";
+  return out;
+}
+
+TEST(CmdConverge, ShardsMergeIntoWhatOneProcessWritesAndARerunRunsNothingTwice) {
+  const std::string dir = scratch_dir("converge_shards");
+  for (const char* k : {"1/2", "2/2"}) {
+    std::vector<std::string> args = small_study(dir + "/p.csv");
+    args.insert(args.end(), {"--shard", k});
+    const CliResult r = run_clothsim(args);
+    ASSERT_EQ(r.exit_code, 0) << k << r.err;
+    EXPECT_NE(r.out.find("of converge: 2 of 4 items"), std::string::npos) << r.out;  // balanced by cost
+  }
+  std::vector<std::string> whole = small_study(dir + "/one.csv");
+  whole.insert(whole.end(), {"--plot", dir + "/one.png"});
+  const CliResult one = run_clothsim(whole);
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const CliResult m = run_clothsim({"merge", dir + "/p.csv.shard-1-of-2", dir + "/p.csv.shard-2-of-2", "--csv",
+                                    dir + "/m.csv", "--plot", dir + "/m.png"});
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  EXPECT_GT(std::filesystem::file_size(dir + "/one.png"), 0u);
+  EXPECT_GT(std::filesystem::file_size(dir + "/m.png"), 0u);
+  EXPECT_EQ(line_count(slurp(dir + "/m.csv")), 1 + 2 * 2 * 3);
+  EXPECT_EQ(untimed(dir + "/m.csv"), untimed(dir + "/one.csv"));
+
+  std::vector<std::string> again = small_study(dir + "/p.csv");
+  again.insert(again.end(), {"--shard", "1/2"});
+  const CliResult r = run_clothsim(again);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 finished before, 0 to run"), std::string::npos) << r.out;
+  EXPECT_EQ(line_count(slurp(dir + "/p.csv.shard-1-of-2/log")), 2);  // one record per item, none twice
 }
 
 TEST(CmdConverge, BadOptionsAreOneLineExitTwoAndNothingWritten) {

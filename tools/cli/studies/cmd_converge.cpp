@@ -1,8 +1,9 @@
 // clothsim converge SCENE [--dt S] [--integrators LIST] [--states K] [--max-iterations N]
-//                        [--csv F] [--plot F.png] [--summary F.json]
+//                        [--csv F] [--plot F.png] [--summary F.json] [--shard K/N|auto]
 // The iterative solvers against the step they approximate (study/convergence.h): from K
 // states along a converged implicit_euler run, one step of every method with 1..N iterations,
 // its distance from the converged backward-Euler step, Phi's gradient norm and its CPU time.
+// With --shard, this process's part of the (state, method) sweeps (study_shard.h).
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <memory>
 
 #include "study_common.h"
+#include "study_shard.h"
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
 #include "cli/common/lanes.h"
@@ -28,6 +30,7 @@ struct ConvergeOptions {
   std::string integrators = "xpbd,projective_dynamics,vbd,implicit_euler";
   std::string states = "5", max_iterations = "50";
   std::string csv, plot, summary;
+  std::string shard;  // --shard K/N|auto (study_shard.h)
 };
 
 std::vector<IntegratorKind> parse_methods(const std::string& text) {
@@ -110,6 +113,40 @@ void write_json(const std::string& path, const std::string& source, const Conver
                 JsonObject().integer("states", spec.states).integer("max_iterations", spec.max_iterations));
 }
 
+std::string title(const Model& model, const ConvergenceSpec& spec) {
+  return model.name + " (dt = " + step_string(spec.h) + " s)";
+}
+
+// --shard: this process's part of the sweeps, each journaled as it finishes (study_shard.h).
+int converge_shard(const ConvergeOptions& o, const Model& model, const ConvergenceSpec& spec,
+                   const analysis::StudyHooks& hooks) {
+  ShardPlan plan{"converge", o.scene.path, o.scene.sets, "", title(model, spec),
+                 first_line(written_text([&](std::FILE* f) { write_csv(f, model.name, {}); })), {}};
+  for (double x : {spec.h, model.duration, double(spec.states), double(spec.max_iterations)})
+    plan.plan += ";" + csv_number(x);
+  for (const ConvergenceItem& item : convergence_items(spec)) {
+    plan.plan += ";" + std::to_string(item.state) + " " + std::string(integrator_name(item.method));
+    plan.costs.push_back(convergence_item_cost(spec, item));
+  }
+  StudyShard shard(o.shard, o.csv, o.plot, o.summary, plan);
+  run_convergence_items(model, spec, shard.todo(), hooks, [&](std::size_t item, const std::vector<ConvergencePoint>& p) {
+    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, model.name, p); })), "");
+  });
+  return shard.finish();
+}
+
+void write_outputs(const ConvergeOptions& o, const std::string& source, const Model& model,
+                   const ConvergenceSpec& spec, const std::vector<ConvergencePoint>& points, const PlotScript* plot) {
+  const auto write_to = [&](const std::string& path) {
+    AtomicFile file(path);
+    write_csv(file.stream(), model.name, points);
+    file.commit();
+  };
+  if (!o.csv.empty()) write_to(o.csv);
+  if (!o.summary.empty()) write_json(o.summary, source, spec, points);
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", title(model, spec)});
+}
+
 int converge_command(const ConvergeOptions& o) {
   install_interrupt_handler();
   const SceneDef scene = load_scene_with_options(o.scene);
@@ -117,25 +154,28 @@ int converge_command(const ConvergeOptions& o) {
   refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   for (const auto& [path, what] : {std::pair{o.csv, "--csv"}, {o.summary, "--summary"}})
     if (!path.empty()) require_writable_parent(path, what);
+  const Model model = build_model(scene);
+  const long sweeps = static_cast<long>(spec.states * spec.methods.size());
+  SharedProgress progress("converge " + model.name, sweeps, "sweeps");
+  analysis::StudyHooks hooks;
+  hooks.stop = [] { return interrupted(); };
+  hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  if (!o.shard.empty()) return converge_shard(o, model, spec, hooks);
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_convergence.py", o.plot);
-  const Model model = build_model(scene);
   std::printf("converge %s: %d states at dt = %s s, %zu methods x 1..%d iterations, against converged "
               "backward Euler\n", model.name.c_str(), spec.states, step_string(spec.h).c_str(), spec.methods.size(),
               spec.max_iterations);
   std::fflush(stdout);
-  SharedProgress progress("converge " + model.name, static_cast<long>(spec.states * spec.methods.size()), "sweeps");
-  const auto points = convergence_study(model, spec, [&](int done, int total) { progress.update(done, total); });
+  const auto points = convergence_study(model, spec, hooks);
   progress.finish();
+  const std::size_t finished = points.size() / static_cast<std::size_t>(spec.max_iterations);
+  if (finished < static_cast<std::size_t>(sweeps)) {  // the finished sweeps' rows stay, marked incomplete
+    write_outputs(o, scene.source, model, spec, points, nullptr);
+    throw RuntimeFailure(study_interrupted_message(finished, sweeps, "sweeps", {o.csv, o.summary}, o.plot));
+  }
   print_table(spec, points);
-  const auto write_to = [&](const std::string& path) {
-    AtomicFile file(path);
-    write_csv(file.stream(), model.name, points);
-    file.commit();
-  };
-  if (!o.csv.empty()) write_to(o.csv);
-  if (!o.summary.empty()) write_json(o.summary, scene.source, spec, points);
-  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", model.name + " (dt = " + step_string(spec.h) + " s)"});
+  write_outputs(o, scene.source, model, spec, points, plot.get());
   return kOk;
 }
 
@@ -157,6 +197,7 @@ void add_converge_command(CLI::App& app, Command& command) {
       ->type_name("FILE.png");
   sub->add_option("--summary", o->summary, "Mean distance and CPU per method and iteration as JSON")
       ->type_name("FILE.json");
+  add_shard_option(sub, o->shard);
   add_progress_options(sub);
   add_no_overwrite_option(sub);
   sub->callback([o, &command] { command = [o] { return converge_command(*o); }; });

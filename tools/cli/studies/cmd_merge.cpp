@@ -1,11 +1,11 @@
 // clothsim merge SHARD... [--csv FILE] [--summary FILE.json] [--plot FILE.png]
 //
-// Joins the parts of a sharded study (bench, stability or golden check run with --shard K/N,
-// each writing a directory F.shard-K-of-N/, study_shard.h) into what the study writes in one
-// process: the CSV (the same header, the same rows in the same order), the --summary JSON and
-// the figure, timing aside (it measures the machine each part ran on). Without --csv, a
-// study's CSV goes to stdout (golden's stdout is its report: a line per image, the tally).
-// Each study's own ending is a row of kStudyMerges.
+// Joins the parts of a sharded study (bench, stability, converge or golden check run with
+// --shard K/N, each writing a directory F.shard-K-of-N/, study_shard.h) into what the study
+// writes in one process: the CSV (the same header, the same rows in the same order), the
+// --summary JSON (not converge's) and the figure, timing aside (it measures the machine each
+// part ran on). Without --csv, a study's CSV goes to stdout (golden's stdout is its report: a
+// line per image, the tally). Each study's own ending is a row of kStudyMerges.
 //
 // Refuses, with one line naming the file: a directory that is not a shard, and shards of
 // different studies, scenes, options, versions or shard counts. Lists every missing and
@@ -239,7 +239,7 @@ struct StudyMerge {
   const char* study;
   const char* plot_script;  // nullptr: the study draws no figure
   bool csv_to_stdout;       // without --csv (golden's stdout is its report)
-  JsonObject (*summary_keys)(const MergedStudy&);  // the summary's own keys beside its lanes
+  JsonObject (*summary_keys)(const MergedStudy&);  // the summary's own keys; nullptr: no --summary
   // Prints what the study prints at its end; says why it fails ("" when it does not).
   std::string (*conclusion)(const MergedStudy&, const std::string& csv_path);
 };
@@ -248,6 +248,7 @@ const StudyMerge kStudyMerges[] = {
     {"stability", "plot_stability.py", true, stability_keys, nullptr},
     {"bench", "plot_work_precision.py", true, bench_keys, bench_conclusion},
     {"golden", nullptr, false, golden_keys, golden_conclusion},
+    {"converge", "plot_convergence.py", true, nullptr, nullptr},
 };
 
 const StudyMerge& study_merge(const ShardPart& part) {
@@ -298,6 +299,8 @@ int merge_command(const MergeOptions& o) {
   const StudyMerge& study = study_merge(parts.front());
   const analysis::Provenance& p = parts.front().provenance;
   if (!o.plot.empty() && !study.plot_script) throw UsageError("--plot: " + p.study + " draws no figure");
+  if (!o.summary.empty() && !study.summary_keys)
+    throw UsageError("--summary: a merged " + p.study + " writes its CSV and figure only; its summary's means are the CSV's");
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>(study.plot_script, o.plot);
   MergedStudy merged{p, merged_csv(parts), o.summary.empty() ? std::vector<JsonObject>{} : merged_lanes(parts)};
@@ -324,7 +327,7 @@ int merge_command(const MergeOptions& o) {
 void add_merge_command(CLI::App& app, Command& command) {
   auto o = std::make_shared<MergeOptions>();
   CLI::App* sub = app.add_subcommand(
-      "merge", "Join the shards of a sharded bench, stability or golden check (--shard K/N) into what one process writes");
+      "merge", "Join the shards of a sharded bench, stability, converge or golden check (--shard K/N) into what one process writes");
   sub->add_option("shards", o->shards, "The shard directories (F.shard-K-of-N), all of one study")
       ->required()
       ->type_name("SHARD...");
