@@ -61,6 +61,11 @@ TEST(CmdConverge, ShardsMergeIntoWhatOneProcessWritesAndARerunRunsNothingTwice) 
   EXPECT_GT(std::filesystem::file_size(dir + "/m.png"), 0u);
   EXPECT_EQ(line_count(slurp(dir + "/m.csv")), 1 + 2 * 2 * 3);
   EXPECT_EQ(untimed(dir + "/m.csv"), untimed(dir + "/one.csv"));
+  const CliResult no_summary = run_clothsim({"merge", dir + "/p.csv.shard-1-of-2", dir + "/p.csv.shard-2-of-2",
+                                             "--csv", dir + "/s.csv", "--summary", dir + "/s.json"});
+  EXPECT_EQ(no_summary.exit_code, 2);  // a merged converge's JSON would only repeat the CSV's means
+  EXPECT_EQ(std::count(no_summary.err.begin(), no_summary.err.end(), '\n'), 1) << no_summary.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/s.csv") || std::filesystem::exists(dir + "/s.json"));
 
   std::vector<std::string> again = small_study(dir + "/p.csv");
   again.insert(again.end(), {"--shard", "1/2"});
