@@ -12,6 +12,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -86,9 +87,10 @@ inline StoppedResult run_clothsim_interrupted(const std::vector<std::string>& ar
 }
 
 // Same, sending each of `signals` in turn, at once (SIGSTOP first and SIGCONT last make the
-// ones between arrive together).
-inline StoppedResult run_clothsim_signalled(const std::vector<std::string>& args, double seconds,
-                                            const std::vector<int>& signals) {
+// ones between arrive together), when `ready` says so (it is asked every 10 ms).
+inline StoppedResult run_clothsim_signalled_when(const std::vector<std::string>& args,
+                                                 const std::function<bool()>& ready,
+                                                 const std::vector<int>& signals) {
   const Capture capture;
   std::vector<std::string> argv_strings = {CLOTHSIM_BINARY};
   argv_strings.insert(argv_strings.end(), args.begin(), args.end());
@@ -104,7 +106,7 @@ inline StoppedResult run_clothsim_signalled(const std::vector<std::string>& args
     ::execv(argv[0], argv.data());
     ::_exit(127);
   }
-  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  while (!ready()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   const auto sent = std::chrono::steady_clock::now();
   for (const int signal : signals) ::kill(pid, signal);
   int status = 0;
@@ -113,6 +115,22 @@ inline StoppedResult run_clothsim_signalled(const std::vector<std::string>& args
   static_cast<CliResult&>(result) = capture.collect(status);
   result.seconds_to_exit = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
   return result;
+}
+
+inline StoppedResult run_clothsim_signalled(const std::vector<std::string>& args, double seconds,
+                                            const std::vector<int>& signals) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  return run_clothsim_signalled_when(args, [until] { return std::chrono::steady_clock::now() >= until; }, signals);
+}
+
+// Interrupted once `path` exists (an output written by rename is then whole), or after
+// `give_up` seconds: a test of what a run keeps must not depend on how loaded the machine is.
+inline StoppedResult run_clothsim_interrupted_after_file(const std::vector<std::string>& args,
+                                                         const std::string& path, int signal,
+                                                         double give_up = 120.0) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(give_up);
+  return run_clothsim_signalled_when(
+      args, [&] { return std::filesystem::exists(path) || std::chrono::steady_clock::now() >= until; }, {signal});
 }
 
 // Number of lines in `text` (a message must be one line).

@@ -636,10 +636,10 @@ TEST(CmdCompare, ASecondSignalOfEitherKindKillsAtOnceLeavingNothing) {
 
 TEST(CmdCompare, AnInterruptedFramesRunSaysWhichPngsItKept) {
   const std::string dir = scratch_dir("compare_interrupt_frames");
-  const auto r = cli::run_clothsim_interrupted(
+  const auto r = cli::run_clothsim_interrupted_after_file(
       {"compare", kDrape, "--color", "checker", "--integrators", "rk4", "--dt", "1e-9", "--duration", "1", "--width", "64", "--height", "64",
        "--frames", dir + "/f"},
-      1.0, SIGTERM);
+      dir + "/f/rk4/frame_00000.png", SIGTERM);
   EXPECT_EQ(r.exit_code, 143) << r.err;
   // Frame 0 (t = 0) needs no step, so it is written before the first million steps begin.
   EXPECT_NE(r.err.find("kept 1 PNG in " + dir + "/f/rk4"), std::string::npos) << r.err;

@@ -489,10 +489,10 @@ TEST(CmdRun, SigkillLeavesNoFileAndNoTemporary) {
 
 TEST(CmdRun, AnInterruptedFramesRunSaysItKeptThePngsItWrote) {
   const std::string dir = scratch_dir("run_interrupt_frames");
-  const StoppedResult r = run_clothsim_interrupted(
+  const StoppedResult r = run_clothsim_interrupted_after_file(
       {"run", shipped("drape.yaml"), "--set", "dt=1e-9", "--duration", "1", "--frames", dir + "/f", "--set", "render.width=64",
        "--set", "render.height=64"},
-      1.0, SIGINT);
+      dir + "/f/frame_00000.png", SIGINT);
   EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_NE(r.err.find("kept 1 PNG in " + dir + "/f"), std::string::npos) << "frame 0 needs no step\n" << r.err;
   EXPECT_TRUE(only_files(dir + "/f", {"frame_00000.png"}));
