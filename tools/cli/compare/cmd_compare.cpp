@@ -56,6 +56,7 @@
 #include "cli/common/summary_json.h"
 #include "cli/frames/frame_pipeline.h"
 #include "cli/frames/frame_sink.h"
+#include "cli/frames/grid_legend.h"
 #include "cli/frames/picture_options.h"
 #include "cli/frames/pipeline_outputs.h"
 #include "cli/run/run_outputs.h"
@@ -103,6 +104,7 @@ struct ComparePlan {
   bool with_frames = false, rendering = false;
   std::vector<double> sheet_times;
   std::optional<TileGrid> grid;
+  int legend_width = 0;  // the colour bar's strip right of the grid (grid_legend.h)
   std::optional<TargetPlan> targets;
   std::vector<std::string> lane_dirs;
   std::optional<Model> model;
@@ -192,8 +194,11 @@ void check_bounds(const CompareOptions& o, ComparePlan& p) {
   if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= p.scene.duration + 1e-9))
     throw UsageError("--still: " + number_text(*o.still_t) + " s is outside the run (0 to " +
                      number_text(p.scene.duration) + " s)");
-  try {
-    p.grid.emplace(TileGrid::fit(p.layout, p.scene.render.width, p.scene.render.height));  // the whole grid's
+  try {  // the whole picture's: the tiles and, when coloured, the colour bar's strip
+    const LegendGrid fitted = fit_legend_grid(p.layout, p.scene.render.width, p.scene.render.height,
+                                              p.rendering ? p.look.color : FieldKind::None);
+    p.grid.emplace(fitted.grid);
+    p.legend_width = fitted.legend_width;
   } catch (const LayoutError& e) {
     throw UsageError(std::string("--width/--height: ") + e.what());
   }
@@ -220,8 +225,9 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
   const TileGrid& grid = *p.grid;
   if (p.rendering) {
     const double n = static_cast<double>(p.lanes.size());
-    const double tile = 4.0 * grid.cell_width() * grid.cell_height(), canvas = 4.0 * grid.width() * grid.height();
-    budget.add("renderer and images " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()),
+    const int width = grid.width() + p.legend_width;
+    const double tile = 4.0 * grid.cell_width() * grid.cell_height(), canvas = 4.0 * width * grid.height();
+    budget.add("renderer and images " + std::to_string(width) + "x" + std::to_string(grid.height()),
                kRendererBytes + render_bytes(grid.cell_width(), grid.cell_height(), scene.render.samples) + n * tile +
                    2.0 * canvas + (o.frames_dir.empty() ? 0.0 : 3.0 * n * tile));
     if (!o.sheet.empty()) budget.add("contact sheet", 2.0 * n * static_cast<double>(p.sheet_times.size()) * tile);
@@ -229,7 +235,7 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
       budget.add("the first second, held for the colour scale",
                  held_frames_bytes(scene, p.lanes.size(), std::min(1.0, scene.duration) * scene.render.fps + 1.0));
   }
-  if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid.width(), grid.height()));
+  if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid.width() + p.legend_width, grid.height()));
   budget.check(scene.source, o.scene.max_memory);
 }
 
@@ -360,7 +366,7 @@ PipelineConfig pipeline_config(const ComparePlan& p) {
 // 2. The outputs the pipeline feeds (each removes its temporary if destroyed before finish()).
 void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& pipeline, Renderer* renderer) {
   const Model& model = *p.model;
-  Composer composer{p.grid, {}};
+  Composer composer{p.grid, {}, p.legend_width};
   composer.labels = p.look.overlay == OverlayMode::None ? std::vector<std::string>(p.lanes.size())
                     : p.labels.empty()                  ? lane_tile_labels(p.lanes, *p.grid)
                                                         : p.labels;
@@ -372,7 +378,7 @@ void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& p
       pipeline.add(make_frames_output(
           make_png_sequence_sink((fs::path(o.frames_dir) / p.lane_dirs[i]).string(),
                                  with_renderer(frame_metadata(model, p.lanes[i].kind, p.lanes[i].dt), *renderer)),
-          i));
+          i, p.legend_width, p.grid->label_scale()));
   const PngText meta = renderer ? with_renderer({{"scene", model.name}, {"software", "clothsim " CLOTHSIM_VERSION}}, *renderer)
                                 : PngText{};
   if (o.still_t) pipeline.add(make_still_output(o.still_out, composer, meta));
@@ -380,7 +386,8 @@ void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& p
     std::vector<std::string> rows, columns;
     for (std::size_t i = 0; i < p.lanes.size(); ++i) rows.push_back(p.labels.empty() ? p.lanes[i].label() : p.labels[i]);
     for (double t : p.sheet_times) columns.push_back(time_label(t));
-    pipeline.add(make_sheet_output(o.sheet, rows, columns, meta, p.grid->width(), p.grid->height()));
+    pipeline.add(make_sheet_output(o.sheet, rows, columns, meta, p.grid->width() + p.legend_width, p.grid->height(),
+                                   p.legend_width > 0));
   }
 }
 
@@ -409,7 +416,7 @@ void print_breakdown(const ComparePlan& p, const PipelineReport& report, double 
   std::fprintf(stderr,
                "compare: %ld time%s, %dx%d (%zu tiles of %dx%d), in %.1f s wall: simulate %.1f s cpu "
                "on %zu threads (the renderer waited %.1f s), render %.1f s%s\n",
-               report.targets, report.targets == 1 ? "" : "s", grid.width(), grid.height(), p.lanes.size(),
+               report.targets, report.targets == 1 ? "" : "s", grid.width() + p.legend_width, grid.height(), p.lanes.size(),
                grid.cell_width(), grid.cell_height(), wall, sim_cpu, p.lanes.size() + (report.reference ? 1 : 0),
                report.wait_seconds, report.render_seconds, outputs.c_str());
 }

@@ -6,13 +6,20 @@
 
 namespace clothsim::cli {
 
-void color_by_field(RenderFrame& frame, const std::vector<float>& field, FieldKind kind, const ColorRange& range) {
+ColorScale field_scale(FieldKind kind, const ColorRange& range) {
+  ColorScale scale;
+  scale.lo = static_cast<float>(range.lo);
+  scale.hi = static_cast<float>(range.hi);
+  scale.log = true;
+  scale.label = field_label(kind);
+  return scale;
+}
+
+void color_by_field(RenderFrame& frame, const std::vector<float>& field, FieldKind kind, const ColorRange& range,
+                    bool bar_outside) {
   frame.cloth_field = field;
-  frame.color_scale.lo = static_cast<float>(range.lo);
-  frame.color_scale.hi = static_cast<float>(range.hi);
-  frame.color_scale.log = true;
-  frame.color_scale.label = field_label(kind);
-  frame.color_scale.show_bar = true;
+  frame.color_scale = field_scale(kind, range);
+  frame.color_scale.show_bar = !bar_outside;
 }
 
 namespace {

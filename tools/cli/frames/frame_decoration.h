@@ -20,9 +20,13 @@ struct EnergyHistory {
   }
 };
 
-// Colours the cloth by `field` (one value per particle) on the logarithmic scale `range`,
-// with the colour bar labelled with the field and its unit.
-void color_by_field(RenderFrame& frame, const std::vector<float>& field, FieldKind kind, const ColorRange& range);
+// The logarithmic scale `range` of a field, labelled with the field and its unit.
+ColorScale field_scale(FieldKind kind, const ColorRange& range);
+
+// Colours the cloth by `field` (one value per particle) on field_scale(kind, range), with its
+// colour bar in the picture unless `bar_outside` (a tile: the grid draws one for all).
+void color_by_field(RenderFrame& frame, const std::vector<float>& field, FieldKind kind, const ColorRange& range,
+                    bool bar_outside = false);
 
 // The inset of lane `lane`'s energy change E(t) - E(0) over [0, duration], on axes shared by
 // every lane (they share E(0): one scene), zero included, so a lane that gains and one that

@@ -101,6 +101,7 @@ struct FramePipeline::Impl {
   std::vector<double> energy0, energy_rise;  // per lane: E(0) and the largest E(t) - E(0), J
   std::vector<std::string> wrong;            // per lane: the plausibility verdict ("" none)
   std::optional<ColorRange> range;
+  std::optional<ColorScale> legend;  // the scale of range, as the outputs draw it
   double wait_seconds = 0.0, render_seconds = 0.0;
   long processed = 0;
 
@@ -302,8 +303,10 @@ struct FramePipeline::Impl {
     // a lane's new frame is rendered at the first target that shows it.
     const bool shown = t.target.frame >= 0 || t.target.column >= 0 || t.target.still;
     std::vector<LaneView> views(lanes.size());
+    if (config.color != FieldKind::None && range && !legend) legend = field_scale(config.color, *range);
     for (std::size_t i = 0; i < lanes.size(); ++i) {
-      views[i] = LaneView{&lanes[i], t.frames[i].get(), config.rendering ? &images[i] : nullptr, t.fresh[i]};
+      views[i] = LaneView{&lanes[i], t.frames[i].get(), config.rendering ? &images[i] : nullptr, t.fresh[i],
+                          legend ? &*legend : nullptr};
       if (t.fresh[i]) unrendered[i] = {t.frames[i], t.fields[i]};
       if (!config.rendering || !shown || !unrendered[i].first) continue;
       const LaneFrame& f = *unrendered[i].first;
@@ -334,7 +337,8 @@ struct FramePipeline::Impl {
           rf.overlay_lines.emplace_back(line);
         }
       }
-      if (config.color != FieldKind::None && !field.empty()) color_by_field(rf, field, config.color, *range);
+      if (config.color != FieldKind::None && !field.empty())
+        color_by_field(rf, field, config.color, *range, /*bar_outside=*/config.tiles);
       if (config.inset_energy) draw_energy_inset(rf, energy, i, plan.duration());
       Stopwatch watch(render_seconds);
       images[i] = renderer->render(rf);

@@ -40,7 +40,8 @@ struct ColorRange {
 struct PipelineConfig {
   bool rendering = false;          // pictures are made (some output shows them)
   int width = 0, height = 0;       // of each lane's picture (a tile)
-  bool tiles = false;              // pictures are tiles of a grid that labels them (compare)
+  bool tiles = false;              // pictures are tiles of a grid that labels them and draws their
+                                   // one colour bar beside them (compare: grid_legend.h)
   OverlayMode overlay = OverlayMode::Full;
   bool overlay_cpu = false;        // --overlay-cost cpu: measured CPU time beside the work units
   bool judge = false;              // compare: judge each lane's plausibility (plausibility.h), WRONG on its tile
@@ -67,6 +68,7 @@ struct LaneView {
   const LaneFrame* frame = nullptr;  // the lane's latest (a frozen lane's held frame)
   const Image* image = nullptr;      // its picture, when rendering
   bool fresh = false;                // handed over at this target (not a held frame)
+  const ColorScale* legend = nullptr;  // the pictures' colour scale (one for every lane), when coloured
 };
 
 class FrameOutput {
