@@ -151,6 +151,7 @@ void check_option_pairs(const CompareOptions& o) {
 // The pictures' look; a summary alone draws none.
 PictureLook resolve_look(const CompareOptions& o, const ComparePlan& p) {
   PictureLook look = resolve_picture_look(look_options(o), p.scene, p.lanes, /*compare=*/true);
+  if (!o.vary.empty()) look.reference.reset();  // a scene per value: the inset shows E - E(0)
   if (p.rendering) return look;
   // The field is measured only when --color asks for it (the default reference, RK4 at a
   // quarter step, costs several times the lanes); its scale is then not chosen.
@@ -215,13 +216,15 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
   for (const SceneDef& s : p.vary_scenes) budget.add("model for --vary", model_bytes(s));
   for (const LaneSpec& l : p.lanes)
     budget.add(l.spelling(), run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
-  if (p.look.reference) {
+  if (p.look.reference && p.look.color == FieldKind::Error) {
     budget.add("reference " + p.look.reference->name(), run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
     std::vector<double> steps;
     for (const LaneSpec& l : p.lanes) steps.push_back(l.dt);
     budget.add("reference positions at the lanes' times",
                reference_positions_bytes(scene, steps, *p.targets, kLaneQueueCapacity));
   }
+  if (p.look.reference && p.look.inset_energy)
+    budget.add("reference for the energy inset", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
   const TileGrid& grid = *p.grid;
   if (p.rendering) {
     const double n = static_cast<double>(p.lanes.size());
@@ -357,6 +360,7 @@ PipelineConfig pipeline_config(const ComparePlan& p) {
   config.lane_models = p.lane_models;
   config.command = "compare";
   apply_look(p.look, config);
+  if (p.look.inset_energy) config.energy_reference = p.look.reference;  // E - E_ref (none under --vary)
   config.scene_render = p.scene.render;
   if (p.look.camera_auto)
     config.camera = auto_camera(*p.model, p.scene.render, static_cast<double>(config.width) / config.height);
@@ -378,7 +382,7 @@ void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& p
       pipeline.add(make_frames_output(
           make_png_sequence_sink((fs::path(o.frames_dir) / p.lane_dirs[i]).string(),
                                  with_renderer(frame_metadata(model, p.lanes[i].kind, p.lanes[i].dt), *renderer)),
-          i, p.legend_width, p.grid->label_scale()));
+          i));
   const PngText meta = renderer ? with_renderer({{"scene", model.name}, {"software", "clothsim " CLOTHSIM_VERSION}}, *renderer)
                                 : PngText{};
   if (o.still_t) pipeline.add(make_still_output(o.still_out, composer, meta));

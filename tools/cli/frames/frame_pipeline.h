@@ -48,6 +48,9 @@ struct PipelineConfig {
   FieldKind color = FieldKind::None;
   std::optional<ColorRange> color_range;  // --color-range; else from the first second
   bool inset_energy = false;       // --inset energy
+  // compare --inset energy: a lane run alongside (the reference), never shown, whose total
+  // energy the inset subtracts (frame_decoration.h); none: the inset shows E - E(0).
+  std::optional<LaneSpec> energy_reference;
   int samples = kDefaultMsaaSamples;  // MSAA samples of each picture (1: none)
   bool fxaa = false;               // edges smoothed on the CPU instead (render/fxaa.h)
   bool metrics = false;            // an output reads LaneFrame::metrics

@@ -1,8 +1,8 @@
 // One colour bar per grid, outside the cloth: compare's tiles are drawn without their own
-// (ColorScale::show_bar off), and the clip, the still, the sheet and each lane's PNGs get the
-// legend once, in a strip of the background colour at their right that no tile covers. The
-// strip is sized to the picture's text (the grid's one text size) and taken out of the width
-// asked for, so the picture stays the size asked for.
+// (ColorScale::show_bar off), and the clip, the still and the sheet get the legend once, in a
+// strip of the background colour at their right that no tile covers. The strip is sized to the
+// picture's text (the grid's one text size) and taken out of the width asked for, so the
+// picture stays the size asked for. Each lane's --frames PNGs are its tiles as the grid shows them.
 #pragma once
 
 #include "render/image.h"

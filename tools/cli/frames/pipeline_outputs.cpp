@@ -73,19 +73,11 @@ class VideoOutput final : public FrameOutput {
 
 class FramesOutput final : public FrameOutput {
  public:
-  FramesOutput(std::unique_ptr<FrameSink> sink, std::size_t lane, int legend_width, int legend_scale)
-      : sink_(std::move(sink)), lane_(lane), legend_width_(legend_width), legend_scale_(legend_scale) {}
+  FramesOutput(std::unique_ptr<FrameSink> sink, std::size_t lane) : sink_(std::move(sink)), lane_(lane) {}
   std::string what() const override { return "frames"; }
   void on_target(const Target& target, const std::vector<LaneView>& lanes) override {
-    if (target.frame < 0) return;
-    const LaneView& lane = lanes[lane_];
-    const Image* picture = lane.image;
-    if (legend_width_ > 0) {
-      add_legend_strip(*lane.image, lane.legend, legend_width_, legend_scale_, with_legend_);
-      picture = &with_legend_;
-    }
     // The picture's own time: a diverged lane's is the divergence's, not the frame's.
-    sink_->add(target.frame, lane.frame->t, *picture);
+    if (target.frame >= 0) sink_->add(target.frame, lanes[lane_].frame->t, *lanes[lane_].image);
   }
   void finish() override { sink_->finish(); }
   void abandon(std::vector<std::string>& kept, std::vector<std::string>&) override {
@@ -99,8 +91,6 @@ class FramesOutput final : public FrameOutput {
  private:
   std::unique_ptr<FrameSink> sink_;
   std::size_t lane_;
-  int legend_width_, legend_scale_;
-  Image with_legend_;
 };
 
 class StillOutput final : public FrameOutput {
@@ -201,9 +191,8 @@ class MetricsOutput final : public FrameOutput {
 std::unique_ptr<FrameOutput> make_video_output(std::unique_ptr<FrameSink> sink, std::string path, Composer composer) {
   return std::make_unique<VideoOutput>(std::move(sink), std::move(path), std::move(composer));
 }
-std::unique_ptr<FrameOutput> make_frames_output(std::unique_ptr<FrameSink> sink, std::size_t lane, int legend_width,
-                                                int legend_scale) {
-  return std::make_unique<FramesOutput>(std::move(sink), lane, legend_width, legend_scale);
+std::unique_ptr<FrameOutput> make_frames_output(std::unique_ptr<FrameSink> sink, std::size_t lane) {
+  return std::make_unique<FramesOutput>(std::move(sink), lane);
 }
 std::unique_ptr<FrameOutput> make_still_output(std::string path, Composer composer, PngText meta) {
   return std::make_unique<StillOutput>(std::move(path), std::move(composer), std::move(meta));

@@ -36,11 +36,9 @@ std::vector<std::string> lane_tile_labels(const std::vector<LaneSpec>& lanes, co
 // Clip frames of every lane's picture, composed, into a FrameSink (the MP4).
 std::unique_ptr<FrameOutput> make_video_output(std::unique_ptr<FrameSink> sink, std::string path, Composer composer);
 
-// Clip frames of one lane's picture into a PNG sequence (--frames), with the colour bar's strip
-// at its right when legend_width > 0 (a tile of compare, drawn without its own), at text scale
-// `legend_scale`.
-std::unique_ptr<FrameOutput> make_frames_output(std::unique_ptr<FrameSink> sink, std::size_t lane,
-                                                int legend_width = 0, int legend_scale = 1);
+// Clip frames of one lane's picture into a PNG sequence (--frames): in compare, its tile as the
+// grid shows it (the grid's one colour bar is not in it; the scale is on stderr and in --summary).
+std::unique_ptr<FrameOutput> make_frames_output(std::unique_ptr<FrameSink> sink, std::size_t lane);
 
 // The composed picture at the still's target, written to `path`.
 std::unique_ptr<FrameOutput> make_still_output(std::string path, Composer composer, PngText meta);
