@@ -87,6 +87,7 @@ struct CompareOptions {
   std::vector<std::string> match{"cost"};  // --match cost | error TOL | none
   std::string vary;                         // --vary KEY=V1,V2,...
   bool integrators_given = false;           // --integrators on the command line (a --vary grid's rows)
+  bool match_given = false;                 // --match on the command line (--vary matches only when asked)
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
   GlOptions gl;
@@ -134,6 +135,9 @@ void check_option_pairs(const CompareOptions& o) {
   if (o.sheet.empty() != o.times.empty())
     throw UsageError(o.sheet.empty() ? "--times goes with --sheet FILE.png"
                                      : "--sheet needs --times T1,T2,... (the columns)");
+  if (!o.vary.empty() && !o.match.empty() && o.match.front() == "error")
+    throw UsageError("--match error: --vary runs a scene per value, with no one reference to match against; "
+                     "use --match cost or none");
   if (o.still_t.has_value() != !o.still_out.empty())
     throw UsageError(o.still_t ? "--still needs -o/--output FILE.png" : "-o/--output goes with --still T");
   // A comparison that writes nothing would simulate every lane for nothing (the table it
@@ -242,17 +246,28 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
   budget.check(scene.source, o.scene.max_memory);
 }
 
-// The lanes' steps by --match (step_matching.h), and their names.
+// Which --vary lanes may have their step chosen: those of a row (an integrator) that is free,
+// every value of it.
+std::vector<bool> vary_free_lanes(const CompareOptions& o, const ComparePlan& p) {
+  const std::string rows = o.integrators_given ? o.integrators : std::string(integrator_name(p.scene.integrator));
+  const std::vector<bool> row_free = free_lanes(rows, o.dt, p.scene.dt);
+  std::vector<bool> free;
+  for (std::size_t i = 0; i < p.lanes.size(); ++i) free.push_back(row_free[i / p.vary_scenes.size()]);
+  return free;
+}
+
+// The lanes' steps by --match (step_matching.h), and their names. --vary compares the values at
+// one step unless --match is given; matched on cost, each lane's cost is measured on its own scene.
 void choose_steps(const CompareOptions& o, ComparePlan& p) {
-  if (!o.vary.empty()) {  // the values compared at one step: what changes is the parameter
+  if (!o.vary.empty() && !o.match_given) {
     p.context.step_choice.assign(p.lanes.size(), "the lane's step (--vary compares the values at one step)");
     return;
   }
   const MatchRequest match = parse_match(o.match);
-  const std::vector<bool> free = free_lanes(o.integrators, o.dt, p.scene.dt);
+  const std::vector<bool> free = o.vary.empty() ? free_lanes(o.integrators, o.dt, p.scene.dt) : vary_free_lanes(o, p);
   const MatchClip clip{p.scene.duration, p.scene.render.fps, p.scene.dt};
   const LaneSpec reference = parse_reference(o.look.reference, p.lanes);
-  p.context.step_choice = match_steps(*p.model, p.lanes, free, match, clip, reference);
+  p.context.step_choice = match_steps(*p.model, p.lanes, free, match, clip, reference, p.lane_models);
   if (match.kind == MatchKind::Error) p.error_reference = error_reference(reference, clip.fps);
 }
 
@@ -266,21 +281,7 @@ void name_lanes(ComparePlan& p) {
 // --vary KEY=V1,V2,...: a scene per value (the user's --set, then the key's), and the lanes
 // repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
 void plan_variation(const CompareOptions& o, ComparePlan& p) {
-  const auto eq = o.vary.find('=');
-  if (eq == std::string::npos || eq == 0 || eq + 1 == o.vary.size())
-    throw UsageError("--vary: expected KEY=V1,V2,... (ks=2e3,2e4,2e5), got " + in_quotes(o.vary));
-  ParamKey key;
-  try {
-    key = resolve_param_key(o.vary.substr(0, eq), p.scene);
-  } catch (const ParamKeyError& e) {
-    throw UsageError(std::string("--vary: ") + e.what());
-  }
-  std::vector<double> values;
-  for (const std::string& item : split_list(o.vary.substr(eq + 1))) {
-    const std::optional<double> v = parse_number_or_fraction(item);
-    if (!v) throw UsageError("--vary: " + in_quotes(item) + " is not a number");
-    values.push_back(*v);
-  }
+  const auto [key, values] = parse_vary(o.vary, p.scene);
   const std::vector<LaneSpec> rows =
       o.integrators_given ? p.lanes : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
   for (double v : values) {
@@ -500,7 +501,7 @@ void add_compare_command(CLI::App& app, Command& command) {
                   "Lanes by a parameter's value, labelled 'ks = 2e4': KEY a dotted scene path, a glob over the spring\n"
                   "types (cloth.springs.*.stiffness) or ks / kd (every spring type's stiffness / damping). With\n"
                   "--integrators, a grid: a row per integrator, a column per value; without, the scene's integrator.\n"
-                  "The lanes run at one step (no --match); colour by strain unless --color says otherwise")
+                  "The lanes run at one step unless --match cost is given; colour by strain unless --color says otherwise")
       ->type_name("KEY=V1,V2,...");
   sub->add_option("--layout", o->layout,
                   "COLUMNSxROWS: 2x2, 4x1 (side by side), 1x4 (stacked), Nx1, 1xN or auto")
@@ -525,6 +526,7 @@ void add_compare_command(CLI::App& app, Command& command) {
   sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)")->capture_default_str();
   sub->callback([o, sub, &command] {
     o->integrators_given = sub->get_option("--integrators")->count() > 0;
+    o->match_given = sub->get_option("--match")->count() > 0;
     command = [o] { return compare_command(*o); };
   });
 }
