@@ -362,7 +362,7 @@ struct FramePipeline::Impl {
       if (config.color != FieldKind::None && !field.empty())
         color_by_field(rf, field, config.color, *range, /*bar_outside=*/config.tiles);
       if (config.inset_energy)
-        draw_energy_inset(rf, energy, i, plan.duration(), energy_reference ? &reference_energy : nullptr, frozen);
+        draw_energy_inset(rf, energy, i, plan.last_time(), energy_reference ? &reference_energy : nullptr, frozen);
       Stopwatch watch(render_seconds);
       images[i] = renderer->render(rf);
       unrendered[i] = {};
