@@ -15,9 +15,10 @@
 // its work per simulated second equals the cheapest lane's at the scene's step) and the tiles
 // coloured by each particle's distance from a reference lane (RK4 at a quarter of the smallest
 // step, or at its predicted stable step where that is smaller: fit_reference_to_model) run
-// alongside and never shown, on one logarithmic scale with a colour bar; each tile shows its
-// work and CPU time, and a lane that is finite but implausible is marked WRONG
-// (plausibility.h): what each method buys for the same cost, on screen.
+// alongside and never shown, on one logarithmic scale whose colour bar is drawn once, in a
+// strip beside the grid (grid_legend.h); each tile shows its work and CPU time, and a lane
+// that is finite but implausible is marked WRONG (plausibility.h): what each method buys for
+// the same cost, on screen.
 //
 // The command reads as its phases: plan (check everything, build the model, choose the
 // steps), outputs (the pipeline and what it feeds), run, report.
