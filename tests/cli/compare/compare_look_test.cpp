@@ -126,6 +126,19 @@ TEST(CompareLook, AGridDrawsOneColourBarInAStripBesideItsTilesAndNoneInThem) {
   for (int x : in_sheet) EXPECT_GE(x, 640 - grid.legend_width) << "a bar column inside the cells";
 }
 
+TEST(CompareLook, APictureTooNarrowForTheTilesAndTheStripIsRefusedInOneLine) {
+  const std::string dir = ct::scratch_dir("compare_look_narrow");
+  std::vector<std::string> args = {"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "0.1", "--width",
+                                   "40", "--height", "40", "--color", "strain", "--still", "0.1", "-o", dir + "/s.png"};
+  const auto r = ct::run_clothsim(args);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(ct::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("colour bar's"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/s.png"));
+  args[11] = "checker";  // no bar, no strip: the tiles have the whole width
+  EXPECT_EQ(ct::run_clothsim(args).exit_code, 0);
+}
+
 TEST(CompareLook, TheBarDetectorFindsTheBarInARunsPicture) {
   // run draws its one picture with the bar over it: the detector above sees it there.
   const std::string dir = ct::scratch_dir("compare_look_run_bar");

@@ -1,5 +1,8 @@
 #include "grid_legend.h"
 
+#include <algorithm>
+#include <string>
+
 #include "render/color_bar.h"
 #include "render/text.h"
 
@@ -14,6 +17,10 @@ LegendGrid fit_legend_grid(GridLayout layout, int width, int height, FieldKind c
   const TilingStyle style;
   const int cell_h = (height - (layout.rows - 1) * style.gutter) / layout.rows;
   const int strip = legend_width(color, text_scale_for_height(std::max(cell_h, 1)));
+  if (strip > 0 && width - strip < layout.columns * (style.gutter + 1))
+    throw LayoutError("a " + std::to_string(layout.columns) + "x" + std::to_string(layout.rows) + " grid and the colour bar's " +
+                      std::to_string(strip) + "-pixel strip do not fit in " + std::to_string(width) + "x" +
+                      std::to_string(height) + " pixels (--color checker draws no bar)");
   return LegendGrid{TileGrid::fit(layout, width - strip, height, style), strip};
 }
 
