@@ -275,6 +275,7 @@ struct ValueStudy {
   std::string label;  // "ks = 2e4"
   SceneDef scene;
   LaneNames names;    // per lane
+  WorkPrecisionSpec spec;
   WorkPrecisionResult result;
 };
 
@@ -290,7 +291,8 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
     for (const std::string& set : param_sets(v.key, value)) sets.push_back(set);
     s.scene = load_scene(o.scene.path, sets);
     for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
-    plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
+    s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
+    s.spec.lane_names = s.names;
     studies.push_back(std::move(s));
   }
   return studies;
@@ -298,8 +300,7 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
 
 // One value's study, run and its table printed; returns the runs it planned.
 std::size_t run_value(const BenchOptions& o, const std::vector<LaneSpec>& lanes, ValueStudy& s) {
-  WorkPrecisionSpec spec = plan_bench(o, s.scene, lanes);
-  spec.lane_names = s.names;
+  WorkPrecisionSpec spec = s.spec;
   s.scene.duration = std::max(s.scene.duration, spec.duration);
   std::vector<IntegratorKind> kinds;
   for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
