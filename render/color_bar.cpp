@@ -39,4 +39,8 @@ void draw_color_bar(Image& image, const ColorScale& scale, const OverlayLayout& 
   }
 }
 
+void draw_color_bar_strip(Image& image, const ColorScale& scale, const ImageBox& strip, int text_scale) {
+  draw_color_bar(image, scale, layout_color_bar_strip(scale, strip, text_scale));
+}
+
 }  // namespace clothsim::render

@@ -14,4 +14,8 @@ namespace clothsim::render {
 
 void draw_color_bar(Image& image, const ColorScale& scale, const OverlayLayout& layout);
 
+// The same legend once for a whole grid, in `strip` beside its tiles (layout_color_bar_strip),
+// at the grid's text scale: the tiles are drawn without their own (ColorScale::show_bar false).
+void draw_color_bar_strip(Image& image, const ColorScale& scale, const ImageBox& strip, int text_scale);
+
 }  // namespace clothsim::render

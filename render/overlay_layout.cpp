@@ -49,27 +49,34 @@ void place_inset(const RenderFrame& frame, int width, int height, OverlayLayout&
   l.plot = {l.inset.x + pad, l.inset.y + pad + title_h, w - 2 * pad, plot_h};
 }
 
-// The colour bar's panel at the right edge, from the top (or below the overlay lines if they
-// reach across), its bar about 40 % of the image high or what is left above the inset.
-void place_color_bar(const RenderFrame& frame, int width, int height, OverlayLayout& l) {
+// The colour bar's panel parts for a bar of height bar_h whose panel's top-right corner is
+// (right, top), its tick labels chosen for that height (a tick label per line and a gap).
+void fit_bar_panel(const ColorScale& scale, int right, int top, int bar_h, OverlayLayout& l) {
   const int s = l.scale, pad = 2 * s;
   const int bar_w = 6 * s, tick_len = 2 * s, gap = s;
   const int half_label = 4 * s;  // a tick label centred on its tick reaches this far past it
-  const std::string& title = frame.color_scale.label;
-  const int title_h = title.empty() ? 0 : line_height(s) + s;
-  const int overhead = 2 * pad + title_h + 2 * half_label;
+  const int title_h = scale.label.empty() ? 0 : line_height(s) + s;
+  l.ticks = scale_ticks(scale, std::max(2, bar_h / (line_height(s) + 2 * s) + 1));
+  int label_w = 0;
+  for (const ScaleTick& t : l.ticks) label_w = std::max(label_w, text_width(t.text, s));
+  const int w = std::max(text_width(scale.label, s), label_w + gap + tick_len + bar_w) + 2 * pad;
+  l.color_bar = {right - w, top, w, 2 * pad + title_h + 2 * half_label + bar_h};
+  l.bar = {l.color_bar.right() - pad - bar_w, top + pad + title_h + half_label, bar_w, bar_h};
+  l.title_y = top + pad;
+}
+
+// The colour bar's panel at the right edge, from the top (or below the overlay lines if they
+// reach across), its bar about 40 % of the image high or what is left above the inset.
+void place_color_bar(const RenderFrame& frame, int width, int height, OverlayLayout& l) {
+  const int s = l.scale;
+  const int title_h = frame.color_scale.label.empty() ? 0 : line_height(s) + s;
+  const int overhead = 4 * s + title_h + 8 * s;  // pads, title, half a tick label each end
   int bottom_limit = l.inset.empty() ? height - tile_label_band(s) - l.margin : l.inset.y - l.margin;
 
   const auto fit = [&](int top) {
     const int bar_h = std::max(std::min(static_cast<int>(std::lround(0.4 * height)), bottom_limit - top - overhead),
                                line_height(s));
-    l.ticks = scale_ticks(frame.color_scale, std::max(2, bar_h / (line_height(s) + 2 * s) + 1));
-    int label_w = 0;
-    for (const ScaleTick& t : l.ticks) label_w = std::max(label_w, text_width(t.text, s));
-    const int w = std::max(text_width(title, s), label_w + gap + tick_len + bar_w) + 2 * pad;
-    l.color_bar = {width - l.margin - w, top, w, overhead + bar_h};
-    l.bar = {l.color_bar.right() - pad - bar_w, top + pad + title_h + half_label, bar_w, bar_h};
-    l.title_y = top + pad;
+    fit_bar_panel(frame.color_scale, width - l.margin, top, bar_h, l);
   };
   fit(l.margin);
   if (l.color_bar.overlaps(l.text)) fit(l.text.bottom() + s);  // under long overlay lines
@@ -204,6 +211,23 @@ OverlayLayout layout_overlay(const RenderFrame& frame, int width, int height) {
   if (frame.inset.show) place_inset(frame, width, height, l);
   if (!frame.cloth_field.empty() && frame.color_scale.show_bar) place_color_bar(frame, width, height, l);
   if (!frame.banner.empty()) place_banner(frame, width, height, l);
+  return l;
+}
+
+int color_bar_strip_width(std::string_view label, int scale) {
+  const int s = scale;  // as fit_bar_panel: pads, bar, tick mark, gap, the widest tick label; margins
+  return std::max(text_width(label, s), text_width("1.5e-5", s) + s + 2 * s + 6 * s) + 4 * s + 2 * (4 * s);
+}
+
+OverlayLayout layout_color_bar_strip(const ColorScale& scale, const ImageBox& strip, int text_scale) {
+  OverlayLayout l;
+  l.scale = text_scale;
+  l.margin = 4 * text_scale;
+  const int s = text_scale;
+  const int title_h = scale.label.empty() ? 0 : line_height(s) + s;
+  const int bar_h = std::max(strip.h / 2, line_height(s));
+  const int panel_h = 4 * s + title_h + 8 * s + bar_h;
+  fit_bar_panel(scale, strip.right() - l.margin, strip.y + std::max(0, (strip.h - panel_h) / 2), bar_h, l);
   return l;
 }
 

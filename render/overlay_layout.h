@@ -76,4 +76,12 @@ int tile_label_band(int scale);
 // cloth_field is set and color_scale.show_bar, the inset when inset.show.
 OverlayLayout layout_overlay(const RenderFrame& frame, int width, int height);
 
+// The colour bar of a grid (compare's clip, still, sheet): one legend for every tile, in a strip
+// of its own at the grid's right, so it covers no tile. The width such a strip needs at text
+// scale `scale` for a scale titled `label` (ticks of up to six characters, "1.5e-5").
+int color_bar_strip_width(std::string_view label, int scale);
+// The colour bar's panel in `strip` (only color_bar, bar, title_y, ticks and scale are set):
+// the panel as wide as the strip less its margins, vertically centred, its bar half the strip high.
+OverlayLayout layout_color_bar_strip(const ColorScale& scale, const ImageBox& strip, int text_scale);
+
 }  // namespace clothsim::render

@@ -54,14 +54,20 @@ def main():
     fig, axes = pc.plt.subplots(1, 2, figsize=(12, 5.2), sharey=True)
     panels = [(axes[0], time_key, time_label), (axes[1], "force_evals", "force evaluations")]
     step_labels = {ax: [] for ax in axes}  # (x, y, step, colour): placed once the limits are known
+    # bench --vary: lanes "rk4 (ks = 2e4)", coloured by their integrator, one line style per value.
+    values = list(OrderedDict.fromkeys(n.partition(" (")[2] for n in runs if " (" in n))
+    dashes = ["-", "--", ":", "-."]
     for ax, key, label in panels:
         for name, rs in runs.items():
-            color, marker = pc.style(name)
+            base, _, value = name.partition(" (")
+            color, marker = pc.style(base)
+            line = dashes[values.index(value) % len(dashes)] if value else "-"
+            title = pc.lane_label(base) + (" (" + value if value else "")
             ok = sorted((r for r in rs if r["diverged"] == "0" and pc.number(r["rms_error"]) > 0),
                         key=lambda r: pc.number(r["dt"]))
             xs = [max(pc.number(r[key]), 1e-6) for r in ok]
             ys = [pc.number(r["rms_error"]) for r in ok]
-            ax.plot(xs, ys, color=color, marker=marker, label=pc.lane_label(name))
+            ax.plot(xs, ys, color=color, marker=marker, linestyle=line, label=title)
             step_labels[ax].extend((x, y, f"{pc.number(r['dt']):.3g}", color) for r, x, y in zip(ok, xs, ys))
             missed = [(x, y) for r, x, y in zip(ok, xs, ys) if unconverged(r)]
             if missed:  # hollow: the line's filled marker painted over in white, then circled

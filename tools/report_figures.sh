@@ -23,12 +23,14 @@ if [ -n "$SMALL" ]; then
   SIZE="--width 320 --height 180"
   TIMES=0.1,0.2,0.3
   STILL=0.2
+  VARY_STILL=0.2
   STUDY="--set cloth.particles=[9,9] --duration 0.05"
 else
   SCENE=
   SIZE=
   TIMES=0.1,0.5,2,4
   STILL=2
+  VARY_STILL=1.5
   STUDY=
 fi
 
@@ -38,9 +40,18 @@ figure() {  # figure NAME OUTPUT COMMAND...: runs it, and fails naming it unless
   shift 2
   echo "== $name: $*"
   start=$(date +%s)
-  "$@" || { echo "report_figures.sh: $name failed: $*" >&2; exit 1; }
+  # The wall time, and where /usr/bin/time is installed the CPU time too (less moved by the load).
+  if [ -x /usr/bin/time ]; then
+    /usr/bin/time -f "%e s wall, %U s user + %S s system CPU" -o "$OUT/.time" "$@" ||
+      { echo "report_figures.sh: $name failed: $*" >&2; exit 1; }
+    took=$(cat "$OUT/.time")
+    rm -f "$OUT/.time"
+  else
+    "$@" || { echo "report_figures.sh: $name failed: $*" >&2; exit 1; }
+    took="$(($(date +%s) - start)) s"
+  fi
   [ -s "$output" ] || { echo "report_figures.sh: $name wrote no $output" >&2; exit 1; }
-  echo "== $name: $output in $(($(date +%s) - start)) s"
+  echo "== $name: $output in $took (load $(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo ?))"
 }
 
 # 1. The integrator clip and its contact sheet.
@@ -56,7 +67,12 @@ figure stiffness "$OUT/stability_ks.png" "$CLOTHSIM" stability scenes/drape.yaml
 # 4. The effect of the damper on where each method breaks.
 figure damping "$OUT/stability_kd.png" "$CLOTHSIM" stability scenes/drape.yaml $STUDY --param cloth.springs.structural.damping \
   --values 75,750,7500 --csv "$OUT/stability_kd.csv" --plot "$OUT/stability_kd.png" --quiet
-# 5. Energy: each lane's E(t) - E(0) in its tile, on shared axes.
+# 5. Energy: each lane's E - Eref (its total energy minus the reference lane's) in its tile, on shared axes.
 figure energy "$OUT/energy.png" "$CLOTHSIM" compare scenes/drape.yaml $SCENE $SIZE --inset energy --color checker \
   --integrators explicit_euler@2e-4,symplectic_euler@2e-4,rk4@2e-4,implicit_euler@1/60 --still $STILL -o "$OUT/energy.png" --quiet
+# 6. The effect of ks and of kd on the cloth: a lane per value, coloured by strain, and by speed.
+figure ks "$OUT/ks.png" "$CLOTHSIM" compare scenes/drape.yaml $SCENE --vary ks=2e3,2e4,2e5 \
+  ${SIZE:---width 960 --height 360} --still $VARY_STILL -o "$OUT/ks.png" --quiet
+figure kd "$OUT/kd.png" "$CLOTHSIM" compare scenes/drape.yaml $SCENE --vary kd=75,750,7500 --color speed \
+  ${SIZE:---width 960 --height 360} --still $VARY_STILL -o "$OUT/kd.png" --quiet
 echo "figures in $OUT"

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
 
 #include "render/colormap.h"
 #include "render/synthetic_frames.h"
@@ -84,6 +85,32 @@ TEST(ColorBar, NothingIsDrawnWithoutAField) {
   const Image before = image;
   draw_color_bar(image, f.color_scale, layout_overlay(f, 320, 180));
   EXPECT_EQ(image.rgba, before.rgba);
+}
+
+TEST(ColorBar, AGridsStripHoldsTheWholeLegendAndDrawsNothingOutsideIt) {
+  // The widest title compare draws and the widest ticks (a range under two decades: "1.5e-5").
+  for (const auto& [label, lo, hi] : {std::tuple{"speed [m/s]", 1.5e-5f, 7.5e-5f}, std::tuple{"error [m]", 1e-6f, 1e-1f}})
+    for (int s : {1, 2, 4}) {
+      ColorScale scale;
+      scale.label = label;
+      scale.lo = lo;
+      scale.hi = hi;
+      const int w = color_bar_strip_width(label, s), h = 120 * s;
+      const ImageBox strip{200, 0, w, h};
+      Image image = grey_image(200 + w + 10, h);
+      draw_color_bar_strip(image, scale, strip, s);
+      const OverlayLayout l = layout_color_bar_strip(scale, strip, s);
+      int outside = 0;
+      for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) outside += !strip.contains(x, y) && image.pixel(x, y)[0] != 128;
+      EXPECT_EQ(outside, 0) << label << " at scale " << s;
+      // Every tick label inside the panel (none cut at its left edge), the bar half the strip high.
+      for (const ScaleTick& tick : l.ticks)
+        EXPECT_GE(l.bar.x - 1 - 3 * s - text_width(tick.text, s), l.color_bar.x) << tick.text;
+      EXPECT_GE(l.color_bar.x, strip.x);
+      EXPECT_EQ(l.bar.h, h / 2);
+      EXPECT_TRUE(same(image.pixel(l.bar.x + 1, l.bar.y), colormap_rgb8(1.f - 0.5f / static_cast<float>(l.bar.h))));
+    }
 }
 
 }  // namespace

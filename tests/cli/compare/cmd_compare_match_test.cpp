@@ -3,6 +3,7 @@
 // the table, the summary and on its tile.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -143,7 +144,8 @@ TEST(CmdCompareMatch, VaryRefusesABadKeyOrErrorColouringInOneLine) {
   const std::string dir = scratch_dir("compare_vary_bad");
   for (const std::vector<std::string>& bad :
        {std::vector<std::string>{"--vary", "spheres.*.radius=1,2"}, std::vector<std::string>{"--vary", "ks"},
-        std::vector<std::string>{"--vary", "ks=1,2", "--color", "error"}}) {
+        std::vector<std::string>{"--vary", "ks=1,2", "--color", "error"},
+        std::vector<std::string>{"--vary", "ks=1,2", "--match", "error", "0.01"}}) {
     std::vector<std::string> args = bad;
     args.insert(args.end(), {"--video", dir + "/v.mp4"});
     const auto r = compare_small(args);
@@ -151,4 +153,29 @@ TEST(CmdCompareMatch, VaryRefusesABadKeyOrErrorColouringInOneLine) {
     EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
     EXPECT_FALSE(fs::exists(dir + "/v.mp4"));
   }
+}
+
+TEST(CmdCompareMatch, VaryLanesAreMatchedOnCostWhenAskedEachOnItsOwnScene) {
+  // A grid of explicit and implicit Euler at two stiffnesses. At one step (the default under
+  // --vary) every lane runs at the scene's; matched on cost, explicit Euler (the cheapest at the
+  // scene's step) keeps it and each implicit lane runs where its Newton work, measured on its own
+  // springs, costs the same per simulated second: the two stiffnesses' solves differ (at 2e6 N/m
+  // the solve takes the sparse factor), so their steps do.
+  const std::vector<std::string> grid{"--vary", "ks=2e3,2e6", "--integrators", "explicit_euler,implicit_euler"};
+  std::vector<std::string> one_step = grid, matched = grid;
+  one_step.insert(one_step.end(), {"--summary", scratch_dir("compare_vary_one_step") + "/s.json"});
+  matched.insert(matched.end(), {"--match", "cost", "--summary", scratch_dir("compare_vary_cost") + "/s.json"});
+  const auto at_one = compare_small(one_step), at_cost = compare_small(matched);
+  ASSERT_EQ(at_one.exit_code, 0) << at_one.err;
+  ASSERT_EQ(at_cost.exit_code, 0) << at_cost.err;
+  EXPECT_DOUBLE_EQ(step_of(at_one.out, "implicit_euler, ks = 2000"), 1e-4) << at_one.out;
+  EXPECT_DOUBLE_EQ(step_of(at_one.out, "implicit_euler, ks = 2e6"), 1e-4) << at_one.out;
+  EXPECT_DOUBLE_EQ(step_of(at_cost.out, "explicit_euler, ks = 2000"), 1e-4) << at_cost.out;
+  EXPECT_DOUBLE_EQ(step_of(at_cost.out, "explicit_euler, ks = 2e6"), 1e-4) << at_cost.out;
+  const double soft = step_of(at_cost.out, "implicit_euler, ks = 2000"), stiff = step_of(at_cost.out, "implicit_euler, ks = 2e6");
+  EXPECT_GT(soft, 1e-4) << at_cost.out;
+  EXPECT_GT(stiff, 1e-4) << at_cost.out;
+  EXPECT_GT(std::max(soft, stiff), 2.0 * std::min(soft, stiff))
+      << "each lane's cost measured on its own springs, not the scene's\n" << at_cost.out;
+  EXPECT_NE(at_cost.out.find("matched on cost by"), std::string::npos) << at_cost.out;
 }

@@ -13,6 +13,7 @@
 
 #include "cli/cli_process.h"
 #include "cli/compare/compare_small.h"
+#include "cli/frames/grid_legend.h"
 #include "cli/run_reports.h"
 #include "render/png_io.h"
 #include "video/contact_sheet.h"
@@ -20,7 +21,7 @@
 
 namespace fs = std::filesystem;
 using namespace clothsim;
-namespace cli = clothsim::testing;
+namespace ct = clothsim::testing;
 using clothsim::testing::run_clothsim;
 using clothsim::testing::scratch_dir;
 
@@ -53,10 +54,10 @@ std::pair<int, int> find_tile(const Image& big, const Image& tile, int rows = -1
   return {-1, -1};
 }
 
-void expect_refused(const cli::CliResult& r, int code, const std::string& needle,
+void expect_refused(const ct::CliResult& r, int code, const std::string& needle,
                     const std::string& output) {
   EXPECT_EQ(r.exit_code, code) << r.err;
-  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_EQ(ct::line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
   if (!output.empty()) {
     EXPECT_FALSE(fs::exists(output)) << output;
@@ -81,7 +82,7 @@ TEST(CmdCompare, MakesATwoByTwoClipOfTheFourDefaultIntegrators) {
   for (const char* name : {"explicit_euler", "implicit_euler", "midpoint", "rk4"})
     EXPECT_NE(r.out.find(name), std::string::npos) << "summary row for " << name << "\n" << r.out;
   EXPECT_NE(r.err.find("simulate"), std::string::npos) << "time breakdown on stderr: " << r.err;
-  EXPECT_TRUE(cli::only_files(dir, {"drape.mp4"})) << "no temporaries left";
+  EXPECT_TRUE(ct::only_files(dir, {"drape.mp4"})) << "no temporaries left";
 }
 
 TEST(CmdCompare, ANewtonCapAskedForIsNotCalledNotConverged) {
@@ -99,12 +100,15 @@ TEST(CmdCompare, KeepsEveryTilesPngsAndTheyAreTheClipsTiles) {
   const auto r = compare_small({"--integrators", "midpoint,rk4", "--layout", "1xN", "--frames",
                                 dir + "/tiles", "--video", dir + "/clip.mp4", "--crf", "0"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  // 1xN: one column of two tiles, each 320 wide and (180 - 4) / 2 = 88 high.
+  // 1xN: one column of two tiles, each (180 - 4) / 2 = 88 high and as wide as the colour bar's
+  // strip leaves of 320.
+  const int tile_w = clothsim::cli::fit_legend_grid(GridLayout{1, 2}, 320, 180, FieldKind::Error).grid.cell_width();
+  EXPECT_GT(tile_w, 160);
   for (const char* name : {"midpoint", "rk4"}) {
     for (int k = 0; k < 7; ++k) EXPECT_TRUE(fs::exists(frame_path(dir + "/tiles", name, k))) << name << k;
     EXPECT_FALSE(fs::exists(frame_path(dir + "/tiles", name, 7)));
     const Image tile = read_png(frame_path(dir + "/tiles", name, 6));
-    EXPECT_EQ(tile.width, 320);
+    EXPECT_EQ(tile.width, tile_w);
     EXPECT_EQ(tile.height, 88);
   }
   const auto info = test::probe_mp4(dir + "/clip.mp4");
@@ -112,8 +116,8 @@ TEST(CmdCompare, KeepsEveryTilesPngsAndTheyAreTheClipsTiles) {
   EXPECT_EQ(info.height, 180);
   // Near-lossless (crf 0, only the yuv420p round trip): the rk4 tile is the bottom cell.
   const Image rk4 = read_png(frame_path(dir + "/tiles", "rk4", 3));
-  const auto got = test::mean_rgb(info.frames[3], 160, 92 + 44, 6);
-  const auto want = test::mean_rgb(rk4, 160, 44, 6);
+  const auto got = test::mean_rgb(info.frames[3], tile_w / 2, 92 + 44, 6);
+  const auto want = test::mean_rgb(rk4, tile_w / 2, 44, 6);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 6.0) << "channel " << c;
 }
 
@@ -241,7 +245,7 @@ TEST(CmdCompare, TheErrorLinesCountTheDistinctStatesOfALaneLongerThanAFrame) {
   ASSERT_NE(fine, std::string::npos) << r.out;
   EXPECT_EQ(r.out.substr(fine, r.out.find('\n', fine) - fine).find("distinct"), std::string::npos) << r.out;
   // The summary keeps field_frames meaning frames, and counts the states beside it.
-  const std::string json = cli::slurp(dir + "/s.json");
+  const std::string json = ct::slurp(dir + "/s.json");
   const std::size_t lane = json.find("\"lane\": \"implicit_euler@0.1\"");
   ASSERT_NE(lane, std::string::npos) << json;
   const std::string object = json.substr(json.rfind('{', lane), json.find('}', lane) - json.rfind('{', lane));
@@ -262,14 +266,19 @@ TEST(CmdCompare, AReferenceThatDivergesIsWarnedOfAndEveryErrorLineSaysWhereMeasu
   EXPECT_TRUE(fs::exists(dir + "/still.png"));
   // The tile, drawn in the checker for want of a reference, says why on the picture: it is
   // the checker picture plus one overlay line, in the overlay's box at the top left.
-  const auto checker = compare_small({"--integrators", "midpoint", "--color", "checker", "--still", "0.1", "-o",
-                                      dir + "/checker.png"});
+  // (The error still's tile is what its colour bar's strip leaves of the width: the checker
+  // still is asked for at that width, for a tile of the same size.)
+  const int tile_w = clothsim::cli::fit_legend_grid(GridLayout{1, 1}, 320, 180, FieldKind::Error).grid.width();
+  const auto checker = ct::run_clothsim({"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "0.2",
+                                         "--width", std::to_string(tile_w), "--height", "180", "--integrators",
+                                         "midpoint", "--color", "checker", "--still", "0.1", "-o", dir + "/checker.png"});
   ASSERT_EQ(checker.exit_code, 0) << checker.err;
   const Image said = read_png(dir + "/still.png"), plain = read_png(dir + "/checker.png");
-  ASSERT_EQ(said.width, plain.width);
+  ASSERT_EQ(said.width, 320);
+  ASSERT_EQ(plain.width, tile_w);
   int differ = 0, outside = 0;
   for (int y = 0; y < said.height; ++y)
-    for (int x = 0; x < said.width; ++x)
+    for (int x = 0; x < plain.width; ++x)
       if (!std::equal(said.pixel(x, y), said.pixel(x, y) + 3, plain.pixel(x, y))) {
         ++differ;
         outside += y > said.height / 3;
@@ -361,8 +370,9 @@ TEST(CmdCompare, AReferenceThatDivergesStillMeasuresTheTargetsItServed) {
 
 TEST(CmdCompare, WritesAContactSheetOfTheAskedSizeWhoseCellsAreTheRunsFrames) {
   const std::string dir = scratch_dir("compare_sheet");
-  const auto r = compare_small({"--integrators", "symplectic_euler,rk4", "--frames", dir + "/tiles",
-                                "--sheet", dir + "/sheet.png", "--times", "0,0.1,0.2"});
+  // (In the checker: a field's colour bar would take a strip of the width, CompareLook's case.)
+  const auto r = compare_small({"--integrators", "symplectic_euler,rk4", "--frames", dir + "/tiles", "--color",
+                                "checker", "--sheet", dir + "/sheet.png", "--times", "0,0.1,0.2"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Image sheet = read_png(dir + "/sheet.png");
   EXPECT_EQ(sheet.width, 320) << "--width";
@@ -390,22 +400,26 @@ TEST(CmdCompare, WritesAStillOfTheWholeGridAtTheRequestedTime) {
   const Image still = read_png(dir + "/still.png");
   EXPECT_EQ(still.width, 320);
   EXPECT_EQ(still.height, 180);
-  // 2x2 of 158x88 cells with a 4-pixel gutter; t = 0.1 s is frame 3; rk4 is the fourth tile.
+  // 2x2 cells 88 high with a 4-pixel gutter, left of the colour bar's strip; t = 0.1 s is
+  // frame 3; rk4 is the fourth tile.
+  const TileGrid grid = clothsim::cli::fit_legend_grid(GridLayout{2, 2}, 320, 180, FieldKind::Error).grid;
+  ASSERT_EQ(grid.cell_height(), 88);
   const Image rk4 = read_png(frame_path(dir + "/tiles", "rk4", 3));
+  EXPECT_EQ(rk4.width, grid.cell_width());
   const auto at = find_tile(still, rk4, 60);
-  EXPECT_EQ(at.first, 162);
+  EXPECT_EQ(at.first, grid.cell_x(3));
   EXPECT_EQ(at.second, 92);
   int label_pixels = 0;  // bottom-left of the tile: the label "rk4" over the picture
   for (int y = 60; y < 88; ++y)
     for (int x = 0; x < 40; ++x)
-      label_pixels += std::memcmp(still.pixel(162 + x, 92 + y), rk4.pixel(x, y), 3) != 0;
+      label_pixels += std::memcmp(still.pixel(grid.cell_x(3) + x, 92 + y), rk4.pixel(x, y), 3) != 0;
   EXPECT_GT(label_pixels, 20) << "the tile is labelled in the still";
 }
 
 TEST(CmdCompare, WithNothingToWriteIsAUsageErrorBeforeAnyWork) {
   const auto r = compare_small({"--integrators", "symplectic_euler"});
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_EQ(ct::line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("nothing to write: give --video"), std::string::npos) << r.err;
   EXPECT_EQ(r.out, "") << "refused before the runs: no table";
 }
@@ -426,7 +440,7 @@ TEST(CmdCompare, WithASummaryOnlyPrintsTheTableAndWritesTheSummary) {
   ASSERT_EQ(measured.exit_code, 0) << measured.err;
   EXPECT_NE(measured.out.find("error against rk4 @ 2.5e-05 s: largest "), std::string::npos) << measured.out;
   EXPECT_NE(measured.out.find("(measured at 1 frame, t = 0.2 s)"), std::string::npos) << measured.out;
-  EXPECT_NE(cli::slurp(dir + "/e.json").find("\"field_frames\": 1"), std::string::npos) << cli::slurp(dir + "/e.json");
+  EXPECT_NE(ct::slurp(dir + "/e.json").find("\"field_frames\": 1"), std::string::npos) << ct::slurp(dir + "/e.json");
 }
 
 // Pixels of the banners' red text in a PNG.
@@ -521,15 +535,15 @@ TEST(CmdCompare, StopsCleanlyOnInterruptLeavingNoFileUnderTheName) {
   const std::string dir = scratch_dir("compare_interrupt");
   const std::string out = dir + "/long.mp4";
   // A minute of scene: far more than the 2 s before SIGINT arrives.
-  const auto r = cli::run_clothsim_interrupted(
+  const auto r = ct::run_clothsim_interrupted(
       {"compare", kDrape, "--color", "checker", "--set", "cloth.particles=[9,9]", "--duration", "60", "--width", "320",
        "--height", "180", "--video", out},
       2.0);
   EXPECT_EQ(r.exit_code, 130) << "128 + SIGINT\n" << r.err;
-  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_EQ(ct::line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("stopped by SIGINT at t = "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("nothing kept; not written: " + out), std::string::npos) << r.err;
-  EXPECT_TRUE(cli::only_files(dir, {})) << "no video and no temporary";
+  EXPECT_TRUE(ct::only_files(dir, {})) << "no video and no temporary";
 }
 
 TEST(CmdCompare, NoOverwriteRefusesAnExistingStillOrFramesBeforeAnyWork) {
@@ -538,17 +552,17 @@ TEST(CmdCompare, NoOverwriteRefusesAnExistingStillOrFramesBeforeAnyWork) {
   { std::ofstream(still) << "mine"; }
   const auto r = compare_small({"-n", "--still", "0.1", "-o", still});
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_EQ(ct::line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("-o/--output: " + still + " exists, and -n/--no-overwrite keeps it"), std::string::npos) << r.err;
   EXPECT_EQ(r.out, "");  // refused before the runs: no table
-  EXPECT_EQ(cli::slurp(still), "mine");
+  EXPECT_EQ(ct::slurp(still), "mine");
   fs::create_directories(dir + "/tiles/rk4");
   { std::ofstream(dir + "/tiles/rk4/frame_00000.png") << "mine"; }
   const auto f = compare_small({"--no-overwrite", "--integrators", "rk4", "--frames", dir + "/tiles"});
   EXPECT_EQ(f.exit_code, 2) << f.err;
   EXPECT_NE(f.err.find("already holds frames"), std::string::npos) << f.err;
   EXPECT_EQ(f.out, "");
-  EXPECT_EQ(cli::slurp(dir + "/tiles/rk4/frame_00000.png"), "mine");
+  EXPECT_EQ(ct::slurp(dir + "/tiles/rk4/frame_00000.png"), "mine");
 }
 
 // At a step of 1 ns the first frame is a million steps away for each of four runs: only a
@@ -557,38 +571,38 @@ TEST(CmdCompare, NoOverwriteRefusesAnExistingStillOrFramesBeforeAnyWork) {
 TEST(CmdCompare, StopsWithinTheBoundAtATinyStepOnEitherSignalLeavingNothing) {
   for (const int signal : {SIGINT, SIGTERM}) {
     const std::string dir = scratch_dir("compare_tiny_dt_" + std::to_string(signal));
-    const auto r = cli::run_clothsim_interrupted(
+    const auto r = ct::run_clothsim_interrupted(
         {"compare", kDrape, "--color", "checker", "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180",
          "--video", dir + "/v.mp4", "--sheet", dir + "/s.png", "--times", "0.5"},
         1.0, signal);
     EXPECT_EQ(r.exit_code, 128 + signal) << r.err;
     EXPECT_LT(r.seconds_to_exit, 2.0) << "the issue's bound is 0.5 s on an idle machine";
-    EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+    EXPECT_EQ(ct::line_count(r.err), 1) << r.err;
     EXPECT_NE(r.err.find(signal == SIGINT ? "stopped by SIGINT" : "stopped by SIGTERM"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("not written: " + dir + "/v.mp4, " + dir + "/s.png"), std::string::npos) << r.err;
-    EXPECT_TRUE(cli::only_files(dir, {})) << "no video, no sheet, no temporary";
+    EXPECT_TRUE(ct::only_files(dir, {})) << "no video, no sheet, no temporary";
   }
 }
 
 TEST(CmdCompare, SigkillLeavesNoFileAndNoTemporary) {
   const std::string dir = scratch_dir("compare_sigkill");
-  const auto r = cli::run_clothsim_interrupted(
+  const auto r = ct::run_clothsim_interrupted(
       {"compare", kDrape, "--color", "checker", "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180", "--video", dir + "/v.mp4",
        "--sheet", dir + "/s.png", "--times", "0.5"},
       1.0, SIGKILL);
   EXPECT_EQ(r.exit_code, 128 + SIGKILL);
-  EXPECT_TRUE(cli::only_files(dir, {}));
+  EXPECT_TRUE(ct::only_files(dir, {}));
 }
 
 TEST(CmdCompare, AWriteFailureIsOneLineExit1AndLeavesNothing) {
   const std::string dir = scratch_dir("compare_fsize");
-  const auto r = cli::run_clothsim({"compare", kDrape, "--color", "checker", "--duration", "1", "--width", "320",
+  const auto r = ct::run_clothsim({"compare", kDrape, "--color", "checker", "--duration", "1", "--width", "320",
                                     "--height", "180", "--video", dir + "/v.mp4"},
                                    "ulimit -f 16;");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_EQ(ct::line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
-  EXPECT_TRUE(cli::only_files(dir, {}));
+  EXPECT_TRUE(ct::only_files(dir, {}));
 }
 
 TEST(CmdCompare, AFailedSheetSaysWhichPngsStay) {
@@ -611,39 +625,39 @@ TEST(CmdCompare, AFailedSheetSaysWhichPngsStay) {
 
 TEST(CmdCompare, AWriteFailureOnTheContactSheetIsOneLineExit1AndLeavesNothing) {
   const std::string dir = scratch_dir("compare_fsize_sheet");
-  const auto r = cli::run_clothsim({"compare", kDrape, "--color", "checker", "--integrators", "rk4", "--duration", "0.2", "--width", "320",
+  const auto r = ct::run_clothsim({"compare", kDrape, "--color", "checker", "--integrators", "rk4", "--duration", "0.2", "--width", "320",
                                     "--height", "180", "--sheet", dir + "/s.png", "--times", "0.1,0.2"},
                                    "ulimit -f 16;");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_EQ(ct::line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("cannot write " + dir + "/s.png: File too large"), std::string::npos) << r.err;
-  EXPECT_TRUE(cli::only_files(dir, {}));
+  EXPECT_TRUE(ct::only_files(dir, {}));
 }
 
 // Two signals arriving together (the process stopped, signalled twice, continued) reach the
 // handler in two of compare's threads at once: the second still kills.
 TEST(CmdCompare, ASecondSignalOfEitherKindKillsAtOnceLeavingNothing) {
   const std::string dir = scratch_dir("compare_second_signal");
-  const auto r = cli::run_clothsim_signalled(
+  const auto r = ct::run_clothsim_signalled(
       {"compare", kDrape, "--color", "checker", "--dt", "1e-9", "--duration", "1", "--width", "320", "--height", "180", "--video",
        dir + "/v.mp4"},
       1.0, {SIGSTOP, SIGINT, SIGTERM, SIGCONT});
   EXPECT_TRUE(r.exit_code == 128 + SIGINT || r.exit_code == 128 + SIGTERM) << r.exit_code << "\n" << r.err;
   EXPECT_EQ(r.err.find("stopped by"), std::string::npos) << "killed by the second, not stopped cleanly\n" << r.err;
   EXPECT_LT(r.seconds_to_exit, 2.0);
-  EXPECT_TRUE(cli::only_files(dir, {}));
+  EXPECT_TRUE(ct::only_files(dir, {}));
 }
 
 TEST(CmdCompare, AnInterruptedFramesRunSaysWhichPngsItKept) {
   const std::string dir = scratch_dir("compare_interrupt_frames");
-  const auto r = cli::run_clothsim_interrupted_after_file(
+  const auto r = ct::run_clothsim_interrupted_after_file(
       {"compare", kDrape, "--color", "checker", "--integrators", "rk4", "--dt", "1e-9", "--duration", "1", "--width", "64", "--height", "64",
        "--frames", dir + "/f"},
       dir + "/f/rk4/frame_00000.png", SIGTERM);
   EXPECT_EQ(r.exit_code, 143) << r.err;
   // Frame 0 (t = 0) needs no step, so it is written before the first million steps begin.
   EXPECT_NE(r.err.find("kept 1 PNG in " + dir + "/f/rk4"), std::string::npos) << r.err;
-  EXPECT_TRUE(cli::only_files(dir + "/f/rk4", {"frame_00000.png"}));
+  EXPECT_TRUE(ct::only_files(dir + "/f/rk4", {"frame_00000.png"}));
 }
 
 using clothsim::testing::png_time;
@@ -660,7 +674,7 @@ TEST(CmdCompare, OneIntegratorAtTwoStepsIsTwoLanesWithTheirOwnFramesAndRows) {
   EXPECT_TRUE(fs::exists(frame_path(dir + "/f", "rk4@4e-4", 6)));
   EXPECT_FALSE(same_pixels(read_png(frame_path(dir + "/f", "rk4@1e-4", 6)), read_png(frame_path(dir + "/f", "rk4@4e-4", 6))))
       << "different steps, different strain: different pictures";
-  const std::string json = cli::slurp(dir + "/s.json");
+  const std::string json = ct::slurp(dir + "/s.json");
   EXPECT_NE(json.find("\"lane\": \"rk4@1e-4\""), std::string::npos) << json;
   EXPECT_NE(json.find("\"lane\": \"rk4@4e-4\""), std::string::npos) << json;
   EXPECT_TRUE(fs::exists(dir + "/v.mp4"));
@@ -731,10 +745,10 @@ TEST(CmdCompare, EachNewOptionsBadValueIsExit2BeforeAnyWork) {
     args.insert(args.end(), {"--video", dir + "/v.mp4"});
     const auto r = compare_small(args);
     EXPECT_EQ(r.exit_code, 2) << bad[0] << " " << bad[1] << "\n" << r.err;
-    EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+    EXPECT_EQ(ct::line_count(r.err), 1) << r.err;
     EXPECT_EQ(r.out, "") << "refused before the runs";
   }
-  EXPECT_TRUE(cli::only_files(dir, {}));
+  EXPECT_TRUE(ct::only_files(dir, {}));
 }
 
 TEST(CmdCompare, AStillsColourScaleIsTheClipsChosenFromTheFirstSecond) {

@@ -73,3 +73,29 @@ TEST(EnergyInset, ShowsTheChangeSinceTheStartOnSharedAxesAnExplodingLaneCannotFl
   EXPECT_EQ(g.inset.v_hi, f.inset.v_hi) << "one axis for every tile";
   EXPECT_EQ(g.inset.v_lo, f.inset.v_lo);
 }
+
+TEST(EnergyInset, AgainstAReferenceShowsWhatEachLaneGainsOrLosesBeyondItAndStopsWhereItDoes) {
+  // The reference loses 20 J a second to its dampers; one lane loses more (numerical damping),
+  // one less, sampled at other times; one blew up and was declared diverged.
+  EnergyHistory reference;
+  for (int k = 0; k <= 8; ++k) reference.add(0.1 * k, 100.0 - 2.0 * k);  // to t = 0.8 s only
+  std::vector<EnergyHistory> lanes(3);
+  for (int k = 0; k <= 10; ++k) {
+    lanes[0].add(0.1 * k, 100.0 - 3.0 * k);
+    lanes[1].add(0.1 * k + 0.05, 99.0 - 1.5 * k);  // between the reference's samples
+    lanes[2].add(0.1 * k, 100.0 * std::pow(10, k));
+  }
+  const std::vector<bool> diverged{false, false, true};
+  RenderFrame f, g;
+  draw_energy_inset(f, lanes, 0, 1.0, &reference, diverged);
+  draw_energy_inset(g, lanes, 1, 1.0, &reference, diverged);
+  EXPECT_EQ(f.inset.label, "E-Eref [J]");
+  ASSERT_EQ(f.inset.value.size(), 9u) << "no point past the reference's last sample";
+  EXPECT_NEAR(f.inset.value.back(), -8.f, 1e-4f) << "100 - 24 against 100 - 16";
+  ASSERT_EQ(g.inset.value.size(), 8u);
+  EXPECT_NEAR(g.inset.value.front(), 0.f, 1e-4f) << "the reference interpolated at 0.05 s: 99";
+  EXPECT_NEAR(g.inset.value.back(), 3.5f, 1e-4f) << "at 0.75 s: 99 - 10.5 against 100 - 15";
+  EXPECT_NEAR(f.inset.v_lo, -8.f, 1e-4f) << "the diverged lane sets no axis";
+  EXPECT_NEAR(f.inset.v_hi, 3.5f, 1e-4f);
+  EXPECT_EQ(g.inset.v_hi, f.inset.v_hi);
+}

@@ -27,6 +27,21 @@ TEST(PictureOptions, CompareColoursByErrorByDefaultAndRunByTheChecker) {
   EXPECT_EQ(resolve_picture_look(o, scene, kLanes, true).color, FieldKind::Speed);
 }
 
+TEST(PictureOptions, ComparesEnergyInsetHasAReferenceWhateverTheColouringAndRunsHasNone) {
+  SceneDef scene;
+  PictureOptions o;
+  o.color = "checker";
+  o.inset = "energy";
+  const PictureLook compare = resolve_picture_look(o, scene, kLanes, true);
+  ASSERT_TRUE(compare.reference) << "E - Eref needs a reference lane";
+  EXPECT_EQ(compare.reference->dt, 2.5e-5);
+  EXPECT_FALSE(resolve_picture_look(o, scene, kLanes, false).reference) << "run's inset is E - E(0)";
+  o.reference = "rk4@1e-5";
+  EXPECT_EQ(resolve_picture_look(o, scene, kLanes, true).reference->dt, 1e-5);
+  EXPECT_NE(usage_error([&] { resolve_picture_look(o, scene, kLanes, false); }).find("--reference goes with --color error"),
+            std::string::npos);
+}
+
 TEST(PictureOptions, OverlayCameraInsetAndRange) {
   SceneDef scene;
   scene.render.overlay = "label";

@@ -197,5 +197,33 @@ TEST(CmdBench, ALaneStepIsOneLineExitTwoSayingBenchSweepsTheStep) {
   }
 }
 
+TEST(CmdBench, VaryRunsTheStudyPerValueWithLanesLabelledByTheValue) {
+  // The spring at two stiffnesses: each value against its own reference, its rows labelled
+  // "symplectic_euler (ks = 400)" in the table and the CSV; the stiffer spring, the larger error.
+  const std::string dir = scratch_dir("bench_vary");
+  const CliResult r = run_clothsim({"bench", spring(), "--vary", "ks=100,400", "--integrators", "symplectic_euler",
+                                    "--dts", "0.01,0.005", "--duration", "1", "--csv", dir + "/wp.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\nsymplectic_euler (ks = 100)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\nsymplectic_euler (ks = 400)"), std::string::npos) << r.out;
+  const auto rows = lines(dir + "/wp.csv");
+  ASSERT_EQ(rows.size(), 1u + 4u);
+  EXPECT_EQ(rows[0].rfind("integrator,dt,steps,force_evals,", 0), 0u);
+  ASSERT_EQ(rows[2].rfind("symplectic_euler (ks = 100),0.01,100,100,", 0), 0u) << rows[2];
+  ASSERT_EQ(rows[4].rfind("symplectic_euler (ks = 400),0.01,100,100,", 0), 0u) << rows[4];
+  const auto error = [](const std::string& row) {  // the 9th column, rms_error
+    std::size_t at = 0;
+    for (int comma = 0; comma < 8; ++comma) at = row.find(',', at) + 1;
+    return std::stod(row.substr(at));
+  };
+  EXPECT_GT(error(rows[4]), 2.0 * error(rows[2])) << "a stiffer spring, a faster oscillation, a larger error";
+  // A summary or a shard holds one scene's study: refused in one line with --vary.
+  const CliResult refused = run_clothsim({"bench", spring(), "--vary", "ks=100,400", "--summary", dir + "/s.json"});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_EQ(line_count(refused.err), 1) << refused.err;
+  EXPECT_NE(refused.err.find("--vary: --summary and --shard"), std::string::npos) << refused.err;
+  EXPECT_EQ(run_clothsim({"bench", spring(), "--vary", "ks"}).exit_code, 2);
+}
+
 }  // namespace
 }  // namespace clothsim::testing

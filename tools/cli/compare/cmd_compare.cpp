@@ -15,9 +15,10 @@
 // its work per simulated second equals the cheapest lane's at the scene's step) and the tiles
 // coloured by each particle's distance from a reference lane (RK4 at a quarter of the smallest
 // step, or at its predicted stable step where that is smaller: fit_reference_to_model) run
-// alongside and never shown, on one logarithmic scale with a colour bar; each tile shows its
-// work and CPU time, and a lane that is finite but implausible is marked WRONG
-// (plausibility.h): what each method buys for the same cost, on screen.
+// alongside and never shown, on one logarithmic scale whose colour bar is drawn once, in a
+// strip beside the grid (grid_legend.h); each tile shows its work and CPU time, and a lane
+// that is finite but implausible is marked WRONG (plausibility.h): what each method buys for
+// the same cost, on screen.
 //
 // The command reads as its phases: plan (check everything, build the model, choose the
 // steps), outputs (the pipeline and what it feeds), run, report.
@@ -57,6 +58,7 @@
 #include "cli/common/summary_json.h"
 #include "cli/frames/frame_pipeline.h"
 #include "cli/frames/frame_sink.h"
+#include "cli/frames/grid_legend.h"
 #include "cli/frames/picture_options.h"
 #include "cli/frames/pipeline_outputs.h"
 #include "cli/run/run_outputs.h"
@@ -87,6 +89,7 @@ struct CompareOptions {
   std::vector<std::string> match{"cost"};  // --match cost | error TOL | none
   std::string vary;                         // --vary KEY=V1,V2,...
   bool integrators_given = false;           // --integrators on the command line (a --vary grid's rows)
+  bool match_given = false;                 // --match on the command line (--vary matches only when asked)
   int crf = VideoOptions{}.crf;
   std::string preset = VideoOptions{}.preset;
   GlOptions gl;
@@ -105,6 +108,7 @@ struct ComparePlan {
   bool with_frames = false, rendering = false;
   std::vector<double> sheet_times;
   std::optional<TileGrid> grid;
+  int legend_width = 0;  // the colour bar's strip right of the grid (grid_legend.h)
   std::optional<TargetPlan> targets;
   std::vector<std::string> lane_dirs;
   std::optional<Model> model;
@@ -134,6 +138,9 @@ void check_option_pairs(const CompareOptions& o) {
   if (o.sheet.empty() != o.times.empty())
     throw UsageError(o.sheet.empty() ? "--times goes with --sheet FILE.png"
                                      : "--sheet needs --times T1,T2,... (the columns)");
+  if (!o.vary.empty() && !o.match.empty() && o.match.front() == "error")
+    throw UsageError("--match error: --vary runs a scene per value, with no one reference to match against; "
+                     "use --match cost or none");
   if (o.still_t.has_value() != !o.still_out.empty())
     throw UsageError(o.still_t ? "--still needs -o/--output FILE.png" : "-o/--output goes with --still T");
   // A comparison that writes nothing would simulate every lane for nothing (the table it
@@ -151,6 +158,7 @@ void check_option_pairs(const CompareOptions& o) {
 // The pictures' look; a summary alone draws none.
 PictureLook resolve_look(const CompareOptions& o, const ComparePlan& p) {
   PictureLook look = resolve_picture_look(look_options(o), p.scene, p.lanes, /*compare=*/true);
+  if (!o.vary.empty()) look.reference.reset();  // a scene per value: the inset shows E - E(0)
   if (p.rendering) return look;
   // The field is measured only when --color asks for it (the default reference, RK4 at a
   // quarter step, costs several times the lanes); its scale is then not chosen.
@@ -194,8 +202,11 @@ void check_bounds(const CompareOptions& o, ComparePlan& p) {
   if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= p.scene.duration + 1e-9))
     throw UsageError("--still: " + number_text(*o.still_t) + " s is outside the run (0 to " +
                      number_text(p.scene.duration) + " s)");
-  try {
-    p.grid.emplace(TileGrid::fit(p.layout, p.scene.render.width, p.scene.render.height));  // the whole grid's
+  try {  // the whole picture's: the tiles and, when coloured, the colour bar's strip
+    const LegendGrid fitted = fit_legend_grid(p.layout, p.scene.render.width, p.scene.render.height,
+                                              p.rendering ? p.look.color : FieldKind::None);
+    p.grid.emplace(fitted.grid);
+    p.legend_width = fitted.legend_width;
   } catch (const LayoutError& e) {
     throw UsageError(std::string("--width/--height: ") + e.what());
   }
@@ -212,18 +223,21 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
   for (const SceneDef& s : p.vary_scenes) budget.add("model for --vary", model_bytes(s));
   for (const LaneSpec& l : p.lanes)
     budget.add(l.spelling(), run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
-  if (p.look.reference) {
+  if (p.look.reference && p.look.color == FieldKind::Error) {
     budget.add("reference " + p.look.reference->name(), run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
     std::vector<double> steps;
     for (const LaneSpec& l : p.lanes) steps.push_back(l.dt);
     budget.add("reference positions at the lanes' times",
                reference_positions_bytes(scene, steps, *p.targets, kLaneQueueCapacity));
   }
+  if (p.look.reference && p.look.inset_energy)
+    budget.add("reference for the energy inset", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
   const TileGrid& grid = *p.grid;
   if (p.rendering) {
     const double n = static_cast<double>(p.lanes.size());
-    const double tile = 4.0 * grid.cell_width() * grid.cell_height(), canvas = 4.0 * grid.width() * grid.height();
-    budget.add("renderer and images " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()),
+    const int width = grid.width() + p.legend_width;
+    const double tile = 4.0 * grid.cell_width() * grid.cell_height(), canvas = 4.0 * width * grid.height();
+    budget.add("renderer and images " + std::to_string(width) + "x" + std::to_string(grid.height()),
                kRendererBytes + render_bytes(grid.cell_width(), grid.cell_height(), scene.render.samples) + n * tile +
                    2.0 * canvas + (o.frames_dir.empty() ? 0.0 : 3.0 * n * tile));
     if (!o.sheet.empty()) budget.add("contact sheet", 2.0 * n * static_cast<double>(p.sheet_times.size()) * tile);
@@ -231,21 +245,32 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
       budget.add("the first second, held for the colour scale",
                  held_frames_bytes(scene, p.lanes.size(), std::min(1.0, scene.duration) * scene.render.fps + 1.0));
   }
-  if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid.width(), grid.height()));
+  if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid.width() + p.legend_width, grid.height()));
   budget.check(scene.source, o.scene.max_memory);
 }
 
-// The lanes' steps by --match (step_matching.h), and their names.
+// Which --vary lanes may have their step chosen: those of a row (an integrator) that is free,
+// every value of it.
+std::vector<bool> vary_free_lanes(const CompareOptions& o, const ComparePlan& p) {
+  const std::string rows = o.integrators_given ? o.integrators : std::string(integrator_name(p.scene.integrator));
+  const std::vector<bool> row_free = free_lanes(rows, o.dt, p.scene.dt);
+  std::vector<bool> free;
+  for (std::size_t i = 0; i < p.lanes.size(); ++i) free.push_back(row_free[i / p.vary_scenes.size()]);
+  return free;
+}
+
+// The lanes' steps by --match (step_matching.h), and their names. --vary compares the values at
+// one step unless --match is given; matched on cost, each lane's cost is measured on its own scene.
 void choose_steps(const CompareOptions& o, ComparePlan& p) {
-  if (!o.vary.empty()) {  // the values compared at one step: what changes is the parameter
+  if (!o.vary.empty() && !o.match_given) {
     p.context.step_choice.assign(p.lanes.size(), "the lane's step (--vary compares the values at one step)");
     return;
   }
   const MatchRequest match = parse_match(o.match);
-  const std::vector<bool> free = free_lanes(o.integrators, o.dt, p.scene.dt);
+  const std::vector<bool> free = o.vary.empty() ? free_lanes(o.integrators, o.dt, p.scene.dt) : vary_free_lanes(o, p);
   const MatchClip clip{p.scene.duration, p.scene.render.fps, p.scene.dt};
   const LaneSpec reference = parse_reference(o.look.reference, p.lanes);
-  p.context.step_choice = match_steps(*p.model, p.lanes, free, match, clip, reference);
+  p.context.step_choice = match_steps(*p.model, p.lanes, free, match, clip, reference, p.lane_models);
   if (match.kind == MatchKind::Error) p.error_reference = error_reference(reference, clip.fps);
 }
 
@@ -259,21 +284,7 @@ void name_lanes(ComparePlan& p) {
 // --vary KEY=V1,V2,...: a scene per value (the user's --set, then the key's), and the lanes
 // repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
 void plan_variation(const CompareOptions& o, ComparePlan& p) {
-  const auto eq = o.vary.find('=');
-  if (eq == std::string::npos || eq == 0 || eq + 1 == o.vary.size())
-    throw UsageError("--vary: expected KEY=V1,V2,... (ks=2e3,2e4,2e5), got " + in_quotes(o.vary));
-  ParamKey key;
-  try {
-    key = resolve_param_key(o.vary.substr(0, eq), p.scene);
-  } catch (const ParamKeyError& e) {
-    throw UsageError(std::string("--vary: ") + e.what());
-  }
-  std::vector<double> values;
-  for (const std::string& item : split_list(o.vary.substr(eq + 1))) {
-    const std::optional<double> v = parse_number_or_fraction(item);
-    if (!v) throw UsageError("--vary: " + in_quotes(item) + " is not a number");
-    values.push_back(*v);
-  }
+  const auto [key, values] = parse_vary(o.vary, p.scene);
   const std::vector<LaneSpec> rows =
       o.integrators_given ? p.lanes : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
   for (double v : values) {
@@ -353,6 +364,7 @@ PipelineConfig pipeline_config(const ComparePlan& p) {
   config.lane_models = p.lane_models;
   config.command = "compare";
   apply_look(p.look, config);
+  if (p.look.inset_energy) config.energy_reference = p.look.reference;  // E - E_ref (none under --vary)
   config.scene_render = p.scene.render;
   if (p.look.camera_auto)
     config.camera = auto_camera(*p.model, p.scene.render, static_cast<double>(config.width) / config.height);
@@ -362,7 +374,7 @@ PipelineConfig pipeline_config(const ComparePlan& p) {
 // 2. The outputs the pipeline feeds (each removes its temporary if destroyed before finish()).
 void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& pipeline, Renderer* renderer) {
   const Model& model = *p.model;
-  Composer composer{p.grid, {}};
+  Composer composer{p.grid, {}, p.legend_width};
   composer.labels = p.look.overlay == OverlayMode::None ? std::vector<std::string>(p.lanes.size())
                     : p.labels.empty()                  ? lane_tile_labels(p.lanes, *p.grid)
                                                         : p.labels;
@@ -382,7 +394,8 @@ void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& p
     std::vector<std::string> rows, columns;
     for (std::size_t i = 0; i < p.lanes.size(); ++i) rows.push_back(p.labels.empty() ? p.lanes[i].label() : p.labels[i]);
     for (double t : p.sheet_times) columns.push_back(time_label(t));
-    pipeline.add(make_sheet_output(o.sheet, rows, columns, meta, p.grid->width(), p.grid->height()));
+    pipeline.add(make_sheet_output(o.sheet, rows, columns, meta, p.grid->width() + p.legend_width, p.grid->height(),
+                                   p.legend_width > 0));
   }
 }
 
@@ -411,7 +424,7 @@ void print_breakdown(const ComparePlan& p, const PipelineReport& report, double 
   std::fprintf(stderr,
                "compare: %ld time%s, %dx%d (%zu tiles of %dx%d), in %.1f s wall: simulate %.1f s cpu "
                "on %zu threads (the renderer waited %.1f s), render %.1f s%s\n",
-               report.targets, report.targets == 1 ? "" : "s", grid.width(), grid.height(), p.lanes.size(),
+               report.targets, report.targets == 1 ? "" : "s", grid.width() + p.legend_width, grid.height(), p.lanes.size(),
                grid.cell_width(), grid.cell_height(), wall, sim_cpu, p.lanes.size() + (report.reference ? 1 : 0),
                report.wait_seconds, report.render_seconds, outputs.c_str());
 }
@@ -511,7 +524,7 @@ void add_compare_command(CLI::App& app, Command& command) {
                   "Lanes by a parameter's value, labelled 'ks = 2e4': KEY a dotted scene path, a glob over the spring\n"
                   "types (cloth.springs.*.stiffness) or ks / kd (every spring type's stiffness / damping). With\n"
                   "--integrators, a grid: a row per integrator, a column per value; without, the scene's integrator.\n"
-                  "The lanes run at one step (no --match); colour by strain unless --color says otherwise")
+                  "The lanes run at one step unless --match cost is given; colour by strain unless --color says otherwise")
       ->type_name("KEY=V1,V2,...");
   sub->add_option("--layout", o->layout,
                   "COLUMNSxROWS: 2x2, 4x1 (side by side), 1x4 (stacked), Nx1, 1xN or auto")
@@ -536,6 +549,7 @@ void add_compare_command(CLI::App& app, Command& command) {
   sub->add_option("--preset", o->preset, "x264 preset (ultrafast .. veryslow)")->capture_default_str();
   sub->callback([o, sub, &command] {
     o->integrators_given = sub->get_option("--integrators")->count() > 0;
+    o->match_given = sub->get_option("--match")->count() > 0;
     command = [o] { return compare_command(*o); };
   });
 }

@@ -163,4 +163,22 @@ std::string time_label(double t) {
   return "t = " + seconds(t);
 }
 
+Variation parse_vary(const std::string& text, const SceneDef& scene) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw UsageError("--vary: expected KEY=V1,V2,... (ks=2e3,2e4,2e5), got " + in_quotes(text));
+  Variation v;
+  try {
+    v.key = resolve_param_key(text.substr(0, eq), scene);
+  } catch (const ParamKeyError& e) {
+    throw UsageError(std::string("--vary: ") + e.what());
+  }
+  for (const std::string& item : split_list(text.substr(eq + 1))) {
+    const std::optional<double> value = parse_number_or_fraction(item);
+    if (!value) throw UsageError("--vary: " + in_quotes(item) + " is not a number");
+    v.values.push_back(*value);
+  }
+  return v;
+}
+
 }  // namespace clothsim::cli

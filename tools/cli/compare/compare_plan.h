@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "core/integrators/integrator_kind.h"
+#include "scene/param_keys.h"
+#include "scene/scene_def.h"
 
 namespace clothsim::cli {
 
@@ -75,5 +77,13 @@ class TargetPlan {
 
 // "t = 0.5 s" for a contact-sheet column.
 std::string time_label(double t);
+
+// --vary KEY=V1,V2,... (compare's lanes by value, bench's too): the key resolved against the
+// scene (scene/param_keys.h) and the values, numbers or fractions. UsageError naming --vary.
+struct Variation {
+  ParamKey key;
+  std::vector<double> values;
+};
+Variation parse_vary(const std::string& text, const SceneDef& scene);
 
 }  // namespace clothsim::cli

@@ -71,14 +71,15 @@ std::pair<double, int> step_for_cost(const Model& model, const LaneSpec& lane, d
   return {best, pilots};
 }
 
-std::vector<std::string> match_cost(const Model& model, std::vector<LaneSpec>& lanes, const std::vector<bool>& free,
-                                    const MatchClip& clip) {
+// (models[i]: the model lane i runs, its own under --vary)
+std::vector<std::string> match_cost(const std::vector<const Model*>& models, std::vector<LaneSpec>& lanes,
+                                    const std::vector<bool>& free, const MatchClip& clip) {
   const double window = std::min(kPilotWindow, clip.duration);
   std::vector<double> cost(lanes.size(), std::numeric_limits<double>::infinity());
   std::size_t cheapest = lanes.size();
   for (std::size_t i = 0; i < lanes.size(); ++i) {
     if (!free[i]) continue;
-    cost[i] = cost_at(model, lanes[i], clip.scene_dt, clip.duration);
+    cost[i] = cost_at(*models[i], lanes[i], clip.scene_dt, clip.duration);
     if (cheapest == lanes.size() || cost[i] < cost[cheapest]) cheapest = i;
   }
   std::vector<std::string> how(lanes.size(), "your step");
@@ -96,7 +97,7 @@ std::vector<std::string> match_cost(const Model& model, std::vector<LaneSpec>& l
       how[i] = format("matched on cost: %.0f passes a step, %.3g per simulated s", *w, target) + ", as " + name;
       continue;
     }
-    const auto [h, pilots] = step_for_cost(model, lanes[i], clip.scene_dt, cost[i], target, window);
+    const auto [h, pilots] = step_for_cost(*models[i], lanes[i], clip.scene_dt, cost[i], target, window);
     set_step(lanes[i], h);
     how[i] = format(pilots == 1 ? "matched on cost by %.0f pilot run over the clip's first %g s"
                                 : "matched on cost by %.0f pilot runs over the clip's first %g s",
@@ -226,10 +227,13 @@ double pilot_cost(const Model& model, const LaneSpec& lane, double h, double win
 }
 
 std::vector<std::string> match_steps(const Model& model, std::vector<LaneSpec>& lanes, const std::vector<bool>& free,
-                                     const MatchRequest& request, const MatchClip& clip, const LaneSpec& reference) {
+                                     const MatchRequest& request, const MatchClip& clip, const LaneSpec& reference,
+                                     const std::vector<const Model*>& lane_models) {
+  std::vector<const Model*> models = lane_models;
+  if (models.empty()) models.assign(lanes.size(), &model);
   switch (request.kind) {
     case MatchKind::Cost:
-      return match_cost(model, lanes, free, clip);
+      return match_cost(models, lanes, free, clip);
     case MatchKind::Error:
       return match_error(model, lanes, free, request.tolerance, clip, reference);
     case MatchKind::None:

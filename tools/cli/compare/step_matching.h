@@ -46,9 +46,12 @@ struct MatchClip {
 
 // Sets the free lanes' steps (and their step_text) by `request`; returns one line per lane
 // saying how its step was chosen, for the summary. `reference` is the error's reference lane
-// (Error only). Lanes not free keep their step ("your step").
+// (Error only). Lanes not free keep their step ("your step"). `lane_models` (compare --vary:
+// each lane's own scene) gives per lane the model its cost is measured on; empty: `model` for
+// all (Cost only: error matching has one reference, so one model).
 std::vector<std::string> match_steps(const Model& model, std::vector<LaneSpec>& lanes, const std::vector<bool>& free,
-                                     const MatchRequest& request, const MatchClip& clip, const LaneSpec& reference);
+                                     const MatchRequest& request, const MatchClip& clip, const LaneSpec& reference,
+                                     const std::vector<const Model*>& lane_models = {});
 
 // The reference `error` matching runs: `reference` at the largest step 1 / (fps K) not above
 // its own, so it lands on every frame.

@@ -83,6 +83,9 @@ struct FramePipeline::Impl {
   std::vector<std::optional<Model>> lane_models;  // the fixed-point lanes' own settings
   std::vector<std::unique_ptr<LaneWorker>> workers;
   std::unique_ptr<LaneWorker> reference;
+  std::unique_ptr<LaneWorker> energy_reference;  // PipelineConfig::energy_reference's run
+  EnergyHistory reference_energy;                // its samples so far
+  bool energy_reference_done = false;
   std::vector<std::unique_ptr<FrameOutput>> outputs;
   std::vector<double> output_seconds;
 
@@ -101,6 +104,7 @@ struct FramePipeline::Impl {
   std::vector<double> energy0, energy_rise;  // per lane: E(0) and the largest E(t) - E(0), J
   std::vector<std::string> wrong;            // per lane: the plausibility verdict ("" none)
   std::optional<ColorRange> range;
+  std::optional<ColorScale> legend;  // the scale of range, as the outputs draw it
   double wait_seconds = 0.0, render_seconds = 0.0;
   long processed = 0;
 
@@ -134,6 +138,11 @@ struct FramePipeline::Impl {
       LaneNeeds n;  // the positions at the lanes' times, nothing else
       for (const LaneSpec& lane : lanes) n.stand_for.push_back(lane.dt);
       reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, kLaneQueueCapacity, interrupt);
+    }
+    if (config.inset_energy && config.energy_reference) {
+      LaneNeeds n;  // the total energy at the inset's sample times, nothing else
+      n.energy_every = 1.0 / plan.fps();
+      energy_reference = std::make_unique<LaneWorker>(model, *config.energy_reference, plan, n, kLaneQueueCapacity, interrupt);
     }
     current.resize(lanes.size());
     frozen.assign(lanes.size(), false);
@@ -171,6 +180,19 @@ struct FramePipeline::Impl {
   void stop_lanes() {
     for (auto& w : workers) w->stop();
     if (reference) reference->stop();
+    if (energy_reference) energy_reference->stop();
+  }
+
+  // The energy reference's samples up to this target; false on a signal.
+  bool collect_reference_energy() {
+    if (!energy_reference || energy_reference_done) return true;
+    LaneFrame f;
+    Stopwatch watch(wait_seconds);
+    const bool got = energy_reference->next(f);
+    if (interrupted()) return false;
+    for (const auto& [time, e] : f.energy) reference_energy.add(time, e);
+    energy_reference_done = !got || f.frozen;  // a diverged reference: the curves stop there
+    return true;
   }
 
   // The lanes' frames at `target`; false on a signal.
@@ -206,6 +228,7 @@ struct FramePipeline::Impl {
         reference_frame = std::make_shared<const LaneFrame>(std::move(f));
       }
     }
+    if (!collect_reference_energy()) return false;
     out.frames = current;
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       if (!out.fresh[i] || !current[i]) continue;
@@ -302,8 +325,10 @@ struct FramePipeline::Impl {
     // a lane's new frame is rendered at the first target that shows it.
     const bool shown = t.target.frame >= 0 || t.target.column >= 0 || t.target.still;
     std::vector<LaneView> views(lanes.size());
+    if (config.color != FieldKind::None && range && !legend) legend = field_scale(config.color, *range);
     for (std::size_t i = 0; i < lanes.size(); ++i) {
-      views[i] = LaneView{&lanes[i], t.frames[i].get(), config.rendering ? &images[i] : nullptr, t.fresh[i]};
+      views[i] = LaneView{&lanes[i], t.frames[i].get(), config.rendering ? &images[i] : nullptr, t.fresh[i],
+                          legend ? &*legend : nullptr};
       if (t.fresh[i]) unrendered[i] = {t.frames[i], t.fields[i]};
       if (!config.rendering || !shown || !unrendered[i].first) continue;
       const LaneFrame& f = *unrendered[i].first;
@@ -334,8 +359,10 @@ struct FramePipeline::Impl {
           rf.overlay_lines.emplace_back(line);
         }
       }
-      if (config.color != FieldKind::None && !field.empty()) color_by_field(rf, field, config.color, *range);
-      if (config.inset_energy) draw_energy_inset(rf, energy, i, plan.duration());
+      if (config.color != FieldKind::None && !field.empty())
+        color_by_field(rf, field, config.color, *range, /*bar_outside=*/config.tiles);
+      if (config.inset_energy)
+        draw_energy_inset(rf, energy, i, plan.last_time(), energy_reference ? &reference_energy : nullptr, frozen);
       Stopwatch watch(render_seconds);
       images[i] = renderer->render(rf);
       unrendered[i] = {};
@@ -430,6 +457,10 @@ struct FramePipeline::Impl {
       reference->stop();  // it may be ahead of the last target a run stopped at
       reference->join();
       r.reference = reference->result();
+    }
+    if (energy_reference) {
+      energy_reference->stop();
+      energy_reference->join();
     }
     r.color_range = range;
     r.field_max = field_max;

@@ -40,13 +40,17 @@ struct ColorRange {
 struct PipelineConfig {
   bool rendering = false;          // pictures are made (some output shows them)
   int width = 0, height = 0;       // of each lane's picture (a tile)
-  bool tiles = false;              // pictures are tiles of a grid that labels them (compare)
+  bool tiles = false;              // pictures are tiles of a grid that labels them and draws their
+                                   // one colour bar beside them (compare: grid_legend.h)
   OverlayMode overlay = OverlayMode::Full;
   bool overlay_cpu = false;        // --overlay-cost cpu: measured CPU time beside the work units
   bool judge = false;              // compare: judge each lane's plausibility (plausibility.h), WRONG on its tile
   FieldKind color = FieldKind::None;
   std::optional<ColorRange> color_range;  // --color-range; else from the first second
   bool inset_energy = false;       // --inset energy
+  // compare --inset energy: a lane run alongside (the reference), never shown, whose total
+  // energy the inset subtracts (frame_decoration.h); none: the inset shows E - E(0).
+  std::optional<LaneSpec> energy_reference;
   int samples = kDefaultMsaaSamples;  // MSAA samples of each picture (1: none)
   bool fxaa = false;               // edges smoothed on the CPU instead (render/fxaa.h)
   bool metrics = false;            // an output reads LaneFrame::metrics
@@ -67,6 +71,7 @@ struct LaneView {
   const LaneFrame* frame = nullptr;  // the lane's latest (a frozen lane's held frame)
   const Image* image = nullptr;      // its picture, when rendering
   bool fresh = false;                // handed over at this target (not a held frame)
+  const ColorScale* legend = nullptr;  // the pictures' colour scale (one for every lane), when coloured
 };
 
 class FrameOutput {

@@ -22,8 +22,9 @@ void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
                   "The colour scale, fixed for the whole clip (default: from the data of the first second, printed)")
       ->type_name("LO,HI");
   sub->add_option("--reference", o.reference,
-                  "The lane --color error measures against (default: rk4 at a quarter of the smallest lane step, or at rk4's\n"
-                  "predicted stable step on the scene where that is smaller)")
+                  std::string(compare ? "The lane --color error and --inset energy measure against" : "The lane --color error measures against") +
+                      " (default: rk4 at a quarter of the smallest lane step, or at rk4's\n"
+                      "predicted stable step on the scene where that is smaller)")
       ->type_name("NAME[@STEP]");
   sub->add_option("--camera", o.camera, "auto: frame the cloth and spheres; scene: the scene's render.camera")
       ->type_name("auto|scene");
@@ -36,7 +37,10 @@ void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
                               "cpu: measured CPU ms per simulated s beside them (differs from run to run). Default: ") +
                       (compare ? "cpu" : "work"))
       ->type_name("work|cpu");
-  sub->add_option("--inset", o.inset, "energy: a small graph of total energy over time in each picture, on shared axes")
+  sub->add_option("--inset", o.inset,
+                  compare ? "energy: a small graph in each tile of the lane's total energy minus the reference's, E - Eref, on\n"
+                            "shared axes (E - E(0) with --vary)"
+                          : "energy: a small graph of the energy change E - E(0) over time in the picture")
       ->capture_default_str()
       ->type_name("energy|none");
   sub->add_option("--antialias", o.antialias,
@@ -71,9 +75,12 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
     if (look.color == FieldKind::None) throw UsageError("--color-range goes with --color error, strain or speed");
     look.color_range = parse_color_range(o.color_range);
   }
-  if (!o.reference.empty() && look.color != FieldKind::Error)
-    throw UsageError("--reference goes with --color error (it is what the error is measured against)");
-  if (look.color == FieldKind::Error) {
+  const bool inset_energy = o.inset == "energy";
+  if (!o.reference.empty() && look.color != FieldKind::Error && !(compare && inset_energy))
+    throw UsageError(compare ? "--reference goes with --color error or --inset energy (it is what the error and the "
+                               "energy are measured against)"
+                             : "--reference goes with --color error (it is what the error is measured against)");
+  if (look.color == FieldKind::Error || (compare && inset_energy)) {
     look.reference = parse_reference(o.reference, lanes);
     look.reference_is_default = o.reference.empty();
   }

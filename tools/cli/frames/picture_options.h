@@ -35,7 +35,7 @@ void add_picture_look_options(CLI::App* sub, PictureOptions& options, bool compa
 struct PictureLook {
   FieldKind color = FieldKind::None;
   std::optional<ColorRange> color_range;
-  std::optional<LaneSpec> reference;  // with color error
+  std::optional<LaneSpec> reference;  // with color error, and in compare with inset energy
   bool reference_is_default = false;  // not from --reference: fit_reference_to_model() may shorten its step
   bool camera_auto = false;
   OverlayMode overlay = OverlayMode::Full;

@@ -1,14 +1,34 @@
 #include "pipeline_outputs.h"
 
+#include <algorithm>
+
+#include "grid_legend.h"
+#include "render/color_bar.h"
 #include "video/contact_sheet.h"
 
 namespace clothsim::cli {
+
+namespace {
+
+// The grid's colour scale at this target (the pipeline's one scale; null before it is known).
+const ColorScale* legend_of(const std::vector<LaneView>& lanes) {
+  for (const LaneView& l : lanes)
+    if (l.legend) return l.legend;
+  return nullptr;
+}
+
+}  // namespace
 
 const Image& Composer::picture(const std::vector<LaneView>& lanes, Image& canvas) const {
   if (!grid) return *lanes.front().image;
   std::vector<const Image*> tiles;
   for (const LaneView& l : lanes) tiles.push_back(l.image);
-  grid->compose(tiles, labels, canvas);
+  if (legend_width <= 0) {
+    grid->compose(tiles, labels, canvas);
+    return canvas;
+  }
+  grid->compose(tiles, labels, body);
+  add_legend_strip(body, legend_of(lanes), legend_width, grid->label_scale(), canvas);
   return canvas;
 }
 
@@ -103,16 +123,17 @@ class StillOutput final : public FrameOutput {
 class SheetOutput final : public FrameOutput {
  public:
   SheetOutput(std::string path, std::vector<std::string> rows, std::vector<std::string> columns, PngText meta,
-              int width, int height)
+              int width, int height, bool legend)
       : path_(std::move(path)), rows_(std::move(rows)), columns_(std::move(columns)), meta_(std::move(meta)),
-        cells_(rows_.size(), std::vector<Image>(columns_.size())), width_(width), height_(height) {}
+        cells_(rows_.size(), std::vector<Image>(columns_.size())), width_(width), height_(height), legend_(legend) {}
   std::string what() const override { return "sheet"; }
   void on_target(const Target& target, const std::vector<LaneView>& lanes) override {
     if (target.column < 0) return;
     for (std::size_t i = 0; i < lanes.size() && i < cells_.size(); ++i)
       cells_[i][static_cast<std::size_t>(target.column)] = *lanes[i].image;
+    if (const ColorScale* scale = legend_of(lanes)) scale_ = *scale;
   }
-  void finish() override { write_png(path_, compose_contact_sheet(cells_, rows_, columns_, {}, width_, height_), meta_); }
+  void finish() override { write_png(path_, legend_ && scale_ ? sheet_with_legend() : sheet(width_), meta_); }
   void abandon(std::vector<std::string>&, std::vector<std::string>& lost) override { lost.push_back(path_); }
   void kept(std::vector<std::string>& kept) override { kept.push_back(path_); }
  private:
@@ -121,6 +142,24 @@ class SheetOutput final : public FrameOutput {
   PngText meta_;
   std::vector<std::vector<Image>> cells_;
   int width_, height_;  // the sheet's size (0: the cells' own)
+  bool legend_;
+  std::optional<ColorScale> scale_;  // the cells' colour scale, once known
+
+  Image sheet(int width) const { return compose_contact_sheet(cells_, rows_, columns_, {}, width, height_); }
+  // The strip at the text size of the sheet's labels: that of its cells once shrunk to the size
+  // asked for (found without the strip; the strip, a few characters wide, changes it little).
+  Image sheet_with_legend() const {
+    int cell_w = 1, cell_h = 1;
+    for (const auto& row : cells_)
+      for (const Image& c : row) cell_w = std::max(cell_w, c.width), cell_h = std::max(cell_h, c.height);
+    const double f = contact_sheet_shrink(cell_w, cell_h, rows_, static_cast<int>(columns_.size()), {}, width_, height_);
+    const int scale = text_scale_for_height(std::max(1, static_cast<int>(cell_h * f)));
+    const int strip = render::color_bar_strip_width(scale_->label, scale);
+    const Image body = sheet(width_ > 0 ? width_ - strip : 0);
+    Image out;
+    add_legend_strip(body, &*scale_, strip, scale, out);
+    return out;
+  }
 };
 
 class MetricsOutput final : public FrameOutput {
@@ -160,9 +199,9 @@ std::unique_ptr<FrameOutput> make_still_output(std::string path, Composer compos
 }
 std::unique_ptr<FrameOutput> make_sheet_output(std::string path, std::vector<std::string> row_labels,
                                                std::vector<std::string> column_labels, PngText meta, int width,
-                                               int height) {
+                                               int height, bool legend) {
   return std::make_unique<SheetOutput>(std::move(path), std::move(row_labels), std::move(column_labels), std::move(meta),
-                                       width, height);
+                                       width, height, legend);
 }
 std::unique_ptr<FrameOutput> make_metrics_output(std::unique_ptr<MetricsWriter> writer, std::string path, std::size_t lane) {
   return std::make_unique<MetricsOutput>(std::move(writer), std::move(path), lane);

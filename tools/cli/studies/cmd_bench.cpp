@@ -32,8 +32,10 @@
 #include "cli/common/memory_budget.h"
 #include "cli/common/scene_options.h"
 #include "cli/common/summary_json.h"
+#include "cli/compare/compare_plan.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
+#include "scene/param_keys.h"
 #include "scene/scene_parser.h"
 #include "study/task_pool.h"
 #include "study/work_precision.h"
@@ -53,6 +55,7 @@ struct BenchOptions {
   std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
   std::string csv, plot, summary;
   std::string shard;  // --shard K/N|auto (study_shard.h)
+  std::string vary;   // --vary KEY=V1,V2,...: the study once per value
   int jobs = 0;
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
 };
@@ -79,10 +82,13 @@ double default_duration(double scene_duration, const std::vector<double>& dts) {
 // Lane spellings (LaneSpec::stepless_spelling), by point.lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
 
-void write_csv(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
+void write_csv_header(std::FILE* f) {
   std::fprintf(f, "integrator,dt,steps,force_evals,newton_iterations,cg_iterations,wall_seconds,cpu_seconds,"
                   "rms_error,max_error,diverged,diverged_at,reason,duration,reference_dt,reference_change,"
                   "unconverged_steps\n");
+}
+
+void write_csv_rows(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
   for (const WorkPrecisionPoint& p : r.points)
     std::fprintf(f, "%s,%s,%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64 ",%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%" PRId64 "\n",
                  names[p.lane].c_str(), csv_number(p.dt).c_str(), p.steps,
@@ -95,8 +101,15 @@ void write_csv(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& name
                  p.unconverged_steps);
 }
 
-// Rows and orders labelled as compare labels its lanes (LaneSpec::name).
-void print_table(const WorkPrecisionResult& r, const std::vector<LaneSpec>& lanes) {
+void write_csv(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
+  write_csv_header(f);
+  write_csv_rows(f, r, names);
+}
+
+// Rows and orders labelled as compare labels its lanes (LaneSpec::name), or by `labels` (--vary:
+// "rk4 (ks = 2e4)").
+void print_table(const WorkPrecisionResult& r, const std::vector<LaneSpec>& lanes, const LaneNames& labels = {}) {
+  const auto label = [&](std::size_t i) { return labels.empty() ? lanes[i].name() : labels[i]; };
   std::printf("%-28s %10s %8s %11s %9s %9s %12s %12s  %s\n", "integrator", "dt (s)", "steps", "force evals",
               "wall (s)", "cpu (s)", "rms err (m)", "max err (m)", "status");
   for (const WorkPrecisionPoint& p : r.points) {
@@ -106,19 +119,19 @@ void print_table(const WorkPrecisionResult& r, const std::vector<LaneSpec>& lane
       std::snprintf(status, sizeof status, "NOT CONVERGED: %" PRId64 " of %" PRId64 " steps", p.unconverged_steps, p.steps);
     else std::snprintf(status, sizeof status, "ok");
     std::printf("%-28s %10.4g %8" PRId64 " %11" PRId64 " %9.3g %9.3g %12.4g %12.4g  %s\n",
-                lanes[p.lane].name().c_str(), p.dt, p.steps, p.force_evals,
+                label(p.lane).c_str(), p.dt, p.steps, p.force_evals,
                 p.wall_seconds, p.cpu_seconds, p.rms_error, p.max_error, status);
   }
   std::printf("observed order (slope of log rms error vs log dt, runs that finished, common steps):");
   for (std::size_t i = 0; i < lanes.size(); ++i) {
     const double order = analysis::lane_convergence_order(r.points, i);
-    if (std::isnan(order)) std::printf("  %s -", lanes[i].name().c_str());
-    else std::printf("  %s %.2f", lanes[i].name().c_str(), order);
+    if (std::isnan(order)) std::printf("  %s -", label(i).c_str());
+    else std::printf("  %s %.2f", label(i).c_str(), order);
   }
   std::printf("\n");
   for (std::size_t i = 0; i < lanes.size(); ++i)  // an order well below the method's, explained
     for (const std::string& why : analysis::lane_order_shortfall(r, i, lanes[i].kind))
-      std::printf("%s below its order %d: %s\n", lanes[i].name().c_str(), analysis::nominal_order(lanes[i].kind), why.c_str());
+      std::printf("%s below its order %d: %s\n", label(i).c_str(), analysis::nominal_order(lanes[i].kind), why.c_str());
 }
 
 // A run as a lane: its errors beside the common keys.
@@ -149,6 +162,15 @@ void write_summary_json(const std::string& path, const std::string& source, cons
   JsonObject extra;
   extra.number("duration", r.duration).boolean("complete", r.complete).object("reference", reference);
   write_summary(path, "bench", source, lanes, extra);
+}
+
+void print_reference_check(const analysis::ReferenceCheck& ref) {
+  if (ref.finished)
+    std::printf("reference check: halving the reference step (%s, %g s -> %g s) moved the particles by %.3g m RMS "
+                "(%.3g m max); the smallest error reported is %.3g m RMS, %.3g times larger (required: >= %g)\n",
+                std::string(integrator_name(ref.integrator)).c_str(), 2 * ref.dt, ref.dt, ref.change_rms,
+                ref.change_max, ref.smallest_error,
+                ref.change_rms > 0 ? ref.smallest_error / ref.change_rms : INFINITY, 1.0 / ref.margin);
 }
 
 // A shard's reference: saved in its directory, so a rerun measures against it without running it.
@@ -248,11 +270,100 @@ void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std:
   budget.check(scene.source, o.scene.max_memory);
 }
 
+// --vary KEY=V1,V2,...: the study once per value, each on its own scene (the user's --set, then
+// the key's) against its own reference, its lanes labelled "rk4 (ks = 2e4)" in the table, the
+// CSV's integrator column and the plot's legend. Spelt as compare spells it: in both the values
+// make lanes, where stability's --param KEY makes the axis of its plot.
+struct ValueStudy {
+  std::string label;  // "ks = 2e4"
+  SceneDef scene;
+  LaneNames names;    // per lane
+  WorkPrecisionSpec spec;
+  WorkPrecisionResult result;
+};
+
+std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes) {
+  if (!o.summary.empty() || !o.shard.empty())
+    throw UsageError("--vary: --summary and --shard take one scene's study; give --csv (and --plot) with --vary");
+  const Variation v = parse_vary(o.vary, base);
+  std::vector<ValueStudy> studies;
+  for (double value : v.values) {  // every scene read (a bad value named) before any run
+    ValueStudy s;
+    s.label = param_label(v.key, value);
+    std::vector<std::string> sets = o.scene.sets;
+    for (const std::string& set : param_sets(v.key, value)) sets.push_back(set);
+    s.scene = load_scene(o.scene.path, sets);
+    for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
+    s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
+    s.spec.lane_names = s.names;
+    studies.push_back(std::move(s));
+  }
+  return studies;
+}
+
+// One value's study, run and its table printed; returns the runs it planned.
+std::size_t run_value(const BenchOptions& o, const std::vector<LaneSpec>& lanes, ValueStudy& s) {
+  WorkPrecisionSpec spec = s.spec;
+  s.scene.duration = std::max(s.scene.duration, spec.duration);
+  std::vector<IntegratorKind> kinds;
+  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
+  check_bench_memory(o, s.scene, kinds);
+  const Model model = build_model(s.scene);
+  std::vector<std::optional<Model>> lane_storage(lanes.size());
+  for (std::size_t i = 0; i < lanes.size(); ++i)
+    spec.lane_models.push_back(&cli::lane_model(model, lanes[i], lane_storage[i]));
+  std::printf("bench %s, %s: %zu lanes x %zu steps to T = %g s\n", model.name.c_str(), s.label.c_str(), lanes.size(),
+              spec.dts.size(), spec.duration);
+  std::fflush(stdout);
+  const std::size_t planned = analysis::planned_points(spec).size();
+  SharedProgress progress("bench " + model.name + ", " + s.label, static_cast<long>(planned + 2), "runs");
+  analysis::StudyHooks hooks;
+  hooks.stop = [] { return interrupted(); };
+  hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  s.result = analysis::work_precision(model, spec, hooks);
+  progress.finish();
+  print_table(s.result, lanes, s.names);
+  print_reference_check(s.result.reference);
+  return planned;
+}
+
+int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes) {
+  std::vector<ValueStudy> studies = plan_values(o, base, lanes);
+  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}});
+  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  std::unique_ptr<PlotScript> plot;
+  if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
+  std::size_t done = 0, runs = 0;
+  std::string failure;  // a value whose reference did not converge
+  for (ValueStudy& s : studies) {
+    runs += run_value(o, lanes, s);
+    done += s.result.points.size();
+    if (interrupted() || !s.result.complete) break;
+    if (!s.result.reference.converged && failure.empty()) failure = s.label + ": " + s.result.reference.failure;
+  }
+  const auto write_to = [&](const std::string& path) {
+    AtomicFile file(path);
+    write_csv_header(file.stream());
+    for (const ValueStudy& s : studies) write_csv_rows(file.stream(), s.result, s.names);
+    file.commit();
+  };
+  if (!o.csv.empty()) write_to(o.csv);
+  if (interrupted() || !studies.back().result.complete)
+    throw RuntimeFailure(study_interrupted_message(done, runs, "runs", {o.csv}, o.plot));
+  if (!failure.empty())
+    throw RuntimeFailure(base.source + ", " + failure + (o.csv.empty() ? "" : " (kept for inspection: " + o.csv + ")") +
+                         "; no plot drawn");
+  if (plot)
+    plot->draw_from_csv(o.csv, write_to, {"--title", base.name + " (T = " + csv_number(studies.front().result.duration) + " s)"});
+  return kOk;
+}
+
 int bench_command(const BenchOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene(o.scene.path, o.scene.sets);
   const std::vector<LaneSpec> lanes =
       parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
+  if (!o.vary.empty()) return bench_variation(o, scene, lanes);
   std::vector<IntegratorKind> kinds;
   for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
   WorkPrecisionSpec spec = plan_bench(o, scene, lanes);
@@ -297,12 +408,7 @@ int bench_command(const BenchOptions& o) {
 
   print_table(result, lanes);
   const analysis::ReferenceCheck& ref = result.reference;
-  if (ref.finished)
-    std::printf("reference check: halving the reference step (%s, %g s -> %g s) moved the particles by %.3g m RMS "
-                "(%.3g m max); the smallest error reported is %.3g m RMS, %.3g times larger (required: >= %g)\n",
-                std::string(integrator_name(ref.integrator)).c_str(), 2 * ref.dt, ref.dt, ref.change_rms,
-                ref.change_max, ref.smallest_error,
-                ref.change_rms > 0 ? ref.smallest_error / ref.change_rms : INFINITY, 1.0 / ref.margin);
+  print_reference_check(ref);
 
   const auto write_to = [&](const std::string& path) {
     AtomicFile file(path);
@@ -354,6 +460,10 @@ void add_bench_command(CLI::App& app, Command& command) {
       ->type_name("FILE.png");
   sub->add_option("--summary", o->summary, "Write each run's cost and error as JSON (docs/summary.md)")
       ->type_name("FILE.json");
+  sub->add_option("--vary", o->vary,
+                  "The study once per value, each against its own reference, its lanes labelled 'rk4 (ks = 2e4)': KEY a\n"
+                  "dotted scene path, a glob over the spring types or ks / kd, as compare --vary takes it")
+      ->type_name("KEY=V1,V2,...");
   add_progress_options(sub);
   add_no_overwrite_option(sub);
   sub->add_option("--jobs", o->jobs, "Runs at once (default 0: one per core)");
