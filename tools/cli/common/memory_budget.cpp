@@ -1,5 +1,6 @@
 #include "memory_budget.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -8,10 +9,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 
 #include "cli_common.h"
 #include "cli/compare/reference_stand.h"
 #include "scene/echo.h"
+#include "scene/parse_estimate.h"
 
 namespace clothsim::cli {
 
@@ -105,6 +108,20 @@ void MemoryBudget::check(const std::string& source, const std::optional<double>&
                    (limit ? "--max-memory " + format_bytes(allowed)
                           : "the " + format_bytes(allowed) + " allowed by default (half the physical memory)") +
                    "; " + remedy_ + ", or raise --max-memory");
+}
+
+void check_parse_budget(const std::string& path, const std::optional<double>& limit) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return;
+  const YamlSize size = count_yaml_nodes(in);
+  MemoryBudget budget;
+  budget.add("YAML tree (" + std::to_string(size.nodes) + " nodes, " + format_bytes(static_cast<double>(size.bytes)) +
+                 " of text)",
+             parse_bytes(size));
+  budget.set_remedy("shorten the scene file (its keyframes, pins and lists)");
+  budget.check(path, limit);
 }
 
 }  // namespace clothsim::cli

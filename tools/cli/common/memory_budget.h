@@ -54,6 +54,11 @@ double reference_positions_bytes(const SceneDef& scene, const std::vector<double
 // Declares --max-memory SIZE on `sub`, parsed into `limit` (bytes).
 void add_max_memory_option(CLI::App* sub, std::optional<double>& limit);
 
+// Refuses (UsageError, exit 2) a scene file whose parse would pass `limit`: yaml-cpp's node
+// tree, estimated from the text (scene/parse_estimate.h) before it is parsed. Anything but a
+// regular file (missing, a FIFO) is left to the parser to read and judge.
+void check_parse_budget(const std::string& path, const std::optional<double>& limit);
+
 class MemoryBudget {
  public:
   MemoryBudget();  // starts with the process itself
