@@ -265,12 +265,7 @@ const Renderer::Impl::SphereMesh& Renderer::Impl::sphere_mesh(int slices) {
 
 void Renderer::Impl::ensure_targets(int width, int height, int samples) {
   if (width == target_width && height == target_height && samples == target_samples) return;
-  // Under ulimit -v, llvmpipe may crash rather than fail to allocate: judged first (bytes as
-  // memory_budget.h's render_bytes: colour and depth per sample, the resolved copy, readback).
-  const std::string shortfall = address_space_shortfall(
-      (20.0 + 8.0 * samples) * width * height,
-      "the " + std::to_string(width) + "x" + std::to_string(height) + " framebuffer with " + std::to_string(samples) + " samples");
-  if (!shortfall.empty()) throw RenderError(shortfall);
+  require_framebuffer_space(width, height, samples);  // under ulimit -v llvmpipe may crash instead
   delete_targets();
   const auto make_renderbuffer = [&](GLenum format, int n) {
     GLuint rb = 0;

@@ -107,6 +107,14 @@ std::string address_space_shortfall(double bytes, const std::string& what) {
          std::to_string(static_cast<long long>(std::ceil(least / 1024)));
 }
 
+void require_framebuffer_space(int width, int height, int samples) {
+  const std::string shortfall = address_space_shortfall(
+      (20.0 + 8.0 * samples) * width * height,
+      "the " + std::to_string(width) + "x" + std::to_string(height) + " framebuffer with " + std::to_string(samples) +
+          " samples");
+  if (!shortfall.empty()) throw RenderError(shortfall);
+}
+
 std::unique_ptr<GlContext> create_gl_context(GlBackend backend) {
   const std::string shortfall = address_space_shortfall(
       gl_context_address_space(), "an OpenGL context with " + std::to_string(raster_threads()) + " llvmpipe threads");

@@ -45,6 +45,10 @@ std::string address_space_shortfall(double bytes, const std::string& what);
 // context is made (llvmpipe: its rasterizer threads' stacks and malloc arenas, LLVM, the
 // shaders); BENCHMARKS.md, "Memory estimate", has the measurements.
 double gl_context_address_space();
+// Throws RenderError when a framebuffer of that size would not fit (address_space_shortfall):
+// colour and depth per sample, the resolved copy and the readback (memory_budget.h's
+// render_bytes counts the same).
+void require_framebuffer_space(int width, int height, int samples);
 
 // Per backend (defined only when built; create_gl_context chooses).
 std::unique_ptr<GlContext> create_egl_context();

@@ -15,6 +15,7 @@
 #include "cli/compare/reference_stand.h"
 #include "scene/echo.h"
 #include "scene/parse_estimate.h"
+#include "scene/scene_parser.h"
 
 namespace clothsim::cli {
 
@@ -125,6 +126,12 @@ void check_parse_budget(const std::string& path, const std::optional<double>& li
              parse_bytes(size));
   budget.set_remedy("shorten the scene file (its keyframes, pins and lists)");
   budget.check(path, limit);
+}
+
+SceneDef load_scene_within(const std::string& path, const std::vector<std::string>& overrides,
+                           const std::optional<double>& limit) {
+  check_parse_budget(path, limit);
+  return load_scene(path, overrides);
 }
 
 }  // namespace clothsim::cli

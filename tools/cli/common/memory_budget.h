@@ -59,6 +59,9 @@ void add_max_memory_option(CLI::App* sub, std::optional<double>& limit);
 // regular file (missing, a FIFO) is left to the parser to read and judge, and a tree of at
 // most kSmallSceneTreeBytes is the process's own (kProcessBytes: measured 76-78 MiB with one).
 inline constexpr double kSmallSceneTreeBytes = 2.0 * 1024 * 1024;
+// check_parse_budget, then the scene loaded (scene_parser.h's load_scene) with `overrides`.
+SceneDef load_scene_within(const std::string& path, const std::vector<std::string>& overrides,
+                           const std::optional<double>& limit);
 void check_parse_budget(const std::string& path, const std::optional<double>& limit);
 
 class MemoryBudget {

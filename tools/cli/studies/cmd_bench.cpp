@@ -247,8 +247,7 @@ void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std:
 
 int bench_command(const BenchOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
-  check_parse_budget(o.scene.path, o.scene.max_memory);
-  SceneDef scene = load_scene(o.scene.path, o.scene.sets);
+  SceneDef scene = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
   const std::vector<LaneSpec> lanes =
       parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
   std::vector<IntegratorKind> kinds;
