@@ -56,7 +56,8 @@ constexpr MeasuredPeak kMeasured[] = {
     {1024, IntegratorKind::Xpbd, 816.3, 872.4},                {1024, IntegratorKind::ProjectiveDynamics, 2612.2, 2612.7},
     {1024, IntegratorKind::Vbd, 855.3, 911.3},                 {2048, IntegratorKind::ExplicitEuler, 2054.0, 2278.2},
     {2048, IntegratorKind::Midpoint, 2342.1, 2566.2},          {2048, IntegratorKind::Rk4, 2534.0, 2758.1},
-    {2048, IntegratorKind::Xpbd, 3044.5, 3269.1},
+    {2048, IntegratorKind::Xpbd, 3044.5, 3269.1},              {2048, IntegratorKind::Vbd, 3196.5, 3421.0},
+    {2048, IntegratorKind::ImplicitEuler, 7506.3, 8242.4},
 };
 
 TEST(RunBudget, EveryIntegratorsEstimateIsWithinTenPercentAboveItsMeasuredPeak) {
