@@ -127,6 +127,16 @@ def no_survivors(folder, wait=2.0):
     return survivors(folder)
 
 
+def exiting(pid):
+    """Whether the process has begun to exit (PF_EXITING in /proc/PID/stat's flags): a signal
+    then has no one to answer it, and the trial has missed its moment."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return bool(int(f.read().rsplit(")", 1)[1].split()[6]) & 0x4)
+    except (OSError, IndexError, ValueError):
+        return True
+
+
 def start(binary, name, folder, frames):
     return subprocess.Popen([binary, *argv_for(name, frames)], cwd=folder, stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, start_new_session=True)
@@ -171,7 +181,7 @@ def trial(binary, name, frames, work, seconds, kill, rng):
     sig = signal.SIGKILL if kill else rng.choice(SIGNALS)
     p = start(binary, name, folder, frames)
     time.sleep(rng.uniform(0.0, seconds))
-    if p.poll() is not None:  # done before the moment came: not a trial of a signal
+    if p.poll() is not None or exiting(p.pid):  # done before the moment came: not a trial of a signal
         p.communicate()
         return None
     p.send_signal(sig)
@@ -188,18 +198,20 @@ def trial(binary, name, frames, work, seconds, kill, rng):
 
 
 def campaign(binary, work, count, kill, rng, seconds, frames):
-    done, failures = 0, []
+    """`count` trials; returns their failures and how many moments came after the command's end."""
+    done, missed, failures = 0, 0, []
     names = list(COMMANDS)
     while done < count:
         name = names[done % len(names)]
         result = trial(binary, name, frames, work, seconds[name], kill, rng)
         if result is None:
+            missed += 1
             continue
         done += 1
         failures += result
         for line in result:
             print(line, flush=True)
-    return failures
+    return failures, missed
 
 
 def main():
@@ -218,9 +230,10 @@ def main():
                    check=True, stdout=subprocess.DEVNULL)
     seconds = {name: unsignalled_seconds(binary, name, frames, work) for name in COMMANDS}
     print("unsignalled: " + ", ".join(f"{n} {s:.2f} s" for n, s in seconds.items()), flush=True)
-    lost = campaign(binary, work, args.trials, False, rng, seconds, frames)
-    left = campaign(binary, work, args.kills, True, rng, seconds, frames)
-    print(f"signals: {args.trials} trials, {len(lost)} failures; SIGKILL: {args.kills} trials, {len(left)} failures")
+    lost, missed = campaign(binary, work, args.trials, False, rng, seconds, frames)
+    left, missed_kills = campaign(binary, work, args.kills, True, rng, seconds, frames)
+    print(f"signals: {args.trials} trials, {len(lost)} failures; SIGKILL: {args.kills} trials, {len(left)} failures "
+          f"({missed + missed_kills} moments after a command had ended, not counted)")
     if not args.keep and not lost and not left:
         shutil.rmtree(work, ignore_errors=True)
     return 1 if lost or left else 0
