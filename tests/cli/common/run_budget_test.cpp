@@ -45,7 +45,7 @@ TEST(RunBudget, ErrorColouringAddsItsReferenceLaneAndTheHeldFirstSecond) {
 struct MeasuredPeak {
   int n;
   IntegratorKind kind;
-  double without_state, with_state;
+  double without_state, with_state;  // 0: not measured
 };
 constexpr MeasuredPeak kMeasured[] = {
     {256, IntegratorKind::ExplicitEuler, 105.0, 108.6},        {256, IntegratorKind::Midpoint, 109.6, 113.1},
@@ -57,7 +57,7 @@ constexpr MeasuredPeak kMeasured[] = {
     {1024, IntegratorKind::Vbd, 855.3, 911.3},                 {2048, IntegratorKind::ExplicitEuler, 2054.0, 2278.2},
     {2048, IntegratorKind::Midpoint, 2342.1, 2566.2},          {2048, IntegratorKind::Rk4, 2534.0, 2758.1},
     {2048, IntegratorKind::Xpbd, 3044.5, 3269.1},              {2048, IntegratorKind::Vbd, 3196.5, 3421.0},
-    {2048, IntegratorKind::ImplicitEuler, 7506.3, 8242.4},
+    {2048, IntegratorKind::ImplicitEuler, 7506.3, 8242.4},     {2048, IntegratorKind::ProjectiveDynamics, 11336.3, 0.0},
 };
 
 TEST(RunBudget, EveryIntegratorsEstimateIsWithinTenPercentAboveItsMeasuredPeak) {
@@ -70,6 +70,7 @@ TEST(RunBudget, EveryIntegratorsEstimateIsWithinTenPercentAboveItsMeasuredPeak) 
       pictures.final_state = state;
       const double estimate = run_budget(scene, PictureLook{}, pictures).total() / (1024.0 * 1024);
       const double peak = state ? m.with_state : m.without_state;
+      if (peak == 0.0) continue;  // not measured (PD at 2048² with --state: another half hour)
       EXPECT_GE(estimate, peak) << m.n << " " << integrator_name(m.kind) << (state ? " --state" : "");
       EXPECT_LE(estimate, 1.10 * peak) << m.n << " " << integrator_name(m.kind) << (state ? " --state" : "");
     }
