@@ -265,6 +265,7 @@ const Renderer::Impl::SphereMesh& Renderer::Impl::sphere_mesh(int slices) {
 
 void Renderer::Impl::ensure_targets(int width, int height, int samples) {
   if (width == target_width && height == target_height && samples == target_samples) return;
+  require_framebuffer_space(width, height, samples);  // under ulimit -v llvmpipe may crash instead
   delete_targets();
   const auto make_renderbuffer = [&](GLenum format, int n) {
     GLuint rb = 0;

@@ -1,5 +1,11 @@
 #include "gl_context.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "render/renderer.h"
@@ -63,7 +69,56 @@ std::unique_ptr<GlContext> create_one(GlBackend backend) {
 
 }  // namespace
 
+namespace {
+// Measured growth of VmPeak over the process at context creation, `run --still` on the drape
+// (Mesa 22.3, llvmpipe): 255 MiB with LP_NUM_THREADS=0, 147 MiB more per rasterizer thread
+// (its stack, and the 128 MiB glibc maps while aligning the thread's malloc arena).
+constexpr double kMiB = 1024.0 * 1024;
+constexpr double kContextBytes = 264 * kMiB, kPerRasterThread = 152 * kMiB;
+constexpr int kMaxRasterThreads = 16;  // llvmpipe's LP_MAX_THREADS in Mesa 22
+
+int raster_threads() {
+  if (const char* n = std::getenv("LP_NUM_THREADS"); n && *n) return std::clamp(std::atoi(n), 0, kMaxRasterThreads);
+  return std::clamp(static_cast<int>(::sysconf(_SC_NPROCESSORS_ONLN)), 1, kMaxRasterThreads);
+}
+
+double mapped_bytes() {  // VmSize: the first field of /proc/self/statm, in pages
+  long pages = 0;
+  if (std::FILE* f = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(f, "%ld", &pages) != 1) pages = 0;
+    std::fclose(f);
+  }
+  return static_cast<double>(pages) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+}
+
+std::string mb(double bytes) { return std::to_string(static_cast<long long>(std::ceil(bytes / kMiB))) + " MB"; }
+}  // namespace
+
+double gl_context_address_space() { return kContextBytes + kPerRasterThread * raster_threads(); }
+
+std::string address_space_shortfall(double bytes, const std::string& what) {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return "";
+  const double allowed = static_cast<double>(limit.rlim_cur), used = mapped_bytes();
+  if (used + bytes <= allowed) return "";
+  const double least = used + bytes;
+  return "ulimit -v " + std::to_string(limit.rlim_cur / 1024) + " (" + mb(allowed) + " of address space, " + mb(used) +
+         " in use) leaves too little for " + what + " (about " + mb(bytes) + "): raise it to at least ulimit -v " +
+         std::to_string(static_cast<long long>(std::ceil(least / 1024)));
+}
+
+void require_framebuffer_space(int width, int height, int samples) {
+  const std::string shortfall = address_space_shortfall(
+      (20.0 + 8.0 * samples) * width * height,
+      "the " + std::to_string(width) + "x" + std::to_string(height) + " framebuffer with " + std::to_string(samples) +
+          " samples");
+  if (!shortfall.empty()) throw RenderError(shortfall);
+}
+
 std::unique_ptr<GlContext> create_gl_context(GlBackend backend) {
+  const std::string shortfall = address_space_shortfall(
+      gl_context_address_space(), "an OpenGL context with " + std::to_string(raster_threads()) + " llvmpipe threads");
+  if (!shortfall.empty()) throw RenderError(shortfall + " (or set LP_NUM_THREADS=0)");
   if (backend != GlBackend::automatic) return create_one(backend);
   // auto: each built backend in turn (EGL first); if none gives a context, say what each said.
   std::string reasons;

@@ -33,8 +33,22 @@ class GlContext {
   virtual std::string description() const = 0;       // e.g. "egl (surfaceless)", "osmesa"
 };
 
-// Throws RenderError with one line saying what each tried backend answered.
+// Throws RenderError with one line saying what each tried backend answered, or, before any
+// backend is tried, naming an address-space limit (ulimit -v) the context cannot fit in:
+// under one, Mesa's context creation and shader build crash instead of failing.
 std::unique_ptr<GlContext> create_gl_context(GlBackend backend);
+
+// "" when `bytes` more fit under RLIMIT_AS (ulimit -v) beside what the process maps now,
+// else why not, on one line naming the limit and the least that would do.
+std::string address_space_shortfall(double bytes, const std::string& what);
+// Address space an OpenGL context and a still take beyond what the process maps when the
+// context is made (llvmpipe: its rasterizer threads' stacks and malloc arenas, LLVM, the
+// shaders); BENCHMARKS.md, "Memory estimate", has the measurements.
+double gl_context_address_space();
+// Throws RenderError when a framebuffer of that size would not fit (address_space_shortfall):
+// colour and depth per sample, the resolved copy and the readback (memory_budget.h's
+// render_bytes counts the same).
+void require_framebuffer_space(int width, int height, int samples);
 
 // Per backend (defined only when built; create_gl_context chooses).
 std::unique_ptr<GlContext> create_egl_context();

@@ -16,9 +16,11 @@ std::int64_t spring_count(const ClothDef& cloth);
 // Bytes of the Model built from `scene`: never less than its arrays hold (the fuzz target,
 // tests/fuzz/scene_fuzz.h, checks it on every scene it builds).
 double model_bytes(const SceneDef& scene);
-// Bytes of one run of `kind` on that Model (state, integrator scratch, implicit system).
+// Bytes of one run of `kind` on that Model (state, integrator scratch, implicit system, the
+// sparse factor implicit_euler may build and projective dynamics' prefactored matrix).
 double run_bytes(const SceneDef& scene, IntegratorKind kind);
-// Bytes of the final state a run keeps to write it (run --state).
-double final_state_bytes(const SceneDef& scene);
+// Bytes of the final state a run of `kind` keeps to write it (run --state): a State, with
+// implicit_euler's warm start.
+double final_state_bytes(const SceneDef& scene, IntegratorKind kind);
 
 }  // namespace clothsim

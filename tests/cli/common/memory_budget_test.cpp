@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "cli/cli_process.h"
 #include "cli/usage_error.h"
 #include "scene/scene_parser.h"
@@ -62,6 +64,50 @@ TEST(CmdRun, ARunOverMaxMemoryIsRefusedWithTheEstimateAndWritesNothing) {
                 .exit_code,
             0)
       << "the 25 x 25 drape fits";
+}
+
+// yaml-cpp holds a scene's whole node tree, about half a kilobyte a node: a scene file of
+// 40,000 keyframes (1.7 MB) would take about 170 MB to parse, refused from its text first.
+TEST(CmdRun, ASceneFileTooLargeToParseIsRefusedBeforeParsing) {
+  const std::string dir = scratch_dir("max_memory_parse");
+  std::string text = "cloth: {particles: [4, 4], springs: {structural: {}}}\nspheres:\n  - center: [0, 0, 0]\n"
+                     "    radius: 1.0\n    kinematic: true\n    motion:\n";
+  for (int i = 0; i < 40000; ++i) text += "      - {t: " + std::to_string(1.0 + i * 1e-5) + ", velocity: [0, 0, 5]}\n";
+  const std::string scene = dir + "/long.yaml";
+  std::ofstream(scene) << text;
+  for (const char* command : {"validate", "run", "bench", "stability"}) {
+    const CliResult r = run_clothsim({command, scene, "--max-memory", "150M"});
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(scene + ": needs an estimated"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("YAML tree (320"), std::string::npos) << r.err;  // 8 nodes a keyframe
+    EXPECT_NE(r.err.find("more than --max-memory 150 MB; shorten the scene file"), std::string::npos) << r.err;
+  }
+}
+
+// Under ulimit -v (RLIMIT_AS, set in the child's shell) Mesa crashed while creating a context
+// or building shaders: below the context's needs the run is refused before any GL call, and a
+// framebuffer that would not fit is refused before it is made. One line, exit 1, no file.
+TEST(CmdRun, AnAddressSpaceLimitTooSmallForGlIsOneLineNotACrash) {
+  const std::string dir = scratch_dir("gl_address_space");
+  const std::string scene = std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml";
+  for (const char* gl : {"egl", "osmesa"}) {
+    for (const char* limit : {"400000", "700000"}) {
+      const CliResult r = run_clothsim({"run", scene, "--still", "0.01", "-o", dir + "/s.png", "--gl", gl},
+                                       std::string("ulimit -v ") + limit + ";");
+      EXPECT_EQ(r.exit_code, 1) << gl << " " << limit << ": " << r.err;
+      EXPECT_EQ(line_count(r.err), 1) << r.err;
+      EXPECT_NE(r.err.find(std::string("render: ulimit -v ") + limit + " ("), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("leaves too little for an OpenGL context"), std::string::npos) << r.err;
+    }
+    const CliResult big = run_clothsim({"run", scene, "--still", "0.01", "-o", dir + "/s.png", "--gl", gl, "--width",
+                                        "8192", "--height", "8192"},
+                                       "ulimit -v 1500000;");
+    EXPECT_EQ(big.exit_code, 1) << big.err;
+    EXPECT_EQ(line_count(big.err), 1) << big.err;
+    EXPECT_NE(big.err.find("leaves too little for the 8192x8192 framebuffer"), std::string::npos) << big.err;
+  }
+  EXPECT_TRUE(only_files(dir, {}));
 }
 
 TEST(CmdCompare, AHugePictureIsRefusedWithTheEncodersShare) {

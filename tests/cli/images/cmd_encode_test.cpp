@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cli/cli_process.h"
+#include "png_header.h"
 #include "render/png_io.h"
 #include "video/mp4_probe.h"
 #include "video/tiling.h"
@@ -220,6 +221,24 @@ TEST(CmdEncode, RefusesAPictureOverMaxMemoryWithTheEncodersShare) {
   expect_refused(run_clothsim({"encode", a, "-o", out, "--max-memory", "100M"}), 2, out,
                  "needs an estimated 152 MB (process 80 MB, tiles 4 MB, frame 1024x1024 4 MB, encoder 64 MB), "
                  "more than --max-memory 100 MB");
+}
+
+// A 1 kB file claiming 20000 x 20000 pixels would decode to 1.5 GB: refused from its header.
+TEST(CmdEncode, RefusesAHugePngInAFrameFolderFromItsHeaderBeforeDecoding) {
+  const std::string root = scratch_dir("encode_huge_png");
+  fs::create_directories(root + "/a");
+  cli::png_header_only(root + "/a/frame_00000.png", 20000, 20000);  // no pixel data: never decoded
+  const std::string out = root + "/x.mp4";
+  expect_refused(run_clothsim({"encode", root + "/a", "-o", out, "--max-memory", "500M"}), 2, out,
+                 "frame 20000x20000 1.49 GB, encoder 23.8 GB), more than --max-memory 500 MB; encode smaller frames");
+}
+
+TEST(CmdEncode, RefusesAPngHeaderClaimingMoreThanThePngFormatAllows) {
+  const std::string root = scratch_dir("encode_corrupt_header");
+  fs::create_directories(root + "/a");
+  cli::png_header_only(root + "/a/frame_00000.png", 3000000000u, 2);  // past 2^31 - 1: not a PNG
+  const std::string out = root + "/x.mp4";
+  expect_refused(run_clothsim({"encode", root + "/a", "-o", out}), 2, out, "corrupt PNG (size 3000000000x2)");
 }
 
 // x264 reports a failed allocation on stderr by itself, not through libav's log; it is

@@ -5,12 +5,14 @@
 #include <fstream>
 
 #include "cli/cli_process.h"
+#include "png_header.h"
 #include "render/png_io.h"
 
 namespace clothsim {
 namespace {
 
 using testing::line_count;
+using testing::png_header_only;
 using testing::run_clothsim;
 using testing::scratch_dir;
 
@@ -39,17 +41,6 @@ Pair write_pair(const std::string& name, int changed, int amount, int bw = 40) {
   write_png(p.a, a);
   write_png(p.b, b);
   return p;
-}
-
-// A PNG's signature and IHDR alone, claiming w x h pixels: enough for a size read from the header.
-std::string png_header_only(const std::string& path, std::uint32_t w, std::uint32_t h) {
-  const unsigned char head[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
-                                static_cast<unsigned char>(w >> 24), static_cast<unsigned char>(w >> 16),
-                                static_cast<unsigned char>(w >> 8), static_cast<unsigned char>(w),
-                                static_cast<unsigned char>(h >> 24), static_cast<unsigned char>(h >> 16),
-                                static_cast<unsigned char>(h >> 8), static_cast<unsigned char>(h), 8, 6, 0, 0, 0};
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(head), sizeof head);
-  return path;
 }
 
 TEST(CmdImgdiff, ImagesPastMaxMemoryAreRefusedFromTheirHeadersBeforeDecoding) {

@@ -170,7 +170,15 @@ void install_signal_handlers() {
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
   for (const int s : kAnsweredSignals) sigaddset(&sa.sa_mask, s);  // one handler at a time
-  for (const int s : kAnsweredSignals) sigaction(s, &sa, nullptr);
+  for (const int s : kAnsweredSignals) {
+    struct sigaction inherited {};
+    // Ignored on entry (nohup's SIGHUP) stays ignored, as a shell's trap leaves it.
+    if (sigaction(s, nullptr, &inherited) == 0 && inherited.sa_handler == SIG_IGN) continue;
+    sigaction(s, &sa, nullptr);
+  }
+  // The launcher (launcher.cpp) holds the three blocked through the dynamic loader's work; a
+  // signal pending since then is answered here, by the handler just installed.
+  sigprocmask(SIG_UNBLOCK, &sa.sa_mask, nullptr);
   // A reader that goes away (`-o - | head -c 100`) makes the write fail with EPIPE, reported
   // on one line like any write error, instead of killing the process without a word.
   std::signal(SIGPIPE, SIG_IGN);

@@ -1,5 +1,6 @@
 #include "memory_budget.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -8,10 +9,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 
 #include "cli_common.h"
 #include "cli/compare/reference_stand.h"
 #include "scene/echo.h"
+#include "scene/parse_estimate.h"
+#include "scene/scene_parser.h"
 
 namespace clothsim::cli {
 
@@ -105,6 +109,29 @@ void MemoryBudget::check(const std::string& source, const std::optional<double>&
                    (limit ? "--max-memory " + format_bytes(allowed)
                           : "the " + format_bytes(allowed) + " allowed by default (half the physical memory)") +
                    "; " + remedy_ + ", or raise --max-memory");
+}
+
+void check_parse_budget(const std::string& path, const std::optional<double>& limit) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return;
+  const YamlSize size = count_yaml_nodes(in);
+  // A scene of a few thousand nodes is part of the process's allowance (kProcessBytes), so
+  // only a large file is judged on its parse; the run's own estimate judges the rest.
+  if (parse_bytes(size) <= kSmallSceneTreeBytes) return;
+  MemoryBudget budget;
+  budget.add("YAML tree (" + std::to_string(size.nodes) + " nodes, " + format_bytes(static_cast<double>(size.bytes)) +
+                 " of text)",
+             parse_bytes(size));
+  budget.set_remedy("shorten the scene file (its keyframes, pins and lists)");
+  budget.check(path, limit);
+}
+
+SceneDef load_scene_within(const std::string& path, const std::vector<std::string>& overrides,
+                           const std::optional<double>& limit) {
+  check_parse_budget(path, limit);
+  return load_scene(path, overrides);
 }
 
 }  // namespace clothsim::cli

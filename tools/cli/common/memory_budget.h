@@ -54,6 +54,16 @@ double reference_positions_bytes(const SceneDef& scene, const std::vector<double
 // Declares --max-memory SIZE on `sub`, parsed into `limit` (bytes).
 void add_max_memory_option(CLI::App* sub, std::optional<double>& limit);
 
+// Refuses (UsageError, exit 2) a scene file whose parse would pass `limit`: yaml-cpp's node
+// tree, estimated from the text (scene/parse_estimate.h) before it is parsed. Anything but a
+// regular file (missing, a FIFO) is left to the parser to read and judge, and a tree of at
+// most kSmallSceneTreeBytes is the process's own (kProcessBytes: measured 76-78 MiB with one).
+inline constexpr double kSmallSceneTreeBytes = 2.0 * 1024 * 1024;
+// check_parse_budget, then the scene loaded (scene_parser.h's load_scene) with `overrides`.
+SceneDef load_scene_within(const std::string& path, const std::vector<std::string>& overrides,
+                           const std::optional<double>& limit);
+void check_parse_budget(const std::string& path, const std::optional<double>& limit);
+
 class MemoryBudget {
  public:
   MemoryBudget();  // starts with the process itself

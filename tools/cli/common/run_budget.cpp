@@ -14,7 +14,7 @@ MemoryBudget run_budget(const SceneDef& scene, const PictureLook& look, const Ru
   budget.add("model", model_bytes(scene));
   // The run steps on a lane thread of the frame pipeline (kLaneThreadBytes), as the reference does.
   budget.add(std::string(integrator_name(scene.integrator)), run_bytes(scene, scene.integrator) + kLaneThreadBytes);
-  if (pictures.final_state) budget.add("final state", final_state_bytes(scene));
+  if (pictures.final_state) budget.add("final state", final_state_bytes(scene, scene.integrator));
   if (look.reference) {
     budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind) + kLaneThreadBytes);
     if (pictures.targets)

@@ -48,6 +48,8 @@ class VideoSink final : public FrameSink {
       writer_->finish();
       finished_ = true;
     } catch (const VideoError& e) {
+      // The drain abandoned for a signal: said as the stop, naming it (the caller adds what stays).
+      if (interrupted()) throw RuntimeFailure(std::string("stopped by ") + interrupt_signal_name() + " while encoding " + path_);
       throw RuntimeFailure(e.what());
     }
   }

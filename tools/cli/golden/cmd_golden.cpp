@@ -199,7 +199,7 @@ void load_entries(const GoldenOptions& o, const GoldenManifest& manifest, std::v
     // `run --still` refuses a time past the scene's duration).
     if (!fs::is_regular_file(e.scene))
       throw SceneError(manifest.path, e.line, key + ".scene", "not a scene file (missing, or a directory): " + e.scene);
-    scenes.push_back(load_scene(e.scene));
+    scenes.push_back(load_scene_within(e.scene, {}, o.max_memory));
     if (e.integrator) scenes.back().integrator = *e.integrator;
     if (e.dt) scenes.back().dt = *e.dt;
     if (e.dt && !e.times.empty()) {  // the parser bounded the scene's own dt; the run goes to the latest still

@@ -11,11 +11,8 @@
 // run does in `compare`), which the summary line says. Sequences may differ in size: each
 // tile is centred in a cell of the largest size.
 #include <algorithm>
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
@@ -58,19 +55,15 @@ struct Sequence {
   }
 };
 
-// Width and height from a PNG's IHDR chunk (signature, length, "IHDR", w, h: bytes 0..23).
+// Width and height from the PNG's header alone (render/png_io.h, as imgdiff and golden check
+// read theirs): a frame is judged against --max-memory before any is decoded.
 std::pair<int, int> png_header_size(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char h[24] = {};
-  if (!in.read(reinterpret_cast<char*>(h), sizeof h))
-    throw UsageError(path + ": cannot read (" + std::strerror(errno) + ")");
-  static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (std::memcmp(h, signature, 8) != 0 || std::memcmp(h + 12, "IHDR", 4) != 0)
-    throw UsageError(path + ": not a PNG file");
-  auto be32 = [&](int at) {
-    return static_cast<int>((h[at] << 24) | (h[at + 1] << 16) | (h[at + 2] << 8) | h[at + 3]);
-  };
-  return {be32(16), be32(20)};
+  try {
+    const PngSize size = read_png_size(path);
+    return {size.width, size.height};
+  } catch (const PngError& e) {
+    throw UsageError(std::string("encode: ") + e.what());
+  }
 }
 
 // frame_NNNNN.png -> NNNNN, anything else -> -1.
@@ -151,6 +144,7 @@ void check_encode_budget(const EncodeArgs& args, const std::vector<Sequence>& se
   budget.add("frame " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()),
              4.0 * grid.width() * grid.height());
   budget.add("encoder", encoder_bytes(grid.width(), grid.height()));
+  budget.set_remedy("encode smaller frames");
   budget.check("encode " + args.output, args.max_memory);
 }
 

@@ -360,7 +360,7 @@ int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vect
 
 int bench_command(const BenchOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
-  SceneDef scene = load_scene(o.scene.path, o.scene.sets);
+  SceneDef scene = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
   const std::vector<LaneSpec> lanes =
       parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
   if (!o.vary.empty()) return bench_variation(o, scene, lanes);

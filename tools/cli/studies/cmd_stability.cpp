@@ -284,7 +284,7 @@ void print_limits(const std::vector<StabilityLimit>& limits, const analysis::Sta
 
 int stability_command(const StabilityOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
-  const SceneDef base = load_scene(o.scene.path, o.scene.sets);
+  const SceneDef base = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
   const std::vector<LaneSpec> lanes = parse_study_lanes(
       o.integrators, "stability searches the step, so a lane takes no @STEP (its :N stays fixed while the step is searched); drop it");
   std::vector<IntegratorKind> kinds;

@@ -148,8 +148,11 @@ PlotScript::PlotScript(std::string script, std::string png) : png_(std::move(png
   python_ = ::access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "";
   if (const char* env = std::getenv("CLOTHSIM_PYTHON"); env && *env) python_ = env;
   if (python_.empty()) throw RuntimeFailure("--plot needs python3 with matplotlib (apt-get install python3-matplotlib)");
-  if (run_process({python_, "-c", "import matplotlib"}, true) != 0)
+  if (run_process({python_, "-c", "import matplotlib"}, true) != 0) {
+    // A signal during the check kills the child: said as the stop it is, not a missing library.
+    if (interrupted()) throw RuntimeFailure(std::string("stopped by ") + interrupt_signal_name() + "; nothing written");
     throw RuntimeFailure("--plot needs matplotlib for " + python_ + " (apt-get install python3-matplotlib)");
+  }
 }
 
 void PlotScript::draw(const std::vector<std::string>& args) const { draw(args, -1); }
