@@ -223,7 +223,8 @@ namespace {
 // Where the explicit methods' limits lie beside the Gershgorin bounds: the drape's searches
 // found its dampers' rate 2.4x below c_max, its springs' frequency at w_max (docs/cluster.md).
 constexpr double kDamperSlack = 2.4;
-// An unstable trial stops at its divergence: on the drape, a third of the way to T on average.
+// An unstable trial stops at its divergence, sooner the farther past the limit; the share
+// of a run to T it is counted as matters little (docs/cluster.md).
 constexpr double kUnstableShare = 0.3;
 
 StiffnessEstimate likely_stiffness(StiffnessEstimate e) {
