@@ -218,15 +218,89 @@ StabilityLimit largest_stable_dt(const Model& model, IntegratorKind kind, const 
   return StableStepSearch(model, kind, spec, stop).run();
 }
 
+namespace {
+
+// Where the explicit methods' limits lie beside the Gershgorin bounds: the drape's searches
+// found its dampers' rate 2.4x below c_max, its springs' frequency at w_max (docs/cluster.md).
+constexpr double kDamperSlack = 2.4;
+// An unstable trial stops at its divergence, sooner the farther past the limit; the share
+// of a run to T it is counted as matters little (docs/cluster.md).
+constexpr double kUnstableShare = 0.3;
+
+StiffnessEstimate likely_stiffness(StiffnessEstimate e) {
+  e.c_max /= kDamperSlack;
+  return e;
+}
+
+// What one step of `kind` at `dt` costs in force evaluations. Implicit Euler's Newton and CG
+// work grows with the stiffness the step spans, w_max dt, and with the mesh (CG needs more
+// iterations on a finer one): fitted on the drape at 25 x 25 and 50 x 50.
+double step_cost(const Model& model, const StiffnessEstimate& e, IntegratorKind kind, double dt) {
+  const int evals = nominal_force_evals(kind);
+  if (evals > 0) return evals;
+  const double spanned = std::isfinite(e.w_max) ? e.w_max * dt : 0.0;
+  return 42.0 * (1.0 + 5.6e-5 * static_cast<double>(model.num_particles) * spanned);
+}
+
+// The search's trials replayed on a step limit assumed known: the same dts StableStepSearch
+// tries (max_dt, the bracket from the first guess, the bisection), each trial's steps times
+// their cost, a stable trial running to T and an unstable one kUnstableShare of the way.
+class SearchReplay {
+ public:
+  SearchReplay(double limit, const StabilitySpec& spec, const std::function<double(double)>& per_step)
+      : limit_(limit), spec_(spec), per_step_(per_step) {}
+
+  double cost(double guess) {
+    if (stable(spec_.max_dt)) return total_;
+    double lo = kNaN, hi = spec_.max_dt;
+    guess = std::clamp(std::isfinite(guess) ? guess : spec_.max_dt, spec_.min_dt, 0.5 * spec_.max_dt);
+    if (stable(guess)) {
+      lo = guess;
+      for (double h = 2.0 * lo; h < hi; h *= 2.0) (stable(h) ? lo : hi) = h;
+    } else {
+      hi = guess;
+      for (double h = 0.5 * hi; std::isnan(lo); h *= 0.5) {
+        if (h <= spec_.min_dt) {
+          if (!stable(spec_.min_dt)) return total_;
+          lo = spec_.min_dt;
+        } else (stable(h) ? lo : hi) = h;
+      }
+    }
+    while (hi / lo > 1.0 + spec_.precision) {
+      const double mid = std::sqrt(lo * hi);
+      (stable(mid) ? lo : hi) = mid;
+    }
+    return total_;
+  }
+
+  void add_run(double dt, double share) { total_ += share * (spec_.duration / dt) * per_step_(dt); }
+  double total() const { return total_; }
+
+ private:
+  bool stable(double dt) {
+    const bool ok = dt <= limit_;
+    add_run(dt, ok ? 1.0 : kUnstableShare);
+    return ok;
+  }
+
+  double limit_;
+  const StabilitySpec& spec_;
+  const std::function<double(double)>& per_step_;
+  double total_ = 0.0;
+};
+
+}  // namespace
+
 double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec& spec) {
   const StiffnessEstimate e = estimate_stiffness(model);
-  const double limit = predicted_limit(e, kind, model.implicit);
-  const double dt = std::clamp(std::isfinite(limit) && limit > 0.0 ? limit : spec.max_dt, spec.min_dt, spec.max_dt);
-  const int evals = nominal_force_evals(kind);
-  // An implicit step's CG work grows with the stiffness the step spans, w_max dt (the
-  // drape's implicit searches do, over 3 decades of stiffness: docs/cluster.md).
-  const double per_step = evals > 0 ? evals : 8.0 * (1.0 + (std::isfinite(e.w_max) ? e.w_max * dt : 0.0));
-  return (spec.duration / dt) * per_step;
+  const double limit = predicted_limit(likely_stiffness(e), kind, model.implicit);
+  const std::function<double(double)> per_step = [&](double dt) { return step_cost(model, e, kind, dt); };
+  SearchReplay replay(limit, spec, per_step);
+  const double guess = spec.first_guess > 0.0 ? spec.first_guess : e.dt_with_damping();
+  replay.cost(guess);
+  if (kind == IntegratorKind::ImplicitEuler)  // its runs at one step per frame, beside the search
+    for (double dt : spec.frame_dts) replay.add_run(dt, 1.0);
+  return replay.total();
 }
 
 const Model& case_lane_model(const StabilityCase& c, std::size_t lane) {

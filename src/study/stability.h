@@ -138,9 +138,10 @@ struct StabilityCase {
 const Model& case_lane_model(const StabilityCase& c, std::size_t lane);
 
 // A search's rough cost in force-evaluation equivalents, for sharding only (shard.h): the
-// steps of a trial near the predicted limit (clamped to the range tried), times the
-// evaluations per step (implicit_euler: 8 x (1 + w_max dt)); searches take similar numbers
-// of trials.
+// search's own trials replayed on the limit predicted_limit gives with the dampers' bound
+// c_max / 2.4 (a stable trial runs T / dt steps, an unstable one 0.3 of them), each step
+// its evaluations (implicit_euler: 42 x (1 + 5.6e-5 P w_max dt), its frame-step runs added).
+// Fitted on the drape (docs/cluster.md); no timing enters it, so every shard agrees.
 double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec& spec);
 
 // Every (case, integrator) search, spread over the cores; results case by case, integrators

@@ -186,5 +186,40 @@ TEST(Stability, StoppedSearchIsLeftOutOfTheSweep) {
   EXPECT_TRUE(stability_sweep({{100.0, &model}}, long_run(IntegratorKind::Rk4), hooks).empty());
 }
 
+// search_cost against the thread CPU the drape's searches took at 50 x 50, T = 0.2 s, the
+// stability command's default range (docs/cluster.md, "What a search costs"): the
+// estimate must order and scale them as measured, each ratio within a factor 2 (most within 1.3).
+double drape_search_cost(IntegratorKind kind, double stiffness) {
+  const Model model = build_model(load_scene(scene_path("drape.yaml"),
+                                             {"cloth.particles=[50,50]", "cloth.springs.structural.stiffness=" +
+                                                                             std::to_string(stiffness)}));
+  StabilitySpec spec;
+  spec.integrators = {kind};
+  spec.duration = 0.2;
+  spec.min_dt = 3.125e-6;
+  spec.max_dt = 0.004;
+  spec.frame_dts = {1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30};
+  return search_cost(model, kind, spec);
+}
+
+TEST(Stability, SearchCostScalesTheDrapesSearchesAsTheirMeasuredCpu) {
+  using K = IntegratorKind;
+  const double rk4_soft = drape_search_cost(K::Rk4, 2e4);  // measured 0.985 CPU s
+  const auto near = [&](K kind, double stiffness, double measured_ratio) {
+    const double ratio = drape_search_cost(kind, stiffness) / rk4_soft;
+    EXPECT_GT(ratio, measured_ratio / 2.0) << integrator_name(kind) << " at " << stiffness;
+    EXPECT_LT(ratio, measured_ratio * 2.0) << integrator_name(kind) << " at " << stiffness;
+  };
+  near(K::ExplicitEuler, 2e4, 0.254);     // 0.250 s
+  near(K::ExplicitEuler, 2e7, 1.42);      // 1.403 s: its limit falls 6x at 2e7 N/m
+  near(K::SymplecticEuler, 2e7, 0.220);   // 0.217 s
+  near(K::Midpoint, 2e6, 0.466);          // 0.459 s
+  near(K::Midpoint, 2e7, 0.780);          // 0.768 s
+  near(K::ImplicitEuler, 2e4, 0.439);     // 0.432 s
+  near(K::ImplicitEuler, 2e6, 1.35);      // 1.327 s
+  near(K::ImplicitEuler, 2e7, 4.64);      // 4.573 s: the sweep's dearest search
+  EXPECT_GT(drape_search_cost(K::ImplicitEuler, 2e7), 2.5 * drape_search_cost(K::ExplicitEuler, 2e7));
+}
+
 }  // namespace
 }  // namespace clothsim::analysis

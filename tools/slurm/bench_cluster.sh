@@ -3,15 +3,16 @@
 # rounds of a stability sweep of the drape as 4 one-CPU shards through submit.sh --wait,
 # then in one process with --jobs 1, then --jobs 2, back to back; one line per round (wall
 # times, ratios, the shards' CPU from the CSV) and Slurm's steps from the controller's log.
-# Usage: tools/slurm/bench_cluster.sh [CLOTHSIM]   (PARTICLES=50 DURATION=0.2 ROUNDS=2)
+# Usage: tools/slurm/bench_cluster.sh [CLOTHSIM]
+#   (PARTICLES=50 DURATION=0.2 ROUNDS=2 VALUES=2e4,2e5,2e6,2e7: the structural stiffnesses)
 # Needs a running local cluster (tools/slurm/local-cluster.sh start).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 clothsim=$(realpath "${1:-$root/build/clothsim}")
-p=${PARTICLES:-50} duration=${DURATION:-0.2} rounds=${ROUNDS:-2}
+p=${PARTICLES:-50} duration=${DURATION:-0.2} rounds=${ROUNDS:-2} values=${VALUES:-2e4,2e5,2e6,2e7}
 log=${CLOTHSIM_SLURM_DIR:-/var/tmp/clothsim-slurm}/log/slurmctld.log
 sweep=(stability "$root/scenes/drape.yaml" --set "cloth.particles=[$p,$p]" --duration "$duration"
-       --values 2e4,2e5,2e6,2e7 --integrators explicit_euler,symplectic_euler,midpoint,rk4,implicit_euler)
+       --values "$values" --integrators explicit_euler,symplectic_euler,midpoint,rk4,implicit_euler)
 work=$(mktemp -d /var/tmp/clothsim-bench-cluster.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
