@@ -4,6 +4,7 @@
 
 #include "core/solvers/solver_cache.h"
 #include "core/solvers/xpbd_kernels.h"
+#include "core/kernel_test_support.h"
 
 namespace clothsim::testing {
 namespace {
@@ -87,6 +88,21 @@ TEST(Xpbd, TheFamilySweepLandsNearTheSpringListsSolution) {
     const State be = one_step(model, start, IntegratorKind::ImplicitEuler, kH);
     const double apart = relative_distance(families, list, start);
     EXPECT_LT(apart, 0.5 * relative_distance(list, be, start)) << "seed " << seed;
+  }
+}
+
+// A set's projections are independent, so every lane count (by lanes, by pairs, by masked runs
+// on one lane) must give the same bits; odd and even rows put the pairs' phase both ways.
+TEST(Xpbd, TheFamilySweepGivesTheSameBitsOnEveryHighwayTarget) {
+  for (const char* side : {"[9,9]", "[10,7]"}) {
+    const Model model = with_iterations(free_sheet({std::string("cloth.particles=") + side}), kXpbd, 7);
+    const State start = random_state(model, 5);
+    State first;
+    RecordProperty("targets", for_each_highway_target([&](const char* target) {
+      const State s = one_step(model, start, kXpbd, kH);
+      if (first.x.size() == 0) first = s;
+      EXPECT_TRUE(s.x == first.x && s.v == first.v) << side << " on " << target;
+    }));
   }
 }
 
