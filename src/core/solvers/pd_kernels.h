@@ -46,6 +46,7 @@ struct PdFactor {
 struct PdSystem {
   Eigen::Matrix3Xd base;         // (3 x n) A yhat + the springs' pull towards immovable ends
   Eigen::Matrix3Xd z;            // (3 x n) the right-hand side, then the solve
+  Eigen::Matrix4Xd padded;       // (4 x n) z padded to a vector per row for the solve
   std::vector<double> rest;      // (slots) blended rest lengths by the layout's slot order
   std::vector<std::int32_t> pushed;  // particles whose contact multiplier is positive, ascending
   std::vector<std::int32_t> inside, visit;  // scratch: particles in a collider's reach; the union
@@ -66,7 +67,9 @@ void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f
 void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, Eigen::Matrix3Xd& y,
                   PdSystem& s, std::vector<double>& lambda);
 
-// z <- (L D L^T)^-1 z for the three columns at once (z in the factor's row order).
+// z <- (L D L^T)^-1 z for the three columns at once (z in the factor's row order), in SIMD
+// on rows padded to four lanes (pd_solve_kernels.h); `padded`: scratch.
+void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z, Eigen::Matrix4Xd& padded);
 void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z);
 
 // Wang 2015's Chebyshev weights: omega_1 = 1, omega_2 = 2 / (2 - rho^2),
