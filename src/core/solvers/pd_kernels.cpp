@@ -101,6 +101,7 @@ bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::Ve
   const Eigen::SparseMatrix<double> A = global_matrix(model, p, f);
   if (!f.analysed) f.ldlt.analyzePattern(A), f.analysed = true;  // the pattern is the pins'
   f.ldlt.factorize(A);
+  f.lower_rows = f.ldlt.matrixL().nestedExpression();
   number_factor_rows(f);
   ++f.factorizations;
   return true;
@@ -146,8 +147,11 @@ void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z, Eigen::Matrix4Xd&
   padded.resize(4, z.cols());
   padded.topRows<3>() = z;
   padded.row(3).setZero();  // the pad lane, computed and dropped
-  ldlt_solve_padded(L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr(), f.ldlt.vectorD().data(),
-                    static_cast<std::size_t>(z.cols()), padded.data());
+  const auto& R = f.lower_rows;
+  const Eigen::VectorXd& D = f.ldlt.vectorD();  // a copy: bound here so that it outlives the solve
+  const LowerFactor lf{static_cast<std::size_t>(z.cols()), R.outerIndexPtr(), R.innerIndexPtr(), R.valuePtr(),
+                       L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr(), D.data()};
+  ldlt_solve_padded(lf, padded.data());
   z = padded.topRows<3>();
 }
 

@@ -33,6 +33,7 @@ namespace clothsim {
 
 struct PdFactor {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> lower_rows;  // the factor's L by rows, for the forward solve
   std::vector<std::int32_t> free_index;  // (B) row of a movable body, -1 where immovable
   std::vector<std::int32_t> row;         // (B) its row in the factor's (permuted) order, or -1
   Eigen::VectorXd inv_mass;              // (B) the pin set it was built for

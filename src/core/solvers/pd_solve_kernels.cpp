@@ -16,23 +16,20 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::CappedTag<double, 4>;  // one padded row per vector where the target has 4 lanes
 
-// Lanes [c, c + N) of every row: L w = z by columns of L, w / D, then L^T x = w by rows of
-// L^T with four partial sums (one would chain every entry's multiply-add on the last).
-void SolveLanes(const int* HWY_RESTRICT start, const int* HWY_RESTRICT row, const double* HWY_RESTRICT value,
-                const double* HWY_RESTRICT pivot, std::size_t n, std::size_t c, double* HWY_RESTRICT z) {
+// z_j -= sum over e in [start[j], start[j + 1]) of value[e] z_{index[e]}, lanes [c, c + N), for
+// every j in the order `step` walks them, with four partial sums (one would chain every
+// entry's multiply-add on the last). Forward over L's rows, backward over its columns: both
+// gather what they read and store once per row.
+HWY_INLINE void Substitute(const int* HWY_RESTRICT start, const int* HWY_RESTRICT index,
+                           const double* HWY_RESTRICT value, std::size_t n, std::size_t c, bool forward,
+                           double* HWY_RESTRICT z) {
   const D d;
   using V = hn::Vec<D>;
-  for (std::size_t j = 0; j < n; ++j) {
-    const V zj = hn::LoadU(d, z + 4 * j + c);
-    for (int e = start[j]; e < start[j + 1]; ++e) {
-      double* at = z + 4 * static_cast<std::size_t>(row[e]) + c;
-      hn::StoreU(hn::Sub(hn::LoadU(d, at), hn::Mul(hn::Set(d, value[e]), zj)), d, at);
-    }
-  }
-  for (std::size_t j = 0; j < n; ++j)
-    hn::StoreU(hn::Div(hn::LoadU(d, z + 4 * j + c), hn::Set(d, pivot[j])), d, z + 4 * j + c);
-  const auto term = [&](int e) { return hn::Mul(hn::Set(d, value[e]), hn::LoadU(d, z + 4 * static_cast<std::size_t>(row[e]) + c)); };
-  for (std::size_t j = n; j-- > 0;) {
+  const auto term = [&](int e) {
+    return hn::Mul(hn::Set(d, value[e]), hn::LoadU(d, z + 4 * static_cast<std::size_t>(index[e]) + c));
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t j = forward ? k : n - 1 - k;
     V s0 = hn::Zero(d), s1 = s0, s2 = s0, s3 = s0;
     int e = start[j];
     for (; e + 4 <= start[j + 1]; e += 4) {
@@ -45,10 +42,15 @@ void SolveLanes(const int* HWY_RESTRICT start, const int* HWY_RESTRICT row, cons
   }
 }
 
-void SolvePadded(const int* HWY_RESTRICT start, const int* HWY_RESTRICT row, const double* HWY_RESTRICT value,
-                 const double* HWY_RESTRICT pivot, std::size_t n, double* HWY_RESTRICT z) {
-  const std::size_t N = hn::Lanes(D());
-  for (std::size_t c = 0; c < 3; c += N) SolveLanes(start, row, value, pivot, n, c, z);
+void SolvePadded(const LowerFactor& f, double* HWY_RESTRICT z) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  for (std::size_t c = 0; c < 3; c += N) {
+    Substitute(f.row_start, f.row_col, f.row_value, f.n, c, true, z);  // L w = z
+    for (std::size_t j = 0; j < f.n; ++j)
+      hn::StoreU(hn::Div(hn::LoadU(d, z + 4 * j + c), hn::Set(d, f.pivot[j])), d, z + 4 * j + c);
+    Substitute(f.col_start, f.col_row, f.col_value, f.n, c, false, z);  // L^T x = w
+  }
 }
 
 }  // namespace HWY_NAMESPACE
@@ -60,10 +62,7 @@ namespace clothsim {
 
 HWY_EXPORT(SolvePadded);
 
-void ldlt_solve_padded(const int* start, const int* row, const double* value, const double* d, std::size_t n,
-                       double* z4) {
-  HWY_DYNAMIC_DISPATCH(SolvePadded)(start, row, value, d, n, z4);
-}
+void ldlt_solve_padded(const LowerFactor& f, double* z4) { HWY_DYNAMIC_DISPATCH(SolvePadded)(f, z4); }
 
 }  // namespace clothsim
 #endif  // HWY_ONCE
