@@ -15,7 +15,8 @@
 // the particle first enters a collider's reach in the step, so converged PD is converged
 // implicit_euler with contacts too. The matrix is the
 // same for x, y and z, so one scalar LDL^T factor (Liu et al.'s prefactored Cholesky) serves
-// the three columns, solved together in one sweep over the factor each way; it depends only
+// the three columns, solved together in one SIMD sweep over the factor each way
+// (pd_solve_kernels.h); it depends only
 // on h and the pins, so it is factored when one of them changes and reused otherwise.
 //
 // The local step runs by the grid's stencil families in SIMD (pd_local_kernels.h) when the
