@@ -6,6 +6,7 @@
 
 #include "contact_scan_kernels.h"
 #include "pd_local_kernels.h"
+#include "pd_solve_kernels.h"
 
 namespace clothsim {
 namespace {
@@ -100,6 +101,7 @@ bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::Ve
   const Eigen::SparseMatrix<double> A = global_matrix(model, p, f);
   if (!f.analysed) f.ldlt.analyzePattern(A), f.analysed = true;  // the pattern is the pins'
   f.ldlt.factorize(A);
+  f.lower_rows = f.ldlt.matrixL().nestedExpression();
   number_factor_rows(f);
   ++f.factorizations;
   return true;
@@ -133,38 +135,29 @@ void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, E
   else
     scatter_spring_projections(model, p, f, y, s.z);
   for (std::int32_t i : s.pushed) s.z.col(f.row[i]) += lambda[i] * s.normal[i];
-  pd_solve_in_place(f, s.z);
+  pd_solve_in_place(f, s.z, s.padded);
   for (std::size_t i = 0; i < f.row.size(); ++i)
     if (f.row[i] >= 0) y.col(i) = s.z.col(f.row[i]);
   if (!p.colliders.ground && p.colliders.centre.empty()) return;
   update_contact_forces(model, p, f, y, s, lambda);
 }
 
-void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z) {
+void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z, Eigen::Matrix4Xd& padded) {
   const auto& L = f.ldlt.matrixL().nestedExpression();  // strictly lower, unit diagonal implied
-  const int* start = L.outerIndexPtr();
-  const int* row = L.innerIndexPtr();
-  const double* value = L.valuePtr();
-  const Eigen::VectorXd& D = f.ldlt.vectorD();
-  const Eigen::Index n = z.cols();
-  for (Eigen::Index j = 0; j < n; ++j) {  // L w = z, by columns of L
-    const Vec3 zj = z.col(j);
-    for (int e = start[j]; e < start[j + 1]; ++e) z.col(row[e]) -= value[e] * zj;
-  }
-  for (Eigen::Index j = 0; j < n; ++j) z.col(j) /= D[j];
-  for (Eigen::Index j = n - 1; j >= 0; --j) {  // L^T x = w, by rows of L^T
-    // Four partial sums: one would chain every entry's multiply-add on the last.
-    Vec3 s0 = Vec3::Zero(), s1 = Vec3::Zero(), s2 = Vec3::Zero(), s3 = Vec3::Zero();
-    int e = start[j];
-    for (; e + 4 <= start[j + 1]; e += 4) {
-      s0 += value[e] * z.col(row[e]);
-      s1 += value[e + 1] * z.col(row[e + 1]);
-      s2 += value[e + 2] * z.col(row[e + 2]);
-      s3 += value[e + 3] * z.col(row[e + 3]);
-    }
-    for (; e < start[j + 1]; ++e) s0 += value[e] * z.col(row[e]);
-    z.col(j) -= (s0 + s1) + (s2 + s3);
-  }
+  padded.resize(4, z.cols());
+  padded.topRows<3>() = z;
+  padded.row(3).setZero();  // the pad lane, computed and dropped
+  const auto& R = f.lower_rows;
+  const Eigen::VectorXd& D = f.ldlt.vectorD();  // a copy: bound here so that it outlives the solve
+  const LowerFactor lf{static_cast<std::size_t>(z.cols()), R.outerIndexPtr(), R.innerIndexPtr(), R.valuePtr(),
+                       L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr(), D.data()};
+  ldlt_solve_padded(lf, padded.data());
+  z = padded.topRows<3>();
+}
+
+void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z) {
+  Eigen::Matrix4Xd padded;
+  pd_solve_in_place(f, z, padded);
 }
 
 double chebyshev_omega(int k, double rho, double previous) {

@@ -15,7 +15,8 @@
 // the particle first enters a collider's reach in the step, so converged PD is converged
 // implicit_euler with contacts too. The matrix is the
 // same for x, y and z, so one scalar LDL^T factor (Liu et al.'s prefactored Cholesky) serves
-// the three columns, solved together in one sweep over the factor each way; it depends only
+// the three columns, solved together in one SIMD sweep over the factor each way
+// (pd_solve_kernels.h); it depends only
 // on h and the pins, so it is factored when one of them changes and reused otherwise.
 //
 // The local step runs by the grid's stencil families in SIMD (pd_local_kernels.h) when the
@@ -33,6 +34,7 @@ namespace clothsim {
 
 struct PdFactor {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> lower_rows;  // the factor's L by rows, for the forward solve
   std::vector<std::int32_t> free_index;  // (B) row of a movable body, -1 where immovable
   std::vector<std::int32_t> row;         // (B) its row in the factor's (permuted) order, or -1
   Eigen::VectorXd inv_mass;              // (B) the pin set it was built for
@@ -46,6 +48,7 @@ struct PdFactor {
 struct PdSystem {
   Eigen::Matrix3Xd base;         // (3 x n) A yhat + the springs' pull towards immovable ends
   Eigen::Matrix3Xd z;            // (3 x n) the right-hand side, then the solve
+  Eigen::Matrix4Xd padded;       // (4 x n) z padded to a vector per row for the solve
   std::vector<double> rest;      // (slots) blended rest lengths by the layout's slot order
   std::vector<std::int32_t> pushed;  // particles whose contact multiplier is positive, ascending
   std::vector<std::int32_t> inside, visit;  // scratch: particles in a collider's reach; the union
@@ -66,7 +69,9 @@ void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f
 void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, Eigen::Matrix3Xd& y,
                   PdSystem& s, std::vector<double>& lambda);
 
-// z <- (L D L^T)^-1 z for the three columns at once (z in the factor's row order).
+// z <- (L D L^T)^-1 z for the three columns at once (z in the factor's row order), in SIMD
+// on rows padded to four lanes (pd_solve_kernels.h); `padded`: scratch.
+void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z, Eigen::Matrix4Xd& padded);
 void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z);
 
 // Wang 2015's Chebyshev weights: omega_1 = 1, omega_2 = 2 / (2 - rho^2),

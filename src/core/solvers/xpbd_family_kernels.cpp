@@ -12,6 +12,24 @@
 #include "xpbd_family_kernels.h"
 #include "xpbd_kernels.h"
 
+#ifndef CLOTHSIM_XPBD_SWEEP_ARRAYS
+#define CLOTHSIM_XPBD_SWEEP_ARRAYS
+namespace clothsim {
+
+// The arrays one sweep reads: components c[k] of y and s[k] of the start positions (stride
+// apart), the family's rest lengths, gains and multipliers by position, the inverse masses.
+struct SweepArrays {
+  double* c[3];
+  const double* s[3];
+  const double* rest;
+  const double* gain;
+  double* lambda;
+  const double* w;
+};
+
+}  // namespace clothsim
+#endif
+
 HWY_BEFORE_NAMESPACE();
 namespace clothsim {
 namespace HWY_NAMESPACE {
@@ -21,83 +39,149 @@ using D = hn::ScalableTag<double>;
 
 using V = hn::Vec<D>;
 
-// The projection of a vector of springs (xpbd_kernels.h's formula): their multipliers' change
-// (0 where no spring acts) and unit directions u, from the ends, the rest lengths, multipliers,
-// gains 1 / denominator and start separations.
-HWY_INLINE V Project(const V ya[3], const V yb[3], V l0, V lam, V g, const V gap[3], V cs, V kdh, V u[3]) {
+// The family's constants for one step: alpha~^-1 = ks h^2, kd h, and their sum.
+struct FamilyStep {
+  V cs, kdh, both;
+};
+
+HWY_INLINE FamilyStep StepOf(const SpringFamily& fam, double h) {
   const D d;
-  const V zero = hn::Zero(d);
-  V dd[3];
-  for (int k = 0; k < 3; ++k) dd[k] = hn::Sub(ya[k], yb[k]);
-  const V l = hn::Sqrt(hn::Add(hn::Add(hn::Mul(dd[0], dd[0]), hn::Mul(dd[1], dd[1])), hn::Mul(dd[2], dd[2])));
-  const auto acts = hn::AndNot(hn::Le(l, zero), hn::Gt(g, zero));
-  const V inv_l = hn::IfThenElseZero(acts, hn::Div(hn::Set(d, 1.0), l));  // 0: u = 0 where no spring acts
-  V rate = zero;  // grad C . (y - x_n) = u . ((y_a - y_b) - (x_a - x_b))
-  for (int k = 0; k < 3; ++k) {
-    u[k] = hn::Mul(dd[k], inv_l);
-    rate = hn::Add(rate, hn::Mul(u[k], hn::Sub(dd[k], gap[k])));
-  }
-  const V numerator = hn::Sub(hn::Sub(hn::Mul(hn::Neg(cs), hn::Sub(l, l0)), lam), hn::Mul(kdh, rate));
-  return hn::IfThenElseZero(acts, hn::Mul(numerator, g));
+  return {hn::Set(d, fam.ks * h * h), hn::Set(d, fam.kd * h), hn::Set(d, fam.ks * h * h + fam.kd * h)};
 }
 
-// One set of one family: for each run, vectors of positions projected at once. The ends
-// at b are re-read after the stores at a, so a lane outside the set (adding 0) never writes
-// back a value another lane has just moved.
-void ProjectSet(const SpringFamily& fam, const double* HWY_RESTRICT rest, const double* HWY_RESTRICT gain,
-                const std::pair<std::size_t, std::size_t>* runs, std::size_t num_runs, double h,
-                std::size_t stride, double* HWY_RESTRICT y, const double* HWY_RESTRICT gap, std::size_t gap_stride,
-                const double* HWY_RESTRICT w, double* HWY_RESTRICT lambda) {
+// The projection of a vector of springs (xpbd_kernels.h's formula) from their ends, start
+// separations, rest lengths, multipliers and gains 1 / denominator: the multipliers' change
+// (0 where no spring acts or `live` is clear) and t = dlambda / l, so an end moves by
+// w t (y_a - y_b). With u = d / l, the damper's rate u . (d - gap) is l - d . gap / l, so
+//     dlambda = g (cs l0 - lambda - (cs + kd h) l + kd h (d . gap) / l).
+template <class M>
+HWY_INLINE V Project(const V dd[3], const V gap[3], V l0, V lam, V g, M live, const FamilyStep& k, V& t) {
+  const D d;
+  const V zero = hn::Zero(d);
+  const V l2 = hn::Add(hn::Add(hn::Mul(dd[0], dd[0]), hn::Mul(dd[1], dd[1])), hn::Mul(dd[2], dd[2]));
+  const V dg = hn::Add(hn::Add(hn::Mul(dd[0], gap[0]), hn::Mul(dd[1], gap[1])), hn::Mul(dd[2], gap[2]));
+  const V l = hn::Sqrt(l2);
+  const auto acts = hn::And(live, hn::AndNot(hn::Le(l, zero), hn::Gt(g, zero)));
+  const V inv_l = hn::IfThenElseZero(acts, hn::Div(hn::Set(d, 1.0), l));
+  const V numerator = hn::Add(hn::Sub(hn::Sub(hn::Mul(k.cs, l0), lam), hn::Mul(k.both, l)),
+                              hn::Mul(k.kdh, hn::Mul(dg, inv_l)));
+  const V dlam = hn::IfThenElseZero(acts, hn::Mul(numerator, g));
+  t = hn::Mul(dlam, inv_l);
+  return dlam;
+}
+
+// One set of a column-wise family: each run's positions a vector at a time, lanes past the
+// run masked. The ends at b are re-read after the stores at a, so a masked lane (adding 0)
+// never writes back a value another lane has just moved.
+void ProjectSet(const SpringFamily& fam, const SweepArrays& in, const std::pair<std::size_t, std::size_t>* runs,
+                std::size_t num_runs, double h) {
   const D d;
   const std::size_t N = hn::Lanes(d);
-  const V cs = hn::Set(d, fam.ks * h * h), kdh = hn::Set(d, fam.kd * h);  // alpha~^-1, kd h
-  double* HWY_RESTRICT c[3] = {y, y + stride, y + 2 * stride};
-  const double* HWY_RESTRICT s[3] = {gap, gap + gap_stride, gap + 2 * gap_stride};
+  const FamilyStep k = StepOf(fam, h);
   const std::size_t off = static_cast<std::size_t>(fam.offset);
   for (std::size_t r = 0; r < num_runs; ++r) {
     for (std::size_t q = runs[r].first; q < runs[r].second; q += N) {
       const std::size_t a = static_cast<std::size_t>(fam.first) + q, b = a + off;
-      V ya[3], yb[3], gq[3], u[3];
-      for (int k = 0; k < 3; ++k)
-        ya[k] = hn::LoadU(d, c[k] + a), yb[k] = hn::LoadU(d, c[k] + b), gq[k] = hn::LoadU(d, s[k] + q);
-      const V lam = hn::LoadU(d, lambda + q);
-      const V dlam = Project(ya, yb, hn::LoadU(d, rest + q), lam, hn::LoadU(d, gain + q), gq, cs, kdh, u);
-      hn::StoreU(hn::Add(lam, dlam), d, lambda + q);
-      const V ta = hn::Mul(hn::LoadU(d, w + a), dlam), tb = hn::Mul(hn::LoadU(d, w + b), dlam);
-      for (int k = 0; k < 3; ++k) hn::StoreU(hn::Add(ya[k], hn::Mul(ta, u[k])), d, c[k] + a);
-      for (int k = 0; k < 3; ++k) hn::StoreU(hn::Sub(hn::LoadU(d, c[k] + b), hn::Mul(tb, u[k])), d, c[k] + b);
+      V ya[3], dd[3], gap[3], t;
+      for (int c = 0; c < 3; ++c) {
+        ya[c] = hn::LoadU(d, in.c[c] + a);
+        dd[c] = hn::Sub(ya[c], hn::LoadU(d, in.c[c] + b));
+        gap[c] = hn::Sub(hn::LoadU(d, in.s[c] + a), hn::LoadU(d, in.s[c] + b));
+      }
+      const V lam = hn::LoadU(d, in.lambda + q);
+      const V dlam = Project(dd, gap, hn::LoadU(d, in.rest + q), lam, hn::LoadU(d, in.gain + q),
+                             hn::FirstN(d, runs[r].second - q), k, t);
+      hn::StoreU(hn::Add(lam, dlam), d, in.lambda + q);
+      const V ta = hn::Mul(hn::LoadU(d, in.w + a), t), tb = hn::Mul(hn::LoadU(d, in.w + b), t);
+      for (int c = 0; c < 3; ++c) hn::StoreU(hn::Add(ya[c], hn::Mul(ta, dd[c])), d, in.c[c] + a);
+      for (int c = 0; c < 3; ++c) hn::StoreU(hn::Sub(hn::LoadU(d, in.c[c] + b), hn::Mul(tb, dd[c])), d, in.c[c] + b);
     }
   }
 }
 
-// A set of the row-wise family (i, j) -> (i + 1, j): its springs join p, p + 1 for every p of
-// one parity, so a vector of 2L consecutive particles, deinterleaved, is L springs' a ends and
-// their b ends, and a vector of 2L positions is L of the set's positions: no lane is masked
-// for being outside the set. `q0`: the set's first position.
-void ProjectPairs(const SpringFamily& fam, const double* HWY_RESTRICT rest, const double* HWY_RESTRICT gain,
-                  std::size_t q0, double h, std::size_t stride, double* HWY_RESTRICT y,
-                  const double* HWY_RESTRICT gap, std::size_t gap_stride, const double* HWY_RESTRICT w,
-                  double* HWY_RESTRICT lambda) {
+// 2L consecutive values from `at` split into every other lane (di = 1: lanes 0, 2, 4... and
+// 1, 3, 5...) or every other pair of lanes (di = 2: lanes 0, 1, 4, 5... and 2, 3, 6, 7...),
+// and stored back. Pairs: a vector of two lanes is one pair; of four, two, whose halves Concat
+// joins; of eight, four, gathered into halves by one in-vector permutation (its own inverse).
+template <int kDi>
+struct Split {
+  static HWY_INLINE void Load(const double* HWY_RESTRICT at, V& a, V& b) {
+    const D d;
+    if constexpr (kDi == 1) {
+      hn::LoadInterleaved2(d, at, a, b);
+    } else if constexpr (hn::MaxLanes(D()) == 2) {
+      a = hn::LoadU(d, at), b = hn::LoadU(d, at + 2);
+    } else {
+#if HWY_TARGET != HWY_SCALAR
+      const V v0 = Pairs(hn::LoadU(d, at)), v1 = Pairs(hn::LoadU(d, at + hn::Lanes(d)));
+      a = hn::ConcatLowerLower(d, v1, v0), b = hn::ConcatUpperUpper(d, v1, v0);
+#endif
+    }
+  }
+  static HWY_INLINE void Store(V a, V b, double* HWY_RESTRICT at) {
+    const D d;
+    if constexpr (kDi == 1) {
+      hn::StoreInterleaved2(a, b, d, at);
+    } else if constexpr (hn::MaxLanes(D()) == 2) {
+      hn::StoreU(a, d, at), hn::StoreU(b, d, at + 2);
+    } else {
+#if HWY_TARGET != HWY_SCALAR
+      hn::StoreU(Pairs(hn::ConcatLowerLower(d, b, a)), d, at);
+      hn::StoreU(Pairs(hn::ConcatUpperUpper(d, b, a)), d, at + hn::Lanes(d));
+#endif
+    }
+  }
+  // Lanes 0, 1, 4, 5 | 2, 3, 6, 7 of eight; four or fewer are already in halves.
+  static HWY_INLINE V Pairs(V v) {
+    if constexpr (hn::MaxLanes(D()) == 8) {
+      const D d;
+      alignas(64) static constexpr std::int64_t kIdx[8] = {0, 1, 4, 5, 2, 3, 6, 7};
+      return hn::TableLookupLanes(v, hn::SetTableIndices(d, kIdx));
+    } else {
+      return v;
+    }
+  }
+};
+
+// One set of a row-wise family with di = 1 or 2: its springs join p and p + di for the p of
+// every other run of di, so the 2L particles from p on hold L springs whose a ends Split takes
+// apart from their b ends, and 2L positions from q hold those L springs' positions.
+// `q0`: the set's first position (its particle's offset within a run of 2 di even).
+template <int kDi>
+void ProjectRowSet(const SpringFamily& fam, const SweepArrays& in, std::size_t q0, double h) {
   const D d;
   const std::size_t N = hn::Lanes(d);
-  const V cs = hn::Set(d, fam.ks * h * h), kdh = hn::Set(d, fam.kd * h);
-  double* HWY_RESTRICT c[3] = {y, y + stride, y + 2 * stride};
-  const double* HWY_RESTRICT s[3] = {gap, gap + gap_stride, gap + 2 * gap_stride};
-  V skip;  // the other set's half of a pair of vectors
+  const FamilyStep k = StepOf(fam, h);
+  const auto all = hn::FirstN(d, N);
+  using S = Split<kDi>;
   for (std::size_t q = q0; q < static_cast<std::size_t>(fam.count); q += 2 * N) {
     const std::size_t a = static_cast<std::size_t>(fam.first) + q;
-    V ya[3], yb[3], gq[3], u[3], l0, g, lam, other, wa, wb;
-    for (int k = 0; k < 3; ++k) hn::LoadInterleaved2(d, c[k] + a, ya[k], yb[k]), hn::LoadInterleaved2(d, s[k] + q, gq[k], skip);
-    hn::LoadInterleaved2(d, rest + q, l0, skip);
-    hn::LoadInterleaved2(d, gain + q, g, skip);
-    hn::LoadInterleaved2(d, lambda + q, lam, other);
-    hn::LoadInterleaved2(d, w + a, wa, wb);
-    const V dlam = Project(ya, yb, l0, lam, g, gq, cs, kdh, u);
-    hn::StoreInterleaved2(hn::Add(lam, dlam), other, d, lambda + q);
-    const V ta = hn::Mul(wa, dlam), tb = hn::Mul(wb, dlam);
-    for (int k = 0; k < 3; ++k)
-      hn::StoreInterleaved2(hn::Add(ya[k], hn::Mul(ta, u[k])), hn::Sub(yb[k], hn::Mul(tb, u[k])), d, c[k] + a);
+    V ya[3], yb[3], dd[3], gap[3], xa, xb, l0, g, lam, other, skip, t;
+    for (int c = 0; c < 3; ++c) {
+      S::Load(in.c[c] + a, ya[c], yb[c]);
+      S::Load(in.s[c] + a, xa, xb);
+      dd[c] = hn::Sub(ya[c], yb[c]), gap[c] = hn::Sub(xa, xb);
+    }
+    S::Load(in.rest + q, l0, skip);
+    S::Load(in.gain + q, g, skip);
+    S::Load(in.lambda + q, lam, other);
+    S::Load(in.w + a, xa, xb);  // the ends' inverse masses
+    const V dlam = Project(dd, gap, l0, lam, g, all, k, t);
+    S::Store(hn::Add(lam, dlam), other, in.lambda + q);
+    const V ta = hn::Mul(xa, t), tb = hn::Mul(xb, t);
+    for (int c = 0; c < 3; ++c) S::Store(hn::Add(ya[c], hn::Mul(ta, dd[c])), hn::Sub(yb[c], hn::Mul(tb, dd[c])), in.c[c] + a);
   }
+}
+
+// The set's kernel: by lanes or pairs from q0 for a row-wise family with di = 1 or 2 (a
+// vector of one lane holds no pair: then by runs, as for the other families), else by runs.
+void ProjectFamilySet(const SpringFamily& fam, const SweepArrays& in, const std::pair<std::size_t, std::size_t>* runs,
+                      std::size_t num_runs, long q0, double h) {
+  if (q0 >= 0 && fam.di == 1) return ProjectRowSet<1>(fam, in, static_cast<std::size_t>(q0), h);
+#if HWY_TARGET != HWY_SCALAR
+  if (q0 >= 0 && fam.di == 2) return ProjectRowSet<2>(fam, in, static_cast<std::size_t>(q0), h);
+#endif
+  ProjectSet(fam, in, runs, num_runs, h);
 }
 
 }  // namespace HWY_NAMESPACE
@@ -107,8 +191,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace clothsim {
 
-HWY_EXPORT(ProjectSet);
-HWY_EXPORT(ProjectPairs);
+HWY_EXPORT(ProjectFamilySet);
 
 namespace {
 
@@ -125,24 +208,19 @@ int set_of(const SpringFamily& fam, int a, int nx) {
   return fam.dj == 0 ? (a / fam.di) & 1 : ((a / nx) / fam.dj) & 1;
 }
 
+// Each set's runs of consecutive positions (rows of a column-wise family).
 void build_sets(const Model& model, XpbdFamilies& f) {
   const SpringLayout& layout = model.spring_layout;
   const int nx = row_length(layout);
-  f.rest.clear();
   f.runs.clear();
   for (const SpringFamily& fam : layout.families) {
-    const std::size_t padded = fam.rest.size() + kSpringLanePad;
     for (int set = 0; set < 2; ++set) {
-      std::vector<double> rest(padded, 0.0);
       std::vector<std::pair<std::size_t, std::size_t>> runs;
       for (std::size_t k = 0; k < static_cast<std::size_t>(fam.count); ++k) {
         if (set_of(fam, fam.first + static_cast<int>(k), nx) != set) continue;
-        rest[k] = fam.rest[k];
-        if (fam.dj == 0 && !runs.empty()) runs.back().second = k + 1;  // row-wise: one run, masked
-        else if (!runs.empty() && runs.back().second == k) ++runs.back().second;
+        if (!runs.empty() && runs.back().second == k) ++runs.back().second;
         else runs.emplace_back(k, k + 1);
       }
-      f.rest.push_back(std::move(rest));
       f.runs.push_back(std::move(runs));
     }
   }
@@ -151,19 +229,19 @@ void build_sets(const Model& model, XpbdFamilies& f) {
   f.springs = model.springs.size();
 }
 
-// Per set and position, 1 / ((ks h^2 + kd h)(w_a + w_b) + 1), the projection's denominator
-// (xpbd_kernels.h); 0 where no spring of the set is, or where both ends are immovable.
+// Per family and position, 1 / ((ks h^2 + kd h)(w_a + w_b) + 1), the projection's denominator
+// (xpbd_kernels.h); 0 where the family has no spring, or where both ends are immovable.
 void build_gains(const Model& model, double h, XpbdFamilies& f) {
   const auto& families = model.spring_layout.families;
-  f.gain.resize(f.rest.size());
-  for (std::size_t k = 0; k < f.rest.size(); ++k) {
-    const SpringFamily& fam = families[k / 2];
+  f.gain.resize(families.size());
+  for (std::size_t k = 0; k < families.size(); ++k) {
+    const SpringFamily& fam = families[k];
     const double scale = fam.ks * h * h + fam.kd * h;
-    f.gain[k].assign(f.rest[k].size(), 0.0);
+    f.gain[k].assign(fam.rest.size(), 0.0);
     for (std::size_t q = 0; q < static_cast<std::size_t>(fam.count); ++q) {
       const std::size_t a = static_cast<std::size_t>(fam.first) + q;
       const double w = f.w[a] + f.w[a + static_cast<std::size_t>(fam.offset)];
-      if (f.rest[k][q] > 0.0 && w != 0.0) f.gain[k][q] = 1.0 / (scale * w + 1.0);
+      if (fam.rest[q] > 0.0 && w != 0.0) f.gain[k][q] = 1.0 / (scale * w + 1.0);
     }
   }
   f.h = h;
@@ -194,36 +272,32 @@ void xpbd_load_families(const Model& model, const StepProblem& p, const Eigen::V
     for (int i = 0; i < P; ++i) f.w[i] = inv_mass[i];
   }
   if (pins_changed || f.h != p.h) build_gains(model, p.h, f);
+  to_soa(p.start, P, f.stride, f.x);
   const auto& families = model.spring_layout.families;
   f.lambda.resize(families.size());
-  f.gap.resize(families.size());
-  for (std::size_t k = 0; k < families.size(); ++k) {
-    const SpringFamily& fam = families[k];
-    const std::size_t len = fam.rest.size() + kSpringLanePad;
-    f.lambda[k].assign(len, 0.0);
-    f.gap[k].assign(3 * len, 0.0);
-    for (std::size_t q = 0; q < static_cast<std::size_t>(fam.count); ++q) {
-      const int a = fam.first + static_cast<int>(q), b = a + fam.offset;
-      for (std::size_t c = 0; c < 3; ++c) f.gap[k][c * len + q] = p.start(static_cast<Eigen::Index>(c), a) - p.start(static_cast<Eigen::Index>(c), b);
-    }
-  }
+  for (std::size_t k = 0; k < families.size(); ++k) f.lambda[k].assign(families[k].rest.size(), 0.0);
+}
+
+// The set's first position in a row-wise family: its particle p has floor(p / di) mod 2 =
+// set, and p mod di = 0 (-1 when the family's first particle is off that grid of runs).
+static long row_set_start(const SpringFamily& fam, std::size_t set) {
+  const long di = fam.di, first = fam.first;
+  if (first % di != 0) return -1;
+  return ((first / di) & 1) == static_cast<long>(set) ? 0 : di;
 }
 
 void xpbd_family_sweep(const Model& model, double h, XpbdFamilies& f) {
   const auto& families = model.spring_layout.families;
+  const std::size_t st = f.stride;
   for (std::size_t k = 0; k < families.size(); ++k)
     for (std::size_t set = 0; set < 2; ++set) {
       const SpringFamily& fam = families[k];
-      const std::size_t len = f.lambda[k].size(), at = 2 * k + set;
-      if (fam.dj == 0 && fam.di == 1) {  // pairs: the set's positions are those of a's parity `set`
-        const std::size_t q0 = (set + static_cast<std::size_t>(fam.first)) & 1;
-        HWY_DYNAMIC_DISPATCH(ProjectPairs)(fam, f.rest[at].data(), f.gain[at].data(), q0, h, f.stride, f.y.data(),
-                                           f.gap[k].data(), len, f.w.data(), f.lambda[k].data());
-        continue;
-      }
-      const auto& runs = f.runs[at];
-      HWY_DYNAMIC_DISPATCH(ProjectSet)(fam, f.rest[at].data(), f.gain[at].data(), runs.data(), runs.size(), h,
-                                       f.stride, f.y.data(), f.gap[k].data(), len, f.w.data(), f.lambda[k].data());
+      const SweepArrays in{{f.y.data(), f.y.data() + st, f.y.data() + 2 * st},
+                           {f.x.data(), f.x.data() + st, f.x.data() + 2 * st},
+                           fam.rest.data(), f.gain[k].data(), f.lambda[k].data(), f.w.data()};
+      const long q0 = fam.dj == 0 && (fam.di == 1 || fam.di == 2) ? row_set_start(fam, set) : -1;
+      const auto& runs = f.runs[2 * k + set];
+      HWY_DYNAMIC_DISPATCH(ProjectFamilySet)(fam, in, runs.data(), runs.size(), q0, h);
     }
 }
 

@@ -6,10 +6,12 @@
 // seeing the updates of the sets before it, which is still Gauss-Seidel (the order the
 // paper's parallel colouring and the peers, Houdini's Vellum and Unreal's Chaos, take); within
 // a set the projections are independent, so a vector of consecutive positions loads its ends
-// contiguously from structure-of-arrays positions and stores back without conflicts. A set's
-// positions are walked in runs of consecutive positions (a row-wise family: all of them, the
-// others' lanes masked by a per-set rest length that is zero outside the set; a column-wise
-// family: its set's rows). Each constraint's projection is xpbd_kernels.h's formula.
+// contiguously from structure-of-arrays positions and stores back without conflicts. A
+// column-wise family's set is walked by its runs of consecutive positions (its rows); a
+// row-wise family's set is every other position (di = 1) or every other pair (di = 2), so
+// 2L consecutive particles, deinterleaved by lanes or by pairs, are L springs' a and b ends and
+// no lane idles. Each constraint's projection is xpbd_kernels.h's formula; the per-spring
+// arrays are the family's (rest lengths, gains, multipliers), the set picks its positions.
 #pragma once
 
 #include <Eigen/Core>
@@ -26,16 +28,15 @@ struct XpbdFamilies {
   // Built once per model:
   const Model* model = nullptr;
   std::size_t springs = 0;
-  std::vector<std::vector<double>> rest;  // (2 F) rest length by position, 0 outside the set
-  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> runs;  // (2 F) [k0, k1)
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> runs;  // (2 F) set 2 f + s's [k0, k1)
   std::size_t stride = 0;                 // P padded by a vector
   // Per step size and pin set:
   std::vector<double> w;                  // (stride) inverse masses, 0 past P
-  std::vector<std::vector<double>> gain;  // (2 F) 1 / the projection's denominator, 0: none
+  std::vector<std::vector<double>> gain;  // (F) 1 / the projection's denominator by position, 0: none
   double h = 0.0;
   // Per step, structure of arrays (component c of particle i at c stride + i):
   std::vector<double> y;                  // (3 stride) the iterate
-  std::vector<std::vector<double>> gap;   // (F) x_a - x_b at the step's start by position, 3 rows of lambda's length
+  std::vector<double> x;                  // (3 stride) the step's start positions
   std::vector<std::int32_t> touching;      // particles inside a collider's reach
   std::vector<std::vector<double>> lambda;  // (F) multipliers by position
 };
@@ -43,8 +44,8 @@ struct XpbdFamilies {
 // True when the model's springs are all in its layout's families (the SIMD sweep applies).
 bool xpbd_by_families(const Model& model);
 
-// Readies the sets (once per model) and loads the step: y (3 x B), the springs' start
-// separations and the inverse masses.
+// Readies the sets (once per model) and loads the step: y (3 x B), the start positions and
+// the inverse masses.
 void xpbd_load_families(const Model& model, const StepProblem& p, const Eigen::VectorXd& inv_mass,
                         const Eigen::Matrix3Xd& y, XpbdFamilies& f);
 

@@ -1,5 +1,6 @@
 #include "solver_support.h"
 
+#include "core/kernel_test_support.h"
 #include "core/solvers/solver_cache.h"
 
 namespace clothsim::testing {
@@ -67,6 +68,24 @@ TEST(ProjectiveDynamics, TheFusedSolveIsTheFactorsSolve) {
   for (std::size_t i = 0; i < f.row.size(); ++i)
     if (f.row[i] >= 0) worst = std::max(worst, (z.col(f.row[i]) - expected.row(f.free_index[i]).transpose()).norm());
   EXPECT_LT(worst, 1e-12 * expected.cwiseAbs().maxCoeff());
+}
+
+// A vector per padded row (AVX2, AVX-512), two lanes twice (SSE) or one lane thrice (SCALAR):
+// the same operations in the same order, so the same bits.
+TEST(ProjectiveDynamics, TheSolveGivesTheSameBitsOnEveryHighwayTarget) {
+  const Model model = free_sheet();
+  State s = initial_state(model);
+  Workspace ws;
+  step(model, s, kPd, kH, ws);
+  const PdFactor& f = solver_cache(ws).pd;
+  const Eigen::Matrix3Xd b = random_field(static_cast<int>(f.ldlt.rows()), 3);
+  Eigen::Matrix3Xd first;
+  RecordProperty("targets", for_each_highway_target([&](const char* target) {
+    Eigen::Matrix3Xd z = b;
+    pd_solve_in_place(f, z);
+    if (first.size() == 0) first = z;
+    EXPECT_TRUE(z == first) << target;
+  }));
 }
 
 TEST(ProjectiveDynamics, FactorsOnceForAFixedStepAndPinSet) {
