@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "contact_scan_kernels.h"
+#include "in_reach-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace clothsim {
@@ -19,19 +20,6 @@ namespace hn = hwy::HWY_NAMESPACE;
 using D = hn::ScalableTag<double>;
 using V = hn::Vec<D>;
 
-// Lanes inside some reach, with the scalar test's arithmetic (r = sqrt((dx^2 + dy^2) + dz^2)).
-HWY_INLINE hn::Mask<D> InReach(const Colliders& c, V x, V y, V z) {
-  const D d;
-  auto inside = hn::Lt(y, hn::Set(d, c.ground ? c.ground_reach : -HUGE_VAL));
-  for (std::size_t q = 0; q < c.centre.size(); ++q) {
-    const V dx = hn::Sub(x, hn::Set(d, c.centre[q].x()));
-    const V dy = hn::Sub(y, hn::Set(d, c.centre[q].y()));
-    const V dz = hn::Sub(z, hn::Set(d, c.centre[q].z()));
-    const V r = hn::Sqrt(hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz)));
-    inside = hn::Or(inside, hn::Not(hn::Ge(r, hn::Set(d, c.reach[q]))));  // a NaN r enters, as there
-  }
-  return inside;
-}
 
 HWY_INLINE void Collect(const D d, hn::Mask<D> inside, std::size_t first, std::size_t n,
                         std::vector<std::int32_t>& out) {
@@ -48,9 +36,9 @@ void ScanSoa(const Colliders& c, const double* HWY_RESTRICT y, std::size_t strid
   const std::size_t N = hn::Lanes(d);
   std::size_t i = 0;
   for (; i + N <= n; i += N)
-    Collect(d, InReach(c, hn::LoadU(d, y + i), hn::LoadU(d, y + stride + i), hn::LoadU(d, y + 2 * stride + i)), i, n, out);
+    Collect(d, InReach(d, c, hn::LoadU(d, y + i), hn::LoadU(d, y + stride + i), hn::LoadU(d, y + 2 * stride + i)), i, n, out);
   for (; i < n; ++i) {
-    const auto one = InReach(c, hn::Set(d, y[i]), hn::Set(d, y[stride + i]), hn::Set(d, y[2 * stride + i]));
+    const auto one = InReach(d, c, hn::Set(d, y[i]), hn::Set(d, y[stride + i]), hn::Set(d, y[2 * stride + i]));
     if (!hn::AllFalse(d, one)) out.push_back(static_cast<std::int32_t>(i));
   }
 }
@@ -62,10 +50,10 @@ void ScanColumns(const Colliders& c, const double* HWY_RESTRICT y, std::size_t n
   for (; i + N <= n; i += N) {
     V x0, x1, x2;
     hn::LoadInterleaved3(d, y + 3 * i, x0, x1, x2);
-    Collect(d, InReach(c, x0, x1, x2), i, n, out);
+    Collect(d, InReach(d, c, x0, x1, x2), i, n, out);
   }
   for (; i < n; ++i) {
-    const auto one = InReach(c, hn::Set(d, y[3 * i]), hn::Set(d, y[3 * i + 1]), hn::Set(d, y[3 * i + 2]));
+    const auto one = InReach(d, c, hn::Set(d, y[3 * i]), hn::Set(d, y[3 * i + 1]), hn::Set(d, y[3 * i + 2]));
     if (!hn::AllFalse(d, one)) out.push_back(static_cast<std::int32_t>(i));
   }
 }

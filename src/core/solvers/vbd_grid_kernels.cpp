@@ -11,6 +11,7 @@
 
 #include "vbd_grid_kernels.h"
 #include "vbd_kernels.h"
+#include "in_reach-inl.h"
 
 #ifndef CLOTHSIM_VBD_GRID_ONCE  // this part once, not once per target
 #define CLOTHSIM_VBD_GRID_ONCE
@@ -70,19 +71,6 @@ HWY_INLINE void AddOuter(Sys& s, V c, V dx, V dy, V dz) {
 
 HWY_INLINE void AddDiagonal(Sys& s, V c) { s.xx = hn::Add(s.xx, c), s.yy = hn::Add(s.yy, c), s.zz = hn::Add(s.zz, c); }
 
-// Lanes inside some collider's reach (for_each_penetration's test; a NaN distance enters).
-HWY_INLINE hn::Mask<D> InReach(const Colliders& c, V x, V y, V z) {
-  const D d;
-  auto inside = hn::Lt(y, hn::Set(d, c.ground ? c.ground_reach : -HUGE_VAL));
-  for (std::size_t q = 0; q < c.centre.size(); ++q) {
-    const V dx = hn::Sub(x, hn::Set(d, c.centre[q].x()));
-    const V dy = hn::Sub(y, hn::Set(d, c.centre[q].y()));
-    const V dz = hn::Sub(z, hn::Set(d, c.centre[q].z()));
-    const V r = hn::Sqrt(hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz)));
-    inside = hn::Or(inside, hn::Not(hn::Ge(r, hn::Set(d, c.reach[q]))));
-  }
-  return inside;
-}
 
 // The lanes in `hold` take vbd_hold (vbd_kernels.h) one by one, after the vector's store.
 HWY_INLINE void HoldLanes(const ColourSweep& w, const Sys& s, hn::Mask<D> hold, std::size_t at) {
@@ -162,7 +150,7 @@ void SweepColour(const ColourSweep& w) {
       const V n2 = hn::Add(y2, hn::IfThenElseZero(take, sz));
       hn::StoreU(n0, d, y[0] + at), hn::StoreU(n1, d, y[1] + at), hn::StoreU(n2, d, y[2] + at);
       if (!any_collider) continue;
-      const auto hold = hn::And(take, hn::Or(InReach(colliders, n0, n1, n2), hn::Gt(hn::LoadU(d, g.held.data() + at), zero)));
+      const auto hold = hn::And(take, hn::Or(InReach(d, colliders, n0, n1, n2), hn::Gt(hn::LoadU(d, g.held.data() + at), zero)));
       if (!hn::AllFalse(d, hold)) HoldLanes(w, s, hold, at);
     }
   }
