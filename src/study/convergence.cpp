@@ -40,9 +40,9 @@ void set_iterations(Model& m, IntegratorKind kind, int n) {
 // measuring a point (its end of step, its distance and Phi's gradient).
 double passes_per_iteration(IntegratorKind kind) {
   switch (kind) {
-    case IntegratorKind::Xpbd: return 7.0;
-    case IntegratorKind::ProjectiveDynamics: return 16.0;
-    case IntegratorKind::Vbd: return 17.0;
+    case IntegratorKind::Xpbd: return 1.5;
+    case IntegratorKind::ProjectiveDynamics: return 5.0;
+    case IntegratorKind::Vbd: return 2.0;
     default: return 25.0;  // a Newton iteration
   }
 }
