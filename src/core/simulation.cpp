@@ -5,6 +5,16 @@
 #include <cmath>
 
 namespace clothsim {
+namespace {
+// An iterative solver's step reports its iterations as newton_iterations; the totals keep
+// them per solver, since an iteration of each costs a different number of passes.
+void add_solver_iterations(RunTotals& t, IntegratorKind kind, std::int64_t iterations) {
+  if (kind == IntegratorKind::Xpbd) t.xpbd_iterations += iterations;
+  if (kind == IntegratorKind::ProjectiveDynamics) t.pd_iterations += iterations;
+  if (kind == IntegratorKind::Vbd) t.vbd_iterations += iterations;
+}
+}  // namespace
+
 double thread_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -70,6 +80,7 @@ bool Run::advance_to(double target) {
     totals_.factorizations += last_.stats.factorizations;
     totals_.assemblies += last_.stats.assemblies;
     totals_.factored_cg_iterations += last_.stats.factored_cg_iterations;
+    add_solver_iterations(totals_, kind_, last_.stats.newton_iterations);
     totals_.max_strain = std::max(totals_.max_strain, last_.stats.start_strain);
     if (!last_.stats.converged) ++totals_.unconverged_steps;
     totals_.max_residual = std::max(totals_.max_residual, last_.stats.residual);

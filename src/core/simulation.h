@@ -39,6 +39,9 @@ struct RunTotals {
   std::int64_t factorizations = 0;      // implicit_euler: sparse Cholesky factors
   std::int64_t assemblies = 0;          // implicit_euler: Newton matrices assembled
   std::int64_t factored_cg_iterations = 0;  // of cg_iterations, preconditioned by a factor
+  std::int64_t xpbd_iterations = 0;     // xpbd, projective_dynamics, vbd: their iterations,
+  std::int64_t pd_iterations = 0;       // each counted by its own solver (work_units.h
+  std::int64_t vbd_iterations = 0;      // weighs them apart)
   std::int64_t projected_steps = 0;     // implicit_euler: steps whose post-step projection moved a particle
   double max_strain = 0.0;              // largest strain a step started from (its first force pass)
   std::int64_t unconverged_steps = 0;   // implicit solves that hit their cap

@@ -50,6 +50,22 @@ TEST(CmdCompareMatch, ByDefaultLanesRunAtTheStepOfEqualCostAndTheTableSaysSo) {
   EXPECT_NE(json.find("\"step_choice\": \"matched on cost"), std::string::npos) << json;
 }
 
+// An iterative solver's step costs its iterations (work_units.h weighs each solver's), so a
+// solver lane matched on cost runs at the step where N iterations a step cost what explicit
+// Euler's one evaluation a step does at 1e-4 s: xpbd:10 at 10 x 1.4 passes, vbd:10 at
+// 10 x 2.4 passes plus its first guess's evaluation.
+TEST(CmdCompareMatch, SolverLanesAreMatchedOnTheirIterations) {
+  const std::string dir = scratch_dir("compare_match_solvers");
+  const auto r = compare_small(
+      {"--integrators", "explicit_euler,xpbd:10,vbd:10,projective_dynamics:5", "--summary", dir + "/s.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NEAR(step_of(r.out, "xpbd:10"), 14 * 1e-4, 1e-6) << r.out;
+  EXPECT_NEAR(step_of(r.out, "vbd:10"), 25 * 1e-4, 1e-6) << r.out;
+  const double pd = step_of(r.out, "projective_dynamics:5");
+  EXPECT_GT(pd, 5 * 1e-4) << "five iterations of several passes each\n" << r.out;
+  EXPECT_TRUE(std::isfinite(pd)) << r.out;
+}
+
 TEST(CmdCompareMatch, NoneKeepsTheScenesStep) {
   const std::string dir = scratch_dir("compare_match_none");
   const auto r = compare_small({"--integrators", "explicit_euler,midpoint", "--match", "none", "--summary",

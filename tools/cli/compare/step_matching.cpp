@@ -39,8 +39,11 @@ void set_step(LaneSpec& lane, double h) {
 }
 
 // Passes per step that do not depend on the step: the explicit family's force evaluations.
+// Newton's work and an iterative solver's (its iterations, a factor per step size) are
+// measured by pilot runs instead.
 std::optional<double> fixed_work(const LaneSpec& lane) {
-  if (lane.fixed_point || lane.kind == IntegratorKind::ImplicitEuler) return std::nullopt;
+  if (lane.fixed_point || lane.kind == IntegratorKind::ImplicitEuler || is_iterative_solver(lane.kind))
+    return std::nullopt;
   return static_cast<double>(nominal_force_evals(lane.kind));
 }
 
