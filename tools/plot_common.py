@@ -3,6 +3,7 @@
 Run with Debian's python (/usr/bin/python3) and python3-matplotlib; the Agg backend needs
 no display, so the scripts work on a server.
 """
+import argparse
 import csv
 import math
 import os
@@ -54,6 +55,15 @@ def lane_label(name):
     if base == "implicit_euler" and iterations == "1":
         return name + " (Baraff & Witkin)"
     return name
+
+
+def study_parser(doc, study):
+    """The options every study's figure takes: --csv (the study's), --out and --title."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--csv", required=True, help="output of clothsim %s --csv" % study)
+    ap.add_argument("--out", required=True, help="PNG to write")
+    ap.add_argument("--title", default="", help="figure title")
+    return ap
 
 
 def read_rows(path):

@@ -6,17 +6,13 @@ Two panels, RMS distance from the converged backward-Euler step (log) against it
 
     /usr/bin/python3 tools/plot_convergence.py --csv converge.csv --out converge.png
 """
-import argparse
 from collections import OrderedDict, defaultdict
 
 import plot_common as pc
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--csv", required=True, help="output of clothsim converge --csv")
-    ap.add_argument("--out", required=True, help="PNG to write")
-    ap.add_argument("--title", default="", help="figure title")
+    ap = pc.study_parser(__doc__, "converge")
     args = ap.parse_args()
 
     rows = pc.read_rows(args.csv)

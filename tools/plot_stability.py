@@ -13,7 +13,6 @@ did not, a cross diverged. The black dashed line is the springs' Gershgorin esti
 
     /usr/bin/python3 tools/plot_stability.py --csv stability.csv --out stability.png
 """
-import argparse
 import math
 import re
 from collections import OrderedDict
@@ -47,10 +46,7 @@ def frame_steps(text):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--csv", required=True, help="output of clothsim stability --csv")
-    ap.add_argument("--out", required=True, help="PNG to write")
-    ap.add_argument("--title", default="", help="figure title")
+    ap = pc.study_parser(__doc__, "stability")
     args = ap.parse_args()
 
     rows = pc.read_rows(args.csv)

@@ -13,7 +13,6 @@ step moved it): errors near it are not measured, only bounded.
 
     /usr/bin/python3 tools/plot_work_precision.py --csv bench.csv --out wp.png
 """
-import argparse
 import math
 from collections import OrderedDict
 
@@ -26,10 +25,7 @@ def unconverged(row):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--csv", required=True, help="output of clothsim bench --csv")
-    ap.add_argument("--out", required=True, help="PNG to write")
-    ap.add_argument("--title", default="", help="figure title")
+    ap = pc.study_parser(__doc__, "bench")
     ap.add_argument("--time", choices=["wall", "cpu"], default="cpu",
                     help="cost axis of the left panel: CPU time of the run (default) or its wall time")
     args = ap.parse_args()

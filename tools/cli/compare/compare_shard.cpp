@@ -1,10 +1,10 @@
 #include "compare_shard.h"
 
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 
 #include "cli/common/cli_common.h"
+#include "cli/studies/study_shard.h"
 #include "study/shard.h"
 #include "study/study.h"
 #include "study/work_precision.h"
@@ -15,8 +15,6 @@ namespace {
 // A pixel of a tile counted as one particle force evaluation, as golden check counts it
 // (docs/cluster.md).
 constexpr double kPixelCost = 1.0;
-
-const char* env_lookup(const char* name) { return std::getenv(name); }
 
 void check_scale(const FramesShardPlan& plan) {
   if (plan.scale_from_data)
@@ -42,12 +40,7 @@ void add_frames_shard_option(CLI::App* sub, std::string& shard) {
 
 std::vector<std::size_t> frames_shard_lanes(const FramesShardPlan& plan, const std::vector<LaneSpec>& lanes,
                                             const std::vector<std::string>& lane_dirs) {
-  analysis::Shard shard;
-  try {
-    shard = analysis::parse_shard(plan.shard, env_lookup);
-  } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("--shard: ") + e.what());
-  }
+  const analysis::Shard shard = parse_shard_option(plan.shard);
   check_scale(plan);
   std::vector<double> costs;
   for (const LaneSpec& l : lanes)

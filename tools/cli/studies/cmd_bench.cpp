@@ -154,14 +154,9 @@ void write_summary_json(const std::string& path, const std::string& source, cons
                         const WorkPrecisionResult& r, const LaneNames& names) {
   std::vector<JsonObject> lanes;
   for (const WorkPrecisionPoint& p : r.points) lanes.push_back(run_lane_json(scene, p, names));
-  JsonObject reference;
-  reference.text("integrator", std::string(integrator_name(r.reference.integrator)))
-      .number("dt", r.reference.dt)
-      .number("change_rms", r.reference.finished ? r.reference.change_rms : NAN)
-      .boolean("converged", r.reference.converged);
-  JsonObject extra;
-  extra.number("duration", r.duration).boolean("complete", r.complete).object("reference", reference);
-  write_summary(path, "bench", source, lanes, extra);
+  write_summary(path, "bench", source, lanes,
+                bench_summary_keys(r.duration, r.complete, r.reference.integrator, r.reference.dt,
+                                   r.reference.finished ? r.reference.change_rms : NAN, r.reference.converged));
 }
 
 void print_reference_check(const analysis::ReferenceCheck& ref) {

@@ -198,14 +198,9 @@ JsonObject stability_keys(const MergedStudy& m) {
 
 JsonObject bench_keys(const MergedStudy& m) {
   std::map<std::string, std::string> row = first_row(m.csv);
-  JsonObject reference;
-  reference.text("integrator", std::string(integrator_name(analysis::WorkPrecisionSpec{}.reference_integrator)))
-      .number("dt", number(row["reference_dt"]))
-      .number("change_rms", number(row["reference_change"]))
-      .boolean("converged", bench_reference_problem(m.csv).empty());
-  JsonObject keys;
-  keys.number("duration", number(row["duration"])).boolean("complete", true).object("reference", reference);
-  return keys;
+  return bench_summary_keys(number(row["duration"]), true, analysis::WorkPrecisionSpec{}.reference_integrator,
+                            number(row["reference_dt"]), number(row["reference_change"]),
+                            bench_reference_problem(m.csv).empty());
 }
 
 // As the single-process bench ends: a reference not converged fails it, CSV kept, no plot.

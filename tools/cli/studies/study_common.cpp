@@ -46,6 +46,18 @@ std::string csv_number(double value) {
   return buf;
 }
 
+JsonObject bench_summary_keys(double duration, bool complete, IntegratorKind reference, double reference_dt,
+                              double change_rms, bool converged) {
+  JsonObject ref;
+  ref.text("integrator", std::string(integrator_name(reference)))
+      .number("dt", reference_dt)
+      .number("change_rms", change_rms)
+      .boolean("converged", converged);
+  JsonObject keys;
+  keys.number("duration", duration).boolean("complete", complete).object("reference", ref);
+  return keys;
+}
+
 std::string csv_text(const std::string& text) {
   const auto control = [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; };
   if (text.find_first_of(",\"") == std::string::npos && std::none_of(text.begin(), text.end(), control)) return text;

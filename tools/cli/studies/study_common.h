@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli/common/cli_common.h"
+#include "cli/common/summary_json.h"
 #include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
@@ -28,6 +29,12 @@ std::vector<double> parse_frame_dts(const std::string& text);
 // spaces), so no text can break a row.
 std::string csv_number(double value);
 std::string csv_text(const std::string& text);
+
+// bench's --summary keys beside its lanes: T, whether every run finished, and the reference
+// (its integrator and step, how far halving its step moved the particles, RMS, and whether
+// that is converged). One writer for the single process and `clothsim merge`.
+JsonObject bench_summary_keys(double duration, bool complete, IntegratorKind reference, double reference_dt,
+                              double change_rms, bool converged);
 
 // The line `bench` and `stability` end on when stopped before the study finished (main adds
 // "clothsim: "): how many of its `total` runs or searches finished, and every file that stays

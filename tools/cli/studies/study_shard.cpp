@@ -38,18 +38,21 @@ void add_shard_option(CLI::App* sub, std::string& shard) {
       ->type_name("K/N|auto");
 }
 
+analysis::Shard parse_shard_option(const std::string& text) {
+  try {
+    return analysis::parse_shard(text, env_lookup);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError(std::string("--shard: ") + e.what());
+  }
+}
+
 std::string shard_dir(const std::string& csv, analysis::Shard shard) {
   return csv + ".shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count);
 }
 
 StudyShard::StudyShard(const std::string& shard_option, const std::string& csv, const std::string& plot,
                        const std::string& summary, const ShardPlan& plan) {
-  analysis::Shard shard;
-  try {
-    shard = analysis::parse_shard(shard_option, env_lookup);
-  } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("--shard: ") + e.what());
-  }
+  const analysis::Shard shard = parse_shard_option(shard_option);
   if (csv.empty()) throw UsageError("--shard: needs --csv F (the part is written to F.shard-K-of-N/)");
   if (!plot.empty()) throw UsageError("--plot: a shard draws no plot; give --plot to clothsim merge");
   if (!summary.empty()) throw UsageError("--summary: a shard writes no summary; give --summary to clothsim merge");

@@ -30,6 +30,9 @@ struct ShardPlan {
   std::vector<double> costs;          // one per item, in the study's row order
 };
 
+// --shard K/N or auto (from Slurm's array variables); UsageError naming --shard when bad.
+analysis::Shard parse_shard_option(const std::string& text);
+
 // "F.shard-2-of-4"
 std::string shard_dir(const std::string& csv, analysis::Shard shard);
 
