@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 
 namespace clothsim::render {
@@ -10,25 +11,53 @@ namespace {
 
 int line_height(int scale) { return text_glyph_height() * scale; }  // glyph cell: 7 cap + 3
 
-// `line` broken at spaces into pieces no wider than `max_width` at `scale`; a single word wider
-// than that stays whole (and is clipped at the image's edge).
-void wrap_into(const std::string& line, int max_width, int scale, std::vector<std::string>& out) {
-  std::string current;
+// `text` broken at spaces into pieces no wider than `max_width` at `scale`, the first after
+// `indent`, continuation lines indented; a single word wider than that stays whole (and is
+// clipped at the image's edge).
+void wrap_words(const std::string& text, int max_width, int scale, std::vector<std::string>& out,
+                const std::string& indent = "") {
+  std::string current = indent;
+  bool first = true;
   std::size_t start = 0;
-  while (start <= line.size()) {
-    std::size_t end = line.find(' ', start);
-    if (end == std::string::npos) end = line.size();
-    const std::string word = line.substr(start, end - start);
-    const std::string joined = current.empty() ? word : current + " " + word;
-    if (!current.empty() && text_width(joined, scale) > max_width) {
+  while (start <= text.size()) {
+    std::size_t end = text.find(' ', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string word = text.substr(start, end - start);
+    const std::string joined = first ? current + word : current + " " + word;
+    if (!first && text_width(joined, scale) > max_width) {
       out.push_back(current);
       current = "  " + word;  // continuation lines indented
     } else {
       current = joined;
     }
+    first = false;
     start = end + 1;
   }
   out.push_back(current);
+}
+
+// `line` wrapped to `max_width`, breaking first where its parts are two spaces apart (a cost
+// line's passes and CPU, a label's name and step) so no part is split while whole ones fit.
+void wrap_into(const std::string& line, int max_width, int scale, std::vector<std::string>& out) {
+  std::vector<std::string> parts;
+  for (std::size_t start = 0;;) {
+    const std::size_t end = line.find("  ", start);
+    parts.push_back(line.substr(start, end == std::string::npos ? std::string::npos : end - start));
+    if (end == std::string::npos) break;
+    start = end + 2;
+  }
+  std::string current = parts.front(), indent;
+  for (std::size_t i = 1; i < parts.size(); ++i) {
+    const std::string joined = current + "  " + parts[i];
+    if (text_width(indent + joined, scale) <= max_width) {
+      current = joined;
+      continue;
+    }
+    wrap_words(current, max_width, scale, out, indent);
+    current = parts[i];
+    indent = "  ";
+  }
+  wrap_words(current, max_width, scale, out, indent);
 }
 
 // The inset's panel, bottom-right above the tile label band: about a quarter of the width,
@@ -121,14 +150,27 @@ struct BannerChoice {
   int scale = 1;
 };
 
+// Where a phrase is wider than `room` at `scale` (WRONG's reason), every phrase broken at
+// spaces, if that takes at most three lines that fit.
+std::optional<BannerChoice> phrases_broken_at_spaces(const std::vector<std::string>& phrases, int room, int scale) {
+  const auto fits = [&](const std::string& line) { return text_width(line, scale) <= room; };
+  if (std::all_of(phrases.begin(), phrases.end(), fits)) return std::nullopt;
+  BannerChoice words{{}, scale};
+  for (const std::string& phrase : phrases) wrap_words(phrase, room, scale, words.lines);
+  for (std::string& line : words.lines) line.erase(0, line.find_first_not_of(' '));
+  if (words.lines.size() > 3 || !std::all_of(words.lines.begin(), words.lines.end(), fits)) return std::nullopt;
+  return words;
+}
+
 // Every way to write the banner in `room`, best first: at the text's own scale (one text size
 // in a picture), its phrases on one line, else on two; then the same without the last phrase,
-// and so on down to the first two (never fewer); only then the same at smaller scales; last
-// (a tile narrower than a phrase) the first two wrapped at spaces.
+// and so on down to the first two (never fewer); then, where a phrase is too long for a line,
+// every phrase broken at spaces on at most three lines; only then the same at smaller scales;
+// last (a tile narrower than a phrase) the first two wrapped at spaces.
 std::vector<BannerChoice> banner_choices(const std::vector<std::string>& phrases, int room, int text_scale) {
   std::vector<BannerChoice> out;
   const std::size_t kept = std::min<std::size_t>(2, phrases.size());
-  for (int b = text_scale; b >= 1; --b)
+  for (int b = text_scale; b >= 1; --b) {
     for (std::size_t count = phrases.size(); count >= std::max<std::size_t>(kept, 1); --count) {
       std::string one_line;
       for (std::size_t i = 0; i < count; ++i) one_line += (i ? " " : "") + phrases[i];
@@ -136,9 +178,11 @@ std::vector<BannerChoice> banner_choices(const std::vector<std::string>& phrases
       std::vector<std::string> lines = pack_phrases(phrases, count, room, b);
       if (lines.size() == 2 && lines_fit(lines, room, b)) out.push_back({lines, b});
     }
+    if (const auto words = phrases_broken_at_spaces(phrases, room, b)) out.push_back(*words);
+  }
   BannerChoice wrapped;
-  for (std::size_t i = 0; i < kept; ++i) wrap_into(phrases[i], room, 1, wrapped.lines);
-  for (std::string& line : wrapped.lines)  // (the phrase is what is read, not wrap_into's indent)
+  for (std::size_t i = 0; i < kept; ++i) wrap_words(phrases[i], room, 1, wrapped.lines);
+  for (std::string& line : wrapped.lines)  // (the phrase is what is read, not wrap_words' indent)
     line.erase(0, line.find_first_not_of(' '));
   out.push_back(wrapped);
   return out;

@@ -152,6 +152,33 @@ TEST(OverlayLayout, TheBannerFitsItsTileOnTwoLinesKeepingDivergedAndTheTime) {
   }
 }
 
+TEST(OverlayLayout, AReasonTooLongForALineKeepsTheTextSize) {
+  // A 2x2 tile of a 960x540 compare: WRONG's reason is one phrase wider than the tile. Broken at
+  // spaces it stays at the overlay's scale, where packing whole phrases would shrink it to 1.
+  RenderFrame f;
+  f.banner = {"WRONG", "energy rose 1.8e+03 J with no work done on it"};
+  const OverlayLayout l = layout_overlay(f, 413, 268);
+  EXPECT_EQ(l.banner_scale, l.scale);
+  ASSERT_EQ(l.banner_lines.size(), 3u);
+  EXPECT_EQ(l.banner_lines[0], "WRONG");
+  EXPECT_EQ(l.banner_lines[1] + " " + l.banner_lines[2], f.banner[1]);
+  for (const std::string& line : l.banner_lines) EXPECT_LE(text_width(line, l.banner_scale), l.banner.w) << line;
+}
+
+TEST(OverlayLayout, ALineBreaksWhereItsPartsAreTwoSpacesApart) {
+  // The cost line in that tile: passes and CPU on a line each, not "s" alone on the second.
+  RenderFrame f;
+  f.overlay_lines = {"22.1k passes/sim s  47 ms cpu/sim s"};
+  const OverlayLayout l = layout_overlay(f, 413, 268);
+  EXPECT_EQ(l.lines, (std::vector<std::string>{"22.1k passes/sim s", "  47 ms cpu/sim s"}));
+  // A part too wide on its own is still broken at spaces, after the parts that fit.
+  f.overlay_lines = {"t = 1 s  diverged: kinetic energy 7.63e+08 J exceeds the bound 4.08e+08 J"};
+  const OverlayLayout narrow = layout_overlay(f, 320, 180);
+  ASSERT_GE(narrow.lines.size(), 3u);
+  EXPECT_EQ(narrow.lines[0], "t = 1 s");
+  for (std::size_t i = 1; i < narrow.lines.size(); ++i) EXPECT_EQ(narrow.lines[i].rfind("  ", 0), 0u) << narrow.lines[i];
+}
+
 TEST(OverlayLayout, LongLinesWrapAtSpacesToTheImagesWidth) {
   RenderFrame f;
   f.overlay_lines = {"t = 0.024 s", "diverged: kinetic energy 7.63e+08 J exceeds the bound 4.08e+08 J"};
