@@ -128,6 +128,23 @@ double least_time(int repeats, F&& f) {
   return best;
 }
 
+// PD's factor: L's strictly lower entries per row, those its supernodes' panels store (their
+// zeros included), the supernodes' mean width in columns and the share of the stored entries
+// in panels at least 8 columns wide (the solve's widest step, pd_solve_kernels.cpp).
+void pd_factor_counters(const Supernodes& f, benchmark::State& st) {
+  double stored = 0.0, wide = 0.0;
+  for (std::size_t s = 0; s < f.size(); ++s) {
+    const double w = f.first[s + 1] - f.first[s], m = f.row_start[s + 1] - f.row_start[s];
+    stored += w * (w - 1) / 2 + (m - w) * w;
+    if (w >= 8) wide += w * (w - 1) / 2 + (m - w) * w;
+  }
+  st.counters["wide_share"] = wide / stored;
+  const double n = static_cast<double>(f.n);
+  st.counters["L_per_row"] = static_cast<double>(f.entries) / n;
+  st.counters["stored_per_row"] = stored / n;
+  st.counters["supernode_width"] = n / static_cast<double>(f.size());
+}
+
 const IntegratorKind kSolvers[] = {IntegratorKind::Xpbd, IntegratorKind::ProjectiveDynamics, IntegratorKind::Vbd};
 
 void BM_SolverIteration(benchmark::State& st) {
@@ -156,11 +173,28 @@ void BM_SolverIteration(benchmark::State& st) {
   st.counters["pass_us"] = 1e6 * pass;
   st.counters["iteration_us"] = 1e6 * per_iteration;
   st.counters["passes_per_iteration"] = per_iteration / pass;
-  if (kind == IntegratorKind::ProjectiveDynamics)  // the factor's strictly lower entries per row
-    st.counters["L_per_row"] = static_cast<double>(solver_cache(ws).pd.ldlt.matrixL().nestedExpression().nonZeros()) /
-                               static_cast<double>(solver_cache(ws).pd.ldlt.rows());
+  if (kind == IntegratorKind::ProjectiveDynamics) pd_factor_counters(solver_cache(ws).pd.panels, st);
   st.SetLabel(std::string(integrator_name(kind)) + " " + std::to_string(n) + "x" + std::to_string(n));
 }
+// PD's global solve alone (pd_solve_in_place, three columns) on the drape's factor at h = 1/60 s;
+void BM_SolverPdSolve(benchmark::State& st) {
+  const Model model = bench::drape_sheet(static_cast<int>(st.range(0)));
+  State s = initial_state(model);
+  Workspace ws;
+  integrate(IntegratorKind::ProjectiveDynamics, model, s, 1.0 / 60.0, ws);
+  const PdFactor& f = solver_cache(ws).pd;
+  const Eigen::Matrix3Xd b = Eigen::Matrix3Xd::Random(3, f.ldlt.rows());
+  Eigen::Matrix3Xd z;
+  Eigen::Matrix4Xd padded;
+  for (auto _ : st) {
+    z = b;
+    pd_solve_in_place(f, z, padded);
+    benchmark::DoNotOptimize(z.data());
+  }
+  pd_factor_counters(f.panels, st);
+}
+BENCHMARK(BM_SolverPdSolve)->Arg(25)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
+
 BENCHMARK(BM_SolverIteration)
     ->ArgsProduct({{0, 1, 2}, {25, 64, 256}})
     ->Iterations(1)

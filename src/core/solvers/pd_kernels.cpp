@@ -11,6 +11,10 @@
 namespace clothsim {
 namespace {
 
+// Supernodes may store zeros up to this share of their panels: the fastest solve at 64x64
+// among 0, 0.15, 0.3 and 0.5 (BENCHMARKS.md, "The iterative solvers").
+constexpr double kMaxZeroShare = 0.3;
+
 void number_free_bodies(const Eigen::VectorXd& inv_mass, PdFactor& f) {
   f.free_index.assign(inv_mass.size(), -1);
   std::int32_t row = 0;
@@ -101,7 +105,9 @@ bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::Ve
   const Eigen::SparseMatrix<double> A = global_matrix(model, p, f);
   if (!f.analysed) f.ldlt.analyzePattern(A), f.analysed = true;  // the pattern is the pins'
   f.ldlt.factorize(A);
-  f.lower_rows = f.ldlt.matrixL().nestedExpression();
+  const auto& L = f.ldlt.matrixL().nestedExpression();
+  f.panels = supernodes_of(static_cast<std::size_t>(L.cols()), L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr(),
+                           f.ldlt.vectorD().data(), kMaxZeroShare);
   number_factor_rows(f);
   ++f.factorizations;
   return true;
@@ -143,15 +149,10 @@ void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, E
 }
 
 void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z, Eigen::Matrix4Xd& padded) {
-  const auto& L = f.ldlt.matrixL().nestedExpression();  // strictly lower, unit diagonal implied
   padded.resize(4, z.cols());
   padded.topRows<3>() = z;
   padded.row(3).setZero();  // the pad lane, computed and dropped
-  const auto& R = f.lower_rows;
-  const Eigen::VectorXd& D = f.ldlt.vectorD();  // a copy: bound here so that it outlives the solve
-  const LowerFactor lf{static_cast<std::size_t>(z.cols()), R.outerIndexPtr(), R.innerIndexPtr(), R.valuePtr(),
-                       L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr(), D.data()};
-  ldlt_solve_padded(lf, padded.data());
+  ldlt_solve_padded(f.panels, padded.data());
   z = padded.topRows<3>();
 }
 

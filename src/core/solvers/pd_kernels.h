@@ -15,7 +15,7 @@
 // the particle first enters a collider's reach in the step, so converged PD is converged
 // implicit_euler with contacts too. The matrix is the
 // same for x, y and z, so one scalar LDL^T factor (Liu et al.'s prefactored Cholesky) serves
-// the three columns, solved together in one SIMD sweep over the factor each way
+// the three columns, solved together in one SIMD sweep over the factor's supernodes each way
 // (pd_solve_kernels.h); it depends only
 // on h and the pins, so it is factored when one of them changes and reused otherwise.
 //
@@ -28,13 +28,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "pd_supernodes.h"
 #include "step_problem.h"
 
 namespace clothsim {
 
 struct PdFactor {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> lower_rows;  // the factor's L by rows, for the forward solve
+  Supernodes panels;                     // the factor's L and D by supernodes, for the solve
   std::vector<std::int32_t> free_index;  // (B) row of a movable body, -1 where immovable
   std::vector<std::int32_t> row;         // (B) its row in the factor's (permuted) order, or -1
   Eigen::VectorXd inv_mass;              // (B) the pin set it was built for
