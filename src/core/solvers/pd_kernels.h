@@ -47,9 +47,8 @@ struct PdFactor {
 
 // One step's right-hand side pieces and scratch, in the factor's row order.
 struct PdSystem {
-  Eigen::Matrix3Xd base;         // (3 x n) A yhat + the springs' pull towards immovable ends
-  Eigen::Matrix3Xd z;            // (3 x n) the right-hand side, then the solve
-  Eigen::Matrix4Xd padded;       // (4 x n) z padded to a vector per row for the solve
+  Eigen::Matrix4Xd base;         // (4 x n) A yhat + the springs' pull towards immovable ends; lane 3 zero
+  Eigen::Matrix4Xd z;            // (4 x n) the right-hand side, then the solve, padded as the solve reads it
   std::vector<double> rest;      // (slots) blended rest lengths by the layout's slot order
   std::vector<std::int32_t> pushed;  // particles whose contact multiplier is positive, ascending
   std::vector<std::int32_t> inside, visit;  // scratch: particles in a collider's reach; the union
@@ -71,8 +70,7 @@ void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, E
                   PdSystem& s, std::vector<double>& lambda);
 
 // z <- (L D L^T)^-1 z for the three columns at once (z in the factor's row order), in SIMD
-// on rows padded to four lanes (pd_solve_kernels.h); `padded`: scratch.
-void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z, Eigen::Matrix4Xd& padded);
+// on rows padded to four lanes (pd_solve_kernels.h).
 void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z);
 
 // Wang 2015's Chebyshev weights: omega_1 = 1, omega_2 = 2 / (2 - rho^2),
