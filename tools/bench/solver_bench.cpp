@@ -130,7 +130,8 @@ double least_time(int repeats, F&& f) {
 }
 
 // PD's factor: L's strictly lower entries per row, those its supernodes' panels store (their
-// zeros included), the supernodes' mean width in columns and the share of the stored entries
+// zeros included), the supernodes' mean width in columns, the values the panels hold per row
+// (their diagonal blocks' unread upper zeros too: memory) and the share of the stored entries
 // in panels at least 8 columns wide (the solve's widest step, pd_solve_kernels.cpp).
 void pd_factor_counters(const Supernodes& f, benchmark::State& st) {
   double stored = 0.0, wide = 0.0;
