@@ -118,21 +118,30 @@ Panel panel(const Supernodes& f, std::size_t s) {
           static_cast<std::size_t>(f.first[s + 1] - f.first[s])};
 }
 
+// Chunk q of a panel of width w cut into ceil(w / kChunk) chunks of near-equal widths (no
+// thin last chunk walking every row below for one or two columns): its first column.
+HWY_INLINE std::size_t ChunkStart(std::size_t w, std::size_t chunks, std::size_t q) { return q * w / chunks; }
+
 void SolveSupernodal(const Supernodes& f, double* HWY_RESTRICT z) {
   const D d;
   const std::size_t N = hn::Lanes(d), S = f.size();
   for (std::size_t c = 0; c < 3; c += N) {
     for (std::size_t s = 0; s < S; ++s) {  // L w = z
       const Panel p = panel(f, s);
-      for (std::size_t k0 = 0; k0 < p.w; k0 += kChunk) Columns<true>(p, k0, std::min<std::size_t>(kChunk, p.w - k0), c, z);
+      const std::size_t chunks = (p.w + kChunk - 1) / kChunk;
+      for (std::size_t q = 0; q < chunks; ++q) {
+        const std::size_t k0 = ChunkStart(p.w, chunks, q);
+        Columns<true>(p, k0, ChunkStart(p.w, chunks, q + 1) - k0, c, z);
+      }
     }
     for (std::size_t j = 0; j < f.n; ++j)
       hn::StoreU(hn::Div(hn::LoadU(d, z + 4 * j + c), hn::Set(d, f.pivot[j])), d, z + 4 * j + c);
     for (std::size_t s = S; s-- > 0;) {  // L^T x = w
       const Panel p = panel(f, s);
-      for (std::size_t k0 = (p.w - 1) / kChunk * kChunk;; k0 -= kChunk) {
-        Columns<false>(p, k0, std::min<std::size_t>(kChunk, p.w - k0), c, z);
-        if (k0 == 0) break;
+      const std::size_t chunks = (p.w + kChunk - 1) / kChunk;
+      for (std::size_t q = chunks; q-- > 0;) {
+        const std::size_t k0 = ChunkStart(p.w, chunks, q);
+        Columns<false>(p, k0, ChunkStart(p.w, chunks, q + 1) - k0, c, z);
       }
     }
   }
