@@ -17,7 +17,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::CappedTag<double, 4>;  // one padded row per vector where the target has 4 lanes
 using V = hn::Vec<D>;
-constexpr int kChunk = 8;  // columns of a panel held in registers at once
+constexpr int kChunk = 8;  // the most columns of a panel held in registers at once
 
 // One supernode's panel: m rows (the first its own columns) by w columns, row-major.
 struct Panel {
