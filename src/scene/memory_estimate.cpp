@@ -16,10 +16,11 @@ constexpr double kModelPerParticle = 96, kModelPerSpring = 40, kPerAction = 64;
 // colouring and per-vertex blocks).
 constexpr double kExplicitPerParticle = 176;
 constexpr double kMidpointExtra = 80, kRk4Extra = 128, kXpbdExtra = 256, kVbdExtra = 296;
-// Projective dynamics' prefactored global matrix (a scalar sparse LDLT of P x P, AMD-ordered)
-// and its solves: measured 1734, 2043 and 2320 B a particle over an explicit run at 256², 1024²
-// and 2048², bounded by 110 log2 P (an empirical bound on the drape's grids, not a theory).
-constexpr double kPdPerLog2 = 110;
+// Projective dynamics' prefactored global matrix (a scalar sparse LDLT of P x P, AMD-ordered,
+// kept for refactoring, and its supernodal panels, which the solve reads) and its solves:
+// measured 2606, 2928 and 3323 B a particle over an explicit run at 256², 512² and 1024²,
+// bounded by 175 log2 P (an empirical bound on the drape's grids, not a theory).
+constexpr double kPdPerLog2 = 175;
 constexpr double kFinalStatePerParticle = 64;  // a kept copy of x, v and inverse masses
 // implicit_euler's State also carries its warm start: three velocity changes, the last
 // linearisation's positions and inverse masses (160 B a body), its spring lengths (8 B each).

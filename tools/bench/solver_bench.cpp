@@ -15,6 +15,7 @@
 #include "bench_models.h"
 #include "core/implicit/sparse_system.h"
 #include "core/integrators/integrator.h"
+#include "core/solvers/pd_solve_kernels.h"
 #include "core/solvers/solver_cache.h"
 #include "core/implicit/step_potential.h"
 #include "core/linear/cholesky_preconditioner.h"
@@ -128,6 +129,25 @@ double least_time(int repeats, F&& f) {
   return best;
 }
 
+// PD's factor: L's strictly lower entries per row, those its supernodes' panels store (their
+// zeros included), the supernodes' mean width in columns, the values the panels hold per row
+// (their diagonal blocks' unread upper zeros too: memory) and the share of the stored entries
+// in panels at least 8 columns wide (the solve's widest step, pd_solve_kernels.cpp).
+void pd_factor_counters(const Supernodes& f, benchmark::State& st) {
+  double stored = 0.0, wide = 0.0;
+  for (std::size_t s = 0; s < f.size(); ++s) {
+    const double w = f.first[s + 1] - f.first[s], m = f.row_start[s + 1] - f.row_start[s];
+    stored += w * (w - 1) / 2 + (m - w) * w;
+    if (w >= 8) wide += w * (w - 1) / 2 + (m - w) * w;
+  }
+  st.counters["wide_share"] = wide / stored;
+  const double n = static_cast<double>(f.n);
+  st.counters["L_per_row"] = static_cast<double>(f.entries) / n;
+  st.counters["stored_per_row"] = stored / n;
+  st.counters["supernode_width"] = n / static_cast<double>(f.size());
+  st.counters["values_per_row"] = static_cast<double>(f.value.size()) / n;
+}
+
 const IntegratorKind kSolvers[] = {IntegratorKind::Xpbd, IntegratorKind::ProjectiveDynamics, IntegratorKind::Vbd};
 
 void BM_SolverIteration(benchmark::State& st) {
@@ -156,11 +176,27 @@ void BM_SolverIteration(benchmark::State& st) {
   st.counters["pass_us"] = 1e6 * pass;
   st.counters["iteration_us"] = 1e6 * per_iteration;
   st.counters["passes_per_iteration"] = per_iteration / pass;
-  if (kind == IntegratorKind::ProjectiveDynamics)  // the factor's strictly lower entries per row
-    st.counters["L_per_row"] = static_cast<double>(solver_cache(ws).pd.ldlt.matrixL().nestedExpression().nonZeros()) /
-                               static_cast<double>(solver_cache(ws).pd.ldlt.rows());
+  if (kind == IntegratorKind::ProjectiveDynamics) pd_factor_counters(solver_cache(ws).pd.panels, st);
   st.SetLabel(std::string(integrator_name(kind)) + " " + std::to_string(n) + "x" + std::to_string(n));
 }
+// PD's global solve alone (ldlt_solve_padded, three columns) on the drape's factor at h = 1/60 s;
+void BM_SolverPdSolve(benchmark::State& st) {
+  const Model model = bench::drape_sheet(static_cast<int>(st.range(0)));
+  State s = initial_state(model);
+  Workspace ws;
+  integrate(IntegratorKind::ProjectiveDynamics, model, s, 1.0 / 60.0, ws);
+  const PdFactor& f = solver_cache(ws).pd;
+  Eigen::Matrix4Xd b = Eigen::Matrix4Xd::Random(4, f.ldlt.rows()), z;
+  b.row(3).setZero();
+  for (auto _ : st) {
+    z = b;
+    ldlt_solve_padded(f.panels, z.data());
+    benchmark::DoNotOptimize(z.data());
+  }
+  pd_factor_counters(f.panels, st);
+}
+BENCHMARK(BM_SolverPdSolve)->Arg(25)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
+
 BENCHMARK(BM_SolverIteration)
     ->ArgsProduct({{0, 1, 2}, {25, 64, 256}})
     ->Iterations(1)

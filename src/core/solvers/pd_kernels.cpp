@@ -11,6 +11,10 @@
 namespace clothsim {
 namespace {
 
+// Supernodes may store zeros up to this share of their panels: the fastest solve at 64x64
+// among 0, 0.15, 0.3 and 0.5 (BENCHMARKS.md, "The iterative solvers").
+constexpr double kMaxZeroShare = 0.3;
+
 void number_free_bodies(const Eigen::VectorXd& inv_mass, PdFactor& f) {
   f.free_index.assign(inv_mass.size(), -1);
   std::int32_t row = 0;
@@ -54,7 +58,7 @@ bool by_families(const Model& model) {
 
 // The scalar local step: each spring's projection k p_s added to its free ends' rows.
 void scatter_spring_projections(const Model& model, const StepProblem& p, const PdFactor& f,
-                                const Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& z) {
+                                const Eigen::Matrix3Xd& y, Eigen::Matrix4Xd& z) {
   const Springs& s = model.springs;
   for (std::size_t k = 0; k < s.size(); ++k) {
     const int ra = f.row[s.a[k]], rb = f.row[s.b[k]];
@@ -62,8 +66,8 @@ void scatter_spring_projections(const Model& model, const StepProblem& p, const 
     const double l = d.norm();
     const Vec3 proj = l > 0.0 ? Vec3((p.rest[k] / l) * d) : Vec3(Vec3::Zero());
     const double w = p.stiffness[k];
-    if (ra >= 0) z.col(ra) += w * proj;
-    if (rb >= 0) z.col(rb) -= w * proj;
+    if (ra >= 0) z.col(ra).head<3>() += w * proj;
+    if (rb >= 0) z.col(rb).head<3>() -= w * proj;
   }
 }
 
@@ -101,25 +105,27 @@ bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::Ve
   const Eigen::SparseMatrix<double> A = global_matrix(model, p, f);
   if (!f.analysed) f.ldlt.analyzePattern(A), f.analysed = true;  // the pattern is the pins'
   f.ldlt.factorize(A);
-  f.lower_rows = f.ldlt.matrixL().nestedExpression();
+  const auto& L = f.ldlt.matrixL().nestedExpression();
+  f.panels = supernodes_of(static_cast<std::size_t>(L.cols()), L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr(),
+                           f.ldlt.vectorD().data(), kMaxZeroShare);
   number_factor_rows(f);
   ++f.factorizations;
   return true;
 }
 
 void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f, PdSystem& s) {
-  s.base.setZero(3, f.ldlt.rows());
+  s.base.setZero(4, f.ldlt.rows());
   s.pushed.clear();
   s.planed.assign(model.num_particles, 0);
   s.normal.resize(model.num_particles);
   s.plane.resize(model.num_particles);
   for (std::size_t i = 0; i < f.row.size(); ++i)
-    if (f.row[i] >= 0) s.base.col(f.row[i]) = p.weight[i] * p.target.col(i);
+    if (f.row[i] >= 0) s.base.col(f.row[i]).head<3>() = p.weight[i] * p.target.col(i);
   const Springs& sp = model.springs;
   for (std::size_t k = 0; k < sp.size(); ++k) {  // an immovable end stays at its target
     const int ra = f.row[sp.a[k]], rb = f.row[sp.b[k]];
-    if (ra >= 0 && rb < 0) s.base.col(ra) += p.stiffness[k] * p.target.col(sp.b[k]);
-    if (rb >= 0 && ra < 0) s.base.col(rb) += p.stiffness[k] * p.target.col(sp.a[k]);
+    if (ra >= 0 && rb < 0) s.base.col(ra).head<3>() += p.stiffness[k] * p.target.col(sp.b[k]);
+    if (rb >= 0 && ra < 0) s.base.col(rb).head<3>() += p.stiffness[k] * p.target.col(sp.a[k]);
   }
   if (!by_families(model)) return;
   const SpringLayout& layout = model.spring_layout;
@@ -134,30 +140,20 @@ void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, E
     pd_family_projections(model.spring_layout, y, s.rest.data(), p.h, f.row.data(), s.z);
   else
     scatter_spring_projections(model, p, f, y, s.z);
-  for (std::int32_t i : s.pushed) s.z.col(f.row[i]) += lambda[i] * s.normal[i];
-  pd_solve_in_place(f, s.z, s.padded);
+  for (std::int32_t i : s.pushed) s.z.col(f.row[i]).head<3>() += lambda[i] * s.normal[i];
+  ldlt_solve_padded(f.panels, s.z.data());
   for (std::size_t i = 0; i < f.row.size(); ++i)
-    if (f.row[i] >= 0) y.col(i) = s.z.col(f.row[i]);
+    if (f.row[i] >= 0) y.col(i) = s.z.col(f.row[i]).head<3>();
   if (!p.colliders.ground && p.colliders.centre.empty()) return;
   update_contact_forces(model, p, f, y, s, lambda);
 }
 
-void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z, Eigen::Matrix4Xd& padded) {
-  const auto& L = f.ldlt.matrixL().nestedExpression();  // strictly lower, unit diagonal implied
-  padded.resize(4, z.cols());
+void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z) {
+  Eigen::Matrix4Xd padded(4, z.cols());
   padded.topRows<3>() = z;
   padded.row(3).setZero();  // the pad lane, computed and dropped
-  const auto& R = f.lower_rows;
-  const Eigen::VectorXd& D = f.ldlt.vectorD();  // a copy: bound here so that it outlives the solve
-  const LowerFactor lf{static_cast<std::size_t>(z.cols()), R.outerIndexPtr(), R.innerIndexPtr(), R.valuePtr(),
-                       L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr(), D.data()};
-  ldlt_solve_padded(lf, padded.data());
+  ldlt_solve_padded(f.panels, padded.data());
   z = padded.topRows<3>();
-}
-
-void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z) {
-  Eigen::Matrix4Xd padded;
-  pd_solve_in_place(f, z, padded);
 }
 
 double chebyshev_omega(int k, double rho, double previous) {

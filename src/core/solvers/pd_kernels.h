@@ -15,7 +15,7 @@
 // the particle first enters a collider's reach in the step, so converged PD is converged
 // implicit_euler with contacts too. The matrix is the
 // same for x, y and z, so one scalar LDL^T factor (Liu et al.'s prefactored Cholesky) serves
-// the three columns, solved together in one SIMD sweep over the factor each way
+// the three columns, solved together in one SIMD sweep over the factor's supernodes each way
 // (pd_solve_kernels.h); it depends only
 // on h and the pins, so it is factored when one of them changes and reused otherwise.
 //
@@ -28,13 +28,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "pd_supernodes.h"
 #include "step_problem.h"
 
 namespace clothsim {
 
 struct PdFactor {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> lower_rows;  // the factor's L by rows, for the forward solve
+  Supernodes panels;                     // the factor's L and D by supernodes, for the solve
   std::vector<std::int32_t> free_index;  // (B) row of a movable body, -1 where immovable
   std::vector<std::int32_t> row;         // (B) its row in the factor's (permuted) order, or -1
   Eigen::VectorXd inv_mass;              // (B) the pin set it was built for
@@ -46,9 +47,8 @@ struct PdFactor {
 
 // One step's right-hand side pieces and scratch, in the factor's row order.
 struct PdSystem {
-  Eigen::Matrix3Xd base;         // (3 x n) A yhat + the springs' pull towards immovable ends
-  Eigen::Matrix3Xd z;            // (3 x n) the right-hand side, then the solve
-  Eigen::Matrix4Xd padded;       // (4 x n) z padded to a vector per row for the solve
+  Eigen::Matrix4Xd base;         // (4 x n) A yhat + the springs' pull towards immovable ends; lane 3 zero
+  Eigen::Matrix4Xd z;            // (4 x n) the right-hand side, then the solve, padded as the solve reads it
   std::vector<double> rest;      // (slots) blended rest lengths by the layout's slot order
   std::vector<std::int32_t> pushed;  // particles whose contact multiplier is positive, ascending
   std::vector<std::int32_t> inside, visit;  // scratch: particles in a collider's reach; the union
@@ -70,8 +70,7 @@ void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, E
                   PdSystem& s, std::vector<double>& lambda);
 
 // z <- (L D L^T)^-1 z for the three columns at once (z in the factor's row order), in SIMD
-// on rows padded to four lanes (pd_solve_kernels.h); `padded`: scratch.
-void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z, Eigen::Matrix4Xd& padded);
+// on rows padded to four lanes (pd_solve_kernels.h).
 void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z);
 
 // Wang 2015's Chebyshev weights: omega_1 = 1, omega_2 = 2 / (2 - rho^2),

@@ -61,7 +61,7 @@ void FamilyProjections(const SpringLayout& layout, const double* HWY_RESTRICT y,
     for (std::size_t i = 0; i < n; ++i) {
       const std::int32_t r = row[particle + i];
       if (r < 0) continue;
-      for (std::size_t c = 0; c < 3; ++c) z[3 * r + c] += plus[c][at + i] + minus[c][at + i];
+      for (std::size_t c = 0; c < 3; ++c) z[4 * r + c] += plus[c][at + i] + minus[c][at + i];
     }
   };
   window::WalkFamilies(layout, scratch, stride, 3, 6, copy_in, body, flush);
@@ -77,7 +77,7 @@ namespace clothsim {
 HWY_EXPORT(FamilyProjections);
 
 void pd_family_projections(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
-                           const double* rest, double h, const std::int32_t* row, Eigen::Matrix3Xd& z) {
+                           const double* rest, double h, const std::int32_t* row, Eigen::Matrix4Xd& z) {
   thread_local hwy::AlignedFreeUniquePtr<double[]> scratch;
   thread_local std::size_t capacity = 0;
   const std::size_t stride = window_stride(layout);

@@ -12,9 +12,10 @@
 
 namespace clothsim {
 
-// z.col(row[i]) += sum over the springs at particle i of +-k p_s, for every particle with
-// row[i] >= 0 (z in the factor's order); rest: the blended rest lengths by slot.
+// z.col(row[i]).head<3>() += sum over the springs at particle i of +-k p_s, for every particle
+// with row[i] >= 0 (z in the factor's order, padded as the solve reads it); rest: the blended
+// rest lengths by slot.
 void pd_family_projections(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
-                           const double* rest, double h, const std::int32_t* row, Eigen::Matrix3Xd& z);
+                           const double* rest, double h, const std::int32_t* row, Eigen::Matrix4Xd& z);
 
 }  // namespace clothsim
