@@ -10,8 +10,9 @@
 
 namespace clothsim::cli {
 
-ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t)
-    : model_(model), run_(run) {
+ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t,
+                               ReferenceHistory* history)
+    : model_(model), run_(run), history_(history && !history->empty() ? history : nullptr) {
   for (double h : lane_steps) {
     const auto at = std::find(steps_.begin(), steps_.end(), h);
     lane_step_.push_back(static_cast<std::size_t>(at - steps_.begin()));
@@ -101,16 +102,27 @@ long ReferenceStand::waiting_bound(const std::vector<double>& lane_steps, const 
 const ReferenceStand::Sample* ReferenceStand::reach(std::int64_t k) {
   for (const Sample* s : {&last_, &before_})
     if (s->step == k) return s;
-  if (k < run_.state().step)  // served in time order (LaneWorker::serve_reference): never
-    throw std::logic_error("the reference lane was asked for step " + std::to_string(k) + ", having passed it (at " +
-                           std::to_string(run_.state().step) + ")");
+  if (run_.diverged() && k >= run_.divergence()->step) return nullptr;  // (replayed or not)
+  if (k < run_.state().step) {
+    // Served in time order (LaneWorker::serve_reference): only a run that went ahead of the
+    // lanes' steps has passed a time still needed, and kept the states to replay it.
+    if (!history_)
+      throw std::logic_error("the reference lane was asked for step " + std::to_string(k) + ", having passed it (at " +
+                             std::to_string(run_.state().step) + ")");
+    keep_sample(history_->at(k));
+    return &last_;
+  }
   if (!run_.advance_to(static_cast<double>(k) * run_.dt()) || run_.stopped()) return nullptr;
+  keep_sample(run_.state());
+  return &last_;
+}
+
+void ReferenceStand::keep_sample(const State& state) {
   const std::size_t n = 3 * static_cast<std::size_t>(model_.num_particles);
   std::swap(before_, last_);
-  last_.step = run_.state().step;
-  last_.x.assign(run_.state().x.data(), run_.state().x.data() + n);
-  last_.v.assign(run_.state().v.data(), run_.state().v.data() + n);
-  return &last_;
+  last_.step = state.step;
+  last_.x.assign(state.x.data(), state.x.data() + n);
+  last_.v.assign(state.v.data(), state.v.data() + n);
 }
 
 bool ReferenceStand::serve_next() {

@@ -16,6 +16,9 @@
 // divergence (the pipeline drops the lane when its frozen frame arrives), the reference never
 // runs past it by more than one of its own steps (LaneWorker's stop check stops its run there,
 // in the middle of an advance if need be).
+//
+// A reference started before the lanes' steps were known has run ahead of them: the times it
+// has passed are replayed from the states it kept on the way (reference_history.h).
 #pragma once
 
 #include <cstdint>
@@ -25,6 +28,7 @@
 #include <vector>
 
 #include "compare_plan.h"
+#include "reference_history.h"
 #include "core/simulation.h"
 
 namespace clothsim::cli {
@@ -35,8 +39,11 @@ class ReferenceStand {
 
   // `run` is the reference's, at its start; `lane_steps` the compared lanes' steps, in order
   // (lanes of one step share one request and one copy of the positions at each target);
-  // `last_t` the last target's time (TargetPlan::last_time).
-  ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t);
+  // `last_t` the last target's time (TargetPlan::last_time); `history` (if any, not empty) the
+  // states the run kept before it knew the steps, its first at step 0, to replay the times it
+  // has passed. `run` and `history` must outlive the stand.
+  ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t,
+                 ReferenceHistory* history = nullptr);
 
   // Adds the next target (targets in time order).
   void add(const Target& target);
@@ -86,12 +93,14 @@ class ReferenceStand {
     std::vector<double> x, v;
   };
   // The run's state at its step k (k not below the older kept sample's), kept; null on
-  // divergence or a stop.
+  // divergence or a stop. A step the run has passed is replayed from the history.
   const Sample* reach(std::int64_t k);
+  void keep_sample(const State& state);
   void update_horizon();
 
   const Model& model_;
   Run& run_;
+  ReferenceHistory* history_;
   std::vector<double> steps_;                      // the lanes' distinct steps
   std::vector<std::size_t> lane_step_;             // per lane: its step's index in steps_
   std::vector<std::int64_t> landed_;               // per step: the step a run of it last landed on

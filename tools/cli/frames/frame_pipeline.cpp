@@ -82,7 +82,7 @@ struct FramePipeline::Impl {
   std::vector<LaneSpec> lanes;
   std::vector<std::optional<Model>> lane_models;  // the fixed-point lanes' own settings
   std::vector<std::unique_ptr<LaneWorker>> workers;
-  std::unique_ptr<LaneWorker> reference;
+  std::shared_ptr<LaneWorker> reference;
   std::unique_ptr<LaneWorker> energy_reference;  // PipelineConfig::energy_reference's run
   EnergyHistory reference_energy;                // its samples so far
   bool energy_reference_done = false;
@@ -135,9 +135,16 @@ struct FramePipeline::Impl {
       // step: the reference hands over its positions at every lane's landing time (its own
       // step's state where it lands there, as the default's quarter step does, else
       // interpolated between two), so no lane's error holds a time offset times |v|.
-      LaneNeeds n;  // the positions at the lanes' times, nothing else
-      for (const LaneSpec& lane : lanes) n.stand_for.push_back(lane.dt);
-      reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, kLaneQueueCapacity, interrupt);
+      std::vector<double> steps;
+      for (const LaneSpec& lane : lanes) steps.push_back(lane.dt);
+      if (config.started_reference && same_run(config.started_reference->spec(), *config.reference)) {
+        reference = config.started_reference;  // running since before the steps were chosen
+        reference->stand_for(std::move(steps));
+      } else {
+        LaneNeeds n;  // the positions at the lanes' times, nothing else
+        n.stand_for = std::move(steps);
+        reference = std::make_shared<LaneWorker>(model, *config.reference, plan, n, kLaneQueueCapacity, interrupt);
+      }
     }
     if (config.inset_energy && config.energy_reference) {
       LaneNeeds n;  // the total energy at the inset's sample times, nothing else

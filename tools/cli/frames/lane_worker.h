@@ -29,6 +29,8 @@
 
 namespace clothsim::cli {
 
+class ReferenceHistory;
+
 // What the pipeline's outputs need of every target; the rest is not computed.
 struct LaneNeeds {
   bool picture = false;    // the RenderFrame's geometry (make_render_frame)
@@ -42,6 +44,11 @@ struct LaneNeeds {
   // each step lands (reference_stand.h: its own state, or interpolated between its steps),
   // so each lane is measured at its own time; only those (no picture, metrics or x).
   std::vector<double> stand_for;
+  // The reference started before the lanes' steps are chosen (compare's pilots): they come
+  // later (LaneWorker::stand_for); until then it runs ahead from t = 0, keeping a state a little
+  // before each target (at most kReferenceAheadStates) to replay the lanes' times from
+  // (reference_history.h), so the time the steps take to choose is not added to its own.
+  bool stand_for_later = false;
   double energy_every = 0.0;  // > 0: total energy sampled this often (s) between targets too,
                               // so an energy inset has a curve even in a still or a sheet
 };
@@ -73,6 +80,13 @@ struct LaneResult {
 
 // Frames a lane of a frame pipeline may compute ahead of the one being shown.
 inline constexpr std::size_t kLaneQueueCapacity = 4;
+// States a reference kept before it knew the lanes' steps (LaneNeeds::stand_for_later): it
+// waits for them there.
+inline constexpr std::size_t kReferenceAheadStates = 64;
+
+// Whether a reference started as `started` is the run `wanted` describes (the same method,
+// step as written and settings): only then may it serve in its place.
+bool same_run(const LaneSpec& started, const LaneSpec& wanted);
 
 class LaneWorker {
  public:
@@ -97,6 +111,10 @@ class LaneWorker {
   // on they are not served, and once no live lane can need a time the reference has not passed,
   // it stops running, even in the middle of an advance (ReferenceStand::horizon).
   void drop_lane(std::size_t lane);
+  // The reference started with LaneNeeds::stand_for_later: the compared lanes' steps, in their
+  // order (LaneNeeds::stand_for's meaning). Called once, before next() or drop_lane().
+  void stand_for(std::vector<double> lane_steps);
+  const LaneSpec& spec() const { return spec_; }
   // Waits for the thread; then result() is final.
   void join();
   LaneResult result() const;
@@ -106,6 +124,9 @@ class LaneWorker {
   void push(LaneFrame frame);
   void run_targets(Run& run);
   void serve_reference(Run& run);
+  bool run_ahead(Run& run, ReferenceHistory& history);
+  void finish_reference(const Run& run, const ReferenceHistory& history);
+  void set_lane_steps(std::vector<double> lane_steps);
   LaneFrame frame_of(const Run& run, const State& state) const;
 
   const Model& model_;
@@ -114,8 +135,12 @@ class LaneWorker {
   LaneNeeds needs_;
   std::function<bool()> interrupt_;
   std::atomic<bool> stop_requested_{false};  // stop(), read by the run's per-step check
-  // The reference: lanes dropped (drop_lane), per stand_for lane, and how many in all, read by
-  // its thread between steps.
+  // The reference: the lanes' steps (LaneNeeds::stand_for, or stand_for() later, then known
+  // under mutex_); lanes dropped (drop_lane), per lane, and how many in all, read by its thread
+  // between steps.
+  const bool reference_;
+  std::vector<double> lane_steps_;
+  bool steps_known_ = false;
   std::unique_ptr<std::atomic<bool>[]> dropped_;
   std::atomic<int> drops_{0};
   std::size_t capacity_;
