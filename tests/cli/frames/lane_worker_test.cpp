@@ -242,7 +242,7 @@ TEST(LaneWorker, AReferenceStartedBeforeTheStepsServesWhatOneGivenThemServes) {
   LaneWorker early(model, spec, targets, steps_later(), kLaneQueueCapacity, count);
   while (steps_before < 400) std::this_thread::yield();
   told = true;
-  early.stand_for(steps);
+  early.stand_for(steps, kLaneQueueCapacity);
   const std::vector<LaneFrame> served = all_frames(early);
   EXPECT_GE(steps_before, 400) << "it ran ahead before it knew the steps";
   ASSERT_EQ(served.size(), expected.size());
@@ -257,7 +257,7 @@ TEST(LaneWorker, AReferenceStartedBeforeTheStepsServesWhatOneGivenThemServes) {
   }
   EXPECT_EQ(early.result().totals.steps, given.result().totals.steps);
   EXPECT_EQ(early.result().t, given.result().t);
-  EXPECT_THROW(early.stand_for(steps), std::logic_error) << "the steps are given once";
+  EXPECT_THROW(early.stand_for(steps, kLaneQueueCapacity), std::logic_error) << "the steps are given once";
 }
 
 TEST(LaneWorker, AReferenceNotYetGivenTheStepsStopsAtItsLastKeptStateAndOnStop) {
@@ -267,7 +267,8 @@ TEST(LaneWorker, AReferenceNotYetGivenTheStepsStopsAtItsLastKeptStateAndOnStop) 
   const auto targets = frames(100, 100.0);
   TargetPlan::Cursor cursor(targets);
   Target t;
-  for (std::size_t k = 0; k < kReferenceAheadStates; ++k) ASSERT_TRUE(cursor.next(t));
+  ASSERT_EQ(reference_ahead_states(model.num_particles), 64u) << "a 4 x 4 sheet's states are small";
+  for (std::size_t k = 0; k < 64; ++k) ASSERT_TRUE(cursor.next(t));
   const std::int64_t last_kept = ReferenceHistory::keep_step(t.t, 1e-3);
   std::atomic<long> polls{0};
   const std::thread::id consumer = std::this_thread::get_id();
@@ -283,4 +284,17 @@ TEST(LaneWorker, AReferenceNotYetGivenTheStepsStopsAtItsLastKeptStateAndOnStop) 
   EXPECT_EQ(early.result().totals.steps, last_kept) << "no further than the last state it may keep";
   LaneFrame f;
   EXPECT_FALSE(early.next(f)) << "nothing handed over";
+}
+
+TEST(LaneWorker, TheReferenceHoldsAboutASecondAheadOnlyWhereItsPositionsAreSmall) {
+  // The drape (625 particles, four lanes of four steps): a second of frames at 30 frames/s, and
+  // 64 states kept while the steps are chosen. 512 x 512 particles: a lane's queue, two states.
+  EXPECT_EQ(reference_queue_capacity(625, {1e-4, 2e-4, 4e-4, 1.0 / 252}), 32u);
+  EXPECT_EQ(reference_ahead_states(625), 64u);
+  EXPECT_EQ(reference_queue_capacity(512 * 512, {20.0, 1e-4}), kLaneQueueCapacity);
+  EXPECT_EQ(reference_ahead_states(512 * 512), 2u);
+  // Lanes of one step share one copy a frame (ReferenceStand): they count once.
+  EXPECT_EQ(reference_queue_capacity(100 * 100, {1e-4, 1e-4, 1e-4, 1e-4}),
+            reference_queue_capacity(100 * 100, {1e-4}));
+  EXPECT_EQ(reference_queue_capacity(200 * 200, {1e-4, 2e-4, 4e-4, 1e-3}), 8u) << "32 MiB of 3.84 MB frames";
 }

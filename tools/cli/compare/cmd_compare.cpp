@@ -226,13 +226,14 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
     std::vector<double> steps;
     for (const LaneSpec& l : p.lanes) steps.push_back(l.dt);
     budget.add("reference positions at the lanes' times",
-               reference_positions_bytes(scene, steps, *p.targets, kLaneQueueCapacity));
+               reference_positions_bytes(scene, steps, *p.targets, reference_queue_capacity(p.model->num_particles, steps)));
   }
   if (p.look.reference && p.look.inset_energy)
     budget.add("reference for the energy inset", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
   if (p.early_reference)
     budget.add("reference states kept while the steps are chosen",
-               static_cast<double>(kReferenceAheadStates) * final_state_bytes(scene, p.early_reference->spec().kind));
+               static_cast<double>(reference_ahead_states(p.model->num_particles)) *
+                   final_state_bytes(scene, p.early_reference->spec().kind));
   const TileGrid& grid = *p.grid;
   if (p.rendering) {
     const double n = static_cast<double>(p.lanes.size());

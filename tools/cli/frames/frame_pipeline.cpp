@@ -137,13 +137,14 @@ struct FramePipeline::Impl {
       // interpolated between two), so no lane's error holds a time offset times |v|.
       std::vector<double> steps;
       for (const LaneSpec& lane : lanes) steps.push_back(lane.dt);
+      const std::size_t queue = reference_queue_capacity(model.num_particles, steps);
       if (config.started_reference && same_run(config.started_reference->spec(), *config.reference)) {
         reference = config.started_reference;  // running since before the steps were chosen
-        reference->stand_for(std::move(steps));
+        reference->stand_for(std::move(steps), queue);
       } else {
         LaneNeeds n;  // the positions at the lanes' times, nothing else
         n.stand_for = std::move(steps);
-        reference = std::make_shared<LaneWorker>(model, *config.reference, plan, n, kLaneQueueCapacity, interrupt);
+        reference = std::make_shared<LaneWorker>(model, *config.reference, plan, n, queue, interrupt);
       }
     }
     if (config.inset_energy && config.energy_reference) {

@@ -35,6 +35,18 @@ void LaneWorker::stop() {
   changed_.notify_all();
 }
 
+std::size_t reference_queue_capacity(int particles, const std::vector<double>& lane_steps) {
+  std::vector<double> distinct;
+  for (double h : lane_steps)
+    if (std::find(distinct.begin(), distinct.end(), h) == distinct.end()) distinct.push_back(h);
+  const double frame = 24.0 * std::max(1, particles) * static_cast<double>(std::max<std::size_t>(1, distinct.size()));
+  return std::clamp<std::size_t>(static_cast<std::size_t>(kReferenceAheadBytes / frame), kLaneQueueCapacity, 32);
+}
+
+std::size_t reference_ahead_states(int particles) {
+  return std::clamp<std::size_t>(static_cast<std::size_t>(kReferenceAheadBytes / (56.0 * std::max(1, particles))), 2, 64);
+}
+
 bool same_run(const LaneSpec& started, const LaneSpec& wanted) {
   return started.kind == wanted.kind && started.dt == wanted.dt && started.step_text == wanted.step_text &&
          started.fixed_point == wanted.fixed_point && started.iterations == wanted.iterations;
@@ -47,10 +59,11 @@ void LaneWorker::set_lane_steps(std::vector<double> lane_steps) {
   steps_known_ = true;
 }
 
-void LaneWorker::stand_for(std::vector<double> lane_steps) {
+void LaneWorker::stand_for(std::vector<double> lane_steps, std::size_t queue_capacity) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!reference_ || steps_known_) throw std::logic_error("stand_for: not a reference waiting for the lanes' steps");
   set_lane_steps(std::move(lane_steps));
+  capacity_ = std::max<std::size_t>(1, queue_capacity);
   changed_.notify_all();
 }
 
@@ -188,7 +201,7 @@ void LaneWorker::serve_reference(Run& run) {
 
 // Until the lanes' steps are known (LaneNeeds::stand_for_later): the run goes ahead target by
 // target, keeping its state a little before each (ReferenceHistory::keep_step), and waits once
-// it has kept kReferenceAheadStates, passed the last target, diverged or been stopped. False
+// it has kept reference_ahead_states, passed the last target, diverged or been stopped. False
 // when stop() was called first.
 bool LaneWorker::run_ahead(Run& run, ReferenceHistory& history) {
   TargetPlan::Cursor cursor(targets_);
@@ -197,7 +210,7 @@ bool LaneWorker::run_ahead(Run& run, ReferenceHistory& history) {
   for (;;) {
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      if (!more || history.size() >= kReferenceAheadStates || run.diverged() || run.stopped())
+      if (!more || history.size() >= reference_ahead_states(model_.num_particles) || run.diverged() || run.stopped())
         changed_.wait(lock, [this] { return steps_known_ || stop_; });
       if (stop_) return false;
       if (steps_known_) return true;

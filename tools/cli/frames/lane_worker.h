@@ -46,7 +46,7 @@ struct LaneNeeds {
   std::vector<double> stand_for;
   // The reference started before the lanes' steps are chosen (compare's pilots): they come
   // later (LaneWorker::stand_for); until then it runs ahead from t = 0, keeping a state a little
-  // before each target (at most kReferenceAheadStates) to replay the lanes' times from
+  // before each target (at most reference_ahead_states) to replay the lanes' times from
   // (reference_history.h), so the time the steps take to choose is not added to its own.
   bool stand_for_later = false;
   double energy_every = 0.0;  // > 0: total energy sampled this often (s) between targets too,
@@ -80,9 +80,17 @@ struct LaneResult {
 
 // Frames a lane of a frame pipeline may compute ahead of the one being shown.
 inline constexpr std::size_t kLaneQueueCapacity = 4;
-// States a reference kept before it knew the lanes' steps (LaneNeeds::stand_for_later): it
-// waits for them there.
-inline constexpr std::size_t kReferenceAheadStates = 64;
+// What the reference (LaneNeeds::stand_for), the slowest lane, may hold to run on rather than
+// wait: at most this many bytes of frames served ahead, and as many of states kept ahead.
+inline constexpr double kReferenceAheadBytes = 32.0 * 1024 * 1024;
+// Frames it may serve ahead: up to 32, about the first second's at 30 frames/s, so it goes on
+// while the pictures of the colour scale's first second, held until then, are rendered; within
+// kReferenceAheadBytes (a copy of the positions, 24 B a particle, per distinct lane step a
+// frame), never fewer than a lane's.
+std::size_t reference_queue_capacity(int particles, const std::vector<double>& lane_steps);
+// States it keeps before it knows the lanes' steps (LaneNeeds::stand_for_later), waiting for
+// them there: up to 64, within kReferenceAheadBytes (a State, 56 B a particle), at least 2.
+std::size_t reference_ahead_states(int particles);
 
 // Whether a reference started as `started` is the run `wanted` describes (the same method,
 // step as written and settings): only then may it serve in its place.
@@ -112,8 +120,9 @@ class LaneWorker {
   // it stops running, even in the middle of an advance (ReferenceStand::horizon).
   void drop_lane(std::size_t lane);
   // The reference started with LaneNeeds::stand_for_later: the compared lanes' steps, in their
-  // order (LaneNeeds::stand_for's meaning). Called once, before next() or drop_lane().
-  void stand_for(std::vector<double> lane_steps);
+  // order (LaneNeeds::stand_for's meaning), and the frames it may serve ahead from now on. Called
+  // once, before next() or drop_lane().
+  void stand_for(std::vector<double> lane_steps, std::size_t queue_capacity);
   const LaneSpec& spec() const { return spec_; }
   // Waits for the thread; then result() is final.
   void join();
