@@ -298,3 +298,40 @@ TEST(LaneWorker, TheReferenceHoldsAboutASecondAheadOnlyWhereItsPositionsAreSmall
             reference_queue_capacity(100 * 100, {1e-4}));
   EXPECT_EQ(reference_queue_capacity(200 * 200, {1e-4, 2e-4, 4e-4, 1e-3}), 8u) << "32 MiB of 3.84 MB frames";
 }
+
+namespace {
+
+// The (t, energy) samples a worker hands over, per target, until its last frame.
+std::vector<std::vector<std::pair<double, double>>> energy_per_target(LaneWorker& worker) {
+  std::vector<std::vector<std::pair<double, double>>> out;
+  for (LaneFrame f; worker.next(f);) out.push_back(f.energy);
+  worker.join();
+  return out;
+}
+
+}  // namespace
+
+TEST(LaneWorker, TheErrorsReferenceSamplesTheInsetsEnergyAsARunOfItsOwnDoes) {
+  // --color error --inset energy ran the reference twice: as the error's (at the lanes' times)
+  // and as a lane sampling its energy every frame. One run now does both: per target the same
+  // samples, to the bit, as the lane gives, with a clip's frames, or with a sheet's columns and
+  // a still only (samples between targets); started before the steps too.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const LaneSpec spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
+  const double every = 1.0 / 30.0;
+  for (const TargetPlan& plan : {TargetPlan(0.5, 30.0, true, {0.21}, 0.37), TargetPlan(0.5, 30.0, false, {0.1, 0.33}, 0.45)}) {
+    LaneNeeds lane;
+    lane.energy_every = every;
+    LaneWorker alone(model, spec, plan, lane);
+    const auto expected = energy_per_target(alone);
+    LaneNeeds both = standing_for({7.5e-3, 0.1});
+    both.energy_every = every;
+    LaneWorker reference(model, spec, plan, both);
+    EXPECT_EQ(energy_per_target(reference), expected);
+    LaneWorker early(model, spec, plan, steps_later());
+    early.stand_for({7.5e-3, 0.1}, kLaneQueueCapacity, every);
+    EXPECT_EQ(energy_per_target(early), expected);
+    ASSERT_EQ(expected.size(), static_cast<std::size_t>(plan.size()));
+    EXPECT_GE(expected.back().size(), 2u) << "samples between the targets too";
+  }
+}

@@ -228,7 +228,7 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
     budget.add("reference positions at the lanes' times",
                reference_positions_bytes(scene, steps, *p.targets, reference_queue_capacity(p.model->num_particles, steps)));
   }
-  if (p.look.reference && p.look.inset_energy)
+  if (p.look.reference && p.look.inset_energy && p.look.color != FieldKind::Error)  // else the error's run
     budget.add("reference for the energy inset", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
   if (p.early_reference)
     budget.add("reference states kept while the steps are chosen",

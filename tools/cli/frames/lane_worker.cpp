@@ -59,11 +59,12 @@ void LaneWorker::set_lane_steps(std::vector<double> lane_steps) {
   steps_known_ = true;
 }
 
-void LaneWorker::stand_for(std::vector<double> lane_steps, std::size_t queue_capacity) {
+void LaneWorker::stand_for(std::vector<double> lane_steps, std::size_t queue_capacity, double energy_every) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!reference_ || steps_known_) throw std::logic_error("stand_for: not a reference waiting for the lanes' steps");
   set_lane_steps(std::move(lane_steps));
   capacity_ = std::max<std::size_t>(1, queue_capacity);
+  needs_.energy_every = energy_every;
   changed_.notify_all();
 }
 
@@ -126,6 +127,7 @@ void LaneWorker::serve_reference(Run& run) {
   ReferenceHistory history(model_, spec_.kind, run.dt());
   if (!run_ahead(run, history)) return finish_reference(run, history);
   ReferenceStand stand(model_, run, lane_steps_, targets_.last_time(), &history);
+  if (needs_.energy_every > 0.0) stand.sample_energy(needs_.energy_every);  // the inset's reference too
   int applied = 0;  // drops_ passed on to the stand
   const auto apply_drops = [&] {
     if (drops_.load(std::memory_order_acquire) == applied) return;
@@ -149,7 +151,7 @@ void LaneWorker::serve_reference(Run& run) {
   bool more = cursor.next(next);
   const auto hand_over = [&] {  // the oldest target, with what is known of it
     LaneFrame f;
-    f.t = stand.pop(f.x_for).t;
+    f.t = stand.pop(f.x_for, &f.energy).t;
     f.step = run.state().step;
     f.totals = run.totals();
     push(std::move(f));

@@ -42,7 +42,8 @@ struct LaneNeeds {
   // The reference lane: the steps (s) of the lanes it is compared with, in their order. At
   // each target it hands over, in LaneFrame::x_for, its positions at the time where a run of
   // each step lands (reference_stand.h: its own state, or interpolated between its steps),
-  // so each lane is measured at its own time; only those (no picture, metrics or x).
+  // so each lane is measured at its own time; only those (no picture, metrics or x), and with
+  // energy_every its own energy samples, as a lane's (one run serves the error and the inset).
   std::vector<double> stand_for;
   // The reference started before the lanes' steps are chosen (compare's pilots): they come
   // later (LaneWorker::stand_for); until then it runs ahead from t = 0, keeping a state a little
@@ -120,9 +121,9 @@ class LaneWorker {
   // it stops running, even in the middle of an advance (ReferenceStand::horizon).
   void drop_lane(std::size_t lane);
   // The reference started with LaneNeeds::stand_for_later: the compared lanes' steps, in their
-  // order (LaneNeeds::stand_for's meaning), and the frames it may serve ahead from now on. Called
-  // once, before next() or drop_lane().
-  void stand_for(std::vector<double> lane_steps, std::size_t queue_capacity);
+  // order (LaneNeeds::stand_for's meaning), the frames it may serve ahead from now on, and
+  // LaneNeeds::energy_every. Called once, before next() or drop_lane().
+  void stand_for(std::vector<double> lane_steps, std::size_t queue_capacity, double energy_every = 0.0);
   const LaneSpec& spec() const { return spec_; }
   // Waits for the thread; then result() is final.
   void join();
