@@ -288,10 +288,10 @@ void plan_targets(const CompareOptions& o, ComparePlan& p, const PictureLook& lo
 }
 
 // The error colouring's reference, started at once on the core the pilots of --match cost
-// leave idle: its step is a quarter of the smallest lane step, and a lane matched on cost never
-// ends below the cheapest lane's, which keeps the scene's. It runs ahead until the pipeline
-// gives it the lanes' steps; keep_early_reference drops it if matching changed it after all.
-// Not under --match error, whose reference is another run.
+// leave idle: its step is a quarter of the smallest lane step, which matching on cost leaves as
+// it is (the cheapest lane keeps the scene's step; the others cost more a step and take larger
+// ones). It runs ahead until the pipeline gives it the lanes' steps; keep_early_reference
+// drops it should matching change it after all. Not under --match error (another reference).
 void start_reference_early(const CompareOptions& o, ComparePlan& p, PictureLook look) {
   if (parse_match(o.match).kind == MatchKind::Error || look.color != FieldKind::Error || !look.reference) return;
   try {
