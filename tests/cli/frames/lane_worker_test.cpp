@@ -7,6 +7,7 @@
 #include <atomic>
 #include <thread>
 
+#include "cli/compare/reference_history.h"
 #include "test_support.h"
 
 using namespace clothsim;
@@ -200,4 +201,137 @@ TEST(LaneWorker, TheReferenceStopsRunningWhenEveryLaneHasDiverged) {
   const DroppedReference r = reference_dropping(model, {1e4}, 0, 1000);
   EXPECT_LE(r.result.t, 1.0 + 1e-9) << "not on to 1e4 s";
   for (std::size_t k = 1; k < r.frames.size(); ++k) EXPECT_FALSE(r.frames[k].x_for[0]);
+}
+
+namespace {
+
+// Every frame a reference lane hands over, until the last.
+std::vector<LaneFrame> all_frames(LaneWorker& reference) {
+  std::vector<LaneFrame> out;
+  for (LaneFrame f; reference.next(f);) out.push_back(f);
+  reference.join();
+  return out;
+}
+
+LaneNeeds steps_later() {
+  LaneNeeds n;
+  n.stand_for_later = true;
+  return n;
+}
+
+}  // namespace
+
+TEST(LaneWorker, AReferenceStartedBeforeTheStepsServesWhatOneGivenThemServes) {
+  // compare starts the reference before its pilots choose the lanes' steps. Given them once it
+  // has run ahead to 0.4 s (counted by the stop check it polls before every step), it serves
+  // every lane, at its steps and between them (7.5 ms), bit for bit what a reference given the
+  // steps at its start serves, and takes the same steps of its own.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const auto targets = frames(16, 30.0);
+  const LaneSpec spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
+  const std::vector<double> steps{1e-3, 7.5e-3, 0.1};
+  LaneWorker given(model, spec, targets, standing_for(steps));
+  const std::vector<LaneFrame> expected = all_frames(given);
+  const std::thread::id consumer = std::this_thread::get_id();
+  std::atomic<long> steps_before{0};
+  std::atomic<bool> told{false};
+  const auto count = [&] {
+    if (std::this_thread::get_id() != consumer && !told) ++steps_before;
+    return false;
+  };
+  LaneWorker early(model, spec, targets, steps_later(), kLaneQueueCapacity, count);
+  while (steps_before < 400) std::this_thread::yield();
+  told = true;
+  early.stand_for(steps, kLaneQueueCapacity);
+  const std::vector<LaneFrame> served = all_frames(early);
+  EXPECT_GE(steps_before, 400) << "it ran ahead before it knew the steps";
+  ASSERT_EQ(served.size(), expected.size());
+  ASSERT_EQ(served.size(), 16u);
+  for (std::size_t k = 0; k < served.size(); ++k) {
+    EXPECT_EQ(served[k].t, expected[k].t);
+    ASSERT_EQ(served[k].x_for.size(), steps.size());
+    for (std::size_t lane = 0; lane < steps.size(); ++lane) {
+      ASSERT_TRUE(served[k].x_for[lane] && expected[k].x_for[lane]);
+      EXPECT_EQ(*served[k].x_for[lane], *expected[k].x_for[lane]) << "target " << k << ", lane of " << steps[lane] << " s";
+    }
+  }
+  EXPECT_EQ(early.result().totals.steps, given.result().totals.steps);
+  EXPECT_EQ(early.result().t, given.result().t);
+  EXPECT_THROW(early.stand_for(steps, kLaneQueueCapacity), std::logic_error) << "the steps are given once";
+}
+
+TEST(LaneWorker, AReferenceNotYetGivenTheStepsStopsAtItsLastKeptStateAndOnStop) {
+  // 100 targets 10 ms apart, at 1 ms: it keeps step 0 and a state before each of the next 63
+  // targets, then waits for the steps there; never given them, it stops when asked.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const auto targets = frames(100, 100.0);
+  TargetPlan::Cursor cursor(targets);
+  Target t;
+  ASSERT_EQ(reference_ahead_states(model.num_particles), 64u) << "a 4 x 4 sheet's states are small";
+  for (std::size_t k = 0; k < 64; ++k) ASSERT_TRUE(cursor.next(t));
+  const std::int64_t last_kept = ReferenceHistory::keep_step(t.t, 1e-3);
+  std::atomic<long> polls{0};
+  const std::thread::id consumer = std::this_thread::get_id();
+  const auto count = [&] {
+    if (std::this_thread::get_id() != consumer) ++polls;
+    return false;
+  };
+  LaneWorker early(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, steps_later(),
+                   kLaneQueueCapacity, count);
+  while (polls < last_kept) std::this_thread::yield();
+  early.stop();
+  early.join();
+  EXPECT_EQ(early.result().totals.steps, last_kept) << "no further than the last state it may keep";
+  LaneFrame f;
+  EXPECT_FALSE(early.next(f)) << "nothing handed over";
+}
+
+TEST(LaneWorker, TheReferenceHoldsAboutASecondAheadOnlyWhereItsPositionsAreSmall) {
+  // The drape (625 particles, four lanes of four steps): a second of frames at 30 frames/s, and
+  // 64 states kept while the steps are chosen. 512 x 512 particles: a lane's queue, two states.
+  EXPECT_EQ(reference_queue_capacity(625, {1e-4, 2e-4, 4e-4, 1.0 / 252}), 32u);
+  EXPECT_EQ(reference_ahead_states(625), 64u);
+  EXPECT_EQ(reference_queue_capacity(512 * 512, {20.0, 1e-4}), kLaneQueueCapacity);
+  EXPECT_EQ(reference_ahead_states(512 * 512), 2u);
+  // Lanes of one step share one copy a frame (ReferenceStand): they count once.
+  EXPECT_EQ(reference_queue_capacity(100 * 100, {1e-4, 1e-4, 1e-4, 1e-4}),
+            reference_queue_capacity(100 * 100, {1e-4}));
+  EXPECT_EQ(reference_queue_capacity(200 * 200, {1e-4, 2e-4, 4e-4, 1e-3}), 8u) << "32 MiB of 3.84 MB frames";
+}
+
+namespace {
+
+// The (t, energy) samples a worker hands over, per target, until its last frame.
+std::vector<std::vector<std::pair<double, double>>> energy_per_target(LaneWorker& worker) {
+  std::vector<std::vector<std::pair<double, double>>> out;
+  for (LaneFrame f; worker.next(f);) out.push_back(f.energy);
+  worker.join();
+  return out;
+}
+
+}  // namespace
+
+TEST(LaneWorker, TheErrorsReferenceSamplesTheInsetsEnergyAsARunOfItsOwnDoes) {
+  // --color error --inset energy ran the reference twice: as the error's (at the lanes' times)
+  // and as a lane sampling its energy every frame. One run now does both: per target the same
+  // samples, to the bit, as the lane gives, with a clip's frames, or with a sheet's columns and
+  // a still only (samples between targets); started before the steps too.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const LaneSpec spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
+  const double every = 1.0 / 30.0;
+  for (const TargetPlan& plan : {TargetPlan(0.5, 30.0, true, {0.21}, 0.37), TargetPlan(0.5, 30.0, false, {0.1, 0.33}, 0.45)}) {
+    LaneNeeds lane;
+    lane.energy_every = every;
+    LaneWorker alone(model, spec, plan, lane);
+    const auto expected = energy_per_target(alone);
+    LaneNeeds both = standing_for({7.5e-3, 0.1});
+    both.energy_every = every;
+    LaneWorker reference(model, spec, plan, both);
+    EXPECT_EQ(energy_per_target(reference), expected);
+    LaneWorker early(model, spec, plan, steps_later());
+    early.stand_for({7.5e-3, 0.1}, kLaneQueueCapacity, every);
+    EXPECT_EQ(energy_per_target(early), expected);
+    ASSERT_EQ(expected.size(), static_cast<std::size_t>(plan.size()));
+    EXPECT_GE(expected.back().size(), 2u) << "samples between the targets too";
+  }
 }

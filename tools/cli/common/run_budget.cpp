@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <string>
 
-#include "cli/frames/lane_worker.h"  // kLaneQueueCapacity
+#include "cli/frames/lane_worker.h"  // reference_queue_capacity
 #include "scene/memory_estimate.h"
 
 namespace clothsim::cli {
@@ -19,7 +19,8 @@ MemoryBudget run_budget(const SceneDef& scene, const PictureLook& look, const Ru
     budget.add("reference " + look.reference->name(), run_bytes(scene, look.reference->kind) + kLaneThreadBytes);
     if (pictures.targets)
       budget.add("reference positions at the run's times",
-                 reference_positions_bytes(scene, {scene.dt}, *pictures.targets, kLaneQueueCapacity));
+                 reference_positions_bytes(scene, {scene.dt}, *pictures.targets,
+                                           reference_queue_capacity(scene.cloth.nx * scene.cloth.ny, {scene.dt})));
   }
   if (pictures.rendering) {
     // The render target, the frame and up to 3 frames queued for the PNG writer.

@@ -120,6 +120,9 @@ struct ComparePlan {
   std::vector<std::string> labels;
   std::vector<std::string> values;  // per lane: its value's label alone ("ks = 2e4")
   std::optional<LaneSpec> error_reference;  // --match error: the reference the steps were matched against
+  // The error colouring's reference, started before the steps are matched (start_reference_early;
+  // it reads model and targets, so the plan never moves, and is declared last: stopped first).
+  std::shared_ptr<LaneWorker> early_reference;
 };
 
 // --vary draws no error colouring (each value is its own scene, with no one reference): strain
@@ -185,9 +188,8 @@ void check_paths(const CompareOptions& o, const ComparePlan& p) {
     for (const std::string& d : p.lane_dirs) refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
 }
 
-// Every lane's steps, and the reference's, bounded like the scene's; the sheet's and the
-// still's times within the run; the grid within the picture.
-void check_bounds(const CompareOptions& o, ComparePlan& p) {
+// Every lane's steps, and the reference's, bounded like the scene's; the grid within the picture.
+void check_bounds(ComparePlan& p) {
   for (const LaneSpec& l : p.lanes) {
     const std::string too_long = run_bounds_problem(p.scene.duration, l.dt, p.scene.render.fps);
     if (!too_long.empty()) throw UsageError("--dt (" + l.spelling() + "): " + too_long);
@@ -198,10 +200,6 @@ void check_bounds(const CompareOptions& o, ComparePlan& p) {
       throw UsageError("--reference (" + p.look.reference->spelling() +
                        ", for --color error): " + too_long + "; give --reference NAME@STEP or --color checker");
   }
-  p.sheet_times = o.sheet.empty() ? std::vector<double>{} : parse_times(o.times, p.scene.duration);
-  if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= p.scene.duration + 1e-9))
-    throw UsageError("--still: " + number_text(*o.still_t) + " s is outside the run (0 to " +
-                     number_text(p.scene.duration) + " s)");
   try {  // the whole picture's: the tiles and, when coloured, the colour bar's strip
     const LegendGrid fitted = fit_legend_grid(p.layout, p.scene.render.width, p.scene.render.height,
                                               p.rendering ? p.look.color : FieldKind::None);
@@ -228,10 +226,14 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
     std::vector<double> steps;
     for (const LaneSpec& l : p.lanes) steps.push_back(l.dt);
     budget.add("reference positions at the lanes' times",
-               reference_positions_bytes(scene, steps, *p.targets, kLaneQueueCapacity));
+               reference_positions_bytes(scene, steps, *p.targets, reference_queue_capacity(p.model->num_particles, steps)));
   }
-  if (p.look.reference && p.look.inset_energy)
+  if (p.look.reference && p.look.inset_energy && p.look.color != FieldKind::Error)  // else the error's run
     budget.add("reference for the energy inset", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
+  if (p.early_reference)
+    budget.add("reference states kept while the steps are chosen",
+               static_cast<double>(reference_ahead_states(p.model->num_particles)) *
+                   final_state_bytes(scene, p.early_reference->spec().kind));
   const TileGrid& grid = *p.grid;
   if (p.rendering) {
     const double n = static_cast<double>(p.lanes.size());
@@ -274,6 +276,43 @@ void choose_steps(const CompareOptions& o, ComparePlan& p) {
   if (match.kind == MatchKind::Error) p.error_reference = error_reference(reference, clip.fps);
 }
 
+// The sheet's and the still's times within the run, and the targets: what every lane and the
+// reference stop at, known before any step is chosen.
+void plan_targets(const CompareOptions& o, ComparePlan& p, const PictureLook& look) {
+  p.sheet_times = o.sheet.empty() ? std::vector<double>{} : parse_times(o.times, p.scene.duration);
+  if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= p.scene.duration + 1e-9))
+    throw UsageError("--still: " + number_text(*o.still_t) + " s is outside the run (0 to " +
+                     number_text(p.scene.duration) + " s)");
+  p.targets.emplace(p.scene.duration, p.scene.render.fps, p.with_frames, p.sheet_times, o.still_t.value_or(-1.0));
+  if (look.color != FieldKind::None && !look.color_range) p.targets->with_scale_window(kColorScaleWindow);
+}
+
+// The error colouring's reference, started at once on the core the pilots of --match cost
+// leave idle: its step is a quarter of the smallest lane step, which matching on cost leaves as
+// it is (the cheapest lane keeps the scene's step; the others cost more a step and take larger
+// ones). It runs ahead until the pipeline gives it the lanes' steps; keep_early_reference
+// drops it should matching change it after all. Not under --match error (another reference).
+void start_reference_early(const CompareOptions& o, ComparePlan& p, PictureLook look) {
+  if (parse_match(o.match).kind == MatchKind::Error || look.color != FieldKind::Error || !look.reference) return;
+  try {
+    fit_reference_to_model(look, *p.model, p.scene, p.lanes);
+  } catch (const UsageError&) {
+    return;  // said after matching, if it still holds
+  }
+  if (!run_bounds_problem(p.scene.duration, look.reference->dt, p.scene.render.fps).empty()) return;
+  LaneNeeds needs;
+  needs.stand_for_later = true;
+  p.early_reference = std::make_shared<LaneWorker>(*p.model, *look.reference, *p.targets, needs, kLaneQueueCapacity,
+                                                   [] { return interrupted(); });
+}
+
+// The early reference, kept only if it is the run the matched lanes' reference is.
+void keep_early_reference(ComparePlan& p) {
+  if (!p.early_reference) return;
+  if (p.look.color != FieldKind::Error || !p.look.reference || !same_run(p.early_reference->spec(), *p.look.reference))
+    p.early_reference.reset();  // stops it
+}
+
 // The rows' names: the --vary labels where there are, else each lane's name.
 void name_lanes(ComparePlan& p) {
   p.context.names.clear();
@@ -313,10 +352,10 @@ std::string grid_layout_text(const ComparePlan& p) {
   return std::to_string(columns) + "x" + std::to_string(p.lanes.size() / columns);
 }
 
-// 1. Everything that can be wrong, before any simulation; the steps chosen.
-ComparePlan plan_compare(const CompareOptions& o) {
+// 1. Everything that can be wrong, before any simulation; the steps chosen (the error's
+// reference running meanwhile). In place: the reference started reads the plan's model and targets.
+void plan_compare(const CompareOptions& o, ComparePlan& p) {
   check_option_pairs(o);
-  ComparePlan p;
   p.scene = load_scene_with_options(o.scene);
   p.lanes = parse_lanes(o.integrators, o.dt, p.scene.dt);
   parse_match(o.match);  // a bad --match before any pilot runs
@@ -330,12 +369,14 @@ ComparePlan plan_compare(const CompareOptions& o) {
   } catch (const LayoutError& e) {
     throw UsageError(std::string("--layout: ") + e.what());
   }
-  resolve_look(o, p);  // bad --color, --camera, ... before any pilot runs
+  const PictureLook unmatched = resolve_look(o, p);  // bad --color, --camera, ... before any pilot runs
   check_paths(o, p);
+  plan_targets(o, p, unmatched);
   p.model.emplace(build_model(p.scene));
   for (const SceneDef& s : p.vary_scenes) p.vary_models.push_back(build_model(s));
   if (!p.vary_models.empty())  // lanes row by row, a value per column
     for (std::size_t i = 0; i < p.lanes.size(); ++i) p.lane_models.push_back(&p.vary_models[i % p.vary_models.size()]);
+  start_reference_early(o, p, unmatched);
   choose_steps(o, p);
   name_lanes(p);
   p.look = resolve_look(o, p);
@@ -346,12 +387,10 @@ ComparePlan plan_compare(const CompareOptions& o) {
     p.look.reference = p.error_reference;
     p.look.reference_is_default = false;
   }  // the reference's step follows the lanes'
-  check_bounds(o, p);
-  p.targets.emplace(p.scene.duration, p.scene.render.fps, p.with_frames, p.sheet_times, o.still_t.value_or(-1.0));
-  if (p.look.color != FieldKind::None && !p.look.color_range) p.targets->with_scale_window(kColorScaleWindow);
+  check_bounds(p);
   check_memory(o, p);
   fit_reference_to_model(p.look, *p.model, p.scene, p.lanes);
-  return p;
+  keep_early_reference(p);
 }
 
 PipelineConfig pipeline_config(const ComparePlan& p) {
@@ -365,6 +404,7 @@ PipelineConfig pipeline_config(const ComparePlan& p) {
   config.command = "compare";
   apply_look(p.look, config);
   if (p.look.inset_energy) config.energy_reference = p.look.reference;  // E - E_ref (none under --vary)
+  config.started_reference = p.early_reference;
   config.scene_render = p.scene.render;
   if (p.look.camera_auto)
     config.camera = auto_camera(*p.model, p.scene.render, static_cast<double>(config.width) / config.height);
@@ -473,7 +513,8 @@ int compare_command(const CompareOptions& o) {
   install_interrupt_handler();  // first: Ctrl-C during setup is then seen at the first frame
   if (!o.shard.empty())
     check_frames_shard_outputs(o.frames_dir, !o.video.empty() || !o.sheet.empty() || o.still_t || !o.summary.empty());
-  ComparePlan p = plan_compare(o);
+  ComparePlan p;
+  plan_compare(o, p);
   if (!o.shard.empty()) keep_shard_lanes(o, p);
   if (p.lanes.empty()) return kOk;  // a part with no lane (more parts than lanes)
   const std::unique_ptr<Renderer> renderer = make_checked_renderer(o, p);

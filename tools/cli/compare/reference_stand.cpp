@@ -7,11 +7,13 @@
 #include <string>
 
 #include "cli/frames/lane_times.h"
+#include "core/diagnostics.h"
 
 namespace clothsim::cli {
 
-ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t)
-    : model_(model), run_(run) {
+ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t,
+                               ReferenceHistory* history)
+    : model_(model), run_(run), history_(history && !history->empty() ? history : nullptr) {
   for (double h : lane_steps) {
     const auto at = std::find(steps_.begin(), steps_.end(), h);
     lane_step_.push_back(static_cast<std::size_t>(at - steps_.begin()));
@@ -25,6 +27,7 @@ ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<d
   for (std::size_t j : lane_step_) ++live_lanes_[j];
   for (double h : steps_)  // (formed as add() forms a request's time: none is past it by a rounding)
     last_needed_.push_back(static_cast<double>(landing_step(last_t, h, 0)) * h);
+  last_t_ = last_t;
   update_horizon();
 }
 
@@ -32,6 +35,35 @@ void ReferenceStand::update_horizon() {
   horizon_ = -std::numeric_limits<double>::infinity();
   for (std::size_t j = 0; j < steps_.size(); ++j)
     if (live_lanes_[j] > 0) horizon_ = std::max(horizon_, last_needed_[j]);
+  if (energy_every_ > 0.0) horizon_ = std::max(horizon_, own_last_needed_);  // the inset's, to the end
+}
+
+void ReferenceStand::sample_energy(double every) {
+  energy_every_ = every;
+  const double H = run_.dt();
+  own_last_needed_ = static_cast<double>(landing_step(last_t_, H, 0)) * H;
+  slack_ = std::max(slack_, 1e-6 * H);
+  update_horizon();
+}
+
+// The sample at t: where the run stands once advanced to t from its last sample (Run::advance_to).
+std::shared_ptr<ReferenceStand::EnergySlot> ReferenceStand::ask_energy(double t) {
+  const double H = run_.dt();
+  const std::int64_t k = landing_step(t, H, own_landed_);
+  if (last_energy_ && k == own_landed_) return last_energy_;  // the run would not have stepped
+  own_landed_ = k;
+  last_energy_ = std::make_shared<EnergySlot>();
+  requests_.insert(Request{static_cast<double>(k) * H, asked_++, steps_.size(), nullptr, last_energy_, k});
+  return last_energy_;
+}
+
+double ReferenceStand::next_energy_time() const {
+  if (!(energy_every_ > 0.0)) return std::numeric_limits<double>::infinity();
+  const double ts = static_cast<double>(sample_) * energy_every_;
+  // (the sample where the run stands already is shared, not asked: the one after it counts)
+  if (last_energy_ && landing_step(ts, run_.dt(), own_landed_) == own_landed_)
+    return static_cast<double>(sample_ + 1) * energy_every_;
+  return ts;
 }
 
 void ReferenceStand::add(const Target& target) {
@@ -41,13 +73,20 @@ void ReferenceStand::add(const Target& target) {
       last_slot_[j] = nullptr;  // every lane of this step was dropped: nothing to serve
     } else if (!last_slot_[j] || k != landed_[j]) {  // a step whose runs did not step shares its last slot
       last_slot_[j] = std::make_shared<Slot>();
-      requests_.insert(Request{static_cast<double>(k) * steps_[j], asked_++, j, last_slot_[j]});
+      requests_.insert(Request{static_cast<double>(k) * steps_[j], asked_++, j, last_slot_[j], nullptr, -1});
     }
     landed_[j] = k;
   }
   std::vector<std::shared_ptr<Slot>> slots;
   for (std::size_t j : lane_step_) slots.push_back(last_slot_[j]);
   pending_.emplace_back(target, std::move(slots));
+  if (!(energy_every_ > 0.0)) return;
+  std::vector<std::shared_ptr<EnergySlot>> samples;  // as LaneWorker::run_targets samples a lane
+  for (double ts = static_cast<double>(sample_) * energy_every_; ts < target.t - 1e-9;
+       ts = static_cast<double>(++sample_) * energy_every_)
+    samples.push_back(ask_energy(ts));
+  samples.push_back(ask_energy(target.t));
+  pending_energy_.push_back(std::move(samples));
 }
 
 bool ReferenceStand::front_ready() const {
@@ -55,10 +94,19 @@ bool ReferenceStand::front_ready() const {
   const auto& slots = pending_.front().second;
   for (std::size_t lane = 0; lane < slots.size(); ++lane)
     if (live_[lane] && !slots[lane]->x) return false;
+  if (!pending_energy_.empty())
+    for (const auto& sample : pending_energy_.front())
+      if (!sample->served) return false;
   return true;
 }
 
-Target ReferenceStand::pop(std::vector<Positions>& positions) {
+Target ReferenceStand::pop(std::vector<Positions>& positions, std::vector<std::pair<double, double>>* energy) {
+  if (energy) energy->clear();
+  if (!pending_energy_.empty()) {
+    for (const auto& sample : pending_energy_.front())
+      if (sample->served && energy) energy->emplace_back(sample->t, sample->e);
+    pending_energy_.pop_front();
+  }
   positions.clear();
   for (const auto& slot : pending_.front().second) positions.push_back(slot ? slot->x : nullptr);
   const Target target = pending_.front().first;
@@ -101,22 +149,41 @@ long ReferenceStand::waiting_bound(const std::vector<double>& lane_steps, const 
 const ReferenceStand::Sample* ReferenceStand::reach(std::int64_t k) {
   for (const Sample* s : {&last_, &before_})
     if (s->step == k) return s;
-  if (k < run_.state().step)  // served in time order (LaneWorker::serve_reference): never
-    throw std::logic_error("the reference lane was asked for step " + std::to_string(k) + ", having passed it (at " +
-                           std::to_string(run_.state().step) + ")");
+  if (run_.diverged() && k >= run_.divergence()->step) return nullptr;  // (replayed or not)
+  if (k < run_.state().step) {
+    // Served in time order (LaneWorker::serve_reference): only a run that went ahead of the
+    // lanes' steps has passed a time still needed, and kept the states to replay it.
+    if (!history_)
+      throw std::logic_error("the reference lane was asked for step " + std::to_string(k) + ", having passed it (at " +
+                             std::to_string(run_.state().step) + ")");
+    keep_sample(history_->at(k));
+    return &last_;
+  }
   if (!run_.advance_to(static_cast<double>(k) * run_.dt()) || run_.stopped()) return nullptr;
+  keep_sample(run_.state());
+  return &last_;
+}
+
+void ReferenceStand::keep_sample(const State& state) {
   const std::size_t n = 3 * static_cast<std::size_t>(model_.num_particles);
   std::swap(before_, last_);
-  last_.step = run_.state().step;
-  last_.x.assign(run_.state().x.data(), run_.state().x.data() + n);
-  last_.v.assign(run_.state().v.data(), run_.state().v.data() + n);
-  return &last_;
+  last_.step = state.step;
+  last_.t = state.t;
+  if (energy_every_ > 0.0) last_.energy = compute_energies(model_, state).total();
+  last_.x.assign(state.x.data(), state.x.data() + n);
+  last_.v.assign(state.v.data(), state.v.data() + n);
 }
 
 bool ReferenceStand::serve_next() {
   const Request request = *requests_.begin();  // (a copy: drop_lane may erase it on the way)
   const double H = run_.dt(), t = request.t;
-  if (const std::int64_t k = step_at(t, H); k >= 0) {  // one of the reference's own steps
+  if (request.energy) {  // at one of the run's own steps
+    const Sample* at = reach(request.k);
+    if (!at) return false;
+    request.energy->t = at->t;
+    request.energy->e = at->energy;
+    request.energy->served = true;
+  } else if (const std::int64_t k = step_at(t, H); k >= 0) {  // one of the reference's own steps
     const Sample* at = reach(k);
     if (!at) return false;
     request.slot->x = std::make_shared<const std::vector<double>>(at->x);

@@ -16,15 +16,24 @@
 // divergence (the pipeline drops the lane when its frozen frame arrives), the reference never
 // runs past it by more than one of its own steps (LaneWorker's stop check stops its run there,
 // in the middle of an advance if need be).
+//
+// With an energy inset it also samples its own total energy as a lane does (LaneNeeds::
+// energy_every), served in the same time order: one run is both the error's reference and the
+// inset's.
+//
+// A reference started before the lanes' steps were known has run ahead of them: the times it
+// has passed are replayed from the states it kept on the way (reference_history.h).
 #pragma once
 
 #include <cstdint>
 #include <deque>
 #include <memory>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include "compare_plan.h"
+#include "reference_history.h"
 #include "core/simulation.h"
 
 namespace clothsim::cli {
@@ -35,18 +44,26 @@ class ReferenceStand {
 
   // `run` is the reference's, at its start; `lane_steps` the compared lanes' steps, in order
   // (lanes of one step share one request and one copy of the positions at each target);
-  // `last_t` the last target's time (TargetPlan::last_time).
-  ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t);
+  // `last_t` the last target's time (TargetPlan::last_time); `history` (if any, not empty) the
+  // states the run kept before it knew the steps, its first at step 0, to replay the times it
+  // has passed. `run` and `history` must outlive the stand.
+  ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t,
+                 ReferenceHistory* history = nullptr);
 
+  // Also serves the run's total energy (J) every `every` seconds between targets and at each
+  // target, at the states where a run of its own advanced to those times stands, as
+  // LaneWorker's energy samples of a lane are. Before the first add().
+  void sample_energy(double every);
   // Adds the next target (targets in time order).
   void add(const Target& target);
   bool empty() const { return pending_.empty(); }
-  // Every live lane's positions at the oldest target are known.
+  // Every live lane's positions at the oldest target, and its energy samples, are known.
   bool front_ready() const;
   // The oldest target and its positions per lane, removed: all of them once front_ready();
   // after the run diverged or stopped, what is known (null where a lane's positions are not,
-  // and for a dropped lane whose were not served before it was dropped).
-  Target pop(std::vector<Positions>& positions);
+  // and for a dropped lane whose were not served before it was dropped). With sample_energy,
+  // its (t, total energy J) samples since the previous target, this one's included, in `energy`.
+  Target pop(std::vector<Positions>& positions, std::vector<std::pair<double, double>>* energy = nullptr);
   // The earliest time some target still needs (+inf if none).
   double next_time() const;
   // Lane `lane` diverged: its times still to serve are not served, and the targets wait for
@@ -65,7 +82,10 @@ class ReferenceStand {
   // Whether the next target (at t) must be added before the earliest needed time is served:
   // it may need an earlier time (a lane lands at or past its target, less Run::advance_to's
   // tolerance of 1e-6 of a step), or nothing is waiting.
-  bool add_before_serving(double t) const { return empty() || t - slack_ <= next_time(); }
+  // With sample_energy, t is the earlier of the next target's and its first energy sample's.
+  bool add_before_serving(double t) const {
+    return empty() || std::min(t, next_energy_time()) - slack_ <= next_time();
+  }
   // Advances the run to the earliest time needed and serves it. False when the run diverged
   // or was stopped on the way (Run::diverged(), Run::stopped()).
   bool serve_next();
@@ -74,24 +94,36 @@ class ReferenceStand {
   struct Slot {
     Positions x;  // null until served
   };
+  struct EnergySlot {
+    bool served = false;
+    double t = 0.0, e = 0.0;  // s, J
+  };
   struct Request {
     double t;
     std::uint64_t order;  // ties in the order asked
-    std::size_t step;     // index in steps_
+    std::size_t step;     // index in steps_ (an energy sample: steps_.size())
     std::shared_ptr<Slot> slot;
+    std::shared_ptr<EnergySlot> energy;  // an energy sample at the run's own step k
+    std::int64_t k = -1;
     bool operator<(const Request& o) const { return t != o.t ? t < o.t : order < o.order; }
   };
   struct Sample {
     std::int64_t step = -1;
+    double t = 0.0;
     std::vector<double> x, v;
+    double energy = 0.0;  // total, J (with sample_energy)
   };
   // The run's state at its step k (k not below the older kept sample's), kept; null on
-  // divergence or a stop.
+  // divergence or a stop. A step the run has passed is replayed from the history.
   const Sample* reach(std::int64_t k);
+  void keep_sample(const State& state);
   void update_horizon();
+  std::shared_ptr<EnergySlot> ask_energy(double t);
+  double next_energy_time() const;  // +inf without sample_energy
 
   const Model& model_;
   Run& run_;
+  ReferenceHistory* history_;
   std::vector<double> steps_;                      // the lanes' distinct steps
   std::vector<std::size_t> lane_step_;             // per lane: its step's index in steps_
   std::vector<std::int64_t> landed_;               // per step: the step a run of it last landed on
@@ -105,6 +137,14 @@ class ReferenceStand {
   double slack_ = 0.0;
   double horizon_ = 0.0;
   Sample last_, before_;  // the run's last two kept steps
+  // sample_energy: the interval, the next sample's index, the run's own landing step and the
+  // last sample asked (a sample where the run did not step shares it), and per waiting target
+  // its samples.
+  double energy_every_ = 0.0, own_last_needed_ = 0.0, last_t_ = 0.0;
+  long sample_ = 0;
+  std::int64_t own_landed_ = 0;
+  std::shared_ptr<EnergySlot> last_energy_;
+  std::deque<std::vector<std::shared_ptr<EnergySlot>>> pending_energy_;
 };
 
 }  // namespace clothsim::cli

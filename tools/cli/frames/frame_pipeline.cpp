@@ -82,8 +82,9 @@ struct FramePipeline::Impl {
   std::vector<LaneSpec> lanes;
   std::vector<std::optional<Model>> lane_models;  // the fixed-point lanes' own settings
   std::vector<std::unique_ptr<LaneWorker>> workers;
-  std::unique_ptr<LaneWorker> reference;
+  std::shared_ptr<LaneWorker> reference;
   std::unique_ptr<LaneWorker> energy_reference;  // PipelineConfig::energy_reference's run
+  bool reference_samples_energy = false;         // ... or the error's reference, the same run
   EnergyHistory reference_energy;                // its samples so far
   bool energy_reference_done = false;
   std::vector<std::unique_ptr<FrameOutput>> outputs;
@@ -124,22 +125,37 @@ struct FramePipeline::Impl {
     return n;
   }
 
+  // Lanes land on the first step at or past each frame time, not on it, each at its own step:
+  // the reference hands over its positions at every lane's landing time (its own step's state
+  // where it lands there, as the default's quarter step does, else interpolated between two),
+  // so no lane's error holds a time offset times |v|.
+  void start_reference(const std::function<bool()>& interrupt) {
+    std::vector<double> steps;
+    for (const LaneSpec& lane : lanes) steps.push_back(lane.dt);
+    const std::size_t queue = reference_queue_capacity(model.num_particles, steps);
+    const double energy_every = reference_samples_energy ? 1.0 / plan.fps() : 0.0;
+    if (config.started_reference && same_run(config.started_reference->spec(), *config.reference)) {
+      reference = config.started_reference;  // running since before the steps were chosen
+      reference->stand_for(std::move(steps), queue, energy_every);
+      return;
+    }
+    LaneNeeds n;  // the positions at the lanes' times (and the inset's energy), nothing else
+    n.stand_for = std::move(steps);
+    n.energy_every = energy_every;
+    reference = std::make_shared<LaneWorker>(model, *config.reference, plan, n, queue, interrupt);
+  }
+
   void start() {
     const auto interrupt = [] { return interrupted(); };
     lane_models.resize(lanes.size());
     for (std::size_t i = 0; i < lanes.size(); ++i)
       workers.push_back(std::make_unique<LaneWorker>(lane_model(model_of(i), lanes[i], lane_models[i]), lanes[i],
                                                      plan, needs(), kLaneQueueCapacity, interrupt));
-    if (config.color == FieldKind::Error && config.reference) {
-      // Lanes land on the first step at or past each frame time, not on it, each at its own
-      // step: the reference hands over its positions at every lane's landing time (its own
-      // step's state where it lands there, as the default's quarter step does, else
-      // interpolated between two), so no lane's error holds a time offset times |v|.
-      LaneNeeds n;  // the positions at the lanes' times, nothing else
-      for (const LaneSpec& lane : lanes) n.stand_for.push_back(lane.dt);
-      reference = std::make_unique<LaneWorker>(model, *config.reference, plan, n, kLaneQueueCapacity, interrupt);
-    }
-    if (config.inset_energy && config.energy_reference) {
+    // One run of the reference for the error and the energy inset when they name the same.
+    reference_samples_energy = config.color == FieldKind::Error && config.reference && config.inset_energy &&
+                               config.energy_reference && same_run(*config.energy_reference, *config.reference);
+    if (config.color == FieldKind::Error && config.reference) start_reference(interrupt);
+    if (config.inset_energy && config.energy_reference && !reference_samples_energy) {
       LaneNeeds n;  // the total energy at the inset's sample times, nothing else
       n.energy_every = 1.0 / plan.fps();
       energy_reference = std::make_unique<LaneWorker>(model, *config.energy_reference, plan, n, kLaneQueueCapacity, interrupt);
@@ -223,6 +239,7 @@ struct FramePipeline::Impl {
       const bool got = reference->next(f);
       if (interrupted()) return false;
       if (got) {
+        for (const auto& [time, e] : f.energy) reference_energy.add(time, e);  // (reference_samples_energy)
         reference_frozen = f.frozen;
         reference_fresh = !f.frozen;  // a diverged reference measures nothing
         reference_frame = std::make_shared<const LaneFrame>(std::move(f));
@@ -362,7 +379,7 @@ struct FramePipeline::Impl {
       if (config.color != FieldKind::None && !field.empty())
         color_by_field(rf, field, config.color, *range, /*bar_outside=*/config.tiles);
       if (config.inset_energy)
-        draw_energy_inset(rf, energy, i, plan.last_time(), energy_reference ? &reference_energy : nullptr, frozen);
+        draw_energy_inset(rf, energy, i, plan.last_time(), energy_reference || reference_samples_energy ? &reference_energy : nullptr, frozen);
       Stopwatch watch(render_seconds);
       images[i] = renderer->render(rf);
       unrendered[i] = {};

@@ -57,6 +57,9 @@ struct PipelineConfig {
   bool final_state = false;        // keep the lanes' final states (run --state)
   bool stop_when_all_frozen = false;  // run: a diverged lane ends the pipeline
   std::optional<LaneSpec> reference;  // for FieldKind::Error
+  // compare: that reference, started before the lanes' steps were chosen (LaneNeeds::
+  // stand_for_later) on this pipeline's model and plan; taken when same_run(its spec, reference).
+  std::shared_ptr<LaneWorker> started_reference;
   RenderDef scene_render;          // the scene's render block: camera, springs, particles
   std::optional<RenderCamera> camera;  // replaces the model's (render.camera: auto, fitted)
   std::string command = "compare";     // for messages: "compare: colour scale ..."

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 
+#include "cli/compare/reference_history.h"
 #include "cli/compare/reference_stand.h"
 #include "core/diagnostics.h"
 #include "view/snapshot.h"
@@ -14,9 +16,9 @@ namespace clothsim::cli {
 LaneWorker::LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
                        std::size_t queue_capacity, std::function<bool()> interrupt)
     : model_(model), spec_(std::move(spec)), targets_(targets), needs_(needs), interrupt_(std::move(interrupt)),
-      dropped_(std::make_unique<std::atomic<bool>[]>(needs_.stand_for.size())),
+      reference_(!needs_.stand_for.empty() || needs_.stand_for_later),
       capacity_(std::max<std::size_t>(1, queue_capacity)) {
-  for (std::size_t i = 0; i < needs_.stand_for.size(); ++i) dropped_[i] = false;
+  if (!needs_.stand_for.empty()) set_lane_steps(needs_.stand_for);
   result_.spec = spec_;
   thread_ = std::thread([this] { work(); });
 }
@@ -33,8 +35,41 @@ void LaneWorker::stop() {
   changed_.notify_all();
 }
 
+std::size_t reference_queue_capacity(int particles, const std::vector<double>& lane_steps) {
+  std::vector<double> distinct;
+  for (double h : lane_steps)
+    if (std::find(distinct.begin(), distinct.end(), h) == distinct.end()) distinct.push_back(h);
+  const double frame = 24.0 * std::max(1, particles) * static_cast<double>(std::max<std::size_t>(1, distinct.size()));
+  return std::clamp<std::size_t>(static_cast<std::size_t>(kReferenceAheadBytes / frame), kLaneQueueCapacity, 32);
+}
+
+std::size_t reference_ahead_states(int particles) {
+  return std::clamp<std::size_t>(static_cast<std::size_t>(kReferenceAheadBytes / (56.0 * std::max(1, particles))), 2, 64);
+}
+
+bool same_run(const LaneSpec& started, const LaneSpec& wanted) {
+  return started.kind == wanted.kind && started.dt == wanted.dt && started.step_text == wanted.step_text &&
+         started.fixed_point == wanted.fixed_point && started.iterations == wanted.iterations;
+}
+
+void LaneWorker::set_lane_steps(std::vector<double> lane_steps) {
+  dropped_ = std::make_unique<std::atomic<bool>[]>(lane_steps.size());
+  for (std::size_t i = 0; i < lane_steps.size(); ++i) dropped_[i] = false;
+  lane_steps_ = std::move(lane_steps);
+  steps_known_ = true;
+}
+
+void LaneWorker::stand_for(std::vector<double> lane_steps, std::size_t queue_capacity, double energy_every) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!reference_ || steps_known_) throw std::logic_error("stand_for: not a reference waiting for the lanes' steps");
+  set_lane_steps(std::move(lane_steps));
+  capacity_ = std::max<std::size_t>(1, queue_capacity);
+  needs_.energy_every = energy_every;
+  changed_.notify_all();
+}
+
 void LaneWorker::drop_lane(std::size_t lane) {
-  if (lane >= needs_.stand_for.size() || dropped_[lane].exchange(true)) return;
+  if (lane >= lane_steps_.size() || dropped_[lane].exchange(true)) return;
   ++drops_;
 }
 
@@ -89,12 +124,15 @@ LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
 // come due, the earliest needed time is served next, and a target's frame is handed over once
 // every lane's positions for it are known (reference_stand.h).
 void LaneWorker::serve_reference(Run& run) {
-  ReferenceStand stand(model_, run, needs_.stand_for, targets_.last_time());
+  ReferenceHistory history(model_, spec_.kind, run.dt());
+  if (!run_ahead(run, history)) return finish_reference(run, history);
+  ReferenceStand stand(model_, run, lane_steps_, targets_.last_time(), &history);
+  if (needs_.energy_every > 0.0) stand.sample_energy(needs_.energy_every);  // the inset's reference too
   int applied = 0;  // drops_ passed on to the stand
   const auto apply_drops = [&] {
     if (drops_.load(std::memory_order_acquire) == applied) return;
     applied = 0;
-    for (std::size_t i = 0; i < needs_.stand_for.size(); ++i)
+    for (std::size_t i = 0; i < lane_steps_.size(); ++i)
       if (dropped_[i].load(std::memory_order_acquire)) {
         stand.drop_lane(i);
         ++applied;
@@ -113,7 +151,7 @@ void LaneWorker::serve_reference(Run& run) {
   bool more = cursor.next(next);
   const auto hand_over = [&] {  // the oldest target, with what is known of it
     LaneFrame f;
-    f.t = stand.pop(f.x_for).t;
+    f.t = stand.pop(f.x_for, &f.energy).t;
     f.step = run.state().step;
     f.totals = run.totals();
     push(std::move(f));
@@ -160,9 +198,38 @@ void LaneWorker::serve_reference(Run& run) {
       break;
     }
   }
+  finish_reference(run, history);
+}
+
+// Until the lanes' steps are known (LaneNeeds::stand_for_later): the run goes ahead target by
+// target, keeping its state a little before each (ReferenceHistory::keep_step), and waits once
+// it has kept reference_ahead_states, passed the last target, diverged or been stopped. False
+// when stop() was called first.
+bool LaneWorker::run_ahead(Run& run, ReferenceHistory& history) {
+  TargetPlan::Cursor cursor(targets_);
+  Target target;
+  bool more = true;
+  for (;;) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      if (!more || history.size() >= reference_ahead_states(model_.num_particles) || run.diverged() || run.stopped())
+        changed_.wait(lock, [this] { return steps_known_ || stop_; });
+      if (stop_) return false;
+      if (steps_known_) return true;
+    }
+    if (history.empty()) history.keep(run.state());  // step 0: the first target's times replay from it
+    if (!(more = cursor.next(target))) continue;
+    const std::int64_t k = ReferenceHistory::keep_step(target.t, run.dt());
+    if (k <= run.state().step) continue;
+    if (run.advance_to(static_cast<double>(k) * run.dt()) && !run.stopped()) history.keep(run.state());
+  }
+}
+
+void LaneWorker::finish_reference(const Run& run, const ReferenceHistory& history) {
   std::lock_guard<std::mutex> lock(mutex_);
   result_.t = run.state().t;  // as far as it ran (past the last target where a lane stands past it)
   result_.totals = run.totals();
+  result_.totals.cpu_seconds += history.replay_cpu_seconds();  // what the early start cost
   result_.divergence = run.divergence();
 }
 
@@ -232,7 +299,7 @@ void LaneWorker::work() {
     run.set_stop_check([this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); });
     // CLOTHSIM_NEWTON_TRACE=1: implicit_euler's Newton trace on stderr (docs/integrators.md).
     if (std::getenv("CLOTHSIM_NEWTON_TRACE")) run.set_newton_trace([](const char* line) { std::fputs(line, stderr); });
-    if (needs_.stand_for.empty()) run_targets(run);
+    if (!reference_) run_targets(run);
     else serve_reference(run);
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -29,6 +29,8 @@
 
 namespace clothsim::cli {
 
+class ReferenceHistory;
+
 // What the pipeline's outputs need of every target; the rest is not computed.
 struct LaneNeeds {
   bool picture = false;    // the RenderFrame's geometry (make_render_frame)
@@ -40,8 +42,14 @@ struct LaneNeeds {
   // The reference lane: the steps (s) of the lanes it is compared with, in their order. At
   // each target it hands over, in LaneFrame::x_for, its positions at the time where a run of
   // each step lands (reference_stand.h: its own state, or interpolated between its steps),
-  // so each lane is measured at its own time; only those (no picture, metrics or x).
+  // so each lane is measured at its own time; only those (no picture, metrics or x), and with
+  // energy_every its own energy samples, as a lane's (one run serves the error and the inset).
   std::vector<double> stand_for;
+  // The reference started before the lanes' steps are chosen (compare's pilots): they come
+  // later (LaneWorker::stand_for); until then it runs ahead from t = 0, keeping a state a little
+  // before each target (at most reference_ahead_states) to replay the lanes' times from
+  // (reference_history.h), so the time the steps take to choose is not added to its own.
+  bool stand_for_later = false;
   double energy_every = 0.0;  // > 0: total energy sampled this often (s) between targets too,
                               // so an energy inset has a curve even in a still or a sheet
 };
@@ -73,6 +81,21 @@ struct LaneResult {
 
 // Frames a lane of a frame pipeline may compute ahead of the one being shown.
 inline constexpr std::size_t kLaneQueueCapacity = 4;
+// What the reference (LaneNeeds::stand_for), the slowest lane, may hold to run on rather than
+// wait: at most this many bytes of frames served ahead, and as many of states kept ahead.
+inline constexpr double kReferenceAheadBytes = 32.0 * 1024 * 1024;
+// Frames it may serve ahead: up to 32, about the first second's at 30 frames/s, so it goes on
+// while the pictures of the colour scale's first second, held until then, are rendered; within
+// kReferenceAheadBytes (a copy of the positions, 24 B a particle, per distinct lane step a
+// frame), never fewer than a lane's.
+std::size_t reference_queue_capacity(int particles, const std::vector<double>& lane_steps);
+// States it keeps before it knows the lanes' steps (LaneNeeds::stand_for_later), waiting for
+// them there: up to 64, within kReferenceAheadBytes (a State, 56 B a particle), at least 2.
+std::size_t reference_ahead_states(int particles);
+
+// Whether a reference started as `started` is the run `wanted` describes (the same method,
+// step as written and settings): only then may it serve in its place.
+bool same_run(const LaneSpec& started, const LaneSpec& wanted);
 
 class LaneWorker {
  public:
@@ -97,6 +120,11 @@ class LaneWorker {
   // on they are not served, and once no live lane can need a time the reference has not passed,
   // it stops running, even in the middle of an advance (ReferenceStand::horizon).
   void drop_lane(std::size_t lane);
+  // The reference started with LaneNeeds::stand_for_later: the compared lanes' steps, in their
+  // order (LaneNeeds::stand_for's meaning), the frames it may serve ahead from now on, and
+  // LaneNeeds::energy_every. Called once, before next() or drop_lane().
+  void stand_for(std::vector<double> lane_steps, std::size_t queue_capacity, double energy_every = 0.0);
+  const LaneSpec& spec() const { return spec_; }
   // Waits for the thread; then result() is final.
   void join();
   LaneResult result() const;
@@ -106,6 +134,9 @@ class LaneWorker {
   void push(LaneFrame frame);
   void run_targets(Run& run);
   void serve_reference(Run& run);
+  bool run_ahead(Run& run, ReferenceHistory& history);
+  void finish_reference(const Run& run, const ReferenceHistory& history);
+  void set_lane_steps(std::vector<double> lane_steps);
   LaneFrame frame_of(const Run& run, const State& state) const;
 
   const Model& model_;
@@ -114,8 +145,12 @@ class LaneWorker {
   LaneNeeds needs_;
   std::function<bool()> interrupt_;
   std::atomic<bool> stop_requested_{false};  // stop(), read by the run's per-step check
-  // The reference: lanes dropped (drop_lane), per stand_for lane, and how many in all, read by
-  // its thread between steps.
+  // The reference: the lanes' steps (LaneNeeds::stand_for, or stand_for() later, then known
+  // under mutex_); lanes dropped (drop_lane), per lane, and how many in all, read by its thread
+  // between steps.
+  const bool reference_;
+  std::vector<double> lane_steps_;
+  bool steps_known_ = false;
   std::unique_ptr<std::atomic<bool>[]> dropped_;
   std::atomic<int> drops_{0};
   std::size_t capacity_;
