@@ -126,7 +126,7 @@ ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const
 }
 
 // The iterative solvers' blocks: `xpbd: {iterations}`, `projective_dynamics: {iterations,
-// chebyshev_rho}`, `vbd: {iterations}` (solver_params.h holds the defaults).
+// chebyshev_rho}`, `vbd: {iterations, chebyshev_rho}` (solver_params.h holds the defaults).
 void Reader::solvers(const YAML::Node& root, SolverDefs& d) const {
   const auto count = [&](const YAML::Node& v, const std::string& k) {
     return int_in_range(v, k, 1, kMaxSolverIterations);
@@ -143,8 +143,9 @@ void Reader::solvers(const YAML::Node& root, SolverDefs& d) const {
     });
   });
   optional(root, "", "vbd", [&](auto& n, auto& k) {
-    expect_map(n, k, {"iterations"});
+    expect_map(n, k, {"iterations", "chebyshev_rho"});
     optional(n, k, "iterations", [&](auto& v, auto& kk) { d.vbd.iterations = count(v, kk); });
+    optional(n, k, "chebyshev_rho", [&](auto& v, auto& kk) { d.vbd.chebyshev_rho = in_range(v, kk, 0.0, 0.9999); });
   });
 }
 

@@ -103,12 +103,13 @@ TEST(SceneParser, WrongTypeIsAnErrorWithItsLine) {
 
 TEST(SceneParser, SolverBlocksSetIterationsAndRefuseBadCounts) {
   const SceneDef s = parse_scene("cloth: {particles: [3, 3]}\nxpbd: {iterations: 4}\n"
-                                 "projective_dynamics: {iterations: 7, chebyshev_rho: 0.9}\nvbd: {iterations: 3}\n",
+                                 "projective_dynamics: {iterations: 7, chebyshev_rho: 0.9}\nvbd: {iterations: 3, chebyshev_rho: 0.8}\n",
                                  "ok.yaml");
   EXPECT_EQ(s.solvers.xpbd.iterations, 4);
   EXPECT_EQ(s.solvers.projective_dynamics.iterations, 7);
   EXPECT_EQ(s.solvers.projective_dynamics.chebyshev_rho, 0.9);
   EXPECT_EQ(s.solvers.vbd.iterations, 3);
+  EXPECT_EQ(s.solvers.vbd.chebyshev_rho, 0.8);
   EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\n", "ok.yaml").solvers.vbd.iterations, 10);
   struct Case { const char* yaml; const char* key; };
   const Case cases[] = {
@@ -117,6 +118,7 @@ TEST(SceneParser, SolverBlocksSetIterationsAndRefuseBadCounts) {
       {"cloth: {particles: [3, 3]}\nvbd: {iterations: many}\n", "vbd.iterations"},
       {"cloth: {particles: [3, 3]}\nvbd: {iterations: 1000001}\n", "vbd.iterations"},
       {"cloth: {particles: [3, 3]}\nprojective_dynamics: {chebyshev_rho: 1}\n", "projective_dynamics.chebyshev_rho"},
+      {"cloth: {particles: [3, 3]}\nvbd: {chebyshev_rho: -0.1}\n", "vbd.chebyshev_rho"},
       {"cloth: {particles: [3, 3]}\nxpbd: {substeps: 3}\n", "xpbd.substeps"},
   };
   for (const Case& c : cases) {

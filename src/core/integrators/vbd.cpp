@@ -4,6 +4,8 @@
 // vbd_kernels.h); v = (y - x_n)/h. G is implicit_euler's Phi (the seed's dampers as
 // (kd/h)(l - ln)), so converged VBD is backward Euler; contacts are hard constraints on
 // implicit_euler's held planes (solvers/vbd_kernels.h's vbd_hold), not the paper's penalty.
+// With vbd.chebyshev_rho > 0, the paper's accelerated iterations (Wang 2015's Chebyshev
+// weights) over the free vertices off the colliders.
 #include "integrator.h"
 #include "core/forces.h"
 #include "core/solvers/solver_cache.h"
@@ -12,13 +14,28 @@
 namespace clothsim {
 namespace {
 
+// The paper's accelerated iterations on the spring graph's iterate (as vbd_grid_accelerate).
+void accelerate_graph(const Model& model, SolverCache& c, int k, double omega) {
+  if (k >= 2)
+    for (int i = 0; i < model.num_particles; ++i) {
+      const VbdContact& contact = c.vbd_contacts[static_cast<std::size_t>(i)];
+      if (c.problem.weight[i] > 0.0 && !contact.planed && !contact.held)
+        c.y.col(i) = omega * (c.y.col(i) - c.y_before.col(i)) + c.y_before.col(i);
+    }
+  std::swap(c.y_before, c.y_next);
+}
+
 // On a grid: the particles' sweeps in SIMD over the grid's nine colours, then the other
 // bodies' (dynamic spheres: no springs, so no coupling within the step).
 // The observer sees the particles' iterate in y (the sweeps keep it in the grid's arrays).
 void sweep_grid(const Model& model, int iterations, SolverCache& c, const Workspace& ws) {
+  const double rho = model.solvers.vbd.chebyshev_rho;
+  double omega = 1.0;
   vbd_load_grid(model, c.problem, c.y, c.vbd_grid);
   for (int it = 0; it < iterations; ++it) {
+    if (rho > 0.0) vbd_grid_remember(c.vbd_grid, it + 1);
     vbd_grid_sweep(model, c.problem, c.vbd_grid);
+    if (rho > 0.0) vbd_grid_accelerate(c.vbd_grid, it + 1, omega = chebyshev_omega(it + 1, rho, omega));
     if (!ws.on_iteration) continue;
     vbd_store_grid(model, c.vbd_grid, c.y);
     ws.on_iteration(it + 1, c.y);
@@ -27,6 +44,19 @@ void sweep_grid(const Model& model, int iterations, SolverCache& c, const Worksp
   const Eigen::VectorXd& a = c.problem.weight;
   if ((a.tail(model.num_bodies() - model.num_particles).array() > 0.0).any())  // a dynamic sphere
     for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts, model.num_particles);
+}
+
+// Elsewhere: the greedy colouring's scalar sweeps over every body.
+void sweep_graph(const Model& model, int iterations, SolverCache& c, const Workspace& ws) {
+  const double rho = model.solvers.vbd.chebyshev_rho;
+  double omega = 1.0;
+  if (rho > 0.0) c.y_before = c.y;
+  for (int it = 0; it < iterations; ++it) {
+    if (rho > 0.0) c.y_next = c.y;
+    vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts);
+    if (rho > 0.0) accelerate_graph(model, c, it + 1, omega = chebyshev_omega(it + 1, rho, omega));
+    if (ws.on_iteration) ws.on_iteration(it + 1, c.y);
+  }
 }
 
 }  // namespace
@@ -44,10 +74,7 @@ StepStats vbd_step(const Model& model, State& state, double h, Workspace& ws) {
   if (vbd_by_grid(model))
     sweep_grid(model, iterations, c, ws);
   else
-    for (int it = 0; it < iterations; ++it) {
-      vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts);
-      if (ws.on_iteration) ws.on_iteration(it + 1, c.y);
-    }
+    sweep_graph(model, iterations, c, ws);
   stats.newton_iterations = iterations;
   finish_step(c.problem, c.y, state);
   return stats;

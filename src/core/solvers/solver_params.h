@@ -17,7 +17,8 @@ struct ProjectiveDynamicsDef {
 };
 
 struct VbdDef {
-  int iterations = 10;  // Gauss-Seidel sweeps over the vertex colouring per step
+  int iterations = 10;         // Gauss-Seidel sweeps over the vertex colouring per step
+  double chebyshev_rho = 0.0;  // Chen et al. 2024's accelerated iterations (Wang 2015's weights); 0 = off
 };
 
 struct SolverDefs {

@@ -238,6 +238,24 @@ void vbd_grid_sweep(const Model& model, const StepProblem& p, VbdGrid& g) {
       HWY_DYNAMIC_DISPATCH(SweepColour)(ColourSweep{&g, stiffness, &p, &g, g.y.data(), ci, cj});
 }
 
+void vbd_grid_remember(VbdGrid& g, int k) {
+  if (k == 1) g.y_before = g.y;  // y_0, the first guess
+  g.y_next = g.y;                // y_{k-1}
+}
+
+void vbd_grid_accelerate(VbdGrid& g, int k, double omega) {
+  const std::size_t total = 9 * g.block;
+  if (k >= 2)
+    for (std::size_t v = 0; v < total; ++v) {
+      if (!(g.weight[v] > 0.0) || g.contact[v].planed || g.held[v] > 0.0) continue;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const std::size_t at = c * total + v;
+        g.y[at] = omega * (g.y[at] - g.y_before[at]) + g.y_before[at];
+      }
+    }
+  std::swap(g.y_before, g.y_next);  // y_{k-1} is the next sweep's y_{k-2}
+}
+
 void vbd_store_grid(const Model& model, const VbdGrid& g, Eigen::Matrix3Xd& y) {
   const std::size_t total = 9 * g.block;
   for (int i = 0; i < model.num_particles; ++i)

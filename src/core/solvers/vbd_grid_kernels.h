@@ -39,6 +39,7 @@ struct VbdGrid {
   std::vector<double> rest;                    // (12 x 9 block) blended rest length, -1: none
   std::vector<double> held;                    // (9 block) 1 where the last step held a vertex
   std::vector<VbdContact> contact;             // (9 block) each vertex's contact (vbd_kernels.h)
+  std::vector<double> y_before, y_next;        // (3 x 9 block) the accelerated iterations' y_{k-2}, y_{k-1}
 };
 
 // True when VBD's grid sweep applies (every spring in the layout's families, P = nx ny).
@@ -49,6 +50,13 @@ void vbd_load_grid(const Model& model, const StepProblem& p, const Eigen::Matrix
 
 // One sweep over the nine colours (particles only; other bodies are the caller's).
 void vbd_grid_sweep(const Model& model, const StepProblem& p, VbdGrid& g);
+
+// Chen et al. 2024's accelerated iterations, after sweep k (from 1) with weight omega:
+// y = omega (y - y_{k-2}) + y_{k-2} from k = 2 on, over the free vertices off the colliders
+// (an extrapolated vertex on its held plane would cross it); g.y_before and g.y_next carry the
+// iterates. vbd_grid_remember(g) before each sweep keeps y_{k-1}.
+void vbd_grid_remember(VbdGrid& g, int k);
+void vbd_grid_accelerate(VbdGrid& g, int k, double omega);
 
 // The particles' iterate back into y (3 x B).
 void vbd_store_grid(const Model& model, const VbdGrid& g, Eigen::Matrix3Xd& y);

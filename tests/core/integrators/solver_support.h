@@ -110,8 +110,10 @@ inline void expect_reaches_backward_euler_without_contact(IntegratorKind kind, d
 // On the drape lying on the ball at 1/60 s (t = 0.9 s), `kind` reaches the converged
 // backward-Euler step, contacts held on implicit_euler's planes, to 1e-6 relative at
 // `iterations` (grid = false: the model without its spring layout, the solvers' scalar paths).
-inline void expect_reaches_backward_euler_with_contact(IntegratorKind kind, int iterations, bool grid = true) {
+inline void expect_reaches_backward_euler_with_contact(IntegratorKind kind, int iterations, bool grid = true,
+                                                       double vbd_rho = 0.0) {
   Model model = build_model(load_scene(scene_path("drape.yaml")));
+  model.solvers.vbd.chebyshev_rho = vbd_rho;
   model.implicit.newton_tolerance = 1e-12;
   model.implicit.newton_max_iterations = 200;
   clothsim::Run run(model, IntegratorKind::ImplicitEuler, 1.0 / 60.0);
