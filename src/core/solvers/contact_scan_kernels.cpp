@@ -20,7 +20,6 @@ namespace hn = hwy::HWY_NAMESPACE;
 using D = hn::ScalableTag<double>;
 using V = hn::Vec<D>;
 
-
 HWY_INLINE void Collect(const D d, hn::Mask<D> inside, std::size_t first, std::size_t n,
                         std::vector<std::int32_t>& out) {
   if (hn::AllFalse(d, inside)) return;

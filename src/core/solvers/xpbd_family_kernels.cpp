@@ -36,7 +36,6 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::ScalableTag<double>;
-
 using V = hn::Vec<D>;
 
 // The family's constants for one step: alpha~^-1 = ks h^2, kd h, and their sum.
