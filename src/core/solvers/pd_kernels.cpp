@@ -148,14 +148,6 @@ void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, E
   update_contact_forces(model, p, f, y, s, lambda);
 }
 
-void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z) {
-  Eigen::Matrix4Xd padded(4, z.cols());
-  padded.topRows<3>() = z;
-  padded.row(3).setZero();  // the pad lane, computed and dropped
-  ldlt_solve_padded(f.panels, padded.data());
-  z = padded.topRows<3>();
-}
-
 double chebyshev_omega(int k, double rho, double previous) {
   if (k <= 1) return 1.0;
   if (k == 2) return 2.0 / (2.0 - rho * rho);

@@ -69,10 +69,6 @@ void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f
 void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, Eigen::Matrix3Xd& y,
                   PdSystem& s, std::vector<double>& lambda);
 
-// z <- (L D L^T)^-1 z for the three columns at once (z in the factor's row order), in SIMD
-// on rows padded to four lanes (pd_solve_kernels.h).
-void pd_solve_in_place(const PdFactor& f, Eigen::Matrix3Xd& z);
-
 // Wang 2015's Chebyshev weights: omega_1 = 1, omega_2 = 2 / (2 - rho^2),
 // omega_{k+1} = 4 / (4 - rho^2 omega_k).
 double chebyshev_omega(int k, double rho, double previous);

@@ -1,8 +1,5 @@
 #include "solver_support.h"
 
-#include "core/kernel_test_support.h"
-#include "core/solvers/solver_cache.h"
-
 namespace clothsim::testing {
 namespace {
 
@@ -49,43 +46,6 @@ TEST(ProjectiveDynamics, TheFamilyLocalStepGivesTheSpringListsStep) {
   const State list = one_step(listed, start, kPd, kH);
   EXPECT_LT((families.x - list.x).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_GT((families.x - start.x).cwiseAbs().maxCoeff(), 1e-3);  // it moved
-}
-
-// The three columns solved together in one sweep each way, against Eigen's solve.
-TEST(ProjectiveDynamics, TheFusedSolveIsTheFactorsSolve) {
-  const Model model = free_sheet();
-  State s = initial_state(model);
-  Workspace ws;
-  step(model, s, kPd, kH, ws);
-  const PdFactor& f = solver_cache(ws).pd;
-  const Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(f.ldlt.rows(), 3);
-  const Eigen::MatrixX3d expected = f.ldlt.solve(b);
-  Eigen::Matrix3Xd z(3, b.rows());
-  for (std::size_t i = 0; i < f.row.size(); ++i)
-    if (f.row[i] >= 0) z.col(f.row[i]) = b.row(f.free_index[i]).transpose();
-  pd_solve_in_place(f, z);
-  double worst = 0.0;
-  for (std::size_t i = 0; i < f.row.size(); ++i)
-    if (f.row[i] >= 0) worst = std::max(worst, (z.col(f.row[i]) - expected.row(f.free_index[i]).transpose()).norm());
-  EXPECT_LT(worst, 1e-12 * expected.cwiseAbs().maxCoeff());
-}
-
-// A vector per padded row (AVX2, AVX-512), two lanes twice (SSE) or one lane thrice (SCALAR):
-// the same operations in the same order, so the same bits.
-TEST(ProjectiveDynamics, TheSolveGivesTheSameBitsOnEveryHighwayTarget) {
-  const Model model = free_sheet();
-  State s = initial_state(model);
-  Workspace ws;
-  step(model, s, kPd, kH, ws);
-  const PdFactor& f = solver_cache(ws).pd;
-  const Eigen::Matrix3Xd b = random_field(static_cast<int>(f.ldlt.rows()), 3);
-  Eigen::Matrix3Xd first;
-  RecordProperty("targets", for_each_highway_target([&](const char* target) {
-    Eigen::Matrix3Xd z = b;
-    pd_solve_in_place(f, z);
-    if (first.size() == 0) first = z;
-    EXPECT_TRUE(z == first) << target;
-  }));
 }
 
 TEST(ProjectiveDynamics, FactorsOnceForAFixedStepAndPinSet) {
