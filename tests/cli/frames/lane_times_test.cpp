@@ -42,6 +42,18 @@ TEST(LaneTimes, FindsAStepOnlyWithinRoundingOfItsTime) {
   EXPECT_EQ(step_at(0.20021, 1e-4), -1);
 }
 
+// Samples every 0.1 s up to each target, none at or past it (the target's own is the
+// frame's), counting on across targets; a target within rounding of a sample takes it.
+TEST(LaneTimes, EnergySamplesFallBelowEachTargetAndCountOn) {
+  long sample = 0;
+  EXPECT_EQ(energy_samples_before(0.25, 0.1, sample), (std::vector<double>{0.0, 0.1, 0.2}));
+  EXPECT_EQ(sample, 3);
+  EXPECT_EQ(energy_samples_before(0.3 + 1e-12, 0.1, sample), std::vector<double>{});
+  EXPECT_EQ(sample, 3);
+  EXPECT_EQ(energy_samples_before(0.5, 0.1, sample).size(), 2u);  // 0.3 and 0.4
+  EXPECT_EQ(sample, 5);
+}
+
 TEST(LaneTimes, HermiteInterpolationIsExactOnCubicsAndMeetsItsEnds) {
   // x(t) = a + b t + c t^2 + d t^3 per coordinate, v = x'.
   const double a[3] = {0.3, -1.0, 2.0}, b[3] = {1.5, 0.0, -4.0}, c[3] = {-9.8, 2.0, 0.5}, d[3] = {3.0, -7.0, 1.0};

@@ -82,9 +82,7 @@ void ReferenceStand::add(const Target& target) {
   pending_.emplace_back(target, std::move(slots));
   if (!(energy_every_ > 0.0)) return;
   std::vector<std::shared_ptr<EnergySlot>> samples;  // as LaneWorker::run_targets samples a lane
-  for (double ts = static_cast<double>(sample_) * energy_every_; ts < target.t - 1e-9;
-       ts = static_cast<double>(++sample_) * energy_every_)
-    samples.push_back(ask_energy(ts));
+  for (double ts : energy_samples_before(target.t, energy_every_, sample_)) samples.push_back(ask_energy(ts));
   samples.push_back(ask_energy(target.t));
   pending_energy_.push_back(std::move(samples));
 }

@@ -29,4 +29,11 @@ void hermite_positions(const std::vector<double>& xa, const std::vector<double>&
   for (std::size_t i = 0; i < xa.size(); ++i) out[i] = h00 * xa[i] + h10 * va[i] + h01 * xb[i] + h11 * vb[i];
 }
 
+std::vector<double> energy_samples_before(double t, double every, long& sample) {
+  std::vector<double> times;
+  for (double ts = static_cast<double>(sample) * every; ts < t - 1e-9; ts = static_cast<double>(++sample) * every)
+    times.push_back(ts);
+  return times;
+}
+
 }  // namespace clothsim::cli

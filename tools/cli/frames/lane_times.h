@@ -22,6 +22,11 @@ std::int64_t landing_step(double target, double h, std::int64_t from);
 // Returns the step, or -1.
 std::int64_t step_at(double t, double h);
 
+// An energy inset's samples before a target at time t, every `every` s: the times
+// sample * every from the next `sample` on, below t (less 1e-9); `sample` moves past them. A
+// lane and the reference standing in for the inset's (reference_stand.h) sample alike.
+std::vector<double> energy_samples_before(double t, double every, long& sample);
+
 // out = the cubic Hermite interpolant at t of positions xa (velocities va) at ta and xb (vb) at
 // tb > ta, ta <= t <= tb; all of one length.
 void hermite_positions(const std::vector<double>& xa, const std::vector<double>& va, double ta,

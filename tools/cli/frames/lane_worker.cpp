@@ -8,6 +8,7 @@
 
 #include "cli/compare/reference_history.h"
 #include "cli/compare/reference_stand.h"
+#include "lane_times.h"
 #include "core/diagnostics.h"
 #include "view/snapshot.h"
 
@@ -250,11 +251,10 @@ void LaneWorker::run_targets(Run& run) {
     // t >= target), so the energy curve costs a pass over the bodies per sample, no more.
     bool ok = true;
     if (needs_.energy_every > 0.0) {
-      for (double ts = static_cast<double>(sample) * needs_.energy_every; ts < target.t - 1e-9 && ok;
-           ts = static_cast<double>(++sample) * needs_.energy_every) {
+      for (double ts : energy_samples_before(target.t, needs_.energy_every, sample)) {
         ok = run.advance_to(ts);
-        if (run.stopped()) break;
-        if (ok) record_energy();
+        if (!ok || run.stopped()) break;
+        record_energy();
       }
       if (run.stopped()) break;
     }
