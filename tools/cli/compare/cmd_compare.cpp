@@ -188,8 +188,8 @@ void check_paths(const CompareOptions& o, const ComparePlan& p) {
     for (const std::string& d : p.lane_dirs) refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
 }
 
-// Every lane's steps, and the reference's, bounded like the scene's; the grid within the picture.
-void check_bounds(ComparePlan& p) {
+// Every lane's steps, and the reference's, bounded like the scene's.
+void check_step_bounds(const ComparePlan& p) {
   for (const LaneSpec& l : p.lanes) {
     const std::string too_long = run_bounds_problem(p.scene.duration, l.dt, p.scene.render.fps);
     if (!too_long.empty()) throw UsageError("--dt (" + l.spelling() + "): " + too_long);
@@ -200,6 +200,10 @@ void check_bounds(ComparePlan& p) {
       throw UsageError("--reference (" + p.look.reference->spelling() +
                        ", for --color error): " + too_long + "; give --reference NAME@STEP or --color checker");
   }
+}
+
+// The grid within the picture.
+void fit_grid(ComparePlan& p) {
   try {  // the whole picture's: the tiles and, when coloured, the colour bar's strip
     const LegendGrid fitted = fit_legend_grid(p.layout, p.scene.render.width, p.scene.render.height,
                                               p.rendering ? p.look.color : FieldKind::None);
@@ -210,12 +214,18 @@ void check_bounds(ComparePlan& p) {
   }
 }
 
+// Whether the error's reference may start before the steps are chosen (start_reference_early).
+bool starts_reference_early(const CompareOptions& o, const PictureLook& look) {
+  return parse_match(o.match).kind != MatchKind::Error && look.color == FieldKind::Error && look.reference;
+}
+
 // Peak memory, estimated and checked before the renderer or the encoder exist: one Model (and
 // a copy per fixed-point lane), a run per lane and the reference, the renderer at tile size,
 // the tiles, the grid, the PNG writers' queues (3 tiles each), the contact sheet's cells, the
 // first second held for the colour scale, and the encoder.
 void check_memory(const CompareOptions& o, const ComparePlan& p) {
   const SceneDef& scene = p.scene;
+  const int particles = scene.cloth.nx * scene.cloth.ny;
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
   for (const SceneDef& s : p.vary_scenes) budget.add("model for --vary", model_bytes(s));
@@ -226,14 +236,13 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
     std::vector<double> steps;
     for (const LaneSpec& l : p.lanes) steps.push_back(l.dt);
     budget.add("reference positions at the lanes' times",
-               reference_positions_bytes(scene, steps, *p.targets, reference_queue_capacity(p.model->num_particles, steps)));
+               reference_positions_bytes(scene, steps, *p.targets, reference_queue_capacity(particles, steps)));
   }
   if (p.look.reference && p.look.inset_energy && p.look.color != FieldKind::Error)  // else the error's run
     budget.add("reference for the energy inset", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
-  if (p.early_reference)
+  if (starts_reference_early(o, p.look))
     budget.add("reference states kept while the steps are chosen",
-               static_cast<double>(reference_ahead_states(p.model->num_particles)) *
-                   final_state_bytes(scene, p.early_reference->spec().kind));
+               static_cast<double>(reference_ahead_states(particles)) * final_state_bytes(scene, p.look.reference->kind));
   const TileGrid& grid = *p.grid;
   if (p.rendering) {
     const double n = static_cast<double>(p.lanes.size());
@@ -293,7 +302,7 @@ void plan_targets(const CompareOptions& o, ComparePlan& p, const PictureLook& lo
 // ones). It runs ahead until the pipeline gives it the lanes' steps; keep_early_reference
 // drops it should matching change it after all. Not under --match error (another reference).
 void start_reference_early(const CompareOptions& o, ComparePlan& p, PictureLook look) {
-  if (parse_match(o.match).kind == MatchKind::Error || look.color != FieldKind::Error || !look.reference) return;
+  if (!starts_reference_early(o, look)) return;
   try {
     fit_reference_to_model(look, *p.model, p.scene, p.lanes);
   } catch (const UsageError&) {
@@ -372,6 +381,9 @@ void plan_compare(const CompareOptions& o, ComparePlan& p) {
   const PictureLook unmatched = resolve_look(o, p);  // bad --color, --camera, ... before any pilot runs
   check_paths(o, p);
   plan_targets(o, p, unmatched);
+  p.look = unmatched;  // the memory a run needs is the same whatever steps matching chooses
+  fit_grid(p);
+  check_memory(o, p);  // before the models, the pilots and the early reference take any
   p.model.emplace(build_model(p.scene));
   for (const SceneDef& s : p.vary_scenes) p.vary_models.push_back(build_model(s));
   if (!p.vary_models.empty())  // lanes row by row, a value per column
@@ -387,8 +399,9 @@ void plan_compare(const CompareOptions& o, ComparePlan& p) {
     p.look.reference = p.error_reference;
     p.look.reference_is_default = false;
   }  // the reference's step follows the lanes'
-  check_bounds(p);
-  check_memory(o, p);
+  check_step_bounds(p);
+  fit_grid(p);
+  check_memory(o, p);  // again with the steps chosen (the reference's positions per distinct step)
   fit_reference_to_model(p.look, *p.model, p.scene, p.lanes);
   keep_early_reference(p);
 }
