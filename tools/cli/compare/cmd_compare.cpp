@@ -188,20 +188,6 @@ void check_paths(const CompareOptions& o, const ComparePlan& p) {
     for (const std::string& d : p.lane_dirs) refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
 }
 
-// Every lane's steps, and the reference's, bounded like the scene's.
-void check_step_bounds(const ComparePlan& p) {
-  for (const LaneSpec& l : p.lanes) {
-    const std::string too_long = run_bounds_problem(p.scene.duration, l.dt, p.scene.render.fps);
-    if (!too_long.empty()) throw UsageError("--dt (" + l.spelling() + "): " + too_long);
-  }
-  if (p.look.reference) {
-    const std::string too_long = run_bounds_problem(p.scene.duration, p.look.reference->dt, p.scene.render.fps);
-    if (!too_long.empty())
-      throw UsageError("--reference (" + p.look.reference->spelling() +
-                       ", for --color error): " + too_long + "; give --reference NAME@STEP or --color checker");
-  }
-}
-
 // The grid within the picture.
 void fit_grid(ComparePlan& p) {
   try {  // the whole picture's: the tiles and, when coloured, the colour bar's strip
@@ -399,7 +385,7 @@ void plan_compare(const CompareOptions& o, ComparePlan& p) {
     p.look.reference = p.error_reference;
     p.look.reference_is_default = false;
   }  // the reference's step follows the lanes'
-  check_step_bounds(p);
+  check_step_bounds(p.scene, p.lanes, p.look.reference);
   fit_grid(p);
   check_memory(o, p);  // again with the steps chosen (the reference's positions per distinct step)
   fit_reference_to_model(p.look, *p.model, p.scene, p.lanes);

@@ -7,6 +7,7 @@
 
 #include "cli/common/cli_common.h"
 #include "scene/echo.h"
+#include "scene/run_bounds.h"
 
 namespace clothsim::cli {
 
@@ -179,6 +180,19 @@ Variation parse_vary(const std::string& text, const SceneDef& scene) {
     v.values.push_back(*value);
   }
   return v;
+}
+
+void check_step_bounds(const SceneDef& scene, const std::vector<LaneSpec>& lanes,
+                       const std::optional<LaneSpec>& reference) {
+  for (const LaneSpec& l : lanes) {
+    const std::string too_long = run_bounds_problem(scene.duration, l.dt, scene.render.fps);
+    if (!too_long.empty()) throw UsageError("--dt (" + l.spelling() + "): " + too_long);
+  }
+  if (!reference) return;
+  const std::string too_long = run_bounds_problem(scene.duration, reference->dt, scene.render.fps);
+  if (!too_long.empty())
+    throw UsageError("--reference (" + reference->spelling() + ", for --color error): " + too_long +
+                     "; give --reference NAME@STEP or --color checker");
 }
 
 }  // namespace clothsim::cli

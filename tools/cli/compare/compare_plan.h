@@ -3,9 +3,11 @@
 // Every function throws UsageError with a one-line message naming the option.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "cli/common/lanes.h"
 #include "core/integrators/integrator_kind.h"
 #include "scene/param_keys.h"
 #include "scene/scene_def.h"
@@ -85,5 +87,10 @@ struct Variation {
   std::vector<double> values;
 };
 Variation parse_vary(const std::string& text, const SceneDef& scene);
+
+// Every lane's step, and the error reference's, bounded like the scene's (scene/run_bounds.h):
+// UsageError naming --dt or --reference.
+void check_step_bounds(const SceneDef& scene, const std::vector<LaneSpec>& lanes,
+                       const std::optional<LaneSpec>& reference);
 
 }  // namespace clothsim::cli
