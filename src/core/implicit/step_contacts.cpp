@@ -35,11 +35,8 @@ Candidate nearest_collider(const Model& model, const State& start, double h, con
     const double reach = model.sphere_radius[s] + margin;
     const double gap = (at - centre).norm() - reach;
     if (gap >= best.gap) continue;
-    const Vec3 out = from - centre;
-    const double len = out.norm();
     best.collider = s;
-    best.normal = len > 1e-12 ? Vec3(out / len) : Vec3::UnitY();
-    best.plane = best.normal.dot(centre) + reach + kContactClearance;
+    sphere_held_plane(centre, reach, from, best.normal, best.plane);
     best.gap = gap;
   }
   if (model.has_ground) {

@@ -37,6 +37,17 @@ namespace clothsim {
 // (which acts below it) does not count rounding as a missed contact.
 constexpr double kContactClearance = 1e-9;  // m
 
+// The plane n . y = plane a particle starting at `from` is held on against a sphere (its
+// end-of-step centre and reach): n from the centre towards `from`, so a particle that would
+// pass into the sphere is held on the side it came from; at reach + kContactClearance. The
+// iterative solvers hold contacts with the same (solvers/step_problem.h's held_plane).
+inline void sphere_held_plane(const Vec3& centre, double reach, const Vec3& from, Vec3& normal, double& plane) {
+  const Vec3 out = from - centre;
+  const double len = out.norm();
+  normal = len > 1e-12 ? Vec3(out / len) : Vec3(Vec3::UnitY());
+  plane = normal.dot(centre) + reach + kContactClearance;
+}
+
 struct StepContacts {
   VelocityFilter filter;          // (C) held bodies and their normals
   std::vector<double> plane;      // (C) n . y at the held position, m

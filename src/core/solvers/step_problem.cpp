@@ -84,10 +84,7 @@ void held_plane(const Colliders& c, const Vec3& from, const Vec3& y, Vec3& norma
   for (std::size_t k = 0; k < c.centre.size(); ++k) {
     const double gap = (y - c.centre[k]).norm() - c.reach[k];
     if (gap >= best) continue;
-    const Vec3 out = from - c.centre[k];
-    const double len = out.norm();
-    normal = len > 1e-12 ? Vec3(out / len) : Vec3(Vec3::UnitY());
-    plane = normal.dot(c.centre[k]) + c.reach[k] + kHeldClearance;
+    sphere_held_plane(c.centre[k], c.reach[k], from, normal, plane);
     best = gap;
   }
   if (c.ground && y.y() - c.ground_reach < best) normal = Vec3::UnitY(), plane = c.ground_reach + kHeldClearance;

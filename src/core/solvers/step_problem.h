@@ -59,8 +59,8 @@ void for_each_penetration(const Colliders& c, const Vec3& y, Visit&& visit) {
 
 // implicit_euler's held plane n . y = plane for a particle that starts at `from` and is at y
 // (step_contacts.cpp's nearest_collider): the nearest collider at y; for a sphere, normal to
-// the line from its end-of-step centre to `from`, at reach + kHeldClearance from the centre;
-// for the ground, up, at its reach + kHeldClearance.
+// the line from its end-of-step centre to `from`, at reach + kHeldClearance from the centre
+// (step_contacts.h's sphere_held_plane, shared); for the ground, up, at its reach + kHeldClearance.
 void held_plane(const Colliders& c, const Vec3& from, const Vec3& y, Vec3& normal, double& plane);
 
 // implicit_euler's clearance beyond the reach (step_contacts.h's kContactClearance).
