@@ -43,6 +43,37 @@ while IFS= read -r f; do
   done < <(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$f")
 done < <(find src render tools -name '*.h' -o -name '*.cpp' | sort)
 
+# Floors inside core (src/core/floors.txt): no include runs up a floor.
+declare -A floor_of_entry=()
+floor_names=()
+while read -r name entries; do
+  [[ -z $name || $name == \#* ]] && continue
+  floor_names+=("$name")
+  for e in $entries; do floor_of_entry[$e]=${#floor_names[@]}; done
+done < src/core/floors.txt
+core_floor() {  # $1: a path relative to src/core; prints its floor number, or nothing
+  local rel=$1 stem
+  for e in "${!floor_of_entry[@]}"; do
+    [[ $e == */ && $rel == "$e"* ]] && { echo "${floor_of_entry[$e]}"; return; }
+  done
+  stem=${rel%-inl.h}; stem=${stem%.h}; stem=${stem%.cpp}
+  echo "${floor_of_entry[$stem]:-}"
+}
+while IFS= read -r f; do
+  rel=${f#src/core/}
+  own=$(core_floor "$rel")
+  if [[ -z $own ]]; then say "$f is on no floor of src/core/floors.txt"; continue; fi
+  while IFS= read -r inc; do
+    [[ -z $inc ]] && continue
+    if [[ $inc == core/* ]]; then target=${inc#core/}
+    elif [[ $inc != */* ]]; then target=$(dirname "$rel")/$inc; target=${target#./}
+    else continue; fi
+    to=$(core_floor "$target")
+    [[ -n $to ]] && ((to > own)) &&
+      say "$f (floor ${floor_names[own-1]}) includes \"$inc\" (floor ${floor_names[to-1]}): an include runs up a floor"
+  done < <(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$f")
+done < <(find src/core -name '*.h' -o -name '*.cpp' | sort)
+
 while read -r n f; do
   [[ $f == total ]] && continue
   ((n > 600)) && say "$f has $n lines (at most 600)"

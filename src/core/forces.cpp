@@ -63,7 +63,7 @@ double scalar_spring_pass(const Springs& springs, const Eigen::Matrix3Xd& x,
 double accumulate_spring_forces(const Model& model, const Eigen::Matrix3Xd& x,
                                 const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
   const SpringLayout& layout = model.spring_layout;
-  if (!layout.covers(model.springs.size())) return scalar_spring_pass(model.springs, x, v, f) - 1.0;
+  if (model.spring_path() == SpringPath::List) return scalar_spring_pass(model.springs, x, v, f) - 1.0;
   const double ratio = accumulate_family_spring_forces(layout, x, v, f);
   return sticky_max(ratio, scalar_spring_pass(layout.others, x, v, f)) - 1.0;  // x - 1 is monotone
 }
@@ -102,7 +102,7 @@ double forces_with_body_terms(const Model& model, const Eigen::Matrix3Xd& x, con
   const SpringLayout& layout = model.spring_layout;
   std::size_t first = 0;  // bodies below it are done
   double strain;
-  if (layout.covers(model.springs.size()) && layout.others.size() == 0) {
+  if (model.spring_path() == SpringPath::Families) {
     f.resize(3, model.num_bodies());
     strain = family_forces_with_body_terms(layout, x, v, in, f, first) - 1.0;
     f.rightCols(model.num_bodies() - static_cast<Eigen::Index>(first)).setZero();

@@ -14,9 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "core/integrators/integrator_kind.h"
 #include "core/model_params.h"
-#include "core/solvers/solver_params.h"
+#include "core/method_params.h"
 #include "core/springs/spring_layout.h"
 #include "core/springs/springs.h"
 
@@ -63,13 +62,14 @@ struct Model {
   std::vector<std::uint32_t> triangles;  // (3 x T) cloth triangles for rendering, CCW seen from +normal
 
   double duration = 0.0, dt = 0.0;
-  IntegratorKind integrator = IntegratorKind::SymplecticEuler;
+  IntegratorKind integrator = kDefaultIntegrator;
   ImplicitDef implicit;
   SolverDefs solvers;  // xpbd, projective_dynamics, vbd options
   DivergenceDef divergence;
   double energy_scale = 1.0;  // J, what kinetic energy is compared with to call a run diverged
 
   int num_bodies() const { return num_particles + num_spheres; }
+  SpringPath spring_path() const { return clothsim::spring_path(spring_layout, springs.size(), num_particles); }
   int sphere_body(int s) const { return num_particles + s; }
 };
 

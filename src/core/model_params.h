@@ -23,6 +23,14 @@ struct CollisionDef {
 
 enum class ImplicitSolver { Newton, FixedPoint };
 
+// How implicit_euler's Newton solve runs. A scene or lane asks for Baraff & Witkin's step with
+// an iteration count of 1 (`newton_max_iterations: 1`, `implicit_euler@1/60:1`); the solver
+// reads the mode, never the count.
+enum class NewtonMode {
+  Converged,     // globalised Newton on the exact Hessian to newton_tolerance
+  BaraffWitkin,  // Baraff & Witkin 1998: one linearised step on the projected Hessian, taken whole
+};
+
 struct ImplicitDef {
   ImplicitSolver solver = ImplicitSolver::Newton;
   // Per step; 1 = Baraff-Witkin's single linearised step. The default is a backstop: a step
@@ -32,6 +40,10 @@ struct ImplicitDef {
   int cg_max_iterations = 200;
   double cg_tolerance = 1e-8;      // relative residual of each linear solve
   int fixed_point_iterations = 1;  // solver: fixed_point; 1 reproduces the course framework
+
+  NewtonMode newton_mode() const {
+    return newton_max_iterations == 1 ? NewtonMode::BaraffWitkin : NewtonMode::Converged;
+  }
 };
 
 struct DivergenceDef {

@@ -7,11 +7,12 @@
 namespace clothsim {
 namespace {
 // An iterative solver's step reports its iterations as newton_iterations; the totals keep
-// them per solver, since an iteration of each costs a different number of passes.
+// them apart, weighed by the solver's own cost per iteration.
 void add_solver_iterations(RunTotals& t, IntegratorKind kind, std::int64_t iterations) {
-  if (kind == IntegratorKind::Xpbd) t.xpbd_iterations += iterations;
-  if (kind == IntegratorKind::ProjectiveDynamics) t.pd_iterations += iterations;
-  if (kind == IntegratorKind::Vbd) t.vbd_iterations += iterations;
+  const IntegratorInfo& info = integrator_info(kind);
+  if (info.iterations != IterationControl::Solver) return;
+  t.solver_iterations += iterations;
+  t.solver_iteration_passes = info.passes_per_iteration;
 }
 }  // namespace
 
@@ -19,28 +20,6 @@ double thread_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-void apply_due_actions(const Model& model, State& state) {
-  // An action at time t_a is due once the clock has reached it; the tolerance keeps an
-  // action at t = 0.3 from slipping a step because 3000 x 1e-4 rounds to 0.29999999.
-  const double due = state.t + 1e-9 * (1.0 + std::abs(state.t));
-  while (state.next_action < model.timeline.size() &&
-         model.timeline[state.next_action].t <= due) {
-    const TimedAction& act = model.timeline[state.next_action++];
-    switch (act.kind) {
-      case TimedAction::Kind::Pin:
-        state.inv_mass[act.body] = 0.0;
-        state.v.col(act.body).setZero();
-        break;
-      case TimedAction::Kind::Unpin:
-        state.inv_mass[act.body] = 1.0 / model.mass[act.body];
-        break;
-      case TimedAction::Kind::SetVelocity:
-        state.v.col(act.body) = act.velocity;
-        break;
-    }
-  }
 }
 
 StepReport step(const Model& model, State& state, IntegratorKind kind, double h, Workspace& ws) {
@@ -85,7 +64,7 @@ bool Run::advance_to(double target) {
     if (!last_.stats.converged) ++totals_.unconverged_steps;
     totals_.max_residual = std::max(totals_.max_residual, last_.stats.residual);
     totals_.contact_constraints += last_.stats.contact_constraints;
-    if (kind_ == IntegratorKind::ImplicitEuler) {
+    if (integrator_info(kind_).counts_safety_projections) {
       totals_.safety_projections += last_.contacts.projected;
       if (last_.contacts.projected > 0) ++totals_.projected_steps;
     }

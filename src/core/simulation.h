@@ -27,9 +27,6 @@ struct StepReport {
 // One step of size h. Does not check divergence (Run does, at its own cadence).
 StepReport step(const Model& model, State& state, IntegratorKind kind, double h, Workspace& ws);
 
-// Applies every timeline action due at or before state.t (pins, unpins, sphere velocities).
-void apply_due_actions(const Model& model, State& state);
-
 // Running totals of a run.
 struct RunTotals {
   std::int64_t steps = 0;
@@ -39,9 +36,9 @@ struct RunTotals {
   std::int64_t factorizations = 0;      // implicit_euler: sparse Cholesky factors
   std::int64_t assemblies = 0;          // implicit_euler: Newton matrices assembled
   std::int64_t factored_cg_iterations = 0;  // of cg_iterations, preconditioned by a factor
-  std::int64_t xpbd_iterations = 0;     // xpbd, projective_dynamics, vbd: their iterations,
-  std::int64_t pd_iterations = 0;       // each counted by its own solver (work_units.h
-  std::int64_t vbd_iterations = 0;      // weighs them apart)
+  std::int64_t solver_iterations = 0;   // xpbd, projective_dynamics, vbd: their sweeps,
+  double solver_iteration_passes = 0.0; // each weighing this many spring passes (the
+                                        // method's registry row; work_units.h)
   std::int64_t projected_steps = 0;     // implicit_euler: steps whose post-step projection moved a particle
   double max_strain = 0.0;              // largest strain a step started from (its first force pass)
   std::int64_t unconverged_steps = 0;   // implicit solves that hit their cap

@@ -1,8 +1,30 @@
 #include "state.h"
 
-#include "simulation.h"
+#include <cmath>
 
 namespace clothsim {
+
+void apply_due_actions(const Model& model, State& state) {
+  // An action at time t_a is due once the clock has reached it; the tolerance keeps an
+  // action at t = 0.3 from slipping a step because 3000 x 1e-4 rounds to 0.29999999.
+  const double due = state.t + 1e-9 * (1.0 + std::abs(state.t));
+  while (state.next_action < model.timeline.size() &&
+         model.timeline[state.next_action].t <= due) {
+    const TimedAction& act = model.timeline[state.next_action++];
+    switch (act.kind) {
+      case TimedAction::Kind::Pin:
+        state.inv_mass[act.body] = 0.0;
+        state.v.col(act.body).setZero();
+        break;
+      case TimedAction::Kind::Unpin:
+        state.inv_mass[act.body] = 1.0 / model.mass[act.body];
+        break;
+      case TimedAction::Kind::SetVelocity:
+        state.v.col(act.body) = act.velocity;
+        break;
+    }
+  }
+}
 
 State initial_state(const Model& model) {
   State s;

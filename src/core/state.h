@@ -52,4 +52,8 @@ struct State {
 // The state at t = 0, with the actions scheduled at t = 0 applied.
 State initial_state(const Model& model);
 
+// Applies every timeline action due at or before state.t (pins, unpins, sphere velocities):
+// the events phase of a step, and the keyframes at t = 0 of an initial state.
+void apply_due_actions(const Model& model, State& state);
+
 }  // namespace clothsim

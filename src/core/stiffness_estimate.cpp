@@ -58,6 +58,8 @@ bool inside(const std::vector<double>& a, std::complex<double> z) {
   return 2.0 * s.real() + std::norm(s) <= 0.0;
 }
 
+}  // namespace
+
 // Largest h with h l inside R's region for both roots l of l^2 + c l + w^2 = 0: scanned down
 // from |h l| = 4 (beyond every region here) in steps of 0.1 %, then bisected. Searching from
 // the top finds the region's far edge, which is the limit the step cannot pass; 0 when no h
@@ -77,33 +79,20 @@ double polynomial_limit(const std::vector<double>& a, double w, double c) {
   return 0.0;
 }
 
-std::vector<double> taylor(int order) {  // 1, 1, 1/2, ..., 1/order!
+std::vector<double> taylor(int order) {
   std::vector<double> a{1.0};
   for (int m = 1; m <= order; ++m) a.push_back(a.back() / m);
   return a;
 }
 
-}  // namespace
+double symplectic_euler_limit(double w, double c) {
+  return w > 0.0 ? (std::sqrt(c * c + 4.0 * w * w) - c) / (w * w) : 2.0 / c;
+}
 
-double predicted_limit(const StiffnessEstimate& e, IntegratorKind kind, const ImplicitDef& implicit) {
-  const double w = e.w_max, c = e.c_max;
-  const double inf = std::numeric_limits<double>::infinity();
-  if (!(w > 0.0) && !(c > 0.0)) return inf;  // nothing stiff in the scene
-  switch (kind) {
-    case IntegratorKind::ExplicitEuler: return polynomial_limit(taylor(1), w, c);
-    case IntegratorKind::Midpoint: return polynomial_limit(taylor(2), w, c);
-    case IntegratorKind::Rk4: return polynomial_limit(taylor(4), w, c);
-    case IntegratorKind::SymplecticEuler:
-      return w > 0.0 ? (std::sqrt(c * c + 4.0 * w * w) - c) / (w * w) : 2.0 / c;
-    case IntegratorKind::ImplicitEuler:
-      if (implicit.solver == ImplicitSolver::Newton) return inf;
-      return polynomial_limit(std::vector<double>(implicit.fixed_point_iterations + 2, 1.0), w, c);
-    case IntegratorKind::Xpbd:  // descent on a potential bounded below: no linear limit
-    case IntegratorKind::ProjectiveDynamics:
-    case IntegratorKind::Vbd:
-      return inf;
-  }
-  return inf;
+double explicit_limit(int order, double w, double c) { return polynomial_limit(taylor(order), w, c); }
+
+double fixed_point_limit(int iterations, double w, double c) {
+  return polynomial_limit(std::vector<double>(iterations + 2, 1.0), w, c);
 }
 
 }  // namespace clothsim::analysis

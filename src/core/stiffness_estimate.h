@@ -28,6 +28,8 @@
 // tension, and collisions are not linear at all.
 #pragma once
 
+#include <vector>
+
 #include "model.h"
 
 namespace clothsim::analysis {
@@ -45,9 +47,9 @@ struct StiffnessEstimate {
 // Over the particles free at t = 0 (positive initial inverse mass).
 StiffnessEstimate estimate_stiffness(const Model& model);
 
-// The step beyond which `kind` is predicted to be unstable on the scene's fastest mode, taken
-// as u'' + c u' + w^2 u = 0 with w = w_max and c = c_max. The two bounds come from different
-// Laplacians, but they belong to one mode when every damper is proportional to its spring
+// The stability limits of the methods (each method's registry row names its own), on the
+// scene's fastest mode taken as u'' + c u' + w^2 u = 0 with w = w_max and c = c_max. The two
+// bounds come from different Laplacians, but they belong to one mode when every damper is proportional to its spring
 // (kd / ks the same on every spring, as in the shipped scenes): D = (kd/ks) K, so that mode's
 // rate is (kd/ks) w_max^2 = c_max. Its eigenvalues l = (-c +- sqrt(c^2 - 4 w^2)) / 2; the limit
 // is the largest h with both h l inside the method's stability region:
@@ -62,6 +64,12 @@ StiffnessEstimate estimate_stiffness(const Model& model);
 // An estimate, like the bounds it is built on: it ignores geometric stiffness and contacts,
 // and the Gershgorin bounds make w_max and c_max upper bounds, so real limits are larger
 // (about 2.4x on the drape, docs/integrators.md). Infinity without springs or dampers.
-double predicted_limit(const StiffnessEstimate& estimate, IntegratorKind kind, const ImplicitDef& implicit = {});
+//
+// R(z)'s coefficients a_m (|R(z)| <= 1 is the region), scanned and bisected as above.
+double polynomial_limit(const std::vector<double>& a, double w, double c);
+std::vector<double> taylor(int order);  // 1, 1, 1/2, ..., 1/order!: explicit RK of that order
+double explicit_limit(int order, double w, double c);  // polynomial_limit(taylor(order), w, c)
+double symplectic_euler_limit(double w, double c);
+double fixed_point_limit(int iterations, double w, double c);  // R(z) = sum_{m <= K + 1} z^m
 
 }  // namespace clothsim::analysis

@@ -17,15 +17,13 @@ struct WorkWeights {
   double cg_jacobi = 0.0;     // a block-Jacobi PCG iteration: a block mat-vec and a 3x3 solve per body
   double cg_factored = 0.0;   // a factored PCG iteration: the mat-vec and two triangular solves
   double factorization = 0.0; // a sparse Cholesky factor built
-  double xpbd_iteration = 0.0;  // a Gauss-Seidel sweep over the constraints and contacts
-  double pd_iteration = 0.0;    // a local step and the prefactored global solve
-  double vbd_iteration = 0.0;   // a sweep of per-vertex 3x3 Newton steps over the colours
+  // (a solver's iteration: its registry row's passes_per_iteration, RunTotals)
 };
 const WorkWeights& work_weights();  // the calibrated table
 
 // The run's work so far in spring-pass equivalents (force evaluations alone for the explicit
 // family and the fixed point; Newton's assemblies, PCG iterations and factors added for
-// implicit_euler; the iterations of xpbd, projective_dynamics and vbd).
+// implicit_euler; the iterations of xpbd, projective_dynamics and vbd, weighed by their rows).
 double spring_passes(const RunTotals& totals, const WorkWeights& weights = work_weights());
 
 }  // namespace clothsim

@@ -9,9 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/integrators/integrator_kind.h"
 #include "core/model_params.h"
-#include "core/solvers/solver_params.h"
+#include "core/method_params.h"
 #include "view/render_settings.h"
 
 namespace clothsim {
@@ -77,7 +76,7 @@ struct SceneDef {
   std::string name = "scene";
   double duration = 5.0;           // s simulated
   double dt = 1e-4;                // s per step
-  IntegratorKind integrator = IntegratorKind::SymplecticEuler;
+  IntegratorKind integrator = kDefaultIntegrator;
   Vec3 gravity{0.0, -9.8, 0.0};    // m/s^2
   double air_drag = 0.0;           // N s/m per particle, viscous: f = -c v
   ClothDef cloth;

@@ -10,6 +10,7 @@
 #include "echo.h"
 #include "names.h"
 #include "run_bounds.h"
+#include "core/integrators/integrator_kind.h"
 
 #include <algorithm>
 #include <cctype>

@@ -29,22 +29,12 @@ Model sampling_model(const Model& model) {
   return m;
 }
 
-void set_iterations(Model& m, IntegratorKind kind, int n) {
-  if (kind == IntegratorKind::ImplicitEuler) m.implicit.newton_max_iterations = n;
-  if (kind == IntegratorKind::Xpbd) m.solvers.xpbd.iterations = n;
-  if (kind == IntegratorKind::ProjectiveDynamics) m.solvers.projective_dynamics.iterations = n;
-  if (kind == IntegratorKind::Vbd) m.solvers.vbd.iterations = n;
-}
-
-// Rough spring passes of one iteration (BENCHMARKS.md, "The iterative solvers"), and of
-// measuring a point (its end of step, its distance and Phi's gradient).
+// Rough spring passes of one iteration (a solver's registry row; a Newton iteration, about
+// 25), and of measuring a point (its end of step, its distance and Phi's gradient).
+constexpr double kNewtonPasses = 25.0;
 double passes_per_iteration(IntegratorKind kind) {
-  switch (kind) {
-    case IntegratorKind::Xpbd: return 1.5;
-    case IntegratorKind::ProjectiveDynamics: return 5.0;
-    case IntegratorKind::Vbd: return 2.0;
-    default: return 25.0;  // a Newton iteration
-  }
+  const IntegratorInfo& info = integrator_info(kind);
+  return info.iterations == IterationControl::Solver ? info.passes_per_iteration : kNewtonPasses;
 }
 constexpr double kMeasurePasses = 3.0;
 constexpr int kTypicalNewtonIterations = 8;
@@ -96,10 +86,10 @@ std::vector<ConvergencePoint> watched_sweep(const Model& model, const Convergenc
                                             IntegratorKind method) {
   Model m = model;
   Workspace ws;
-  set_iterations(m, method, 1);
+  *iteration_count(m, method) = 1;
   State warm = s.state;
   step(m, warm, method, spec.h, ws);
-  set_iterations(m, method, spec.max_iterations);
+  *iteration_count(m, method) = spec.max_iterations;
   std::vector<ConvergencePoint> points(static_cast<std::size_t>(spec.max_iterations));
   double start = 0.0, paused = 0.0;
   ws.on_iteration = [&](int n, const Eigen::Matrix3Xd& y) {
@@ -127,7 +117,7 @@ std::vector<ConvergencePoint> newton_sweep(const Model& model, const Convergence
   m.implicit.solver = ImplicitSolver::Newton;
   Workspace ws;
   State warm = s.state;
-  step(m, warm, IntegratorKind::ImplicitEuler, spec.h, ws);  // warm the caches
+  step(m, warm, kBackwardEuler, spec.h, ws);  // warm the caches
   std::vector<ConvergencePoint> points;
   bool settled = false;
   for (int n = 1; n <= spec.max_iterations; ++n) {
@@ -137,12 +127,12 @@ std::vector<ConvergencePoint> newton_sweep(const Model& model, const Convergence
       continue;
     }
     if (stop && stop()) return {};
-    set_iterations(m, IntegratorKind::ImplicitEuler, n);
+    *iteration_count(m, kBackwardEuler) = n;
     State end = s.state;
     const double cpu = thread_cpu_seconds();
-    const StepReport report = step(m, end, IntegratorKind::ImplicitEuler, spec.h, ws);
+    const StepReport report = step(m, end, kBackwardEuler, spec.h, ws);
     const double spent = thread_cpu_seconds() - cpu;
-    points.push_back(measured(model, s, IntegratorKind::ImplicitEuler, n, end));
+    points.push_back(measured(model, s, kBackwardEuler, n, end));
     points.back().cpu_seconds = spent;
     settled = report.stats.newton_iterations + kNewtonSlack <= n;
   }
@@ -160,7 +150,7 @@ std::vector<ConvergenceItem> convergence_items(const ConvergenceSpec& spec) {
 
 double convergence_item_cost(const ConvergenceSpec& spec, const ConvergenceItem& item) {
   const double n = spec.max_iterations;
-  if (item.method != IntegratorKind::ImplicitEuler)
+  if (item.method != kBackwardEuler)
     return n * (passes_per_iteration(item.method) + kMeasurePasses);
   const double reruns = std::min(n, static_cast<double>(kTypicalNewtonIterations + kNewtonSlack));
   return passes_per_iteration(item.method) * reruns * (reruns + 1.0) / 2.0 + reruns * kMeasurePasses;
@@ -177,7 +167,7 @@ std::vector<State> convergence_states(const Model& model, const ConvergenceSpec&
     const long at = std::max<long>(1, steps * i / spec.states);
     while (s.step < at) {
       if (stop && stop()) return {};
-      step(sampling, s, IntegratorKind::ImplicitEuler, spec.h, ws);
+      step(sampling, s, kBackwardEuler, spec.h, ws);
     }
     states.push_back(s);
   }
@@ -188,7 +178,7 @@ State converged_step(const Model& model, const State& start, double h) {
   const Model reference = reference_model(model);
   State end = start;
   Workspace ws;
-  step(reference, end, IntegratorKind::ImplicitEuler, h, ws);
+  step(reference, end, kBackwardEuler, h, ws);
   return end;
 }
 
@@ -205,7 +195,7 @@ bool run_convergence_items(const Model& model, const ConvergenceSpec& spec, cons
     if (hooks.stop && hooks.stop()) return false;
     const ConvergenceItem& it = all[item];
     if (it.state != start.index) start = make_start(model, spec, it.state, states[static_cast<std::size_t>(it.state)]);
-    const std::vector<ConvergencePoint> points = it.method == IntegratorKind::ImplicitEuler
+    const std::vector<ConvergencePoint> points = it.method == kBackwardEuler
                                                      ? newton_sweep(model, spec, start, hooks.stop)
                                                      : watched_sweep(model, spec, start, it.method);
     if (points.empty()) return false;

@@ -198,7 +198,7 @@ class StableStepSearch {
 
   StabilityLimit finish(StabilityOutcome outcome) {
     out_.outcome = stopped_ ? StabilityOutcome::Stopped : outcome;
-    if (kind_ == IntegratorKind::ImplicitEuler && !stopped_) add_frame_steps();
+    if (integrator_info(kind_).frame_rate_steps && !stopped_) add_frame_steps();
     return out_;
   }
 
@@ -298,7 +298,7 @@ double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec&
   SearchReplay replay(limit, spec, per_step);
   const double guess = spec.first_guess > 0.0 ? spec.first_guess : e.dt_with_damping();
   replay.cost(guess);
-  if (kind == IntegratorKind::ImplicitEuler)  // its runs at one step per frame, beside the search
+  if (integrator_info(kind).frame_rate_steps)  // its runs at one step per frame, beside the search
     for (double dt : spec.frame_dts) replay.add_run(dt, 1.0);
   return replay.total();
 }

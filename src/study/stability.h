@@ -1,50 +1,16 @@
-// Stability: the largest step each integrator survives on a scene, found by bisection.
+// Stability: the largest step each integrator survives on a scene, found by bisection in log
+// dt (docs/integrators.md, "Stability", and "How the search decides" there for the why).
 //
-// "Survives" means: runs from t = 0 to T without the engine calling it diverged (a
-// non-finite value, a spring stretched past max_strain, or kinetic energy past
-// energy_factor x the scene's energy scale; see diagnostics.h and Model::energy_scale)
-// and, for implicit_euler, with every step's solve converged. A run whose Newton solve
-// missed its tolerance has not computed backward Euler's step, so that it stayed bounded
-// says nothing about the method: it fails, and `failure` says it failed so
-// (Failure::NotConverged) rather than by diverging. For implicit Euler, which backward
-// Euler's theory calls stable at every step, the study's limit is thus where its solve
-// stops converging, which is what bounds its usable step in practice.
-// The study tightens both of the engine's bounds, because an unstable run need not stay
-// unstable-looking: once its amplitude passes a spring's rest length the spring collapses
-// through its anchor, the force stops growing with the stretch, and the run settles into a
-// bounded, wrong orbit that the engine's loose bounds (strain 10, energy 1e4 x scale) let
-// pass (RK4 on spring.yaml with k = 25 N/m "survived" w h = 3.08 that way, beyond its
-// 2.83). So by default:
-// - max_strain 2: no cloth is stretched to three times its rest length, and the bounded
-//   wrong orbits do stretch their springs that far (the engine samples strain every 64 steps);
-// - energy_factor 100: the energy scale already bounds what a passive scene can hold (its
-//   potential energy released over its own size, plus its initial energy), so 100 times
-//   it is no state a stable method reaches.
-// Symplectic Euler's energy swings by 1 / (1 - (w h / 2)^2) below its limit; the bounds
-// allow that up to within 1 % of w h = 2.
-//
-// Slow growth. An unstable method whose amplification is barely above 1 takes long to
-// reach any bound: undamped, explicit Euler's energy grows like exp(w^2 h t) and
-// midpoint's like exp(w^4 h^3 t / 4), so at small h they pass a finite-time test. The
-// result is therefore "stable over T", and T and the smallest dt tried must be chosen so
-// that the growth one wants to see, exp(rate x T), exceeds the bound: the tests on the
-// undamped spring use T = 400 s and steps down to w h = 0.2, where midpoint's energy grows
-// by e^8. Symplectic Euler and RK4 have no slow side: beyond w h = 2 and 2.83 their
-// amplification jumps well above 1 (the limits are sharp), and below, their energy stays
-// within a bounded band.
-//
-// A trial must take at least kMinTrialSteps steps: two steps of explicit Euler at 1000 x
-// its limit need not blow up yet, and would make "stable at the largest dt tried" a lie.
-// So the largest step tried is at most T / kMinTrialSteps (check() says so otherwise).
-//
-// The search, in log dt, assuming (as linear theory says) that stability is monotone in dt:
-// 1. the largest dt tried, max_dt: stable there -> "stable at the largest dt tried" (no
-//    larger number is invented);
-// 2. from a first guess (2 / max(w_max, c_max) from stiffness_estimate.h), double while
-//    stable or halve while unstable until a stable/unstable pair brackets the limit; no
-//    stable dt down to min_dt -> "unstable at every dt tried";
-// 3. bisect the bracket at its geometric mean until unstable / stable <= 1 + precision.
-// The answer is the largest dt that ran (the bracket's stable end).
+// "Survives": runs 0 to T without diverging under the study's tighter bounds (max_strain 2,
+// energy_factor 100: an unstable run can settle into a bounded, wrong orbit that run's loose
+// bounds let pass) and, for implicit_euler, with every Newton solve converged (a missed
+// tolerance is Failure::NotConverged, not a stable run). A trial takes at least
+// kMinTrialSteps steps, so the largest dt tried is at most T / kMinTrialSteps.
+// The search assumes stability monotone in dt: max_dt first (stable there: "stable at the
+// largest dt tried"); else from the first guess (2 / max(w_max, c_max)) double or halve to a
+// bracket ("unstable at every dt tried" below min_dt); then bisect to 1 + precision. The
+// answer is the bracket's stable end. Slowly growing instabilities (explicit Euler, midpoint
+// at small h) pass a finite-time test: the result is "stable over T".
 #pragma once
 
 #include <cstdint>

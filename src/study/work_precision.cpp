@@ -83,7 +83,7 @@ WorkPrecisionPoint measured_point(WorkPrecisionPoint p, const StudyRun& run, con
 // The steps `kind` runs: the common list, and for implicit Euler the frame-rate steps too.
 std::vector<double> steps_of(const WorkPrecisionSpec& spec, IntegratorKind kind) {
   std::vector<double> dts = spec.dts;
-  if (kind == IntegratorKind::ImplicitEuler) {
+  if (integrator_info(kind).frame_rate_steps) {
     for (double dt : spec.frame_dts)
       if (std::find(dts.begin(), dts.end(), dt) == dts.end()) dts.push_back(dt);
     std::sort(dts.begin(), dts.end());
@@ -313,13 +313,7 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
   return result;
 }
 
-int nominal_order(IntegratorKind kind) {
-  switch (kind) {
-    case IntegratorKind::Midpoint: return 2;
-    case IntegratorKind::Rk4: return 4;
-    default: return 1;
-  }
-}
+int nominal_order(IntegratorKind kind) { return integrator_info(kind).order; }
 
 namespace {
 

@@ -43,7 +43,7 @@ struct WorkPrecisionSpec {
   std::vector<double> frame_dts;  // s, steps implicit_euler also runs (one step per video
                                   // frame: 1/240 .. 1/30 s), each > 0 and dividing duration
   double duration = 0.0;       // T, s
-  IntegratorKind reference_integrator = IntegratorKind::Rk4;
+  IntegratorKind reference_integrator = kReferenceIntegrator;
   int reference_refinement = 8;    // reference step = smallest dt / this (then halved once more)
   double reference_margin = 0.1;   // converged: halving's change <= margin x smallest error
   int jobs = 0;                    // threads; <= 0: hardware_concurrency
@@ -67,7 +67,7 @@ struct WorkPrecisionPoint {
 };
 
 struct ReferenceCheck {
-  IntegratorKind integrator = IntegratorKind::Rk4;
+  IntegratorKind integrator = kReferenceIntegrator;
   double dt = 0.0;                 // s, the finer reference step (errors are measured against it)
   double change_rms = 0.0;         // m, RMS difference between the runs at 2 dt and dt
   double change_max = 0.0;         // m, largest particle difference between them

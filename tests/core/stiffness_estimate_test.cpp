@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "test_support.h"
+#include "core/integrators/integrator_kind.h"
 #include "scene/build_model.h"
 #include "scene/scene_parser.h"
 

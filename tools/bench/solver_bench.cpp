@@ -39,7 +39,7 @@ System system(int which) {
   std::vector<double> length;
   step_lengths(s.model, st.x, length);
   build_pattern(s.model, s.A);
-  assemble_step_hessian(s.model, st.inv_mass, 1.0 / 60.0, length, st.x, true, s.A);
+  assemble_step_hessian(s.model, st.inv_mass, 1.0 / 60.0, length, st.x, HessianBlocks::Projected, s.A);
   s.r = Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
   return s;
 }
@@ -74,7 +74,7 @@ void BM_SolverAssembly(benchmark::State& st) {
   std::vector<double> length;
   step_lengths(s.model, start.x, length);
   for (auto _ : st) {
-    assemble_step_hessian(s.model, start.inv_mass, 1.0 / 60.0, length, start.x, false, s.A);
+    assemble_step_hessian(s.model, start.inv_mass, 1.0 / 60.0, length, start.x, HessianBlocks::Exact, s.A);
     benchmark::DoNotOptimize(s.A.diag.data());
   }
   st.SetLabel(name(static_cast<int>(st.range(0))));

@@ -15,6 +15,7 @@
 #include "render/renderer.h"
 #include "scene/echo.h"
 #include "scene/scene_parser.h"
+#include "core/integrators/integrator_kind.h"
 
 using namespace clothsim;
 using namespace clothsim::cli;

@@ -8,7 +8,8 @@
 
 #include "sparse_system.h"
 #include "step_contacts.h"
-#include "core/integrators/integrator.h"
+#include "core/base/step_stats.h"
+#include "core/base/workspace.h"
 #include "core/linear/cg_kernels.h"
 #include "core/linear/cholesky_preconditioner.h"
 #include "core/linear/conjugate_gradient.h"

@@ -82,7 +82,7 @@ double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness
 NewtonSolve::NewtonSolve(const Model& model, State& start, double h, ImplicitCache& c, StepStats& stats,
                          const NewtonTracer& trace)
     : model_(model), start_(start), record_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats),
-      trace_(trace), single_step_(cfg_.newton_max_iterations == 1) {
+      trace_(trace), single_step_(cfg_.newton_mode() == NewtonMode::BaraffWitkin) {
   account_.first = start.implicit.factored && start.step % kRetryJacobi != 0;
   reuse_.trusted = start.implicit.lin_trusted;
   reuse_.reach = reuse_reach(c_.shortest_rest, c_.stiffness, h);
@@ -251,14 +251,17 @@ double NewtonSolve::direction(CgSettings settings, const Eigen::Matrix3Xd* warm,
 // State's record where this Workspace holds another).
 void NewtonSolve::prepare_matrix(bool reused) {
   if (!reused) {
-    assemble_step_hessian(model_, start_.inv_mass, h_, c_.start_length, c_.y, single_step_, c_.A, false);
+    assemble_step_hessian(model_, start_.inv_mass, h_, c_.start_length, c_.y,
+                          single_step_ ? HessianBlocks::Projected : HessianBlocks::Exact, c_.A,
+                          JacobiInverse::Skip);
     ++stats_.assemblies;
     c_.jacobi_ready = false;
     c_.holds_record = false;
     if (!single_step_) record_linearisation();
   } else if (!c_.holds(start_.implicit.lin)) {
     const ImplicitSolverState::Linearisation& lin = start_.implicit.lin;
-    assemble_step_hessian(model_, lin.inv_mass, lin.h, lin.length, lin.y, false, c_.A, false);
+    assemble_step_hessian(model_, lin.inv_mass, lin.h, lin.length, lin.y, HessianBlocks::Exact, c_.A,
+                          JacobiInverse::Skip);
     ++stats_.assemblies;
     c_.jacobi_ready = false;
     c_.record = lin;

@@ -14,7 +14,8 @@
 
 #include "implicit_cache.h"
 #include "step_potential.h"
-#include "core/integrators/integrator.h"
+#include "core/base/step_stats.h"
+#include "core/base/workspace.h"
 
 namespace clothsim {
 
@@ -138,7 +139,7 @@ class NewtonSolve {
   const NewtonTracer& trace_;
   PotentialValue phi_;
   double impulse_scale_ = 0.0;
-  const bool single_step_;  // newton_max_iterations = 1: Baraff & Witkin's step
+  const bool single_step_;  // NewtonMode::BaraffWitkin: one linearised step, taken whole
   MatrixReuse reuse_;
   FactorAccount account_;
   ContactScan scan_;

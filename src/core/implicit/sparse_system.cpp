@@ -10,8 +10,9 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
   const int B = model.num_bodies();
   const std::size_t S = model.springs.size();
   const SpringLayout& layout = model.spring_layout;
-  const bool families = layout.covers(S);
+  const bool families = model.spring_path() != SpringPath::List;
   const std::size_t slots = slot_count(layout, S);
+  A.multiply = &multiply;
   A.a = model.springs.a;
   A.b = model.springs.b;
   A.layout = families ? &layout : nullptr;
@@ -73,7 +74,8 @@ BlockCoefficients block_coefficients(const StepSpringBlock& k, double h2, bool p
 
 void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, double h,
                                   const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
-                                  bool project, SpringBlockMatrix& A, bool block_jacobi) {
+                                  HessianBlocks blocks, SpringBlockMatrix& A, JacobiInverse jacobi) {
+  const bool project = blocks == HessianBlocks::Projected;
   const int B = A.num_bodies();
   const Springs& springs = model.springs;
 
@@ -135,16 +137,17 @@ void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv
   }
 
   A.refresh_diagonal_soa();
-  if (block_jacobi) invert_diagonal(A);
+  if (jacobi == JacobiInverse::Form) invert_diagonal(A);
 }
 
 void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
                            const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
-                           bool project, SpringBlockMatrix& A, bool block_jacobi) {
+                           HessianBlocks blocks, SpringBlockMatrix& A, JacobiInverse jacobi) {
   if (!A.layout) {
-    assemble_step_hessian_scalar(model, inv_mass, h, start_length, y, project, A, block_jacobi);
+    assemble_step_hessian_scalar(model, inv_mass, h, start_length, y, blocks, A, jacobi);
     return;
   }
+  const bool project = blocks == HessianBlocks::Projected;
   const SpringLayout& layout = *A.layout;
   const int B = A.num_bodies();
   FamilyHessian out{A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(),
@@ -198,7 +201,7 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
     for (int e = 0; e < 6; ++e) A.diag_soa[e * B + i] = entry[e];
   }
-  if (block_jacobi) invert_diagonal(A);
+  if (jacobi == JacobiInverse::Form) invert_diagonal(A);
 }
 
 void invert_diagonal(SpringBlockMatrix& A) {

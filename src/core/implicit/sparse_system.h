@@ -31,77 +31,17 @@
 #include <vector>
 
 #include "core/model.h"
+#include "core/linear/block_matrix.h"
 #include "core/springs/spring_force.h"
 
 namespace clothsim {
 
-// A spring's block is a rank-one term plus a multiple of the identity (spring_force.h's
-// K = axial u u^T + transverse (I - u u^T)), so it is stored as two numbers and u:
-//     G_s = alpha_s u_s u_s^T + beta_s I
-// (5 numbers instead of 9, and no 3x3 product to build or to apply: assembly 1.4-1.6 times
-// faster, BENCHMARKS.md). Exact and projected blocks share u and differ only in
-// (alpha, beta) across a compressed spring.
-//
-// The per-spring numbers are stored by the model's slot order (spring_layout.h), as
-// structure of arrays, so the mat-vec runs the layout's families in SIMD with contiguous loads
-// (potential_kernels.h); spring s's are at slot[s]. Slots without a spring hold zeros.
-struct SpringBlockMatrix {
-  std::vector<std::int32_t> a, b;  // (S) block (a_s, b_s): the springs' index pairs
-  std::vector<std::int32_t> slot;  // (S) where spring s's numbers are stored
-  // The layout the slots follow (the Model's, which outlives the matrix), or null: slots are
-  // then spring order and every pass is scalar.
-  const SpringLayout* layout = nullptr;
-  std::vector<Mat3> diag;          // (B) diagonal blocks
-  std::vector<double> ux, uy, uz;  // (slots) the spring's direction at the iterate
-  std::vector<double> alpha, beta;  // (slots) block at (a_s, b_s); symmetric, so also at (b_s, a_s)
-  // The projected matrix's blocks, filled either way: the preconditioners are built from them
-  // (block Jacobi here, the sparse factor of cholesky_preconditioner.h), so they are SPD
-  // whatever the matrix.
-  std::vector<Mat3> diag_projected;                     // (B)
-  std::vector<double> alpha_projected, beta_projected;  // (slots)
-  std::vector<Mat3> diag_inverse;    // (B) the block-Jacobi preconditioner: diag_projected^-1
-  // diag and diag_inverse again, as structure of arrays for the SIMD passes (the mat-vec's
-  // diagonal, the Jacobi solve): entry e of body i's symmetric block at e B + i, entries xx,
-  // yy, zz, xy, xz, yz. assemble_step_hessian and invert_diagonal write both forms; whoever
-  // writes diag otherwise calls refresh_diagonal_soa().
-  std::vector<double> diag_soa;          // (6 B)
-  std::vector<double> diag_inverse_soa;  // (6 B)
-  int num_bodies() const { return static_cast<int>(diag.size()); }
-  std::size_t num_springs() const { return a.size(); }
-  Vec3 u(std::size_t s) const {
-    const std::size_t k = slot[s];
-    return Vec3(ux[k], uy[k], uz[k]);
-  }
-  Mat3 off(std::size_t s) const { return block(alpha[slot[s]], beta[slot[s]], u(s)); }
-  Mat3 off_projected(std::size_t s) const {
-    return block(alpha_projected[slot[s]], beta_projected[slot[s]], u(s));
-  }
-  // Makes the matrix the projected one (the blocks the preconditioners use).
-  void use_projected() {
-    diag = diag_projected;
-    alpha = alpha_projected;
-    beta = beta_projected;
-    refresh_diagonal_soa();
-  }
-  // diag_soa from diag.
-  void refresh_diagonal_soa() { to_soa(diag, diag_soa); }
-  static void to_soa(const std::vector<Mat3>& blocks, std::vector<double>& soa) {
-    const std::size_t B = blocks.size();
-    soa.resize(6 * B);
-    for (std::size_t i = 0; i < B; ++i) {
-      const Mat3& D = blocks[i];
-      const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
-      for (int e = 0; e < 6; ++e) soa[e * B + i] = entry[e];
-    }
-  }
-
- private:
-  static Mat3 block(double alpha, double beta, const Vec3& u) {
-    Mat3 G = alpha * (u * u.transpose());
-    G.diagonal().array() += beta;
-    return G;
-  }
-};
+// Which matrix an assembly writes (above): Phi's true Hessian, or every compressed spring's
+// transverse term clamped at 0 (SPD at any step: Baraff & Witkin's single step).
+enum class HessianBlocks { Exact, Projected };
+// Whether an assembly also forms the block-Jacobi inverse (diag_inverse), or leaves it stale
+// for a solver that preconditions with the sparse factor (invert_diagonal when needed).
+enum class JacobiInverse { Form, Skip };
 
 // Sizes the pattern for a model's bodies and springs (the only allocating call).
 void build_pattern(const Model& model, SpringBlockMatrix& A);
@@ -109,13 +49,11 @@ void build_pattern(const Model& model, SpringBlockMatrix& A);
 // Refills A = H at the end-of-step positions y (3 x B), with start_length the springs'
 // lengths at the start of the step by slot (step_lengths, step_potential.h), exact or
 // projected (above): the layout's families in SIMD (potential_kernels.h), their blocks'
-// contributions to the diagonal summed per particle as the walk goes, then the others. With
-// `block_jacobi`, also the block-Jacobi preconditioner (diag_inverse); without, it is left
-// stale, for a solver that preconditions with the sparse factor and inverts the diagonal only
-// when it needs to (invert_diagonal: a 3x3 inverse per body).
+// contributions to the diagonal summed per particle as the walk goes, then the others.
 void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
                            const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
-                           bool project, SpringBlockMatrix& A, bool block_jacobi = true);
+                           HessianBlocks blocks, SpringBlockMatrix& A,
+                           JacobiInverse jacobi = JacobiInverse::Form);
 
 // The scalar reference: every spring in spring order, each block through step_spring_block
 // (spring_force.h), the projected diagonal as the exact one corrected for the compressed
@@ -125,8 +63,8 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
 // it. Either way the block is zero.)
 void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, double h,
                                   const std::vector<double>& start_length,
-                                  const Eigen::Matrix3Xd& y, bool project, SpringBlockMatrix& A,
-                                  bool block_jacobi = true);
+                                  const Eigen::Matrix3Xd& y, HessianBlocks blocks,
+                                  SpringBlockMatrix& A, JacobiInverse jacobi = JacobiInverse::Form);
 
 // A.diag_inverse = A.diag_projected^-1, blockwise.
 void invert_diagonal(SpringBlockMatrix& A);

@@ -27,7 +27,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "velocity_filter.h"
+#include "core/linear/velocity_filter.h"
 #include "core/model.h"
 #include "core/state.h"
 

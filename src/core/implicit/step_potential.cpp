@@ -91,7 +91,7 @@ double spring_lengths(const Springs& springs, const Eigen::Matrix3Xd& x,
 
 double step_lengths(const Model& model, const Eigen::Matrix3Xd& x, std::vector<double>& length) {
   const SpringLayout& layout = model.spring_layout;
-  if (!layout.covers(model.springs.size())) return spring_lengths(model.springs, x, length);
+  if (model.spring_path() == SpringPath::List) return spring_lengths(model.springs, x, length);
   length.resize(layout.num_slots);
   const double families = family_step_lengths(layout, x, length.data());
   const double others = scalar_lengths(layout.others, x, length.data() + layout.others_first,
@@ -110,14 +110,14 @@ PotentialValue step_potential(const Model& model, const State& start, double h,
   const SpringLayout& layout = model.spring_layout;
   double* lengths = nullptr;
   if (end_length) {
-    if (layout.covers(model.springs.size()) && layout.others.size() == 0) {
+    if (model.spring_path() == SpringPath::Families) {
       end_length->resize(layout.num_slots);  // (the gaps stay zero, as step_lengths leaves them)
       lengths = end_length->data();
     } else {
       end_length->clear();
     }
   }
-  if (!layout.covers(model.springs.size()))
+  if (model.spring_path() == SpringPath::List)
     return step_potential_scalar(model, start, h, start_length, dv, y, gradient);
   // The bodies first (y, and the gradient's first terms: body_terms in SIMD, the reference's
   // add_body_terms lane by lane), then the springs add theirs.
@@ -149,7 +149,7 @@ PotentialValue step_potential_scalar(const Model& model, const State& start, dou
   gradient.setZero(3, model.num_bodies());
   PotentialValue value;
   const SpringLayout& layout = model.spring_layout;
-  if (layout.covers(model.springs.size())) {
+  if (model.spring_path() != SpringPath::List) {
     add_spring_terms(model.springs, start_length.data(), [&](std::size_t s) { return layout.slot[s]; },
                      h, y, gradient, value);
   } else {

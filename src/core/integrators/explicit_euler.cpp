@@ -7,7 +7,8 @@
 
 namespace clothsim {
 
-StepStats explicit_euler_step(const Model& model, State& state, double h, Workspace& ws) {
+StepStats explicit_euler_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
+  const double h = ctx.h;
   const double strain = accelerations(model, state.x, state.v, state.inv_mass, ws.a);  // a_n
   state.x += h * state.v;                                         // with v_n, not v_{n+1}
   state.v += h * ws.a;

@@ -1,61 +1,20 @@
-// Backward (implicit) Euler on the whole state:
-//     v_{n+1} = v_n + h a(x_{n+1}, v_{n+1}),   x_{n+1} = x_n + h v_{n+1}.
-// First order and unconditionally stable: for x'' = -w^2 x its amplification 1 / (1 - z),
-// z = i w h, has modulus 1 / sqrt(1 + (w h)^2) < 1, so it loses energy at every step size.
+// Backward Euler on the whole state: v_{n+1} = v_n + h a(x_{n+1}, v_{n+1}), x_{n+1} = x_n + h v_{n+1}.
+// docs/integrators.md derives it; what a reader changing this file needs:
 //
-// solver: newton (default). The equation solved is step_potential.h's: backward Euler with
-// each damper's rate taken over the step, (l_{n+1} - l_n) / h, which makes the residual
+// solver: newton (default) minimises step_potential.h's Phi(dv), whose gradient is the residual
 //     r(dv) = M dv - h f(x_n + h (v_n + dv), v_n + dv)
-// the gradient of a potential Phi(dv) (Gast et al. 2015). It is minimised by Newton's method:
-//  - each direction solves H d = -r, H Phi's exact Hessian, by PCG truncated at negative
-//    curvature (Nocedal & Wright, Algorithm 7.1): where the cloth buckles and H is indefinite,
-//    the iterate before the negative curvature (or the first preconditioned direction) is
-//    still downhill. CG's tolerance tightens as r falls (an inexact Newton method, forcing
-//    term |r| / scale capped at 0.1). Its preconditioner is block Jacobi while that is cheap
-//    and a sparse Cholesky factor of the projected Hessian once the iterations it needs would
-//    pay for one (cholesky_preconditioner.h; the choice is by counted work, below);
-//  - a backtracking (Armijo) line search on Phi takes the step, so every iterate lowers Phi
-//    and the iteration converges from any start at any step size (Nocedal & Wright, ch. 3);
-//    where Phi's decrease is below its rounding, the filtered residual decides instead;
-//  - contacts with the ground and kinematic spheres are constraints of the minimisation,
-//    held by filtering (step_contacts.h), found as an active set.
-// It starts from the previous step's dv when there is one (at small steps dv changes little),
-// or from the line or the parabola through the last two or three steps' dv where that predicted
-// the last step better (first_guess.h). Its Newton matrix is reused across iterations and
-// steps while it serves (implicit/newton_solve.h, MatrixReuse); the matrix's linearisation
-// lives in State, so a copied State continues bit for bit.
-// newton_max_iterations = 1 is Baraff & Witkin 1998's step instead: one linear system,
-// linearised about the start of the step (y = x_n, dv = -v_n), with the projected Hessian,
-// solved to cg_tolerance and taken whole, without line search or active-set rounds.
-// The step is converged when |S r|, S the contact filter, is at most newton_tolerance times
-// max(|h f(x_n)|, |M dv|) over movable bodies (floored at the rounding level of f: below).
+// (each damper's rate taken over the step, Gast et al. 2015). Directions by PCG truncated at
+// negative curvature (Nocedal & Wright, Alg. 7.1), preconditioned by block Jacobi or a sparse
+// factor chosen by counted work; an Armijo line search on Phi; contacts held as an active set
+// by filtering (step_contacts.h). First guess: first_guess.h; matrix reuse: newton_solve.h.
+// Converged when |S r| <= newton_tolerance max(|h f(x_n)|, |M dv|) (floored at f's rounding).
+// NewtonMode::BaraffWitkin (model_params.h) is Baraff & Witkin 1998's step instead: one
+// system linearised at y = x_n on the projected Hessian, taken whole.
 //
-// solver: fixed_point. K fixed-point iterations y <- y_n + h F(y) on the whole state
-// y = (x, v), from the forward-Euler predictor y = y_n + h F(y_n), with the dampers'
-// instantaneous rate (spring_force.h's seed formula). Their fixed point is backward Euler,
-// but the iteration only contracts when h |dF/dy| < 1: for the linear test equation K
-// iterations give the amplification 1 + z + ... + z^{K+1}, so K = 1 (the course framework's
-// "implicit" integrator) has 1 + z + z^2, which on the oscillator (z = i w h) is stable only
-// for w h <= 1. It exists so users can see that difference.
-//
-// StepStats, newton:
-//   force_evals        evaluations of Phi and r (each a pass over the springs, as a force
-//                      evaluation): 1 at the start + 1 per line-search trial (Baraff &
-//                      Witkin: 1 for its step) + 1 each time the held set changes.
-//   newton_iterations  linear solves, each with a freshly assembled or a reused Newton
-//                      matrix (1 = B & W).
-//   cg_iterations      PCG iterations summed over those solves (each one block mat-vec, and
-//                      one block-diagonal or one factored solve).
-//   factorizations     sparse Cholesky factors built (0 where block Jacobi sufficed).
-//   residual           the final relative residual |S r| / scale.
-//   converged          residual <= newton_tolerance before the solve stalled or reached
-//                      newton_max_iterations (counted over the whole step, active-set rounds
-//                      included; a stall: newton_solve.h, StallWatch).
-//   contact_constraints  particles held on a collider's plane at the end of the solve.
-// StepStats, fixed_point:
-//   force_evals = 1 + K, newton_iterations = K, cg_iterations = 0,
-//   residual = |v_K - v_{K-1}| / |v_K - v_n| (how far the last iteration still moved v),
-//   converged = true: a fixed number of iterations, with no tolerance to miss.
+// solver: fixed_point: K iterations y <- y_n + h F(y) from the forward-Euler predictor, the
+// seed's instantaneous damper rate. K = 1 is the course's "implicit": amplification 1 + z + z^2,
+// stable on the oscillator only for w h <= 1. StepStats then counts force_evals = 1 + K and
+// newton_iterations = K; residual = |v_K - v_{K-1}| / |v_K - v_n|.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -148,10 +107,10 @@ struct FirstGuess {
   int order = 0;
   const char* name() const { return !dv ? "none" : order == 2 ? "parabola" : order == 1 ? "line" : "last dv"; }
 };
-FirstGuess first_guess(const DvHistory& past, const State& state, bool baraff_witkin, ImplicitCache& c) {
+FirstGuess first_guess(const DvHistory& past, const State& state, NewtonMode mode, ImplicitCache& c) {
   FirstGuess g;
   if (past.count == 0) return g;
-  g.order = baraff_witkin ? 0 : std::min(state.implicit.guess_order, past.count - 1);
+  g.order = mode == NewtonMode::BaraffWitkin ? 0 : std::min(state.implicit.guess_order, past.count - 1);
   if (g.order > 0) guess_through(past, g.order, c.guess);
   g.dv = g.order > 0 ? &c.guess : &state.implicit.dv;
   return g;
@@ -168,10 +127,11 @@ double residual_scale(const ImplicitDef& cfg, double h, const ImplicitCache& c) 
 
 // Newton on the first active set, then rounds that let go of pulling contacts, take in
 // penetrating particles and resume. Returns whether the last solve converged.
-bool solve_step(NewtonSolve& newton, const State& state, double h, bool baraff_witkin,
+bool solve_step(NewtonSolve& newton, const State& state, double h, NewtonMode mode,
                 const Eigen::Matrix3Xd* warm, ImplicitCache& c, const NewtonTracer& trace) {
   bool converged = newton.iterate(warm);
-  for (int round = 0; !baraff_witkin && round < kMaxContactRounds; ++round) {
+  const int rounds = mode == NewtonMode::BaraffWitkin ? 0 : kMaxContactRounds;
+  for (int round = 0; round < rounds; ++round) {
     if (!newton.update_contacts()) break;
     trace("  active-set round %d: held %zu\n", round, c.contacts.size());
     place_on_planes(c.contacts, state, h, c.dv);
@@ -182,35 +142,36 @@ bool solve_step(NewtonSolve& newton, const State& state, double h, bool baraff_w
 }
 
 // v_{n+1} = v_n + dv, x_{n+1} = x_n + h v_{n+1}; the contact response; the solver's history.
-void finish_step(const Model& model, const DvHistory& past, bool baraff_witkin, double h,
+void finish_step(const Model& model, const DvHistory& past, NewtonMode mode, double h,
                  ImplicitCache& c, State& state) {
   simd_finish_step(state.x.data(), state.v.data(), c.dv.data(), h, static_cast<std::size_t>(c.dv.size()));
   respond_to_step_contacts(model, c.contacts, c.r, state);
   ImplicitSolverState& s = state.implicit;
   // Which guess the solution lay closest to decides the next step's.
-  s.guess_order = baraff_witkin ? 0 : next_guess_order(past, c.dv);
+  s.guess_order = mode == NewtonMode::BaraffWitkin ? 0 : next_guess_order(past, c.dv);
   s.dv_before2.swap(s.dv_before);
   s.dv_before.swap(s.dv);
   s.dv = c.dv;
   s.held = c.contacts.filter.body;
 }
 
-StepStats newton_step(const Model& model, State& state, double h, Workspace& ws) {
+StepStats newton_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
+  const double h = ctx.h;
   const ImplicitDef& cfg = model.implicit;
   ImplicitCache& c = cache_for(model, ws);
   const NewtonTracer trace(ws);
   const Eigen::VectorXd& w = state.inv_mass;
-  const bool baraff_witkin = cfg.newton_max_iterations == 1;
+  const NewtonMode mode = cfg.newton_mode();
   StepStats stats;
   stats.start_strain = start_lengths(model, state, c);
   const DvHistory past(state, model.num_bodies());
-  const FirstGuess guess = first_guess(past, state, baraff_witkin, c);
+  const FirstGuess guess = first_guess(past, state, mode, c);
   predict_step_contacts(model, state, h, guess.dv, c.contacts);
   update_masses(w, c);
 
   // A full solve starts from the guess; Baraff & Witkin's step at y = x_n (dv = -v_n) and
   // takes the guess as CG's warm start. Either way held particles start on their planes.
-  if (guess.dv && !baraff_witkin) c.dv = *guess.dv;
+  if (guess.dv && mode == NewtonMode::Converged) c.dv = *guess.dv;
   else c.dv = -state.v;
   hold_immovable(w, c.dv);
   place_on_planes(c.contacts, state, h, c.dv);
@@ -219,16 +180,16 @@ StepStats newton_step(const Model& model, State& state, double h, Workspace& ws)
   if (trace.on()) trace_step_start(trace, model, state, c, guess.name());
   newton.set_scale(residual_scale(cfg, h, c));
   const Eigen::Matrix3Xd* warm = nullptr;
-  if (guess.dv && baraff_witkin) {
+  if (guess.dv && mode == NewtonMode::BaraffWitkin) {
     c.d = *guess.dv - c.dv;
     hold_immovable(w, c.d);
     warm = &c.d;
   }
-  stats.converged = solve_step(newton, state, h, baraff_witkin, warm, c, trace);
+  stats.converged = solve_step(newton, state, h, mode, warm, c, trace);
   stats.contact_constraints = static_cast<int>(c.contacts.size());
   state.implicit.factored = newton.factored();
-  if (!baraff_witkin) state.implicit.lin_trusted = newton.trusted();
-  finish_step(model, past, baraff_witkin, h, c, state);
+  if (mode == NewtonMode::Converged) state.implicit.lin_trusted = newton.trusted();
+  finish_step(model, past, mode, h, c, state);
   return stats;
 }
 
@@ -270,12 +231,12 @@ double implicit_reuse_reach(const Model& model, double h) {
   return reuse_reach(shortest, analysis::estimate_stiffness(model), h);
 }
 
-StepStats implicit_euler_step(const Model& model, State& state, double h, Workspace& ws) {
+StepStats implicit_euler_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
   switch (model.implicit.solver) {
-    case ImplicitSolver::Newton: return newton_step(model, state, h, ws);
-    case ImplicitSolver::FixedPoint: return fixed_point_step(model, state, h, ws);
+    case ImplicitSolver::Newton: return newton_step(model, state, ctx, ws);
+    case ImplicitSolver::FixedPoint: return fixed_point_step(model, state, ctx.h, ws);
   }
-  return newton_step(model, state, h, ws);
+  return newton_step(model, state, ctx, ws);
 }
 
 }  // namespace clothsim

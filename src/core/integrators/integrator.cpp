@@ -1,43 +1,73 @@
 // The registry and the dispatch: one table, one lookup, one function per method (MuJoCo's
-// mj_step pattern). Adding an integrator is one row here and its step function.
+// mj_step pattern). Adding an integrator is one row here, its step function and its folder.
 #include "integrator.h"
 
 #include <iterator>
+#include <limits>
 #include <stdexcept>
 
 namespace clothsim {
 namespace {
 
-using StepFunction = StepStats (*)(const Model&, State&, double, Workspace&);
+using StepFunction = StepStats (*)(const Model&, State&, const StepContext&, Workspace&);
 
 struct Entry {
   IntegratorInfo info;
   StepFunction step;
+  int* (*iterations)(Model& model);  // the count `:N` sets, or null
 };
 
-// In enum order, so an entry is found by the enum's value.
+constexpr double kInf = std::numeric_limits<double>::infinity();
+double no_limit(double, double, const ImplicitDef&) { return kInf; }
+double explicit_euler_limit(double w, double c, const ImplicitDef&) { return analysis::explicit_limit(1, w, c); }
+double midpoint_limit(double w, double c, const ImplicitDef&) { return analysis::explicit_limit(2, w, c); }
+double rk4_limit(double w, double c, const ImplicitDef&) { return analysis::explicit_limit(4, w, c); }
+double symplectic_limit(double w, double c, const ImplicitDef&) { return analysis::symplectic_euler_limit(w, c); }
+double backward_euler_limit(double w, double c, const ImplicitDef& implicit) {
+  if (implicit.solver == ImplicitSolver::Newton) return kInf;  // A-stable
+  return analysis::fixed_point_limit(implicit.fixed_point_iterations, w, c);
+}
+
+int* no_iterations(Model&) { return nullptr; }
+int* newton_iterations(Model& m) { return &m.implicit.newton_max_iterations; }
+int* xpbd_iterations(Model& m) { return &m.solvers.xpbd.iterations; }
+int* pd_iterations(Model& m) { return &m.solvers.projective_dynamics.iterations; }
+int* vbd_iterations(Model& m) { return &m.solvers.vbd.iterations; }
+
+// In enum order, so an entry is found by the enum's value. The solvers' passes per iteration
+// are the work-unit weights measured on the drape's 25 x 25 sheet (BENCHMARKS.md).
+using C = IterationControl;
 const Entry kRegistry[] = {
     {{IntegratorKind::ExplicitEuler, "explicit_euler", 1, 1,
-      "forward Euler: x += h v_n, v += h a_n (the course framework's 'explicit')"},
-     explicit_euler_step},
+      "forward Euler: x += h v_n, v += h a_n (the course framework's 'explicit')",
+      1, C::None, 0.0, false, false, explicit_euler_limit},
+     explicit_euler_step, no_iterations},
     {{IntegratorKind::SymplecticEuler, "symplectic_euler", 1, 0,
-      "v += h a_n, x += h v_{n+1} (the student report's code)"},
-     symplectic_euler_step},
-    {{IntegratorKind::Midpoint, "midpoint", 2, 3, "RK2 through the half-step state"},
-     midpoint_step},
-    {{IntegratorKind::Rk4, "rk4", 4, 4, "classic Runge-Kutta 4 on (x, v)"}, rk4_step},
+      "v += h a_n, x += h v_{n+1} (the student report's code)",
+      1, C::None, 0.0, false, false, symplectic_limit},
+     symplectic_euler_step, no_iterations},
+    {{IntegratorKind::Midpoint, "midpoint", 2, 3, "RK2 through the half-step state",
+      2, C::None, 0.0, false, false, midpoint_limit},
+     midpoint_step, no_iterations},
+    {{IntegratorKind::Rk4, "rk4", 4, 4, "classic Runge-Kutta 4 on (x, v)",
+      4, C::None, 0.0, false, false, rk4_limit},
+     rk4_step, no_iterations},
     {{IntegratorKind::ImplicitEuler, "implicit_euler", 0, 2,
-      "backward Euler: Newton + PCG, contacts in the solve (or fixed point)"},
-     implicit_euler_step},
+      "backward Euler: Newton + PCG, contacts in the solve (or fixed point)",
+      1, C::Newton, 0.0, true, true, backward_euler_limit},
+     implicit_euler_step, newton_iterations},
     {{IntegratorKind::Xpbd, "xpbd", 0, 0,
-      "XPBD (Macklin et al. 2016): compliant distance constraints, Gauss-Seidel"},
-     xpbd_step},
+      "XPBD (Macklin et al. 2016): compliant distance constraints, Gauss-Seidel",
+      1, C::Solver, 1.4, false, false, no_limit},
+     xpbd_step, xpbd_iterations},
     {{IntegratorKind::ProjectiveDynamics, "projective_dynamics", 0, 0,
-      "projective dynamics (Liu et al. 2013): local-global on Phi, prefactored"},
-     projective_dynamics_step},
+      "projective dynamics (Liu et al. 2013): local-global on Phi, prefactored",
+      1, C::Solver, 2.9, false, false, no_limit},
+     projective_dynamics_step, pd_iterations},
     {{IntegratorKind::Vbd, "vbd", 0, 0,
-      "vertex block descent (Chen et al. 2024): per-vertex Newton on Phi"},
-     vbd_step},
+      "vertex block descent (Chen et al. 2024): per-vertex Newton on Phi",
+      1, C::Solver, 2.4, false, false, no_limit},
+     vbd_step, vbd_iterations},
 };
 
 const Entry& entry(IntegratorKind kind) {
@@ -60,9 +90,25 @@ const std::vector<IntegratorInfo>& integrator_registry() {
 
 StepStats integrate(IntegratorKind kind, const Model& model, State& state, double h,
                     Workspace& ws) {
-  return entry(kind).step(model, state, h, ws);
+  return entry(kind).step(model, state, make_step_context(h, model.spring_path()), ws);
 }
 
 int nominal_force_evals(IntegratorKind kind) { return entry(kind).info.nominal_force_evals; }
+
+const IntegratorInfo& integrator_info(IntegratorKind kind) { return entry(kind).info; }
+
+int* iteration_count(Model& model, IntegratorKind kind) { return entry(kind).iterations(model); }
+
+int iteration_count(const Model& model, IntegratorKind kind) {
+  const int* n = entry(kind).iterations(const_cast<Model&>(model));  // only read
+  return n ? *n : 0;
+}
+
+namespace analysis {
+double predicted_limit(const StiffnessEstimate& e, IntegratorKind kind, const ImplicitDef& implicit) {
+  if (!(e.w_max > 0.0) && !(e.c_max > 0.0)) return kInf;  // nothing stiff in the scene
+  return entry(kind).info.linear_limit(e.w_max, e.c_max, implicit);
+}
+}  // namespace analysis
 
 }  // namespace clothsim

@@ -2,11 +2,6 @@
 
 namespace clothsim {
 
-bool is_iterative_solver(IntegratorKind kind) {
-  return kind == IntegratorKind::Xpbd || kind == IntegratorKind::ProjectiveDynamics ||
-         kind == IntegratorKind::Vbd;
-}
-
 std::string_view integrator_name(IntegratorKind kind) {
   for (const IntegratorInfo& info : integrator_registry())
     if (info.kind == kind) return info.name;
@@ -37,14 +32,20 @@ std::string integrator_names_joined(std::string_view separator) {
   return out;
 }
 
+std::vector<IntegratorKind> comparison_integrators() {
+  std::vector<IntegratorKind> out;
+  for (int slot = 1; slot <= static_cast<int>(integrator_registry().size()); ++slot)
+    for (const IntegratorInfo& info : integrator_registry())
+      if (info.comparison_slot == slot) out.push_back(info.kind);
+  return out;
+}
+
 std::string default_comparison_list() {
   std::string out;
-  for (int slot = 1; slot <= static_cast<int>(integrator_registry().size()); ++slot)
-    for (const IntegratorInfo& info : integrator_registry()) {
-      if (info.comparison_slot != slot) continue;
-      if (!out.empty()) out += ",";
-      out += info.name;
-    }
+  for (IntegratorKind kind : comparison_integrators()) {
+    if (!out.empty()) out += ",";
+    out += integrator_name(kind);
+  }
   return out;
 }
 

@@ -1,5 +1,6 @@
-// The integrators by name. The enum is what a scene's `integrator:` key and the
-// CLI's --integrator parse into; the step dispatches on it in integrator.cpp.
+// The integrators by name and their registry rows. The enum (core/method_params.h) is what a
+// scene's `integrator:` key and the CLI's --integrator parse into; the step dispatches on it
+// in integrator.cpp.
 #pragma once
 
 #include <optional>
@@ -7,25 +8,23 @@
 #include <string_view>
 #include <vector>
 
+#include "core/method_params.h"
+#include "core/model.h"
+#include "core/stiffness_estimate.h"
+
 namespace clothsim {
 
-enum class IntegratorKind {
-  ExplicitEuler,    // x += h v_n; v += h a_n                        1 force eval
-  SymplecticEuler,  // v += h a_n; x += h v_{n+1}                    1 force eval
-  Midpoint,         // RK2 through the half-step state               2 force evals
-  Rk4,              // classic Runge-Kutta 4 on (x, v)               4 force evals
-  ImplicitEuler,    // backward Euler, Newton + PCG (or fixed point)  1 + solver work
-  Xpbd,             // Macklin et al. 2016 compliant constraints        ~1 spring pass / iteration
-  ProjectiveDynamics,  // Liu et al. 2013 local-global on Phi          pass + factored solve / iteration
-  Vbd,              // Chen et al. 2024 vertex block descent on Phi    ~1 spring pass / iteration
+// What a lane's `:N`, --iterations and convergence sweeps set for a method.
+enum class IterationControl {
+  None,    // the explicit family: a step is a fixed number of force evaluations
+  Newton,  // implicit_euler's Newton iterations (1: Baraff & Witkin's step, NewtonMode)
+  Solver,  // an iterative solver's sweeps per step (xpbd, projective_dynamics, vbd)
 };
 
-// Whether the kind is one of the iterative solvers whose iteration count a scene block,
-// --iterations and a lane's `:N` set (xpbd, projective_dynamics, vbd).
-bool is_iterative_solver(IntegratorKind kind);
-
 // Everything said about an integrator outside its step function, in one table (the
-// registry, integrators/integrator.cpp), which names, help texts and default lists read.
+// registry, integrators/integrator.cpp): names, help, default lists, cost, stability and
+// iteration control all read their method's row, so a new method is its step function, its
+// folder and one row.
 struct IntegratorInfo {
   IntegratorKind kind;
   std::string_view name;         // scene/CLI spelling
@@ -33,6 +32,19 @@ struct IntegratorInfo {
   int comparison_slot;           // place in compare's, bench's and stability's default four
                                  // (1..4, the course's order), 0: not among them
   std::string_view description;  // one line, for --help
+  int order;                     // global order on a smooth ODE (what bench's slopes should read)
+  IterationControl iterations;   // what `:N` sets
+  // Spring-pass equivalents of one solver iteration (work_units.h; BENCHMARKS.md, "The
+  // iterative solvers"); 0 unless iterations is Solver.
+  double passes_per_iteration;
+  // Also measured at one step per video frame by bench and stability (a method run at frame
+  // rate, which no explicit step survives on a stiff scene).
+  bool frame_rate_steps;
+  // Its post-step projection is a safety net, counted when it moves a particle (contacts are
+  // held inside the solve): RunTotals::safety_projections.
+  bool counts_safety_projections;
+  // The largest stable h on u'' + c u' + w^2 u = 0 (stiffness_estimate.h); inf: none.
+  double (*linear_limit)(double w, double c, const ImplicitDef& implicit);
 };
 const std::vector<IntegratorInfo>& integrator_registry();  // in enum order
 
@@ -41,5 +53,29 @@ std::optional<IntegratorKind> parse_integrator(std::string_view name);
 const std::vector<IntegratorKind>& all_integrators();
 std::string integrator_names_joined(std::string_view separator = ", ");  // for errors and help
 std::string default_comparison_list();  // the default four, comma-separated
+std::vector<IntegratorKind> comparison_integrators();  // the same four, in their slots' order
+
+const IntegratorInfo& integrator_info(IntegratorKind kind);  // the method's row
+// Whether `:N` sets a solver's sweeps (xpbd, projective_dynamics, vbd).
+inline bool is_iterative_solver(IntegratorKind kind) {
+  return integrator_info(kind).iterations == IterationControl::Solver;
+}
+// The model's iteration count `:N` sets for `kind` (its Newton cap, or its solver block's
+// sweeps); null for the explicit family.
+int* iteration_count(Model& model, IntegratorKind kind);
+int iteration_count(const Model& model, IntegratorKind kind);  // 0 for the explicit family
+
+// Two methods have roles beyond their rows. Backward Euler is what the iterative solvers are
+// measured against (clothsim converge) and has the course's fixed-point spelling; RK4 is the
+// fine fixed-step reference of bench and compare.
+inline constexpr IntegratorKind kBackwardEuler = IntegratorKind::ImplicitEuler;
+inline constexpr IntegratorKind kReferenceIntegrator = IntegratorKind::Rk4;
+
+namespace analysis {
+// The step beyond which `kind` is predicted to be unstable on the scene's fastest mode
+// (stiffness_estimate.h says how): the row's linear_limit at w_max and c_max; infinity with
+// nothing stiff in the scene.
+double predicted_limit(const StiffnessEstimate& estimate, IntegratorKind kind, const ImplicitDef& implicit = {});
+}  // namespace analysis
 
 }  // namespace clothsim

@@ -10,7 +10,8 @@
 
 namespace clothsim {
 
-StepStats midpoint_step(const Model& model, State& state, double h, Workspace& ws) {
+StepStats midpoint_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
+  const double h = ctx.h;
   const double half = 0.5 * h;
   const double strain = accelerations(model, state.x, state.v, state.inv_mass, ws.a);  // a_n
   ws.x1.noalias() = state.x + half * state.v;                    // the half-step state

@@ -22,7 +22,8 @@ void accelerate(SolverCache& c, int k, double rho, double& omega) {
 
 }  // namespace
 
-StepStats projective_dynamics_step(const Model& model, State& state, double h, Workspace& ws) {
+StepStats projective_dynamics_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
+  const double h = ctx.h;
   SolverCache& c = solver_cache(ws);
   build_step_problem(model, state, h, c.problem);
   StepStats stats;

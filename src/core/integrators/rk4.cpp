@@ -19,7 +19,8 @@
 
 namespace clothsim {
 
-StepStats rk4_step(const Model& model, State& state, double h, Workspace& ws) {
+StepStats rk4_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
+  const double h = ctx.h;
   const double half = 0.5 * h;
   const Eigen::Matrix3Xd& x = state.x;
   const Eigen::Matrix3Xd& v = state.v;

@@ -8,7 +8,8 @@
 
 namespace clothsim {
 
-StepStats symplectic_euler_step(const Model& model, State& state, double h, Workspace& ws) {
+StepStats symplectic_euler_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
+  const double h = ctx.h;
   const double strain = accelerations(model, state.x, state.v, state.inv_mass, ws.a);  // a_n
   state.v += h * ws.a;
   state.x += h * state.v;  // the new velocity: this is what makes it symplectic

@@ -61,7 +61,8 @@ void sweep_graph(const Model& model, int iterations, SolverCache& c, const Works
 
 }  // namespace
 
-StepStats vbd_step(const Model& model, State& state, double h, Workspace& ws) {
+StepStats vbd_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
+  const double h = ctx.h;
   SolverCache& c = solver_cache(ws);
   build_step_problem(model, state, h, c.problem);
   build_vbd_graph(model, c.vbd);

@@ -70,13 +70,14 @@ void sweep_families(const Model& model, const StepProblem& p, const State& state
 
 }  // namespace
 
-StepStats xpbd_step(const Model& model, State& state, double h, Workspace& ws) {
+StepStats xpbd_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
+  const double h = ctx.h;
   SolverCache& cache = solver_cache(ws);
   StepProblem& p = cache.problem;
   build_step_problem(model, state, h, p);
   cache.y = p.target;
   const int iterations = iteration_count(model, IntegratorKind::Xpbd);
-  if (xpbd_by_families(model))
+  if (model.spring_path() == SpringPath::Families)
     sweep_families(model, p, state, iterations, cache, ws);
   else
     sweep_spring_list(model, p, state, iterations, cache, ws);

@@ -34,8 +34,8 @@
 #include <vector>
 
 #include "block_factor_kernels.h"
-#include "core/implicit/sparse_system.h"
-#include "core/implicit/velocity_filter.h"
+#include "block_matrix.h"
+#include "velocity_filter.h"
 
 namespace clothsim {
 

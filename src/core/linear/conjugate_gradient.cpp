@@ -53,7 +53,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   const bool from_guess = settings.from_guess && x.cols() == b.cols() && x.allFinite();
   if (from_guess) {
     filtered(x);
-    multiply(A, x, buf.q);  // a warm start: r = b - A x from the caller's guess
+    A.multiply(A, x, buf.q);  // a warm start: r = b - A x from the caller's guess
     buf.r = b - buf.q;
   } else {
     x.setZero(3, b.cols());
@@ -67,7 +67,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   buf.p = buf.z;
   const std::size_t n = static_cast<std::size_t>(b.size());
   while (result.iterations < settings.max_iterations) {
-    multiply(A, buf.p, buf.q);
+    A.multiply(A, buf.p, buf.q);
     filtered(buf.q);
     const double pq = dot(buf.p, buf.q);
     if (!(pq > 0.0)) {  // A is not positive definite along p (or NaN): CG cannot go on

@@ -8,8 +8,8 @@
 #include <Eigen/Core>
 
 #include "cholesky_preconditioner.h"
-#include "core/implicit/sparse_system.h"
-#include "core/implicit/velocity_filter.h"
+#include "block_matrix.h"
+#include "velocity_filter.h"
 
 namespace clothsim {
 

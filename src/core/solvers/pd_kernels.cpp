@@ -50,12 +50,6 @@ Eigen::SparseMatrix<double> global_matrix(const Model& model, const StepProblem&
   return A;
 }
 
-bool by_families(const Model& model) {
-  const SpringLayout& layout = model.spring_layout;
-  return layout.covers(model.springs.size()) && layout.others.size() == 0 &&
-         layout.num_particles == model.num_particles;
-}
-
 // The scalar local step: each spring's projection k p_s added to its free ends' rows.
 void scatter_spring_projections(const Model& model, const StepProblem& p, const PdFactor& f,
                                 const Eigen::Matrix3Xd& y, Eigen::Matrix4Xd& z) {
@@ -127,7 +121,7 @@ void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f
     if (ra >= 0 && rb < 0) s.base.col(ra).head<3>() += p.stiffness[k] * p.target.col(sp.b[k]);
     if (rb >= 0 && ra < 0) s.base.col(rb).head<3>() += p.stiffness[k] * p.target.col(sp.a[k]);
   }
-  if (!by_families(model)) return;
+  if (model.spring_path() != SpringPath::Families) return;
   const SpringLayout& layout = model.spring_layout;
   s.rest.assign(layout.num_slots + layout.slot_gap, 0.0);
   for (std::size_t k = 0; k < sp.size(); ++k) s.rest[layout.slot[k]] = p.rest[k];
@@ -136,7 +130,7 @@ void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f
 void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, Eigen::Matrix3Xd& y,
                   PdSystem& s, std::vector<double>& lambda) {
   s.z = s.base;
-  if (by_families(model))
+  if (model.spring_path() == SpringPath::Families)
     pd_family_projections(model.spring_layout, y, s.rest.data(), p.h, f.row.data(), s.z);
   else
     scatter_spring_projections(model, p, f, y, s.z);

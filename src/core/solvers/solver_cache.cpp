@@ -11,15 +11,6 @@ SolverCache& solver_cache(Workspace& ws) {
   return *ws.solvers;
 }
 
-int iteration_count(const Model& model, IntegratorKind kind) {
-  switch (kind) {
-    case IntegratorKind::Xpbd: return model.solvers.xpbd.iterations;
-    case IntegratorKind::ProjectiveDynamics: return model.solvers.projective_dynamics.iterations;
-    case IntegratorKind::Vbd: return model.solvers.vbd.iterations;
-    default: return 0;
-  }
-}
-
 double max_start_strain(const Model& model, const StepProblem& p) {
   double strain = 0.0;
   const Springs& s = model.springs;

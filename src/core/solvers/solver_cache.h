@@ -11,7 +11,8 @@
 #include "vbd_grid_kernels.h"
 #include "vbd_kernels.h"
 #include "xpbd_family_kernels.h"
-#include "core/integrators/integrator.h"
+#include "core/base/step_stats.h"
+#include "core/base/workspace.h"
 
 namespace clothsim {
 
@@ -29,8 +30,6 @@ struct SolverCache {
 
 SolverCache& solver_cache(Workspace& ws);
 
-// The iteration count the model's solver block asks for (xpbd, projective_dynamics, vbd).
-int iteration_count(const Model& model, IntegratorKind kind);
 
 // The largest strain (ln - l0) / l0 of the step's start lengths (StepStats::start_strain).
 double max_start_strain(const Model& model, const StepProblem& p);

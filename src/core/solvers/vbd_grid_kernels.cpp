@@ -204,9 +204,8 @@ void build_grid(const Model& model, VbdGrid& g) {
 }  // namespace
 
 bool vbd_by_grid(const Model& model) {
-  const SpringLayout& layout = model.spring_layout;
-  return layout.covers(model.springs.size()) && layout.others.size() == 0 && model.grid_nx > 0 &&
-         model.grid_nx * model.grid_ny == model.num_particles && layout.families.size() <= 6;
+  return model.spring_path() == SpringPath::Families && model.grid_nx > 0 &&
+         model.grid_nx * model.grid_ny == model.num_particles && model.spring_layout.families.size() <= 6;
 }
 
 void vbd_load_grid(const Model& model, const StepProblem& p, const Eigen::Matrix3Xd& y, VbdGrid& g) {

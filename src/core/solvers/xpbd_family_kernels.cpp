@@ -254,12 +254,6 @@ void to_soa(const Eigen::Matrix3Xd& m, int n, std::size_t stride, std::vector<do
 
 }  // namespace
 
-bool xpbd_by_families(const Model& model) {
-  const SpringLayout& layout = model.spring_layout;
-  return layout.covers(model.springs.size()) && layout.others.size() == 0 &&
-         layout.num_particles == model.num_particles;
-}
-
 void xpbd_load_families(const Model& model, const StepProblem& p, const Eigen::VectorXd& inv_mass,
                         const Eigen::Matrix3Xd& y, XpbdFamilies& f) {
   if (f.model != &model || f.springs != model.springs.size()) build_sets(model, f), f.w.clear();

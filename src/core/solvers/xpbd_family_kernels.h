@@ -41,9 +41,6 @@ struct XpbdFamilies {
   std::vector<std::vector<double>> lambda;  // (F) multipliers by position
 };
 
-// True when the model's springs are all in its layout's families (the SIMD sweep applies).
-bool xpbd_by_families(const Model& model);
-
 // Readies the sets (once per model) and loads the step: y (3 x B), the start positions and
 // the inverse masses.
 void xpbd_load_families(const Model& model, const StepProblem& p, const Eigen::VectorXd& inv_mass,

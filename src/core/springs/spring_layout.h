@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "springs.h"
+#include "core/base/step_context.h"  // SpringPath
 
 namespace clothsim {
 
@@ -69,6 +70,15 @@ struct SpringLayout {
     return num_springs == total_springs && !families.empty();
   }
 };
+
+// How every pass walks a model's springs, decided here and nowhere else: the scalar list when
+// the layout does not describe these springs, the families alone when they hold every spring of
+// a layout over the model's own particles, else both.
+inline SpringPath spring_path(const SpringLayout& layout, std::size_t total_springs, int num_particles) {
+  if (!layout.covers(total_springs)) return SpringPath::List;
+  if (layout.others.size() == 0 && layout.num_particles == num_particles) return SpringPath::Families;
+  return SpringPath::Mixed;
+}
 
 // The slot order a model's per-spring step arrays use: the layout's when it covers the springs,
 // else spring order itself (a stale layout or no grid: the scalar passes only).

@@ -123,7 +123,7 @@ SpringBlockMatrix newton_matrix(const StepCase& s) {
   SpringBlockMatrix A;
   build_pattern(s.model, A);
   const Eigen::Matrix3Xd y = s.start.x + kH * (s.start.v + s.dv);
-  assemble_step_hessian(s.model, s.start.inv_mass, kH, s.length, y, false, A);
+  assemble_step_hessian(s.model, s.start.inv_mass, kH, s.length, y, HessianBlocks::Exact, A);
   return A;
 }
 
@@ -154,8 +154,8 @@ void expect_same_matrix(const StepCase& s, const Eigen::VectorXd& w, bool projec
   SpringBlockMatrix A, ref;
   build_pattern(m, A);
   build_pattern(m, ref);
-  assemble_step_hessian(m, w, kH, s.length, y, project, A);
-  assemble_step_hessian_scalar(m, w, kH, s.length, y, project, ref);
+  assemble_step_hessian(m, w, kH, s.length, y, project ? HessianBlocks::Projected : HessianBlocks::Exact, A);
+  assemble_step_hessian_scalar(m, w, kH, s.length, y, project ? HessianBlocks::Projected : HessianBlocks::Exact, ref);
   const double h2 = kH * kH;
   const Springs& sp = m.springs;
   std::vector<double> bound(m.num_bodies(), 0.0);
@@ -315,8 +315,8 @@ TEST(PotentialKernels, NaNPropagatesAsInTheScalarPasses) {
       SpringBlockMatrix A, ref;
       build_pattern(bad.model, A);
       build_pattern(bad.model, ref);
-      assemble_step_hessian(bad.model, bad.start.inv_mass, kH, s.length, y_bad, false, A);
-      assemble_step_hessian_scalar(bad.model, bad.start.inv_mass, kH, s.length, y_bad, false, ref);
+      assemble_step_hessian(bad.model, bad.start.inv_mass, kH, s.length, y_bad, HessianBlocks::Exact, A);
+      assemble_step_hessian_scalar(bad.model, bad.start.inv_mass, kH, s.length, y_bad, HessianBlocks::Exact, ref);
       for (int body = 0; body < bad.model.num_bodies(); ++body) {
         EXPECT_EQ(A.diag[body].array().isNaN().any(), ref.diag[body].array().isNaN().any()) << "body " << body;
         EXPECT_EQ(A.diag_projected[body].array().isNaN().any(), ref.diag_projected[body].array().isNaN().any())
@@ -364,7 +364,7 @@ TEST(PotentialKernels, EveryTargetGivesTheSameBits) {
   const auto run = [&] {
     Bits b;
     build_pattern(s.model, b.matrix);
-    assemble_step_hessian(s.model, s.start.inv_mass, kH, s.length, y_end, false, b.matrix);
+    assemble_step_hessian(s.model, s.start.inv_mass, kH, s.length, y_end, HessianBlocks::Exact, b.matrix);
     b.strain = step_lengths(s.model, s.start.x, b.length);
     Eigen::Matrix3Xd y;
     const PotentialValue v = step_potential(s.model, s.start, kH, s.length, s.dv, y, b.gradient);

@@ -79,7 +79,7 @@ Assembled assemble(double scale, double h, bool project, bool moving = true,
   Eigen::Matrix3Xd r;
   step_potential(s.model, s.state, h, s.start_length, s.dv, s.y, r);
   build_pattern(s.model, s.A);
-  assemble_step_hessian(s.model, s.state.inv_mass, h, s.start_length, s.y, project, s.A);
+  assemble_step_hessian(s.model, s.state.inv_mass, h, s.start_length, s.y, project ? HessianBlocks::Projected : HessianBlocks::Exact, s.A);
   return s;
 }
 
@@ -159,7 +159,7 @@ TEST(SparseSystem, TheBlockJacobiInverseCanBeFormedLater) {
   Assembled s = assemble(0.6, 1.0, false);
   const std::vector<Mat3> full = s.A.diag_inverse;
   std::fill(s.A.diag_inverse.begin(), s.A.diag_inverse.end(), Mat3::Zero());
-  assemble_step_hessian(s.model, s.state.inv_mass, 1.0, s.start_length, s.y, false, s.A, false);
+  assemble_step_hessian(s.model, s.state.inv_mass, 1.0, s.start_length, s.y, HessianBlocks::Exact, s.A, JacobiInverse::Skip);
   for (const Mat3& d : s.A.diag_inverse) EXPECT_TRUE(d.isZero(0.0));  // left as it was
   invert_diagonal(s.A);
   for (int b = 0; b < s.A.num_bodies(); ++b) EXPECT_EQ(s.A.diag_inverse[b], full[b]) << "body " << b;

@@ -189,7 +189,7 @@ TEST(ImplicitEuler, AConvergedNewtonStepSatisfiesTheStatedBackwardEulerEquationO
         if (state.inv_mass[b] == 0.0) state.v.col(b).setZero();
       Workspace ws;
       const State before = state;
-      const StepStats s = implicit_euler_step(model, state, h, ws);
+      const StepStats s = integrate(kBackwardEuler, model, state, h, ws);
       ASSERT_TRUE(s.converged) << "residual " << s.residual << " h " << h;
       EXPECT_LE(s.residual, model.implicit.newton_tolerance);
       EXPECT_EQ(s.contact_constraints, 0);
@@ -215,7 +215,7 @@ TEST(ImplicitEuler, UndampedItLosesEnergyAtEveryStepAtEveryStepSize) {
     const double E0 = energy(model, state);
     double E = E0;
     for (int n = 0; n < 20; ++n) {
-      const StepStats s = implicit_euler_step(model, state, h, ws);
+      const StepStats s = integrate(kBackwardEuler, model, state, h, ws);
       ASSERT_TRUE(s.converged) << "h " << h << " step " << n;
       const double E_next = energy(model, state);
       // Never a gain beyond rounding (at h = 0.5 the sheet comes to rest in a crumpled
@@ -243,7 +243,7 @@ TEST(ImplicitEuler, NoParticleEndsAStepInsideTheBallOrGroundAtOneThirtiethOfASec
   Workspace ws;
   int held = 0, unconverged = 0;
   for (int n = 0; n < 45; ++n) {
-    const StepStats s = implicit_euler_step(model, state, h, ws);
+    const StepStats s = integrate(kBackwardEuler, model, state, h, ws);
     if (!s.converged) ++unconverged;
     EXPECT_LT(s.residual, 5e-2) << "step " << n;
     held += s.contact_constraints;
@@ -531,7 +531,7 @@ TEST(ImplicitEuler, SaysSoWhenNewtonHitsItsIterationCapAboveTolerance) {
       stiff_scene_path(), {"implicit.newton_max_iterations=1", "implicit.newton_tolerance=1e-12"}));
   State state = stiff_state_in_contact(model);
   Workspace ws;
-  const StepStats s = implicit_euler_step(model, state, model.dt, ws);
+  const StepStats s = integrate(kBackwardEuler, model, state, model.dt, ws);
   EXPECT_FALSE(s.converged);
   EXPECT_GT(s.residual, 1e-12);
   EXPECT_EQ(s.newton_iterations, 1);
@@ -615,7 +615,7 @@ cloth:
   State state = initial_state(model);
   Workspace ws;
   for (int n = 0; n < 3; ++n) {
-    const StepStats s = implicit_euler_step(model, state, 1e-2, ws);
+    const StepStats s = integrate(kBackwardEuler, model, state, 1e-2, ws);
     EXPECT_TRUE(s.converged) << "step " << n;
     EXPECT_EQ(s.residual, 0.0);
   }
@@ -646,7 +646,7 @@ implicit: {newton_max_iterations: 100}
   Workspace ws;
   double E = energy(model, state);
   for (int n = 0; n < 5; ++n) {
-    const StepStats s = implicit_euler_step(model, state, 0.5, ws);
+    const StepStats s = integrate(kBackwardEuler, model, state, 0.5, ws);
     ASSERT_TRUE(s.converged) << "step " << n << ": residual " << s.residual;
     ASSERT_TRUE(state.x.allFinite());
     EXPECT_LT(energy(model, state), E);

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "test_support.h"
+#include "core/implicit/sparse_system.h"
 #include "core/implicit/step_potential.h"
 #include "core/kernel_test_support.h"
 #include "core/linear/conjugate_gradient.h"
@@ -54,7 +55,7 @@ spheres:
   std::vector<double> start_length;
   step_lengths(s.model, st.x, start_length);
   build_pattern(s.model, s.A);
-  assemble_step_hessian(s.model, st.inv_mass, h, start_length, 0.7 * st.x, false, s.A);
+  assemble_step_hessian(s.model, st.inv_mass, h, start_length, 0.7 * st.x, HessianBlocks::Exact, s.A);
   s.b = Eigen::Matrix3Xd::Random(3, B);
   for (int i = 0; i < B; ++i)
     if (st.inv_mass[i] == 0.0) s.b.col(i).setZero();
@@ -213,7 +214,7 @@ cloth:
   step_lengths(model, st.x, start_length);
   SpringBlockMatrix A;
   build_pattern(model, A);
-  assemble_step_hessian(model, st.inv_mass, 0.05, start_length, st.x, true, A);
+  assemble_step_hessian(model, st.inv_mass, 0.05, start_length, st.x, HessianBlocks::Projected, A);
   CholeskyPreconditioner factor;
   factor.analyse(A);
   EXPECT_LT(factor.factor_blocks(), 625u * 30u);

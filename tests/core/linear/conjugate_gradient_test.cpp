@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "test_support.h"
+#include "core/implicit/sparse_system.h"
 #include "core/implicit/step_potential.h"
 #include "core/state.h"
 
@@ -38,7 +39,7 @@ System system(const std::string& springs, double h) {
   std::vector<double> start_length;
   step_lengths(s.model, st.x, start_length);
   build_pattern(s.model, s.A);
-  assemble_step_hessian(s.model, st.inv_mass, h, start_length, st.x + h * st.v, true, s.A);
+  assemble_step_hessian(s.model, st.inv_mass, h, start_length, st.x + h * st.v, HessianBlocks::Projected, s.A);
   s.b = Eigen::Matrix3Xd::Random(3, s.model.num_bodies());
   for (int i = 0; i < s.model.num_bodies(); ++i)
     if (st.inv_mass[i] == 0.0) s.b.col(i).setZero();

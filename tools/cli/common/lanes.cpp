@@ -9,6 +9,7 @@
 #include "cli/compare/compare_plan.h"
 #include "cli/frames/overlay_text.h"
 #include "scene/echo.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 
@@ -27,9 +28,7 @@ std::string names_or_course() {
   return integrator_names_joined() + ", " + std::string(kFixedPointName) + ", or course";
 }
 
-bool has_iterations(IntegratorKind kind) {
-  return kind == IntegratorKind::ImplicitEuler || is_iterative_solver(kind);
-}
+bool has_iterations(IntegratorKind kind) { return integrator_info(kind).iterations != IterationControl::None; }
 
 struct Item {
   LaneSpec lane;
@@ -48,7 +47,7 @@ Item parse_item(const std::string& typed, const std::string& option) {
   const std::string name = trimmed(item.substr(0, at));
   const bool lanes = option != "--reference";  // the reference is one of the integrators as the scene sets them
   const bool fixed_point = lanes && name == kFixedPointName;
-  const std::optional<IntegratorKind> kind = fixed_point ? IntegratorKind::ImplicitEuler : parse_integrator(name);
+  const std::optional<IntegratorKind> kind = fixed_point ? kBackwardEuler : parse_integrator(name);
   if (!kind)
     throw UsageError(option + ": unknown integrator " + in_quotes(name) + " (expected one of: " +
                      (lanes ? names_or_course() : integrator_names_joined()) + ")");
@@ -95,7 +94,7 @@ std::string LaneSpec::name() const {
   std::string n(integrator_name(kind));
   if (iterations > 0) n += ":" + std::to_string(iterations);
   if (fixed_point) return n + " (fixed point)";
-  if (kind == IntegratorKind::ImplicitEuler && iterations == 1) return n + " (Baraff & Witkin)";
+  if (newton_capped() && iterations == 1) return n + " (Baraff & Witkin)";
   return n;
 }
 
@@ -141,18 +140,10 @@ int parse_iteration_count(const std::string& text, const std::string& what) {
 
 void set_iterations(Model& model, IntegratorKind kind, bool fixed_point, int iterations,
                     const std::string& what) {
-  switch (kind) {
-    case IntegratorKind::ImplicitEuler:
-      if (fixed_point || model.implicit.solver == ImplicitSolver::FixedPoint)
-        model.implicit.fixed_point_iterations = iterations;
-      else model.implicit.newton_max_iterations = iterations;
-      return;
-    case IntegratorKind::Xpbd: model.solvers.xpbd.iterations = iterations; return;
-    case IntegratorKind::ProjectiveDynamics: model.solvers.projective_dynamics.iterations = iterations; return;
-    case IntegratorKind::Vbd: model.solvers.vbd.iterations = iterations; return;
-    default:
-      throw UsageError(what + ": " + std::string(integrator_name(kind)) + " has no iterations to set");
-  }
+  const bool fixed = kind == kBackwardEuler && (fixed_point || model.implicit.solver == ImplicitSolver::FixedPoint);
+  int* count = fixed ? &model.implicit.fixed_point_iterations : iteration_count(model, kind);
+  if (!count) throw UsageError(what + ": " + std::string(integrator_name(kind)) + " has no iterations to set");
+  *count = iterations;
 }
 
 std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::string& dt_text, double scene_dt) {
@@ -161,9 +152,8 @@ std::vector<LaneSpec> parse_lanes(const std::string& integrators, const std::str
     const std::string item = trimmed(raw);
     if (item.empty()) throw UsageError("--integrators: empty item in " + in_quotes(integrators));
     if (item == "course") {  // the course framework's four, in its order
-      for (IntegratorKind k : {IntegratorKind::ExplicitEuler, IntegratorKind::ImplicitEuler,
-                               IntegratorKind::Midpoint, IntegratorKind::Rk4})
-        items.push_back(Item{LaneSpec{k, 0.0, "", k == IntegratorKind::ImplicitEuler}, false});
+      for (IntegratorKind k : comparison_integrators())  // backward Euler as the course's fixed point
+        items.push_back(Item{LaneSpec{k, 0.0, "", k == kBackwardEuler}, false});
       continue;
     }
     items.push_back(parse_item(item, "--integrators"));
@@ -199,7 +189,7 @@ double smallest_step(const std::vector<LaneSpec>& lanes) {
 }
 
 LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& lanes) {
-  LaneSpec ref{IntegratorKind::Rk4, smallest_step(lanes) / 4.0, "", false};
+  LaneSpec ref{kReferenceIntegrator, smallest_step(lanes) / 4.0, "", false};
   if (!trimmed(text).empty()) {
     if (text.find(',') != std::string::npos) throw UsageError("--reference: one lane, got " + in_quotes(text));
     const Item item = parse_item(trimmed(text), "--reference");

@@ -33,7 +33,9 @@ struct LaneSpec {
   std::string stepless_spelling() const;
   // implicit_euler's Newton capped at :N by the user: its steps stop at N iterations on purpose,
   // so a residual above tolerance is the method asked for, not a stalled solve.
-  bool newton_capped() const { return iterations > 0 && kind == IntegratorKind::ImplicitEuler && !fixed_point; }
+  bool newton_capped() const {
+    return iterations > 0 && integrator_info(kind).iterations == IterationControl::Newton && !fixed_point;
+  }
 };
 
 // --integrators: "course" (the course's four: explicit Euler, the one-iteration fixed-point

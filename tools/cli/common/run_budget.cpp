@@ -5,6 +5,7 @@
 
 #include "cli/frames/lane_worker.h"  // reference_queue_capacity
 #include "scene/memory_estimate.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 

@@ -8,6 +8,7 @@
 #include "scene/echo.h"
 #include "scene/run_bounds.h"
 #include "scene/scene_parser.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 

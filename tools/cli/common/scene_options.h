@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scene/scene_def.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "cli_common.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 

@@ -72,6 +72,7 @@
 #include "scene/scene_parser.h"
 #include "video/tiling.h"
 #include "video/video_writer.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 

@@ -81,7 +81,7 @@ void print_solver_work(const PipelineReport& report, const std::vector<std::stri
                   " of %" PRId64 " steps, largest strain %.3g\n",
                   names[i].c_str(), r.spec.step_text.c_str(), r.totals.newton_iterations,
                   r.totals.safety_projections, r.totals.projected_steps, r.totals.steps, r.totals.max_strain);
-    else if (r.spec.kind == IntegratorKind::ImplicitEuler)
+    else if (integrator_info(r.spec.kind).iterations == IterationControl::Newton)
       std::printf("%s @ %s s: %" PRId64 " Newton and %" PRId64 " CG iterations (%" PRId64 " assemblies, %" PRId64
                   " sparse factorizations), largest final residual %.2g; "
                   "contacts held in the solve %" PRId64 ", post-step projections %" PRId64 "\n",

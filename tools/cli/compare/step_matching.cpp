@@ -42,7 +42,7 @@ void set_step(LaneSpec& lane, double h) {
 // Newton's work and an iterative solver's (its iterations, a factor per step size) are
 // measured by pilot runs instead.
 std::optional<double> fixed_work(const LaneSpec& lane) {
-  if (lane.fixed_point || lane.kind == IntegratorKind::ImplicitEuler || is_iterative_solver(lane.kind))
+  if (lane.fixed_point || integrator_info(lane.kind).iterations != IterationControl::None)
     return std::nullopt;
   return static_cast<double>(nominal_force_evals(lane.kind));
 }

@@ -1,4 +1,5 @@
 #include "overlay_text.h"
+#include "core/integrators/integrator_kind.h"
 
 #include <cstdio>
 

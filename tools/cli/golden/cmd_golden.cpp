@@ -38,6 +38,7 @@
 #include "scene/scene_parser.h"
 #include "study/journal.h"
 #include "study/work_precision.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 namespace {

@@ -12,6 +12,7 @@
 
 #include "scene/names.h"
 #include "scene/scene_parser.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 

@@ -94,7 +94,7 @@ void print_run_totals(const Model& model, IntegratorKind kind, double dt, const 
               " force evaluations, %.3f s of wall time, %.3f s of CPU (%.3g s of CPU per simulated s)\n",
               model.name.c_str(), std::string(integrator_name(kind)).c_str(), dt, t.steps, r.t, t.force_evals,
               t.sim_seconds, t.cpu_seconds, r.t > 0 ? t.cpu_seconds / r.t : 0.0);
-  if (kind == IntegratorKind::ImplicitEuler)
+  if (integrator_info(kind).iterations == IterationControl::Newton)
     std::printf("implicit solve: %" PRId64 " Newton iterations, %" PRId64
                 " CG iterations (%" PRId64 " sparse factorizations), largest final residual %.3g, %" PRId64
                 " steps not converged; %" PRId64 " contacts held in the solve, %" PRId64

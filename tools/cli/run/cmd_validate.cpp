@@ -10,6 +10,7 @@
 #include "cli/common/commands.h"
 #include "cli/common/memory_budget.h"
 #include "cli/common/scene_options.h"
+#include "core/integrators/integrator_kind.h"
 #include "core/model.h"
 #include "core/stiffness_estimate.h"
 #include "scene/build_model.h"
@@ -37,10 +38,10 @@ void print_step_limits(const SceneDef& scene, const Model& model) {
   std::string limits, above;
   bool own_above = false;
   for (IntegratorKind kind : all_integrators()) {
-    const bool fixed_point = kind == IntegratorKind::ImplicitEuler && scene.implicit.solver == ImplicitSolver::FixedPoint;
-    if (kind == IntegratorKind::ImplicitEuler && !fixed_point) continue;  // backward Euler: no limit
-    if (is_iterative_solver(kind)) continue;  // descent on Phi or constraints: no linear limit
     const double limit = analysis::predicted_limit(e, kind, scene.implicit);
+    // Backward Euler's Newton solve and the solvers' descent on Phi or constraints: no limit.
+    if (std::isinf(limit)) continue;
+    const bool fixed_point = kind == kBackwardEuler && scene.implicit.solver == ImplicitSolver::FixedPoint;
     std::string name(integrator_name(kind));
     if (fixed_point) name += " (fixed_point, " + std::to_string(scene.implicit.fixed_point_iterations) + " iterations)";
     const std::string value = limit > 0.0 ? seconds(limit) : "none (unstable at every step)";

@@ -40,6 +40,7 @@
 #include "study/task_pool.h"
 #include "study/work_precision.h"
 #include "study/work_precision_shard.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 namespace {

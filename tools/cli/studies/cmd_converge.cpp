@@ -37,7 +37,7 @@ std::vector<IntegratorKind> parse_methods(const std::string& text) {
   std::vector<IntegratorKind> out;
   for (const std::string& name : split_list(text)) {
     const auto kind = parse_integrator(name);
-    if (!kind || !(is_iterative_solver(*kind) || *kind == IntegratorKind::ImplicitEuler))
+    if (!kind || integrator_info(*kind).iterations == IterationControl::None)
       throw UsageError("--integrators: " + in_quotes(name) +
                        " is not an iterative method (expected xpbd, projective_dynamics, vbd or implicit_euler)");
     out.push_back(*kind);

@@ -47,6 +47,7 @@
 #include "study/parameter_sweep.h"
 #include "study/stability.h"
 #include "study/task_pool.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 namespace {

@@ -1,0 +1,46 @@
+// The methods as a scene names them: which integrator (`integrator:`) and the iterative
+// solvers' options (`xpbd:`, `projective_dynamics:`, `vbd:` blocks, docs/scenes.md). Plain
+// values on the ground floor, so Model can carry them; everything else said about a method is
+// its registry row (integrators/integrator.cpp). Defaults live here and nowhere else.
+#pragma once
+
+namespace clothsim {
+
+enum class IntegratorKind {
+  ExplicitEuler,    // x += h v_n; v += h a_n                        1 force eval
+  SymplecticEuler,  // v += h a_n; x += h v_{n+1}                    1 force eval
+  Midpoint,         // RK2 through the half-step state               2 force evals
+  Rk4,              // classic Runge-Kutta 4 on (x, v)               4 force evals
+  ImplicitEuler,    // backward Euler, Newton + PCG (or fixed point)  1 + solver work
+  Xpbd,             // Macklin et al. 2016 compliant constraints        ~1 spring pass / iteration
+  ProjectiveDynamics,  // Liu et al. 2013 local-global on Phi          pass + factored solve / iteration
+  Vbd,              // Chen et al. 2024 vertex block descent on Phi    ~1 spring pass / iteration
+};
+
+// A scene that names no integrator runs this one (the student report's code).
+inline constexpr IntegratorKind kDefaultIntegrator = IntegratorKind::SymplecticEuler;
+
+// Largest iteration count any solver block, --iterations or a lane's `:N` accepts.
+constexpr int kMaxSolverIterations = 1000000;
+
+struct XpbdDef {
+  int iterations = 10;  // Gauss-Seidel sweeps over the constraints per step
+};
+
+struct ProjectiveDynamicsDef {
+  int iterations = 10;          // local-global iterations per step (Liu et al. 2013 use 10)
+  double chebyshev_rho = 0.0;   // Wang 2015's spectral radius estimate; 0 = no acceleration
+};
+
+struct VbdDef {
+  int iterations = 10;         // Gauss-Seidel sweeps over the vertex colouring per step
+  double chebyshev_rho = 0.0;  // Chen et al. 2024's accelerated iterations (Wang 2015's weights); 0 = off
+};
+
+struct SolverDefs {
+  XpbdDef xpbd;
+  ProjectiveDynamicsDef projective_dynamics;
+  VbdDef vbd;
+};
+
+}  // namespace clothsim
