@@ -2,8 +2,11 @@
 // (SIGTERM then SIGKILL at a Slurm time limit, a node failure, `scontrol requeue`) keeps
 // every item it finished, and a rerun skips them.
 //
-// Each item is written to a temporary file and renamed into place, so an item file is
-// whole or absent, never half-written, whatever kills the process. A log line per recorded
+// Each item is written to a nameless file, named and renamed into place, so an item file is
+// whole or absent, never half-written, whatever kills the process; a rerun removes the hidden
+// temporaries a SIGKILL can leave between naming and renaming. Each item and lane file ends
+// with a mark giving its length: a file cut short afterwards is redone by a rerun and refused
+// by merge (read_items, read_lanes throw naming it). A log line per recorded
 // item (appended, one write each) lets a test check that no finished item ran twice.
 //
 // Layout of DIR: provenance (shard.h's record), items/ITEM (the item's payload, a CSV row),
@@ -29,7 +32,7 @@ class Journal {
   void record(std::size_t item, const std::string& payload, const std::string& lane = "");
   const std::string& dir() const { return dir_; }
 
-  // Every finished item's payload, by item.
+  // Every finished item's payload, by item. Throws std::runtime_error naming a damaged file.
   static std::map<std::size_t, std::string> read_items(const std::string& dir);
   // Every finished item's lane, by item (items recorded without one are absent).
   static std::map<std::size_t, std::string> read_lanes(const std::string& dir);

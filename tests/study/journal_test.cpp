@@ -63,6 +63,86 @@ TEST(Journal, IgnoresTemporariesLeftByAKilledWriter) {
   EXPECT_FALSE(Journal(dir).done(7));
 }
 
+// A process id that no longer exists: a child that has exited and been reaped.
+pid_t dead_pid() {
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  int status = 0;
+  waitpid(child, &status, 0);
+  return child;
+}
+
+TEST(Journal, ARerunRemovesTemporariesOfAKilledWriter) {
+  const std::string dir = fresh_dir("journal_stale_temporaries");
+  { Journal j(dir); }
+  const std::string dead = std::to_string(dead_pid()), alive = std::to_string(getppid());
+  for (const std::string& f : {"/items/.7.tmp-" + dead + "-4", "/lanes/.7.tmp-" + dead + "-9", "/.provenance.tmp-" + dead + "-1",
+                               "/items/.8.tmp-" + alive + "-2"})
+    std::ofstream(dir + f) << "x";
+  Journal again(dir);
+  EXPECT_FALSE(fs::exists(dir + "/items/.7.tmp-" + dead + "-4"));
+  EXPECT_FALSE(fs::exists(dir + "/lanes/.7.tmp-" + dead + "-9"));
+  EXPECT_FALSE(fs::exists(dir + "/.provenance.tmp-" + dead + "-1"));
+  EXPECT_TRUE(fs::exists(dir + "/items/.8.tmp-" + alive + "-2")) << "a live writer's temporary stays";
+}
+
+TEST(Journal, ARerunRedoesAnItemCutShort) {
+  const std::string dir = fresh_dir("journal_cut_rerun");
+  {
+    Journal j(dir);
+    j.record(3, "a,b\nc,d\n");
+    j.record(4, "e,f\n");
+  }
+  const std::string item = dir + "/items/3";
+  fs::resize_file(item, 4);  // cut at a row's end: one row of two
+  Journal again(dir);
+  EXPECT_FALSE(again.done(3));
+  EXPECT_TRUE(again.done(4));
+  EXPECT_FALSE(fs::exists(item));
+}
+
+TEST(Journal, ReadingRefusesAnItemOrLaneCutShortNamingIt) {
+  const std::string dir = fresh_dir("journal_cut_read");
+  {
+    Journal j(dir);
+    j.record(3, "a,b\nc,d\n", "{\"x\": 1}");
+  }
+  for (const std::string folder : {"items", "lanes"}) {
+    const std::string path = dir + "/" + folder + "/3";
+    const std::string whole = read_whole_file(path);
+    for (std::size_t cut : {whole.size() - 1, whole.size() - 3, std::size_t{4}, std::size_t{0}}) {
+      std::ofstream(path, std::ios::trunc) << whole.substr(0, cut);
+      try {
+        folder == std::string("items") ? Journal::read_items(dir) : Journal::read_lanes(dir);
+        ADD_FAILURE() << path << " cut at " << cut << " was read";
+      } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(path + ": damaged"), std::string::npos) << e.what();
+      }
+    }
+    std::ofstream(path, std::ios::trunc) << whole;
+  }
+}
+
+TEST(Journal, AKilledWriterLeavesNoTemporaryBehind) {
+  const std::string dir = fresh_dir("journal_killed_clean");
+  { Journal j(dir); }
+  for (int trial = 0; trial < 5; ++trial) {
+    const pid_t child = fork();
+    if (child == 0) {
+      Journal j(dir);
+      for (std::size_t i = 0;; ++i) j.record(1000 * trial + i % 1000, std::string(100000, 'x') + "\n");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20 + 7 * trial));
+    kill(child, SIGKILL);
+    int status = 0;
+    waitpid(child, &status, 0);
+  }
+  Journal again(dir);  // the rerun: whatever the kills left between naming and renaming goes
+  for (const char* folder : {"items", "lanes"})
+    for (const auto& e : fs::directory_iterator(dir + "/" + folder))
+      EXPECT_NE(e.path().filename().string().front(), '.') << e.path();
+}
+
 TEST(Journal, RecordsFromManyThreadsEachOnce) {
   const std::string dir = fresh_dir("journal_threads");
   Journal j(dir);

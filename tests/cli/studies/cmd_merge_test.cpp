@@ -96,6 +96,34 @@ TEST(CmdMerge, ListsMissingAndIncompleteShardsAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir + "/m.csv"));
 }
 
+TEST(CmdMerge, RefusesAnItemFileCutShortInOneLineAndWritesNothing) {
+  const std::string dir = scratch_dir("merge_cut");
+  ASSERT_EQ(run_clothsim(study(dir + "/p.csv", "1/1")).exit_code, 0);
+  const fs::path item = fs::directory_iterator(dir + "/p.csv.shard-1-of-1/items")->path();
+  fs::resize_file(item, fs::file_size(item) / 2);  // a copy cut short: the row would be lost
+  const CliResult r = run_clothsim({"merge", dir + "/p.csv.shard-1-of-1", "--csv", dir + "/m.csv"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(item.string() + ": damaged"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/m.csv"));
+  // A rerun of the shard redoes that item; the merge is then whole again.
+  ASSERT_EQ(run_clothsim(study(dir + "/p.csv", "1/1")).exit_code, 0);
+  const CliResult again = run_clothsim({"merge", dir + "/p.csv.shard-1-of-1", "--csv", dir + "/m.csv"});
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+}
+
+TEST(CmdMerge, RefusesAnOutputThatIsOneOfTheShardsFiles) {
+  const std::string dir = scratch_dir("merge_own_input");
+  ASSERT_EQ(run_clothsim(study(dir + "/p.csv", "1/1")).exit_code, 0);
+  const std::string shard = dir + "/p.csv.shard-1-of-1";
+  const std::string provenance = slurp(shard + "/provenance");
+  const CliResult r = run_clothsim({"merge", shard, "--csv", shard + "/./provenance"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--csv " + shard + "/./provenance is a file of the shard"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(shard + "/provenance"), provenance);
+}
+
 TEST(CmdMerge, AMergedBenchChecksItsReferenceAsOneProcessDoes) {
   // The chain's errors are at rounding level: its RK4 reference cannot resolve them.
   const std::string dir = scratch_dir("merge_bench_reference");

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -37,6 +38,8 @@
 
 namespace clothsim::cli {
 namespace {
+
+namespace fs = std::filesystem;
 
 struct MergeOptions {
   std::vector<std::string> shards;
@@ -286,8 +289,21 @@ std::vector<ShardPart> complete_parts(const MergeOptions& o) {
   return parts;
 }
 
+// Every file merge reads: what the shards hold.
+std::vector<PathRole> shard_files(const MergeOptions& o) {
+  std::vector<PathRole> files;
+  for (const std::string& dir : o.shards) {
+    std::error_code ec;
+    files.push_back({dir, "the shard"});
+    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec))
+      if (it->is_regular_file(ec)) files.push_back({it->path().string(), "a file of the shard " + dir});
+  }
+  return files;
+}
+
 int merge_command(const MergeOptions& o) {
-  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
+  refuse_clashing_paths(shard_files(o), {{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   const std::vector<ShardPart> parts = complete_parts(o);
@@ -313,7 +329,7 @@ int merge_command(const MergeOptions& o) {
   std::fflush(stdout);
   const std::string problem = study.conclusion ? study.conclusion(merged, o.csv) : "";
   if (!problem.empty()) throw RuntimeFailure(problem);
-  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", p.title});
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", p.title}, {o.csv, o.summary});
   return kOk;
 }
 
