@@ -25,6 +25,12 @@ std::string name_problem(std::string_view name) {
       std::snprintf(text, sizeof text, "holds a control character (\\x%02x)", c);
       return text;
     }
+    if (c == 0xc2 && i + 1 < name.size() && static_cast<unsigned char>(name[i + 1]) <= 0x9f &&
+        static_cast<unsigned char>(name[i + 1]) >= 0x80) {  // U+0080-009F in UTF-8: C2 80-9F
+      std::snprintf(text, sizeof text, "holds the C1 control character U+%04X",
+                    static_cast<unsigned>(static_cast<unsigned char>(name[i + 1])));
+      return text;
+    }
     if (const char32_t bidi = bidi_control_at(name, i)) {
       std::snprintf(text, sizeof text, "holds the bidi control U+%04X", static_cast<unsigned>(bidi));
       return text;

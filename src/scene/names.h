@@ -13,7 +13,8 @@ namespace clothsim {
 
 // "" when `name` may be used as a file name and a field; otherwise what is wrong, for the
 // caller's one-line error: "holds a NUL byte", "holds a path separator '/'", "holds a control
-// character (\x1b)", "holds the bidi control U+202E", "is empty", "is '.' or '..'".
+// character (\x1b)", "holds the C1 control character U+0085", "holds the bidi control U+202E",
+// "is empty", "is '.' or '..'".
 std::string name_problem(std::string_view name);
 
 // The Unicode bidi embedding, override and isolate controls (U+202A-202E, U+2066-2069): the

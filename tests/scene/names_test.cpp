@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <string>
 
 #include "scene/echo.h"
@@ -30,6 +31,17 @@ TEST(NameProblem, RefusesWhatWouldLeaveTheFolderOrCorruptAField) {
   EXPECT_NE(name_problem("x\u2066y").find("U+2066"), std::string::npos);
   EXPECT_EQ(name_problem(""), "is empty");
   EXPECT_NE(name_problem("..").find("not a name"), std::string::npos);
+}
+
+TEST(NameProblem, RefusesEveryC1ControlAndKeepsTheLettersBesideThem) {
+  // U+0080-009F (C2 80-9F in UTF-8): U+009B is a terminal's CSI, U+0085 a line break.
+  for (unsigned c = 0x80; c <= 0x9f; ++c) {
+    const std::string name = "a"s + static_cast<char>(0xc2) + static_cast<char>(c) + "b";
+    char expected[48];
+    std::snprintf(expected, sizeof expected, "C1 control character U+%04X", c);
+    EXPECT_NE(name_problem(name).find(expected), std::string::npos) << c;
+  }
+  for (const char* name : {"\u00A0nbsp", "\u00A9 2026", "\u00E9t\u00E9"}) EXPECT_EQ(name_problem(name), "") << name;
 }
 
 TEST(BidiControl, FindsEveryEmbeddingOverrideAndIsolateAndNothingElse) {
