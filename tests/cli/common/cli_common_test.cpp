@@ -122,13 +122,32 @@ TEST(Signals, APlotScriptIsKilledAndReapedOnASignalAndLeavesNothing) {
   ::unsetenv("CLOTHSIM_PYTHON");
   EXPECT_EQ(r.exit_code, 143) << r.err;
   EXPECT_EQ(line_count(r.err), 1) << r.err;
-  EXPECT_NE(r.err.find("stopped by SIGTERM while drawing the plot; " + dir + "/wp.png not written"), std::string::npos)
+  EXPECT_NE(r.err.find("stopped by SIGTERM while drawing the plot; nothing kept; not written: " + dir + "/wp.png"),
+            std::string::npos)
       << r.err;
   EXPECT_LT(r.seconds_to_exit, 1.0);
   const pid_t child = plot_pid(dir);
   ASSERT_GT(child, 0) << "the plot had started";
   EXPECT_FALSE(process_exists(child)) << "the plot script outlived the command";
   EXPECT_TRUE(only_files(dir, {"python", "plot.pid"}));
+}
+
+TEST(Signals, AStopWhileDrawingThePlotNamesTheCsvAndSummaryKept) {
+  const std::string dir = scratch_dir("signals_plot_kept");
+  ::setenv("CLOTHSIM_PYTHON", hanging_python(dir).c_str(), 1);
+  const StoppedResult r = run_clothsim_interrupted({"bench", scene("spring.yaml"), "--dts", "0.01,0.005", "--duration",
+                                                    "1", "--csv", dir + "/wp.csv", "--summary", dir + "/wp.json",
+                                                    "--plot", dir + "/wp.png"},
+                                                   3.0, SIGINT);
+  ::unsetenv("CLOTHSIM_PYTHON");
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("stopped by SIGINT while drawing the plot; kept " + dir + "/wp.csv, " + dir +
+                       "/wp.json; not written: " + dir + "/wp.png"),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(fs::exists(dir + "/wp.csv"));
+  EXPECT_TRUE(fs::exists(dir + "/wp.json"));
 }
 
 TEST(Signals, APlotScriptDiesWithACommandKilledBySigkill) {
@@ -157,6 +176,81 @@ TEST(Signals, GoldenUpdateStoppedChangesNoGoldenImage) {
   EXPECT_NE(r.err.find("stopped by SIGTERM at t = "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("not written: every golden image (update writes all or none)"), std::string::npos) << r.err;
   EXPECT_TRUE(only_files(dir, {"d.yaml", "m.yaml"})) << "the image at 0.05 s, made before the signal, is not named";
+}
+
+}  // namespace
+}  // namespace clothsim::testing
+
+namespace clothsim::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Clashing paths (refuse_clashing_paths, docs/outputs.md "An output never replaces an input").
+struct ClashFolder {
+  std::string dir = scratch_dir("clash_" + std::to_string(counter++));
+  std::string scene_text;
+  ClashFolder() {
+    fs::copy_file(std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml", dir + "/s.yaml");
+    scene_text = slurp(dir + "/s.yaml");
+  }
+  static inline int counter = 0;
+};
+
+TEST(ClashingPaths, AnOutputThatIsTheSceneUnderAnySpellingIsRefusedAndTheSceneKept) {
+  ClashFolder f;
+  fs::create_symlink("s.yaml", f.dir + "/link.yaml");
+  fs::create_hard_link(f.dir + "/s.yaml", f.dir + "/hard.yaml");
+  fs::create_directories(f.dir + "/sub");
+  for (const std::string& spelling : {f.dir + "/s.yaml", f.dir + "/./s.yaml", f.dir + "/sub/../s.yaml",
+                                      f.dir + "/link.yaml", f.dir + "/hard.yaml"})
+    for (const std::string& option : {"--metrics", "--state", "--summary"}) {
+      const CliResult r = run_clothsim({"run", f.dir + "/s.yaml", "--duration", "0.1", option, spelling});
+      EXPECT_EQ(r.exit_code, 2) << option << " " << spelling;
+      EXPECT_EQ(line_count(r.err), 1) << r.err;
+      EXPECT_NE(r.err.find(option + std::string(" ") + spelling + " is the scene " + f.dir + "/s.yaml"),
+                std::string::npos)
+          << r.err;
+      EXPECT_EQ(slurp(f.dir + "/s.yaml"), f.scene_text);
+    }
+}
+
+TEST(ClashingPaths, TwoOutputsAtOneFileByAnotherNameAreRefusedBeforeAnyWork) {
+  ClashFolder f;
+  fs::create_symlink("x.csv", f.dir + "/dangling.csv");  // x.csv does not exist yet
+  const CliResult r = run_clothsim({"run", f.dir + "/s.yaml", "--duration", "0.1", "--metrics", f.dir + "/x.csv",
+                                    "--state", f.dir + "/dangling.csv"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--state and --metrics both write " + f.dir + "/dangling.csv"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(f.dir + "/x.csv"));
+}
+
+TEST(ClashingPaths, AStillAmongTheFramesIsRefused) {
+  ClashFolder f;
+  const CliResult r = run_clothsim({"run", f.dir + "/s.yaml", "--duration", "0.1", "--frames", f.dir + "/fr", "--still",
+                                    "0.1", "-o", f.dir + "/fr/../fr/frame_00001.png"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("is a frame of --frames " + f.dir + "/fr"), std::string::npos) << r.err;
+}
+
+TEST(ClashingPaths, DevicesAreNeverCompared) {
+  ClashFolder f;
+  const CliResult r = run_clothsim({"run", f.dir + "/s.yaml", "--duration", "0.1", "--metrics", "/dev/null", "--state",
+                                    "/dev/null", "--summary", "/dev/null"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST(ClashingPaths, EveryStudyRefusesAnOutputOntoItsScene) {
+  ClashFolder f;
+  fs::create_symlink(f.dir + "/s.yaml", f.dir + "/abs.yaml");
+  for (const std::string study : {"bench", "stability", "converge"})
+    for (const std::string option : {"--csv", "--summary", "--plot"}) {
+      const CliResult r = run_clothsim({study, f.dir + "/s.yaml", option, f.dir + "/abs.yaml"});
+      EXPECT_EQ(r.exit_code, 2) << study << " " << option;
+      EXPECT_NE(r.err.find("an output never replaces an input"), std::string::npos) << r.err;
+    }
+  EXPECT_EQ(slurp(f.dir + "/s.yaml"), f.scene_text);
 }
 
 }  // namespace

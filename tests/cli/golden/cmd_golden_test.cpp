@@ -190,5 +190,33 @@ TEST(CmdGolden, AnEntryOverMaxMemoryIsRefusedBeforeAnythingIsRendered) {
   EXPECT_NE(bad.err.find("--max-memory: 'lots' is not a size"), std::string::npos) << bad.err;
 }
 
+TEST(CmdGolden, AnOutputOntoTheManifestASceneOrAGoldenImageIsRefused) {
+  UserProject p("golden_onto_input");
+  ASSERT_EQ(run_clothsim({"golden", "update", p.manifest}).exit_code, 0);
+  fs::create_symlink(p.scene, p.dir + "/scene_link.yaml");
+  const std::string manifest = slurp(p.manifest), scene = slurp(p.scene), golden = slurp(p.golden);
+  for (const std::string& out : {p.manifest, p.dir + "/scene_link.yaml", p.dir + "/./my_drape_t200ms.png"}) {
+    const CliResult r = run_clothsim({"golden", "check", p.manifest, "--csv", out});
+    EXPECT_EQ(r.exit_code, 2) << out;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("an output never replaces an input"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(slurp(p.manifest), manifest);
+  EXPECT_EQ(slurp(p.scene), scene);
+  EXPECT_EQ(slurp(p.golden), golden);
+}
+
+TEST(CmdGolden, ANameTooLongForTheFileSystemIsRefusedBeforeAnyRender) {
+  UserProject p("golden_long_name");
+  write(p.manifest, "size: [160, 90]\ngoldens:\n  - scene: my_drape.yaml\n    times: [0.05]\n    name: " +
+                        std::string(300, 'n') + "\n");
+  const CliResult r = run_clothsim({"golden", "update", p.manifest});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("goldens[0].name: too long"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "") << "nothing rendered";
+  EXPECT_TRUE(only_files(p.dir, {"my_drape.yaml", "goldens.yaml"}));
+}
+
 }  // namespace
 }  // namespace clothsim::testing

@@ -64,6 +64,17 @@ void expect_refused(const cli::CliResult& r, int code, const std::string& output
   }
 }
 
+TEST(CmdEncode, AClipOntoOneOfItsFramesIsRefusedAndTheFrameKept) {
+  const std::string root = scratch_dir("encode_onto_frame");
+  const std::string dir = write_sequence(root, "a", 3, 32, 24, {kRed});
+  const std::string frame = cli::slurp(dir + "/" + frame_name(1));
+  const auto r = run_clothsim({"encode", dir, "-o", root + "/a/../a/" + frame_name(1)});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("is a frame of input directory " + dir), std::string::npos) << r.err;
+  EXPECT_EQ(cli::slurp(dir + "/" + frame_name(1)), frame);
+}
+
 }  // namespace
 
 TEST(CmdEncode, AssemblesFourSequencesIntoALabelledTwoByTwoClip) {

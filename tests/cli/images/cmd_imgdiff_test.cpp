@@ -11,10 +11,12 @@
 namespace clothsim {
 namespace {
 
+namespace fs = std::filesystem;
 using testing::line_count;
 using testing::png_header_only;
 using testing::run_clothsim;
 using testing::scratch_dir;
+using testing::slurp;
 
 Image gradient(int w, int h) {
   Image image(w, h);
@@ -156,6 +158,30 @@ TEST(CmdImgdiff, DashOIsTheDiffImageAndNoOverwriteKeepsAnExistingOne) {
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("exists, and -n/--no-overwrite keeps it"), std::string::npos) << r.err;
   EXPECT_EQ(read_png(out).rgba, first);
+}
+
+TEST(CmdImgdiff, ADiffImageOntoAnInputIsRefusedAndTheInputKept) {
+  const Pair p = write_pair("onto_input", 10, 50);
+  fs::create_symlink(p.b, p.dir + "/link.png");
+  const std::string a = slurp(p.a), b = slurp(p.b);
+  for (const std::string& out : {p.a, p.dir + "/./a.png", p.dir + "/link.png"}) {
+    const auto r = run_clothsim({"imgdiff", p.a, p.b, "-o", out});
+    EXPECT_EQ(r.exit_code, 2) << out;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("an output never replaces an input"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(slurp(p.a), a);
+  EXPECT_EQ(slurp(p.b), b);
+}
+
+TEST(CmdImgdiff, ANanToleranceIsRefused) {
+  const Pair p = write_pair("nan", 0, 0);
+  for (const std::string option : {"--max-rms", "--max-over"}) {
+    const auto r = run_clothsim({"imgdiff", p.a, p.b, option, "nan"});
+    EXPECT_EQ(r.exit_code, 2) << option;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(option + ": must be a number"), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace

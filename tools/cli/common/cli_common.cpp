@@ -20,10 +20,6 @@ std::string parent_of(const std::string& path) {
   const fs::path p(path);
   return p.has_parent_path() ? p.parent_path().string() : std::string(".");
 }
-bool is_character_device(const std::string& path) {
-  struct stat st {};
-  return ::stat(path.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
-}
 }  // namespace
 
 void require_writable_parent(const std::string& path, const std::string& what) {
@@ -50,17 +46,89 @@ void require_writable_parent(const std::string& path, const std::string& what) {
     throw UsageError(what + ": " + path + " exists, and -n/--no-overwrite keeps it");
 }
 
-void refuse_shared_outputs(const std::vector<std::pair<std::string, std::string>>& outputs) {
-  std::vector<std::pair<fs::path, std::string>> seen;
-  for (const auto& [path, what] : outputs) {
-    if (path.empty() || is_character_device(path)) continue;  // --metrics /dev/null --state /dev/null
-    std::error_code ec;
-    fs::path resolved = fs::weakly_canonical(fs::absolute(path, ec), ec);
-    if (ec) resolved = fs::absolute(path).lexically_normal();
-    for (const auto& [other, other_what] : seen)
-      if (other == resolved)
-        throw UsageError(what + " and " + other_what + " both write " + path + ": give each its own path");
-    seen.emplace_back(resolved, what);
+namespace {
+// What a path names, for telling two spellings of one file apart.
+struct PathIdentity {
+  bool stream = false;  // a device, FIFO or descriptor: written through, never replaced
+  bool exists = false;
+  dev_t dev = 0;
+  ino_t ino = 0;
+  fs::path resolved;  // absolute, symlinks followed: the identity of a name not made yet
+};
+
+fs::path resolved_path(const std::string& path) {
+  std::error_code ec;
+  fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  return ec ? fs::absolute(path).lexically_normal() : p;
+}
+
+PathIdentity identify(const std::string& path) {
+  PathIdentity id;
+  OutputTarget target{path, false, -1};
+  try {
+    target = resolve_output(path);  // follows symlinks, dangling ones too
+  } catch (const OutputFileError&) {  // a loop: said by the writer; compared by its spelling here
+  }
+  if (target.streams) {
+    id.stream = true;
+    return id;
+  }
+  struct stat st {};
+  if (::stat(target.path.c_str(), &st) == 0) {
+    id.exists = true;
+    id.dev = st.st_dev;
+    id.ino = st.st_ino;
+  }
+  id.resolved = resolved_path(target.path);
+  return id;
+}
+
+bool same_file(const PathIdentity& a, const PathIdentity& b) {
+  if (a.exists != b.exists) return false;
+  return a.exists ? a.dev == b.dev && a.ino == b.ino : a.resolved == b.resolved;
+}
+
+// A frame_* file directly inside the frames directory `dir`.
+bool claimed_by_frames_dir(const PathIdentity& file, const PathIdentity& dir) {
+  if (file.resolved.filename().string().rfind("frame_", 0) != 0) return false;
+  return same_file(identify(file.resolved.parent_path().string()), dir);
+}
+}  // namespace
+
+void refuse_clashing_paths(const std::vector<PathRole>& inputs, const std::vector<PathRole>& outputs) {
+  struct Seen {
+    const PathRole* role;
+    PathIdentity id;
+    bool input;
+  };
+  std::vector<Seen> seen;
+  for (const PathRole& in : inputs)
+    if (!in.path.empty()) seen.push_back({&in, identify(in.path), true});
+  for (const PathRole& out : outputs) {
+    if (out.path.empty()) continue;
+    const PathIdentity id = identify(out.path);
+    if (id.stream) continue;  // --metrics /dev/null --state /dev/null
+    for (const Seen& other : seen) {
+      if (other.id.stream) continue;
+      const PathRole& o = *other.role;
+      const std::string them = o.what + " " + o.path;
+      if (same_file(id, other.id)) {
+        if (other.input)
+          throw UsageError(out.what + " " + out.path + " is " + them + (out.path == o.path ? "" : " under another name") +
+                           ": an output never replaces an input; give it its own path");
+        throw UsageError(out.what + " and " + o.what + " both write " + out.path +
+                         (out.path == o.path ? "" : " (as " + o.path + ")") + ": give each its own path");
+      }
+      if (o.frames_dir && !out.frames_dir && claimed_by_frames_dir(id, other.id))
+        throw UsageError(out.what + " " + out.path + " is a frame of " + them +
+                         (other.input ? ": an output never replaces an input; give it its own path"
+                                      : ", which writes it too: give each its own path"));
+      if (out.frames_dir && !o.frames_dir && claimed_by_frames_dir(other.id, id))
+        throw UsageError(out.what + " " + out.path + " would write frames over " + them +
+                         (other.input ? ": an output never replaces an input; give it its own path"
+                                      : ": give each its own path"));
+    }
+    seen.push_back({&out, id, false});
   }
 }
 
@@ -210,6 +278,10 @@ std::string what_stays(const std::vector<std::string>& kept, const std::vector<s
   std::string out = kept.empty() ? "nothing kept" : "kept " + join(kept);
   if (!not_written.empty()) out += "; not written: " + join(not_written);
   return out;
+}
+
+void stop_if_interrupted(const std::string& phase) {
+  if (interrupted()) throw RuntimeFailure(std::string("stopped by ") + interrupt_signal_name() + " " + phase + "; nothing written");
 }
 
 std::string interruption_message(double t, const std::vector<std::string>& kept,

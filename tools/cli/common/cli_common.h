@@ -57,10 +57,21 @@ std::string temp_path_beside(const std::string& path);
 // writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist"), or with
 // -n/--no-overwrite UsageError when `path` exists.
 void require_writable_parent(const std::string& path, const std::string& what);
-// Two outputs of one command at the same path (after resolving . and .. and symlinks of the
-// directories) would overwrite each other: a UsageError naming both options, before any work.
-// `outputs`: (path, option) pairs; empty paths are skipped.
-void refuse_shared_outputs(const std::vector<std::pair<std::string, std::string>>& outputs);
+// A path a command reads or writes, named by its option for messages ("--csv", "the scene").
+// `frames_dir`: a directory of frame_* files (--frames, encode's inputs), which claims every
+// frame_* name directly inside it.
+struct PathRole {
+  std::string path;
+  std::string what;
+  bool frames_dir = false;
+};
+// Refuses, before any work, an output that is one of the command's inputs or another of its
+// outputs under any spelling (docs/outputs.md): the same device and inode where the file exists,
+// the same path with symlinks (dangling ones too), `.` and `..` resolved where it does not; a
+// frame_* file inside a frames directory of the command. A UsageError naming both. Empty
+// paths and streams (devices, FIFOs, `-`, /dev/fd/N) are skipped: they are written through,
+// never replaced, so several outputs may all be /dev/null.
+void refuse_clashing_paths(const std::vector<PathRole>& inputs, const std::vector<PathRole>& outputs);
 // -n/--no-overwrite (ffmpeg's -n): an output that exists already is a UsageError (exit 2),
 // raised by require_writable_parent() before any work; set by the option (progress.h).
 bool no_overwrite();
@@ -87,6 +98,9 @@ void install_interrupt_handler();  // "from here on this command polls interrupt
 bool interrupted();
 int interrupt_signal();                // 0: none
 const char* interrupt_signal_name();  // "SIGINT", "SIGTERM", "SIGHUP"
+// Throws the RuntimeFailure "stopped by SIGINT WHILE; nothing written" when a signal has
+// arrived: for the phases before a command writes anything (planning, pilot runs).
+void stop_if_interrupted(const std::string& phase);
 // What main returns for a command that ended with `code`: 128 + the signal when one arrived
 // after the command's last poll (saying so on stderr), so no signal is lost.
 int exit_code_after(int code);

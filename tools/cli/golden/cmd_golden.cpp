@@ -19,6 +19,8 @@
 #include <memory>
 #include <optional>
 
+#include <unistd.h>
+
 #include "golden_manifest.h"
 #include "golden_report.h"
 #include "cli/common/cli_common.h"
@@ -317,8 +319,42 @@ void write_check_outputs(const GoldenOptions& o, const std::vector<JsonObject>& 
   if (!o.summary.empty()) write_summary(o.summary, "golden", o.manifest, lanes, golden_summary_keys(work.verdicts));
 }
 
-void check_outputs_writable(const GoldenOptions& o) {
-  refuse_shared_outputs({{o.csv, "--csv"}, {o.summary, "--summary"}});
+// A name whose image (or its evidence, NAME_tT.actual.png) is longer than the file system
+// takes fails at the first write: refused at its key before any render.
+void check_name_lengths(const GoldenOptions& o, const GoldenManifest& manifest) {
+  for (std::size_t i = 0; i < manifest.entries.size(); ++i)
+    for (double t : manifest.entries[i].times) {
+      const fs::path p(evidence_path(o, golden_image_path(manifest, manifest.entries[i], t), "actual"));
+      const std::string dir = p.has_parent_path() ? p.parent_path().string() : ".";
+      const long most = ::pathconf(fs::is_directory(dir) ? dir.c_str() : ".", _PC_NAME_MAX);
+      const std::size_t length = p.filename().string().size();
+      if (most > 0 && length > static_cast<std::size_t>(most))
+        throw SceneError(manifest.path, manifest.entries[i].line, "goldens[" + std::to_string(i) + "].name",
+                         "too long: its file " + p.filename().string().substr(0, 24) + "... would have " +
+                             std::to_string(length) + " bytes, more than the " + std::to_string(most) +
+                             " the file system takes");
+    }
+}
+
+// Refused before any render: an output that is the manifest, a scene, a golden image check
+// reads or another output (update's images, check's evidence) under any spelling.
+void check_outputs_writable(const GoldenOptions& o, const GoldenManifest& manifest, bool update) {
+  check_name_lengths(o, manifest);
+  std::vector<PathRole> inputs{{o.manifest, "the manifest"}}, outputs{{o.csv, "--csv"}, {o.summary, "--summary"}};
+  for (const GoldenEntry& e : manifest.entries) {
+    inputs.push_back({e.scene, "the scene of " + e.name});
+    for (double t : e.times) {
+      const std::string golden = golden_image_path(manifest, e, t);
+      if (update) {
+        outputs.push_back({golden, "the golden image"});
+        continue;
+      }
+      inputs.push_back({golden, "the golden image"});
+      outputs.push_back({evidence_path(o, golden, "actual"), "the evidence"});
+      outputs.push_back({evidence_path(o, golden, "diff"), "the evidence"});
+    }
+  }
+  refuse_clashing_paths(inputs, outputs);
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   if (!o.summary.empty() && o.shard.empty()) require_writable_parent(o.summary, "--summary");
 }
@@ -330,7 +366,7 @@ int golden_command(const GoldenOptions& o, bool update) {
   std::vector<PictureLook> looks;
   load_entries(o, manifest, scenes, looks);
   if (!o.failures_dir.empty() && !update) ensure_directory(o.failures_dir, "--failures");
-  check_outputs_writable(o);
+  check_outputs_writable(o, manifest, update);
   if (!o.shard.empty()) return golden_shard(o, manifest, scenes, looks);
   const std::unique_ptr<Renderer> renderer = make_renderer(o.gl);
 

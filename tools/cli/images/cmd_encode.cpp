@@ -159,6 +159,9 @@ int run_encode(const EncodeArgs& args) {
   }
   std::vector<std::string> labels;
   const GridLayout layout = check_labels_and_layout(args, labels);
+  std::vector<PathRole> inputs;
+  for (const std::string& dir : args.dirs) inputs.push_back({dir, "input directory", true});
+  refuse_clashing_paths(inputs, {{args.output, "-o/--output"}});
   require_writable_parent(args.output, "-o/--output");
 
   std::vector<Sequence> seqs;
@@ -189,8 +192,8 @@ int run_encode(const EncodeArgs& args) {
     if (interrupted()) {
       writer.reset();  // removes the temporary
       progress.reset();
-      throw RuntimeFailure("interrupted at frame " + std::to_string(k) + " of " +
-                           std::to_string(length) + "; " + args.output + " not written");
+      throw RuntimeFailure(std::string("stopped by ") + interrupt_signal_name() + " at frame " + std::to_string(k) +
+                           " of " + std::to_string(length) + "; " + what_stays({}, {args.output}));
     }
     for (std::size_t i = 0; i < seqs.size(); ++i) {
       if (k >= seqs[i].frames) continue;  // holds its last frame
@@ -210,7 +213,8 @@ int run_encode(const EncodeArgs& args) {
     writer->finish();
   } catch (const VideoError& e) {
     if (interrupted())
-      throw RuntimeFailure("interrupted while finishing the clip; " + args.output + " not written");
+      throw RuntimeFailure(std::string("stopped by ") + interrupt_signal_name() + " while finishing the clip; " +
+                           what_stays({}, {args.output}));
     throw RuntimeFailure(e.what());
   }
   progress.reset();

@@ -1,6 +1,7 @@
 // clothsim imgdiff A.png B.png: how far apart two images are, by the same measure the
 // golden-image tests use (render/image_diff.h). Exit 0 within tolerance, 1 outside it,
 // 2 for bad usage (a missing or corrupt PNG, different sizes).
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -48,11 +49,19 @@ void check_inputs(const ImgdiffOptions& o) {
   budget.check(o.a, o.max_memory);
 }
 
+// CLI11's range check lets NaN through (every comparison with it is false).
+void check_tolerances(const ImgdiffOptions& o) {
+  if (std::isnan(o.tolerance.max_rms)) throw UsageError("--max-rms: must be a number from 0 to 255, got nan");
+  if (std::isnan(o.tolerance.max_over_fraction)) throw UsageError("--max-over: must be a number from 0 to 1, got nan");
+}
+
 int imgdiff_command(const ImgdiffOptions& o) {
+  check_tolerances(o);
+  refuse_clashing_paths({{o.a, "input A"}, {o.b, "input B"}}, {{o.diff_path, "-o/--output"}});
+  if (!o.diff_path.empty()) require_writable_parent(o.diff_path, "-o/--output");
   check_inputs(o);
   const Image a = read_input([&] { return read_png(o.a); });
   const Image b = read_input([&] { return read_png(o.b); });
-  if (!o.diff_path.empty()) require_writable_parent(o.diff_path, "-o/--output");
 
   const DiffStats stats = compare_images(a, b, o.tolerance.pixel_threshold);
   const bool pass = within_tolerance(stats, o.tolerance);

@@ -65,8 +65,9 @@ void check_run_usage(const RunOptions& o, const SceneDef& scene) {
 // Every output is checked before any work, so a typo fails in milliseconds.
 // With -n, an output that exists already is refused here too (exit 2), untouched.
 void check_run_outputs(const RunOptions& o) {
-  refuse_shared_outputs({{o.metrics, "--metrics"}, {o.state, "--state"}, {o.video, "--video"},
-                         {o.still_out, "-o/--output"}, {o.summary, "--summary"}, {o.frames_dir, "--frames"}});
+  refuse_clashing_paths({{o.scene.path, "the scene"}},
+                        {{o.metrics, "--metrics"}, {o.state, "--state"}, {o.video, "--video"},
+                         {o.still_out, "-o/--output"}, {o.summary, "--summary"}, {o.frames_dir, "--frames", true}});
   if (!o.metrics.empty()) require_writable_parent(o.metrics, "--metrics");
   if (!o.state.empty()) require_writable_parent(o.state, "--state");
   if (!o.video.empty()) require_writable_parent(o.video, "--video");

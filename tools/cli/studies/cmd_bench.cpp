@@ -325,7 +325,7 @@ std::size_t run_value(const BenchOptions& o, const std::vector<LaneSpec>& lanes,
 
 int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes) {
   std::vector<ValueStudy> studies = plan_values(o, base, lanes);
-  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}});
+  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
@@ -350,7 +350,8 @@ int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vect
     throw RuntimeFailure(base.source + ", " + failure + (o.csv.empty() ? "" : " (kept for inspection: " + o.csv + ")") +
                          "; no plot drawn");
   if (plot)
-    plot->draw_from_csv(o.csv, write_to, {"--title", base.name + " (T = " + csv_number(studies.front().result.duration) + " s)"});
+    plot->draw_from_csv(o.csv, write_to, {"--title", base.name + " (T = " + csv_number(studies.front().result.duration) + " s)"},
+                        {o.csv});
   return kOk;
 }
 
@@ -366,7 +367,7 @@ int bench_command(const BenchOptions& o) {
   const double T = spec.duration;
 
   // Outputs are checked (and python/matplotlib found) before minutes of simulation.
-  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
+  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   std::unique_ptr<PlotScript> plot;
@@ -424,7 +425,8 @@ int bench_command(const BenchOptions& o) {
     throw RuntimeFailure(scene.source + ": " + ref.failure + (kept.empty() ? "" : " (kept for inspection: " + kept + ")") +
                          "; no plot drawn");
   }
-  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", model.name + " (T = " + csv_number(T) + " s)"});
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", model.name + " (T = " + csv_number(T) + " s)"},
+                               {o.csv, o.summary});
   return kOk;
 }
 

@@ -144,14 +144,14 @@ void write_outputs(const ConvergeOptions& o, const std::string& source, const Mo
   };
   if (!o.csv.empty()) write_to(o.csv);
   if (!o.summary.empty()) write_json(o.summary, source, spec, points);
-  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", title(model, spec)});
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", title(model, spec)}, {o.csv, o.summary});
 }
 
 int converge_command(const ConvergeOptions& o) {
   install_interrupt_handler();
   const SceneDef scene = load_scene_with_options(o.scene);
   const ConvergenceSpec spec = plan(o);
-  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
+  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   for (const auto& [path, what] : {std::pair{o.csv, "--csv"}, {o.summary, "--summary"}})
     if (!path.empty()) require_writable_parent(path, what);
   const Model model = build_model(scene);

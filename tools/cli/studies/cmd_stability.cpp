@@ -309,7 +309,7 @@ int stability_command(const StabilityOptions& o) {
   }
   finish_stability_spec(o, base, smallest_estimate, spec);
 
-  refuse_shared_outputs({{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
+  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   std::unique_ptr<PlotScript> plot;
@@ -360,7 +360,7 @@ int stability_command(const StabilityOptions& o) {
   // Both files stay, each holding the searches that finished: the line names them.
   if (interrupted() || limits.size() < searches)
     throw RuntimeFailure(study_interrupted_message(limits.size(), searches, "searches", {o.csv, o.summary}, o.plot));
-  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", base.name});  // the script adds T from the CSV
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", base.name}, {o.csv, o.summary});  // the script adds T from the CSV
   return kOk;
 }
 
