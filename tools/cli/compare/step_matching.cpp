@@ -17,6 +17,8 @@ namespace {
 
 constexpr double kPilotWindow = 2.0;    // s of the clip a search pilot runs (the fall and the contact)
 constexpr double kFirstPilotWindow = 0.1;  // s: the pilot at the scene's step, only to rank the lanes
+// What a signal during the pilots and trial runs says (nothing is written yet then).
+constexpr const char* kPlanning = "while choosing the lanes' steps";
 constexpr double kCostTolerance = 0.05; // a pilot within 5 % of the target cost is taken
 constexpr int kMaxPilots = 6;
 
@@ -121,10 +123,12 @@ long reference_steps_per_frame(const LaneSpec& reference, double fps) {
 std::vector<Eigen::Matrix3Xd> reference_frames(const Model& model, const LaneSpec& reference, const MatchClip& clip) {
   std::optional<Model> storage;
   Run run(lane_model(model, reference, storage), reference.kind, error_reference(reference, clip.fps).dt);
+  run.set_stop_check(interrupted);
   std::vector<Eigen::Matrix3Xd> frames;
   const long last = static_cast<long>(std::floor(clip.duration * clip.fps + 1e-9));
   for (long k = 0; k <= last; ++k) {
     if (!run.advance_to(static_cast<double>(k) / clip.fps)) break;
+    stop_if_interrupted(kPlanning);
     frames.push_back(run.state().x.leftCols(model.num_particles));
   }
   return frames;
@@ -136,8 +140,11 @@ bool within(const Model& model, const LaneSpec& lane, long k, const std::vector<
             double tolerance, double fps) {
   std::optional<Model> storage;
   Run run(lane_model(model, lane, storage), lane.kind, 1.0 / (fps * static_cast<double>(k)));
+  run.set_stop_check(interrupted);
   for (std::size_t f = 0; f < frames.size(); ++f) {
-    if (!run.advance_to(static_cast<double>(f) / fps)) return false;
+    const bool reached = run.advance_to(static_cast<double>(f) / fps);
+    stop_if_interrupted(kPlanning);
+    if (!reached) return false;
     const double worst = (run.state().x.leftCols(model.num_particles) - frames[f]).colwise().norm().maxCoeff();
     if (!(worst <= tolerance)) return false;
   }
@@ -224,7 +231,9 @@ std::vector<bool> free_lanes(const std::string& integrators, const std::string& 
 double pilot_cost(const Model& model, const LaneSpec& lane, double h, double window) {
   std::optional<Model> storage;
   Run run(lane_model(model, lane, storage), lane.kind, h);
+  run.set_stop_check(interrupted);  // a pilot of a large sheet runs for minutes
   run.advance_to(window);
+  stop_if_interrupted(kPlanning);
   const double t = run.divergence() ? std::max(run.divergence()->t, h) : std::max(run.state().t, h);
   return spring_passes(run.totals()) / t;
 }
