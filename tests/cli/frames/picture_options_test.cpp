@@ -74,7 +74,9 @@ TEST(PictureOptions, EachBadValueIsRefusedNamingTheOption) {
   PictureOptions o;
   o.color = "rainbow";
   EXPECT_NE(refused(o).find("--color: unknown colouring 'rainbow'"), std::string::npos) << refused(o);
-  for (const char* bad : {"1e-2", "1e-2,1e-6", "0,1", "a,b", "1,2,3", "-1,1"}) {
+  // The last four lie past single precision, where the colour bar is drawn.
+  for (const char* bad : {"1e-2", "1e-2,1e-6", "0,1", "a,b", "1,2,3", "-1,1", "1e-300,1e300", "1e-10,1e31",
+                          "1,1.0000000000000002", "1e-40,1"}) {
     o = {};
     o.color_range = bad;
     EXPECT_EQ(refused(o).rfind("--color-range: ", 0), 0u) << bad << ": " << refused(o);

@@ -33,9 +33,9 @@ void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
                   "(default: the scene's render.overlay, full)")
       ->type_name("full|label|none");
   sub->add_option("--overlay-cost", o.overlay_cost,
-                  std::string("work: spring-pass equivalents per simulated s (docs/compare.md; the same on every run);\n"
-                              "cpu: measured CPU ms per simulated s beside them (differs from run to run). Default: ") +
-                      (compare ? "cpu" : "work"))
+                  "work: spring-pass equivalents per simulated s (docs/compare.md; the same on every run, so\n"
+                  "the same command gives the same bytes); cpu: measured CPU ms per simulated s beside them\n"
+                  "(differs from run to run; always in the printed table and --summary). Default: work")
       ->type_name("work|cpu");
   sub->add_option("--inset", o.inset,
                   compare ? "energy: a small graph in each tile of the lane's total energy minus the reference's, E - Eref, on\n"
@@ -51,6 +51,8 @@ void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
       ->type_name("msaa|fxaa|none");
 }
 
+constexpr double kMinColorValue = 1e-30, kMaxColorValue = 1e30, kMinColorSpan = 1e-4;
+
 ColorRange parse_color_range(const std::string& text) {
   const std::vector<std::string> parts = split_list(text);
   if (parts.size() != 2) throw UsageError("--color-range: expected LO,HI, got " + in_quotes(text));
@@ -59,6 +61,10 @@ ColorRange parse_color_range(const std::string& text) {
   if (!lo || !hi) throw UsageError("--color-range: " + in_quotes(text) + " is not two numbers LO,HI");
   if (!(*lo > 0.0) || !(*hi > *lo))
     throw UsageError("--color-range: need 0 < LO < HI on a logarithmic scale, got " + in_quotes(text));
+  // The scale is drawn in single precision: both ends within its range, HI distinguishable from LO.
+  if (*lo < kMinColorValue || *hi > kMaxColorValue || *hi < *lo * (1.0 + kMinColorSpan))
+    throw UsageError("--color-range: LO and HI must lie from 1e-30 to 1e30 with HI at least 1.0001 x LO, got " +
+                     in_quotes(text));
   r.lo = *lo;
   r.hi = *hi;
   return r;
@@ -95,7 +101,8 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
   const std::optional<OverlayMode> mode = parse_overlay_mode(overlay);
   if (!mode) throw UsageError("--overlay: expected full, label or none, got " + in_quotes(overlay));
   look.overlay = *mode;
-  const std::string cost = o.overlay_cost.empty() ? (compare ? "cpu" : "work") : o.overlay_cost;
+  // Same command, same bytes: measured time goes on a picture only when asked for.
+  const std::string cost = o.overlay_cost.empty() ? "work" : o.overlay_cost;
   if (cost != "work" && cost != "evals" && cost != "cpu")
     throw UsageError("--overlay-cost: expected work or cpu, got " + in_quotes(cost));
   look.overlay_cpu = cost == "cpu";
