@@ -8,9 +8,12 @@
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <new>
+#include <optional>
 
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/memory_budget.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
 #include "scene/echo.h"
@@ -99,6 +102,13 @@ int main(int argc, char** argv) {
     return kRuntimeFailure;
   } catch (const OutputFileError& e) {
     say(e.what());
+    return kRuntimeFailure;
+  } catch (const std::bad_alloc&) {  // past what the estimate foresaw (memory_budget.h)
+    const std::optional<double> as = address_space_limit();
+    say(std::string("out of memory") +
+        (as ? " under the address-space limit (ulimit -v " + format_bytes(*as) + ")" : std::string()) +
+        "; the files already written stay, nothing else; use fewer particles or a smaller picture" +
+        (as ? ", or raise ulimit -v" : ""));
     return kRuntimeFailure;
   } catch (const std::exception& e) {
     say(std::string("internal error: ") + e.what());

@@ -600,5 +600,35 @@ TEST(CmdRun, AStillAtNanIsRefused) {
   EXPECT_TRUE(only_files(dir, {}));
 }
 
+TEST(CmdRun, ARerunsFramesHoldNoFrameOfALongerEarlierRun) {
+  const std::string dir = scratch_dir("run_frames_rerun");
+  const std::vector<std::string> base{"run", shipped("spring.yaml"), "--width", "64", "--height", "48", "--frames",
+                                      dir + "/fr"};
+  std::vector<std::string> longer = base, shorter = base;
+  longer.insert(longer.end(), {"--duration", "0.5"});    // frames 0..15 at 30 fps
+  shorter.insert(shorter.end(), {"--duration", "0.2"});  // frames 0..6
+  ASSERT_EQ(run_clothsim(longer).exit_code, 0);
+  ASSERT_EQ(run_clothsim(shorter).exit_code, 0);
+  EXPECT_TRUE(fs::exists(dir + "/fr/frame_00006.png"));
+  EXPECT_FALSE(fs::exists(dir + "/fr/frame_00007.png")) << "a frame of the earlier, longer run";
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir + "/fr"), fs::directory_iterator()), 7);
+}
+
+TEST(CmdRun, ASceneFromAStreamIsBoundedByMaxMemory) {
+  const CliResult r = run_clothsim({"validate", "/dev/zero", "--max-memory", "100M"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("/dev/zero: more than 25 MB read from this stream"), std::string::npos) << r.err;
+}
+
+TEST(CmdRun, ARunPastTheAddressSpaceLimitIsRefusedOnOneLineBeforeAllocating) {
+  const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--set", "cloth.particles=[1024,1024]", "--duration",
+                                    "2e-4", "--metrics", "/dev/null"},
+                                   "ulimit -v 800000;");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("more than the address-space limit (ulimit -v 781 MB"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace clothsim::testing

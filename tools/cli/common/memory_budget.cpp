@@ -1,5 +1,7 @@
 #include "memory_budget.h"
 
+#include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -9,7 +11,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <sstream>
 
 #include "cli_common.h"
 #include "cli/compare/reference_stand.h"
@@ -99,24 +103,43 @@ double MemoryBudget::total() const {
   return sum;
 }
 
+std::optional<double> address_space_limit() {
+  rlimit rl {};
+  if (::getrlimit(RLIMIT_AS, &rl) != 0 || rl.rlim_cur == RLIM_INFINITY) return std::nullopt;
+  return static_cast<double>(rl.rlim_cur);
+}
+
+double address_space_mapped() {
+  std::ifstream statm("/proc/self/statm");
+  double pages = 0.0;
+  statm >> pages;  // the first field: every page mapped, touched or not
+  return pages * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+}
+
 void MemoryBudget::check(const std::string& source, const std::optional<double>& limit) const {
   const double allowed = limit ? *limit : default_memory_limit();
   const double needed = total();
-  if (needed <= allowed) return;
   std::string parts;
   for (const auto& [what, bytes] : parts_) parts += (parts.empty() ? "" : ", ") + what + " " + format_bytes(bytes);
-  throw UsageError(source + ": needs an estimated " + format_bytes(needed) + " (" + parts + "), more than " +
-                   (limit ? "--max-memory " + format_bytes(allowed)
-                          : "the " + format_bytes(allowed) + " allowed by default (half the physical memory)") +
-                   "; " + remedy_ + ", or raise --max-memory");
+  if (needed > allowed)
+    throw UsageError(source + ": needs an estimated " + format_bytes(needed) + " (" + parts + "), more than " +
+                     (limit ? "--max-memory " + format_bytes(allowed)
+                            : "the " + format_bytes(allowed) + " allowed by default (half the physical memory)") +
+                     "; " + remedy_ + ", or raise --max-memory");
+  // Under ulimit -v, what is still to be mapped (the estimate beyond the process already
+  // running, and the threads' stacks and malloc arenas) must fit what the limit leaves.
+  const std::optional<double> as_limit = address_space_limit();
+  if (!as_limit) return;
+  const double mapped = address_space_mapped();
+  if (needed - kProcessBytes + kAddressSpaceReserve <= *as_limit - mapped) return;
+  throw UsageError(source + ": needs an estimated " + format_bytes(needed) + " (" + parts + "), more than the " +
+                   "address-space limit (ulimit -v " + format_bytes(*as_limit) + ", " + format_bytes(mapped) +
+                   " of it mapped already) leaves; " + remedy_ + ", or raise ulimit -v");
 }
 
-void check_parse_budget(const std::string& path, const std::optional<double>& limit) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return;
-  const YamlSize size = count_yaml_nodes(in);
+namespace {
+// Refuses a YAML text whose tree would pass `limit` (see check_parse_budget).
+void check_tree_budget(const std::string& path, const YamlSize& size, const std::optional<double>& limit) {
   // A scene of a few thousand nodes is part of the process's allowance (kProcessBytes), so
   // only a large file is judged on its parse; the run's own estimate judges the rest.
   if (parse_bytes(size) <= kSmallSceneTreeBytes) return;
@@ -128,10 +151,61 @@ void check_parse_budget(const std::string& path, const std::optional<double>& li
   budget.check(path, limit);
 }
 
+[[noreturn]] void stream_failure(const std::string& path, int error) {
+  if (interrupted()) stop_if_interrupted("while reading " + path);  // a FIFO with no writer yet
+  throw SceneError(path, 0, "", std::string("cannot read: ") + std::strerror(error));
+}
+}  // namespace
+
+void check_parse_budget(const std::string& path, const std::optional<double>& limit) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return;
+  check_tree_budget(path, count_yaml_nodes(in), limit);
+}
+
+std::optional<std::string> read_scene_stream(const std::string& path, const std::optional<double>& limit) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode) || S_ISDIR(st.st_mode)) return std::nullopt;
+  // A tree costs several times its text (parse_estimate.h), so a text of more than a quarter
+  // of the limit cannot be parsed within it: reading stops there.
+  const double cap = 0.25 * (limit ? *limit : default_memory_limit());
+  int fd = -1;
+  while ((fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC)) < 0)  // a FIFO waits for its writer
+    if (errno != EINTR || interrupted()) stream_failure(path, errno);
+  std::string text;
+  char chunk[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, chunk, sizeof chunk);
+    if (n == 0) break;
+    if (n < 0) {
+      if (errno == EINTR && !interrupted()) continue;
+      const int error = errno;
+      ::close(fd);
+      stream_failure(path, error);
+    }
+    text.append(chunk, static_cast<std::size_t>(n));
+    if (static_cast<double>(text.size()) > cap) {
+      ::close(fd);
+      throw UsageError(path + ": more than " + format_bytes(cap) + " read from this stream and more coming; a scene's "
+                       "text must stay within a quarter of " + (limit ? "--max-memory " + format_bytes(*limit)
+                                                                      : "the memory allowed by default") +
+                       " (its parse needs several times that)");
+    }
+  }
+  ::close(fd);
+  std::istringstream in(text);
+  check_tree_budget(path, count_yaml_nodes(in), limit);
+  return text;
+}
+
 SceneDef load_scene_within(const std::string& path, const std::vector<std::string>& overrides,
-                           const std::optional<double>& limit) {
+                           const std::optional<double>& limit, bool bound_run) {
+  if (const std::optional<std::string> text = read_scene_stream(path, limit))
+    return parse_scene(*text, path, overrides, bound_run);
   check_parse_budget(path, limit);
-  return load_scene(path, overrides);
+  return load_scene(path, overrides, bound_run);
 }
 
 }  // namespace clothsim::cli

@@ -55,14 +55,30 @@ double reference_positions_bytes(const SceneDef& scene, const std::vector<double
 void add_max_memory_option(CLI::App* sub, std::optional<double>& limit);
 
 // Refuses (UsageError, exit 2) a scene file whose parse would pass `limit`: yaml-cpp's node
-// tree, estimated from the text (scene/parse_estimate.h) before it is parsed. Anything but a
-// regular file (missing, a FIFO) is left to the parser to read and judge, and a tree of at
-// most kSmallSceneTreeBytes is the process's own (kProcessBytes: measured 76-78 MiB with one).
+// tree, estimated from the text (scene/parse_estimate.h) before it is parsed. A tree of at most
+// kSmallSceneTreeBytes is the process's own (kProcessBytes: measured 76-78 MiB with one).
 inline constexpr double kSmallSceneTreeBytes = 2.0 * 1024 * 1024;
-// check_parse_budget, then the scene loaded (scene_parser.h's load_scene) with `overrides`.
-SceneDef load_scene_within(const std::string& path, const std::vector<std::string>& overrides,
-                           const std::optional<double>& limit);
 void check_parse_budget(const std::string& path, const std::optional<double>& limit);
+// A scene that is not a regular file (a FIFO, a device, /dev/stdin) can be read only once: its
+// text, read here and bounded by a quarter of `limit` (/dev/zero is refused at that size, not
+// grown into), then judged as a file's. nullopt for a regular file, a directory or a missing
+// name (the parser says what is wrong). A signal while a FIFO waits for its writer stops it.
+std::optional<std::string> read_scene_stream(const std::string& path, const std::optional<double>& limit);
+// The scene (scene_parser.h's load_scene, or parse_scene on a stream's text) with `overrides`,
+// its parse checked against `limit` first.
+SceneDef load_scene_within(const std::string& path, const std::vector<std::string>& overrides,
+                           const std::optional<double>& limit, bool bound_run = true);
+
+// The address-space limit (ulimit -v, RLIMIT_AS) in bytes; nullopt when unlimited. The
+// address space the process has mapped so far (its libraries, its heap, touched or not).
+std::optional<double> address_space_limit();
+double address_space_mapped();
+// Address space a command maps beyond its resident estimate: the threads' stacks and glibc's
+// per-thread malloc arenas, reserved but mostly untouched. Measured as VmPeak less what was
+// mapped at the check less the estimate: 123-134 MB for `run` at 256x256 and 512x512 without
+// pictures; a renderer's (llvmpipe's) threads reserve more, which its arenas give up under a
+// limit, and an allocation that still fails is said on one line (main.cpp).
+inline constexpr double kAddressSpaceReserve = 256.0 * 1024 * 1024;
 
 class MemoryBudget {
  public:
@@ -70,7 +86,8 @@ class MemoryBudget {
   void add(std::string what, double bytes) { parts_.emplace_back(std::move(what), bytes); }
   double total() const;
   // Throws UsageError when total() exceeds `limit` (the default when nullopt): "SOURCE: needs
-  // an estimated 5.6 GB (model 1.3 GB, implicit_euler 4.3 GB, ...), more than --max-memory 2 GB".
+  // an estimated 5.6 GB (model 1.3 GB, implicit_euler 4.3 GB, ...), more than --max-memory 2 GB",
+  // or when what is still to be mapped would pass the address-space limit (ulimit -v).
   void check(const std::string& source, const std::optional<double>& limit) const;
   // What the message suggests before raising the limit.
   void set_remedy(std::string remedy) { remedy_ = std::move(remedy); }

@@ -74,8 +74,7 @@ std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const
 
 SceneDef load_scene_with_options(const SceneOptions& o) {
   // --duration and --dt replace the file's values, so the run is bounded once they are in.
-  check_parse_budget(o.path, o.max_memory);
-  SceneDef scene = load_scene(o.path, o.sets, /*bound_run=*/!(o.duration || o.dt));
+  SceneDef scene = load_scene_within(o.path, o.sets, o.max_memory, /*bound_run=*/!(o.duration || o.dt));
   if (o.duration) {
     if (!(*o.duration >= 0.0) || !std::isfinite(*o.duration))
       throw UsageError("--duration: must be a finite number >= 0 s, got " + number_text(*o.duration));
