@@ -119,7 +119,7 @@ TEST(CmdBench, InterruptKeepsTheRunsFinishedSoFarAndNamesEveryFileThatStays) {
                                    "timeout --foreground --preserve-status -s INT 2");
   EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_EQ(line_count(r.err), 1) << r.err;
-  EXPECT_NE(r.err.find("clothsim: interrupted: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("clothsim: stopped by SIGINT: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(" of 28 runs finished; kept " + dir + "/wp.csv (incomplete), " + dir +
                        "/wp.json (incomplete); not written: " + dir + "/wp.png"),
             std::string::npos)

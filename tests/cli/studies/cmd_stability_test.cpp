@@ -152,7 +152,7 @@ TEST(CmdStability, InterruptKeepsTheSearchesFinishedSoFarAndNamesEveryFileThatSt
                                    "timeout --foreground --preserve-status -s INT 2");
   EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_EQ(line_count(r.err), 1) << r.err;
-  EXPECT_NE(r.err.find("clothsim: interrupted: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("clothsim: stopped by SIGINT: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(" of 20 searches finished; kept " + dir + "/st.csv (incomplete), " + dir +
                        "/st.json (incomplete); not written: " + dir + "/st.png"),
             std::string::npos)

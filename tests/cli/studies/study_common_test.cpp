@@ -7,20 +7,22 @@
 namespace clothsim::cli {
 namespace {
 
+// (No signal has arrived in this process: the line then says "a signal"; a command's names it,
+// as Signals.* in cli_common_test check.)
 TEST(StudyInterruptedMessage, NamesEveryFileThatStaysAsIncompleteAndThePlotNotDrawn) {
   EXPECT_EQ(study_interrupted_message(3, 28, "runs", {"wp.csv", "wp.json"}, "wp.png"),
-            "interrupted: 3 of 28 runs finished; kept wp.csv (incomplete), wp.json (incomplete); not written: wp.png");
+            "stopped by a signal: 3 of 28 runs finished; kept wp.csv (incomplete), wp.json (incomplete); not written: wp.png");
   EXPECT_EQ(study_interrupted_message(0, 20, "searches", {"", "st.json"}, ""),
-            "interrupted: 0 of 20 searches finished; kept st.json (incomplete)")
+            "stopped by a signal: 0 of 20 searches finished; kept st.json (incomplete)")
       << "an output not asked for is not named";
   EXPECT_EQ(study_interrupted_message(2, 5, "runs", {"", ""}, "wp.png"),
-            "interrupted: 2 of 5 runs finished; nothing kept; not written: wp.png");
+            "stopped by a signal: 2 of 5 runs finished; nothing kept; not written: wp.png");
 }
 
 TEST(StudyInterruptedMessage, FilesWrittenAfterEveryRunFinishedAreNotCalledIncomplete) {
   // The signal came after the last run: the files hold every run, only the plot is missing.
   EXPECT_EQ(study_interrupted_message(28, 28, "runs", {"wp.csv", "wp.json"}, "wp.png"),
-            "interrupted: 28 of 28 runs finished; kept wp.csv, wp.json; not written: wp.png");
+            "stopped by a signal: 28 of 28 runs finished; kept wp.csv, wp.json; not written: wp.png");
 }
 
 }  // namespace

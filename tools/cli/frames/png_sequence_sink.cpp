@@ -2,13 +2,16 @@
 // as much as rendering a frame, so it runs on a background thread: add() queues a copy of
 // the frame and returns; a short queue keeps memory flat however long the clip. A failed
 // write is reported by the next add() or by finish(), naming the file.
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstdio>
 #include <deque>
 #include <filesystem>
 #include <mutex>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "frame_sink.h"
 #include "cli/common/cli_common.h"
@@ -73,6 +76,7 @@ class PngSequenceSink final : public FrameSink {
     ready_.notify_all();
     if (writer_.joinable()) writer_.join();  // every queued frame written (or the first error)
     if (!error_.empty()) throw RuntimeFailure(error_);
+    remove_later_frames();
   }
 
  private:
@@ -81,6 +85,21 @@ class PngSequenceSink final : public FrameSink {
     double t;
     Image frame;
   };
+
+  // A longer earlier run's frames past this run's last would read as its continuation (encode
+  // takes every frame of an unbroken sequence): gone once this sequence is complete.
+  void remove_later_frames() const {
+    std::error_code ec;
+    std::vector<std::filesystem::path> later;
+    for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.size() != 15 || name.compare(0, 6, "frame_") != 0 || name.compare(11, 4, ".png") != 0 ||
+          name.find_first_not_of("0123456789", 6) != 11)
+        continue;
+      if (std::stoi(name.substr(6, 5)) > last_index_) later.push_back(entry.path());
+    }
+    for (const auto& path : later) std::filesystem::remove(path, ec);
+  }
 
   void write_loop() {
     for (;;) {
@@ -100,6 +119,7 @@ class PngSequenceSink final : public FrameSink {
       try {
         write_png(dir_ + "/" + name, job.frame, text, kZlibLevel, Replace::kUnlinkFirst);  // no hidden link to leave
         ++written_;
+        last_index_ = std::max(last_index_, job.index);
       } catch (const PngError& e) {
         lock.lock();
         error_ = e.what();  // "cannot write DIR/frame_00012.png: No space left on device"
@@ -121,6 +141,7 @@ class PngSequenceSink final : public FrameSink {
   bool created_ = false;  // the directory did not exist before this sink
   std::string error_;              // first failure; guarded by mutex_ until the writer has joined
   std::atomic<long> written_{0};   // PNGs on disk, counted by the writer
+  int last_index_ = -1;            // the largest frame written; read after the writer has joined
   std::thread writer_;
 };
 

@@ -152,7 +152,9 @@ int run_process(const std::vector<std::string>& args, bool quiet, const std::vec
 PlotScript::PlotScript(std::string script, std::string png) : png_(std::move(png)) {
   script_ = (fs::path(tools_dir()) / script).string();
   require_writable_parent(png_, "--plot");
-  if (fs::path(png_).extension() != ".png") throw UsageError("--plot: " + png_ + " must end in .png");
+  // A device, FIFO or descriptor is streamed into whatever its name (docs/outputs.md).
+  if (fs::path(png_).extension() != ".png" && !resolve_output(png_).streams)
+    throw UsageError("--plot: " + png_ + " must end in .png");
   if (!fs::is_regular_file(script_))
     throw RuntimeFailure("--plot: plot script " + script_ + " not found (set CLOTHSIM_TOOLS_DIR to clothsim's tools/ directory)");
   // Debian's matplotlib is installed for the system python; a python3 earlier on PATH
@@ -167,9 +169,9 @@ PlotScript::PlotScript(std::string script, std::string png) : png_(std::move(png
   }
 }
 
-void PlotScript::draw(const std::vector<std::string>& args) const { draw(args, -1); }
+void PlotScript::draw(const std::vector<std::string>& args) const { draw(args, -1, {}); }
 
-void PlotScript::draw(const std::vector<std::string>& args, int csv_fd) const {
+void PlotScript::draw(const std::vector<std::string>& args, int csv_fd, const std::vector<std::string>& written) const {
   // The script writes into a nameless file of ours (or the device or pipe the PNG streams to)
   // through /dev/fd/3: killed at any moment, it leaves nothing under any name.
   std::optional<OutputFile> out;
@@ -185,8 +187,13 @@ void PlotScript::draw(const std::vector<std::string>& args, int csv_fd) const {
   std::vector<int> fds{out->fd()};
   if (csv_fd >= 0) fds.push_back(csv_fd);
   const int code = run_process(argv, false, fds);
-  if (interrupted()) throw RuntimeFailure(std::string("stopped by ") + interrupt_signal_name() +
-                                          " while drawing the plot; " + png_ + " not written");
+  if (interrupted()) {
+    std::vector<std::string> kept;
+    for (const std::string& path : written)
+      if (!path.empty()) kept.push_back(path);
+    throw RuntimeFailure(std::string("stopped by ") + interrupt_signal_name() + " while drawing the plot; " +
+                         what_stays(kept, {png_}));
+  }
   if (code != 0)
     throw RuntimeFailure("--plot: " + script_ + " failed (exit " + std::to_string(code) + "); no plot written");
   try {
@@ -198,7 +205,7 @@ void PlotScript::draw(const std::vector<std::string>& args, int csv_fd) const {
 
 void PlotScript::draw_from_csv(const std::string& csv,
                                const std::function<void(const std::string&)>& write_csv,
-                               const std::vector<std::string>& args) const {
+                               const std::vector<std::string>& args, const std::vector<std::string>& written) const {
   // Without --csv, the script reads a nameless CSV of ours through /proc/self/fd: nothing to
   // remove afterwards, nothing left by a kill.
   std::optional<OutputFile> temp;
@@ -214,7 +221,7 @@ void PlotScript::draw_from_csv(const std::string& csv,
   }
   std::vector<std::string> all{"--csv", source};
   all.insert(all.end(), args.begin(), args.end());
-  draw(all, temp ? temp->fd() : -1);
+  draw(all, temp ? temp->fd() : -1, written);
   std::printf("plot: %s\n", png_.c_str());
 }
 
@@ -225,7 +232,7 @@ std::string study_interrupted_message(std::size_t finished, std::size_t total, c
     if (!path.empty()) files.push_back(finished < total ? path + " (incomplete)" : path);
   std::vector<std::string> not_written;
   if (!plot.empty()) not_written.push_back(plot);
-  return "interrupted: " + std::to_string(finished) + " of " + std::to_string(total) + " " + unit + " finished; " +
+  return std::string("stopped by ") + interrupt_signal_name() + ": " + std::to_string(finished) + " of " + std::to_string(total) + " " + unit + " finished; " +
          what_stays(files, not_written);
 }
 

@@ -70,12 +70,14 @@ class PlotScript {
   void draw(const std::vector<std::string>& args) const;
   // Draws from the study's CSV: `csv` when the user asked for one (already written there),
   // otherwise a nameless CSV written by `write_csv(path)` and read by the script as /dev/fd/4.
-  // Passes "--csv PATH" before `args`, and says "plot: PNG" on stdout.
+  // Passes "--csv PATH" before `args`, and says "plot: PNG" on stdout. `written`: the outputs
+  // written before the plot (empty paths skipped), which a stop while drawing names as kept.
   void draw_from_csv(const std::string& csv, const std::function<void(const std::string&)>& write_csv,
-                     const std::vector<std::string>& args) const;
+                     const std::vector<std::string>& args, const std::vector<std::string>& written) const;
   const std::string& png() const { return png_; }
  private:
-  void draw(const std::vector<std::string>& args, int csv_fd) const;  // csv_fd: the child's /dev/fd/4
+  // csv_fd: the child's /dev/fd/4
+  void draw(const std::vector<std::string>& args, int csv_fd, const std::vector<std::string>& written) const;
   std::string python_, script_, png_;
 };
 
