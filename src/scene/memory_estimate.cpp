@@ -62,34 +62,62 @@ double model_bytes(const SceneDef& scene) {
          kPerSphere * static_cast<double>(scene.spheres.size()) + kPerAction * actions;
 }
 
-double run_bytes(const SceneDef& scene, IntegratorKind kind) {
-  const double particles = static_cast<double>(scene.cloth.nx) * scene.cloth.ny;
-  const double springs = static_cast<double>(spring_count(scene.cloth));
-  double per_particle = kExplicitPerParticle, bytes = 0.0;
-  switch (kind) {
-    case IntegratorKind::ExplicitEuler:
-    case IntegratorKind::SymplecticEuler: break;
-    case IntegratorKind::Midpoint: per_particle += kMidpointExtra; break;
-    case IntegratorKind::Rk4: per_particle += kRk4Extra; break;
-    case IntegratorKind::Xpbd: per_particle += kXpbdExtra; break;
-    case IntegratorKind::Vbd:
-      per_particle += kVbdExtra + (scene.solvers.vbd.chebyshev_rho > 0.0 ? kVbdAcceleratedExtra : 0.0);
-      break;
-    case IntegratorKind::ProjectiveDynamics:
-      per_particle += kPdPerLog2 * std::log2(std::max(particles, 2.0));
-      break;
-    case IntegratorKind::ImplicitEuler:
-      per_particle += kImplicitPerParticle;
-      bytes = kImplicitPerSpring * springs + implicit_factor_bytes(particles, springs);
-      break;
-  }
-  return per_particle * particles + bytes;
+namespace {
+// A scene's sizes, as the methods' memory terms read them.
+struct Sizes {
+  double particles, springs, bodies;  // bodies: particles and spheres
+  const SceneDef& scene;
+};
+
+// What one method costs: its run's own arrays (state, scratch, systems, factors) and the final
+// state it keeps for --state. One function per method, so each set of terms can move into the
+// method's integrator registry row as it is.
+struct MethodMemory {
+  double run = 0.0;
+  double final_state = 0.0;
+};
+
+MethodMemory explicit_family_memory(const Sizes& n, double extra_per_particle) {
+  return {(kExplicitPerParticle + extra_per_particle) * n.particles, kFinalStatePerParticle * n.bodies};
+}
+MethodMemory midpoint_memory(const Sizes& n) { return explicit_family_memory(n, kMidpointExtra); }
+MethodMemory rk4_memory(const Sizes& n) { return explicit_family_memory(n, kRk4Extra); }
+MethodMemory xpbd_memory(const Sizes& n) { return explicit_family_memory(n, kXpbdExtra); }
+MethodMemory vbd_memory(const Sizes& n) {
+  const bool accelerated = n.scene.solvers.vbd.chebyshev_rho > 0.0;
+  return explicit_family_memory(n, kVbdExtra + (accelerated ? kVbdAcceleratedExtra : 0.0));
+}
+MethodMemory projective_dynamics_memory(const Sizes& n) {
+  return explicit_family_memory(n, kPdPerLog2 * std::log2(std::max(n.particles, 2.0)));
+}
+MethodMemory implicit_euler_memory(const Sizes& n) {
+  return {(kExplicitPerParticle + kImplicitPerParticle) * n.particles + kImplicitPerSpring * n.springs +
+              implicit_factor_bytes(n.particles, n.springs),
+          kImplicitFinalPerParticle * n.bodies + kImplicitFinalPerSpring * n.springs};
 }
 
+MethodMemory method_memory(const SceneDef& scene, IntegratorKind kind) {
+  const double particles = static_cast<double>(scene.cloth.nx) * scene.cloth.ny;
+  const Sizes n{particles, static_cast<double>(spring_count(scene.cloth)),
+                particles + static_cast<double>(scene.spheres.size()), scene};
+  switch (kind) {
+    case IntegratorKind::ExplicitEuler:
+    case IntegratorKind::SymplecticEuler: return explicit_family_memory(n, 0.0);
+    case IntegratorKind::Midpoint: return midpoint_memory(n);
+    case IntegratorKind::Rk4: return rk4_memory(n);
+    case IntegratorKind::Xpbd: return xpbd_memory(n);
+    case IntegratorKind::Vbd: return vbd_memory(n);
+    case IntegratorKind::ProjectiveDynamics: return projective_dynamics_memory(n);
+    case IntegratorKind::ImplicitEuler: return implicit_euler_memory(n);
+  }
+  return explicit_family_memory(n, 0.0);
+}
+}  // namespace
+
+double run_bytes(const SceneDef& scene, IntegratorKind kind) { return method_memory(scene, kind).run; }
+
 double final_state_bytes(const SceneDef& scene, IntegratorKind kind) {
-  const double bodies = static_cast<double>(scene.cloth.nx) * scene.cloth.ny + static_cast<double>(scene.spheres.size());
-  if (kind != IntegratorKind::ImplicitEuler) return kFinalStatePerParticle * bodies;
-  return kImplicitFinalPerParticle * bodies + kImplicitFinalPerSpring * static_cast<double>(spring_count(scene.cloth));
+  return method_memory(scene, kind).final_state;
 }
 
 }  // namespace clothsim
