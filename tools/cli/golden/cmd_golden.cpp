@@ -355,6 +355,8 @@ void check_outputs_writable(const GoldenOptions& o, const GoldenManifest& manife
     }
   }
   refuse_clashing_paths(inputs, outputs);
+  if (update)  // the golden images, after --csv and --summary: an unwritable folder is said before rendering
+    for (std::size_t i = 2; i < outputs.size(); ++i) require_writable_parent(outputs[i].path, outputs[i].what);
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   if (!o.summary.empty() && o.shard.empty()) require_writable_parent(o.summary, "--summary");
 }
