@@ -625,7 +625,7 @@ TEST(CmdRun, ARunPastTheAddressSpaceLimitIsRefusedOnOneLineBeforeAllocating) {
   const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--set", "cloth.particles=[1024,1024]", "--duration",
                                     "2e-4", "--metrics", "/dev/null"},
                                    "ulimit -v 800000;");
-  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("more than the address-space limit (ulimit -v 781 MB"), std::string::npos) << r.err;
 }

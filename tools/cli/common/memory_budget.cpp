@@ -132,7 +132,8 @@ void MemoryBudget::check(const std::string& source, const std::optional<double>&
   if (!as_limit) return;
   const double mapped = address_space_mapped();
   if (needed - kProcessBytes + kAddressSpaceReserve <= *as_limit - mapped) return;
-  throw UsageError(source + ": needs an estimated " + format_bytes(needed) + " (" + parts + "), more than the " +
+  // The machine's limit, not the scene's fault: exit 1, as the renderer's own check of it says.
+  throw RuntimeFailure(source + ": needs an estimated " + format_bytes(needed) + " (" + parts + "), more than the " +
                    "address-space limit (ulimit -v " + format_bytes(*as_limit) + ", " + format_bytes(mapped) +
                    " of it mapped already) leaves; " + remedy_ + ", or raise ulimit -v");
 }

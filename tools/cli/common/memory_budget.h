@@ -87,7 +87,8 @@ class MemoryBudget {
   double total() const;
   // Throws UsageError when total() exceeds `limit` (the default when nullopt): "SOURCE: needs
   // an estimated 5.6 GB (model 1.3 GB, implicit_euler 4.3 GB, ...), more than --max-memory 2 GB",
-  // or when what is still to be mapped would pass the address-space limit (ulimit -v).
+  // and RuntimeFailure (exit 1, the machine's limit) when what is still to be mapped would pass
+  // the address-space limit (ulimit -v).
   void check(const std::string& source, const std::optional<double>& limit) const;
   // What the message suggests before raising the limit.
   void set_remedy(std::string remedy) { remedy_ = std::move(remedy); }
