@@ -70,7 +70,6 @@
 #include "scene/param_keys.h"
 #include "scene/run_bounds.h"
 #include "scene/scene_parser.h"
-#include "video/contact_sheet.h"
 #include "video/tiling.h"
 #include "video/video_writer.h"
 #include "core/integrators/integrator_kind.h"
@@ -178,9 +177,8 @@ PictureLook resolve_look(const CompareOptions& o, const ComparePlan& p) {
 }
 
 void check_paths(const CompareOptions& o, const ComparePlan& p) {
-  refuse_clashing_paths({{o.scene.path, "the scene"}},
-                        {{o.video, "--video"}, {o.sheet, "--sheet"}, {o.still_out, "-o/--output"},
-                         {o.summary, "--summary"}, {o.frames_dir, "--frames", true}});
+  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.video, "--video"}, {o.sheet, "--sheet"},
+                        {o.still_out, "-o/--output"}, {o.summary, "--summary"}, {o.frames_dir, "--frames", true}});
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
   if (!o.sheet.empty()) require_writable_parent(o.sheet, "--sheet");
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
@@ -350,24 +348,6 @@ std::string grid_layout_text(const ComparePlan& p) {
   return std::to_string(columns) + "x" + std::to_string(p.lanes.size() / columns);
 }
 
-// The sheet's rows: each lane's label (with its --vary value under --vary).
-std::vector<std::string> sheet_rows(const ComparePlan& p) {
-  std::vector<std::string> rows;
-  for (std::size_t i = 0; i < p.lanes.size(); ++i) rows.push_back(p.labels.empty() ? p.lanes[i].label() : p.labels[i]);
-  return rows;
-}
-
-// A sheet too small for its labels and cells is refused before the clip is simulated.
-void check_sheet_fits(const CompareOptions& o, const ComparePlan& p) {
-  if (o.sheet.empty()) return;
-  try {
-    contact_sheet_shrink(p.grid->cell_width(), p.grid->cell_height(), sheet_rows(p),
-                         static_cast<int>(p.sheet_times.size()), {}, p.grid->width(), p.grid->height());
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(std::string("--sheet: ") + e.what() + "; give a larger --width/--height");
-  }
-}
-
 // 1. Everything that can be wrong, before any simulation; the steps chosen (the error's
 // reference running meanwhile). In place: the reference started reads the plan's model and targets.
 void plan_compare(const CompareOptions& o, ComparePlan& p) {
@@ -409,7 +389,9 @@ void plan_compare(const CompareOptions& o, ComparePlan& p) {
   check_step_bounds(p.scene, p.lanes, p.look.reference);
   fit_grid(p);
   check_memory(o, p);  // again with the steps chosen (the reference's positions per distinct step)
-  check_sheet_fits(o, p);
+  if (!o.sheet.empty())
+    check_sheet_fits(p.grid->cell_width(), p.grid->cell_height(), sheet_rows(p.lanes, p.labels),
+                     static_cast<int>(p.sheet_times.size()), p.grid->width(), p.grid->height());
   fit_reference_to_model(p.look, *p.model, p.scene, p.lanes);
   keep_early_reference(p);
 }
@@ -454,7 +436,7 @@ void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& p
   if (!o.sheet.empty()) {
     std::vector<std::string> columns;
     for (double t : p.sheet_times) columns.push_back(time_label(t));
-    pipeline.add(make_sheet_output(o.sheet, sheet_rows(p), columns, meta, p.grid->width() + p.legend_width, p.grid->height(),
+    pipeline.add(make_sheet_output(o.sheet, sheet_rows(p.lanes, p.labels), columns, meta, p.grid->width() + p.legend_width, p.grid->height(),
                                    p.legend_width > 0));
   }
 }

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "cli/common/cli_common.h"
 #include "scene/echo.h"
 #include "scene/run_bounds.h"
+#include "video/contact_sheet.h"
 
 namespace clothsim::cli {
 
@@ -193,6 +195,21 @@ void check_step_bounds(const SceneDef& scene, const std::vector<LaneSpec>& lanes
   if (!too_long.empty())
     throw UsageError("--reference (" + reference->spelling() + ", for --color error): " + too_long +
                      "; give --reference NAME@STEP or --color checker");
+}
+
+std::vector<std::string> sheet_rows(const std::vector<LaneSpec>& lanes, const std::vector<std::string>& labels) {
+  std::vector<std::string> rows;
+  for (std::size_t i = 0; i < lanes.size(); ++i) rows.push_back(labels.empty() ? lanes[i].label() : labels[i]);
+  return rows;
+}
+
+void check_sheet_fits(int cell_w, int cell_h, const std::vector<std::string>& rows, int columns, int width,
+                      int height) {
+  try {
+    contact_sheet_shrink(cell_w, cell_h, rows, columns, {}, width, height);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--sheet: ") + e.what() + "; give a larger --width/--height");
+  }
 }
 
 }  // namespace clothsim::cli

@@ -80,6 +80,13 @@ class TargetPlan {
 // "t = 0.5 s" for a contact-sheet column.
 std::string time_label(double t);
 
+// A contact sheet's rows: each lane's label, or `labels` (--vary's) where given.
+std::vector<std::string> sheet_rows(const std::vector<LaneSpec>& lanes, const std::vector<std::string>& labels);
+// A sheet of `rows` x `columns` cells of cell_w x cell_h, in width x height pixels: a UsageError
+// naming --sheet when its labels and cells cannot fit, before the clip is simulated.
+void check_sheet_fits(int cell_w, int cell_h, const std::vector<std::string>& rows, int columns, int width,
+                      int height);
+
 // --vary KEY=V1,V2,... (compare's lanes by value, bench's too): the key resolved against the
 // scene (scene/param_keys.h) and the values, numbers or fractions. UsageError naming --vary.
 struct Variation {
