@@ -3,9 +3,10 @@
 //     `iterations` Gauss-Seidel sweeps, each over every spring as a compliant distance
 //     constraint (compliance 1/ks, damping beta = kd) and every particle against the
 //     ground and kinematic spheres (inequality constraints with friction); v = (y - x_n)/h.
-// Converged, it solves backward Euler with the textbook damper: the damper's force is
-// kd u u^T (v_a - v_b) at the end of the step, not implicit_euler's (kd/h)(l - ln) u; with the
-// dampers off it is implicit_euler's step (docs/integrators.md, "XPBD's gap is its damper").
+// Converged, it is not implicit_euler's step: the damper's force is the textbook
+// kd u u^T (v_a - v_b) at the end of the step, not (kd/h)(l - ln) u, and each projection moves
+// along its constraint's gradient at its own iterate, so the end positions carry the sweeps'
+// history (docs/integrators.md, "XPBD's gap").
 // With a residual tolerance (xpbd.tolerance, a lane's :tol=) a step stops on that residual
 // (step_problem.h's ResidualForm::IterateChange).
 // Substeps are smaller steps: xpbd@1/600:1 is Macklin et al. 2019's "Small steps".

@@ -104,11 +104,12 @@ State textbook_backward_euler(const Model& model, const State& start, double h) 
   return end;
 }
 
-// What XPBD converges to (docs/integrators.md, "XPBD's gap is its damper"): backward Euler with
-// the textbook damper rate u . (v_a - v_b), to within a few 1e-6 of the step's motion; with the
-// dampers off, clothsim's backward Euler itself. So its gap from implicit_euler (the test above)
-// is the damper's form. Prints the distances the docs quote.
-TEST(Xpbd, ConvergedItIsBackwardEulerWithTheTextbookDamper) {
+// What XPBD's gap from backward Euler is made of (docs/integrators.md, "XPBD's gap"): part of
+// it is the damper's form (backward Euler with the textbook damper rate u . (v_a - v_b) is
+// nearer than clothsim's), and part is not (with every damper off the gap stays: each
+// projection moves along its constraint's gradient at its own iterate). Prints the distances
+// the docs quote.
+TEST(Xpbd, ItsGapIsTheDampersFormAndItsProjectionsOwnGradients) {
   const Model model = free_sheet();
   const Model undamped = free_sheet({"cloth.springs.structural.damping=0", "cloth.springs.shear.damping=0",
                                      "cloth.springs.bend.damping=0"});
@@ -124,9 +125,8 @@ TEST(Xpbd, ConvergedItIsBackwardEulerWithTheTextbookDamper) {
   }
   std::printf("converged xpbd from: textbook-damper backward Euler %.2g, clothsim's %.2g; dampers off: %.2g\n",
               textbook, clothsims, off);
-  EXPECT_LT(textbook, 1e-4);
-  EXPECT_LT(off, 1e-5);
-  EXPECT_GT(clothsims, 100 * textbook);
+  EXPECT_LT(textbook, 0.75 * clothsims);
+  EXPECT_GT(off, 0.005);
 }
 
 // The SIMD sweep projects each family's sets in turn: no set may hold a particle twice, or its
