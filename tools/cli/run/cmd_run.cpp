@@ -144,6 +144,18 @@ PipelineConfig run_config(const RunOptions& o, const SceneDef& scene, const Mode
   return config;
 }
 
+// WRONG: finite, but not this scene's physics (the run's own verdict, else compare's rule on a
+// reference it was coloured against), said on stderr. Returns whether the run reads WRONG.
+bool say_wrong(const std::string& source, const RunTotals& t, const PipelineReport& report) {
+  const std::string wrong = report.wrong.empty() ? "" : report.wrong.front();
+  if (t.wrong)
+    std::fprintf(stderr, "clothsim: %s: WRONG at step %" PRId64 ", t = %.6g s: %s\n", source.c_str(), t.wrong->step,
+                 t.wrong->t, t.wrong->reason.c_str());
+  else if (!wrong.empty())
+    std::fprintf(stderr, "clothsim: %s: %s\n", source.c_str(), wrong.c_str());
+  return t.wrong || !wrong.empty();
+}
+
 int run_command(const RunOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   const SceneDef scene = load_scene_with_options(o.scene);
@@ -212,14 +224,7 @@ int run_command(const RunOptions& o) {
     return kDiverged;
   }
   files.write(o.state, [&] { write_state_csv(o.state, model, *r.final_state); });
-  // WRONG: finite, but not this scene's physics (the run's own verdict, else compare's rules
-  // on a reference it was coloured against). Said always; an exit code under --strict.
-  const std::string wrong = report.wrong.empty() ? "" : report.wrong.front();
-  if (t.wrong)
-    std::fprintf(stderr, "clothsim: %s: WRONG at step %" PRId64 ", t = %.6g s: %s\n", scene.source.c_str(),
-                 t.wrong->step, t.wrong->t, t.wrong->reason.c_str());
-  else if (!wrong.empty())
-    std::fprintf(stderr, "clothsim: %s: %s\n", scene.source.c_str(), wrong.c_str());
+  const bool wrong = say_wrong(scene.source, t, report);
   if (o.strict && t.unconverged_steps > 0) {
     std::fprintf(stderr,
                  "clothsim: %s: --strict: %" PRId64 " of %" PRId64
@@ -227,7 +232,7 @@ int run_command(const RunOptions& o) {
                  scene.source.c_str(), t.unconverged_steps, t.steps, t.max_residual);
     return kNotConverged;
   }
-  if (o.strict && (t.wrong || !wrong.empty())) return kWrong;
+  if (o.strict && wrong) return kWrong;
   return kOk;
 }
 
