@@ -127,7 +127,7 @@ ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const
 
 // The iterative solvers' blocks: `xpbd: {iterations, tolerance}`, `projective_dynamics:
 // {iterations, chebyshev_rho, tolerance}`, `vbd: {iterations, chebyshev_rho, tolerance}`
-// (solver_params.h holds the defaults).
+// (method_params.h holds the defaults).
 void Reader::solvers(const YAML::Node& root, SolverDefs& d) const {
   const auto count = [&](const YAML::Node& v, const std::string& k) {
     return int_in_range(v, k, 1, kMaxSolverIterations);
