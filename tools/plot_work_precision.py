@@ -8,7 +8,8 @@ clock (--time wall) does not. One line per integrator through the runs that
 finished, labelled with their step (labels placed clear of each other); runs that
 diverged are marked with a cross along the top edge at their cost, labelled with their step; runs with implicit steps that did not converge (column
 unconverged_steps, when present) are drawn hollow and circled in red: their error is not
-backward Euler's. The dotted line is the reference's own resolution (how much halving its
+backward Euler's; runs that read WRONG (column wrong, when present: energy made with no work
+done, or strain past its bound) carry a red square: finite, but not this scene's motion. The dotted line is the reference's own resolution (how much halving its
 step moved it): errors near it are not measured, only bounded.
 
     /usr/bin/python3 tools/plot_work_precision.py --csv bench.csv --out wp.png
@@ -22,6 +23,11 @@ import plot_common as pc
 def unconverged(row):
     """True when the run had implicit steps above their Newton tolerance."""
     return pc.number(row.get("unconverged_steps") or "0") > 0
+
+
+def wrong(row):
+    """True when the run read WRONG (core/diagnostics.h)."""
+    return (row.get("wrong") or "0") == "1"
 
 
 def main():
@@ -71,6 +77,10 @@ def main():
                            facecolors="white", edgecolors=color, linewidths=1.2, zorder=3)
                 ax.scatter([x for x, _ in missed], [y for _, y in missed], s=140, facecolors="none",
                            edgecolors="red", linewidths=1.5, zorder=4)
+            made_up = [(x, y) for r, x, y in zip(ok, xs, ys) if wrong(r)]
+            if made_up:
+                ax.scatter([x for x, _ in made_up], [y for _, y in made_up], marker="s", s=150,
+                           facecolors="none", edgecolors="red", linewidths=1.5, zorder=4)
             bad = [r for r in rs if r["diverged"] == "1"]
             if bad:
                 bx = [max(pc.number(r[key]), 1e-6) for r in bad]
@@ -91,6 +101,10 @@ def main():
         handles.append(pc.plt.Line2D([], [], marker="o", markerfacecolor="none", markeredgecolor="red",
                                      linestyle="None", markersize=10))
         labels.append("not converged (implicit steps above tolerance)")
+    if any(wrong(r) for r in rows):
+        handles.append(pc.plt.Line2D([], [], marker="s", markerfacecolor="none", markeredgecolor="red",
+                                     linestyle="None", markersize=10))
+        labels.append("wrong (energy made or over-stretched)")
     if ref:
         handles.append(pc.plt.Line2D([], [], color="gray", linestyle=":"))
         labels.append("reference resolution")

@@ -1,5 +1,6 @@
 #include "collisions.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace clothsim {
@@ -18,6 +19,15 @@ Vec3 friction_impulse(const Vec3& vt, double jn, double w_a, double w_b, double 
   // The impulse that would stop the sliding, capped by the Coulomb cone |j_t| <= mu |j_n|.
   const double stop = speed / w;
   return -std::min(stop, mu * std::abs(jn)) * (vt / speed);
+}
+
+Vec3 held_contact_response(const Vec3& rel, const Vec3& n, double w, double restitution, double friction,
+                           double held) {
+  const double u = rel.dot(n);
+  const double correction = std::max(0.0, u);
+  const double jn = contact_impulse(u - correction, 0.0, w, 0.0, restitution);
+  const Vec3 J = jn * n + friction_impulse(rel - u * n, jn + held, w, 0.0, friction);
+  return w * J - correction * n;
 }
 
 namespace {

@@ -39,6 +39,16 @@ double contact_impulse(double u_a, double u_b, double w_a, double w_b, double re
 // a that removes at most mu |jn| of tangential momentum, never reversing vt.
 Vec3 friction_impulse(const Vec3& vt, double jn, double w_a, double w_b, double mu);
 
+// The response of a particle a solver held on a collider's plane at the end of its step (pure;
+// implicit_euler's step_contacts.h and the iterative solvers' step_problem.h): rel its velocity
+// relative to the collider, n the plane's normal, w its inverse mass, `held` the normal impulse
+// the constraint exerted (N s, >= 0). A separating normal velocity (the trace of a position
+// correction) is removed, an approaching one reversed times the restitution, and Coulomb
+// friction bounded by the whole normal impulse (restitution's and held's) acts on the
+// tangential part. Returns the change of velocity.
+Vec3 held_contact_response(const Vec3& rel, const Vec3& n, double w, double restitution, double friction,
+                           double held);
+
 ContactCounts resolve_collisions(const Model& model, State& state);
 
 }  // namespace clothsim

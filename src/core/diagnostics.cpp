@@ -1,5 +1,6 @@
 #include "diagnostics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -104,6 +105,37 @@ std::optional<Divergence> check_strain(const Model& model, double strain, std::i
 std::optional<Divergence> check_divergence(const Model& model, const State& state) {
   if (auto bad = check_bodies(model, state)) return bad;
   return check_strain(model, max_strain(model, state), state.step, state.t);
+}
+
+bool external_work(const Model& model, const State& state) {
+  for (int b = 0; b < model.num_bodies(); ++b)
+    if (state.inv_mass[b] == 0.0 && state.v.col(b).squaredNorm() > 0.0) return true;
+  return false;
+}
+
+void record_energy(EnergyLedger& ledger, double energy, bool work) {
+  if (!std::isfinite(energy)) return;
+  if (work || !(energy >= ledger.lowest)) ledger.lowest = energy;  // NaN: the first sample
+  ledger.rise = energy - ledger.lowest;
+}
+
+std::optional<Divergence> check_energy_made(const Model& model, const EnergyLedger& ledger,
+                                            std::int64_t step, double t) {
+  const double bound = kWrongEnergyRise * model.energy_scale;
+  if (!(ledger.rise > bound)) return std::nullopt;
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "energy rose %.3g J with no work done (bound %.3g J, %g of the energy scale)",
+                ledger.rise, bound, kWrongEnergyRise);
+  return Divergence{step, t, buf};
+}
+
+std::optional<Divergence> check_over_stretched(double strain, double start_strain, std::int64_t step,
+                                               double t) {
+  const double bound = std::max(start_strain, 0.0) + kWrongStrain;
+  if (!(strain > bound)) return std::nullopt;  // NaN is divergence's to report
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "strain %.3g past the bound %.3g", strain, bound);
+  return Divergence{step, t, buf};
 }
 
 }  // namespace clothsim

@@ -1,6 +1,8 @@
 // What a run reports about itself: energies, strain, and whether it has diverged.
 #pragma once
 
+#include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -41,5 +43,41 @@ std::optional<Divergence> check_strain(const Model& model, double strain, std::i
 // Both, measuring the strain with a pass over the springs: for a state no force pass has
 // seen (the end of a run, an output frame).
 std::optional<Divergence> check_divergence(const Model& model, const State& state);
+
+// WRONG: a run that stays finite but is not this scene's physics (docs/integrators.md,
+// "WRONG"). Two stated bounds, the same for every method and every command:
+//  - energy made: over a stretch in which nothing does work on the bodies (no immovable body
+//    moves, no velocity is set), the total energy rose above the stretch's lowest sample by
+//    more than kWrongEnergyRise x the scene's energy scale (Model::energy_scale). Damping,
+//    drag and inelastic contact only take energy away, so a converged backward-Euler step
+//    never gains it;
+//  - over-stretched: a spring's strain passed kWrongStrain beyond the largest strain the scene
+//    starts with (a cloth stretched to twice its rest length is no cloth).
+// Energy is sampled every kWrongEnergyEvery simulated seconds (every step when the step is
+// longer): one pass over the springs per sample, and samples at fixed steps, so every
+// command sees the same verdict at the same step.
+inline constexpr double kWrongEnergyRise = 0.02;
+inline constexpr double kWrongStrain = 1.0;
+inline constexpr double kWrongEnergyEvery = 1.0 / 60.0;  // s
+
+// Whether something outside the bodies' forces does work at `state`: an immovable body (a
+// kinematic sphere, a pinned particle) that moves.
+bool external_work(const Model& model, const State& state);
+
+// The energy samples of the current no-work stretch.
+struct EnergyLedger {
+  double lowest = std::numeric_limits<double>::quiet_NaN();  // J, lowest total since work was done
+  double rise = 0.0;                                          // J, the last sample above it
+};
+
+// Adds a sample of the total energy (non-finite ones are ignored). `work`: something did work
+// since the last sample, so the stretch starts again from this one.
+void record_energy(EnergyLedger& ledger, double energy, bool work);
+
+// The WRONG verdicts, pure: nullopt while within the bounds above.
+std::optional<Divergence> check_energy_made(const Model& model, const EnergyLedger& ledger,
+                                            std::int64_t step, double t);
+std::optional<Divergence> check_over_stretched(double strain, double start_strain,
+                                               std::int64_t step, double t);
 
 }  // namespace clothsim

@@ -23,18 +23,24 @@ inline constexpr IntegratorKind kDefaultIntegrator = IntegratorKind::SymplecticE
 // Largest iteration count any solver block, --iterations or a lane's `:N` accepts.
 constexpr int kMaxSolverIterations = 1000000;
 
+// tolerance > 0: a step stops at the first iteration whose relative residual (solvers/
+// solver_cache.h's ResidualStop) is at or below it, `iterations` then being a cap (a step that
+// reaches the cap above it is NOT CONVERGED); 0: every step runs `iterations`.
 struct XpbdDef {
   int iterations = 10;  // Gauss-Seidel sweeps over the constraints per step
+  double tolerance = 0.0;
 };
 
 struct ProjectiveDynamicsDef {
   int iterations = 10;          // local-global iterations per step (Liu et al. 2013 use 10)
   double chebyshev_rho = 0.0;   // Wang 2015's spectral radius estimate; 0 = no acceleration
+  double tolerance = 0.0;
 };
 
 struct VbdDef {
   int iterations = 10;         // Gauss-Seidel sweeps over the vertex colouring per step
   double chebyshev_rho = 0.0;  // Chen et al. 2024's accelerated iterations (Wang 2015's weights); 0 = off
+  double tolerance = 0.0;
 };
 
 struct SolverDefs {

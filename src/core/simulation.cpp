@@ -2,6 +2,7 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace clothsim {
@@ -33,7 +34,22 @@ StepReport step(const Model& model, State& state, IntegratorKind kind, double h,
 }
 
 Run::Run(const Model& model, IntegratorKind kind, double dt)
-    : model_(model), kind_(kind), dt_(dt), state_(initial_state(model)) {}
+    : model_(model), kind_(kind), dt_(dt), state_(initial_state(model)) {
+  start_strain_ = max_strain(model_, state_);
+  energy_every_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(kWrongEnergyEvery / dt_ + 1e-9)));
+  record_energy(energy_, compute_energies(model_, state_).total(), true);
+}
+
+// The WRONG verdict's evidence from the step just taken: the strain its first force pass
+// measured, work done by an event, and, every energy_every_ steps, the total energy.
+void Run::judge_step(const StepReport& report, std::size_t actions_before, std::int64_t from_step, double from_t) {
+  if (state_.next_action != actions_before) work_since_sample_ = true;
+  if (!totals_.wrong) totals_.wrong = check_over_stretched(report.stats.start_strain, start_strain_, from_step, from_t);
+  if (state_.step % energy_every_ != 0) return;
+  record_energy(energy_, compute_energies(model_, state_).total(), work_since_sample_ || external_work(model_, state_));
+  work_since_sample_ = false;
+  if (!totals_.wrong) totals_.wrong = check_energy_made(model_, energy_, state_.step, state_.t);
+}
 
 bool Run::advance_to(double target) {
   if (divergence_) return false;
@@ -50,6 +66,7 @@ bool Run::advance_to(double target) {
     }
     const std::int64_t from_step = state_.step;
     const double from_t = state_.t;
+    const std::size_t actions_before = state_.next_action;
     last_ = step(model_, state_, kind_, dt_, ws_);
     stepped = true;
     ++totals_.steps;
@@ -74,6 +91,7 @@ bool Run::advance_to(double target) {
     divergence_ = check_strain(model_, last_.stats.start_strain, from_step, from_t);
     if (!divergence_) divergence_ = check_bodies(model_, state_);
     if (divergence_) break;
+    judge_step(last_, actions_before, from_step, from_t);
   }
   // The state handed out at the target has had no force pass yet: measure its strain here,
   // so what is shown or written is checked. The step after would report the same step.

@@ -49,6 +49,7 @@ struct RunTotals {
   double sim_seconds = 0.0;             // wall time spent stepping
   double cpu_seconds = 0.0;             // CPU time of the stepping thread: what the run costs
                                         // with a core to itself, even when runs share cores
+  std::optional<Divergence> wrong;      // the first WRONG verdict (diagnostics.h), the run going on
 };
 
 // A frame's worth of diagnostics: the row `--metrics` writes.
@@ -116,6 +117,13 @@ class Run {
   std::optional<Divergence> divergence_;
   std::function<bool()> stop_;
   bool stopped_ = false;
+  // WRONG's evidence (diagnostics.h): the scene's starting strain, the energy of the current
+  // no-work stretch, sampled every energy_every_ steps, and whether work was done since.
+  double start_strain_ = 0.0;
+  EnergyLedger energy_;
+  std::int64_t energy_every_ = 1;
+  bool work_since_sample_ = false;
+  void judge_step(const StepReport& report, std::size_t actions_before, std::int64_t from_step, double from_t);
 };
 
 }  // namespace clothsim

@@ -125,26 +125,31 @@ ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const
   return d;
 }
 
-// The iterative solvers' blocks: `xpbd: {iterations}`, `projective_dynamics: {iterations,
-// chebyshev_rho}`, `vbd: {iterations, chebyshev_rho}` (solver_params.h holds the defaults).
+// The iterative solvers' blocks: `xpbd: {iterations, tolerance}`, `projective_dynamics:
+// {iterations, chebyshev_rho, tolerance}`, `vbd: {iterations, chebyshev_rho, tolerance}`
+// (method_params.h holds the defaults).
 void Reader::solvers(const YAML::Node& root, SolverDefs& d) const {
   const auto count = [&](const YAML::Node& v, const std::string& k) {
     return int_in_range(v, k, 1, kMaxSolverIterations);
   };
+  const auto tolerance = [&](const YAML::Node& v, const std::string& k) { return in_range(v, k, 0.0, 0.5); };
   optional(root, "", "xpbd", [&](auto& n, auto& k) {
-    expect_map(n, k, {"iterations"});
+    expect_map(n, k, {"iterations", "tolerance"});
     optional(n, k, "iterations", [&](auto& v, auto& kk) { d.xpbd.iterations = count(v, kk); });
+    optional(n, k, "tolerance", [&](auto& v, auto& kk) { d.xpbd.tolerance = tolerance(v, kk); });
   });
   optional(root, "", "projective_dynamics", [&](auto& n, auto& k) {
-    expect_map(n, k, {"iterations", "chebyshev_rho"});
+    expect_map(n, k, {"iterations", "chebyshev_rho", "tolerance"});
     optional(n, k, "iterations", [&](auto& v, auto& kk) { d.projective_dynamics.iterations = count(v, kk); });
+    optional(n, k, "tolerance", [&](auto& v, auto& kk) { d.projective_dynamics.tolerance = tolerance(v, kk); });
     optional(n, k, "chebyshev_rho", [&](auto& v, auto& kk) {
       d.projective_dynamics.chebyshev_rho = in_range(v, kk, 0.0, 0.9999);
     });
   });
   optional(root, "", "vbd", [&](auto& n, auto& k) {
-    expect_map(n, k, {"iterations", "chebyshev_rho"});
+    expect_map(n, k, {"iterations", "chebyshev_rho", "tolerance"});
     optional(n, k, "iterations", [&](auto& v, auto& kk) { d.vbd.iterations = count(v, kk); });
+    optional(n, k, "tolerance", [&](auto& v, auto& kk) { d.vbd.tolerance = tolerance(v, kk); });
     optional(n, k, "chebyshev_rho", [&](auto& v, auto& kk) { d.vbd.chebyshev_rho = in_range(v, kk, 0.0, 0.9999); });
   });
 }

@@ -29,6 +29,11 @@ Model sampling_model(const Model& model) {
   return m;
 }
 
+// Iteration counts exactly: a scene's residual tolerance would stop a watched sweep short.
+void without_tolerances(Model& m) {
+  m.solvers.xpbd.tolerance = m.solvers.projective_dynamics.tolerance = m.solvers.vbd.tolerance = 0.0;
+}
+
 // Rough spring passes of one iteration (a solver's registry row; a Newton iteration, about
 // 25), and of measuring a point (its end of step, its distance and Phi's gradient).
 constexpr double kNewtonPasses = 25.0;
@@ -46,6 +51,8 @@ struct Start {
   State state;
   StepProblem problem;
   State reference;
+  double energy = 0.0;        // J, the state's total energy
+  double scene_strain = 0.0;  // the largest strain the scene starts with (WRONG's offset)
 };
 
 Start make_start(const Model& model, const ConvergenceSpec& spec, int index, State state) {
@@ -53,6 +60,8 @@ Start make_start(const Model& model, const ConvergenceSpec& spec, int index, Sta
   s.index = index;
   s.reference = converged_step(model, state, spec.h);
   build_step_problem(model, state, spec.h, s.problem);
+  s.energy = compute_energies(model, state).total();
+  s.scene_strain = max_strain(model, initial_state(model));
   s.state = std::move(state);
   return s;
 }
@@ -66,6 +75,13 @@ ConvergencePoint measured(const Model& model, const Start& s, IntegratorKind met
   p.max = d.maxCoeff();
   Eigen::Matrix3Xd gradient;
   p.gradient = step_gradient(model, s.problem, end.x, gradient);
+  // WRONG (core/diagnostics.h) over the one step: energy made while nothing did work, or strain.
+  EnergyLedger ledger;
+  record_energy(ledger, s.energy, true);
+  record_energy(ledger, compute_energies(model, end).total(), external_work(model, s.state));
+  auto wrong = check_energy_made(model, ledger, end.step, end.t);
+  if (!wrong) wrong = check_over_stretched(max_strain(model, end), s.scene_strain, end.step, end.t);
+  if (wrong) p.wrong = wrong->reason;
   return p;
 }
 
@@ -86,6 +102,7 @@ std::vector<ConvergencePoint> watched_sweep(const Model& model, const Convergenc
                                             IntegratorKind method) {
   Model m = model;
   Workspace ws;
+  without_tolerances(m);
   *iteration_count(m, method) = 1;
   State warm = s.state;
   step(m, warm, method, spec.h, ws);

@@ -6,7 +6,8 @@
 // reference, and every method takes one step with 1, 2, ..., N iterations. Each point records
 // the distance of that step's end positions from the reference (RMS and max over the
 // particles, m), the norm of Phi's gradient at them (N s; nonzero at a solution held by
-// contacts, whose forces it leaves out) and the step's CPU time.
+// contacts, whose forces it leaves out), the step's CPU time and whether it reads WRONG (energy
+// made with no work done, or strain past its bound: core/diagnostics.h, over the one step).
 //
 // xpbd, projective_dynamics and vbd take one step of N iterations, watched after every
 // iteration (Workspace::on_iteration): their iteration n of N is the step with n iterations,
@@ -20,6 +21,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "core/integrators/integrator_kind.h"
@@ -44,6 +46,7 @@ struct ConvergencePoint {
   double rms = 0.0, max = 0.0;  // m, from the converged backward-Euler step
   double gradient = 0.0;        // N s, |grad Phi| at the step's end positions
   double cpu_seconds = 0.0;     // the step's CPU time (of the thread; measuring excluded)
+  std::string wrong;            // why the step reads WRONG (core/diagnostics.h), "" when it does not
 };
 
 // A Newton step of m iterations under a cap of m + 2 or more took the same step as under any

@@ -70,6 +70,8 @@ WorkPrecisionPoint measured_point(WorkPrecisionPoint p, const StudyRun& run, con
   p.newton_iterations = run.totals.newton_iterations;
   p.cg_iterations = run.totals.cg_iterations;
   p.unconverged_steps = run.totals.unconverged_steps;
+  p.wrong = run.totals.wrong.has_value();
+  if (p.wrong) p.wrong_at = run.totals.wrong->t, p.wrong_reason = run.totals.wrong->reason;
   p.wall_seconds = run.totals.sim_seconds;
   p.cpu_seconds = run.totals.cpu_seconds;
   if (p.finished && reference) {

@@ -61,6 +61,9 @@ struct WorkPrecisionPoint {
   std::string reason;              // why it diverged
   std::int64_t steps = 0, force_evals = 0, newton_iterations = 0, cg_iterations = 0;
   std::int64_t unconverged_steps = 0;  // implicit steps that ended above their tolerance
+  bool wrong = false;              // finite but WRONG (core/diagnostics.h): energy made, over-stretched
+  double wrong_at = 0.0;           // s, when first
+  std::string wrong_reason;
   double wall_seconds = 0.0, cpu_seconds = 0.0;
   double rms_error = 0.0;          // m, RMS over free particles at T; NaN unless finished
   double max_error = 0.0;          // m, largest particle distance at T; NaN unless finished

@@ -136,5 +136,25 @@ collision: {sphere_sphere: true, sphere_restitution: 0.8}
   EXPECT_NEAR((s.x.col(m.sphere_body(0)) - s.x.col(m.sphere_body(1))).norm(), 1.0, 1e-12);
 }
 
+// A particle held on a collider's plane (the solvers' contacts): its approach reversed times the
+// restitution, a separating velocity (a position correction's trace) removed, and friction up
+// to mu times the whole normal impulse, the constraint's included.
+TEST(HeldContactResponse, RemovesTheCorrectionReversesTheApproachAndBoundsFrictionByTheWholeImpulse) {
+  const Vec3 n = Vec3::UnitY();
+  const double w = 0.5;  // 2 kg
+  // Approaching at 2 m/s, restitution 0.5: leaves at 1 m/s; no friction asked.
+  EXPECT_TRUE(held_contact_response(Vec3(0, -2, 0), n, w, 0.5, 0.0, 0.0).isApprox(Vec3(0, 3, 0)));
+  // Separating at 1 m/s: removed, whatever the restitution.
+  EXPECT_TRUE(held_contact_response(Vec3(0, 1, 0), n, w, 0.9, 0.0, 0.0).isApprox(Vec3(0, -1, 0)));
+  // Sliding at 3 m/s, resting (no approach), held by 1 N s, mu 0.5: 0.5 N s of friction on
+  // 2 kg takes 0.25 m/s off the slide, never more than the slide.
+  const Vec3 dv = held_contact_response(Vec3(3, 0, 0), n, w, 0.0, 0.5, 1.0);
+  EXPECT_NEAR(dv.x(), -0.25, 1e-12);
+  EXPECT_NEAR(dv.y(), 0.0, 1e-12);
+  EXPECT_NEAR(held_contact_response(Vec3(0.1, 0, 0), n, w, 0.0, 0.5, 100.0).x(), -0.1, 1e-12);
+  // No held impulse, no approach: nothing for friction to act with.
+  EXPECT_TRUE(held_contact_response(Vec3(3, 0, 0), n, w, 0.0, 1.0, 0.0).isZero());
+}
+
 }  // namespace
 }  // namespace clothsim

@@ -99,5 +99,56 @@ TEST(Divergence, AStrainMeasuredElsewhereIsReportedAtItsOwnStepAndTime) {
   EXPECT_TRUE(check_strain(m, std::numeric_limits<double>::quiet_NaN(), 7, 0.7).has_value());
 }
 
+// WRONG's two rules (diagnostics.h), on ledgers and strains written by hand.
+TEST(Wrong, EnergyRisingPastTheBoundAboveTheStretchsLowestIsEnergyMade) {
+  Model m = testing::model_from_yaml(kTwo);
+  m.energy_scale = 10.0 / kWrongEnergyRise;  // bound: 10 J
+  EnergyLedger l;
+  record_energy(l, 50.0, true);
+  record_energy(l, 40.0, false);  // damping took 10 J
+  record_energy(l, 49.0, false);  // 9 J back above the lowest: within the bound
+  EXPECT_FALSE(check_energy_made(m, l, 3, 0.3));
+  record_energy(l, 51.0, false);  // 11 J above the lowest, though only 1 J above the start
+  const auto wrong = check_energy_made(m, l, 4, 0.4);
+  ASSERT_TRUE(wrong);
+  EXPECT_EQ(wrong->step, 4);
+  EXPECT_NE(wrong->reason.find("energy rose 11 J with no work done (bound 10 J"), std::string::npos) << wrong->reason;
+}
+
+TEST(Wrong, WorkDoneStartsTheStretchAgainAndNonFiniteSamplesAreNoEvidence) {
+  Model m = testing::model_from_yaml(kTwo);
+  m.energy_scale = 10.0 / kWrongEnergyRise;
+  EnergyLedger l;
+  record_energy(l, 0.0, true);
+  record_energy(l, 500.0, true);  // a sphere pushed the cloth: its energy is the work's
+  EXPECT_DOUBLE_EQ(l.rise, 0.0);
+  record_energy(l, std::numeric_limits<double>::quiet_NaN(), false);  // divergence's to report
+  record_energy(l, std::numeric_limits<double>::infinity(), false);
+  EXPECT_DOUBLE_EQ(l.lowest, 500.0);
+  EXPECT_FALSE(check_energy_made(m, l, 5, 0.5));
+}
+
+TEST(Wrong, AStrainPastTheBoundBeyondTheScenesOwnIsOverStretched) {
+  EXPECT_FALSE(check_over_stretched(kWrongStrain - 1e-9, 0.0, 1, 0.1));
+  const auto wrong = check_over_stretched(kWrongStrain + 0.01, 0.0, 7, 0.7);
+  ASSERT_TRUE(wrong);
+  EXPECT_NE(wrong->reason.find("past the bound 1"), std::string::npos) << wrong->reason;
+  EXPECT_FALSE(check_over_stretched(kWrongStrain + 0.01, 0.1, 7, 0.7)) << "a scene that starts stretched by 0.1";
+  EXPECT_FALSE(check_over_stretched(std::numeric_limits<double>::quiet_NaN(), 0.0, 7, 0.7));
+}
+
+TEST(Wrong, OnlyAnImmovableBodyThatMovesDoesWork) {
+  const Model m = testing::model_from_yaml(kTwo);
+  State s = initial_state(m);
+  s.v.col(0) = Vec3(3, 0, 0);  // a free particle moving: its own energy, no work
+  EXPECT_FALSE(external_work(m, s));
+  s.v.col(m.sphere_body(0)) = Vec3(0, 1, 0);  // the kinematic sphere moves
+  EXPECT_TRUE(external_work(m, s));
+  s.v.col(m.sphere_body(0)).setZero();
+  s.inv_mass[1] = 0.0;  // a pinned particle moving (a scripted velocity)
+  s.v.col(1) = Vec3(0, 0, 1);
+  EXPECT_TRUE(external_work(m, s));
+}
+
 }  // namespace
 }  // namespace clothsim

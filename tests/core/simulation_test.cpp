@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <tuple>
 #include <vector>
@@ -213,6 +214,37 @@ TEST(Run, EveryShippedSceneRunsAFewStepsWithEveryIntegrator) {
       EXPECT_TRUE(run.state().x.allFinite()) << name << " " << integrator_name(k);
     }
   }
+}
+
+// WRONG (diagnostics.h) as a run finds it: stiff.yaml at 1/30 s, its ball static, where
+// projective dynamics at its default 10 iterations makes energy and converged backward Euler
+// loses it; and the drape at 1/30 s, where VBD at 10 leaves the cloth stretched past twice its
+// length (docs/integrators.md, "WRONG").
+TEST(Run, ASolverThatMakesEnergyWithNoWorkDoneReadsWrongAndBackwardEulerDoesNot) {
+  const Model stiff = build_model(load_scene(scene_path("stiff.yaml")));
+  clothsim::Run pd(stiff, IntegratorKind::ProjectiveDynamics, 1.0 / 30.0);
+  ASSERT_TRUE(pd.advance_to(0.5));
+  ASSERT_TRUE(pd.totals().wrong);
+  EXPECT_NE(pd.totals().wrong->reason.find("energy rose"), std::string::npos) << pd.totals().wrong->reason;
+  EXPECT_GT(pd.totals().wrong->t, 0.0);
+  clothsim::Run be(stiff, IntegratorKind::ImplicitEuler, 1.0 / 30.0);
+  ASSERT_TRUE(be.advance_to(2.0));
+  EXPECT_FALSE(be.totals().wrong) << be.totals().wrong->reason;
+}
+
+TEST(Run, AClothStretchedPastTwiceItsLengthReadsWrongAtTheSameStepWhateverTheOutputTimes) {
+  const Model drape = build_model(load_scene(scene_path("drape.yaml")));
+  clothsim::Run once(drape, IntegratorKind::Vbd, 1.0 / 30.0);
+  ASSERT_TRUE(once.advance_to(2.5));
+  ASSERT_TRUE(once.totals().wrong);
+  EXPECT_NE(once.totals().wrong->reason.find("strain"), std::string::npos) << once.totals().wrong->reason;
+  clothsim::Run framed(drape, IntegratorKind::Vbd, 1.0 / 30.0);
+  for (double t = 0.1; t < 2.55; t += 0.1) framed.advance_to(std::min(t, 2.5));
+  ASSERT_TRUE(framed.totals().wrong);
+  EXPECT_EQ(framed.totals().wrong->step, once.totals().wrong->step);
+  clothsim::Run be(drape, IntegratorKind::ImplicitEuler, 1.0 / 30.0);
+  ASSERT_TRUE(be.advance_to(2.5));
+  EXPECT_FALSE(be.totals().wrong);
 }
 
 }  // namespace

@@ -206,19 +206,13 @@ void respond_to_step_contacts(const Model& model, const StepContacts& contacts,
     const Vec3 collider_v = s >= 0 ? Vec3(state.v.col(model.sphere_body(s))) : Vec3::Zero();
     const double restitution = s >= 0 ? model.sphere_restitution[s] : model.ground.restitution;
     const double friction = s >= 0 ? model.sphere_friction[s] : model.ground.friction;
-    const double w = state.inv_mass[p];
-    const Vec3 rel = state.v.col(p) - collider_v;
     // A held particle is in contact at the end of the step, so it has no separating normal
     // velocity of its own: what it has comes from being moved out of a penetration it started
     // in (the position correction, which the post-step projection does not turn into velocity
     // either), and is removed before the restitution response acts on the approach speed.
-    const double u = rel.dot(n);
-    const double correction = std::max(0.0, u);
-    const double jn = contact_impulse(u - correction, 0.0, w, 0.0, restitution);
-    state.v.col(p) -= correction * n;
     const double held_impulse = std::max(0.0, n.dot(gradient.col(p)));
-    const Vec3 J = jn * n + friction_impulse(rel - u * n, jn + held_impulse, w, 0.0, friction);
-    state.v.col(p) += w * J;
+    state.v.col(p) += held_contact_response(state.v.col(p) - collider_v, n, state.inv_mass[p], restitution,
+                                            friction, held_impulse);
   }
 }
 

@@ -15,6 +15,7 @@ struct Entry {
   IntegratorInfo info;
   StepFunction step;
   int* (*iterations)(Model& model);  // the count `:N` sets, or null
+  double* (*tolerance)(Model& model);  // the residual tolerance `:tol=` sets, or null
 };
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -33,6 +34,10 @@ int* newton_iterations(Model& m) { return &m.implicit.newton_max_iterations; }
 int* xpbd_iterations(Model& m) { return &m.solvers.xpbd.iterations; }
 int* pd_iterations(Model& m) { return &m.solvers.projective_dynamics.iterations; }
 int* vbd_iterations(Model& m) { return &m.solvers.vbd.iterations; }
+double* no_tolerance(Model&) { return nullptr; }
+double* xpbd_tolerance(Model& m) { return &m.solvers.xpbd.tolerance; }
+double* pd_tolerance(Model& m) { return &m.solvers.projective_dynamics.tolerance; }
+double* vbd_tolerance(Model& m) { return &m.solvers.vbd.tolerance; }
 
 // In enum order, so an entry is found by the enum's value. The solvers' passes per iteration
 // are the work-unit weights measured on the drape's 25 x 25 sheet (BENCHMARKS.md).
@@ -41,33 +46,33 @@ const Entry kRegistry[] = {
     {{IntegratorKind::ExplicitEuler, "explicit_euler", 1, 1,
       "forward Euler: x += h v_n, v += h a_n (the course framework's 'explicit')",
       1, C::None, 0.0, false, false, explicit_euler_limit},
-     explicit_euler_step, no_iterations},
+     explicit_euler_step, no_iterations, no_tolerance},
     {{IntegratorKind::SymplecticEuler, "symplectic_euler", 1, 0,
       "v += h a_n, x += h v_{n+1} (the student report's code)",
       1, C::None, 0.0, false, false, symplectic_limit},
-     symplectic_euler_step, no_iterations},
+     symplectic_euler_step, no_iterations, no_tolerance},
     {{IntegratorKind::Midpoint, "midpoint", 2, 3, "RK2 through the half-step state",
       2, C::None, 0.0, false, false, midpoint_limit},
-     midpoint_step, no_iterations},
+     midpoint_step, no_iterations, no_tolerance},
     {{IntegratorKind::Rk4, "rk4", 4, 4, "classic Runge-Kutta 4 on (x, v)",
       4, C::None, 0.0, false, false, rk4_limit},
-     rk4_step, no_iterations},
+     rk4_step, no_iterations, no_tolerance},
     {{IntegratorKind::ImplicitEuler, "implicit_euler", 0, 2,
       "backward Euler: Newton + PCG, contacts in the solve (or fixed point)",
       1, C::Newton, 0.0, true, true, backward_euler_limit},
-     implicit_euler_step, newton_iterations},
+     implicit_euler_step, newton_iterations, no_tolerance},
     {{IntegratorKind::Xpbd, "xpbd", 0, 0,
       "XPBD (Macklin et al. 2016): compliant distance constraints, Gauss-Seidel",
       1, C::Solver, 1.4, false, false, no_limit},
-     xpbd_step, xpbd_iterations},
+     xpbd_step, xpbd_iterations, xpbd_tolerance},
     {{IntegratorKind::ProjectiveDynamics, "projective_dynamics", 0, 0,
       "projective dynamics (Liu et al. 2013): local-global on Phi, prefactored",
       1, C::Solver, 2.9, false, false, no_limit},
-     projective_dynamics_step, pd_iterations},
+     projective_dynamics_step, pd_iterations, pd_tolerance},
     {{IntegratorKind::Vbd, "vbd", 0, 0,
       "vertex block descent (Chen et al. 2024): per-vertex Newton on Phi",
       1, C::Solver, 2.4, false, false, no_limit},
-     vbd_step, vbd_iterations},
+     vbd_step, vbd_iterations, vbd_tolerance},
 };
 
 const Entry& entry(IntegratorKind kind) {
@@ -103,6 +108,8 @@ int iteration_count(const Model& model, IntegratorKind kind) {
   const int* n = entry(kind).iterations(const_cast<Model&>(model));  // only read
   return n ? *n : 0;
 }
+
+double* residual_tolerance(Model& model, IntegratorKind kind) { return entry(kind).tolerance(model); }
 
 namespace analysis {
 double predicted_limit(const StiffnessEstimate& e, IntegratorKind kind, const ImplicitDef& implicit) {

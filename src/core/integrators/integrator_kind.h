@@ -64,6 +64,9 @@ inline bool is_iterative_solver(IntegratorKind kind) {
 // sweeps); null for the explicit family.
 int* iteration_count(Model& model, IntegratorKind kind);
 int iteration_count(const Model& model, IntegratorKind kind);  // 0 for the explicit family
+// The residual tolerance `:tol=` sets in `model` (an iterative solver's; solvers/solver_cache.h's
+// ResidualStop), or null for a method without one.
+double* residual_tolerance(Model& model, IntegratorKind kind);
 
 // Two methods have roles beyond their rows. Backward Euler is what the iterative solvers are
 // measured against (clothsim converge) and has the course's fixed-point spelling; RK4 is the

@@ -6,8 +6,14 @@
 // exactly implicit_euler's Phi and converged PD is backward Euler. Contacts are multipliers
 // in the right-hand side raised by each solve's penetration (Uzawa; solvers/pd_kernels.h says
 // why not Bouaziz et al.'s weighted terms). With projective_dynamics.chebyshev_rho > 0, Wang 2015's
-// Chebyshev semi-iterative acceleration from the third iteration on.
+// Chebyshev semi-iterative acceleration from the third iteration on. With
+// projective_dynamics.tolerance > 0 a step stops on its residual (solver_cache.h's ResidualStop).
+// The held particles, just beyond the reach the post-step response acts within, get
+// implicit_euler's held response there (friction included).
 #include "integrator.h"
+
+#include <algorithm>
+
 #include "core/solvers/solver_cache.h"
 
 namespace clothsim {
@@ -18,6 +24,15 @@ namespace {
 void accelerate(SolverCache& c, int k, double rho, double& omega) {
   omega = chebyshev_omega(k, rho, omega);
   if (k >= 2) c.y = omega * (c.y - c.y_before) + c.y_before;
+}
+
+// The particles held on their planes at c.y (c.held): those whose contact multiplier pushes,
+// with it as their contact force.
+void collect_held(const Model& model, SolverCache& c) {
+  c.held.clear();
+  for (int i = 0; i < model.num_particles; ++i)
+    if (c.pd_system.planed[i] && c.problem.weight[i] > 0.0 && c.lambda[i] > 0.0)
+      c.held.push_back(HeldContact{i, c.pd_system.normal[i], c.lambda[i]});
 }
 
 }  // namespace
@@ -35,16 +50,25 @@ StepStats projective_dynamics_step(const Model& model, State& state, const StepC
   c.lambda.assign(model.num_particles, 0.0);
   double omega = 1.0;
   c.y_before = c.y;
-  for (int k = 1; k <= iterations; ++k) {
+  const double tolerance = model.solvers.projective_dynamics.tolerance;
+  ResidualStop stop(model, c.problem, ResidualForm::StepPotential, tolerance, c.y, c.gradient);
+  int k = 1;
+  for (; k <= iterations; ++k) {
     c.y_next = c.y;  // y_k
     pd_iteration(model, c.problem, c.pd, c.y, c.pd_system, c.lambda);
     if (rho > 0.0) accelerate(c, k, rho, omega);
     c.y_before = c.y_next;
     if (ws.on_iteration) ws.on_iteration(k, c.y);
+    if (!stop.active()) continue;
+    collect_held(model, c);
+    if (stop.met(c.y, &c.held)) break;
   }
-  stats.newton_iterations = iterations;
+  stats.newton_iterations = std::min(k, iterations);
+  stop.report(stats);
   stats.start_strain = max_start_strain(model, c.problem);
   finish_step(c.problem, c.y, state);
+  collect_held(model, c);
+  respond_to_held_contacts(model, c.problem, c.y, c.held, c.gradient, state);  // friction on them
   return stats;
 }
 

@@ -5,7 +5,9 @@
 // (kd/h)(l - ln)), so converged VBD is backward Euler; contacts are hard constraints on
 // implicit_euler's held planes (solvers/vbd_kernels.h's vbd_hold), not the paper's penalty.
 // With vbd.chebyshev_rho > 0, the paper's accelerated iterations (Wang 2015's Chebyshev
-// weights) over the free vertices off the colliders.
+// weights) over the free vertices off the colliders. With vbd.tolerance > 0 a step stops on its
+// residual (solver_cache.h's ResidualStop). The held vertices, just beyond the reach the
+// post-step response acts within, get implicit_euler's held response there (friction included).
 #include "integrator.h"
 #include "core/forces.h"
 #include "core/solvers/solver_cache.h"
@@ -25,29 +27,51 @@ void accelerate_graph(const Model& model, SolverCache& c, int k, double omega) {
   std::swap(c.y_before, c.y_next);
 }
 
+// The particles held on their planes at c.y (c.held): those that took a plane this step and lie on it.
+void collect_held(const Model& model, SolverCache& c) {
+  c.held.clear();
+  const bool grid = vbd_by_grid(model);
+  for (int i = 0; i < model.num_particles; ++i) {
+    const VbdContact& contact = grid ? c.vbd_grid.contact[static_cast<std::size_t>(c.vbd_grid.index[i])]
+                                     : c.vbd_contacts[static_cast<std::size_t>(i)];
+    if (contact.planed && c.problem.weight[i] > 0.0) add_if_on_plane(i, contact.normal, contact.plane, c.y.col(i), c.held);
+  }
+}
+
+bool stop_met(const Model& model, SolverCache& c, ResidualStop& stop) {
+  if (!stop.active()) return false;
+  collect_held(model, c);
+  return stop.met(c.y, &c.held);
+}
+
 // On a grid: the particles' sweeps in SIMD over the grid's nine colours, then the other
 // bodies' (dynamic spheres: no springs, so no coupling within the step).
 // The observer sees the particles' iterate in y (the sweeps keep it in the grid's arrays).
-void sweep_grid(const Model& model, int iterations, SolverCache& c, const Workspace& ws) {
+// Returns the sweeps taken (fewer than `iterations` when `stop` was met).
+int sweep_grid(const Model& model, int iterations, SolverCache& c, const Workspace& ws, ResidualStop& stop) {
   const double rho = model.solvers.vbd.chebyshev_rho;
   double omega = 1.0;
   vbd_load_grid(model, c.problem, c.y, c.vbd_grid);
-  for (int it = 0; it < iterations; ++it) {
+  int taken = 0;
+  while (taken < iterations) {
+    const int it = taken++;
     if (rho > 0.0) vbd_grid_remember(c.vbd_grid, it + 1);
     vbd_grid_sweep(model, c.problem, c.vbd_grid);
     if (rho > 0.0) vbd_grid_accelerate(c.vbd_grid, it + 1, omega = chebyshev_omega(it + 1, rho, omega));
-    if (!ws.on_iteration) continue;
+    if (!ws.on_iteration && !stop.active()) continue;
     vbd_store_grid(model, c.vbd_grid, c.y);
-    ws.on_iteration(it + 1, c.y);
+    if (ws.on_iteration) ws.on_iteration(it + 1, c.y);
+    if (stop_met(model, c, stop)) break;
   }
   vbd_store_grid(model, c.vbd_grid, c.y);
   const Eigen::VectorXd& a = c.problem.weight;
   if ((a.tail(model.num_bodies() - model.num_particles).array() > 0.0).any())  // a dynamic sphere
-    for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts, model.num_particles);
+    for (int it = 0; it < taken; ++it) vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts, model.num_particles);
+  return taken;
 }
 
 // Elsewhere: the greedy colouring's scalar sweeps over every body.
-void sweep_graph(const Model& model, int iterations, SolverCache& c, const Workspace& ws) {
+int sweep_graph(const Model& model, int iterations, SolverCache& c, const Workspace& ws, ResidualStop& stop) {
   const double rho = model.solvers.vbd.chebyshev_rho;
   double omega = 1.0;
   if (rho > 0.0) c.y_before = c.y;
@@ -56,7 +80,9 @@ void sweep_graph(const Model& model, int iterations, SolverCache& c, const Works
     vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts);
     if (rho > 0.0) accelerate_graph(model, c, it + 1, omega = chebyshev_omega(it + 1, rho, omega));
     if (ws.on_iteration) ws.on_iteration(it + 1, c.y);
+    if (stop_met(model, c, stop)) return it + 1;
   }
+  return iterations;
 }
 
 }  // namespace
@@ -72,12 +98,14 @@ StepStats vbd_step(const Model& model, State& state, const StepContext& ctx, Wor
   vbd_initial_guess(model, c.problem, state, c.acceleration, c.y);
   c.vbd_contacts.assign(model.num_particles, VbdContact{});
   const int iterations = iteration_count(model, IntegratorKind::Vbd);
-  if (vbd_by_grid(model))
-    sweep_grid(model, iterations, c, ws);
-  else
-    sweep_graph(model, iterations, c, ws);
-  stats.newton_iterations = iterations;
+  ResidualStop stop(model, c.problem, ResidualForm::StepPotential, model.solvers.vbd.tolerance,
+                    c.y, c.gradient);
+  stats.newton_iterations = vbd_by_grid(model) ? sweep_grid(model, iterations, c, ws, stop)
+                                               : sweep_graph(model, iterations, c, ws, stop);
+  stop.report(stats);
   finish_step(c.problem, c.y, state);
+  collect_held(model, c);
+  respond_to_held_contacts(model, c.problem, c.y, c.held, c.gradient, state);  // friction on them
   return stats;
 }
 

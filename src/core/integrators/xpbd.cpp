@@ -3,10 +3,12 @@
 //     `iterations` Gauss-Seidel sweeps, each over every spring as a compliant distance
 //     constraint (compliance 1/ks, damping beta = kd) and every particle against the
 //     ground and kinematic spheres (inequality constraints with friction); v = (y - x_n)/h.
-// Converged, it solves backward Euler with two changes from implicit_euler's Phi: each
-// constraint's gradient is taken at the iterate it is projected from, so the solution keeps no
-// geometric stiffness (the transverse (T/l)(I - P) term), and the damper's rate is
-// u . (v_a - v_b) at the end of the step rather than (l - ln) / h (docs/integrators.md).
+// Converged, it is not implicit_euler's step: the damper's force is the textbook
+// kd u u^T (v_a - v_b) at the end of the step, not (kd/h)(l - ln) u, and each projection moves
+// along its constraint's gradient at its own iterate, so the end positions carry the sweeps'
+// history (docs/integrators.md, "XPBD's gap").
+// With a residual tolerance (xpbd.tolerance, a lane's :tol=) a step stops on that residual
+// (step_problem.h's ResidualForm::IterateChange).
 // Substeps are smaller steps: xpbd@1/600:1 is Macklin et al. 2019's "Small steps".
 // On a grid the sweep goes family set by family set in SIMD (solvers/xpbd_family_kernels.h);
 // other models sweep the spring list in its order.
@@ -42,30 +44,37 @@ void project_contacts(const Model& model, const StepProblem& p, Eigen::Matrix3Xd
   }
 }
 
-void sweep_spring_list(const Model& model, const StepProblem& p, const State& state, int iterations,
-                       SolverCache& cache, const Workspace& ws) {
+// Each returns the sweeps taken (fewer than `iterations` when `stop` was met).
+int sweep_spring_list(const Model& model, const StepProblem& p, const State& state, int iterations,
+                      SolverCache& cache, const Workspace& ws, ResidualStop& stop) {
   const bool contacts = p.colliders.ground || !p.colliders.centre.empty();
   cache.lambda.assign(model.springs.size(), 0.0);
   for (int it = 0; it < iterations; ++it) {
     project_springs(model, p, state.inv_mass, cache.y, cache.lambda);
     if (contacts) project_contacts(model, p, cache.y);
     if (ws.on_iteration) ws.on_iteration(it + 1, cache.y);
+    if (stop.met(cache.y)) return it + 1;
   }
+  return iterations;
 }
 
 // The observer sees the iterate in y: the sweeps keep it in the families' own arrays.
-void sweep_families(const Model& model, const StepProblem& p, const State& state, int iterations,
-                    SolverCache& cache, const Workspace& ws) {
+int sweep_families(const Model& model, const StepProblem& p, const State& state, int iterations,
+                   SolverCache& cache, const Workspace& ws, ResidualStop& stop) {
   const bool contacts = p.colliders.ground || !p.colliders.centre.empty();
   xpbd_load_families(model, p, state.inv_mass, cache.y, cache.xpbd);
-  for (int it = 0; it < iterations; ++it) {
+  int taken = 0;
+  while (taken < iterations) {
+    const int it = taken++;
     xpbd_family_sweep(model, p.h, cache.xpbd);
     if (contacts) xpbd_family_contacts(model, p, cache.xpbd);
-    if (!ws.on_iteration) continue;
+    if (!ws.on_iteration && !stop.active()) continue;
     xpbd_store_families(cache.xpbd, model.num_particles, cache.y);
-    ws.on_iteration(it + 1, cache.y);
+    if (ws.on_iteration) ws.on_iteration(it + 1, cache.y);
+    if (stop.met(cache.y)) break;
   }
   xpbd_store_families(cache.xpbd, model.num_particles, cache.y);
+  return taken;
 }
 
 }  // namespace
@@ -77,12 +86,12 @@ StepStats xpbd_step(const Model& model, State& state, const StepContext& ctx, Wo
   build_step_problem(model, state, h, p);
   cache.y = p.target;
   const int iterations = iteration_count(model, IntegratorKind::Xpbd);
-  if (model.spring_path() == SpringPath::Families)
-    sweep_families(model, p, state, iterations, cache, ws);
-  else
-    sweep_spring_list(model, p, state, iterations, cache, ws);
+  ResidualStop stop(model, p, ResidualForm::IterateChange, model.solvers.xpbd.tolerance, cache.y, cache.gradient);
   StepStats stats;
-  stats.newton_iterations = iterations;
+  stats.newton_iterations = model.spring_path() == SpringPath::Families
+                                ? sweep_families(model, p, state, iterations, cache, ws, stop)
+                                : sweep_spring_list(model, p, state, iterations, cache, ws, stop);
+  stop.report(stats);
   stats.start_strain = max_start_strain(model, p);
   finish_step(p, cache.y, state);
   return stats;

@@ -1,8 +1,10 @@
 #include "step_problem.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "core/collisions.h"
 #include "core/implicit/step_contacts.h"
 
 namespace clothsim {
@@ -17,6 +19,7 @@ void build_colliders(const Model& model, const State& state, double h, Colliders
   c.ground = model.has_ground;
   c.ground_reach = model.ground.height + margin;
   c.ground_friction = model.ground.friction;
+  c.ground_restitution = model.ground.restitution;
   for (int s = 0; s < model.num_spheres; ++s) {
     const int body = model.sphere_body(s);
     if (state.inv_mass[body] != 0.0) continue;  // dynamic spheres: the post-step response
@@ -24,6 +27,7 @@ void build_colliders(const Model& model, const State& state, double h, Colliders
     c.velocity.push_back(state.v.col(body));
     c.reach.push_back(model.sphere_radius[s] + margin);
     c.friction.push_back(model.sphere_friction[s]);
+    c.restitution.push_back(model.sphere_restitution[s]);
   }
 }
 
@@ -69,12 +73,14 @@ void build_spring_terms(const Model& model, const State& state, double h, StepPr
 Penetration deepest_penetration(const Colliders& c, const Vec3& y) {
   Penetration best;
   best.depth = -std::numeric_limits<double>::infinity();
-  if (c.ground) best = Penetration{Vec3::UnitY(), c.ground_reach - y.y(), c.ground_friction, Vec3::Zero()};
+  if (c.ground)
+    best = Penetration{Vec3::UnitY(), c.ground_reach - y.y(), c.ground_friction, Vec3::Zero(), c.ground_restitution};
   for (std::size_t k = 0; k < c.centre.size(); ++k) {
     const Vec3 d = y - c.centre[k];
     const double r = d.norm();
     if (c.reach[k] - r <= best.depth) continue;
-    best = Penetration{r > 0.0 ? Vec3(d / r) : Vec3(Vec3::UnitY()), c.reach[k] - r, c.friction[k], c.velocity[k]};
+    best = Penetration{r > 0.0 ? Vec3(d / r) : Vec3(Vec3::UnitY()), c.reach[k] - r, c.friction[k], c.velocity[k],
+                       c.restitution[k]};
   }
   return best;
 }
@@ -128,6 +134,50 @@ double step_gradient(const Model& model, const StepProblem& p, const Eigen::Matr
   for (int i = 0; i < B; ++i)
     if (p.weight[i] == 0.0) gradient.col(i).setZero();
   return p.h * gradient.norm();
+}
+
+namespace {
+
+// The contact a particle at y is in, if any: the nearest collider, within kContactBand of its reach.
+bool in_contact(const Colliders& c, const Vec3& y, Penetration& contact) {
+  if (!c.ground && c.centre.empty()) return false;
+  contact = deepest_penetration(c, y);
+  return contact.depth >= -kContactBand;
+}
+
+}  // namespace
+
+// Takes out of r_i the reaction of a contact along n: its push into the collider.
+void take_out_reaction(Eigen::Ref<Eigen::Vector3d> r, const Vec3& n) {
+  const double push = n.dot(r);
+  if (push > 0.0) r -= push * n;
+}
+
+double step_residual(const Model& model, const StepProblem& p, const Eigen::Matrix3Xd& y,
+                     const std::vector<HeldContact>* held, Eigen::Matrix3Xd& gradient) {
+  step_gradient(model, p, y, gradient);
+  if (held) {
+    for (const HeldContact& c : *held) take_out_reaction(gradient.col(c.body), c.normal);
+    return p.h * gradient.norm();
+  }
+  Penetration contact;
+  for (int i = 0; i < model.num_particles; ++i)
+    if (p.weight[i] > 0.0 && in_contact(p.colliders, y.col(i), contact)) take_out_reaction(gradient.col(i), contact.normal);
+  return p.h * gradient.norm();
+}
+
+void respond_to_held_contacts(const Model& model, const StepProblem& p, const Eigen::Matrix3Xd& y,
+                              const std::vector<HeldContact>& held, Eigen::Matrix3Xd& gradient, State& state) {
+  if (held.empty()) return;
+  if (std::any_of(held.begin(), held.end(), [](const HeldContact& c) { return c.force < 0.0; }))
+    step_gradient(model, p, y, gradient);
+  for (const HeldContact& c : held) {
+    const int i = c.body;
+    const Penetration collider = deepest_penetration(p.colliders, y.col(i));  // its coefficients and velocity
+    const double push = p.h * (c.force >= 0.0 ? c.force : std::max(0.0, c.normal.dot(gradient.col(i))));
+    state.v.col(i) += held_contact_response(state.v.col(i) - collider.collider_velocity, c.normal, state.inv_mass[i],
+                                            collider.restitution, collider.friction, push);
+  }
 }
 
 void finish_step(const StepProblem& p, const Eigen::Matrix3Xd& y, State& state) {

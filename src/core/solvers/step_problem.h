@@ -30,10 +30,12 @@ struct Colliders {
   bool ground = false;
   double ground_reach = 0.0;       // m, height + margin
   double ground_friction = 0.0;
+  double ground_restitution = 0.0;
   std::vector<Vec3> centre;        // (K) kinematic spheres' centres at the end of the step
   std::vector<Vec3> velocity;      // (K) their velocities, m/s
   std::vector<double> reach;       // (K) radius + margin, m
   std::vector<double> friction;    // (K)
+  std::vector<double> restitution; // (K)
 };
 
 struct Penetration {
@@ -41,19 +43,20 @@ struct Penetration {
   double depth = 0.0;          // m, > 0 inside the reach
   double friction = 0.0;       // Coulomb coefficient of the collider
   Vec3 collider_velocity = Vec3::Zero();
+  double restitution = 0.0;    // of the collider
 };
 
 // Calls visit(Penetration) for every collider y lies inside the reach of.
 template <class Visit>
 void for_each_penetration(const Colliders& c, const Vec3& y, Visit&& visit) {
   if (c.ground && y.y() < c.ground_reach)
-    visit(Penetration{Vec3::UnitY(), c.ground_reach - y.y(), c.ground_friction, Vec3::Zero()});
+    visit(Penetration{Vec3::UnitY(), c.ground_reach - y.y(), c.ground_friction, Vec3::Zero(), c.ground_restitution});
   for (std::size_t k = 0; k < c.centre.size(); ++k) {
     const Vec3 d = y - c.centre[k];
     const double r = d.norm();
     if (r >= c.reach[k]) continue;
     const Vec3 n = r > 0.0 ? Vec3(d / r) : Vec3(Vec3::UnitY());
-    visit(Penetration{n, c.reach[k] - r, c.friction[k], c.velocity[k]});
+    visit(Penetration{n, c.reach[k] - r, c.friction[k], c.velocity[k], c.restitution[k]});
   }
 }
 
@@ -90,6 +93,39 @@ double step_objective(const Model& model, const StepProblem& p, const Eigen::Mat
 // norm, N s). One pass over the springs and one over the bodies.
 double step_gradient(const Model& model, const StepProblem& p, const Eigen::Matrix3Xd& y,
                      Eigen::Matrix3Xd& gradient);
+
+// A particle this close to a collider's reach (or inside it) is in contact: the solvers hold
+// contacts kHeldClearance beyond it, and an unconverged iterate may stop short by rounding.
+constexpr double kContactBand = 1e-6;  // m
+
+// A particle a solver holds on its held plane n . y >= plane (step_problem.h's held_plane).
+struct HeldContact {
+  int body = 0;
+  Vec3 normal = Vec3::UnitY();
+  double force = -1.0;  // N, the solver's own contact force along normal; < 0: read it off grad_y G
+};
+
+// Adds `body` to `held` when its end position y lies on its plane (within kContactBand).
+inline void add_if_on_plane(int body, const Vec3& normal, double plane, const Vec3& y, std::vector<HeldContact>& held) {
+  if (normal.dot(y) <= plane + kContactBand) held.push_back(HeldContact{body, normal});
+}
+
+// The iterative solvers' residual at y (docs/integrators.md, "Stopping on a residual"):
+// |h r(y)| (N s, as implicit_euler's), r = grad_y G(y), the force imbalance over the movable
+// bodies, r_i = a_i (y_i - yhat_i) - f_i(y), less each contact's reaction: the part of r_i
+// pushing into the collider along the normal, for the particles in `held` (a solver's own, on
+// their planes), else those within kContactBand of a collider's reach. `gradient` is scratch.
+double step_residual(const Model& model, const StepProblem& p, const Eigen::Matrix3Xd& y,
+                     const std::vector<HeldContact>* held, Eigen::Matrix3Xd& gradient);
+
+// The contact response the post-step pass (collisions.h) cannot give the particles a solver
+// held on their planes, beyond the reach that pass acts within: after finish_step, for each,
+// collisions.h's held_contact_response against its nearest kinematic collider, with the
+// plane's push as the held impulse: h times the solver's contact force, or h max(0, n . grad_y G(y)),
+// the force that holds y on the plane at G's minimiser, as implicit_euler's
+// respond_to_step_contacts does. So friction acts on them. `gradient` is scratch.
+void respond_to_held_contacts(const Model& model, const StepProblem& p, const Eigen::Matrix3Xd& y,
+                              const std::vector<HeldContact>& held, Eigen::Matrix3Xd& gradient, State& state);
 
 // Ends the step at y: v = (y - x_n) / h, x = y.
 void finish_step(const StepProblem& p, const Eigen::Matrix3Xd& y, State& state);

@@ -118,6 +118,38 @@ TEST(ParseLanes, IterationsFollowAColonAndShowInLabelsAndSpellings) {
   EXPECT_EQ(again[0].iterations, 1);
 }
 
+TEST(ParseLanes, ATolerancePicksTheResidualStopWithIterationsAsItsCap) {
+  const auto lanes = parse_lanes("vbd@1/60:tol=1e-4,xpbd@1/60:200:tol=1e-3,projective_dynamics:tol=1e-5:50", "", 1e-3);
+  ASSERT_EQ(lanes.size(), 3u);
+  EXPECT_EQ(lanes[0].tolerance, 1e-4);
+  EXPECT_EQ(lanes[0].iterations, 0);
+  EXPECT_EQ(lanes[0].spelling(), "vbd@1/60:tol=0.0001");
+  EXPECT_EQ(lanes[1].name(), "xpbd:200:tol=0.001");
+  EXPECT_EQ(lanes[2].iterations, 50);
+  Model base;
+  std::optional<Model> storage;
+  const Model& vbd = lane_model(base, lanes[0], storage);
+  EXPECT_EQ(vbd.solvers.vbd.tolerance, 1e-4);
+  EXPECT_EQ(vbd.solvers.vbd.iterations, kToleranceCap);
+  const Model& xpbd = lane_model(base, lanes[1], storage);
+  EXPECT_EQ(xpbd.solvers.xpbd.tolerance, 1e-3);
+  EXPECT_EQ(xpbd.solvers.xpbd.iterations, 200);
+  const auto again = parse_lanes(lanes[1].spelling(), "", 1e-3);
+  EXPECT_EQ(again[0].tolerance, 1e-3);
+  EXPECT_EQ(again[0].iterations, 200);
+  EXPECT_EQ(usage_error([] { parse_lanes("vbd:tol=1e-4,vbd", "", 1e-3); }), "") << "two lanes, not one twice";
+}
+
+TEST(ParseLanes, RefusesToleranceWhereThereIsNoResidualStopOrNoNumber) {
+  for (const char* bad : {"vbd:tol=0", "vbd:tol=1", "vbd:tol=x", "vbd:tol="})
+    EXPECT_NE(usage_error([&] { parse_lanes(bad, "", 1e-3); }).find("must be a number above 0 and below 1"),
+              std::string::npos) << bad;
+  EXPECT_NE(usage_error([] { parse_lanes("implicit_euler:tol=1e-4", "", 1e-3); }).find("no residual tolerance"),
+            std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("vbd:tol=1e-4:tol=1e-3", "", 1e-3); }).find("tol= twice"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("vbd:5:6", "", 1e-3); }).find("iterations twice"), std::string::npos);
+}
+
 TEST(ParseLanes, RefusesBadIterationCounts) {
   for (const char* bad : {"vbd:0", "vbd:-3", "vbd:ten", "vbd:1000001", "vbd:", "vbd@1/60:1.5"})
     EXPECT_NE(usage_error([&] { parse_lanes(bad, "", 1e-3); }).find("is not a whole number from 1 to 1000000"),

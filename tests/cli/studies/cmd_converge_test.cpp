@@ -22,7 +22,7 @@ TEST(CmdConverge, WritesOneRowPerMethodStateAndIterationCount) {
   std::ifstream in(dir + "/c.csv");
   std::string header;
   std::getline(in, header);
-  EXPECT_EQ(header, "scene,method,state,t,iterations,rms_distance,max_distance,gradient_norm,cpu_seconds");
+  EXPECT_EQ(header, "scene,method,state,t,iterations,rms_distance,max_distance,gradient_norm,cpu_seconds,wrong");
   int rows = 0;
   for (std::string line; std::getline(in, line);) ++rows;
   EXPECT_EQ(rows, 2 * 2 * 3);

@@ -83,5 +83,13 @@ TEST(Vbd, StaysFiniteOnTheStiffSceneAtOneThirtiethOfASecond) {
   expect_finite_run(scene_path("stiff.yaml"), kVbd, 1.0 / 30.0);
 }
 
+TEST(Vbd, FrictionDragsTheClothAlongTheBallsPushAsBackwardEulerDoes) {
+  expect_friction_drags_the_cloth_as_backward_euler_does(kVbd);
+}
+
+TEST(Vbd, StopsOnItsResidualAndSaysWhenItsCapCameFirst) {
+  expect_residual_stop(kVbd, "vbd");
+}
+
 }  // namespace
 }  // namespace clothsim::testing

@@ -19,12 +19,12 @@ namespace clothsim::cli {
 // The CLI contract's exit codes (DESIGN.md).
 // A run stopped by SIGINT, SIGTERM or SIGHUP exits 128 + the signal's number (130, 143, 129),
 // as a shell reports a process killed by it, after cleaning up (main() maps it).
-enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3, kNotConverged = 4 };
+enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3, kNotConverged = 4, kWrong = 5 };
 // The exit codes as --help lists them (clothsim --help, and run --help, which has its own footer).
 inline constexpr const char* kExitCodesHelp =
     "Exit codes: 0 success, 1 runtime failure (I/O, GL, encoder), 2 bad usage or bad scene\n"
     "(also a run over --max-memory or past 1e9 steps / 1e7 frames), 3 the simulation diverged\n"
-    "(run only), 4 an implicit step did not converge (run --strict),\n"
+    "(run only), 4 a step did not converge (run --strict), 5 the run reads WRONG (run --strict),\n"
     "130 / 143 stopped by SIGINT (Ctrl-C) / SIGTERM, 129 by SIGHUP (at once, whatever the\n"
     "step; a second signal kills). What stays when: docs/outputs.md.\n";
 

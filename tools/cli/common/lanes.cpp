@@ -35,14 +35,33 @@ struct Item {
   bool has_step = false;
 };
 
-// One NAME[@STEP][:N] item of `option`.
+// The `:N` and `:tol=T` suffixes of an item (`suffixes` after its first ':'), in either order.
+void parse_suffixes(const std::string& suffixes, const std::string& typed, const std::string& option, LaneSpec& lane) {
+  std::size_t from = 0;
+  while (from <= suffixes.size()) {
+    const auto colon = suffixes.find(':', from);
+    const std::string part = trimmed(suffixes.substr(from, colon == std::string::npos ? std::string::npos : colon - from));
+    if (part.rfind("tol=", 0) == 0) {
+      const std::optional<double> tol = parse_number_or_fraction(trimmed(part.substr(4)));
+      if (!tol || !(*tol > 0.0 && *tol < 1.0))
+        throw UsageError(option + ": the tolerance in " + in_quotes(typed) + " must be a number above 0 and below 1");
+      if (lane.tolerance > 0.0) throw UsageError(option + ": " + in_quotes(typed) + " gives tol= twice");
+      lane.tolerance = *tol;
+    } else {
+      if (lane.iterations > 0) throw UsageError(option + ": " + in_quotes(typed) + " gives the iterations twice");
+      lane.iterations = parse_iteration_count(part, option + ": the iterations in " + in_quotes(typed));
+    }
+    if (colon == std::string::npos) break;
+    from = colon + 1;
+  }
+}
+
+// One NAME[@STEP][:N][:tol=T] item of `option`.
 Item parse_item(const std::string& typed, const std::string& option) {
   Item out;
   const auto colon = typed.find(':');
   const std::string item = trimmed(typed.substr(0, colon));
-  if (colon != std::string::npos)
-    out.lane.iterations = parse_iteration_count(trimmed(typed.substr(colon + 1)),
-                                                option + ": the iterations in " + in_quotes(typed));
+  if (colon != std::string::npos) parse_suffixes(typed.substr(colon + 1), typed, option, out.lane);
   const auto at = item.find('@');
   const std::string name = trimmed(item.substr(0, at));
   const bool lanes = option != "--reference";  // the reference is one of the integrators as the scene sets them
@@ -55,6 +74,9 @@ Item parse_item(const std::string& typed, const std::string& option) {
   out.lane.fixed_point = fixed_point;
   if (out.lane.iterations > 0 && !has_iterations(*kind))
     throw UsageError(option + ": " + name + " has no iterations to set (in " + in_quotes(typed) + ")");
+  if (out.lane.tolerance > 0.0 && (!is_iterative_solver(*kind) || fixed_point))
+    throw UsageError(option + ": " + name + " has no residual tolerance to set (in " + in_quotes(typed) +
+                     "; tol= is for xpbd, projective_dynamics and vbd)");
   if (at != std::string::npos) {
     const std::string step = trimmed(item.substr(at + 1));
     if (step.empty()) throw UsageError(option + ": " + in_quotes(item) + " has no step after '@'");
@@ -71,7 +93,7 @@ Item parse_item(const std::string& typed, const std::string& option) {
 
 bool same_lane(const LaneSpec& a, const LaneSpec& b) {
   return a.kind == b.kind && a.dt == b.dt && a.fixed_point == b.fixed_point &&
-         a.iterations == b.iterations;
+         a.iterations == b.iterations && a.tolerance == b.tolerance;
 }
 
 }  // namespace
@@ -90,9 +112,16 @@ std::string step_string(double dt) {
   return text;
 }
 
+namespace {
+// ":N", ":tol=T" or ":N:tol=T" as the lane was given, "" for neither.
+std::string suffix_text(int iterations, double tolerance) {
+  std::string s = iterations > 0 ? ":" + std::to_string(iterations) : "";
+  return tolerance > 0.0 ? s + ":tol=" + number_text(tolerance) : s;
+}
+}  // namespace
+
 std::string LaneSpec::name() const {
-  std::string n(integrator_name(kind));
-  if (iterations > 0) n += ":" + std::to_string(iterations);
+  std::string n = std::string(integrator_name(kind)) + suffix_text(iterations, tolerance);
   if (fixed_point) return n + " (fixed point)";
   if (newton_capped() && iterations == 1) return n + " (Baraff & Witkin)";
   return n;
@@ -102,12 +131,12 @@ std::string LaneSpec::label() const { return integrator_label(name(), step_text)
 
 std::string LaneSpec::spelling() const {
   return (fixed_point ? std::string(kFixedPointName) : std::string(integrator_name(kind))) + "@" + step_text +
-         (iterations > 0 ? ":" + std::to_string(iterations) : "");
+         suffix_text(iterations, tolerance);
 }
 
 std::string LaneSpec::stepless_spelling() const {
   return (fixed_point ? std::string(kFixedPointName) : std::string(integrator_name(kind))) +
-         (iterations > 0 ? ":" + std::to_string(iterations) : "");
+         suffix_text(iterations, tolerance);
 }
 
 std::vector<LaneSpec> parse_study_lanes(const std::string& integrators, const std::string& why_no_step) {
@@ -136,6 +165,13 @@ int parse_iteration_count(const std::string& text, const std::string& what) {
   const long n = std::stol(text);
   if (n < 1 || n > kMaxSolverIterations) throw UsageError(what + ": " + text + " is not " + range);
   return static_cast<int>(n);
+}
+
+void set_tolerance(Model& model, IntegratorKind kind, double tolerance, int cap) {
+  double* tol = residual_tolerance(model, kind);
+  if (!tol) return;  // refused when parsed
+  *tol = tolerance;
+  *iteration_count(model, kind) = cap;
 }
 
 void set_iterations(Model& model, IntegratorKind kind, bool fixed_point, int iterations,
@@ -204,12 +240,13 @@ LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& l
 }
 
 const Model& lane_model(const Model& base, const LaneSpec& lane, std::optional<Model>& storage) {
-  if (!lane.fixed_point && lane.iterations == 0) return base;
+  if (!lane.fixed_point && lane.iterations == 0 && lane.tolerance == 0.0) return base;
   storage.emplace(base);
   if (lane.fixed_point) {  // the course framework's "implicit" (docs/integrators.md)
     storage->implicit.solver = ImplicitSolver::FixedPoint;
     storage->implicit.fixed_point_iterations = 1;
   }
+  if (lane.tolerance > 0.0) set_tolerance(*storage, lane.kind, lane.tolerance, lane.iterations > 0 ? lane.iterations : kToleranceCap);
   if (lane.iterations > 0)
     set_iterations(*storage, lane.kind, lane.fixed_point, lane.iterations, "--integrators");
   return *storage;
@@ -223,6 +260,7 @@ std::vector<std::string> lane_directories(const std::vector<LaneSpec>& lanes) {
     if (l.fixed_point) d += "_fixed_point";
     if (same_kind > 1) d += "@" + l.step_text;
     if (same_kind > 1 && l.iterations > 0) d += "_" + std::to_string(l.iterations);
+    if (same_kind > 1 && l.tolerance > 0.0) d += "_tol" + number_text(l.tolerance);
     std::replace(d.begin(), d.end(), '/', '_');
     std::replace(d.begin(), d.end(), ' ', '_');
     dirs.push_back(d);

@@ -21,6 +21,8 @@ struct LaneSpec {
                              // iteration (`implicit: {solver: fixed_point, iterations: 1}`)
   int iterations = 0;  // `:N`: the solver's iterations (implicit_euler: its Newton cap; the
                        // fixed point: its iterations); 0 = as the scene sets them
+  double tolerance = 0.0;  // `:tol=T` (xpbd, projective_dynamics, vbd): stop each step on the
+                           // residual, `:N` (else kToleranceCap) then a cap; 0 = as the scene sets
 
   // "rk4", "implicit_euler (fixed point)", "vbd:10", "implicit_euler:1 (Baraff & Witkin)"
   std::string name() const;
@@ -37,6 +39,9 @@ struct LaneSpec {
     return iterations > 0 && integrator_info(kind).iterations == IterationControl::Newton && !fixed_point;
   }
 };
+
+// The iteration cap of a lane given `:tol=T` without `:N`.
+inline constexpr int kToleranceCap = 1000;
 
 // --integrators: "course" (the course's four: explicit Euler, the one-iteration fixed-point
 // "implicit", midpoint, RK4) or NAME[@STEP][:N],... with N the lane's iterations (an
@@ -77,6 +82,9 @@ int parse_iteration_count(const std::string& text, const std::string& what);
 // `what` for an integrator without iterations (the explicit family).
 void set_iterations(Model& model, IntegratorKind kind, bool fixed_point, int iterations,
                     const std::string& what);
+
+// Sets an iterative solver's residual tolerance in `model`, with `cap` its iteration cap.
+void set_tolerance(Model& model, IntegratorKind kind, double tolerance, int cap);
 
 // "%g" of a step, the way labels and messages write it.
 std::string step_string(double dt);

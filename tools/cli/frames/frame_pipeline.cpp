@@ -188,8 +188,7 @@ struct FramePipeline::Impl {
     if (std::isnan(energy0[i])) energy0[i] = e;
     if (std::isfinite(e)) energy_rise[i] = std::max(energy_rise[i], e - energy0[i]);
     if (!wrong[i].empty()) return;
-    LaneEvidence evidence{f.totals, config.color == FieldKind::Error && field_count[i] > 0 ? field_max[i] : -1.0,
-                          energy_rise[i]};
+    LaneEvidence evidence{f.totals, config.color == FieldKind::Error && field_count[i] > 0 ? field_max[i] : -1.0};
     if (const auto verdict = implausible(model_of(i), evidence)) wrong[i] = *verdict;
   }
 

@@ -103,8 +103,10 @@ void print_run_totals(const Model& model, IntegratorKind kind, double dt, const 
                 t.newton_iterations, t.cg_iterations, t.factorizations, t.max_residual, t.unconverged_steps,
                 t.contact_constraints, t.safety_projections);
   if (is_iterative_solver(kind))
-    std::printf("%s: %" PRId64 " iterations, %" PRId64 " factorizations\n",
-                std::string(integrator_name(kind)).c_str(), t.newton_iterations, t.factorizations);
+    std::printf("%s: %" PRId64 " iterations, %" PRId64 " factorizations, %" PRId64
+                " steps not converged (largest relative residual %.3g; measured with a tolerance only)\n",
+                std::string(integrator_name(kind)).c_str(), t.newton_iterations, t.factorizations,
+                t.unconverged_steps, t.max_residual);
   if (report.reference)
     std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU\n",
                 report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
@@ -117,6 +119,7 @@ void write_run_summary(const RunOptions& o, const SceneDef& scene, const Model& 
                                           r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
                                     .number("t_reached", r.t)
                                     .number("max_residual", r.totals.max_residual)};
+  if (r.totals.wrong) lanes.front().number("wrong_at", r.totals.wrong->t).text("wrong", r.totals.wrong->reason);
   if (report.reference)
     lanes.push_back(lane_json(model.name, report.reference->spec.kind, report.reference->spec.dt,
                               report.reference->totals, std::nullopt)
@@ -140,6 +143,18 @@ PipelineConfig run_config(const RunOptions& o, const SceneDef& scene, const Mode
   if (look.camera_auto)
     config.camera = auto_camera(model, scene.render, static_cast<double>(scene.render.width) / scene.render.height);
   return config;
+}
+
+// WRONG: finite, but not this scene's physics (the run's own verdict, else compare's rule on a
+// reference it was coloured against), said on stderr. Returns whether the run reads WRONG.
+bool say_wrong(const std::string& source, const RunTotals& t, const PipelineReport& report) {
+  const std::string wrong = report.wrong.empty() ? "" : report.wrong.front();
+  if (t.wrong)
+    std::fprintf(stderr, "clothsim: %s: WRONG at step %" PRId64 ", t = %.6g s: %s\n", source.c_str(), t.wrong->step,
+                 t.wrong->t, t.wrong->reason.c_str());
+  else if (!wrong.empty())
+    std::fprintf(stderr, "clothsim: %s: %s\n", source.c_str(), wrong.c_str());
+  return t.wrong || !wrong.empty();
 }
 
 int run_command(const RunOptions& o) {
@@ -210,13 +225,15 @@ int run_command(const RunOptions& o) {
     return kDiverged;
   }
   files.write(o.state, [&] { write_state_csv(o.state, model, *r.final_state); });
+  const bool wrong = say_wrong(scene.source, t, report);
   if (o.strict && t.unconverged_steps > 0) {
     std::fprintf(stderr,
                  "clothsim: %s: --strict: %" PRId64 " of %" PRId64
-                 " implicit steps did not converge (largest final residual %.3g)\n",
+                 " steps did not converge (largest final residual %.3g)\n",
                  scene.source.c_str(), t.unconverged_steps, t.steps, t.max_residual);
     return kNotConverged;
   }
+  if (o.strict && wrong) return kWrong;
   return kOk;
 }
 
@@ -238,14 +255,17 @@ void add_run_command(CLI::App& app, Command& command) {
       "Exits 3 when the run diverges (non-finite state, strain or kinetic energy past the scene's\n"
       "divergence bounds), saying at which step and time and why; --metrics is then kept up to\n"
       "that point and --state is not written. With --strict, exits 4 when any implicit step did\n"
-      "not converge, saying how many (all outputs are still written). Outputs are created with\n"
+      "not converge, saying how many (all outputs are still written). A run that reads WRONG (energy\n"
+      "made with no work done, or strain past its bound: docs/integrators.md) says so on stderr, and\n"
+      "with --strict exits 5. Outputs are created with\n"
       "no name (O_TMPFILE) and named only when complete: nothing is left behind, even by SIGKILL.\n") + kExitCodesHelp);
   sub->add_option("--iterations", o->iterations,
                   "Iterations per step: xpbd, projective_dynamics and vbd's sweeps, implicit_euler's "
                   "Newton cap (1: Baraff & Witkin's single linearised step)")
       ->type_name("N");
   sub->add_flag("--strict", o->strict,
-                "Exit 4 if any implicit_euler step ended above its Newton tolerance");
+                "Exit 4 if any step ended above its tolerance (implicit_euler's Newton, a solver's tol=), "
+                "5 if the run reads WRONG");
   sub->add_option("--frames", o->frames_dir, "Write frame_00000.png... into DIR at --fps")
       ->type_name("DIR");
   sub->add_option("--video", o->video, "Write an H.264 MP4 of the run")->type_name("FILE.mp4");

@@ -86,12 +86,12 @@ using LaneNames = std::vector<std::string>;
 void write_csv_header(std::FILE* f) {
   std::fprintf(f, "integrator,dt,steps,force_evals,newton_iterations,cg_iterations,wall_seconds,cpu_seconds,"
                   "rms_error,max_error,diverged,diverged_at,reason,duration,reference_dt,reference_change,"
-                  "unconverged_steps\n");
+                  "unconverged_steps,wrong,wrong_at,wrong_reason\n");
 }
 
 void write_csv_rows(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
   for (const WorkPrecisionPoint& p : r.points)
-    std::fprintf(f, "%s,%s,%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64 ",%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%" PRId64 "\n",
+    std::fprintf(f, "%s,%s,%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64 ",%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%" PRId64 ",%d,%s,%s\n",
                  names[p.lane].c_str(), csv_number(p.dt).c_str(), p.steps,
                  p.force_evals, p.newton_iterations, p.cg_iterations, csv_number(p.wall_seconds).c_str(),
                  csv_number(p.cpu_seconds).c_str(), csv_number(p.rms_error).c_str(),
@@ -99,7 +99,8 @@ void write_csv_rows(std::FILE* f, const WorkPrecisionResult& r, const LaneNames&
                  p.diverged ? csv_number(p.diverged_at).c_str() : "", csv_text(p.reason).c_str(),
                  csv_number(r.duration).c_str(), csv_number(r.reference.dt).c_str(),
                  r.reference.finished ? csv_number(r.reference.change_rms).c_str() : "nan",
-                 p.unconverged_steps);
+                 p.unconverged_steps, p.wrong ? 1 : 0, p.wrong ? csv_number(p.wrong_at).c_str() : "",
+                 csv_text(p.wrong_reason).c_str());
 }
 
 void write_csv(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
@@ -118,6 +119,7 @@ void print_table(const WorkPrecisionResult& r, const std::vector<LaneSpec>& lane
     if (p.diverged) std::snprintf(status, sizeof status, "DIVERGED at t = %.4g s: %s", p.diverged_at, p.reason.c_str());
     else if (p.unconverged_steps > 0)
       std::snprintf(status, sizeof status, "NOT CONVERGED: %" PRId64 " of %" PRId64 " steps", p.unconverged_steps, p.steps);
+    else if (p.wrong) std::snprintf(status, sizeof status, "WRONG at t = %.4g s: %s", p.wrong_at, p.wrong_reason.c_str());
     else std::snprintf(status, sizeof status, "ok");
     std::printf("%-28s %10.4g %8" PRId64 " %11" PRId64 " %9.3g %9.3g %12.4g %12.4g  %s\n",
                 label(p.lane).c_str(), p.dt, p.steps, p.force_evals,
@@ -146,6 +148,7 @@ JsonObject run_lane_json(const std::string& scene, const WorkPrecisionPoint& p, 
   t.cpu_seconds = p.cpu_seconds;
   JsonObject lane = lane_json(scene, p.integrator, p.dt, t, p.diverged ? std::optional<double>(p.diverged_at) : std::nullopt);
   lane.number("wall_seconds", p.wall_seconds).number("rms_error", p.rms_error).number("max_error", p.max_error);
+  if (p.wrong) lane.number("wrong_at", p.wrong_at).text("wrong", p.wrong_reason);
   if (names[p.lane] != integrator_name(p.integrator)) lane.text("lane", names[p.lane]);
   return lane;
 }
@@ -452,7 +455,7 @@ void add_bench_command(CLI::App& app, Command& command) {
       ->type_name("LIST");
   sub->add_option("--csv", o->csv,
                   "Write one row per run: integrator,dt,steps,force_evals,...,rms_error,max_error,diverged,"
-                  "...,unconverged_steps")
+                  "...,unconverged_steps,wrong,wrong_at,wrong_reason")
       ->type_name("FILE.csv");
   sub->add_option("--plot", o->plot, "Draw the work-precision diagram (needs python3-matplotlib)")
       ->type_name("FILE.png");

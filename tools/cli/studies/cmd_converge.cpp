@@ -4,6 +4,7 @@
 // states along a converged implicit_euler run, one step of every method with 1..N iterations,
 // its distance from the converged backward-Euler step, Phi's gradient norm and its CPU time.
 // With --shard, this process's part of the (state, method) sweeps (study_shard.h).
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -58,21 +59,23 @@ ConvergenceSpec plan(const ConvergeOptions& o) {
 }
 
 void write_csv(std::FILE* f, const std::string& scene, const std::vector<ConvergencePoint>& points) {
-  std::fprintf(f, "scene,method,state,t,iterations,rms_distance,max_distance,gradient_norm,cpu_seconds\n");
+  std::fprintf(f, "scene,method,state,t,iterations,rms_distance,max_distance,gradient_norm,cpu_seconds,wrong\n");
   for (const ConvergencePoint& p : points)
-    std::fprintf(f, "%s,%s,%d,%s,%d,%s,%s,%s,%s\n", csv_text(scene).c_str(),
+    std::fprintf(f, "%s,%s,%d,%s,%d,%s,%s,%s,%s,%s\n", csv_text(scene).c_str(),
                  std::string(integrator_name(p.method)).c_str(), p.state, csv_number(p.t).c_str(), p.iterations,
                  csv_number(p.rms).c_str(), csv_number(p.max).c_str(), csv_number(p.gradient).c_str(),
-                 csv_number(p.cpu_seconds).c_str());
+                 csv_number(p.cpu_seconds).c_str(), csv_text(p.wrong).c_str());
 }
 
-// Per method and iteration count, the mean over the states of the RMS distance and the CPU.
-struct Mean { double rms = 0.0, cpu = 0.0; int n = 0; };
+// Per method and iteration count, the mean over the states of the RMS distance and the CPU,
+// and how many of the states' steps read WRONG.
+struct Mean { double rms = 0.0, cpu = 0.0; int n = 0, wrong = 0; };
 std::map<std::pair<int, int>, Mean> means(const std::vector<ConvergencePoint>& points) {
   std::map<std::pair<int, int>, Mean> out;
   for (const ConvergencePoint& p : points) {
     Mean& m = out[{static_cast<int>(p.method), p.iterations}];
     m.rms += p.rms, m.cpu += p.cpu_seconds, ++m.n;
+    if (!p.wrong.empty()) ++m.wrong;
   }
   for (auto& [key, m] : out) m.rms /= m.n, m.cpu /= m.n;
   return out;
@@ -89,13 +92,28 @@ std::string first_within(const std::map<std::pair<int, int>, Mean>& table, Integ
   return "     not reached";
 }
 
+// The iteration counts at which some state's step read WRONG ("-" for none), and the first reason.
+std::string wrong_text(const std::vector<ConvergencePoint>& points, IntegratorKind k) {
+  int first = 0, last = 0;
+  std::string why;
+  for (const ConvergencePoint& p : points)
+    if (p.method == k && !p.wrong.empty()) {
+      if (first == 0 || p.iterations < first) first = p.iterations, why = p.wrong;
+      last = std::max(last, p.iterations);
+    }
+  if (first == 0) return "-";
+  return "WRONG at " + std::to_string(first) + (last > first ? ".." + std::to_string(last) : "") + " it: " + why;
+}
+
 void print_table(const ConvergenceSpec& spec, const std::vector<ConvergencePoint>& points) {
   const auto table = means(points);
-  std::printf("%-20s %12s %12s   %-18s %-18s\n", "method", "rms@1 it (m)", "rms@N it (m)", "to 1 cm", "to 1 mm");
+  std::printf("%-20s %12s %12s   %-18s %-18s %s\n", "method", "rms@1 it (m)", "rms@N it (m)", "to 1 cm", "to 1 mm",
+              "wrong");
   for (IntegratorKind k : spec.methods) {
     const Mean first = table.at({static_cast<int>(k), 1}), last = table.at({static_cast<int>(k), spec.max_iterations});
-    std::printf("%-20s %12.3g %12.3g   %-18s %-18s\n", std::string(integrator_name(k)).c_str(), first.rms, last.rms,
-                first_within(table, k, 1e-2).c_str(), first_within(table, k, 1e-3).c_str());
+    std::printf("%-20s %12.3g %12.3g   %-18s %-18s %s\n", std::string(integrator_name(k)).c_str(), first.rms,
+                last.rms, first_within(table, k, 1e-2).c_str(), first_within(table, k, 1e-3).c_str(),
+                wrong_text(points, k).c_str());
   }
 }
 
@@ -108,7 +126,8 @@ void write_json(const std::string& path, const std::string& source, const Conver
                         .number("dt", spec.h)
                         .integer("iterations", key.second)
                         .number("mean_rms_distance", m.rms)
-                        .number("mean_cpu_seconds", m.cpu));
+                        .number("mean_cpu_seconds", m.cpu)
+                        .integer("wrong_states", m.wrong));
   write_summary(path, "converge", source, lanes,
                 JsonObject().integer("states", spec.states).integer("max_iterations", spec.max_iterations));
 }
