@@ -177,3 +177,18 @@ def test_a_lane_takes_a_step_as_a_fraction_and_refuses_a_bad_one():
     for bad in ("rk5@1e-4", "rk4@", "rk4@-1", "rk4@1/0", "rk4@1e-4x"):
         with pytest.raises(ValueError, match="lane: " + bad.replace("+", r"\+")):
             clothsim.Simulation(scene, lane=bad)
+
+
+def test_converge_is_the_clis_study_and_writes_its_csv(cli, tmp_path):
+    scene = clothsim.load_scene(DRAPE)
+    frame = clothsim.converge(scene, integrators=["xpbd", "vbd"], states=2, max_iterations=4,
+                              csv=str(tmp_path / "py.csv"))
+    code, _, err = cli("converge", DRAPE, "--integrators", "xpbd,vbd", "--states", "2", "--max-iterations", "4",
+                       "--csv", str(tmp_path / "cli.csv"), "--quiet")
+    assert code == 0, err
+    py_lines = (tmp_path / "py.csv").read_text().splitlines()
+    cli_lines = (tmp_path / "cli.csv").read_text().splitlines()
+    assert list(frame.columns) == cli_lines[0].split(",") == py_lines[0].split(",")
+    assert len(frame) == len(cli_lines) - 1 == 2 * 2 * 4
+    drop_cpu = lambda line: line.rsplit(",", 1)[0]  # noqa: E731  (CPU time differs run to run)
+    assert [drop_cpu(l) for l in py_lines] == [drop_cpu(l) for l in cli_lines]

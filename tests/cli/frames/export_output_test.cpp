@@ -27,7 +27,8 @@ std::int32_t pc2_samples(const std::string& path) {
 
 TEST(ExportOption, ABadPathIsRefusedBeforeAnyWorkAndNothingIsWritten) {
   const std::string dir = scratch_dir("export_bad");
-  for (const std::string bad : {dir + "/c.stl", dir + "/f.obj", dir + "/f_%05d_%05d.ply", dir + "/c_%03d.pvd"}) {
+  for (const std::string& bad :
+       std::vector<std::string>{dir + "/c.stl", dir + "/f.obj", dir + "/f_%05d_%05d.ply", dir + "/c_%03d.pvd"}) {
     const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--metrics", dir + "/m.csv", "--export", bad});
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_EQ(r.err.rfind("clothsim: --export: " + bad + ": ", 0), 0u) << r.err;
@@ -53,7 +54,7 @@ TEST(ExportOption, CompareWritesOneCachePerLaneNamedByItsDirectory) {
   const CliResult r = run_clothsim({"compare", shipped("drape.yaml"), "--integrators", "rk4@4e-4,rk4@2e-4,midpoint",
                                     "--match", "none", "--duration", "0.1", "--export", dir + "/c.pc2", "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const std::string lane : {"rk4@4e-4", "rk4@2e-4", "midpoint"}) {
+  for (const std::string& lane : std::vector<std::string>{"rk4@4e-4", "rk4@2e-4", "midpoint"}) {
     EXPECT_EQ(pc2_samples(dir + "/c." + lane + ".pc2"), 4) << lane;  // t = 0, 1/30, 2/30, 3/30
     EXPECT_TRUE(fs::exists(dir + "/c." + lane + ".obj")) << lane;
     EXPECT_EQ(pc2_samples(dir + "/c." + lane + ".sphere0.pc2"), 4) << lane;
