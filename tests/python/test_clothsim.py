@@ -192,3 +192,18 @@ def test_converge_is_the_clis_study_and_writes_its_csv(cli, tmp_path):
     assert len(frame) == len(cli_lines) - 1 == 2 * 2 * 4
     drop_cpu = lambda line: line.rsplit(",", 1)[0]  # noqa: E731  (CPU time differs run to run)
     assert [drop_cpu(l) for l in py_lines] == [drop_cpu(l) for l in cli_lines]
+
+
+def test_bench_is_the_clis_work_precision_study_and_writes_its_csv(cli, tmp_path):
+    scene = clothsim.load_scene(DRAPE)
+    frame = clothsim.bench(scene, integrators=["symplectic_euler", "midpoint"], dts=[1e-4, 2e-4], duration=0.02,
+                           csv=str(tmp_path / "py.csv"))
+    code, _, err = cli("bench", DRAPE, "--integrators", "symplectic_euler,midpoint", "--dts", "1e-4,2e-4",
+                       "--duration", "0.02", "--frame-dts", "none", "--csv", str(tmp_path / "cli.csv"), "--quiet")
+    assert code == 0, err
+    py_lines = (tmp_path / "py.csv").read_text().splitlines()
+    cli_lines = (tmp_path / "cli.csv").read_text().splitlines()
+    assert list(frame.columns) == cli_lines[0].split(",") == py_lines[0].split(",")
+    assert len(frame) == 4 and frame.rms_error.max() > 0
+    timeless = lambda line: [c for i, c in enumerate(line.split(",")) if i not in (6, 7)]  # noqa: E731  wall, CPU
+    assert [timeless(l) for l in py_lines] == [timeless(l) for l in cli_lines]

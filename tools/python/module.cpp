@@ -1,6 +1,6 @@
 // The `clothsim` Python module (docs/python.md): a second thin front end, beside the CLI, over
 // the same libraries: scene (load_scene), core (Simulation), view + render (render), export
-// (Export), study (converge). Errors are Python exceptions carrying the
+// (Export), study (bench, converge). Errors are Python exceptions carrying the
 // CLI's one-line messages.
 #include <pybind11/pybind11.h>
 
@@ -10,6 +10,7 @@
 #include "render/output_file.h"
 #include "render/renderer.h"
 #include "scene/scene_parser.h"
+#include "study/study.h"
 
 namespace py = pybind11;
 
@@ -30,6 +31,7 @@ PYBIND11_MODULE(clothsim, m) {
   py::register_exception<clothsim::ExportError>(m, "ExportError", PyExc_OSError);
   py::register_exception<clothsim::OutputFileError>(m, "OutputError", PyExc_OSError);
   py::register_exception<clothsim::RenderError>(m, "RenderError", PyExc_RuntimeError);
+  py::register_exception<clothsim::analysis::StudyError>(m, "StudyError", PyExc_ValueError);
   bind_scene(m);
   bind_simulation(m);
   bind_render(m);

@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <functional>
 #include <future>
 #include <string>
 #include <vector>
@@ -13,6 +15,7 @@
 #include "core/integrators/integrator_kind.h"
 #include "render/output_file.h"
 #include "study/convergence.h"
+#include "study/work_precision.h"
 
 namespace py = pybind11;
 
@@ -76,6 +79,19 @@ void write_csv(const std::string& path, const py::object& frame) {
   file.commit();
 }
 
+// Columns of points, one list per name, as a DataFrame (in the order given).
+template <typename Point>
+py::object data_frame(const std::vector<Point>& points,
+                      const std::vector<std::pair<const char*, std::function<py::object(const Point&)>>>& columns) {
+  py::dict data;
+  for (const auto& [name, value] : columns) {
+    py::list values;
+    for (const Point& p : points) values.append(value(p));
+    data[name] = values;
+  }
+  return py::module_::import("pandas").attr("DataFrame")(data);
+}
+
 py::object converge(const Scene& scene, double dt, const std::vector<std::string>& integrators, int states,
                     int max_iterations, const std::string& csv) {
   if (!(dt > 0.0)) throw py::value_error("dt: must be a step > 0 s");
@@ -91,22 +107,65 @@ py::object converge(const Scene& scene, double dt, const std::vector<std::string
     hooks.stop = stop;
     return convergence_study(model, spec, hooks);
   });
-  py::dict columns;
-  const auto column = [&](const char* name, auto value) {
-    py::list values;
-    for (const ConvergencePoint& p : points) values.append(value(p));
-    columns[name] = values;
-  };
-  column("scene", [&](const ConvergencePoint&) { return model.name; });
-  column("method", [](const ConvergencePoint& p) { return std::string(integrator_name(p.method)); });
-  column("state", [](const ConvergencePoint& p) { return p.state; });
-  column("t", [](const ConvergencePoint& p) { return p.t; });
-  column("iterations", [](const ConvergencePoint& p) { return p.iterations; });
-  column("rms_distance", [](const ConvergencePoint& p) { return p.rms; });
-  column("max_distance", [](const ConvergencePoint& p) { return p.max; });
-  column("gradient_norm", [](const ConvergencePoint& p) { return p.gradient; });
-  column("cpu_seconds", [](const ConvergencePoint& p) { return p.cpu_seconds; });
-  py::object frame = py::module_::import("pandas").attr("DataFrame")(columns);
+  using P = ConvergencePoint;
+  const auto number = [](double v) { return py::object(py::float_(v)); };
+  const auto integer = [](long long v) { return py::object(py::int_(v)); };
+  py::object frame = data_frame<P>(
+      points, {{"scene", [&](const P&) { return py::object(py::str(model.name)); }},
+               {"method", [](const P& p) { return py::object(py::str(std::string(integrator_name(p.method)))); }},
+               {"state", [&](const P& p) { return integer(p.state); }},
+               {"t", [&](const P& p) { return number(p.t); }},
+               {"iterations", [&](const P& p) { return integer(p.iterations); }},
+               {"rms_distance", [&](const P& p) { return number(p.rms); }},
+               {"max_distance", [&](const P& p) { return number(p.max); }},
+               {"gradient_norm", [&](const P& p) { return number(p.gradient); }},
+               {"cpu_seconds", [&](const P& p) { return number(p.cpu_seconds); }}});
+  if (!csv.empty()) write_csv(csv, frame);
+  return frame;
+}
+
+py::object bench(const Scene& scene, const std::vector<std::string>& integrators, const std::vector<double>& dts,
+                 double duration, const std::vector<double>& frame_dts, int reference_refinement, int jobs,
+                 const std::string& csv) {
+  analysis::WorkPrecisionSpec spec;
+  for (const std::string& name : integrators) {
+    const auto kind = parse_integrator(name);
+    if (!kind) throw py::value_error("integrators: unknown name " + name + " (one of " + integrator_names_joined() + ")");
+    spec.integrators.push_back(*kind);
+  }
+  spec.dts = dts;
+  spec.frame_dts = frame_dts;
+  spec.duration = duration;
+  spec.reference_refinement = reference_refinement;
+  spec.jobs = jobs;
+  spec = analysis::checked(spec);
+  const Model& model = *scene.model;
+  const analysis::WorkPrecisionResult r = interruptible([&](auto stop) {
+    analysis::StudyHooks hooks;
+    hooks.stop = stop;
+    return analysis::work_precision(model, spec, hooks);
+  });
+  using P = analysis::WorkPrecisionPoint;
+  const auto number = [](double v) { return py::object(py::float_(v)); };
+  py::object frame = data_frame<P>(
+      r.points,
+      {{"integrator", [](const P& p) { return py::object(py::str(std::string(integrator_name(p.integrator)))); }},
+       {"dt", [&](const P& p) { return number(p.dt); }},
+       {"steps", [](const P& p) { return py::object(py::int_(p.steps)); }},
+       {"force_evals", [](const P& p) { return py::object(py::int_(p.force_evals)); }},
+       {"newton_iterations", [](const P& p) { return py::object(py::int_(p.newton_iterations)); }},
+       {"cg_iterations", [](const P& p) { return py::object(py::int_(p.cg_iterations)); }},
+       {"wall_seconds", [&](const P& p) { return number(p.wall_seconds); }},
+       {"cpu_seconds", [&](const P& p) { return number(p.cpu_seconds); }},
+       {"rms_error", [&](const P& p) { return number(p.rms_error); }},
+       {"max_error", [&](const P& p) { return number(p.max_error); }},
+       {"diverged", [](const P& p) { return py::object(py::int_(p.diverged ? 1 : 0)); }},
+       {"diverged_at", [&](const P& p) { return p.diverged ? number(p.diverged_at) : py::object(py::str("")); }},
+       {"reason", [](const P& p) { return py::object(py::str(p.reason)); }},
+       {"duration", [&](const P&) { return number(r.duration); }},
+       {"reference_dt", [&](const P&) { return number(r.reference.dt); }},
+       {"reference_change", [&](const P&) { return number(r.reference.finished ? r.reference.change_rms : NAN); }},
+       {"unconverged_steps", [](const P& p) { return py::object(py::int_(p.unconverged_steps)); }}});
   if (!csv.empty()) write_csv(csv, frame);
   return frame;
 }
@@ -114,6 +173,15 @@ py::object converge(const Scene& scene, double dt, const std::vector<std::string
 }  // namespace
 
 void bind_studies(py::module_& m) {
+  m.def("bench", &bench, py::arg("scene"), py::arg("integrators"), py::arg("dts"), py::arg("duration"),
+        py::arg("frame_dts") = std::vector<double>{}, py::arg("reference_refinement") = 8, py::arg("jobs") = 0,
+        py::arg("csv") = "",
+        "bench(scene, integrators, dts, duration, frame_dts=[], reference_refinement=8, jobs=0, csv='')\n"
+        "    -> pandas.DataFrame\n\n"
+        "`clothsim bench --integrators ... --dts ... --duration T --frame-dts ...`: every integrator at every\n"
+        "step over T (each step dividing T), its error at T against an RK4 reference and its cost. Columns\n"
+        "as bench --csv; `csv` writes that file too. The steps and T are given here (bench's defaults are\n"
+        "the CLI's). Runs with the GIL released; Ctrl-C raises KeyboardInterrupt.");
   m.def("converge", &converge, py::arg("scene"), py::arg("dt") = 1.0 / 60.0,
         py::arg("integrators") = std::vector<std::string>{"xpbd", "projective_dynamics", "vbd", "implicit_euler"},
         py::arg("states") = 5, py::arg("max_iterations") = 50, py::arg("csv") = "",
