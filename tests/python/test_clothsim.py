@@ -207,3 +207,20 @@ def test_bench_is_the_clis_work_precision_study_and_writes_its_csv(cli, tmp_path
     assert len(frame) == 4 and frame.rms_error.max() > 0
     timeless = lambda line: [c for i, c in enumerate(line.split(",")) if i not in (6, 7)]  # noqa: E731  wall, CPU
     assert [timeless(l) for l in py_lines] == [timeless(l) for l in cli_lines]
+
+
+def test_stability_is_the_clis_search_and_writes_its_csv(cli, tmp_path):
+    spring = os.path.join(SCENES, "spring.yaml")
+    scene = clothsim.load_scene(spring)
+    frame = clothsim.stability(scene, integrators=["symplectic_euler", "rk4"], param="ks", values=[1e4, 4e4],
+                               duration=1.0, min_dt=1e-3, max_dt=0.05, csv=str(tmp_path / "py.csv"))
+    code, _, err = cli("stability", spring, "--integrators", "symplectic_euler,rk4", "--param", "ks", "--values",
+                       "1e4,4e4", "--duration", "1", "--min-dt", "1e-3", "--max-dt", "0.05", "--frame-dts", "none",
+                       "--csv", str(tmp_path / "cli.csv"), "--quiet")
+    assert code == 0, err
+    py_lines = (tmp_path / "py.csv").read_text().splitlines()
+    cli_lines = (tmp_path / "cli.csv").read_text().splitlines()
+    assert list(frame.columns) == cli_lines[0].split(",")
+    assert len(frame) == 4 and set(frame.outcome) == {"bracketed"}
+    timeless = lambda line: [c for i, c in enumerate(line.split(",")) if i != 7]  # noqa: E731  CPU seconds
+    assert [timeless(l) for l in py_lines] == [timeless(l) for l in cli_lines]

@@ -60,7 +60,8 @@ std::vector<std::string> overrides(const std::string& path, const py::dict& set)
 Scene load_scene(const std::string& path, const py::dict& set, py::object duration, py::object dt,
                  py::object integrator) {
   const bool replaced = !duration.is_none() || !dt.is_none();
-  SceneDef def = clothsim::load_scene(path, overrides(path, set), /*bound_run=*/!replaced);
+  std::vector<std::string> sets = overrides(path, set);
+  SceneDef def = clothsim::load_scene(path, sets, /*bound_run=*/!replaced);
   if (!duration.is_none()) {
     def.duration = duration.cast<double>();
     if (!(def.duration >= 0.0) || !std::isfinite(def.duration))
@@ -79,7 +80,7 @@ Scene load_scene(const std::string& path, const py::dict& set, py::object durati
     const std::string too_long = run_bounds_problem(def.duration, def.dt, def.render.fps);
     if (!too_long.empty()) throw py::value_error(too_long);
   }
-  Scene scene{def, std::make_shared<const Model>(build_model(def))};
+  Scene scene{def, std::make_shared<const Model>(build_model(def)), std::move(sets)};
   return scene;
 }
 

@@ -6,6 +6,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/model.h"
 #include "scene/scene_def.h"
@@ -16,6 +17,7 @@ namespace clothsim::python {
 struct Scene {
   SceneDef def;
   std::shared_ptr<const Model> model;
+  std::vector<std::string> overrides;  // the --set strings it was loaded with (studies reload it)
 };
 
 // set: {"cloth.springs.shear.stiffness": 2e4, "ks": 5e3, "integrator": "rk4", ...}

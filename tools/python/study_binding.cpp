@@ -14,7 +14,13 @@
 #include "scene_binding.h"
 #include "core/integrators/integrator_kind.h"
 #include "render/output_file.h"
+#include "scene/build_model.h"
+#include "scene/param_keys.h"
+#include "scene/scene_parser.h"
 #include "study/convergence.h"
+#include "study/csv_cells.h"
+#include "study/parameter_sweep.h"
+#include "study/stability.h"
 #include "study/work_precision.h"
 
 namespace py = pybind11;
@@ -58,8 +64,8 @@ std::vector<IntegratorKind> methods_of(const std::vector<std::string>& names) {
   return out;
 }
 
-// `frame` as converge --csv writes it: a header of its columns, numbers in their shortest exact
-// form (Python's repr, as the CLI's %.15g..%.17g), written whole or not at all.
+// `frame` as the CLI's --csv writes it: a header of its columns, each cell as study/csv_cells.h
+// spells it (text quoted where needed, numbers in their shortest exact form), whole or not at all.
 void write_csv(const std::string& path, const py::object& frame) {
   const py::list names = frame.attr("columns").attr("tolist")();
   std::string text;
@@ -70,7 +76,8 @@ void write_csv(const std::string& path, const py::object& frame) {
     for (const py::handle cell : row) {
       text += first ? "" : ",";
       first = false;
-      text += py::isinstance<py::str>(cell) ? cell.cast<std::string>() : py::repr(cell).cast<std::string>();
+      text += py::isinstance<py::str>(cell) ? analysis::csv_text(cell.cast<std::string>())
+                                            : analysis::csv_number(py::float_(py::reinterpret_borrow<py::object>(cell)));
     }
     text += "\n";
   }
@@ -124,15 +131,21 @@ py::object converge(const Scene& scene, double dt, const std::vector<std::string
   return frame;
 }
 
+std::vector<IntegratorKind> kinds_of(const std::vector<std::string>& names) {
+  std::vector<IntegratorKind> out;
+  for (const std::string& name : names) {
+    const auto kind = parse_integrator(name);
+    if (!kind) throw py::value_error("integrators: unknown name " + name + " (one of " + integrator_names_joined() + ")");
+    out.push_back(*kind);
+  }
+  return out;
+}
+
 py::object bench(const Scene& scene, const std::vector<std::string>& integrators, const std::vector<double>& dts,
                  double duration, const std::vector<double>& frame_dts, int reference_refinement, int jobs,
                  const std::string& csv) {
   analysis::WorkPrecisionSpec spec;
-  for (const std::string& name : integrators) {
-    const auto kind = parse_integrator(name);
-    if (!kind) throw py::value_error("integrators: unknown name " + name + " (one of " + integrator_names_joined() + ")");
-    spec.integrators.push_back(*kind);
-  }
+  spec.integrators = kinds_of(integrators);
   spec.dts = dts;
   spec.frame_dts = frame_dts;
   spec.duration = duration;
@@ -170,9 +183,84 @@ py::object bench(const Scene& scene, const std::vector<std::string>& integrators
   return frame;
 }
 
+py::object stability(const Scene& scene, const std::vector<std::string>& integrators, const std::string& param,
+                     const std::vector<double>& values, double duration, double min_dt, double max_dt,
+                     double precision, const std::vector<double>& frame_dts, int jobs, const std::string& csv) {
+  using analysis::StabilityLimit;
+  analysis::StabilitySpec spec;
+  spec.integrators = kinds_of(integrators);
+  spec.duration = duration;
+  spec.min_dt = min_dt;
+  spec.max_dt = max_dt;
+  spec.precision = precision;
+  spec.frame_dts = frame_dts;
+  spec.jobs = jobs;
+  analysis::check(spec);
+  ParamKey key;
+  try {
+    key = resolve_param_key(param, scene.def);
+  } catch (const ParamKeyError& e) {
+    throw py::value_error("param " + std::string(e.what()));
+  }
+  const std::vector<analysis::SweepScene> scenes =
+      analysis::sweep_scenes(scene.def.source, scene.overrides, key.paths, values);
+  std::vector<Model> models;
+  models.reserve(scenes.size());
+  std::vector<analysis::StabilityCase> cases;
+  for (const analysis::SweepScene& s : scenes) {
+    models.push_back(build_model(s.scene));
+    cases.push_back({s.value, &models.back(), {}});
+  }
+  const std::vector<StabilityLimit> limits = interruptible([&](auto stop) {
+    analysis::StudyHooks hooks;
+    hooks.stop = stop;
+    return analysis::stability_sweep(cases, spec, hooks);
+  });
+  using L = StabilityLimit;
+  const auto number = [](double v) { return py::object(py::float_(v)); };
+  const auto text = [](const std::string& t) { return py::object(py::str(t)); };
+  py::object frame = data_frame<L>(
+      limits,
+      {{"param", [&](const L&) { return text(param); }},
+       {"value", [&](const L& l) { return number(l.value); }},
+       {"integrator", [&](const L& l) { return text(std::string(integrator_name(l.integrator))); }},
+       {"outcome", [&](const L& l) { return text(analysis::outcome_name(l.outcome)); }},
+       {"stable_dt", [&](const L& l) { return number(l.stable_dt); }},
+       {"unstable_dt", [&](const L& l) { return number(l.unstable_dt); }},
+       {"trials", [](const L& l) { return py::object(py::int_(l.trials)); }},
+       {"cpu_seconds", [&](const L& l) { return number(l.cpu_seconds); }},
+       {"w_max", [&](const L& l) { return number(l.estimate.w_max); }},
+       {"c_max", [&](const L& l) { return number(l.estimate.c_max); }},
+       {"dt_springs", [&](const L& l) { return number(l.estimate.dt_springs()); }},
+       {"dt_with_damping", [&](const L& l) { return number(l.estimate.dt_with_damping()); }},
+       {"duration", [&](const L&) { return number(spec.duration); }},
+       {"min_dt", [&](const L&) { return number(spec.min_dt); }},
+       {"max_dt", [&](const L&) { return number(spec.max_dt); }},
+       {"precision", [&](const L&) { return number(spec.precision); }},
+       {"reason", [&](const L& l) { return text(l.reason); }},
+       {"failure", [&](const L& l) { return text(analysis::failure_name(l.failure)); }},
+       {"frame_steps", [&](const L& l) {
+          std::string out;
+          for (const analysis::FrameStepResult& r : l.frame_steps) out += (out.empty() ? "" : "; ") + analysis::frame_step_text(r);
+          return text(out);
+        }}});
+  if (!csv.empty()) write_csv(csv, frame);
+  return frame;
+}
+
 }  // namespace
 
 void bind_studies(py::module_& m) {
+  m.def("stability", &stability, py::arg("scene"), py::arg("integrators"),
+        py::arg("param") = "cloth.springs.structural.stiffness", py::arg("values"), py::arg("duration"),
+        py::arg("min_dt"), py::arg("max_dt"), py::arg("precision") = 0.02, py::arg("frame_dts") = std::vector<double>{},
+        py::arg("jobs") = 0, py::arg("csv") = "",
+        "stability(scene, integrators, param='cloth.springs.structural.stiffness', values, duration, min_dt,\n"
+        "          max_dt, precision=0.02, frame_dts=[], jobs=0, csv='') -> pandas.DataFrame\n\n"
+        "`clothsim stability --param P --values ... --duration T --min-dt ... --max-dt ...`: for each value of\n"
+        "the scene key `param` (a path, a glob or ks / kd), each integrator's largest stable step over T,\n"
+        "bracketed to `precision`. Columns as stability --csv; `csv` writes that file too. The range and\n"
+        "T are given here (stability's defaults are the CLI's). GIL released; Ctrl-C: KeyboardInterrupt.");
   m.def("bench", &bench, py::arg("scene"), py::arg("integrators"), py::arg("dts"), py::arg("duration"),
         py::arg("frame_dts") = std::vector<double>{}, py::arg("reference_refinement") = 8, py::arg("jobs") = 0,
         py::arg("csv") = "",
