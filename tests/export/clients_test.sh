@@ -1,7 +1,8 @@
 #!/bin/sh
 # The exported files read back by real clients, headless, each against `clothsim run --state`
 # at the frame it reads (frame 4 of scenes/drape.yaml at 30 frames/s, t = 4/30 s):
-#   meshio    PLY and OBJ sequences (points, velocity, speed, strain; the sphere; compare's error)
+#   meshio    PLY and OBJ sequences (points, velocity, speed, strain; the sphere; the error of
+#             run --color error and of compare's lanes)
 #   blender   the rest OBJ imported, a Mesh Cache modifier on the PC2, the evaluated vertices
 #   paraview  pvpython opens the PVD, the cloth block at that time, its points and fields
 # Usage: clients_test.sh meshio|blender|paraview CLOTHSIM OUTDIR. Exit 77 (ctest: skipped) when the
@@ -28,6 +29,7 @@ case $client in
   meshio)
     run --export "$out/ply/f_%05d.ply"
     run --export "$out/obj/f_%05d.obj"
+    "$clothsim" run "$scene" --duration 0.1 --color error --export "$out/err/f_%05d.ply" --quiet >/dev/null
     "$clothsim" compare "$scene" --integrators rk4,symplectic_euler --duration 0.1 --match none --color error \
       --export "$out/compare/f_%05d.ply" --quiet >/dev/null
     exec /usr/bin/python3 "$here/meshio_check.py" "$out" 4 ;;

@@ -40,6 +40,9 @@ obj = meshio.read(os.path.join(out, "obj", "f_%05d.obj" % frame))
 expect(worst_float32_gap(obj.points.tolist(), x) == 0, "OBJ points are the state's positions as float32")
 frames = sorted(f for f in os.listdir(os.path.join(out, "obj")) if not f.startswith("f_sphere"))
 expect(len(frames) == 7, "OBJ: 7 frames over 0.2 s at 30 frames/s (%d)" % len(frames))
+err = meshio.read(os.path.join(out, "err", "f_%05d.ply" % 3)).point_data.get("error")
+expect(err is not None and np.all(np.isfinite(err)) and err.max() > 0,
+       "run --color error carries the error against its reference")
 for lane in ("rk4", "symplectic_euler"):
     lane_ply = meshio.read(os.path.join(out, "compare", lane, "f_%05d.ply" % 3))
     err = lane_ply.point_data.get("error")
