@@ -16,9 +16,21 @@ packages=(
   libgtest-dev libbenchmark-dev   # tests and benchmarks
   libbullet-dev            # a peer in benchmarks only (tools/bench/bullet_peer_bench.cpp)
   python3-matplotlib       # tools/plot_*.py figures (run with /usr/bin/python3)
+  pybind11-dev python3-dev python3-numpy   # the clothsim Python module (tools/python), for /usr/bin/python3
+  python3-pytest python3-pandas python3-pil  # its tests (tests/python), run by tools/test.sh
+  python3-meshio           # exported meshes read back (tests/export: PLY, OBJ)
   time                     # GNU time, for tools/benchmarks.sh
   clang-14 libclang-rt-14-dev   # the libFuzzer target (tools/fuzz.sh): -fsanitize=fuzzer,address,undefined
 )
+# The clients mesh export is for, run headless by tests/export/clients_test.sh: about 1.1 GB
+# installed with their ~200 dependencies (Qt 5, VTK, OpenMPI), blender 85 MB and paraview 430 MB
+# of it. CLOTHSIM_NO_CLIENTS=1 leaves them out (their three tests then say "skipped").
+clients=(
+  blender                  # Blender 3.4 (-b --python): OBJ import, the Mesh Cache modifier on PC2
+  paraview python3-paraview  # ParaView 5.11's pvpython: the .pvd collection
+)
+
+[[ ${CLOTHSIM_NO_CLIENTS:-0} == 1 ]] || packages+=("${clients[@]}")
 
 if [[ $(id -u) -ne 0 ]]; then sudo=sudo; else sudo=; fi
 missing=()

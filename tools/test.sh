@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs, builds and runs every test (GoogleTest through CTest), on all cores, and the
+# Installs, builds and runs every test (GoogleTest, the Python module's pytest and the mesh
+# export's clients through CTest), on all cores, and the
 # Slurm cluster test (tools/slurm/test_cluster.sh); then, when
 # clang-14 is present, fuzzes the scene front end for a bounded time (tools/fuzz.sh,
 # CLOTHSIM_FUZZ_SECONDS, default 60; 0 skips it). A fuzzer failure fails the run.

@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 
+#include "camera_fit.h"
+
 namespace clothsim {
 namespace {
 
@@ -79,6 +81,14 @@ RenderFrame make_render_frame(const Model& model, const State& state, const Rend
   f.has_ground = model.has_ground;
   if (model.has_ground) f.ground_height = static_cast<float>(model.ground.height);
   return f;
+}
+
+RenderCamera fit_scene_camera(const Model& model, const RenderDef& look, double aspect) {
+  const RenderFrame at_rest = make_render_frame(model, initial_state(model), look);
+  CameraFitOptions options;
+  options.fov_deg = at_rest.camera.fov_deg;  // the scene's lens, aimed anew
+  options.elevation_deg = 40.f;  // CompareLook.TheDefaultClipsClothCoversAQuarterOfEachTile
+  return fit_camera(at_rest.cloth_positions, at_rest.spheres, static_cast<float>(aspect), options);
 }
 
 }  // namespace clothsim

@@ -1,5 +1,5 @@
 // clothsim compare SCENE [--integrators NAME[@STEP],... | course] [--layout auto] [--video FILE.mp4]
-//                        [--frames DIR] [--dt S | --dt name=S,...] [--duration S] [--set K=V]...
+//                        [--frames DIR] [--export PATH] [--dt S | --dt name=S,...] [--duration S] [--set K=V]...
 //                        [--sheet FILE.png --times 0.5,1,2,4] [--still T -o FILE.png]
 //                        [--color error|strain|speed|checker] [--reference NAME@STEP] [--inset energy]
 //                        [--width W --height H] [--crf Q] [--preset P]
@@ -25,9 +25,8 @@
 //
 // Outputs are checked before any simulation (unknown integrator or layout, unwritable
 // paths, bad --dt or --times: milliseconds, exit 2 or 1), created without a name and
-// named when complete. SIGINT / SIGTERM stop every lane before its next step, drop the
-// incomplete outputs and exit 130 / 143 saying what stays: PNGs already written under
-// --frames (each is complete).
+// named when complete. SIGINT / SIGTERM stop every lane before its next step, drop the incomplete
+// outputs and exit 130 / 143 saying what stays: the files of --frames and --export written so far.
 //
 // Frame k is the state at t = k / fps for k = 0 .. floor(duration * fps), as in `run`.
 // The summary (stdout) has one row per lane (and the reference's); the time breakdown
@@ -56,6 +55,7 @@
 #include "cli/common/progress.h"
 #include "cli/common/scene_options.h"
 #include "cli/common/summary_json.h"
+#include "cli/frames/export_output.h"
 #include "cli/frames/frame_pipeline.h"
 #include "cli/frames/frame_sink.h"
 #include "cli/frames/grid_legend.h"
@@ -85,7 +85,7 @@ struct CompareOptions {
   SceneOptions scene;
   std::string integrators = default_comparison_list();  // the course's four, by name
   std::string layout = "auto";
-  std::string video, frames_dir, dt, sheet, times, still_out;
+  std::string video, frames_dir, dt, sheet, times, still_out, export_path;
   std::optional<double> still_t;
   std::vector<std::string> match{"cost"};  // --match cost | error TOL | none
   std::string vary;                         // --vary KEY=V1,V2,...
@@ -149,9 +149,9 @@ void check_option_pairs(const CompareOptions& o) {
     throw UsageError(o.still_t ? "--still needs -o/--output FILE.png" : "-o/--output goes with --still T");
   // A comparison that writes nothing would simulate every lane for nothing (the table it
   // prints is also in --summary): refused before any work.
-  if (o.video.empty() && o.frames_dir.empty() && o.sheet.empty() && !o.still_t && o.summary.empty())
+  if (o.video.empty() && o.frames_dir.empty() && o.sheet.empty() && !o.still_t && o.summary.empty() && o.export_path.empty())
     throw UsageError("nothing to write: give --video FILE.mp4, --frames DIR, --sheet FILE.png, "
-                     "--still T -o FILE.png or --summary FILE.json");
+                     "--still T -o FILE.png, --export PATH or --summary FILE.json");
   try {
     validate_video_options(VideoWriterOptions{30.0, o.crf, o.preset});
   } catch (const std::invalid_argument& e) {
@@ -185,8 +185,9 @@ void check_paths(const CompareOptions& o, const ComparePlan& p) {
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty() && fs::exists(o.frames_dir) && !fs::is_directory(o.frames_dir))
     throw RuntimeFailure("cannot write --frames into " + o.frames_dir + ": not a directory");
-  if (!o.frames_dir.empty())
-    for (const std::string& d : p.lane_dirs) refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
+  for (const std::string& d : o.frames_dir.empty() ? std::vector<std::string>{} : p.lane_dirs)
+    refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
+  checked_export_paths(o.export_path, p.lane_dirs, static_cast<int>(p.scene.spheres.size()));
 }
 
 // The grid within the picture.
@@ -355,8 +356,8 @@ void plan_compare(const CompareOptions& o, ComparePlan& p) {
   p.scene = load_scene_with_options(o.scene);
   p.lanes = parse_lanes(o.integrators, o.dt, p.scene.dt);
   parse_match(o.match);  // a bad --match before any pilot runs
-  p.with_frames = !o.video.empty() || !o.frames_dir.empty();
-  p.rendering = p.with_frames || !o.sheet.empty() || o.still_t;
+  p.with_frames = !o.video.empty() || !o.frames_dir.empty() || !o.export_path.empty();
+  p.rendering = !o.video.empty() || !o.frames_dir.empty() || !o.sheet.empty() || o.still_t;  // not --export
   p.lane_dirs = lane_directories(p.lanes);
   if (!o.vary.empty()) plan_variation(o, p);
   try {
@@ -433,6 +434,8 @@ void add_outputs(const CompareOptions& o, const ComparePlan& p, FramePipeline& p
   const PngText meta = renderer ? with_renderer({{"scene", model.name}, {"software", "clothsim " CLOTHSIM_VERSION}}, *renderer)
                                 : PngText{};
   if (o.still_t) pipeline.add(make_still_output(o.still_out, composer, meta));
+  add_export_outputs(pipeline, export_paths(o.export_path, p.lane_dirs), model, p.lane_models, p.scene.render.fps,
+                     p.look.color == FieldKind::Error);
   if (!o.sheet.empty()) {
     std::vector<std::string> columns;
     for (double t : p.sheet_times) columns.push_back(time_label(t));
@@ -533,15 +536,14 @@ int compare_command(const CompareOptions& o) {
 
 void add_compare_command(CLI::App& app, Command& command) {
   auto o = std::make_shared<CompareOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "compare",
+  CLI::App* sub = app.add_subcommand("compare",
       "Run one scene with several integrators (or one at several steps) at once and show them side by\n"
       "side: a tiled, labelled MP4 (--video), each lane's PNGs (--frames), a contact sheet (--sheet),\n"
       "and a summary table of cost and divergence on stdout. By default the lanes are matched on cost\n"
       "(--match), each tile is coloured by its error against a reference lane (RK4 at a quarter of the\n"
       "smallest step, or at its predicted stable step if smaller) and shows its work and CPU time, and a\n"
       "finite but implausible lane is marked WRONG. Divergence is a result here (exit 0).\n"
-      "Without --video or --frames, the lanes stop at the last --times or --still (at 1 s at least when\n"
+      "Without --video, --frames or --export, the lanes stop at the last --times or --still (at 1 s at least when\n"
       "the colour scale is taken from the first second's data; --color-range LO,HI avoids that).\n"
       "Beneath the table, each lane's field in numbers, with the frames they cover.");
   add_scene_options(sub, o->scene, /*single_run=*/false);
@@ -573,6 +575,7 @@ void add_compare_command(CLI::App& app, Command& command) {
                   "COLUMNSxROWS: 2x2, 4x1 (side by side), 1x4 (stacked), Nx1, 1xN or auto")
       ->capture_default_str();
   sub->add_option("--video", o->video, "Write the tiled clip as H.264 MP4")->type_name("FILE.mp4");
+  add_export_option(sub, o->export_path);
   sub->add_option("--frames", o->frames_dir,
                   "Keep every lane's PNGs in DIR/<integrator>/frame_00000.png... (DIR/<integrator>@<step>/ when an\n"
                   "integrator has several lanes)")

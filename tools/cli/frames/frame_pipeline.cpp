@@ -98,6 +98,8 @@ struct FramePipeline::Impl {
   std::vector<EnergyHistory> energy;  // per lane, for the inset
   // Per lane, a frame handed over but not yet rendered, with its field.
   std::vector<std::pair<std::shared_ptr<const LaneFrame>, std::vector<float>>> unrendered;
+  bool bodies = false;                         // an output needs_bodies()
+  std::vector<std::vector<float>> last_field;  // per lane, with bodies: its latest field (LaneView::field)
   std::deque<TargetFrames> held;      // targets waiting for the colour scale
   std::vector<double> field_max, field_last, field_last_t, field_first_t;  // PipelineReport's
   std::vector<long> field_count, field_states;
@@ -122,6 +124,7 @@ struct FramePipeline::Impl {
     n.positions = config.color == FieldKind::Error;
     if (config.color == FieldKind::Strain || config.color == FieldKind::Speed) n.field = config.color;
     n.final_state = config.final_state;
+    n.bodies = bodies;
     return n;
   }
 
@@ -346,6 +349,11 @@ struct FramePipeline::Impl {
       views[i] = LaneView{&lanes[i], t.frames[i].get(), config.rendering ? &images[i] : nullptr, t.fresh[i],
                           legend ? &*legend : nullptr};
       if (t.fresh[i]) unrendered[i] = {t.frames[i], t.fields[i]};
+      if (bodies) {  // --export's error: a lane that stands on one state keeps its field
+        last_field.resize(lanes.size());
+        if (t.fresh[i]) last_field[i] = t.fields[i];
+        views[i].field = &last_field[i];
+      }
       if (!config.rendering || !shown || !unrendered[i].first) continue;
       const LaneFrame& f = *unrendered[i].first;
       const std::vector<float>& field = unrendered[i].second;
@@ -509,7 +517,10 @@ FramePipeline::FramePipeline(const Model& model, const TargetPlan& plan, std::ve
 
 FramePipeline::~FramePipeline() = default;
 
-void FramePipeline::add(std::unique_ptr<FrameOutput> output) { impl_->outputs.push_back(std::move(output)); }
+void FramePipeline::add(std::unique_ptr<FrameOutput> output) {
+  impl_->bodies = impl_->bodies || output->needs_bodies();
+  impl_->outputs.push_back(std::move(output));
+}
 
 PipelineReport FramePipeline::run(const std::string& progress_label, const std::vector<std::string>& not_written) {
   Impl& p = *impl_;

@@ -75,6 +75,7 @@ struct LaneView {
   const Image* image = nullptr;      // its picture, when rendering
   bool fresh = false;                // handed over at this target (not a held frame)
   const ColorScale* legend = nullptr;  // the pictures' colour scale (one for every lane), when coloured
+  const std::vector<float>* field = nullptr;  // for an output that needs_bodies(): its colouring field (may be empty)
 };
 
 class FrameOutput {
@@ -90,6 +91,8 @@ class FrameOutput {
   virtual void abandon(std::vector<std::string>& kept, std::vector<std::string>& lost) = 0;
   // After finish(), when a later output failed: what this one wrote, which stays.
   virtual void kept(std::vector<std::string>& kept) { (void)kept; }
+  // Whether it reads LaneFrame::bodies (every body's x and v: --export) and LaneView::field.
+  virtual bool needs_bodies() const { return false; }
 };
 
 struct PipelineReport {

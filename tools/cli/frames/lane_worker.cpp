@@ -118,6 +118,12 @@ LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
   }
   if (needs_.field == FieldKind::Strain) f.field = vertex_strain(model_, state);
   if (needs_.field == FieldKind::Speed) f.field = vertex_speed(model_, state);
+  if (needs_.bodies) {
+    f.bodies.x = state.x;
+    f.bodies.v = state.v;
+    f.bodies.t = state.t;
+    f.bodies.step = state.step;
+  }
   return f;
 }
 
@@ -264,7 +270,7 @@ void LaneWorker::run_targets(Run& run) {
       // The picture (and field) of the last finite state at the step divergence names; the
       // metrics of the state the run stopped in, which is what `run --metrics` records.
       const Divergence& d = *run.divergence();
-      LaneFrame frozen = frame_of(run, needs_.picture || needs_.field != FieldKind::None
+      LaneFrame frozen = frame_of(run, needs_.picture || needs_.field != FieldKind::None || needs_.bodies
                                            ? run.last_finite_state() : run.state());
       if (needs_.metrics) frozen.metrics = run.metrics();
       frozen.t = d.t;

@@ -39,6 +39,7 @@ struct LaneNeeds {
   bool positions = false;  // double positions, for the error field
   FieldKind field = FieldKind::None;  // strain or speed, computed on the lane's thread
   bool final_state = false;  // keep the last State (run --state)
+  bool bodies = false;       // LaneFrame::bodies (--export)
   // The reference lane: the steps (s) of the lanes it is compared with, in their order. At
   // each target it hands over, in LaneFrame::x_for, its positions at the time where a run of
   // each step lands (reference_stand.h: its own state, or interpolated between its steps),
@@ -63,6 +64,7 @@ struct LaneFrame {
   // (per LaneNeeds::stand_for step) the same, at the time a run of that step stands
   std::vector<std::shared_ptr<const std::vector<double>>> x_for;
   std::vector<float> field;        // (P) when LaneNeeds::field is strain or speed
+  State bodies;                    // x, v, t and step of every body when LaneNeeds::bodies
   FrameMetrics metrics;            // when LaneNeeds::metrics
   RunTotals totals;                // of the run up to here
   std::vector<std::pair<double, double>> energy;  // (t, total energy J) since the last target,

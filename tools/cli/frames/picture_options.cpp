@@ -143,13 +143,7 @@ void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDe
 }
 
 RenderCamera auto_camera(const Model& model, const RenderDef& scene_render, double aspect) {
-  const RenderFrame at_rest = make_render_frame(model, initial_state(model), scene_render);
-  CameraFitOptions options;
-  options.fov_deg = at_rest.camera.fov_deg;  // the scene's lens, aimed anew
-  // 40 degrees above the horizon rather than the fit's 30: a cloth sagging over its ball keeps
-  // about a third of a tile (CompareLook.TheDefaultClipsClothCoversAQuarterOfEachTile).
-  options.elevation_deg = 40.f;
-  return fit_camera(at_rest.cloth_positions, at_rest.spheres, static_cast<float>(aspect), options);
+  return fit_scene_camera(model, scene_render, aspect);  // view/snapshot.h: the Python module's too
 }
 
 void apply_look(const PictureLook& look, PipelineConfig& c) {

@@ -21,6 +21,7 @@
 #include "cli/common/scene_options.h"
 #include "cli/common/summary_json.h"
 #include "cli/frames/frame_pipeline.h"
+#include "cli/frames/export_output.h"
 #include "cli/frames/frame_sink.h"
 #include "cli/frames/picture_options.h"
 #include "cli/frames/pipeline_outputs.h"
@@ -45,6 +46,7 @@ struct RunOptions {
   PictureOptions look;
   std::string summary;  // --summary FILE.json
   std::string iterations;  // --iterations N, as typed
+  std::string export_path;  // --export PATH (export_output.h)
 };
 
 // Usage checks that need the scene: --still's time, --crf, --iterations.
@@ -164,7 +166,7 @@ int run_command(const RunOptions& o) {
   const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
   const bool rendering = !o.frames_dir.empty() || !o.video.empty() || o.still_t;
   PictureLook look = resolve_picture_look(o.look, scene, {lane}, /*compare=*/false);
-  if (!rendering) look = PictureLook{};  // nothing to colour: no reference lane either
+  if (!rendering && o.export_path.empty()) look = PictureLook{};  // no colour, no reference lane
   if (look.reference) {
     const std::string too_long = run_bounds_problem(scene.duration, look.reference->dt, scene.render.fps);
     if (!too_long.empty())
@@ -172,12 +174,13 @@ int run_command(const RunOptions& o) {
                        ", for --color error): " + too_long);
   }
   check_run_outputs(o);
+  const std::vector<ExportPath> exports = checked_export_paths(o.export_path, {}, static_cast<int>(scene.spheres.size()));
 
   const double fps = scene.render.fps;
   // A still alone needs the run only up to its time; any other output needs the whole run,
   // and the final state is the one at the end even when that is not a whole frame.
   const bool still_only = o.still_t && o.metrics.empty() && o.state.empty() && o.frames_dir.empty() &&
-                          o.video.empty() && o.summary.empty();
+                          o.video.empty() && o.summary.empty() && o.export_path.empty();
   // Frame by frame even with no picture or metrics to take: progress counts frames.
   // A colour scale from the data needs the first second even when the still comes sooner.
   const bool scale_from_data = look.color != FieldKind::None && !look.color_range;
@@ -208,6 +211,7 @@ int run_command(const RunOptions& o) {
   if (!o.video.empty())
     pipeline.add(make_video_output(make_video_sink(o.video, VideoOptions{fps, o.crf, o.preset}), o.video, Composer{}));
   if (o.still_t) pipeline.add(make_still_output(o.still_out, Composer{}, png_text));
+  add_export_outputs(pipeline, exports, model, {}, fps, look.color == FieldKind::Error);
   std::vector<std::string> after;  // written once the pipeline is through
   for (const std::string* out : {&o.state, &o.summary})
     if (!out->empty()) after.push_back(*out);
@@ -216,7 +220,7 @@ int run_command(const RunOptions& o) {
 
   const RunTotals& t = r.totals;
   print_run_totals(model, kind, dt, r, report);
-  RunFiles files({o.metrics, o.video, o.still_t ? o.still_out : "", o.frames_dir}, after);  // run_outputs.h
+  RunFiles files({o.metrics, o.video, o.still_t ? o.still_out : "", o.frames_dir, o.export_path}, after);  // run_outputs.h
   files.write(o.summary, [&] { write_run_summary(o, scene, model, r, report); });  // a diverged run too
   if (r.divergence) {
     const Divergence& d = *r.divergence;
@@ -275,6 +279,7 @@ void add_run_command(CLI::App& app, Command& command) {
       ->type_name("FILE.csv");
   sub->add_option("--state", o->state, "Write the final state: id,x,y,z,vx,vy,vz per particle")
       ->type_name("FILE.csv");
+  add_export_option(sub, o->export_path);
   sub->add_option("--still", o->still_t, "Render one frame at time T (s) to -o/--output")->type_name("T");
   sub->add_option("-o,--output,--out", o->still_out, "PNG file for --still")->type_name("FILE.png");
   add_picture_options(sub, o->scene, "the frames", "--frames, --video and --metrics rows");

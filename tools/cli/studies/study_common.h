@@ -11,6 +11,7 @@
 #include "cli/common/cli_common.h"
 #include "cli/common/summary_json.h"
 #include "core/integrators/integrator_kind.h"
+#include "study/csv_cells.h"
 
 namespace clothsim::cli {
 
@@ -24,11 +25,9 @@ inline constexpr const char* kDefaultFrameDts = "1/240,1/120,1/60,1/30";
 // --frame-dts: "none", or steps as numbers or fractions ("1/60"); a UsageError names the item.
 std::vector<double> parse_frame_dts(const std::string& text);
 
-// A CSV cell: numbers in the shortest form that reads back exactly (nan stays "nan"), and text
-// quoted when it holds a comma, a quote or a control byte (RFC 4180; control bytes become
-// spaces), so no text can break a row.
-std::string csv_number(double value);
-std::string csv_text(const std::string& text);
+// A CSV cell (study/csv_cells.h: the Python module's tables spell theirs the same way).
+using analysis::csv_number;
+using analysis::csv_text;
 
 // bench's --summary keys beside its lanes: T, whether every run finished, and the reference
 // (its integrator and step, how far halving its step moved the particles, RMS, and whether

@@ -1,0 +1,226 @@
+# The Python module against the CLI: the same scenes, the same states to the last bit, the
+# same one-line messages, the same pictures and exported files.
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+import clothsim
+from conftest import ROOT, SCENES, read_state_csv
+
+DRAPE = os.path.join(SCENES, "drape.yaml")
+
+
+@pytest.mark.parametrize("lane", ["rk4@1e-4", "symplectic_euler", "implicit_euler@4e-3", "xpbd@2e-3"])
+def test_run_ends_in_the_clis_final_state_to_the_last_bit(cli, tmp_path, lane):
+    name, _, step = lane.partition("@")
+    scene = clothsim.load_scene(DRAPE, duration=0.2)
+    sim = clothsim.Simulation(scene, lane=lane)
+    sim.run(until=0.2)
+    args = ["run", DRAPE, "--duration", "0.2", "--integrator", name, "--state", str(tmp_path / "s.csv"), "--quiet"]
+    code, _, err = cli(*(args + (["--dt", step] if step else [])))
+    assert code == 0, err
+    x, v = read_state_csv(tmp_path / "s.csv")
+    assert np.array_equal(sim.positions, x)
+    assert np.array_equal(sim.velocities, v)
+
+
+def test_set_takes_the_clis_keys_and_the_ks_alias_sets_every_spring_type(cli, tmp_path):
+    scene = clothsim.load_scene(DRAPE, set={"ks": 5000, "air_drag": 0.01}, duration=0.1)
+    sim = clothsim.Simulation(scene)
+    sim.run(until=0.1)
+    sets = [f"cloth.springs.{t}.stiffness=5000" for t in ("structural", "shear", "bend")] + ["air_drag=0.01"]
+    code, _, err = cli("run", DRAPE, "--duration", "0.1", "--state", str(tmp_path / "s.csv"), "--quiet",
+                       *[a for s in sets for a in ("--set", s)])
+    assert code == 0, err
+    x, _ = read_state_csv(tmp_path / "s.csv")
+    assert np.array_equal(sim.positions, x)
+
+
+def test_positions_and_velocities_are_read_only_views_of_the_state_not_copies():
+    sim = clothsim.Simulation(clothsim.load_scene(DRAPE))
+    p = sim.positions
+    assert p.shape == (625, 3) and p.dtype == np.float64
+    assert p.strides == (24, 8)  # the 3 x P column-major matrix, seen as P x 3 rows
+    assert not p.flags.owndata and not p.flags.writeable
+    assert np.shares_memory(p, sim.positions)
+    before = p.copy()
+    sim.step()
+    assert sim.steps == 1 and sim.t == pytest.approx(1e-4)
+    assert not np.array_equal(sim.positions, before)  # the view shows the state as it is now
+
+
+def test_a_bad_scene_raises_the_clis_one_line_message(cli, tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(open(DRAPE).read().replace("air_drag: 3.4e-4", "air_drag: -1"))
+    with pytest.raises(clothsim.SceneError) as e:
+        clothsim.load_scene(str(bad))
+    code, _, err = cli("run", str(bad))
+    assert code == 2
+    assert err.strip() == "clothsim: " + str(e.value)
+
+
+def test_an_unknown_set_key_names_the_key_as_run_does(cli):
+    with pytest.raises(clothsim.SceneError) as e:
+        clothsim.load_scene(DRAPE, set={"cloth.sprongs": 1})
+    _, _, err = cli("run", DRAPE, "--set", "cloth.sprongs=1")
+    assert err.strip() == "clothsim: " + str(e.value)
+
+
+def test_divergence_is_the_verdict_and_message_run_gives(cli):
+    stiff = os.path.join(SCENES, "stiff.yaml")
+    sim = clothsim.Simulation(clothsim.load_scene(stiff), lane="explicit_euler")
+    sim.run(until=1.0)
+    code, _, err = cli("run", stiff, "--integrator", "explicit_euler", "--duration", "1", "--quiet")
+    assert code == 3 and sim.diverged
+    assert err.strip() == "clothsim: " + sim.divergence["message"]
+    assert sim.t < 1.0  # stopped there
+
+
+def test_energies_and_metrics_are_the_metrics_row_of_the_state(cli, tmp_path):
+    sim = clothsim.Simulation(clothsim.load_scene(DRAPE, duration=0.1))
+    sim.run(until=0.1)
+    cli("run", DRAPE, "--duration", "0.1", "--metrics", str(tmp_path / "m.csv"), "--quiet")
+    import pandas
+    last = pandas.read_csv(tmp_path / "m.csv", float_precision="round_trip").iloc[-1]  # %.17g, exactly
+    m = sim.metrics()
+    for k in ("step", "kinetic", "spring_potential", "gravity_potential", "total_energy", "max_strain", "force_evals"):
+        assert m[k] == last[k], k
+    assert sim.energies()["total_energy"] == m["total_energy"]
+    assert sim.not_converged == 0 and not sim.diverged and sim.divergence is None
+
+
+def test_render_draws_what_run_still_draws(cli, tmp_path):
+    from PIL import Image
+    sim = clothsim.Simulation(clothsim.load_scene(DRAPE))
+    sim.run(until=0.5)
+    image = clothsim.render(sim, 320, 180)
+    assert image.shape == (180, 320, 3) and image.dtype == np.uint8
+    code, _, err = cli("run", DRAPE, "--still", "0.5", "-o", str(tmp_path / "s.png"), "--width", "320", "--height",
+                       "180", "--overlay", "none", "--quiet")
+    assert code == 0, err
+    png = np.asarray(Image.open(tmp_path / "s.png").convert("RGB"))
+    assert np.array_equal(image, png)
+    strain = clothsim.render(sim, 320, 180, color="strain")
+    assert not np.array_equal(strain, image)  # coloured, not the checker
+
+
+def test_export_writes_the_files_run_export_writes(cli, tmp_path):
+    scene = clothsim.load_scene(DRAPE, duration=0.1)
+    sim = clothsim.Simulation(scene)
+    out = clothsim.Export(scene, str(tmp_path / "py.pc2"))
+    for k in range(4):  # frames at k / 30 s up to 0.1 s
+        sim.run(until=k / 30.0)
+        out.add(sim)
+    out.finish()
+    code, _, err = cli("run", DRAPE, "--duration", "0.1", "--export", str(tmp_path / "cli.pc2"), "--quiet")
+    assert code == 0, err
+    for ext in (".pc2", ".sphere0.pc2", ".sphere0.obj"):
+        assert (tmp_path / ("py" + ext)).read_bytes() == (tmp_path / ("cli" + ext)).read_bytes(), ext
+    with pytest.raises(clothsim.ExportError, match="--export: x.stl: unknown format"):
+        clothsim.Export(scene, "x.stl")
+
+
+def test_ctrl_c_raises_keyboard_interrupt_in_a_long_run():
+    # A run of minutes, interrupted 1 s in by SIGINT, as Ctrl-C sends it.
+    script = textwrap.dedent(f"""
+        import time, clothsim
+        sim = clothsim.Simulation(clothsim.load_scene({DRAPE!r}), lane="rk4@1e-5")
+        print("running", flush=True)
+        try:
+            sim.run(until=1e3)
+        except KeyboardInterrupt:
+            print("interrupted at t =", sim.t, "after", time.monotonic(), flush=True)
+    """)
+    env = dict(os.environ)
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True, env=env)
+    assert p.stdout.readline().strip() == "running"
+    time.sleep(1.0)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 0 and out.startswith("interrupted at t = "), out
+    t, after = float(out.split()[4]), float(out.split()[6])
+    assert 0 < t < 1e3
+    print(f"KeyboardInterrupt {1000 * (after - sent):.0f} ms after SIGINT")  # docs/python.md; not asserted
+
+
+def test_run_releases_the_gil():
+    import threading
+    sim = clothsim.Simulation(clothsim.load_scene(DRAPE), lane="rk4@1e-4")
+    ticks = []
+    worker = threading.Thread(target=sim.run, kwargs={"until": 0.3})
+    worker.start()
+    while worker.is_alive():
+        ticks.append(time.monotonic())  # Python runs while the engine steps
+        time.sleep(0.001)
+    worker.join()
+    assert len(ticks) > 5 and sim.t >= 0.3
+
+
+def test_help_has_docstrings():
+    for thing in (clothsim, clothsim.load_scene, clothsim.Simulation, clothsim.Simulation.run, clothsim.render,
+                  clothsim.Export):
+        assert thing.__doc__ and len(thing.__doc__) > 40, thing
+
+
+def test_a_lane_takes_a_step_as_a_fraction_and_refuses_a_bad_one():
+    scene = clothsim.load_scene(DRAPE)
+    assert clothsim.Simulation(scene, lane="implicit_euler@1/60").dt == 1 / 60
+    assert clothsim.Simulation(scene, lane="rk4").dt == scene.dt
+    assert clothsim.Simulation(scene).integrator == scene.integrator == "symplectic_euler"
+    for bad in ("rk5@1e-4", "rk4@", "rk4@-1", "rk4@1/0", "rk4@1e-4x"):
+        with pytest.raises(ValueError, match="lane: " + bad.replace("+", r"\+")):
+            clothsim.Simulation(scene, lane=bad)
+
+
+def test_converge_is_the_clis_study_and_writes_its_csv(cli, tmp_path):
+    scene = clothsim.load_scene(DRAPE)
+    frame = clothsim.converge(scene, integrators=["xpbd", "vbd"], states=2, max_iterations=4,
+                              csv=str(tmp_path / "py.csv"))
+    code, _, err = cli("converge", DRAPE, "--integrators", "xpbd,vbd", "--states", "2", "--max-iterations", "4",
+                       "--csv", str(tmp_path / "cli.csv"), "--quiet")
+    assert code == 0, err
+    py_lines = (tmp_path / "py.csv").read_text().splitlines()
+    cli_lines = (tmp_path / "cli.csv").read_text().splitlines()
+    assert list(frame.columns) == cli_lines[0].split(",") == py_lines[0].split(",")
+    assert len(frame) == len(cli_lines) - 1 == 2 * 2 * 4
+    drop_cpu = lambda line: line.rsplit(",", 1)[0]  # noqa: E731  (CPU time differs run to run)
+    assert [drop_cpu(l) for l in py_lines] == [drop_cpu(l) for l in cli_lines]
+
+
+def test_bench_is_the_clis_work_precision_study_and_writes_its_csv(cli, tmp_path):
+    scene = clothsim.load_scene(DRAPE)
+    frame = clothsim.bench(scene, integrators=["symplectic_euler", "midpoint"], dts=[1e-4, 2e-4], duration=0.02,
+                           csv=str(tmp_path / "py.csv"))
+    code, _, err = cli("bench", DRAPE, "--integrators", "symplectic_euler,midpoint", "--dts", "1e-4,2e-4",
+                       "--duration", "0.02", "--frame-dts", "none", "--csv", str(tmp_path / "cli.csv"), "--quiet")
+    assert code == 0, err
+    py_lines = (tmp_path / "py.csv").read_text().splitlines()
+    cli_lines = (tmp_path / "cli.csv").read_text().splitlines()
+    assert list(frame.columns) == cli_lines[0].split(",") == py_lines[0].split(",")
+    assert len(frame) == 4 and frame.rms_error.max() > 0
+    timeless = lambda line: [c for i, c in enumerate(line.split(",")) if i not in (6, 7)]  # noqa: E731  wall, CPU
+    assert [timeless(l) for l in py_lines] == [timeless(l) for l in cli_lines]
+
+
+def test_stability_is_the_clis_search_and_writes_its_csv(cli, tmp_path):
+    spring = os.path.join(SCENES, "spring.yaml")
+    scene = clothsim.load_scene(spring)
+    frame = clothsim.stability(scene, integrators=["symplectic_euler", "rk4"], param="ks", values=[1e4, 4e4],
+                               duration=1.0, min_dt=1e-3, max_dt=0.05, csv=str(tmp_path / "py.csv"))
+    code, _, err = cli("stability", spring, "--integrators", "symplectic_euler,rk4", "--param", "ks", "--values",
+                       "1e4,4e4", "--duration", "1", "--min-dt", "1e-3", "--max-dt", "0.05", "--frame-dts", "none",
+                       "--csv", str(tmp_path / "cli.csv"), "--quiet")
+    assert code == 0, err
+    py_lines = (tmp_path / "py.csv").read_text().splitlines()
+    cli_lines = (tmp_path / "cli.csv").read_text().splitlines()
+    assert list(frame.columns) == cli_lines[0].split(",")
+    assert len(frame) == 4 and set(frame.outcome) == {"bracketed"}
+    timeless = lambda line: [c for i, c in enumerate(line.split(",")) if i != 7]  # noqa: E731  CPU seconds
+    assert [timeless(l) for l in py_lines] == [timeless(l) for l in cli_lines]

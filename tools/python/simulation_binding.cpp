@@ -1,0 +1,205 @@
+#include "simulation_binding.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "core/diagnostics.h"
+#include "core/integrators/integrator_kind.h"
+
+namespace py = pybind11;
+
+namespace clothsim::python {
+
+void parse_lane(const std::string& lane, const SceneDef& scene, IntegratorKind& kind, double& dt) {
+  const std::size_t at = lane.find('@');
+  const std::string name = lane.substr(0, at);
+  const auto parsed = parse_integrator(name);
+  if (!parsed)
+    throw py::value_error("lane: " + lane + ": unknown integrator " + name + " (one of " +
+                          integrator_names_joined() + ")");
+  kind = *parsed;
+  dt = scene.dt;
+  if (at == std::string::npos) return;
+  // A number or a fraction of two ("1/2500"), as --integrators takes it.
+  const std::string step = lane.substr(at + 1);
+  const std::size_t slash = step.find('/');
+  try {
+    std::size_t used = 0;
+    const double num = std::stod(step.substr(0, slash), &used);
+    double value = num;
+    bool whole = used == step.substr(0, slash).size();
+    if (slash != std::string::npos) {
+      std::size_t used_den = 0;
+      const double den = std::stod(step.substr(slash + 1), &used_den);
+      whole = whole && used_den == step.size() - slash - 1;
+      value = num / den;
+    }
+    if (!whole || !(value > 0.0) || !std::isfinite(value)) throw std::invalid_argument("step");
+    dt = value;
+  } catch (const std::exception&) {
+    throw py::value_error("lane: " + lane + ": the step after @ must be a number > 0 s or a fraction (1/2500)");
+  }
+}
+
+Simulation::Simulation(Scene scene, const std::optional<std::string>& lane) : scene_(std::move(scene)) {
+  kind_ = scene_.def.integrator;
+  dt_ = scene_.def.dt;
+  if (lane) parse_lane(*lane, scene_.def, kind_, dt_);
+  run_ = std::make_unique<Run>(*scene_.model, kind_, dt_);
+  // Polled before every step; a clock read costs nanoseconds beside a step, and Python's
+  // signal check (which takes the GIL) runs only every 0.1 s of wall time.
+  auto next_poll = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+  run_->set_stop_check([this, next_poll] {
+    const auto now = std::chrono::steady_clock::now();
+    if (now < *next_poll) return false;
+    *next_poll = now + std::chrono::milliseconds(100);
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) interrupted_ = true;
+    return interrupted_;
+  });
+}
+
+void Simulation::step() { run(run_->state().t + dt_); }
+
+void Simulation::run(double until) {
+  if (run_->stopped()) throw py::value_error("this Simulation was interrupted: make a new one");
+  {
+    py::gil_scoped_release release;
+    run_->advance_to(until);
+  }
+  if (interrupted_) throw py::error_already_set();  // the KeyboardInterrupt PyErr_CheckSignals set
+}
+
+namespace {
+
+// A (P, 3) read-only view of the first P columns of a 3 x B column-major matrix: row p is
+// particle p's x, y, z, 24 bytes apart. Valid until the next step (a step may swap buffers).
+py::array particle_view(const Eigen::Matrix3Xd& m, int particles, const py::object& owner) {
+  py::array a(py::dtype::of<double>(), {static_cast<py::ssize_t>(particles), py::ssize_t{3}},
+              {py::ssize_t{3 * sizeof(double)}, py::ssize_t{sizeof(double)}}, m.data(), owner);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+py::dict totals_dict(const RunTotals& t) {
+  py::dict d;
+  d["steps"] = t.steps;
+  d["force_evals"] = t.force_evals;
+  d["newton_iterations"] = t.newton_iterations;
+  d["cg_iterations"] = t.cg_iterations;
+  d["factorizations"] = t.factorizations;
+  d["unconverged_steps"] = t.unconverged_steps;
+  d["max_residual"] = t.max_residual;
+  d["max_strain"] = t.max_strain;
+  d["contact_constraints"] = t.contact_constraints;
+  d["safety_projections"] = t.safety_projections;
+  d["sim_seconds"] = t.sim_seconds;
+  d["cpu_seconds"] = t.cpu_seconds;
+  return d;
+}
+
+// The energies under --metrics' column names, J.
+py::dict energies_dict(const Energies& e) {
+  py::dict d;
+  d["kinetic"] = e.kinetic;
+  d["spring_potential"] = e.spring;
+  d["gravity_potential"] = e.gravity;
+  d["total_energy"] = e.total();
+  return d;
+}
+
+// What a run has to say: diagnostics of the state, totals and verdicts.
+void bind_diagnostics(py::class_<Simulation>& c) {
+  c.def(
+          "energies",
+          [](const Simulation& s) { return energies_dict(compute_energies(s.engine().model(), s.engine().state())); },
+          "energies() -> dict: kinetic, spring_potential, gravity_potential, total_energy (J), as --metrics.")
+      .def(
+          "metrics",
+          [](const Simulation& s) {
+            const FrameMetrics f = s.engine().metrics();
+            py::dict d;
+            d["step"] = f.step;
+            d["t"] = f.t;
+            d.attr("update")(energies_dict(f.energies));
+            d["max_strain"] = f.max_strain;
+            d["contacts"] = f.contacts;
+            d["force_evals"] = f.force_evals;
+            d["newton_iterations"] = f.newton_iterations;
+            d["cg_iterations"] = f.cg_iterations;
+            d["residual"] = f.residual;
+            d["converged"] = f.converged;
+            return d;
+          },
+          "metrics() -> dict: the row `run --metrics` writes for the current state.")
+      .def_property_readonly("max_strain", [](const Simulation& s) { return s.engine().metrics().max_strain; },
+                             "Largest spring strain |l/l0 - 1| of the current state.")
+      .def_property_readonly("totals", [](const Simulation& s) { return totals_dict(s.engine().totals()); },
+                             "Running totals: steps, force_evals, Newton/CG work, unconverged_steps, CPU s...")
+      .def_property_readonly("diverged", [](const Simulation& s) { return s.engine().diverged(); },
+                             "Whether the run diverged (run's exit 3); .divergence says when and why.")
+      .def_property_readonly(
+          "divergence",
+          [](const Simulation& s) -> py::object {
+            const auto& d = s.engine().divergence();
+            if (!d) return py::none();
+            py::dict out;
+            out["step"] = d->step;
+            out["t"] = d->t;
+            out["reason"] = d->reason;
+            char t[32];  // the line `run` prints (after "clothsim: ")
+            std::snprintf(t, sizeof t, "%.6g", d->t);
+            out["message"] = s.scene().def.source + ": diverged at step " + std::to_string(d->step) + ", t = " + t +
+                             " s: " + d->reason;
+            return std::move(out);
+          },
+          "None, or {step, t, reason, message} where the run diverged.")
+      .def_property_readonly("not_converged", [](const Simulation& s) { return s.engine().totals().unconverged_steps; },
+                             "Implicit steps that ended above their Newton tolerance (run --strict's exit 4 when > 0).");
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  py::class_<Simulation> c(m, "Simulation",
+                         "Simulation(scene, lane=None)\n\n"
+                         "One scene stepped with one integrator at one step, as `clothsim run` steps it:\n"
+                         "lane 'rk4@4e-4' (NAME@STEP, the step a number or a fraction like 1/2500),\n"
+                         "'rk4' (the scene's step) or None (the scene's integrator and step).");
+  c.def(py::init<Scene, const std::optional<std::string>&>(), py::arg("scene"), py::arg("lane") = py::none())
+      .def("step", &Simulation::step, "Takes one step of dt.")
+      .def("run", &Simulation::run, py::arg("until"),
+           "run(until) -> None\n\nSteps until t >= until, in C++ with the GIL released (no Python per step).\n"
+           "Stops at divergence (see .diverged). Ctrl-C raises KeyboardInterrupt within 0.1 s.")
+      .def_property_readonly("t", [](const Simulation& s) { return s.engine().state().t; }, "Simulated time, s.")
+      .def_property_readonly("steps", [](const Simulation& s) { return s.engine().state().step; })
+      .def_property_readonly("dt", &Simulation::dt, "The step, s.")
+      .def_property_readonly("integrator", [](const Simulation& s) { return std::string(integrator_name(s.kind())); })
+      .def_property_readonly(
+          "positions",
+          [](py::object self) {
+            const Simulation& s = self.cast<const Simulation&>();
+            return particle_view(s.engine().state().x, s.engine().model().num_particles, self);
+          },
+          "Particle positions, m: a read-only numpy (P, 3) float64 view of the state, no copy.\n"
+          "It shows the state as it is now; take it again after stepping.")
+      .def_property_readonly(
+          "velocities",
+          [](py::object self) {
+            const Simulation& s = self.cast<const Simulation&>();
+            return particle_view(s.engine().state().v, s.engine().model().num_particles, self);
+          },
+          "Particle velocities, m/s: a read-only numpy (P, 3) float64 view, as .positions.")
+      .def("__repr__", [](const Simulation& s) {
+        return "<clothsim.Simulation " + s.scene().def.name + " " + std::string(integrator_name(s.kind())) + "@" +
+               py::str(py::float_(s.dt())).cast<std::string>() + " t=" +
+               py::str(py::float_(s.engine().state().t)).cast<std::string>() + ">";
+      });
+  bind_diagnostics(c);
+}
+
+}  // namespace clothsim::python
