@@ -1,0 +1,97 @@
+// The barrier contact model over a whole Model (collision.model: barrier): which pairs there
+// are and their forces, energy, step bounds and a feasible start, over the kernels of
+// barrier_kernels.h.
+//
+// Pairs: every particle against every sphere and the ground; every dynamic sphere against the
+// ground; with collision.sphere_sphere, every two spheres (the sphere kernel with radius
+// r1 + r2). A pair whose two bodies are both immovable (a pinned particle on a kinematic sphere)
+// exerts nothing. The force on a sphere is the opposite of what it exerts (the pair's gradient
+// with respect to the centre is minus that with respect to the particle), so a dynamic sphere
+// and the cloth exchange momentum exactly.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "barrier_kernels.h"
+#include "core/integrators/integrator_kind.h"
+#include "core/model.h"
+
+namespace clothsim {
+
+inline bool uses_barrier(const Model& model) { return model.collision.model == ContactModel::Barrier; }
+
+// d-hat and kappa from the model's collision block (barrier_stiffness resolved by build_model).
+BarrierParams barrier_params(const Model& model);
+
+// The stiffness chosen when a scene sets none (barrier_kernels.h): the cloth's mean particle
+// weight held at d-hat / 2. N/m.
+double default_barrier_stiffness(double mean_particle_mass, const Vec3& gravity, double dhat);
+
+// Why `kind` cannot run barrier contacts, or "" when it can: xpbd and projective_dynamics have
+// no faithful form of the barrier (docs/integrators.md says why) and are refused.
+std::string barrier_refusal(IntegratorKind kind);
+
+// One pair: bodies a (a particle or a sphere) and b (a sphere body, or -1 for the ground), the
+// reach r of b (its radius, or r_a + r_b between spheres; 0 for the ground), its friction mu.
+struct BarrierPair {
+  int a = 0, b = -1;
+  double r = 0.0;
+  double mu = 0.0;
+};
+
+// Calls visit(BarrierPair) for every pair of the model whose bodies are not both immovable.
+template <class Visit>
+void for_each_barrier_pair(const Model& model, const Eigen::VectorXd& inv_mass, Visit&& visit) {
+  const int P = model.num_particles;
+  const auto movable = [&](int i) { return inv_mass[i] != 0.0; };
+  for (int s = 0; s < model.num_spheres; ++s) {
+    const int b = model.sphere_body(s);
+    for (int p = 0; p < P; ++p)
+      if (movable(p) || movable(b)) visit(BarrierPair{p, b, model.sphere_radius[s], model.sphere_friction[s]});
+  }
+  if (model.has_ground) {
+    for (int p = 0; p < P; ++p)
+      if (movable(p)) visit(BarrierPair{p, -1, 0.0, model.ground.friction});
+    for (int s = 0; s < model.num_spheres; ++s)
+      if (movable(model.sphere_body(s)))
+        visit(BarrierPair{model.sphere_body(s), -1, model.sphere_radius[s], model.ground.friction});
+  }
+  if (model.collision.sphere_sphere)
+    for (int s = 0; s < model.num_spheres; ++s)
+      for (int q = s + 1; q < model.num_spheres; ++q) {
+        const int a = model.sphere_body(s), b = model.sphere_body(q);
+        if (movable(a) || movable(b)) visit(BarrierPair{a, b, model.sphere_radius[s] + model.sphere_radius[q], 0.0});
+      }
+}
+
+// The pair's barrier at positions x (3 x B): the ground's plane at height + r, or the sphere b.
+PointBarrier pair_barrier(const Model& model, const BarrierPair& pair, const Eigen::Matrix3Xd& x,
+                          const BarrierParams& p, bool project_psd);
+
+// f (3 x B) += the barrier's forces and smoothed friction at (x, v), times the inverse mass
+// where `times_inverse_mass` (accelerations); nothing on immovable bodies (inverse mass 0).
+// Inside every force evaluation of the explicit methods.
+void add_barrier_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
+                        const Eigen::VectorXd& inv_mass, bool times_inverse_mass, Eigen::Matrix3Xd& f);
+
+// The barrier's potential at x, J (part of the potential energy the diagnostics print).
+double barrier_potential(const Model& model, const Eigen::Matrix3Xd& x);
+
+// Pairs within d-hat at x: the contacts a barrier step reports.
+int barrier_contact_count(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::VectorXd& inv_mass);
+
+// The smallest distance of any pair at x, m (+inf without pairs): a test's and the solvers' guard.
+double smallest_barrier_distance(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::VectorXd& inv_mass);
+
+// The largest alpha in [0, 1] with every pair's distance along x + alpha dx at least `keep`
+// times its value at x (closed form per pair: barrier_kernels.h's step bounds).
+double barrier_step_bound(const Model& model, const Eigen::VectorXd& inv_mass, const Eigen::Matrix3Xd& x,
+                          const Eigen::Matrix3Xd& dx, double keep);
+
+// Moves each movable particle of x that lies at or inside a collider (distance <= 0) out along
+// the collider's normal to d-hat / 2: a feasible start for a solve (the barrier is infinite
+// there). Returns how many were moved.
+int push_out_of_colliders(const Model& model, const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& x);
+
+}  // namespace clothsim
