@@ -7,7 +7,6 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
-#include "core/contact/barrier_contacts.h"
 #include "echo.h"
 #include "names.h"
 #include "run_bounds.h"
@@ -78,25 +77,7 @@ SceneDef Reader::scene(const YAML::Node& root) const {
     optional(n, k, "friction", [&](auto& v, auto& kk) { g.friction = non_negative(v, kk); });
     s.ground = g;
   });
-  optional(root, "", "collision", [&](auto& n, auto& k) {
-    expect_map(n, k, {"model", "margin", "sphere_sphere", "sphere_restitution", "barrier_distance",
-                      "barrier_stiffness", "friction_velocity"});
-    optional(n, k, "model", [&](auto& v, auto& kk) {
-      const std::string m = string(v, kk);
-      if (m == "projection") s.collision.model = ContactModel::Projection;
-      else if (m == "barrier") s.collision.model = ContactModel::Barrier;
-      else fail(v, kk, "unknown contact model " + in_quotes(m) + " (expected projection or barrier)");
-    });
-    optional(n, k, "margin", [&](auto& v, auto& kk) { s.collision.margin = non_negative(v, kk); });
-    optional(n, k, "sphere_sphere", [&](auto& v, auto& kk) { s.collision.sphere_sphere = boolean(v, kk); });
-    optional(n, k, "sphere_restitution", [&](auto& v, auto& kk) { s.collision.sphere_restitution = in_range(v, kk, 0, 1); });
-    optional(n, k, "barrier_distance", [&](auto& v, auto& kk) { s.collision.barrier_distance = positive(v, kk); });
-    optional(n, k, "barrier_stiffness", [&](auto& v, auto& kk) { s.collision.barrier_stiffness = positive(v, kk); });
-    optional(n, k, "friction_velocity", [&](auto& v, auto& kk) { s.collision.friction_velocity = positive(v, kk); });
-    // The scene's own integrator must take its contact model (lanes are checked where chosen).
-    const std::string refused = barrier_refusal(s.integrator);
-    if (s.collision.model == ContactModel::Barrier && !refused.empty()) fail(n["model"], k + ".model", refused);
-  });
+  optional(root, "", "collision", [&](auto& n, auto& k) { s.collision = collision(n, k, s.integrator); });
   optional(root, "", "events", [&](auto& n, auto& k) {
     if (!n.IsSequence()) fail(n, k, std::string("expected a list of events, got ") + type_name(n));
     for (std::size_t i = 0; i < n.size(); ++i) {

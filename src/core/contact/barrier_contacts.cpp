@@ -57,6 +57,31 @@ void add_barrier_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eig
   });
 }
 
+StepPairTerms step_pair_terms(const Model& model, const BarrierParams& p, const BarrierPair& pair,
+                              const Eigen::Matrix3Xd& start_x, const Eigen::Matrix3Xd& y, double h) {
+  StepPairTerms out;
+  const PointBarrier c = pair_barrier(model, pair, y, p, true);
+  if (c.active()) {
+    out.energy = c.energy;
+    out.gradient = c.gradient;
+    out.hessian = c.hessian;
+    out.active = true;
+  }
+  if (pair.mu <= 0.0) return out;
+  const PointBarrier lag = pair_barrier(model, pair, start_x, p, true);
+  if (!lag.active()) return out;
+  const auto moved = [&](int i) { return Vec3(y.col(i) - start_x.col(i)); };
+  const Vec3 rel = moved(pair.a) - (pair.b >= 0 ? moved(pair.b) : Vec3::Zero());
+  const Vec3 u = rel - rel.dot(lag.normal) * lag.normal;
+  const FrictionTerm f = friction_potential(u, lag.normal, -barrier_derivative(lag.distance, p), pair.mu,
+                                            model.collision.friction_velocity * h);
+  out.energy += f.energy;
+  out.gradient += f.gradient;
+  out.hessian += f.hessian;
+  out.active = true;
+  return out;
+}
+
 double barrier_potential(const Model& model, const Eigen::Matrix3Xd& x) {
   if (!uses_barrier(model)) return 0.0;
   const BarrierParams p = barrier_params(model);

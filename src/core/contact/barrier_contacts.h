@@ -65,6 +65,24 @@ void for_each_barrier_pair(const Model& model, const Eigen::VectorXd& inv_mass, 
       }
 }
 
+// The pairs body i belongs to (for a vertex's own terms: vbd), as for_each_barrier_pair.
+template <class Visit>
+void for_each_barrier_pair_of(const Model& model, const Eigen::VectorXd& inv_mass, int i, Visit&& visit) {
+  const int P = model.num_particles;
+  const auto movable = [&](int k) { return inv_mass[k] != 0.0; };
+  if (i < P) {
+    for (int s = 0; s < model.num_spheres; ++s) {
+      const int b = model.sphere_body(s);
+      if (movable(i) || movable(b)) visit(BarrierPair{i, b, model.sphere_radius[s], model.sphere_friction[s]});
+    }
+    if (model.has_ground && movable(i)) visit(BarrierPair{i, -1, 0.0, model.ground.friction});
+    return;
+  }
+  for_each_barrier_pair(model, inv_mass, [&](const BarrierPair& pair) {
+    if (pair.a == i || pair.b == i) visit(pair);
+  });
+}
+
 // The pair's barrier at positions x (3 x B): the ground's plane at height + r, or the sphere b.
 PointBarrier pair_barrier(const Model& model, const BarrierPair& pair, const Eigen::Matrix3Xd& x,
                           const BarrierParams& p, bool project_psd);
@@ -74,6 +92,20 @@ PointBarrier pair_barrier(const Model& model, const BarrierPair& pair, const Eig
 // Inside every force evaluation of the explicit methods.
 void add_barrier_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                         const Eigen::VectorXd& inv_mass, bool times_inverse_mass, Eigen::Matrix3Xd& f);
+
+// A pair's terms in a backward-Euler step's potential as functions of the end positions y
+// (3 x B): the barrier at y and IPC's lagged friction, lambda = -b'(d) and the tangent plane
+// taken at the step's start x_n, on the tangential relative displacement over the step, with
+// eps = eps_v h. Energy (J); gradient with respect to body a's end position (b's is minus it);
+// Hessian, projected to PSD, for a's and b's diagonal blocks (the cross blocks are minus it).
+struct StepPairTerms {
+  double energy = 0.0;
+  Vec3 gradient = Vec3::Zero();
+  Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();
+  bool active = false;  // within reach at y or in friction contact at x_n
+};
+StepPairTerms step_pair_terms(const Model& model, const BarrierParams& p, const BarrierPair& pair,
+                              const Eigen::Matrix3Xd& start_x, const Eigen::Matrix3Xd& y, double h);
 
 // The barrier's potential at x, J (part of the potential energy the diagnostics print).
 double barrier_potential(const Model& model, const Eigen::Matrix3Xd& x);

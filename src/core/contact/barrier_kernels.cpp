@@ -10,27 +10,28 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
-// With s = dhat - d and L = ln(d / dhat) (< 0 inside the reach):
-//     b = -kappa s^4 L,   b' = kappa s^3 (4 L - s / d),   b'' = kappa (-12 s^2 L + 8 s^3 / d + s^4 / d^2).
+// With s = dhat - d, L = ln(d / dhat) (< 0 inside the reach) and p = kBarrierPower:
+//     b = -kappa s^p L,   b' = kappa s^(p-1) (p L - s / d),   b'' = kappa s^(p-2) (-p (p-1) L + 2 p s / d + s^2 / d^2).
 double barrier_energy(double d, const BarrierParams& p) {
   if (d >= p.dhat) return 0.0;
   if (!(d > 0.0)) return kInf;
   const double s = p.dhat - d;
-  return -p.kappa * s * s * s * s * std::log(d / p.dhat);
+  return -p.kappa * std::pow(s, kBarrierPower) * std::log(d / p.dhat);
 }
 
 double barrier_derivative(double d, const BarrierParams& p) {
   if (d >= p.dhat) return 0.0;
   if (!(d > 0.0)) return -kInf;
   const double s = p.dhat - d;
-  return p.kappa * s * s * s * (4.0 * std::log(d / p.dhat) - s / d);
+  return p.kappa * std::pow(s, kBarrierPower - 1) * (kBarrierPower * std::log(d / p.dhat) - s / d);
 }
 
 double barrier_second_derivative(double d, const BarrierParams& p) {
   if (d >= p.dhat) return 0.0;
   if (!(d > 0.0)) return kInf;
   const double s = p.dhat - d, q = s / d;
-  return p.kappa * s * s * (-12.0 * std::log(d / p.dhat) + 8.0 * q + q * q);
+  constexpr double n = kBarrierPower;
+  return p.kappa * std::pow(s, kBarrierPower - 2) * (-n * (n - 1.0) * std::log(d / p.dhat) + 2.0 * n * q + q * q);
 }
 
 double barrier_kappa_for_stiffness(double stiffness, double dhat) {

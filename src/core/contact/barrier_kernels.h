@@ -2,13 +2,15 @@
 //
 // A smooth conservative potential between a particle and a surface at distance d (the ground
 // plane: d = y - height; a sphere: d = |x - c| - r), active within d-hat (IPC, Li et al. 2020):
-//     b(d) = -kappa (d - dhat)^4 ln(d / dhat)   for 0 < d < dhat,   0 for d >= dhat,   +inf for d <= 0.
-// IPC's own barrier has (d - dhat)^2: its force b'(d) is only C1 where a contact activates
-// (b'' jumps there), so every activation is a kink in the ODE's right-hand side of order 2 and
-// RK4's global error falls as h^3 at best. With the fourth power the force is C3 at d = dhat
-// (b ~ kappa (dhat - d)^5 / dhat there), so activations cost RK4 nothing at order 4. Convex on
-// (0, dhat), decreasing, and b -> +inf as d -> 0: a method that keeps the energy finite never
-// lets a distance reach zero.
+//     b(d) = -kappa (d - dhat)^6 ln(d / dhat)   for 0 < d < dhat,   0 for d >= dhat,   +inf for d <= 0.
+// IPC's own barrier has (d - dhat)^2: b ~ kappa (dhat - d)^3 / dhat where a contact activates,
+// so its force b'(d) is only C1 there, a step across an activation errs by h^3, and RK4's
+// global error falls as h^3 at best. With the power p, b ~ kappa (dhat - d)^(p+1) / dhat: the
+// force is C(p-1), and a step across errs by h^(p+1) times the jump of the force's p-th time
+// derivative, which is huge (kappa / dhat). p = 4 (C3) measured RK4 at 4.5 on the smooth drape
+// (the activations' h^5 errors outweigh its own h^4 ones at every usable step); p = 6 (C5)
+// measures 4 (BENCHMARKS.md). Convex on (0, dhat), decreasing, and b -> +inf as d -> 0: a
+// method that keeps the energy finite never lets a distance reach zero.
 //
 // Stiffness, stated as the contact's stiffness at half its reach, k = b''(dhat / 2) in N/m
 // (collision.barrier_stiffness), so kappa = k / (b''(dhat/2) at kappa = 1). Unset, it is chosen
@@ -31,6 +33,8 @@ namespace clothsim {
 
 using BarrierVec3 = Eigen::Vector3d;
 using BarrierMat3 = Eigen::Matrix3d;
+
+constexpr int kBarrierPower = 6;  // p above
 
 struct BarrierParams {
   double dhat = 0.0;   // m, where the barrier activates

@@ -5,8 +5,10 @@
 // (kd/h)(l - ln)), so converged VBD is backward Euler; contacts are hard constraints on
 // implicit_euler's held planes (solvers/vbd_kernels.h's vbd_hold), not the paper's penalty.
 // With vbd.chebyshev_rho > 0, the paper's accelerated iterations (Wang 2015's Chebyshev
-// weights) over the free vertices off the colliders.
+// weights) over the free vertices off the colliders. Under collision.model: barrier, the paper's
+// own contact: the barrier in each vertex's Newton step with a step filter (vbd_kernels.h).
 #include "integrator.h"
+#include "core/contact/barrier_contacts.h"
 #include "core/forces.h"
 #include "core/solvers/solver_cache.h"
 #include "core/solvers/vbd_grid_kernels.h"
@@ -46,14 +48,16 @@ void sweep_grid(const Model& model, int iterations, SolverCache& c, const Worksp
     for (int it = 0; it < iterations; ++it) vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts, model.num_particles);
 }
 
-// Elsewhere: the greedy colouring's scalar sweeps over every body.
-void sweep_graph(const Model& model, int iterations, SolverCache& c, const Workspace& ws) {
-  const double rho = model.solvers.vbd.chebyshev_rho;
+// Elsewhere, and under the barrier: the greedy colouring's scalar sweeps over every body.
+// The barrier's sweeps are not accelerated: a Chebyshev extrapolation of a vertex could carry
+// it through a collider, past the step filter.
+void sweep_graph(const Model& model, int iterations, SolverCache& c, const Workspace& ws, const VbdBarrier* barrier) {
+  const double rho = barrier ? 0.0 : model.solvers.vbd.chebyshev_rho;
   double omega = 1.0;
   if (rho > 0.0) c.y_before = c.y;
   for (int it = 0; it < iterations; ++it) {
     if (rho > 0.0) c.y_next = c.y;
-    vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts);
+    vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts, 0, barrier);
     if (rho > 0.0) accelerate_graph(model, c, it + 1, omega = chebyshev_omega(it + 1, rho, omega));
     if (ws.on_iteration) ws.on_iteration(it + 1, c.y);
   }
@@ -72,10 +76,15 @@ StepStats vbd_step(const Model& model, State& state, const StepContext& ctx, Wor
   vbd_initial_guess(model, c.problem, state, c.acceleration, c.y);
   c.vbd_contacts.assign(model.num_particles, VbdContact{});
   const int iterations = iteration_count(model, IntegratorKind::Vbd);
-  if (vbd_by_grid(model))
+  if (uses_barrier(model)) {
+    push_out_of_colliders(model, state.inv_mass, c.y);  // a guess inside a collider: G is infinite there
+    const VbdBarrier barrier{&model, &state.x, &state.inv_mass, h};
+    sweep_graph(model, iterations, c, ws, &barrier);
+  } else if (vbd_by_grid(model)) {
     sweep_grid(model, iterations, c, ws);
-  else
-    sweep_graph(model, iterations, c, ws);
+  } else {
+    sweep_graph(model, iterations, c, ws, nullptr);
+  }
   stats.newton_iterations = iterations;
   finish_step(c.problem, c.y, state);
   return stats;
