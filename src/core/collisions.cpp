@@ -52,9 +52,9 @@ void separate(State& s, int a, int b, const Vec3& n, double depth) {
 
 ContactCounts count_barrier_contacts(const Model& model, const State& state) {
   ContactCounts counts;
-  const BarrierParams p = barrier_params(model);
+  const double dhat = model.collision.barrier_distance;
   for_each_barrier_pair(model, state.inv_mass, [&](const BarrierPair& pair) {
-    if (!pair_barrier(model, pair, state.x, p, true).active()) return;
+    if (!pair_within_reach(model, pair, state.x, dhat)) return;
     const bool particle = pair.a < model.num_particles;
     int& n = pair.b < 0 ? (particle ? counts.cloth_ground : counts.sphere_ground)
                         : (particle ? counts.cloth_sphere : counts.sphere_sphere);

@@ -44,13 +44,22 @@ void add_barrier_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eig
   const BarrierParams p = barrier_params(model);
   const double eps_v = model.collision.friction_velocity;
   for_each_barrier_pair(model, inv_mass, [&](const BarrierPair& pair) {
-    const PointBarrier c = pair_barrier(model, pair, x, p, false);
-    if (!c.active()) return;
-    Vec3 F = -c.gradient;  // on a; b receives -F
+    if (!pair_within_reach(model, pair, x, p.dhat)) return;
+    // The distance and normal alone: a force needs b' only (pair_barrier would form b and b'' too).
+    Vec3 n = Vec3::UnitY();
+    double d = x(1, pair.a) - model.ground.height - pair.r;
+    if (pair.b >= 0) {
+      const Vec3 rel = x.col(pair.a) - x.col(pair.b);
+      const double rho = rel.norm();
+      if (rho > 0.0) n = rel / rho;
+      d = rho - pair.r;
+    }
+    const double b1 = barrier_derivative(d, p);
+    Vec3 F = -b1 * n;  // on a; b receives -F
     if (pair.mu > 0.0) {
       const Vec3 rel = v.col(pair.a) - (pair.b >= 0 ? Vec3(v.col(pair.b)) : Vec3::Zero());
-      const Vec3 vt = rel - rel.dot(c.normal) * c.normal;
-      F += friction_force(vt, -barrier_derivative(c.distance, p), pair.mu, eps_v);
+      const Vec3 vt = rel - rel.dot(n) * n;
+      F += friction_force(vt, -b1, pair.mu, eps_v);
     }
     apply(inv_mass, times_inverse_mass, pair.a, F, f);
     if (pair.b >= 0) apply(inv_mass, times_inverse_mass, pair.b, -F, f);
@@ -60,14 +69,14 @@ void add_barrier_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eig
 StepPairTerms step_pair_terms(const Model& model, const BarrierParams& p, const BarrierPair& pair,
                               const Eigen::Matrix3Xd& start_x, const Eigen::Matrix3Xd& y, double h) {
   StepPairTerms out;
-  const PointBarrier c = pair_barrier(model, pair, y, p, true);
+  const PointBarrier c = pair_within_reach(model, pair, y, p.dhat) ? pair_barrier(model, pair, y, p, true) : PointBarrier{};
   if (c.active()) {
     out.energy = c.energy;
     out.gradient = c.gradient;
     out.hessian = c.hessian;
     out.active = true;
   }
-  if (pair.mu <= 0.0) return out;
+  if (pair.mu <= 0.0 || !pair_within_reach(model, pair, start_x, p.dhat)) return out;
   const PointBarrier lag = pair_barrier(model, pair, start_x, p, true);
   if (!lag.active()) return out;
   const auto moved = [&](int i) { return Vec3(y.col(i) - start_x.col(i)); };
@@ -94,10 +103,9 @@ double barrier_potential(const Model& model, const Eigen::Matrix3Xd& x) {
 }
 
 int barrier_contact_count(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::VectorXd& inv_mass) {
-  const BarrierParams p = barrier_params(model);
   int count = 0;
   for_each_barrier_pair(model, inv_mass, [&](const BarrierPair& pair) {
-    count += pair_barrier(model, pair, x, p, true).active();
+    count += pair_within_reach(model, pair, x, model.collision.barrier_distance);
   });
   return count;
 }

@@ -83,6 +83,13 @@ void for_each_barrier_pair_of(const Model& model, const Eigen::VectorXd& inv_mas
   });
 }
 
+// Whether the pair is within d-hat at x (no square root: the cheap test most pairs fail).
+inline bool pair_within_reach(const Model& model, const BarrierPair& pair, const Eigen::Matrix3Xd& x, double dhat) {
+  if (pair.b < 0) return x(1, pair.a) - model.ground.height - pair.r < dhat;
+  const double reach = pair.r + dhat;
+  return (x.col(pair.a) - x.col(pair.b)).squaredNorm() < reach * reach;
+}
+
 // The pair's barrier at positions x (3 x B): the ground's plane at height + r, or the sphere b.
 PointBarrier pair_barrier(const Model& model, const BarrierPair& pair, const Eigen::Matrix3Xd& x,
                           const BarrierParams& p, bool project_psd);

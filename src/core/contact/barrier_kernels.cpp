@@ -8,6 +8,12 @@ namespace clothsim {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// s^n by multiplications (std::pow with a double exponent costs a force pass several times over).
+inline double power(double s, int n) {
+  double r = 1.0;
+  for (int i = 0; i < n; ++i) r *= s;
+  return r;
+}
 }  // namespace
 
 // With s = dhat - d, L = ln(d / dhat) (< 0 inside the reach) and p = kBarrierPower:
@@ -16,14 +22,14 @@ double barrier_energy(double d, const BarrierParams& p) {
   if (d >= p.dhat) return 0.0;
   if (!(d > 0.0)) return kInf;
   const double s = p.dhat - d;
-  return -p.kappa * std::pow(s, kBarrierPower) * std::log(d / p.dhat);
+  return -p.kappa * power(s, kBarrierPower) * std::log(d / p.dhat);
 }
 
 double barrier_derivative(double d, const BarrierParams& p) {
   if (d >= p.dhat) return 0.0;
   if (!(d > 0.0)) return -kInf;
   const double s = p.dhat - d;
-  return p.kappa * std::pow(s, kBarrierPower - 1) * (kBarrierPower * std::log(d / p.dhat) - s / d);
+  return p.kappa * power(s, kBarrierPower - 1) * (kBarrierPower * std::log(d / p.dhat) - s / d);
 }
 
 double barrier_second_derivative(double d, const BarrierParams& p) {
@@ -31,7 +37,7 @@ double barrier_second_derivative(double d, const BarrierParams& p) {
   if (!(d > 0.0)) return kInf;
   const double s = p.dhat - d, q = s / d;
   constexpr double n = kBarrierPower;
-  return p.kappa * std::pow(s, kBarrierPower - 2) * (-n * (n - 1.0) * std::log(d / p.dhat) + 2.0 * n * q + q * q);
+  return p.kappa * power(s, kBarrierPower - 2) * (-n * (n - 1.0) * std::log(d / p.dhat) + 2.0 * n * q + q * q);
 }
 
 double barrier_kappa_for_stiffness(double stiffness, double dhat) {
