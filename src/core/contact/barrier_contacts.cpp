@@ -17,8 +17,9 @@ double default_barrier_stiffness(double mean_particle_mass, const Vec3& gravity,
 }
 
 std::string barrier_refusal(IntegratorKind kind) {
+  // (Named as the registry spells them: integrator_name is on a floor above this one.)
   if (kind != IntegratorKind::Xpbd && kind != IntegratorKind::ProjectiveDynamics) return "";
-  return std::string(integrator_name(kind)) +
+  return std::string(kind == IntegratorKind::Xpbd ? "xpbd" : "projective_dynamics") +
          " has no barrier contact (it projects constraints); use collision.model: projection for it";
 }
 

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "barrier_kernels.h"
-#include "core/integrators/integrator_kind.h"
+#include "core/method_params.h"
 #include "core/model.h"
 
 namespace clothsim {
