@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/contact/barrier_contacts.h"
+
 namespace clothsim {
 
 double contact_impulse(double u_a, double u_b, double w_a, double w_b, double restitution) {
@@ -58,7 +60,22 @@ void separate(State& s, int a, int b, const Vec3& n, double depth) {
 
 }  // namespace
 
+ContactCounts count_barrier_contacts(const Model& model, const State& state) {
+  ContactCounts counts;
+  const double dhat = model.collision.barrier_distance;
+  for_each_barrier_pair(model, state.inv_mass, [&](const BarrierPair& pair) {
+    if (!pair_within_reach(model, pair, state.x, dhat)) return;
+    const bool particle = pair.a < model.num_particles;
+    int& n = pair.b < 0 ? (particle ? counts.cloth_ground : counts.sphere_ground)
+                        : (particle ? counts.cloth_sphere : counts.sphere_sphere);
+    ++n;
+  });
+  return counts;
+}
+
 ContactCounts resolve_collisions(const Model& model, State& state) {
+  // The one place the contact model is switched: the barrier acted inside the step already.
+  if (uses_barrier(model)) return count_barrier_contacts(model, state);
   ContactCounts counts;
   const int P = model.num_particles;
   const double margin = model.collision.margin;

@@ -1,4 +1,5 @@
-// Contacts, resolved once per step after the integrator (never inside its stages).
+// Contacts under collision.model: projection (the course's, the default), resolved once per
+// step after the integrator (never inside its stages). The barrier model: contact/.
 //
 // Detection: a particle is in contact with a sphere when |x - c| < r + margin, with the
 // ground plane y = h when x_y < h + margin (the seed report's margin, 0.01 m by default).
@@ -49,6 +50,10 @@ Vec3 friction_impulse(const Vec3& vt, double jn, double w_a, double w_b, double 
 Vec3 held_contact_response(const Vec3& rel, const Vec3& n, double w, double restitution, double friction,
                            double held);
 
+// The projection above under collision.model: projection; under barrier nothing is resolved
+// after the step (the barrier acted inside it, as a force or a term of Phi): only its contacts,
+// the pairs within d-hat (count_barrier_contacts), are counted.
 ContactCounts resolve_collisions(const Model& model, State& state);
+ContactCounts count_barrier_contacts(const Model& model, const State& state);
 
 }  // namespace clothsim

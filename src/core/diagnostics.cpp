@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "core/contact/barrier_contacts.h"
 #include "core/springs/spring_force.h"
 
 namespace clothsim {
@@ -21,6 +22,7 @@ Energies compute_energies(const Model& model, const State& state) {
   const Springs& s = model.springs;
   for (std::size_t i = 0; i < s.size(); ++i)
     e.spring += spring_energy(state.x.col(s.a[i]), state.x.col(s.b[i]), s.rest[i], s.ks[i]);
+  e.contact = barrier_potential(model, state.x);  // 0 under collision.model: projection
   return e;
 }
 

@@ -15,7 +15,8 @@ struct Energies {
   double kinetic = 0.0;  // J, sum 0.5 m |v|^2 over movable bodies
   double spring = 0.0;   // J, sum 0.5 ks (l - l0)^2
   double gravity = 0.0;  // J, sum -m g . x over bodies gravity acts on
-  double total() const { return kinetic + spring + gravity; }
+  double contact = 0.0;  // J, the barrier's potential (collision.model: barrier; 0 otherwise)
+  double total() const { return kinetic + spring + gravity + contact; }
 };
 
 Energies compute_energies(const Model& model, const State& state);

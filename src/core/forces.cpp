@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "body_terms.h"
+#include "core/contact/barrier_contacts.h"
 #include "core/springs/spring_force.h"
 #include "core/springs/spring_kernels.h"
 
@@ -112,6 +113,8 @@ double forces_with_body_terms(const Model& model, const Eigen::Matrix3Xd& x, con
   }
   double* pf = f.data();
   for (std::size_t i = first; i < in.bodies; ++i) body_terms(in, i, pf + 3 * i);
+  // The barrier is a force like the springs, in every evaluation (every stage of every method).
+  if (uses_barrier(model)) add_barrier_forces(model, x, v, inv_mass, times_inverse_mass, f);
   return strain;
 }
 

@@ -29,7 +29,8 @@ BodyTermInputs body_term_inputs(const Model& model, const Eigen::Matrix3Xd& v, c
                                 bool times_inverse_mass);
 
 // Total force (3 x B) at (x, v): springs, gravity m g on bodies with gravity, drag -c v on
-// cloth particles. Immovable bodies (inv_mass 0) get zero force: they are filtered here.
+// cloth particles, and under collision.model: barrier the contacts' barrier and smoothed
+// friction (contact/barrier_contacts.h). Immovable bodies (inv_mass 0) get zero force: they are filtered here.
 // Returns the springs' largest strain at x, as accumulate_spring_forces.
 double total_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                   const Eigen::VectorXd& inv_mass, Eigen::Matrix3Xd& f);

@@ -15,10 +15,21 @@ struct GroundDef {
   double friction = 0.0;     // Coulomb coefficient, >= 0
 };
 
+// How contacts act (docs/integrators.md, "Two contact models"): `projection`, the course's
+// response after each step (collisions.h); `barrier`, a smooth potential inside every force
+// evaluation and every solve (contact/barrier_kernels.h).
+enum class ContactModel { Projection, Barrier };
+
 struct CollisionDef {
-  double margin = 0.01;                // m, contact distance beyond a surface (the seed's 0.01)
+  ContactModel model = ContactModel::Projection;
+  double margin = 0.01;                // m, contact distance beyond a surface (the seed's 0.01; projection)
   bool sphere_sphere = false;          // resolve sphere-sphere contacts
-  double sphere_restitution = 0.8;     // C_R between spheres
+  double sphere_restitution = 0.8;     // C_R between spheres (projection)
+  double barrier_distance = 0.01;      // m, d-hat: where the barrier activates (barrier)
+  // N/m, the barrier's stiffness b''(d-hat / 2) (barrier); 0: chosen from the scene so that
+  // the cloth's mean particle weight rests at d-hat / 2 (build_model resolves it).
+  double barrier_stiffness = 0.0;
+  double friction_velocity = 1e-3;     // m/s, IPC's eps_v: below it friction is smoothed (barrier)
 };
 
 enum class ImplicitSolver { Newton, FixedPoint };

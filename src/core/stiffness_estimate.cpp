@@ -32,11 +32,14 @@ StiffnessEstimate estimate_stiffness(const Model& model) {
     kd_row[b] += da * (free_particle(a) ? 2.0 : 1.0);
   }
   StiffnessEstimate e;
+  // The barrier: a spring to a fixed collider on each particle's diagonal, of its stiffness at
+  // d-hat / 2 (where a particle resting under its weight sits with the default stiffness).
+  const double contact = model.collision.model == ContactModel::Barrier ? model.collision.barrier_stiffness : 0.0;
   double w2 = 0.0;
   for (int p = 0; p < P; ++p) {
     if (!free_particle(p)) continue;  // pinned: no row in the free system
     const double inv_m = model.initial_inv_mass[p];
-    const double row_w2 = ks_row[p] * inv_m;
+    const double row_w2 = (ks_row[p] + contact) * inv_m;
     if (row_w2 > w2) w2 = row_w2, e.particle = p;
     e.c_max = std::max(e.c_max, (kd_row[p] + model.air_drag) * inv_m);
   }

@@ -24,8 +24,11 @@
 //   h |l| < 2, so the step it cannot exceed is about 2 / max(w_max, c_max). With the
 //   drape's damping 750 N s/m (c_max ~ 1.8e4 /s against w_max ~ 690 rad/s) this, not the
 //   springs, sets the explicit methods' limit. Both figures are printed.
+// Under collision.model: barrier, each particle's row also holds the barrier's stiffness at
+// d-hat / 2 (collision.barrier_stiffness, resolved), a spring to an immovable collider: a
+// contact pressed deeper is stiffer still (b'' grows without bound as d -> 0).
 // Estimates only: the true stiffness matrix also has a geometric term ks (1 - l0/l) under
-// tension, and collisions are not linear at all.
+// tension, and projection contacts are not linear at all.
 #pragma once
 
 #include <vector>

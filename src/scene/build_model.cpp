@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/contact/barrier_contacts.h"
 #include "core/springs/spring_force.h"
 #include "scene/memory_estimate.h"
 
@@ -202,6 +203,9 @@ Model build_model(const SceneDef& scene) {
   m.has_ground = scene.ground.has_value();
   if (m.has_ground) m.ground = *scene.ground;
   m.collision = scene.collision;
+  if (m.collision.barrier_stiffness == 0.0 && m.num_particles > 0)  // chosen from the scene (barrier_kernels.h)
+    m.collision.barrier_stiffness =
+        default_barrier_stiffness(c.particle_mass, scene.gravity, m.collision.barrier_distance);
   m.gravity = scene.gravity;
   m.air_drag = scene.air_drag;
   m.duration = scene.duration;

@@ -1,6 +1,7 @@
-// The scene reader's other blocks: spheres, render settings and the solvers' options. See
+// The scene reader's other blocks: spheres, collision, render settings and the solvers' options. See
 // scene_reader.h.
 #include "scene_reader.h"
+#include "core/contact/barrier_contacts.h"
 #include "view/vertex_fields.h"
 
 namespace clothsim::scene_detail {
@@ -35,6 +36,28 @@ SphereDef Reader::sphere(const YAML::Node& n, const std::string& path) const {
     }
   });
   return s;
+}
+
+// The scene's own integrator must take the contact model (lanes are checked where they run).
+CollisionDef Reader::collision(const YAML::Node& n, const std::string& path, IntegratorKind integrator) const {
+  CollisionDef c;
+  expect_map(n, path, {"model", "margin", "sphere_sphere", "sphere_restitution", "barrier_distance",
+                       "barrier_stiffness", "friction_velocity"});
+  optional(n, path, "model", [&](auto& v, auto& k) {
+    const std::string m = string(v, k);
+    if (m == "projection") c.model = ContactModel::Projection;
+    else if (m == "barrier") c.model = ContactModel::Barrier;
+    else fail(v, k, "unknown contact model " + in_quotes(m) + " (expected projection or barrier)");
+  });
+  optional(n, path, "margin", [&](auto& v, auto& k) { c.margin = non_negative(v, k); });
+  optional(n, path, "sphere_sphere", [&](auto& v, auto& k) { c.sphere_sphere = boolean(v, k); });
+  optional(n, path, "sphere_restitution", [&](auto& v, auto& k) { c.sphere_restitution = in_range(v, k, 0, 1); });
+  optional(n, path, "barrier_distance", [&](auto& v, auto& k) { c.barrier_distance = positive(v, k); });
+  optional(n, path, "barrier_stiffness", [&](auto& v, auto& k) { c.barrier_stiffness = positive(v, k); });
+  optional(n, path, "friction_velocity", [&](auto& v, auto& k) { c.friction_velocity = positive(v, k); });
+  const std::string refused = barrier_refusal(integrator);
+  if (c.model == ContactModel::Barrier && !refused.empty()) fail(n["model"], path + ".model", refused);
+  return c;
 }
 
 RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {

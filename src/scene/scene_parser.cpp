@@ -77,12 +77,7 @@ SceneDef Reader::scene(const YAML::Node& root) const {
     optional(n, k, "friction", [&](auto& v, auto& kk) { g.friction = non_negative(v, kk); });
     s.ground = g;
   });
-  optional(root, "", "collision", [&](auto& n, auto& k) {
-    expect_map(n, k, {"margin", "sphere_sphere", "sphere_restitution"});
-    optional(n, k, "margin", [&](auto& v, auto& kk) { s.collision.margin = non_negative(v, kk); });
-    optional(n, k, "sphere_sphere", [&](auto& v, auto& kk) { s.collision.sphere_sphere = boolean(v, kk); });
-    optional(n, k, "sphere_restitution", [&](auto& v, auto& kk) { s.collision.sphere_restitution = in_range(v, kk, 0, 1); });
-  });
+  optional(root, "", "collision", [&](auto& n, auto& k) { s.collision = collision(n, k, s.integrator); });
   optional(root, "", "events", [&](auto& n, auto& k) {
     if (!n.IsSequence()) fail(n, k, std::string("expected a list of events, got ") + type_name(n));
     for (std::size_t i = 0; i < n.size(); ++i) {

@@ -162,6 +162,7 @@ class Reader {
   void index_range(const YAML::Node& n, const std::string& key, int size, int& lo, int& hi) const;
   SphereDef sphere(const YAML::Node& n, const std::string& path) const;
   RenderDef render(const YAML::Node& n, const std::string& path) const;
+  CollisionDef collision(const YAML::Node& n, const std::string& path, IntegratorKind integrator) const;
   ImplicitDef implicit(const YAML::Node& n, const std::string& path) const;
   void solvers(const YAML::Node& root, SolverDefs& d) const;
 

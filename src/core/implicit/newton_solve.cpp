@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <limits>
 
+#include "barrier_terms.h"
 #include "newton_kernels.h"
+#include "core/contact/barrier_contacts.h"
 #include "step_contacts.h"
 
 namespace clothsim {
@@ -187,8 +189,8 @@ bool NewtonSolve::iterate(const Eigen::Matrix3Xd* warm) {
 // in the particles the step took inside a collider. False: no descent or no step.
 bool NewtonSolve::take_step(double slope, bool reused) {
   if (!(slope < 0.0) || (!single_step_ && !line_search(slope))) return false;
-  if (single_step_) {  // Baraff & Witkin: the linearised step, whole
-    c_.dv += c_.d;
+  if (single_step_) {  // Baraff & Witkin: the linearised step, whole (as far as the barrier allows)
+    c_.dv += barrier_bound() * c_.d;
     evaluate();
     return true;  // the next round measures the residual, then stops at the budget
   }
@@ -254,6 +256,7 @@ void NewtonSolve::prepare_matrix(bool reused) {
     assemble_step_hessian(model_, start_.inv_mass, h_, c_.start_length, c_.y,
                           single_step_ ? HessianBlocks::Projected : HessianBlocks::Exact, c_.A,
                           JacobiInverse::Skip);
+    if (uses_barrier(model_)) add_barrier_hessian(model_, start_, h_, c_.y, c_.A);
     ++stats_.assemblies;
     c_.jacobi_ready = false;
     c_.holds_record = false;
@@ -262,6 +265,7 @@ void NewtonSolve::prepare_matrix(bool reused) {
     const ImplicitSolverState::Linearisation& lin = start_.implicit.lin;
     assemble_step_hessian(model_, lin.inv_mass, lin.h, lin.length, lin.y, HessianBlocks::Exact, c_.A,
                           JacobiInverse::Skip);
+    if (uses_barrier(model_)) add_barrier_hessian(model_, start_, lin.h, lin.y, c_.A);
     ++stats_.assemblies;
     c_.jacobi_ready = false;
     c_.record = lin;
@@ -316,10 +320,16 @@ bool NewtonSolve::factorize() {
   return c_.factor.factorize(c_.A, c_.contacts.filter);
 }
 
-// Armijo backtracking along d from dv; on success the trial becomes the iterate. Where Phi's
-// decrease is below its rounding (its terms dwarf their changes), the filtered residual decides.
+// The largest step along d that keeps every barrier distance positive (1 without the barrier).
+double NewtonSolve::barrier_bound() const {
+  return uses_barrier(model_) ? barrier_line_bound(model_, start_, h_, c_.y, c_.d) : 1.0;
+}
+
+// Armijo backtracking along d from dv, from the barrier's bound; on success the trial becomes
+// the iterate. Where Phi's decrease is below its rounding (its terms dwarf their changes), the
+// filtered residual decides.
 bool NewtonSolve::line_search(double slope) {
-  double alpha = 1.0;
+  double alpha = barrier_bound();
   alpha_ = 0.0;
   const double resolvable = 64.0 * std::numeric_limits<double>::epsilon();
   for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {

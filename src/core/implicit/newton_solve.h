@@ -128,6 +128,7 @@ class NewtonSolve {
   CgResult solve(const CgSettings& settings);
   bool factorize();
   bool line_search(double slope);
+  double barrier_bound() const;
 
   const Model& model_;
   const State& start_;

@@ -114,6 +114,7 @@ void predict_step_contacts(const Model& model, const State& start, double h,
   contacts.collider.clear();
   contacts.held.assign(model.num_particles, 0);
   contacts.let_go.assign(model.num_particles, 0);
+  if (model.collision.model == ContactModel::Barrier) return;  // contacts are Phi's barrier terms
   // Held last step: likely resting on the collider, so held again unless it is leaving.
   std::vector<std::uint8_t>& was_held = contacts.held_before;
   was_held.assign(model.num_particles, 0);
@@ -146,6 +147,7 @@ void place_on_planes(const StepContacts& contacts, const State& start, double h,
 
 bool take_in_step_contacts(const Model& model, const State& start, double h,
                            const Eigen::Matrix3Xd& y, StepContacts& contacts) {
+  if (model.collision.model == ContactModel::Barrier) return false;  // none held: the barrier acts
   bool changed = false;
   const NearColliders near(model, start, h, 0.0);
   near.screen(y.data(), nullptr, nullptr, h, static_cast<std::size_t>(model.num_particles), contacts.near);

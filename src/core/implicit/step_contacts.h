@@ -18,6 +18,9 @@
 // seed's restitution response acts on the held particles' velocities (collisions.h), with
 // friction bounded by the impulse the solve's constraint exerted.
 //
+// Under collision.model: barrier nothing is held (the sets stay empty): the contacts are
+// terms of Phi instead (barrier_terms.h).
+//
 // Dynamic spheres are not constraints: their contacts exchange momentum, which the post-step
 // response does (collisions.h). That response stays after every step as a safety net; it
 // counts the particles it still has to push out (RunTotals::safety_projections).

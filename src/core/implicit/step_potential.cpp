@@ -2,7 +2,9 @@
 
 #include <cmath>
 
+#include "barrier_terms.h"
 #include "potential_kernels.h"
+#include "core/contact/barrier_contacts.h"
 #include "core/springs/spring_force.h"
 #include "core/springs/spring_kernels.h"  // sticky_max
 
@@ -134,6 +136,7 @@ PotentialValue step_potential(const Model& model, const State& start, double h,
   value.magnitude = families.magnitude + body.magnitude;
   add_spring_terms(layout.others, start_length.data() + layout.others_first,
                    [](std::size_t s) { return s; }, h, y, gradient, value);
+  if (uses_barrier(model)) add_barrier_potential(model, start, h, y, gradient, value);
   // Immovable bodies are not unknowns: no gradient there (the springs added theirs).
   const Eigen::VectorXd& w = start.inv_mass;
   for (Eigen::Index i = 0; i < w.size(); ++i)
@@ -156,7 +159,8 @@ PotentialValue step_potential_scalar(const Model& model, const State& start, dou
     add_spring_terms(model.springs, start_length.data(), [](std::size_t s) { return s; }, h, y,
                      gradient, value);
   }
-  add_body_terms(model, start, h, dv, gradient, value);
+  if (uses_barrier(model)) add_barrier_potential(model, start, h, y, gradient, value);
+  add_body_terms(model, start, h, dv, gradient, value);  // (zeroes immovable bodies' gradient)
   return value;
 }
 

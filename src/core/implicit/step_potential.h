@@ -15,6 +15,8 @@
 // Steps"): backward Euler's solution is a stationary point of Phi, which a line search on
 // Phi can reach from any start, however large the step. Phi is bounded below (every term is
 // but the linear gravity one, which the quadratic inertia outgrows), so a minimiser exists.
+// Under collision.model: barrier, Phi also holds the contacts' barrier and lagged friction at
+// y (barrier_terms.h), and is +inf where a distance is <= 0.
 #pragma once
 
 #include <Eigen/Core>

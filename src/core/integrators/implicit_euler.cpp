@@ -6,7 +6,9 @@
 // (each damper's rate taken over the step, Gast et al. 2015). Directions by PCG truncated at
 // negative curvature (Nocedal & Wright, Alg. 7.1), preconditioned by block Jacobi or a sparse
 // factor chosen by counted work; an Armijo line search on Phi; contacts held as an active set
-// by filtering (step_contacts.h). First guess: first_guess.h; matrix reuse: newton_solve.h.
+// by filtering (step_contacts.h), or under collision.model: barrier terms of Phi, their Hessian
+// projected to PSD, the line search never letting a distance reach zero (barrier_terms.h).
+// First guess: first_guess.h; matrix reuse: newton_solve.h.
 // Converged when |S r| <= newton_tolerance max(|h f(x_n)|, |M dv|) (floored at f's rounding).
 // NewtonMode::BaraffWitkin (model_params.h) is Baraff & Witkin 1998's step instead: one
 // system linearised at y = x_n on the projected Hessian, taken whole.
@@ -23,6 +25,8 @@
 
 #include "integrator.h"
 #include "core/forces.h"
+#include "core/contact/barrier_contacts.h"
+#include "core/implicit/barrier_terms.h"
 #include "core/implicit/first_guess.h"
 #include "core/implicit/implicit_cache.h"
 #include "core/implicit/newton_kernels.h"
@@ -175,6 +179,7 @@ StepStats newton_step(const Model& model, State& state, const StepContext& ctx, 
   else c.dv = -state.v;
   hold_immovable(w, c.dv);
   place_on_planes(c.contacts, state, h, c.dv);
+  if (uses_barrier(model)) barrier_feasible_start(model, state, h, c.dv);  // Phi finite at the start
   NewtonSolve newton(model, state, h, c, stats, trace);
   newton.evaluate();
   if (trace.on()) trace_step_start(trace, model, state, c, guess.name());

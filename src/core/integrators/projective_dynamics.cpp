@@ -13,7 +13,9 @@
 #include "integrator.h"
 
 #include <algorithm>
+#include <stdexcept>
 
+#include "core/contact/barrier_contacts.h"
 #include "core/solvers/solver_cache.h"
 
 namespace clothsim {
@@ -37,7 +39,12 @@ void collect_held(const Model& model, SolverCache& c) {
 
 }  // namespace
 
+// Refused under collision.model: barrier: PD's global matrix is prefactored once, which needs
+// every energy quadratic in a projection; the barrier's curvature grows without bound as a
+// distance closes, so it has no fixed weight to prefactor (Lan et al. 2022 need a different
+// solver for it).
 StepStats projective_dynamics_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
+  if (uses_barrier(model)) throw std::invalid_argument("collision.model: " + barrier_refusal(IntegratorKind::ProjectiveDynamics));
   const double h = ctx.h;
   SolverCache& c = solver_cache(ws);
   build_step_problem(model, state, h, c.problem);

@@ -8,7 +8,11 @@
 // weights) over the free vertices off the colliders. With vbd.tolerance > 0 a step stops on its
 // residual (solver_cache.h's ResidualStop). The held vertices, just beyond the reach the
 // post-step response acts within, get implicit_euler's held response there (friction included).
+// Under collision.model: barrier, the paper's own contact: the barrier in each vertex's Newton
+// step with a step filter (vbd_kernels.h); the residual stop then stays off (its residual is
+// Phi's gradient without the barrier), so a lane runs its :N sweeps.
 #include "integrator.h"
+#include "core/contact/barrier_contacts.h"
 #include "core/forces.h"
 #include "core/solvers/solver_cache.h"
 #include "core/solvers/vbd_grid_kernels.h"
@@ -70,14 +74,17 @@ int sweep_grid(const Model& model, int iterations, SolverCache& c, const Workspa
   return taken;
 }
 
-// Elsewhere: the greedy colouring's scalar sweeps over every body.
-int sweep_graph(const Model& model, int iterations, SolverCache& c, const Workspace& ws, ResidualStop& stop) {
-  const double rho = model.solvers.vbd.chebyshev_rho;
+// Elsewhere, and under the barrier: the greedy colouring's scalar sweeps over every body.
+// The barrier's sweeps are not accelerated: a Chebyshev extrapolation of a vertex could carry
+// it through a collider, past the step filter.
+int sweep_graph(const Model& model, int iterations, SolverCache& c, const Workspace& ws, ResidualStop& stop,
+                const VbdBarrier* barrier) {
+  const double rho = barrier ? 0.0 : model.solvers.vbd.chebyshev_rho;
   double omega = 1.0;
   if (rho > 0.0) c.y_before = c.y;
   for (int it = 0; it < iterations; ++it) {
     if (rho > 0.0) c.y_next = c.y;
-    vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts);
+    vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts, 0, barrier);
     if (rho > 0.0) accelerate_graph(model, c, it + 1, omega = chebyshev_omega(it + 1, rho, omega));
     if (ws.on_iteration) ws.on_iteration(it + 1, c.y);
     if (stop_met(model, c, stop)) return it + 1;
@@ -98,10 +105,18 @@ StepStats vbd_step(const Model& model, State& state, const StepContext& ctx, Wor
   vbd_initial_guess(model, c.problem, state, c.acceleration, c.y);
   c.vbd_contacts.assign(model.num_particles, VbdContact{});
   const int iterations = iteration_count(model, IntegratorKind::Vbd);
-  ResidualStop stop(model, c.problem, ResidualForm::StepPotential, model.solvers.vbd.tolerance,
-                    c.y, c.gradient);
-  stats.newton_iterations = vbd_by_grid(model) ? sweep_grid(model, iterations, c, ws, stop)
-                                               : sweep_graph(model, iterations, c, ws, stop);
+  const bool barrier_scene = uses_barrier(model);
+  ResidualStop stop(model, c.problem, ResidualForm::StepPotential,
+                    barrier_scene ? 0.0 : model.solvers.vbd.tolerance, c.y, c.gradient);
+  if (barrier_scene) {
+    push_out_of_colliders(model, state.inv_mass, c.y);  // a guess inside a collider: G is infinite there
+    const VbdBarrier barrier{&model, &state.x, &state.inv_mass, h};
+    stats.newton_iterations = sweep_graph(model, iterations, c, ws, stop, &barrier);
+  } else if (vbd_by_grid(model)) {
+    stats.newton_iterations = sweep_grid(model, iterations, c, ws, stop);
+  } else {
+    stats.newton_iterations = sweep_graph(model, iterations, c, ws, stop, nullptr);
+  }
   stop.report(stats);
   finish_step(c.problem, c.y, state);
   collect_held(model, c);

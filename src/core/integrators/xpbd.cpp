@@ -13,6 +13,10 @@
 // On a grid the sweep goes family set by family set in SIMD (solvers/xpbd_family_kernels.h);
 // other models sweep the spring list in its order.
 #include "integrator.h"
+
+#include <stdexcept>
+
+#include "core/contact/barrier_contacts.h"
 #include "core/solvers/solver_cache.h"
 #include "core/solvers/xpbd_family_kernels.h"
 #include "core/solvers/xpbd_kernels.h"
@@ -79,7 +83,11 @@ int sweep_families(const Model& model, const StepProblem& p, const State& state,
 
 }  // namespace
 
+// Refused under collision.model: barrier: XPBD's contacts are inequality constraints projected
+// each iteration; a barrier is no constraint to project (its compliance would be the inverse of a
+// stiffness that grows without bound), and mixing the two would solve neither model.
 StepStats xpbd_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
+  if (uses_barrier(model)) throw std::invalid_argument("collision.model: " + barrier_refusal(IntegratorKind::Xpbd));
   const double h = ctx.h;
   SolverCache& cache = solver_cache(ws);
   StepProblem& p = cache.problem;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/contact/barrier_contacts.h"
+
 namespace clothsim {
 namespace {
 
@@ -52,6 +54,9 @@ struct Sym3 {
     xy += c * d.x() * d.y(), xz += c * d.x() * d.z(), yz += c * d.y() * d.z();
   }
   void add_diagonal(double c) { xx += c, yy += c, zz += c; }
+  void add(const Eigen::Matrix3d& m) {
+    xx += m(0, 0), yy += m(1, 1), zz += m(2, 2), xy += m(0, 1), xz += m(0, 2), yz += m(1, 2);
+  }
   // H^-1 b by the adjugate (H is positive definite: a_i I plus PSD terms).
   Vec3 solve(const Vec3& b) const {
     const double cxx = yy * zz - yz * yz, cxy = xz * yz - xy * zz, cxz = xy * yz - xz * yy;
@@ -85,6 +90,33 @@ void vertex_system(const StepProblem& p, const VbdGraph& g, const Eigen::Matrix3
     H.add_outer((stiffness - transverse) / l2, d);
     H.add_diagonal(transverse);
   }
+}
+
+// Vertex i's barrier pairs into its system: gradient (its own side of each pair) and Hessian.
+void add_vertex_barrier(const VbdBarrier& b, const Eigen::Matrix3Xd& y, int i, Vec3& f, Sym3& H) {
+  const Model& model = *b.model;
+  const BarrierParams params = barrier_params(model);
+  for_each_barrier_pair_of(model, *b.inv_mass, i, [&](const BarrierPair& pair) {
+    const StepPairTerms t = step_pair_terms(model, params, pair, *b.start_x, y, b.h);
+    if (!t.active) return;
+    f += pair.a == i ? t.gradient : Vec3(-t.gradient);
+    H.add(t.hessian);
+  });
+}
+
+// The largest fraction of vertex i's step that keeps each of its pairs at kVbdBarrierKeep of
+// its distance.
+double vertex_step_bound(const VbdBarrier& b, const Eigen::Matrix3Xd& y, int i, const Vec3& step) {
+  const Model& model = *b.model;
+  double alpha = 1.0;
+  for_each_barrier_pair_of(model, *b.inv_mass, i, [&](const BarrierPair& pair) {
+    const Vec3 move = pair.a == i ? step : Vec3(-step);
+    if (pair.b < 0)
+      alpha = std::min(alpha, plane_step_bound(y(1, pair.a) - model.ground.height - pair.r, move.y(), kVbdBarrierKeep));
+    else
+      alpha = std::min(alpha, sphere_step_bound(y.col(pair.a) - y.col(pair.b), move, pair.r, kVbdBarrierKeep));
+  });
+  return alpha;
 }
 
 bool inside_a_reach(const Colliders& c, const Vec3& y) {
@@ -130,16 +162,18 @@ void vbd_hold(const Colliders& colliders, const Vec3& from, const double H[6], V
 }
 
 void vbd_sweep(const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y, std::vector<VbdContact>& contacts,
-               int first_body) {
-  const bool colliders = p.colliders.ground || !p.colliders.centre.empty();
+               int first_body, const VbdBarrier* barrier) {
+  const bool colliders = !barrier && (p.colliders.ground || !p.colliders.centre.empty());
   Vec3 f;
   Sym3 H;
   for (const std::vector<std::int32_t>& colour : g.colours)
     for (std::int32_t i : colour) {
       if (i < first_body || p.weight[i] == 0.0) continue;
       vertex_system(p, g, y, i, f, H);
-      const Vec3 step = H.solve(-f);
+      if (barrier) add_vertex_barrier(*barrier, y, i, f, H);
+      Vec3 step = H.solve(-f);
       if (!step.allFinite()) continue;
+      if (barrier) step *= vertex_step_bound(*barrier, y, i, step);
       Vec3 yi = y.col(i) + step;
       const double entries[6] = {H.xx, H.yy, H.zz, H.xy, H.xz, H.yz};
       if (colliders && i < static_cast<std::int32_t>(contacts.size())) vbd_hold(p.colliders, p.start.col(i), entries, yi, contacts[i]);

@@ -47,9 +47,23 @@ struct VbdContact {
 // H: the vertex's Hessian as xx, yy, zz, xy, xz, yz.
 void vbd_hold(const Colliders& colliders, const Vec3& from, const double H[6], Vec3& y, VbdContact& c);
 
+// The barrier contact model in VBD (collision.model: barrier), as Chen et al. 2024 take IPC's
+// barrier: each vertex's 3x3 Newton system gains its pairs' barrier and lagged friction
+// (contact/barrier_contacts.h, step_pair_terms: gradient, Hessian projected to PSD), and its
+// step is filtered so that every pair keeps at least a tenth of its distance (the closed-form
+// bounds of barrier_kernels.h, the paper's conservative step bound): no distance reaches zero.
+struct VbdBarrier {
+  const Model* model = nullptr;
+  const Eigen::Matrix3Xd* start_x = nullptr;  // (3 x B) x_n, where friction is lagged
+  const Eigen::VectorXd* inv_mass = nullptr;  // (B)
+  double h = 0.0;
+};
+constexpr double kVbdBarrierKeep = 0.1;
+
 // One sweep: every movable vertex from first_body on, colour by colour, takes its 3x3 Newton
-// step; `contacts` (B) holds their contacts through the step.
+// step; `contacts` (B) holds their contacts through the step (held planes; unused with a
+// barrier, which replaces them).
 void vbd_sweep(const StepProblem& p, const VbdGraph& g, Eigen::Matrix3Xd& y, std::vector<VbdContact>& contacts,
-               int first_body = 0);
+               int first_body = 0, const VbdBarrier* barrier = nullptr);
 
 }  // namespace clothsim
