@@ -177,8 +177,11 @@ PictureLook resolve_look(const CompareOptions& o, const ComparePlan& p) {
 }
 
 void check_paths(const CompareOptions& o, const ComparePlan& p) {
-  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.video, "--video"}, {o.sheet, "--sheet"},
-                        {o.still_out, "-o/--output"}, {o.summary, "--summary"}, {o.frames_dir, "--frames", true}});
+  std::vector<PathRole> outputs{{o.video, "--video"}, {o.sheet, "--sheet"}, {o.still_out, "-o/--output"},
+                                {o.summary, "--summary"}, {o.frames_dir, "--frames", true}};
+  for (PathRole& r : export_roles(o.export_path, p.lane_dirs, static_cast<int>(p.scene.spheres.size())))
+    outputs.push_back(std::move(r));
+  refuse_clashing_paths({{o.scene.path, "the scene"}}, outputs);
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
   if (!o.sheet.empty()) require_writable_parent(o.sheet, "--sheet");
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
@@ -455,25 +458,6 @@ std::unique_ptr<Renderer> make_checked_renderer(const CompareOptions& o, const C
 }
 
 // The time breakdown on stderr: where the wall time went.
-void print_breakdown(const ComparePlan& p, const PipelineReport& report, double wall) {
-  double sim_cpu = 0.0;
-  for (const LaneResult& r : report.lanes) sim_cpu += r.totals.cpu_seconds;
-  if (report.reference) sim_cpu += report.reference->totals.cpu_seconds;
-  std::string outputs;
-  for (const auto& [what, seconds] : report.output_seconds) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, ", %s %.1f s", what.c_str(), seconds);
-    outputs += buf;
-  }
-  const TileGrid& grid = *p.grid;
-  std::fprintf(stderr,
-               "compare: %ld time%s, %dx%d (%zu tiles of %dx%d), in %.1f s wall: simulate %.1f s cpu "
-               "on %zu threads (the renderer waited %.1f s), render %.1f s%s\n",
-               report.targets, report.targets == 1 ? "" : "s", grid.width() + p.legend_width, grid.height(), p.lanes.size(),
-               grid.cell_width(), grid.cell_height(), wall, sim_cpu, p.lanes.size() + (report.reference ? 1 : 0),
-               report.wait_seconds, report.render_seconds, outputs.c_str());
-}
-
 // 4. The table, the warnings, the JSON and the breakdown.
 void report_compare(const CompareOptions& o, const ComparePlan& p, const PipelineReport& report, FieldKind color,
                     Clock::time_point wall_start) {
@@ -495,7 +479,8 @@ void report_compare(const CompareOptions& o, const ComparePlan& p, const Pipelin
       extra.number("color_range_lo", report.color_range->lo).number("color_range_hi", report.color_range->hi);
     write_summary(o.summary, "compare", p.scene.source, summary_lanes(*p.model, report, color, p.context), extra);
   }
-  if (!quiet()) print_breakdown(p, report, std::chrono::duration<double>(Clock::now() - wall_start).count());
+  if (!quiet())
+    print_breakdown(*p.grid, p.legend_width, report, std::chrono::duration<double>(Clock::now() - wall_start).count());
 }
 
 // --shard: the plan of the whole comparison, narrowed to this part's lanes (compare_shard.h).

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "core/work_units.h"
+#include "video/tiling.h"
 
 namespace clothsim::cli {
 
@@ -163,6 +164,24 @@ std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& 
   }
   if (report.reference) lanes.push_back(lane_summary(model, *report.reference, "reference"));
   return lanes;
+}
+
+void print_breakdown(const TileGrid& grid, int legend_width, const PipelineReport& report, double wall) {
+  double sim_cpu = 0.0;
+  for (const LaneResult& r : report.lanes) sim_cpu += r.totals.cpu_seconds;
+  if (report.reference) sim_cpu += report.reference->totals.cpu_seconds;
+  std::string outputs;
+  for (const auto& [what, seconds] : report.output_seconds) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, ", %s %.1f s", what.c_str(), seconds);
+    outputs += buf;
+  }
+  std::fprintf(stderr,
+               "compare: %ld time%s, %dx%d (%zu tiles of %dx%d), in %.1f s wall: simulate %.1f s cpu "
+               "on %zu threads (the renderer waited %.1f s), render %.1f s%s\n",
+               report.targets, report.targets == 1 ? "" : "s", grid.width() + legend_width, grid.height(), report.lanes.size(),
+               grid.cell_width(), grid.cell_height(), wall, sim_cpu, report.lanes.size() + (report.reference ? 1 : 0),
+               report.wait_seconds, report.render_seconds, outputs.c_str());
 }
 
 }  // namespace clothsim::cli

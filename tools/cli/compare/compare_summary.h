@@ -12,6 +12,10 @@
 #include "cli/frames/frame_pipeline.h"
 #include "core/model.h"
 
+namespace clothsim {
+class TileGrid;
+}
+
 namespace clothsim::cli {
 
 // What the summary shows beside the pipeline's report.
@@ -24,6 +28,9 @@ struct SummaryContext {
 std::string lane_result(const LaneResult& r, const std::string& wrong);
 
 void print_summary(const Model& model, const PipelineReport& report, FieldKind color, const SummaryContext& context);
+
+// stderr's last line: where the wall time went (simulate, render, each output).
+void print_breakdown(const TileGrid& grid, int legend_width, const PipelineReport& report, double wall);
 
 // --summary's lanes: the pipeline's report as JSON objects (docs/summary.md), the reference last.
 std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& report, FieldKind color,

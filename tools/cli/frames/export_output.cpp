@@ -54,6 +54,23 @@ void add_export_option(CLI::App* sub, std::string& path) {
       ->type_name("PATH");
 }
 
+std::vector<PathRole> export_roles(const std::string& path, const std::vector<std::string>& lanes, int spheres) {
+  std::vector<PathRole> roles;
+  std::vector<ExportPath> paths;
+  try {
+    paths = export_paths(path, lanes);
+  } catch (const UsageError&) {
+    return roles;
+  } catch (const ExportError&) {
+    return roles;
+  }
+  for (const ExportPath& p : paths) {
+    for (const std::string& file : p.final_files(spheres)) roles.push_back({file, "--export"});
+    if (p.format == ExportFormat::Obj || p.format == ExportFormat::Ply) roles.push_back({p.dir, "--export", true});
+  }
+  return roles;
+}
+
 std::vector<ExportPath> export_paths(const std::string& path, const std::vector<std::string>& lanes) {
   if (path.empty()) return {};
   ExportPath given;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "frame_pipeline.h"
+#include "cli/common/cli_common.h"
 #include "core/model.h"
 #include "export/export_path.h"
 
@@ -24,6 +25,11 @@ void add_export_option(CLI::App* sub, std::string& path);
 // NAME.LANE.obj); NAME.pvd to NAME.LANE.pvd (over NAME.LANE/). run: one lane, `lanes` empty,
 // the path as given.
 std::vector<ExportPath> export_paths(const std::string& path, const std::vector<std::string>& lanes);
+
+// What export_paths(path, lanes) writes, for refuse_clashing_paths: the files named at the end
+// (PC2 and its rest meshes, the PVD index) and each sequence's directory, which claims its
+// frame_* files. Empty for a malformed path (checked_export_paths refuses it).
+std::vector<PathRole> export_roles(const std::string& path, const std::vector<std::string>& lanes, int spheres);
 
 // export_paths(path, lanes), checked before any work: the path's form (UsageError), every file
 // named at the end writable (require_writable_parent: -n refuses one that exists), the

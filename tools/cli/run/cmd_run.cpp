@@ -66,10 +66,12 @@ void check_run_usage(const RunOptions& o, const SceneDef& scene) {
 
 // Every output is checked before any work, so a typo fails in milliseconds.
 // With -n, an output that exists already is refused here too (exit 2), untouched.
-void check_run_outputs(const RunOptions& o) {
-  refuse_clashing_paths({{o.scene.path, "the scene"}},
-                        {{o.metrics, "--metrics"}, {o.state, "--state"}, {o.video, "--video"},
-                         {o.still_out, "-o/--output"}, {o.summary, "--summary"}, {o.frames_dir, "--frames", true}});
+void check_run_outputs(const RunOptions& o, int spheres) {
+  std::vector<PathRole> outputs{{o.metrics, "--metrics"},      {o.state, "--state"},
+                                {o.video, "--video"},          {o.still_out, "-o/--output"},
+                                {o.summary, "--summary"},      {o.frames_dir, "--frames", true}};
+  for (PathRole& r : export_roles(o.export_path, {}, spheres)) outputs.push_back(std::move(r));
+  refuse_clashing_paths({{o.scene.path, "the scene"}}, outputs);
   if (!o.metrics.empty()) require_writable_parent(o.metrics, "--metrics");
   if (!o.state.empty()) require_writable_parent(o.state, "--state");
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
@@ -173,7 +175,7 @@ int run_command(const RunOptions& o) {
       throw UsageError("--reference (" + look.reference->spelling() +
                        ", for --color error): " + too_long);
   }
-  check_run_outputs(o);
+  check_run_outputs(o, static_cast<int>(scene.spheres.size()));
   const std::vector<ExportPath> exports = checked_export_paths(o.export_path, {}, static_cast<int>(scene.spheres.size()));
 
   const double fps = scene.render.fps;
