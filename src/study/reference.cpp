@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <boost/numeric/odeint.hpp>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -159,6 +160,24 @@ RunTotals AdaptiveReference::totals() const {
   totals.force_evals = tight_.force_evals() + loose_.force_evals();
   totals.cpu_seconds = totals.sim_seconds = cpu_seconds_;
   return totals;
+}
+
+StudyRun adaptive_run_to(const Model& model, double tolerance, double T, const std::function<bool()>& stop) {
+  AdaptiveSolve solve(model, tolerance);
+  if (stop) solve.set_stop_check(stop);
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = thread_cpu_seconds();
+  solve.advance_to(T);
+  StudyRun run;
+  run.totals.cpu_seconds = thread_cpu_seconds() - cpu_start;
+  run.totals.sim_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.totals.steps = solve.steps();
+  run.totals.force_evals = solve.force_evals();
+  run.stopped = solve.stopped();
+  run.divergence = solve.divergence();
+  run.finished = !run.stopped && !run.divergence;
+  run.final_state = solve.state();
+  return run;
 }
 
 double largest_particle_distance(const Model& model, const State& a, const State& b) {

@@ -29,6 +29,7 @@
 #include "core/model.h"
 #include "core/simulation.h"
 #include "core/state.h"
+#include "study_run.h"
 
 namespace clothsim::analysis {
 
@@ -95,6 +96,10 @@ class AdaptiveReference {
   AdaptiveSolve tight_, loose_;
   double estimated_error_ = 0.0, last_change_ = 0.0, cpu_seconds_ = 0.0;
 };
+
+// One adaptive solve to time T as a study's run (study_run.h): finished, stopped or diverged,
+// its steps, force evaluations and CPU time, and its state at T.
+StudyRun adaptive_run_to(const Model& model, double tolerance, double T, const std::function<bool()>& stop = {});
 
 // Largest distance (m) between the free cloth particles of two states (inv_mass > 0 in `b`).
 double largest_particle_distance(const Model& model, const State& a, const State& b);
