@@ -70,6 +70,7 @@
 #include "scene/param_keys.h"
 #include "scene/run_bounds.h"
 #include "scene/scene_parser.h"
+#include "study/reference.h"
 #include "video/tiling.h"
 #include "video/video_writer.h"
 #include "core/integrators/integrator_kind.h"
@@ -289,7 +290,7 @@ void plan_targets(const CompareOptions& o, ComparePlan& p, const PictureLook& lo
 // ones). It runs ahead until the pipeline gives it the lanes' steps; keep_early_reference
 // drops it should matching change it after all. Not under --match error (another reference).
 void start_reference_early(const CompareOptions& o, ComparePlan& p, PictureLook look) {
-  if (!starts_reference_early(o, look)) return;
+  if (!starts_reference_early(o, look) || (look.reference_is_default && analysis::smooth_scene(*p.model))) return;
   try {
     fit_reference_to_model(look, *p.model, p.scene, p.lanes);
   } catch (const UsageError&) {
@@ -393,6 +394,12 @@ void plan_compare(const CompareOptions& o, ComparePlan& p) {
   keep_early_reference(p);
 }
 
+// The default reference of a smooth scene is the adaptive solve (study/reference.h), which
+// cannot run ahead of the steps (start_reference_early) but costs a fraction of RK4's.
+bool adaptive_reference(const ComparePlan& p) {
+  return p.look.reference && p.look.reference_is_default && analysis::smooth_scene(*p.model);
+}
+
 PipelineConfig pipeline_config(const ComparePlan& p) {
   PipelineConfig config;
   config.rendering = p.rendering;
@@ -404,6 +411,7 @@ PipelineConfig pipeline_config(const ComparePlan& p) {
   config.command = "compare";
   apply_look(p.look, config);
   if (p.look.inset_energy) config.energy_reference = p.look.reference;  // E - E_ref (none under --vary)
+  if (adaptive_reference(p)) config.reference_tolerance = analysis::kReferenceTolerance;
   config.started_reference = p.early_reference;
   config.scene_render = p.scene.render;
   if (p.look.camera_auto)
@@ -488,6 +496,7 @@ void report_compare(const CompareOptions& o, const ComparePlan& p, const Pipelin
     extra.text("match", o.match.front() + (o.match.size() > 1 ? " " + o.match[1] : ""));
     if (report.color_range && p.rendering)  // (a summary alone draws nothing: no scale)
       extra.number("color_range_lo", report.color_range->lo).number("color_range_hi", report.color_range->hi);
+    if (color == FieldKind::Error && report.reference) extra.object("reference", summary_reference(report));
     write_summary(o.summary, "compare", p.scene.source, summary_lanes(*p.model, report, color, p.context), extra);
   }
   if (!quiet()) print_breakdown(p, report, std::chrono::duration<double>(Clock::now() - wall_start).count());

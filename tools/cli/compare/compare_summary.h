@@ -25,6 +25,15 @@ std::string lane_result(const LaneResult& r, const std::string& wrong);
 
 void print_summary(const Model& model, const PipelineReport& report, FieldKind color, const SummaryContext& context);
 
+// A lane's error is unresolved when its largest is under this times the reference's estimated
+// error (LaneResult::estimated_error): the reference cannot tell it, so no number is given.
+inline constexpr double kUnresolvedFactor = 10.0;
+bool lane_unresolved(const PipelineReport& report, std::size_t lane, FieldKind color);
+
+// --summary's "reference": its method, step or tolerance, and estimated_error_m (the largest
+// over the measured frames; null where not estimated).
+JsonObject summary_reference(const PipelineReport& report);
+
 // --summary's lanes: the pipeline's report as JSON objects (docs/summary.md), the reference last.
 std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& report, FieldKind color,
                                       const SummaryContext& context);

@@ -10,6 +10,7 @@
 #include "cli/compare/reference_stand.h"
 #include "lane_times.h"
 #include "core/diagnostics.h"
+#include "study/reference.h"
 #include "view/snapshot.h"
 
 namespace clothsim::cli {
@@ -124,10 +125,14 @@ LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
 // The reference lane's loop (LaneNeeds::stand_for): targets are added as the times they need
 // come due, the earliest needed time is served next, and a target's frame is handed over once
 // every lane's positions for it are known (reference_stand.h).
-void LaneWorker::serve_reference(Run& run) {
+void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
   ReferenceHistory history(model_, spec_.kind, run.dt());
   if (!run_ahead(run, history)) return finish_reference(run, history);
   ReferenceStand stand(model_, run, lane_steps_, targets_.last_time(), &history);
+  if (exact) stand.serve_exactly(*exact);
+  // What the reference ran (the adaptive solve in place of the run when there is one).
+  const auto totals = [&] { return exact ? exact->totals() : run.totals(); };
+  const auto at_step = [&] { return exact ? exact->state().step : run.state().step; };
   if (needs_.energy_every > 0.0) stand.sample_energy(needs_.energy_every);  // the inset's reference too
   int applied = 0;  // drops_ passed on to the stand
   const auto apply_drops = [&] {
@@ -142,19 +147,23 @@ void LaneWorker::serve_reference(Run& run) {
   // Between any two steps: stopped, or no live lane can need a time from here on (every time
   // a live lane needs is at or before the horizon, and the run only goes forward).
   const auto asked_to_stop = [this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); };
-  run.set_stop_check([&] {
+  const auto stop_check = [&] {
     if (asked_to_stop()) return true;
     apply_drops();
-    return run.state().t >= stand.horizon();
-  });
+    return (exact ? exact->state().t : run.state().t) >= stand.horizon();
+  };
+  run.set_stop_check(stop_check);
+  if (exact) exact->set_stop_check(stop_check);
+  const auto stopped = [&] { return exact ? exact->stopped() : run.stopped(); };
   TargetPlan::Cursor cursor(targets_);
   Target next;
   bool more = cursor.next(next);
   const auto hand_over = [&] {  // the oldest target, with what is known of it
     LaneFrame f;
     f.t = stand.pop(f.x_for, &f.energy).t;
-    f.step = run.state().step;
-    f.totals = run.totals();
+    f.step = at_step();
+    f.totals = totals();
+    if (exact) f.reference_error = exact->estimated_error();
     push(std::move(f));
   };
   for (;;) {
@@ -174,8 +183,8 @@ void LaneWorker::serve_reference(Run& run) {
     }
     if (stand.empty()) break;  // every target served
     if (!stand.serve_next()) {
-      if (run.stopped() && asked_to_stop()) break;
-      if (run.stopped()) {
+      if (stopped() && asked_to_stop()) break;
+      if (stopped()) {
         // Past the horizon: what every live lane needs was served (the targets still to add
         // would need later times), so the targets waiting go out, the dropped lanes' positions
         // missing, and the rest with none.
@@ -190,16 +199,25 @@ void LaneWorker::serve_reference(Run& run) {
       // measured up to the blow-up even if one of a large step, needing a later time, was not).
       while (!stand.empty()) hand_over();
       LaneFrame frozen;  // a diverged reference measures nothing from here on
-      frozen.t = run.divergence()->t;
-      frozen.step = run.state().step;
-      frozen.totals = run.totals();
-      frozen.divergence = run.divergence();
+      const std::optional<Divergence> divergence = exact ? exact->divergence() : run.divergence();
+      frozen.t = divergence->t;
+      frozen.step = at_step();
+      frozen.totals = totals();
+      frozen.divergence = divergence;
       frozen.frozen = true;
       push(std::move(frozen));
       break;
     }
   }
   finish_reference(run, history);
+  if (exact) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    result_.t = exact->state().t;
+    result_.totals = exact->totals();
+    result_.divergence = exact->divergence();
+    result_.adaptive_tolerance = exact->tolerance();
+    result_.estimated_error = exact->estimated_error();
+  }
 }
 
 // Until the lanes' steps are known (LaneNeeds::stand_for_later): the run goes ahead target by
@@ -299,8 +317,14 @@ void LaneWorker::work() {
     run.set_stop_check([this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); });
     // CLOTHSIM_NEWTON_TRACE=1: implicit_euler's Newton trace on stderr (docs/integrators.md).
     if (std::getenv("CLOTHSIM_NEWTON_TRACE")) run.set_newton_trace([](const char* line) { std::fputs(line, stderr); });
-    if (!reference_) run_targets(run);
-    else serve_reference(run);
+    if (!reference_) {
+      run_targets(run);
+    } else if (needs_.adaptive_tolerance > 0.0) {
+      analysis::AdaptiveReference exact(model_, needs_.adaptive_tolerance);
+      serve_reference(run, &exact);
+    } else {
+      serve_reference(run);
+    }
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);
     error_ = std::current_exception();
