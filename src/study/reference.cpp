@@ -14,7 +14,9 @@ namespace clothsim::analysis {
 
 namespace odeint = boost::numeric::odeint;
 
-bool smooth_scene(const Model& model) { return model.num_spheres == 0 && !model.has_ground; }
+bool smooth_scene(const Model& model) {
+  return model.collision.model == ContactModel::Barrier || (model.num_spheres == 0 && !model.has_ground);
+}
 
 namespace {
 using Vector = std::vector<double>;  // y = (x, v): 3B positions, then 3B velocities

@@ -33,9 +33,10 @@
 
 namespace clothsim::analysis {
 
-// Whether the scene's equations of motion are one smooth ODE between its timeline's events: no
-// contact resolved by projection (no sphere, no ground). The one predicate that chooses the
-// adaptive reference over the fixed-step one.
+// Whether the scene's equations of motion are one smooth ODE between its timeline's events: its
+// contacts are the barrier's potential (collision.model: barrier), or it has none to resolve by
+// projection (no sphere, no ground). The one predicate that chooses the adaptive reference over
+// the fixed-step one.
 bool smooth_scene(const Model& model);
 
 // compare's reference tolerance (absolute and relative, per coordinate in m and m/s; the served

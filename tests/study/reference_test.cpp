@@ -67,9 +67,11 @@ TEST(AdaptiveReference, StopsExactlyAtAnEventAndRestartsFromIt) {
   EXPECT_EQ(solve.state().v.col(1).norm(), 0.0);
 }
 
-TEST(AdaptiveReference, OnlySceneWithoutProjectedContactsAreSmooth) {
+TEST(AdaptiveReference, OnlyScenesWithoutProjectedContactsAreSmooth) {
   EXPECT_TRUE(smooth_scene(spring_model()));
   EXPECT_FALSE(smooth_scene(build_model(load_scene(scene_path("drape.yaml"), {}))));
+  EXPECT_TRUE(smooth_scene(build_model(load_scene(scene_path("drape_smooth.yaml"), {}))));
+  EXPECT_TRUE(smooth_scene(build_model(load_scene(scene_path("drape.yaml"), {"collision.model=barrier"}))));
 }
 
 }  // namespace

@@ -320,21 +320,21 @@ void name_lanes(ComparePlan& p) {
 // --vary KEY=V1,V2,...: a scene per value (the user's --set, then the key's), and the lanes
 // repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
 void plan_variation(const CompareOptions& o, ComparePlan& p) {
-  const auto [key, values] = parse_vary(o.vary, p.scene);
+  const Variation vary = parse_vary(o.vary, p.scene);
   const std::vector<LaneSpec> rows =
       o.integrators_given ? p.lanes : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
-  for (double v : values) {
+  for (std::size_t v = 0; v < vary.size(); ++v) {
     SceneOptions with = o.scene;
-    for (const std::string& set : param_sets(key, v)) with.sets.push_back(set);
+    for (const std::string& set : vary.sets(v)) with.sets.push_back(set);
     p.vary_scenes.push_back(load_scene_with_options(with));  // a bad value: the parser's message names it
   }
   p.lanes.clear();
   p.lane_dirs.clear();
   const std::vector<std::string> row_dirs = lane_directories(rows);
   for (std::size_t r = 0; r < rows.size(); ++r)
-    for (double v : values) {
+    for (std::size_t v = 0; v < vary.size(); ++v) {
       p.lanes.push_back(rows[r]);
-      const std::string label = param_label(key, v);
+      const std::string label = vary.label(v);
       p.labels.push_back(rows.size() > 1 ? rows[r].name() + "  " + label : label);
       p.values.push_back(label);
       std::string dir = row_dirs[r] + "_" + label;

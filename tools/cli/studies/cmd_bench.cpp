@@ -319,11 +319,11 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
     throw UsageError("--vary: --summary and --shard take one scene's study; give --csv (and --plot) with --vary");
   const Variation v = parse_vary(o.vary, base);
   std::vector<ValueStudy> studies;
-  for (double value : v.values) {  // every scene read (a bad value named) before any run
+  for (std::size_t value = 0; value < v.size(); ++value) {  // every scene read (a bad value named) before any run
     ValueStudy s;
-    s.label = param_label(v.key, value);
+    s.label = v.label(value);
     std::vector<std::string> sets = o.scene.sets;
-    for (const std::string& set : param_sets(v.key, value)) sets.push_back(set);
+    for (const std::string& set : v.sets(value)) sets.push_back(set);
     s.scene = load_scene(o.scene.path, sets);
     for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
     s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
