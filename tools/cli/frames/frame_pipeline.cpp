@@ -379,7 +379,7 @@ struct FramePipeline::Impl {
         // Every error drawn comes with the reference's own (study/reference.h), so far.
         if (config.color == FieldKind::Error && !field.empty() && reference_frame && reference_frame->reference_error > 0.0) {
           char line[96];
-          std::snprintf(line, sizeof line, "reference error <= %.1g m", reference_frame->reference_error);
+          std::snprintf(line, sizeof line, "reference error <= %.2g m", reference_frame->reference_error);
           rf.overlay_lines.emplace_back(line);
         }
       }
