@@ -151,6 +151,7 @@ bool AdaptiveReference::advance_to(double t) {
   const bool ok = tight_.advance_to(t) && !tight_.stopped() && loose_.advance_to(t) && !loose_.stopped();
   cpu_seconds_ += thread_cpu_seconds() - cpu_start;
   if (!ok) return !diverged();
+  time_ = t;
   last_change_ = largest_particle_distance(model_, loose_.state(), tight_.state());
   estimated_error_ = std::max(estimated_error_, last_change_);
   return true;

@@ -85,6 +85,9 @@ class AdaptiveReference {
     return tight_.divergence() ? tight_.divergence() : loose_.divergence();
   }
   const State& state() const { return tight_.state(); }
+  // s, the last time both solves reached (a stop check polled inside an advance reads this,
+  // not the tighter's time, which is ahead of the looser's until the advance ends).
+  double time() const { return time_; }
   // m, the largest particle distance between the two solves over every time advanced to.
   double estimated_error() const { return estimated_error_; }
   // m, that distance at the last time advanced to.
@@ -98,7 +101,7 @@ class AdaptiveReference {
   const Model& model_;
   double tolerance_;
   AdaptiveSolve tight_, loose_;
-  double estimated_error_ = 0.0, last_change_ = 0.0, cpu_seconds_ = 0.0;
+  double estimated_error_ = 0.0, last_change_ = 0.0, cpu_seconds_ = 0.0, time_ = 0.0;
 };
 
 // One adaptive solve to time T as a study's run (study_run.h): finished, stopped or diverged,

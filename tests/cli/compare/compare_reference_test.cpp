@@ -44,7 +44,7 @@ TEST(CompareReference, OnASmoothSceneTheReferenceIsAdaptiveAndStatesItsEstimated
   const double estimate = std::stod(reference.substr(reference.find(':', reference.find("estimated_error_m")) + 1));
   EXPECT_GT(estimate, 0.0) << reference;
   EXPECT_LT(estimate, 1e-7) << "far below any lane's error" << reference;
-  EXPECT_NE(object_at(json, "\"lane\": \"midpoint@0.0002\"").find("\"unresolved\": false"), std::string::npos) << json;
+  EXPECT_NE(object_at(json, "\"lane\": \"midpoint@2e-4\"").find("\"unresolved\": false"), std::string::npos) << json;
 }
 
 TEST(CompareReference, ALaneUnderTenTimesTheReferencesErrorIsUnresolvedNotANumber) {
@@ -58,8 +58,8 @@ TEST(CompareReference, ALaneUnderTenTimesTheReferencesErrorIsUnresolvedNotANumbe
   EXPECT_NE(text.find("unresolved: under 10 x the reference's estimated error"), std::string::npos) << text;
   EXPECT_EQ(text.find("largest"), std::string::npos) << "no number for it: " << text;
   const std::string json = ct::slurp(dir + "/s.json");
-  EXPECT_NE(object_at(json, "\"lane\": \"rk4@1e-05\"").find("\"unresolved\": true"), std::string::npos) << json;
-  EXPECT_NE(object_at(json, "\"lane\": \"symplectic_euler@0.0001\"").find("\"unresolved\": false"), std::string::npos)
+  EXPECT_NE(object_at(json, "\"lane\": \"rk4@1e-5\"").find("\"unresolved\": true"), std::string::npos) << json;
+  EXPECT_NE(object_at(json, "\"lane\": \"symplectic_euler@1e-4\"").find("\"unresolved\": false"), std::string::npos)
       << json;
 }
 

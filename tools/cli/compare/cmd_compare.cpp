@@ -394,12 +394,6 @@ void plan_compare(const CompareOptions& o, ComparePlan& p) {
   keep_early_reference(p);
 }
 
-// The default reference of a smooth scene is the adaptive solve (study/reference.h), which
-// cannot run ahead of the steps (start_reference_early) but costs a fraction of RK4's.
-bool adaptive_reference(const ComparePlan& p) {
-  return p.look.reference && p.look.reference_is_default && analysis::smooth_scene(*p.model);
-}
-
 PipelineConfig pipeline_config(const ComparePlan& p) {
   PipelineConfig config;
   config.rendering = p.rendering;
@@ -411,7 +405,6 @@ PipelineConfig pipeline_config(const ComparePlan& p) {
   config.command = "compare";
   apply_look(p.look, config);
   if (p.look.inset_energy) config.energy_reference = p.look.reference;  // E - E_ref (none under --vary)
-  if (adaptive_reference(p)) config.reference_tolerance = analysis::kReferenceTolerance;
   config.started_reference = p.early_reference;
   config.scene_render = p.scene.render;
   if (p.look.camera_auto)

@@ -145,7 +145,7 @@ long ReferenceStand::waiting_bound(const std::vector<double>& lane_steps, const 
 }
 
 const ReferenceStand::Sample* ReferenceStand::reach_exactly(double t, std::int64_t k) {
-  if (last_.t == t && last_.step == k) return &last_;
+  if (!last_.x.empty() && last_.t == t && last_.step == k) return &last_;  // (not the empty one before any)
   if (!exact_->advance_to(t) || exact_->stopped()) return nullptr;
   keep_sample(exact_->state());
   last_.step = k;  // (the grid's step, for the energy samples that share it)

@@ -379,7 +379,9 @@ struct FramePipeline::Impl {
         // Every error drawn comes with the reference's own (study/reference.h), so far.
         if (config.color == FieldKind::Error && !field.empty() && reference_frame && reference_frame->reference_error > 0.0) {
           char line[96];
-          std::snprintf(line, sizeof line, "reference error <= %.2g m", reference_frame->reference_error);
+          const double e = reference_frame->reference_error;  // rounded up to two digits: "<=" holds
+          const double unit = std::pow(10.0, std::floor(std::log10(e)) - 1.0);
+          std::snprintf(line, sizeof line, "reference error <= %.2g m", std::ceil(e / unit) * unit);
           rf.overlay_lines.emplace_back(line);
         }
       }

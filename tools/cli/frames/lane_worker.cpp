@@ -122,6 +122,23 @@ LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
   return f;
 }
 
+namespace {
+// What the reference runs: the run, or the adaptive solve in its place (LaneNeeds::adaptive_tolerance).
+struct ReferenceSource {
+  Run& run;
+  analysis::AdaptiveReference* exact;
+  RunTotals totals() const { return exact ? exact->totals() : run.totals(); }
+  std::int64_t step() const { return exact ? exact->state().step : run.state().step; }
+  double t() const { return exact ? exact->time() : run.state().t; }
+  bool stopped() const { return exact ? exact->stopped() : run.stopped(); }
+  std::optional<Divergence> divergence() const { return exact ? exact->divergence() : run.divergence(); }
+  void set_stop_check(const std::function<bool()>& stop) const {
+    run.set_stop_check(stop);
+    if (exact) exact->set_stop_check(stop);
+  }
+};
+}  // namespace
+
 // The reference lane's loop (LaneNeeds::stand_for): targets are added as the times they need
 // come due, the earliest needed time is served next, and a target's frame is handed over once
 // every lane's positions for it are known (reference_stand.h).
@@ -130,9 +147,7 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
   if (!run_ahead(run, history)) return finish_reference(run, history);
   ReferenceStand stand(model_, run, lane_steps_, targets_.last_time(), &history);
   if (exact) stand.serve_exactly(*exact);
-  // What the reference ran (the adaptive solve in place of the run when there is one).
-  const auto totals = [&] { return exact ? exact->totals() : run.totals(); };
-  const auto at_step = [&] { return exact ? exact->state().step : run.state().step; };
+  const ReferenceSource source{run, exact};
   if (needs_.energy_every > 0.0) stand.sample_energy(needs_.energy_every);  // the inset's reference too
   int applied = 0;  // drops_ passed on to the stand
   const auto apply_drops = [&] {
@@ -147,23 +162,20 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
   // Between any two steps: stopped, or no live lane can need a time from here on (every time
   // a live lane needs is at or before the horizon, and the run only goes forward).
   const auto asked_to_stop = [this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); };
-  const auto stop_check = [&] {
+  source.set_stop_check([&] {
     if (asked_to_stop()) return true;
     apply_drops();
-    return (exact ? exact->state().t : run.state().t) >= stand.horizon();
-  };
-  run.set_stop_check(stop_check);
-  if (exact) exact->set_stop_check(stop_check);
-  const auto stopped = [&] { return exact ? exact->stopped() : run.stopped(); };
+    return source.t() >= stand.horizon();
+  });
   TargetPlan::Cursor cursor(targets_);
   Target next;
   bool more = cursor.next(next);
   const auto hand_over = [&] {  // the oldest target, with what is known of it
     LaneFrame f;
     f.t = stand.pop(f.x_for, &f.energy).t;
-    f.step = at_step();
-    f.totals = totals();
-    if (exact) f.reference_error = exact->estimated_error();
+    f.step = source.step();
+    f.totals = source.totals();
+    f.reference_error = exact ? exact->estimated_error() : 0.0;
     push(std::move(f));
   };
   for (;;) {
@@ -183,8 +195,8 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
     }
     if (stand.empty()) break;  // every target served
     if (!stand.serve_next()) {
-      if (stopped() && asked_to_stop()) break;
-      if (stopped()) {
+      if (source.stopped() && asked_to_stop()) break;
+      if (source.stopped()) {
         // Past the horizon: what every live lane needs was served (the targets still to add
         // would need later times), so the targets waiting go out, the dropped lanes' positions
         // missing, and the rest with none.
@@ -199,25 +211,16 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
       // measured up to the blow-up even if one of a large step, needing a later time, was not).
       while (!stand.empty()) hand_over();
       LaneFrame frozen;  // a diverged reference measures nothing from here on
-      const std::optional<Divergence> divergence = exact ? exact->divergence() : run.divergence();
-      frozen.t = divergence->t;
-      frozen.step = at_step();
-      frozen.totals = totals();
-      frozen.divergence = divergence;
+      frozen.divergence = source.divergence();
+      frozen.t = frozen.divergence->t;
+      frozen.step = source.step();
+      frozen.totals = source.totals();
       frozen.frozen = true;
       push(std::move(frozen));
       break;
     }
   }
-  finish_reference(run, history);
-  if (exact) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    result_.t = exact->state().t;
-    result_.totals = exact->totals();
-    result_.divergence = exact->divergence();
-    result_.adaptive_tolerance = exact->tolerance();
-    result_.estimated_error = exact->estimated_error();
-  }
+  finish_reference(run, history, exact);
 }
 
 // Until the lanes' steps are known (LaneNeeds::stand_for_later): the run goes ahead target by
@@ -244,8 +247,17 @@ bool LaneWorker::run_ahead(Run& run, ReferenceHistory& history) {
   }
 }
 
-void LaneWorker::finish_reference(const Run& run, const ReferenceHistory& history) {
+void LaneWorker::finish_reference(const Run& run, const ReferenceHistory& history,
+                                  const analysis::AdaptiveReference* exact) {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (exact) {  // it ran in place of the run
+    result_.t = exact->state().t;
+    result_.totals = exact->totals();
+    result_.divergence = exact->divergence();
+    result_.adaptive_tolerance = exact->tolerance();
+    result_.estimated_error = exact->estimated_error();
+    return;
+  }
   result_.t = run.state().t;  // as far as it ran (past the last target where a lane stands past it)
   result_.totals = run.totals();
   result_.totals.cpu_seconds += history.replay_cpu_seconds();  // what the early start cost

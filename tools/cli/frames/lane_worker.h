@@ -150,7 +150,8 @@ class LaneWorker {
   void run_targets(Run& run);
   void serve_reference(Run& run, analysis::AdaptiveReference* exact = nullptr);
   bool run_ahead(Run& run, ReferenceHistory& history);
-  void finish_reference(const Run& run, const ReferenceHistory& history);
+  void finish_reference(const Run& run, const ReferenceHistory& history,
+                        const analysis::AdaptiveReference* exact = nullptr);
   void set_lane_steps(std::vector<double> lane_steps);
   LaneFrame frame_of(const Run& run, const State& state) const;
 
