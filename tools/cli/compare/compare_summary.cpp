@@ -139,7 +139,7 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
       .number("max_strain", r.totals.max_strain)
       .number("projected_steps", static_cast<double>(r.totals.projected_steps))
       .number("spring_passes_per_s", t > 0 ? spring_passes(r.totals) / t : std::nan(""))
-      .text("lane", r.spec.spelling())
+      .text("lane", r.adaptive_tolerance > 0.0 ? std::string("dopri5 (adaptive)") : r.spec.spelling())
       .text("role", role);
 }
 
