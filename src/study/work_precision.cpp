@@ -6,6 +6,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "reference.h"
 #include "study_run.h"
 #include "task_pool.h"
 #include "core/integrators/integrator.h"
@@ -127,6 +128,7 @@ WorkPrecisionSpec checked(WorkPrecisionSpec spec) {
         throw StudyError("integrator " + lane_name(spec, i) + " is listed twice");
   if (spec.reference_refinement < 1) throw StudyError("the reference refinement must be >= 1");
   if (!(spec.reference_margin > 0.0)) throw StudyError("the reference margin must be > 0");
+  if (!(spec.reference_tolerance > 0.0)) throw StudyError("the reference tolerance must be > 0");
   // The finest run is the second reference, at half the smallest step over the refinement.
   const std::string too_long =
       run_bounds_problem(spec.duration, 0.5 * spec.dts.front() / spec.reference_refinement, 0.0);
@@ -158,7 +160,7 @@ double fitted_order(const std::vector<WorkPrecisionPoint>& points, Take take) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   int n = 0;
   for (const WorkPrecisionPoint& p : points) {
-    if (!take(p) || p.frame_step || !p.finished || !(p.rms_error > 0.0)) continue;
+    if (!take(p) || p.frame_step || !p.finished || p.unresolved || !(p.rms_error > 0.0)) continue;
     const double x = std::log(p.dt), y = std::log(p.rms_error);
     sx += x, sy += y, sxx += x * x, sxy += x * y;
     ++n;
@@ -218,7 +220,8 @@ StudyRuns run_tasks(const Model& model, const WorkPrecisionSpec& spec, const std
   parallel_for(tasks.size(), spec.jobs, [&](std::size_t i) {
     const Task& task = tasks[i];
     const Model& run_model = task.point >= 0 ? lane_model(spec, task.lane, model) : model;
-    StudyRun run = run_to(run_model, task.kind, task.dt, spec.duration, hooks.stop);
+    StudyRun run = task.point >= 0 ? run_to(run_model, task.kind, task.dt, spec.duration, hooks.stop)
+                                   : reference_run(model, spec, task.point == -2, hooks.stop);
     std::lock_guard<std::mutex> lock(mutex);
     if (run.stopped) return;  // incomplete: neither a result nor a divergence
     if (task.point == -1) runs.coarse = std::move(run);
@@ -241,11 +244,17 @@ void collect_points(const Model& model, const StudyRuns& runs, WorkPrecisionResu
       result.complete = false;
       continue;
     }
-    WorkPrecisionPoint p = measured_point(result.points[k], runs.points[k], model, fine.finished ? &fine.final_state : nullptr);
-    if (p.finished && fine.finished && !(ref.smallest_error <= p.rms_error)) ref.smallest_error = p.rms_error;
-    kept.push_back(std::move(p));
+    kept.push_back(measured_point(result.points[k], runs.points[k], model, fine.finished ? &fine.final_state : nullptr));
   }
   result.points = std::move(kept);
+}
+
+// The smallest error resolved (NaN when none).
+double smallest_resolved(const std::vector<WorkPrecisionPoint>& points) {
+  double smallest = kNaN;
+  for (const WorkPrecisionPoint& p : points)
+    if (p.finished && !p.unresolved && !(smallest <= p.rms_error)) smallest = p.rms_error;
+  return smallest;
 }
 
 // Whether a free particle of `s` lies within two contact margins of a sphere or the ground.
@@ -281,13 +290,21 @@ void judge_reference(const Model& model, const StudyRuns& runs, double h_fine, W
     ref.change_rms = change.rms;
     ref.change_max = change.max;
     ref.contact_at_end = cloth_touches(model, runs.fine.final_state);
-    // No finished point: nothing reported to compare with, so nothing the reference could spoil.
-    const bool resolves = std::isnan(ref.smallest_error) || ref.change_rms <= ref.margin * ref.smallest_error;
-    if (!resolves)
-      why << "the reference is not converged: halving its step (" << ref_name << " at " << 2 * h_fine
-          << " s -> " << h_fine << " s) moved the particles by " << ref.change_rms
-          << " m RMS, more than " << ref.margin << " x the smallest error reported ("
-          << ref.smallest_error << " m); use larger step sizes or a finer reference";
+    ref.unresolved = mark_unresolved(result.points, ref.change_rms, ref.margin);
+    ref.smallest_error = smallest_resolved(result.points);
+    // Points it cannot resolve fail it unless it is at round-off itself: then so are they, and
+    // no reference in double precision could do better.
+    if (ref.unresolved > 0 && ref.change_rms > kRoundOffError) {
+      why << "the reference is not converged: ";
+      if (ref.adaptive)
+        why << "tightening its tolerance (" << ref.tolerance << " -> " << ref.tolerance / kReferenceTightening << ")";
+      else
+        why << "halving its step (" << ref_name << " at " << 2 * h_fine << " s -> " << h_fine << " s)";
+      why << " moved the particles by " << ref.change_rms << " m RMS, more than " << ref.margin << " x the error of "
+          << ref.unresolved << " point" << (ref.unresolved == 1 ? "" : "s") << " (unresolved)"
+          << (ref.adaptive ? "; give a smaller --reference-tolerance or larger step sizes"
+                           : "; use larger step sizes or a finer reference");
+    }
   }
   ref.failure = why.str();
   ref.converged = ref.failure.empty();
@@ -306,13 +323,39 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
 
   ReferenceCheck& ref = result.reference;
   ref.integrator = spec.reference_integrator;
-  ref.dt = 0.5 * h_coarse;
+  ref.adaptive = uses_adaptive_reference(model, spec);
+  ref.tolerance = ref.adaptive ? spec.reference_tolerance : 0.0;
+  ref.dt = ref.adaptive ? 0.0 : 0.5 * h_coarse;
   ref.margin = spec.reference_margin;
   ref.finished = runs.coarse.finished && runs.fine.finished;
+  ref.steps = runs.coarse.totals.steps + runs.fine.totals.steps;
+  ref.force_evals = runs.coarse.totals.force_evals + runs.fine.totals.force_evals;
+  ref.cpu_seconds = runs.coarse.totals.cpu_seconds + runs.fine.totals.cpu_seconds;
   if (runs.fine.finished) result.reference_x = runs.fine.final_state.x.leftCols(model.num_particles);
   collect_points(model, runs, result);
-  judge_reference(model, runs, ref.dt, result);
+  judge_reference(model, runs, 0.5 * h_coarse, result);
   return result;
+}
+
+bool uses_adaptive_reference(const Model& model, const WorkPrecisionSpec& spec) {
+  return spec.adaptive_reference && smooth_scene(model);
+}
+
+StudyRun reference_run(const Model& model, const WorkPrecisionSpec& spec, bool finer, const std::function<bool()>& stop) {
+  if (uses_adaptive_reference(model, spec))
+    return adaptive_run_to(model, finer ? spec.reference_tolerance / kReferenceTightening : spec.reference_tolerance,
+                           spec.duration, stop);
+  const double h_coarse = spec.dts.front() / spec.reference_refinement;
+  return run_to(model, spec.reference_integrator, finer ? 0.5 * h_coarse : h_coarse, spec.duration, stop);
+}
+
+int mark_unresolved(std::vector<WorkPrecisionPoint>& points, double reference_error, double margin) {
+  int count = 0;
+  for (WorkPrecisionPoint& p : points) {
+    p.unresolved = p.finished && p.rms_error * margin < reference_error;
+    count += p.unresolved ? 1 : 0;
+  }
+  return count;
 }
 
 int nominal_order(IntegratorKind kind) { return integrator_info(kind).order; }

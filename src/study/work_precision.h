@@ -7,7 +7,11 @@
 // whose force-evaluation count leaves out its linear solves). A run that diverges stops
 // there and is kept as a marked point without an error.
 //
-// The reference. No closed form exists for a cloth, so the program computes one: RK4 (a
+// The reference. No closed form exists for a cloth, so the program computes one. On a smooth
+// scene (reference.h, smooth_scene: no contact resolved by projection) it is an adaptive
+// Dormand-Prince solve at a tolerance of reference_tolerance, and again at 100x tighter; the
+// difference between those two is the reference's estimated error, and errors are measured
+// against the tighter. On a scene with projected contacts it is RK4 (a
 // fourth-order method, the most accurate of the five) at h = smallest dt / 8, and again at
 // h / 2. The difference between those two is how far the reference itself may be from the
 // truth (for a smooth problem it is ~15/16 of the coarser one's error; a collision makes
@@ -16,12 +20,19 @@
 // asks for at most a tenth of the smallest RMS error, and a result that fails it says so
 // (the CLI then exits non-zero). Errors are measured against the finer run.
 //
+// A point whose RMS error is under 1 / reference_margin (10) times the reference's estimated
+// error is unresolved: the reference cannot tell its error, so no number is given, and the
+// order is fitted without it. Unresolved points fail the check only when the reference is
+// above round-off (kRoundOffError): an error at round-off (RK4 reaching 4e-14 m on a ball-less
+// cloth) is not a reference that failed.
+//
 // Every dt must divide T (T / dt a whole number within 1e-9): then every run, the
 // reference included, ends exactly at T, and no error is a comparison of two times.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -44,6 +55,8 @@ struct WorkPrecisionSpec {
                                   // frame: 1/240 .. 1/30 s), each > 0 and dividing duration
   double duration = 0.0;       // T, s
   IntegratorKind reference_integrator = kReferenceIntegrator;
+  bool adaptive_reference = true;  // on a smooth scene, the adaptive reference (reference.h)
+  double reference_tolerance = 1e-11;  // its tolerance (the second solve's is 100x tighter)
   int reference_refinement = 8;    // reference step = smallest dt / this (then halved once more)
   double reference_margin = 0.1;   // converged: halving's change <= margin x smallest error
   int jobs = 0;                    // threads; <= 0: hardware_concurrency
@@ -65,16 +78,26 @@ struct WorkPrecisionPoint {
   double wrong_at = 0.0;           // s, when first
   std::string wrong_reason;
   double wall_seconds = 0.0, cpu_seconds = 0.0;
+  bool unresolved = false;         // finished, but its error under 1 / margin x the reference's
   double rms_error = 0.0;          // m, RMS over free particles at T; NaN unless finished
   double max_error = 0.0;          // m, largest particle distance at T; NaN unless finished
 };
 
+// Below this (m), an error is at double precision's round-off for a scene of metres.
+inline constexpr double kRoundOffError = 1e-11;
+
 struct ReferenceCheck {
   IntegratorKind integrator = kReferenceIntegrator;
+  bool adaptive = false;           // the adaptive Dormand-Prince pair (then integrator and dt
+  double tolerance = 0.0;          // do not apply): at tolerance and tolerance / 100
   double dt = 0.0;                 // s, the finer reference step (errors are measured against it)
-  double change_rms = 0.0;         // m, RMS difference between the runs at 2 dt and dt
+  double change_rms = 0.0;         // m, RMS difference between the runs at 2 dt and dt (or the
+                                   // two tolerances): the reference's estimated error
   double change_max = 0.0;         // m, largest particle difference between them
-  double smallest_error = 0.0;     // m, smallest RMS error reported (NaN when no run finished)
+  std::int64_t steps = 0, force_evals = 0;  // both reference runs': what the reference cost
+  double cpu_seconds = 0.0;
+  double smallest_error = 0.0;     // m, smallest RMS error resolved (NaN when none)
+  int unresolved = 0;              // finished points under 1 / margin x change_rms
   double margin = 0.1;
   bool finished = false;           // both reference runs reached T
   bool converged = false;          // finished, and change_rms <= margin x smallest_error
@@ -109,6 +132,15 @@ WorkPrecisionPoint measured_point(WorkPrecisionPoint p, const StudyRun& run, con
 
 // Checks the spec (throws StudyError naming the problem) and returns it with dts sorted.
 WorkPrecisionSpec checked(WorkPrecisionSpec spec);
+
+// Whether the study's reference is the adaptive one on `model` (spec.adaptive_reference and a
+// smooth scene), and its run: `finer` the tighter (or the finer step's) of the two.
+bool uses_adaptive_reference(const Model& model, const WorkPrecisionSpec& spec);
+StudyRun reference_run(const Model& model, const WorkPrecisionSpec& spec, bool finer,
+                       const std::function<bool()>& stop = {});
+// Marks the finished points whose error the reference cannot resolve (WorkPrecisionPoint::
+// unresolved) and returns how many.
+int mark_unresolved(std::vector<WorkPrecisionPoint>& points, double reference_error, double margin);
 
 // Runs the study: the two reference runs and every (integrator, dt), spread over the cores.
 WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& spec,

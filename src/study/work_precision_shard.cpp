@@ -14,10 +14,10 @@ ShardReference run_reference(const Model& model, const WorkPrecisionSpec& spec_i
   const double h_coarse = spec.dts.front() / spec.reference_refinement;
   StudyRun runs[2];
   parallel_for(2, std::min(spec.jobs <= 0 ? 2 : spec.jobs, 2), [&](std::size_t i) {
-    runs[i] = run_to(model, spec.reference_integrator, i == 0 ? h_coarse : 0.5 * h_coarse, spec.duration, hooks.stop);
+    runs[i] = reference_run(model, spec, i == 1, hooks.stop);
   }, hooks.stop);
   ShardReference ref;
-  ref.dt = 0.5 * h_coarse;
+  ref.dt = uses_adaptive_reference(model, spec) ? 0.0 : 0.5 * h_coarse;
   ref.stopped = runs[0].stopped || runs[1].stopped || (hooks.stop && hooks.stop());
   ref.finished = runs[0].finished && runs[1].finished;
   ref.fine_finished = runs[1].finished;

@@ -65,9 +65,11 @@ TEST(WorkPrecision, TheOrderIsFittedOverTheCommonStepsOnly) {
   EXPECT_LT(convergence_order(points, IntegratorKind::ImplicitEuler), 0.9) << "what it would read with it";
 }
 
-TEST(WorkPrecision, ReferenceMatchesTheClosedFormOfTheDampedOscillator) {
+TEST(WorkPrecision, FixedStepReferenceMatchesTheClosedFormOfTheDampedOscillator) {
   const Model model = spring_model();
-  const WorkPrecisionResult r = work_precision(model, spring_spec({IntegratorKind::Rk4}));
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4});
+  spec.adaptive_reference = false;  // the reference of a scene with projected contacts
+  const WorkPrecisionResult r = work_precision(model, spec);
   ASSERT_EQ(r.reference_x.cols(), 2);
   // u'' + 2 u' + 100 u = 0, u(0) = 0.1, u'(0) = 0: zeta w0 = 1, wd = sqrt(99).
   const double wd = std::sqrt(99.0), t = 1.0;
@@ -76,6 +78,48 @@ TEST(WorkPrecision, ReferenceMatchesTheClosedFormOfTheDampedOscillator) {
   EXPECT_NEAR(length - 1.0, u, 1e-10);
   EXPECT_LT(r.reference.change_rms, 1e-12);
   EXPECT_DOUBLE_EQ(r.reference.dt, 0.00125 / 16);
+  EXPECT_FALSE(r.reference.adaptive);
+}
+
+TEST(WorkPrecision, ASmoothScenesReferenceIsAdaptiveAndMeetsTheClosedFormToItsEstimate) {
+  const Model model = spring_model();
+  const WorkPrecisionResult r = work_precision(model, spring_spec({IntegratorKind::Rk4}));
+  ASSERT_TRUE(r.reference.adaptive);
+  ASSERT_TRUE(r.reference.converged) << r.reference.failure;
+  const double wd = std::sqrt(99.0), t = 1.0;
+  const double u = 0.1 * std::exp(-t) * (std::cos(wd * t) + std::sin(wd * t) / wd);
+  const double length = (r.reference_x.col(1) - r.reference_x.col(0)).norm();
+  EXPECT_NEAR(length - 1.0, u, r.reference.change_max) << "within its own estimated error";
+  EXPECT_LT(r.reference.change_rms, kRoundOffError);
+  EXPECT_EQ(r.reference.dt, 0.0);
+}
+
+TEST(WorkPrecision, ErrorsUnderTenTimesTheReferencesAreUnresolvedAndLeftOutOfTheOrder) {
+  std::vector<WorkPrecisionPoint> points(3);
+  const double dts[] = {1e-3, 2e-3, 4e-3}, errors[] = {1e-9, 1e-6, 8e-6};
+  for (int i = 0; i < 3; ++i) {
+    points[i].integrator = IntegratorKind::Midpoint;
+    points[i].dt = dts[i];
+    points[i].rms_error = errors[i];
+    points[i].finished = true;
+  }
+  EXPECT_EQ(mark_unresolved(points, 1e-9, 0.1), 1);
+  EXPECT_TRUE(points[0].unresolved);
+  EXPECT_FALSE(points[1].unresolved);
+  EXPECT_NEAR(convergence_order(points, IntegratorKind::Midpoint), 3.0, 1e-9) << "from the two resolved points";
+}
+
+TEST(WorkPrecision, AnErrorAtRoundOffIsNotAFailedReference) {
+  // RK4 at w h = 1e-3 on the spring reaches round-off; so does a fixed-step RK4 reference 16x
+  // finer: the points it cannot resolve are unresolved, and the reference is still converged.
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4});
+  spec.dts = {1e-4, 2e-4};
+  spec.duration = 0.2;
+  spec.adaptive_reference = false;
+  const WorkPrecisionResult r = work_precision(spring_model(), spec);
+  EXPECT_LE(r.reference.change_rms, kRoundOffError);
+  EXPECT_GT(r.reference.unresolved, 0);
+  EXPECT_TRUE(r.reference.converged) << r.reference.failure;
 }
 
 TEST(WorkPrecision, ReferenceCheckFailsWhenTheReferenceIsNotConverged) {
@@ -85,10 +129,11 @@ TEST(WorkPrecision, ReferenceCheckFailsWhenTheReferenceIsNotConverged) {
   spec.dts = {0.01, 0.005};
   spec.reference_integrator = IntegratorKind::SymplecticEuler;
   spec.reference_refinement = 2;
+  spec.adaptive_reference = false;
   const WorkPrecisionResult r = work_precision(spring_model(), spec);
   EXPECT_TRUE(r.reference.finished);
   EXPECT_FALSE(r.reference.converged);
-  EXPECT_GT(r.reference.change_rms, r.reference.margin * r.reference.smallest_error);
+  EXPECT_EQ(r.reference.unresolved, 2) << "both RK4 runs: their errors are the reference's";
   EXPECT_GT(r.reference.change_rms, 1e-5);
   EXPECT_NE(r.reference.failure.find("not converged"), std::string::npos) << r.reference.failure;
 }

@@ -5,6 +5,7 @@
 
 #include <csignal>
 #include <fstream>
+#include <iterator>
 
 #include "cli/cli_process.h"
 
@@ -26,7 +27,9 @@ TEST(CmdBench, WritesOneRowPerRunAndPrintsTheReferenceCheck) {
                                     "0.01,0.005", "--duration", "1", "--csv", dir + "/wp.csv"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
-  EXPECT_NE(r.out.find("reference check: halving the reference step (rk4, 0.000625 s -> 0.0003125 s)"),
+  // The spring is a smooth scene: its reference is the adaptive pair, and its own error is printed.
+  EXPECT_NE(r.out.find("reference check: tightening the adaptive reference's tolerance (dopri5, 1e-11 -> 1e-13) "
+                       "moved the particles by"),
             std::string::npos)
       << r.out;
   const auto rows = lines(dir + "/wp.csv");
@@ -60,12 +63,13 @@ TEST(CmdBench, TakesStepsAsFractions) {
 }
 
 TEST(CmdBench, FailsLoudlyWhenTheReferenceIsNotConverged) {
-  // --reference-refinement 1: the reference is RK4 at the bench's own step, so RK4's error
-  // there is zero and halving the reference moves it more than that.
+  // A ground far below makes the spring a scene with projected contacts, whose reference is
+  // fixed-step RK4. --reference-refinement 1: it runs at the bench's own step, so RK4's error
+  // there is its own, far under 10x what halving the reference moves it: unresolved.
   const std::string dir = scratch_dir("bench_unconverged");
-  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "rk4", "--dts", "0.01", "--duration", "1",
-                                    "--reference-refinement", "1", "--csv", dir + "/wp.csv", "--summary",
-                                    dir + "/wp.json"});
+  const CliResult r = run_clothsim({"bench", spring(), "--set", "ground={height: -5}", "--integrators", "rk4",
+                                    "--dts", "0.01", "--duration", "1", "--reference-refinement", "1", "--csv",
+                                    dir + "/wp.csv", "--summary", dir + "/wp.json"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("the reference is not converged"), std::string::npos) << r.err;
@@ -76,6 +80,34 @@ TEST(CmdBench, FailsLoudlyWhenTheReferenceIsNotConverged) {
       << r.err;
   EXPECT_EQ(lines(dir + "/wp.csv").size(), 2u);
   EXPECT_TRUE(only_files(dir, {"wp.csv", "wp.json"}));
+}
+
+TEST(CmdBench, ARunUnderTenTimesTheReferencesErrorIsUnresolvedAndTheSummaryStatesThatError) {
+  // A loose reference (1e-8, checked at 1e-6): RK4's 1e-11 m at 1 ms is far under its
+  // estimate, so no number is given for it, and a reference above round-off that cannot resolve
+  // a run fails the study; symplectic Euler's 1e-4 m is resolved.
+  const std::string dir = scratch_dir("bench_unresolved");
+  const CliResult r = run_clothsim({"bench", spring(), "--integrators", "symplectic_euler,rk4", "--dts", "0.001",
+                                    "--duration", "0.5", "--reference-tolerance", "1e-6", "--csv", dir + "/wp.csv",
+                                    "--summary", dir + "/wp.json"});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("the reference is not converged: tightening its tolerance (1e-06 -> 1e-08)"),
+            std::string::npos)
+      << r.err;
+  const std::size_t row = r.out.find("\nrk4 ");
+  ASSERT_NE(row, std::string::npos) << r.out;
+  const std::string text = r.out.substr(row + 1, r.out.find('\n', row + 1) - row - 1);
+  EXPECT_NE(text.find("-            -  unresolved: under 10 x the reference's error"), std::string::npos) << text;
+  const auto rows = lines(dir + "/wp.csv");
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].substr(rows[0].rfind(',') + 1), "unresolved");
+  EXPECT_EQ(rows[1].substr(rows[1].rfind(',') + 1), "0") << rows[1];
+  EXPECT_EQ(rows[2].substr(rows[2].rfind(',') + 1), "1") << rows[2];
+  std::ifstream json_in(dir + "/wp.json");
+  const std::string json((std::istreambuf_iterator<char>(json_in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("\"integrator\": \"dopri5 (adaptive)\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"estimated_error_m\": "), std::string::npos) << json;
+  EXPECT_NE(json.find("\"unresolved\": true"), std::string::npos) << json;
 }
 
 TEST(CmdBench, BadStepListsAreOneLineExitTwoAndNothingWritten) {

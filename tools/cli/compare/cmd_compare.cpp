@@ -70,6 +70,7 @@
 #include "scene/param_keys.h"
 #include "scene/run_bounds.h"
 #include "scene/scene_parser.h"
+#include "study/reference.h"
 #include "video/tiling.h"
 #include "video/video_writer.h"
 #include "core/integrators/integrator_kind.h"
@@ -293,7 +294,7 @@ void plan_targets(const CompareOptions& o, ComparePlan& p, const PictureLook& lo
 // ones). It runs ahead until the pipeline gives it the lanes' steps; keep_early_reference
 // drops it should matching change it after all. Not under --match error (another reference).
 void start_reference_early(const CompareOptions& o, ComparePlan& p, PictureLook look) {
-  if (!starts_reference_early(o, look)) return;
+  if (!starts_reference_early(o, look) || (look.reference_is_default && analysis::smooth_scene(*p.model))) return;
   try {
     fit_reference_to_model(look, *p.model, p.scene, p.lanes);
   } catch (const UsageError&) {
@@ -323,21 +324,21 @@ void name_lanes(ComparePlan& p) {
 // --vary KEY=V1,V2,...: a scene per value (the user's --set, then the key's), and the lanes
 // repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
 void plan_variation(const CompareOptions& o, ComparePlan& p) {
-  const auto [key, values] = parse_vary(o.vary, p.scene);
+  const Variation vary = parse_vary(o.vary, p.scene);
   const std::vector<LaneSpec> rows =
       o.integrators_given ? p.lanes : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
-  for (double v : values) {
+  for (std::size_t v = 0; v < vary.size(); ++v) {
     SceneOptions with = o.scene;
-    for (const std::string& set : param_sets(key, v)) with.sets.push_back(set);
+    for (const std::string& set : vary.sets(v)) with.sets.push_back(set);
     p.vary_scenes.push_back(load_scene_with_options(with));  // a bad value: the parser's message names it
   }
   p.lanes.clear();
   p.lane_dirs.clear();
   const std::vector<std::string> row_dirs = lane_directories(rows);
   for (std::size_t r = 0; r < rows.size(); ++r)
-    for (double v : values) {
+    for (std::size_t v = 0; v < vary.size(); ++v) {
       p.lanes.push_back(rows[r]);
-      const std::string label = param_label(key, v);
+      const std::string label = vary.label(v);
       p.labels.push_back(rows.size() > 1 ? rows[r].name() + "  " + label : label);
       p.values.push_back(label);
       std::string dir = row_dirs[r] + "_" + label;
@@ -477,6 +478,7 @@ void report_compare(const CompareOptions& o, const ComparePlan& p, const Pipelin
     extra.text("match", o.match.front() + (o.match.size() > 1 ? " " + o.match[1] : ""));
     if (report.color_range && p.rendering)  // (a summary alone draws nothing: no scale)
       extra.number("color_range_lo", report.color_range->lo).number("color_range_hi", report.color_range->hi);
+    if (color == FieldKind::Error && report.reference) extra.object("reference", summary_reference(report));
     write_summary(o.summary, "compare", p.scene.source, summary_lanes(*p.model, report, color, p.context), extra);
   }
   if (!quiet())

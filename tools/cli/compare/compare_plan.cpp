@@ -1,6 +1,7 @@
 #include "compare_plan.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -176,12 +177,29 @@ Variation parse_vary(const std::string& text, const SceneDef& scene) {
   } catch (const ParamKeyError& e) {
     throw UsageError(std::string("--vary: ") + e.what());
   }
+  const auto word = [](const std::string& item) {
+    return !item.empty() && std::all_of(item.begin(), item.end(), [](char c) { return std::islower(c) || c == '_'; });
+  };
   for (const std::string& item : split_list(text.substr(eq + 1))) {
     const std::optional<double> value = parse_number_or_fraction(item);
-    if (!value) throw UsageError("--vary: " + in_quotes(item) + " is not a number");
-    v.values.push_back(*value);
+    if (!value && !word(item)) throw UsageError("--vary: " + in_quotes(item) + " is neither a number nor a word");
+    if (value) v.values.push_back(*value);
+    else v.words.push_back(item);
   }
+  if (!v.values.empty() && !v.words.empty())
+    throw UsageError("--vary: " + in_quotes(text) + " mixes numbers and words; give one kind");
   return v;
+}
+
+std::vector<std::string> Variation::sets(std::size_t i) const {
+  if (!values.empty()) return param_sets(key, values[i]);
+  std::vector<std::string> out;
+  for (const std::string& path : key.paths) out.push_back(path + "=" + words[i]);
+  return out;
+}
+
+std::string Variation::label(std::size_t i) const {
+  return values.empty() ? key.label + " = " + words[i] : param_label(key, values[i]);
 }
 
 void check_step_bounds(const SceneDef& scene, const std::vector<LaneSpec>& lanes,

@@ -88,10 +88,16 @@ void check_sheet_fits(int cell_w, int cell_h, const std::vector<std::string>& ro
                       int height);
 
 // --vary KEY=V1,V2,... (compare's lanes by value, bench's too): the key resolved against the
-// scene (scene/param_keys.h) and the values, numbers or fractions. UsageError naming --vary.
+// scene (scene/param_keys.h) and the values, numbers or fractions, or words for a key that
+// takes one (collision.model=projection,barrier: the scene's parser judges them). UsageError
+// naming --vary.
 struct Variation {
   ParamKey key;
-  std::vector<double> values;
+  std::vector<double> values;       // numbers, or
+  std::vector<std::string> words;   // words (one of the two is empty)
+  std::size_t size() const { return values.empty() ? words.size() : values.size(); }
+  std::vector<std::string> sets(std::size_t i) const;  // what --set would say for value i
+  std::string label(std::size_t i) const;              // "ks = 2e4", "collision.model = barrier"
 };
 Variation parse_vary(const std::string& text, const SceneDef& scene);
 

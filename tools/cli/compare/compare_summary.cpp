@@ -6,6 +6,7 @@
 
 #include "core/work_units.h"
 #include "video/tiling.h"
+#include "study/reference.h"
 
 namespace clothsim::cli {
 
@@ -50,22 +51,60 @@ std::string measured_note(const PipelineReport& report, std::size_t i, FieldKind
   return measured + why + ")";
 }
 
+// The reference's row: its method, and for the adaptive one its tolerance in the step's column.
+void print_reference_row(const LaneResult& r) {
+  if (!(r.adaptive_tolerance > 0.0)) return print_row(r, r.spec.name() + " (reference)", "");
+  const double t = simulated(r);
+  char tolerance[32];
+  std::snprintf(tolerance, sizeof tolerance, "tol %.0e", r.adaptive_tolerance / analysis::kReferenceTightening);
+  std::printf("%-30s %10s %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", "dopri5 adaptive (reference)",
+              tolerance, r.totals.steps, r.totals.force_evals, t > 0 ? spring_passes(r.totals) / t : 0.0,
+              r.totals.cpu_seconds, t > 0 ? 1e3 * r.totals.cpu_seconds / t : 0.0, lane_result(r, "").c_str());
+}
+
+// The reference's line under the error numbers: what it is, its estimated error, and how far
+// below the smallest lane error that lies.
+void print_reference_error(const PipelineReport& report) {
+  const LaneResult& ref = *report.reference;
+  if (std::isnan(ref.estimated_error)) {
+    std::printf("reference: %s @ %s s, fixed step; its own error is not estimated on a scene with projected "
+                "contacts (docs/integrators.md)\n", ref.spec.name().c_str(), ref.spec.step_text.c_str());
+    return;
+  }
+  double smallest = NAN;
+  for (std::size_t i = 0; i < report.lanes.size(); ++i)
+    if (report.field_count[i] > 0 && !(smallest <= report.field_max[i])) smallest = report.field_max[i];
+  std::printf("reference: dopri5 adaptive at tolerance %.0e, checked by a solve at %.0e: estimated error %.3g m, the "
+              "largest over the measured frames",
+              ref.adaptive_tolerance / analysis::kReferenceTightening, ref.adaptive_tolerance, ref.estimated_error);
+  if (!std::isnan(smallest) && ref.estimated_error > 0.0)
+    std::printf(" (%.2g %% of the smallest lane error, %.3g m)", 100.0 * ref.estimated_error / smallest, smallest);
+  std::printf("\n");
+}
+
 // The colouring in numbers: how far each lane strayed from the reference (or how strained,
-// how fast), the largest over the clip and at its end.
+// how fast), the largest over the clip and at its end. An error under 10x the reference's own
+// is unresolved: no number is given for it.
 void print_fields(const PipelineReport& report, FieldKind color, const std::vector<std::string>& names) {
   for (std::size_t i = 0; i < report.lanes.size(); ++i) {
     const LaneResult& r = report.lanes[i];
     std::string values;
-    if (report.field_count[i] > 0) {
+    if (report.field_count[i] > 0 && lane_unresolved(report, i, color)) {
+      char text[160];
+      std::snprintf(text, sizeof text, " unresolved: under %g x the reference's estimated error (%.3g m)",
+                    kUnresolvedFactor, report.reference->estimated_error);
+      values = text;
+    } else if (report.field_count[i] > 0) {
       char text[160];
       std::snprintf(text, sizeof text, " largest %.3g%s, at the end %.3g%s", report.field_max[i],
                     field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
       values = text;
     }
-    const std::string against = color == FieldKind::Error && report.reference
-                                    ? " against " + report.reference->spec.name() + " @ " +
-                                          report.reference->spec.step_text + " s:"
-                                    : ":";
+    const std::string against = color != FieldKind::Error || !report.reference ? ":"
+                                : report.reference->adaptive_tolerance > 0.0
+                                    ? " against the adaptive reference:"
+                                    : " against " + report.reference->spec.name() + " @ " +
+                                          report.reference->spec.step_text + " s:";
     std::printf("%s @ %s s: %s%s%s%s\n", names[i].c_str(), r.spec.step_text.c_str(),
                 std::string(field_kind_name(color)).c_str(), against.c_str(), values.c_str(),
                 measured_note(report, i, color).c_str());
@@ -101,7 +140,7 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
       .number("max_strain", r.totals.max_strain)
       .number("projected_steps", static_cast<double>(r.totals.projected_steps))
       .number("spring_passes_per_s", t > 0 ? spring_passes(r.totals) / t : std::nan(""))
-      .text("lane", r.spec.spelling())
+      .text("lane", r.adaptive_tolerance > 0.0 ? std::string("dopri5 (adaptive)") : r.spec.spelling())
       .text("role", role);
 }
 
@@ -142,8 +181,9 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
               "cpu_s", "cpu_ms_per_s", "result");
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
     print_row(report.lanes[i], context.names[i], report.wrong.empty() ? "" : report.wrong[i]);
-  if (report.reference) print_row(*report.reference, report.reference->spec.name() + " (reference)", "");
+  if (report.reference) print_reference_row(*report.reference);
   if (color != FieldKind::None) print_fields(report, color, context.names);
+  if (color == FieldKind::Error && report.reference) print_reference_error(report);
   print_solver_work(report, context.names);
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
     std::printf("step of %s: %s s, %s\n", context.names[i].c_str(), report.lanes[i].spec.step_text.c_str(),
@@ -160,6 +200,7 @@ std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& 
     lane.text("result", lane_result(report.lanes[i], wrong)).text("wrong", wrong);
     if (!report.energy_rise.empty()) lane.number("energy_rise", report.energy_rise[i]);
     if (color != FieldKind::None) with_field(lane, report, i);
+    if (color == FieldKind::Error) lane.boolean("unresolved", lane_unresolved(report, i, color));
     lanes.push_back(lane);
   }
   if (report.reference) lanes.push_back(lane_summary(model, *report.reference, "reference"));
@@ -182,6 +223,22 @@ void print_breakdown(const TileGrid& grid, int legend_width, const PipelineRepor
                report.targets, report.targets == 1 ? "" : "s", grid.width() + legend_width, grid.height(), report.lanes.size(),
                grid.cell_width(), grid.cell_height(), wall, sim_cpu, report.lanes.size() + (report.reference ? 1 : 0),
                report.wait_seconds, report.render_seconds, outputs.c_str());
+}
+
+bool lane_unresolved(const PipelineReport& report, std::size_t i, FieldKind color) {
+  return color == FieldKind::Error && report.reference && report.field_count[i] > 0 &&
+         report.field_max[i] < kUnresolvedFactor * report.reference->estimated_error;
+}
+
+JsonObject summary_reference(const PipelineReport& report) {
+  const LaneResult& ref = *report.reference;
+  JsonObject json;
+  const bool adaptive = ref.adaptive_tolerance > 0.0;
+  json.text("method", adaptive ? "dopri5 (adaptive)" : ref.spec.name())
+      .number("dt", adaptive ? NAN : ref.spec.dt)
+      .number("tolerance", adaptive ? ref.adaptive_tolerance / analysis::kReferenceTightening : NAN)
+      .number("estimated_error_m", ref.estimated_error);
+  return json;
 }
 
 }  // namespace clothsim::cli

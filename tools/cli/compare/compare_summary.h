@@ -32,6 +32,15 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
 // stderr's last line: where the wall time went (simulate, render, each output).
 void print_breakdown(const TileGrid& grid, int legend_width, const PipelineReport& report, double wall);
 
+// A lane's error is unresolved when its largest is under this times the reference's estimated
+// error (LaneResult::estimated_error): the reference cannot tell it, so no number is given.
+inline constexpr double kUnresolvedFactor = 10.0;
+bool lane_unresolved(const PipelineReport& report, std::size_t lane, FieldKind color);
+
+// --summary's "reference": its method, step or tolerance, and estimated_error_m (the largest
+// over the measured frames; null where not estimated).
+JsonObject summary_reference(const PipelineReport& report);
+
 // --summary's lanes: the pipeline's report as JSON objects (docs/summary.md), the reference last.
 std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& report, FieldKind color,
                                       const SummaryContext& context);

@@ -144,7 +144,16 @@ long ReferenceStand::waiting_bound(const std::vector<double>& lane_steps, const 
   return static_cast<long>(std::min(static_cast<double>(plan.size()), frames + off_frames));
 }
 
+const ReferenceStand::Sample* ReferenceStand::reach_exactly(double t, std::int64_t k) {
+  if (!last_.x.empty() && last_.t == t && last_.step == k) return &last_;  // (not the empty one before any)
+  if (!exact_->advance_to(t) || exact_->stopped()) return nullptr;
+  keep_sample(exact_->state());
+  last_.step = k;  // (the grid's step, for the energy samples that share it)
+  return &last_;
+}
+
 const ReferenceStand::Sample* ReferenceStand::reach(std::int64_t k) {
+  if (exact_) return reach_exactly(static_cast<double>(k) * run_.dt(), k);
   for (const Sample* s : {&last_, &before_})
     if (s->step == k) return s;
   if (run_.diverged() && k >= run_.divergence()->step) return nullptr;  // (replayed or not)
@@ -181,6 +190,10 @@ bool ReferenceStand::serve_next() {
     request.energy->t = at->t;
     request.energy->e = at->energy;
     request.energy->served = true;
+  } else if (exact_) {  // the adaptive solve's dense output, at t itself
+    const Sample* at = reach_exactly(t, -1);
+    if (!at) return false;
+    request.slot->x = std::make_shared<const std::vector<double>>(at->x);
   } else if (const std::int64_t k = step_at(t, H); k >= 0) {  // one of the reference's own steps
     const Sample* at = reach(k);
     if (!at) return false;

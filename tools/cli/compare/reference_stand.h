@@ -23,6 +23,10 @@
 //
 // A reference started before the lanes' steps were known has run ahead of them: the times it
 // has passed are replayed from the states it kept on the way (reference_history.h).
+//
+// On a smooth scene the reference is the adaptive solve (study/reference.h, serve_exactly):
+// every time is then served exactly, by the solve's dense output, with no Hermite between
+// steps; `run` then only sets the grid the energy samples fall on (its dt) and is never stepped.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +39,7 @@
 #include "compare_plan.h"
 #include "reference_history.h"
 #include "core/simulation.h"
+#include "study/reference.h"
 
 namespace clothsim::cli {
 
@@ -50,6 +55,9 @@ class ReferenceStand {
   ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t,
                  ReferenceHistory* history = nullptr);
 
+  // Serves every time from `exact` (advanced in increasing time) rather than from `run`. Before
+  // the first add(); `exact` must outlive the stand.
+  void serve_exactly(analysis::AdaptiveReference& exact) { exact_ = &exact; }
   // Also serves the run's total energy (J) every `every` seconds between targets and at each
   // target, at the states where a run of its own advanced to those times stands, as
   // LaneWorker's energy samples of a lane are. Before the first add().
@@ -117,6 +125,7 @@ class ReferenceStand {
   // divergence or a stop. A step the run has passed is replayed from the history.
   const Sample* reach(std::int64_t k);
   void keep_sample(const State& state);
+  const Sample* reach_exactly(double t, std::int64_t k);  // exact_ at time t (its step k, or -1)
   void update_horizon();
   std::shared_ptr<EnergySlot> ask_energy(double t);
   double next_energy_time() const;  // +inf without sample_energy
@@ -124,6 +133,7 @@ class ReferenceStand {
   const Model& model_;
   Run& run_;
   ReferenceHistory* history_;
+  analysis::AdaptiveReference* exact_ = nullptr;
   std::vector<double> steps_;                      // the lanes' distinct steps
   std::vector<std::size_t> lane_step_;             // per lane: its step's index in steps_
   std::vector<std::int64_t> landed_;               // per step: the step a run of it last landed on

@@ -145,6 +145,7 @@ struct FramePipeline::Impl {
     LaneNeeds n;  // the positions at the lanes' times (and the inset's energy), nothing else
     n.stand_for = std::move(steps);
     n.energy_every = energy_every;
+    n.adaptive_tolerance = config.reference_tolerance;
     reference = std::make_shared<LaneWorker>(model, *config.reference, plan, n, queue, interrupt);
   }
 
@@ -380,6 +381,14 @@ struct FramePipeline::Impl {
           char line[96];
           std::snprintf(line, sizeof line, "no error colour (reference diverged at %.3g s)",
                         reference_frame->divergence->t);
+          rf.overlay_lines.emplace_back(line);
+        }
+        // Every error drawn comes with the reference's own (study/reference.h), so far.
+        if (config.color == FieldKind::Error && !field.empty() && reference_frame && reference_frame->reference_error > 0.0) {
+          char line[96];
+          const double e = reference_frame->reference_error;  // rounded up to two digits: "<=" holds
+          const double unit = std::pow(10.0, std::floor(std::log10(e)) - 1.0);
+          std::snprintf(line, sizeof line, "reference error <= %.2g m", std::ceil(e / unit) * unit);
           rf.overlay_lines.emplace_back(line);
         }
       }

@@ -57,6 +57,8 @@ struct PipelineConfig {
   bool final_state = false;        // keep the lanes' final states (run --state)
   bool stop_when_all_frozen = false;  // run: a diverged lane ends the pipeline
   std::optional<LaneSpec> reference;  // for FieldKind::Error
+  // > 0: that reference is the adaptive solve at this tolerance (LaneNeeds::adaptive_tolerance).
+  double reference_tolerance = 0.0;
   // compare: that reference, started before the lanes' steps were chosen (LaneNeeds::
   // stand_for_later) on this pipeline's model and plan; taken when same_run(its spec, reference).
   std::shared_ptr<LaneWorker> started_reference;

@@ -10,6 +10,7 @@
 #include "cli/compare/reference_stand.h"
 #include "lane_times.h"
 #include "core/diagnostics.h"
+#include "study/reference.h"
 #include "view/snapshot.h"
 
 namespace clothsim::cli {
@@ -127,13 +128,32 @@ LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
   return f;
 }
 
+namespace {
+// What the reference runs: the run, or the adaptive solve in its place (LaneNeeds::adaptive_tolerance).
+struct ReferenceSource {
+  Run& run;
+  analysis::AdaptiveReference* exact;
+  RunTotals totals() const { return exact ? exact->totals() : run.totals(); }
+  std::int64_t step() const { return exact ? exact->state().step : run.state().step; }
+  double t() const { return exact ? exact->time() : run.state().t; }
+  bool stopped() const { return exact ? exact->stopped() : run.stopped(); }
+  std::optional<Divergence> divergence() const { return exact ? exact->divergence() : run.divergence(); }
+  void set_stop_check(const std::function<bool()>& stop) const {
+    run.set_stop_check(stop);
+    if (exact) exact->set_stop_check(stop);
+  }
+};
+}  // namespace
+
 // The reference lane's loop (LaneNeeds::stand_for): targets are added as the times they need
 // come due, the earliest needed time is served next, and a target's frame is handed over once
 // every lane's positions for it are known (reference_stand.h).
-void LaneWorker::serve_reference(Run& run) {
+void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
   ReferenceHistory history(model_, spec_.kind, run.dt());
   if (!run_ahead(run, history)) return finish_reference(run, history);
   ReferenceStand stand(model_, run, lane_steps_, targets_.last_time(), &history);
+  if (exact) stand.serve_exactly(*exact);
+  const ReferenceSource source{run, exact};
   if (needs_.energy_every > 0.0) stand.sample_energy(needs_.energy_every);  // the inset's reference too
   int applied = 0;  // drops_ passed on to the stand
   const auto apply_drops = [&] {
@@ -148,10 +168,10 @@ void LaneWorker::serve_reference(Run& run) {
   // Between any two steps: stopped, or no live lane can need a time from here on (every time
   // a live lane needs is at or before the horizon, and the run only goes forward).
   const auto asked_to_stop = [this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); };
-  run.set_stop_check([&] {
+  source.set_stop_check([&] {
     if (asked_to_stop()) return true;
     apply_drops();
-    return run.state().t >= stand.horizon();
+    return source.t() >= stand.horizon();
   });
   TargetPlan::Cursor cursor(targets_);
   Target next;
@@ -159,8 +179,9 @@ void LaneWorker::serve_reference(Run& run) {
   const auto hand_over = [&] {  // the oldest target, with what is known of it
     LaneFrame f;
     f.t = stand.pop(f.x_for, &f.energy).t;
-    f.step = run.state().step;
-    f.totals = run.totals();
+    f.step = source.step();
+    f.totals = source.totals();
+    f.reference_error = exact ? exact->estimated_error() : 0.0;
     push(std::move(f));
   };
   for (;;) {
@@ -180,8 +201,8 @@ void LaneWorker::serve_reference(Run& run) {
     }
     if (stand.empty()) break;  // every target served
     if (!stand.serve_next()) {
-      if (run.stopped() && asked_to_stop()) break;
-      if (run.stopped()) {
+      if (source.stopped() && asked_to_stop()) break;
+      if (source.stopped()) {
         // Past the horizon: what every live lane needs was served (the targets still to add
         // would need later times), so the targets waiting go out, the dropped lanes' positions
         // missing, and the rest with none.
@@ -196,16 +217,16 @@ void LaneWorker::serve_reference(Run& run) {
       // measured up to the blow-up even if one of a large step, needing a later time, was not).
       while (!stand.empty()) hand_over();
       LaneFrame frozen;  // a diverged reference measures nothing from here on
-      frozen.t = run.divergence()->t;
-      frozen.step = run.state().step;
-      frozen.totals = run.totals();
-      frozen.divergence = run.divergence();
+      frozen.divergence = source.divergence();
+      frozen.t = frozen.divergence->t;
+      frozen.step = source.step();
+      frozen.totals = source.totals();
       frozen.frozen = true;
       push(std::move(frozen));
       break;
     }
   }
-  finish_reference(run, history);
+  finish_reference(run, history, exact);
 }
 
 // Until the lanes' steps are known (LaneNeeds::stand_for_later): the run goes ahead target by
@@ -232,8 +253,17 @@ bool LaneWorker::run_ahead(Run& run, ReferenceHistory& history) {
   }
 }
 
-void LaneWorker::finish_reference(const Run& run, const ReferenceHistory& history) {
+void LaneWorker::finish_reference(const Run& run, const ReferenceHistory& history,
+                                  const analysis::AdaptiveReference* exact) {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (exact) {  // it ran in place of the run
+    result_.t = exact->state().t;
+    result_.totals = exact->totals();
+    result_.divergence = exact->divergence();
+    result_.adaptive_tolerance = exact->tolerance();
+    result_.estimated_error = exact->estimated_error();
+    return;
+  }
   result_.t = run.state().t;  // as far as it ran (past the last target where a lane stands past it)
   result_.totals = run.totals();
   result_.totals.cpu_seconds += history.replay_cpu_seconds();  // what the early start cost
@@ -305,8 +335,14 @@ void LaneWorker::work() {
     run.set_stop_check([this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); });
     // CLOTHSIM_NEWTON_TRACE=1: implicit_euler's Newton trace on stderr (docs/integrators.md).
     if (std::getenv("CLOTHSIM_NEWTON_TRACE")) run.set_newton_trace([](const char* line) { std::fputs(line, stderr); });
-    if (!reference_) run_targets(run);
-    else serve_reference(run);
+    if (!reference_) {
+      run_targets(run);
+    } else if (needs_.adaptive_tolerance > 0.0) {
+      analysis::AdaptiveReference exact(model_, needs_.adaptive_tolerance);
+      serve_reference(run, &exact);
+    } else {
+      serve_reference(run);
+    }
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);
     error_ = std::current_exception();

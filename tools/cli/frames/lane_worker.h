@@ -14,6 +14,7 @@
 #include <deque>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -30,6 +31,11 @@
 namespace clothsim::cli {
 
 class ReferenceHistory;
+}  // namespace clothsim::cli
+namespace clothsim::analysis {
+class AdaptiveReference;
+}  // namespace clothsim::analysis
+namespace clothsim::cli {
 
 // What the pipeline's outputs need of every target; the rest is not computed.
 struct LaneNeeds {
@@ -53,6 +59,10 @@ struct LaneNeeds {
   bool stand_for_later = false;
   double energy_every = 0.0;  // > 0: total energy sampled this often (s) between targets too,
                               // so an energy inset has a curve even in a still or a sheet
+  // The reference lane on a smooth scene: > 0, the adaptive solve's tolerance
+  // (study/reference.h), which serves every time exactly; the LaneSpec's step then only sets
+  // the grid of the energy samples. Not with stand_for_later (it does not run ahead).
+  double adaptive_tolerance = 0.0;
 };
 
 // What a lane hands over at one target.
@@ -71,6 +81,7 @@ struct LaneFrame {
                                                   // this target's included, when energy_every
   std::optional<Divergence> divergence;  // set on the frozen frame
   bool frozen = false;             // diverged: the last finite state, and the lane's last frame
+  double reference_error = 0.0;    // the adaptive reference: its estimated error so far, m
 };
 
 struct LaneResult {
@@ -79,6 +90,10 @@ struct LaneResult {
   RunTotals totals;           // cpu_seconds: the lane thread's, not inflated by sharing cores
   std::optional<Divergence> divergence;
   std::optional<State> final_state;  // LaneNeeds::final_state, unless diverged
+  // The adaptive reference (LaneNeeds::adaptive_tolerance): its tolerance and its estimated
+  // error, the largest over every time it served (m); 0 and NaN for any other lane.
+  double adaptive_tolerance = 0.0;
+  double estimated_error = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Frames a lane of a frame pipeline may compute ahead of the one being shown.
@@ -135,9 +150,10 @@ class LaneWorker {
   void work();
   void push(LaneFrame frame);
   void run_targets(Run& run);
-  void serve_reference(Run& run);
+  void serve_reference(Run& run, analysis::AdaptiveReference* exact = nullptr);
   bool run_ahead(Run& run, ReferenceHistory& history);
-  void finish_reference(const Run& run, const ReferenceHistory& history);
+  void finish_reference(const Run& run, const ReferenceHistory& history,
+                        const analysis::AdaptiveReference* exact = nullptr);
   void set_lane_steps(std::vector<double> lane_steps);
   LaneFrame frame_of(const Run& run, const State& state) const;
 

@@ -6,6 +6,7 @@
 #include "core/stiffness_estimate.h"
 #include "scene/echo.h"
 #include "scene/run_bounds.h"
+#include "study/reference.h"
 #include "view/camera_fit.h"
 #include "view/snapshot.h"
 
@@ -127,6 +128,7 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
 void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene,
                             const std::vector<LaneSpec>& lanes) {
   if (!look.reference || !look.reference_is_default) return;
+  look.reference_tolerance = analysis::smooth_scene(model) ? analysis::kReferenceTolerance : 0.0;
   LaneSpec& ref = *look.reference;
   const double limit = analysis::predicted_limit(analysis::estimate_stiffness(model), ref.kind, model.implicit);
   if (!(limit < ref.dt) || !(limit > 0.0)) return;
@@ -150,6 +152,7 @@ void apply_look(const PictureLook& look, PipelineConfig& c) {
   c.color = look.color;
   c.color_range = look.color_range;
   c.reference = look.reference;
+  c.reference_tolerance = look.reference_tolerance;
   c.overlay = look.overlay;
   c.overlay_cpu = look.overlay_cpu;
   c.inset_energy = look.inset_energy;

@@ -37,6 +37,9 @@ struct PictureLook {
   std::optional<ColorRange> color_range;
   std::optional<LaneSpec> reference;  // with color error, and in compare with inset energy
   bool reference_is_default = false;  // not from --reference: fit_reference_to_model() may shorten its step
+  // > 0: the default reference of a smooth scene, the adaptive solve at this tolerance
+  // (study/reference.h; fit_reference_to_model() sets it)
+  double reference_tolerance = 0.0;
   bool camera_auto = false;
   OverlayMode overlay = OverlayMode::Full;
   bool overlay_cpu = false;

@@ -30,6 +30,7 @@
 #include "render/renderer.h"
 #include "scene/build_model.h"
 #include "scene/run_bounds.h"
+#include "study/reference.h"
 
 namespace clothsim::cli {
 namespace {
@@ -111,7 +112,12 @@ void print_run_totals(const Model& model, IntegratorKind kind, double dt, const 
                 " steps not converged (largest relative residual %.3g; measured with a tolerance only)\n",
                 std::string(integrator_name(kind)).c_str(), t.newton_iterations, t.factorizations,
                 t.unconverged_steps, t.max_residual);
-  if (report.reference)
+  if (report.reference && report.reference->adaptive_tolerance > 0.0)  // a smooth scene's (study/reference.h)
+    std::printf("reference for --color error: dopri5 adaptive at tolerance %.0e, %" PRId64 " force evaluations, %.3f s "
+                "of CPU; its estimated error %.3g m\n",
+                report.reference->adaptive_tolerance / analysis::kReferenceTightening, report.reference->totals.force_evals,
+                report.reference->totals.cpu_seconds, report.reference->estimated_error);
+  else if (report.reference)
     std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU\n",
                 report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
                 report.reference->totals.force_evals, report.reference->totals.cpu_seconds);

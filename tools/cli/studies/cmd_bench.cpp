@@ -37,6 +37,7 @@
 #include "scene/memory_estimate.h"
 #include "scene/param_keys.h"
 #include "scene/scene_parser.h"
+#include "study/reference.h"
 #include "study/task_pool.h"
 #include "study/work_precision.h"
 #include "study/work_precision_shard.h"
@@ -59,6 +60,7 @@ struct BenchOptions {
   std::string vary;   // --vary KEY=V1,V2,...: the study once per value
   int jobs = 0;
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
+  double reference_tolerance = WorkPrecisionSpec{}.reference_tolerance;
 };
 
 constexpr double kDefaultStepFactors[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
@@ -86,21 +88,21 @@ using LaneNames = std::vector<std::string>;
 void write_csv_header(std::FILE* f) {
   std::fprintf(f, "integrator,dt,steps,force_evals,newton_iterations,cg_iterations,wall_seconds,cpu_seconds,"
                   "rms_error,max_error,diverged,diverged_at,reason,duration,reference_dt,reference_change,"
-                  "unconverged_steps,wrong,wrong_at,wrong_reason\n");
+                  "unconverged_steps,wrong,wrong_at,wrong_reason,unresolved\n");
 }
 
 void write_csv_rows(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
   for (const WorkPrecisionPoint& p : r.points)
-    std::fprintf(f, "%s,%s,%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64 ",%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%" PRId64 ",%d,%s,%s\n",
+    std::fprintf(f, "%s,%s,%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64 ",%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%" PRId64 ",%d,%s,%s,%d\n",
                  names[p.lane].c_str(), csv_number(p.dt).c_str(), p.steps,
                  p.force_evals, p.newton_iterations, p.cg_iterations, csv_number(p.wall_seconds).c_str(),
-                 csv_number(p.cpu_seconds).c_str(), csv_number(p.rms_error).c_str(),
-                 csv_number(p.max_error).c_str(), p.diverged ? 1 : 0,
+                 csv_number(p.cpu_seconds).c_str(), csv_number(p.unresolved ? NAN : p.rms_error).c_str(),
+                 csv_number(p.unresolved ? NAN : p.max_error).c_str(), p.diverged ? 1 : 0,
                  p.diverged ? csv_number(p.diverged_at).c_str() : "", csv_text(p.reason).c_str(),
                  csv_number(r.duration).c_str(), csv_number(r.reference.dt).c_str(),
                  r.reference.finished ? csv_number(r.reference.change_rms).c_str() : "nan",
                  p.unconverged_steps, p.wrong ? 1 : 0, p.wrong ? csv_number(p.wrong_at).c_str() : "",
-                 csv_text(p.wrong_reason).c_str());
+                 csv_text(p.wrong_reason).c_str(), p.unresolved ? 1 : 0);
 }
 
 void write_csv(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
@@ -120,10 +122,14 @@ void print_table(const WorkPrecisionResult& r, const std::vector<LaneSpec>& lane
     else if (p.unconverged_steps > 0)
       std::snprintf(status, sizeof status, "NOT CONVERGED: %" PRId64 " of %" PRId64 " steps", p.unconverged_steps, p.steps);
     else if (p.wrong) std::snprintf(status, sizeof status, "WRONG at t = %.4g s: %s", p.wrong_at, p.wrong_reason.c_str());
+    else if (p.unresolved)
+      std::snprintf(status, sizeof status, "unresolved: under %g x the reference's error", 1.0 / r.reference.margin);
     else std::snprintf(status, sizeof status, "ok");
-    std::printf("%-28s %10.4g %8" PRId64 " %11" PRId64 " %9.3g %9.3g %12.4g %12.4g  %s\n",
+    char rms[32] = "-", max[32] = "-";  // an unresolved error is no number
+    if (!p.unresolved) std::snprintf(rms, sizeof rms, "%.4g", p.rms_error), std::snprintf(max, sizeof max, "%.4g", p.max_error);
+    std::printf("%-28s %10.4g %8" PRId64 " %11" PRId64 " %9.3g %9.3g %12s %12s  %s\n",
                 label(p.lane).c_str(), p.dt, p.steps, p.force_evals,
-                p.wall_seconds, p.cpu_seconds, p.rms_error, p.max_error, status);
+                p.wall_seconds, p.cpu_seconds, rms, max, status);
   }
   std::printf("observed order (slope of log rms error vs log dt, runs that finished, common steps):");
   for (std::size_t i = 0; i < lanes.size(); ++i) {
@@ -147,10 +153,18 @@ JsonObject run_lane_json(const std::string& scene, const WorkPrecisionPoint& p, 
   t.unconverged_steps = p.unconverged_steps;
   t.cpu_seconds = p.cpu_seconds;
   JsonObject lane = lane_json(scene, p.integrator, p.dt, t, p.diverged ? std::optional<double>(p.diverged_at) : std::nullopt);
-  lane.number("wall_seconds", p.wall_seconds).number("rms_error", p.rms_error).number("max_error", p.max_error);
+  lane.number("wall_seconds", p.wall_seconds)
+      .number("rms_error", p.unresolved ? NAN : p.rms_error)
+      .number("max_error", p.unresolved ? NAN : p.max_error)
+      .boolean("unresolved", p.unresolved);
   if (p.wrong) lane.number("wrong_at", p.wrong_at).text("wrong", p.wrong_reason);
   if (names[p.lane] != integrator_name(p.integrator)) lane.text("lane", names[p.lane]);
   return lane;
+}
+
+// The reference's name in the summary: its integrator, or the adaptive pair.
+std::string reference_name(const analysis::ReferenceCheck& ref) {
+  return ref.adaptive ? "dopri5 (adaptive)" : std::string(integrator_name(ref.integrator));
 }
 
 // Each run a lane, and the study's T and reference.
@@ -159,17 +173,34 @@ void write_summary_json(const std::string& path, const std::string& source, cons
   std::vector<JsonObject> lanes;
   for (const WorkPrecisionPoint& p : r.points) lanes.push_back(run_lane_json(scene, p, names));
   write_summary(path, "bench", source, lanes,
-                bench_summary_keys(r.duration, r.complete, r.reference.integrator, r.reference.dt,
+                bench_summary_keys(r.duration, r.complete, reference_name(r.reference), r.reference.dt,
                                    r.reference.finished ? r.reference.change_rms : NAN, r.reference.converged));
 }
 
 void print_reference_check(const analysis::ReferenceCheck& ref) {
-  if (ref.finished)
+  if (!ref.finished) return;
+  if (ref.adaptive)
+    std::printf("reference check: tightening the adaptive reference's tolerance (dopri5, %g -> %g) moved the "
+                "particles by %.3g m RMS (%.3g m max): its estimated error",
+                ref.tolerance, ref.tolerance / analysis::kReferenceTightening, ref.change_rms, ref.change_max);
+  else
     std::printf("reference check: halving the reference step (%s, %g s -> %g s) moved the particles by %.3g m RMS "
-                "(%.3g m max); the smallest error reported is %.3g m RMS, %.3g times larger (required: >= %g)\n",
-                std::string(integrator_name(ref.integrator)).c_str(), 2 * ref.dt, ref.dt, ref.change_rms,
-                ref.change_max, ref.smallest_error,
-                ref.change_rms > 0 ? ref.smallest_error / ref.change_rms : INFINITY, 1.0 / ref.margin);
+                "(%.3g m max): its estimated error",
+                std::string(integrator_name(ref.integrator)).c_str(), 2 * ref.dt, ref.dt, ref.change_rms, ref.change_max);
+  if (!std::isnan(ref.smallest_error))
+    std::printf("; the smallest error resolved is %.3g m RMS, %.3g times larger", ref.smallest_error,
+                ref.change_rms > 0 ? ref.smallest_error / ref.change_rms : INFINITY);
+  if (ref.unresolved > 0)
+    std::printf("; %d run%s under %g x it unresolved%s", ref.unresolved, ref.unresolved == 1 ? "" : "s",
+                1.0 / ref.margin, ref.change_rms <= analysis::kRoundOffError ? " (at round-off, as the reference is)" : "");
+  std::printf("; the two runs took %" PRId64 " steps, %" PRId64 " force evaluations, %.3g s CPU\n", ref.steps,
+              ref.force_evals, ref.cpu_seconds);
+}
+
+// The plot's title: the scene, T and the reference's estimated error.
+std::string plot_title(const std::string& name, const WorkPrecisionResult& r) {
+  return name + " (T = " + csv_number(r.duration) + " s; reference error " +
+         (r.reference.finished ? csv_number(r.reference.change_rms) : std::string("unknown")) + " m RMS)";
 }
 
 // A shard's reference: saved in its directory, so a rerun measures against it without running it.
@@ -207,7 +238,9 @@ int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSp
   row.reference.dt = ref.dt;
   row.reference.finished = ref.finished;
   row.reference.change_rms = ref.change_rms;
-  analysis::run_points(model, spec, ref, shard.todo(), hooks, [&](std::size_t item, const WorkPrecisionPoint& p) {
+  row.reference.margin = spec.reference_margin;
+  analysis::run_points(model, spec, ref, shard.todo(), hooks, [&](std::size_t item, WorkPrecisionPoint p) {
+    if (ref.finished) p.unresolved = p.finished && p.rms_error * spec.reference_margin < ref.change_rms;
     row.points = {p};
     shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, row, names); })),
                  run_lane_json(model.name, p, names).dump());
@@ -251,6 +284,9 @@ WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const
   spec.duration = T;
   spec.jobs = o.jobs;
   spec.reference_refinement = o.reference_refinement;
+  if (!(o.reference_tolerance > 0.0) || !(o.reference_tolerance < 1e-3))
+    throw UsageError("--reference-tolerance: must be a number in (0, 1e-3)");
+  spec.reference_tolerance = o.reference_tolerance;
   try {
     return analysis::checked(spec);
   } catch (const analysis::StudyError& e) {
@@ -286,11 +322,11 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
     throw UsageError("--vary: --summary and --shard take one scene's study; give --csv (and --plot) with --vary");
   const Variation v = parse_vary(o.vary, base);
   std::vector<ValueStudy> studies;
-  for (double value : v.values) {  // every scene read (a bad value named) before any run
+  for (std::size_t value = 0; value < v.size(); ++value) {  // every scene read (a bad value named) before any run
     ValueStudy s;
-    s.label = param_label(v.key, value);
+    s.label = v.label(value);
     std::vector<std::string> sets = o.scene.sets;
-    for (const std::string& set : param_sets(v.key, value)) sets.push_back(set);
+    for (const std::string& set : v.sets(value)) sets.push_back(set);
     s.scene = load_scene(o.scene.path, sets);
     for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
     s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
@@ -353,8 +389,7 @@ int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vect
     throw RuntimeFailure(base.source + ", " + failure + (o.csv.empty() ? "" : " (kept for inspection: " + o.csv + ")") +
                          "; no plot drawn");
   if (plot)
-    plot->draw_from_csv(o.csv, write_to, {"--title", base.name + " (T = " + csv_number(studies.front().result.duration) + " s)"},
-                        {o.csv});
+    plot->draw_from_csv(o.csv, write_to, {"--title", plot_title(base.name, studies.front().result)}, {o.csv});
   return kOk;
 }
 
@@ -386,12 +421,17 @@ int bench_command(const BenchOptions& o) {
   const double h_ref = spec.dts.front() / spec.reference_refinement;
   std::size_t runs = 0;
   for (IntegratorKind k : kinds) runs += analysis::steps_of(spec, k).size();
-  std::printf("bench %s: %zu integrators x %zu steps (%g .. %g s)%s to T = %g s on %d threads; reference %s at "
-              "%g s and %g s\n",
+  char reference[160];
+  if (analysis::uses_adaptive_reference(model, spec))
+    std::snprintf(reference, sizeof reference, "adaptive dopri5 at tolerances %g and %g", spec.reference_tolerance,
+                  spec.reference_tolerance / analysis::kReferenceTightening);
+  else
+    std::snprintf(reference, sizeof reference, "%s at %g s and %g s",
+                  std::string(integrator_name(spec.reference_integrator)).c_str(), h_ref, h_ref / 2);
+  std::printf("bench %s: %zu integrators x %zu steps (%g .. %g s)%s to T = %g s on %d threads; reference %s\n",
               model.name.c_str(), kinds.size(), spec.dts.size(), spec.dts.front(), spec.dts.back(),
               runs > kinds.size() * spec.dts.size() ? ", implicit_euler also at one step per frame" : "", T,
-              std::min<int>(analysis::resolve_jobs(o.jobs), static_cast<int>(runs + 2)),
-              std::string(integrator_name(spec.reference_integrator)).c_str(), h_ref, h_ref / 2);
+              std::min<int>(analysis::resolve_jobs(o.jobs), static_cast<int>(runs + 2)), reference);
   std::fflush(stdout);
 
   SharedProgress progress("bench " + model.name, static_cast<long>(runs + 2), "runs");
@@ -428,8 +468,7 @@ int bench_command(const BenchOptions& o) {
     throw RuntimeFailure(scene.source + ": " + ref.failure + (kept.empty() ? "" : " (kept for inspection: " + kept + ")") +
                          "; no plot drawn");
   }
-  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", model.name + " (T = " + csv_number(T) + " s)"},
-                               {o.csv, o.summary});
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", plot_title(model.name, result)}, {o.csv, o.summary});
   return kOk;
 }
 
@@ -470,9 +509,13 @@ void add_bench_command(CLI::App& app, Command& command) {
   sub->add_option("--jobs", o->jobs, "Runs at once (default 0: one per core)");
   add_shard_option(sub, o->shard);
   sub->add_option("--reference-refinement", o->reference_refinement,
-                  "Reference step = smallest step / N, then halved once more to check it")
+                  "Reference step = smallest step / N, then halved once more to check it (a scene with projected contacts)")
       ->capture_default_str()
       ->type_name("N");
+  sub->add_option("--reference-tolerance", o->reference_tolerance,
+                  "The adaptive reference's tolerance on a smooth scene, then 100x tighter to check it")
+      ->capture_default_str()
+      ->type_name("TOL");
   sub->callback([o, &command] { command = [o] { return bench_command(*o); }; });
 }
 

@@ -147,22 +147,22 @@ std::string bench_reference_problem(const std::string& csv) {
   std::getline(in, line);
   const std::vector<std::string> header = csv_cells(line);
   const auto column = [&](const char* name) { return std::find(header.begin(), header.end(), name) - header.begin(); };
-  const std::size_t rms_at = column("rms_error"), change_at = column("reference_change");
-  double smallest = NAN, change = NAN;
+  const std::size_t change_at = column("reference_change"), unresolved_at = column("unresolved");
+  double change = NAN;
+  int unresolved = 0;  // as work_precision judges: runs under 10x its error, unless it is at round-off
   while (std::getline(in, line)) {
     const std::vector<std::string> cells = csv_cells(line);
     if (cells.size() != header.size()) continue;
-    const double rms = std::strtod(cells[rms_at].c_str(), nullptr);
-    if (std::isfinite(rms) && !(smallest <= rms)) smallest = rms;
+    if (unresolved_at < cells.size() && cells[unresolved_at] == "1") ++unresolved;
     change = std::strtod(cells[change_at].c_str(), nullptr);
   }
   const double margin = analysis::WorkPrecisionSpec{}.reference_margin;
   char why[300] = "";
   if (std::isnan(change))
     std::snprintf(why, sizeof why, "the reference runs did not both reach T (see a shard's log)");
-  else if (std::isfinite(smallest) && change > margin * smallest)
-    std::snprintf(why, sizeof why, "the reference is not converged: halving its step moved the particles by %.3g m "
-                  "RMS, more than %g x the smallest error reported (%.3g m)", change, margin, smallest);
+  else if (unresolved > 0 && change > analysis::kRoundOffError)
+    std::snprintf(why, sizeof why, "the reference is not converged: its estimated error (%.3g m RMS) is more than %g x "
+                  "the error of %d run%s (unresolved)", change, margin, unresolved, unresolved == 1 ? "" : "s");
   return why;
 }
 
@@ -201,7 +201,9 @@ JsonObject stability_keys(const MergedStudy& m) {
 
 JsonObject bench_keys(const MergedStudy& m) {
   std::map<std::string, std::string> row = first_row(m.csv);
-  return bench_summary_keys(number(row["duration"]), true, analysis::WorkPrecisionSpec{}.reference_integrator,
+  const bool adaptive = number(row["reference_dt"]) == 0.0;  // (the adaptive reference has no step)
+  return bench_summary_keys(number(row["duration"]), true,
+                            adaptive ? "dopri5 (adaptive)" : std::string(integrator_name(analysis::WorkPrecisionSpec{}.reference_integrator)),
                             number(row["reference_dt"]), number(row["reference_change"]),
                             bench_reference_problem(m.csv).empty());
 }

@@ -34,12 +34,13 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
   return values;
 }
 
-JsonObject bench_summary_keys(double duration, bool complete, IntegratorKind reference, double reference_dt,
+JsonObject bench_summary_keys(double duration, bool complete, const std::string& reference, double reference_dt,
                               double change_rms, bool converged) {
   JsonObject ref;
-  ref.text("integrator", std::string(integrator_name(reference)))
+  ref.text("integrator", reference)
       .number("dt", reference_dt)
       .number("change_rms", change_rms)
+      .number("estimated_error_m", change_rms)
       .boolean("converged", converged);
   JsonObject keys;
   keys.number("duration", duration).boolean("complete", complete).object("reference", ref);

@@ -30,9 +30,10 @@ using analysis::csv_number;
 using analysis::csv_text;
 
 // bench's --summary keys beside its lanes: T, whether every run finished, and the reference
-// (its integrator and step, how far halving its step moved the particles, RMS, and whether
-// that is converged). One writer for the single process and `clothsim merge`.
-JsonObject bench_summary_keys(double duration, bool complete, IntegratorKind reference, double reference_dt,
+// (its integrator and step, or "dopri5 (adaptive)" and 0; how far halving its step or
+// tightening its tolerance moved the particles, RMS, as change_rms and estimated_error_m; and
+// whether it is converged). One writer for the single process and `clothsim merge`.
+JsonObject bench_summary_keys(double duration, bool complete, const std::string& reference, double reference_dt,
                               double change_rms, bool converged);
 
 // The line `bench` and `stability` end on when stopped before the study finished (main adds

@@ -1,0 +1,76 @@
+// compare's reference and its own error (study/reference.h): on a smooth scene (the barrier
+// drape) the error colouring's reference is the adaptive pair, and every error printed comes with
+// its estimated error, in the table, the summary's reference.estimated_error_m and each lane's
+// unresolved flag; a lane under 10x the reference's error is unresolved, not a number.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "cli/cli_process.h"
+
+namespace ct = clothsim::testing;
+
+namespace {
+
+const std::string kSmooth = std::string(CLOTHSIM_SCENES_DIR) + "/drape_smooth.yaml";
+
+// The barrier drape at 9 x 9 over 0.2 s, its error measured at the last frame (no pictures).
+ct::CliResult compare_smooth(const std::string& integrators, const std::string& summary) {
+  return ct::run_clothsim({"compare", kSmooth, "--set", "cloth.particles=[9,9]", "--duration", "0.2", "--integrators",
+                           integrators, "--color", "error", "--summary", summary});
+}
+
+// The JSON object around `key`'s first occurrence after `from`.
+std::string object_at(const std::string& json, const std::string& key, std::size_t from = 0) {
+  const std::size_t at = json.find(key, from);
+  if (at == std::string::npos) return "";
+  const std::size_t open = json.rfind('{', at);
+  return json.substr(open, json.find('}', at) - open);
+}
+
+TEST(CompareReference, OnASmoothSceneTheReferenceIsAdaptiveAndStatesItsEstimatedError) {
+  const std::string dir = ct::scratch_dir("compare_reference_smooth");
+  const auto r = compare_smooth("symplectic_euler@1e-4,midpoint@2e-4", dir + "/s.json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("dopri5 adaptive (reference)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("error against the adaptive reference: largest"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("reference: dopri5 adaptive at tolerance 1e-08, checked by a solve at 1e-06: estimated error"),
+            std::string::npos)
+      << r.out;
+  const std::string json = ct::slurp(dir + "/s.json");
+  const std::string reference = object_at(json, "\"estimated_error_m\"");
+  ASSERT_FALSE(reference.empty()) << json;
+  const double estimate = std::stod(reference.substr(reference.find(':', reference.find("estimated_error_m")) + 1));
+  EXPECT_GT(estimate, 0.0) << reference;
+  EXPECT_LT(estimate, 1e-7) << "far below any lane's error" << reference;
+  EXPECT_NE(object_at(json, "\"lane\": \"midpoint@2e-4\"").find("\"unresolved\": false"), std::string::npos) << json;
+}
+
+TEST(CompareReference, ALaneUnderTenTimesTheReferencesErrorIsUnresolvedNotANumber) {
+  // RK4 at 1e-5 s on the cloth is at round-off, far under the reference's estimate.
+  const std::string dir = ct::scratch_dir("compare_reference_unresolved");
+  const auto r = compare_smooth("rk4@1e-5,symplectic_euler@1e-4", dir + "/s.json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t line = r.out.find("rk4 @ 1e-5 s: error against the adaptive reference:");
+  ASSERT_NE(line, std::string::npos) << r.out;
+  const std::string text = r.out.substr(line, r.out.find('\n', line) - line);
+  EXPECT_NE(text.find("unresolved: under 10 x the reference's estimated error"), std::string::npos) << text;
+  EXPECT_EQ(text.find("largest"), std::string::npos) << "no number for it: " << text;
+  const std::string json = ct::slurp(dir + "/s.json");
+  EXPECT_NE(object_at(json, "\"lane\": \"rk4@1e-5\"").find("\"unresolved\": true"), std::string::npos) << json;
+  EXPECT_NE(object_at(json, "\"lane\": \"symplectic_euler@1e-4\"").find("\"unresolved\": false"), std::string::npos)
+      << json;
+}
+
+TEST(CompareReference, ASceneWithProjectedContactsKeepsTheFixedStepRk4Reference) {
+  const std::string dir = ct::scratch_dir("compare_reference_projection");
+  const auto r = ct::run_clothsim({"compare", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--set",
+                                   "cloth.particles=[9,9]", "--duration", "0.2", "--integrators", "symplectic_euler",
+                                   "--color", "error", "--summary", dir + "/s.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("rk4 (reference)"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("dopri5"), std::string::npos) << r.out;
+}
+
+}  // namespace
