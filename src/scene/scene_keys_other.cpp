@@ -2,6 +2,7 @@
 // scene_reader.h.
 #include "scene_reader.h"
 #include "core/contact/barrier_contacts.h"
+#include "core/integrators/integrator_kind.h"
 #include "view/vertex_fields.h"
 
 namespace clothsim::scene_detail {

@@ -64,7 +64,7 @@ double converged_strain(int n) {
   const auto found = known.find(n);
   if (found != known.end()) return found->second;
   const Model model = bench::drape_sheet(n);
-  Run run(model, IntegratorKind::ImplicitEuler, 1.0 / 60.0);
+  Run run(model, kBackwardEuler, 1.0 / 60.0);
   run.advance_to(kSimulated);
   return known[n] = max_strain(model, run.state());
 }
@@ -180,9 +180,8 @@ void clothsim_run(benchmark::State& st, IntegratorKind kind) {
   Model model = bench::drape_sheet(static_cast<int>(st.range(0)));
   const double dt = st.range(1) > 0 ? 1e-6 * static_cast<double>(st.range(1)) : 1.0 / 60.0;
   const int iterations = is_iterative_solver(kind) ? static_cast<int>(st.range(2)) : 0;
-  if (kind == IntegratorKind::Xpbd) model.solvers.xpbd.iterations = iterations;
-  if (kind == IntegratorKind::ProjectiveDynamics) model.solvers.projective_dynamics.iterations = iterations;
-  if (kind == IntegratorKind::Vbd) model.solvers.vbd.iterations = iterations;
+  if (int* n = iteration_count(model, kind); n && integrator_info(kind).iterations == IterationControl::Solver)
+    *n = iterations;
   double cpu = 0.0, centre_height = 0.0, inside = 0.0, strain = 0.0;
   bool stable = true, wrong = false;
   std::int64_t unconverged = 0;

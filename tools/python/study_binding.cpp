@@ -55,7 +55,7 @@ std::vector<IntegratorKind> methods_of(const std::vector<std::string>& names) {
   std::vector<IntegratorKind> out;
   for (const std::string& name : names) {
     const auto kind = parse_integrator(name);
-    if (!kind || !(is_iterative_solver(*kind) || *kind == IntegratorKind::ImplicitEuler))
+    if (!kind || integrator_info(*kind).iterations == IterationControl::None)
       throw py::value_error("integrators: \"" + name +
                             "\" is not an iterative method (expected xpbd, projective_dynamics, vbd or implicit_euler)");
     out.push_back(*kind);

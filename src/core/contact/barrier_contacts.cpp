@@ -16,13 +16,6 @@ double default_barrier_stiffness(double mean_particle_mass, const Vec3& gravity,
   return barrier_stiffness_for_weight(mean_particle_mass * g, dhat);
 }
 
-std::string barrier_refusal(IntegratorKind kind) {
-  // (Named as the registry spells them: integrator_name is on a floor above this one.)
-  if (kind != IntegratorKind::Xpbd && kind != IntegratorKind::ProjectiveDynamics) return "";
-  return std::string(kind == IntegratorKind::Xpbd ? "xpbd" : "projective_dynamics") +
-         " has no barrier contact (it projects constraints); use collision.model: projection for it";
-}
-
 PointBarrier pair_barrier(const Model& model, const BarrierPair& pair, const Eigen::Matrix3Xd& x,
                           const BarrierParams& p, bool project_psd) {
   if (pair.b < 0) return plane_barrier(x.col(pair.a), model.ground.height + pair.r, p);

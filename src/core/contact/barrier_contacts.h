@@ -28,10 +28,6 @@ BarrierParams barrier_params(const Model& model);
 // weight held at d-hat / 2. N/m.
 double default_barrier_stiffness(double mean_particle_mass, const Vec3& gravity, double dhat);
 
-// Why `kind` cannot run barrier contacts, or "" when it can: xpbd and projective_dynamics have
-// no faithful form of the barrier (docs/integrators.md says why) and are refused.
-std::string barrier_refusal(IntegratorKind kind);
-
 // One pair: bodies a (a particle or a sphere) and b (a sphere body, or -1 for the ground), the
 // reach r of b (its radius, or r_a + r_b between spheres; 0 for the ground), its friction mu.
 struct BarrierPair {

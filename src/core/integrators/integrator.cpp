@@ -42,36 +42,39 @@ double* vbd_tolerance(Model& m) { return &m.solvers.vbd.tolerance; }
 // In enum order, so an entry is found by the enum's value. The solvers' passes per iteration
 // are the work-unit weights measured on the drape's 25 x 25 sheet (BENCHMARKS.md).
 using C = IterationControl;
+// XPBD and PD project constraints; the barrier is a potential they have no faithful form of.
+constexpr std::string_view kProjectsConstraints =
+    "has no barrier contact (it projects constraints); use collision.model: projection for it";
 const Entry kRegistry[] = {
     {{IntegratorKind::ExplicitEuler, "explicit_euler", 1, 1,
       "forward Euler: x += h v_n, v += h a_n (the course framework's 'explicit')",
-      1, C::None, 0.0, false, false, explicit_euler_limit},
+      1, C::None, 0.0, false, false, explicit_euler_limit, ""},
      explicit_euler_step, no_iterations, no_tolerance},
     {{IntegratorKind::SymplecticEuler, "symplectic_euler", 1, 0,
       "v += h a_n, x += h v_{n+1} (the student report's code)",
-      1, C::None, 0.0, false, false, symplectic_limit},
+      1, C::None, 0.0, false, false, symplectic_limit, ""},
      symplectic_euler_step, no_iterations, no_tolerance},
     {{IntegratorKind::Midpoint, "midpoint", 2, 3, "RK2 through the half-step state",
-      2, C::None, 0.0, false, false, midpoint_limit},
+      2, C::None, 0.0, false, false, midpoint_limit, ""},
      midpoint_step, no_iterations, no_tolerance},
     {{IntegratorKind::Rk4, "rk4", 4, 4, "classic Runge-Kutta 4 on (x, v)",
-      4, C::None, 0.0, false, false, rk4_limit},
+      4, C::None, 0.0, false, false, rk4_limit, ""},
      rk4_step, no_iterations, no_tolerance},
     {{IntegratorKind::ImplicitEuler, "implicit_euler", 0, 2,
       "backward Euler: Newton + PCG, contacts in the solve (or fixed point)",
-      1, C::Newton, 0.0, true, true, backward_euler_limit},
+      1, C::Newton, 0.0, true, true, backward_euler_limit, ""},
      implicit_euler_step, newton_iterations, no_tolerance},
     {{IntegratorKind::Xpbd, "xpbd", 0, 0,
       "XPBD (Macklin et al. 2016): compliant distance constraints, Gauss-Seidel",
-      1, C::Solver, 1.4, false, false, no_limit},
+      1, C::Solver, 1.4, false, false, no_limit, kProjectsConstraints},
      xpbd_step, xpbd_iterations, xpbd_tolerance},
     {{IntegratorKind::ProjectiveDynamics, "projective_dynamics", 0, 0,
       "projective dynamics (Liu et al. 2013): local-global on Phi, prefactored",
-      1, C::Solver, 2.9, false, false, no_limit},
+      1, C::Solver, 2.9, false, false, no_limit, kProjectsConstraints},
      projective_dynamics_step, pd_iterations, pd_tolerance},
     {{IntegratorKind::Vbd, "vbd", 0, 0,
       "vertex block descent (Chen et al. 2024): per-vertex Newton on Phi",
-      1, C::Solver, 2.4, false, false, no_limit},
+      1, C::Solver, 2.4, false, false, no_limit, ""},
      vbd_step, vbd_iterations, vbd_tolerance},
 };
 
@@ -101,6 +104,11 @@ StepStats integrate(IntegratorKind kind, const Model& model, State& state, doubl
 int nominal_force_evals(IntegratorKind kind) { return entry(kind).info.nominal_force_evals; }
 
 const IntegratorInfo& integrator_info(IntegratorKind kind) { return entry(kind).info; }
+
+std::string barrier_refusal(IntegratorKind kind) {
+  const IntegratorInfo& info = entry(kind).info;
+  return info.barrier_refusal.empty() ? "" : std::string(info.name) + " " + std::string(info.barrier_refusal);
+}
 
 int* iteration_count(Model& model, IntegratorKind kind) { return entry(kind).iterations(model); }
 

@@ -45,6 +45,8 @@ struct IntegratorInfo {
   bool counts_safety_projections;
   // The largest stable h on u'' + c u' + w^2 u = 0 (stiffness_estimate.h); inf: none.
   double (*linear_limit)(double w, double c, const ImplicitDef& implicit);
+  // Why the method cannot run collision.model: barrier (docs/integrators.md), or empty.
+  std::string_view barrier_refusal;
 };
 const std::vector<IntegratorInfo>& integrator_registry();  // in enum order
 
@@ -56,6 +58,8 @@ std::string default_comparison_list();  // the default four, comma-separated
 std::vector<IntegratorKind> comparison_integrators();  // the same four, in their slots' order
 
 const IntegratorInfo& integrator_info(IntegratorKind kind);  // the method's row
+// "NAME has no barrier contact ...", or "" when `kind` takes collision.model: barrier.
+std::string barrier_refusal(IntegratorKind kind);
 // Whether `:N` sets a solver's sweeps (xpbd, projective_dynamics, vbd).
 inline bool is_iterative_solver(IntegratorKind kind) {
   return integrator_info(kind).iterations == IterationControl::Solver;

@@ -240,6 +240,8 @@ LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& l
 }
 
 const Model& lane_model(const Model& base, const LaneSpec& lane, std::optional<Model>& storage) {
+  const std::string refused = base.collision.model == ContactModel::Barrier ? barrier_refusal(lane.kind) : "";
+  if (!refused.empty()) throw UsageError("--integrators: collision.model: barrier: " + refused);
   if (!lane.fixed_point && lane.iterations == 0 && lane.tolerance == 0.0) return base;
   storage.emplace(base);
   if (lane.fixed_point) {  // the course framework's "implicit" (docs/integrators.md)
