@@ -119,6 +119,7 @@ StepStats vbd_step(const Model& model, State& state, const StepContext& ctx, Wor
   }
   stop.report(stats);
   finish_step(c.problem, c.y, state);
+  if (barrier_scene) return stats;  // no held planes: the barrier and its friction acted in the sweeps
   collect_held(model, c);
   respond_to_held_contacts(model, c.problem, c.y, c.held, c.gradient, state);  // friction on them
   return stats;
