@@ -234,6 +234,22 @@ TEST(ClashingPaths, AStillAmongTheFramesIsRefused) {
   EXPECT_NE(r.err.find("--frames " + f.dir + "/fr would write frames over -o/--output"), std::string::npos) << r.err;
 }
 
+// --export's files are outputs too: a PC2's rest mesh named as --state, or a sequence over the
+// frames another output writes, is refused before any work (run and compare alike).
+TEST(ClashingPaths, ExportFilesClashWithTheOtherOutputs) {
+  ClashFolder f;
+  const CliResult pc2 = run_clothsim({"run", f.dir + "/s.yaml", "--duration", "0.1", "--export", f.dir + "/c.pc2",
+                                      "--state", f.dir + "/./c.obj"});
+  EXPECT_EQ(pc2.exit_code, 2) << pc2.err;
+  EXPECT_EQ(line_count(pc2.err), 1) << pc2.err;
+  EXPECT_FALSE(fs::exists(f.dir + "/c.pc2"));
+  const CliResult series = run_clothsim({"compare", f.dir + "/s.yaml", "--duration", "0.1", "--integrators", "rk4",
+                                         "--export", f.dir + "/e/frame_%05d.obj", "--summary",
+                                         f.dir + "/e/rk4/frame_00001.obj"});
+  EXPECT_EQ(series.exit_code, 2) << series.err;
+  EXPECT_EQ(slurp(f.dir + "/s.yaml"), f.scene_text);
+}
+
 TEST(ClashingPaths, DevicesAreNeverCompared) {
   ClashFolder f;
   const CliResult r = run_clothsim({"run", f.dir + "/s.yaml", "--duration", "0.1", "--metrics", "/dev/null", "--state",

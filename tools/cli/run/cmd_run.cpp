@@ -65,9 +65,10 @@ void check_run_usage(const RunOptions& o, const SceneDef& scene) {
   }
 }
 
-// Every output is checked before any work, so a typo fails in milliseconds.
+// Every output is checked before any work, so a typo fails in milliseconds; returns --export's
+// paths.
 // With -n, an output that exists already is refused here too (exit 2), untouched.
-void check_run_outputs(const RunOptions& o, int spheres) {
+std::vector<ExportPath> check_run_outputs(const RunOptions& o, int spheres) {
   std::vector<PathRole> outputs{{o.metrics, "--metrics"},      {o.state, "--state"},
                                 {o.video, "--video"},          {o.still_out, "-o/--output"},
                                 {o.summary, "--summary"},      {o.frames_dir, "--frames", true}};
@@ -79,6 +80,7 @@ void check_run_outputs(const RunOptions& o, int spheres) {
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
+  return checked_export_paths(o.export_path, {}, spheres);
 }
 
 // The model the run steps: the scene's, with --iterations applied.
@@ -181,8 +183,7 @@ int run_command(const RunOptions& o) {
       throw UsageError("--reference (" + look.reference->spelling() +
                        ", for --color error): " + too_long);
   }
-  check_run_outputs(o, static_cast<int>(scene.spheres.size()));
-  const std::vector<ExportPath> exports = checked_export_paths(o.export_path, {}, static_cast<int>(scene.spheres.size()));
+  const std::vector<ExportPath> exports = check_run_outputs(o, static_cast<int>(scene.spheres.size()));
 
   const double fps = scene.render.fps;
   // A still alone needs the run only up to its time; any other output needs the whole run,
