@@ -126,7 +126,8 @@ py::object converge(const Scene& scene, double dt, const std::vector<std::string
                {"rms_distance", [&](const P& p) { return number(p.rms); }},
                {"max_distance", [&](const P& p) { return number(p.max); }},
                {"gradient_norm", [&](const P& p) { return number(p.gradient); }},
-               {"cpu_seconds", [&](const P& p) { return number(p.cpu_seconds); }}});
+               {"cpu_seconds", [&](const P& p) { return number(p.cpu_seconds); }},
+               {"wrong", [](const P& p) { return py::object(py::str(p.wrong)); }}});
   if (!csv.empty()) write_csv(csv, frame);
   return frame;
 }
@@ -170,15 +171,19 @@ py::object bench(const Scene& scene, const std::vector<std::string>& integrators
        {"cg_iterations", [](const P& p) { return py::object(py::int_(p.cg_iterations)); }},
        {"wall_seconds", [&](const P& p) { return number(p.wall_seconds); }},
        {"cpu_seconds", [&](const P& p) { return number(p.cpu_seconds); }},
-       {"rms_error", [&](const P& p) { return number(p.rms_error); }},
-       {"max_error", [&](const P& p) { return number(p.max_error); }},
+       {"rms_error", [&](const P& p) { return number(p.unresolved ? NAN : p.rms_error); }},
+       {"max_error", [&](const P& p) { return number(p.unresolved ? NAN : p.max_error); }},
        {"diverged", [](const P& p) { return py::object(py::int_(p.diverged ? 1 : 0)); }},
        {"diverged_at", [&](const P& p) { return p.diverged ? number(p.diverged_at) : py::object(py::str("")); }},
        {"reason", [](const P& p) { return py::object(py::str(p.reason)); }},
        {"duration", [&](const P&) { return number(r.duration); }},
        {"reference_dt", [&](const P&) { return number(r.reference.dt); }},
        {"reference_change", [&](const P&) { return number(r.reference.finished ? r.reference.change_rms : NAN); }},
-       {"unconverged_steps", [](const P& p) { return py::object(py::int_(p.unconverged_steps)); }}});
+       {"unconverged_steps", [](const P& p) { return py::object(py::int_(p.unconverged_steps)); }},
+       {"wrong", [](const P& p) { return py::object(py::int_(p.wrong ? 1 : 0)); }},
+       {"wrong_at", [&](const P& p) { return p.wrong ? number(p.wrong_at) : py::object(py::str("")); }},
+       {"wrong_reason", [](const P& p) { return py::object(py::str(p.wrong_reason)); }},
+       {"unresolved", [](const P& p) { return py::object(py::int_(p.unresolved ? 1 : 0)); }}});
   if (!csv.empty()) write_csv(csv, frame);
   return frame;
 }
@@ -278,7 +283,7 @@ void bind_studies(py::module_& m) {
         "`clothsim converge`: from `states` states along a converged implicit_euler run, one step of\n"
         "each method with 1..max_iterations iterations, its distance from the converged backward-Euler\n"
         "step. Columns as converge --csv: scene, method, state, t, iterations, rms_distance,\n"
-        "max_distance, gradient_norm, cpu_seconds; `csv` writes that file too. Runs with the GIL\n"
+        "max_distance, gradient_norm, cpu_seconds, wrong; `csv` writes that file too. Runs with the GIL\n"
         "released; Ctrl-C raises KeyboardInterrupt.");
 }
 

@@ -385,7 +385,7 @@ TEST(Cli, HelpExplainsEverySubcommand) {
 TEST(Cli, HelpListsEveryExitCodeOfTheContract) {
   const CliResult help = run_clothsim({"run", "--help"});
   for (const char* code : {"0 success", "1 runtime failure", "2 bad usage", "3 the simulation diverged",
-                           "4 an implicit step did not converge", "130 / 143 stopped by SIGINT"})
+                           "4 a step did not converge", "5 the run reads WRONG", "130 / 143 stopped by SIGINT"})
     EXPECT_NE(help.out.find(code), std::string::npos) << code << "\n" << help.out;
 }
 
