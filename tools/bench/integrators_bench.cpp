@@ -29,7 +29,7 @@ void run_steps(benchmark::State& st, const Model& m, IntegratorKind kind, double
   if (!s.x.allFinite()) st.SkipWithError("the state went non-finite: the step is unstable here");
   const auto per_step = benchmark::Counter::kAvgIterations;
   st.counters["force_evals"] = benchmark::Counter(force_evals, per_step);
-  if (integrator_info(kind).iterations == IterationControl::Newton) {
+  if (kind == IntegratorKind::ImplicitEuler) {
     st.counters["newton"] = benchmark::Counter(newton, per_step);
     st.counters["cg"] = benchmark::Counter(cg, per_step);
     st.counters["unconverged"] = benchmark::Counter(unconverged, per_step);
@@ -41,16 +41,16 @@ void BM_IntegratorStep(benchmark::State& st, IntegratorKind kind) {
   const Model m = bench::drape_sheet(static_cast<int>(st.range(0)));
   run_steps(st, m, kind, m.dt);
 }
-// One benchmark per explicit method and backward Euler, read off the registry (the solvers,
-// whose cost is their iterations, are solver_bench's): BM_IntegratorStep/NAME/SIDE.
-const bool kStepBenchmarks = [] {
-  for (const IntegratorInfo& info : integrator_registry()) {
-    if (info.iterations == IterationControl::Solver) continue;
-    benchmark::RegisterBenchmark(("BM_IntegratorStep/" + std::string(info.name)).c_str(), BM_IntegratorStep, info.kind)
-        ->Arg(25)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
-  }
-  return true;
-}();
+BENCHMARK_CAPTURE(BM_IntegratorStep, symplectic_euler, IntegratorKind::SymplecticEuler)
+    ->Arg(25)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_IntegratorStep, explicit_euler, IntegratorKind::ExplicitEuler)
+    ->Arg(25)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_IntegratorStep, midpoint, IntegratorKind::Midpoint)
+    ->Arg(25)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_IntegratorStep, rk4, IntegratorKind::Rk4)
+    ->Arg(25)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_IntegratorStep, implicit_euler, IntegratorKind::ImplicitEuler)
+    ->Arg(25)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
 
 // The same steps for every integrator: the drape's first second (10 000 steps of 1e-4 s: the
 // fall, the impact and the settling on the ball), so the ratios compare one stretch of the
@@ -61,9 +61,9 @@ void BM_IntegratorFirstSecond(benchmark::State& st, IntegratorKind kind) {
   const Model m = bench::drape_sheet(static_cast<int>(st.range(0)));
   run_steps(st, m, kind, m.dt);
 }
-BENCHMARK_CAPTURE(BM_IntegratorFirstSecond, symplectic_euler, kDefaultIntegrator)
+BENCHMARK_CAPTURE(BM_IntegratorFirstSecond, symplectic_euler, IntegratorKind::SymplecticEuler)
     ->Arg(25)->Arg(64)->Unit(benchmark::kMicrosecond)->Iterations(10000);
-BENCHMARK_CAPTURE(BM_IntegratorFirstSecond, implicit_euler, kBackwardEuler)
+BENCHMARK_CAPTURE(BM_IntegratorFirstSecond, implicit_euler, IntegratorKind::ImplicitEuler)
     ->Arg(25)->Arg(64)->Unit(benchmark::kMicrosecond)->Iterations(10000);
 
 // Backward Euler (Newton + PCG, the scene's default tolerances) at h = 1/240 s on 64 x 64,
@@ -71,7 +71,7 @@ BENCHMARK_CAPTURE(BM_IntegratorFirstSecond, implicit_euler, kBackwardEuler)
 // the drape's initial state (cloth resting on the ball) and follow its fall.
 void BM_ImplicitEulerAt240Hz(benchmark::State& st) {
   const Model m = bench::drape_sheet(static_cast<int>(st.range(0)));
-  run_steps(st, m, kBackwardEuler, 1.0 / 240.0);
+  run_steps(st, m, IntegratorKind::ImplicitEuler, 1.0 / 240.0);
 }
 BENCHMARK(BM_ImplicitEulerAt240Hz)->Arg(64)->Unit(benchmark::kMillisecond)->Iterations(120);
 

@@ -45,7 +45,7 @@ using C = IterationControl;
 // XPBD and PD project constraints; the barrier is a potential they have no faithful form of.
 constexpr std::string_view kProjectsConstraints =
     "has no barrier contact (it projects constraints); use collision.model: projection for it";
-const Entry kRegistry[] = {
+constexpr Entry kRegistry[] = {  // constant-initialized: safe to read during static initialization
     {{IntegratorKind::ExplicitEuler, "explicit_euler", 1, 1,
       "forward Euler: x += h v_n, v += h a_n (the course framework's 'explicit')",
       1, C::None, 0.0, false, false, explicit_euler_limit, ""},
