@@ -188,7 +188,10 @@ namespace fs = std::filesystem;
 
 // Clashing paths (refuse_clashing_paths, docs/outputs.md "An output never replaces an input").
 struct ClashFolder {
-  std::string dir = scratch_dir("clash_" + std::to_string(counter++));
+  // The test's own name: ctest runs each test in its own process, several at once, so a
+  // per-process counter alone would hand two of them the same folder.
+  std::string dir = scratch_dir("clash_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+                                "_" + std::to_string(counter++));
   std::string scene_text;
   ClashFolder() {
     fs::copy_file(std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml", dir + "/s.yaml");
