@@ -14,6 +14,7 @@ import clothsim
 from conftest import ROOT, SCENES, read_state_csv
 
 DRAPE = os.path.join(SCENES, "drape.yaml")
+STIFF = os.path.join(SCENES, "stiff.yaml")
 
 
 @pytest.mark.parametrize("lane", ["rk4@1e-4", "symplectic_euler", "implicit_euler@4e-3", "xpbd@2e-3"])
@@ -225,3 +226,14 @@ def test_stability_is_the_clis_search_and_writes_its_csv(cli, tmp_path):
     assert len(frame) == 4 and set(frame.outcome) == {"bracketed"}
     timeless = lambda line: [c for i, c in enumerate(line.split(",")) if i != 7]  # noqa: E731  CPU seconds
     assert [timeless(l) for l in py_lines] == [timeless(l) for l in cli_lines]
+
+
+def test_a_run_that_makes_energy_reads_wrong_as_the_cli_does(cli, tmp_path):
+    # XPBD at 1/30 s with 10 sweeps on the stiff sheet makes energy (docs/integrators.md, WRONG).
+    scene = clothsim.load_scene(STIFF)
+    sim = clothsim.Simulation(scene, lane="xpbd@1/30")  # the scene block's 10 sweeps
+    sim.run(until=1.0)
+    assert sim.wrong is not None and "energy rose" in sim.wrong["reason"]
+    calm = clothsim.Simulation(scene, lane="implicit_euler@1/30")
+    calm.run(until=1.0)
+    assert calm.wrong is None

@@ -159,7 +159,20 @@ void bind_diagnostics(py::class_<Simulation>& c) {
           },
           "None, or {step, t, reason, message} where the run diverged.")
       .def_property_readonly("not_converged", [](const Simulation& s) { return s.engine().totals().unconverged_steps; },
-                             "Implicit steps that ended above their Newton tolerance (run --strict's exit 4 when > 0).");
+                             "Implicit steps that ended above their Newton tolerance (run --strict's exit 4 when > 0).")
+      .def_property_readonly(
+          "wrong",
+          [](const Simulation& s) -> py::object {
+            const auto& w = s.engine().totals().wrong;
+            if (!w) return py::none();
+            py::dict out;
+            out["step"] = w->step;
+            out["t"] = w->t;
+            out["reason"] = w->reason;
+            return std::move(out);
+          },
+          "None, or {step, t, reason}: the first WRONG verdict (energy made with no work done, or\n"
+          "strain past its bound; run --strict's exit 5). The run goes on, as run's does.");
 }
 
 }  // namespace
