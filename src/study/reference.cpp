@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <future>
 #include <limits>
 #include <vector>
 
@@ -138,19 +139,31 @@ const State& AdaptiveSolve::state() const { return impl_->state; }
 std::int64_t AdaptiveSolve::steps() const { return impl_->steps; }
 std::int64_t AdaptiveSolve::force_evals() const { return impl_->force_evals; }
 
-AdaptiveReference::AdaptiveReference(const Model& model, double tolerance)
-    : model_(model), tolerance_(tolerance), tight_(model, tolerance / kReferenceTightening), loose_(model, tolerance) {}
-
-void AdaptiveReference::set_stop_check(const std::function<bool()>& stop) {
-  tight_.set_stop_check(stop);
-  loose_.set_stop_check(stop);
+AdaptiveReference::AdaptiveReference(const Model& model, double tolerance, double tightening)
+    : model_(model),
+      tolerance_(tolerance),
+      tightening_(tightening),
+      tight_(model, tolerance / tightening),
+      loose_(model, tolerance) {
+  loose_.set_stop_check([this] { return abandon_.load(std::memory_order_relaxed); });
 }
 
+void AdaptiveReference::set_stop_check(const std::function<bool()>& stop) { tight_.set_stop_check(stop); }
+
 bool AdaptiveReference::advance_to(double t) {
+  double loose_cpu = 0.0;
+  auto check = std::async(std::launch::async, [this, t, &loose_cpu] {
+    const double start = thread_cpu_seconds();
+    const bool ok = loose_.advance_to(t) && !loose_.stopped();
+    loose_cpu = thread_cpu_seconds() - start;
+    return ok;
+  });
   const double cpu_start = thread_cpu_seconds();
-  const bool ok = tight_.advance_to(t) && !tight_.stopped() && loose_.advance_to(t) && !loose_.stopped();
-  cpu_seconds_ += thread_cpu_seconds() - cpu_start;
-  if (!ok) return !diverged();
+  const bool tight_ok = tight_.advance_to(t) && !tight_.stopped();
+  if (!tight_ok) abandon_.store(true, std::memory_order_relaxed);
+  const bool loose_ok = check.get();
+  cpu_seconds_ += thread_cpu_seconds() - cpu_start + loose_cpu;
+  if (!tight_ok || !loose_ok) return !diverged();
   time_ = t;
   last_change_ = largest_particle_distance(model_, loose_.state(), tight_.state());
   estimated_error_ = std::max(estimated_error_, last_change_);

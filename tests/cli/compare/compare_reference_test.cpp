@@ -1,7 +1,9 @@
 // compare's reference and its own error (study/reference.h): on a smooth scene (the barrier
 // drape) the error colouring's reference is the adaptive pair, and every error printed comes with
 // its estimated error, in the table, the summary's reference.estimated_error_m and each lane's
-// unresolved flag; a lane under 10x the reference's error is unresolved, not a number.
+// unresolved flag; a lane under 10x the reference's error is unresolved, not a number. On a
+// scene with projected contacts the reference is fixed-step RK4, checked by a run at twice its
+// step.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -35,7 +37,7 @@ TEST(CompareReference, OnASmoothSceneTheReferenceIsAdaptiveAndStatesItsEstimated
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("dopri5 adaptive (reference)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("error against the adaptive reference: largest"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("reference: dopri5 adaptive at tolerance 1e-08, checked by a solve at 1e-06: estimated error"),
+  EXPECT_NE(r.out.find("reference: dopri5 adaptive at tolerance 1e-07, checked by a solve at 1e-06: estimated error"),
             std::string::npos)
       << r.out;
   const std::string json = ct::slurp(dir + "/s.json");
@@ -71,6 +73,16 @@ TEST(CompareReference, ASceneWithProjectedContactsKeepsTheFixedStepRk4Reference)
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("rk4 (reference)"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("dopri5"), std::string::npos) << r.out;
+  // Its own error comes with it too: a run at twice its step (1e-4 / 4 = 2.5e-5 s, so 5e-5 s).
+  EXPECT_NE(r.out.find("reference: rk4 @ 2.5e-05 s, checked by a run at twice its step (5e-05 s): estimated error"),
+            std::string::npos)
+      << r.out;
+  const std::string json = ct::slurp(dir + "/s.json");
+  const std::string reference = object_at(json, "\"estimated_error_m\"");
+  EXPECT_NE(reference.find("\"check_dt\": 5.0000000000000002e-05"), std::string::npos) << reference;
+  const double estimate = std::stod(reference.substr(reference.find(':', reference.find("estimated_error_m")) + 1));
+  EXPECT_GT(estimate, 0.0) << "contact makes the two runs differ" << reference;
+  EXPECT_LT(estimate, 1e-3) << "well under the lane's error at 1e-4 s" << reference;
 }
 
 }  // namespace

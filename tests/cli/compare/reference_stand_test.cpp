@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <string>
@@ -119,6 +120,32 @@ TEST(ReferenceStand, InterpolatesBetweenItsStepsToWithinTheMethodsError) {
   }
   EXPECT_GT(moved, 1e-4) << "the cloth moves: an offset in time would show";
   EXPECT_LT(largest, 1e-6);
+}
+
+TEST(ReferenceStand, ItsCheckAtTwiceTheStepEstimatesAFirstOrderReferencesOwnError) {
+  // The ball-less cloth falling free under symplectic Euler, first order as a projected
+  // contact is: the run at twice the step is twice as far from the truth, so their distance
+  // (the estimate) is the reference's own error, to within the error's next order. The truth:
+  // a run at 1/16 the step.
+  const Model model = build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml",
+                                             {"cloth.particles=[5,5]", "spheres=[]"}));
+  const double H = 1e-4;
+  const IntegratorKind method = IntegratorKind::SymplecticEuler;
+  clothsim::Run reference(model, method, H), check(model, method, 2 * H);
+  ReferenceStand stand(model, reference, {1e-3}, 0.3);
+  stand.check_against(check);
+  EXPECT_TRUE(std::isnan(stand.estimated_error())) << "none before any step is checked";
+  stand.add(Target{0.3});
+  while (!stand.front_ready()) ASSERT_TRUE(stand.serve_next());
+  std::vector<ReferenceStand::Positions> x;
+  stand.pop(x);
+  EXPECT_DOUBLE_EQ(check.state().t, reference.state().t) << "checked where the reference stands";
+  clothsim::Run truth(model, method, H / 16);
+  ASSERT_TRUE(truth.advance_to(reference.state().t));
+  const double own_error = analysis::largest_particle_distance(model, reference.state(), truth.state());
+  EXPECT_GT(own_error, 1e-6) << "far above round-off";
+  EXPECT_GT(stand.estimated_error(), 0.8 * own_error);
+  EXPECT_LT(stand.estimated_error(), 1.5 * own_error);
 }
 
 TEST(ReferenceStand, ServesADroppedLaneNoLongerAndRunsNoFurtherThanTheLiveLanesNeed) {

@@ -179,6 +179,18 @@ void ReferenceStand::keep_sample(const State& state) {
   if (energy_every_ > 0.0) last_.energy = compute_energies(model_, state).total();
   last_.x.assign(state.x.data(), state.x.data() + n);
   last_.v.assign(state.v.data(), state.v.data() + n);
+  if (check_ && !exact_ && state.step % 2 == 0) compare_with_check(state);
+}
+
+void ReferenceStand::compare_with_check(const State& state) {
+  if (check_->diverged() || check_->stopped()) return;  // (the estimate was given up)
+  if (state.step / 2 < check_->state().step) return;   // (a replayed step the check has passed)
+  if (!check_->advance_to(state.t) || check_->stopped()) {
+    estimated_error_ = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  const double d = analysis::largest_particle_distance(model_, check_->state(), state);
+  estimated_error_ = std::isnan(estimated_error_) ? d : std::max(estimated_error_, d);
 }
 
 bool ReferenceStand::serve_next() {

@@ -31,6 +31,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <set>
 #include <utility>
@@ -58,6 +59,15 @@ class ReferenceStand {
   // Serves every time from `exact` (advanced in increasing time) rather than from `run`. Before
   // the first add(); `exact` must outlive the stand.
   void serve_exactly(analysis::AdaptiveReference& exact) { exact_ = &exact; }
+  // Checks the fixed-step run (not an exact one) against `check`, a run of the same method at
+  // twice its step from the same start: at every even step the stand keeps, `check` is advanced
+  // there and the largest particle distance between the two raises estimated_error(). For a
+  // reference whose error is first order in its step (projected contacts), that distance is
+  // its error; where it converges faster, more. Before the first add(); outlives the stand.
+  void check_against(Run& check) { check_ = &check; }
+  // m, the check's largest distance so far; NaN without a check, or once the check diverged
+  // or stopped short (no estimate then).
+  double estimated_error() const { return estimated_error_; }
   // Also serves the run's total energy (J) every `every` seconds between targets and at each
   // target, at the states where a run of its own advanced to those times stands, as
   // LaneWorker's energy samples of a lane are. Before the first add().
@@ -125,6 +135,7 @@ class ReferenceStand {
   // divergence or a stop. A step the run has passed is replayed from the history.
   const Sample* reach(std::int64_t k);
   void keep_sample(const State& state);
+  void compare_with_check(const State& state);  // check_ to the even step state is at
   const Sample* reach_exactly(double t, std::int64_t k);  // exact_ at time t (its step k, or -1)
   void update_horizon();
   std::shared_ptr<EnergySlot> ask_energy(double t);
@@ -134,6 +145,8 @@ class ReferenceStand {
   Run& run_;
   ReferenceHistory* history_;
   analysis::AdaptiveReference* exact_ = nullptr;
+  Run* check_ = nullptr;
+  double estimated_error_ = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> steps_;                      // the lanes' distinct steps
   std::vector<std::size_t> lane_step_;             // per lane: its step's index in steps_
   std::vector<std::int64_t> landed_;               // per step: the step a run of it last landed on

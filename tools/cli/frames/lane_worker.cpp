@@ -153,6 +153,14 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
   if (!run_ahead(run, history)) return finish_reference(run, history);
   ReferenceStand stand(model_, run, lane_steps_, targets_.last_time(), &history);
   if (exact) stand.serve_exactly(*exact);
+  const auto asked_to_stop = [this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); };
+  // The fixed-step reference's own error: the distance to a run at twice its step (reference_stand.h).
+  std::optional<Run> check;
+  if (!exact) {
+    check.emplace(model_, spec_.kind, 2.0 * run.dt());
+    check->set_stop_check(asked_to_stop);
+    stand.check_against(*check);
+  }
   const ReferenceSource source{run, exact};
   if (needs_.energy_every > 0.0) stand.sample_energy(needs_.energy_every);  // the inset's reference too
   int applied = 0;  // drops_ passed on to the stand
@@ -167,7 +175,6 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
   };
   // Between any two steps: stopped, or no live lane can need a time from here on (every time
   // a live lane needs is at or before the horizon, and the run only goes forward).
-  const auto asked_to_stop = [this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); };
   source.set_stop_check([&] {
     if (asked_to_stop()) return true;
     apply_drops();
@@ -181,7 +188,7 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
     f.t = stand.pop(f.x_for, &f.energy).t;
     f.step = source.step();
     f.totals = source.totals();
-    f.reference_error = exact ? exact->estimated_error() : 0.0;
+    f.reference_error = exact ? exact->estimated_error() : stand.estimated_error();
     push(std::move(f));
   };
   for (;;) {
@@ -226,7 +233,7 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
       break;
     }
   }
-  finish_reference(run, history, exact);
+  finish_reference(run, history, exact, check ? &*check : nullptr, stand.estimated_error());
 }
 
 // Until the lanes' steps are known (LaneNeeds::stand_for_later): the run goes ahead target by
@@ -254,7 +261,7 @@ bool LaneWorker::run_ahead(Run& run, ReferenceHistory& history) {
 }
 
 void LaneWorker::finish_reference(const Run& run, const ReferenceHistory& history,
-                                  const analysis::AdaptiveReference* exact) {
+                                  const analysis::AdaptiveReference* exact, const Run* check, double estimated_error) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (exact) {  // it ran in place of the run
     result_.t = exact->state().t;
@@ -268,6 +275,12 @@ void LaneWorker::finish_reference(const Run& run, const ReferenceHistory& histor
   result_.totals = run.totals();
   result_.totals.cpu_seconds += history.replay_cpu_seconds();  // what the early start cost
   result_.divergence = run.divergence();
+  if (check) {  // its work is the reference's too
+    result_.totals.cpu_seconds += check->totals().cpu_seconds;
+    result_.totals.force_evals += check->totals().force_evals;
+    result_.check_dt = check->dt();
+    result_.estimated_error = estimated_error;
+  }
 }
 
 // A lane's loop: each target in turn, stepped to and handed over (a frozen frame and the end

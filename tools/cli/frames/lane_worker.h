@@ -81,7 +81,7 @@ struct LaneFrame {
                                                   // this target's included, when energy_every
   std::optional<Divergence> divergence;  // set on the frozen frame
   bool frozen = false;             // diverged: the last finite state, and the lane's last frame
-  double reference_error = 0.0;    // the adaptive reference: its estimated error so far, m
+  double reference_error = 0.0;    // the reference lane: its estimated error so far, m (0 or NaN: none)
 };
 
 struct LaneResult {
@@ -90,9 +90,11 @@ struct LaneResult {
   RunTotals totals;           // cpu_seconds: the lane thread's, not inflated by sharing cores
   std::optional<Divergence> divergence;
   std::optional<State> final_state;  // LaneNeeds::final_state, unless diverged
-  // The adaptive reference (LaneNeeds::adaptive_tolerance): its tolerance and its estimated
-  // error, the largest over every time it served (m); 0 and NaN for any other lane.
+  // The reference lane: the adaptive one's check tolerance (LaneNeeds::adaptive_tolerance, 0
+  // otherwise), the fixed-step one's check step (0 otherwise), and its estimated error, the
+  // largest over every time it served (m); NaN for any other lane, or when the check failed.
   double adaptive_tolerance = 0.0;
+  double check_dt = 0.0;
   double estimated_error = std::numeric_limits<double>::quiet_NaN();
 };
 
@@ -153,7 +155,8 @@ class LaneWorker {
   void serve_reference(Run& run, analysis::AdaptiveReference* exact = nullptr);
   bool run_ahead(Run& run, ReferenceHistory& history);
   void finish_reference(const Run& run, const ReferenceHistory& history,
-                        const analysis::AdaptiveReference* exact = nullptr);
+                        const analysis::AdaptiveReference* exact = nullptr, const Run* check = nullptr,
+                        double estimated_error = std::numeric_limits<double>::quiet_NaN());
   void set_lane_steps(std::vector<double> lane_steps);
   LaneFrame frame_of(const Run& run, const State& state) const;
 

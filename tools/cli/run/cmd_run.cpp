@@ -117,12 +117,14 @@ void print_run_totals(const Model& model, IntegratorKind kind, double dt, const 
   if (report.reference && report.reference->adaptive_tolerance > 0.0)  // a smooth scene's (study/reference.h)
     std::printf("reference for --color error: dopri5 adaptive at tolerance %.0e, %" PRId64 " force evaluations, %.3f s "
                 "of CPU; its estimated error %.3g m\n",
-                report.reference->adaptive_tolerance / analysis::kReferenceTightening, report.reference->totals.force_evals,
+                report.reference->adaptive_tolerance / analysis::kCompareTightening, report.reference->totals.force_evals,
                 report.reference->totals.cpu_seconds, report.reference->estimated_error);
   else if (report.reference)
-    std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU\n",
+    std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU; its "
+                "estimated error %.3g m (a run at twice its step)\n",
                 report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
-                report.reference->totals.force_evals, report.reference->totals.cpu_seconds);
+                report.reference->totals.force_evals, report.reference->totals.cpu_seconds,
+                report.reference->estimated_error);
 }
 
 void write_run_summary(const RunOptions& o, const SceneDef& scene, const Model& model, const LaneResult& r,
