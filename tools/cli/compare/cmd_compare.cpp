@@ -225,6 +225,9 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
     budget.add(l.spelling(), run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
   if (p.look.reference && p.look.color == FieldKind::Error) {
     budget.add("reference " + p.look.reference->name(), run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
+    // Its check (reference_stand.h, study/reference.h): a run at twice its step, or the looser
+    // adaptive solve on a thread of its own.
+    budget.add("reference check", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
     std::vector<double> steps;
     for (const LaneSpec& l : p.lanes) steps.push_back(l.dt);
     budget.add("reference positions at the lanes' times",
