@@ -143,6 +143,17 @@ struct ReferenceSource {
     if (exact) exact->set_stop_check(stop);
   }
 };
+
+// The reference's last frame once it diverged: where and when, and what it cost.
+LaneFrame frozen_reference(const ReferenceSource& source) {
+  LaneFrame frozen;
+  frozen.divergence = source.divergence();
+  frozen.t = frozen.divergence->t;
+  frozen.step = source.step();
+  frozen.totals = source.totals();
+  frozen.frozen = true;
+  return frozen;
+}
 }  // namespace
 
 // The reference lane's loop (LaneNeeds::stand_for): targets are added as the times they need
@@ -153,14 +164,9 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
   if (!run_ahead(run, history)) return finish_reference(run, history);
   ReferenceStand stand(model_, run, lane_steps_, targets_.last_time(), &history);
   if (exact) stand.serve_exactly(*exact);
-  const auto asked_to_stop = [this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); };
-  // The fixed-step reference's own error: the distance to a run at twice its step (reference_stand.h).
-  std::optional<Run> check;
-  if (!exact) {
-    check.emplace(model_, spec_.kind, 2.0 * run.dt());
-    check->set_stop_check(asked_to_stop);
-    stand.check_against(*check);
-  }
+  std::optional<Run> check;  // the fixed-step reference's own error: a run at twice its step (reference_stand.h)
+  if (!exact) stand.check_against(check.emplace(model_, spec_.kind, 2.0 * run.dt()));
+  if (check) check->set_stop_check([this] { return stop_asked(); });
   const ReferenceSource source{run, exact};
   if (needs_.energy_every > 0.0) stand.sample_energy(needs_.energy_every);  // the inset's reference too
   int applied = 0;  // drops_ passed on to the stand
@@ -176,7 +182,7 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
   // Between any two steps: stopped, or no live lane can need a time from here on (every time
   // a live lane needs is at or before the horizon, and the run only goes forward).
   source.set_stop_check([&] {
-    if (asked_to_stop()) return true;
+    if (stop_asked()) return true;
     apply_drops();
     return source.t() >= stand.horizon();
   });
@@ -208,7 +214,7 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
     }
     if (stand.empty()) break;  // every target served
     if (!stand.serve_next()) {
-      if (source.stopped() && asked_to_stop()) break;
+      if (source.stopped() && stop_asked()) break;
       if (source.stopped()) {
         // Past the horizon: what every live lane needs was served (the targets still to add
         // would need later times), so the targets waiting go out, the dropped lanes' positions
@@ -223,13 +229,7 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
       // The targets waiting go out with what was served of them (a lane of a small step was
       // measured up to the blow-up even if one of a large step, needing a later time, was not).
       while (!stand.empty()) hand_over();
-      LaneFrame frozen;  // a diverged reference measures nothing from here on
-      frozen.divergence = source.divergence();
-      frozen.t = frozen.divergence->t;
-      frozen.step = source.step();
-      frozen.totals = source.totals();
-      frozen.frozen = true;
-      push(std::move(frozen));
+      push(frozen_reference(source));  // a diverged reference measures nothing from here on
       break;
     }
   }
@@ -342,10 +342,14 @@ void LaneWorker::run_targets(Run& run) {
   if (needs_.final_state && !run.diverged()) result_.final_state = run.state();
 }
 
+bool LaneWorker::stop_asked() const {
+  return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_());
+}
+
 void LaneWorker::work() {
   try {
     Run run(model_, spec_.kind, spec_.dt);
-    run.set_stop_check([this] { return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_()); });
+    run.set_stop_check([this] { return stop_asked(); });
     // CLOTHSIM_NEWTON_TRACE=1: implicit_euler's Newton trace on stderr (docs/integrators.md).
     if (std::getenv("CLOTHSIM_NEWTON_TRACE")) run.set_newton_trace([](const char* line) { std::fputs(line, stderr); });
     if (!reference_) {

@@ -149,6 +149,7 @@ class LaneWorker {
   LaneResult result() const;
 
  private:
+  bool stop_asked() const;  // stop() was called, or the interrupt says so (polled between steps)
   void work();
   void push(LaneFrame frame);
   void run_targets(Run& run);
