@@ -192,7 +192,7 @@ void print_reference_check(const analysis::ReferenceCheck& ref) {
                 ref.change_rms > 0 ? ref.smallest_error / ref.change_rms : INFINITY);
   if (ref.unresolved > 0)
     std::printf("; %d run%s under %g x it unresolved%s", ref.unresolved, ref.unresolved == 1 ? "" : "s",
-                1.0 / ref.margin, ref.change_rms <= analysis::kRoundOffError ? " (at round-off, as the reference is)" : "");
+                1.0 / ref.margin, ref.change_rms <= ref.round_off ? " (at round-off, as the reference is)" : "");
   std::printf("; the two runs took %" PRId64 " steps, %" PRId64 " force evaluations, %.3g s CPU\n", ref.steps,
               ref.force_evals, ref.cpu_seconds);
 }
