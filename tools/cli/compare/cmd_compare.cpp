@@ -330,7 +330,11 @@ void plan_variation(const CompareOptions& o, ComparePlan& p) {
   for (std::size_t v = 0; v < vary.size(); ++v) {
     SceneOptions with = o.scene;
     for (const std::string& set : vary.sets(v)) with.sets.push_back(set);
-    p.vary_scenes.push_back(load_scene_with_options(with));  // a bad value: the parser's message names it
+    try {  // a bad key or value: the parser's message, said of --vary as typed
+      p.vary_scenes.push_back(load_scene_with_options(with));
+    } catch (const SceneError& e) {
+      throw as_option_error(e, vary.key, "--vary " + o.vary);
+    }
   }
   p.lanes.clear();
   p.lane_dirs.clear();

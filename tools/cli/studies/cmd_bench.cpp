@@ -327,7 +327,11 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
     s.label = v.label(value);
     std::vector<std::string> sets = o.scene.sets;
     for (const std::string& set : v.sets(value)) sets.push_back(set);
-    s.scene = load_scene(o.scene.path, sets);
+    try {  // a bad key or value: the parser's message, said of --vary as typed
+      s.scene = load_scene(o.scene.path, sets);
+    } catch (const SceneError& e) {
+      throw as_option_error(e, v.key, "--vary " + o.vary);
+    }
     for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
     s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
     s.spec.lane_names = s.names;

@@ -222,6 +222,8 @@ std::vector<analysis::SweepScene> sweep_cases(const StabilityOptions& o, const S
     return analysis::sweep_scenes(o.scene.path, o.scene.sets, key.paths, values);
   } catch (const analysis::StudyError& e) {
     throw UsageError("--param " + std::string(e.what()));
+  } catch (const SceneError& e) {  // said of --param as typed, not of the --set it became
+    throw as_option_error(e, key, "--param " + o.param);
   }
 }
 
