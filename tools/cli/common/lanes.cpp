@@ -22,7 +22,6 @@ std::string trimmed(const std::string& s) {
 }
 
 // The course's "implicit" as a lane of its own: implicit_euler as one fixed-point iteration.
-constexpr std::string_view kFixedPointName = "implicit_euler_fixed_point";
 
 std::string names_or_course() {
   return integrator_names_joined() + ", " + std::string(kFixedPointName) + ", or course";
