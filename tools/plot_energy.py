@@ -8,7 +8,8 @@ are drawn by lane: the integrator's colour (the same in every figure), and a lin
 step within it, so two implicit Euler runs at 1/60 s and 1/240 s are told apart. The legend
 sits outside the axes, beside them, so no label covers a curve. The column plotted is total_energy by default
 (kinetic + spring + gravity, J); --column picks another (kinetic, spring_potential, ...),
-and --relative plots E(t) - E(0), which shows drift when the energies are large.
+and --relative plots E(t) - E(0), which shows drift when the energies are large. Each lane's
+change over the run, lowest and highest E(t) - E(0) are printed, one line per lane.
 
     for i in explicit_euler symplectic_euler rk4 implicit_euler; do
       build/clothsim run scenes/spring.yaml --integrator $i --dt 0.01 --duration 10 \
@@ -84,6 +85,19 @@ def plot(runs, labels, column="total_energy", relative=False, log=False, title="
     return fig, ax
 
 
+def summary(runs, labels, column="total_energy"):
+    """One line per lane, the figures a report quotes: its change over the run and extremes."""
+    unit = UNITS.get(column, "J")
+    out = []
+    for label, rows in zip(labels, runs):
+        y = [pc.number(r[column]) for r in rows]
+        d = [v - y[0] for v in y]
+        t_end = pc.number(rows[-1]["t"])
+        out.append(f"{label}: {column} at t = {t_end:g} s minus at 0: {d[-1]:.4g} {unit}; "
+                   f"lowest {min(d):.4g} {unit}, highest {max(d):.4g} {unit}")
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("csv", nargs="+", help="metrics CSVs written by clothsim run --metrics")
@@ -101,6 +115,8 @@ def main():
         pc.fail(f"--labels: {len(labels)} labels for {len(args.csv)} files")
     fig, _ = plot(runs, labels, args.column, args.relative, args.log, args.title, args.csv)
     pc.save(fig, args.out)
+    for line in summary(runs, labels, args.column):
+        print(line)
 
 
 if __name__ == "__main__":

@@ -31,3 +31,11 @@ def test_the_legend_sits_beside_the_axes_not_over_the_curves():
     assert legend.x1 <= fig.bbox.x1 + 1, "and is inside the figure"
     assert [t.get_text() for t in ax.get_legend().get_texts()] == labels
     assert ax.get_ylabel().startswith("total energy - its initial value")
+
+
+def test_each_lane_prints_its_change_and_extremes():
+    labels = pe.run_labels(["a", "b", "c", "d"], RUNS)
+    lines = pe.summary(RUNS, labels)
+    assert lines[0] == ("implicit_euler, dt = 0.0166667 s: total_energy at t = 0.2 s minus at 0: -2 J; "
+                        "lowest -2 J, highest 0 J")
+    assert lines[3].endswith("highest 2 J")
