@@ -10,7 +10,7 @@ red. Runs at one step per frame (column frame_steps) are drawn at their step, la
 lane: a filled square converged at every step (for the course's fixed point, which solves
 nothing, a filled plus: ran to the end), a hollow one circled in red had steps that did not,
 a cross diverged. Two lanes with identical limits are both shown: the second dashed, hollow
-and labelled "the same limits as" the first. The legend sits beside the axes. The black dashed line is the springs' Gershgorin estimate
+and labelled "the same limits as" the first (to the bisection's 2 %). The legend sits beside the axes. The black dashed line is the springs' Gershgorin estimate
 2 / w_max, the grey dotted one 2 / max(w_max, c_max) with the dampers counted.
 
     /usr/bin/python3 tools/plot_stability.py --csv stability.csv --out stability.png
@@ -60,14 +60,17 @@ def main():
         by_kind.setdefault(r["integrator"], []).append(r)
 
     fig, ax = pc.plt.subplots(figsize=(10, 5.5))
-    drawn = OrderedDict()  # a lane's bracketed limits -> the first lane drawn with exactly them
+    drawn = []  # (xs, ys, name) of the lanes drawn, to find a later one lying on an earlier one
     for name, rs in by_kind.items():
         color, marker = pc.style(name)
         rs = sorted(rs, key=lambda r: pc.number(r["value"]))
         found = [r for r in rs if r["outcome"] == "bracketed"]
         if found:
             xs, ys = [pc.number(r["value"]) for r in found], [pc.number(r["stable_dt"]) for r in found]
-            same = drawn.setdefault((tuple(xs), tuple(ys)), name)
+            # The same to the bisection's 2 % (its precision): the two lines would coincide.
+            same = next((n for dx, dy, n in drawn if dx == xs and len(dy) == len(ys) and
+                         all(abs(a - b) <= 0.02 * abs(b) for a, b in zip(ys, dy))), name)
+            drawn.append((xs, ys, name))
             if same == name:
                 ax.plot(xs, ys, color=color, marker=marker, label=pc.lane_label(name))
             else:  # identical limits would hide one line under the other: dashed, hollow, and said
@@ -101,8 +104,12 @@ def main():
     for r in rows:
         for dt, result in frame_steps(r.get("frame_steps")):
             frames.setdefault((r["integrator"], result), []).append((pc.number(r["value"]), dt))
+    frame_lanes = list(OrderedDict.fromkeys(name for name, _ in frames))
     for (name, result), pts in frames.items():
         color, marker = pc.style(name)
+        # Two lanes' frame steps sit at the same (value, step): each later lane a little right.
+        shift = 1.15 ** frame_lanes.index(name)
+        pts = [(v * shift, dt) for v, dt in pts]
         solves = not name.startswith(pc.FIXED_POINT)
         words = {"ok": "converged" if solves else "ran to the end", "not_converged": "not converged",
                  "diverged": "diverged"}
