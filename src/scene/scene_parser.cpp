@@ -181,10 +181,13 @@ Documents load_documents(const std::string& text) {
 // glob or an alias in --set (ks, cloth.springs.*.damping) stands for.
 std::vector<std::string> declared_spring_types(const YAML::Node& root) {
   std::vector<std::string> types;
+  // (a key absent under a const node is an invalid node, defined or not, so IsDefined first)
   const YAML::Node cloth = root["cloth"];
-  if (!cloth.IsMap() || !cloth["springs"].IsMap()) return types;
+  if (!cloth.IsDefined() || !cloth.IsMap()) return types;
+  const YAML::Node springs = cloth["springs"];
+  if (!springs.IsDefined() || !springs.IsMap()) return types;
   for (const char* type : {"structural", "shear", "bend"}) {
-    const YAML::Node n = cloth["springs"][type];
+    const YAML::Node n = springs[type];
     if (n.IsDefined() && !n.IsNull()) types.emplace_back(type);
   }
   return types;
