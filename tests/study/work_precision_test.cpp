@@ -123,14 +123,15 @@ TEST(WorkPrecision, AnErrorAtRoundOffIsNotAFailedReference) {
 }
 
 TEST(WorkPrecision, TheRoundOffFloorIsRelativeToTheStatesScale) {
-  // The spring spans x in [0, 1.1] m: its floor is 1e-11 x 1.1 m. The same spring a hundred
-  // metres from the origin holds its coordinates to eps x 100 m, so its floor is 100x higher.
+  // The spring, centred on the origin, spans x in [-0.5, 0.6] m (its 0.1 m stretch): its floor
+  // is 1e-11 x 0.6 m. The same spring a hundred metres away holds its coordinates to
+  // eps x 100 m, so its floor is about 170x higher.
   const Model near = spring_model();
-  EXPECT_NEAR(state_scale(near), 1.1, 1e-12);
-  EXPECT_NEAR(round_off_floor(near), kRoundOffRelative * 1.1, 1e-24);
+  EXPECT_NEAR(state_scale(near), 0.6, 1e-12);
+  EXPECT_NEAR(round_off_floor(near), kRoundOffRelative * 0.6, 1e-24);
   Model far = near;
   far.initial_x.array() += 100.0;
-  EXPECT_NEAR(round_off_floor(far), kRoundOffRelative * 101.1, 1e-22);
+  EXPECT_NEAR(round_off_floor(far), kRoundOffRelative * 100.6, 1e-22);
   EXPECT_GT(round_off_floor(far), 50 * round_off_floor(near));
 }
 
