@@ -238,6 +238,15 @@ LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& l
   return ref;
 }
 
+void follow_scene_solver(std::vector<LaneSpec>& lanes, const ImplicitDef& implicit) {
+  if (implicit.solver != ImplicitSolver::FixedPoint) return;
+  for (LaneSpec& l : lanes) {
+    if (l.kind != kBackwardEuler || l.fixed_point) continue;
+    l.fixed_point = true;  // lane_model sets one iteration unless the lane says how many
+    if (l.iterations == 0 && implicit.fixed_point_iterations != 1) l.iterations = implicit.fixed_point_iterations;
+  }
+}
+
 const Model& lane_model(const Model& base, const LaneSpec& lane, std::optional<Model>& storage) {
   const std::string refused = base.collision.model == ContactModel::Barrier ? barrier_refusal(lane.kind) : "";
   if (!refused.empty()) throw UsageError("--integrators: collision.model: barrier: " + refused);

@@ -363,6 +363,7 @@ void plan_compare(const CompareOptions& o, ComparePlan& p) {
   check_option_pairs(o);
   p.scene = load_scene_with_options(o.scene);
   p.lanes = parse_lanes(o.integrators, o.dt, p.scene.dt);
+  follow_scene_solver(p.lanes, p.scene.implicit);  // --set implicit.solver=fixed_point: named as itself
   parse_match(o.match);  // a bad --match before any pilot runs
   p.with_frames = !o.video.empty() || !o.frames_dir.empty() || !o.export_path.empty();
   p.rendering = !o.video.empty() || !o.frames_dir.empty() || !o.sheet.empty() || o.still_t;  // not --export

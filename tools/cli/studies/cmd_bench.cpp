@@ -400,8 +400,9 @@ int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vect
 int bench_command(const BenchOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
-  const std::vector<LaneSpec> lanes =
+  std::vector<LaneSpec> lanes =
       parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
+  follow_scene_solver(lanes, scene.implicit);  // --set implicit.solver=fixed_point: named as itself
   if (!o.vary.empty()) return bench_variation(o, scene, lanes);
   std::vector<IntegratorKind> kinds;
   for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
