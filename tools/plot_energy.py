@@ -1,11 +1,15 @@
 #!/usr/bin/python3
 """Energy over time of several `clothsim run --metrics` files, one line per run.
 
-Each file is one run (typically one integrator); its label is the integrator and step the
-file's scene,integrator,dt columns name (and the scene when the files come from several),
-unless --labels gives them; files without those columns are labelled by their names. The column plotted is total_energy by default
+Each file is one run, a lane: an integrator at a step. Its label is the integrator and step
+the file's scene,integrator,dt columns name (and the scene when the files come from several),
+unless --labels gives them; files without those columns are labelled by their names. Lines
+are drawn by lane: the integrator's colour (the same in every figure), and a line style per
+step within it, so two implicit Euler runs at 1/60 s and 1/240 s are told apart. The legend
+sits outside the axes, beside them, so no label covers a curve. The column plotted is total_energy by default
 (kinetic + spring + gravity, J); --column picks another (kinetic, spring_potential, ...),
-and --relative plots E(t) - E(0), which shows drift when the energies are large.
+and --relative plots E(t) - E(0), which shows drift when the energies are large. Each lane's
+change over the run, lowest and highest E(t) - E(0) are printed, one line per lane.
 
     for i in explicit_euler symplectic_euler rk4 implicit_euler; do
       build/clothsim run scenes/spring.yaml --integrator $i --dt 0.01 --duration 10 \
@@ -36,6 +40,64 @@ def run_labels(paths, runs):
     return labels
 
 
+def lane_styles(runs, labels):
+    """(colour, line style) per run: the integrator's colour, a style per step within it."""
+    styles = ["-", "--", ":", "-."]
+    steps = {}  # integrator -> its steps, in the order met
+    out = []
+    for rows, label in zip(runs, labels):
+        r = rows[0] if rows else {}
+        integrator = r.get("integrator", label)
+        step = (r.get("scene", ""), r.get("dt", label))
+        seen = steps.setdefault(integrator, [])
+        if step not in seen:
+            seen.append(step)
+        color = pc.style(integrator)[0] if integrator in pc.STYLE or integrator.startswith(pc.FIXED_POINT) else None
+        out.append((color, styles[seen.index(step) % len(styles)]))
+    return out
+
+
+def plot(runs, labels, column="total_energy", relative=False, log=False, title="", paths=None):
+    """The figure: one line per run, drawn by lane; returns (fig, ax)."""
+    fig, ax = pc.plt.subplots(figsize=(10, 5))
+    for path, label, rows, (color, dash) in zip(paths or labels, labels, runs, lane_styles(runs, labels)):
+        pc.require(rows, path, ["t", column])
+        t = [pc.number(r["t"]) for r in rows]
+        y = [pc.number(r[column]) for r in rows]
+        if relative:
+            y = [v - y[0] for v in y]
+        line, = ax.plot(t, y, label=label, color=color, linestyle=dash, linewidth=1.6)
+        if any(not math.isfinite(v) for v in y):
+            ax.annotate("non-finite", (t[-1], 0), color=line.get_color(), fontsize=8)
+    unit = UNITS.get(column, "J")
+    name = column.replace("_", " ")
+    ylabel = (f"{name} - its initial value" if relative else name) + (f" ({unit})" if unit else "")
+    ax.set_xlabel("simulated time t (s)")
+    ax.set_ylabel(ylabel)
+    if log:
+        ax.set_yscale("log")
+    ax.margins(x=0.01, y=0.06)  # curves off the frame, so a tick label never sits on one
+    ax.grid(True, alpha=0.3)
+    # Beside the axes, not over them: a report figure's curves stay whole.
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, title="lane")
+    ax.set_title(title or f"{name} over time")
+    fig.tight_layout()
+    return fig, ax
+
+
+def summary(runs, labels, column="total_energy"):
+    """One line per lane, the figures a report quotes: its change over the run and extremes."""
+    unit = UNITS.get(column, "J")
+    out = []
+    for label, rows in zip(labels, runs):
+        y = [pc.number(r[column]) for r in rows]
+        d = [v - y[0] for v in y]
+        t_end = pc.number(rows[-1]["t"])
+        out.append(f"{label}: {column} at t = {t_end:g} s minus at 0: {d[-1]:.4g} {unit}; "
+                   f"lowest {min(d):.4g} {unit}, highest {max(d):.4g} {unit}")
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("csv", nargs="+", help="metrics CSVs written by clothsim run --metrics")
@@ -51,31 +113,10 @@ def main():
     labels = [s for s in args.labels.split(",")] if args.labels else run_labels(args.csv, runs)
     if len(labels) != len(args.csv):
         pc.fail(f"--labels: {len(labels)} labels for {len(args.csv)} files")
-
-    fig, ax = pc.plt.subplots(figsize=(9, 5))
-    for path, label, rows in zip(args.csv, labels, runs):
-        pc.require(rows, path, ["t", args.column])
-        t = [pc.number(r["t"]) for r in rows]
-        y = [pc.number(r[args.column]) for r in rows]
-        if args.relative:
-            y = [v - y[0] for v in y]
-        integrator = rows[0].get("integrator", label)
-        color, _ = pc.style(integrator)
-        line, = ax.plot(t, y, label=label, color=color if integrator in pc.STYLE else None)
-        if any(not math.isfinite(v) for v in y):
-            ax.annotate("non-finite", (t[-1], 0), color=line.get_color(), fontsize=8)
-    unit = UNITS.get(args.column, "J")
-    name = args.column.replace("_", " ")
-    ylabel = (f"{name} - its initial value" if args.relative else name) + (f" ({unit})" if unit else "")
-    ax.set_xlabel("simulated time t (s)")
-    ax.set_ylabel(ylabel)
-    if args.log:
-        ax.set_yscale("log")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title(args.title or f"{name} over time")
-    fig.tight_layout()
+    fig, _ = plot(runs, labels, args.column, args.relative, args.log, args.title, args.csv)
     pc.save(fig, args.out)
+    for line in summary(runs, labels, args.column):
+        print(line)
 
 
 if __name__ == "__main__":

@@ -6,9 +6,11 @@ largest step tried is drawn as an open triangle pointing up at that step (its li
 above); one unstable at every step tried, as an open triangle pointing down at the
 smallest (its limit, if any, is below). A limit set by implicit steps that did not converge
 (column failure = not_converged) rather than by divergence is drawn hollow and circled in
-red. implicit_euler's runs at one step per frame (column frame_steps) are drawn at their
-step: a filled square converged at every step, a hollow one circled in red had steps that
-did not, a cross diverged. The black dashed line is the springs' Gershgorin estimate
+red. Runs at one step per frame (column frame_steps) are drawn at their step, labelled by
+lane: a filled square converged at every step (for the course's fixed point, which solves
+nothing, a filled plus: ran to the end), a hollow one circled in red had steps that did not,
+a cross diverged. Two lanes with identical limits are both shown: the second dashed, hollow
+and labelled "the same limits as" the first (to the bisection's 2 %). The legend sits beside the axes. The black dashed line is the springs' Gershgorin estimate
 2 / w_max, the grey dotted one 2 / max(w_max, c_max) with the dampers counted.
 
     /usr/bin/python3 tools/plot_stability.py --csv stability.csv --out stability.png
@@ -57,14 +59,23 @@ def main():
     for r in rows:
         by_kind.setdefault(r["integrator"], []).append(r)
 
-    fig, ax = pc.plt.subplots(figsize=(8, 5.5))
+    fig, ax = pc.plt.subplots(figsize=(10, 5.5))
+    drawn = []  # (xs, ys, name) of the lanes drawn, to find a later one lying on an earlier one
     for name, rs in by_kind.items():
         color, marker = pc.style(name)
         rs = sorted(rs, key=lambda r: pc.number(r["value"]))
         found = [r for r in rs if r["outcome"] == "bracketed"]
         if found:
-            ax.plot([pc.number(r["value"]) for r in found], [pc.number(r["stable_dt"]) for r in found],
-                    color=color, marker=marker, label=pc.lane_label(name))
+            xs, ys = [pc.number(r["value"]) for r in found], [pc.number(r["stable_dt"]) for r in found]
+            # The same to the bisection's 2 % (its precision): the two lines would coincide.
+            same = next((n for dx, dy, n in drawn if dx == xs and len(dy) == len(ys) and
+                         all(abs(a - b) <= 0.02 * abs(b) for a, b in zip(ys, dy))), name)
+            drawn.append((xs, ys, name))
+            if same == name:
+                ax.plot(xs, ys, color=color, marker=marker, label=pc.lane_label(name))
+            else:  # identical limits would hide one line under the other: dashed, hollow, and said
+                ax.plot(xs, ys, color=color, marker=marker, markersize=11, markerfacecolor="none", linestyle="--",
+                        label=f"{pc.lane_label(name)} (the same limits as {pc.lane_label(same)})")
         above = [r for r in rs if r["outcome"] == "stable_at_max"]
         if above:
             ax.scatter([pc.number(r["value"]) for r in above], [pc.number(r["max_dt"]) for r in above],
@@ -87,25 +98,32 @@ def main():
                            linewidths=1.2, zorder=4)
         ring = ax.scatter(xs, ys, s=220, facecolors="none", edgecolors="red", linewidths=1.5, zorder=4)
         paired.append(((inner, ring), "limit set by steps not converged (not by divergence)"))
-    # One step per frame (implicit_euler): each frame step's run at each value.
-    frames = {"ok": [], "not_converged": [], "diverged": []}
+    # One step per frame: each frame step's run at each value, by lane, so the course's fixed
+    # point (no solve, nothing to converge) is never read as backward Euler's converged steps.
+    frames = OrderedDict()
     for r in rows:
         for dt, result in frame_steps(r.get("frame_steps")):
-            frames[result].append((pc.number(r["value"]), dt, pc.style(r["integrator"])[0]))
-    if frames["ok"]:
-        ax.scatter([v for v, _, _ in frames["ok"]], [dt for _, dt, _ in frames["ok"]], marker="s", s=30,
-                   color=[c for _, _, c in frames["ok"]], zorder=3, label="implicit_euler at one step per frame: converged")
-    if frames["not_converged"]:
-        pts = frames["not_converged"]
-        inner = ax.scatter([v for v, _, _ in pts], [dt for _, dt, _ in pts], marker="s", s=30, facecolors="white",
-                           edgecolors=[c for _, _, c in pts], linewidths=1.2, zorder=3)
-        ring = ax.scatter([v for v, _, _ in pts], [dt for _, dt, _ in pts], s=150, facecolors="none",
-                          edgecolors="red", linewidths=1.5, zorder=4)
-        paired.append(((inner, ring), "implicit_euler at one step per frame: not converged"))
-    if frames["diverged"]:
-        pts = frames["diverged"]
-        ax.scatter([v for v, _, _ in pts], [dt for _, dt, _ in pts], marker="x", s=50,
-                   color=[c for _, _, c in pts], zorder=3, label="implicit_euler at one step per frame: diverged")
+            frames.setdefault((r["integrator"], result), []).append((pc.number(r["value"]), dt))
+    frame_lanes = list(OrderedDict.fromkeys(name for name, _ in frames))
+    for (name, result), pts in frames.items():
+        color, marker = pc.style(name)
+        # Two lanes' frame steps sit at the same (value, step): each later lane a little right.
+        shift = 1.15 ** frame_lanes.index(name)
+        pts = [(v * shift, dt) for v, dt in pts]
+        solves = not name.startswith(pc.FIXED_POINT)
+        words = {"ok": "converged" if solves else "ran to the end", "not_converged": "not converged",
+                 "diverged": "diverged"}
+        label = f"{pc.lane_label(name)} at one step per frame: {words[result]}"
+        xs, ys = [v for v, _ in pts], [dt for _, dt in pts]
+        fp = 's' if solves else 'P'  # the fixed point keeps its own marker shape
+        if result == "ok":
+            ax.scatter(xs, ys, marker=fp, s=30, color=color, zorder=3, label=label)
+        elif result == "not_converged":
+            inner = ax.scatter(xs, ys, marker=fp, s=30, facecolors="white", edgecolors=color, linewidths=1.2, zorder=3)
+            ring = ax.scatter(xs, ys, s=150, facecolors="none", edgecolors="red", linewidths=1.5, zorder=4)
+            paired.append(((inner, ring), label))
+        else:
+            ax.scatter(xs, ys, marker="x", s=50, color=color, zorder=3, label=label)
     est = {}
     for r in rows:
         est[pc.number(r["value"])] = (pc.number(r["dt_springs"]), pc.number(r["dt_with_damping"]))
@@ -120,10 +138,12 @@ def main():
     ax.set_yscale("log")
     unit = unit_of(param)
     ax.set_xlabel(f"{param} ({unit})" if unit else param)
-    ax.set_ylabel("largest stable step dt (s)" + (" / one step per frame" if any(frames.values()) else ""))
+    ax.set_ylabel("largest stable step dt (s)" + (" / one step per frame" if frames else ""))
     ax.grid(True, which="both", alpha=0.3)
     handles, labels = ax.get_legend_handles_labels()
-    ax.legend(handles + [h for h, _ in paired], labels + [l for _, l in paired], fontsize=7, loc="best")
+    # Beside the axes, never over a marker.
+    ax.legend(handles + [h for h, _ in paired], labels + [l for _, l in paired], fontsize=7, loc="upper left",
+              bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     T = pc.number(rows[0].get("duration"))
     sub = f"runs from 0 to T = {T:g} s" if math.isfinite(T) else ""
     ax.set_title((("stability: " + args.title) if args.title else "stability") + (f"\n{sub}" if sub else ""),

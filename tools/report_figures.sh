@@ -24,6 +24,7 @@ if [ -n "$SMALL" ]; then
   TIMES=0.1,0.2,0.3
   STILL=0.2
   VARY_STILL=0.2
+  FP_STILL=0.2
   STUDY="--set cloth.particles=[9,9] --duration 0.05"
 else
   SCENE=
@@ -31,6 +32,7 @@ else
   TIMES=0.1,0.5,2,4
   STILL=2
   VARY_STILL=1.5
+  FP_STILL=1
   STUDY=
 fi
 
@@ -70,9 +72,31 @@ figure damping "$OUT/stability_kd.png" "$CLOTHSIM" stability scenes/drape.yaml $
 # 5. Energy: each lane's E - Eref (its total energy minus the reference lane's) in its tile, on shared axes.
 figure energy "$OUT/energy.png" "$CLOTHSIM" compare scenes/drape.yaml $SCENE $SIZE --inset energy --color checker \
   --integrators explicit_euler@2e-4,symplectic_euler@2e-4,rk4@2e-4,implicit_euler@1/60 --still $STILL -o "$OUT/energy.png" --quiet
+# 5b. Energy over time by lane: the course's four at the scene's step, backward Euler at one and
+# four steps per frame, each run's metrics, one figure (a colour per integrator, a style per step).
+i=0
+for lane in explicit_euler: implicit_euler_fixed_point: midpoint: rk4: implicit_euler:1/60 implicit_euler:1/240; do
+  i=$((i + 1))
+  name=${lane%%:*}
+  step=${lane#*:}
+  figure "energy lane $i" "$OUT/energy_$i.csv" "$CLOTHSIM" run scenes/drape.yaml $SCENE --integrator "$name" \
+    ${step:+--dt $step} --metrics "$OUT/energy_$i.csv" --quiet
+done
+figure "energy by lane" "$OUT/energy_lanes.png" /usr/bin/python3 tools/plot_energy.py "$OUT"/energy_[1-6].csv --relative \
+  --out "$OUT/energy_lanes.png"
 # 6. The effect of ks and of kd on the cloth: a lane per value, coloured by strain, and by speed.
 figure ks "$OUT/ks.png" "$CLOTHSIM" compare scenes/drape.yaml $SCENE --vary ks=2e3,2e4,2e5 \
   ${SIZE:---width 960 --height 360} --still $VARY_STILL -o "$OUT/ks.png" --quiet
 figure kd "$OUT/kd.png" "$CLOTHSIM" compare scenes/drape.yaml $SCENE --vary kd=75,750,7500 --color speed \
   ${SIZE:---width 960 --height 360} --still $VARY_STILL -o "$OUT/kd.png" --quiet
+# 7. Work precision on the cloth, with contact as a smooth barrier (the orders come back).
+if [ -n "$SMALL" ]; then WP="--set cloth.particles=[9,9] --duration 0.02 --dts 1e-4,2e-4"; else WP="--duration 0.8 --dts 1e-4,1.6e-4,2e-4,2.5e-4"; fi
+figure "work precision" "$OUT/wp_cloth.png" "$CLOTHSIM" bench scenes/drape_smooth.yaml $WP --frame-dts none \
+  --integrators explicit_euler,symplectic_euler,midpoint,rk4,implicit_euler --csv "$OUT/wp_cloth.csv" --plot "$OUT/wp_cloth.png" --quiet
+# 8. The course's fixed point against backward Euler: where each breaks, and the cloth.
+figure "fixed point stability" "$OUT/stability_fp.png" "$CLOTHSIM" stability scenes/drape.yaml $STUDY \
+  --integrators explicit_euler,implicit_euler_fixed_point,implicit_euler --csv "$OUT/stability_fp.csv" --plot "$OUT/stability_fp.png" --quiet
+figure "fixed point clip" "$OUT/fixed_point.png" "$CLOTHSIM" compare scenes/drape.yaml $SCENE --still $FP_STILL \
+  -o "$OUT/fixed_point.png" ${SIZE:---width 960 --height 540} \
+  --integrators implicit_euler_fixed_point@1e-4,implicit_euler@1e-4,implicit_euler_fixed_point@2e-4,implicit_euler@2e-4 --quiet
 echo "figures in $OUT"

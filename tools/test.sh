@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs, builds and runs every test (GoogleTest, the Python module's pytest and the mesh
-# export's clients through CTest), on all cores, and the
+# export's clients through CTest), on all cores, the docs' quoted numbers (tools/check_docs.sh), and the
 # Slurm cluster test (tools/slurm/test_cluster.sh); then, when
 # clang-14 is present, fuzzes the scene front end for a bounded time (tools/fuzz.sh,
 # CLOTHSIM_FUZZ_SECONDS, default 60; 0 skips it). A fuzzer failure fails the run.
@@ -8,6 +8,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/build.sh
 (cd build && ctest --output-on-failure -j"$(nproc)" --timeout 600)
+# Every number README.md and docs/report.md quote, rerun by its command (about 2 minutes;
+# CLOTHSIM_CHECK_DOCS=full runs every check, 0 skips it).
+case "${CLOTHSIM_CHECK_DOCS:-default}" in
+  0) echo "test: docs check skipped (CLOTHSIM_CHECK_DOCS=0)" >&2 ;;
+  full) tools/check_docs.sh --full ;;
+  *) tools/check_docs.sh ;;
+esac
 # Sharded studies on a local one-node Slurm cluster (installs slurm-wlm and munge when
 # missing; skipped with a message where Slurm cannot run, e.g. without root).
 tools/slurm/test_cluster.sh build/clothsim

@@ -1,6 +1,7 @@
 #include "param_keys.h"
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 
 namespace clothsim {
@@ -9,9 +10,16 @@ namespace {
 
 constexpr const char* kSpringGlob = "cloth.springs.*.";
 
+// The one alias table: the course's spring and damper coefficients, over every spring type.
+struct Alias {
+  const char* name;
+  const char* field;
+};
+constexpr Alias kAliases[] = {{"ks", "stiffness"}, {"kd", "damping"}};
+
 std::string expand_alias(const std::string& key) {
-  if (key == "ks") return std::string(kSpringGlob) + "stiffness";
-  if (key == "kd") return std::string(kSpringGlob) + "damping";
+  for (const Alias& a : kAliases)
+    if (key == a.name) return std::string(kSpringGlob) + a.field;
   return key;
 }
 
@@ -47,22 +55,30 @@ std::string short_number(double value) {
 }  // namespace
 
 ParamKey resolve_param_key(const std::string& key, const SceneDef& scene) {
+  return ParamKey{key, param_paths(key, spring_types(scene), scene.source)};
+}
+
+bool is_param_pattern(const std::string& key) { return expand_alias(key) != key || key.find('*') != std::string::npos; }
+
+std::vector<std::string> param_paths(const std::string& key, const std::vector<std::string>& types,
+                                     const std::string& source) {
   if (key.empty()) throw ParamKeyError("the parameter key is empty");
   const std::string path = expand_alias(key);
-  ParamKey out{key, {}};
-  const auto star = path.find('*');
-  if (star == std::string::npos) {
-    out.paths.push_back(path);
-    return out;
-  }
+  if (path.find('*') == std::string::npos) return {path};
   const std::string prefix(kSpringGlob);
-  const std::string field = path.substr(prefix.size());
+  const std::string field = path.substr(std::min(prefix.size(), path.size()));
   if (path.compare(0, prefix.size(), prefix) != 0 || field.empty() || field.find_first_of("*.") != std::string::npos)
     throw ParamKeyError("'" + key + "': a * stands for a spring type only, as in cloth.springs.*.stiffness");
-  for (const std::string& type : spring_types(scene)) out.paths.push_back("cloth.springs." + type + "." + field);
-  if (out.paths.empty())
-    throw ParamKeyError("'" + key + "' matches nothing: " + scene.source + " declares no springs");
-  return out;
+  std::vector<std::string> paths;
+  for (const std::string& type : types) paths.push_back("cloth.springs." + type + "." + field);
+  if (paths.empty()) throw ParamKeyError("'" + key + "' matches nothing: " + source + " declares no springs");
+  return paths;
+}
+
+SceneError as_option_error(const SceneError& e, const ParamKey& key, const std::string& option) {
+  for (const std::string& path : key.paths)
+    if (e.key.rfind("--set " + path + "=", 0) == 0) return SceneError(e.file, 0, option, e.reason);
+  return e;
 }
 
 std::vector<std::string> param_sets(const ParamKey& key, double value) {

@@ -9,6 +9,7 @@
 
 #include "echo.h"
 #include "names.h"
+#include "param_keys.h"
 #include "run_bounds.h"
 #include "core/integrators/integrator_kind.h"
 
@@ -39,7 +40,8 @@ SceneError::SceneError(std::string file_, int line_, std::string key_, const std
     : std::runtime_error(format_error(file_, line_, key_, what)),
       file(std::move(file_)),
       line(line_),
-      key(std::move(key_)) {}
+      key(std::move(key_)),
+      reason(what) {}
 
 namespace scene_detail {
 
@@ -175,6 +177,22 @@ Documents load_documents(const std::string& text) {
   return d;
 }
 
+// The spring types the file declares under cloth.springs, in the parser's order: what a
+// glob or an alias in --set (ks, cloth.springs.*.damping) stands for.
+std::vector<std::string> declared_spring_types(const YAML::Node& root) {
+  std::vector<std::string> types;
+  // (a key absent under a const node is an invalid node, defined or not, so IsDefined first)
+  const YAML::Node cloth = root["cloth"];
+  if (!cloth.IsDefined() || !cloth.IsMap()) return types;
+  const YAML::Node springs = cloth["springs"];
+  if (!springs.IsDefined() || !springs.IsMap()) return types;
+  for (const char* type : {"structural", "shear", "bend"}) {
+    const YAML::Node n = springs[type];
+    if (n.IsDefined() && !n.IsNull()) types.emplace_back(type);
+  }
+  return types;
+}
+
 // --set KEY=VALUE: walks the dotted key into the tree (creating map entries, so a key the
 // file leaves at its default can be set; list items by index), and puts VALUE, parsed as
 // YAML, there. Whether the key exists in the schema is the reader's unknown-key check.
@@ -298,7 +316,23 @@ SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
     throw SceneError(source, root.Mark().is_null() ? 0 : root.Mark().line + 1, "",
                      std::string("expected a map of scene keys at the top level, got ") + type_name(root));
   std::map<std::string, std::string> applied;
-  for (const std::string& o : overrides) apply_override(root, o, source, applied);
+  for (const std::string& o : overrides) {
+    const std::string key = o.substr(0, o.find('='));
+    if (!is_param_pattern(key) || o.find('=') == std::string::npos) {
+      apply_override(root, o, source, applied);
+      continue;
+    }
+    std::vector<std::string> paths;
+    try {
+      paths = param_paths(key, declared_spring_types(root), source);
+    } catch (const ParamKeyError& e) {
+      throw SceneError(source, 0, "--set " + o, e.what());
+    }
+    for (const std::string& path : paths) {  // each value's error names what was typed
+      apply_override(root, path + o.substr(key.size()), source, applied);
+      applied[path] = o;
+    }
+  }
   return Reader(source, applied, bound_run).scene(root);
 }
 

@@ -19,11 +19,13 @@ struct SceneError : std::runtime_error {
   std::string file;
   int line;  // 1-based; 0 when the error has no line (file unreadable, --set)
   std::string key;  // dotted path, e.g. "cloth.springs.shear.stiffness"
+  std::string reason;  // what is wrong, without file and key (to say it of another option)
 };
 
 // Reads and validates a scene file. `overrides` are "dotted.key=VALUE" strings (--set),
 // VALUE parsed as YAML, applied before validation; a key the schema does not have is an
-// error. Throws SceneError; an unreadable file is a SceneError with line 0.
+// error. KEY may also be an alias or a glob (ks, cloth.springs.*.damping: param_keys.h),
+// set on every spring type the file declares. Throws SceneError; an unreadable file is a SceneError with line 0.
 // `bound_run`: refuse more than kMaxSteps steps or kMaxFrames frames (run_bounds.h); false
 // only for a caller that replaces duration or dt (--duration, --dt) and bounds the result.
 SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides = {},

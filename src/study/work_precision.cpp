@@ -294,7 +294,8 @@ void judge_reference(const Model& model, const StudyRuns& runs, double h_fine, W
     ref.smallest_error = smallest_resolved(result.points);
     // Points it cannot resolve fail it unless it is at round-off itself: then so are they, and
     // no reference in double precision could do better.
-    if (ref.unresolved > 0 && ref.change_rms > kRoundOffError) {
+    ref.round_off = round_off_floor(model);
+    if (ref.unresolved > 0 && ref.change_rms > ref.round_off) {
       why << "the reference is not converged: ";
       if (ref.adaptive)
         why << "tightening its tolerance (" << ref.tolerance << " -> " << ref.tolerance / kReferenceTightening << ")";
@@ -358,6 +359,15 @@ int mark_unresolved(std::vector<WorkPrecisionPoint>& points, double reference_er
   return count;
 }
 
+double state_scale(const Model& model) {
+  double scale = 0.0;
+  for (int b = 0; b < model.initial_x.cols(); ++b) scale = std::max(scale, model.initial_x.col(b).cwiseAbs().maxCoeff());
+  for (double r : model.sphere_radius) scale = std::max(scale, r);
+  return scale;
+}
+
+double round_off_floor(const Model& model) { return kRoundOffRelative * state_scale(model); }
+
 int nominal_order(IntegratorKind kind) { return integrator_info(kind).order; }
 
 namespace {
@@ -410,7 +420,7 @@ std::vector<std::string> shortfall(const WorkPrecisionResult& r, double order, I
     why.push_back("contact-limited: the cloth touches a sphere or the ground at T, and a contact is resolved once "
                   "per step, a non-smooth correction no method's order survives (errors level off near " +
                   metres(smallest) + "); try a --duration that ends before the first contact");
-  if (smallest < 1e-11)
+  if (smallest < ref.round_off)
     why.push_back("round-off: the smallest errors (" + metres(smallest) + ") reach double precision; drop the smallest --dts");
   const double steps = r.duration / largest_dt;
   if (steps < 20.0) {

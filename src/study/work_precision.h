@@ -23,8 +23,8 @@
 // A point whose RMS error is under 1 / reference_margin (10) times the reference's estimated
 // error is unresolved: the reference cannot tell its error, so no number is given, and the
 // order is fitted without it. Unresolved points fail the check only when the reference is
-// above round-off (kRoundOffError): an error at round-off (RK4 reaching 4e-14 m on a ball-less
-// cloth) is not a reference that failed.
+// above round-off (round_off_floor): an error at round-off (RK4 reaching 4e-14 m on a
+// ball-less cloth) is not a reference that failed.
 //
 // Every dt must divide T (T / dt a whole number within 1e-9): then every run, the
 // reference included, ends exactly at T, and no error is a comparison of two times.
@@ -83,8 +83,17 @@ struct WorkPrecisionPoint {
   double max_error = 0.0;          // m, largest particle distance at T; NaN unless finished
 };
 
-// Below this (m), an error is at double precision's round-off for a scene of metres.
-inline constexpr double kRoundOffError = 1e-11;
+// Round-off is relative: a double holds a coordinate of size L to eps L (2.2e-16 L), and a
+// run of 1e5..1e6 steps adds that up to about 1e-13 L (measured: RK4's two reference runs on
+// the ball-less 25 x 25 drape differ by 1.9e-14 m RMS with L = 1 m). An error under
+// kRoundOffRelative x L, 100x above that, is round-off: no double-precision reference could
+// resolve it, so it fails no reference check.
+inline constexpr double kRoundOffRelative = 1e-11;
+// L (m): the largest |coordinate| of the scene's bodies at t = 0, sphere radii added, at least
+// the cloth's own extent (a scene far from the origin holds its coordinates to eps L too).
+double state_scale(const Model& model);
+// kRoundOffRelative x state_scale(model), m: the error floor of that scene's references.
+double round_off_floor(const Model& model);
 
 struct ReferenceCheck {
   IntegratorKind integrator = kReferenceIntegrator;
@@ -99,6 +108,7 @@ struct ReferenceCheck {
   double smallest_error = 0.0;     // m, smallest RMS error resolved (NaN when none)
   int unresolved = 0;              // finished points under 1 / margin x change_rms
   double margin = 0.1;
+  double round_off = 0.0;          // m, round_off_floor(model): a change under it is round-off
   bool finished = false;           // both reference runs reached T
   bool converged = false;          // finished, and change_rms <= margin x smallest_error
   bool contact_at_end = false;     // a free particle of the finer reference lies within two

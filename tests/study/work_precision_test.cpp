@@ -90,7 +90,7 @@ TEST(WorkPrecision, ASmoothScenesReferenceIsAdaptiveAndMeetsTheClosedFormToItsEs
   const double u = 0.1 * std::exp(-t) * (std::cos(wd * t) + std::sin(wd * t) / wd);
   const double length = (r.reference_x.col(1) - r.reference_x.col(0)).norm();
   EXPECT_NEAR(length - 1.0, u, r.reference.change_max) << "within its own estimated error";
-  EXPECT_LT(r.reference.change_rms, kRoundOffError);
+  EXPECT_LT(r.reference.change_rms, r.reference.round_off);
   EXPECT_EQ(r.reference.dt, 0.0);
 }
 
@@ -117,9 +117,22 @@ TEST(WorkPrecision, AnErrorAtRoundOffIsNotAFailedReference) {
   spec.duration = 0.2;
   spec.adaptive_reference = false;
   const WorkPrecisionResult r = work_precision(spring_model(), spec);
-  EXPECT_LE(r.reference.change_rms, kRoundOffError);
+  EXPECT_LE(r.reference.change_rms, r.reference.round_off);
   EXPECT_GT(r.reference.unresolved, 0);
   EXPECT_TRUE(r.reference.converged) << r.reference.failure;
+}
+
+TEST(WorkPrecision, TheRoundOffFloorIsRelativeToTheStatesScale) {
+  // The spring, centred on the origin, spans x in [-0.5, 0.6] m (its 0.1 m stretch): its floor
+  // is 1e-11 x 0.6 m. The same spring a hundred metres away holds its coordinates to
+  // eps x 100 m, so its floor is about 170x higher.
+  const Model near = spring_model();
+  EXPECT_NEAR(state_scale(near), 0.6, 1e-12);
+  EXPECT_NEAR(round_off_floor(near), kRoundOffRelative * 0.6, 1e-24);
+  Model far = near;
+  far.initial_x.array() += 100.0;
+  EXPECT_NEAR(round_off_floor(far), kRoundOffRelative * 100.6, 1e-22);
+  EXPECT_GT(round_off_floor(far), 50 * round_off_floor(near));
 }
 
 TEST(WorkPrecision, ReferenceCheckFailsWhenTheReferenceIsNotConverged) {

@@ -10,6 +10,8 @@
 #include <exception>
 #include <new>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "cli/common/cli_common.h"
 #include "cli/common/commands.h"
@@ -29,6 +31,30 @@ namespace {
 // 80 characters); one_line() is the last guard for the rest (CLI11's messages echo an option's
 // value whole, a library's may hold a newline) and leaves those escapes as they are.
 void say(const std::string& message) { std::fprintf(stderr, "clothsim: %s\n", one_line(message).c_str()); }
+
+// An option the command does not take but one of its own spells with a letter more or less
+// (--integrator to compare, which takes --integrators): " (did you mean --integrators?)".
+std::string option_hint(const CLI::App& app, int argc, char** argv) {
+  const std::vector<CLI::App*> used = app.get_subcommands();
+  if (used.empty()) return "";
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = std::string(argv[i]).substr(0, std::string(argv[i]).find('='));
+    if (arg.rfind("--", 0) != 0 || arg.size() < 4) continue;
+    const std::string typed = arg.substr(2);
+    bool known = false;
+    std::string near;
+    for (const CLI::Option* option : used.front()->get_options()) {
+      for (const std::string& name : option->get_lnames()) {
+        known = known || name == typed;
+        const bool one_apart = name.size() == typed.size() + 1 ? name.compare(0, typed.size(), typed) == 0
+                               : typed.size() == name.size() + 1 ? typed.compare(0, name.size(), name) == 0 : false;
+        if (one_apart) near = name;
+      }
+    }
+    if (!known && !near.empty()) return " (did you mean --" + near + "?)";
+  }
+  return "";
+}
 }  // namespace
 
 // Before the shared libraries' constructors too (Mesa's LLVM takes tens of milliseconds to
@@ -78,7 +104,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help and --version are "errors" with code 0; everything else is bad usage.
     if (e.get_exit_code() == 0) return app.exit(e);
-    say(e.what());
+    say(e.what() + option_hint(app, argc, argv));
     return kBadInput;
   }
   try {

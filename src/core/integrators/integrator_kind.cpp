@@ -8,6 +8,12 @@ std::string_view integrator_name(IntegratorKind kind) {
   return "unknown";
 }
 
+std::string method_name(IntegratorKind kind, const ImplicitDef& implicit) {
+  if (kind == IntegratorKind::ImplicitEuler && implicit.solver == ImplicitSolver::FixedPoint)
+    return std::string(kFixedPointName);
+  return std::string(integrator_name(kind));
+}
+
 std::optional<IntegratorKind> parse_integrator(std::string_view name) {
   for (const IntegratorInfo& info : integrator_registry())
     if (info.name == name) return info.kind;

@@ -51,6 +51,13 @@ struct IntegratorInfo {
 const std::vector<IntegratorInfo>& integrator_registry();  // in enum order
 
 std::string_view integrator_name(IntegratorKind kind);
+
+// The course's "implicit" (implicit_euler with `implicit: {solver: fixed_point}`) is another
+// method, amplification 1 + z + z^2 rather than 1 / (1 - z), so everything that names a run
+// (metrics, summaries, tables, overlays) calls it by this name, never implicit_euler.
+inline constexpr std::string_view kFixedPointName = "implicit_euler_fixed_point";
+// What a run of `kind` under `implicit` is called: kFixedPointName, or the integrator's name.
+std::string method_name(IntegratorKind kind, const ImplicitDef& implicit);
 std::optional<IntegratorKind> parse_integrator(std::string_view name);
 const std::vector<IntegratorKind>& all_integrators();
 std::string integrator_names_joined(std::string_view separator = ", ");  // for errors and help

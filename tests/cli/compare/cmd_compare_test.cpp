@@ -75,6 +75,21 @@ TEST(CmdCompare, ASheetTooSmallForItsLabelsIsRefusedBeforeAnySimulation) {
   EXPECT_TRUE(ct::only_files(dir, {}));
 }
 
+TEST(CmdCompare, AMistypedKeyOrOptionIsSaidAsTyped) {
+  // --vary kss=1,2 said "--set kss=1: unknown key"; --integrator gave no hint of --integrators.
+  const std::string dir = scratch_dir("compare_said_as_typed");
+  const auto vary = run_clothsim({"compare", kDrape, "--vary", "kss=1,2", "--still", "0.1", "-o", dir + "/v.png"});
+  EXPECT_EQ(vary.exit_code, 2);
+  EXPECT_EQ(ct::line_count(vary.err), 1) << vary.err;
+  EXPECT_NE(vary.err.find(": --vary kss=1,2: unknown key (expected one of: "), std::string::npos) << vary.err;
+  EXPECT_EQ(vary.err.find("--set"), std::string::npos) << vary.err;
+  const auto option = run_clothsim({"compare", kDrape, "--integrator", "rk4", "--still", "0.1", "-o", dir + "/i.png"});
+  EXPECT_EQ(option.exit_code, 2);
+  EXPECT_EQ(ct::line_count(option.err), 1) << option.err;
+  EXPECT_NE(option.err.find("(did you mean --integrators?)"), std::string::npos) << option.err;
+  EXPECT_TRUE(ct::only_files(dir, {}));
+}
+
 TEST(CmdCompare, ASignalWhileChoosingStepsIsAnsweredAtOnce) {
   // An 80 x 80 sheet's pilots (--match cost) take seconds; the signal comes in the middle.
   const std::string dir = scratch_dir("compare_stop_planning");

@@ -590,6 +590,29 @@ TEST(CmdRun, PlotEnergyLabelsEachLineByItsMetricsColumns) {
   EXPECT_EQ(labels("rk4.csv chain.csv"), "['spring: rk4, dt = 0.005 s', 'chain: symplectic_euler, dt = 0.0001 s']\n");
 }
 
+TEST(CmdRun, TheFixedPointRunsByItsNameAndItsMetricsSaySo) {
+  // `run --integrator implicit_euler_fixed_point` exited 2, and --set implicit.solver=fixed_point
+  // wrote rows labelled implicit_euler: two different methods' lines could not be told apart.
+  const std::string dir = scratch_dir("run_fixed_point_name");
+  const CliResult named = run_clothsim({"run", shipped("spring.yaml"), "--duration", "0.05", "--integrator",
+                                        "implicit_euler_fixed_point", "--metrics", dir + "/named.csv"});
+  ASSERT_EQ(named.exit_code, 0) << named.err;
+  EXPECT_NE(named.out.find("spring: implicit_euler_fixed_point, dt = "), std::string::npos) << named.out;
+  EXPECT_EQ(named.out.find("Newton"), std::string::npos) << "the fixed point has no Newton solve to report";
+  const CliResult set = run_clothsim({"run", shipped("spring.yaml"), "--duration", "0.05", "--integrator",
+                                      "implicit_euler", "--set", "implicit.solver=fixed_point", "--metrics",
+                                      dir + "/set.csv"});
+  ASSERT_EQ(set.exit_code, 0) << set.err;
+  const std::string a = slurp(dir + "/named.csv"), b = slurp(dir + "/set.csv");
+  EXPECT_EQ(a, b) << "the name and the scene key are one method";
+  EXPECT_NE(a.find(",spring,implicit_euler_fixed_point,0.001\n"), std::string::npos) << a;
+  const CliResult newton = run_clothsim({"run", shipped("spring.yaml"), "--duration", "0.05", "--integrator",
+                                         "implicit_euler", "--metrics", dir + "/newton.csv"});
+  ASSERT_EQ(newton.exit_code, 0) << newton.err;
+  EXPECT_NE(slurp(dir + "/newton.csv").find(",spring,implicit_euler,0.001\n"), std::string::npos);
+  EXPECT_NE(slurp(dir + "/newton.csv"), a) << "and a different method from backward Euler";
+}
+
 // NaN compares false with every bound: it is refused like a time outside the run.
 TEST(CmdRun, AStillAtNanIsRefused) {
   const std::string dir = scratch_dir("run_still_nan");

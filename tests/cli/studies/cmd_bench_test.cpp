@@ -197,6 +197,20 @@ TEST(CmdBench, RefusesAStudyPastTheStepLimitAtOnce) {
   EXPECT_NE(r.err.find("more than the limit of 1e+09"), std::string::npos) << r.err;
 }
 
+// A scene whose implicit_euler is the fixed point (--set implicit.solver=fixed_point) was
+// labelled implicit_euler, so its rows could not be told from backward Euler's.
+TEST(CmdBench, ASceneSetToTheFixedPointNamesItsLanesSo) {
+  const std::string dir = scratch_dir("bench_scene_fixed_point");
+  const CliResult r = run_clothsim({"bench", spring(), "--set", "implicit.solver=fixed_point", "--integrators",
+                                    "implicit_euler", "--dts", "0.01,0.005", "--duration", "1", "--frame-dts", "none",
+                                    "--csv", dir + "/wp.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("implicit_euler (fixed point)"), std::string::npos) << r.out;
+  const auto rows = lines(dir + "/wp.csv");
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_NE(rows[1].find("implicit_euler_fixed_point"), std::string::npos) << rows[1];
+}
+
 // bench takes compare's lanes: `course` is four rows labelled as compare labels its lanes,
 // the CSV's integrator column holds each lane's spelling, and a lane's own settings apply.
 TEST(CmdBench, TakesTheCourseAndIterationLanesAndLabelsThemAsCompareDoes) {

@@ -74,6 +74,13 @@ TEST(CmdStability, TheAliasKsSweepsEverySpringTypeAndLabelsTheSweepKs) {
   EXPECT_NE(glob.err.find("--param"), std::string::npos) << glob.err;
 }
 
+TEST(CmdStability, AnUnknownParamIsSaidOfParamAsTyped) {
+  const CliResult r = run_clothsim({"stability", spring(), "--param", "kss", "--values", "1,2"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(": --param kss: unknown key"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("--set"), std::string::npos) << r.err;
+}
+
 TEST(CmdStability, WithoutDurationRunsToTheDefaultItsHelpStates) {
   EXPECT_NE(run_clothsim({"stability", "--help"}).out.find("--duration FLOAT            Simulated time in s "
                                                           "(default: the scene's duration, at most 0.2 s)"),

@@ -28,6 +28,16 @@ TEST(IntegratorRegistry, EveryKindHasOneRowInEnumOrderAndParsesByItsName) {
   EXPECT_FALSE(parse_integrator("runge_kutta").has_value());
 }
 
+TEST(IntegratorRegistry, TheCoursesFixedPointIsNamedAsItselfNotAsBackwardEuler) {
+  // Its amplification 1 + z + z^2 is another method's: metrics and tables must tell the two apart.
+  ImplicitDef newton, fixed;
+  fixed.solver = ImplicitSolver::FixedPoint;
+  EXPECT_EQ(method_name(IntegratorKind::ImplicitEuler, newton), "implicit_euler");
+  EXPECT_EQ(method_name(IntegratorKind::ImplicitEuler, fixed), "implicit_euler_fixed_point");
+  EXPECT_EQ(method_name(IntegratorKind::Rk4, fixed), "rk4") << "the solver key is implicit Euler's alone";
+  EXPECT_FALSE(parse_integrator(kFixedPointName).has_value()) << "a lane name, not a registry row";
+}
+
 TEST(IntegratorRegistry, TheIterativeSolversAreTheThreeWithIterationBlocks) {
   EXPECT_EQ(parse_integrator("xpbd"), IntegratorKind::Xpbd);
   EXPECT_EQ(parse_integrator("projective_dynamics"), IntegratorKind::ProjectiveDynamics);

@@ -22,7 +22,6 @@ std::string trimmed(const std::string& s) {
 }
 
 // The course's "implicit" as a lane of its own: implicit_euler as one fixed-point iteration.
-constexpr std::string_view kFixedPointName = "implicit_euler_fixed_point";
 
 std::string names_or_course() {
   return integrator_names_joined() + ", " + std::string(kFixedPointName) + ", or course";
@@ -237,6 +236,15 @@ LaneSpec parse_reference(const std::string& text, const std::vector<LaneSpec>& l
   }
   if (ref.step_text.empty()) ref.step_text = step_string(ref.dt);
   return ref;
+}
+
+void follow_scene_solver(std::vector<LaneSpec>& lanes, const ImplicitDef& implicit) {
+  if (implicit.solver != ImplicitSolver::FixedPoint) return;
+  for (LaneSpec& l : lanes) {
+    if (l.kind != kBackwardEuler || l.fixed_point) continue;
+    l.fixed_point = true;  // lane_model sets one iteration unless the lane says how many
+    if (l.iterations == 0 && implicit.fixed_point_iterations != 1) l.iterations = implicit.fixed_point_iterations;
+  }
 }
 
 const Model& lane_model(const Model& base, const LaneSpec& lane, std::optional<Model>& storage) {

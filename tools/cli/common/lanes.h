@@ -40,6 +40,11 @@ struct LaneSpec {
   }
 };
 
+// implicit_euler lanes of a scene with `implicit: {solver: fixed_point}` run the fixed point:
+// marked as such (its iterations kept), so tables, CSVs and plots name it implicit_euler_fixed_point
+// and never mistake it for backward Euler.
+void follow_scene_solver(std::vector<LaneSpec>& lanes, const ImplicitDef& implicit);
+
 // The iteration cap of a lane given `:tol=T` without `:N`.
 inline constexpr int kToleranceCap = 1000;
 

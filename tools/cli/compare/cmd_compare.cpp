@@ -333,7 +333,11 @@ void plan_variation(const CompareOptions& o, ComparePlan& p) {
   for (std::size_t v = 0; v < vary.size(); ++v) {
     SceneOptions with = o.scene;
     for (const std::string& set : vary.sets(v)) with.sets.push_back(set);
-    p.vary_scenes.push_back(load_scene_with_options(with));  // a bad value: the parser's message names it
+    try {  // a bad key or value: the parser's message, said of --vary as typed
+      p.vary_scenes.push_back(load_scene_with_options(with));
+    } catch (const SceneError& e) {
+      throw as_option_error(e, vary.key, "--vary " + o.vary);
+    }
   }
   p.lanes.clear();
   p.lane_dirs.clear();
@@ -362,6 +366,7 @@ void plan_compare(const CompareOptions& o, ComparePlan& p) {
   check_option_pairs(o);
   p.scene = load_scene_with_options(o.scene);
   p.lanes = parse_lanes(o.integrators, o.dt, p.scene.dt);
+  follow_scene_solver(p.lanes, p.scene.implicit);  // --set implicit.solver=fixed_point: named as itself
   parse_match(o.match);  // a bad --match before any pilot runs
   p.with_frames = !o.video.empty() || !o.frames_dir.empty() || !o.export_path.empty();
   p.rendering = !o.video.empty() || !o.frames_dir.empty() || !o.sheet.empty() || o.still_t;  // not --export

@@ -12,7 +12,7 @@ std::vector<std::string> overlay_lines(const Model& model, const std::string& la
 std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t) {
   char step[32];
   std::snprintf(step, sizeof step, "%.3g", dt);
-  return overlay_lines(model, integrator_label(integrator_name(kind), step), t);
+  return overlay_lines(model, integrator_label(method_name(kind, model.implicit), step), t);
 }
 
 std::string integrator_label(std::string_view name, std::string_view step) {

@@ -100,9 +100,9 @@ void print_run_totals(const Model& model, IntegratorKind kind, double dt, const 
   // counts whatever else the machine is doing).
   std::printf("%s: %s, dt = %g s, %" PRId64 " steps to t = %.6g s, %" PRId64
               " force evaluations, %.3f s of wall time, %.3f s of CPU (%.3g s of CPU per simulated s)\n",
-              model.name.c_str(), std::string(integrator_name(kind)).c_str(), dt, t.steps, r.t, t.force_evals,
+              model.name.c_str(), method_name(kind, model.implicit).c_str(), dt, t.steps, r.t, t.force_evals,
               t.sim_seconds, t.cpu_seconds, r.t > 0 ? t.cpu_seconds / r.t : 0.0);
-  if (integrator_info(kind).iterations == IterationControl::Newton)
+  if (integrator_info(kind).iterations == IterationControl::Newton && model.implicit.solver == ImplicitSolver::Newton)
     std::printf("implicit solve: %" PRId64 " Newton iterations, %" PRId64
                 " CG iterations (%" PRId64 " sparse factorizations), largest final residual %.3g, %" PRId64
                 " steps not converged; %" PRId64 " contacts held in the solve, %" PRId64

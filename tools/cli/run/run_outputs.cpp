@@ -12,7 +12,7 @@ MetricsWriter::MetricsWriter(const std::string& path, const Model& model, Integr
   std::fputs("step,t,kinetic,spring_potential,gravity_potential,total_energy,max_strain,contacts,"
              "force_evals,newton_iterations,cg_iterations,residual,converged,scene,integrator,dt\n",
              file_.stream());
-  run_columns_ = "," + csv_text(model.name) + "," + std::string(integrator_name(kind)) + "," + csv_number(dt);
+  run_columns_ = "," + csv_text(model.name) + "," + method_name(kind, model.implicit) + "," + csv_number(dt);
 }
 
 void MetricsWriter::row(const FrameMetrics& m) {
@@ -31,7 +31,7 @@ PngText frame_metadata(const Model& model, IntegratorKind kind, double dt) {
   char dt_text[32];
   std::snprintf(dt_text, sizeof dt_text, "%.6g", dt);
   return {{"scene", model.name}, {"source", model.source},
-          {"integrator", std::string(integrator_name(kind))}, {"dt", dt_text},
+          {"integrator", method_name(kind, model.implicit)}, {"dt", dt_text},
           {"software", "clothsim " CLOTHSIM_VERSION}};
 }
 

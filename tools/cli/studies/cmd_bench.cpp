@@ -192,7 +192,7 @@ void print_reference_check(const analysis::ReferenceCheck& ref) {
                 ref.change_rms > 0 ? ref.smallest_error / ref.change_rms : INFINITY);
   if (ref.unresolved > 0)
     std::printf("; %d run%s under %g x it unresolved%s", ref.unresolved, ref.unresolved == 1 ? "" : "s",
-                1.0 / ref.margin, ref.change_rms <= analysis::kRoundOffError ? " (at round-off, as the reference is)" : "");
+                1.0 / ref.margin, ref.change_rms <= ref.round_off ? " (at round-off, as the reference is)" : "");
   std::printf("; the two runs took %" PRId64 " steps, %" PRId64 " force evaluations, %.3g s CPU\n", ref.steps,
               ref.force_evals, ref.cpu_seconds);
 }
@@ -327,7 +327,11 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
     s.label = v.label(value);
     std::vector<std::string> sets = o.scene.sets;
     for (const std::string& set : v.sets(value)) sets.push_back(set);
-    s.scene = load_scene(o.scene.path, sets);
+    try {  // a bad key or value: the parser's message, said of --vary as typed
+      s.scene = load_scene(o.scene.path, sets);
+    } catch (const SceneError& e) {
+      throw as_option_error(e, v.key, "--vary " + o.vary);
+    }
     for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
     s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
     s.spec.lane_names = s.names;
@@ -396,8 +400,9 @@ int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vect
 int bench_command(const BenchOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
-  const std::vector<LaneSpec> lanes =
+  std::vector<LaneSpec> lanes =
       parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
+  follow_scene_solver(lanes, scene.implicit);  // --set implicit.solver=fixed_point: named as itself
   if (!o.vary.empty()) return bench_variation(o, scene, lanes);
   std::vector<IntegratorKind> kinds;
   for (const LaneSpec& l : lanes) kinds.push_back(l.kind);

@@ -35,6 +35,8 @@
 #include "cli/golden/golden_report.h"
 #include "study/study.h"
 #include "study/work_precision.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
 
 namespace clothsim::cli {
 namespace {
@@ -141,7 +143,7 @@ std::string merged_csv(const std::vector<ShardPart>& parts) {
 
 // bench's last check, which needs every error (work_precision.h): the reference's own
 // change at most reference_margin x the smallest RMS error. "" when it holds.
-std::string bench_reference_problem(const std::string& csv) {
+std::string bench_reference_problem(const std::string& csv, double round_off) {
   std::istringstream in(csv);
   std::string line;
   std::getline(in, line);
@@ -160,7 +162,7 @@ std::string bench_reference_problem(const std::string& csv) {
   char why[300] = "";
   if (std::isnan(change))
     std::snprintf(why, sizeof why, "the reference runs did not both reach T (see a shard's log)");
-  else if (unresolved > 0 && change > analysis::kRoundOffError)
+  else if (unresolved > 0 && change > round_off)
     std::snprintf(why, sizeof why, "the reference is not converged: its estimated error (%.3g m RMS) is more than %g x "
                   "the error of %d run%s (unresolved)", change, margin, unresolved, unresolved == 1 ? "" : "s");
   return why;
@@ -199,18 +201,28 @@ JsonObject stability_keys(const MergedStudy& m) {
   return keys;
 }
 
+// The round-off floor of the shards' scene (work_precision.h), from its file; a file gone
+// since the shards ran leaves the floor of a scene of 1 m.
+double merged_round_off(const analysis::Provenance& p) {
+  try {
+    return analysis::round_off_floor(build_model(load_scene(p.scene, {}, false)));
+  } catch (const std::exception&) {
+    return analysis::kRoundOffRelative;
+  }
+}
+
 JsonObject bench_keys(const MergedStudy& m) {
   std::map<std::string, std::string> row = first_row(m.csv);
   const bool adaptive = number(row["reference_dt"]) == 0.0;  // (the adaptive reference has no step)
   return bench_summary_keys(number(row["duration"]), true,
                             adaptive ? "dopri5 (adaptive)" : std::string(integrator_name(analysis::WorkPrecisionSpec{}.reference_integrator)),
                             number(row["reference_dt"]), number(row["reference_change"]),
-                            bench_reference_problem(m.csv).empty());
+                            bench_reference_problem(m.csv, merged_round_off(m.provenance)).empty());
 }
 
 // As the single-process bench ends: a reference not converged fails it, CSV kept, no plot.
 std::string bench_conclusion(const MergedStudy& m, const std::string& csv_path) {
-  const std::string why = bench_reference_problem(m.csv);
+  const std::string why = bench_reference_problem(m.csv, merged_round_off(m.provenance));
   if (why.empty()) return "";
   return m.provenance.scene + ": " + why + (csv_path.empty() ? "" : " (kept for inspection: " + csv_path + ")") +
          "; no plot drawn";

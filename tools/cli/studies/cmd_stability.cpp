@@ -222,6 +222,8 @@ std::vector<analysis::SweepScene> sweep_cases(const StabilityOptions& o, const S
     return analysis::sweep_scenes(o.scene.path, o.scene.sets, key.paths, values);
   } catch (const analysis::StudyError& e) {
     throw UsageError("--param " + std::string(e.what()));
+  } catch (const SceneError& e) {  // said of --param as typed, not of the --set it became
+    throw as_option_error(e, key, "--param " + o.param);
   }
 }
 
@@ -283,11 +285,18 @@ void print_limits(const std::vector<StabilityLimit>& limits, const analysis::Sta
   }
 }
 
+// The study's lanes, as the scene runs them (a fixed-point scene's implicit_euler named so).
+std::vector<LaneSpec> stability_lanes(const StabilityOptions& o, const SceneDef& base) {
+  std::vector<LaneSpec> lanes = parse_study_lanes(
+      o.integrators, "stability searches the step, so a lane takes no @STEP (its :N stays fixed while the step is searched); drop it");
+  follow_scene_solver(lanes, base.implicit);
+  return lanes;
+}
+
 int stability_command(const StabilityOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   const SceneDef base = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
-  const std::vector<LaneSpec> lanes = parse_study_lanes(
-      o.integrators, "stability searches the step, so a lane takes no @STEP (its :N stays fixed while the step is searched); drop it");
+  const std::vector<LaneSpec> lanes = stability_lanes(o, base);
   std::vector<IntegratorKind> kinds;
   LaneNames names;
   for (const LaneSpec& l : lanes) kinds.push_back(l.kind), names.push_back(l.stepless_spelling());

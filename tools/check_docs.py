@@ -1,0 +1,290 @@
+#!/usr/bin/python3
+"""Docs whose numbers cannot go stale: reruns every command whose output a doc quotes.
+
+A quoted number is marked in the markdown by an HTML comment right after it, naming its check
+and value (invisible on the rendered page):
+
+    RK4 diverges at t = 0.042<!--=clip.rk4_at--> s
+
+and a check is an HTML comment followed by the fenced block whose command it runs, the very
+command the reader sees, so the two cannot drift apart:
+
+    <!-- check clip [full]
+      rk4_at: ^rk4\\b.*?diverged at t = (\\S+) s
+      mid_mm: ^midpoint\\b.*? (\\S+) m$ | x 1e3
+      ahead: = expl_mm / mid_mm | tol 2%
+    -->
+    ```sh
+    build/clothsim compare scenes/drape_smooth.yaml --still 2.5 -o drape.png
+    ```
+
+Each value line is `KEY: REGEX [| x SCALE] [| tol PCT%] [| nth N]`: the first (or Nth, from 1)
+match of REGEX (Python syntax, multiline) in the command's stdout and stderr, its first group
+a number, times SCALE (the doc's unit: x 1e3 for a figure printed in m and quoted in mm);
+or `KEY: = EXPRESSION` over the check's other values (a ratio the prose states). A check
+marked [full] runs only under --full (the default set fits in about 2 minutes on a 2-core
+machine); [manual] checks are never run, only listed (timings of a whole figure).
+
+Tolerance: a quoted value holds when the printed one rounds to it at the figures quoted
+("3.3" holds for 3.25 .. 3.35), or lies within the value's `tol` (default 0 %: the figures
+themselves are the tolerance; timings and ratios of timings state theirs).
+
+The commands run in a scratch directory holding links to the repository's build/, scenes/
+and tools/, so the files they write (drape.png, wp.png) land there and never in the tree.
+    tools/check_docs.sh [--full] [--update] [--build DIR] [--only NAME[,NAME]] [FILE.md...]
+--update rewrites every differing quoted value in place with the printed one, at the
+figures it was quoted to, and says what it changed. Exit 0 when every value holds (or was
+updated), 1 when one differs, 2 for a malformed mark.
+"""
+import argparse
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DEFAULT_DOCS = ["README.md", "docs/report.md"]
+CHECK = re.compile(r"<!--\s*check\s+([\w-]+)\s*(?:\[(\w+)\])?\s*\n(.*?)-->\s*\n\s*```(?:sh|bash)?\n(.*?)```", re.S)
+NUMBER = r"[-+]?(?:\d[\d,]*\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+MARK = re.compile(r"(" + NUMBER + r")<!--=([\w-]+)\.([\w-]+)-->")
+
+
+class DocError(Exception):
+    pass
+
+
+class Value:
+    def __init__(self, key, spec, where):
+        self.key, self.where = key, where
+        self.scale, self.tol, self.nth, self.expr, self.regex = 1.0, 0.0, 1, None, None
+        parts = [p.strip() for p in spec.split(" | ")]
+        if parts[0].startswith("="):
+            self.expr = parts[0][1:].strip()
+        else:
+            try:
+                self.regex = re.compile(parts[0], re.M)
+            except re.error as e:
+                raise DocError(f"{where}: {key}: bad regex: {e}")
+            if self.regex.groups < 1:
+                raise DocError(f"{where}: {key}: the regex has no (group) for the number")
+        for p in parts[1:]:
+            word, _, arg = p.partition(" ")
+            try:
+                if word == "x":
+                    self.scale = float(arg)
+                elif word == "tol":
+                    self.tol = float(arg.rstrip("%")) / 100.0
+                elif word == "nth":
+                    self.nth = int(arg)
+                else:
+                    raise ValueError
+            except ValueError:
+                raise DocError(f"{where}: {key}: cannot read {p!r} (x SCALE, tol PCT%, nth N)")
+
+
+class Check:
+    def __init__(self, doc, name, tier, body, command, line):
+        self.doc, self.name, self.tier, self.line = doc, name, tier or "default", line
+        if self.tier not in ("default", "full", "manual"):
+            raise DocError(f"{doc}:{line}: check {name}: unknown tier [{tier}] (default, full, manual)")
+        self.command = command.strip()
+        self.values = {}
+        for i, raw in enumerate(body.splitlines()):
+            if not raw.strip():
+                continue
+            key, colon, spec = raw.strip().partition(":")
+            if not colon or not re.fullmatch(r"[\w-]+", key.strip()):
+                raise DocError(f"{doc}:{line + 1 + i}: check {name}: expected KEY: REGEX, got {raw.strip()!r}")
+            self.values[key.strip()] = Value(key.strip(), spec.strip(), f"{doc}:{line + 1 + i}")
+
+
+def parse(doc, text):
+    checks = {}
+    for m in CHECK.finditer(text):
+        line = text.count("\n", 0, m.start()) + 1
+        c = Check(doc, m.group(1), m.group(2), m.group(3), m.group(4), line)
+        if c.name in checks:
+            raise DocError(f"{doc}:{line}: check {c.name} is defined twice")
+        checks[c.name] = c
+    marks = []
+    for m in MARK.finditer(text):
+        line = text.count("\n", 0, m.start()) + 1
+        name, key = m.group(2), m.group(3)
+        if name not in checks or key not in checks[name].values:
+            raise DocError(f"{doc}:{line}: {m.group(1)}<!--={name}.{key}--> names no value of a check in {doc}")
+        marks.append((m, line))
+    return checks, marks
+
+
+def significant(text):
+    """Figures quoted: '3.3' 2, '0.042' 2, '24' 2, '1.0e-4' 2, '50 000' handled by the caller."""
+    mantissa = text.lower().split("e")[0].lstrip("+-").replace(",", "")
+    digits = mantissa.replace(".", "").lstrip("0")
+    return max(1, len(digits))
+
+
+def as_number(text):
+    return float(text.replace(",", ""))
+
+
+def rounded(value, figures):
+    if value == 0 or not math.isfinite(value):
+        return value
+    return round(value, figures - 1 - int(math.floor(math.log10(abs(value)))))
+
+
+def holds(quoted_text, printed, tol):
+    quoted = as_number(quoted_text)
+    if not math.isfinite(printed):
+        return False
+    if "." in quoted_text or "e" in quoted_text.lower():
+        figures = significant(quoted_text)
+        if rounded(printed, figures) == rounded(quoted, figures):
+            return True
+    elif round(printed) == quoted:  # an integer quoted: its last digit
+        return True
+    return abs(printed - quoted) <= tol * abs(quoted)
+
+
+def written(quoted_text, printed):
+    """`printed` as `quoted_text` was written: its figures, its notation."""
+    figures = significant(quoted_text)
+    if "e" in quoted_text.lower():
+        mantissa, _, exponent = f"{printed:.{figures - 1}e}".partition("e")
+        return f"{mantissa}e{int(exponent)}"
+    if "." not in quoted_text:
+        return str(int(round(printed)))
+    v = rounded(printed, figures)
+    decimals = max(0, figures - 1 - int(math.floor(math.log10(abs(v))))) if v else figures - 1
+    return f"{v:.{decimals}f}"
+
+
+def run(check, build, scratch, timeout):
+    work = os.path.join(scratch, check.name)
+    os.makedirs(work, exist_ok=True)
+    for link in ("scenes", "tools", "docs"):
+        if not os.path.exists(os.path.join(work, link)):
+            os.symlink(os.path.join(ROOT, link), os.path.join(work, link))
+    if not os.path.exists(os.path.join(work, "build")):
+        os.symlink(build, os.path.join(work, "build"))
+    started, cpu0 = time.time(), os.times()
+    try:
+        p = subprocess.run(["sh", "-c", check.command], cwd=work, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return None, f"timed out after {timeout} s", time.time() - started, 0.0
+    cpu1 = os.times()
+    cpu = (cpu1.children_user - cpu0.children_user) + (cpu1.children_system - cpu0.children_system)
+    return p.stdout + p.stderr, (None if p.returncode in (0, 3) else f"exit {p.returncode}"), time.time() - started, cpu
+
+
+def evaluate(check, output):
+    got, problems = {}, []
+    for key, v in check.values.items():
+        if v.regex:
+            found = list(v.regex.finditer(output))
+            if len(found) < v.nth:
+                problems.append(f"{key}: /{v.regex.pattern}/ matched {len(found)} times, wanted match {v.nth}")
+                continue
+            try:
+                got[key] = as_number(found[v.nth - 1].group(1)) * v.scale
+            except ValueError:
+                problems.append(f"{key}: matched {found[v.nth - 1].group(1)!r}, not a number")
+    for key, v in check.values.items():
+        if v.expr:
+            try:
+                got[key] = float(eval(v.expr, {"__builtins__": {}, "min": min, "max": max, "abs": abs}, dict(got))) * v.scale
+            except Exception as e:  # a missing operand is reported above; say the expression's own fault
+                problems.append(f"{key}: = {v.expr}: {e}")
+    return got, problems
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("docs", nargs="*", help="markdown files (default: README.md docs/report.md)")
+    ap.add_argument("--full", action="store_true", help="also the [full] checks (several minutes)")
+    ap.add_argument("--update", action="store_true", help="rewrite differing quoted values with the printed ones")
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"), help="build directory holding clothsim")
+    ap.add_argument("--only", default="", help="comma-separated check names")
+    ap.add_argument("--list", action="store_true", help="list the checks and their values, run nothing")
+    ap.add_argument("--timeout", type=float, default=900, help="seconds per command")
+    args = ap.parse_args()
+    docs = args.docs or [os.path.join(ROOT, d) for d in DEFAULT_DOCS]
+    only = set(filter(None, args.only.split(",")))
+    build = os.path.abspath(args.build)
+    if not args.list and not os.access(os.path.join(build, "clothsim"), os.X_OK):
+        print(f"check_docs: {build}/clothsim not found (build first, or give --build DIR)", file=sys.stderr)
+        return 2
+    failed = updated = checked = 0
+    scratch = tempfile.mkdtemp(prefix="check_docs.")
+    try:
+        for doc in docs:
+            rel = os.path.relpath(doc, ROOT) if os.path.abspath(doc).startswith(ROOT + os.sep) else doc
+            with open(doc) as f:
+                text = f.read()
+            try:
+                checks, marks = parse(rel, text)
+            except DocError as e:
+                print(f"check_docs: {e}", file=sys.stderr)
+                return 2
+            if args.list:
+                for c in checks.values():
+                    print(f"{rel}:{c.line}: {c.name} [{c.tier}] {len(c.values)} values: {c.command.splitlines()[0]}")
+                continue
+            results = {}
+            for c in checks.values():
+                if (only and c.name not in only) or c.tier == "manual" or (c.tier == "full" and not args.full and not only):
+                    continue
+                output, error, wall, cpu = run(c, build, scratch, args.timeout)
+                load = open("/proc/loadavg").read().split()[0] if os.path.exists("/proc/loadavg") else "?"
+                print(f"== {rel}:{c.line} {c.name}: {wall:.1f} s wall, {cpu:.1f} s CPU (load {load})")
+                if error:
+                    print(f"   FAILED: the command ({c.command.splitlines()[0]} ...) gave {error}\n"
+                          + "\n".join("   | " + l for l in (output or "").strip().splitlines()[-8:]))
+                    failed += 1
+                    continue
+                got, problems = evaluate(c, output)
+                for p in problems:
+                    print(f"   FAILED: {p}")
+                failed += len(problems)
+                results[c.name] = got
+            out, at = [], 0
+            for m, line in marks:
+                name, key, quoted = m.group(2), m.group(3), m.group(1)
+                if name not in results or key not in results[name]:
+                    continue
+                checked += 1
+                printed = results[name][key]
+                v = checks[name].values[key]
+                if holds(quoted, printed, v.tol):
+                    continue
+                new = written(quoted, printed)
+                tol = f", tolerance {v.tol * 100:g} %" if v.tol else ""
+                if args.update:
+                    out.append(text[at:m.start(1)] + new)
+                    at = m.end(1)
+                    updated += 1
+                    print(f"   updated {rel}:{line} {name}.{key}: {quoted} -> {new}")
+                else:
+                    failed += 1
+                    print(f"   DIFFERS {rel}:{line} {name}.{key}: quoted {quoted}, printed {printed:.6g} "
+                          f"(would be written {new}{tol})")
+            if args.update and updated:
+                out.append(text[at:])
+                with open(doc, "w") as f:
+                    f.write("".join(out))
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+    if args.list:
+        return 0
+    print(f"check_docs: {checked} quoted values checked, {failed} differ or failed"
+          + (f", {updated} updated" if args.update else "")
+          + ("" if args.full or only else " ([full] checks skipped: --full runs them)"))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

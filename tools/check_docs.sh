@@ -1,0 +1,7 @@
+#!/bin/sh
+# Reruns every command whose output README.md and docs/report.md quote, and fails when a
+# printed value differs from the quoted one beyond its tolerance (tools/check_docs.py says
+# how a quoted number is marked). The default set fits in about 2 minutes on a 2-core machine;
+#   tools/check_docs.sh --full            every check (several minutes)
+#   tools/check_docs.sh --full --update   rewrite the quoted values that differ, and say which
+exec /usr/bin/python3 "$(dirname "$0")/check_docs.py" "$@"
