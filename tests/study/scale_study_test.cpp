@@ -54,7 +54,7 @@ TEST(ScaleStudy, RunsEveryLaneAtEverySizeWithItsIterationsAndMemory) {
   ScaleSpec spec;
   spec.sizes = scale_scenes(scene_path("drape.yaml"), {}, {6, 12});
   spec.lanes = {{"implicit_euler@1/60", IntegratorKind::ImplicitEuler, 1.0 / 60},
-                {"symplectic_euler@1e-4", IntegratorKind::SymplecticEuler, 1e-4}};
+                {"symplectic_euler@1/48000", IntegratorKind::SymplecticEuler, 1.0 / 48000}};
   spec.duration = 2.0 / 60;
   const std::vector<ScalePoint> points = scale_study(spec, {});
   ASSERT_EQ(points.size(), 4u);
