@@ -94,11 +94,11 @@ TEST(SceneParser, UnknownKeyNamesFileLineAndKey) {
 
 TEST(SceneParser, ImplicitPreconditionerIsAutoUnlessNamedAndAMisspeltOneIsAnError) {
   EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\n", "a.yaml").implicit.preconditioner, PreconditionerKind::Auto);
-  EXPECT_EQ(parse_scene("implicit: {preconditioner: multigrid}\n", "a.yaml").implicit.preconditioner,
+  EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\nimplicit: {preconditioner: multigrid}\n", "a.yaml").implicit.preconditioner,
             PreconditionerKind::Multigrid);
-  EXPECT_EQ(parse_scene("implicit: {preconditioner: block_jacobi}\n", "a.yaml").implicit.preconditioner,
+  EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\nimplicit: {preconditioner: block_jacobi}\n", "a.yaml").implicit.preconditioner,
             PreconditionerKind::BlockJacobi);
-  const SceneError e = parse_error("dt: 1e-3\nimplicit:\n  preconditioner: amg\n");
+  const SceneError e = parse_error("cloth: {particles: [3, 3]}\nimplicit:\n  preconditioner: amg\n");
   EXPECT_EQ(e.line, 3);
   EXPECT_EQ(e.key, "implicit.preconditioner");
   EXPECT_NE(std::string(e.what()).find("unknown preconditioner 'amg' (expected auto, block_jacobi, cholesky or multigrid)"),
