@@ -42,8 +42,15 @@ enum class NewtonMode {
   BaraffWitkin,  // Baraff & Witkin 1998: one linearised step on the projected Hessian, taken whole
 };
 
+// The Newton step's linear solve (`implicit.preconditioner`, docs/scenes.md): PCG with block
+// Jacobi alone; block Jacobi until a sparse Cholesky factor pays for itself (the rent-against-
+// buy of newton_solve.h); the multigrid V-cycle (linear/multigrid_preconditioner.h); or auto,
+// which picks by the sheet's size (kMultigridFromParticles, measured in BENCHMARKS.md, #37).
+enum class PreconditionerKind { Auto, BlockJacobi, Cholesky, Multigrid };
+
 struct ImplicitDef {
   ImplicitSolver solver = ImplicitSolver::Newton;
+  PreconditionerKind preconditioner = PreconditionerKind::Auto;
   // Per step; 1 = Baraff-Witkin's single linearised step. The default is a backstop: a step
   // stops when it converges or stalls (core/implicit/newton_solve.h, StallWatch).
   int newton_max_iterations = 500;

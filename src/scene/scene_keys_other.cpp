@@ -134,7 +134,7 @@ RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
 ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const {
   ImplicitDef d;
   expect_map(n, path, {"solver", "newton_max_iterations", "newton_tolerance", "cg_max_iterations",
-                       "cg_tolerance", "iterations"});
+                       "cg_tolerance", "iterations", "preconditioner"});
   optional(n, path, "solver", [&](auto& v, auto& k) {
     const std::string s = string(v, k);
     if (s == "newton") d.solver = ImplicitSolver::Newton;
@@ -146,6 +146,14 @@ ImplicitDef Reader::implicit(const YAML::Node& n, const std::string& path) const
   optional(n, path, "cg_max_iterations", [&](auto& v, auto& k) { d.cg_max_iterations = int_in_range(v, k, 1, 100000); });
   optional(n, path, "cg_tolerance", [&](auto& v, auto& k) { d.cg_tolerance = positive(v, k); });
   optional(n, path, "iterations", [&](auto& v, auto& k) { d.fixed_point_iterations = int_in_range(v, k, 1, 1000); });
+  optional(n, path, "preconditioner", [&](auto& v, auto& k) {
+    const std::string s = string(v, k);
+    if (s == "auto") d.preconditioner = PreconditionerKind::Auto;
+    else if (s == "block_jacobi") d.preconditioner = PreconditionerKind::BlockJacobi;
+    else if (s == "cholesky") d.preconditioner = PreconditionerKind::Cholesky;
+    else if (s == "multigrid") d.preconditioner = PreconditionerKind::Multigrid;
+    else fail(v, k, "unknown preconditioner " + in_quotes(s) + " (expected auto, block_jacobi, cholesky or multigrid)");
+  });
   return d;
 }
 

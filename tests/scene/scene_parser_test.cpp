@@ -92,6 +92,19 @@ TEST(SceneParser, UnknownKeyNamesFileLineAndKey) {
   EXPECT_NE(std::string(e.what()).find("bad.yaml:4: cloth.stiffnes: unknown key"), std::string::npos) << e.what();
 }
 
+TEST(SceneParser, ImplicitPreconditionerIsAutoUnlessNamedAndAMisspeltOneIsAnError) {
+  EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\n", "a.yaml").implicit.preconditioner, PreconditionerKind::Auto);
+  EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\nimplicit: {preconditioner: multigrid}\n", "a.yaml").implicit.preconditioner,
+            PreconditionerKind::Multigrid);
+  EXPECT_EQ(parse_scene("cloth: {particles: [3, 3]}\nimplicit: {preconditioner: block_jacobi}\n", "a.yaml").implicit.preconditioner,
+            PreconditionerKind::BlockJacobi);
+  const SceneError e = parse_error("cloth: {particles: [3, 3]}\nimplicit:\n  preconditioner: amg\n");
+  EXPECT_EQ(e.line, 3);
+  EXPECT_EQ(e.key, "implicit.preconditioner");
+  EXPECT_NE(std::string(e.what()).find("unknown preconditioner 'amg' (expected auto, block_jacobi, cholesky or multigrid)"),
+            std::string::npos) << e.what();
+}
+
 TEST(SceneParser, WrongTypeIsAnErrorWithItsLine) {
   const SceneError e = parse_error("cloth:\n  particles: [3, 3]\n  particle_mass: heavy\n");
   EXPECT_EQ(e.line, 3);

@@ -35,6 +35,7 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
   build_pattern(model, c.A);
   c.y_length.clear();
   c.factor.reset();  // analysed when first needed
+  c.multigrid = MultigridPreconditioner{};  // likewise
   c.holds_record = false;
   c.model = &model;
   double sum = 0.0;

@@ -13,6 +13,7 @@
 #include "core/linear/cg_kernels.h"
 #include "core/linear/cholesky_preconditioner.h"
 #include "core/linear/conjugate_gradient.h"
+#include "core/linear/multigrid_preconditioner.h"
 #include "core/model.h"
 #include "core/state.h"
 #include "core/stiffness_estimate.h"
@@ -44,6 +45,7 @@ struct ImplicitCache {
   bool jacobi_ready = false;      // A's block-Jacobi inverse is formed
   CgBuffers cg;
   CholeskyPreconditioner factor;  // built and used within one step
+  MultigridPreconditioner multigrid;  // built from each assembled matrix, within one step
 
   // Whether A is the matrix of `lin` (the assembly count aside).
   bool holds(const ImplicitSolverState::Linearisation& lin) const;

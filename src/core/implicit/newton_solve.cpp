@@ -30,6 +30,10 @@ constexpr double kReuseChange = 0.05;     // ...or where the matrix is this clos
 constexpr int kStallWindow = 50;          // iterations without progress that make a stall
 constexpr double kStallResidual = 0.5;    // progress: the residual halves...
 constexpr double kStallPhi = 1e-6;        // ...or Phi falls by this fraction of its size
+// implicit.preconditioner: auto takes the V-cycle from this many particles, the rent-against-
+// buy of block Jacobi and the sparse factor below it: on the refined drape at 1/60 s the
+// V-cycle cost 2.1x the CPU at 128 x 128 and 0.74x at 256 x 256 (BENCHMARKS.md, #37).
+constexpr int kMultigridFromParticles = 256 * 256;
 // The largest sparse factor built (L's bytes): larger sheets solve with block Jacobi, so a
 // run stays within what memory_estimate.h promises.
 constexpr std::size_t kMaxFactorBytes = std::size_t{512} << 20;
@@ -76,6 +80,11 @@ bool StallWatch::stalled(int iteration, double residual, const PotentialValue& a
   return iteration - mark >= window;
 }
 
+PreconditionerKind resolved_preconditioner(const Model& model) {
+  if (model.implicit.preconditioner != PreconditionerKind::Auto) return model.implicit.preconditioner;
+  return model.num_particles >= kMultigridFromParticles ? PreconditionerKind::Multigrid : PreconditionerKind::Cholesky;
+}
+
 double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness, double h) {
   const double springs = h * stiffness.c_max + std::pow(h * stiffness.w_max, 2);
   return springs > 0.0 ? kReuseChange * shortest / (4.0 * springs) : std::numeric_limits<double>::infinity();
@@ -84,7 +93,8 @@ double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness
 NewtonSolve::NewtonSolve(const Model& model, State& start, double h, ImplicitCache& c, StepStats& stats,
                          const NewtonTracer& trace)
     : model_(model), start_(start), record_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats),
-      trace_(trace), single_step_(cfg_.newton_mode() == NewtonMode::BaraffWitkin) {
+      trace_(trace), single_step_(cfg_.newton_mode() == NewtonMode::BaraffWitkin),
+      preconditioner_(resolved_preconditioner(model)) {
   account_.first = start.implicit.factored && start.step % kRetryJacobi != 0;
   reuse_.trusted = start.implicit.lin_trusted;
   reuse_.reach = reuse_reach(c_.shortest_rest, c_.stiffness, h);
@@ -95,6 +105,7 @@ NewtonSolve::NewtonSolve(const Model& model, State& start, double h, ImplicitCac
   reuse_.phase = allowed ? MatrixReuse::Phase::Allowed : MatrixReuse::Phase::Barred;
   // A factor serves one step: the next builds its own, so a copied State continues bit for bit.
   c_.factor.invalidate();
+  c_.multigrid.invalidate();
 }
 
 void NewtonSolve::evaluate() {
@@ -226,10 +237,18 @@ bool NewtonSolve::near_linearisation() const {
 // that is still downhill (Nocedal & Wright, Algorithm 7.1).
 double NewtonSolve::direction(CgSettings settings, const Eigen::Matrix3Xd* warm, bool reused) {
   prepare_matrix(reused);
-  choose_preconditioner();
-  const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;
   settings.from_guess = warm != nullptr;
   if (warm && warm != &c_.d) c_.d = *warm;
+  if (preconditioner_ != PreconditionerKind::Cholesky) {  // no factor: one preconditioner throughout
+    if (preconditioner_ != PreconditionerKind::Multigrid || !prepare_multigrid()) {
+      if (!c_.jacobi_ready) invert_diagonal(c_.A);
+      c_.jacobi_ready = true;
+    }
+    solve(settings);
+    return -dot(c_.rhs, c_.d);
+  }
+  choose_preconditioner();
+  const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;
   if (c_.factor.ready() || !affordable) {
     solve(settings);
   } else {
@@ -259,6 +278,7 @@ void NewtonSolve::prepare_matrix(bool reused) {
     if (uses_barrier(model_)) add_barrier_hessian(model_, start_, h_, c_.y, c_.A);
     ++stats_.assemblies;
     c_.jacobi_ready = false;
+    multigrid_.outdated = true;
     c_.holds_record = false;
     if (!single_step_) record_linearisation();
   } else if (!c_.holds(start_.implicit.lin)) {
@@ -268,6 +288,7 @@ void NewtonSolve::prepare_matrix(bool reused) {
     if (uses_barrier(model_)) add_barrier_hessian(model_, start_, lin.h, lin.y, c_.A);
     ++stats_.assemblies;
     c_.jacobi_ready = false;
+    multigrid_.outdated = true;
     c_.record = lin;
     c_.holds_record = true;
   }
@@ -298,15 +319,33 @@ void NewtonSolve::choose_preconditioner() {
   }
 }
 
+// The V-cycle of the matrix in hand (built once per assembly); false: block Jacobi instead (a
+// level not SPD, a non-finite matrix).
+bool NewtonSolve::prepare_multigrid() {
+  MultigridPreconditioner& mg = c_.multigrid;
+  if (!mg.analysed()) mg.analyse(c_.A, model_.grid_nx, model_.grid_ny);
+  if (!mg.ready() || multigrid_.rebuild(scan_.held_version)) {
+    multigrid_ = MultigridAccount{};
+    multigrid_.held_version = scan_.held_version;
+    if (!mg.build(c_.A, c_.contacts.filter, start_.inv_mass)) return false;
+  }
+  return true;
+}
+
 CgResult NewtonSolve::solve(const CgSettings& settings) {
   const bool factored = c_.factor.ready();
-  const CgResult cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter,
-                                factored ? &c_.factor : nullptr);
+  const Preconditioner* pre = factored ? static_cast<const Preconditioner*>(&c_.factor)
+                              : c_.multigrid.ready() ? &c_.multigrid : nullptr;
+  const CgResult cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter, pre);
   reuse_.trial_clean = cg.converged;
   trace_("  cg: %d iterations, converged %d, negative curvature %d, relative residual %.2e, factored %d\n",
          cg.iterations, cg.converged ? 1 : 0, cg.negative_curvature ? 1 : 0, cg.relative_residual,
          factored ? 1 : 0);
   stats_.cg_iterations += cg.iterations;
+  if (c_.multigrid.ready() && !factored) {
+    if (multigrid_.fresh < 0) multigrid_.fresh = cg.iterations;
+    multigrid_.last = cg.iterations;
+  }
   if (factored) stats_.factored_cg_iterations += cg.iterations;
   if (factored) account_.factor_work += cg.iterations * (1.0 + c_.factor.solve_cost());
   else account_.jacobi_work += cg.iterations;

@@ -68,6 +68,20 @@ struct FactorAccount {
   double factor_work = 0.0;   // the same units spent with the factor since it was built
 };
 
+// The V-cycle's hierarchy against the matrix in hand: built at the step's first direction and
+// kept while it serves (any SPD preconditioner gives a correct solve; a stale one only costs
+// iterations), rebuilt at a new matrix once a solve with it took more than twice the
+// iterations of the first solve after its build, or at once where the held set changed (the Galerkin products cost about as much as
+// a few cycles, BENCHMARKS.md #37).
+struct MultigridAccount {
+  int fresh = -1;        // PCG iterations of the first solve after the build (-1: none yet)
+  int last = 0;          // of the last solve
+  bool outdated = false; // the matrix changed since the build
+  std::uint64_t held_version = 0;  // ContactScan's held set it was built with
+  // A new held set always (the smoother would move bodies along normals now held).
+  bool rebuild(std::uint64_t held) const { return held != held_version || (outdated && last > 2 * fresh + 2); }
+};
+
 // Whether the solve still makes progress: a step is NOT CONVERGED when it stalls, not when it
 // has taken some number of iterations. Progress is the residual halving from its best at the
 // last mark, or Phi falling by a meaningful fraction of its size since then (a globalised
@@ -124,6 +138,7 @@ class NewtonSolve {
   void prepare_matrix(bool reused);
   void record_linearisation();
   void choose_preconditioner();
+  bool prepare_multigrid();
   bool near_linearisation() const;
   CgResult solve(const CgSettings& settings);
   bool factorize();
@@ -141,13 +156,18 @@ class NewtonSolve {
   PotentialValue phi_;
   double impulse_scale_ = 0.0;
   const bool single_step_;  // NewtonMode::BaraffWitkin: one linearised step, taken whole
+  const PreconditionerKind preconditioner_;  // resolved: never Auto
   MatrixReuse reuse_;
   FactorAccount account_;
+  MultigridAccount multigrid_;
   ContactScan scan_;
   StallWatch stall_;
   double alpha_ = 0.0;    // the last line search's step
   double r_norm2_ = 0.0;  // |S r|^2 at the iterate
 };
+
+// implicit.preconditioner for this model: auto resolved by the sheet's size.
+PreconditionerKind resolved_preconditioner(const Model& model);
 
 // MatrixReuse::reach for springs as short as `shortest` and as stiff as `stiffness`.
 double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness, double h);

@@ -35,11 +35,12 @@
 
 #include "block_factor_kernels.h"
 #include "block_matrix.h"
+#include "preconditioner.h"
 #include "velocity_filter.h"
 
 namespace clothsim {
 
-class CholeskyPreconditioner {
+class CholeskyPreconditioner : public Preconditioner {
  public:
   // Orders A's bodies to reduce fill (AMD on the graph of springs) and computes the factor's
   // pattern (its elimination tree and column counts): once per model. L itself and the
@@ -55,11 +56,11 @@ class CholeskyPreconditioner {
   // Returns false if the factorisation failed (a pivot block not SPD: a non-finite matrix);
   // the factor is then unusable.
   bool factorize(const SpringBlockMatrix& A, const VelocityFilter& filter);
-  bool ready() const { return ready_; }
+  bool ready() const override { return ready_; }
   void invalidate() { ready_ = false; }
 
   // z = (S P S + (I - S))^-1 r, r and z (3 x B).
-  void apply(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) const;
+  void apply(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) const override;
 
   // What a factorisation and a solve cost, in block-Jacobi PCG iterations (one block mat-vec
   // and one block-diagonal solve each), from the factor's pattern: a 3x3 block product is 27

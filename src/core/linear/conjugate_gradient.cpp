@@ -16,11 +16,11 @@ double dot(const Eigen::Matrix3Xd& u, const Eigen::Matrix3Xd& w) {
 // z = the preconditioner applied to r, filtered; returns r . z. Block Jacobi runs as one SIMD
 // pass that also takes r . z (before the filter: r is in the filter's range, so r . S z =
 // S r . z = r . z, to rounding).
-double precondition(const SpringBlockMatrix& A, const CholeskyPreconditioner* factor,
+double precondition(const SpringBlockMatrix& A, const Preconditioner* pre,
                     const VelocityFilter* filter, const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) {
   double rz;
-  if (factor) {
-    factor->apply(r, z);
+  if (pre) {
+    pre->apply(r, z);
     if (filter) filter->apply(z);
     rz = dot(r, z);
   } else {
@@ -36,11 +36,11 @@ double precondition(const SpringBlockMatrix& A, const CholeskyPreconditioner* fa
 
 CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
                    const CgSettings& settings, CgBuffers& buf, const VelocityFilter* filter,
-                   const CholeskyPreconditioner* factor) {
+                   const Preconditioner* pre) {
   const auto filtered = [filter](Eigen::Matrix3Xd& v) {
     if (filter) filter->apply(v);
   };
-  if (factor && !factor->ready()) factor = nullptr;
+  if (pre && !pre->ready()) pre = nullptr;
   CgResult result;
   const double b_norm = settings.b_norm >= 0.0 ? settings.b_norm : b.norm();
   if (b_norm == 0.0) {  // x = 0 is exact
@@ -63,7 +63,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   double r_norm = buf.r.norm();
   result.relative_residual = r_norm / b_norm;
   if (r_norm <= stop) return result;  // the guess is already good enough
-  double rz = precondition(A, factor, filter, buf.r, buf.z);
+  double rz = precondition(A, pre, filter, buf.r, buf.z);
   buf.p = buf.z;
   const std::size_t n = static_cast<std::size_t>(b.size());
   while (result.iterations < settings.max_iterations) {
@@ -83,7 +83,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
     ++result.iterations;
     result.relative_residual = r_norm / b_norm;
     if (r_norm <= stop) return result;
-    const double rz_next = precondition(A, factor, filter, buf.r, buf.z);
+    const double rz_next = precondition(A, pre, filter, buf.r, buf.z);
     simd_xpby(buf.p.data(), buf.z.data(), rz_next / rz, n);  // p = z + beta p
     rz = rz_next;
   }

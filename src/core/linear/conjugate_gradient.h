@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
-#include "cholesky_preconditioner.h"
 #include "block_matrix.h"
+#include "preconditioner.h"
 #include "velocity_filter.h"
 
 namespace clothsim {
@@ -38,7 +38,8 @@ struct CgSettings {
 // direction of non-positive curvature (A indefinite: truncated CG, Nocedal & Wright,
 // Algorithm 7.1). With a filter, solves S A S x = S b for x in the range of S (Baraff &
 // Witkin's modified PCG): the residual, the preconditioned residual and A p are filtered, so
-// x never moves along a held normal. The preconditioner is `factor` when given and ready,
+// x never moves along a held normal. The preconditioner is `pre` when given and ready (the
+// sparse factor of cholesky_preconditioner.h or the V-cycle of multigrid_preconditioner.h),
 // else block Jacobi (A.diag_inverse).
 // Started from zero, every iterate x_k is a descent direction for the quadratic
 // 0.5 x^T A x - b^T x's gradient at 0 (b . x_k > 0), whatever the iteration it stops at; at
@@ -47,6 +48,6 @@ struct CgSettings {
 CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
                    const CgSettings& settings, CgBuffers& buffers,
                    const VelocityFilter* filter = nullptr,
-                   const CholeskyPreconditioner* factor = nullptr);
+                   const Preconditioner* pre = nullptr);
 
 }  // namespace clothsim

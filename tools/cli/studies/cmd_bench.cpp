@@ -38,6 +38,7 @@
 #include "scene/param_keys.h"
 #include "scene/scene_parser.h"
 #include "study/reference.h"
+#include "study/scale_study.h"
 #include "study/task_pool.h"
 #include "study/work_precision.h"
 #include "study/work_precision_shard.h"
@@ -58,6 +59,7 @@ struct BenchOptions {
   std::string csv, plot, summary;
   std::string shard;  // --shard K/N|auto (study_shard.h)
   std::string vary;   // --vary KEY=V1,V2,...: the study once per value
+  std::string scale;  // --scale N1,N2,...: cost against sheet size (study/scale_study.h)
   int jobs = 0;
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
   double reference_tolerance = WorkPrecisionSpec{}.reference_tolerance;
@@ -397,7 +399,71 @@ int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vect
   return kOk;
 }
 
+// --scale N1,N2,...: each lane (NAME@STEP, the scene's dt without) at each side N, the sheet's
+// size and total mass fixed, to T = --duration (default min(scene, 0.2 s)); no reference.
+int bench_scale(const BenchOptions& o) {
+  install_interrupt_handler();
+  if (!o.summary.empty() || !o.shard.empty() || !o.vary.empty() || o.dts)
+    throw UsageError("--scale: give lanes as NAME@STEP; --dts, --vary, --summary and --shard do not apply");
+  std::vector<int> sides;
+  for (double n : parse_number_list(o.scale, "--scale")) {
+    if (n != std::floor(n)) throw UsageError("--scale: " + csv_number(n) + " is not a whole number of particles");
+    sides.push_back(static_cast<int>(n));
+  }
+  analysis::ScaleSpec spec;
+  try {
+    spec.sizes = analysis::scale_scenes(o.scene.path, o.scene.sets, sides);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError(std::string("--scale: ") + e.what());
+  }
+  const SceneDef& first = spec.sizes.front().scene;
+  const std::vector<LaneSpec> lanes = parse_lanes(o.integrators, "", first.dt);
+  for (const LaneSpec& l : lanes) spec.lanes.push_back({l.spelling(), l.kind, l.dt});
+  spec.lane_model = [&lanes](const Model& base, std::size_t i, std::optional<Model>& storage) -> const Model& {
+    return cli::lane_model(base, lanes[i], storage);
+  };
+  spec.duration = o.scene.duration ? *o.scene.duration : std::min(first.duration, 0.2);
+  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
+  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}});
+  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  std::unique_ptr<PlotScript> plot;
+  if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_scale.py", o.plot);
+  std::vector<IntegratorKind> kinds;
+  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
+  for (const analysis::ScaleScene& s : spec.sizes) check_bench_memory(o, s.scene, kinds);  // every size before any run
+  std::printf("bench %s --scale: %zu lanes x %zu sizes to T = %g s, total mass %g kg fixed\n", first.name.c_str(),
+              lanes.size(), sides.size(), spec.duration, first.cloth.particle_mass * sides.front() * sides.front());
+  std::printf("%-28s %6s %10s %12s %10s %12s %10s %10s  %s\n", "lane", "side", "cpu (s)", "cpu / sim s",
+              "newton/st", "linear/newt", "est (MB)", "rss (MB)", "status");
+  std::fflush(stdout);
+  analysis::StudyHooks hooks;
+  hooks.stop = [] { return interrupted(); };
+  const std::vector<analysis::ScalePoint> points = analysis::scale_study(spec, hooks, [&](const analysis::ScalePoint& p) {
+    std::printf("%-28s %6d %10.3g %12.4g %10.3g %12.3g %10.1f %10.1f  %s\n", spec.lanes[p.lane].name.c_str(), p.side,
+                p.totals.cpu_seconds, p.cpu_per_simulated_second(), p.newton_per_step(), p.linear_per_newton(),
+                p.memory_estimate / (1 << 20), p.peak_rss / (1 << 20), p.finished ? "ok" : ("stopped: " + p.reason).c_str());
+    std::fflush(stdout);
+  });
+  std::printf("fitted exponent p of CPU / simulated s ~ particles^p (1: linear):");
+  for (std::size_t i = 0; i < lanes.size(); ++i)
+    std::printf("  %s %.2f", spec.lanes[i].name.c_str(), analysis::scale_exponent(points, i));
+  std::printf("\n");
+  const auto write_to = [&](const std::string& path) {
+    AtomicFile file(path);
+    std::fprintf(file.stream(), "%s\n", analysis::scale_csv_header().c_str());
+    for (const analysis::ScalePoint& p : points)
+      std::fprintf(file.stream(), "%s\n", analysis::scale_csv_row(p, spec.lanes, spec.duration).c_str());
+    file.commit();
+  };
+  if (!o.csv.empty()) write_to(o.csv);
+  if (interrupted())
+    throw RuntimeFailure(study_interrupted_message(points.size(), lanes.size() * sides.size(), "runs", {o.csv}, o.plot));
+  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", first.name}, {o.csv});
+  return kOk;
+}
+
 int bench_command(const BenchOptions& o) {
+  if (!o.scale.empty()) return bench_scale(o);
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
   std::vector<LaneSpec> lanes =
@@ -509,6 +575,10 @@ void add_bench_command(CLI::App& app, Command& command) {
                   "The study once per value, each against its own reference, its lanes labelled 'rk4 (ks = 2e4)': KEY a\n"
                   "dotted scene path, a glob over the spring types or ks / kd, as compare --vary takes it")
       ->type_name("KEY=V1,V2,...");
+  sub->add_option("--scale", o->scale,
+                  "Cost against sheet size instead: each lane (NAME@STEP) at cloth.particles = [N, N] for each N,\n"
+                  "the sheet's size and total mass fixed (the first N keeps the scene's particle_mass)")
+      ->type_name("N1,N2,...");
   add_progress_options(sub);
   add_no_overwrite_option(sub);
   sub->add_option("--jobs", o->jobs, "Runs at once (default 0: one per core)");
