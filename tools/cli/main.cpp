@@ -11,9 +11,9 @@
 #include <new>
 #include <optional>
 
-#include "cli/common/cli_common.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/memory_budget.h"
+#include "clip/common/memory_budget.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
 #include "scene/echo.h"

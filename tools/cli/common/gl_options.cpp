@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "cli_common.h"
+#include "clip/common/cli_common.h"
 
 namespace clothsim::cli {
 

@@ -24,15 +24,15 @@
 #include <filesystem>
 #include <memory>
 
-#include "study_common.h"
-#include "study_shard.h"
-#include "cli/common/cli_common.h"
+#include "clip/studies/study_common.h"
+#include "clip/studies/study_shard.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/lanes.h"
-#include "cli/common/memory_budget.h"
-#include "cli/common/scene_options.h"
-#include "cli/common/summary_json.h"
-#include "cli/compare/compare_plan.h"
+#include "clip/common/lanes.h"
+#include "clip/common/memory_budget.h"
+#include "clip/common/scene_options.h"
+#include "clip/common/summary_json.h"
+#include "clip/compare/compare_plan.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 #include "scene/param_keys.h"

@@ -11,13 +11,13 @@
 #include <map>
 #include <memory>
 
-#include "study_common.h"
-#include "study_shard.h"
-#include "cli/common/cli_common.h"
+#include "clip/studies/study_common.h"
+#include "clip/studies/study_shard.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/lanes.h"
-#include "cli/common/scene_options.h"
-#include "cli/common/summary_json.h"
+#include "clip/common/lanes.h"
+#include "clip/common/scene_options.h"
+#include "clip/common/summary_json.h"
 #include "scene/build_model.h"
 #include "scene/echo.h"
 #include "study/convergence.h"
