@@ -1,4 +1,4 @@
-// The words on a lane's picture (tools/cli/frames/overlay_text.h): the overlay lines, and the banners
+// The words on a lane's picture (src/clip/frames/overlay_text.h): the overlay lines, and the banners
 // a frame carries for a run's results: DIVERGED with the time and step as `run` prints them,
 // and NOT CONVERGED with the count of missed implicit steps, in the singular for one.
 #include "clip/frames/overlay_text.h"

@@ -1,4 +1,4 @@
-// The outputs of the frame pipeline (tools/cli/frames/pipeline_outputs.h): the lanes' tile labels.
+// The outputs of the frame pipeline (src/clip/frames/pipeline_outputs.h): the lanes' tile labels.
 #include "clip/frames/pipeline_outputs.h"
 
 #include <gtest/gtest.h>

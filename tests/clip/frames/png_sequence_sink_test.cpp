@@ -1,4 +1,4 @@
-// The PNG sequence sink (tools/cli/frames/png_sequence_sink.cpp), directly and through
+// The PNG sequence sink (src/clip/frames/png_sequence_sink.cpp), directly and through
 // `clothsim run --frames`.
 #include <gtest/gtest.h>
 

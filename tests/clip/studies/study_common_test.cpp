@@ -1,4 +1,4 @@
-// What bench and stability share (tools/cli/studies/study_common.h): here the line they end on when
+// What bench and stability share (src/clip/studies/study_common.h): here the line they end on when
 // stopped, which must name every file that stays on disk.
 #include "clip/studies/study_common.h"
 
