@@ -14,7 +14,7 @@
 #include "clip/run/run_outputs.h"
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/gl_options.h"
+#include "clip/common/gl_options.h"
 #include "clip/common/lanes.h"
 #include "clip/common/memory_budget.h"
 #include "clip/common/run_budget.h"
