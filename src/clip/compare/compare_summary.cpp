@@ -25,21 +25,21 @@ void print_row(const LaneResult& r, const std::string& name, const std::string& 
 // Which frames a lane's field numbers cover, and why a lane that diverged (or whose reference
 // did) was measured only up to then: else "largest 0 m" would read as a perfect lane.
 std::string measured_note(const PipelineReport& report, std::size_t i, FieldKind color) {
-  const LaneResult& r = report.lanes[i];
+  const LaneResult& r = report.lanes[i].result;
   std::string measured = " (never measured";  // never: no number to quote, the note says why
-  if (report.field_count[i] > 0) {
+  if (report.lanes[i].field_count > 0) {
     char text[160];
     // A lane whose step is longer than the frame interval stands on one state for several
     // frames: how many states those frames showed, where it is fewer.
-    const long frames = report.field_count[i], states = report.field_states[i];
+    const long frames = report.lanes[i].field_count, states = report.lanes[i].field_states;
     char distinct[64] = "";
     if (states < frames)
       std::snprintf(distinct, sizeof distinct, " (%ld distinct state%s of the lane)", states, states == 1 ? "" : "s");
     if (frames == 1)
-      std::snprintf(text, sizeof text, " (measured at 1 frame, t = %.4g s", report.field_last_t[i]);
+      std::snprintf(text, sizeof text, " (measured at 1 frame, t = %.4g s", report.lanes[i].field_last_t);
     else
       std::snprintf(text, sizeof text, " (measured at %ld frames%s, t = %.4g to %.4g s", frames, distinct,
-                    report.field_first_t[i], report.field_last_t[i]);
+                    report.lanes[i].field_first_t, report.lanes[i].field_last_t);
     measured = text;
   }
   const bool reference_diverged = color == FieldKind::Error && report.reference && report.reference->divergence;
@@ -73,7 +73,7 @@ void print_reference_error(const PipelineReport& report) {
   }
   double smallest = NAN;
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
-    if (report.field_count[i] > 0 && !(smallest <= report.field_max[i])) smallest = report.field_max[i];
+    if (report.lanes[i].field_count > 0 && !(smallest <= report.lanes[i].field_max)) smallest = report.lanes[i].field_max;
   std::printf("reference: dopri5 adaptive at tolerance %.0e, checked by a solve at %.0e: estimated error %.3g m, the "
               "largest over the measured frames",
               ref.adaptive_tolerance / analysis::kReferenceTightening, ref.adaptive_tolerance, ref.estimated_error);
@@ -87,17 +87,17 @@ void print_reference_error(const PipelineReport& report) {
 // is unresolved: no number is given for it.
 void print_fields(const PipelineReport& report, FieldKind color, const std::vector<std::string>& names) {
   for (std::size_t i = 0; i < report.lanes.size(); ++i) {
-    const LaneResult& r = report.lanes[i];
+    const LaneResult& r = report.lanes[i].result;
     std::string values;
-    if (report.field_count[i] > 0 && lane_unresolved(report, i, color)) {
+    if (report.lanes[i].field_count > 0 && lane_unresolved(report, i, color)) {
       char text[160];
       std::snprintf(text, sizeof text, " unresolved: under %g x the reference's estimated error (%.3g m)",
                     kUnresolvedFactor, report.reference->estimated_error);
       values = text;
-    } else if (report.field_count[i] > 0) {
+    } else if (report.lanes[i].field_count > 0) {
       char text[160];
-      std::snprintf(text, sizeof text, " largest %.3g%s, at the end %.3g%s", report.field_max[i],
-                    field_unit(color).c_str(), report.field_last[i], field_unit(color).c_str());
+      std::snprintf(text, sizeof text, " largest %.3g%s, at the end %.3g%s", report.lanes[i].field_max,
+                    field_unit(color).c_str(), report.lanes[i].field_last, field_unit(color).c_str());
       values = text;
     }
     const std::string against = color != FieldKind::Error || !report.reference ? ":"
@@ -115,7 +115,7 @@ void print_fields(const PipelineReport& report, FieldKind color, const std::vect
 // contacts it held as constraints, and particles the post-step projection still had to move.
 void print_solver_work(const PipelineReport& report, const std::vector<std::string>& names) {
   for (std::size_t i = 0; i < report.lanes.size(); ++i) {
-    const LaneResult& r = report.lanes[i];
+    const LaneResult& r = report.lanes[i].result;
     if (r.spec.fixed_point)  // the course's one-iteration fixed point: no Newton, no CG, no contacts held
       std::printf("%s @ %s s: %" PRId64 " fixed-point iterations; post-step projections %" PRId64 " on %" PRId64
                   " of %" PRId64 " steps, largest strain %.3g\n",
@@ -146,12 +146,12 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
 
 // A lane's colouring field in numbers (NaN, written null, when it was never coloured).
 JsonObject& with_field(JsonObject& lane, const PipelineReport& report, std::size_t i) {
-  return lane.number("field_max", report.field_max[i])
-      .number("field_last", report.field_last[i])
-      .number("field_frames", static_cast<double>(report.field_count[i]))
-      .number("field_states", static_cast<double>(report.field_states[i]))
-      .number("field_first_t", report.field_first_t[i])
-      .number("field_last_t", report.field_last_t[i]);
+  return lane.number("field_max", report.lanes[i].field_max)
+      .number("field_last", report.lanes[i].field_last)
+      .number("field_frames", static_cast<double>(report.lanes[i].field_count))
+      .number("field_states", static_cast<double>(report.lanes[i].field_states))
+      .number("field_first_t", report.lanes[i].field_first_t)
+      .number("field_last_t", report.lanes[i].field_last_t);
 }
 
 }  // namespace
@@ -180,13 +180,13 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
   std::printf("%-30s %10s %10s %13s %12s %9s %14s  %s\n", "lane", "dt_s", "steps", "force_evals", "passes_per_s",
               "cpu_s", "cpu_ms_per_s", "result");
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
-    print_row(report.lanes[i], context.names[i], report.wrong.empty() ? "" : report.wrong[i]);
+    print_row(report.lanes[i].result, context.names[i], report.lanes[i].wrong);
   if (report.reference) print_reference_row(*report.reference);
   if (color != FieldKind::None) print_fields(report, color, context.names);
   if (color == FieldKind::Error && report.reference) print_reference_error(report);
   print_solver_work(report, context.names);
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
-    std::printf("step of %s: %s s, %s\n", context.names[i].c_str(), report.lanes[i].spec.step_text.c_str(),
+    std::printf("step of %s: %s s, %s\n", context.names[i].c_str(), report.lanes[i].result.spec.step_text.c_str(),
                 context.step_choice[i].c_str());
 }
 
@@ -194,11 +194,11 @@ std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& 
                                       const SummaryContext& context) {
   std::vector<JsonObject> lanes;
   for (std::size_t i = 0; i < report.lanes.size(); ++i) {
-    JsonObject lane = lane_summary(model, report.lanes[i], "lane");
+    JsonObject lane = lane_summary(model, report.lanes[i].result, "lane");
     lane.text("step_choice", context.step_choice[i]).text("name", context.names[i]);
-    const std::string wrong = report.wrong.empty() ? "" : report.wrong[i];
-    lane.text("result", lane_result(report.lanes[i], wrong)).text("wrong", wrong);
-    if (!report.energy_rise.empty()) lane.number("energy_rise", report.energy_rise[i]);
+    const std::string& wrong = report.lanes[i].wrong;
+    lane.text("result", lane_result(report.lanes[i].result, wrong)).text("wrong", wrong);
+    lane.number("energy_rise", report.lanes[i].energy_rise);
     if (color != FieldKind::None) with_field(lane, report, i);
     if (color == FieldKind::Error) lane.boolean("unresolved", lane_unresolved(report, i, color));
     lanes.push_back(lane);
@@ -209,7 +209,7 @@ std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& 
 
 void print_breakdown(const TileGrid& grid, int legend_width, const PipelineReport& report, double wall) {
   double sim_cpu = 0.0;
-  for (const LaneResult& r : report.lanes) sim_cpu += r.totals.cpu_seconds;
+  for (const LaneReport& r : report.lanes) sim_cpu += r.result.totals.cpu_seconds;
   if (report.reference) sim_cpu += report.reference->totals.cpu_seconds;
   std::string outputs;
   for (const auto& [what, seconds] : report.output_seconds) {
@@ -226,8 +226,8 @@ void print_breakdown(const TileGrid& grid, int legend_width, const PipelineRepor
 }
 
 bool lane_unresolved(const PipelineReport& report, std::size_t i, FieldKind color) {
-  return color == FieldKind::Error && report.reference && report.field_count[i] > 0 &&
-         report.field_max[i] < kUnresolvedFactor * report.reference->estimated_error;
+  return color == FieldKind::Error && report.reference && report.lanes[i].field_count > 0 &&
+         report.lanes[i].field_max < kUnresolvedFactor * report.reference->estimated_error;
 }
 
 JsonObject summary_reference(const PipelineReport& report) {

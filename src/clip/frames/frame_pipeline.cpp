@@ -101,11 +101,9 @@ struct FramePipeline::Impl {
   bool bodies = false;                         // an output needs_bodies()
   std::vector<std::vector<float>> last_field;  // per lane, with bodies: its latest field (LaneView::field)
   std::deque<TargetFrames> held;      // targets waiting for the colour scale
-  std::vector<double> field_max, field_last, field_last_t, field_first_t;  // PipelineReport's
-  std::vector<long> field_count, field_states;
+  std::vector<LaneReport> reports;       // per lane: its field, verdict and energy so far (result at the end)
   std::vector<std::int64_t> field_step;  // per lane: the step of the last state measured
-  std::vector<double> energy0, energy_rise;  // per lane: E(0) and the largest E(t) - E(0), J
-  std::vector<std::string> wrong;            // per lane: the plausibility verdict ("" none)
+  std::vector<double> energy0;           // per lane: E(0), J
   std::optional<ColorRange> range;
   std::optional<ColorScale> legend;  // the scale of range, as the outputs draw it
   double wait_seconds = 0.0, render_seconds = 0.0;
@@ -169,14 +167,9 @@ struct FramePipeline::Impl {
     images.resize(lanes.size());
     energy.resize(lanes.size());
     unrendered.resize(lanes.size());
-    field_max.assign(lanes.size(), std::numeric_limits<double>::quiet_NaN());
-    field_last = field_last_t = field_first_t = field_max;
-    field_count.assign(lanes.size(), 0);
-    field_states.assign(lanes.size(), 0);
+    reports.assign(lanes.size(), LaneReport{});
     field_step.assign(lanes.size(), -1);
     energy0.assign(lanes.size(), std::numeric_limits<double>::quiet_NaN());
-    energy_rise.assign(lanes.size(), 0.0);
-    wrong.assign(lanes.size(), "");
     output_seconds.assign(outputs.size(), 0.0);
   }
 
@@ -190,10 +183,11 @@ struct FramePipeline::Impl {
     if (f.divergence) return;  // DIVERGED says more
     const double e = f.metrics.energies.total();
     if (std::isnan(energy0[i])) energy0[i] = e;
-    if (std::isfinite(e)) energy_rise[i] = std::max(energy_rise[i], e - energy0[i]);
-    if (!wrong[i].empty()) return;
-    LaneEvidence evidence{f.totals, config.color == FieldKind::Error && field_count[i] > 0 ? field_max[i] : -1.0};
-    if (const auto verdict = implausible(model_of(i), evidence)) wrong[i] = *verdict;
+    LaneReport& r = reports[i];
+    if (std::isfinite(e)) r.energy_rise = std::max(r.energy_rise, e - energy0[i]);
+    if (!r.wrong.empty()) return;
+    LaneEvidence evidence{f.totals, config.color == FieldKind::Error && r.field_count > 0 ? r.field_max : -1.0};
+    if (const auto verdict = implausible(model_of(i), evidence)) r.wrong = *verdict;
   }
 
   void stop_lanes() {
@@ -262,19 +256,21 @@ struct FramePipeline::Impl {
       if (out.fields[i].empty()) continue;
       double largest = 0.0;
       for (float v : out.fields[i]) largest = std::max(largest, static_cast<double>(v));
-      field_last[i] = largest;
-      field_last_t[i] = current[i]->t;
-      if (field_count[i]++ == 0) field_first_t[i] = current[i]->t;
+      LaneReport& r = reports[i];
+      r.field_last = largest;
+      r.field_last_t = current[i]->t;
+      if (r.field_count++ == 0) r.field_first_t = current[i]->t;
       if (current[i]->step != field_step[i]) {  // a lane that did not step shows the same state
-        ++field_states[i];
+        ++r.field_states;
         field_step[i] = current[i]->step;
       }
-      if (!(field_max[i] >= largest)) field_max[i] = largest;
+      if (!(r.field_max >= largest)) r.field_max = largest;
     }
     if (config.judge)
       for (std::size_t i = 0; i < lanes.size(); ++i)
         if (out.fresh[i] && current[i]) judge(i);
-    out.wrong = wrong;
+    out.wrong.clear();
+    for (const LaneReport& r : reports) out.wrong.push_back(r.wrong);
     return true;
   }
 
@@ -482,9 +478,10 @@ struct FramePipeline::Impl {
 
   PipelineReport report() {
     PipelineReport r;
-    for (auto& w : workers) {
-      w->join();
-      r.lanes.push_back(w->result());
+    r.lanes = reports;
+    for (std::size_t i = 0; i < workers.size(); ++i) {
+      workers[i]->join();
+      r.lanes[i].result = workers[i]->result();
     }
     if (reference) {
       reference->stop();  // it may be ahead of the last target a run stopped at
@@ -496,18 +493,10 @@ struct FramePipeline::Impl {
       energy_reference->join();
     }
     r.color_range = range;
-    r.field_max = field_max;
-    r.field_last = field_last;
-    r.field_last_t = field_last_t;
-    r.field_count = field_count;
-    r.field_first_t = field_first_t;
-    r.field_states = field_states;
     r.wait_seconds = wait_seconds;
     r.render_seconds = render_seconds;
     for (std::size_t o = 0; o < outputs.size(); ++o) r.output_seconds.emplace_back(outputs[o]->what(), output_seconds[o]);
     r.targets = processed;
-    r.wrong = wrong;
-    r.energy_rise = energy_rise;
     return r;
   }
 

@@ -14,6 +14,7 @@
 // data of the first second (those targets are held back until it is known, then printed).
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -97,30 +98,36 @@ class FrameOutput {
   virtual bool needs_bodies() const { return false; }
 };
 
-struct PipelineReport {
-  std::vector<LaneResult> lanes;
-  std::optional<LaneResult> reference;
-  std::optional<ColorRange> color_range;  // the scale used
-  // Per lane, the colouring field's largest value over every target and over the particles,
-  // and its largest value at the last target where the lane had one (NaN when never coloured):
-  // with --color error, how far each lane strayed from the reference, in numbers.
-  std::vector<double> field_max, field_last;
-  std::vector<double> field_last_t;  // s: the frame field_last is from (NaN: never coloured)
+// One lane's run as the pipeline saw it.
+struct LaneReport {
+  LaneResult result;
+  // The colouring field's largest value over every target and over the particles, and its
+  // largest value at the last target where the lane had one (NaN when never coloured): with
+  // --color error, how far the lane strayed from the reference, in numbers.
+  double field_max = std::numeric_limits<double>::quiet_NaN();
+  double field_last = std::numeric_limits<double>::quiet_NaN();
+  double field_last_t = std::numeric_limits<double>::quiet_NaN();  // s: the frame field_last is from
   // What field_max covers: how many targets had the field, the first one's time. A sheet or a
   // still samples the targets it shows (and the colour scale's first second), a clip every frame.
-  std::vector<long> field_count;
-  std::vector<double> field_first_t;
+  long field_count = 0;
+  double field_first_t = std::numeric_limits<double>::quiet_NaN();
   // How many distinct states of the lane (distinct steps) those targets showed: fewer than
   // field_count where the lane's step is longer than the frame interval and it stands on one
   // state for several targets (rk4@0.1 at 30 frames/s: 3 states in the first 0.2 s's 7 frames).
-  std::vector<long> field_states;
+  long field_states = 0;
+  // The verdict of plausibility.h ("" for a plausible lane), and the largest rise of the total
+  // energy above E(0), J (with PipelineConfig::judge).
+  std::string wrong;
+  double energy_rise = 0.0;
+};
+
+struct PipelineReport {
+  std::vector<LaneReport> lanes;
+  std::optional<LaneResult> reference;
+  std::optional<ColorRange> color_range;  // the scale used
   double wait_seconds = 0.0, render_seconds = 0.0;  // this thread: waiting on lanes, rendering
   std::vector<std::pair<std::string, double>> output_seconds;  // per output
   long targets = 0;  // processed
-  // Per lane: the verdict of plausibility.h ("" for a plausible lane), and the largest rise of
-  // its total energy above E(0), J (with PipelineConfig::judge).
-  std::vector<std::string> wrong;
-  std::vector<double> energy_rise;
 };
 
 class FramePipeline {

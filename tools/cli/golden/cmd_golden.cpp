@@ -252,7 +252,7 @@ LaneResult run_entry(const GoldenOptions& o, const GoldenManifest& manifest, std
   if (look.color != FieldKind::None) targets.with_scale_window(kColorScaleWindow);
   FramePipeline pipeline(model, targets, {lane}, config, &renderer);
   pipeline.add(std::make_unique<GoldenOutput>(o, manifest, i, update, model, renderer, work));
-  return pipeline.run("golden " + model.name, not_written).lanes.front();
+  return pipeline.run("golden " + model.name, not_written).lanes.front().result;
 }
 
 // An entry in the summary: its run as a lane (the common keys), its name and its images.

@@ -160,7 +160,7 @@ PipelineConfig run_config(const RunOptions& o, const SceneDef& scene, const Mode
 // WRONG: finite, but not this scene's physics (the run's own verdict, else compare's rule on a
 // reference it was coloured against), said on stderr. Returns whether the run reads WRONG.
 bool say_wrong(const std::string& source, const RunTotals& t, const PipelineReport& report) {
-  const std::string wrong = report.wrong.empty() ? "" : report.wrong.front();
+  const std::string& wrong = report.lanes.front().wrong;
   if (t.wrong)
     std::fprintf(stderr, "clothsim: %s: WRONG at step %" PRId64 ", t = %.6g s: %s\n", source.c_str(), t.wrong->step,
                  t.wrong->t, t.wrong->reason.c_str());
@@ -225,7 +225,7 @@ int run_command(const RunOptions& o) {
   for (const std::string* out : {&o.state, &o.summary})
     if (!out->empty()) after.push_back(*out);
   const PipelineReport report = pipeline.run("run " + model.name, after);
-  const LaneResult& r = report.lanes.front();
+  const LaneResult& r = report.lanes.front().result;
 
   const RunTotals& t = r.totals;
   print_run_totals(model, kind, dt, r, report);
