@@ -231,6 +231,11 @@ extern "C" void on_signal(int sig) {
 
 bool interrupted() { return g_signal.load(std::memory_order_relaxed) != 0; }
 int interrupt_signal() { return g_signal.load(std::memory_order_relaxed); }
+void request_interrupt(int sig) {
+  int none = 0;
+  g_signal.compare_exchange_strong(none, sig);
+}
+void clear_interrupt() { g_signal.store(0); }
 const char* interrupt_signal_name() { return signal_name(interrupt_signal()); }
 
 void install_signal_handlers() {

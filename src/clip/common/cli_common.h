@@ -96,6 +96,10 @@ std::string what_stays(const std::vector<std::string>& kept, const std::vector<s
 void install_signal_handlers();
 void install_interrupt_handler();  // "from here on this command polls interrupted()"
 bool interrupted();
+// A front end with signal handling of its own (Python's, whose Ctrl-C is a KeyboardInterrupt)
+// asks the running work to stop as a signal would, and clears the request once it has.
+void request_interrupt(int sig);
+void clear_interrupt();
 int interrupt_signal();                // 0: none
 const char* interrupt_signal_name();  // "SIGINT", "SIGTERM", "SIGHUP"
 // Throws the RuntimeFailure "stopped by SIGINT WHILE; nothing written" when a signal has
