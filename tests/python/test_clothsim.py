@@ -127,6 +127,19 @@ def test_export_writes_the_files_run_export_writes(cli, tmp_path):
         clothsim.Export(scene, "x.stl")
 
 
+def interrupted_script(script, after):
+    """Runs `script` in a Python of its own, sends SIGINT (as Ctrl-C does) `after` s after it
+    prints "running", and returns its output (it must exit 0) and when the signal was sent."""
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True, env=dict(os.environ))
+    assert p.stdout.readline().strip() == "running"
+    time.sleep(after)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 0, out
+    return out, sent
+
+
 def test_ctrl_c_raises_keyboard_interrupt_in_a_long_run():
     # A run of minutes, interrupted 1 s in by SIGINT, as Ctrl-C sends it.
     script = textwrap.dedent(f"""
@@ -138,14 +151,8 @@ def test_ctrl_c_raises_keyboard_interrupt_in_a_long_run():
         except KeyboardInterrupt:
             print("interrupted at t =", sim.t, "after", time.monotonic(), flush=True)
     """)
-    env = dict(os.environ)
-    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True, env=env)
-    assert p.stdout.readline().strip() == "running"
-    time.sleep(1.0)
-    sent = time.monotonic()
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=60)
-    assert p.returncode == 0 and out.startswith("interrupted at t = "), out
+    out, sent = interrupted_script(script, after=1.0)
+    assert out.startswith("interrupted at t = "), out
     t, after = float(out.split()[4]), float(out.split()[6])
     assert 0 < t < 1e3
     print(f"KeyboardInterrupt {1000 * (after - sent):.0f} ms after SIGINT")  # docs/python.md; not asserted
@@ -290,13 +297,8 @@ def test_compare_ctrl_c_raises_keyboard_interrupt_and_leaves_no_video(tmp_path):
         except KeyboardInterrupt:
             print("interrupted after", time.monotonic(), flush=True)
     """)
-    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True, env=dict(os.environ))
-    assert p.stdout.readline().strip() == "running"
-    time.sleep(3.0)
-    sent = time.monotonic()
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=60)
-    assert p.returncode == 0 and out.startswith("interrupted after "), out
+    out, sent = interrupted_script(script, after=3.0)
+    assert out.startswith("interrupted after "), out
     # The delay is printed (docs/python.md), not asserted: a shared machine's load would decide it.
     print(f"compare: KeyboardInterrupt {1000 * (float(out.split()[2]) - sent):.0f} ms after SIGINT")
     assert list(tmp_path.iterdir()) == []  # no clip, no temporary
