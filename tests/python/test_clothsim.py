@@ -304,6 +304,20 @@ def test_compare_ctrl_c_raises_keyboard_interrupt_and_leaves_no_video(tmp_path):
     assert list(tmp_path.iterdir()) == []  # no clip, no temporary
 
 
+def test_compare_releases_the_gil():
+    import threading
+    frames = []
+    worker = threading.Thread(target=lambda: frames.append(clothsim.compare(
+        DRAPE, duration=0.2, integrators="rk4@1e-5", match="none")))
+    ticks = []
+    worker.start()
+    while worker.is_alive():
+        ticks.append(time.monotonic())  # Python runs while the lanes step
+        time.sleep(0.001)
+    worker.join()
+    assert len(ticks) > 5 and len(frames) == 1 and frames[0].t_reached[0] >= 0.2
+
+
 def test_a_lane_with_iterations_steps_as_run_iterations_does(cli, tmp_path):
     scene = clothsim.load_scene(DRAPE, set=SMALL, duration=0.1)
     sim = clothsim.Simulation(scene, lane="vbd@0.01:3")
