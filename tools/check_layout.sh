@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Checks the layout rules of README's "Layout" section on the checkout it sits in:
-# - nothing loose in src/, and src/core, src/scene, src/study, src/view, src/export exist;
+# - nothing loose in src/, and src/core, src/scene, src/study, src/view, src/export, src/clip exist;
 # - every quoted include in src/, render/ and tools/ names a library folder or a file in the
 #   same folder, and no library includes one above it;
 # - no source file over 600 lines, no folder over 25 source files;
@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 fail=0
 say() { echo "layout: $*"; fail=1; }
 
-for d in core scene study view export; do [[ -d src/$d ]] || say "src/$d is missing"; done
+for d in core scene study view export clip; do [[ -d src/$d ]] || say "src/$d is missing"; done
 for f in src/*.h src/*.cpp; do [[ -e $f ]] && say "$f is loose in src/"; done
 
 # Which libraries a folder may include (its own first).
@@ -22,11 +22,12 @@ allowed() {
     src/scene*) echo "scene view core" ;;
     src/study*) echo "study scene view core" ;;
     src/export*) echo "export view core render/output_file.h" ;;  # the atomic-output helper only
+    src/clip*) echo "clip export video render study scene view core" ;;  # the commands' work, under cli and python
     render*) echo "render view/render_frame.h view/render_settings.h" ;;
     tools/video*) echo "video render view/render_frame.h" ;;
     tools/fuzz*) echo "fuzz scene core" ;;  # fuzz/: the shared target in tests/fuzz
-    tools/python*) echo "python render export study scene view core" ;;  # the CLI's sibling, not its user
-    tools/*) echo "cli video render export study scene view core" ;;
+    tools/python*) echo "python clip render export study scene view core" ;;  # the CLI's sibling, not its user
+    tools/*) echo "cli clip video render export study scene view core" ;;
   esac
 }
 while IFS= read -r f; do

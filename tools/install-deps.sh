@@ -20,6 +20,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy   # the clothsim Python module (tools/python), for /usr/bin/python3
   python3-pytest python3-pandas python3-pil  # its tests (tests/python), run by tools/test.sh
   python3-meshio           # exported meshes read back (tests/export: PLY, OBJ)
+  jupyter-nbconvert python3-ipykernel   # docs/notebooks/report.ipynb, executed by ctest (Notebook.*)
   time                     # GNU time, for tools/benchmarks.sh
   clang-14 libclang-rt-14-dev   # the libFuzzer target (tools/fuzz.sh): -fsanitize=fuzzer,address,undefined
 )

@@ -1,6 +1,6 @@
 // RenderFrame: the snapshot the renderer draws, and all it may know of a scene.
 // Its geometry filled on the engine side by make_render_frame() (snapshot.h), its words (overlay
-// lines, banner) by the tools that show it (tools/cli/frames/overlay_text.h); read by render/.
+// lines, banner) by the tools that show it (src/clip/frames/overlay_text.h); read by render/.
 // Plain values only: no Eigen, no GL, so render/ and the engine share nothing else.
 #pragma once
 

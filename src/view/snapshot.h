@@ -1,7 +1,7 @@
 // Engine -> renderer: fill a RenderFrame from the model, the state and the scene's render
 // settings (positions, normals, spheres, ground, camera). The only place the engine meets rendering. The snapshot is data
 // only: the words over it (overlay lines, lane labels, DIVERGED banners) are presentation and
-// are written by the tools that show it (tools/cli/frames/overlay_text.h).
+// are written by the tools that show it (src/clip/frames/overlay_text.h).
 #pragma once
 
 #include "render_frame.h"

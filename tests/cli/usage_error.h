@@ -5,7 +5,7 @@
 #include <functional>
 #include <string>
 
-#include "cli/common/cli_common.h"
+#include "clip/common/cli_common.h"
 
 namespace clothsim::testing {
 

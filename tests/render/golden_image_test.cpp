@@ -44,7 +44,7 @@ RenderFrame scene_frame(const GoldenCase& c) {
   Run run(model, scene.integrator, scene.dt);
   EXPECT_TRUE(run.advance_to(c.t)) << c.scene << " diverged";
   RenderFrame frame = make_render_frame(model, run.state(), scene.render);
-  // Overlay lines as `run` writes them (tools/cli/frames/overlay_text.h), spelt out: render/ is
+  // Overlay lines as `run` writes them (src/clip/frames/overlay_text.h), spelt out: render/ is
   // tested without the CLI's library.
   char lane[64], time[32];
   std::snprintf(lane, sizeof lane, "%s  dt = %.3g s", std::string(integrator_name(scene.integrator)).c_str(), scene.dt);

@@ -1,5 +1,5 @@
 // The snapshot the renderer draws: geometry of the state, and no words (the overlay lines and
-// banners are the tools' to write: tools/cli/frames/overlay_text.h, tests/cli/frames/overlay_text_test.cpp).
+// banners are the tools' to write: src/clip/frames/overlay_text.h, tests/clip/frames/overlay_text_test.cpp).
 #include "view/snapshot.h"
 
 #include <gtest/gtest.h>

@@ -14,8 +14,8 @@
 #include <string>
 
 #include "bench_models.h"
-#include "cli/frames/overlay_text.h"
-#include "cli/frames/picture_options.h"
+#include "clip/frames/overlay_text.h"
+#include "clip/frames/picture_options.h"
 #include "core/simulation.h"
 #include "render/fxaa.h"
 #include "render/png_io.h"

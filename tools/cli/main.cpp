@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "cli/common/cli_common.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/memory_budget.h"
+#include "clip/common/memory_budget.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
 #include "scene/echo.h"

@@ -1,6 +1,6 @@
 // The `clothsim` Python module (docs/python.md): a second thin front end, beside the CLI, over
 // the same libraries: scene (load_scene), core (Simulation), view + render (render), export
-// (Export), study (bench, converge). Errors are Python exceptions carrying the
+// (Export), study (bench, stability, converge), clip (compare). Errors are Python exceptions carrying the
 // CLI's one-line messages.
 #include <pybind11/pybind11.h>
 
@@ -18,6 +18,7 @@ namespace clothsim::python {
 void bind_render(py::module_& m);
 void bind_export(py::module_& m);
 void bind_studies(py::module_& m);
+void bind_compare(py::module_& m);
 }  // namespace clothsim::python
 
 PYBIND11_MODULE(clothsim, m) {
@@ -37,4 +38,5 @@ PYBIND11_MODULE(clothsim, m) {
   bind_render(m);
   bind_export(m);
   bind_studies(m);
+  bind_compare(m);
 }

@@ -57,6 +57,8 @@ std::vector<std::string> overrides(const std::string& path, const py::dict& set)
 
 }  // namespace
 
+std::vector<std::string> set_strings(const std::string& path, const py::dict& set) { return overrides(path, set); }
+
 Scene load_scene(const std::string& path, const py::dict& set, py::object duration, py::object dt,
                  py::object integrator) {
   const bool replaced = !duration.is_none() || !dt.is_none();

@@ -24,6 +24,10 @@ struct Scene {
 Scene load_scene(const std::string& path, const pybind11::dict& set, pybind11::object duration,
                  pybind11::object dt, pybind11::object integrator);
 
+// A `set` dict as --set's KEY=VALUE strings (globs and the ks / kd aliases resolved against
+// the scene at `path`), as load_scene reads it.
+std::vector<std::string> set_strings(const std::string& path, const pybind11::dict& set);
+
 void bind_scene(pybind11::module_& m);
 
 }  // namespace clothsim::python

@@ -9,6 +9,8 @@
 
 #include "core/diagnostics.h"
 #include "core/integrators/integrator_kind.h"
+#include "clip/common/cli_common.h"
+#include "clip/common/lanes.h"
 
 namespace py = pybind11;
 
@@ -45,10 +47,29 @@ void parse_lane(const std::string& lane, const SceneDef& scene, IntegratorKind& 
   }
 }
 
+// A lane with iterations or a residual tolerance ("vbd@1/60:10", "xpbd@1/60:tol=1e-4"): the
+// lanes' one grammar (clip/common/lanes.h), its model the scene's with those settings, as
+// compare's lane and `run --iterations` run it.
+void apply_lane_settings(const std::string& lane, Scene& scene, IntegratorKind& kind, double& dt) {
+  cli::LaneSpec spec;
+  std::optional<Model> storage;
+  try {
+    spec = cli::parse_lanes(lane, "", scene.def.dt).front();
+    const Model& model = cli::lane_model(*scene.model, spec, storage);
+    (void)model;
+  } catch (const cli::UsageError& e) {
+    throw py::value_error("lane: " + lane + ": " + e.what());
+  }
+  kind = spec.kind;
+  dt = spec.dt;
+  if (storage) scene.model = std::make_shared<const Model>(std::move(*storage));
+}
+
 Simulation::Simulation(Scene scene, const std::optional<std::string>& lane) : scene_(std::move(scene)) {
   kind_ = scene_.def.integrator;
   dt_ = scene_.def.dt;
-  if (lane) parse_lane(*lane, scene_.def, kind_, dt_);
+  if (lane) parse_lane(lane->substr(0, lane->find(':')), scene_.def, kind_, dt_);
+  if (lane && lane->find(':') != std::string::npos) apply_lane_settings(*lane, scene_, kind_, dt_);
   run_ = std::make_unique<Run>(*scene_.model, kind_, dt_);
   // Polled before every step; a clock read costs nanoseconds beside a step, and Python's
   // signal check (which takes the GIL) runs only every 0.1 s of wall time.
@@ -182,7 +203,9 @@ void bind_simulation(py::module_& m) {
                          "Simulation(scene, lane=None)\n\n"
                          "One scene stepped with one integrator at one step, as `clothsim run` steps it:\n"
                          "lane 'rk4@4e-4' (NAME@STEP, the step a number or a fraction like 1/2500),\n"
-                         "'rk4' (the scene's step) or None (the scene's integrator and step).");
+                         "'rk4' (the scene's step) or None (the scene's integrator and step); ':N' sets the\n"
+                         "iterations ('vbd@1/60:10', 'implicit_euler@1/60:1'), ':tol=T' a residual to stop each\n"
+                         "step on ('xpbd@1/60:tol=1e-4'), as compare's lanes and `run --iterations` do.");
   c.def(py::init<Scene, const std::optional<std::string>&>(), py::arg("scene"), py::arg("lane") = py::none())
       .def("step", &Simulation::step, "Takes one step of dt.")
       .def("run", &Simulation::run, py::arg("until"),

@@ -18,7 +18,7 @@
 #include "scene/param_keys.h"
 #include "scene/scene_parser.h"
 #include "study/convergence.h"
-#include "study/csv_cells.h"
+#include "study/csv_tables.h"
 #include "study/parameter_sweep.h"
 #include "study/stability.h"
 #include "study/work_precision.h"
@@ -64,39 +64,38 @@ std::vector<IntegratorKind> methods_of(const std::vector<std::string>& names) {
   return out;
 }
 
-// `frame` as the CLI's --csv writes it: a header of its columns, each cell as study/csv_cells.h
-// spells it (text quoted where needed, numbers in their shortest exact form), whole or not at all.
-void write_csv(const std::string& path, const py::object& frame) {
-  const py::list names = frame.attr("columns").attr("tolist")();
-  std::string text;
-  for (std::size_t i = 0; i < names.size(); ++i) text += (i ? "," : "") + names[i].cast<std::string>();
-  text += "\n";
-  for (const py::handle row : frame.attr("itertuples")(py::arg("index") = false, py::arg("name") = py::none())) {
-    bool first = true;
-    for (const py::handle cell : row) {
-      text += first ? "" : ",";
-      first = false;
-      text += py::isinstance<py::str>(cell) ? analysis::csv_text(cell.cast<std::string>())
-                                            : analysis::csv_number(py::float_(py::reinterpret_borrow<py::object>(cell)));
-    }
-    text += "\n";
-  }
+// `table` as the CLI's --csv writes it (study/csv_tables.h: the same text), whole or not at all.
+void write_csv(const std::string& path, const analysis::CsvTable& table) {
+  const std::string text = table.text();
   OutputFile file(path);
   if (!write_all(file.fd(), text.data(), text.size())) throw OutputFileError("cannot write " + path);
   file.commit();
 }
 
-// Columns of points, one list per name, as a DataFrame (in the order given).
-template <typename Point>
-py::object data_frame(const std::vector<Point>& points,
-                      const std::vector<std::pair<const char*, std::function<py::object(const Point&)>>>& columns) {
+// A study's table (study/csv_tables.h, the one the CLI's --csv writes) as a DataFrame: its
+// columns in order, numbers as floats, whole numbers as ints, texts as str.
+py::object data_frame(const analysis::CsvTable& table) {
   py::dict data;
-  for (const auto& [name, value] : columns) {
+  for (std::size_t c = 0; c < table.columns.size(); ++c) {
     py::list values;
-    for (const Point& p : points) values.append(value(p));
-    data[name] = values;
+    for (const std::vector<analysis::CsvCell>& row : table.rows) {
+      const analysis::CsvCell& cell = row[c];
+      switch (cell.kind) {
+        case analysis::CsvCell::Kind::Number: values.append(py::float_(cell.number)); break;
+        case analysis::CsvCell::Kind::Integer: values.append(py::int_(cell.integer)); break;
+        case analysis::CsvCell::Kind::Text: values.append(py::str(cell.text)); break;
+      }
+    }
+    data[py::str(table.columns[c])] = values;
   }
   return py::module_::import("pandas").attr("DataFrame")(data);
+}
+
+// Each integrator's name, by lane (the module's lanes are plain integrators).
+std::vector<std::string> names_of(const std::vector<IntegratorKind>& kinds) {
+  std::vector<std::string> out;
+  for (IntegratorKind k : kinds) out.emplace_back(integrator_name(k));
+  return out;
 }
 
 py::object converge(const Scene& scene, double dt, const std::vector<std::string>& integrators, int states,
@@ -114,21 +113,9 @@ py::object converge(const Scene& scene, double dt, const std::vector<std::string
     hooks.stop = stop;
     return convergence_study(model, spec, hooks);
   });
-  using P = ConvergencePoint;
-  const auto number = [](double v) { return py::object(py::float_(v)); };
-  const auto integer = [](long long v) { return py::object(py::int_(v)); };
-  py::object frame = data_frame<P>(
-      points, {{"scene", [&](const P&) { return py::object(py::str(model.name)); }},
-               {"method", [](const P& p) { return py::object(py::str(std::string(integrator_name(p.method)))); }},
-               {"state", [&](const P& p) { return integer(p.state); }},
-               {"t", [&](const P& p) { return number(p.t); }},
-               {"iterations", [&](const P& p) { return integer(p.iterations); }},
-               {"rms_distance", [&](const P& p) { return number(p.rms); }},
-               {"max_distance", [&](const P& p) { return number(p.max); }},
-               {"gradient_norm", [&](const P& p) { return number(p.gradient); }},
-               {"cpu_seconds", [&](const P& p) { return number(p.cpu_seconds); }},
-               {"wrong", [](const P& p) { return py::object(py::str(p.wrong)); }}});
-  if (!csv.empty()) write_csv(csv, frame);
+  const analysis::CsvTable table = analysis::convergence_table(points, model.name);
+  py::object frame = data_frame(table);
+  if (!csv.empty()) write_csv(csv, table);
   return frame;
 }
 
@@ -159,32 +146,9 @@ py::object bench(const Scene& scene, const std::vector<std::string>& integrators
     hooks.stop = stop;
     return analysis::work_precision(model, spec, hooks);
   });
-  using P = analysis::WorkPrecisionPoint;
-  const auto number = [](double v) { return py::object(py::float_(v)); };
-  py::object frame = data_frame<P>(
-      r.points,
-      {{"integrator", [](const P& p) { return py::object(py::str(std::string(integrator_name(p.integrator)))); }},
-       {"dt", [&](const P& p) { return number(p.dt); }},
-       {"steps", [](const P& p) { return py::object(py::int_(p.steps)); }},
-       {"force_evals", [](const P& p) { return py::object(py::int_(p.force_evals)); }},
-       {"newton_iterations", [](const P& p) { return py::object(py::int_(p.newton_iterations)); }},
-       {"cg_iterations", [](const P& p) { return py::object(py::int_(p.cg_iterations)); }},
-       {"wall_seconds", [&](const P& p) { return number(p.wall_seconds); }},
-       {"cpu_seconds", [&](const P& p) { return number(p.cpu_seconds); }},
-       {"rms_error", [&](const P& p) { return number(p.unresolved ? NAN : p.rms_error); }},
-       {"max_error", [&](const P& p) { return number(p.unresolved ? NAN : p.max_error); }},
-       {"diverged", [](const P& p) { return py::object(py::int_(p.diverged ? 1 : 0)); }},
-       {"diverged_at", [&](const P& p) { return p.diverged ? number(p.diverged_at) : py::object(py::str("")); }},
-       {"reason", [](const P& p) { return py::object(py::str(p.reason)); }},
-       {"duration", [&](const P&) { return number(r.duration); }},
-       {"reference_dt", [&](const P&) { return number(r.reference.dt); }},
-       {"reference_change", [&](const P&) { return number(r.reference.finished ? r.reference.change_rms : NAN); }},
-       {"unconverged_steps", [](const P& p) { return py::object(py::int_(p.unconverged_steps)); }},
-       {"wrong", [](const P& p) { return py::object(py::int_(p.wrong ? 1 : 0)); }},
-       {"wrong_at", [&](const P& p) { return p.wrong ? number(p.wrong_at) : py::object(py::str("")); }},
-       {"wrong_reason", [](const P& p) { return py::object(py::str(p.wrong_reason)); }},
-       {"unresolved", [](const P& p) { return py::object(py::int_(p.unresolved ? 1 : 0)); }}});
-  if (!csv.empty()) write_csv(csv, frame);
+  const analysis::CsvTable table = analysis::work_precision_table(r, names_of(spec.integrators));
+  py::object frame = data_frame(table);
+  if (!csv.empty()) write_csv(csv, table);
   return frame;
 }
 
@@ -221,35 +185,9 @@ py::object stability(const Scene& scene, const std::vector<std::string>& integra
     hooks.stop = stop;
     return analysis::stability_sweep(cases, spec, hooks);
   });
-  using L = StabilityLimit;
-  const auto number = [](double v) { return py::object(py::float_(v)); };
-  const auto text = [](const std::string& t) { return py::object(py::str(t)); };
-  py::object frame = data_frame<L>(
-      limits,
-      {{"param", [&](const L&) { return text(param); }},
-       {"value", [&](const L& l) { return number(l.value); }},
-       {"integrator", [&](const L& l) { return text(std::string(integrator_name(l.integrator))); }},
-       {"outcome", [&](const L& l) { return text(analysis::outcome_name(l.outcome)); }},
-       {"stable_dt", [&](const L& l) { return number(l.stable_dt); }},
-       {"unstable_dt", [&](const L& l) { return number(l.unstable_dt); }},
-       {"trials", [](const L& l) { return py::object(py::int_(l.trials)); }},
-       {"cpu_seconds", [&](const L& l) { return number(l.cpu_seconds); }},
-       {"w_max", [&](const L& l) { return number(l.estimate.w_max); }},
-       {"c_max", [&](const L& l) { return number(l.estimate.c_max); }},
-       {"dt_springs", [&](const L& l) { return number(l.estimate.dt_springs()); }},
-       {"dt_with_damping", [&](const L& l) { return number(l.estimate.dt_with_damping()); }},
-       {"duration", [&](const L&) { return number(spec.duration); }},
-       {"min_dt", [&](const L&) { return number(spec.min_dt); }},
-       {"max_dt", [&](const L&) { return number(spec.max_dt); }},
-       {"precision", [&](const L&) { return number(spec.precision); }},
-       {"reason", [&](const L& l) { return text(l.reason); }},
-       {"failure", [&](const L& l) { return text(analysis::failure_name(l.failure)); }},
-       {"frame_steps", [&](const L& l) {
-          std::string out;
-          for (const analysis::FrameStepResult& r : l.frame_steps) out += (out.empty() ? "" : "; ") + analysis::frame_step_text(r);
-          return text(out);
-        }}});
-  if (!csv.empty()) write_csv(csv, frame);
+  const analysis::CsvTable table = analysis::stability_table(limits, spec, param, names_of(spec.integrators));
+  py::object frame = data_frame(table);
+  if (!csv.empty()) write_csv(csv, table);
   return frame;
 }
 

@@ -13,7 +13,7 @@
 
 #include "cli/cli_process.h"
 #include "cli/compare/compare_small.h"
-#include "cli/frames/grid_legend.h"
+#include "clip/frames/grid_legend.h"
 #include "cli/run_reports.h"
 #include "render/png_io.h"
 #include "video/contact_sheet.h"

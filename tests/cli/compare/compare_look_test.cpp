@@ -9,8 +9,8 @@
 #include <set>
 
 #include "cli/cli_process.h"
-#include "cli/frames/grid_legend.h"
-#include "cli/frames/picture_options.h"
+#include "clip/frames/grid_legend.h"
+#include "clip/frames/picture_options.h"
 #include "core/simulation.h"
 #include "render/colormap.h"
 #include "render/image_diff.h"

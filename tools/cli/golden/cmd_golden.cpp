@@ -21,18 +21,18 @@
 
 #include <unistd.h>
 
-#include "golden_manifest.h"
-#include "golden_report.h"
-#include "cli/common/cli_common.h"
+#include "clip/golden/golden_manifest.h"
+#include "clip/golden/golden_report.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/gl_options.h"
-#include "cli/common/lanes.h"
-#include "cli/common/memory_budget.h"
-#include "cli/common/run_budget.h"
-#include "cli/frames/frame_pipeline.h"
-#include "cli/frames/picture_options.h"
-#include "cli/studies/study_common.h"
-#include "cli/studies/study_shard.h"
+#include "clip/common/gl_options.h"
+#include "clip/common/lanes.h"
+#include "clip/common/memory_budget.h"
+#include "clip/common/run_budget.h"
+#include "clip/frames/frame_pipeline.h"
+#include "clip/frames/picture_options.h"
+#include "clip/studies/study_common.h"
+#include "clip/studies/study_shard.h"
 #include "render/image_diff.h"
 #include "render/png_io.h"
 #include "scene/build_model.h"
@@ -252,7 +252,7 @@ LaneResult run_entry(const GoldenOptions& o, const GoldenManifest& manifest, std
   if (look.color != FieldKind::None) targets.with_scale_window(kColorScaleWindow);
   FramePipeline pipeline(model, targets, {lane}, config, &renderer);
   pipeline.add(std::make_unique<GoldenOutput>(o, manifest, i, update, model, renderer, work));
-  return pipeline.run("golden " + model.name, not_written).lanes.front();
+  return pipeline.run("golden " + model.name, not_written).lanes.front().result;
 }
 
 // An entry in the summary: its run as a lane (the common keys), its name and its images.

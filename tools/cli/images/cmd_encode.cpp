@@ -20,9 +20,9 @@
 #include <tuple>
 #include <vector>
 
-#include "cli/common/cli_common.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/memory_budget.h"
+#include "clip/common/memory_budget.h"
 #include "render/png_io.h"
 #include "video/tiling.h"
 #include "video/video_writer.h"

@@ -6,9 +6,9 @@
 #include <memory>
 #include <optional>
 
-#include "cli/common/cli_common.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/memory_budget.h"
+#include "clip/common/memory_budget.h"
 #include "render/image_diff.h"
 #include "render/png_io.h"
 

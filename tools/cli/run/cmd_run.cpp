@@ -11,20 +11,20 @@
 #include <string>
 #include <vector>
 
-#include "run_outputs.h"
-#include "cli/common/cli_common.h"
+#include "clip/run/run_outputs.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/gl_options.h"
-#include "cli/common/lanes.h"
-#include "cli/common/memory_budget.h"
-#include "cli/common/run_budget.h"
-#include "cli/common/scene_options.h"
-#include "cli/common/summary_json.h"
-#include "cli/frames/frame_pipeline.h"
-#include "cli/frames/export_output.h"
-#include "cli/frames/frame_sink.h"
-#include "cli/frames/picture_options.h"
-#include "cli/frames/pipeline_outputs.h"
+#include "clip/common/gl_options.h"
+#include "clip/common/lanes.h"
+#include "clip/common/memory_budget.h"
+#include "clip/common/run_budget.h"
+#include "clip/common/scene_options.h"
+#include "clip/common/summary_json.h"
+#include "clip/frames/frame_pipeline.h"
+#include "clip/frames/export_output.h"
+#include "clip/frames/frame_sink.h"
+#include "clip/frames/picture_options.h"
+#include "clip/frames/pipeline_outputs.h"
 #include "core/simulation.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
@@ -162,7 +162,7 @@ PipelineConfig run_config(const RunOptions& o, const SceneDef& scene, const Mode
 // WRONG: finite, but not this scene's physics (the run's own verdict, else compare's rule on a
 // reference it was coloured against), said on stderr. Returns whether the run reads WRONG.
 bool say_wrong(const std::string& source, const RunTotals& t, const PipelineReport& report) {
-  const std::string wrong = report.wrong.empty() ? "" : report.wrong.front();
+  const std::string& wrong = report.lanes.front().wrong;
   if (t.wrong)
     std::fprintf(stderr, "clothsim: %s: WRONG at step %" PRId64 ", t = %.6g s: %s\n", source.c_str(), t.wrong->step,
                  t.wrong->t, t.wrong->reason.c_str());
@@ -227,7 +227,7 @@ int run_command(const RunOptions& o) {
   for (const std::string* out : {&o.state, &o.summary})
     if (!out->empty()) after.push_back(*out);
   const PipelineReport report = pipeline.run("run " + model.name, after);
-  const LaneResult& r = report.lanes.front();
+  const LaneResult& r = report.lanes.front().result;
 
   const RunTotals& t = r.totals;
   print_run_totals(model, kind, dt, r, report);

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "cli/common/cli_common.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/memory_budget.h"
-#include "cli/common/scene_options.h"
+#include "clip/common/memory_budget.h"
+#include "clip/common/scene_options.h"
 #include "core/integrators/integrator_kind.h"
 #include "core/model.h"
 #include "core/stiffness_estimate.h"

@@ -24,15 +24,15 @@
 #include <filesystem>
 #include <memory>
 
-#include "study_common.h"
-#include "study_shard.h"
-#include "cli/common/cli_common.h"
+#include "clip/studies/study_common.h"
+#include "clip/studies/study_shard.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/lanes.h"
-#include "cli/common/memory_budget.h"
-#include "cli/common/scene_options.h"
-#include "cli/common/summary_json.h"
-#include "cli/compare/compare_plan.h"
+#include "clip/common/lanes.h"
+#include "clip/common/memory_budget.h"
+#include "clip/common/scene_options.h"
+#include "clip/common/summary_json.h"
+#include "clip/compare/compare_plan.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 #include "scene/param_keys.h"
@@ -42,6 +42,7 @@
 #include "study/task_pool.h"
 #include "study/work_precision.h"
 #include "study/work_precision_shard.h"
+#include "study/csv_tables.h"
 #include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
@@ -87,24 +88,12 @@ double default_duration(double scene_duration, const std::vector<double>& dts) {
 // Lane spellings (LaneSpec::stepless_spelling), by point.lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
 
-void write_csv_header(std::FILE* f) {
-  std::fprintf(f, "integrator,dt,steps,force_evals,newton_iterations,cg_iterations,wall_seconds,cpu_seconds,"
-                  "rms_error,max_error,diverged,diverged_at,reason,duration,reference_dt,reference_change,"
-                  "unconverged_steps,wrong,wrong_at,wrong_reason,unresolved\n");
-}
+// The CSV (study/csv_tables.h: the Python module's bench() has the same columns).
+void write_csv_header(std::FILE* f) { std::fputs(analysis::work_precision_table({}, {}).header().c_str(), f); }
 
 void write_csv_rows(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
-  for (const WorkPrecisionPoint& p : r.points)
-    std::fprintf(f, "%s,%s,%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64 ",%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%" PRId64 ",%d,%s,%s,%d\n",
-                 names[p.lane].c_str(), csv_number(p.dt).c_str(), p.steps,
-                 p.force_evals, p.newton_iterations, p.cg_iterations, csv_number(p.wall_seconds).c_str(),
-                 csv_number(p.cpu_seconds).c_str(), csv_number(p.unresolved ? NAN : p.rms_error).c_str(),
-                 csv_number(p.unresolved ? NAN : p.max_error).c_str(), p.diverged ? 1 : 0,
-                 p.diverged ? csv_number(p.diverged_at).c_str() : "", csv_text(p.reason).c_str(),
-                 csv_number(r.duration).c_str(), csv_number(r.reference.dt).c_str(),
-                 r.reference.finished ? csv_number(r.reference.change_rms).c_str() : "nan",
-                 p.unconverged_steps, p.wrong ? 1 : 0, p.wrong ? csv_number(p.wrong_at).c_str() : "",
-                 csv_text(p.wrong_reason).c_str(), p.unresolved ? 1 : 0);
+  const analysis::CsvTable t = analysis::work_precision_table(r, names);
+  for (std::size_t i = 0; i < t.rows.size(); ++i) std::fputs(t.row_text(i).c_str(), f);
 }
 
 void write_csv(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {

@@ -11,16 +11,17 @@
 #include <map>
 #include <memory>
 
-#include "study_common.h"
-#include "study_shard.h"
-#include "cli/common/cli_common.h"
+#include "clip/studies/study_common.h"
+#include "clip/studies/study_shard.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/lanes.h"
-#include "cli/common/scene_options.h"
-#include "cli/common/summary_json.h"
+#include "clip/common/lanes.h"
+#include "clip/common/scene_options.h"
+#include "clip/common/summary_json.h"
 #include "scene/build_model.h"
 #include "scene/echo.h"
 #include "study/convergence.h"
+#include "study/csv_tables.h"
 
 namespace clothsim::cli {
 namespace {
@@ -58,13 +59,9 @@ ConvergenceSpec plan(const ConvergeOptions& o) {
   return spec;
 }
 
+// The CSV (study/csv_tables.h: the Python module's converge() has the same columns).
 void write_csv(std::FILE* f, const std::string& scene, const std::vector<ConvergencePoint>& points) {
-  std::fprintf(f, "scene,method,state,t,iterations,rms_distance,max_distance,gradient_norm,cpu_seconds,wrong\n");
-  for (const ConvergencePoint& p : points)
-    std::fprintf(f, "%s,%s,%d,%s,%d,%s,%s,%s,%s,%s\n", csv_text(scene).c_str(),
-                 std::string(integrator_name(p.method)).c_str(), p.state, csv_number(p.t).c_str(), p.iterations,
-                 csv_number(p.rms).c_str(), csv_number(p.max).c_str(), csv_number(p.gradient).c_str(),
-                 csv_number(p.cpu_seconds).c_str(), csv_text(p.wrong).c_str());
+  std::fputs(analysis::convergence_table(points, scene).text().c_str(), f);
 }
 
 // Per method and iteration count, the mean over the states of the RMS distance and the CPU,

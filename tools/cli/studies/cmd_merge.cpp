@@ -26,13 +26,13 @@
 #include <memory>
 #include <sstream>
 
-#include "study_common.h"
-#include "study_shard.h"
-#include "cli/common/cli_common.h"
+#include "clip/studies/study_common.h"
+#include "clip/studies/study_shard.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/progress.h"
-#include "cli/common/summary_json.h"
-#include "cli/golden/golden_report.h"
+#include "clip/common/progress.h"
+#include "clip/common/summary_json.h"
+#include "clip/golden/golden_report.h"
 #include "study/study.h"
 #include "study/work_precision.h"
 #include "scene/build_model.h"

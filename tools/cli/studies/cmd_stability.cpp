@@ -32,20 +32,21 @@
 #include <cstdio>
 #include <memory>
 
-#include "study_common.h"
-#include "study_shard.h"
-#include "cli/common/cli_common.h"
+#include "clip/studies/study_common.h"
+#include "clip/studies/study_shard.h"
+#include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
-#include "cli/common/lanes.h"
-#include "cli/common/memory_budget.h"
-#include "cli/common/scene_options.h"
-#include "cli/common/summary_json.h"
+#include "clip/common/lanes.h"
+#include "clip/common/memory_budget.h"
+#include "clip/common/scene_options.h"
+#include "clip/common/summary_json.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 #include "scene/scene_parser.h"
 #include "scene/param_keys.h"
 #include "study/parameter_sweep.h"
 #include "study/stability.h"
+#include "study/csv_tables.h"
 #include "study/task_pool.h"
 #include "core/integrators/integrator_kind.h"
 
@@ -85,29 +86,10 @@ struct Case {
 // Lane spellings (LaneSpec::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
 
-// "1/240 s: ok, 48 steps converged; 1/30 s: 3 of 6 steps not converged" (implicit_euler).
-std::string frame_steps_text(const StabilityLimit& l) {
-  std::string out;
-  for (const analysis::FrameStepResult& r : l.frame_steps)
-    out += (out.empty() ? "" : "; ") + analysis::frame_step_text(r);
-  return out;
-}
-
+// The CSV (study/csv_tables.h: the Python module's stability() has the same columns).
 void write_csv(std::FILE* f, const std::string& param, const std::vector<StabilityLimit>& limits,
                const analysis::StabilitySpec& spec, const LaneNames& names) {
-  std::fprintf(f, "param,value,integrator,outcome,stable_dt,unstable_dt,trials,cpu_seconds,w_max,c_max,"
-                  "dt_springs,dt_with_damping,duration,min_dt,max_dt,precision,reason,failure,"
-                  "frame_steps\n");
-  for (const StabilityLimit& l : limits)
-    std::fprintf(f, "%s,%s,%s,%s,%s,%s,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n", csv_text(param).c_str(),
-                 csv_number(l.value).c_str(), names[l.lane].c_str(),
-                 analysis::outcome_name(l.outcome), csv_number(l.stable_dt).c_str(),
-                 csv_number(l.unstable_dt).c_str(), l.trials, csv_number(l.cpu_seconds).c_str(),
-                 csv_number(l.estimate.w_max).c_str(), csv_number(l.estimate.c_max).c_str(),
-                 csv_number(l.estimate.dt_springs()).c_str(), csv_number(l.estimate.dt_with_damping()).c_str(),
-                 csv_number(spec.duration).c_str(), csv_number(spec.min_dt).c_str(),
-                 csv_number(spec.max_dt).c_str(), csv_number(spec.precision).c_str(), csv_text(l.reason).c_str(),
-                 analysis::failure_name(l.failure), csv_text(frame_steps_text(l)).c_str());
+  std::fputs(analysis::stability_table(limits, spec, param, names).text().c_str(), f);
 }
 
 std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& spec) {

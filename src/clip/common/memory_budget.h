@@ -1,0 +1,101 @@
+// --max-memory: a run's estimated peak memory (src/scene/memory_estimate.h for the engine; the
+// renderer and the encoder here) against a limit, checked before anything large is allocated.
+// Over the limit, the command is refused (exit 2) with the estimate and what it is made of.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "clip/compare/compare_plan.h"
+#include "scene/scene_def.h"
+
+namespace clothsim::cli {
+
+// "4G", "512M", "1.5G", "800MB", "2000000000" (bytes); K, M, G, T are powers of 1024.
+// nullopt for anything else (negative, zero, words).
+std::optional<double> parse_memory_size(const std::string& text);
+// "5.12 GB", "80 MB" (powers of 1024, three significant digits).
+std::string format_bytes(double bytes);
+// Half the physical memory: room for the rest of the machine (and the other jobs of a batch
+// node), and far below where Linux's OOM killer would end the run without a word.
+double default_memory_limit();
+
+// Process, GL and image sizes, each rounded up from peak RSS (BENCHMARKS.md, "Memory estimate").
+inline constexpr double kProcessBytes = 80.0 * 1024 * 1024;   // libraries and a tiny scene
+inline constexpr double kRendererBytes = 80.0 * 1024 * 1024;  // OSMesa / llvmpipe's own
+// The renderer's buffers per pixel of its target: 20 B plus 8 B per MSAA sample.
+double render_bytes(int width, int height, int samples);
+// x264 (veryfast) and the YUV conversion per pixel of the encoded picture; x264's frame
+// threads, hence its memory, grow with the machine's cores.
+double encoder_bytes(int width, int height);
+
+// Each lane thread of a frame pipeline beyond the Run itself: glibc's per-thread malloc arena
+// and the thread's stack pages.
+inline constexpr double kLaneThreadBytes = 3.0 * 1024 * 1024;
+
+// Lane frames held back while a colour scale is chosen from the first second's data
+// (frame_pipeline.h): `frames` targets of `lanes` lanes, each a picture's geometry (positions,
+// normals, grid coordinates, triangles: 56 B per particle), the field (4 B) and double
+// positions for the error (24 B): 84 B per particle, counted as 96.
+double held_frames_bytes(const SceneDef& scene, std::size_t lanes, double frames);
+
+// The reference lane's positions at the lanes' times (reference_stand.h), for lanes of
+// `lane_steps` over `plan`'s targets: its last two steps kept (positions and velocities), and a
+// copy of the positions per distinct lane step for every target waiting for a lane of a larger
+// step (ReferenceStand::waiting_bound: a lane of 20 s on a 30 frames/s clip holds every frame
+// of those 20 s) or handed over and not yet measured (the worker's queue of `queue` frames, one
+// being pushed, the pipeline's). 24 B per particle a copy.
+double reference_positions_bytes(const SceneDef& scene, const std::vector<double>& lane_steps,
+                                 const TargetPlan& plan, std::size_t queue);
+
+// Declares --max-memory SIZE on `sub`, parsed into `limit` (bytes).
+void add_max_memory_option(CLI::App* sub, std::optional<double>& limit);
+
+// Refuses (UsageError, exit 2) a scene file whose parse would pass `limit`: yaml-cpp's node
+// tree, estimated from the text (scene/parse_estimate.h) before it is parsed. A tree of at most
+// kSmallSceneTreeBytes is the process's own (kProcessBytes: measured 76-78 MiB with one).
+inline constexpr double kSmallSceneTreeBytes = 2.0 * 1024 * 1024;
+void check_parse_budget(const std::string& path, const std::optional<double>& limit);
+// A scene that is not a regular file (a FIFO, a device, /dev/stdin) can be read only once: its
+// text, read here and bounded by a quarter of `limit` (/dev/zero is refused at that size, not
+// grown into), then judged as a file's. nullopt for a regular file, a directory or a missing
+// name (the parser says what is wrong). A signal while a FIFO waits for its writer stops it.
+std::optional<std::string> read_scene_stream(const std::string& path, const std::optional<double>& limit);
+// The scene (scene_parser.h's load_scene, or parse_scene on a stream's text) with `overrides`,
+// its parse checked against `limit` first.
+SceneDef load_scene_within(const std::string& path, const std::vector<std::string>& overrides,
+                           const std::optional<double>& limit, bool bound_run = true);
+
+// The address-space limit (ulimit -v, RLIMIT_AS) in bytes; nullopt when unlimited. The
+// address space the process has mapped so far (its libraries, its heap, touched or not).
+std::optional<double> address_space_limit();
+double address_space_mapped();
+// Address space a command maps beyond its resident estimate: the threads' stacks and glibc's
+// per-thread malloc arenas, reserved but mostly untouched. Measured as VmPeak less what was
+// mapped at the check less the estimate: 123-134 MB for `run` at 256x256 and 512x512 without
+// pictures; a renderer's (llvmpipe's) threads reserve more, which its arenas give up under a
+// limit, and an allocation that still fails is said on one line (main.cpp).
+inline constexpr double kAddressSpaceReserve = 256.0 * 1024 * 1024;
+
+class MemoryBudget {
+ public:
+  MemoryBudget();  // starts with the process itself
+  void add(std::string what, double bytes) { parts_.emplace_back(std::move(what), bytes); }
+  double total() const;
+  // Throws UsageError when total() exceeds `limit` (the default when nullopt): "SOURCE: needs
+  // an estimated 5.6 GB (model 1.3 GB, implicit_euler 4.3 GB, ...), more than --max-memory 2 GB",
+  // and RuntimeFailure (exit 1, the machine's limit) when what is still to be mapped would pass
+  // the address-space limit (ulimit -v).
+  void check(const std::string& source, const std::optional<double>& limit) const;
+  // What the message suggests before raising the limit.
+  void set_remedy(std::string remedy) { remedy_ = std::move(remedy); }
+
+ private:
+  std::string remedy_ = "use fewer particles or a smaller picture";
+  std::vector<std::pair<std::string, double>> parts_;
+};
+
+}  // namespace clothsim::cli

@@ -1,0 +1,450 @@
+// compare's plan (compare_job.h): the phases of plan_compare, each a function below, then the
+// pipeline's configuration and outputs. Moved from tools/cli/compare/cmd_compare.cpp as it was,
+// with the lanes as one CompareLane each instead of parallel lists.
+#include "compare_job.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "compare_shard.h"
+#include "step_matching.h"
+#include "clip/common/cli_common.h"
+#include "clip/common/memory_budget.h"
+#include "clip/common/progress.h"
+#include "clip/frames/export_output.h"
+#include "clip/frames/grid_legend.h"
+#include "clip/frames/pipeline_outputs.h"
+#include "clip/run/run_outputs.h"
+#include "render/png_io.h"
+#include "scene/build_model.h"
+#include "scene/echo.h"
+#include "scene/memory_estimate.h"
+#include "scene/param_keys.h"
+#include "scene/run_bounds.h"
+#include "scene/scene_parser.h"
+#include "study/reference.h"
+#include "video/video_writer.h"
+
+namespace clothsim::cli {
+
+std::vector<LaneSpec> ComparePlan::specs() const {
+  std::vector<LaneSpec> out;
+  for (const CompareLane& l : lanes) out.push_back(l.spec);
+  return out;
+}
+
+std::vector<std::string> ComparePlan::dirs() const {
+  std::vector<std::string> out;
+  for (const CompareLane& l : lanes) out.push_back(l.dir);
+  return out;
+}
+
+std::vector<const Model*> ComparePlan::models() const {
+  if (vary_models.empty()) return {};
+  std::vector<const Model*> out;
+  for (const CompareLane& l : lanes) out.push_back(l.model);
+  return out;
+}
+
+std::vector<std::string> ComparePlan::labels() const {
+  if (vary_scenes.empty()) return {};
+  std::vector<std::string> out;
+  for (const CompareLane& l : lanes) out.push_back(l.label);
+  return out;
+}
+
+SummaryContext ComparePlan::summary_context() const {
+  SummaryContext c;
+  for (const CompareLane& l : lanes) {
+    c.names.push_back(l.name);
+    c.step_choice.push_back(l.step_choice);
+  }
+  return c;
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// --vary draws no error colouring (each value is its own scene, with no one reference): strain
+// unless --color says otherwise.
+PictureOptions look_options(const CompareRequest& o) {
+  PictureOptions look = o.look;
+  if (!o.vary.empty() && !look.color) look.color = "strain";
+  if (!o.vary.empty() && look.color == "error")
+    throw UsageError("--color error: --vary runs a scene per value, with no one reference to measure against; "
+                     "use --color strain, speed or checker");
+  return look;
+}
+
+// The options that go together, and an output to write, before the scene is read.
+void check_option_pairs(const CompareRequest& o) {
+  if (o.sheet.empty() != o.times.empty())
+    throw UsageError(o.sheet.empty() ? "--times goes with --sheet FILE.png"
+                                     : "--sheet needs --times T1,T2,... (the columns)");
+  if (!o.vary.empty() && !o.match.empty() && o.match.front() == "error")
+    throw UsageError("--match error: --vary runs a scene per value, with no one reference to match against; "
+                     "use --match cost or none");
+  if (o.still_t.has_value() != !o.still_out.empty())
+    throw UsageError(o.still_t ? "--still needs -o/--output FILE.png" : "-o/--output goes with --still T");
+  // A comparison that writes nothing would simulate every lane for nothing (the table it
+  // prints is also in --summary): refused before any work.
+  if (o.video.empty() && o.frames_dir.empty() && o.sheet.empty() && !o.still_t && o.summary.empty() && o.export_path.empty() &&
+      !o.table_wanted)
+    throw UsageError("nothing to write: give --video FILE.mp4, --frames DIR, --sheet FILE.png, "
+                     "--still T -o FILE.png, --export PATH or --summary FILE.json");
+  try {
+    validate_video_options(VideoWriterOptions{30.0, o.crf, o.preset});
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--video: ") + e.what());
+  }
+}
+
+// The pictures' look; a summary alone draws none.
+PictureLook resolve_look(const CompareRequest& o, const ComparePlan& p) {
+  PictureLook look = resolve_picture_look(look_options(o), p.scene, p.specs(), /*compare=*/true);
+  if (!o.vary.empty()) look.reference.reset();  // a scene per value: the inset shows E - E(0)
+  if (p.rendering) return look;
+  // The field is measured only when --color asks for it (the default reference, RK4 at a
+  // quarter step, costs several times the lanes); its scale is then not chosen.
+  if (o.look.color && look.color != FieldKind::None) {
+    if (!look.color_range) look.color_range = ColorRange{1e-6, 1e-3};
+    return look;
+  }
+  if (look.color != FieldKind::None && !o.summary.empty() && !quiet())
+    std::fprintf(stderr, "compare: no pictures, so no %s measured; --color %s puts it in the summary\n",
+                 std::string(field_kind_name(look.color)).c_str(), std::string(field_kind_name(look.color)).c_str());
+  return PictureLook{};
+}
+
+void check_paths(const CompareRequest& o, const ComparePlan& p) {
+  std::vector<PathRole> outputs{{o.video, "--video"}, {o.sheet, "--sheet"}, {o.still_out, "-o/--output"},
+                                {o.summary, "--summary"}, {o.frames_dir, "--frames", true}};
+  for (PathRole& r : export_roles(o.export_path, p.dirs(), static_cast<int>(p.scene.spheres.size())))
+    outputs.push_back(std::move(r));
+  refuse_clashing_paths({{o.scene.path, "the scene"}}, outputs);
+  if (!o.video.empty()) require_writable_parent(o.video, "--video");
+  if (!o.sheet.empty()) require_writable_parent(o.sheet, "--sheet");
+  if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
+  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
+  if (!o.frames_dir.empty() && fs::exists(o.frames_dir) && !fs::is_directory(o.frames_dir))
+    throw RuntimeFailure("cannot write --frames into " + o.frames_dir + ": not a directory");
+  for (const std::string& d : o.frames_dir.empty() ? std::vector<std::string>{} : p.dirs())
+    refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
+  checked_export_paths(o.export_path, p.dirs(), static_cast<int>(p.scene.spheres.size()));
+}
+
+// The grid within the picture.
+void fit_grid(ComparePlan& p) {
+  try {  // the whole picture's: the tiles and, when coloured, the colour bar's strip
+    const LegendGrid fitted = fit_legend_grid(p.layout, p.scene.render.width, p.scene.render.height,
+                                              p.rendering ? p.look.color : FieldKind::None);
+    p.grid.emplace(fitted.grid);
+    p.legend_width = fitted.legend_width;
+  } catch (const LayoutError& e) {
+    throw UsageError(std::string("--width/--height: ") + e.what());
+  }
+}
+
+// Whether the error's reference may start before the steps are chosen (start_reference_early).
+bool starts_reference_early(const CompareRequest& o, const PictureLook& look) {
+  return parse_match(o.match).kind != MatchKind::Error && look.color == FieldKind::Error && look.reference;
+}
+
+// Peak memory, estimated and checked before the renderer or the encoder exist: one Model (and
+// a copy per fixed-point lane), a run per lane and the reference, the renderer at tile size,
+// the tiles, the grid, the PNG writers' queues (3 tiles each), the contact sheet's cells, the
+// first second held for the colour scale, and the encoder.
+void check_memory(const CompareRequest& o, const ComparePlan& p) {
+  const SceneDef& scene = p.scene;
+  const int particles = scene.cloth.nx * scene.cloth.ny;
+  MemoryBudget budget;
+  budget.add("model", model_bytes(scene));
+  for (const SceneDef& s : p.vary_scenes) budget.add("model for --vary", model_bytes(s));
+  for (const CompareLane& lane : p.lanes) {
+    const LaneSpec& l = lane.spec;
+    budget.add(l.spelling(), run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
+  }
+  if (p.look.reference && p.look.color == FieldKind::Error) {
+    budget.add("reference " + p.look.reference->name(), run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
+    // Its check (reference_stand.h, study/reference.h): a run at twice its step, or the looser
+    // adaptive solve on a thread of its own.
+    budget.add("reference check", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
+    std::vector<double> steps;
+    for (const CompareLane& l : p.lanes) steps.push_back(l.spec.dt);
+    budget.add("reference positions at the lanes' times",
+               reference_positions_bytes(scene, steps, *p.targets, reference_queue_capacity(particles, steps)));
+  }
+  if (p.look.reference && p.look.inset_energy && p.look.color != FieldKind::Error)  // else the error's run
+    budget.add("reference for the energy inset", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
+  if (starts_reference_early(o, p.look))
+    budget.add("reference states kept while the steps are chosen",
+               static_cast<double>(reference_ahead_states(particles)) * final_state_bytes(scene, p.look.reference->kind));
+  const TileGrid& grid = *p.grid;
+  if (p.rendering) {
+    const double n = static_cast<double>(p.lanes.size());
+    const int width = grid.width() + p.legend_width;
+    const double tile = 4.0 * grid.cell_width() * grid.cell_height(), canvas = 4.0 * width * grid.height();
+    budget.add("renderer and images " + std::to_string(width) + "x" + std::to_string(grid.height()),
+               kRendererBytes + render_bytes(grid.cell_width(), grid.cell_height(), scene.render.samples) + n * tile +
+                   2.0 * canvas + (o.frames_dir.empty() ? 0.0 : 3.0 * n * tile));
+    if (!o.sheet.empty()) budget.add("contact sheet", 2.0 * n * static_cast<double>(p.sheet_times.size()) * tile);
+    if (p.look.color != FieldKind::None && !p.look.color_range)
+      budget.add("the first second, held for the colour scale",
+                 held_frames_bytes(scene, p.lanes.size(), std::min(1.0, scene.duration) * scene.render.fps + 1.0));
+  }
+  if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid.width() + p.legend_width, grid.height()));
+  budget.check(scene.source, o.scene.max_memory);
+}
+
+// Which --vary lanes may have their step chosen: those of a row (an integrator) that is free,
+// every value of it.
+std::vector<bool> vary_free_lanes(const CompareRequest& o, const ComparePlan& p) {
+  const std::string rows = o.integrators_given ? o.integrators : std::string(integrator_name(p.scene.integrator));
+  const std::vector<bool> row_free = free_lanes(rows, o.dt, p.scene.dt);
+  std::vector<bool> free;
+  for (std::size_t i = 0; i < p.lanes.size(); ++i) free.push_back(row_free[i / p.vary_scenes.size()]);
+  return free;
+}
+
+// The lanes' steps by --match (step_matching.h), and their names. --vary compares the values at
+// one step unless --match is given; matched on cost, each lane's cost is measured on its own scene.
+void choose_steps(const CompareRequest& o, ComparePlan& p) {
+  if (!o.vary.empty() && !o.match_given) {
+    for (CompareLane& l : p.lanes) l.step_choice = "the lane's step (--vary compares the values at one step)";
+    return;
+  }
+  const MatchRequest match = parse_match(o.match);
+  const std::vector<bool> free = o.vary.empty() ? free_lanes(o.integrators, o.dt, p.scene.dt) : vary_free_lanes(o, p);
+  const MatchClip clip{p.scene.duration, p.scene.render.fps, p.scene.dt};
+  std::vector<LaneSpec> specs = p.specs();
+  const LaneSpec reference = parse_reference(o.look.reference, specs);
+  const std::vector<std::string> choices = match_steps(*p.model, specs, free, match, clip, reference, p.models());
+  for (std::size_t i = 0; i < p.lanes.size(); ++i) {
+    p.lanes[i].spec = specs[i];
+    p.lanes[i].step_choice = choices[i];
+  }
+  if (match.kind == MatchKind::Error) p.error_reference = error_reference(reference, clip.fps);
+}
+
+// The sheet's and the still's times within the run, and the targets: what every lane and the
+// reference stop at, known before any step is chosen.
+void plan_targets(const CompareRequest& o, ComparePlan& p, const PictureLook& look) {
+  p.sheet_times = o.sheet.empty() ? std::vector<double>{} : parse_times(o.times, p.scene.duration);
+  if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= p.scene.duration + 1e-9))
+    throw UsageError("--still: " + number_text(*o.still_t) + " s is outside the run (0 to " +
+                     number_text(p.scene.duration) + " s)");
+  p.targets.emplace(p.scene.duration, p.scene.render.fps, p.with_frames, p.sheet_times, o.still_t.value_or(-1.0));
+  if (look.color != FieldKind::None && !look.color_range) p.targets->with_scale_window(kColorScaleWindow);
+}
+
+// The error colouring's reference, started at once on the core the pilots of --match cost
+// leave idle: its step is a quarter of the smallest lane step, which matching on cost leaves as
+// it is (the cheapest lane keeps the scene's step; the others cost more a step and take larger
+// ones). It runs ahead until the pipeline gives it the lanes' steps; keep_early_reference
+// drops it should matching change it after all. Not under --match error (another reference).
+void start_reference_early(const CompareRequest& o, ComparePlan& p, PictureLook look) {
+  if (!starts_reference_early(o, look) || (look.reference_is_default && analysis::smooth_scene(*p.model))) return;
+  try {
+    fit_reference_to_model(look, *p.model, p.scene, p.specs());
+  } catch (const UsageError&) {
+    return;  // said after matching, if it still holds
+  }
+  if (!run_bounds_problem(p.scene.duration, look.reference->dt, p.scene.render.fps).empty()) return;
+  LaneNeeds needs;
+  needs.stand_for_later = true;
+  p.early_reference = std::make_shared<LaneWorker>(*p.model, *look.reference, *p.targets, needs, kLaneQueueCapacity,
+                                                   [] { return interrupted(); });
+}
+
+// The early reference, kept only if it is the run the matched lanes' reference is.
+void keep_early_reference(ComparePlan& p) {
+  if (!p.early_reference) return;
+  if (p.look.color != FieldKind::Error || !p.look.reference || !same_run(p.early_reference->spec(), *p.look.reference))
+    p.early_reference.reset();  // stops it
+}
+
+// The rows' names: the --vary labels where there are, else each lane's name.
+void name_lanes(ComparePlan& p) {
+  for (CompareLane& l : p.lanes) l.name = l.spec.name() + (l.value.empty() ? "" : ", " + l.value);
+}
+
+// --vary KEY=V1,V2,...: a scene per value (the user's --set, then the key's), and the lanes
+// repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
+void plan_variation(const CompareRequest& o, ComparePlan& p) {
+  const Variation vary = parse_vary(o.vary, p.scene);
+  const std::vector<LaneSpec> rows =
+      o.integrators_given ? p.specs() : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
+  for (std::size_t v = 0; v < vary.size(); ++v) {
+    SceneOptions with = o.scene;
+    for (const std::string& set : vary.sets(v)) with.sets.push_back(set);
+    p.vary_scenes.push_back(load_scene_with_options(with));  // a bad value: the parser's message names it
+  }
+  p.lanes.clear();
+  const std::vector<std::string> row_dirs = lane_directories(rows);
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (std::size_t v = 0; v < vary.size(); ++v) {
+      CompareLane lane;
+      lane.spec = rows[r];
+      lane.value = vary.label(v);
+      lane.label = rows.size() > 1 ? rows[r].name() + "  " + lane.value : lane.value;
+      lane.dir = row_dirs[r] + "_" + lane.value;
+      lane.dir.erase(std::remove(lane.dir.begin(), lane.dir.end(), ' '), lane.dir.end());
+      p.lanes.push_back(std::move(lane));
+    }
+}
+
+// A --vary grid: a column per value, a row per integrator.
+std::string grid_layout_text(const ComparePlan& p) {
+  const std::size_t columns = p.vary_scenes.size();
+  return std::to_string(columns) + "x" + std::to_string(p.lanes.size() / columns);
+}
+
+}  // namespace
+
+void plan_compare(const CompareRequest& o, ComparePlan& p) {
+  check_option_pairs(o);
+  p.scene = load_scene_with_options(o.scene);
+  const std::vector<LaneSpec> specs = parse_lanes(o.integrators, o.dt, p.scene.dt);
+  const std::vector<std::string> dirs = lane_directories(specs);
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    CompareLane lane;
+    lane.spec = specs[i];
+    lane.dir = dirs[i];
+    p.lanes.push_back(std::move(lane));
+  }
+  parse_match(o.match);  // a bad --match before any pilot runs
+  p.with_frames = !o.video.empty() || !o.frames_dir.empty() || !o.export_path.empty();
+  p.rendering = !o.video.empty() || !o.frames_dir.empty() || !o.sheet.empty() || o.still_t;  // not --export
+  if (!o.vary.empty()) plan_variation(o, p);
+  try {
+    p.layout = parse_layout(o.layout == "auto" && !o.vary.empty() ? grid_layout_text(p) : o.layout,
+                            static_cast<int>(p.lanes.size()));
+  } catch (const LayoutError& e) {
+    throw UsageError(std::string("--layout: ") + e.what());
+  }
+  check_paths(o, p);                                 // an output that is an input, before anything is said
+  const PictureLook unmatched = resolve_look(o, p);  // bad --color, --camera, ... before any pilot runs
+  plan_targets(o, p, unmatched);
+  p.look = unmatched;  // the memory a run needs is the same whatever steps matching chooses
+  fit_grid(p);
+  check_memory(o, p);  // before the models, the pilots and the early reference take any
+  p.model.emplace(build_model(p.scene));
+  for (const SceneDef& s : p.vary_scenes) p.vary_models.push_back(build_model(s));
+  if (!p.vary_models.empty())  // lanes row by row, a value per column
+    for (std::size_t i = 0; i < p.lanes.size(); ++i) p.lanes[i].model = &p.vary_models[i % p.vary_models.size()];
+  start_reference_early(o, p, unmatched);
+  choose_steps(o, p);
+  name_lanes(p);
+  p.look = resolve_look(o, p);
+  // Tiles matched on error are coloured against the reference they were matched against, so
+  // the clip's numbers and the match agree (the default's quarter of the smallest matched step
+  // would be another run, and on a scene with contacts no two references agree to the bit).
+  if (p.error_reference && p.look.reference && p.look.reference_is_default) {
+    p.look.reference = p.error_reference;
+    p.look.reference_is_default = false;
+  }  // the reference's step follows the lanes'
+  check_step_bounds(p.scene, p.specs(), p.look.reference);
+  fit_grid(p);
+  check_memory(o, p);  // again with the steps chosen (the reference's positions per distinct step)
+  if (!o.sheet.empty())
+    check_sheet_fits(p.grid->cell_width(), p.grid->cell_height(), sheet_rows(p.specs(), p.labels()),
+                     static_cast<int>(p.sheet_times.size()), p.grid->width(), p.grid->height());
+  fit_reference_to_model(p.look, *p.model, p.scene, p.specs());
+  keep_early_reference(p);
+}
+
+PipelineConfig pipeline_config(const ComparePlan& p) {
+  PipelineConfig config;
+  config.rendering = p.rendering;
+  config.width = p.grid->cell_width();
+  config.height = p.grid->cell_height();
+  config.tiles = true;
+  config.judge = true;
+  config.lane_models = p.models();
+  config.command = "compare";
+  apply_look(p.look, config);
+  if (p.look.inset_energy) config.energy_reference = p.look.reference;  // E - E_ref (none under --vary)
+  config.started_reference = p.early_reference;
+  config.scene_render = p.scene.render;
+  if (p.look.camera_auto)
+    config.camera = auto_camera(*p.model, p.scene.render, static_cast<double>(config.width) / config.height);
+  return config;
+}
+
+void add_outputs(const CompareRequest& o, const ComparePlan& p, FramePipeline& pipeline, Renderer* renderer) {
+  const Model& model = *p.model;
+  Composer composer{p.grid, {}, p.legend_width};
+  const std::vector<std::string> labels = p.labels();
+  composer.labels = p.look.overlay == OverlayMode::None ? std::vector<std::string>(p.lanes.size())
+                    : labels.empty()                    ? lane_tile_labels(p.specs(), *p.grid)
+                                                        : labels;
+  if (!o.video.empty())
+    pipeline.add(make_video_output(make_video_sink(o.video, VideoOptions{p.scene.render.fps, o.crf, o.preset}), o.video,
+                                   composer));
+  if (!o.frames_dir.empty())
+    for (std::size_t i = 0; i < p.lanes.size(); ++i)
+      pipeline.add(make_frames_output(
+          make_png_sequence_sink((fs::path(o.frames_dir) / p.lanes[i].dir).string(),
+                                 with_renderer(frame_metadata(model, p.lanes[i].spec.kind, p.lanes[i].spec.dt), *renderer)),
+          i));
+  const PngText meta = renderer ? with_renderer({{"scene", model.name}, {"software", "clothsim " CLOTHSIM_VERSION}}, *renderer)
+                                : PngText{};
+  if (o.still_t) pipeline.add(make_still_output(o.still_out, composer, meta));
+  add_export_outputs(pipeline, export_paths(o.export_path, p.dirs()), model, p.models(), p.scene.render.fps,
+                     p.look.color == FieldKind::Error);
+  if (!o.sheet.empty()) {
+    std::vector<std::string> columns;
+    for (double t : p.sheet_times) columns.push_back(time_label(t));
+    pipeline.add(make_sheet_output(o.sheet, sheet_rows(p.specs(), p.labels()), columns, meta, p.grid->width() + p.legend_width, p.grid->height(),
+                                   p.legend_width > 0));
+  }
+}
+
+std::unique_ptr<Renderer> make_checked_renderer(const CompareRequest& o, const ComparePlan& p) {
+  if (!p.rendering) return nullptr;
+  std::unique_ptr<Renderer> renderer = make_renderer(o.gl);  // a GL failure shows up now
+  if (std::max(p.grid->cell_width(), p.grid->cell_height()) > renderer->max_size())
+    throw UsageError("--width/--height: tiles of " + std::to_string(p.grid->cell_width()) + "x" +
+                     std::to_string(p.grid->cell_height()) + " exceed the renderer's limit of " +
+                     std::to_string(renderer->max_size()) + " pixels");
+  return renderer;
+}
+
+void keep_shard_lanes(const CompareRequest& o, ComparePlan& p) {
+  const FramesShardPlan shard{o.shard, o.frames_dir, p.look.color != FieldKind::None && !p.look.color_range, p.scene.duration,
+                              p.model->num_particles, p.targets->frames(), p.grid->cell_width(), p.grid->cell_height()};
+  std::vector<CompareLane> kept;
+  for (std::size_t i : frames_shard_lanes(shard, p.specs(), p.dirs())) kept.push_back(p.lanes[i]);
+  p.lanes = std::move(kept);
+}
+
+PipelineReport run_compare(const CompareRequest& o, const ComparePlan& p) {
+  const std::unique_ptr<Renderer> renderer = make_checked_renderer(o, p);
+  FramePipeline pipeline(*p.model, *p.targets, p.specs(), pipeline_config(p), renderer.get());
+  add_outputs(o, p, pipeline, renderer.get());
+  const std::vector<std::string> after = o.summary.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.summary};
+  return pipeline.run("compare " + p.model->name, after);
+}
+
+std::vector<JsonObject> compare_lanes_json(const ComparePlan& p, const PipelineReport& report) {
+  return summary_lanes(*p.model, report, p.look.color, p.summary_context());
+}
+
+void write_compare_summary(const CompareRequest& o, const ComparePlan& p, const PipelineReport& report) {
+  const FieldKind color = p.look.color;
+  JsonObject extra;
+  extra.text("color", std::string(field_kind_name(color)));
+  extra.text("match", o.match.front() + (o.match.size() > 1 ? " " + o.match[1] : ""));
+  if (report.color_range && p.rendering)  // (a summary alone draws nothing: no scale)
+    extra.number("color_range_lo", report.color_range->lo).number("color_range_hi", report.color_range->hi);
+  if (color == FieldKind::Error && report.reference) extra.object("reference", summary_reference(report));
+  write_summary(o.summary, "compare", p.scene.source, compare_lanes_json(p, report), extra);
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,64 @@
+// compare --match: which step each lane runs at, so the tiles show the trade rather than four
+// methods at one step.
+//
+//   cost (the default): every lane free to choose (no @STEP of its own, no --dt for it) runs at
+//     the step where its work per simulated second (spring-pass equivalents, core/work_units.h)
+//     equals the cheapest free lane's at the scene's step. The explicit family costs a fixed
+//     number of passes a step, so its step follows at once; implicit Euler's work per step
+//     grows with the step, so it is measured by pilot runs over the clip's first second and
+//     its step found by a secant on log cost against log step. Counted, not timed: the same
+//     command chooses the same steps on every machine.
+//   error TOL: every free lane at the largest step of the form 1 / (fps k) whose largest
+//     particle distance from a reference run stays within TOL metres at every frame of the
+//     clip, found by doubling k and then bisection (each trial stops at its first frame over TOL).
+//   none: every lane at its given step or the scene's.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "clip/common/lanes.h"
+#include "core/model.h"
+
+namespace clothsim::cli {
+
+enum class MatchKind { None, Cost, Error };
+
+struct MatchRequest {
+  MatchKind kind = MatchKind::Cost;
+  double tolerance = 0.0;  // m, for Error
+};
+
+// --match: {"cost"}, {"none"} or {"error", "TOL"} (TOL > 0, metres). UsageError otherwise.
+MatchRequest parse_match(const std::vector<std::string>& words);
+
+// Which lanes may have their step chosen: those whose step is the scene's default (told apart
+// by parsing the lanes again as if the scene's step were another: a lane that follows it had
+// no @STEP and no --dt of its own).
+std::vector<bool> free_lanes(const std::string& integrators, const std::string& dt, double scene_dt);
+
+// What the clip covers, for the pilots and trials.
+struct MatchClip {
+  double duration = 0.0;  // s
+  double fps = 30.0;
+  double scene_dt = 0.0;  // s
+};
+
+// Sets the free lanes' steps (and their step_text) by `request`; returns one line per lane
+// saying how its step was chosen, for the summary. `reference` is the error's reference lane
+// (Error only). Lanes not free keep their step ("your step"). `lane_models` (compare --vary:
+// each lane's own scene) gives per lane the model its cost is measured on; empty: `model` for
+// all (Cost only: error matching has one reference, so one model).
+std::vector<std::string> match_steps(const Model& model, std::vector<LaneSpec>& lanes, const std::vector<bool>& free,
+                                     const MatchRequest& request, const MatchClip& clip, const LaneSpec& reference,
+                                     const std::vector<const Model*>& lane_models = {});
+
+// The reference `error` matching runs: `reference` at the largest step 1 / (fps K) not above
+// its own, so it lands on every frame.
+LaneSpec error_reference(const LaneSpec& reference, double fps);
+
+// Spring-pass equivalents per simulated second of `lane` at step h over the first `window`
+// seconds (up to divergence): a pilot run.
+double pilot_cost(const Model& model, const LaneSpec& lane, double h, double window);
+
+}  // namespace clothsim::cli

@@ -1,0 +1,372 @@
+#include "lane_worker.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+
+#include "clip/compare/reference_history.h"
+#include "clip/compare/reference_stand.h"
+#include "lane_times.h"
+#include "core/diagnostics.h"
+#include "study/reference.h"
+#include "view/snapshot.h"
+
+namespace clothsim::cli {
+
+LaneWorker::LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
+                       std::size_t queue_capacity, std::function<bool()> interrupt)
+    : model_(model), spec_(std::move(spec)), targets_(targets), needs_(needs), interrupt_(std::move(interrupt)),
+      reference_(!needs_.stand_for.empty() || needs_.stand_for_later),
+      capacity_(std::max<std::size_t>(1, queue_capacity)) {
+  if (!needs_.stand_for.empty()) set_lane_steps(needs_.stand_for);
+  result_.spec = spec_;
+  thread_ = std::thread([this] { work(); });
+}
+
+LaneWorker::~LaneWorker() {
+  stop();
+  join();
+}
+
+void LaneWorker::stop() {
+  stop_requested_ = true;
+  std::lock_guard<std::mutex> lock(mutex_);
+  stop_ = true;
+  changed_.notify_all();
+}
+
+std::size_t reference_queue_capacity(int particles, const std::vector<double>& lane_steps) {
+  std::vector<double> distinct;
+  for (double h : lane_steps)
+    if (std::find(distinct.begin(), distinct.end(), h) == distinct.end()) distinct.push_back(h);
+  const double frame = 24.0 * std::max(1, particles) * static_cast<double>(std::max<std::size_t>(1, distinct.size()));
+  return std::clamp<std::size_t>(static_cast<std::size_t>(kReferenceAheadBytes / frame), kLaneQueueCapacity, 32);
+}
+
+std::size_t reference_ahead_states(int particles) {
+  return std::clamp<std::size_t>(static_cast<std::size_t>(kReferenceAheadBytes / (56.0 * std::max(1, particles))), 2, 64);
+}
+
+bool same_run(const LaneSpec& started, const LaneSpec& wanted) {
+  return started.kind == wanted.kind && started.dt == wanted.dt && started.step_text == wanted.step_text &&
+         started.fixed_point == wanted.fixed_point && started.iterations == wanted.iterations;
+}
+
+void LaneWorker::set_lane_steps(std::vector<double> lane_steps) {
+  dropped_ = std::make_unique<std::atomic<bool>[]>(lane_steps.size());
+  for (std::size_t i = 0; i < lane_steps.size(); ++i) dropped_[i] = false;
+  lane_steps_ = std::move(lane_steps);
+  steps_known_ = true;
+}
+
+void LaneWorker::stand_for(std::vector<double> lane_steps, std::size_t queue_capacity, double energy_every) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!reference_ || steps_known_) throw std::logic_error("stand_for: not a reference waiting for the lanes' steps");
+  set_lane_steps(std::move(lane_steps));
+  capacity_ = std::max<std::size_t>(1, queue_capacity);
+  needs_.energy_every = energy_every;
+  changed_.notify_all();
+}
+
+void LaneWorker::drop_lane(std::size_t lane) {
+  if (lane >= lane_steps_.size() || dropped_[lane].exchange(true)) return;
+  ++drops_;
+}
+
+void LaneWorker::join() {
+  if (thread_.joinable()) thread_.join();
+}
+
+LaneResult LaneWorker::result() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return result_;
+}
+
+bool LaneWorker::next(LaneFrame& out) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!changed_.wait_for(lock, std::chrono::milliseconds(20), [this] { return !queue_.empty() || done_; }))
+    if (interrupt_ && interrupt_()) return false;
+  if (queue_.empty()) {
+    if (error_) std::rethrow_exception(error_);
+    return false;
+  }
+  out = std::move(queue_.front());
+  queue_.pop_front();
+  changed_.notify_all();
+  return true;
+}
+
+void LaneWorker::push(LaneFrame frame) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return queue_.size() < capacity_ || stop_; });
+  if (stop_) return;
+  queue_.push_back(std::move(frame));
+  changed_.notify_all();
+}
+
+// What the outputs need of `state` (the run's current one, or its last finite state).
+LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
+  LaneFrame f;
+  f.t = state.t;
+  f.step = state.step;
+  f.totals = run.totals();
+  if (needs_.picture) f.frame = make_render_frame(model_, state, needs_.look);
+  if (needs_.positions) {
+    const Eigen::Index n = 3 * static_cast<Eigen::Index>(model_.num_particles);
+    f.x.assign(state.x.data(), state.x.data() + n);  // particles come first, column-major
+  }
+  if (needs_.field == FieldKind::Strain) f.field = vertex_strain(model_, state);
+  if (needs_.field == FieldKind::Speed) f.field = vertex_speed(model_, state);
+  if (needs_.bodies) {
+    f.bodies.x = state.x;
+    f.bodies.v = state.v;
+    f.bodies.t = state.t;
+    f.bodies.step = state.step;
+  }
+  return f;
+}
+
+namespace {
+// What the reference runs: the run, or the adaptive solve in its place (LaneNeeds::adaptive_tolerance).
+struct ReferenceSource {
+  Run& run;
+  analysis::AdaptiveReference* exact;
+  RunTotals totals() const { return exact ? exact->totals() : run.totals(); }
+  std::int64_t step() const { return exact ? exact->state().step : run.state().step; }
+  double t() const { return exact ? exact->time() : run.state().t; }
+  bool stopped() const { return exact ? exact->stopped() : run.stopped(); }
+  std::optional<Divergence> divergence() const { return exact ? exact->divergence() : run.divergence(); }
+  void set_stop_check(const std::function<bool()>& stop) const {
+    run.set_stop_check(stop);
+    if (exact) exact->set_stop_check(stop);
+  }
+};
+
+// The reference's last frame once it diverged: where and when, and what it cost.
+LaneFrame frozen_reference(const ReferenceSource& source) {
+  LaneFrame frozen;
+  frozen.divergence = source.divergence();
+  frozen.t = frozen.divergence->t;
+  frozen.step = source.step();
+  frozen.totals = source.totals();
+  frozen.frozen = true;
+  return frozen;
+}
+}  // namespace
+
+// The reference lane's loop (LaneNeeds::stand_for): targets are added as the times they need
+// come due, the earliest needed time is served next, and a target's frame is handed over once
+// every lane's positions for it are known (reference_stand.h).
+void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
+  ReferenceHistory history(model_, spec_.kind, run.dt());
+  if (!run_ahead(run, history)) return finish_reference(run, history);
+  ReferenceStand stand(model_, run, lane_steps_, targets_.last_time(), &history);
+  if (exact) stand.serve_exactly(*exact);
+  std::optional<Run> check;  // the fixed-step reference's own error: a run at twice its step (reference_stand.h)
+  if (!exact) stand.check_against(check.emplace(model_, spec_.kind, 2.0 * run.dt()));
+  if (check) check->set_stop_check([this] { return stop_asked(); });
+  const ReferenceSource source{run, exact};
+  if (needs_.energy_every > 0.0) stand.sample_energy(needs_.energy_every);  // the inset's reference too
+  int applied = 0;  // drops_ passed on to the stand
+  const auto apply_drops = [&] {
+    if (drops_.load(std::memory_order_acquire) == applied) return;
+    applied = 0;
+    for (std::size_t i = 0; i < lane_steps_.size(); ++i)
+      if (dropped_[i].load(std::memory_order_acquire)) {
+        stand.drop_lane(i);
+        ++applied;
+      }
+  };
+  // Between any two steps: stopped, or no live lane can need a time from here on (every time
+  // a live lane needs is at or before the horizon, and the run only goes forward).
+  source.set_stop_check([&] {
+    if (stop_asked()) return true;
+    apply_drops();
+    return source.t() >= stand.horizon();
+  });
+  TargetPlan::Cursor cursor(targets_);
+  Target next;
+  bool more = cursor.next(next);
+  const auto hand_over = [&] {  // the oldest target, with what is known of it
+    LaneFrame f;
+    f.t = stand.pop(f.x_for, &f.energy).t;
+    f.step = source.step();
+    f.totals = source.totals();
+    f.reference_error = exact ? exact->estimated_error() : stand.estimated_error();
+    push(std::move(f));
+  };
+  for (;;) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_) break;
+    }
+    apply_drops();
+    if (stand.front_ready()) {
+      hand_over();
+      continue;
+    }
+    if (more && stand.add_before_serving(next.t)) {
+      stand.add(next);
+      more = cursor.next(next);
+      continue;
+    }
+    if (stand.empty()) break;  // every target served
+    if (!stand.serve_next()) {
+      if (source.stopped() && stop_asked()) break;
+      if (source.stopped()) {
+        // Past the horizon: what every live lane needs was served (the targets still to add
+        // would need later times), so the targets waiting go out, the dropped lanes' positions
+        // missing, and the rest with none.
+        while (!stand.empty()) hand_over();
+        for (; more; more = cursor.next(next)) {
+          stand.add(next);
+          hand_over();
+        }
+        break;
+      }
+      // The targets waiting go out with what was served of them (a lane of a small step was
+      // measured up to the blow-up even if one of a large step, needing a later time, was not).
+      while (!stand.empty()) hand_over();
+      push(frozen_reference(source));  // a diverged reference measures nothing from here on
+      break;
+    }
+  }
+  finish_reference(run, history, exact, check ? &*check : nullptr, stand.estimated_error());
+}
+
+// Until the lanes' steps are known (LaneNeeds::stand_for_later): the run goes ahead target by
+// target, keeping its state a little before each (ReferenceHistory::keep_step), and waits once
+// it has kept reference_ahead_states, passed the last target, diverged or been stopped. False
+// when stop() was called first.
+bool LaneWorker::run_ahead(Run& run, ReferenceHistory& history) {
+  TargetPlan::Cursor cursor(targets_);
+  Target target;
+  bool more = true;
+  for (;;) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      if (!more || history.size() >= reference_ahead_states(model_.num_particles) || run.diverged() || run.stopped())
+        changed_.wait(lock, [this] { return steps_known_ || stop_; });
+      if (stop_) return false;
+      if (steps_known_) return true;
+    }
+    if (history.empty()) history.keep(run.state());  // step 0: the first target's times replay from it
+    if (!(more = cursor.next(target))) continue;
+    const std::int64_t k = ReferenceHistory::keep_step(target.t, run.dt());
+    if (k <= run.state().step) continue;
+    if (run.advance_to(static_cast<double>(k) * run.dt()) && !run.stopped()) history.keep(run.state());
+  }
+}
+
+void LaneWorker::finish_reference(const Run& run, const ReferenceHistory& history,
+                                  const analysis::AdaptiveReference* exact, const Run* check, double estimated_error) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (exact) {  // it ran in place of the run
+    result_.t = exact->state().t;
+    result_.totals = exact->totals();
+    result_.divergence = exact->divergence();
+    result_.adaptive_tolerance = exact->tolerance();
+    result_.estimated_error = exact->estimated_error();
+    return;
+  }
+  result_.t = run.state().t;  // as far as it ran (past the last target where a lane stands past it)
+  result_.totals = run.totals();
+  result_.totals.cpu_seconds += history.replay_cpu_seconds();  // what the early start cost
+  result_.divergence = run.divergence();
+  if (check) {  // its work is the reference's too
+    result_.totals.cpu_seconds += check->totals().cpu_seconds;
+    result_.totals.force_evals += check->totals().force_evals;
+    result_.check_dt = check->dt();
+    result_.estimated_error = estimated_error;
+  }
+}
+
+// A lane's loop: each target in turn, stepped to and handed over (a frozen frame and the end
+// on divergence).
+void LaneWorker::run_targets(Run& run) {
+  TargetPlan::Cursor cursor(targets_);
+  double reached = 0.0;
+  long sample = 0;  // the next energy sample, at sample * energy_every
+  std::vector<std::pair<double, double>> energy;
+  const auto record_energy = [&] { energy.emplace_back(run.state().t, compute_energies(model_, run.state()).total()); };
+  for (Target target; cursor.next(target);) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_) break;
+    }
+    // Samples between targets: advancing to them takes the same steps (a Run steps until
+    // t >= target), so the energy curve costs a pass over the bodies per sample, no more.
+    bool ok = true;
+    if (needs_.energy_every > 0.0) {
+      for (double ts : energy_samples_before(target.t, needs_.energy_every, sample)) {
+        ok = run.advance_to(ts);
+        if (!ok || run.stopped()) break;
+        record_energy();
+      }
+      if (run.stopped()) break;
+    }
+    if (ok) ok = run.advance_to(target.t);
+    if (run.stopped()) break;
+    if (!ok) {
+      // The picture (and field) of the last finite state at the step divergence names; the
+      // metrics of the state the run stopped in, which is what `run --metrics` records.
+      const Divergence& d = *run.divergence();
+      LaneFrame frozen = frame_of(run, needs_.picture || needs_.field != FieldKind::None || needs_.bodies
+                                           ? run.last_finite_state() : run.state());
+      if (needs_.metrics) frozen.metrics = run.metrics();
+      frozen.t = d.t;
+      frozen.energy = std::move(energy);
+      frozen.divergence = d;
+      frozen.frozen = true;
+      frozen.x.clear();  // no reference exists at the divergence's instant: no error field
+      reached = d.t;
+      push(std::move(frozen));
+      break;
+    }
+    LaneFrame f = frame_of(run, run.state());
+    if (needs_.metrics) f.metrics = run.metrics();
+    if (needs_.energy_every > 0.0) {
+      record_energy();
+      f.energy = std::move(energy);
+      energy.clear();
+    }
+    reached = run.state().t;
+    push(std::move(f));
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  result_.t = reached;
+  result_.totals = run.totals();
+  result_.divergence = run.divergence();
+  if (needs_.final_state && !run.diverged()) result_.final_state = run.state();
+}
+
+bool LaneWorker::stop_asked() const {
+  return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_());
+}
+
+void LaneWorker::work() {
+  try {
+    Run run(model_, spec_.kind, spec_.dt);
+    run.set_stop_check([this] { return stop_asked(); });
+    // CLOTHSIM_NEWTON_TRACE=1: implicit_euler's Newton trace on stderr (docs/integrators.md).
+    if (std::getenv("CLOTHSIM_NEWTON_TRACE")) run.set_newton_trace([](const char* line) { std::fputs(line, stderr); });
+    if (!reference_) {
+      run_targets(run);
+    } else if (needs_.adaptive_tolerance > 0.0) {
+      analysis::AdaptiveReference exact(model_, needs_.adaptive_tolerance);
+      serve_reference(run, &exact);
+    } else {
+      serve_reference(run);
+    }
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    error_ = std::current_exception();
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  done_ = true;
+  changed_.notify_all();
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,56 @@
+// The outputs a frame pipeline feeds (frame_pipeline.h): each watches every target and
+// takes what it needs. All of them write nothing under their name until complete.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "frame_pipeline.h"
+#include "frame_sink.h"
+#include "clip/run/run_outputs.h"
+#include "render/png_io.h"
+#include "video/tiling.h"
+
+namespace clothsim::cli {
+
+// How lane pictures become one picture: a single lane's picture as it is (run), or the lanes
+// composed into a grid, each tile labelled with its lane (compare; labels off with overlay none),
+// with the grid's one colour bar in a strip at its right (grid_legend.h) when legend_width > 0.
+struct Composer {
+  std::optional<TileGrid> grid;     // none: the first lane's picture itself
+  std::vector<std::string> labels;  // per lane
+  int legend_width = 0;             // the colour bar's strip right of the grid (0: none)
+  // The picture of `lanes` (composed into `canvas` when there is a grid).
+  const Image& picture(const std::vector<LaneView>& lanes, Image& canvas) const;
+  mutable Image body = {};  // scratch: the grid before the strip is added
+};
+
+// Each lane's tile label in `grid`: "rk4  dt = 1e-4 s", or, where one of them does not fit its
+// tile at the grid's text size, every lane as --integrators spells it ("rk4@1e-4"), shorter
+// and the same form in every tile; the grid shortens with "..." what still does not fit, the
+// name and not the step ("sympl...@1e-4"), never two lanes alike (TileGrid::shown_labels).
+std::vector<std::string> lane_tile_labels(const std::vector<LaneSpec>& lanes, const TileGrid& grid);
+
+// Clip frames of every lane's picture, composed, into a FrameSink (the MP4).
+std::unique_ptr<FrameOutput> make_video_output(std::unique_ptr<FrameSink> sink, std::string path, Composer composer);
+
+// Clip frames of one lane's picture into a PNG sequence (--frames): in compare, its tile as the
+// grid shows it (the grid's one colour bar is not in it; the scale is on stderr and in --summary).
+std::unique_ptr<FrameOutput> make_frames_output(std::unique_ptr<FrameSink> sink, std::size_t lane);
+
+// The composed picture at the still's target, written to `path`.
+std::unique_ptr<FrameOutput> make_still_output(std::string path, Composer composer, PngText meta);
+
+// One row per lane, one column per sheet time, width x height (compose_contact_sheet); written at
+// finish(). With `legend` the colour bar is drawn once, in a strip at the sheet's right taken out
+// of the width, at the text size of the sheet's labels.
+std::unique_ptr<FrameOutput> make_sheet_output(std::string path, std::vector<std::string> row_labels,
+                                               std::vector<std::string> column_labels, PngText meta, int width,
+                                               int height, bool legend = false);
+
+// One CSV row per clip frame of one lane (run --metrics), the diverged state's row included.
+std::unique_ptr<FrameOutput> make_metrics_output(std::unique_ptr<MetricsWriter> writer, std::string path, std::size_t lane);
+
+}  // namespace clothsim::cli

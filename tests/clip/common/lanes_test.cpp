@@ -1,0 +1,205 @@
+// Lanes: NAME[@STEP] items, course, --dt for the lanes without a step, the reference.
+#include "clip/common/lanes.h"
+
+#include <gtest/gtest.h>
+
+#include "cli/usage_error.h"
+
+using namespace clothsim;
+using namespace clothsim::cli;
+using clothsim::testing::usage_error;
+
+TEST(ParseLanes, OneIntegratorAtSeveralStepsAndFractions) {
+  const auto lanes = parse_lanes("rk4@1e-4, rk4@4e-4,implicit_euler@1/60", "", 1e-3);
+  ASSERT_EQ(lanes.size(), 3u);
+  EXPECT_EQ(lanes[0].kind, IntegratorKind::Rk4);
+  EXPECT_EQ(lanes[0].dt, 1e-4);
+  EXPECT_EQ(lanes[1].dt, 4e-4);
+  EXPECT_EQ(lanes[2].kind, IntegratorKind::ImplicitEuler);
+  EXPECT_EQ(lanes[2].dt, 1.0 / 60);
+  EXPECT_EQ(lanes[2].label(), "implicit_euler  dt = 1/60 s") << "the step as written";
+  EXPECT_EQ(lane_directories(lanes), (std::vector<std::string>{"rk4@1e-4", "rk4@4e-4", "implicit_euler"}));
+}
+
+TEST(ParseLanes, StepsWithoutAtComeFromDtOrTheScene) {
+  const auto scene = parse_lanes("rk4,midpoint@2e-4", "", 1e-3);
+  EXPECT_EQ(scene[0].dt, 1e-3);
+  EXPECT_EQ(scene[0].label(), "rk4  dt = 0.001 s");
+  const auto all = parse_lanes("rk4,midpoint@2e-4,explicit_euler", "5e-4", 1e-3);
+  EXPECT_EQ(all[0].dt, 5e-4);
+  EXPECT_EQ(all[1].dt, 2e-4) << "@STEP wins";
+  EXPECT_EQ(all[2].dt, 5e-4);
+  const auto named = parse_lanes("rk4,rk4@1e-5,midpoint", "rk4=1/240", 1e-3);
+  EXPECT_EQ(named[0].dt, 1.0 / 240);
+  EXPECT_EQ(named[1].dt, 1e-5);
+  EXPECT_EQ(named[2].dt, 1e-3);
+  // --dt 1/240 is shown as the fraction it was given in, as @1/240 is (not "0.00416667").
+  EXPECT_EQ(named[0].label(), "rk4  dt = 1/240 s");
+  EXPECT_EQ(lane_directories(named), (std::vector<std::string>{"rk4@1_240", "rk4@1e-5", "midpoint"}));
+  EXPECT_EQ(step_string(1.0 / 30.0), "1/30");
+  EXPECT_EQ(step_string(1e-4), "0.0001") << "a decimal %g prints exactly stays one";
+  EXPECT_EQ(step_string(0.0333333), "0.0333333") << "not quite 1/30";
+  EXPECT_EQ(step_string(0.033333333333333), "0.0333333") << "within 1e-14 of 1/30, still not it";
+}
+
+TEST(ParseLanes, CourseIsTheCoursesFourWithItsFixedPointImplicit) {
+  const auto lanes = parse_lanes("course", "", 1e-4);
+  ASSERT_EQ(lanes.size(), 4u);
+  EXPECT_EQ(lanes[0].kind, IntegratorKind::ExplicitEuler);
+  EXPECT_EQ(lanes[1].kind, IntegratorKind::ImplicitEuler);
+  EXPECT_TRUE(lanes[1].fixed_point);
+  EXPECT_EQ(lanes[1].name(), "implicit_euler (fixed point)");
+  EXPECT_EQ(lanes[2].kind, IntegratorKind::Midpoint);
+  EXPECT_EQ(lanes[3].kind, IntegratorKind::Rk4);
+  for (const LaneSpec& l : lanes) EXPECT_EQ(l.dt, 1e-4);
+  // Beside a Newton implicit_euler lane at the same step: two different lanes.
+  EXPECT_EQ(parse_lanes("course,implicit_euler", "", 1e-4).size(), 5u);
+}
+
+TEST(ParseLanes, EveryLaneIsSpeltAsIntegratorsTakesItBack) {
+  // --summary's "lane" and the narrow tiles' labels: pasted into --integrators, the same lanes.
+  for (const char* list : {"course", "rk4@1e-4,rk4@4e-4,implicit_euler@1/60", "course,implicit_euler,symplectic_euler@2e-4"}) {
+    const auto lanes = parse_lanes(list, "", 1e-4);
+    std::string spelt;
+    for (const LaneSpec& l : lanes) spelt += (spelt.empty() ? "" : ",") + l.spelling();
+    const auto again = parse_lanes(spelt, "", 1.0);  // every step given: the scene's dt unused
+    ASSERT_EQ(again.size(), lanes.size()) << spelt;
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+      EXPECT_EQ(again[i].kind, lanes[i].kind) << spelt;
+      EXPECT_EQ(again[i].dt, lanes[i].dt) << spelt;
+      EXPECT_EQ(again[i].fixed_point, lanes[i].fixed_point) << spelt;
+      EXPECT_EQ(again[i].spelling(), lanes[i].spelling());
+    }
+  }
+  const LaneSpec fixed = parse_lanes("course", "", 1e-4)[1];
+  EXPECT_EQ(fixed.spelling(), "implicit_euler_fixed_point@0.0001");
+  EXPECT_EQ(fixed.name(), "implicit_euler (fixed point)") << "tables and full labels keep the words";
+  // Alone, at its own step or implicit_euler's --dt.
+  const auto alone = parse_lanes("implicit_euler_fixed_point@1/60,implicit_euler_fixed_point", "implicit_euler=1e-3", 1e-4);
+  ASSERT_EQ(alone.size(), 2u);
+  EXPECT_TRUE(alone[0].fixed_point && alone[1].fixed_point);
+  EXPECT_EQ(alone[0].dt, 1.0 / 60);
+  EXPECT_EQ(alone[1].dt, 1e-3);
+  EXPECT_NE(usage_error([] { parse_lanes("course,implicit_euler_fixed_point", "", 1e-4); }).find(
+                "'implicit_euler_fixed_point@0.0001' is listed twice"),
+            std::string::npos);
+  // The reference is an integrator as the scene sets it up, not the course's variant.
+  EXPECT_NE(usage_error([] { parse_reference("implicit_euler_fixed_point@1e-5", parse_lanes("rk4", "", 1e-3)); })
+                .find("--reference: unknown integrator"),
+            std::string::npos);
+}
+
+TEST(ParseLanes, TheLaneModelOfTheFixedPointLaneHasTheCoursesSettings) {
+  Model base;
+  base.implicit.solver = ImplicitSolver::Newton;
+  std::optional<Model> storage;
+  const LaneSpec course = parse_lanes("course", "", 1e-4)[1];
+  const Model& m = lane_model(base, course, storage);
+  EXPECT_EQ(m.implicit.solver, ImplicitSolver::FixedPoint);
+  EXPECT_EQ(m.implicit.fixed_point_iterations, 1);
+  std::optional<Model> none;
+  EXPECT_EQ(&lane_model(base, parse_lanes("implicit_euler", "", 1e-4)[0], none), &base);
+}
+
+TEST(ParseLanes, IterationsFollowAColonAndShowInLabelsAndSpellings) {
+  const auto lanes = parse_lanes("xpbd@1/600:1,xpbd@1/60:10,implicit_euler@1/60:1,vbd:5", "", 1e-3);
+  ASSERT_EQ(lanes.size(), 4u);
+  EXPECT_EQ(lanes[0].iterations, 1);
+  EXPECT_EQ(lanes[0].dt, 1.0 / 600);
+  EXPECT_EQ(lanes[0].spelling(), "xpbd@1/600:1");
+  EXPECT_EQ(lanes[1].label(), "xpbd:10  dt = 1/60 s");
+  EXPECT_EQ(lanes[2].name(), "implicit_euler:1 (Baraff & Witkin)");
+  EXPECT_EQ(lanes[3].dt, 1e-3);
+  Model base;
+  std::optional<Model> storage;
+  EXPECT_EQ(lane_model(base, lanes[2], storage).implicit.newton_max_iterations, 1);
+  EXPECT_EQ(lane_model(base, lanes[3], storage).solvers.vbd.iterations, 5);
+  const auto again = parse_lanes(lanes[0].spelling(), "", 1e-3);
+  EXPECT_EQ(again[0].iterations, 1);
+}
+
+TEST(ParseLanes, ATolerancePicksTheResidualStopWithIterationsAsItsCap) {
+  const auto lanes = parse_lanes("vbd@1/60:tol=1e-4,xpbd@1/60:200:tol=1e-3,projective_dynamics:tol=1e-5:50", "", 1e-3);
+  ASSERT_EQ(lanes.size(), 3u);
+  EXPECT_EQ(lanes[0].tolerance, 1e-4);
+  EXPECT_EQ(lanes[0].iterations, 0);
+  EXPECT_EQ(lanes[0].spelling(), "vbd@1/60:tol=0.0001");
+  EXPECT_EQ(lanes[1].name(), "xpbd:200:tol=0.001");
+  EXPECT_EQ(lanes[2].iterations, 50);
+  Model base;
+  std::optional<Model> storage;
+  const Model& vbd = lane_model(base, lanes[0], storage);
+  EXPECT_EQ(vbd.solvers.vbd.tolerance, 1e-4);
+  EXPECT_EQ(vbd.solvers.vbd.iterations, kToleranceCap);
+  const Model& xpbd = lane_model(base, lanes[1], storage);
+  EXPECT_EQ(xpbd.solvers.xpbd.tolerance, 1e-3);
+  EXPECT_EQ(xpbd.solvers.xpbd.iterations, 200);
+  const auto again = parse_lanes(lanes[1].spelling(), "", 1e-3);
+  EXPECT_EQ(again[0].tolerance, 1e-3);
+  EXPECT_EQ(again[0].iterations, 200);
+  EXPECT_EQ(usage_error([] { parse_lanes("vbd:tol=1e-4,vbd", "", 1e-3); }), "") << "two lanes, not one twice";
+}
+
+TEST(ParseLanes, RefusesToleranceWhereThereIsNoResidualStopOrNoNumber) {
+  for (const char* bad : {"vbd:tol=0", "vbd:tol=1", "vbd:tol=x", "vbd:tol="})
+    EXPECT_NE(usage_error([&] { parse_lanes(bad, "", 1e-3); }).find("must be a number above 0 and below 1"),
+              std::string::npos) << bad;
+  EXPECT_NE(usage_error([] { parse_lanes("implicit_euler:tol=1e-4", "", 1e-3); }).find("no residual tolerance"),
+            std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("vbd:tol=1e-4:tol=1e-3", "", 1e-3); }).find("tol= twice"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("vbd:5:6", "", 1e-3); }).find("iterations twice"), std::string::npos);
+}
+
+TEST(ParseLanes, RefusesBadIterationCounts) {
+  for (const char* bad : {"vbd:0", "vbd:-3", "vbd:ten", "vbd:1000001", "vbd:", "vbd@1/60:1.5"})
+    EXPECT_NE(usage_error([&] { parse_lanes(bad, "", 1e-3); }).find("is not a whole number from 1 to 1000000"),
+              std::string::npos) << bad;
+  EXPECT_NE(usage_error([] { parse_lanes("rk4:3", "", 1e-3); }).find("rk4 has no iterations"), std::string::npos);
+  EXPECT_EQ(usage_error([] { parse_lanes("vbd:5,vbd:6", "", 1e-3); }), "") << "two lanes, not one twice";
+}
+
+TEST(ParseLanes, RefusesBadItemsNamingTheOption) {
+  EXPECT_NE(usage_error([] { parse_lanes("rk4@1e-4,rk4@1e-4", "", 1e-3); }).find("listed twice"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("rk4,rk4", "", 1e-3); }).find("listed twice"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("rk4@", "", 1e-3); }).find("no step after '@'"), std::string::npos);
+  // course names four lanes: offered for --integrators, not for the one --reference lane.
+  EXPECT_NE(usage_error([] { parse_lanes("rk9", "", 1e-3); }).find(", or course)"), std::string::npos);
+  const std::string reference = usage_error([] { parse_reference("rk9@1e-5", parse_lanes("rk4", "", 1e-3)); });
+  EXPECT_NE(reference.find("--reference: unknown integrator 'rk9'"), std::string::npos) << reference;
+  EXPECT_EQ(reference.find("course"), std::string::npos) << reference;
+  EXPECT_NE(usage_error([] { parse_lanes("rk4@fast", "", 1e-3); }).find("'fast' in 'rk4@fast' is not a number"),
+            std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("rk4@0", "", 1e-3); }).find("must be > 0"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("rk4@-1", "", 1e-3); }).find("must be > 0"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("verlet@1e-3", "", 1e-3); }).find("--integrators: unknown integrator 'verlet'"),
+            std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("", "", 1e-3); }).find("no integrator given"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("rk4,,midpoint", "", 1e-3); }).find("empty item"), std::string::npos);
+  EXPECT_NE(usage_error([] { parse_lanes("rk4@1e-4", "rk4=1e-3", 1e-3); }).find("has its own step"),
+            std::string::npos)
+      << "--dt for a lane that has @STEP";
+}
+
+TEST(ParseReference, DefaultsToRk4AtAQuarterOfTheSmallestStep) {
+  const auto lanes = parse_lanes("explicit_euler@1e-4,implicit_euler@1/60", "", 1e-3);
+  const LaneSpec ref = parse_reference("", lanes);
+  EXPECT_EQ(ref.kind, IntegratorKind::Rk4);
+  EXPECT_EQ(ref.dt, 2.5e-5);
+  const LaneSpec given = parse_reference("midpoint@1e-6", lanes);
+  EXPECT_EQ(given.kind, IntegratorKind::Midpoint);
+  EXPECT_EQ(given.dt, 1e-6);
+  EXPECT_EQ(parse_reference("symplectic_euler", lanes).dt, 2.5e-5);
+  EXPECT_NE(usage_error([&] { parse_reference("rk4@1e-6,midpoint", lanes); }).find("one lane"), std::string::npos);
+  EXPECT_NE(usage_error([&] { parse_reference("nope@1", lanes); }).find("--reference: unknown integrator"),
+            std::string::npos);
+}
+
+TEST(ParseStudyLanes, TakesCompareLanesWithoutStepsAndSpellsThemWithout) {
+  const std::vector<LaneSpec> lanes = parse_study_lanes("course,xpbd:10,implicit_euler:1", "no step");
+  std::vector<std::string> spelt;
+  for (const LaneSpec& l : lanes) spelt.push_back(l.stepless_spelling());
+  EXPECT_EQ(spelt, (std::vector<std::string>{"explicit_euler", "implicit_euler_fixed_point", "midpoint", "rk4",
+                                             "xpbd:10", "implicit_euler:1"}));
+  EXPECT_EQ(usage_error([] { parse_study_lanes("rk4@1e-3", "no step"); }), "--integrators: 'rk4@1e-3': no step");
+  EXPECT_EQ(usage_error([] { parse_study_lanes("course,rk4", "no step"); }), "--integrators: 'rk4' is listed twice");
+}

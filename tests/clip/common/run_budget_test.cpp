@@ -1,0 +1,91 @@
+// The peak memory of a one-lane run (src/clip/common/run_budget.h), which `run` and `golden` check
+// against --max-memory: each part counted only where the run has it.
+#include "clip/common/run_budget.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "scene/memory_estimate.h"
+#include "scene/scene_parser.h"
+
+namespace clothsim::cli {
+namespace {
+
+SceneDef drape() { return load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml"); }
+
+TEST(RunBudget, WithoutPicturesIsTheProcessTheModelAndTheLane) {
+  const SceneDef scene = drape();
+  const double expected = kProcessBytes + model_bytes(scene) + run_bytes(scene, scene.integrator) + kLaneThreadBytes;
+  EXPECT_DOUBLE_EQ(run_budget(scene, PictureLook{}, {}).total(), expected);
+}
+
+TEST(RunBudget, PicturesAddTheRendererAtTheirSizeAndAVideoItsEncoder) {
+  const SceneDef scene = drape();
+  const double bare = run_budget(scene, PictureLook{}, {}).total();
+  const double still = run_budget(scene, PictureLook{}, {true, 4000, 4000, false}).total();
+  EXPECT_DOUBLE_EQ(still - bare, kRendererBytes + render_bytes(4000, 4000, scene.render.samples) + 4.0 * 4000 * 4000 * 4);
+  const double video = run_budget(scene, PictureLook{}, {true, 4000, 4000, true}).total();
+  EXPECT_DOUBLE_EQ(video - still, encoder_bytes(4000, 4000));
+}
+
+TEST(RunBudget, ErrorColouringAddsItsReferenceLaneAndTheHeldFirstSecond) {
+  const SceneDef scene = drape();
+  PictureLook look;
+  look.color = FieldKind::Error;
+  look.reference = LaneSpec{IntegratorKind::Rk4, scene.dt / 4, "", false};
+  const double plain = run_budget(scene, PictureLook{}, {true, 320, 180, false}).total();
+  const double coloured = run_budget(scene, look, {true, 320, 180, false}).total();
+  EXPECT_DOUBLE_EQ(coloured - plain, run_bytes(scene, IntegratorKind::Rk4) + kLaneThreadBytes +
+                                         held_frames_bytes(scene, 1, std::min(1.0, scene.duration) * scene.render.fps + 1.0));
+}
+
+// Peak RSS (GNU time, MiB) of two steps of `run` on the drape at N x N, without and with
+// --state, measured by tools/reliability/memory_peaks.sh (BENCHMARKS.md, "Memory estimate").
+struct MeasuredPeak {
+  int n;
+  IntegratorKind kind;
+  double without_state, with_state;  // 0: not measured
+};
+constexpr MeasuredPeak kMeasured[] = {
+    {256, IntegratorKind::ExplicitEuler, 105.0, 108.6},        {256, IntegratorKind::Midpoint, 109.6, 113.1},
+    {256, IntegratorKind::Rk4, 112.4, 116.3},                  {256, IntegratorKind::Xpbd, 120.2, 124.0},
+    {256, IntegratorKind::ProjectiveDynamics, 268.0, 268.1},   {256, IntegratorKind::Vbd, 122.8, 126.5},
+    {512, IntegratorKind::ProjectiveDynamics, 930.1, 942.1},
+    {1024, IntegratorKind::ExplicitEuler, 568.8, 625.3},       {1024, IntegratorKind::Midpoint, 641.0, 696.9},
+    {1024, IntegratorKind::Rk4, 689.0, 745.3},                 {1024, IntegratorKind::ImplicitEuler, 1940.0, 2116.4},
+    {1024, IntegratorKind::Xpbd, 816.3, 872.4},                {1024, IntegratorKind::ProjectiveDynamics, 3892.2, 0.0},
+    {1024, IntegratorKind::Vbd, 855.3, 911.3},                 {2048, IntegratorKind::ExplicitEuler, 2054.0, 2278.2},
+    {2048, IntegratorKind::Midpoint, 2342.1, 2566.2},          {2048, IntegratorKind::Rk4, 2534.0, 2758.1},
+    {2048, IntegratorKind::Xpbd, 3044.5, 3269.1},              {2048, IntegratorKind::Vbd, 3196.5, 3421.0},
+    {2048, IntegratorKind::ImplicitEuler, 7506.3, 8242.4},
+};  // PD with its supernodal panels: not re-measured at 2048² (half an hour a run)
+
+TEST(RunBudget, EveryIntegratorsEstimateIsWithinTenPercentAboveItsMeasuredPeak) {
+  for (const MeasuredPeak& m : kMeasured) {
+    SceneDef scene = load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml",
+                                {"cloth.particles=[" + std::to_string(m.n) + "," + std::to_string(m.n) + "]"});
+    scene.integrator = m.kind;
+    for (const bool state : {false, true}) {
+      RunPictures pictures;
+      pictures.final_state = state;
+      const double estimate = run_budget(scene, PictureLook{}, pictures).total() / (1024.0 * 1024);
+      const double peak = state ? m.with_state : m.without_state;
+      if (peak == 0.0) continue;  // not measured
+      EXPECT_GE(estimate, peak) << m.n << " " << integrator_name(m.kind) << (state ? " --state" : "");
+      EXPECT_LE(estimate, 1.10 * peak) << m.n << " " << integrator_name(m.kind) << (state ? " --state" : "");
+    }
+  }
+}
+
+// A kept final state is a State: implicit_euler's carries its warm start (176 MiB at 1024²,
+// against 56 MiB for the others).
+TEST(MemoryEstimate, AnImplicitFinalStateCountsItsWarmStart) {
+  const SceneDef scene = load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", {"cloth.particles=[1024,1024]"});
+  const double mib = 1024.0 * 1024;
+  EXPECT_NEAR(final_state_bytes(scene, IntegratorKind::Rk4) / mib, 64.0, 1.0);
+  EXPECT_GT(final_state_bytes(scene, IntegratorKind::ImplicitEuler) / mib, 176.0);
+}
+
+}  // namespace
+}  // namespace clothsim::cli

@@ -1,0 +1,99 @@
+// compare's plan as a library (clip/compare/compare_job.h): each lane one CompareLane whose
+// spec, folder, model, label and name belong together, through --vary and --shard.
+#include "clip/compare/compare_job.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "test_support.h"
+
+using namespace clothsim;
+using namespace clothsim::cli;
+
+namespace {
+
+// A small drape, two integrators by two stiffnesses, written to a summary only: no pictures.
+CompareRequest small_grid(const std::string& out) {
+  CompareRequest o;
+  o.scene.path = std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml";
+  o.scene.sets = {"cloth.particles=[5,5]"};
+  o.scene.duration = 0.1;
+  o.integrators = "symplectic_euler,rk4";
+  o.integrators_given = true;
+  o.vary = "ks=2e3,2e4";
+  o.summary = out + "/summary.json";
+  o.frames_dir.clear();
+  return o;
+}
+
+}  // namespace
+
+TEST(PlanCompare, AVaryGridIsOneLanePerIntegratorAndValueEachWithItsOwnModelAndNames) {
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job";
+  std::filesystem::create_directories(out);
+  ComparePlan p;
+  plan_compare(small_grid(out), p);
+  ASSERT_EQ(p.lanes.size(), 4u);  // rows by integrator, a column per value
+  ASSERT_EQ(p.vary_models.size(), 2u);
+  for (std::size_t i = 0; i < p.lanes.size(); ++i) {
+    const CompareLane& l = p.lanes[i];
+    EXPECT_EQ(l.spec.kind, i < 2 ? IntegratorKind::SymplecticEuler : IntegratorKind::Rk4);
+    EXPECT_EQ(l.model, &p.vary_models[i % 2]) << "lane " << i << " runs its value's model";
+    EXPECT_EQ(l.label, l.spec.name() + "  " + l.value);
+    EXPECT_EQ(l.name, l.spec.name() + ", " + l.value);
+    EXPECT_FALSE(l.step_choice.empty());
+    EXPECT_EQ(l.dir.find(' '), std::string::npos);
+  }
+  EXPECT_NE(p.lanes[0].value, p.lanes[1].value);
+  EXPECT_EQ(p.lanes[0].value, p.lanes[2].value);
+  // The stiffer value's springs are stiffer in its model, and only there.
+  const auto stiffest = [](const Model* m) { return *std::max_element(m->springs.ks.begin(), m->springs.ks.end()); };
+  EXPECT_GT(stiffest(p.lanes[1].model), stiffest(p.lanes[0].model));
+  // The lists the pipeline and the summary take are the lanes' fields, in lane order.
+  const SummaryContext c = p.summary_context();
+  ASSERT_EQ(c.names.size(), 4u);
+  EXPECT_EQ(c.names[3], p.lanes[3].name);
+  EXPECT_EQ(p.models()[1], p.lanes[1].model);
+  EXPECT_EQ(p.labels()[2], p.lanes[2].label);
+}
+
+TEST(PlanCompare, WithoutVaryEveryLaneRunsThePlansModelUnderItsOwnName) {
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job";
+  std::filesystem::create_directories(out);
+  CompareRequest o = small_grid(out);
+  o.vary.clear();
+  o.match = {"none"};
+  ComparePlan p;
+  plan_compare(o, p);
+  ASSERT_EQ(p.lanes.size(), 2u);
+  EXPECT_TRUE(p.models().empty());
+  EXPECT_TRUE(p.labels().empty());
+  EXPECT_EQ(p.lanes[0].dir, "symplectic_euler");
+  EXPECT_EQ(p.lanes[1].dir, "rk4");
+  EXPECT_EQ(p.lanes[1].name, "rk4");
+}
+
+TEST(KeepShardLanes, APartKeepsWholeLanes) {
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_shard";
+  std::filesystem::remove_all(out);
+  CompareRequest o = small_grid(out);
+  o.summary.clear();
+  o.frames_dir = out + "/frames";
+  o.shard = "2/2";
+  o.look.color_range = "1e-4,1e-1";  // a part's colour scale is given, not chosen from its lanes
+  ComparePlan p;
+  plan_compare(o, p);
+  const std::vector<CompareLane> all = p.lanes;
+  keep_shard_lanes(o, p);
+  ASSERT_FALSE(p.lanes.empty());
+  ASSERT_LT(p.lanes.size(), all.size());
+  for (const CompareLane& kept : p.lanes) {  // each kept lane is one of the plan's, whole
+    bool found = false;
+    for (const CompareLane& l : all)
+      found = found || (l.dir == kept.dir && l.model == kept.model && l.label == kept.label && l.name == kept.name &&
+                        l.step_choice == kept.step_choice && l.spec.spelling() == kept.spec.spelling());
+    EXPECT_TRUE(found) << kept.dir;
+  }
+}

@@ -1,0 +1,100 @@
+// compare --match: the steps chosen for cost and for error, and the option's grammar.
+#include "clip/compare/step_matching.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "clip/common/cli_common.h"
+#include "core/simulation.h"
+#include "test_support.h"
+
+using namespace clothsim;
+using namespace clothsim::cli;
+
+namespace {
+
+// A 6 x 6 sheet pinned at its corners over 0.3 s.
+const char* kSheet = R"(
+name: sheet
+dt: 1.0e-3
+duration: 0.3
+cloth: {particles: [6, 6], size: [1, 1], pinned: corners,
+        springs: {structural: {stiffness: 2000, damping: 2}, shear: {stiffness: 2000, damping: 2}}}
+render: {fps: 30}
+)";
+
+const MatchClip kClip{0.3, 30.0, 1e-3};
+
+}  // namespace
+
+TEST(StepMatching, ParsesCostErrorAndNoneAndRefusesTheRest) {
+  EXPECT_EQ(parse_match({"cost"}).kind, MatchKind::Cost);
+  EXPECT_EQ(parse_match({"none"}).kind, MatchKind::None);
+  const MatchRequest e = parse_match({"error", "1e-3"});
+  EXPECT_EQ(e.kind, MatchKind::Error);
+  EXPECT_EQ(e.tolerance, 1e-3);
+  EXPECT_THROW(parse_match({"error"}), UsageError);
+  EXPECT_THROW(parse_match({"error", "-1"}), UsageError);
+  EXPECT_THROW(parse_match({"speed"}), UsageError);
+}
+
+TEST(StepMatching, OnlyLanesWithoutAStepOfTheirOwnAreFree) {
+  EXPECT_EQ(free_lanes("rk4,midpoint@2e-4,explicit_euler", "", 1e-4), (std::vector<bool>{true, false, true}));
+  EXPECT_EQ(free_lanes("rk4,midpoint", "rk4=1e-3", 1e-4), (std::vector<bool>{false, true}));
+  EXPECT_EQ(free_lanes("course", "", 1e-4), (std::vector<bool>{true, true, true, true}));
+}
+
+TEST(StepMatching, ExplicitLanesMatchTheCheapestByTheirEvaluationsPerStep) {
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  std::vector<LaneSpec> lanes = parse_lanes("symplectic_euler,midpoint,rk4,rk4@2e-3", "", 1e-3);
+  const auto how = match_steps(model, lanes, {true, true, true, false}, {MatchKind::Cost, 0.0}, kClip, lanes[0]);
+  EXPECT_DOUBLE_EQ(lanes[0].dt, 1e-3);
+  EXPECT_NEAR(lanes[1].dt, 2e-3, 1e-15);
+  EXPECT_NEAR(lanes[2].dt, 4e-3, 1e-15);
+  EXPECT_DOUBLE_EQ(lanes[3].dt, 2e-3) << "a lane with its own @STEP keeps it";
+  EXPECT_NE(how[0].find("cheapest"), std::string::npos) << how[0];
+  EXPECT_NE(how[2].find("matched on cost"), std::string::npos) << how[2];
+  EXPECT_EQ(how[3], "your step");
+}
+
+TEST(StepMatching, AnImplicitLaneIsMatchedByPilotsToWithinTheirTolerance) {
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  std::vector<LaneSpec> lanes = parse_lanes("symplectic_euler,implicit_euler", "", 1e-3);
+  const auto how = match_steps(model, lanes, {true, true}, {MatchKind::Cost, 0.0}, kClip, lanes[0]);
+  EXPECT_GT(lanes[1].dt, 1e-3) << "implicit Euler's steps cost more than one pass: it takes longer ones";
+  // The pilots ran over the clip's first 0.3 s: at the step chosen that costs about what the
+  // symplectic lane does (Newton's iteration counts jump with the step, so not to the search's
+  // 5 % everywhere), far closer than at the scene's step.
+  const double at_scene = pilot_cost(model, lanes[1], 1e-3, 0.3), chosen = pilot_cost(model, lanes[1], lanes[1].dt, 0.3);
+  EXPECT_GT(at_scene / 1000.0, 2.0);
+  EXPECT_NEAR(chosen / 1000.0, 1.0, 0.25) << how[1];
+  EXPECT_EQ(lanes[1].step_text.rfind("1/", 0), 0u) << lanes[1].step_text;
+}
+
+TEST(StepMatching, ErrorMatchingTakesTheLargestStepWithinTheTolerance) {
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  std::vector<LaneSpec> lanes = parse_lanes("symplectic_euler", "", 1e-3);
+  const LaneSpec reference = parse_reference("rk4@1e-4", lanes);
+  const double tol = 1e-3;
+  const auto how = match_steps(model, lanes, {true}, {MatchKind::Error, tol}, kClip, reference);
+  ASSERT_NE(how[0].find("matched on error"), std::string::npos) << how[0];
+  const long k = std::lround(1.0 / (30.0 * lanes[0].dt));
+  ASSERT_GE(k, 1);
+  // Within tolerance at that step, and not at the next larger one of the form 1 / (30 k).
+  const auto worst = [&](double h) {
+    clothsim::Run lane(model, IntegratorKind::SymplecticEuler, h), ref(model, IntegratorKind::Rk4, 1.0 / (30.0 * 334.0));  // as the search's: 1e-4 in whole steps a frame
+    double e = 0.0;
+    for (int f = 0; f <= 9; ++f) {
+      if (!lane.advance_to(f / 30.0)) return std::numeric_limits<double>::infinity();
+      ref.advance_to(f / 30.0);
+      e = std::max(e, (lane.state().x - ref.state().x).leftCols(model.num_particles).colwise().norm().maxCoeff());
+    }
+    return e;
+  };
+  EXPECT_LE(worst(lanes[0].dt), tol);
+  if (k > 1) {
+    EXPECT_GT(worst(1.0 / (30.0 * static_cast<double>(k - 1))), tol);
+  }
+}

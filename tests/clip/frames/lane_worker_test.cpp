@@ -1,0 +1,338 @@
+// LaneWorker: one lane on its own thread, handing over a frame per target in order, and
+// freezing on its last finite state when it diverges.
+#include "clip/frames/lane_worker.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+
+#include "clip/compare/reference_history.h"
+#include "test_support.h"
+
+using namespace clothsim;
+using namespace clothsim::cli;
+
+namespace {
+
+// A 4 x 4 sheet pinned at its corners, lightly damped: stable for symplectic Euler at 1 ms
+// (w h ~ 0.3), while explicit Euler at 10 ms (w h > 1.4, growth |1 + i w h| per step) blows up.
+const char* kSheet = R"(
+name: sheet
+dt: 1.0e-3
+cloth: {particles: [4, 4], size: [1, 1], pinned: corners,
+        springs: {structural: {stiffness: 20000, damping: 5}}}
+)";
+
+// n clip frames at fps: t = 0 .. (n - 1) / fps.
+TargetPlan frames(int n, double fps) { return TargetPlan((n - 1) / fps, fps, true, {}); }
+
+LaneNeeds picture_and_metrics() {
+  LaneNeeds n;
+  n.picture = true;
+  n.metrics = true;
+  return n;
+}
+
+}  // namespace
+
+TEST(LaneWorker, HandsOverOneFramePerTargetInOrder) {
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const auto targets = frames(5, 20.0);
+  LaneWorker worker(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, picture_and_metrics());
+  LaneFrame f;
+  for (int k = 0; k < 5; ++k) {
+    ASSERT_TRUE(worker.next(f)) << k;
+    EXPECT_FALSE(f.frozen);
+    EXPECT_NEAR(f.t, k / 20.0, 1e-12);
+    EXPECT_EQ(f.step, 50 * k);
+    EXPECT_EQ(f.metrics.step, 50 * k);
+    EXPECT_EQ(f.frame.cloth_positions.size(), 3u * 16);
+    EXPECT_EQ(f.totals.force_evals, 50 * k);
+    EXPECT_TRUE(f.x.empty()) << "positions only when the error field needs them";
+  }
+  EXPECT_FALSE(worker.next(f)) << "no more after the last target";
+  worker.join();
+  const LaneResult r = worker.result();
+  EXPECT_EQ(r.totals.steps, 200);  // 0.2 s at 1 ms
+  EXPECT_DOUBLE_EQ(r.t, 0.2);
+  EXPECT_FALSE(r.divergence);
+}
+
+TEST(LaneWorker, ComputesOnlyWhatIsNeeded) {
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const auto targets = frames(2, 20.0);
+  LaneNeeds needs;
+  needs.positions = true;
+  needs.field = FieldKind::Strain;
+  LaneWorker worker(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, needs);
+  LaneFrame f;
+  ASSERT_TRUE(worker.next(f));
+  ASSERT_TRUE(worker.next(f));
+  EXPECT_TRUE(f.frame.cloth_positions.empty()) << "no picture asked for";
+  EXPECT_EQ(f.x.size(), 3u * 16);
+  ASSERT_EQ(f.field.size(), 16u);
+  for (float s : f.field) EXPECT_GE(s, 0.f);
+}
+
+TEST(LaneWorker, FreezesOnTheLastFiniteStateAtTheStepItDiverged) {
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const auto targets = frames(30, 20.0);
+  LaneWorker worker(model, LaneSpec{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}, targets, picture_and_metrics());
+  LaneFrame f, previous;
+  int handed = 0;
+  while (worker.next(f)) {
+    ++handed;
+    if (f.frozen) break;
+    previous = f;
+  }
+  ASSERT_TRUE(f.frozen) << "explicit Euler at w h > 1 with heavy damping diverges";
+  EXPECT_GE(handed, 2) << "t = 0 is always good";
+  EXPECT_LT(handed, 30);
+  EXPECT_FALSE(worker.next(f)) << "nothing after the frozen frame";
+  ASSERT_TRUE(f.divergence);
+  EXPECT_EQ(f.t, f.divergence->t) << "the frozen frame is at the divergence's time";
+  EXPECT_GT(f.step, previous.step) << "not the last output frame: the state where it broke";
+  EXPECT_LE(f.step, f.divergence->step);
+  for (float v : f.frame.cloth_positions) ASSERT_TRUE(std::isfinite(v)) << "the last finite state";
+  // The same lane as a Run: the same divergence.
+  clothsim::Run run(model, IntegratorKind::ExplicitEuler, 1e-2);
+  run.advance_to(2.0);
+  ASSERT_TRUE(run.divergence());
+  EXPECT_EQ(run.divergence()->step, f.divergence->step);
+  EXPECT_EQ(run.divergence()->t, f.divergence->t);
+  worker.join();
+  EXPECT_TRUE(worker.result().divergence.has_value());
+}
+
+namespace {
+
+LaneNeeds standing_for(std::vector<double> steps) {
+  LaneNeeds n;
+  n.stand_for = std::move(steps);
+  return n;
+}
+
+}  // namespace
+
+TEST(LaneWorker, TheReferenceRunsAsFarAsALiveLaneOfALargeStepStands) {
+  // A lane of 2 s on a 0.5 s clip stands at 2 s from the second frame on, and is measured
+  // there: the reference goes to 2 s (the clip's end plus the largest live step bounds it).
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const auto targets = frames(16, 30.0);
+  LaneWorker reference(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, standing_for({2.0, 1e-2}));
+  LaneFrame f;
+  int handed = 0;
+  while (reference.next(f)) {
+    ASSERT_EQ(f.x_for.size(), 2u);
+    EXPECT_TRUE(f.x_for[0] && f.x_for[1]) << "target " << handed;
+    ++handed;
+  }
+  EXPECT_EQ(handed, 16);
+  reference.join();
+  EXPECT_NEAR(reference.result().t, 2.0, 1e-9);
+}
+
+// The reference lane standing in for lanes of `steps` over 16 frames at 30 Hz (0.5 s), at 1 ms,
+// lane `lane` dropped (diverged) from within the reference's thread just before its step
+// `drop_at` (counted by the stop check it polls before every step): what a pipeline does when
+// the lane's frozen frame comes, at a step of the reference the test chooses.
+struct DroppedReference {
+  std::vector<LaneFrame> frames;
+  LaneResult result;
+};
+DroppedReference reference_dropping(const Model& model, std::vector<double> steps, std::size_t lane, long drop_at) {
+  const auto targets = frames(16, 30.0);
+  const std::thread::id consumer = std::this_thread::get_id();
+  std::atomic<long> polls{0};
+  LaneWorker* self = nullptr;
+  std::atomic<bool> constructed{false};
+  const auto poll = [&] {
+    // (next() polls too, from the consumer's thread: only the reference's steps count)
+    if (std::this_thread::get_id() != consumer && ++polls == drop_at) {
+      while (!constructed) std::this_thread::yield();
+      self->drop_lane(lane);
+    }
+    return false;
+  };
+  LaneWorker reference(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets,
+                       standing_for(std::move(steps)), kLaneQueueCapacity, poll);
+  self = &reference;
+  constructed = true;
+  DroppedReference out;
+  for (LaneFrame f; reference.next(f);) out.frames.push_back(f);
+  reference.join();
+  out.result = reference.result();
+  return out;
+}
+
+TEST(LaneWorker, TheReferenceStopsWithinAStepOfALaneDroppedInTheMiddleOfAnAdvance) {
+  // The lane of 1e4 s diverged on its first step (as rk4@20 does on the drape). The reference
+  // served the lane of 0.01 s to the clip's end (500 steps, and its check at twice the step
+  // 250: both poll) and is on its way to 1e4 s (1e7 steps) for the other when, at the 1000th
+  // poll (its step 750), it is dropped: it stops there, and every target goes out with the
+  // live lane's positions.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const DroppedReference r = reference_dropping(model, {1e4, 1e-2}, 0, 1000);
+  ASSERT_EQ(r.frames.size(), 16u) << "every target goes out";
+  for (std::size_t k = 0; k < r.frames.size(); ++k) {
+    ASSERT_EQ(r.frames[k].x_for.size(), 2u);
+    EXPECT_TRUE(r.frames[k].x_for[1]) << "the live lane at target " << k;
+    if (k > 0) {
+      EXPECT_FALSE(r.frames[k].x_for[0]) << "the dropped lane at target " << k;
+    }
+  }
+  EXPECT_NEAR(r.result.t, 0.75, 1e-3 + 1e-9) << "stopped at the step it was dropped at, not 1e4 s";
+  EXPECT_FALSE(r.result.divergence);
+}
+
+TEST(LaneWorker, TheReferenceRunsNoFurtherThanTheClipsEndPlusTheLargestLiveStep) {
+  // Dropped at its first step: the reference never runs for the lane of 1e4 s, only to the
+  // live lane's last landing (0.5 s), plus at most one step of its own.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const DroppedReference r = reference_dropping(model, {1e4, 1e-2}, 0, 1);
+  ASSERT_EQ(r.frames.size(), 16u);
+  for (const LaneFrame& f : r.frames) EXPECT_TRUE(f.x_for[1]);
+  EXPECT_LE(r.result.t, 0.5 + 1e-3 + 1e-9);
+  EXPECT_GE(r.result.t, 0.5 - 1e-9) << "the live lane was served to its last landing";
+}
+
+TEST(LaneWorker, TheReferenceStopsRunningWhenEveryLaneHasDiverged) {
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const DroppedReference r = reference_dropping(model, {1e4}, 0, 1000);
+  EXPECT_LE(r.result.t, 1.0 + 1e-9) << "not on to 1e4 s";
+  for (std::size_t k = 1; k < r.frames.size(); ++k) EXPECT_FALSE(r.frames[k].x_for[0]);
+}
+
+namespace {
+
+// Every frame a reference lane hands over, until the last.
+std::vector<LaneFrame> all_frames(LaneWorker& reference) {
+  std::vector<LaneFrame> out;
+  for (LaneFrame f; reference.next(f);) out.push_back(f);
+  reference.join();
+  return out;
+}
+
+LaneNeeds steps_later() {
+  LaneNeeds n;
+  n.stand_for_later = true;
+  return n;
+}
+
+}  // namespace
+
+TEST(LaneWorker, AReferenceStartedBeforeTheStepsServesWhatOneGivenThemServes) {
+  // compare starts the reference before its pilots choose the lanes' steps. Given them once it
+  // has run ahead to 0.4 s (counted by the stop check it polls before every step), it serves
+  // every lane, at its steps and between them (7.5 ms), bit for bit what a reference given the
+  // steps at its start serves, and takes the same steps of its own.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const auto targets = frames(16, 30.0);
+  const LaneSpec spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
+  const std::vector<double> steps{1e-3, 7.5e-3, 0.1};
+  LaneWorker given(model, spec, targets, standing_for(steps));
+  const std::vector<LaneFrame> expected = all_frames(given);
+  const std::thread::id consumer = std::this_thread::get_id();
+  std::atomic<long> steps_before{0};
+  std::atomic<bool> told{false};
+  const auto count = [&] {
+    if (std::this_thread::get_id() != consumer && !told) ++steps_before;
+    return false;
+  };
+  LaneWorker early(model, spec, targets, steps_later(), kLaneQueueCapacity, count);
+  while (steps_before < 400) std::this_thread::yield();
+  told = true;
+  early.stand_for(steps, kLaneQueueCapacity);
+  const std::vector<LaneFrame> served = all_frames(early);
+  EXPECT_GE(steps_before, 400) << "it ran ahead before it knew the steps";
+  ASSERT_EQ(served.size(), expected.size());
+  ASSERT_EQ(served.size(), 16u);
+  for (std::size_t k = 0; k < served.size(); ++k) {
+    EXPECT_EQ(served[k].t, expected[k].t);
+    ASSERT_EQ(served[k].x_for.size(), steps.size());
+    for (std::size_t lane = 0; lane < steps.size(); ++lane) {
+      ASSERT_TRUE(served[k].x_for[lane] && expected[k].x_for[lane]);
+      EXPECT_EQ(*served[k].x_for[lane], *expected[k].x_for[lane]) << "target " << k << ", lane of " << steps[lane] << " s";
+    }
+  }
+  EXPECT_EQ(early.result().totals.steps, given.result().totals.steps);
+  EXPECT_EQ(early.result().t, given.result().t);
+  EXPECT_THROW(early.stand_for(steps, kLaneQueueCapacity), std::logic_error) << "the steps are given once";
+}
+
+TEST(LaneWorker, AReferenceNotYetGivenTheStepsStopsAtItsLastKeptStateAndOnStop) {
+  // 100 targets 10 ms apart, at 1 ms: it keeps step 0 and a state before each of the next 63
+  // targets, then waits for the steps there; never given them, it stops when asked.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const auto targets = frames(100, 100.0);
+  TargetPlan::Cursor cursor(targets);
+  Target t;
+  ASSERT_EQ(reference_ahead_states(model.num_particles), 64u) << "a 4 x 4 sheet's states are small";
+  for (std::size_t k = 0; k < 64; ++k) ASSERT_TRUE(cursor.next(t));
+  const std::int64_t last_kept = ReferenceHistory::keep_step(t.t, 1e-3);
+  std::atomic<long> polls{0};
+  const std::thread::id consumer = std::this_thread::get_id();
+  const auto count = [&] {
+    if (std::this_thread::get_id() != consumer) ++polls;
+    return false;
+  };
+  LaneWorker early(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, steps_later(),
+                   kLaneQueueCapacity, count);
+  while (polls < last_kept) std::this_thread::yield();
+  early.stop();
+  early.join();
+  EXPECT_EQ(early.result().totals.steps, last_kept) << "no further than the last state it may keep";
+  LaneFrame f;
+  EXPECT_FALSE(early.next(f)) << "nothing handed over";
+}
+
+TEST(LaneWorker, TheReferenceHoldsAboutASecondAheadOnlyWhereItsPositionsAreSmall) {
+  // The drape (625 particles, four lanes of four steps): a second of frames at 30 frames/s, and
+  // 64 states kept while the steps are chosen. 512 x 512 particles: a lane's queue, two states.
+  EXPECT_EQ(reference_queue_capacity(625, {1e-4, 2e-4, 4e-4, 1.0 / 252}), 32u);
+  EXPECT_EQ(reference_ahead_states(625), 64u);
+  EXPECT_EQ(reference_queue_capacity(512 * 512, {20.0, 1e-4}), kLaneQueueCapacity);
+  EXPECT_EQ(reference_ahead_states(512 * 512), 2u);
+  // Lanes of one step share one copy a frame (ReferenceStand): they count once.
+  EXPECT_EQ(reference_queue_capacity(100 * 100, {1e-4, 1e-4, 1e-4, 1e-4}),
+            reference_queue_capacity(100 * 100, {1e-4}));
+  EXPECT_EQ(reference_queue_capacity(200 * 200, {1e-4, 2e-4, 4e-4, 1e-3}), 8u) << "32 MiB of 3.84 MB frames";
+}
+
+namespace {
+
+// The (t, energy) samples a worker hands over, per target, until its last frame.
+std::vector<std::vector<std::pair<double, double>>> energy_per_target(LaneWorker& worker) {
+  std::vector<std::vector<std::pair<double, double>>> out;
+  for (LaneFrame f; worker.next(f);) out.push_back(f.energy);
+  worker.join();
+  return out;
+}
+
+}  // namespace
+
+TEST(LaneWorker, TheErrorsReferenceSamplesTheInsetsEnergyAsARunOfItsOwnDoes) {
+  // --color error --inset energy ran the reference twice: as the error's (at the lanes' times)
+  // and as a lane sampling its energy every frame. One run now does both: per target the same
+  // samples, to the bit, as the lane gives, with a clip's frames, or with a sheet's columns and
+  // a still only (samples between targets); started before the steps too.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  const LaneSpec spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
+  const double every = 1.0 / 30.0;
+  for (const TargetPlan& plan : {TargetPlan(0.5, 30.0, true, {0.21}, 0.37), TargetPlan(0.5, 30.0, false, {0.1, 0.33}, 0.45)}) {
+    LaneNeeds lane;
+    lane.energy_every = every;
+    LaneWorker alone(model, spec, plan, lane);
+    const auto expected = energy_per_target(alone);
+    LaneNeeds both = standing_for({7.5e-3, 0.1});
+    both.energy_every = every;
+    LaneWorker reference(model, spec, plan, both);
+    EXPECT_EQ(energy_per_target(reference), expected);
+    LaneWorker early(model, spec, plan, steps_later());
+    early.stand_for({7.5e-3, 0.1}, kLaneQueueCapacity, every);
+    EXPECT_EQ(energy_per_target(early), expected);
+    ASSERT_EQ(expected.size(), static_cast<std::size_t>(plan.size()));
+    EXPECT_GE(expected.back().size(), 2u) << "samples between the targets too";
+  }
+}

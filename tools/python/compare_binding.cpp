@@ -1,0 +1,164 @@
+// clothsim.compare: `clothsim compare` through the same library (clip/compare/compare_job.h),
+// the CLI's options as keyword arguments, the lanes' summary objects as a DataFrame, and the
+// same files when asked. Runs with the GIL released; Ctrl-C stops the lanes as SIGINT stops
+// the CLI's (nothing partial stays) and raises KeyboardInterrupt.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <csignal>
+#include <future>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene_binding.h"
+#include "clip/common/cli_common.h"
+#include "clip/compare/compare_job.h"
+
+namespace py = pybind11;
+
+namespace clothsim::python {
+namespace {
+
+using cli::CompareRequest;
+
+// `match`: "cost", "none", "error 1e-3" or ("error", 1e-3), as --match's words.
+std::vector<std::string> match_words(const py::object& match) {
+  if (py::isinstance<py::str>(match)) {
+    std::vector<std::string> words = cli::split_list(match.cast<std::string>(), ' ');
+    return words;
+  }
+  std::vector<std::string> words;
+  for (const py::handle w : match) words.push_back(py::str(w).cast<std::string>());
+  return words;
+}
+
+std::string text_of(const py::object& value) {
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {  // ["rk4@1e-4", ...] or [0.5, 1]
+    std::string out;
+    for (const py::handle item : value) out += (out.empty() ? "" : ",") + py::str(item).cast<std::string>();
+    return out;
+  }
+  return py::str(value).cast<std::string>();
+}
+
+// Runs the plan on its own thread with the GIL released, checking Python's signals every
+// 0.1 s: a KeyboardInterrupt asks the lanes to stop (as SIGINT does the CLI's), waits for the
+// outputs to be dropped, and is raised.
+cli::PipelineReport run_interruptible(const CompareRequest& o, cli::ComparePlan& p) {
+  cli::clear_interrupt();
+  auto work = std::async(std::launch::async, [&]() -> std::optional<cli::PipelineReport> {
+    cli::plan_compare(o, p);
+    return cli::run_compare(o, p);
+  });
+  for (;;) {
+    {
+      py::gil_scoped_release release;
+      if (work.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready) break;
+    }
+    if (PyErr_CheckSignals() != 0) {
+      py::error_already_set interrupt;  // KeyboardInterrupt (or whatever the handler raised)
+      cli::request_interrupt(SIGINT);
+      {
+        py::gil_scoped_release release;
+        work.wait();
+      }
+      cli::clear_interrupt();
+      try {
+        work.get();
+      } catch (const cli::RuntimeFailure&) {  // "stopped by SIGINT ...": the outputs dropped
+      }
+      throw interrupt;
+    }
+  }
+  return *work.get();
+}
+
+py::object compare(const py::object& scene, const py::dict& set, const py::object& integrators,
+                   const py::object& match, const std::string& vary, const py::object& dt,
+                   const std::optional<double>& duration, const std::string& layout, const std::string& video,
+                   const std::string& frames, const std::string& sheet, const py::object& times,
+                   const std::optional<double>& still, const std::string& output, const std::string& export_path,
+                   const std::string& summary, const std::optional<std::string>& color, const py::object& color_range,
+                   const std::string& reference, const std::optional<std::string>& overlay,
+                   const std::string& overlay_cost, const std::string& inset, const std::optional<int>& width,
+                   const std::optional<int>& height, const std::optional<double>& fps, const std::string& gl) {
+  CompareRequest o;
+  if (py::isinstance<py::str>(scene)) {  // a path
+    o.scene.path = scene.cast<std::string>();
+  } else {  // a loaded Scene: its file and its --set strings, then `set`'s
+    const Scene& loaded = scene.cast<const Scene&>();
+    o.scene.path = loaded.def.source;
+    o.scene.sets = loaded.overrides;
+  }
+  for (std::string& s : set_strings(o.scene.path, set)) o.scene.sets.push_back(std::move(s));
+  o.scene.duration = duration;
+  o.scene.width = width;
+  o.scene.height = height;
+  o.scene.fps = fps;
+  if (!integrators.is_none()) {
+    o.integrators = text_of(integrators);
+    o.integrators_given = true;
+  }
+  if (!match.is_none()) {
+    o.match = match_words(match);
+    o.match_given = true;
+  }
+  o.vary = vary;
+  o.dt = dt.is_none() ? "" : text_of(dt);
+  o.layout = layout;
+  o.video = video;
+  o.frames_dir = frames;
+  o.sheet = sheet;
+  o.times = times.is_none() ? "" : text_of(times);
+  o.still_t = still;
+  o.still_out = output;
+  o.export_path = export_path;
+  o.summary = summary;
+  o.look.color = color;
+  o.look.color_range = color_range.is_none() ? "" : text_of(color_range);
+  o.look.reference = reference;
+  o.look.overlay = overlay;
+  o.look.overlay_cost = overlay_cost;
+  o.look.inset = inset;
+  o.gl.gl = gl;
+  o.table_wanted = true;
+  cli::ComparePlan p;
+  const cli::PipelineReport report = run_interruptible(o, p);
+  if (!o.summary.empty()) cli::write_compare_summary(o, p, report);
+  py::list lanes;
+  const py::object loads = py::module_::import("json").attr("loads");
+  for (const cli::JsonObject& lane : cli::compare_lanes_json(p, report)) lanes.append(loads(lane.dump()));
+  return py::module_::import("pandas").attr("DataFrame")(lanes);
+}
+
+}  // namespace
+
+void bind_compare(py::module_& m) {
+  py::register_exception<cli::UsageError>(m, "UsageError", PyExc_ValueError);
+  py::register_exception<cli::RuntimeFailure>(m, "RuntimeFailure", PyExc_RuntimeError);
+  m.def("compare", &compare, py::arg("scene"), py::arg("set") = py::dict(), py::arg("integrators") = py::none(),
+        py::arg("match") = py::none(), py::arg("vary") = "", py::arg("dt") = py::none(),
+        py::arg("duration") = py::none(), py::arg("layout") = "auto", py::arg("video") = "", py::arg("frames") = "",
+        py::arg("sheet") = "", py::arg("times") = py::none(), py::arg("still") = py::none(), py::arg("output") = "",
+        py::arg("export") = "", py::arg("summary") = "", py::arg("color") = py::none(),
+        py::arg("color_range") = py::none(), py::arg("reference") = "", py::arg("overlay") = py::none(),
+        py::arg("overlay_cost") = "", py::arg("inset") = "none", py::arg("width") = py::none(),
+        py::arg("height") = py::none(), py::arg("fps") = py::none(), py::arg("gl") = "",
+        "compare(scene, set={}, integrators=None, match=None, vary='', dt=None, duration=None, layout='auto',\n"
+        "        video='', frames='', sheet='', times=None, still=None, output='', export='', summary='',\n"
+        "        color=None, color_range=None, reference='', overlay=None, overlay_cost='', inset='none',\n"
+        "        width=None, height=None, fps=None, gl='') -> pandas.DataFrame\n\n"
+        "`clothsim compare SCENE` (a path, or a Scene from load_scene: its file and set=) with its options as keywords (--still T -o FILE: still=T, output=FILE;\n"
+        "--match error 1e-3: match='error 1e-3'; lists may be Python lists: integrators=['rk4@1e-4',\n"
+        "'vbd@1/60:10', 'xpbd@1/60:tol=1e-4']). Writes the files asked for, as the CLI does, and returns a\n"
+        "row per lane (and the reference's) with --summary's lane keys (docs/summary.md). Nothing to write\n"
+        "is fine here: the table is the result. Runs with the GIL released; Ctrl-C raises\n"
+        "KeyboardInterrupt and leaves no partial file. Bad options raise clothsim.UsageError (a ValueError)\n"
+        "with the CLI's one-line message.");
+}
+
+}  // namespace clothsim::python
