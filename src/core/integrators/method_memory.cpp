@@ -8,10 +8,11 @@ namespace clothsim {
 namespace {
 // Each run's own arrays per particle, from peak RSS at 256², 1024² and 2048² (BENCHMARKS.md,
 // "Memory estimate"): the explicit family's state and scratch, and what each method keeps
-// beyond them (midpoint's half-step state; RK4's four stages; XPBD's constraint passes; VBD's
-// colouring and per-vertex blocks).
+// beyond them (midpoint's half-step state; RK4's four stages; XPBD's constraint passes and
+// their grid sets; VBD's colouring, per-vertex blocks and the grid sweep's colour-major copies:
+// measured 385 and 670 B a particle over the explicit family between 256² and 1024²).
 constexpr double kExplicitPerParticle = 176;
-constexpr double kMidpointExtra = 80, kRk4Extra = 128, kXpbdExtra = 256, kVbdExtra = 296;
+constexpr double kMidpointExtra = 80, kRk4Extra = 128, kXpbdExtra = 400, kVbdExtra = 700;
 // VBD's accelerated iterations (vbd.chebyshev_rho > 0) keep two more iterates: 48 B a
 // particle (measured 47.5 at 1024²).
 constexpr double kVbdAcceleratedExtra = 48;

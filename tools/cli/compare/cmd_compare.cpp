@@ -241,7 +241,7 @@ void check_memory(const CompareOptions& o, const ComparePlan& p) {
     const int width = grid.width() + p.legend_width;
     const double tile = 4.0 * grid.cell_width() * grid.cell_height(), canvas = 4.0 * width * grid.height();
     budget.add("renderer and images " + std::to_string(width) + "x" + std::to_string(grid.height()),
-               kRendererBytes + render_bytes(grid.cell_width(), grid.cell_height(), scene.render.samples) + n * tile +
+               kRendererBytes + render_bytes(grid.cell_width(), grid.cell_height(), p.look.samples) + n * tile +
                    2.0 * canvas + (o.frames_dir.empty() ? 0.0 : 3.0 * n * tile));
     if (!o.sheet.empty()) budget.add("contact sheet", 2.0 * n * static_cast<double>(p.sheet_times.size()) * tile);
     if (p.look.color != FieldKind::None && !p.look.color_range)
