@@ -85,6 +85,12 @@ while read -r n d; do
   ((n > 25)) && say "$d holds $n source files (at most 25)"
 done < <(find src render tools tests -name '*.h' -o -name '*.cpp' | xargs -n1 dirname | sort | uniq -c)
 
+# The registry's promise (issue 33): a method is its row (core/integrators/integrator.cpp) and
+# its folder, so at most 3 files outside core/integrators name a specific IntegratorKind::.
+named=$(grep -rl "IntegratorKind::" src render tools --include='*.h' --include='*.cpp' | grep -v '^src/core/integrators/' | sort)
+count=$(grep -c . <<<"$named")
+((count > 3)) && say "$count files outside src/core/integrators name a specific IntegratorKind:: (at most 3): $(tr '\n' ' ' <<<"$named")"
+
 # Kernels allowed past 80 lines, each saying why in its own comment: FamilyAssemble, the SIMD
 # Newton-block assembly (core/implicit/assembly_kernels.cpp). Add more with the variable.
 long_ok=" FamilyAssemble ${CLOTHSIM_LONG_FUNCTIONS_OK:-} "

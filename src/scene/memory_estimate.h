@@ -1,6 +1,7 @@
 // What a scene will cost in memory before any of it is allocated, so that a scene too big for
 // the machine is refused with the estimate instead of swapping or dying of bad_alloc minutes in.
-// Per-particle and per-spring coefficients from peak RSS at several sizes, rounded up so the
+// The Model's coefficients here, each method's in its registry row (core/integrators/
+// method_memory.h); all from peak RSS at several sizes, rounded up so the
 // estimate errs high: BENCHMARKS.md, "Memory estimate", has the measurements.
 #pragma once
 

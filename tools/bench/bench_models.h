@@ -2,8 +2,11 @@
 // (same 4 m square, same k = 20000 and d = 750 for all three spring types, same ball).
 #pragma once
 
+#include <stdexcept>
 #include <string>
+#include <string_view>
 
+#include "core/integrators/integrator_kind.h"
 #include "core/model.h"
 #include "scene/build_model.h"
 #include "scene/scene_parser.h"
@@ -17,5 +20,12 @@ inline SceneDef drape_scene(int n) {
 }
 
 inline Model drape_sheet(int n) { return build_model(drape_scene(n)); }
+
+// A method by its registry name, so the benchmarks name no IntegratorKind. Called inside a
+// benchmark's body, never while benchmarks register: the registry is another TU's static.
+inline IntegratorKind method(std::string_view name) {
+  if (const auto kind = parse_integrator(name)) return *kind;
+  throw std::logic_error("benchmark names no integrator: " + std::string(name));
+}
 
 }  // namespace clothsim::bench

@@ -176,7 +176,8 @@ BENCHMARK(BM_BulletSoftBody)
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 
 // Args: N, step in microseconds (or 0 for 1/60 s), and for the iterative solvers iterations.
-void clothsim_run(benchmark::State& st, IntegratorKind kind) {
+void clothsim_run(benchmark::State& st, const char* name) {
+  const IntegratorKind kind = bench::method(name);
   Model model = bench::drape_sheet(static_cast<int>(st.range(0)));
   const double dt = st.range(1) > 0 ? 1e-6 * static_cast<double>(st.range(1)) : 1.0 / 60.0;
   const int iterations = is_iterative_solver(kind) ? static_cast<int>(st.range(2)) : 0;
@@ -212,17 +213,17 @@ void clothsim_run(benchmark::State& st, IntegratorKind kind) {
 
 // Symplectic Euler at its largest stable step: clothsim stability over the first second
 // finds 2.73e-4 s (25 x 25) and 2.5e-4 s stable, 2.7e-4 s diverging (64 x 64).
-void BM_ClothsimSymplecticAtLimit(benchmark::State& st) { clothsim_run(st, IntegratorKind::SymplecticEuler); }
+void BM_ClothsimSymplecticAtLimit(benchmark::State& st) { clothsim_run(st, "symplectic_euler"); }
 BENCHMARK(BM_ClothsimSymplecticAtLimit)->Args({25, 250})->Args({64, 250})
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 
-void BM_ClothsimImplicitAt60Hz(benchmark::State& st) { clothsim_run(st, IntegratorKind::ImplicitEuler); }
+void BM_ClothsimImplicitAt60Hz(benchmark::State& st) { clothsim_run(st, "implicit_euler"); }
 BENCHMARK(BM_ClothsimImplicitAt60Hz)->Args({25, 0})->Args({64, 0})
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 
 // One step per 30 Hz frame: every step converges on both sheets (the unconverged counter),
 // and at 25 x 25 it is clothsim's cheapest method here.
-void BM_ClothsimImplicitAt30Hz(benchmark::State& st) { clothsim_run(st, IntegratorKind::ImplicitEuler); }
+void BM_ClothsimImplicitAt30Hz(benchmark::State& st) { clothsim_run(st, "implicit_euler"); }
 BENCHMARK(BM_ClothsimImplicitAt30Hz)->Args({25, 33333})->Args({64, 33333})
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 
@@ -230,15 +231,15 @@ BENCHMARK(BM_ClothsimImplicitAt30Hz)->Args({25, 33333})->Args({64, 33333})
 // xpbd@1/60:N, projective_dynamics@1/60:N, vbd@1/60:N. Contacts are held by every method's
 // post-step response, so all keep the cloth on the ball; few iterations leave it stretched
 // (the strain counter) and some diverge at 64 x 64.
-void BM_ClothsimXpbd(benchmark::State& st) { clothsim_run(st, IntegratorKind::Xpbd); }
+void BM_ClothsimXpbd(benchmark::State& st) { clothsim_run(st, "xpbd"); }
 BENCHMARK(BM_ClothsimXpbd)->Args({25, 0, 1})->Args({25, 0, 4})->Args({64, 0, 2})->Args({64, 0, 3})
     ->Args({64, 0, 4})->Unit(benchmark::kMillisecond)->Iterations(3);
 
-void BM_ClothsimProjectiveDynamics(benchmark::State& st) { clothsim_run(st, IntegratorKind::ProjectiveDynamics); }
+void BM_ClothsimProjectiveDynamics(benchmark::State& st) { clothsim_run(st, "projective_dynamics"); }
 BENCHMARK(BM_ClothsimProjectiveDynamics)->Args({25, 0, 1})->Args({64, 0, 1})->Args({64, 0, 3})
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 
-void BM_ClothsimVbd(benchmark::State& st) { clothsim_run(st, IntegratorKind::Vbd); }
+void BM_ClothsimVbd(benchmark::State& st) { clothsim_run(st, "vbd"); }
 BENCHMARK(BM_ClothsimVbd)->Args({25, 0, 1})->Args({64, 0, 1})->Args({64, 0, 3})
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 

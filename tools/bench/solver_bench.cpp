@@ -148,10 +148,10 @@ void pd_factor_counters(const Supernodes& f, benchmark::State& st) {
   st.counters["values_per_row"] = static_cast<double>(f.value.size()) / n;
 }
 
-const IntegratorKind kSolvers[] = {IntegratorKind::Xpbd, IntegratorKind::ProjectiveDynamics, IntegratorKind::Vbd};
+const char* const kSolvers[] = {"xpbd", "projective_dynamics", "vbd"};
 
 void BM_SolverIteration(benchmark::State& st) {
-  const IntegratorKind kind = kSolvers[st.range(0)];
+  const IntegratorKind kind = bench::method(kSolvers[st.range(0)]);
   const int n = static_cast<int>(st.range(1));
   Model few = bench::drape_sheet(n), many = few;
   for (Model* m : {&few, &many}) {
@@ -167,7 +167,7 @@ void BM_SolverIteration(benchmark::State& st) {
   for (auto _ : st) {
     pass = least_time(repeats * 4, [&] {
       s = start;
-      integrate(IntegratorKind::SymplecticEuler, few, s, 1e-4, ws);
+      integrate(bench::method("symplectic_euler"), few, s, 1e-4, ws);
     });
     const double t5 = least_time(repeats, [&] { s = start, integrate(kind, few, s, 1.0 / 60.0, ws); });
     const double t55 = least_time(repeats, [&] { s = start, integrate(kind, many, s, 1.0 / 60.0, ws); });
@@ -176,7 +176,7 @@ void BM_SolverIteration(benchmark::State& st) {
   st.counters["pass_us"] = 1e6 * pass;
   st.counters["iteration_us"] = 1e6 * per_iteration;
   st.counters["passes_per_iteration"] = per_iteration / pass;
-  if (kind == IntegratorKind::ProjectiveDynamics) pd_factor_counters(solver_cache(ws).pd.panels, st);
+  if (integrator_name(kind) == "projective_dynamics") pd_factor_counters(solver_cache(ws).pd.panels, st);
   st.SetLabel(std::string(integrator_name(kind)) + " " + std::to_string(n) + "x" + std::to_string(n));
 }
 // PD's global solve alone (ldlt_solve_padded, three columns) on the drape's factor at h = 1/60 s;
@@ -184,7 +184,7 @@ void BM_SolverPdSolve(benchmark::State& st) {
   const Model model = bench::drape_sheet(static_cast<int>(st.range(0)));
   State s = initial_state(model);
   Workspace ws;
-  integrate(IntegratorKind::ProjectiveDynamics, model, s, 1.0 / 60.0, ws);
+  integrate(bench::method("projective_dynamics"), model, s, 1.0 / 60.0, ws);
   const PdFactor& f = solver_cache(ws).pd;
   Eigen::Matrix4Xd b = Eigen::Matrix4Xd::Random(4, f.ldlt.rows()), z;
   b.row(3).setZero();

@@ -61,7 +61,7 @@ double default_memory_limit() {
 }
 
 double render_bytes(int width, int height, int samples) {
-  return (20.0 + 8.0 * std::min(samples, 4)) * width * height;  // llvmpipe caps MSAA at 4 here
+  return (4.0 + 11.0 * std::min(samples, 4)) * width * height;  // llvmpipe caps MSAA at 4 here
 }
 
 double held_frames_bytes(const SceneDef& scene, std::size_t lanes, double frames) {
@@ -80,7 +80,9 @@ double reference_positions_bytes(const SceneDef& scene, const std::vector<double
   return 24.0 * particles * (4.0 + copies * static_cast<double>(distinct.size()));
 }
 
-double encoder_bytes(int width, int height) { return 64.0 * (width + (width & 1)) * (height + (height & 1)); }
+double encoder_bytes(int width, int height) {
+  return 24.0 * 1024 * 1024 + 116.0 * (width + (width & 1)) * (height + (height & 1));
+}
 
 void add_max_memory_option(CLI::App* sub, std::optional<double>& limit) {
   sub->add_option_function<std::string>(

@@ -25,16 +25,22 @@ double default_memory_limit();
 
 // Process, GL and image sizes, each rounded up from peak RSS (BENCHMARKS.md, "Memory estimate").
 inline constexpr double kProcessBytes = 80.0 * 1024 * 1024;   // libraries and a tiny scene
-inline constexpr double kRendererBytes = 80.0 * 1024 * 1024;  // OSMesa / llvmpipe's own
-// The renderer's buffers per pixel of its target: 20 B plus 8 B per MSAA sample.
+// OSMesa / llvmpipe's own (its threads, shader cache, the context): a run's still at 320x180
+// peaks at 117 MiB against 79 MiB without pictures (BENCHMARKS.md, "Memory estimate").
+inline constexpr double kRendererBytes = 38.0 * 1024 * 1024;
+// The renderer's buffers per pixel of its target: 4 B plus 11 B per sample (`samples`: the
+// look's, 1 under fxaa or none). Fitted to peaks at 720p and 1080p with 1 and 4 samples.
 double render_bytes(int width, int height, int samples);
-// x264 (veryfast) and the YUV conversion per pixel of the encoded picture; x264's frame
-// threads, hence its memory, grow with the machine's cores.
+// x264 (veryfast) and the YUV conversion of the encoded picture once its lookahead and frame
+// threads are full (a clip of 2 s or more): 24 MiB plus 116 B a pixel, fitted to run --video's
+// peaks at 720p and 1080p on this 2-core machine (two runs of 1080p read 441 and 463 MiB);
+// x264's frame threads, hence its memory, grow with the machine's cores.
 double encoder_bytes(int width, int height);
 
 // Each lane thread of a frame pipeline beyond the Run itself: glibc's per-thread malloc arena
-// and the thread's stack pages.
-inline constexpr double kLaneThreadBytes = 3.0 * 1024 * 1024;
+// and the thread's stack pages, as far as they are touched (compare --summary on the drape,
+// four lane threads: 79.8 MiB peak against 79.0 for run without pictures).
+inline constexpr double kLaneThreadBytes = 0.5 * 1024 * 1024;
 
 // Lane frames held back while a colour scale is chosen from the first second's data
 // (frame_pipeline.h): `frames` targets of `lanes` lanes, each a picture's geometry (positions,

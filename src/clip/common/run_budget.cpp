@@ -25,9 +25,9 @@ MemoryBudget run_budget(const SceneDef& scene, const PictureLook& look, const Ru
                                            reference_queue_capacity(scene.cloth.nx * scene.cloth.ny, {scene.dt})));
   }
   if (pictures.rendering) {
-    // The render target, the frame and up to 3 frames queued for the PNG writer.
+    // The render target, the frame and one more for the PNG writer (peaks: BENCHMARKS.md).
     budget.add("renderer " + std::to_string(w) + "x" + std::to_string(h),
-               kRendererBytes + render_bytes(w, h, scene.render.samples) + 4.0 * w * h * 4);
+               kRendererBytes + render_bytes(w, h, look.samples) + 4.0 * w * h * 2);
     if (look.color != FieldKind::None && !look.color_range)
       budget.add("the first second, held for the colour scale",
                  held_frames_bytes(scene, 1, std::min(1.0, scene.duration) * scene.render.fps + 1.0));

@@ -191,7 +191,7 @@ void check_memory(const CompareRequest& o, const ComparePlan& p) {
     const int width = grid.width() + p.legend_width;
     const double tile = 4.0 * grid.cell_width() * grid.cell_height(), canvas = 4.0 * width * grid.height();
     budget.add("renderer and images " + std::to_string(width) + "x" + std::to_string(grid.height()),
-               kRendererBytes + render_bytes(grid.cell_width(), grid.cell_height(), scene.render.samples) + n * tile +
+               kRendererBytes + render_bytes(grid.cell_width(), grid.cell_height(), p.look.samples) + n * tile +
                    2.0 * canvas + (o.frames_dir.empty() ? 0.0 : 3.0 * n * tile));
     if (!o.sheet.empty()) budget.add("contact sheet", 2.0 * n * static_cast<double>(p.sheet_times.size()) * tile);
     if (p.look.color != FieldKind::None && !p.look.color_range)
@@ -283,7 +283,11 @@ void plan_variation(const CompareRequest& o, ComparePlan& p) {
   for (std::size_t v = 0; v < vary.size(); ++v) {
     SceneOptions with = o.scene;
     for (const std::string& set : vary.sets(v)) with.sets.push_back(set);
-    p.vary_scenes.push_back(load_scene_with_options(with));  // a bad value: the parser's message names it
+    try {  // a bad key or value: the parser's message, said of --vary as typed
+      p.vary_scenes.push_back(load_scene_with_options(with));
+    } catch (const SceneError& e) {
+      throw as_option_error(e, vary.key, "--vary " + o.vary);
+    }
   }
   p.lanes.clear();
   const std::vector<std::string> row_dirs = lane_directories(rows);
@@ -310,7 +314,8 @@ std::string grid_layout_text(const ComparePlan& p) {
 void plan_compare(const CompareRequest& o, ComparePlan& p) {
   check_option_pairs(o);
   p.scene = load_scene_with_options(o.scene);
-  const std::vector<LaneSpec> specs = parse_lanes(o.integrators, o.dt, p.scene.dt);
+  std::vector<LaneSpec> specs = parse_lanes(o.integrators, o.dt, p.scene.dt);
+  follow_scene_solver(specs, p.scene.implicit);  // --set implicit.solver=fixed_point: named as itself
   const std::vector<std::string> dirs = lane_directories(specs);
   for (std::size_t i = 0; i < specs.size(); ++i) {
     CompareLane lane;

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/integrators/method_memory.h"
 #include "core/method_params.h"
 #include "core/model.h"
 #include "core/stiffness_estimate.h"
@@ -47,6 +48,8 @@ struct IntegratorInfo {
   double (*linear_limit)(double w, double c, const ImplicitDef& implicit);
   // Why the method cannot run collision.model: barrier (docs/integrators.md), or empty.
   std::string_view barrier_refusal;
+  // Bytes of one run beyond the Model, and of the final state it keeps (method_memory.h).
+  MethodMemory (*memory)(const MemorySizes& sizes);
 };
 const std::vector<IntegratorInfo>& integrator_registry();  // in enum order
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "core/integrators/integrator.h"
 #include "core/simulation.h"
@@ -134,8 +135,11 @@ inline void expect_reaches_backward_euler_with_contact(IntegratorKind kind, int 
 
 // The drape's first push (its ball at 5 m/s along z from t = 1 to 1.3 s) at 1/60 s, the ball's
 // friction mu, `iterations` a step: the mean displacement along z of the cloth's free particles, m.
-inline double push_displacement(IntegratorKind kind, double mu, int iterations = 100) {
-  Model model = build_model(load_scene(scene_path("drape.yaml"), {"spheres.0.friction=" + std::to_string(mu)}));
+// `also`: more overrides (collision.model=barrier).
+inline double push_displacement(IntegratorKind kind, double mu, int iterations = 100,
+                                std::vector<std::string> also = {}) {
+  also.push_back("spheres.0.friction=" + std::to_string(mu));
+  Model model = build_model(load_scene(scene_path("drape.yaml"), also));
   model = with_iterations(model, kind, iterations);
   clothsim::Run run(model, kind, 1.0 / 60.0);
   run.advance_to(1.0);

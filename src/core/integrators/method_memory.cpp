@@ -1,0 +1,63 @@
+#include "method_memory.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace clothsim {
+
+namespace {
+// Each run's own arrays per particle, from peak RSS at 256², 1024² and 2048² (BENCHMARKS.md,
+// "Memory estimate"): the explicit family's state and scratch, and what each method keeps
+// beyond them (midpoint's half-step state; RK4's four stages; XPBD's constraint passes and
+// their grid sets; VBD's colouring, per-vertex blocks and the grid sweep's colour-major copies:
+// measured 385 and 670 B a particle over the explicit family between 256² and 1024²).
+constexpr double kExplicitPerParticle = 176;
+constexpr double kMidpointExtra = 80, kRk4Extra = 128, kXpbdExtra = 400, kVbdExtra = 700;
+// VBD's accelerated iterations (vbd.chebyshev_rho > 0) keep two more iterates: 48 B a
+// particle (measured 47.5 at 1024²).
+constexpr double kVbdAcceleratedExtra = 48;
+// Projective dynamics' prefactored global matrix (a scalar sparse LDLT of P x P, AMD-ordered,
+// kept for refactoring, and its supernodal panels, which the solve reads) and its solves:
+// measured 2606, 2928 and 3323 B a particle over an explicit run at 256², 512² and 1024²,
+// bounded by 175 log2 P (an empirical bound on the drape's grids, not a theory).
+constexpr double kPdPerLog2 = 175;
+constexpr double kFinalStatePerParticle = 64;  // a kept copy of x, v and inverse masses
+// implicit_euler's State also carries its warm start: three velocity changes, the last
+// linearisation's positions and inverse masses (160 B a body), its spring lengths (8 B each).
+constexpr double kImplicitFinalPerParticle = 160, kImplicitFinalPerSpring = 8;
+constexpr double kImplicitPerParticle = 560, kImplicitPerSpring = 144;
+// implicit_euler's sparse factor, when a step needs it: L's 3x3 blocks (76 B each) number
+// 27, 49, 69, 88 and 116 per particle at 25², 64², 128², 256² and 300² (AMD on the grid), so
+// 8 log2(P) per particle bounds them; never more than the solver's cap (newton_solve.cpp), and
+// none where even one block per matrix pair (a particle and its springs) passes the cap: the
+// solver then never analyses the pattern.
+constexpr double kFactorBlockBytes = 80, kMaxFactorBytes = 512.0 * 1024 * 1024;
+
+double implicit_factor_bytes(double particles, double springs) {
+  if (kFactorBlockBytes * (particles + springs) > kMaxFactorBytes) return 0.0;
+  return std::min(kFactorBlockBytes * particles * 8.0 * std::log2(std::max(particles, 2.0)), kMaxFactorBytes);
+}
+
+MethodMemory explicit_family_plus(const MemorySizes& n, double extra_per_particle) {
+  return {(kExplicitPerParticle + extra_per_particle) * n.particles, kFinalStatePerParticle * n.bodies};
+}
+}  // namespace
+
+MethodMemory explicit_family_memory(const MemorySizes& n) { return explicit_family_plus(n, 0.0); }
+MethodMemory midpoint_memory(const MemorySizes& n) { return explicit_family_plus(n, kMidpointExtra); }
+MethodMemory rk4_memory(const MemorySizes& n) { return explicit_family_plus(n, kRk4Extra); }
+MethodMemory xpbd_memory(const MemorySizes& n) { return explicit_family_plus(n, kXpbdExtra); }
+MethodMemory vbd_memory(const MemorySizes& n) {
+  const bool accelerated = n.solvers.vbd.chebyshev_rho > 0.0;
+  return explicit_family_plus(n, kVbdExtra + (accelerated ? kVbdAcceleratedExtra : 0.0));
+}
+MethodMemory projective_dynamics_memory(const MemorySizes& n) {
+  return explicit_family_plus(n, kPdPerLog2 * std::log2(std::max(n.particles, 2.0)));
+}
+MethodMemory implicit_euler_memory(const MemorySizes& n) {
+  return {(kExplicitPerParticle + kImplicitPerParticle) * n.particles + kImplicitPerSpring * n.springs +
+              implicit_factor_bytes(n.particles, n.springs),
+          kImplicitFinalPerParticle * n.bodies + kImplicitFinalPerSpring * n.springs};
+}
+
+}  // namespace clothsim
