@@ -36,7 +36,8 @@ namespace {
 MethodMemory method_memory(const SceneDef& scene, IntegratorKind kind) {
   const double particles = static_cast<double>(scene.cloth.nx) * scene.cloth.ny;
   const MemorySizes n{particles, static_cast<double>(spring_count(scene.cloth)),
-                      particles + static_cast<double>(scene.spheres.size()), scene.solvers};
+                      particles + static_cast<double>(scene.spheres.size()), scene.solvers,
+                      scene.implicit.preconditioner};
   return integrator_info(kind).memory(n);
 }
 }  // namespace

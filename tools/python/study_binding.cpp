@@ -18,7 +18,7 @@
 #include "scene/param_keys.h"
 #include "scene/scene_parser.h"
 #include "study/convergence.h"
-#include "study/csv_tables.h"
+#include "study/tables/csv_tables.h"
 #include "study/parameter_sweep.h"
 #include "study/stability.h"
 #include "study/work_precision.h"
@@ -64,7 +64,7 @@ std::vector<IntegratorKind> methods_of(const std::vector<std::string>& names) {
   return out;
 }
 
-// `table` as the CLI's --csv writes it (study/csv_tables.h: the same text), whole or not at all.
+// `table` as the CLI's --csv writes it (study/tables/csv_tables.h: the same text), whole or not at all.
 void write_csv(const std::string& path, const analysis::CsvTable& table) {
   const std::string text = table.text();
   OutputFile file(path);
@@ -72,7 +72,7 @@ void write_csv(const std::string& path, const analysis::CsvTable& table) {
   file.commit();
 }
 
-// A study's table (study/csv_tables.h, the one the CLI's --csv writes) as a DataFrame: its
+// A study's table (study/tables/csv_tables.h, the one the CLI's --csv writes) as a DataFrame: its
 // columns in order, numbers as floats, whole numbers as ints, texts as str.
 py::object data_frame(const analysis::CsvTable& table) {
   py::dict data;

@@ -11,7 +11,7 @@
 #include "clip/common/cli_common.h"
 #include "clip/common/summary_json.h"
 #include "core/integrators/integrator_kind.h"
-#include "study/csv_cells.h"
+#include "study/tables/csv_cells.h"
 
 namespace clothsim::cli {
 
@@ -25,7 +25,7 @@ inline constexpr const char* kDefaultFrameDts = "1/240,1/120,1/60,1/30";
 // --frame-dts: "none", or steps as numbers or fractions ("1/60"); a UsageError names the item.
 std::vector<double> parse_frame_dts(const std::string& text);
 
-// A CSV cell (study/csv_cells.h: the Python module's tables spell theirs the same way).
+// A CSV cell (study/tables/csv_cells.h: the Python module's tables spell theirs the same way).
 using analysis::csv_number;
 using analysis::csv_text;
 

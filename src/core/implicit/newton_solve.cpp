@@ -80,9 +80,13 @@ bool StallWatch::stalled(int iteration, double residual, const PotentialValue& a
   return iteration - mark >= window;
 }
 
+PreconditionerKind resolved_preconditioner(PreconditionerKind asked, double particles) {
+  if (asked != PreconditionerKind::Auto) return asked;
+  return particles >= kMultigridFromParticles ? PreconditionerKind::Multigrid : PreconditionerKind::Cholesky;
+}
+
 PreconditionerKind resolved_preconditioner(const Model& model) {
-  if (model.implicit.preconditioner != PreconditionerKind::Auto) return model.implicit.preconditioner;
-  return model.num_particles >= kMultigridFromParticles ? PreconditionerKind::Multigrid : PreconditionerKind::Cholesky;
+  return resolved_preconditioner(model.implicit.preconditioner, model.num_particles);
 }
 
 double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness, double h) {

@@ -168,6 +168,8 @@ class NewtonSolve {
 
 // implicit.preconditioner for this model: auto resolved by the sheet's size.
 PreconditionerKind resolved_preconditioner(const Model& model);
+// The same for `asked` on a sheet of `particles` (the memory estimate's, before a Model exists).
+PreconditionerKind resolved_preconditioner(PreconditionerKind asked, double particles);
 
 // MatrixReuse::reach for springs as short as `shortest` and as stiff as `stiffness`.
 double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness, double h);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/implicit/newton_solve.h"
+
 namespace clothsim {
 
 namespace {
@@ -54,9 +56,24 @@ MethodMemory vbd_memory(const MemorySizes& n) {
 MethodMemory projective_dynamics_memory(const MemorySizes& n) {
   return explicit_family_plus(n, kPdPerLog2 * std::log2(std::max(n.particles, 2.0)));
 }
+// What the Newton step's preconditioner keeps: the sparse factor when `cholesky` may build
+// one; the V-cycle's levels (the Galerkin operators' 3x3 blocks, the smoother's and the
+// transfers' vectors): peak RSS less the rest of this estimate is 1890, 2110 (2270 at 1/60 s)
+// and 2200 B a particle at 128², 256² and 1024², counted as 2400 (the totals then 1.02-1.06x
+// the peaks); block Jacobi's inverse blocks are in the base.
+constexpr double kMultigridPerParticle = 2400;
+
+double preconditioner_bytes(const MemorySizes& n) {
+  switch (resolved_preconditioner(n.preconditioner, n.particles)) {
+    case PreconditionerKind::Multigrid: return kMultigridPerParticle * n.particles;
+    case PreconditionerKind::BlockJacobi: return 0.0;
+    default: return implicit_factor_bytes(n.particles, n.springs);
+  }
+}
+
 MethodMemory implicit_euler_memory(const MemorySizes& n) {
   return {(kExplicitPerParticle + kImplicitPerParticle) * n.particles + kImplicitPerSpring * n.springs +
-              implicit_factor_bytes(n.particles, n.springs),
+              preconditioner_bytes(n),
           kImplicitFinalPerParticle * n.bodies + kImplicitFinalPerSpring * n.springs};
 }
 

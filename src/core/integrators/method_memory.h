@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/method_params.h"
+#include "core/model_params.h"
 
 namespace clothsim {
 
@@ -14,6 +15,7 @@ struct MemorySizes {
   double springs = 0.0;
   double bodies = 0.0;  // particles and sphere bodies
   SolverDefs solvers;   // the iterative solvers' options (VBD's acceleration keeps more)
+  PreconditionerKind preconditioner = PreconditionerKind::Auto;  // implicit.preconditioner
 };
 
 struct MethodMemory {

@@ -29,14 +29,16 @@ TEST(RunBudget, PicturesAddTheRendererAtTheirSizeAndAVideoItsEncoder) {
   EXPECT_DOUBLE_EQ(video - still, encoder_bytes(4000, 4000));
 }
 
-TEST(RunBudget, ErrorColouringAddsItsReferenceLaneAndTheHeldFirstSecond) {
+TEST(RunBudget, ErrorColouringAddsItsReferenceLaneItsCheckAndTheHeldFirstSecond) {
   const SceneDef scene = drape();
   PictureLook look;
   look.color = FieldKind::Error;
   look.reference = LaneSpec{IntegratorKind::Rk4, scene.dt / 4, "", false};
   const double plain = run_budget(scene, PictureLook{}, {true, 320, 180, false}).total();
   const double coloured = run_budget(scene, look, {true, 320, 180, false}).total();
-  EXPECT_DOUBLE_EQ(coloured - plain, run_bytes(scene, IntegratorKind::Rk4) + kLaneThreadBytes +
+  // The reference and its check (a run at twice its step, or the adaptive pair's second solve
+  // on its own thread: reference_stand.h), and the first second held for the colour scale.
+  EXPECT_DOUBLE_EQ(coloured - plain, 2.0 * (run_bytes(scene, IntegratorKind::Rk4) + kLaneThreadBytes) +
                                          held_frames_bytes(scene, 1, std::min(1.0, scene.duration) * scene.render.fps + 1.0));
 }
 
@@ -53,14 +55,16 @@ constexpr MeasuredPeak kMeasured[] = {
     {256, IntegratorKind::ProjectiveDynamics, 268.0, 268.1},   {256, IntegratorKind::Vbd, 148.7, 152.2},
     {512, IntegratorKind::ProjectiveDynamics, 930.1, 942.1},
     {1024, IntegratorKind::ExplicitEuler, 568.8, 625.3},       {1024, IntegratorKind::Midpoint, 641.0, 696.9},
-    {1024, IntegratorKind::Rk4, 689.0, 745.3},                 {1024, IntegratorKind::ImplicitEuler, 1940.0, 2116.4},
+    {1024, IntegratorKind::Rk4, 689.0, 745.3},                 {1024, IntegratorKind::ImplicitEuler, 4217.3, 4400.9},
     {1024, IntegratorKind::Xpbd, 953.3, 1009.2},                {1024, IntegratorKind::ProjectiveDynamics, 3892.2, 0.0},
     {1024, IntegratorKind::Vbd, 1239.6, 1295.5},                 {2048, IntegratorKind::ExplicitEuler, 2054.0, 2278.2},
     {2048, IntegratorKind::Midpoint, 2342.1, 2566.2},          {2048, IntegratorKind::Rk4, 2534.0, 2758.1},
     {2048, IntegratorKind::Xpbd, 3573.7, 0.0},              {2048, IntegratorKind::Vbd, 4724.3, 0.0},
-    {2048, IntegratorKind::ImplicitEuler, 7506.3, 8242.4},
 };  // PD with its supernodal panels: not re-measured at 2048² (half an hour a run); XPBD and
-   // VBD re-measured after their grid sweeps (issue 35), at 2048² without --state only
+   // VBD re-measured after their grid sweeps (issue 35), at 2048² without --state only;
+   // implicit_euler at 1024² with the V-cycle `auto` takes from 256² (issue 37; 1940 MiB with
+   // block Jacobi before it), not re-measured at 2048² (about 12 GiB more than block Jacobi's
+   // 7.5 GiB, over half this machine's memory)
 
 TEST(RunBudget, EveryIntegratorsEstimateIsWithinTenPercentAboveItsMeasuredPeak) {
   for (const MeasuredPeak& m : kMeasured) {

@@ -42,7 +42,7 @@
 #include "study/task_pool.h"
 #include "study/work_precision.h"
 #include "study/work_precision_shard.h"
-#include "study/csv_tables.h"
+#include "study/tables/csv_tables.h"
 #include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
@@ -88,7 +88,7 @@ double default_duration(double scene_duration, const std::vector<double>& dts) {
 // Lane spellings (LaneSpec::stepless_spelling), by point.lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
 
-// The CSV (study/csv_tables.h: the Python module's bench() has the same columns).
+// The CSV (study/tables/csv_tables.h: the Python module's bench() has the same columns).
 void write_csv_header(std::FILE* f) { std::fputs(analysis::work_precision_table({}, {}).header().c_str(), f); }
 
 void write_csv_rows(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {

@@ -21,7 +21,7 @@
 #include "scene/build_model.h"
 #include "scene/echo.h"
 #include "study/convergence.h"
-#include "study/csv_tables.h"
+#include "study/tables/csv_tables.h"
 
 namespace clothsim::cli {
 namespace {
@@ -59,7 +59,7 @@ ConvergenceSpec plan(const ConvergeOptions& o) {
   return spec;
 }
 
-// The CSV (study/csv_tables.h: the Python module's converge() has the same columns).
+// The CSV (study/tables/csv_tables.h: the Python module's converge() has the same columns).
 void write_csv(std::FILE* f, const std::string& scene, const std::vector<ConvergencePoint>& points) {
   std::fputs(analysis::convergence_table(points, scene).text().c_str(), f);
 }

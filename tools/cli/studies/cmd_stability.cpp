@@ -46,7 +46,7 @@
 #include "scene/param_keys.h"
 #include "study/parameter_sweep.h"
 #include "study/stability.h"
-#include "study/csv_tables.h"
+#include "study/tables/csv_tables.h"
 #include "study/task_pool.h"
 #include "core/integrators/integrator_kind.h"
 
@@ -86,7 +86,7 @@ struct Case {
 // Lane spellings (LaneSpec::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
 
-// The CSV (study/csv_tables.h: the Python module's stability() has the same columns).
+// The CSV (study/tables/csv_tables.h: the Python module's stability() has the same columns).
 void write_csv(std::FILE* f, const std::string& param, const std::vector<StabilityLimit>& limits,
                const analysis::StabilitySpec& spec, const LaneNames& names) {
   std::fputs(analysis::stability_table(limits, spec, param, names).text().c_str(), f);

@@ -1,8 +1,8 @@
-#include "csv_tables.h"
+#include "study/tables/csv_tables.h"
 
 #include <cmath>
 
-#include "csv_cells.h"
+#include "study/tables/csv_cells.h"
 #include "core/integrators/integrator_kind.h"
 
 namespace clothsim::analysis {

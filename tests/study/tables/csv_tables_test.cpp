@@ -1,6 +1,6 @@
 // The studies' CSV tables (study/csv_tables.h), which the CLI's --csv and the Python module's
 // DataFrames both read: the columns in order, and each cell spelled as the CSV has it.
-#include "study/csv_tables.h"
+#include "study/tables/csv_tables.h"
 
 #include <gtest/gtest.h>
 

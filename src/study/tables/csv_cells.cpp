@@ -1,4 +1,4 @@
-#include "csv_cells.h"
+#include "study/tables/csv_cells.h"
 
 #include <algorithm>
 #include <cmath>
