@@ -96,7 +96,7 @@ figure "work precision" "$OUT/wp_cloth.png" "$CLOTHSIM" bench scenes/drape_smoot
 # 8. The course's fixed point against backward Euler: where each breaks, and the cloth.
 figure "fixed point stability" "$OUT/stability_fp.png" "$CLOTHSIM" stability scenes/drape.yaml $STUDY \
   --integrators explicit_euler,implicit_euler_fixed_point,implicit_euler --csv "$OUT/stability_fp.csv" --plot "$OUT/stability_fp.png" --quiet
-figure "fixed point clip" "$OUT/fixed_point.png" "$CLOTHSIM" compare scenes/drape.yaml $SCENE --still $FP_STILL \
+figure "fixed point clip" "$OUT/fixed_point.png" "$CLOTHSIM" compare scenes/drape_smooth.yaml $SCENE --still $FP_STILL \
   -o "$OUT/fixed_point.png" ${SIZE:---width 960 --height 540} \
   --integrators implicit_euler_fixed_point@1e-4,implicit_euler@1e-4,implicit_euler_fixed_point@2e-4,implicit_euler@2e-4 --quiet
 echo "figures in $OUT"
