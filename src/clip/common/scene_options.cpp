@@ -86,7 +86,7 @@ SceneDef load_scene_with_options(const SceneOptions& o) {
     scene.dt = *o.dt;
   }
   if (o.integrator && *o.integrator == kFixedPointName) {  // the course's "implicit", by its own name
-    scene.integrator = IntegratorKind::ImplicitEuler;
+    scene.integrator = kBackwardEuler;  // (the fixed point is its solver option)
     scene.implicit.solver = ImplicitSolver::FixedPoint;
   } else if (o.integrator) {
     scene.integrator = parse_integrator_option(*o.integrator, "--integrator");
