@@ -68,7 +68,11 @@ Start make_start(const Model& model, const ConvergenceSpec& spec, int index, Sta
 
 ConvergencePoint measured(const Model& model, const Start& s, IntegratorKind method, int iterations,
                           const State& end) {
-  ConvergencePoint p{method, s.index, s.state.t, iterations};
+  ConvergencePoint p;
+  p.method = method;
+  p.state = s.index;
+  p.t = s.state.t;
+  p.iterations = iterations;
   const int P = model.num_particles;
   const Eigen::VectorXd d = (end.x.leftCols(P) - s.reference.x.leftCols(P)).colwise().norm();
   p.rms = std::sqrt(d.squaredNorm() / P);

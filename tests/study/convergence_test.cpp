@@ -62,7 +62,10 @@ std::vector<ConvergencePoint> step_per_count(const Model& model, const Convergen
     step(m, s, kind, spec.h, ws);
     const int P = model.num_particles;
     const Eigen::VectorXd d = (s.x.leftCols(P) - reference.x.leftCols(P)).colwise().norm();
-    ConvergencePoint p{kind, 0, start.t, n};
+    ConvergencePoint p;
+    p.method = kind;
+    p.t = start.t;
+    p.iterations = n;
     p.rms = std::sqrt(d.squaredNorm() / P);
     p.max = d.maxCoeff();
     Eigen::Matrix3Xd gradient;

@@ -207,7 +207,7 @@ TEST(ClashingPaths, AnOutputThatIsTheSceneUnderAnySpellingIsRefusedAndTheSceneKe
   fs::create_directories(f.dir + "/sub");
   for (const std::string& spelling : {f.dir + "/s.yaml", f.dir + "/./s.yaml", f.dir + "/sub/../s.yaml",
                                       f.dir + "/link.yaml", f.dir + "/hard.yaml"})
-    for (const std::string& option : {"--metrics", "--state", "--summary"}) {
+    for (const char* option : {"--metrics", "--state", "--summary"}) {
       const CliResult r = run_clothsim({"run", f.dir + "/s.yaml", "--duration", "0.1", option, spelling});
       EXPECT_EQ(r.exit_code, 2) << option << " " << spelling;
       EXPECT_EQ(line_count(r.err), 1) << r.err;

@@ -68,8 +68,10 @@ TEST(IntegratorRegistry, IterationCountPointsAtTheFieldItsMethodReads) {
   for (const IntegratorInfo& info : integrator_registry()) {
     int* n = iteration_count(m, info.kind);
     EXPECT_EQ(n == nullptr, info.iterations == IterationControl::None) << info.name;
-    if (n) *n = 7;
-    if (n) EXPECT_EQ(iteration_count(static_cast<const Model&>(m), info.kind), 7) << info.name;
+    if (n) {
+      *n = 7;
+      EXPECT_EQ(iteration_count(static_cast<const Model&>(m), info.kind), 7) << info.name;
+    }
   }
   EXPECT_EQ(m.implicit.newton_max_iterations, 7);
   EXPECT_EQ(m.solvers.xpbd.iterations, 7);
@@ -92,9 +94,11 @@ TEST(IntegratorRegistry, PredictedLimitsAreEachRowsStabilityRegion) {
   ImplicitDef fixed_point;
   fixed_point.solver = ImplicitSolver::FixedPoint;
   EXPECT_NEAR(analysis::predicted_limit(e, IntegratorKind::ImplicitEuler, fixed_point), 0.1, 1e-6);  // w h <= 1
-  for (const IntegratorInfo& info : integrator_registry())
-    if (info.iterations == IterationControl::Solver)
+  for (const IntegratorInfo& info : integrator_registry()) {
+    if (info.iterations == IterationControl::Solver) {
       EXPECT_TRUE(std::isinf(analysis::predicted_limit(e, info.kind))) << info.name;
+    }
+  }
 }
 
 // Rows with solver iterations weigh them; the course's four are the comparison's slots.

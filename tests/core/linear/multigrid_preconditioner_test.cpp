@@ -153,8 +153,11 @@ TEST(MultigridPreconditioner, LeavesPinnedBodiesAndHeldNormalsUntouched) {
   Eigen::Matrix3Xd r = right_side(s), z;
   filter.apply(r);
   mg.apply(r, z);
-  for (int i = 0; i < s.model.num_bodies(); ++i)
-    if (s.state.inv_mass[i] == 0.0) EXPECT_EQ(z.col(i), Vec3::Zero()) << "pinned " << i;
+  for (int i = 0; i < s.model.num_bodies(); ++i) {
+    if (s.state.inv_mass[i] == 0.0) {
+      EXPECT_EQ(z.col(i), Vec3::Zero()) << "pinned " << i;
+    }
+  }
   for (std::size_t c = 0; c < filter.size(); ++c) EXPECT_NEAR(filter.normal[c].dot(z.col(filter.body[c])), 0.0, 1e-15);
   EXPECT_GT(z.norm(), 0.0);
 }
