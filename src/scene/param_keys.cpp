@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "echo.h"
+
 namespace clothsim {
 
 namespace {
@@ -68,10 +70,10 @@ std::vector<std::string> param_paths(const std::string& key, const std::vector<s
   const std::string prefix(kSpringGlob);
   const std::string field = path.substr(std::min(prefix.size(), path.size()));
   if (path.compare(0, prefix.size(), prefix) != 0 || field.empty() || field.find_first_of("*.") != std::string::npos)
-    throw ParamKeyError("'" + key + "': a * stands for a spring type only, as in cloth.springs.*.stiffness");
+    throw ParamKeyError(in_quotes(key) + ": a * stands for a spring type only, as in cloth.springs.*.stiffness");
   std::vector<std::string> paths;
   for (const std::string& type : types) paths.push_back("cloth.springs." + type + "." + field);
-  if (paths.empty()) throw ParamKeyError("'" + key + "' matches nothing: " + source + " declares no springs");
+  if (paths.empty()) throw ParamKeyError(in_quotes(key) + " matches nothing: " + source + " declares no springs");
   return paths;
 }
 
