@@ -71,14 +71,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// --vary draws no error colouring (each value is its own scene, with no one reference): strain
-// unless --color says otherwise.
+// --vary colours by strain unless --color says otherwise: each value is its own scene, so
+// --color error runs a reference per value (variant_references), the cost of one more lane each.
 PictureOptions look_options(const CompareRequest& o) {
   PictureOptions look = o.look;
   if (!o.vary.empty() && !look.color) look.color = "strain";
-  if (!o.vary.empty() && look.color == "error")
-    throw UsageError("--color error: --vary runs a scene per value, with no one reference to measure against; "
-                     "use --color strain, speed or checker");
   return look;
 }
 
@@ -108,7 +105,8 @@ void check_option_pairs(const CompareRequest& o) {
 // The pictures' look; a summary alone draws none.
 PictureLook resolve_look(const CompareRequest& o, const ComparePlan& p) {
   PictureLook look = resolve_picture_look(look_options(o), p.scene, p.specs(), /*compare=*/true);
-  if (!o.vary.empty()) look.reference.reset();  // a scene per value: the inset shows E - E(0)
+  // A scene per value: the inset shows E - E(0); the error, each value's own reference.
+  if (!o.vary.empty() && look.color != FieldKind::Error) look.reference.reset();
   if (p.rendering) return look;
   // The field is measured only when --color asks for it (the default reference, RK4 at a
   // quarter step, costs several times the lanes); its scale is then not chosen.
@@ -153,7 +151,8 @@ void fit_grid(ComparePlan& p) {
 
 // Whether the error's reference may start before the steps are chosen (start_reference_early).
 bool starts_reference_early(const CompareRequest& o, const PictureLook& look) {
-  return parse_match(o.match).kind != MatchKind::Error && look.color == FieldKind::Error && look.reference;
+  return o.vary.empty() && parse_match(o.match).kind != MatchKind::Error && look.color == FieldKind::Error &&
+         look.reference;
 }
 
 // Peak memory, estimated and checked before the renderer or the encoder exist: one Model (and
@@ -170,14 +169,18 @@ void check_memory(const CompareRequest& o, const ComparePlan& p) {
     const LaneSpec& l = lane.spec;
     budget.add(l.spelling(), run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
   }
-  if (p.look.reference && p.look.color == FieldKind::Error) {
-    budget.add("reference " + p.look.reference->name(), run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
+  // The error's reference, or under --vary one per value (each its value's model and run).
+  const std::size_t references = p.vary_scenes.empty() ? 1 : p.vary_scenes.size();
+  for (std::size_t k = 0; p.look.reference && p.look.color == FieldKind::Error && k < references; ++k) {
+    const std::string which = references > 1 ? " for " + p.lanes[k].value : "";
+    budget.add("reference " + p.look.reference->name() + which,
+               run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
     // Its check (reference_stand.h, study/reference.h): a run at twice its step, or the looser
     // adaptive solve on a thread of its own.
-    budget.add("reference check", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
+    budget.add("reference check" + which, run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
     std::vector<double> steps;
     for (const CompareLane& l : p.lanes) steps.push_back(l.spec.dt);
-    budget.add("reference positions at the lanes' times",
+    budget.add("reference positions at the lanes' times" + which,
                reference_positions_bytes(scene, steps, *p.targets, reference_queue_capacity(particles, steps)));
   }
   if (p.look.reference && p.look.inset_energy && p.look.color != FieldKind::Error)  // else the error's run
@@ -303,6 +306,22 @@ void plan_variation(const CompareRequest& o, ComparePlan& p) {
     }
 }
 
+// --vary --color error: per value, the reference fitted to its own model (a smooth value gets
+// the adaptive solve, a value with projected contacts RK4 within its own stable step) over its
+// own lanes' steps.
+void fit_variant_references(ComparePlan& p) {
+  if (p.vary_models.empty() || p.look.color != FieldKind::Error || !p.look.reference) return;
+  const std::size_t values = p.vary_models.size();
+  for (std::size_t v = 0; v < values; ++v) {
+    std::vector<LaneSpec> specs;
+    for (std::size_t i = v; i < p.lanes.size(); i += values) specs.push_back(p.lanes[i].spec);
+    PictureLook look = p.look;
+    fit_reference_to_model(look, p.vary_models[v], p.vary_scenes[v], specs);
+    check_step_bounds(p.vary_scenes[v], specs, look.reference);
+    p.variant_references.push_back({&p.vary_models[v], *look.reference, look.reference_tolerance, p.lanes[v].value});
+  }
+}
+
 // A --vary grid: a column per value, a row per integrator.
 std::string grid_layout_text(const ComparePlan& p) {
   const std::size_t columns = p.vary_scenes.size();
@@ -361,6 +380,7 @@ void plan_compare(const CompareRequest& o, ComparePlan& p) {
     check_sheet_fits(p.grid->cell_width(), p.grid->cell_height(), sheet_rows(p.specs(), p.labels()),
                      static_cast<int>(p.sheet_times.size()), p.grid->width(), p.grid->height());
   fit_reference_to_model(p.look, *p.model, p.scene, p.specs());
+  fit_variant_references(p);
   keep_early_reference(p);
 }
 
@@ -374,7 +394,8 @@ PipelineConfig pipeline_config(const ComparePlan& p) {
   config.lane_models = p.models();
   config.command = "compare";
   apply_look(p.look, config);
-  if (p.look.inset_energy) config.energy_reference = p.look.reference;  // E - E_ref (none under --vary)
+  if (p.look.inset_energy && p.vary_models.empty()) config.energy_reference = p.look.reference;  // E - E_ref
+  config.variant_references = p.variant_references;
   config.started_reference = p.early_reference;
   config.scene_render = p.scene.render;
   if (p.look.camera_auto)
@@ -448,7 +469,13 @@ void write_compare_summary(const CompareRequest& o, const ComparePlan& p, const 
   extra.text("match", o.match.front() + (o.match.size() > 1 ? " " + o.match[1] : ""));
   if (report.color_range && p.rendering)  // (a summary alone draws nothing: no scale)
     extra.number("color_range_lo", report.color_range->lo).number("color_range_hi", report.color_range->hi);
-  if (color == FieldKind::Error && report.reference) extra.object("reference", summary_reference(report));
+  if (color == FieldKind::Error && report.references.size() == 1 && report.references[0].label.empty())
+    extra.object("reference", summary_reference(report.references[0]));
+  if (color == FieldKind::Error && !p.vary_models.empty()) {  // a reference per --vary value
+    std::vector<JsonObject> references;
+    for (const ReferenceReport& ref : report.references) references.push_back(summary_reference(ref));
+    extra.array("references", references);
+  }
   write_summary(o.summary, "compare", p.scene.source, compare_lanes_json(p, report), extra);
 }
 

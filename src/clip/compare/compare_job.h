@@ -81,6 +81,9 @@ struct ComparePlan {
   std::vector<SceneDef> vary_scenes;
   std::deque<Model> vary_models;
   std::optional<LaneSpec> error_reference;  // --match error: the reference the steps were matched against
+  // --vary with --color error: per value, the reference its lanes are measured against
+  // (PipelineConfig::variant_references), each fitted to its value's model.
+  std::vector<VariantReference> variant_references;
   // The error colouring's reference, started before the steps are matched (it reads model and
   // targets, so the plan never moves, and is declared last: stopped first).
   std::shared_ptr<LaneWorker> early_reference;

@@ -42,46 +42,57 @@ std::string measured_note(const PipelineReport& report, std::size_t i, FieldKind
                     report.lanes[i].field_first_t, report.lanes[i].field_last_t);
     measured = text;
   }
-  const bool reference_diverged = color == FieldKind::Error && report.reference && report.reference->divergence;
+  const LaneResult* reference = lane_reference(report, i);
+  const bool reference_diverged = color == FieldKind::Error && reference && reference->divergence;
   char why[80] = "";
   if (r.divergence)
     std::snprintf(why, sizeof why, "; it diverged at t = %.6g s", r.divergence->t);
   else if (reference_diverged)
-    std::snprintf(why, sizeof why, "; the reference diverged at t = %.6g s", report.reference->divergence->t);
+    std::snprintf(why, sizeof why, "; the reference diverged at t = %.6g s", reference->divergence->t);
   return measured + why + ")";
 }
 
+// What a reference row is called: "(reference)", or under --vary "(reference, VALUE)".
+std::string reference_role(const ReferenceReport& ref) {
+  return ref.label.empty() ? "(reference)" : "(reference, " + ref.label + ")";
+}
+
 // The reference's row: its method, and for the adaptive one its tolerance in the step's column.
-void print_reference_row(const LaneResult& r) {
-  if (!(r.adaptive_tolerance > 0.0)) return print_row(r, r.spec.name() + " (reference)", "");
+void print_reference_row(const ReferenceReport& ref) {
+  const LaneResult& r = ref.result;
+  if (!(r.adaptive_tolerance > 0.0)) return print_row(r, r.spec.name() + " " + reference_role(ref), "");
   const double t = simulated(r);
   char tolerance[32];
   std::snprintf(tolerance, sizeof tolerance, "tol %.0e", r.adaptive_tolerance / analysis::kCompareTightening);
-  std::printf("%-30s %10s %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", "dopri5 adaptive (reference)",
+  std::printf("%-30s %10s %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", ("dopri5 adaptive " + reference_role(ref)).c_str(),
               tolerance, r.totals.steps, r.totals.force_evals, t > 0 ? spring_passes(r.totals) / t : 0.0,
               r.totals.cpu_seconds, t > 0 ? 1e3 * r.totals.cpu_seconds / t : 0.0, lane_result(r, "").c_str());
 }
 
-// The reference's line under the error numbers: what it is, its estimated error, and how far
-// below the smallest lane error that lies.
-void print_reference_error(const PipelineReport& report) {
-  const LaneResult& ref = *report.reference;
+// A reference's line under the error numbers: what it is, its estimated error, and how far
+// below the smallest error of the lanes it measures that lies.
+void print_reference_error(const PipelineReport& report, std::size_t k) {
+  const LaneResult& ref = report.references[k].result;
+  const std::string& label = report.references[k].label;
+  const std::string head = label.empty() ? "reference" : "reference for " + label;
   const bool adaptive = ref.adaptive_tolerance > 0.0;
   if (std::isnan(ref.estimated_error)) {
-    std::printf("reference: %s @ %s s, fixed step; its own error is not estimated: %s (docs/integrators.md)\n",
+    std::printf("%s: %s @ %s s, fixed step; its own error is not estimated: %s (docs/integrators.md)\n", head.c_str(),
                 ref.spec.name().c_str(), ref.spec.step_text.c_str(),
                 ref.check_dt > 0.0 ? "the check at twice its step did not finish" : "no check ran");
     return;
   }
   double smallest = NAN;
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
-    if (report.lanes[i].field_count > 0 && report.lanes[i].field_max > 0.0 && !(smallest <= report.lanes[i].field_max))
+    if (report.lanes[i].reference == static_cast<int>(k) && report.lanes[i].field_count > 0 &&
+        report.lanes[i].field_max > 0.0 && !(smallest <= report.lanes[i].field_max))
       smallest = report.lanes[i].field_max;  // (a lane measured only at t = 0, where all agree, has none)
+  std::printf("%s: ", head.c_str());
   if (adaptive)
-    std::printf("reference: dopri5 adaptive at tolerance %.0e, checked by a solve at %.0e",
+    std::printf("dopri5 adaptive at tolerance %.0e, checked by a solve at %.0e",
                 ref.adaptive_tolerance / analysis::kCompareTightening, ref.adaptive_tolerance);
   else
-    std::printf("reference: %s @ %s s, checked by a run at twice its step (%.3g s)", ref.spec.name().c_str(),
+    std::printf("%s @ %s s, checked by a run at twice its step (%.3g s)", ref.spec.name().c_str(),
                 ref.spec.step_text.c_str(), ref.check_dt);
   std::printf(": estimated error %.3g m, the largest over the measured frames", ref.estimated_error);
   if (!std::isnan(smallest) && ref.estimated_error > 0.0)
@@ -95,11 +106,12 @@ void print_reference_error(const PipelineReport& report) {
 void print_fields(const PipelineReport& report, FieldKind color, const std::vector<std::string>& names) {
   for (std::size_t i = 0; i < report.lanes.size(); ++i) {
     const LaneResult& r = report.lanes[i].result;
+    const LaneResult* reference = lane_reference(report, i);
     std::string values;
     if (report.lanes[i].field_count > 0 && lane_unresolved(report, i, color)) {
       char text[160];
       std::snprintf(text, sizeof text, " unresolved: under %g x the reference's estimated error (%.3g m)",
-                    kUnresolvedFactor, report.reference->estimated_error);
+                    kUnresolvedFactor, reference->estimated_error);
       values = text;
     } else if (report.lanes[i].field_count > 0) {
       char text[160];
@@ -107,11 +119,10 @@ void print_fields(const PipelineReport& report, FieldKind color, const std::vect
                     field_unit(color).c_str(), report.lanes[i].field_last, field_unit(color).c_str());
       values = text;
     }
-    const std::string against = color != FieldKind::Error || !report.reference ? ":"
-                                : report.reference->adaptive_tolerance > 0.0
+    const std::string against = color != FieldKind::Error || !reference ? ":"
+                                : reference->adaptive_tolerance > 0.0
                                     ? " against the adaptive reference:"
-                                    : " against " + report.reference->spec.name() + " @ " +
-                                          report.reference->spec.step_text + " s:";
+                                    : " against " + reference->spec.name() + " @ " + reference->spec.step_text + " s:";
     std::printf("%s @ %s s: %s%s%s%s\n", names[i].c_str(), r.spec.step_text.c_str(),
                 std::string(field_kind_name(color)).c_str(), against.c_str(), values.c_str(),
                 measured_note(report, i, color).c_str());
@@ -188,9 +199,10 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
               "cpu_s", "cpu_ms_per_s", "result");
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
     print_row(report.lanes[i].result, context.names[i], report.lanes[i].wrong);
-  if (report.reference) print_reference_row(*report.reference);
+  for (const ReferenceReport& ref : report.references) print_reference_row(ref);
   if (color != FieldKind::None) print_fields(report, color, context.names);
-  if (color == FieldKind::Error && report.reference) print_reference_error(report);
+  if (color == FieldKind::Error)
+    for (std::size_t k = 0; k < report.references.size(); ++k) print_reference_error(report, k);
   print_solver_work(report, context.names);
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
     std::printf("step of %s: %s s, %s\n", context.names[i].c_str(), report.lanes[i].result.spec.step_text.c_str(),
@@ -210,14 +222,18 @@ std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& 
     if (color == FieldKind::Error) lane.boolean("unresolved", lane_unresolved(report, i, color));
     lanes.push_back(lane);
   }
-  if (report.reference) lanes.push_back(lane_summary(model, *report.reference, "reference"));
+  for (const ReferenceReport& ref : report.references) {
+    JsonObject lane = lane_summary(model, ref.result, "reference");
+    if (!ref.label.empty()) lane.text("name", "reference, " + ref.label);
+    lanes.push_back(lane);
+  }
   return lanes;
 }
 
 void print_breakdown(const TileGrid& grid, int legend_width, const PipelineReport& report, double wall) {
   double sim_cpu = 0.0;
   for (const LaneReport& r : report.lanes) sim_cpu += r.result.totals.cpu_seconds;
-  if (report.reference) sim_cpu += report.reference->totals.cpu_seconds;
+  for (const ReferenceReport& ref : report.references) sim_cpu += ref.result.totals.cpu_seconds;
   std::string outputs;
   for (const auto& [what, seconds] : report.output_seconds) {
     char buf[64];
@@ -228,18 +244,20 @@ void print_breakdown(const TileGrid& grid, int legend_width, const PipelineRepor
                "compare: %ld time%s, %dx%d (%zu tiles of %dx%d), in %.1f s wall: simulate %.1f s cpu "
                "on %zu threads (the renderer waited %.1f s), render %.1f s%s\n",
                report.targets, report.targets == 1 ? "" : "s", grid.width() + legend_width, grid.height(), report.lanes.size(),
-               grid.cell_width(), grid.cell_height(), wall, sim_cpu, report.lanes.size() + (report.reference ? 1 : 0),
+               grid.cell_width(), grid.cell_height(), wall, sim_cpu, report.lanes.size() + report.references.size(),
                report.wait_seconds, report.render_seconds, outputs.c_str());
 }
 
 bool lane_unresolved(const PipelineReport& report, std::size_t i, FieldKind color) {
-  return color == FieldKind::Error && report.reference && report.lanes[i].field_count > 0 &&
-         report.lanes[i].field_max < kUnresolvedFactor * report.reference->estimated_error;
+  const LaneResult* reference = lane_reference(report, i);
+  return color == FieldKind::Error && reference && report.lanes[i].field_count > 0 &&
+         report.lanes[i].field_max < kUnresolvedFactor * reference->estimated_error;
 }
 
-JsonObject summary_reference(const PipelineReport& report) {
-  const LaneResult& ref = *report.reference;
+JsonObject summary_reference(const ReferenceReport& report) {
+  const LaneResult& ref = report.result;
   JsonObject json;
+  if (!report.label.empty()) json.text("for", report.label);
   const bool adaptive = ref.adaptive_tolerance > 0.0;
   json.text("method", adaptive ? "dopri5 (adaptive)" : ref.spec.name())
       .number("dt", adaptive ? NAN : ref.spec.dt)

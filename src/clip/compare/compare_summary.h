@@ -37,9 +37,10 @@ void print_breakdown(const TileGrid& grid, int legend_width, const PipelineRepor
 inline constexpr double kUnresolvedFactor = 10.0;
 bool lane_unresolved(const PipelineReport& report, std::size_t lane, FieldKind color);
 
-// --summary's "reference": its method, step or tolerance, and estimated_error_m (the largest
-// over the measured frames; null where not estimated).
-JsonObject summary_reference(const PipelineReport& report);
+// --summary's "reference" (or under --vary one of "references", with "for": the value): its
+// method, step or tolerance, and estimated_error_m (the largest over the measured frames; null
+// where not estimated).
+JsonObject summary_reference(const ReferenceReport& reference);
 
 // --summary's lanes: the pipeline's report as JSON objects (docs/summary.md), the reference last.
 std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& report, FieldKind color,

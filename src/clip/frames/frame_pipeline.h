@@ -38,6 +38,14 @@ struct ColorRange {
   double lo = 0.0, hi = 0.0;  // field units, 0 < lo < hi (a logarithmic scale)
 };
 
+// One reference of compare --vary --color error (PipelineConfig::variant_references).
+struct VariantReference {
+  const Model* model = nullptr;  // one of PipelineConfig::lane_models: the lanes it measures
+  LaneSpec spec;
+  double tolerance = 0.0;        // > 0: the adaptive solve at this tolerance (as reference_tolerance)
+  std::string label;             // the value, as the lanes' names give it ("collision.model = barrier")
+};
+
 struct PipelineConfig {
   bool rendering = false;          // pictures are made (some output shows them)
   int width = 0, height = 0;       // of each lane's picture (a tile)
@@ -69,6 +77,10 @@ struct PipelineConfig {
   // Per lane, the model it runs when it is not the pipeline's (compare --vary); empty: the
   // pipeline's model for every lane (a fixed-point lane's copy made from it).
   std::vector<const Model*> lane_models;
+  // compare --vary --color error: a reference per value, in place of `reference`. Each runs on
+  // its value's model and measures only the lanes of that model: a value is its own scene, so
+  // its lanes are measured against its own reference, never another value's.
+  std::vector<VariantReference> variant_references;
 };
 
 // One lane at one target, as outputs see it.
@@ -119,16 +131,29 @@ struct LaneReport {
   // energy above E(0), J (with PipelineConfig::judge).
   std::string wrong;
   double energy_rise = 0.0;
+  int reference = -1;  // the index in PipelineReport::references of its reference (-1: none)
+};
+
+
+// A reference lane's run (the error colouring's), and which value it stands for under --vary.
+struct ReferenceReport {
+  LaneResult result;
+  std::string label;  // VariantReference::label; "" for the one reference of a comparison
 };
 
 struct PipelineReport {
   std::vector<LaneReport> lanes;
-  std::optional<LaneResult> reference;
+  // The error colouring's references: none, the one every lane is measured against, or one per
+  // --vary value (LaneReport::reference says whose a lane is).
+  std::vector<ReferenceReport> references;
   std::optional<ColorRange> color_range;  // the scale used
   double wait_seconds = 0.0, render_seconds = 0.0;  // this thread: waiting on lanes, rendering
   std::vector<std::pair<std::string, double>> output_seconds;  // per output
   long targets = 0;  // processed
 };
+
+// The reference lane `lane` is measured against; null when none.
+const LaneResult* lane_reference(const PipelineReport& report, std::size_t lane);
 
 class FramePipeline {
  public:

@@ -21,6 +21,8 @@ LaneWorker::LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targ
       reference_(!needs_.stand_for.empty() || needs_.stand_for_later),
       capacity_(std::max<std::size_t>(1, queue_capacity)) {
   if (!needs_.stand_for.empty()) set_lane_steps(needs_.stand_for);
+  for (std::size_t i = 0; i < needs_.serves.size(); ++i)
+    if (!needs_.serves[i]) drop_lane(i);  // before the thread: its first target asks nothing of them
   result_.spec = spec_;
   thread_ = std::thread([this] { work(); });
 }

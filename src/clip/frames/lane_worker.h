@@ -52,6 +52,9 @@ struct LaneNeeds {
   // so each lane is measured at its own time; only those (no picture, metrics or x), and with
   // energy_every its own energy samples, as a lane's (one run serves the error and the inset).
   std::vector<double> stand_for;
+  // With stand_for: the lanes it serves, per lane (empty: all). compare --vary runs a reference
+  // per value; each serves its value's lanes, the others dropped from the start (drop_lane).
+  std::vector<bool> serves;
   // The reference started before the lanes' steps are chosen (compare's pilots): they come
   // later (LaneWorker::stand_for); until then it runs ahead from t = 0, keeping a state a little
   // before each target (at most reference_ahead_states) to replay the lanes' times from

@@ -157,11 +157,10 @@ TEST(CmdCompareMatch, VaryMakesLanesByValueLabelledByTheAliasAndAGridWithIntegra
   EXPECT_TRUE(fs::exists(dir + "/f/rk4_ks=2e5/frame_00006.png"));
 }
 
-TEST(CmdCompareMatch, VaryRefusesABadKeyOrErrorColouringInOneLine) {
+TEST(CmdCompareMatch, VaryRefusesABadKeyOrErrorMatchingInOneLine) {
   const std::string dir = scratch_dir("compare_vary_bad");
   for (const std::vector<std::string>& bad :
        {std::vector<std::string>{"--vary", "spheres.*.radius=1,2"}, std::vector<std::string>{"--vary", "ks"},
-        std::vector<std::string>{"--vary", "ks=1,2", "--color", "error"},
         std::vector<std::string>{"--vary", "ks=1,2", "--match", "error", "0.01"}}) {
     std::vector<std::string> args = bad;
     args.insert(args.end(), {"--video", dir + "/v.mp4"});

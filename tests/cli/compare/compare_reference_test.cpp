@@ -85,4 +85,45 @@ TEST(CompareReference, ASceneWithProjectedContactsKeepsTheFixedStepRk4Reference)
   EXPECT_LT(estimate, 1e-3) << "well under the lane's error at 1e-4 s" << reference;
 }
 
+// The largest error `json`'s lane object around `key` states.
+double field_max_at(const std::string& json, const std::string& key) {
+  const std::string lane = object_at(json, key);
+  const std::size_t at = lane.find("\"field_max\":");
+  return at == std::string::npos ? -1.0 : std::stod(lane.substr(at + 12));
+}
+
+TEST(CompareReference, VaryMeasuresEachValueAgainstItsOwnScenesReference) {
+  // --vary collision.model=projection,barrier: each value is its own scene, so each gets the
+  // reference a comparison of that scene alone would (fixed-step RK4 under projection, the
+  // adaptive solve on the barrier), and its lanes' errors are the same numbers to the bit.
+  const std::string dir = ct::scratch_dir("compare_reference_vary");
+  const std::vector<std::string> small{"--set", "cloth.particles=[9,9]", "--duration", "0.2", "--integrators",
+                                       "symplectic_euler@1e-4", "--color", "error"};
+  std::vector<std::string> vary{"compare", kSmooth, "--vary", "collision.model=projection,barrier", "--summary",
+                                dir + "/vary.json"};
+  vary.insert(vary.end(), small.begin(), small.end());
+  const auto r = ct::run_clothsim(vary);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("rk4 (reference, collision.model = projection)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("dopri5 adaptive (reference, collision.model = barrier)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("reference for collision.model = barrier: dopri5 adaptive at tolerance 1e-07"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("reference for collision.model = projection: rk4 @ 2.5e-05 s, checked by a run at twice"),
+            std::string::npos)
+      << r.out;
+  const std::string json = ct::slurp(dir + "/vary.json");
+  EXPECT_NE(json.find("\"references\": ["), std::string::npos) << json;
+  EXPECT_NE(json.find("\"for\": \"collision.model = barrier\""), std::string::npos) << json;
+  for (const std::string model : {"projection", "barrier"}) {
+    std::vector<std::string> alone{"compare", kSmooth, "--set", "collision.model=" + model, "--summary",
+                                   dir + "/" + model + ".json"};
+    alone.insert(alone.end(), small.begin(), small.end());
+    const auto a = ct::run_clothsim(alone);
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    const double by_itself = field_max_at(ct::slurp(dir + "/" + model + ".json"), "\"lane\": \"symplectic_euler@1e-4\"");
+    ASSERT_GT(by_itself, 0.0);
+    EXPECT_EQ(field_max_at(json, "\"name\": \"symplectic_euler, collision.model = " + model + "\""), by_itself) << model;
+  }
+}
+
 }  // namespace

@@ -62,15 +62,16 @@ using Clock = std::chrono::steady_clock;
 void report_compare(const CompareRequest& o, const ComparePlan& p, const PipelineReport& report,
                     Clock::time_point wall_start) {
   print_summary(*p.model, report, p.look.color, p.summary_context());
-  if (report.reference && report.reference->divergence) {
-    // The error colouring measures nothing after it: say so where a user looks, with the fix.
-    std::fflush(stdout);
-    std::fprintf(stderr,
-                 "clothsim: warning: the reference lane %s @ %s s diverged at t = %.6g s: the error colouring stops "
-                 "there; give --reference NAME@STEP with a smaller step or a stabler method\n",
-                 report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
-                 report.reference->divergence->t);
-  }
+  for (const ReferenceReport& ref : report.references)
+    if (ref.result.divergence) {
+      // The error colouring measures nothing after it: say so where a user looks, with the fix.
+      std::fflush(stdout);
+      std::fprintf(stderr,
+                   "clothsim: warning: the reference lane %s @ %s s%s diverged at t = %.6g s: the error colouring "
+                   "stops there; give --reference NAME@STEP with a smaller step or a stabler method\n",
+                   ref.result.spec.name().c_str(), ref.result.spec.step_text.c_str(),
+                   ref.label.empty() ? "" : (" (" + ref.label + ")").c_str(), ref.result.divergence->t);
+    }
   if (!o.summary.empty()) write_compare_summary(o, p, report);
   if (!quiet())
     print_breakdown(*p.grid, p.legend_width, report, std::chrono::duration<double>(Clock::now() - wall_start).count());

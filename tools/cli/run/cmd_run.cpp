@@ -114,17 +114,18 @@ void print_run_totals(const Model& model, IntegratorKind kind, double dt, const 
                 " steps not converged (largest relative residual %.3g; measured with a tolerance only)\n",
                 std::string(integrator_name(kind)).c_str(), t.newton_iterations, t.factorizations,
                 t.unconverged_steps, t.max_residual);
-  if (report.reference && report.reference->adaptive_tolerance > 0.0)  // a smooth scene's (study/reference.h)
+  const LaneResult* reference = lane_reference(report, 0);
+  if (reference && reference->adaptive_tolerance > 0.0)  // a smooth scene's (study/reference.h)
     std::printf("reference for --color error: dopri5 adaptive at tolerance %.0e, %" PRId64 " force evaluations, %.3f s "
                 "of CPU; its estimated error %.3g m\n",
-                report.reference->adaptive_tolerance / analysis::kCompareTightening, report.reference->totals.force_evals,
-                report.reference->totals.cpu_seconds, report.reference->estimated_error);
-  else if (report.reference)
+                reference->adaptive_tolerance / analysis::kCompareTightening, reference->totals.force_evals,
+                reference->totals.cpu_seconds, reference->estimated_error);
+  else if (reference)
     std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU; its "
                 "estimated error %.3g m (a run at twice its step)\n",
-                report.reference->spec.name().c_str(), report.reference->spec.step_text.c_str(),
-                report.reference->totals.force_evals, report.reference->totals.cpu_seconds,
-                report.reference->estimated_error);
+                reference->spec.name().c_str(), reference->spec.step_text.c_str(),
+                reference->totals.force_evals, reference->totals.cpu_seconds,
+                reference->estimated_error);
 }
 
 void write_run_summary(const RunOptions& o, const SceneDef& scene, const Model& model, const LaneResult& r,
@@ -134,9 +135,8 @@ void write_run_summary(const RunOptions& o, const SceneDef& scene, const Model& 
                                     .number("t_reached", r.t)
                                     .number("max_residual", r.totals.max_residual)};
   if (r.totals.wrong) lanes.front().number("wrong_at", r.totals.wrong->t).text("wrong", r.totals.wrong->reason);
-  if (report.reference)
-    lanes.push_back(lane_json(model.name, report.reference->spec.kind, report.reference->spec.dt,
-                              report.reference->totals, std::nullopt)
+  if (const LaneResult* reference = lane_reference(report, 0))
+    lanes.push_back(lane_json(model.name, reference->spec.kind, reference->spec.dt, reference->totals, std::nullopt)
                         .text("role", "reference"));
   write_summary(o.summary, "run", scene.source, lanes);
 }
