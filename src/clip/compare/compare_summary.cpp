@@ -1,5 +1,6 @@
 #include "compare_summary.h"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -15,9 +16,16 @@ namespace {
 // Cost per simulated second over the time actually simulated (up to divergence).
 double simulated(const LaneResult& r) { return r.divergence ? r.divergence->t : r.t; }
 
-void print_row(const LaneResult& r, const std::string& name, const std::string& wrong) {
+// The name column's width: 30, or the longest name (--vary's "rk4, collision.model = barrier").
+int name_width(const std::vector<std::string>& names) {
+  std::size_t width = 30;
+  for (const std::string& n : names) width = std::max(width, n.size());
+  return static_cast<int>(width);
+}
+
+void print_row(const LaneResult& r, const std::string& name, const std::string& wrong, int width) {
   const double t = simulated(r);
-  std::printf("%-30s %10.3g %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", name.c_str(), r.spec.dt,
+  std::printf("%-*s %10.3g %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", width, name.c_str(), r.spec.dt,
               r.totals.steps, r.totals.force_evals, t > 0 ? spring_passes(r.totals) / t : 0.0, r.totals.cpu_seconds,
               t > 0 ? 1e3 * r.totals.cpu_seconds / t : 0.0, lane_result(r, wrong).c_str());
 }
@@ -58,13 +66,18 @@ std::string reference_role(const ReferenceReport& ref) {
 }
 
 // The reference's row: its method, and for the adaptive one its tolerance in the step's column.
-void print_reference_row(const ReferenceReport& ref) {
+std::string reference_row_name(const ReferenceReport& ref) {
+  return (ref.result.adaptive_tolerance > 0.0 ? std::string("dopri5 adaptive") : ref.result.spec.name()) + " " +
+         reference_role(ref);
+}
+
+void print_reference_row(const ReferenceReport& ref, int width) {
   const LaneResult& r = ref.result;
-  if (!(r.adaptive_tolerance > 0.0)) return print_row(r, r.spec.name() + " " + reference_role(ref), "");
+  if (!(r.adaptive_tolerance > 0.0)) return print_row(r, reference_row_name(ref), "", width);
   const double t = simulated(r);
   char tolerance[32];
   std::snprintf(tolerance, sizeof tolerance, "tol %.0e", r.adaptive_tolerance / analysis::kCompareTightening);
-  std::printf("%-30s %10s %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", ("dopri5 adaptive " + reference_role(ref)).c_str(),
+  std::printf("%-*s %10s %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", width, reference_row_name(ref).c_str(),
               tolerance, r.totals.steps, r.totals.force_evals, t > 0 ? spring_passes(r.totals) / t : 0.0,
               r.totals.cpu_seconds, t > 0 ? 1e3 * r.totals.cpu_seconds / t : 0.0, lane_result(r, "").c_str());
 }
@@ -195,11 +208,14 @@ std::string lane_result(const LaneResult& r, const std::string& wrong) {
 
 void print_summary(const Model& model, const PipelineReport& report, FieldKind color, const SummaryContext& context) {
   std::printf("%s: %zu lanes\n", model.name.c_str(), report.lanes.size());
-  std::printf("%-30s %10s %10s %13s %12s %9s %14s  %s\n", "lane", "dt_s", "steps", "force_evals", "passes_per_s",
+  std::vector<std::string> names = context.names;
+  for (const ReferenceReport& ref : report.references) names.push_back(reference_row_name(ref));
+  const int width = name_width(names);
+  std::printf("%-*s %10s %10s %13s %12s %9s %14s  %s\n", width, "lane", "dt_s", "steps", "force_evals", "passes_per_s",
               "cpu_s", "cpu_ms_per_s", "result");
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
-    print_row(report.lanes[i].result, context.names[i], report.lanes[i].wrong);
-  for (const ReferenceReport& ref : report.references) print_reference_row(ref);
+    print_row(report.lanes[i].result, context.names[i], report.lanes[i].wrong, width);
+  for (const ReferenceReport& ref : report.references) print_reference_row(ref, width);
   if (color != FieldKind::None) print_fields(report, color, context.names);
   if (color == FieldKind::Error)
     for (std::size_t k = 0; k < report.references.size(); ++k) print_reference_error(report, k);
