@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "clip/studies/bench_plan.h"
 #include "clip/studies/study_common.h"
 #include "clip/studies/study_shard.h"
 #include "clip/common/cli_common.h"
@@ -49,44 +50,6 @@ namespace clothsim::cli {
 namespace {
 
 using analysis::WorkPrecisionPoint;
-using analysis::WorkPrecisionResult;
-using analysis::WorkPrecisionSpec;
-
-struct BenchOptions {
-  SceneOptions scene;
-  std::string integrators = default_comparison_list();  // the course's four, by name
-  std::optional<std::string> dts;  // not given: derived from the scene's dt
-  std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
-  std::string csv, plot, summary;
-  std::string shard;  // --shard K/N|auto (study_shard.h)
-  std::string vary;   // --vary KEY=V1,V2,...: the study once per value
-  std::string scale;  // --scale N1,N2,...: cost against sheet size (study/scale_study.h)
-  int jobs = 0;
-  int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
-  double reference_tolerance = WorkPrecisionSpec{}.reference_tolerance;
-};
-
-constexpr double kDefaultStepFactors[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
-constexpr double kMaxDefaultDuration = 0.5;    // s
-constexpr double kMaxDefaultSmallSteps = 8000;  // T <= this x the smallest step
-
-// T when --duration is not given: short enough for the reference, a multiple of every step.
-double default_duration(double scene_duration, const std::vector<double>& dts) {
-  const double smallest = *std::min_element(dts.begin(), dts.end());
-  const double largest = *std::max_element(dts.begin(), dts.end());
-  const double cap = std::min({scene_duration, kMaxDefaultDuration, kMaxDefaultSmallSteps * smallest});
-  const double whole = std::floor(cap / largest + 1e-9);
-  if (whole < 1.0) {
-    char msg[200];
-    std::snprintf(msg, sizeof msg, "--dts: the largest step %g s is longer than the default duration %g s; "
-                  "give --duration", largest, cap);
-    throw UsageError(msg);
-  }
-  return whole * largest;
-}
-
-// Lane spellings (LaneSpec::stepless_spelling), by point.lane: the CSV's and summary's names.
-using LaneNames = std::vector<std::string>;
 
 // The CSV (study/tables/csv_tables.h: the Python module's bench() has the same columns).
 void write_csv_header(std::FILE* f) { std::fputs(analysis::work_precision_table({}, {}).header().c_str(), f); }
@@ -237,98 +200,6 @@ int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSp
                  run_lane_json(model.name, p, names).dump());
   });
   return shard.finish();
-}
-
-// The study to run: steps (--dts or the scene's x kDefaultStepFactors), T, the frame steps.
-WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<LaneSpec>& lanes) {
-  std::vector<double> dts;
-  if (!o.dts) {
-    for (double f : kDefaultStepFactors) dts.push_back(f * scene.dt);
-  } else {
-    dts = parse_number_list(*o.dts, "--dts");
-    for (double dt : dts)
-      if (!(dt > 0.0)) throw UsageError("--dts: " + csv_number(dt) + " is not a positive step (s)");
-  }
-  double T = 0.0;
-  if (o.scene.duration) {
-    T = *o.scene.duration;
-    if (!(T > 0.0) || !std::isfinite(T)) throw UsageError("--duration: must be a finite number > 0 s");
-  } else {
-    T = default_duration(scene.duration, dts);
-  }
-  if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
-  if (o.reference_refinement < 1) throw UsageError("--reference-refinement: must be >= 1");
-
-  WorkPrecisionSpec spec;
-  for (const LaneSpec& l : lanes) {
-    spec.integrators.push_back(l.kind);
-    spec.lane_names.push_back(l.stepless_spelling());
-  }
-  spec.dts = dts;
-  // One step per video frame for implicit Euler, where it divides T (the default T of a short
-  // study may not be a multiple of 1/30 s: those steps are left out, and said so).
-  for (double dt : parse_frame_dts(o.frame_dts)) {
-    const double n = T / dt;
-    if (std::abs(n - std::round(n)) <= 1e-9 * n && std::round(n) >= 1) spec.frame_dts.push_back(dt);
-    else std::fprintf(stderr, "bench: frame step %g s does not divide T = %g s; left out\n", dt, T);
-  }
-  spec.duration = T;
-  spec.jobs = o.jobs;
-  spec.reference_refinement = o.reference_refinement;
-  if (!(o.reference_tolerance > 0.0) || !(o.reference_tolerance < 1e-3))
-    throw UsageError("--reference-tolerance: must be a number in (0, 1e-3)");
-  spec.reference_tolerance = o.reference_tolerance;
-  try {
-    return analysis::checked(spec);
-  } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("--dts: ") + e.what());
-  }
-}
-
-// One Model, and a run on each of the pool's threads at once (the dearest integrator's).
-void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds) {
-  MemoryBudget budget;
-  budget.add("model", model_bytes(scene));
-  double dearest = 0.0;
-  for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(scene, k));
-  const int threads = analysis::resolve_jobs(o.jobs);
-  budget.add(std::to_string(threads) + " runs at once", threads * dearest);
-  budget.check(scene.source, o.scene.max_memory);
-}
-
-// --vary KEY=V1,V2,...: the study once per value, each on its own scene (the user's --set, then
-// the key's) against its own reference, its lanes labelled "rk4 (ks = 2e4)" in the table, the
-// CSV's integrator column and the plot's legend. Spelt as compare spells it: in both the values
-// make lanes, where stability's --param KEY makes the axis of its plot.
-struct ValueStudy {
-  std::string label;  // "ks = 2e4"
-  SceneDef scene;
-  LaneNames names;    // per lane
-  WorkPrecisionSpec spec;
-  WorkPrecisionResult result;
-};
-
-std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes) {
-  if (!o.summary.empty() || !o.shard.empty())
-    throw UsageError("--vary: --summary and --shard take one scene's study; give --csv (and --plot) with --vary");
-  const Variation v = parse_vary(o.vary, base);
-  std::vector<ValueStudy> studies;
-  for (std::size_t value = 0; value < v.size(); ++value) {  // every scene read (a bad value named) before any run
-    ValueStudy s;
-    s.label = v.label(value);
-    std::vector<std::string> sets = o.scene.sets;
-    for (const std::string& set : v.sets(value)) sets.push_back(set);
-    try {  // a bad key or value: the parser's message, said of --vary as typed
-      s.scene = load_scene(o.scene.path, sets);
-    } catch (const SceneError& e) {
-      throw as_option_error(e, v.key, "--vary " + o.vary);
-    }
-    for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
-    s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
-    s.spec.lane_names = s.names;
-    studies.push_back(std::move(s));
-  }
-  return studies;
 }
 
 // One value's study, run and its table printed; returns the runs it planned.

@@ -32,6 +32,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "clip/studies/stability_plan.h"
 #include "clip/studies/study_common.h"
 #include "clip/studies/study_shard.h"
 #include "clip/common/cli_common.h"
@@ -55,33 +56,6 @@ namespace {
 
 using analysis::StabilityLimit;
 using analysis::StabilityOutcome;
-
-struct StabilityOptions {
-  SceneOptions scene;
-  std::string integrators = default_comparison_list();  // the course's four, by name
-  std::string param = "cloth.springs.structural.stiffness";
-  std::optional<std::string> values;  // not given: the scene's value x kDefaultValueFactors
-  std::optional<double> min_dt, max_dt;
-  double precision = analysis::StabilitySpec{}.precision;
-  double energy_factor = analysis::StabilitySpec{}.energy_factor;
-  double max_strain = analysis::StabilitySpec{}.max_strain;
-  std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
-  std::string csv, plot, summary;
-  std::string shard;  // --shard K/N|auto (study_shard.h)
-  int jobs = 0;
-};
-
-constexpr double kDefaultValueFactors[] = {1.0, 10.0, 100.0, 1000.0, 10000.0};
-constexpr double kDefaultDuration = 0.2;    // s
-constexpr double kMaxDtOverSceneDt = 1000;  // the largest step tried, in scene steps,
-constexpr double kMinStepsAtMaxDt = 50;     // and in steps per run
-constexpr double kMinDtDivisor = 32;        // the smallest step tried: estimate / this
-
-struct Case {
-  double value;
-  Model model;
-  std::vector<std::optional<Model>> lane_models;  // per lane, its own solver settings (cli::lane_model)
-};
 
 // Lane spellings (LaneSpec::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
@@ -182,68 +156,6 @@ int stability_shard(const StabilityOptions& o, const std::string& title, const s
   return shard.finish();
 }
 
-// The swept scenes: --values, or the scene's value of --param times kDefaultValueFactors.
-std::vector<analysis::SweepScene> sweep_cases(const StabilityOptions& o, const SceneDef& base,
-                                              std::vector<double>& values) {
-  ParamKey key;  // a path, a glob or an alias (ks, kd): scene/param_keys.h
-  try {
-    key = resolve_param_key(o.param, base);
-  } catch (const ParamKeyError& e) {
-    throw UsageError("--param " + std::string(e.what()));
-  }
-  if (!o.values) {
-    const std::optional<double> current = analysis::parameter_value(o.scene.path, o.scene.sets, key.paths.front());
-    if (!current)
-      throw UsageError("--values: " + base.source + " gives " + o.param +
-                       " no number to scale the default values from; list the values");
-    for (double f : kDefaultValueFactors) values.push_back(f * *current);
-  } else {
-    values = parse_number_list(*o.values, "--values");
-  }
-  try {
-    return analysis::sweep_scenes(o.scene.path, o.scene.sets, key.paths, values);
-  } catch (const analysis::StudyError& e) {
-    throw UsageError("--param " + std::string(e.what()));
-  } catch (const SceneError& e) {  // said of --param as typed, not of the --set it became
-    throw as_option_error(e, key, "--param " + o.param);
-  }
-}
-
-// Every case's Model (they are all built up front), and a run on each thread at once.
-void check_stability_memory(const StabilityOptions& o, const SceneDef& base, const std::vector<analysis::SweepScene>& scenes,
-                            const std::vector<IntegratorKind>& kinds) {
-  MemoryBudget budget;
-  double models = 0.0, dearest = 0.0;
-  for (const analysis::SweepScene& s : scenes) {
-    models += model_bytes(s.scene);
-    for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(s.scene, k));
-  }
-  budget.add(std::to_string(scenes.size()) + " models", models);
-  const int threads = analysis::resolve_jobs(o.jobs);
-  budget.add(std::to_string(threads) + " runs at once", threads * dearest);
-  budget.check(base.source, o.scene.max_memory);
-}
-
-// The search's bounds and rules: --min-dt/--max-dt (or from the scene and the stiffest case), the rest as given.
-void finish_stability_spec(const StabilityOptions& o, const SceneDef& base, double smallest_estimate,
-                           analysis::StabilitySpec& spec) {
-  spec.max_dt = o.max_dt ? *o.max_dt : std::min(spec.duration / kMinStepsAtMaxDt, kMaxDtOverSceneDt * base.dt);
-  spec.min_dt = o.min_dt ? *o.min_dt : std::min(base.dt, smallest_estimate) / kMinDtDivisor;
-  spec.precision = o.precision;
-  spec.energy_factor = o.energy_factor;
-  spec.max_strain = o.max_strain;
-  spec.jobs = o.jobs;
-  spec.frame_dts = parse_frame_dts(o.frame_dts);
-  if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
-  if (o.min_dt && !(*o.min_dt > 0.0)) throw UsageError("--min-dt: must be > 0 s");
-  if (o.max_dt && !(*o.max_dt > 0.0)) throw UsageError("--max-dt: must be > 0 s");
-  try {
-    analysis::check(spec);
-  } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("stability: ") + e.what() + " (--min-dt, --max-dt, --duration, --precision, --energy-factor, --max-strain)");
-  }
-}
-
 // The limits found, one row per value and integrator.
 // Rows labelled as compare labels its lanes (LaneSpec::name).
 void print_limits(const std::vector<StabilityLimit>& limits, const analysis::StabilitySpec& spec,
@@ -265,14 +177,6 @@ void print_limits(const std::vector<StabilityLimit>& limits, const analysis::Sta
     if (!l.frame_steps.empty())
       std::printf("%14s %-28s one step per frame: %s\n", "", "", frame_steps_text(l).c_str());
   }
-}
-
-// The study's lanes, as the scene runs them (a fixed-point scene's implicit_euler named so).
-std::vector<LaneSpec> stability_lanes(const StabilityOptions& o, const SceneDef& base) {
-  std::vector<LaneSpec> lanes = parse_study_lanes(
-      o.integrators, "stability searches the step, so a lane takes no @STEP (its :N stays fixed while the step is searched); drop it");
-  follow_scene_solver(lanes, base.implicit);
-  return lanes;
 }
 
 int stability_command(const StabilityOptions& o) {

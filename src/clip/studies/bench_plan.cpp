@@ -1,0 +1,110 @@
+#include "bench_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "clip/common/cli_common.h"
+#include "clip/common/memory_budget.h"
+#include "clip/compare/compare_plan.h"
+#include "scene/memory_estimate.h"
+#include "scene/scene_parser.h"
+#include "study/task_pool.h"
+
+namespace clothsim::cli {
+
+double default_duration(double scene_duration, const std::vector<double>& dts) {
+  const double smallest = *std::min_element(dts.begin(), dts.end());
+  const double largest = *std::max_element(dts.begin(), dts.end());
+  const double cap = std::min({scene_duration, kMaxDefaultDuration, kMaxDefaultSmallSteps * smallest});
+  const double whole = std::floor(cap / largest + 1e-9);
+  if (whole < 1.0) {
+    char msg[200];
+    std::snprintf(msg, sizeof msg, "--dts: the largest step %g s is longer than the default duration %g s; "
+                  "give --duration", largest, cap);
+    throw UsageError(msg);
+  }
+  return whole * largest;
+}
+
+// The study to run: steps (--dts or the scene's x kDefaultStepFactors), T, the frame steps.
+WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<LaneSpec>& lanes) {
+  std::vector<double> dts;
+  if (!o.dts) {
+    for (double f : kDefaultStepFactors) dts.push_back(f * scene.dt);
+  } else {
+    dts = parse_number_list(*o.dts, "--dts");
+    for (double dt : dts)
+      if (!(dt > 0.0)) throw UsageError("--dts: " + csv_number(dt) + " is not a positive step (s)");
+  }
+  double T = 0.0;
+  if (o.scene.duration) {
+    T = *o.scene.duration;
+    if (!(T > 0.0) || !std::isfinite(T)) throw UsageError("--duration: must be a finite number > 0 s");
+  } else {
+    T = default_duration(scene.duration, dts);
+  }
+  if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
+  if (o.reference_refinement < 1) throw UsageError("--reference-refinement: must be >= 1");
+
+  WorkPrecisionSpec spec;
+  for (const LaneSpec& l : lanes) {
+    spec.integrators.push_back(l.kind);
+    spec.lane_names.push_back(l.stepless_spelling());
+  }
+  spec.dts = dts;
+  // One step per video frame for implicit Euler, where it divides T (the default T of a short
+  // study may not be a multiple of 1/30 s: those steps are left out, and said so).
+  for (double dt : parse_frame_dts(o.frame_dts)) {
+    const double n = T / dt;
+    if (std::abs(n - std::round(n)) <= 1e-9 * n && std::round(n) >= 1) spec.frame_dts.push_back(dt);
+    else std::fprintf(stderr, "bench: frame step %g s does not divide T = %g s; left out\n", dt, T);
+  }
+  spec.duration = T;
+  spec.jobs = o.jobs;
+  spec.reference_refinement = o.reference_refinement;
+  if (!(o.reference_tolerance > 0.0) || !(o.reference_tolerance < 1e-3))
+    throw UsageError("--reference-tolerance: must be a number in (0, 1e-3)");
+  spec.reference_tolerance = o.reference_tolerance;
+  try {
+    return analysis::checked(spec);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError(std::string("--dts: ") + e.what());
+  }
+}
+
+// One Model, and a run on each of the pool's threads at once (the dearest integrator's).
+void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds) {
+  MemoryBudget budget;
+  budget.add("model", model_bytes(scene));
+  double dearest = 0.0;
+  for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(scene, k));
+  const int threads = analysis::resolve_jobs(o.jobs);
+  budget.add(std::to_string(threads) + " runs at once", threads * dearest);
+  budget.check(scene.source, o.scene.max_memory);
+}
+
+std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes) {
+  if (!o.summary.empty() || !o.shard.empty())
+    throw UsageError("--vary: --summary and --shard take one scene's study; give --csv (and --plot) with --vary");
+  const Variation v = parse_vary(o.vary, base);
+  std::vector<ValueStudy> studies;
+  for (std::size_t value = 0; value < v.size(); ++value) {  // every scene read (a bad value named) before any run
+    ValueStudy s;
+    s.label = v.label(value);
+    std::vector<std::string> sets = o.scene.sets;
+    for (const std::string& set : v.sets(value)) sets.push_back(set);
+    try {  // a bad key or value: the parser's message, said of --vary as typed
+      s.scene = load_scene(o.scene.path, sets);
+    } catch (const SceneError& e) {
+      throw as_option_error(e, v.key, "--vary " + o.vary);
+    }
+    for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
+    s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
+    s.spec.lane_names = s.names;
+    studies.push_back(std::move(s));
+  }
+  return studies;
+}
+
+}  // namespace clothsim::cli
