@@ -7,11 +7,20 @@
 #include "clip/common/cli_common.h"
 #include "clip/common/memory_budget.h"
 #include "clip/compare/compare_plan.h"
+#include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 #include "scene/scene_parser.h"
+#include "study/scale_study.h"
 #include "study/task_pool.h"
 
 namespace clothsim::cli {
+
+std::vector<LaneSpec> bench_lanes(const BenchOptions& o, const SceneDef& scene) {
+  std::vector<LaneSpec> lanes =
+      parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
+  follow_scene_solver(lanes, scene.implicit);  // --set implicit.solver=fixed_point: named as itself
+  return lanes;
+}
 
 double default_duration(double scene_duration, const std::vector<double>& dts) {
   const double smallest = *std::min_element(dts.begin(), dts.end());
@@ -27,7 +36,6 @@ double default_duration(double scene_duration, const std::vector<double>& dts) {
   return whole * largest;
 }
 
-// The study to run: steps (--dts or the scene's x kDefaultStepFactors), T, the frame steps.
 WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<LaneSpec>& lanes) {
   std::vector<double> dts;
   if (!o.dts) {
@@ -73,7 +81,6 @@ WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const
   }
 }
 
-// One Model, and a run on each of the pool's threads at once (the dearest integrator's).
 void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds) {
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
@@ -105,6 +112,54 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
     studies.push_back(std::move(s));
   }
   return studies;
+}
+
+Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes,
+                        const WorkPrecisionSpec& spec) {
+  scene.duration = std::max(scene.duration, spec.duration);
+  std::vector<IntegratorKind> kinds;
+  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
+  check_bench_memory(o, scene, kinds);
+  return build_model(scene);
+}
+
+void attach_lane_models(const Model& model, const std::vector<LaneSpec>& lanes,
+                        std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec) {
+  storage.assign(lanes.size(), std::nullopt);
+  spec.lane_models.clear();
+  for (std::size_t i = 0; i < lanes.size(); ++i) spec.lane_models.push_back(&cli::lane_model(model, lanes[i], storage[i]));
+}
+
+ScalePlan plan_scale(const BenchOptions& o) {
+  if (!o.summary.empty() || !o.shard.empty() || !o.vary.empty() || o.dts)
+    throw UsageError("--scale: give lanes as NAME@STEP; --dts, --vary, --summary and --shard do not apply");
+  ScalePlan plan;
+  for (double n : parse_number_list(o.scale, "--scale")) {
+    if (n != std::floor(n)) throw UsageError("--scale: " + csv_number(n) + " is not a whole number of particles");
+    plan.sides.push_back(static_cast<int>(n));
+  }
+  analysis::ScaleSpec& spec = plan.spec;
+  try {
+    spec.sizes = analysis::scale_scenes(o.scene.path, o.scene.sets, plan.sides);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError(std::string("--scale: ") + e.what());
+  }
+  const SceneDef& first = spec.sizes.front().scene;
+  auto lanes = std::make_shared<const std::vector<LaneSpec>>(parse_lanes(o.integrators, "", first.dt));
+  for (const LaneSpec& l : *lanes) spec.lanes.push_back({l.spelling(), l.kind, l.dt});
+  spec.lane_model = [lanes](const Model& base, std::size_t i, std::optional<Model>& storage) -> const Model& {
+    return cli::lane_model(base, (*lanes)[i], storage);
+  };
+  plan.lanes = std::move(lanes);
+  spec.duration = o.scene.duration ? *o.scene.duration : std::min(first.duration, kMaxScaleDuration);
+  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
+  return plan;
+}
+
+void check_scale_memory(const BenchOptions& o, const ScalePlan& plan) {
+  std::vector<IntegratorKind> kinds;
+  for (const LaneSpec& l : *plan.lanes) kinds.push_back(l.kind);
+  for (const analysis::ScaleScene& s : plan.spec.sizes) check_bench_memory(o, s.scene, kinds);
 }
 
 }  // namespace clothsim::cli

@@ -4,6 +4,7 @@
 // Every function throws UsageError with a one-line message naming the option.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "clip/common/scene_options.h"
 #include "clip/studies/study_common.h"
 #include "scene/scene_def.h"
+#include "study/scale_study.h"
 #include "study/work_precision.h"
 
 namespace clothsim::cli {
@@ -21,12 +23,22 @@ using analysis::WorkPrecisionSpec;
 
 struct BenchOptions {
   SceneOptions scene;
-  std::string integrators = default_comparison_list();  // the course's four, by name
+  std::string integrators = default_comparison_list();  // compare's default four, by name
   std::optional<std::string> dts;  // not given: derived from the scene's dt
   std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
   std::string csv, plot, summary;
   std::string shard;  // --shard K/N|auto (study_shard.h)
-  std::string vary;   // --vary KEY=V1,V2,...: the study once per value
+  std::string vary;   // The study's model: `scene` run to T at least (its duration is informational only), the runs'
+// memory checked against --max-memory, built.
+Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes,
+                        const WorkPrecisionSpec& spec);
+
+// Each lane's model into spec.lane_models: `model` itself, or a copy with the lane's own solver
+// settings held in `storage` (keep both alive while the study runs).
+void attach_lane_models(const Model& model, const std::vector<LaneSpec>& lanes,
+                        std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec);
+
+// --vary KEY=V1,V2,...: the study once per value
   std::string scale;  // --scale N1,N2,...: cost against sheet size (study/scale_study.h)
   int jobs = 0;
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
@@ -40,6 +52,10 @@ inline constexpr double kMaxDefaultSmallSteps = 8000;  // T <= this x the smalle
 // Lane spellings (LaneSpec::stepless_spelling), by point.lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
 
+// The study's lanes, as the scene runs them (a fixed-point scene's implicit_euler named so); an
+// @STEP refused (bench sweeps the steps).
+std::vector<LaneSpec> bench_lanes(const BenchOptions& o, const SceneDef& scene);
+
 // T when --duration is not given: short enough for the reference, a multiple of every step.
 double default_duration(double scene_duration, const std::vector<double>& dts);
 
@@ -48,6 +64,16 @@ WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const
 
 // One Model, and a run on each of the pool's threads at once (the dearest integrator's).
 void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds);
+
+// The study's model: `scene` run to T at least (its duration is informational only), the runs'
+// memory checked against --max-memory, built.
+Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes,
+                        const WorkPrecisionSpec& spec);
+
+// Each lane's model into spec.lane_models: `model` itself, or a copy with the lane's own solver
+// settings held in `storage` (keep both alive while the study runs).
+void attach_lane_models(const Model& model, const std::vector<LaneSpec>& lanes,
+                        std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec);
 
 // --vary KEY=V1,V2,...: the study once per value, each on its own scene (the user's --set, then
 // the key's) against its own reference, its lanes labelled "rk4 (ks = 2e4)" in the table, the
@@ -62,5 +88,18 @@ struct ValueStudy {
 };
 
 std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes);
+
+// --scale N1,N2,...: each lane (NAME@STEP, the scene's dt without) at each side N, the sheet's
+// size and total mass fixed, to T = --duration (default min(scene, kMaxScaleDuration)); no
+// reference. Every size's scene read and its memory checked before any run.
+inline constexpr double kMaxScaleDuration = 0.2;  // s
+struct ScalePlan {
+  std::vector<int> sides;
+  std::shared_ptr<const std::vector<LaneSpec>> lanes;  // shared with spec.lane_model
+  analysis::ScaleSpec spec;
+};
+ScalePlan plan_scale(const BenchOptions& o);
+// Every size's runs held to --max-memory, before any run.
+void check_scale_memory(const BenchOptions& o, const ScalePlan& plan);
 
 }  // namespace clothsim::cli

@@ -21,7 +21,7 @@ std::vector<IntegratorKind> parse_methods(const std::string& text) {
   return out;
 }
 
-ConvergenceSpec plan(const ConvergeOptions& o) {
+ConvergenceSpec plan_converge(const ConvergeOptions& o) {
   ConvergenceSpec spec;
   const std::optional<double> h = parse_number_or_fraction(o.dt);
   if (!h || !(*h > 0.0)) throw UsageError("--dt: " + in_quotes(o.dt) + " is not a step > 0 s (a number or 1/60)");

@@ -26,6 +26,6 @@ struct ConvergeOptions {
 std::vector<IntegratorKind> parse_methods(const std::string& text);
 
 // The study the options ask for: the step, the states, the iterations and the methods.
-ConvergenceSpec plan(const ConvergeOptions& o);
+ConvergenceSpec plan_converge(const ConvergeOptions& o);
 
 }  // namespace clothsim::cli

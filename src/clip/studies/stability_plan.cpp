@@ -5,6 +5,8 @@
 
 #include "clip/common/cli_common.h"
 #include "clip/common/memory_budget.h"
+#include "core/stiffness_estimate.h"
+#include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 #include "scene/param_keys.h"
 #include "scene/scene_parser.h"
@@ -80,6 +82,40 @@ std::vector<LaneSpec> stability_lanes(const StabilityOptions& o, const SceneDef&
       o.integrators, "stability searches the step, so a lane takes no @STEP (its :N stays fixed while the step is searched); drop it");
   follow_scene_solver(lanes, base.implicit);
   return lanes;
+}
+
+StabilityStudy plan_stability(const StabilityOptions& o, const SceneDef& base) {
+  StabilityStudy study;
+  study.lanes = stability_lanes(o, base);
+  std::vector<IntegratorKind> kinds;
+  for (const LaneSpec& l : study.lanes) kinds.push_back(l.kind), study.names.push_back(l.stepless_spelling());
+
+  std::vector<analysis::SweepScene> scenes = sweep_cases(o, base, study.values);
+
+  analysis::StabilitySpec& spec = study.spec;
+  spec.integrators = kinds;
+  spec.duration = o.scene.duration ? *o.scene.duration : std::min(base.duration, kStabilityDefaultDuration);
+  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
+  check_stability_memory(o, base, scenes, kinds);
+  double smallest_estimate = INFINITY;
+  for (analysis::SweepScene& s : scenes) {
+    s.scene.duration = spec.duration;
+    study.cases.push_back({s.value, build_model(s.scene), {}});
+    smallest_estimate = std::min(smallest_estimate, analysis::estimate_stiffness(study.cases.back().model).dt_with_damping());
+  }
+  finish_stability_spec(o, base, smallest_estimate, spec);
+  return study;
+}
+
+std::vector<analysis::StabilityCase> StabilityStudy::refs() {
+  std::vector<analysis::StabilityCase> out;
+  for (StabilityCaseModels& c : cases) {
+    out.push_back({c.value, &c.model, {}});
+    c.lane_models.assign(lanes.size(), std::nullopt);
+    for (std::size_t i = 0; i < lanes.size(); ++i)
+      out.back().lane_models.push_back(&cli::lane_model(c.model, lanes[i], c.lane_models[i]));
+  }
+  return out;
 }
 
 }  // namespace clothsim::cli

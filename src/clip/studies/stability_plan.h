@@ -20,7 +20,7 @@ namespace clothsim::cli {
 
 struct StabilityOptions {
   SceneOptions scene;
-  std::string integrators = default_comparison_list();  // the course's four, by name
+  std::string integrators = default_comparison_list();  // compare's default four, by name
   std::string param = "cloth.springs.structural.stiffness";
   std::optional<std::string> values;  // not given: the scene's value x kDefaultValueFactors
   std::optional<double> min_dt, max_dt;
@@ -34,16 +34,37 @@ struct StabilityOptions {
 };
 
 inline constexpr double kDefaultValueFactors[] = {1.0, 10.0, 100.0, 1000.0, 10000.0};
-inline constexpr double kDefaultDuration = 0.2;    // s
+inline constexpr double kStabilityDefaultDuration = 0.2;  // s
 inline constexpr double kMaxDtOverSceneDt = 1000;  // the largest step tried, in scene steps,
 inline constexpr double kMinStepsAtMaxDt = 50;     // and in steps per run
 inline constexpr double kMinDtDivisor = 32;        // the smallest step tried: estimate / this
 
-struct Case {
+// Lane spellings (LaneSpec::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
+using LaneNames = std::vector<std::string>;
+
+// One swept value's model, and each lane's copy with its own solver settings (cli::lane_model).
+struct StabilityCaseModels {
   double value;
   Model model;
-  std::vector<std::optional<Model>> lane_models;  // per lane, its own solver settings (cli::lane_model)
+  std::vector<std::optional<Model>> lane_models;  // per lane; empty until StabilityStudy::refs()
 };
+
+// The whole study, planned: the lanes, the values and their models, the search's bounds.
+struct StabilityStudy {
+  std::vector<LaneSpec> lanes;
+  LaneNames names;                          // per lane
+  std::vector<double> values;               // per case
+  std::vector<StabilityCaseModels> cases;   // per value, models built
+  analysis::StabilitySpec spec;
+  // The cases as stability_sweep takes them, pointing into `cases`: call it once the study
+  // stays where it is.
+  std::vector<analysis::StabilityCase> refs();
+};
+
+// As `clothsim stability` plans it: lanes, swept values (--values or the scene's x
+// kDefaultValueFactors), T (--duration or min(scene, kStabilityDefaultDuration)), the memory
+// check, every case's model, the steps tried. Outputs are the caller's to check.
+StabilityStudy plan_stability(const StabilityOptions& o, const SceneDef& base);
 
 // The swept scenes: --values, or the scene's value of --param times kDefaultValueFactors.
 std::vector<analysis::SweepScene> sweep_cases(const StabilityOptions& o, const SceneDef& base,

@@ -205,14 +205,9 @@ int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSp
 // One value's study, run and its table printed; returns the runs it planned.
 std::size_t run_value(const BenchOptions& o, const std::vector<LaneSpec>& lanes, ValueStudy& s) {
   WorkPrecisionSpec spec = s.spec;
-  s.scene.duration = std::max(s.scene.duration, spec.duration);
-  std::vector<IntegratorKind> kinds;
-  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
-  check_bench_memory(o, s.scene, kinds);
-  const Model model = build_model(s.scene);
-  std::vector<std::optional<Model>> lane_storage(lanes.size());
-  for (std::size_t i = 0; i < lanes.size(); ++i)
-    spec.lane_models.push_back(&cli::lane_model(model, lanes[i], lane_storage[i]));
+  const Model model = build_bench_model(o, s.scene, lanes, spec);
+  std::vector<std::optional<Model>> lane_storage;
+  attach_lane_models(model, lanes, lane_storage, spec);
   std::printf("bench %s, %s: %zu lanes x %zu steps to T = %g s\n", model.name.c_str(), s.label.c_str(), lanes.size(),
               spec.dts.size(), spec.duration);
   std::fflush(stdout);
@@ -259,38 +254,19 @@ int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vect
   return kOk;
 }
 
-// --scale N1,N2,...: each lane (NAME@STEP, the scene's dt without) at each side N, the sheet's
-// size and total mass fixed, to T = --duration (default min(scene, 0.2 s)); no reference.
+// --scale N1,N2,...: cost against sheet size (bench_plan.h), its table as each point finishes.
 int bench_scale(const BenchOptions& o) {
   install_interrupt_handler();
-  if (!o.summary.empty() || !o.shard.empty() || !o.vary.empty() || o.dts)
-    throw UsageError("--scale: give lanes as NAME@STEP; --dts, --vary, --summary and --shard do not apply");
-  std::vector<int> sides;
-  for (double n : parse_number_list(o.scale, "--scale")) {
-    if (n != std::floor(n)) throw UsageError("--scale: " + csv_number(n) + " is not a whole number of particles");
-    sides.push_back(static_cast<int>(n));
-  }
-  analysis::ScaleSpec spec;
-  try {
-    spec.sizes = analysis::scale_scenes(o.scene.path, o.scene.sets, sides);
-  } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("--scale: ") + e.what());
-  }
+  const ScalePlan scale = plan_scale(o);
+  const analysis::ScaleSpec& spec = scale.spec;
+  const std::vector<LaneSpec>& lanes = *scale.lanes;
+  const std::vector<int>& sides = scale.sides;
   const SceneDef& first = spec.sizes.front().scene;
-  const std::vector<LaneSpec> lanes = parse_lanes(o.integrators, "", first.dt);
-  for (const LaneSpec& l : lanes) spec.lanes.push_back({l.spelling(), l.kind, l.dt});
-  spec.lane_model = [&lanes](const Model& base, std::size_t i, std::optional<Model>& storage) -> const Model& {
-    return cli::lane_model(base, lanes[i], storage);
-  };
-  spec.duration = o.scene.duration ? *o.scene.duration : std::min(first.duration, 0.2);
-  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
   refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_scale.py", o.plot);
-  std::vector<IntegratorKind> kinds;
-  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
-  for (const analysis::ScaleScene& s : spec.sizes) check_bench_memory(o, s.scene, kinds);  // every size before any run
+  check_scale_memory(o, scale);
   std::printf("bench %s --scale: %zu lanes x %zu sizes to T = %g s, total mass %g kg fixed\n", first.name.c_str(),
               lanes.size(), sides.size(), spec.duration, first.cloth.particle_mass * sides.front() * sides.front());
   std::printf("%-28s %6s %10s %12s %10s %12s %10s %10s  %s\n", "lane", "side", "cpu (s)", "cpu / sim s",
@@ -326,9 +302,7 @@ int bench_command(const BenchOptions& o) {
   if (!o.scale.empty()) return bench_scale(o);
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
-  std::vector<LaneSpec> lanes =
-      parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
-  follow_scene_solver(lanes, scene.implicit);  // --set implicit.solver=fixed_point: named as itself
+  const std::vector<LaneSpec> lanes = bench_lanes(o, scene);
   if (!o.vary.empty()) return bench_variation(o, scene, lanes);
   std::vector<IntegratorKind> kinds;
   for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
@@ -342,12 +316,9 @@ int bench_command(const BenchOptions& o) {
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
 
-  scene.duration = std::max(scene.duration, T);  // the model's duration is informational only
-  check_bench_memory(o, scene, kinds);
-  const Model model = build_model(scene);
-  std::vector<std::optional<Model>> lane_storage(lanes.size());  // the lanes' own solver settings
-  for (std::size_t i = 0; i < lanes.size(); ++i)
-    spec.lane_models.push_back(&cli::lane_model(model, lanes[i], lane_storage[i]));
+  const Model model = build_bench_model(o, scene, lanes, spec);
+  std::vector<std::optional<Model>> lane_storage;  // the lanes' own solver settings
+  attach_lane_models(model, lanes, lane_storage, spec);
   const LaneNames& names = spec.lane_names;
   const double h_ref = spec.dts.front() / spec.reference_refinement;
   std::size_t runs = 0;

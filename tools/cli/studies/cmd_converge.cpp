@@ -134,7 +134,7 @@ void write_outputs(const ConvergeOptions& o, const std::string& source, const Mo
 int converge_command(const ConvergeOptions& o) {
   install_interrupt_handler();
   const SceneDef scene = load_scene_with_options(o.scene);
-  const ConvergenceSpec spec = plan(o);
+  const ConvergenceSpec spec = plan_converge(o);
   refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   for (const auto& [path, what] : {std::pair{o.csv, "--csv"}, {o.summary, "--summary"}})
     if (!path.empty()) require_writable_parent(path, what);

@@ -57,9 +57,6 @@ namespace {
 using analysis::StabilityLimit;
 using analysis::StabilityOutcome;
 
-// Lane spellings (LaneSpec::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
-using LaneNames = std::vector<std::string>;
-
 // The CSV (study/tables/csv_tables.h: the Python module's stability() has the same columns).
 void write_csv(std::FILE* f, const std::string& param, const std::vector<StabilityLimit>& limits,
                const analysis::StabilitySpec& spec, const LaneNames& names) {
@@ -182,27 +179,13 @@ void print_limits(const std::vector<StabilityLimit>& limits, const analysis::Sta
 int stability_command(const StabilityOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   const SceneDef base = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
-  const std::vector<LaneSpec> lanes = stability_lanes(o, base);
-  std::vector<IntegratorKind> kinds;
-  LaneNames names;
-  for (const LaneSpec& l : lanes) kinds.push_back(l.kind), names.push_back(l.stepless_spelling());
-
-  std::vector<double> values;
-  std::vector<analysis::SweepScene> scenes = sweep_cases(o, base, values);
-
-  analysis::StabilitySpec spec;
-  spec.integrators = kinds;
-  spec.duration = o.scene.duration ? *o.scene.duration : std::min(base.duration, kDefaultDuration);
-  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
-  check_stability_memory(o, base, scenes, kinds);
-  std::vector<Case> cases;
-  double smallest_estimate = INFINITY;
-  for (analysis::SweepScene& s : scenes) {
-    s.scene.duration = spec.duration;
-    cases.push_back({s.value, build_model(s.scene), {}});
-    smallest_estimate = std::min(smallest_estimate, analysis::estimate_stiffness(cases.back().model).dt_with_damping());
-  }
-  finish_stability_spec(o, base, smallest_estimate, spec);
+  StabilityStudy study = plan_stability(o, base);
+  const std::vector<LaneSpec>& lanes = study.lanes;
+  const LaneNames& names = study.names;
+  const std::vector<IntegratorKind>& kinds = study.spec.integrators;
+  const std::vector<double>& values = study.values;
+  const std::vector<StabilityCaseModels>& cases = study.cases;
+  const analysis::StabilitySpec& spec = study.spec;
 
   refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
@@ -216,19 +199,13 @@ int stability_command(const StabilityOptions& o) {
               spec.max_dt, 100 * spec.precision, spec.max_strain, spec.energy_factor,
               cases.front().model.energy_scale);
   std::printf("%14s %12s %12s %12s %14s\n", "value", "w_max (1/s)", "2/w_max (s)", "c_max (1/s)", "2/max(w,c) (s)");
-  for (const Case& c : cases) {
+  for (const StabilityCaseModels& c : cases) {
     const analysis::StiffnessEstimate e = analysis::estimate_stiffness(c.model);
     std::printf("%14.6g %12.4g %12.4g %12.4g %14.4g\n", c.value, e.w_max, e.dt_springs(), e.c_max, e.dt_with_damping());
   }
   std::fflush(stdout);
 
-  std::vector<analysis::StabilityCase> refs;
-  for (Case& c : cases) {
-    refs.push_back({c.value, &c.model, {}});
-    c.lane_models.resize(lanes.size());
-    for (std::size_t i = 0; i < lanes.size(); ++i)
-      refs.back().lane_models.push_back(&cli::lane_model(c.model, lanes[i], c.lane_models[i]));
-  }
+  const std::vector<analysis::StabilityCase> refs = study.refs();
   SharedProgress progress("stability " + base.name, static_cast<long>(cases.size() * kinds.size()), "searches");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
@@ -266,7 +243,7 @@ void add_stability_command(CLI::App& app, Command& command) {
   CLI::App* sub = app.add_subcommand(
       "stability", "Largest stable step per integrator across a swept scene parameter (default: stiffness)");
   add_scene_options(sub, o->scene, /*single_run=*/false,
-                    "the scene's duration, at most " + csv_number(kDefaultDuration) + " s");
+                    "the scene's duration, at most " + csv_number(kStabilityDefaultDuration) + " s");
   sub->add_option("--integrators", o->integrators, "Comma-separated lanes as compare takes them, without @STEP: NAME[:N], implicit_euler_fixed_point, course")
       ->capture_default_str()
       ->type_name("LIST");
