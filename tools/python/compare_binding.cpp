@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <cstdio>
 #include <csignal>
 #include <future>
 #include <memory>
@@ -35,14 +36,11 @@ std::vector<std::string> match_words(const py::object& match) {
   return words;
 }
 
-std::string text_of(const py::object& value) {
-  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
-  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {  // ["rk4@1e-4", ...] or [0.5, 1]
-    std::string out;
-    for (const py::handle item : value) out += (out.empty() ? "" : ",") + py::str(item).cast<std::string>();
-    return out;
-  }
-  return py::str(value).cast<std::string>();
+// %.17g: the number back exactly when the scene parser reads it.
+std::string exact_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", x);
+  return text;
 }
 
 // Runs the plan on its own thread with the GIL released, checking Python's signals every
@@ -93,14 +91,16 @@ py::object compare(const py::object& scene, const py::dict& set, const py::objec
     const Scene& loaded = scene.cast<const Scene&>();
     o.scene.path = loaded.def.source;
     o.scene.sets = loaded.overrides;
+    if (loaded.dt) o.scene.sets.push_back("dt=" + exact_number(*loaded.dt));  // the scene's step, as loaded
   }
   for (std::string& s : set_strings(o.scene.path, set)) o.scene.sets.push_back(std::move(s));
   o.scene.duration = duration;
+  if (!duration && py::isinstance<Scene>(scene)) o.scene.duration = scene.cast<const Scene&>().duration;
   o.scene.width = width;
   o.scene.height = height;
   o.scene.fps = fps;
   if (!integrators.is_none()) {
-    o.integrators = text_of(integrators);
+    o.integrators = option_text(integrators);
     o.integrators_given = true;
   }
   if (!match.is_none()) {
@@ -108,18 +108,18 @@ py::object compare(const py::object& scene, const py::dict& set, const py::objec
     o.match_given = true;
   }
   o.vary = vary;
-  o.dt = dt.is_none() ? "" : text_of(dt);
+  o.dt = dt.is_none() ? "" : option_text(dt);
   o.layout = layout;
   o.video = video;
   o.frames_dir = frames;
   o.sheet = sheet;
-  o.times = times.is_none() ? "" : text_of(times);
+  o.times = times.is_none() ? "" : option_text(times);
   o.still_t = still;
   o.still_out = output;
   o.export_path = export_path;
   o.summary = summary;
   o.look.color = color;
-  o.look.color_range = color_range.is_none() ? "" : text_of(color_range);
+  o.look.color_range = color_range.is_none() ? "" : option_text(color_range);
   o.look.reference = reference;
   o.look.overlay = overlay;
   o.look.overlay_cost = overlay_cost;
@@ -152,7 +152,7 @@ void bind_compare(py::module_& m) {
         "        video='', frames='', sheet='', times=None, still=None, output='', export='', summary='',\n"
         "        color=None, color_range=None, reference='', overlay=None, overlay_cost='', inset='none',\n"
         "        width=None, height=None, fps=None, gl='') -> pandas.DataFrame\n\n"
-        "`clothsim compare SCENE` (a path, or a Scene from load_scene: its file and set=) with its options as keywords (--still T -o FILE: still=T, output=FILE;\n"
+        "`clothsim compare SCENE` (a path, or a Scene from load_scene: its file, set=, duration= and dt=) with its options as keywords (--still T -o FILE: still=T, output=FILE;\n"
         "--match error 1e-3: match='error 1e-3'; lists may be Python lists: integrators=['rk4@1e-4',\n"
         "'vbd@1/60:10', 'xpbd@1/60:tol=1e-4']). Writes the files asked for, as the CLI does, and returns a\n"
         "row per lane (and the reference's) with --summary's lane keys (docs/summary.md). Nothing to write\n"
