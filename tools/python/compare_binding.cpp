@@ -23,12 +23,12 @@ namespace py = pybind11;
 namespace clothsim::python {
 namespace {
 
-using cli::CompareRequest;
+using clip::CompareRequest;
 
 // `match`: "cost", "none", "error 1e-3" or ("error", 1e-3), as --match's words.
 std::vector<std::string> match_words(const py::object& match) {
   if (py::isinstance<py::str>(match)) {
-    std::vector<std::string> words = cli::split_list(match.cast<std::string>(), ' ');
+    std::vector<std::string> words = clip::split_list(match.cast<std::string>(), ' ');
     return words;
   }
   std::vector<std::string> words;
@@ -46,11 +46,11 @@ std::string exact_number(double x) {
 // Runs the plan on its own thread with the GIL released, checking Python's signals every
 // 0.1 s: a KeyboardInterrupt asks the lanes to stop (as SIGINT does the CLI's), waits for the
 // outputs to be dropped, and is raised.
-cli::PipelineReport run_interruptible(const CompareRequest& o, cli::ComparePlan& p) {
-  cli::clear_interrupt();
-  auto work = std::async(std::launch::async, [&]() -> std::optional<cli::PipelineReport> {
-    cli::plan_compare(o, p);
-    return cli::run_compare(o, p);
+clip::PipelineReport run_interruptible(const CompareRequest& o, clip::ComparePlan& p) {
+  clip::clear_interrupt();
+  auto work = std::async(std::launch::async, [&]() -> std::optional<clip::PipelineReport> {
+    clip::plan_compare(o, p);
+    return clip::run_compare(o, p);
   });
   for (;;) {
     {
@@ -59,15 +59,15 @@ cli::PipelineReport run_interruptible(const CompareRequest& o, cli::ComparePlan&
     }
     if (PyErr_CheckSignals() != 0) {
       py::error_already_set interrupt;  // KeyboardInterrupt (or whatever the handler raised)
-      cli::request_interrupt(SIGINT);
+      clip::request_interrupt(SIGINT);
       {
         py::gil_scoped_release release;
         work.wait();
       }
-      cli::clear_interrupt();
+      clip::clear_interrupt();
       try {
         work.get();
-      } catch (const cli::RuntimeFailure&) {  // "stopped by SIGINT ...": the outputs dropped
+      } catch (const clip::RuntimeFailure&) {  // "stopped by SIGINT ...": the outputs dropped
       }
       throw interrupt;
     }
@@ -126,20 +126,20 @@ py::object compare(const py::object& scene, const py::dict& set, const py::objec
   o.look.inset = inset;
   o.gl.gl = gl;
   o.table_wanted = true;
-  cli::ComparePlan p;
-  const cli::PipelineReport report = run_interruptible(o, p);
-  if (!o.summary.empty()) cli::write_compare_summary(o, p, report);
+  clip::ComparePlan p;
+  const clip::PipelineReport report = run_interruptible(o, p);
+  if (!o.summary.empty()) clip::write_compare_summary(o, p, report);
   py::list lanes;
   const py::object loads = py::module_::import("json").attr("loads");
-  for (const cli::JsonObject& lane : cli::compare_lanes_json(p, report)) lanes.append(loads(lane.dump()));
+  for (const clip::JsonObject& lane : clip::compare_lanes_json(p, report)) lanes.append(loads(lane.dump()));
   return py::module_::import("pandas").attr("DataFrame")(lanes);
 }
 
 }  // namespace
 
 void bind_compare(py::module_& m) {
-  py::register_exception<cli::UsageError>(m, "UsageError", PyExc_ValueError);
-  py::register_exception<cli::RuntimeFailure>(m, "RuntimeFailure", PyExc_RuntimeError);
+  py::register_exception<clip::UsageError>(m, "UsageError", PyExc_ValueError);
+  py::register_exception<clip::RuntimeFailure>(m, "RuntimeFailure", PyExc_RuntimeError);
   m.def("compare", &compare, py::arg("scene"), py::arg("set") = py::dict(), py::arg("integrators") = py::none(),
         py::arg("match") = py::none(), py::arg("vary") = "", py::arg("dt") = py::none(),
         py::arg("duration") = py::none(), py::arg("layout") = "auto", py::arg("video") = "", py::arg("frames") = "",

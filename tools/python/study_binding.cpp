@@ -82,8 +82,8 @@ py::object data_frame(const analysis::CsvTable& table) {
 // The scene's file and --set strings as the CLI's options (its step as --set dt: a study
 // reloads the scene for each swept value), and its duration= as --duration where `duration`
 // is not given.
-cli::SceneOptions scene_options(const Scene& scene, const std::optional<double>& duration) {
-  cli::SceneOptions o;
+clip::SceneOptions scene_options(const Scene& scene, const std::optional<double>& duration) {
+  clip::SceneOptions o;
   o.path = scene.def.source;
   o.sets = scene.overrides;
   if (scene.dt) {
@@ -104,13 +104,13 @@ std::string frame_dts_text(const py::object& frame_dts, const std::string& fallb
 
 py::object converge(const Scene& scene, const py::object& dt, const py::object& integrators,
                     const std::optional<int>& states, const std::optional<int>& max_iterations, const std::string& csv) {
-  cli::ConvergeOptions o;  // the CLI's defaults where a keyword is None
+  clip::ConvergeOptions o;  // the CLI's defaults where a keyword is None
   o.scene = scene_options(scene, std::nullopt);
   if (!dt.is_none()) o.dt = option_text(dt);
   if (!integrators.is_none()) o.integrators = option_text(integrators);
   if (states) o.states = std::to_string(*states);
   if (max_iterations) o.max_iterations = std::to_string(*max_iterations);
-  const ConvergenceSpec spec = cli::plan_converge(o);
+  const ConvergenceSpec spec = clip::plan_converge(o);
   const Model& model = *scene.model;
   const std::vector<ConvergencePoint> points = interruptible([&](auto stop) {
     analysis::StudyHooks hooks;
@@ -127,7 +127,7 @@ py::object bench(const Scene& scene, const py::object& integrators, const py::ob
                  const std::optional<double>& duration, const py::object& frame_dts,
                  const std::optional<int>& reference_refinement, const std::optional<double>& reference_tolerance,
                  int jobs, const std::string& csv) {
-  cli::BenchOptions o;  // the CLI's defaults where a keyword is None
+  clip::BenchOptions o;  // the CLI's defaults where a keyword is None
   o.scene = scene_options(scene, duration);
   if (!integrators.is_none()) o.integrators = option_text(integrators);
   if (!dts.is_none()) o.dts = option_text(dts);
@@ -136,11 +136,11 @@ py::object bench(const Scene& scene, const py::object& integrators, const py::ob
   if (reference_tolerance) o.reference_tolerance = *reference_tolerance;
   o.jobs = jobs;
   SceneDef def = scene.def;
-  const std::vector<cli::LaneSpec> lanes = cli::bench_lanes(o, def);
-  analysis::WorkPrecisionSpec spec = cli::plan_bench(o, def, lanes);
-  const Model model = cli::build_bench_model(o, def, lanes, spec);
+  const std::vector<clip::LaneSpec> lanes = clip::bench_lanes(o, def);
+  analysis::WorkPrecisionSpec spec = clip::plan_bench(o, def, lanes);
+  const Model model = clip::build_bench_model(o, def, lanes, spec);
   std::vector<std::optional<Model>> lane_storage;
-  cli::attach_lane_models(model, lanes, lane_storage, spec);
+  clip::attach_lane_models(model, lanes, lane_storage, spec);
   const analysis::WorkPrecisionResult r = interruptible([&](auto stop) {
     analysis::StudyHooks hooks;
     hooks.stop = stop;
@@ -158,7 +158,7 @@ py::object stability(const Scene& scene, const py::object& integrators, const st
                      const std::optional<double>& precision, const std::optional<double>& energy_factor,
                      const std::optional<double>& max_strain, const py::object& frame_dts, int jobs,
                      const std::string& csv) {
-  cli::StabilityOptions o;  // the CLI's defaults where a keyword is None
+  clip::StabilityOptions o;  // the CLI's defaults where a keyword is None
   o.scene = scene_options(scene, duration);
   if (!integrators.is_none()) o.integrators = option_text(integrators);
   o.param = param;
@@ -170,7 +170,7 @@ py::object stability(const Scene& scene, const py::object& integrators, const st
   if (max_strain) o.max_strain = *max_strain;
   o.frame_dts = frame_dts_text(frame_dts, o.frame_dts);
   o.jobs = jobs;
-  cli::StabilityStudy study = cli::plan_stability(o, scene.def);
+  clip::StabilityStudy study = clip::plan_stability(o, scene.def);
   const std::vector<analysis::StabilityCase> cases = study.refs();
   const std::vector<analysis::StabilityLimit> limits = interruptible([&](auto stop) {
     analysis::StudyHooks hooks;

@@ -8,7 +8,7 @@
 #include "video/tiling.h"
 #include "study/reference.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 
@@ -250,4 +250,4 @@ JsonObject summary_reference(const PipelineReport& report) {
   return json;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -18,7 +18,7 @@
 #include "study/work_precision.h"
 #include "core/integrators/integrator_kind.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace fs = std::filesystem;
 
@@ -291,4 +291,4 @@ void check_outputs_writable(const GoldenOptions& o, const GoldenManifest& manife
   if (!o.summary.empty() && o.shard.empty()) require_writable_parent(o.summary, "--summary");
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -20,7 +20,7 @@
 #include "render/output_file.h"
 #include "scene/scene_def.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 struct GoldenOptions {
   std::string manifest;
@@ -81,4 +81,4 @@ void check_name_lengths(const GoldenOptions& o, const GoldenManifest& manifest);
 // reads or another output (update's images, check's evidence) under any spelling.
 void check_outputs_writable(const GoldenOptions& o, const GoldenManifest& manifest, bool update);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -13,7 +13,7 @@
 #include "study/scale_study.h"
 #include "study/task_pool.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 std::vector<LaneSpec> bench_lanes(const BenchOptions& o, const SceneDef& scene) {
   std::vector<LaneSpec> lanes =
@@ -127,7 +127,7 @@ void attach_lane_models(const Model& model, const std::vector<LaneSpec>& lanes,
                         std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec) {
   storage.assign(lanes.size(), std::nullopt);
   spec.lane_models.clear();
-  for (std::size_t i = 0; i < lanes.size(); ++i) spec.lane_models.push_back(&cli::lane_model(model, lanes[i], storage[i]));
+  for (std::size_t i = 0; i < lanes.size(); ++i) spec.lane_models.push_back(&clip::lane_model(model, lanes[i], storage[i]));
 }
 
 ScalePlan plan_scale(const BenchOptions& o) {
@@ -148,7 +148,7 @@ ScalePlan plan_scale(const BenchOptions& o) {
   auto lanes = std::make_shared<const std::vector<LaneSpec>>(parse_lanes(o.integrators, "", first.dt));
   for (const LaneSpec& l : *lanes) spec.lanes.push_back({l.spelling(), l.kind, l.dt});
   spec.lane_model = [lanes](const Model& base, std::size_t i, std::optional<Model>& storage) -> const Model& {
-    return cli::lane_model(base, (*lanes)[i], storage);
+    return clip::lane_model(base, (*lanes)[i], storage);
   };
   plan.lanes = std::move(lanes);
   spec.duration = o.scene.duration ? *o.scene.duration : std::min(first.duration, kMaxScaleDuration);
@@ -162,4 +162,4 @@ void check_scale_memory(const BenchOptions& o, const ScalePlan& plan) {
   for (const analysis::ScaleScene& s : plan.spec.sizes) check_bench_memory(o, s.scene, kinds);
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

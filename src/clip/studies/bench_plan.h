@@ -16,7 +16,7 @@
 #include "study/scale_study.h"
 #include "study/work_precision.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 using analysis::WorkPrecisionResult;
 using analysis::WorkPrecisionSpec;
@@ -102,4 +102,4 @@ ScalePlan plan_scale(const BenchOptions& o);
 // Every size's runs held to --max-memory, before any run.
 void check_scale_memory(const BenchOptions& o, const ScalePlan& plan);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -6,7 +6,7 @@
 #include "clip/common/lanes.h"
 #include "scene/echo.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 std::vector<IntegratorKind> parse_methods(const std::string& text) {
   std::vector<IntegratorKind> out;
@@ -32,4 +32,4 @@ ConvergenceSpec plan_converge(const ConvergeOptions& o) {
   return spec;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

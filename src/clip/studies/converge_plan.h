@@ -11,7 +11,7 @@
 #include "core/integrators/integrator_kind.h"
 #include "study/convergence.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 struct ConvergeOptions {
   SceneOptions scene;
@@ -28,4 +28,4 @@ std::vector<IntegratorKind> parse_methods(const std::string& text);
 // The study the options ask for: the step, the states, the iterations and the methods.
 ConvergenceSpec plan_converge(const ConvergeOptions& o);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -12,7 +12,7 @@
 #include "scene/scene_parser.h"
 #include "study/task_pool.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // The swept scenes: --values, or the scene's value of --param times kDefaultValueFactors.
 std::vector<analysis::SweepScene> sweep_cases(const StabilityOptions& o, const SceneDef& base,
@@ -113,9 +113,9 @@ std::vector<analysis::StabilityCase> StabilityStudy::refs() {
     out.push_back({c.value, &c.model, {}});
     c.lane_models.assign(lanes.size(), std::nullopt);
     for (std::size_t i = 0; i < lanes.size(); ++i)
-      out.back().lane_models.push_back(&cli::lane_model(c.model, lanes[i], c.lane_models[i]));
+      out.back().lane_models.push_back(&clip::lane_model(c.model, lanes[i], c.lane_models[i]));
   }
   return out;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -16,7 +16,7 @@
 #include "study/parameter_sweep.h"
 #include "study/stability.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 struct StabilityOptions {
   SceneOptions scene;
@@ -42,7 +42,7 @@ inline constexpr double kMinDtDivisor = 32;        // the smallest step tried: e
 // Lane spellings (LaneSpec::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
 
-// One swept value's model, and each lane's copy with its own solver settings (cli::lane_model).
+// One swept value's model, and each lane's copy with its own solver settings (clip::lane_model).
 struct StabilityCaseModels {
   double value;
   Model model;
@@ -81,4 +81,4 @@ void finish_stability_spec(const StabilityOptions& o, const SceneDef& base, doub
 // The study's lanes, as the scene runs them (a fixed-point scene's implicit_euler named so).
 std::vector<LaneSpec> stability_lanes(const StabilityOptions& o, const SceneDef& base);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

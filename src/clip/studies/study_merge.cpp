@@ -16,7 +16,7 @@
 #include "study/study.h"
 #include "study/work_precision.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 ShardPart read_part(const std::string& dir) {
   ShardPart part{dir, {}, {}};
@@ -245,4 +245,4 @@ std::vector<JsonObject> merged_lanes(const std::vector<ShardPart>& parts) {
   return out;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

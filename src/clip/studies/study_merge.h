@@ -13,7 +13,7 @@
 #include "clip/common/summary_json.h"
 #include "study/shard.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 struct ShardPart {
   std::string dir;
@@ -61,4 +61,4 @@ std::vector<JsonObject> merged_lanes(const std::vector<ShardPart>& parts);
 // The row of kStudyMerges for the part's study; UsageError for a study merge does not know.
 const StudyMerge& study_merge(const ShardPart& part);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

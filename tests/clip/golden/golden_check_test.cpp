@@ -11,7 +11,7 @@
 
 #include "render/png_io.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 namespace fs = std::filesystem;
@@ -74,4 +74,4 @@ TEST_F(GoldenDir, AMissingGoldenOrOneOfAnotherSizeIsAProblemWithTheRenderKept) {
 }
 
 }  // namespace
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -8,7 +8,7 @@
 #include "scene/scene_parser.h"
 #include "test_support.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 BenchOptions options_for(const std::string& scene) {
@@ -102,4 +102,4 @@ TEST(PlanScale, TakesLanesWithStepsAndWholeSidesAndRefusesTheRest) {
 }
 
 }  // namespace
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -6,7 +6,7 @@
 
 #include "clip/common/cli_common.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 TEST(PlanConverge, DefaultsToOneFrameStepFromFiveStatesOfTheFourIterativeMethods) {
@@ -37,4 +37,4 @@ TEST(PlanConverge, RefusesAMethodWithoutIterationsAndABadStep) {
 }
 
 }  // namespace
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

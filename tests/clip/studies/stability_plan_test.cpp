@@ -9,7 +9,7 @@
 #include "scene/scene_parser.h"
 #include "test_support.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 TEST(PlanStability, WithOnlyASceneSweepsItsStiffnessOverFourDecadesWithinTheDefaultRange) {
@@ -57,4 +57,4 @@ TEST(PlanStability, RefusesABadOptionNamingIt) {
 }
 
 }  // namespace
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

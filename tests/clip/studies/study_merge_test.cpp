@@ -6,7 +6,7 @@
 
 #include "clip/common/cli_common.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 // Shard k of n of a study of `total` items, holding rows for `items` ("row<item>\n").
@@ -68,4 +68,4 @@ TEST(StudyMerge, HasARowForEveryShardedStudyAndRefusesOthers) {
 }
 
 }  // namespace
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip
