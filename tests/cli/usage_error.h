@@ -12,7 +12,7 @@ namespace clothsim::testing {
 inline std::string usage_error(const std::function<void()>& f) {
   try {
     f();
-  } catch (const cli::UsageError& e) {
+  } catch (const clip::UsageError& e) {
     return e.what();
   }
   return "";

@@ -32,7 +32,7 @@ RenderFrame scene_frame(int n, double t, int width, int height, int samples) {
   Run run(model, model.integrator, model.dt);
   run.advance_to(t);
   RenderFrame frame = make_render_frame(model, run.state(), scene.render);
-  frame.overlay_lines = cli::overlay_lines(model, model.integrator, model.dt, run.state().t);
+  frame.overlay_lines = clip::overlay_lines(model, model.integrator, model.dt, run.state().t);
   frame.width = width;
   frame.height = height;
   frame.samples = samples;
@@ -80,7 +80,7 @@ BENCHMARK(BM_RenderDrape25_640x360)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchm
 void BM_RenderCompareTile(benchmark::State& st) {
   const int arg = static_cast<int>(st.range(0));
   RenderFrame frame = scene_frame(25, 1.5, 638, 358, std::max(arg, 1));
-  frame.camera = cli::auto_camera(bench::drape_sheet(25), bench::drape_scene(25).render, 638.0 / 358.0);
+  frame.camera = clip::auto_camera(bench::drape_sheet(25), bench::drape_scene(25).render, 638.0 / 358.0);
   frame.fxaa = arg == 0;
   render_loop(st, frame);
 }
@@ -90,7 +90,7 @@ BENCHMARK(BM_RenderCompareTile)->Arg(0)->Arg(1)->Arg(4)->Unit(benchmark::kMillis
 // pixel a candidate: more than the renderer's drawn region and mask give it).
 void BM_FxaaCompareTile(benchmark::State& st) {
   RenderFrame frame = scene_frame(25, 1.5, 638, 358, 1);
-  frame.camera = cli::auto_camera(bench::drape_sheet(25), bench::drape_scene(25).render, 638.0 / 358.0);
+  frame.camera = clip::auto_camera(bench::drape_sheet(25), bench::drape_scene(25).render, 638.0 / 358.0);
   const Image aliased = renderer().render(frame);
   Image image;
   for (auto _ : st) {

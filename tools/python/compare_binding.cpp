@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <cstdio>
 #include <csignal>
 #include <future>
 #include <memory>
@@ -22,12 +23,12 @@ namespace py = pybind11;
 namespace clothsim::python {
 namespace {
 
-using cli::CompareRequest;
+using clip::CompareRequest;
 
 // `match`: "cost", "none", "error 1e-3" or ("error", 1e-3), as --match's words.
 std::vector<std::string> match_words(const py::object& match) {
   if (py::isinstance<py::str>(match)) {
-    std::vector<std::string> words = cli::split_list(match.cast<std::string>(), ' ');
+    std::vector<std::string> words = clip::split_list(match.cast<std::string>(), ' ');
     return words;
   }
   std::vector<std::string> words;
@@ -35,24 +36,21 @@ std::vector<std::string> match_words(const py::object& match) {
   return words;
 }
 
-std::string text_of(const py::object& value) {
-  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
-  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {  // ["rk4@1e-4", ...] or [0.5, 1]
-    std::string out;
-    for (const py::handle item : value) out += (out.empty() ? "" : ",") + py::str(item).cast<std::string>();
-    return out;
-  }
-  return py::str(value).cast<std::string>();
+// %.17g: the number back exactly when the scene parser reads it.
+std::string exact_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", x);
+  return text;
 }
 
 // Runs the plan on its own thread with the GIL released, checking Python's signals every
 // 0.1 s: a KeyboardInterrupt asks the lanes to stop (as SIGINT does the CLI's), waits for the
 // outputs to be dropped, and is raised.
-cli::PipelineReport run_interruptible(const CompareRequest& o, cli::ComparePlan& p) {
-  cli::clear_interrupt();
-  auto work = std::async(std::launch::async, [&]() -> std::optional<cli::PipelineReport> {
-    cli::plan_compare(o, p);
-    return cli::run_compare(o, p);
+clip::PipelineReport run_interruptible(const CompareRequest& o, clip::ComparePlan& p) {
+  clip::clear_interrupt();
+  auto work = std::async(std::launch::async, [&]() -> std::optional<clip::PipelineReport> {
+    clip::plan_compare(o, p);
+    return clip::run_compare(o, p);
   });
   for (;;) {
     {
@@ -61,15 +59,15 @@ cli::PipelineReport run_interruptible(const CompareRequest& o, cli::ComparePlan&
     }
     if (PyErr_CheckSignals() != 0) {
       py::error_already_set interrupt;  // KeyboardInterrupt (or whatever the handler raised)
-      cli::request_interrupt(SIGINT);
+      clip::request_interrupt(SIGINT);
       {
         py::gil_scoped_release release;
         work.wait();
       }
-      cli::clear_interrupt();
+      clip::clear_interrupt();
       try {
         work.get();
-      } catch (const cli::RuntimeFailure&) {  // "stopped by SIGINT ...": the outputs dropped
+      } catch (const clip::RuntimeFailure&) {  // "stopped by SIGINT ...": the outputs dropped
       }
       throw interrupt;
     }
@@ -93,14 +91,16 @@ py::object compare(const py::object& scene, const py::dict& set, const py::objec
     const Scene& loaded = scene.cast<const Scene&>();
     o.scene.path = loaded.def.source;
     o.scene.sets = loaded.overrides;
+    if (loaded.dt) o.scene.sets.push_back("dt=" + exact_number(*loaded.dt));  // the scene's step, as loaded
   }
   for (std::string& s : set_strings(o.scene.path, set)) o.scene.sets.push_back(std::move(s));
   o.scene.duration = duration;
+  if (!duration && py::isinstance<Scene>(scene)) o.scene.duration = scene.cast<const Scene&>().duration;
   o.scene.width = width;
   o.scene.height = height;
   o.scene.fps = fps;
   if (!integrators.is_none()) {
-    o.integrators = text_of(integrators);
+    o.integrators = option_text(integrators);
     o.integrators_given = true;
   }
   if (!match.is_none()) {
@@ -108,38 +108,38 @@ py::object compare(const py::object& scene, const py::dict& set, const py::objec
     o.match_given = true;
   }
   o.vary = vary;
-  o.dt = dt.is_none() ? "" : text_of(dt);
+  o.dt = dt.is_none() ? "" : option_text(dt);
   o.layout = layout;
   o.video = video;
   o.frames_dir = frames;
   o.sheet = sheet;
-  o.times = times.is_none() ? "" : text_of(times);
+  o.times = times.is_none() ? "" : option_text(times);
   o.still_t = still;
   o.still_out = output;
   o.export_path = export_path;
   o.summary = summary;
   o.look.color = color;
-  o.look.color_range = color_range.is_none() ? "" : text_of(color_range);
+  o.look.color_range = color_range.is_none() ? "" : option_text(color_range);
   o.look.reference = reference;
   o.look.overlay = overlay;
   o.look.overlay_cost = overlay_cost;
   o.look.inset = inset;
   o.gl.gl = gl;
   o.table_wanted = true;
-  cli::ComparePlan p;
-  const cli::PipelineReport report = run_interruptible(o, p);
-  if (!o.summary.empty()) cli::write_compare_summary(o, p, report);
+  clip::ComparePlan p;
+  const clip::PipelineReport report = run_interruptible(o, p);
+  if (!o.summary.empty()) clip::write_compare_summary(o, p, report);
   py::list lanes;
   const py::object loads = py::module_::import("json").attr("loads");
-  for (const cli::JsonObject& lane : cli::compare_lanes_json(p, report)) lanes.append(loads(lane.dump()));
+  for (const clip::JsonObject& lane : clip::compare_lanes_json(p, report)) lanes.append(loads(lane.dump()));
   return py::module_::import("pandas").attr("DataFrame")(lanes);
 }
 
 }  // namespace
 
 void bind_compare(py::module_& m) {
-  py::register_exception<cli::UsageError>(m, "UsageError", PyExc_ValueError);
-  py::register_exception<cli::RuntimeFailure>(m, "RuntimeFailure", PyExc_RuntimeError);
+  py::register_exception<clip::UsageError>(m, "UsageError", PyExc_ValueError);
+  py::register_exception<clip::RuntimeFailure>(m, "RuntimeFailure", PyExc_RuntimeError);
   m.def("compare", &compare, py::arg("scene"), py::arg("set") = py::dict(), py::arg("integrators") = py::none(),
         py::arg("match") = py::none(), py::arg("vary") = "", py::arg("dt") = py::none(),
         py::arg("duration") = py::none(), py::arg("layout") = "auto", py::arg("video") = "", py::arg("frames") = "",
@@ -152,7 +152,7 @@ void bind_compare(py::module_& m) {
         "        video='', frames='', sheet='', times=None, still=None, output='', export='', summary='',\n"
         "        color=None, color_range=None, reference='', overlay=None, overlay_cost='', inset='none',\n"
         "        width=None, height=None, fps=None, gl='') -> pandas.DataFrame\n\n"
-        "`clothsim compare SCENE` (a path, or a Scene from load_scene: its file and set=) with its options as keywords (--still T -o FILE: still=T, output=FILE;\n"
+        "`clothsim compare SCENE` (a path, or a Scene from load_scene: its file, set=, duration= and dt=) with its options as keywords (--still T -o FILE: still=T, output=FILE;\n"
         "--match error 1e-3: match='error 1e-3'; lists may be Python lists: integrators=['rk4@1e-4',\n"
         "'vbd@1/60:10', 'xpbd@1/60:tol=1e-4']). Writes the files asked for, as the CLI does, and returns a\n"
         "row per lane (and the reference's) with --summary's lane keys (docs/summary.md). Nothing to write\n"

@@ -59,6 +59,16 @@ std::vector<std::string> overrides(const std::string& path, const py::dict& set)
 
 std::vector<std::string> set_strings(const std::string& path, const py::dict& set) { return overrides(path, set); }
 
+std::string option_text(const py::object& value) {
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    std::string out;
+    for (const py::handle item : value) out += (out.empty() ? "" : ",") + py::str(item).cast<std::string>();
+    return out;
+  }
+  return py::str(value).cast<std::string>();
+}
+
 Scene load_scene(const std::string& path, const py::dict& set, py::object duration, py::object dt,
                  py::object integrator) {
   const bool replaced = !duration.is_none() || !dt.is_none();
@@ -82,7 +92,9 @@ Scene load_scene(const std::string& path, const py::dict& set, py::object durati
     const std::string too_long = run_bounds_problem(def.duration, def.dt, def.render.fps);
     if (!too_long.empty()) throw py::value_error(too_long);
   }
-  Scene scene{def, std::make_shared<const Model>(build_model(def)), std::move(sets)};
+  Scene scene{def, std::make_shared<const Model>(build_model(def)), std::move(sets), {}, {}};
+  if (!duration.is_none()) scene.duration = def.duration;
+  if (!dt.is_none()) scene.dt = def.dt;
   return scene;
 }
 

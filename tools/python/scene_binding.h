@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,12 @@ struct Scene {
   SceneDef def;
   std::shared_ptr<const Model> model;
   std::vector<std::string> overrides;  // the --set strings it was loaded with (studies reload it)
+  std::optional<double> duration, dt;  // load_scene's duration= and dt=, as --duration and --dt
 };
+
+// A keyword argument as the CLI's option text: a str as it is, a list or tuple joined by
+// commas (["rk4@1e-4", "vbd:10"], [1e-4, 2e-4]: floats in their shortest exact spelling).
+std::string option_text(const pybind11::object& value);
 
 // set: {"cloth.springs.shear.stiffness": 2e4, "ks": 5e3, "integrator": "rk4", ...}
 Scene load_scene(const std::string& path, const pybind11::dict& set, pybind11::object duration,

@@ -51,13 +51,13 @@ void parse_lane(const std::string& lane, const SceneDef& scene, IntegratorKind& 
 // lanes' one grammar (clip/common/lanes.h), its model the scene's with those settings, as
 // compare's lane and `run --iterations` run it.
 void apply_lane_settings(const std::string& lane, Scene& scene, IntegratorKind& kind, double& dt) {
-  cli::LaneSpec spec;
+  clip::LaneSpec spec;
   std::optional<Model> storage;
   try {
-    spec = cli::parse_lanes(lane, "", scene.def.dt).front();
-    const Model& model = cli::lane_model(*scene.model, spec, storage);
+    spec = clip::parse_lanes(lane, "", scene.def.dt).front();
+    const Model& model = clip::lane_model(*scene.model, spec, storage);
     (void)model;
-  } catch (const cli::UsageError& e) {
+  } catch (const clip::UsageError& e) {
     throw py::value_error("lane: " + lane + ": " + e.what());
   }
   kind = spec.kind;

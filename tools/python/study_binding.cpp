@@ -1,25 +1,26 @@
-// clothsim.converge: the study of `clothsim converge` (study/convergence.h) as a pandas
-// DataFrame with the CSV's columns, and the same CSV when asked.
+// clothsim.bench, .stability and .converge: the CLI's studies planned by the CLI's own code
+// (clip/studies/*_plan.h: the same defaults, lanes and refusals), each as a pandas DataFrame
+// with the CSV's columns, and the same CSV when asked.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <optional>
 #include <functional>
 #include <future>
 #include <string>
 #include <vector>
 
 #include "scene_binding.h"
-#include "core/integrators/integrator_kind.h"
+#include "clip/studies/bench_plan.h"
+#include "clip/studies/converge_plan.h"
+#include "clip/studies/stability_plan.h"
 #include "render/output_file.h"
-#include "scene/build_model.h"
-#include "scene/param_keys.h"
-#include "scene/scene_parser.h"
 #include "study/convergence.h"
 #include "study/tables/csv_tables.h"
-#include "study/parameter_sweep.h"
 #include "study/stability.h"
 #include "study/work_precision.h"
 
@@ -51,19 +52,6 @@ auto interruptible(Work work) {
   return result.get();
 }
 
-std::vector<IntegratorKind> methods_of(const std::vector<std::string>& names) {
-  std::vector<IntegratorKind> out;
-  for (const std::string& name : names) {
-    const auto kind = parse_integrator(name);
-    if (!kind || integrator_info(*kind).iterations == IterationControl::None)
-      throw py::value_error("integrators: \"" + name +
-                            "\" is not an iterative method (expected xpbd, projective_dynamics, vbd or implicit_euler)");
-    out.push_back(*kind);
-  }
-  if (out.empty()) throw py::value_error("integrators: no method given");
-  return out;
-}
-
 // `table` as the CLI's --csv writes it (study/tables/csv_tables.h: the same text), whole or not at all.
 void write_csv(const std::string& path, const analysis::CsvTable& table) {
   const std::string text = table.text();
@@ -91,22 +79,38 @@ py::object data_frame(const analysis::CsvTable& table) {
   return py::module_::import("pandas").attr("DataFrame")(data);
 }
 
-// Each integrator's name, by lane (the module's lanes are plain integrators).
-std::vector<std::string> names_of(const std::vector<IntegratorKind>& kinds) {
-  std::vector<std::string> out;
-  for (IntegratorKind k : kinds) out.emplace_back(integrator_name(k));
-  return out;
+// The scene's file and --set strings as the CLI's options (its step as --set dt: a study
+// reloads the scene for each swept value), and its duration= as --duration where `duration`
+// is not given.
+clip::SceneOptions scene_options(const Scene& scene, const std::optional<double>& duration) {
+  clip::SceneOptions o;
+  o.path = scene.def.source;
+  o.sets = scene.overrides;
+  if (scene.dt) {
+    char text[40];
+    std::snprintf(text, sizeof text, "dt=%.17g", *scene.dt);
+    o.sets.push_back(text);
+  }
+  o.duration = duration ? duration : scene.duration;
+  return o;
 }
 
-py::object converge(const Scene& scene, double dt, const std::vector<std::string>& integrators, int states,
-                    int max_iterations, const std::string& csv) {
-  if (!(dt > 0.0)) throw py::value_error("dt: must be a step > 0 s");
-  if (states < 1 || max_iterations < 1) throw py::value_error("states, max_iterations: must be at least 1");
-  ConvergenceSpec spec;
-  spec.h = dt;
-  spec.states = states;
-  spec.max_iterations = max_iterations;
-  spec.methods = methods_of(integrators);
+// frame_dts=: None (the CLI's default), [] or "none" (none), numbers or fractions.
+std::string frame_dts_text(const py::object& frame_dts, const std::string& fallback) {
+  if (frame_dts.is_none()) return fallback;
+  const std::string text = option_text(frame_dts);
+  return text.empty() ? "none" : text;
+}
+
+py::object converge(const Scene& scene, const py::object& dt, const py::object& integrators,
+                    const std::optional<int>& states, const std::optional<int>& max_iterations, const std::string& csv) {
+  clip::ConvergeOptions o;  // the CLI's defaults where a keyword is None
+  o.scene = scene_options(scene, std::nullopt);
+  if (!dt.is_none()) o.dt = option_text(dt);
+  if (!integrators.is_none()) o.integrators = option_text(integrators);
+  if (states) o.states = std::to_string(*states);
+  if (max_iterations) o.max_iterations = std::to_string(*max_iterations);
+  const ConvergenceSpec spec = clip::plan_converge(o);
   const Model& model = *scene.model;
   const std::vector<ConvergencePoint> points = interruptible([&](auto stop) {
     analysis::StudyHooks hooks;
@@ -119,73 +123,61 @@ py::object converge(const Scene& scene, double dt, const std::vector<std::string
   return frame;
 }
 
-std::vector<IntegratorKind> kinds_of(const std::vector<std::string>& names) {
-  std::vector<IntegratorKind> out;
-  for (const std::string& name : names) {
-    const auto kind = parse_integrator(name);
-    if (!kind) throw py::value_error("integrators: unknown name " + name + " (one of " + integrator_names_joined() + ")");
-    out.push_back(*kind);
-  }
-  return out;
-}
-
-py::object bench(const Scene& scene, const std::vector<std::string>& integrators, const std::vector<double>& dts,
-                 double duration, const std::vector<double>& frame_dts, int reference_refinement, int jobs,
-                 const std::string& csv) {
-  analysis::WorkPrecisionSpec spec;
-  spec.integrators = kinds_of(integrators);
-  spec.dts = dts;
-  spec.frame_dts = frame_dts;
-  spec.duration = duration;
-  spec.reference_refinement = reference_refinement;
-  spec.jobs = jobs;
-  spec = analysis::checked(spec);
-  const Model& model = *scene.model;
+py::object bench(const Scene& scene, const py::object& integrators, const py::object& dts,
+                 const std::optional<double>& duration, const py::object& frame_dts,
+                 const std::optional<int>& reference_refinement, const std::optional<double>& reference_tolerance,
+                 int jobs, const std::string& csv) {
+  clip::BenchOptions o;  // the CLI's defaults where a keyword is None
+  o.scene = scene_options(scene, duration);
+  if (!integrators.is_none()) o.integrators = option_text(integrators);
+  if (!dts.is_none()) o.dts = option_text(dts);
+  o.frame_dts = frame_dts_text(frame_dts, o.frame_dts);
+  if (reference_refinement) o.reference_refinement = *reference_refinement;
+  if (reference_tolerance) o.reference_tolerance = *reference_tolerance;
+  o.jobs = jobs;
+  SceneDef def = scene.def;
+  const std::vector<clip::LaneSpec> lanes = clip::bench_lanes(o, def);
+  analysis::WorkPrecisionSpec spec = clip::plan_bench(o, def, lanes);
+  const Model model = clip::build_bench_model(o, def, lanes, spec);
+  std::vector<std::optional<Model>> lane_storage;
+  clip::attach_lane_models(model, lanes, lane_storage, spec);
   const analysis::WorkPrecisionResult r = interruptible([&](auto stop) {
     analysis::StudyHooks hooks;
     hooks.stop = stop;
     return analysis::work_precision(model, spec, hooks);
   });
-  const analysis::CsvTable table = analysis::work_precision_table(r, names_of(spec.integrators));
+  const analysis::CsvTable table = analysis::work_precision_table(r, spec.lane_names);
   py::object frame = data_frame(table);
   if (!csv.empty()) write_csv(csv, table);
   return frame;
 }
 
-py::object stability(const Scene& scene, const std::vector<std::string>& integrators, const std::string& param,
-                     const std::vector<double>& values, double duration, double min_dt, double max_dt,
-                     double precision, const std::vector<double>& frame_dts, int jobs, const std::string& csv) {
-  using analysis::StabilityLimit;
-  analysis::StabilitySpec spec;
-  spec.integrators = kinds_of(integrators);
-  spec.duration = duration;
-  spec.min_dt = min_dt;
-  spec.max_dt = max_dt;
-  spec.precision = precision;
-  spec.frame_dts = frame_dts;
-  spec.jobs = jobs;
-  analysis::check(spec);
-  ParamKey key;
-  try {
-    key = resolve_param_key(param, scene.def);
-  } catch (const ParamKeyError& e) {
-    throw py::value_error("param " + std::string(e.what()));
-  }
-  const std::vector<analysis::SweepScene> scenes =
-      analysis::sweep_scenes(scene.def.source, scene.overrides, key.paths, values);
-  std::vector<Model> models;
-  models.reserve(scenes.size());
-  std::vector<analysis::StabilityCase> cases;
-  for (const analysis::SweepScene& s : scenes) {
-    models.push_back(build_model(s.scene));
-    cases.push_back({s.value, &models.back(), {}});
-  }
-  const std::vector<StabilityLimit> limits = interruptible([&](auto stop) {
+py::object stability(const Scene& scene, const py::object& integrators, const std::string& param,
+                     const py::object& values, const std::optional<double>& duration,
+                     const std::optional<double>& min_dt, const std::optional<double>& max_dt,
+                     const std::optional<double>& precision, const std::optional<double>& energy_factor,
+                     const std::optional<double>& max_strain, const py::object& frame_dts, int jobs,
+                     const std::string& csv) {
+  clip::StabilityOptions o;  // the CLI's defaults where a keyword is None
+  o.scene = scene_options(scene, duration);
+  if (!integrators.is_none()) o.integrators = option_text(integrators);
+  o.param = param;
+  if (!values.is_none()) o.values = option_text(values);
+  o.min_dt = min_dt;
+  o.max_dt = max_dt;
+  if (precision) o.precision = *precision;
+  if (energy_factor) o.energy_factor = *energy_factor;
+  if (max_strain) o.max_strain = *max_strain;
+  o.frame_dts = frame_dts_text(frame_dts, o.frame_dts);
+  o.jobs = jobs;
+  clip::StabilityStudy study = clip::plan_stability(o, scene.def);
+  const std::vector<analysis::StabilityCase> cases = study.refs();
+  const std::vector<analysis::StabilityLimit> limits = interruptible([&](auto stop) {
     analysis::StudyHooks hooks;
     hooks.stop = stop;
-    return analysis::stability_sweep(cases, spec, hooks);
+    return analysis::stability_sweep(cases, study.spec, hooks);
   });
-  const analysis::CsvTable table = analysis::stability_table(limits, spec, param, names_of(spec.integrators));
+  const analysis::CsvTable table = analysis::stability_table(limits, study.spec, param, study.names);
   py::object frame = data_frame(table);
   if (!csv.empty()) write_csv(csv, table);
   return frame;
@@ -194,35 +186,43 @@ py::object stability(const Scene& scene, const std::vector<std::string>& integra
 }  // namespace
 
 void bind_studies(py::module_& m) {
-  m.def("stability", &stability, py::arg("scene"), py::arg("integrators"),
-        py::arg("param") = "cloth.springs.structural.stiffness", py::arg("values"), py::arg("duration"),
-        py::arg("min_dt"), py::arg("max_dt"), py::arg("precision") = 0.02, py::arg("frame_dts") = std::vector<double>{},
+  m.def("stability", &stability, py::arg("scene"), py::arg("integrators") = py::none(),
+        py::arg("param") = "cloth.springs.structural.stiffness", py::arg("values") = py::none(),
+        py::arg("duration") = py::none(), py::arg("min_dt") = py::none(), py::arg("max_dt") = py::none(),
+        py::arg("precision") = py::none(), py::arg("energy_factor") = py::none(), py::arg("max_strain") = py::none(),
+        py::arg("frame_dts") = py::none(), py::arg("jobs") = 0, py::arg("csv") = "",
+        "stability(scene, integrators=None, param='cloth.springs.structural.stiffness', values=None,\n"
+        "          duration=None, min_dt=None, max_dt=None, precision=None, energy_factor=None,\n"
+        "          max_strain=None, frame_dts=None, jobs=0, csv='') -> pandas.DataFrame\n\n"
+        "`clothsim stability SCENE` with its options as keywords: for each value of the scene key `param`\n"
+        "(a path, a glob or ks / kd), each lane's largest stable step over T, bracketed to `precision`.\n"
+        "A keyword left None takes the CLI's default (compare's four lanes, the scene's value x 1..1e4,\n"
+        "T = min(scene, 0.2 s), ...), so stability(scene) is `clothsim stability SCENE`'s table. Lists may\n"
+        "be Python lists; frame_dts=[] is 'none'. Columns as stability --csv; `csv` writes that file too.\n"
+        "GIL released; Ctrl-C: KeyboardInterrupt; bad options raise clothsim.UsageError (a ValueError).");
+  m.def("bench", &bench, py::arg("scene"), py::arg("integrators") = py::none(), py::arg("dts") = py::none(),
+        py::arg("duration") = py::none(), py::arg("frame_dts") = py::none(),
+        py::arg("reference_refinement") = py::none(), py::arg("reference_tolerance") = py::none(),
         py::arg("jobs") = 0, py::arg("csv") = "",
-        "stability(scene, integrators, param='cloth.springs.structural.stiffness', values, duration, min_dt,\n"
-        "          max_dt, precision=0.02, frame_dts=[], jobs=0, csv='') -> pandas.DataFrame\n\n"
-        "`clothsim stability --param P --values ... --duration T --min-dt ... --max-dt ...`: for each value of\n"
-        "the scene key `param` (a path, a glob or ks / kd), each integrator's largest stable step over T,\n"
-        "bracketed to `precision`. Columns as stability --csv; `csv` writes that file too. The range and\n"
-        "T are given here (stability's defaults are the CLI's). GIL released; Ctrl-C: KeyboardInterrupt.");
-  m.def("bench", &bench, py::arg("scene"), py::arg("integrators"), py::arg("dts"), py::arg("duration"),
-        py::arg("frame_dts") = std::vector<double>{}, py::arg("reference_refinement") = 8, py::arg("jobs") = 0,
-        py::arg("csv") = "",
-        "bench(scene, integrators, dts, duration, frame_dts=[], reference_refinement=8, jobs=0, csv='')\n"
+        "bench(scene, integrators=None, dts=None, duration=None, frame_dts=None, reference_refinement=None,\n"
+        "      reference_tolerance=None, jobs=0, csv='') -> pandas.DataFrame\n\n"
+        "`clothsim bench SCENE` with its options as keywords: every lane at every step over T, its error at\n"
+        "T against the reference and its cost. A keyword left None takes the CLI's default (compare's\n"
+        "four lanes, the scene's dt x 0.25..8, T = min(scene, 0.5 s, 8000 x the smallest step) rounded to\n"
+        "the largest, implicit_euler also at one step per frame), so bench(scene) is `clothsim bench\n"
+        "SCENE`'s table. Columns as bench --csv; `csv` writes that file too. Runs with the GIL released;\n"
+        "Ctrl-C raises KeyboardInterrupt; bad options raise clothsim.UsageError (a ValueError).");
+  m.def("converge", &converge, py::arg("scene"), py::arg("dt") = py::none(), py::arg("integrators") = py::none(),
+        py::arg("states") = py::none(), py::arg("max_iterations") = py::none(), py::arg("csv") = "",
+        "converge(scene, dt=None, integrators=None, states=None, max_iterations=None, csv='')\n"
         "    -> pandas.DataFrame\n\n"
-        "`clothsim bench --integrators ... --dts ... --duration T --frame-dts ...`: every integrator at every\n"
-        "step over T (each step dividing T), its error at T against an RK4 reference and its cost. Columns\n"
-        "as bench --csv; `csv` writes that file too. The steps and T are given here (bench's defaults are\n"
-        "the CLI's). Runs with the GIL released; Ctrl-C raises KeyboardInterrupt.");
-  m.def("converge", &converge, py::arg("scene"), py::arg("dt") = 1.0 / 60.0,
-        py::arg("integrators") = std::vector<std::string>{"xpbd", "projective_dynamics", "vbd", "implicit_euler"},
-        py::arg("states") = 5, py::arg("max_iterations") = 50, py::arg("csv") = "",
-        "converge(scene, dt=1/60, integrators=['xpbd', 'projective_dynamics', 'vbd', 'implicit_euler'],\n"
-        "         states=5, max_iterations=50, csv='') -> pandas.DataFrame\n\n"
-        "`clothsim converge`: from `states` states along a converged implicit_euler run, one step of\n"
-        "each method with 1..max_iterations iterations, its distance from the converged backward-Euler\n"
-        "step. Columns as converge --csv: scene, method, state, t, iterations, rms_distance,\n"
-        "max_distance, gradient_norm, cpu_seconds, wrong; `csv` writes that file too. Runs with the GIL\n"
-        "released; Ctrl-C raises KeyboardInterrupt.");
+        "`clothsim converge SCENE` with its options as keywords (None: the CLI's default, dt=1/60,\n"
+        "integrators xpbd, projective_dynamics, vbd, implicit_euler, states=5, max_iterations=50): from\n"
+        "`states` states along a converged implicit_euler run, one step of each method with\n"
+        "1..max_iterations iterations, its distance from the converged backward-Euler step. Columns as\n"
+        "converge --csv: scene, method, state, t, iterations, rms_distance, max_distance, gradient_norm,\n"
+        "cpu_seconds, wrong; `csv` writes that file too. Runs with the GIL released; Ctrl-C raises\n"
+        "KeyboardInterrupt; bad options raise clothsim.UsageError (a ValueError).");
 }
 
 }  // namespace clothsim::python

@@ -12,7 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace fs = std::filesystem;
 
 namespace {
@@ -321,4 +321,4 @@ std::vector<std::string> split_list(const std::string& text, char sep) {
   return out;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -14,7 +14,7 @@
 #include "progress.h"  // Progress, --progress, --quiet: every command uses them
 #include "render/output_file.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // The CLI contract's exit codes (DESIGN.md).
 // A run stopped by SIGINT, SIGTERM or SIGHUP exits 128 + the signal's number (130, 143, 129),
@@ -121,4 +121,4 @@ std::optional<double> parse_number_or_fraction(const std::string& text);
 // Splits "a,b,c" (empty pieces are an error reported by the caller).
 std::vector<std::string> split_list(const std::string& text, char sep = ',');
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

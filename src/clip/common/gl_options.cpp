@@ -4,7 +4,7 @@
 
 #include "clip/common/cli_common.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 void add_gl_options(CLI::App* sub, GlOptions& options) {
   sub->add_option("--gl", options.gl,
@@ -39,4 +39,4 @@ PngText with_renderer(PngText text, const Renderer& renderer) {
   return text;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

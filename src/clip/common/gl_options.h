@@ -10,7 +10,7 @@
 #include "render/png_io.h"
 #include "render/renderer.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 struct GlOptions {
   std::string gl;        // --gl; empty: CLOTHSIM_GL, else auto
@@ -30,4 +30,4 @@ std::unique_ptr<Renderer> make_renderer(const GlOptions& options);
 // `text` followed by the tEXt chunks gl_backend, gl_vendor, gl_renderer, gl_version.
 PngText with_renderer(PngText text, const Renderer& renderer);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -11,7 +11,7 @@
 #include "scene/echo.h"
 #include "core/integrators/integrator_kind.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 
@@ -278,4 +278,4 @@ std::vector<std::string> lane_directories(const std::vector<LaneSpec>& lanes) {
   return dirs;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

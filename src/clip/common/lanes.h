@@ -11,7 +11,7 @@
 #include "core/integrators/integrator_kind.h"
 #include "core/model.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 struct LaneSpec {
   IntegratorKind kind{};
@@ -94,4 +94,4 @@ void set_tolerance(Model& model, IntegratorKind kind, double tolerance, int cap)
 // "%g" of a step, the way labels and messages write it.
 std::string step_string(double dt);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

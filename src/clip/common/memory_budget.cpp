@@ -21,7 +21,7 @@
 #include "scene/parse_estimate.h"
 #include "scene/scene_parser.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 std::optional<double> parse_memory_size(const std::string& text) {
   if (text.empty() || !(std::isdigit(static_cast<unsigned char>(text[0])) || text[0] == '.')) return std::nullopt;
@@ -211,4 +211,4 @@ SceneDef load_scene_within(const std::string& path, const std::vector<std::strin
   return load_scene(path, overrides, bound_run);
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

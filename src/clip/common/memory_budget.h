@@ -12,7 +12,7 @@
 #include "clip/compare/compare_plan.h"
 #include "scene/scene_def.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // "4G", "512M", "1.5G", "800MB", "2000000000" (bytes); K, M, G, T are powers of 1024.
 // nullopt for anything else (negative, zero, words).
@@ -104,4 +104,4 @@ class MemoryBudget {
   std::vector<std::pair<std::string, double>> parts_;
 };
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -6,7 +6,7 @@
 
 #include "cli_common.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 std::atomic<ProgressMode> g_mode{ProgressMode::automatic};
@@ -91,4 +91,4 @@ void Progress::update(long done) {
   std::fflush(out_);
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -13,7 +13,7 @@
 #include <cstdio>
 #include <string>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 enum class ProgressMode { automatic, always, never };
 
@@ -50,4 +50,4 @@ class Progress {
   bool ended_ = false;  // the closing line has been written (lines style)
 };
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

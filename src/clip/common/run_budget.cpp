@@ -7,7 +7,7 @@
 #include "scene/memory_estimate.h"
 #include "core/integrators/integrator_kind.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 MemoryBudget run_budget(const SceneDef& scene, const PictureLook& look, const RunPictures& pictures) {
   const int w = pictures.width, h = pictures.height;
@@ -36,4 +36,4 @@ MemoryBudget run_budget(const SceneDef& scene, const PictureLook& look, const Ru
   return budget;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -7,7 +7,7 @@
 #include "clip/frames/picture_options.h"
 #include "scene/scene_def.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // What the run makes besides its state: pictures of `width` x `height` (frames, a video, a
 // still), and whether they are encoded to a video.
@@ -26,4 +26,4 @@ struct RunPictures {
 // writer, the first second held for a colour scale from the data, and the encoder.
 MemoryBudget run_budget(const SceneDef& scene, const PictureLook& look, const RunPictures& pictures);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

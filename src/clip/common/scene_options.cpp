@@ -10,7 +10,7 @@
 #include "scene/scene_parser.h"
 #include "core/integrators/integrator_kind.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run, const std::string& duration_default) {
   sub->add_option("scene", o.path, "Scene file (YAML; keys in docs/scenes.md)")->required();
@@ -115,4 +115,4 @@ SceneDef load_scene_with_options(const SceneOptions& o) {
   return scene;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

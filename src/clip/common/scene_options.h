@@ -10,7 +10,7 @@
 #include "scene/scene_def.h"
 #include "core/integrators/integrator_kind.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 struct SceneOptions {
   std::string path;
@@ -46,4 +46,4 @@ IntegratorKind parse_integrator_option(const std::string& name, const std::strin
 std::vector<IntegratorKind> parse_integrator_list(const std::string& text,
                                                   const std::string& option = "--integrators");
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

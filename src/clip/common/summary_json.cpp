@@ -7,7 +7,7 @@
 #include "cli_common.h"
 #include "core/integrators/integrator_kind.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 
@@ -153,4 +153,4 @@ void write_summary(const std::string& path, const std::string& command, const st
   file.commit();
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -12,7 +12,7 @@
 #include "core/integrators/integrator_kind.h"
 #include "core/simulation.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // A JSON object built key by key, each value serialised as it is added (keys in that order).
 class JsonObject {
@@ -55,4 +55,4 @@ JsonObject lane_json_without_counts(const std::string& scene, IntegratorKind kin
 void write_summary(const std::string& path, const std::string& command, const std::string& source,
                    const std::vector<JsonObject>& lanes, const JsonObject& extra = {});
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

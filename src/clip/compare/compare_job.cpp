@@ -30,7 +30,7 @@
 #include "study/reference.h"
 #include "video/video_writer.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 std::vector<LaneSpec> ComparePlan::specs() const {
   std::vector<LaneSpec> out;
@@ -479,4 +479,4 @@ void write_compare_summary(const CompareRequest& o, const ComparePlan& p, const 
   write_summary(o.summary, "compare", p.scene.source, compare_lanes_json(p, report), extra);
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

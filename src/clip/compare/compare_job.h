@@ -30,7 +30,7 @@
 #include "scene/scene_def.h"
 #include "video/tiling.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // What is asked: compare's options, one field each (docs/cli.md, compare).
 struct CompareRequest {
@@ -116,4 +116,4 @@ PipelineReport run_compare(const CompareRequest& o, const ComparePlan& p);
 std::vector<JsonObject> compare_lanes_json(const ComparePlan& p, const PipelineReport& report);
 void write_compare_summary(const CompareRequest& o, const ComparePlan& p, const PipelineReport& report);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

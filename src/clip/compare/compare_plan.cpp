@@ -12,7 +12,7 @@
 #include "scene/run_bounds.h"
 #include "video/contact_sheet.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 
@@ -230,4 +230,4 @@ void check_sheet_fits(int cell_w, int cell_h, const std::vector<std::string>& ro
   }
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

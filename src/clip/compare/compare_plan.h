@@ -12,7 +12,7 @@
 #include "scene/param_keys.h"
 #include "scene/scene_def.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // --dt: "" (every run at the scene's dt), "S" (every run at S), "name=S,name=S" (those runs
 // at their own step, the others at the scene's), or a bare S mixed with name=S (the bare
@@ -106,4 +106,4 @@ Variation parse_vary(const std::string& text, const SceneDef& scene);
 void check_step_bounds(const SceneDef& scene, const std::vector<LaneSpec>& lanes,
                        const std::optional<LaneSpec>& reference);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

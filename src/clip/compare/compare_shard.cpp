@@ -9,7 +9,7 @@
 #include "study/study.h"
 #include "study/work_precision.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 // A pixel of a tile counted as one particle force evaluation, as golden check counts it
@@ -56,4 +56,4 @@ std::vector<std::size_t> frames_shard_lanes(const FramesShardPlan& plan, const s
   return mine;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

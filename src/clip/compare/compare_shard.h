@@ -17,7 +17,7 @@
 
 #include "clip/common/lanes.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 void add_frames_shard_option(CLI::App* sub, std::string& shard);
 
@@ -40,4 +40,4 @@ void check_frames_shard_outputs(const std::string& frames_dir, bool other_output
 std::vector<std::size_t> frames_shard_lanes(const FramesShardPlan& plan, const std::vector<LaneSpec>& lanes,
                                             const std::vector<std::string>& lane_dirs);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

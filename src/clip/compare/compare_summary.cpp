@@ -9,7 +9,7 @@
 #include "video/tiling.h"
 #include "study/reference.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 
@@ -284,4 +284,4 @@ JsonObject summary_reference(const ReferenceReport& report) {
   return json;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -16,7 +16,7 @@ namespace clothsim {
 class TileGrid;
 }
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // What the summary shows beside the pipeline's report.
 struct SummaryContext {
@@ -46,4 +46,4 @@ JsonObject summary_reference(const ReferenceReport& reference);
 std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& report, FieldKind color,
                                       const SummaryContext& context);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 ReferenceHistory::ReferenceHistory(const Model& model, IntegratorKind kind, double dt)
     : model_(model), kind_(kind), dt_(dt) {}
@@ -39,4 +39,4 @@ const State& ReferenceHistory::at(std::int64_t k) {
   return replay_;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -15,7 +15,7 @@
 
 #include "core/simulation.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 class ReferenceHistory {
  public:
@@ -49,4 +49,4 @@ class ReferenceHistory {
   double replay_cpu_ = 0.0;
 };
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -9,7 +9,7 @@
 #include "clip/frames/lane_times.h"
 #include "core/diagnostics.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t,
                                ReferenceHistory* history)
@@ -225,4 +225,4 @@ bool ReferenceStand::serve_next() {
   return true;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -42,7 +42,7 @@
 #include "core/simulation.h"
 #include "study/reference.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 class ReferenceStand {
  public:
@@ -170,4 +170,4 @@ class ReferenceStand {
   std::deque<std::vector<std::shared_ptr<EnergySlot>>> pending_energy_;
 };
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -11,7 +11,7 @@
 #include "core/work_units.h"
 #include "scene/echo.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 
@@ -256,4 +256,4 @@ std::vector<std::string> match_steps(const Model& model, std::vector<LaneSpec>& 
   return how;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -20,7 +20,7 @@
 #include "clip/common/lanes.h"
 #include "core/model.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 enum class MatchKind { None, Cost, Error };
 
@@ -61,4 +61,4 @@ LaneSpec error_reference(const LaneSpec& reference, double fps);
 // seconds (up to divergence): a pilot run.
 double pilot_cost(const Model& model, const LaneSpec& lane, double h, double window);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -6,7 +6,7 @@
 #include "clip/common/cli_common.h"
 #include "export/mesh_export.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace fs = std::filesystem;
 namespace {
 
@@ -117,4 +117,4 @@ void add_export_outputs(FramePipeline& pipeline, const std::vector<ExportPath>& 
     pipeline.add(std::make_unique<ExportOutput>(i < lane_models.size() ? *lane_models[i] : model, paths[i], fps, i, error));
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -15,7 +15,7 @@ namespace CLI {
 class App;
 }
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // --export PATH on `sub` (its help names the formats).
 void add_export_option(CLI::App* sub, std::string& path);
@@ -43,4 +43,4 @@ std::vector<ExportPath> checked_export_paths(const std::string& path, const std:
 void add_export_outputs(FramePipeline& pipeline, const std::vector<ExportPath>& paths, const Model& model,
                         const std::vector<const Model*>& lane_models, double fps, bool error);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 ColorScale field_scale(FieldKind kind, const ColorRange& range) {
   ColorScale scale;
@@ -97,4 +97,4 @@ void draw_energy_inset(RenderFrame& frame, const std::vector<EnergyHistory>& lan
   inset.label = reference ? "E-Eref [J]" : "E-E(0) [J]";
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

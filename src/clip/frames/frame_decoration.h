@@ -9,7 +9,7 @@
 #include "view/render_frame.h"
 #include "view/vertex_fields.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // Total energy of one lane over the targets so far, for the inset.
 struct EnergyHistory {
@@ -39,4 +39,4 @@ void color_by_field(RenderFrame& frame, const std::vector<float>& field, FieldKi
 void draw_energy_inset(RenderFrame& frame, const std::vector<EnergyHistory>& lanes, std::size_t lane, double duration,
                        const EnergyHistory* reference = nullptr, const std::vector<bool>& diverged = {});
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

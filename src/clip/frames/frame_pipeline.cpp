@@ -15,7 +15,7 @@
 #include "clip/common/cli_common.h"
 #include "clip/common/progress.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 
@@ -572,4 +572,4 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
   return p.report();
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -24,7 +24,7 @@
 #include "render/image.h"
 #include "render/renderer.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 enum class OverlayMode { Full, Label, None };
 std::optional<OverlayMode> parse_overlay_mode(std::string_view text);  // full|label|none
@@ -187,4 +187,4 @@ std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, 
 // pipeline's message says which).
 std::optional<ColorRange> range_from_data(const std::vector<const std::vector<float>*>& fields, FieldKind kind);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

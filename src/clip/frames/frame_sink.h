@@ -8,7 +8,7 @@
 #include "render/image.h"
 #include "render/png_io.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 class FrameSink {
  public:
@@ -39,4 +39,4 @@ struct VideoOptions {
 // An H.264 MP4 at `path`, written without a name (render/output_file.h) and named by finish().
 std::unique_ptr<FrameSink> make_video_sink(const std::string& path, const VideoOptions& options);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

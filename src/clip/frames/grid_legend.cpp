@@ -6,7 +6,7 @@
 #include "render/color_bar.h"
 #include "render/text.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 int legend_width(FieldKind color, int scale) {
   return color == FieldKind::None ? 0 : render::color_bar_strip_width(field_label(color), scale);
@@ -31,4 +31,4 @@ void add_legend_strip(const Image& body, const ColorScale* legend, int width, in
   if (legend) render::draw_color_bar_strip(out, *legend, {body.width, 0, width, body.height}, scale);
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

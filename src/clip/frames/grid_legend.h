@@ -10,7 +10,7 @@
 #include "view/render_frame.h"
 #include "view/vertex_fields.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // A grid of `layout` in width x height, with room at its right for the colour bar of `color`
 // (none for FieldKind::None): the tiles are what the strip leaves.
@@ -28,4 +28,4 @@ int legend_width(FieldKind color, int scale);
 // (nothing drawn in it for a null legend: the scale is not known yet), into `out`.
 void add_legend_strip(const Image& body, const ColorScale* legend, int width, int scale, Image& out);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

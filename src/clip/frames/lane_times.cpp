@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 std::int64_t landing_step(double target, double h, std::int64_t from) {
   const double goal = target - 1e-6 * h;  // Run::advance_to's tolerance
@@ -36,4 +36,4 @@ std::vector<double> energy_samples_before(double t, double every, long& sample) 
   return times;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // The step a run of step h lands on when advanced to `target` from step `from` (Run::advance_to:
 // the first step k >= from with k h >= target - 1e-6 h; its time is k h).
@@ -33,4 +33,4 @@ void hermite_positions(const std::vector<double>& xa, const std::vector<double>&
                        const std::vector<double>& xb, const std::vector<double>& vb, double tb, double t,
                        std::vector<double>& out);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -13,7 +13,7 @@
 #include "study/reference.h"
 #include "view/snapshot.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 LaneWorker::LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
                        std::size_t queue_capacity, std::function<bool()> interrupt)
@@ -371,4 +371,4 @@ void LaneWorker::work() {
   changed_.notify_all();
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

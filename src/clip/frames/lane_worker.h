@@ -28,14 +28,14 @@
 #include "view/render_settings.h"
 #include "view/vertex_fields.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 class ReferenceHistory;
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip
 namespace clothsim::analysis {
 class AdaptiveReference;
 }  // namespace clothsim::analysis
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // What the pipeline's outputs need of every target; the rest is not computed.
 struct LaneNeeds {
@@ -189,4 +189,4 @@ class LaneWorker {
   std::thread thread_;
 };
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

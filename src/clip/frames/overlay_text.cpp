@@ -3,7 +3,7 @@
 
 #include <cstdio>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 std::vector<std::string> overlay_lines(const Model& model, const std::string& lane_label, double t) {
   return {model.name, lane_label, overlay_time_line(t)};
@@ -67,4 +67,4 @@ std::string cost_line(double passes, double cpu_seconds, double t, bool cpu) {
   return line;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

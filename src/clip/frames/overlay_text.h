@@ -15,7 +15,7 @@
 #include "core/model.h"
 #include "view/render_frame.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // The overlay of a run's picture: the scene, the lane (integrator_label) and the time
 // (overlay_time_line); `run` adds its cost beneath (frame_pipeline.h, lane_overlay), and a
@@ -48,4 +48,4 @@ void mark_wrong(RenderFrame& frame, const std::string& verdict);
 // them ("10.0k passes/sim s  71 ms cpu/sim s"); at t = 0 the work so far.
 std::string cost_line(double passes, double cpu_seconds, double t, bool cpu);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

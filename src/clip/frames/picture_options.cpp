@@ -10,7 +10,7 @@
 #include "view/camera_fit.h"
 #include "view/snapshot.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
   sub->add_option("--color", o.color,
@@ -160,4 +160,4 @@ void apply_look(const PictureLook& look, PipelineConfig& c) {
   c.fxaa = look.fxaa;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

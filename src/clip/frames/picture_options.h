@@ -15,7 +15,7 @@
 #include "core/model.h"
 #include "scene/scene_def.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 struct PictureOptions {
   std::optional<std::string> color;      // --color checker|error|strain|speed
@@ -69,4 +69,4 @@ RenderCamera auto_camera(const Model& model, const RenderDef& scene_render, doub
 // The pipeline's settings for the look.
 void apply_look(const PictureLook& look, PipelineConfig& config);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -6,7 +6,7 @@
 #include "render/color_bar.h"
 #include "video/contact_sheet.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 
@@ -207,4 +207,4 @@ std::unique_ptr<FrameOutput> make_metrics_output(std::unique_ptr<MetricsWriter> 
   return std::make_unique<MetricsOutput>(std::move(writer), std::move(path), lane);
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

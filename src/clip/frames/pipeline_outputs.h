@@ -13,7 +13,7 @@
 #include "render/png_io.h"
 #include "video/tiling.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // How lane pictures become one picture: a single lane's picture as it is (run), or the lanes
 // composed into a grid, each tile labelled with its lane (compare; labels off with overlay none),
@@ -53,4 +53,4 @@ std::unique_ptr<FrameOutput> make_sheet_output(std::string path, std::vector<std
 // One CSV row per clip frame of one lane (run --metrics), the diverged state's row included.
 std::unique_ptr<FrameOutput> make_metrics_output(std::unique_ptr<MetricsWriter> writer, std::string path, std::size_t lane);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 double cloth_size(const Model& model) {
   if (model.num_particles == 0) return 0.0;
@@ -22,4 +22,4 @@ std::optional<std::string> implausible(const Model& model, const LaneEvidence& e
   return std::nullopt;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -13,7 +13,7 @@
 #include "core/model.h"
 #include "core/simulation.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 inline constexpr double kErrorFraction = 0.1;
 
@@ -29,4 +29,4 @@ double cloth_size(const Model& model);
 // nullopt for a plausible lane.
 std::optional<std::string> implausible(const Model& model, const LaneEvidence& evidence);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

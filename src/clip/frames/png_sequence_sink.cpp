@@ -16,7 +16,7 @@
 #include "frame_sink.h"
 #include "clip/common/cli_common.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 
@@ -151,4 +151,4 @@ std::unique_ptr<FrameSink> make_png_sequence_sink(const std::string& dir, PngTex
   return std::make_unique<PngSequenceSink>(dir, std::move(meta));
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -7,7 +7,7 @@
 #include "clip/common/cli_common.h"
 #include "video/video_writer.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace {
 
@@ -67,4 +67,4 @@ std::unique_ptr<FrameSink> make_video_sink(const std::string& path, const VideoO
   return std::make_unique<VideoSink>(path, options);
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -14,7 +14,7 @@
 #include "scene/scene_parser.h"
 #include "core/integrators/integrator_kind.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 namespace fs = std::filesystem;
 
@@ -179,4 +179,4 @@ std::string golden_image_path(const GoldenManifest& manifest, const GoldenEntry&
   return (fs::path(manifest.path).parent_path() / (entry.name + "_t" + time_tag(t) + "ms.png")).string();
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -24,7 +24,7 @@
 #include "core/integrators/integrator_kind.h"
 #include "render/image_diff.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 struct GoldenEntry {
   std::string scene;                       // path, resolved against the manifest's directory
@@ -49,4 +49,4 @@ GoldenManifest load_golden_manifest(const std::string& path);
 // Where the golden image of `entry` at time `t` lives: beside the manifest.
 std::string golden_image_path(const GoldenManifest& manifest, const GoldenEntry& entry, double t);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

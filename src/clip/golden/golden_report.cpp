@@ -7,7 +7,7 @@
 #include "clip/studies/study_common.h"
 #include "clip/studies/study_shard.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 std::string golden_report_line(const GoldenVerdict& v) {
   char text[200];
@@ -89,4 +89,4 @@ JsonObject golden_image_json(const GoldenVerdict& v) {
   return image;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -9,7 +9,7 @@
 
 #include "clip/common/summary_json.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 struct GoldenVerdict {
   std::size_t entry = 0;      // the manifest's goldens[ENTRY]
@@ -42,4 +42,4 @@ JsonObject golden_summary_keys(const std::vector<GoldenVerdict>& verdicts);
 // The summary's image object (an entry's lane lists its images).
 JsonObject golden_image_json(const GoldenVerdict& v);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -5,7 +5,7 @@
 
 #include "clip/studies/study_common.h"  // csv_text, csv_number: shortest exact form
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 MetricsWriter::MetricsWriter(const std::string& path, const Model& model, IntegratorKind kind, double dt)
     : file_(path) {
@@ -62,4 +62,4 @@ void write_state_csv(const std::string& path, const Model& model, const State& s
   file.commit();
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -13,7 +13,7 @@
 #include "core/state.h"
 #include "render/png_io.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // Columns: the contract's step,t,kinetic,spring_potential,gravity_potential,total_energy,
 // max_strain,contacts,force_evals, then the implicit solver's newton_iterations,
@@ -51,4 +51,4 @@ class RunFiles {
 // Header id,x,y,z,vx,vy,vz; %.17g, so a state read back is bit-identical.
 void write_state_csv(const std::string& path, const Model& model, const State& state);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -18,7 +18,7 @@
 #include "clip/common/scene_options.h"
 #include "scene/echo.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace fs = std::filesystem;
 
 std::vector<double> parse_number_list(const std::string& text, const std::string& option) {
@@ -223,4 +223,4 @@ std::vector<double> parse_frame_dts(const std::string& text) {
   return out;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -13,7 +13,7 @@
 #include "core/integrators/integrator_kind.h"
 #include "study/tables/csv_cells.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 // "1e-4,2e-4,1/60" -> numbers (fractions allowed); an empty list, an empty item or a word is
 // a UsageError naming `option`. Signs are the caller's to check (a dt must be > 0, a parameter may be anything).
@@ -85,4 +85,4 @@ class PlotScript {
 // from the environment).
 std::string tools_dir();
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

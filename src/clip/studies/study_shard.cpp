@@ -6,7 +6,7 @@
 #include "clip/common/cli_common.h"
 #include "study/study.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 namespace fs = std::filesystem;
@@ -170,4 +170,4 @@ std::string scene_hash(const std::string& path, const std::vector<std::string>& 
   return analysis::hash_text(bytes);
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -15,7 +15,7 @@
 #include "study/journal.h"
 #include "study/shard.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 
 void add_shard_option(CLI::App* sub, std::string& shard);
 
@@ -70,4 +70,4 @@ std::string full_command();
 // The scene file's bytes and the --set list: what the scene hash covers.
 std::string scene_hash(const std::string& path, const std::vector<std::string>& sets);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

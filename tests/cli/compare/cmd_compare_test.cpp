@@ -142,7 +142,7 @@ TEST(CmdCompare, KeepsEveryTilesPngsAndTheyAreTheClipsTiles) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // 1xN: one column of two tiles, each (180 - 4) / 2 = 88 high and as wide as the colour bar's
   // strip leaves of 320.
-  const int tile_w = clothsim::cli::fit_legend_grid(GridLayout{1, 2}, 320, 180, FieldKind::Error).grid.cell_width();
+  const int tile_w = clothsim::clip::fit_legend_grid(GridLayout{1, 2}, 320, 180, FieldKind::Error).grid.cell_width();
   EXPECT_GT(tile_w, 160);
   for (const char* name : {"midpoint", "rk4"}) {
     for (int k = 0; k < 7; ++k) EXPECT_TRUE(fs::exists(frame_path(dir + "/tiles", name, k))) << name << k;
@@ -312,7 +312,7 @@ TEST(CmdCompare, AReferenceThatDivergesIsWarnedOfAndEveryErrorLineSaysWhereMeasu
   // the checker picture plus one overlay line, in the overlay's box at the top left.
   // (The error still's tile is what its colour bar's strip leaves of the width: the checker
   // still is asked for at that width, for a tile of the same size.)
-  const int tile_w = clothsim::cli::fit_legend_grid(GridLayout{1, 1}, 320, 180, FieldKind::Error).grid.width();
+  const int tile_w = clothsim::clip::fit_legend_grid(GridLayout{1, 1}, 320, 180, FieldKind::Error).grid.width();
   const auto checker = ct::run_clothsim({"compare", kDrape, "--set", "cloth.particles=[9,9]", "--duration", "0.2",
                                          "--width", std::to_string(tile_w), "--height", "180", "--integrators",
                                          "midpoint", "--color", "checker", "--still", "0.1", "-o", dir + "/checker.png"});
@@ -447,7 +447,7 @@ TEST(CmdCompare, WritesAStillOfTheWholeGridAtTheRequestedTime) {
   EXPECT_EQ(still.height, 180);
   // 2x2 cells 88 high with a 4-pixel gutter, left of the colour bar's strip; t = 0.1 s is
   // frame 3; rk4 is the fourth tile.
-  const TileGrid grid = clothsim::cli::fit_legend_grid(GridLayout{2, 2}, 320, 180, FieldKind::Error).grid;
+  const TileGrid grid = clothsim::clip::fit_legend_grid(GridLayout{2, 2}, 320, 180, FieldKind::Error).grid;
   ASSERT_EQ(grid.cell_height(), 88);
   const Image rk4 = read_png(frame_path(dir + "/tiles", "rk4", 3));
   EXPECT_EQ(rk4.width, grid.cell_width());

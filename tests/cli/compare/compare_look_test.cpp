@@ -115,7 +115,7 @@ TEST(CompareLook, AGridDrawsOneColourBarInAStripBesideItsTilesAndNoneInThem) {
   const Image still = read_png(dir + "/still.png"), sheet = read_png(dir + "/sheet.png");
   ASSERT_EQ(still.width, 640);
   ASSERT_EQ(sheet.width, 640) << "the strip comes out of the width asked for";
-  const cli::LegendGrid grid = cli::fit_legend_grid(GridLayout{2, 2}, 640, 360, FieldKind::Strain);
+  const clip::LegendGrid grid = clip::fit_legend_grid(GridLayout{2, 2}, 640, 360, FieldKind::Strain);
   ASSERT_GT(grid.legend_width, 0);
   EXPECT_EQ(grid.width(), 640);
   const std::vector<int> in_still = bar_columns(still);
@@ -198,10 +198,10 @@ TEST(CompareLook, TheDefaultClipsClothCoversAQuarterOfEachTile) {
   // differ from the same frame without the cloth (no shadows, so only the cloth counts).
   const SceneDef scene = load_scene(kDrape);
   ASSERT_TRUE(scene.render.camera_auto) << "the shipped drape is framed automatically";
-  const TileGrid grid = clothsim::cli::fit_legend_grid(GridLayout{2, 2}, scene.render.width, scene.render.height,
+  const TileGrid grid = clothsim::clip::fit_legend_grid(GridLayout{2, 2}, scene.render.width, scene.render.height,
                                                        FieldKind::Error).grid;  // the tiles left of the colour bar
   const Model model = build_model(scene);
-  const RenderCamera camera = clothsim::cli::auto_camera(model, scene.render, static_cast<double>(grid.cell_width()) / grid.cell_height());
+  const RenderCamera camera = clothsim::clip::auto_camera(model, scene.render, static_cast<double>(grid.cell_width()) / grid.cell_height());
   Renderer renderer;
   clothsim::Run run(model, IntegratorKind::SymplecticEuler, model.dt);
   for (const double t : {0.0, 1.0, 2.5, 5.0}) {

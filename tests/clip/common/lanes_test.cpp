@@ -6,7 +6,7 @@
 #include "cli/usage_error.h"
 
 using namespace clothsim;
-using namespace clothsim::cli;
+using namespace clothsim::clip;
 using clothsim::testing::usage_error;
 
 TEST(ParseLanes, OneIntegratorAtSeveralStepsAndFractions) {

@@ -13,8 +13,8 @@
 namespace clothsim::testing {
 namespace {
 
-using cli::MemoryBudget;
-using cli::parse_memory_size;
+using clip::MemoryBudget;
+using clip::parse_memory_size;
 
 TEST(ParseMemorySize, ReadsBytesAndBinaryUnitsInTheUsualSpellings) {
   EXPECT_EQ(parse_memory_size("2000000000"), 2e9);
@@ -29,9 +29,9 @@ TEST(ParseMemorySize, ReadsBytesAndBinaryUnitsInTheUsualSpellings) {
 }
 
 TEST(FormatBytes, GivesThreeDigitsSoTheOverflowShows) {
-  EXPECT_EQ(cli::format_bytes(80.0 * 1024 * 1024), "80 MB");
-  EXPECT_EQ(cli::format_bytes(2.01 * 1024 * 1024 * 1024), "2.01 GB");
-  EXPECT_EQ(cli::format_bytes(512), "512 B");
+  EXPECT_EQ(clip::format_bytes(80.0 * 1024 * 1024), "80 MB");
+  EXPECT_EQ(clip::format_bytes(2.01 * 1024 * 1024 * 1024), "2.01 GB");
+  EXPECT_EQ(clip::format_bytes(512), "512 B");
 }
 
 TEST(MemoryBudget, RefusesOverTheLimitListingEveryPart) {
@@ -45,7 +45,7 @@ TEST(MemoryBudget, RefusesOverTheLimitListingEveryPart) {
                           0),
             0u)
       << refused;
-  EXPECT_GT(cli::default_memory_limit(), 0.0);
+  EXPECT_GT(clip::default_memory_limit(), 0.0);
 }
 
 TEST(CmdRun, ARunOverMaxMemoryIsRefusedWithTheEstimateAndWritesNothing) {
@@ -131,11 +131,11 @@ TEST(ReferencePositionsBytes, CountTheFramesALargeLaneStepKeepsWaitingOneCopyPer
   // copy of the positions (24 B per particle) per distinct step, per target waiting and per
   // frame of the worker's queue (4), the one being pushed and the pipeline's.
   const SceneDef scene = load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", {"cloth.particles=[512,512]"});
-  const cli::TargetPlan clip(0.5, 30.0, true, {});
+  const clip::TargetPlan clip(0.5, 30.0, true, {});
   const double copy = 24.0 * 512 * 512;
-  const double small = cli::reference_positions_bytes(scene, {1e-4, 1e-4, 1e-4}, clip, 4);
+  const double small = clip::reference_positions_bytes(scene, {1e-4, 1e-4, 1e-4}, clip, 4);
   EXPECT_DOUBLE_EQ(small, copy * (4 + (2 + 4 + 2) * 1)) << "one distinct step, two targets waiting";
-  const double large = cli::reference_positions_bytes(scene, {20.0, 1e-4}, clip, 4);
+  const double large = clip::reference_positions_bytes(scene, {20.0, 1e-4}, clip, 4);
   EXPECT_DOUBLE_EQ(large, copy * (4 + (16 + 4 + 2) * 2)) << "every target waiting, two distinct steps";
   EXPECT_GT(large, 250e6) << "the positions that were not counted: 288 MB (MiB) here";
 }

@@ -14,8 +14,8 @@
 namespace clothsim::testing {
 namespace {
 
-using cli::Progress;
-using cli::ProgressMode;
+using clip::Progress;
+using clip::ProgressMode;
 using namespace std::chrono_literals;
 
 // What a Progress wrote when driven through `done` = 1..total, `pause` apart.

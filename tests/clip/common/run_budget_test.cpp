@@ -9,7 +9,7 @@
 #include "scene/memory_estimate.h"
 #include "scene/scene_parser.h"
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 SceneDef drape() { return load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml"); }
@@ -115,4 +115,4 @@ TEST(MemoryEstimate, AnImplicitFinalStateCountsItsWarmStart) {
 }
 
 }  // namespace
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -10,7 +10,7 @@
 #include "scene/scene_parser.h"
 
 using namespace clothsim;
-using namespace clothsim::cli;
+using namespace clothsim::clip;
 using clothsim::testing::usage_error;
 
 namespace {

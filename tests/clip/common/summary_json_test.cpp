@@ -120,18 +120,18 @@ TEST(SummaryJson, AnUnwritableSummaryFailsBeforeAnyWork) {
 }
 
 TEST(JsonObject, AnObjectDumpedEarlierIsPlacedAsIfBuiltInPlace) {
-  cli::JsonObject inner;
-  inner.integer("n", 3).array("list", {cli::JsonObject().number("x", 0.5)});
-  cli::JsonObject built, restored;
+  clip::JsonObject inner;
+  inner.integer("n", 3).array("list", {clip::JsonObject().number("x", 0.5)});
+  clip::JsonObject built, restored;
   built.text("a", "b").array("lanes", {inner, inner});
-  restored.text("a", "b").array("lanes", {cli::JsonObject::from_dump(inner.dump()), cli::JsonObject::from_dump(inner.dump() + "\n")});
+  restored.text("a", "b").array("lanes", {clip::JsonObject::from_dump(inner.dump()), clip::JsonObject::from_dump(inner.dump() + "\n")});
   EXPECT_EQ(restored.dump(), built.dump());
 }
 
 TEST(JsonObject, WritesEscapedTextNullForNonFiniteAndNesting) {
-  cli::JsonObject inner;
+  clip::JsonObject inner;
   inner.integer("n", 3).boolean("ok", true);
-  cli::JsonObject o;
+  clip::JsonObject o;
   o.text("reason", "a \"quoted\"\\ line\nand\ttab")
       .number("x", 0.1)
       .number("nan", NAN)

@@ -12,7 +12,7 @@
 #include "scene/scene_parser.h"
 
 using namespace clothsim;
-using namespace clothsim::cli;
+using namespace clothsim::clip;
 
 namespace {
 

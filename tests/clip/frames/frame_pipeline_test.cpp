@@ -9,7 +9,7 @@
 #include "core/work_units.h"
 
 using namespace clothsim;
-using namespace clothsim::cli;
+using namespace clothsim::clip;
 
 TEST(LaneOverlay, IsDeterministicUnlessCpuIsAskedForAndFollowsTheMode) {
   Model model;

@@ -13,7 +13,7 @@
 #include "scene/scene_parser.h"
 
 using namespace clothsim;
-using namespace clothsim::cli;
+using namespace clothsim::clip;
 
 TEST(LaneTimes, LandsOnTheStepARunStopsOn) {
   const Model model = build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml",

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 TEST(OverlayText, MarksADivergedFrameWithItsTimeStepAndReason) {
@@ -52,4 +52,4 @@ TEST(OverlayText, TheCostLineIsWorkPerSimulatedSecondWithCpuOnlyWhenAsked) {
 }
 
 }  // namespace
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

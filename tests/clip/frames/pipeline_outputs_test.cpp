@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 using namespace clothsim;
-using namespace clothsim::cli;
+using namespace clothsim::clip;
 
 namespace {
 

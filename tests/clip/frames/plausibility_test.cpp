@@ -6,7 +6,7 @@
 #include "test_support.h"
 
 using namespace clothsim;
-using namespace clothsim::cli;
+using namespace clothsim::clip;
 
 namespace {
 

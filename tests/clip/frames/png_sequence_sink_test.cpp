@@ -61,7 +61,7 @@ TEST(PngSequenceSink, SaysWhatItWroteWithoutChangingAnything) {
   // written() is a query: asked after finish(), and again, it names the same PNGs, all of
   // which stay (it was abandon(), an action, that answered this before).
   const std::string dir = scratch_dir("png_sink_written") + "/frames";
-  auto sink = cli::make_png_sequence_sink(dir, {});
+  auto sink = clip::make_png_sequence_sink(dir, {});
   for (int k = 0; k < 3; ++k) sink->add(k, k / 30.0, testing::grey_image(16, 8));
   sink->finish();
   EXPECT_EQ(sink->written(), "3 PNGs in " + dir);
@@ -71,7 +71,7 @@ TEST(PngSequenceSink, SaysWhatItWroteWithoutChangingAnything) {
 
 TEST(PngSequenceSink, AFolderRemovedMeanwhileIsNotReportedAsKept) {
   const std::string dir = scratch_dir("png_sink_removed") + "/frames";
-  auto sink = cli::make_png_sequence_sink(dir, {});
+  auto sink = clip::make_png_sequence_sink(dir, {});
   sink->add(0, 0.0, testing::grey_image(16, 8));
   sink->finish();
   std::filesystem::remove_all(dir);
@@ -80,7 +80,7 @@ TEST(PngSequenceSink, AFolderRemovedMeanwhileIsNotReportedAsKept) {
 
 TEST(PngSequenceSink, AbandonedItKeepsTheWholePngsAndSaysSo) {
   const std::string dir = scratch_dir("png_sink_abandoned") + "/frames";
-  auto sink = cli::make_png_sequence_sink(dir, {});
+  auto sink = clip::make_png_sequence_sink(dir, {});
   sink->add(0, 0.0, testing::grey_image(16, 8));
   sink->finish();  // (the one frame is on disk: abandon() may not drop it from the queue)
   sink->abandon();
@@ -90,7 +90,7 @@ TEST(PngSequenceSink, AbandonedItKeepsTheWholePngsAndSaysSo) {
 
 TEST(PngSequenceSink, AbandonedBeforeAnyFrameItRemovesTheDirectoryItMadeAndNamesNothing) {
   const std::string parent = scratch_dir("png_sink_abandoned_empty");
-  auto sink = cli::make_png_sequence_sink(parent + "/frames", {});
+  auto sink = clip::make_png_sequence_sink(parent + "/frames", {});
   EXPECT_EQ(sink->written(), "");
   sink->abandon();
   EXPECT_EQ(sink->written(), "");

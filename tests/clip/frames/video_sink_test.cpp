@@ -11,7 +11,7 @@
 
 namespace fs = std::filesystem;
 using namespace clothsim;
-using namespace clothsim::cli;
+using namespace clothsim::clip;
 
 using clothsim::testing::grey_image;
 

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 GoldenVerdict differs() {
@@ -63,4 +63,4 @@ TEST(GoldenReport, ARowOfAnotherStudyIsRefused) {
 }
 
 }  // namespace
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 // (No signal has arrived in this process: the line then says "a signal"; a command's names it,
@@ -26,9 +26,9 @@ TEST(StudyInterruptedMessage, FilesWrittenAfterEveryRunFinishedAreNotCalledIncom
 }
 
 }  // namespace
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip
 
-namespace clothsim::cli {
+namespace clothsim::clip {
 namespace {
 
 TEST(CsvText, QuotesWhatWouldBreakARowAndBlanksControlBytes) {
@@ -41,4 +41,4 @@ TEST(CsvText, QuotesWhatWouldBreakARowAndBlanksControlBytes) {
 }
 
 }  // namespace
-}  // namespace clothsim::cli
+}  // namespace clothsim::clip

@@ -7,7 +7,12 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 
+namespace clothsim::clip {}
+
 namespace clothsim::cli {
+
+// The commands call src/clip's work (the library under both front ends) by its plain names.
+using namespace clothsim::clip;
 
 using Command = std::function<int()>;
 

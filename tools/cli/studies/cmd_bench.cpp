@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "clip/studies/bench_plan.h"
 #include "clip/studies/study_common.h"
 #include "clip/studies/study_shard.h"
 #include "clip/common/cli_common.h"
@@ -49,44 +50,6 @@ namespace clothsim::cli {
 namespace {
 
 using analysis::WorkPrecisionPoint;
-using analysis::WorkPrecisionResult;
-using analysis::WorkPrecisionSpec;
-
-struct BenchOptions {
-  SceneOptions scene;
-  std::string integrators = default_comparison_list();  // the course's four, by name
-  std::optional<std::string> dts;  // not given: derived from the scene's dt
-  std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
-  std::string csv, plot, summary;
-  std::string shard;  // --shard K/N|auto (study_shard.h)
-  std::string vary;   // --vary KEY=V1,V2,...: the study once per value
-  std::string scale;  // --scale N1,N2,...: cost against sheet size (study/scale_study.h)
-  int jobs = 0;
-  int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
-  double reference_tolerance = WorkPrecisionSpec{}.reference_tolerance;
-};
-
-constexpr double kDefaultStepFactors[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
-constexpr double kMaxDefaultDuration = 0.5;    // s
-constexpr double kMaxDefaultSmallSteps = 8000;  // T <= this x the smallest step
-
-// T when --duration is not given: short enough for the reference, a multiple of every step.
-double default_duration(double scene_duration, const std::vector<double>& dts) {
-  const double smallest = *std::min_element(dts.begin(), dts.end());
-  const double largest = *std::max_element(dts.begin(), dts.end());
-  const double cap = std::min({scene_duration, kMaxDefaultDuration, kMaxDefaultSmallSteps * smallest});
-  const double whole = std::floor(cap / largest + 1e-9);
-  if (whole < 1.0) {
-    char msg[200];
-    std::snprintf(msg, sizeof msg, "--dts: the largest step %g s is longer than the default duration %g s; "
-                  "give --duration", largest, cap);
-    throw UsageError(msg);
-  }
-  return whole * largest;
-}
-
-// Lane spellings (LaneSpec::stepless_spelling), by point.lane: the CSV's and summary's names.
-using LaneNames = std::vector<std::string>;
 
 // The CSV (study/tables/csv_tables.h: the Python module's bench() has the same columns).
 void write_csv_header(std::FILE* f) { std::fputs(analysis::work_precision_table({}, {}).header().c_str(), f); }
@@ -239,109 +202,12 @@ int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSp
   return shard.finish();
 }
 
-// The study to run: steps (--dts or the scene's x kDefaultStepFactors), T, the frame steps.
-WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<LaneSpec>& lanes) {
-  std::vector<double> dts;
-  if (!o.dts) {
-    for (double f : kDefaultStepFactors) dts.push_back(f * scene.dt);
-  } else {
-    dts = parse_number_list(*o.dts, "--dts");
-    for (double dt : dts)
-      if (!(dt > 0.0)) throw UsageError("--dts: " + csv_number(dt) + " is not a positive step (s)");
-  }
-  double T = 0.0;
-  if (o.scene.duration) {
-    T = *o.scene.duration;
-    if (!(T > 0.0) || !std::isfinite(T)) throw UsageError("--duration: must be a finite number > 0 s");
-  } else {
-    T = default_duration(scene.duration, dts);
-  }
-  if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
-  if (o.reference_refinement < 1) throw UsageError("--reference-refinement: must be >= 1");
-
-  WorkPrecisionSpec spec;
-  for (const LaneSpec& l : lanes) {
-    spec.integrators.push_back(l.kind);
-    spec.lane_names.push_back(l.stepless_spelling());
-  }
-  spec.dts = dts;
-  // One step per video frame for implicit Euler, where it divides T (the default T of a short
-  // study may not be a multiple of 1/30 s: those steps are left out, and said so).
-  for (double dt : parse_frame_dts(o.frame_dts)) {
-    const double n = T / dt;
-    if (std::abs(n - std::round(n)) <= 1e-9 * n && std::round(n) >= 1) spec.frame_dts.push_back(dt);
-    else std::fprintf(stderr, "bench: frame step %g s does not divide T = %g s; left out\n", dt, T);
-  }
-  spec.duration = T;
-  spec.jobs = o.jobs;
-  spec.reference_refinement = o.reference_refinement;
-  if (!(o.reference_tolerance > 0.0) || !(o.reference_tolerance < 1e-3))
-    throw UsageError("--reference-tolerance: must be a number in (0, 1e-3)");
-  spec.reference_tolerance = o.reference_tolerance;
-  try {
-    return analysis::checked(spec);
-  } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("--dts: ") + e.what());
-  }
-}
-
-// One Model, and a run on each of the pool's threads at once (the dearest integrator's).
-void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds) {
-  MemoryBudget budget;
-  budget.add("model", model_bytes(scene));
-  double dearest = 0.0;
-  for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(scene, k));
-  const int threads = analysis::resolve_jobs(o.jobs);
-  budget.add(std::to_string(threads) + " runs at once", threads * dearest);
-  budget.check(scene.source, o.scene.max_memory);
-}
-
-// --vary KEY=V1,V2,...: the study once per value, each on its own scene (the user's --set, then
-// the key's) against its own reference, its lanes labelled "rk4 (ks = 2e4)" in the table, the
-// CSV's integrator column and the plot's legend. Spelt as compare spells it: in both the values
-// make lanes, where stability's --param KEY makes the axis of its plot.
-struct ValueStudy {
-  std::string label;  // "ks = 2e4"
-  SceneDef scene;
-  LaneNames names;    // per lane
-  WorkPrecisionSpec spec;
-  WorkPrecisionResult result;
-};
-
-std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes) {
-  if (!o.summary.empty() || !o.shard.empty())
-    throw UsageError("--vary: --summary and --shard take one scene's study; give --csv (and --plot) with --vary");
-  const Variation v = parse_vary(o.vary, base);
-  std::vector<ValueStudy> studies;
-  for (std::size_t value = 0; value < v.size(); ++value) {  // every scene read (a bad value named) before any run
-    ValueStudy s;
-    s.label = v.label(value);
-    std::vector<std::string> sets = o.scene.sets;
-    for (const std::string& set : v.sets(value)) sets.push_back(set);
-    try {  // a bad key or value: the parser's message, said of --vary as typed
-      s.scene = load_scene(o.scene.path, sets);
-    } catch (const SceneError& e) {
-      throw as_option_error(e, v.key, "--vary " + o.vary);
-    }
-    for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
-    s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
-    s.spec.lane_names = s.names;
-    studies.push_back(std::move(s));
-  }
-  return studies;
-}
-
 // One value's study, run and its table printed; returns the runs it planned.
 std::size_t run_value(const BenchOptions& o, const std::vector<LaneSpec>& lanes, ValueStudy& s) {
   WorkPrecisionSpec spec = s.spec;
-  s.scene.duration = std::max(s.scene.duration, spec.duration);
-  std::vector<IntegratorKind> kinds;
-  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
-  check_bench_memory(o, s.scene, kinds);
-  const Model model = build_model(s.scene);
-  std::vector<std::optional<Model>> lane_storage(lanes.size());
-  for (std::size_t i = 0; i < lanes.size(); ++i)
-    spec.lane_models.push_back(&cli::lane_model(model, lanes[i], lane_storage[i]));
+  const Model model = build_bench_model(o, s.scene, lanes, spec);
+  std::vector<std::optional<Model>> lane_storage;
+  attach_lane_models(model, lanes, lane_storage, spec);
   std::printf("bench %s, %s: %zu lanes x %zu steps to T = %g s\n", model.name.c_str(), s.label.c_str(), lanes.size(),
               spec.dts.size(), spec.duration);
   std::fflush(stdout);
@@ -388,38 +254,19 @@ int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vect
   return kOk;
 }
 
-// --scale N1,N2,...: each lane (NAME@STEP, the scene's dt without) at each side N, the sheet's
-// size and total mass fixed, to T = --duration (default min(scene, 0.2 s)); no reference.
+// --scale N1,N2,...: cost against sheet size (bench_plan.h), its table as each point finishes.
 int bench_scale(const BenchOptions& o) {
   install_interrupt_handler();
-  if (!o.summary.empty() || !o.shard.empty() || !o.vary.empty() || o.dts)
-    throw UsageError("--scale: give lanes as NAME@STEP; --dts, --vary, --summary and --shard do not apply");
-  std::vector<int> sides;
-  for (double n : parse_number_list(o.scale, "--scale")) {
-    if (n != std::floor(n)) throw UsageError("--scale: " + csv_number(n) + " is not a whole number of particles");
-    sides.push_back(static_cast<int>(n));
-  }
-  analysis::ScaleSpec spec;
-  try {
-    spec.sizes = analysis::scale_scenes(o.scene.path, o.scene.sets, sides);
-  } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("--scale: ") + e.what());
-  }
+  const ScalePlan scale = plan_scale(o);
+  const analysis::ScaleSpec& spec = scale.spec;
+  const std::vector<LaneSpec>& lanes = *scale.lanes;
+  const std::vector<int>& sides = scale.sides;
   const SceneDef& first = spec.sizes.front().scene;
-  const std::vector<LaneSpec> lanes = parse_lanes(o.integrators, "", first.dt);
-  for (const LaneSpec& l : lanes) spec.lanes.push_back({l.spelling(), l.kind, l.dt});
-  spec.lane_model = [&lanes](const Model& base, std::size_t i, std::optional<Model>& storage) -> const Model& {
-    return cli::lane_model(base, lanes[i], storage);
-  };
-  spec.duration = o.scene.duration ? *o.scene.duration : std::min(first.duration, 0.2);
-  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
   refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_scale.py", o.plot);
-  std::vector<IntegratorKind> kinds;
-  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
-  for (const analysis::ScaleScene& s : spec.sizes) check_bench_memory(o, s.scene, kinds);  // every size before any run
+  check_scale_memory(o, scale);
   std::printf("bench %s --scale: %zu lanes x %zu sizes to T = %g s, total mass %g kg fixed\n", first.name.c_str(),
               lanes.size(), sides.size(), spec.duration, first.cloth.particle_mass * sides.front() * sides.front());
   std::printf("%-28s %6s %10s %12s %10s %12s %10s %10s  %s\n", "lane", "side", "cpu (s)", "cpu / sim s",
@@ -455,9 +302,7 @@ int bench_command(const BenchOptions& o) {
   if (!o.scale.empty()) return bench_scale(o);
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
-  std::vector<LaneSpec> lanes =
-      parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
-  follow_scene_solver(lanes, scene.implicit);  // --set implicit.solver=fixed_point: named as itself
+  const std::vector<LaneSpec> lanes = bench_lanes(o, scene);
   if (!o.vary.empty()) return bench_variation(o, scene, lanes);
   std::vector<IntegratorKind> kinds;
   for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
@@ -471,12 +316,9 @@ int bench_command(const BenchOptions& o) {
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
 
-  scene.duration = std::max(scene.duration, T);  // the model's duration is informational only
-  check_bench_memory(o, scene, kinds);
-  const Model model = build_model(scene);
-  std::vector<std::optional<Model>> lane_storage(lanes.size());  // the lanes' own solver settings
-  for (std::size_t i = 0; i < lanes.size(); ++i)
-    spec.lane_models.push_back(&cli::lane_model(model, lanes[i], lane_storage[i]));
+  const Model model = build_bench_model(o, scene, lanes, spec);
+  std::vector<std::optional<Model>> lane_storage;  // the lanes' own solver settings
+  attach_lane_models(model, lanes, lane_storage, spec);
   const LaneNames& names = spec.lane_names;
   const double h_ref = spec.dts.front() / spec.reference_refinement;
   std::size_t runs = 0;

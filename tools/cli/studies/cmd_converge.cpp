@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 
+#include "clip/studies/converge_plan.h"
 #include "clip/studies/study_common.h"
 #include "clip/studies/study_shard.h"
 #include "clip/common/cli_common.h"
@@ -25,39 +26,6 @@
 
 namespace clothsim::cli {
 namespace {
-
-struct ConvergeOptions {
-  SceneOptions scene;
-  std::string dt = "1/60";
-  std::string integrators = "xpbd,projective_dynamics,vbd,implicit_euler";
-  std::string states = "5", max_iterations = "50";
-  std::string csv, plot, summary;
-  std::string shard;  // --shard K/N|auto (study_shard.h)
-};
-
-std::vector<IntegratorKind> parse_methods(const std::string& text) {
-  std::vector<IntegratorKind> out;
-  for (const std::string& name : split_list(text)) {
-    const auto kind = parse_integrator(name);
-    if (!kind || integrator_info(*kind).iterations == IterationControl::None)
-      throw UsageError("--integrators: " + in_quotes(name) +
-                       " is not an iterative method (expected xpbd, projective_dynamics, vbd or implicit_euler)");
-    out.push_back(*kind);
-  }
-  if (out.empty()) throw UsageError("--integrators: no method given");
-  return out;
-}
-
-ConvergenceSpec plan(const ConvergeOptions& o) {
-  ConvergenceSpec spec;
-  const std::optional<double> h = parse_number_or_fraction(o.dt);
-  if (!h || !(*h > 0.0)) throw UsageError("--dt: " + in_quotes(o.dt) + " is not a step > 0 s (a number or 1/60)");
-  spec.h = *h;
-  spec.states = parse_iteration_count(o.states, "--states");
-  spec.max_iterations = parse_iteration_count(o.max_iterations, "--max-iterations");
-  spec.methods = parse_methods(o.integrators);
-  return spec;
-}
 
 // The CSV (study/tables/csv_tables.h: the Python module's converge() has the same columns).
 void write_csv(std::FILE* f, const std::string& scene, const std::vector<ConvergencePoint>& points) {
@@ -166,7 +134,7 @@ void write_outputs(const ConvergeOptions& o, const std::string& source, const Mo
 int converge_command(const ConvergeOptions& o) {
   install_interrupt_handler();
   const SceneDef scene = load_scene_with_options(o.scene);
-  const ConvergenceSpec spec = plan(o);
+  const ConvergenceSpec spec = plan_converge(o);
   refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   for (const auto& [path, what] : {std::pair{o.csv, "--csv"}, {o.summary, "--summary"}})
     if (!path.empty()) require_writable_parent(path, what);

@@ -32,6 +32,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "clip/studies/stability_plan.h"
 #include "clip/studies/study_common.h"
 #include "clip/studies/study_shard.h"
 #include "clip/common/cli_common.h"
@@ -55,36 +56,6 @@ namespace {
 
 using analysis::StabilityLimit;
 using analysis::StabilityOutcome;
-
-struct StabilityOptions {
-  SceneOptions scene;
-  std::string integrators = default_comparison_list();  // the course's four, by name
-  std::string param = "cloth.springs.structural.stiffness";
-  std::optional<std::string> values;  // not given: the scene's value x kDefaultValueFactors
-  std::optional<double> min_dt, max_dt;
-  double precision = analysis::StabilitySpec{}.precision;
-  double energy_factor = analysis::StabilitySpec{}.energy_factor;
-  double max_strain = analysis::StabilitySpec{}.max_strain;
-  std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
-  std::string csv, plot, summary;
-  std::string shard;  // --shard K/N|auto (study_shard.h)
-  int jobs = 0;
-};
-
-constexpr double kDefaultValueFactors[] = {1.0, 10.0, 100.0, 1000.0, 10000.0};
-constexpr double kDefaultDuration = 0.2;    // s
-constexpr double kMaxDtOverSceneDt = 1000;  // the largest step tried, in scene steps,
-constexpr double kMinStepsAtMaxDt = 50;     // and in steps per run
-constexpr double kMinDtDivisor = 32;        // the smallest step tried: estimate / this
-
-struct Case {
-  double value;
-  Model model;
-  std::vector<std::optional<Model>> lane_models;  // per lane, its own solver settings (cli::lane_model)
-};
-
-// Lane spellings (LaneSpec::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
-using LaneNames = std::vector<std::string>;
 
 // The CSV (study/tables/csv_tables.h: the Python module's stability() has the same columns).
 void write_csv(std::FILE* f, const std::string& param, const std::vector<StabilityLimit>& limits,
@@ -182,68 +153,6 @@ int stability_shard(const StabilityOptions& o, const std::string& title, const s
   return shard.finish();
 }
 
-// The swept scenes: --values, or the scene's value of --param times kDefaultValueFactors.
-std::vector<analysis::SweepScene> sweep_cases(const StabilityOptions& o, const SceneDef& base,
-                                              std::vector<double>& values) {
-  ParamKey key;  // a path, a glob or an alias (ks, kd): scene/param_keys.h
-  try {
-    key = resolve_param_key(o.param, base);
-  } catch (const ParamKeyError& e) {
-    throw UsageError("--param " + std::string(e.what()));
-  }
-  if (!o.values) {
-    const std::optional<double> current = analysis::parameter_value(o.scene.path, o.scene.sets, key.paths.front());
-    if (!current)
-      throw UsageError("--values: " + base.source + " gives " + o.param +
-                       " no number to scale the default values from; list the values");
-    for (double f : kDefaultValueFactors) values.push_back(f * *current);
-  } else {
-    values = parse_number_list(*o.values, "--values");
-  }
-  try {
-    return analysis::sweep_scenes(o.scene.path, o.scene.sets, key.paths, values);
-  } catch (const analysis::StudyError& e) {
-    throw UsageError("--param " + std::string(e.what()));
-  } catch (const SceneError& e) {  // said of --param as typed, not of the --set it became
-    throw as_option_error(e, key, "--param " + o.param);
-  }
-}
-
-// Every case's Model (they are all built up front), and a run on each thread at once.
-void check_stability_memory(const StabilityOptions& o, const SceneDef& base, const std::vector<analysis::SweepScene>& scenes,
-                            const std::vector<IntegratorKind>& kinds) {
-  MemoryBudget budget;
-  double models = 0.0, dearest = 0.0;
-  for (const analysis::SweepScene& s : scenes) {
-    models += model_bytes(s.scene);
-    for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(s.scene, k));
-  }
-  budget.add(std::to_string(scenes.size()) + " models", models);
-  const int threads = analysis::resolve_jobs(o.jobs);
-  budget.add(std::to_string(threads) + " runs at once", threads * dearest);
-  budget.check(base.source, o.scene.max_memory);
-}
-
-// The search's bounds and rules: --min-dt/--max-dt (or from the scene and the stiffest case), the rest as given.
-void finish_stability_spec(const StabilityOptions& o, const SceneDef& base, double smallest_estimate,
-                           analysis::StabilitySpec& spec) {
-  spec.max_dt = o.max_dt ? *o.max_dt : std::min(spec.duration / kMinStepsAtMaxDt, kMaxDtOverSceneDt * base.dt);
-  spec.min_dt = o.min_dt ? *o.min_dt : std::min(base.dt, smallest_estimate) / kMinDtDivisor;
-  spec.precision = o.precision;
-  spec.energy_factor = o.energy_factor;
-  spec.max_strain = o.max_strain;
-  spec.jobs = o.jobs;
-  spec.frame_dts = parse_frame_dts(o.frame_dts);
-  if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
-  if (o.min_dt && !(*o.min_dt > 0.0)) throw UsageError("--min-dt: must be > 0 s");
-  if (o.max_dt && !(*o.max_dt > 0.0)) throw UsageError("--max-dt: must be > 0 s");
-  try {
-    analysis::check(spec);
-  } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("stability: ") + e.what() + " (--min-dt, --max-dt, --duration, --precision, --energy-factor, --max-strain)");
-  }
-}
-
 // The limits found, one row per value and integrator.
 // Rows labelled as compare labels its lanes (LaneSpec::name).
 void print_limits(const std::vector<StabilityLimit>& limits, const analysis::StabilitySpec& spec,
@@ -267,38 +176,16 @@ void print_limits(const std::vector<StabilityLimit>& limits, const analysis::Sta
   }
 }
 
-// The study's lanes, as the scene runs them (a fixed-point scene's implicit_euler named so).
-std::vector<LaneSpec> stability_lanes(const StabilityOptions& o, const SceneDef& base) {
-  std::vector<LaneSpec> lanes = parse_study_lanes(
-      o.integrators, "stability searches the step, so a lane takes no @STEP (its :N stays fixed while the step is searched); drop it");
-  follow_scene_solver(lanes, base.implicit);
-  return lanes;
-}
-
 int stability_command(const StabilityOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   const SceneDef base = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
-  const std::vector<LaneSpec> lanes = stability_lanes(o, base);
-  std::vector<IntegratorKind> kinds;
-  LaneNames names;
-  for (const LaneSpec& l : lanes) kinds.push_back(l.kind), names.push_back(l.stepless_spelling());
-
-  std::vector<double> values;
-  std::vector<analysis::SweepScene> scenes = sweep_cases(o, base, values);
-
-  analysis::StabilitySpec spec;
-  spec.integrators = kinds;
-  spec.duration = o.scene.duration ? *o.scene.duration : std::min(base.duration, kDefaultDuration);
-  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
-  check_stability_memory(o, base, scenes, kinds);
-  std::vector<Case> cases;
-  double smallest_estimate = INFINITY;
-  for (analysis::SweepScene& s : scenes) {
-    s.scene.duration = spec.duration;
-    cases.push_back({s.value, build_model(s.scene), {}});
-    smallest_estimate = std::min(smallest_estimate, analysis::estimate_stiffness(cases.back().model).dt_with_damping());
-  }
-  finish_stability_spec(o, base, smallest_estimate, spec);
+  StabilityStudy study = plan_stability(o, base);
+  const std::vector<LaneSpec>& lanes = study.lanes;
+  const LaneNames& names = study.names;
+  const std::vector<IntegratorKind>& kinds = study.spec.integrators;
+  const std::vector<double>& values = study.values;
+  const std::vector<StabilityCaseModels>& cases = study.cases;
+  const analysis::StabilitySpec& spec = study.spec;
 
   refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
@@ -312,19 +199,13 @@ int stability_command(const StabilityOptions& o) {
               spec.max_dt, 100 * spec.precision, spec.max_strain, spec.energy_factor,
               cases.front().model.energy_scale);
   std::printf("%14s %12s %12s %12s %14s\n", "value", "w_max (1/s)", "2/w_max (s)", "c_max (1/s)", "2/max(w,c) (s)");
-  for (const Case& c : cases) {
+  for (const StabilityCaseModels& c : cases) {
     const analysis::StiffnessEstimate e = analysis::estimate_stiffness(c.model);
     std::printf("%14.6g %12.4g %12.4g %12.4g %14.4g\n", c.value, e.w_max, e.dt_springs(), e.c_max, e.dt_with_damping());
   }
   std::fflush(stdout);
 
-  std::vector<analysis::StabilityCase> refs;
-  for (Case& c : cases) {
-    refs.push_back({c.value, &c.model, {}});
-    c.lane_models.resize(lanes.size());
-    for (std::size_t i = 0; i < lanes.size(); ++i)
-      refs.back().lane_models.push_back(&cli::lane_model(c.model, lanes[i], c.lane_models[i]));
-  }
+  const std::vector<analysis::StabilityCase> refs = study.refs();
   SharedProgress progress("stability " + base.name, static_cast<long>(cases.size() * kinds.size()), "searches");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
@@ -362,7 +243,7 @@ void add_stability_command(CLI::App& app, Command& command) {
   CLI::App* sub = app.add_subcommand(
       "stability", "Largest stable step per integrator across a swept scene parameter (default: stiffness)");
   add_scene_options(sub, o->scene, /*single_run=*/false,
-                    "the scene's duration, at most " + csv_number(kDefaultDuration) + " s");
+                    "the scene's duration, at most " + csv_number(kStabilityDefaultDuration) + " s");
   sub->add_option("--integrators", o->integrators, "Comma-separated lanes as compare takes them, without @STEP: NAME[:N], implicit_euler_fixed_point, course")
       ->capture_default_str()
       ->type_name("LIST");

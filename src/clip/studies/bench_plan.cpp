@@ -1,0 +1,165 @@
+#include "bench_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "clip/common/cli_common.h"
+#include "clip/common/memory_budget.h"
+#include "clip/compare/compare_plan.h"
+#include "scene/build_model.h"
+#include "scene/memory_estimate.h"
+#include "scene/scene_parser.h"
+#include "study/scale_study.h"
+#include "study/task_pool.h"
+
+namespace clothsim::clip {
+
+std::vector<LaneSpec> bench_lanes(const BenchOptions& o, const SceneDef& scene) {
+  std::vector<LaneSpec> lanes =
+      parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
+  follow_scene_solver(lanes, scene.implicit);  // --set implicit.solver=fixed_point: named as itself
+  return lanes;
+}
+
+double default_duration(double scene_duration, const std::vector<double>& dts) {
+  const double smallest = *std::min_element(dts.begin(), dts.end());
+  const double largest = *std::max_element(dts.begin(), dts.end());
+  const double cap = std::min({scene_duration, kMaxDefaultDuration, kMaxDefaultSmallSteps * smallest});
+  const double whole = std::floor(cap / largest + 1e-9);
+  if (whole < 1.0) {
+    char msg[200];
+    std::snprintf(msg, sizeof msg, "--dts: the largest step %g s is longer than the default duration %g s; "
+                  "give --duration", largest, cap);
+    throw UsageError(msg);
+  }
+  return whole * largest;
+}
+
+WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<LaneSpec>& lanes) {
+  std::vector<double> dts;
+  if (!o.dts) {
+    for (double f : kDefaultStepFactors) dts.push_back(f * scene.dt);
+  } else {
+    dts = parse_number_list(*o.dts, "--dts");
+    for (double dt : dts)
+      if (!(dt > 0.0)) throw UsageError("--dts: " + csv_number(dt) + " is not a positive step (s)");
+  }
+  double T = 0.0;
+  if (o.scene.duration) {
+    T = *o.scene.duration;
+    if (!(T > 0.0) || !std::isfinite(T)) throw UsageError("--duration: must be a finite number > 0 s");
+  } else {
+    T = default_duration(scene.duration, dts);
+  }
+  if (o.jobs < 0) throw UsageError("--jobs: must be >= 0 (0: one per core)");
+  if (o.reference_refinement < 1) throw UsageError("--reference-refinement: must be >= 1");
+
+  WorkPrecisionSpec spec;
+  for (const LaneSpec& l : lanes) {
+    spec.integrators.push_back(l.kind);
+    spec.lane_names.push_back(l.stepless_spelling());
+  }
+  spec.dts = dts;
+  // One step per video frame for implicit Euler, where it divides T (the default T of a short
+  // study may not be a multiple of 1/30 s: those steps are left out, and said so).
+  for (double dt : parse_frame_dts(o.frame_dts)) {
+    const double n = T / dt;
+    if (std::abs(n - std::round(n)) <= 1e-9 * n && std::round(n) >= 1) spec.frame_dts.push_back(dt);
+    else std::fprintf(stderr, "bench: frame step %g s does not divide T = %g s; left out\n", dt, T);
+  }
+  spec.duration = T;
+  spec.jobs = o.jobs;
+  spec.reference_refinement = o.reference_refinement;
+  if (!(o.reference_tolerance > 0.0) || !(o.reference_tolerance < 1e-3))
+    throw UsageError("--reference-tolerance: must be a number in (0, 1e-3)");
+  spec.reference_tolerance = o.reference_tolerance;
+  try {
+    return analysis::checked(spec);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError(std::string("--dts: ") + e.what());
+  }
+}
+
+void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds) {
+  MemoryBudget budget;
+  budget.add("model", model_bytes(scene));
+  double dearest = 0.0;
+  for (IntegratorKind k : kinds) dearest = std::max(dearest, run_bytes(scene, k));
+  const int threads = analysis::resolve_jobs(o.jobs);
+  budget.add(std::to_string(threads) + " runs at once", threads * dearest);
+  budget.check(scene.source, o.scene.max_memory);
+}
+
+std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes) {
+  if (!o.summary.empty() || !o.shard.empty())
+    throw UsageError("--vary: --summary and --shard take one scene's study; give --csv (and --plot) with --vary");
+  const Variation v = parse_vary(o.vary, base);
+  std::vector<ValueStudy> studies;
+  for (std::size_t value = 0; value < v.size(); ++value) {  // every scene read (a bad value named) before any run
+    ValueStudy s;
+    s.label = v.label(value);
+    std::vector<std::string> sets = o.scene.sets;
+    for (const std::string& set : v.sets(value)) sets.push_back(set);
+    try {  // a bad key or value: the parser's message, said of --vary as typed
+      s.scene = load_scene(o.scene.path, sets);
+    } catch (const SceneError& e) {
+      throw as_option_error(e, v.key, "--vary " + o.vary);
+    }
+    for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
+    s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
+    s.spec.lane_names = s.names;
+    studies.push_back(std::move(s));
+  }
+  return studies;
+}
+
+Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes,
+                        const WorkPrecisionSpec& spec) {
+  scene.duration = std::max(scene.duration, spec.duration);
+  std::vector<IntegratorKind> kinds;
+  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
+  check_bench_memory(o, scene, kinds);
+  return build_model(scene);
+}
+
+void attach_lane_models(const Model& model, const std::vector<LaneSpec>& lanes,
+                        std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec) {
+  storage.assign(lanes.size(), std::nullopt);
+  spec.lane_models.clear();
+  for (std::size_t i = 0; i < lanes.size(); ++i) spec.lane_models.push_back(&clip::lane_model(model, lanes[i], storage[i]));
+}
+
+ScalePlan plan_scale(const BenchOptions& o) {
+  if (!o.summary.empty() || !o.shard.empty() || !o.vary.empty() || o.dts)
+    throw UsageError("--scale: give lanes as NAME@STEP; --dts, --vary, --summary and --shard do not apply");
+  ScalePlan plan;
+  for (double n : parse_number_list(o.scale, "--scale")) {
+    if (n != std::floor(n)) throw UsageError("--scale: " + csv_number(n) + " is not a whole number of particles");
+    plan.sides.push_back(static_cast<int>(n));
+  }
+  analysis::ScaleSpec& spec = plan.spec;
+  try {
+    spec.sizes = analysis::scale_scenes(o.scene.path, o.scene.sets, plan.sides);
+  } catch (const analysis::StudyError& e) {
+    throw UsageError(std::string("--scale: ") + e.what());
+  }
+  const SceneDef& first = spec.sizes.front().scene;
+  auto lanes = std::make_shared<const std::vector<LaneSpec>>(parse_lanes(o.integrators, "", first.dt));
+  for (const LaneSpec& l : *lanes) spec.lanes.push_back({l.spelling(), l.kind, l.dt});
+  spec.lane_model = [lanes](const Model& base, std::size_t i, std::optional<Model>& storage) -> const Model& {
+    return clip::lane_model(base, (*lanes)[i], storage);
+  };
+  plan.lanes = std::move(lanes);
+  spec.duration = o.scene.duration ? *o.scene.duration : std::min(first.duration, kMaxScaleDuration);
+  if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");
+  return plan;
+}
+
+void check_scale_memory(const BenchOptions& o, const ScalePlan& plan) {
+  std::vector<IntegratorKind> kinds;
+  for (const LaneSpec& l : *plan.lanes) kinds.push_back(l.kind);
+  for (const analysis::ScaleScene& s : plan.spec.sizes) check_bench_memory(o, s.scene, kinds);
+}
+
+}  // namespace clothsim::clip
