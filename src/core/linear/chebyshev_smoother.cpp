@@ -27,11 +27,13 @@ constexpr double kLambdaMargin = 1.1;
 // The finest matrix's projected blocks as A's own spring form: the same pattern, the
 // projected numbers (SPD whatever A is), and op_[0]'s filtered diagonal inverses.
 void MultigridPreconditioner::load_spring_form(const SpringBlockMatrix& A) {
-  fine_.multiply = A.multiply;
-  fine_.a = A.a;
-  fine_.b = A.b;
-  fine_.slot = A.slot;
-  fine_.layout = A.layout;
+  if (fine_.slot.size() != A.slot.size()) {  // the pattern, once per model
+    fine_.multiply = A.multiply;
+    fine_.a = A.a;
+    fine_.b = A.b;
+    fine_.slot = A.slot;
+    fine_.layout = A.layout;
+  }
   fine_.ux = A.ux;
   fine_.uy = A.uy;
   fine_.uz = A.uz;
@@ -45,10 +47,7 @@ void MultigridPreconditioner::load_spring_form(const SpringBlockMatrix& A) {
 // y = S A S x + (I - S) x for x in the range of S: A x, filtered (held normals).
 void MultigridPreconditioner::fine_multiply(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& y) const {
   fine_.multiply(fine_, x, y);
-  for (std::size_t c = 0; c < held_body_.size(); ++c) {
-    auto col = y.col(held_body_[c]);
-    col -= held_normal_[c] * held_normal_[c].dot(col);
-  }
+  held_.apply(y);
 }
 
 // D^-1 A's largest eigenvalue by the power iteration.
@@ -63,10 +62,7 @@ void MultigridPreconditioner::estimate_lambda_max() {
       power_.data()[k] = ((static_cast<std::uint64_t>(k) * 0x9E3779B97F4A7C15ull) >> 62) - 1.5;
     iterations = kPowerIterations;
   }
-  for (std::size_t c = 0; c < held_body_.size(); ++c) {
-    auto col = power_.col(held_body_[c]);
-    col -= held_normal_[c] * held_normal_[c].dot(col);
-  }
+  held_.apply(power_);
   Eigen::Matrix3Xd Av(3, B), z(3, B);
   double lambda = 0.0;
   for (int k = 0; k < iterations; ++k) {

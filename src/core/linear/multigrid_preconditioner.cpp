@@ -127,6 +127,7 @@ void MultigridPreconditioner::analyse(const SpringBlockMatrix& A, int grid_nx, i
   marker_.clear();
   route_.clear();
   fixed_.clear();
+  fine_.slot.clear();  // the spring form's pattern: copied again at the next build
   analysed_ = true;
   ready_ = false;
 }
@@ -137,8 +138,7 @@ void MultigridPreconditioner::load_finest(const SpringBlockMatrix& A, const Velo
   const int B = A.num_bodies();
   for (int i = 0; i < B; ++i) F.value[F.start[i]] = A.diag_projected[i];
   for (std::size_t s = 0; s < A.num_springs(); ++s) F.value[spring_ab_[s]] = F.value[spring_ba_[s]] = A.off_projected(s);
-  held_body_ = filter.body;
-  held_normal_ = filter.normal;
+  held_ = filter;
   for (std::size_t c = 0; c < filter.size(); ++c) {
     const int i = filter.body[c];
     const Mat3 S = Mat3::Identity() - filter.normal[c] * filter.normal[c].transpose();
@@ -338,10 +338,7 @@ void MultigridPreconditioner::apply(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd&
   b_[0] = r;
   cycle(0);
   z = x_[0];
-  for (std::size_t c = 0; c < held_body_.size(); ++c) {  // S z: held normals untouched
-    auto col = z.col(held_body_[c]);
-    col -= held_normal_[c] * held_normal_[c].dot(col);
-  }
+  held_.apply(z);  // S z: held normals untouched
 }
 
 }  // namespace clothsim

@@ -117,8 +117,7 @@ class MultigridPreconditioner : public Preconditioner {
   std::vector<BlockRows> op_;           // level operators, finest first
   std::vector<int> spring_ab_, spring_ba_;  // (S) where spring s's two blocks sit in op_[0]
   std::vector<std::uint8_t> fixed_;     // (B) immovable bodies, out of P
-  std::vector<Vec3> held_normal_;       // the filter at the last build
-  std::vector<std::int32_t> held_body_;
+  VelocityFilter held_;                 // the filter at the last build
   std::vector<int> marker_;             // scratch of galerkin
   std::vector<std::vector<int>> route_; // per level: the coarse entry each product adds into
   Eigen::LLT<Eigen::MatrixXd> coarsest_;
