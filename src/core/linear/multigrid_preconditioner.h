@@ -120,7 +120,7 @@ class MultigridPreconditioner : public Preconditioner {
   VelocityFilter held_;                 // the filter at the last build
   std::vector<int> marker_;             // scratch of galerkin
   std::vector<std::vector<int>> route_; // per level: the coarse entry each product adds into
-  Eigen::LLT<Eigen::MatrixXd> coarsest_;
+  Eigen::LLT<Eigen::MatrixXd> coarsest_{Eigen::MatrixXd()};  // (factored empty: no member left unset)
   mutable std::vector<Eigen::Matrix3Xd> x_, b_, t_;  // per level: iterate, right side, scratch
   MultigridOptions options_;
   SpringBlockMatrix fine_;              // the projected finest matrix in spring form (Chebyshev)
