@@ -56,7 +56,7 @@ void MultigridPreconditioner::estimate_lambda_max() {
   const std::size_t n = static_cast<std::size_t>(B);
   int iterations = kWarmPowerIterations;
   if (power_.cols() != B || !power_.allFinite() || power_.norm() == 0.0) {
-    // A rough start (every frequency present), the same at every run: a hashed sign pattern.
+    // A rough start (every frequency present), the same at every run: hashed values in +-1.5.
     power_.resize(3, B);
     for (Eigen::Index k = 0; k < power_.size(); ++k)
       power_.data()[k] = ((static_cast<std::uint64_t>(k) * 0x9E3779B97F4A7C15ull) >> 62) - 1.5;
@@ -69,7 +69,7 @@ void MultigridPreconditioner::estimate_lambda_max() {
     power_ /= power_.norm();
     fine_multiply(power_, Av);
     simd_jacobi(fine_inverse_soa_.data(), n, Av.data(), z.data());
-    lambda = z.norm();  // |D^-1 A v| with |v| = 1: tends to the top eigenvalue from below
+    lambda = z.norm();  // |D^-1 A v| with |v| = 1: tends to the top eigenvalue
     power_.swap(z);
   }
   lambda_max_ = kLambdaMargin * lambda;
