@@ -45,7 +45,7 @@ enum class NewtonMode {
 // The Newton step's linear solve (`implicit.preconditioner`, docs/scenes.md): PCG with block
 // Jacobi alone; block Jacobi until a sparse Cholesky factor pays for itself (the rent-against-
 // buy of newton_solve.h); the multigrid V-cycle (linear/multigrid_preconditioner.h); or auto,
-// which picks by the sheet's size (kMultigridFromParticles, measured in BENCHMARKS.md, #37).
+// which picks by the sheet's size (kJacobiFromParticles, measured in BENCHMARKS.md, #37).
 enum class PreconditionerKind { Auto, BlockJacobi, Cholesky, Multigrid };
 
 struct ImplicitDef {

@@ -30,10 +30,11 @@ constexpr double kReuseChange = 0.05;     // ...or where the matrix is this clos
 constexpr int kStallWindow = 50;          // iterations without progress that make a stall
 constexpr double kStallResidual = 0.5;    // progress: the residual halves...
 constexpr double kStallPhi = 1e-6;        // ...or Phi falls by this fraction of its size
-// implicit.preconditioner: auto takes the V-cycle from this many particles, the rent-against-
-// buy of block Jacobi and the sparse factor below it: on the refined drape at 1/60 s the
-// V-cycle cost 2.1x the CPU at 128 x 128 and 0.74x at 256 x 256 (BENCHMARKS.md, #37).
-constexpr int kMultigridFromParticles = 256 * 256;
+// implicit.preconditioner: auto takes block Jacobi alone from this many particles, the rent-
+// against-buy of block Jacobi and the sparse factor below it: on the refined drape at 1/60 s
+// and 256 x 256, block Jacobi cost 0.20x the CPU of the rent-against-buy (6 factorizations)
+// and 0.31x the V-cycle's (BENCHMARKS.md, #37, round s33).
+constexpr int kJacobiFromParticles = 256 * 256;
 // The largest sparse factor built (L's bytes): larger sheets solve with block Jacobi, so a
 // run stays within what memory_estimate.h promises.
 constexpr std::size_t kMaxFactorBytes = std::size_t{512} << 20;
@@ -82,7 +83,7 @@ bool StallWatch::stalled(int iteration, double residual, const PotentialValue& a
 
 PreconditionerKind resolved_preconditioner(PreconditionerKind asked, double particles) {
   if (asked != PreconditionerKind::Auto) return asked;
-  return particles >= kMultigridFromParticles ? PreconditionerKind::Multigrid : PreconditionerKind::Cholesky;
+  return particles >= kJacobiFromParticles ? PreconditionerKind::BlockJacobi : PreconditionerKind::Cholesky;
 }
 
 PreconditionerKind resolved_preconditioner(const Model& model) {

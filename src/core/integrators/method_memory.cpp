@@ -58,10 +58,11 @@ MethodMemory projective_dynamics_memory(const MemorySizes& n) {
 }
 // What the Newton step's preconditioner keeps: the sparse factor when `cholesky` may build
 // one; the V-cycle's levels (the Galerkin operators' 3x3 blocks, the smoother's and the
-// transfers' vectors): peak RSS less the rest of this estimate is 1890, 2110 (2270 at 1/60 s)
-// and 2200 B a particle at 128², 256² and 1024², counted as 2400 (the totals then 1.02-1.06x
-// the peaks); block Jacobi's inverse blocks are in the base.
-constexpr double kMultigridPerParticle = 2400;
+// transfers' vectors, the finest level's spring form for its Chebyshev smoother): peak RSS
+// less the rest of this estimate is 2510 and 2715 B a particle at 128² and 256² (the spring
+// form about 600 of it; 2200 at 1024² before it), counted as 3000 (the totals then 1.05x the
+// peaks, BENCHMARKS.md "Memory estimate"); block Jacobi's inverse blocks are in the base.
+constexpr double kMultigridPerParticle = 3000;
 
 double preconditioner_bytes(const MemorySizes& n) {
   switch (resolved_preconditioner(n.preconditioner, n.particles)) {

@@ -1,6 +1,7 @@
 #include "multigrid_preconditioner.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace clothsim {
 
@@ -126,6 +127,7 @@ void MultigridPreconditioner::analyse(const SpringBlockMatrix& A, int grid_nx, i
   marker_.clear();
   route_.clear();
   fixed_.clear();
+  fine_.slot.clear();  // the spring form's pattern: copied again at the next build
   analysed_ = true;
   ready_ = false;
 }
@@ -136,8 +138,7 @@ void MultigridPreconditioner::load_finest(const SpringBlockMatrix& A, const Velo
   const int B = A.num_bodies();
   for (int i = 0; i < B; ++i) F.value[F.start[i]] = A.diag_projected[i];
   for (std::size_t s = 0; s < A.num_springs(); ++s) F.value[spring_ab_[s]] = F.value[spring_ba_[s]] = A.off_projected(s);
-  held_body_ = filter.body;
-  held_normal_ = filter.normal;
+  held_ = filter;
   for (std::size_t c = 0; c < filter.size(); ++c) {
     const int i = filter.body[c];
     const Mat3 S = Mat3::Identity() - filter.normal[c] * filter.normal[c].transpose();
@@ -241,6 +242,11 @@ bool MultigridPreconditioner::build(const SpringBlockMatrix& A, const VelocityFi
   }
   for (BlockRows& M : op_)
     if (!invert_diagonals(M)) return false;
+  if (options_.fine == FineSmoother::Chebyshev && op_.size() > 1) {
+    load_spring_form(A);
+    estimate_lambda_max();
+    if (!(lambda_max_ > 0.0) || !std::isfinite(lambda_max_)) return false;
+  }
   // The coarsest level, dense, factored once.
   const BlockRows& Z = op_.back();
   const int n = Z.size();
@@ -249,11 +255,13 @@ bool MultigridPreconditioner::build(const SpringBlockMatrix& A, const VelocityFi
     for (int e = Z.start[i]; e < Z.start[i + 1]; ++e) dense.block<3, 3>(3 * i, 3 * Z.col[e]) += Z.value[e];
   coarsest_.compute(dense);
   if (coarsest_.info() != Eigen::Success) return false;
-  // Costs in finest mat-vec blocks: pre and post sweeps and a residual per level but the last.
+  // Costs in finest mat-vec blocks: pre and post sweeps and a residual per level but the last
+  // (Chebyshev on the finest level: 2 degree mat-vecs).
   const double unit = std::max(1.0, visits(op_[0]));
+  const bool polynomial = options_.fine == FineSmoother::Chebyshev;
   double cycle = 0.0, galerkin_work = 0.0;
   for (std::size_t l = 0; l + 1 < op_.size(); ++l) {
-    cycle += 3.0 * visits(op_[l]);
+    cycle += l == 0 && polynomial ? 2.0 * options_.degree * unit : 3.0 * visits(op_[l]);
     galerkin_work += visits(op_[l]) * 4.0;  // each block spread over about 2 x 2 coarse pairs
   }
   cycle += 3.0 * n * 3.0 * n / 9.0;  // the dense triangular solves, in block units
@@ -291,10 +299,25 @@ void MultigridPreconditioner::cycle(int l) const {
     out[1] = d[1] * s0 + d[4] * s1 + d[7] * s2;
     out[2] = d[2] * s0 + d[5] * s1 + d[8] * s2;
   };
-  for (int i = 0; i < n; ++i) relax(i);  // forward Gauss-Seidel
-  // Restrict the residual, correct from the coarser level, then the adjoint (backward) sweep.
-  A.multiply(x, t_[l]);
-  t_[l] = b - t_[l];
+  const bool polynomial = l == 0 && options_.fine == FineSmoother::Chebyshev;
+  if (polynomial) chebyshev(x, b, true);
+  else
+    for (int i = 0; i < n; ++i) relax(i);  // forward Gauss-Seidel
+  coarse_correct(l);
+  // The adjoint smoothing: the same polynomial, or the backward sweep.
+  if (polynomial) chebyshev(x, b, false);
+  else
+    for (int i = n - 1; i >= 0; --i) relax(i);  // backward Gauss-Seidel
+}
+
+// x_l += P x_{l+1}, x_{l+1} the coarser level's cycle on the restricted residual P^T (b - A x).
+void MultigridPreconditioner::coarse_correct(int l) const {
+  const BlockRows& A = op_[l];
+  const int n = A.size();
+  Eigen::Matrix3Xd& x = x_[l];
+  if (l == 0 && options_.fine == FineSmoother::Chebyshev) fine_multiply(x, t_[l]);
+  else A.multiply(x, t_[l]);
+  t_[l] = b_[l] - t_[l];
   const GridTransfer& P = transfer_[l];
   const bool finest = l == 0;
   Eigen::Matrix3Xd& bc = b_[l + 1];
@@ -309,17 +332,13 @@ void MultigridPreconditioner::cycle(int l) const {
     if (finest && fixed_[i]) continue;
     for (int e = P.start[i]; e < P.start[i + 1]; ++e) x.col(i) += P.weight[e] * xc.col(P.coarse[e]);
   }
-  for (int i = n - 1; i >= 0; --i) relax(i);  // backward Gauss-Seidel
 }
 
 void MultigridPreconditioner::apply(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) const {
   b_[0] = r;
   cycle(0);
   z = x_[0];
-  for (std::size_t c = 0; c < held_body_.size(); ++c) {  // S z: held normals untouched
-    auto col = z.col(held_body_[c]);
-    col -= held_normal_[c] * held_normal_[c].dot(col);
-  }
+  held_.apply(z);  // S z: held normals untouched
 }
 
 }  // namespace clothsim

@@ -18,10 +18,12 @@
 // (identity rows) are left out of P: the coarse grids never move them, and the smoothing
 // leaves them at zero.
 //
-// The cycle is symmetric: forward block Gauss-Seidel before the coarse correction, backward
-// after (the adjoint sweep), an exact dense Cholesky solve on the coarsest level. So M^-1 is
-// symmetric positive definite and CG may use it (Tatebe 1993, "The multigrid preconditioned
-// conjugate gradient method").
+// The cycle is symmetric: on the finest level a Chebyshev polynomial in block-Jacobi-scaled A
+// before and after the coarse correction (chebyshev_smoother.cpp: mat-vecs in the spring form,
+// cheaper than Gauss-Seidel's block rows there), on the coarser ones forward block Gauss-Seidel before
+// and backward after (the adjoint sweep), an exact dense Cholesky solve on the coarsest level.
+// So M^-1 is symmetric positive definite and CG may use it (Tatebe 1993, "The multigrid
+// preconditioned conjugate gradient method").
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -61,8 +63,20 @@ struct GridTransfer {
 // by `others` bodies carried as they are; an axis of more than 2 particles is halved.
 GridTransfer grid_transfer(int nx, int ny, int others);
 
+// The finest level's smoother. Chebyshev (chebyshev_smoother.cpp) contracts as much per cycle
+// as the symmetric Gauss-Seidel sweep, through the spring form's SIMD mat-vec rather than 3x3
+// block rows (a PCG iteration 0.58x the CPU at 128 x 128, BENCHMARKS.md #37); coarser levels
+// (Galerkin blocks, no spring form) keep Gauss-Seidel.
+enum class FineSmoother { GaussSeidel, Chebyshev };
+struct MultigridOptions {
+  FineSmoother fine = FineSmoother::Chebyshev;
+  int degree = 2;       // Chebyshev's polynomial degree: degree - 1 mat-vecs before, degree after
+  double lower = 0.3;   // its interval: [lower, 1] times D^-1 A's largest eigenvalue (estimated)
+};
+
 class MultigridPreconditioner : public Preconditioner {
  public:
+  void set_options(const MultigridOptions& o) { options_ = o; }
   // The levels' transfers for B bodies, the first nx ny of them a grid: once per model.
   // Coarsens until at most kCoarsest bodies remain (or no axis can be halved).
   void analyse(const SpringBlockMatrix& A, int grid_nx, int grid_ny);
@@ -76,6 +90,8 @@ class MultigridPreconditioner : public Preconditioner {
   void apply(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd& z) const override;
 
   int levels() const { return static_cast<int>(op_.size()); }
+  // The top of the finest Chebyshev interval: D^-1 A's largest eigenvalue, estimated, raised.
+  double smoother_lambda_max() const { return lambda_max_; }
   const BlockRows& level(int l) const { return op_[l]; }
   // What a cycle costs, in block-Jacobi PCG iterations: its blocks visited (two sweeps and a
   // residual on each level, the coarsest's dense solve) against the finest mat-vec's.
@@ -89,17 +105,29 @@ class MultigridPreconditioner : public Preconditioner {
   void galerkin(int l, bool symbolic);  // op_[l + 1] = P^T op_[l] P: its pattern, or its values
   bool invert_diagonals(BlockRows& M);
   void cycle(int l) const;
+  void coarse_correct(int l) const;
+  // The finest level in spring form (chebyshev_smoother.cpp): y = S A S y, its largest
+  // eigenvalue under block Jacobi, and the smoothing x += p(D^-1 A) D^-1 (b - A x).
+  void load_spring_form(const SpringBlockMatrix& A);
+  void fine_multiply(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& y) const;
+  void estimate_lambda_max();
+  void chebyshev(Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& b, bool from_zero) const;
 
   std::vector<GridTransfer> transfer_;  // level l -> l + 1
   std::vector<BlockRows> op_;           // level operators, finest first
   std::vector<int> spring_ab_, spring_ba_;  // (S) where spring s's two blocks sit in op_[0]
   std::vector<std::uint8_t> fixed_;     // (B) immovable bodies, out of P
-  std::vector<Vec3> held_normal_;       // the filter at the last build
-  std::vector<std::int32_t> held_body_;
+  VelocityFilter held_;                 // the filter at the last build
   std::vector<int> marker_;             // scratch of galerkin
   std::vector<std::vector<int>> route_; // per level: the coarse entry each product adds into
-  Eigen::LLT<Eigen::MatrixXd> coarsest_;
+  Eigen::LLT<Eigen::MatrixXd> coarsest_{Eigen::MatrixXd()};  // (factored empty: no member left unset)
   mutable std::vector<Eigen::Matrix3Xd> x_, b_, t_;  // per level: iterate, right side, scratch
+  MultigridOptions options_;
+  SpringBlockMatrix fine_;              // the projected finest matrix in spring form (Chebyshev)
+  std::vector<double> fine_inverse_soa_;  // (6 B) op_[0]'s diagonal inverses, as simd_jacobi reads
+  double lambda_max_ = 0.0;             // of D^-1 A on the finest level
+  Eigen::Matrix3Xd power_;              // the power iteration's vector, kept between builds
+  mutable Eigen::Matrix3Xd cheb_r_, cheb_d_, cheb_q_;  // (3 x B) Chebyshev's scratch
   double cycle_cost_ = 0.0, build_cost_ = 0.0;
   bool analysed_ = false, ready_ = false;
 };
