@@ -336,7 +336,7 @@ std::vector<StabilityLimit> stability_sweep_items(const std::vector<StabilityCas
     limits[i] = std::move(limit);
     done_flags[i] = true;
     ++done;
-    if (hooks.progress) hooks.progress(done, static_cast<long>(total));
+    if (hooks.progress) hooks.progress(StudyProgress{done, static_cast<long>(total)});
   }, hooks.stop);
   std::vector<StabilityLimit> kept;
   for (std::size_t i = 0; i < total; ++i)
