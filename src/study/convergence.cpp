@@ -221,7 +221,7 @@ bool run_convergence_items(const Model& model, const ConvergenceSpec& spec, cons
                                                      : watched_sweep(model, spec, start, it.method);
     if (points.empty()) return false;
     finished(item, points);
-    if (hooks.progress) hooks.progress(++done, static_cast<long>(items.size()));
+    if (hooks.progress) hooks.progress(analysis::StudyProgress{++done, static_cast<long>(items.size())});
   }
   return true;
 }

@@ -80,7 +80,7 @@ std::vector<ScalePoint> scale_study(const ScaleSpec& spec, const StudyHooks& hoo
       p.peak_rss = peak_rss_bytes();
       points.push_back(p);
       if (done) done(p);
-      if (hooks.progress) hooks.progress(static_cast<long>(points.size()), total);
+      if (hooks.progress) hooks.progress(StudyProgress{static_cast<long>(points.size()), total});
     }
   }
   return points;

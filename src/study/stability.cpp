@@ -51,6 +51,9 @@ std::string frame_step_text(const FrameStepResult& r) {
   else if (r.failure == Failure::Diverged) line << "diverged at t = " << r.diverged_at << " s";
   else if (r.failure == Failure::NotConverged)
     line << r.unconverged_steps << " of " << r.steps << " steps not converged";
+  else if (r.fixed_point_iterations > 0)  // its steps end after K iterations, measured against nothing
+    line << "ok, " << r.steps << " steps of " << r.fixed_point_iterations << " fixed-point iteration"
+         << (r.fixed_point_iterations == 1 ? "" : "s") << " (no solve to converge)";
   else line << "ok, " << r.steps << " steps converged";
   return line.str();
 }
@@ -192,6 +195,7 @@ class StableStepSearch {
       r.steps = run.totals.steps;
       r.unconverged_steps = run.totals.unconverged_steps;
       if (run.divergence) r.diverged_at = run.divergence->t;
+      if (model_.implicit.solver == ImplicitSolver::FixedPoint) r.fixed_point_iterations = model_.implicit.fixed_point_iterations;
       out_.frame_steps.push_back(r);
     }
   }
@@ -336,7 +340,7 @@ std::vector<StabilityLimit> stability_sweep_items(const std::vector<StabilityCas
     limits[i] = std::move(limit);
     done_flags[i] = true;
     ++done;
-    if (hooks.progress) hooks.progress(done, static_cast<long>(total));
+    if (hooks.progress) hooks.progress(StudyProgress{done, static_cast<long>(total)});
   }, hooks.stop);
   std::vector<StabilityLimit> kept;
   for (std::size_t i = 0; i < total; ++i)

@@ -62,9 +62,13 @@ struct FrameStepResult {
   std::int64_t unconverged_steps = 0;
   double diverged_at = 0.0;         // s, when failure == Diverged
   bool stopped = false;             // the caller stopped the run
+  // > 0: the course's fixed point (implicit_euler with solver: fixed_point) at this many
+  // iterations a step: no solve and no tolerance, so nothing converges or fails to.
+  int fixed_point_iterations = 0;
 };
 // "1/60 s: ok, 12 steps converged", "1/30 s: 3 of 6 steps not converged",
-// "1/30 s: diverged at t = 0.1 s"; a step that is not 1/N s is written in seconds.
+// "1/30 s: diverged at t = 0.1 s"; the fixed point's "1/60 s: ok, 12 steps of 1 fixed-point
+// iteration (no solve to converge)"; a step that is not 1/N s is written in seconds.
 std::string frame_step_text(const FrameStepResult& r);
 
 struct StabilityLimit {

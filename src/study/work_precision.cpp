@@ -215,8 +215,9 @@ StudyRuns run_tasks(const Model& model, const WorkPrecisionSpec& spec, const std
   runs.points.resize(points);
   runs.ran.assign(points, false);
   std::mutex mutex;
-  long done = 0;
-  const long total = static_cast<long>(tasks.size());
+  // Each run weighs its cost estimate: the first to finish (the dearest) is most of the work.
+  StudyProgress progress{0, static_cast<long>(tasks.size())};
+  for (const Task& t : tasks) progress.work_total += cost_estimate(t.kind, spec.duration, t.dt);
   parallel_for(tasks.size(), spec.jobs, [&](std::size_t i) {
     const Task& task = tasks[i];
     const Model& run_model = task.point >= 0 ? lane_model(spec, task.lane, model) : model;
@@ -227,8 +228,9 @@ StudyRuns run_tasks(const Model& model, const WorkPrecisionSpec& spec, const std
     if (task.point == -1) runs.coarse = std::move(run);
     else if (task.point == -2) runs.fine = std::move(run);
     else runs.points[task.point] = std::move(run), runs.ran[task.point] = true;
-    ++done;
-    if (hooks.progress) hooks.progress(done, total);
+    ++progress.done;
+    progress.work_done += cost_estimate(task.kind, spec.duration, task.dt);
+    if (hooks.progress) hooks.progress(progress);
   }, hooks.stop);
   return runs;
 }

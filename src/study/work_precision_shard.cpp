@@ -81,7 +81,9 @@ std::vector<WorkPrecisionPoint> run_points(const Model& model, const WorkPrecisi
   std::vector<WorkPrecisionPoint> points(planned.size());
   std::vector<bool> ran(planned.size(), false);
   std::mutex mutex;
-  long done = 0;
+  const auto cost = [&](std::size_t item) { return cost_estimate(planned[item].integrator, spec.duration, planned[item].dt); };
+  StudyProgress progress{0, static_cast<long>(order.size())};  // weighed as work_precision's
+  for (std::size_t item : order) progress.work_total += cost(item);
   parallel_for(order.size(), spec.jobs, [&](std::size_t i) {
     const std::size_t item = order[i];
     const StudyRun run = run_to(lane_model(spec, planned[item].lane, model), planned[item].integrator, planned[item].dt, spec.duration, hooks.stop);
@@ -91,7 +93,9 @@ std::vector<WorkPrecisionPoint> run_points(const Model& model, const WorkPrecisi
     if (finished) finished(item, p);
     points[item] = p;
     ran[item] = true;
-    if (hooks.progress) hooks.progress(++done, static_cast<long>(order.size()));
+    ++progress.done;
+    progress.work_done += cost(item);
+    if (hooks.progress) hooks.progress(progress);
   }, hooks.stop);
   std::vector<WorkPrecisionPoint> kept;
   for (std::size_t k = 0; k < planned.size(); ++k)

@@ -116,6 +116,32 @@ TEST(Stability, FrameStepTextSaysHowEachFrameStepEnded) {
   EXPECT_EQ(frame_step_text(r), "0.003 s: ok, 6 steps converged");
 }
 
+TEST(Stability, TheFixedPointsFrameStepsSayItsIterationsNotThatTheyConverged) {
+  // The course's "implicit" ends each step after K iterations with no tolerance: "converged"
+  // would claim a solve it does not make. Run at one step per frame on the undamped spring
+  // (w = 10 rad/s): 1/60 s is inside its w h <= 1, 1/5 s is not.
+  Model model = undamped_spring();
+  model.implicit.solver = ImplicitSolver::FixedPoint;
+  model.implicit.fixed_point_iterations = 1;
+  StabilitySpec spec = long_run(IntegratorKind::ImplicitEuler);
+  spec.duration = 4.0;
+  spec.max_dt = 0.1;
+  spec.frame_dts = {1.0 / 60, 1.0 / 5};
+  const StabilityLimit l = largest_stable_dt(model, IntegratorKind::ImplicitEuler, spec);
+  ASSERT_EQ(l.frame_steps.size(), 2u);
+  EXPECT_EQ(l.frame_steps[0].fixed_point_iterations, 1);
+  EXPECT_EQ(frame_step_text(l.frame_steps[0]), "1/60 s: ok, 240 steps of 1 fixed-point iteration (no solve to converge)");
+  EXPECT_EQ(l.frame_steps[1].failure, Failure::Diverged) << frame_step_text(l.frame_steps[1]);
+  EXPECT_EQ(frame_step_text(l.frame_steps[1]).find("converged"), std::string::npos);
+  FrameStepResult three = l.frame_steps[0];
+  three.fixed_point_iterations = 3;
+  EXPECT_EQ(frame_step_text(three), "1/60 s: ok, 240 steps of 3 fixed-point iterations (no solve to converge)");
+  // Backward Euler's Newton solve on the same spring: its steps converged, and it says so.
+  const StabilityLimit newton = largest_stable_dt(undamped_spring(), IntegratorKind::ImplicitEuler, spec);
+  EXPECT_EQ(newton.frame_steps[0].fixed_point_iterations, 0);
+  EXPECT_EQ(frame_step_text(newton.frame_steps[0]), "1/60 s: ok, 240 steps converged");
+}
+
 TEST(Stability, AnImplicitRunWhoseStepsMissedTheirToleranceIsNotStableAndSaysSo) {
   // Two Newton iterations on a swinging (rotating, so nonlinear) spring meet 1e-10 at steps
   // up to 0.02 s but not at 0.05 or 0.1 s (measured with `run`), where the run stays bounded

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ctime>
 
 #include "test_support.h"
 #include "scene/build_model.h"
@@ -322,6 +323,53 @@ TEST(WorkPrecision, LanesOfOneIntegratorRunOnTheirOwnModels) {
   EXPECT_NEAR(lane_convergence_order(r.points, 1), 1.0, 0.3);
   spec.lane_names = {"implicit_euler", "implicit_euler"};
   EXPECT_THROW(checked(spec), StudyError);
+}
+
+}  // namespace
+}  // namespace clothsim::analysis
+
+namespace clothsim::analysis {
+namespace {
+
+// A 16 x 16 sheet pinned at its corners, lightly damped (w_max ~ 63 rad/s): every step below
+// 1 ms runs to the end for the explicit family, so each run costs what its plan says.
+const char* kProgressSheet = R"(
+name: sheet
+dt: 1.0e-4
+cloth: {particles: [16, 16], size: [1, 1], pinned: corners,
+        springs: {structural: {stiffness: 500, damping: 0.5}}}
+)";
+
+TEST(WorkPrecision, ProgressWeighsEachRunByItsCostSoTheFirstEstimateOfTimeLeftHolds) {
+  // Runs go dearest first: by count the first one done (the reference, half the work) says
+  // 10 runs' worth is left; by its share of the cost estimates the time left is within 2x.
+  // Process CPU time on one thread stands for the time, so a busy machine does not move it.
+  const Model model = clothsim::testing::model_from_yaml(kProgressSheet);
+  WorkPrecisionSpec spec;
+  spec.integrators = {IntegratorKind::SymplecticEuler, IntegratorKind::Midpoint, IntegratorKind::Rk4};
+  spec.dts = {2.5e-4, 5e-4, 1e-3};
+  spec.duration = 1.0;
+  spec.adaptive_reference = false;
+  spec.jobs = 1;
+  std::vector<std::pair<double, StudyProgress>> seen;  // (CPU s, progress) at each run's end
+  StudyHooks hooks;
+  hooks.progress = [&](const StudyProgress& p) { seen.emplace_back(std::clock() / double(CLOCKS_PER_SEC), p); };
+  const double start = std::clock() / double(CLOCKS_PER_SEC);
+  const WorkPrecisionResult r = work_precision(model, spec, hooks);
+  ASSERT_TRUE(r.complete);
+  ASSERT_EQ(seen.size(), 11u) << "9 points and the reference's two runs";
+  const auto& [at, first] = seen.front();
+  const double elapsed = at - start, left = seen.back().first - at;
+  ASSERT_GT(left, 0.0);
+  EXPECT_EQ(first.done, 1);
+  EXPECT_GT(first.share(), 0.3) << "the dearest run is a large share";
+  EXPECT_LT(first.share(), 1.0);
+  const double by_share = elapsed * (1.0 - first.share()) / first.share();
+  const double by_count = elapsed * static_cast<double>(first.total - first.done) / static_cast<double>(first.done);
+  EXPECT_GT(by_share, left / 2.0) << "elapsed " << elapsed << " s, share " << first.share() << ", left " << left << " s";
+  EXPECT_LT(by_share, left * 2.0) << "elapsed " << elapsed << " s, share " << first.share() << ", left " << left << " s";
+  EXPECT_GT(by_count, left * 2.0) << "the count's estimate: what the share corrects";
+  EXPECT_DOUBLE_EQ(seen.back().second.share(), 1.0);
 }
 
 }  // namespace

@@ -126,3 +126,41 @@ TEST(Downscale, AveragesThePixelsEachOutputPixelCovers) {
   EXPECT_EQ(out.pixel(1, 0)[0], 200);
   EXPECT_EQ(out.pixel(1, 0)[3], 255);
 }
+
+TEST(ContactSheet, ASpanDrawsTheRestOfItsRowAsOneCellOfTextInPlaceOfItsCells) {
+  // Row 1 diverged after its first cell: cells 1..3 become one panel with two lines of text.
+  std::vector<std::vector<Image>> cells(2);
+  for (int r = 0; r < 2; ++r)
+    for (int c = 0; c < 4; ++c) cells[r].push_back(solid(120, 60, 40 + 50 * r + 10 * c));
+  const TilingStyle style;
+  const std::vector<std::string> rows{"rk2", "rk4"}, columns{"a", "b", "c", "d"};
+  const Image plain = compose_contact_sheet(cells, rows, columns, style);
+  const Image spanned = compose_contact_sheet(cells, rows, columns, style, 0, 0,
+                                              {SheetSpan{1, 1, {"DIVERGED at t = 0.02 s", "stable below ~1e-4 s"}}});
+  ASSERT_EQ(spanned.width, plain.width);
+  ASSERT_EQ(spanned.height, plain.height);
+  int left = -1, top = -1;  // the first cell, as above
+  for (int x = 0; x < plain.width && left < 0; ++x)
+    for (int y = 0; y < plain.height && left < 0; ++y)
+      if (plain.pixel(x, y)[0] == 40) left = x, top = y;
+  ASSERT_GE(left, 0);
+  const int step_x = 120 + style.gutter, row1 = top + 60 + style.gutter;
+  for (int c = 0; c < 4; ++c)  // row 0 and row 1's first cell untouched
+    EXPECT_EQ(spanned.pixel(left + c * step_x + 5, top + 5)[0], 40 + 10 * c) << c;
+  EXPECT_EQ(spanned.pixel(left + 5, row1 + 5)[0], 90);
+  // The span covers cells 1..3 and the gutters between them: one panel colour at its corners.
+  const int x0 = left + step_x, x1 = left + 4 * step_x - style.gutter - 1;
+  const std::uint8_t* panel = spanned.pixel(x0, row1);
+  EXPECT_NE(panel[0], 100) << "cell 1's own colour is gone";
+  for (const auto& [x, y] : std::vector<std::pair<int, int>>{{x1, row1}, {x0, row1 + 59}, {x1, row1 + 59},
+                                                             {left + 2 * step_x - 2, row1 + 2}})
+    EXPECT_TRUE(std::equal(panel, panel + 3, spanned.pixel(x, y))) << x << "," << y;
+  Rgba8 background{panel[0], panel[1], panel[2], 255};
+  EXPECT_GT(text_pixels(spanned, x0, row1, x1 - x0, 60, background), 50) << "its lines are drawn";
+  // The red of the first line (DIVERGED) is in the span.
+  bool red = false;
+  for (int y = row1; y < row1 + 60 && !red; ++y)
+    for (int x = x0; x < x1 && !red; ++x) red = spanned.pixel(x, y)[0] == 255 && spanned.pixel(x, y)[1] == 72;
+  EXPECT_TRUE(red);
+  EXPECT_THROW(compose_contact_sheet(cells, rows, columns, style, 0, 0, {SheetSpan{2, 0, {"x"}}}), std::invalid_argument);
+}

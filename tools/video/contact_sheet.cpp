@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 namespace clothsim {
 
@@ -37,6 +39,54 @@ Margins margins_for(const std::vector<std::string>& row_labels, int cell_h, cons
   m.left += 2 * m.pad;
   m.top = text_glyph_height() * m.scale + 2 * m.pad;
   return m;
+}
+
+// `line` broken at spaces into pieces at most `width` pixels wide at `scale` (a word wider
+// than that stays whole).
+std::vector<std::string> wrap_words(const std::string& line, int width, int scale) {
+  std::vector<std::string> out;
+  std::string piece;
+  std::size_t at = 0;
+  while (at <= line.size()) {
+    const std::size_t end = std::min(line.find(' ', at), line.size());
+    const std::string word = line.substr(at, end - at);
+    const std::string longer = piece.empty() ? word : piece + " " + word;
+    if (!piece.empty() && text_width(longer, scale) > width) {
+      out.push_back(piece);
+      piece = word;
+    } else {
+      piece = longer;
+    }
+    at = end + 1;
+  }
+  if (!piece.empty()) out.push_back(piece);
+  return out;
+}
+
+// Span `s` drawn over the grid `body`: one cell from its first column to the row's end, its
+// lines centred at the largest scale up to `scale` at which the widest fits, else at scale 1
+// broken at spaces (what still does not fit is clipped at the cell's edges).
+void draw_span(Image& body, const TileGrid& grid, int columns, const SheetSpan& s, const TilingStyle& style,
+               int scale) {
+  const int first = s.row * columns + s.first_column, last = s.row * columns + columns - 1;
+  const int x0 = grid.cell_x(first), y0 = grid.cell_y(first);
+  const int w = grid.cell_x(last) + grid.cell_width() - x0, h = grid.cell_height();
+  Image cell(w, h);  // drawn apart, so nothing runs past the cell
+  fill_rect(cell, 0, 0, w, h, {44, 44, 50, 255});  // a panel a shade off the gutters
+  int widest = 0;
+  for (const std::string& line : s.lines) widest = std::max(widest, text_width(line, 1));
+  while (scale > 1 && widest * scale > w - 8 * scale) --scale;
+  std::vector<std::pair<std::string, bool>> lines;  // (text, the first line's: red)
+  for (std::size_t k = 0; k < s.lines.size(); ++k)
+    for (const std::string& piece : wrap_words(s.lines[k], w - 8 * scale, scale)) lines.emplace_back(piece, k == 0);
+  const int line_h = text_glyph_height() * scale * 3 / 2;
+  const int top = std::max(0, (h - line_h * static_cast<int>(lines.size())) / 2);
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    const Rgba8 color = lines[k].second ? Rgba8{255, 72, 60, 255} : style.label_color;  // the banner's red
+    draw_text(cell, (w - text_width(lines[k].first, scale)) / 2, top + static_cast<int>(k) * line_h, lines[k].first,
+              color, scale, /*backdrop=*/false);
+  }
+  blit(cell, body, x0, y0);
 }
 
 }  // namespace
@@ -80,7 +130,8 @@ double contact_sheet_shrink(int cell_w, int cell_h, const std::vector<std::strin
 Image compose_contact_sheet(const std::vector<std::vector<Image>>& cells_in,
                             const std::vector<std::string>& row_labels,
                             const std::vector<std::string>& column_labels,
-                            const TilingStyle& style, int width, int height) {
+                            const TilingStyle& style, int width, int height,
+                            const std::vector<SheetSpan>& spans) {
   const int rows = static_cast<int>(row_labels.size());
   const int columns = static_cast<int>(column_labels.size());
   int cell_w = 1, cell_h = 1;
@@ -107,6 +158,11 @@ Image compose_contact_sheet(const std::vector<std::vector<Image>>& cells_in,
   grid.compose(tiles, {}, body);
 
   const Margins m = margins_for(row_labels, cell_h, style);
+  for (const SheetSpan& s : spans) {
+    if (s.row < 0 || s.row >= rows || s.first_column < 0 || s.first_column >= columns)
+      throw std::invalid_argument("contact sheet: a span outside the grid");
+    draw_span(body, grid, columns, s, style, m.scale);
+  }
   const int natural_w = m.left + body.width + m.pad, natural_h = m.top + body.height + m.pad;
   const int sheet_w = width > 0 ? std::max(width, natural_w) : natural_w;
   const int sheet_h = height > 0 ? std::max(height, natural_h) : natural_h;

@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <limits>
 
 #include "cli_common.h"
 
@@ -50,7 +52,7 @@ Progress::Progress(std::string label, long total, std::string unit, ProgressMode
   else if (terminal) style_ = Style::bar;
   else style_ = mode == ProgressMode::always ? Style::lines : Style::off;
   if (style_ == Style::lines) {  // a log shows that the work began, and how much there is
-    line(0, 0.0);
+    line(0, 0.0, 0.0);
     last_ = start_;
   }
 }
@@ -62,17 +64,24 @@ void Progress::finish() {
   style_ = Style::off;
 }
 
-void Progress::line(long done, double elapsed) {
+double Progress::seconds_left(double elapsed, double share) {
+  if (!(share > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  return elapsed * std::max(0.0, 1.0 - share) / share;
+}
+
+void Progress::line(long done, double share, double elapsed) {
   std::fprintf(out_, "%s: %ld/%ld %s", label_.c_str(), done, total_, unit_.c_str());
   if (done >= total_) std::fprintf(out_, ", done in %.1f s\n", elapsed);
-  else if (done > 0)
-    std::fprintf(out_, ", %.1f s elapsed, %.1f s left\n", elapsed,
-                 elapsed * static_cast<double>(total_ - done) / static_cast<double>(done));
+  else if (done > 0) std::fprintf(out_, ", %.1f s elapsed, %.1f s left\n", elapsed, seconds_left(elapsed, share));
   else std::fprintf(out_, "\n");
   std::fflush(out_);
 }
 
 void Progress::update(long done) {
+  update(done, total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 0.0);
+}
+
+void Progress::update(long done, double share) {
   if (style_ == Style::off) return;
   const auto now = std::chrono::steady_clock::now();
   const double elapsed = std::chrono::duration<double>(now - start_).count();
@@ -80,14 +89,13 @@ void Progress::update(long done) {
     if (ended_ || (now - last_ < period_ && done < total_)) return;
     last_ = now;
     ended_ = done >= total_;
-    line(done, elapsed);
+    line(done, share, elapsed);
     return;
   }
   if (now - last_ < std::chrono::milliseconds(100) && done < total_) return;
   last_ = now;
   std::fprintf(out_, "\r\033[K%s  %ld/%ld %s", label_.c_str(), done, total_, unit_.c_str());
-  if (done > 0 && done < total_)
-    std::fprintf(out_, "  %.1f s left", elapsed * static_cast<double>(total_ - done) / static_cast<double>(done));
+  if (done > 0 && done < total_) std::fprintf(out_, "  %.1f s left", seconds_left(elapsed, share));
   std::fflush(out_);
 }
 

@@ -37,10 +37,15 @@ class Progress {
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
   void update(long done);
+  // The same with the share of the work done (0 to 1) where units of work weigh unlike (a study's
+  // runs: analysis::StudyProgress): the time left is the time so far x (1 - share) / share.
+  void update(long done, double share);
   void finish();  // clears the bar now, before a summary is printed; idempotent
+  // Seconds left after `elapsed` s with `share` of the work done (NaN before any is done).
+  static double seconds_left(double elapsed, double share);
  private:
   enum class Style { off, bar, lines };
-  void line(long done, double elapsed);
+  void line(long done, double share, double elapsed);
   std::string label_, unit_;
   long total_;
   Style style_;

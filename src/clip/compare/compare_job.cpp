@@ -281,8 +281,9 @@ void name_lanes(ComparePlan& p) {
 // repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
 void plan_variation(const CompareRequest& o, ComparePlan& p) {
   const Variation vary = parse_vary(o.vary, p.scene);
-  const std::vector<LaneSpec> rows =
+  std::vector<LaneSpec> rows =
       o.integrators_given ? p.specs() : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
+  follow_scene_solver(rows, p.scene.implicit);  // the scene's fixed point is named as itself, as without --vary
   for (std::size_t v = 0; v < vary.size(); ++v) {
     SceneOptions with = o.scene;
     for (const std::string& set : vary.sets(v)) with.sets.push_back(set);

@@ -11,6 +11,7 @@
 #include "frame_decoration.h"
 #include "overlay_text.h"
 #include "plausibility.h"
+#include "core/stiffness_estimate.h"
 #include "core/work_units.h"
 #include "clip/common/cli_common.h"
 #include "clip/common/progress.h"
@@ -106,6 +107,9 @@ struct FramePipeline::Impl {
   std::vector<EnergyHistory> energy;  // per lane, for the inset
   // Per lane, a frame handed over but not yet rendered, with its field.
   std::vector<std::pair<std::shared_ptr<const LaneFrame>, std::vector<float>>> unrendered;
+  // Per lane, its latest frame before it diverged, with its field: a diverged tile's colouring.
+  std::vector<std::pair<std::shared_ptr<const LaneFrame>, std::vector<float>>> last_sane;
+  std::vector<double> predicted_limits;  // per lane, s: predicted_limit_of's, once asked
   bool bodies = false;                         // an output needs_bodies()
   std::vector<std::vector<float>> last_field;  // per lane, with bodies: its latest field (LaneView::field)
   std::deque<TargetFrames> held;      // targets waiting for the colour scale
@@ -131,6 +135,7 @@ struct FramePipeline::Impl {
     if (config.color == FieldKind::Strain || config.color == FieldKind::Speed) n.field = config.color;
     n.final_state = config.final_state;
     n.bodies = bodies;
+    n.hold_sane = config.tiles;  // a diverged tile shows its last sane state (frame_pipeline.h)
     return n;
   }
 
@@ -194,6 +199,7 @@ struct FramePipeline::Impl {
     images.resize(lanes.size());
     energy.resize(lanes.size());
     unrendered.resize(lanes.size());
+    last_sane.resize(lanes.size());
     reports.assign(lanes.size(), LaneReport{});
     field_step.assign(lanes.size(), -1);
     energy0.assign(lanes.size(), std::numeric_limits<double>::quiet_NaN());
@@ -202,6 +208,33 @@ struct FramePipeline::Impl {
 
   const Model& model_of(std::size_t lane) const {
     return config.lane_models.empty() ? model : *config.lane_models[lane];
+  }
+
+  // The step the stiffness estimate predicts stable for lane `i`'s method on the model it runs
+  // (its fixed-point copy where it has one): what its caption says if it diverges.
+  double predicted_limit_of(std::size_t i) {
+    if (predicted_limits.empty())
+      for (std::size_t k = 0; k < lanes.size(); ++k) {
+        const Model& runs = lane_models[k] ? *lane_models[k] : model_of(k);
+        predicted_limits.push_back(analysis::predicted_limit(analysis::estimate_stiffness(runs), lanes[k].kind, runs.implicit));
+      }
+    return predicted_limits[i];
+  }
+
+  // Lane `i`'s picture of `f` (the frame handed over last) with its colouring `field`. A tile
+  // that diverged shows its last sane state (LaneNeeds::hold_sane), coloured as it was at that
+  // target and with its time ("t = 0.033 s, last sane frame"), under the DIVERGED banner and
+  // the step predicted stable; `run` shows the blow-up.
+  RenderFrame picture_of(std::size_t i, const LaneFrame& f, const std::vector<float>*& field) {
+    const bool holding = f.divergence && config.tiles;
+    // (the error is measured in this thread: the sane state's, where it was a target)
+    if (holding && field->empty() && last_sane[i].first && last_sane[i].first->step == f.step) field = &last_sane[i].second;
+    RenderFrame rf = f.frame;
+    rf.overlay_lines = lane_overlay(model_of(i), lanes[i], f, config.overlay, !config.tiles, config.overlay_cpu);
+    if (holding && config.overlay == OverlayMode::Full && !rf.overlay_lines.empty())
+      rf.overlay_lines.front() = overlay_time_line(f.shown_t) + ", last sane frame";  // the cost: to the blow-up
+    if (f.divergence && config.overlay != OverlayMode::None) mark_diverged(rf, *f.divergence, predicted_limit_of(i));
+    return rf;
   }
 
   // The plausibility evidence a fresh frame adds (energy), and the verdict once a rule breaks.
@@ -375,7 +408,9 @@ struct FramePipeline::Impl {
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       views[i] = LaneView{&lanes[i], t.frames[i].get(), config.rendering ? &images[i] : nullptr, t.fresh[i],
                           legend ? &*legend : nullptr};
+      if (t.frames[i] && t.frames[i]->divergence) views[i].predicted_limit = predicted_limit_of(i);
       if (t.fresh[i]) unrendered[i] = {t.frames[i], t.fields[i]};
+      if (t.fresh[i] && t.frames[i] && !t.frames[i]->divergence) last_sane[i] = {t.frames[i], t.fields[i]};
       if (bodies) {  // --export's error: a lane that stands on one state keeps its field
         last_field.resize(lanes.size());
         if (t.fresh[i]) last_field[i] = t.fields[i];
@@ -383,17 +418,17 @@ struct FramePipeline::Impl {
       }
       if (!config.rendering || !shown || !unrendered[i].first) continue;
       const LaneFrame& f = *unrendered[i].first;
-      const std::vector<float>& field = unrendered[i].second;
-      RenderFrame rf = f.frame;
+      const std::vector<float>* shown_field = &unrendered[i].second;
+      RenderFrame rf = picture_of(i, f, shown_field);
+      const std::vector<float>& field = *shown_field;
       rf.width = config.width;
       rf.height = config.height;
       if (config.camera) rf.camera = *config.camera;
       rf.samples = config.samples;
       rf.fxaa = config.fxaa;
-      rf.overlay_lines = lane_overlay(model_of(i), lanes[i], f, config.overlay, !config.tiles, config.overlay_cpu);
       if (config.overlay != OverlayMode::None) {
         if (f.divergence) {
-          mark_diverged(rf, *f.divergence);
+          // DIVERGED (picture_of) says more than the rest
         } else if (f.totals.unconverged_steps > 0 && !lanes[i].newton_capped()) {
           // An implicit step that stalled above its tolerance is a result, shown on the picture.
           mark_not_converged(rf, f.totals.unconverged_steps);
@@ -411,7 +446,8 @@ struct FramePipeline::Impl {
           rf.overlay_lines.emplace_back(line);
         }
         // Every error drawn comes with the reference's own (study/reference.h), so far.
-        if (config.color == FieldKind::Error && !field.empty() && reference_frame && reference_frame->reference_error > 0.0) {
+        if (!f.divergence && config.color == FieldKind::Error && !field.empty() && reference_frame &&
+            reference_frame->reference_error > 0.0) {
           char line[96];
           const double e = reference_frame->reference_error;  // rounded up to two digits: "<=" holds
           const double unit = std::pow(10.0, std::floor(std::log10(e)) - 1.0);

@@ -9,7 +9,10 @@
 //
 // A lane that diverges hands over the picture of its last finite state, marked DIVERGED with
 // the time, step and reason; the pipeline holds it for the rest of the clip (a `run` stops
-// there instead: stop_when_all_frozen). Colouring by error runs a reference lane alongside,
+// there instead: stop_when_all_frozen). A tile (compare) holds its last sane frame instead,
+// the last target whose state passed the divergence checks, at the usual camera and colouring,
+// captioned with the divergence and the step predicted stable: it stays beside lanes that ran
+// on, and the blown-up state's close-up says nothing there. Colouring by error runs a reference lane alongside,
 // never shown. A field's colour scale is fixed for the whole clip: given, or chosen from the
 // data of the first second (those targets are held back until it is known, then printed).
 #pragma once
@@ -91,6 +94,9 @@ struct LaneView {
   bool fresh = false;                // handed over at this target (not a held frame)
   const ColorScale* legend = nullptr;  // the pictures' colour scale (one for every lane), when coloured
   const std::vector<float>* field = nullptr;  // for an output that needs_bodies(): its colouring field (may be empty)
+  // The step the scene's stiffness estimate predicts stable for the lane's method (s;
+  // analysis::predicted_limit, infinity: none): what a diverged lane's caption says.
+  double predicted_limit = std::numeric_limits<double>::infinity();
 };
 
 class FrameOutput {

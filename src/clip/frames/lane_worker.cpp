@@ -111,7 +111,7 @@ void LaneWorker::push(LaneFrame frame) {
 // What the outputs need of `state` (the run's current one, or its last finite state).
 LaneFrame LaneWorker::frame_of(const Run& run, const State& state) const {
   LaneFrame f;
-  f.t = state.t;
+  f.t = f.shown_t = state.t;
   f.step = state.step;
   f.totals = run.totals();
   if (needs_.picture) f.frame = make_render_frame(model_, state, needs_.look);
@@ -293,6 +293,14 @@ void LaneWorker::run_targets(Run& run) {
   long sample = 0;  // the next energy sample, at sample * energy_every
   std::vector<std::pair<double, double>> energy;
   const auto record_energy = [&] { energy.emplace_back(run.state().t, compute_energies(model_, run.state()).total()); };
+  // LaneNeeds::hold_sane: what a picture reads of the last state handed over (the start first).
+  State sane;
+  const auto keep_sane = [&] {
+    if (!needs_.hold_sane) return;
+    const State& s = run.state();
+    sane.x = s.x, sane.v = s.v, sane.inv_mass = s.inv_mass, sane.t = s.t, sane.step = s.step;
+  };
+  keep_sane();
   for (Target target; cursor.next(target);) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -312,11 +320,12 @@ void LaneWorker::run_targets(Run& run) {
     if (ok) ok = run.advance_to(target.t);
     if (run.stopped()) break;
     if (!ok) {
-      // The picture (and field) of the last finite state at the step divergence names; the
-      // metrics of the state the run stopped in, which is what `run --metrics` records.
+      // The picture (and field) of the last finite state at the step divergence names, or of
+      // the last sane one; the metrics of the state the run stopped in, which is what
+      // `run --metrics` records.
       const Divergence& d = *run.divergence();
-      LaneFrame frozen = frame_of(run, needs_.picture || needs_.field != FieldKind::None || needs_.bodies
-                                           ? run.last_finite_state() : run.state());
+      const bool drawn = needs_.picture || needs_.field != FieldKind::None || needs_.bodies;
+      LaneFrame frozen = frame_of(run, needs_.hold_sane ? sane : drawn ? run.last_finite_state() : run.state());
       if (needs_.metrics) frozen.metrics = run.metrics();
       frozen.t = d.t;
       frozen.energy = std::move(energy);
@@ -328,6 +337,7 @@ void LaneWorker::run_targets(Run& run) {
       break;
     }
     LaneFrame f = frame_of(run, run.state());
+    keep_sane();
     if (needs_.metrics) f.metrics = run.metrics();
     if (needs_.energy_every > 0.0) {
       record_energy();

@@ -5,8 +5,9 @@
 // length and lets a fast lane work ahead of a slow one by only a few targets.
 //
 // A lane that diverges stops stepping and hands over one last, frozen frame: its last finite
-// state (Run::last_finite_state) at the step divergence names, with the divergence. The
-// pipeline holds that picture while other lanes go on.
+// state (Run::last_finite_state) at the step divergence names, with the divergence, or with
+// LaneNeeds::hold_sane the state of the last target it handed over (the start before any).
+// The pipeline holds that picture while other lanes go on.
 #pragma once
 
 #include <atomic>
@@ -46,6 +47,9 @@ struct LaneNeeds {
   FieldKind field = FieldKind::None;  // strain or speed, computed on the lane's thread
   bool final_state = false;  // keep the last State (run --state)
   bool bodies = false;       // LaneFrame::bodies (--export)
+  // A tile's lane: the frozen frame shows the last sane state (the last target's, or the start)
+  // rather than the last finite one (frame_pipeline.h says why).
+  bool hold_sane = false;
   // The reference lane: the steps (s) of the lanes it is compared with, in their order. At
   // each target it hands over, in LaneFrame::x_for, its positions at the time where a run of
   // each step lands (reference_stand.h: its own state, or interpolated between its steps),
@@ -71,7 +75,8 @@ struct LaneNeeds {
 // What a lane hands over at one target.
 struct LaneFrame {
   double t = 0.0;
-  std::int64_t step = 0;
+  std::int64_t step = 0;           // of the state shown
+  double shown_t = 0.0;            // s, of the state shown: t, but a frozen frame's t is the divergence's
   RenderFrame frame;               // geometry only; the pipeline adds overlay, field and size
   std::vector<double> x;           // (3 x P) particle positions when LaneNeeds::positions
   // (per LaneNeeds::stand_for step) the same, at the time a run of that step stands

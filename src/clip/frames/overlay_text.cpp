@@ -1,6 +1,7 @@
 #include "overlay_text.h"
 #include "core/integrators/integrator_kind.h"
 
+#include <cmath>
 #include <cstdio>
 
 namespace clothsim::clip {
@@ -25,12 +26,34 @@ std::string overlay_time_line(double t) {
   return line;
 }
 
-void mark_diverged(RenderFrame& frame, const Divergence& divergence) {
-  // The time as `run` prints it (%.6g), and the step: the picture and the exit message agree.
+namespace {
+// The time as `run` prints it (%.6g), and the step: the picture and the exit message agree.
+std::string diverged_time(const Divergence& divergence) {
   char time[48];
   std::snprintf(time, sizeof time, "at t = %.6g s", divergence.t);
-  frame.banner = {"DIVERGED", time, "(step " + std::to_string(divergence.step) + ")"};
+  return time;
+}
+}  // namespace
+
+void mark_diverged(RenderFrame& frame, const Divergence& divergence, double predicted_limit) {
+  frame.banner = {"DIVERGED", diverged_time(divergence), "(step " + std::to_string(divergence.step) + ")"};
   frame.overlay_lines.push_back("diverged: " + divergence.reason);
+  if (const std::string stable = stable_step_line(predicted_limit); !stable.empty()) frame.overlay_lines.push_back(stable);
+}
+
+std::string stable_step_line(double predicted_limit) {
+  if (std::isnan(predicted_limit) || std::isinf(predicted_limit)) return "";
+  if (!(predicted_limit > 0.0)) return "no stable step (estimate)";
+  char line[64];
+  std::snprintf(line, sizeof line, "stable below ~%.2g s (estimate)", predicted_limit);
+  return line;
+}
+
+std::vector<std::string> diverged_caption(const Divergence& divergence, double predicted_limit) {
+  std::vector<std::string> lines{"DIVERGED " + diverged_time(divergence) + " (step " + std::to_string(divergence.step) + ")",
+                                 divergence.reason};
+  if (const std::string stable = stable_step_line(predicted_limit); !stable.empty()) lines.push_back(stable);
+  return lines;
 }
 
 void mark_not_converged(RenderFrame& frame, std::int64_t steps) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,7 +34,21 @@ std::string overlay_time_line(double t);
 // overlay line with the reason. What `run` and `compare` show from the moment a run diverges.
 // The banner's phrases are "DIVERGED", "at t = ... s" and "(step N)": a narrow tile shows them
 // on two lines, and one too narrow for that leaves the step off (render_frame.h).
-void mark_diverged(RenderFrame& frame, const Divergence& divergence);
+// With `predicted_limit` (analysis::predicted_limit for the lane's method and model, s; NaN:
+// not given) a last line says the step that would have been stable (stable_step_line).
+void mark_diverged(RenderFrame& frame, const Divergence& divergence,
+                   double predicted_limit = std::numeric_limits<double>::quiet_NaN());
+
+// The step the scene's stiffness estimate predicts stable for a lane that diverged: "stable
+// below ~1.5e-04 s (estimate)" (the estimate is a lower bound on the true limit, about 2.4x
+// low on the drape: docs/integrators.md), "no stable step (estimate)" where it predicts none
+// (undamped explicit Euler, midpoint), "" where it predicts no limit (infinity) or none is given.
+std::string stable_step_line(double predicted_limit);
+
+// What a lane that diverged says where its picture is not repeated (a contact sheet's row
+// after its held cell): "DIVERGED at t = 0.0212 s (step 53)", the reason, and the stable step
+// (stable_step_line) when there is one to say.
+std::vector<std::string> diverged_caption(const Divergence& divergence, double predicted_limit);
 
 // Marks a frame of a run whose implicit steps missed their Newton tolerance `steps` times so
 // far (steps > 0): the red banner "NOT CONVERGED (N steps)", "(1 step)" for one.

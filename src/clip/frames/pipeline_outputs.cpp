@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "grid_legend.h"
+#include "overlay_text.h"
 #include "render/color_bar.h"
 #include "video/contact_sheet.h"
 
@@ -125,12 +126,21 @@ class SheetOutput final : public FrameOutput {
   SheetOutput(std::string path, std::vector<std::string> rows, std::vector<std::string> columns, PngText meta,
               int width, int height, bool legend)
       : path_(std::move(path)), rows_(std::move(rows)), columns_(std::move(columns)), meta_(std::move(meta)),
-        cells_(rows_.size(), std::vector<Image>(columns_.size())), width_(width), height_(height), legend_(legend) {}
+        cells_(rows_.size(), std::vector<Image>(columns_.size())), width_(width), height_(height), legend_(legend),
+        held_(rows_.size(), -1), captions_(rows_.size()) {}
   std::string what() const override { return "sheet"; }
   void on_target(const Target& target, const std::vector<LaneView>& lanes) override {
     if (target.column < 0) return;
-    for (std::size_t i = 0; i < lanes.size() && i < cells_.size(); ++i)
+    for (std::size_t i = 0; i < lanes.size() && i < cells_.size(); ++i) {
       cells_[i][static_cast<std::size_t>(target.column)] = *lanes[i].image;
+      // The first column past a lane's divergence shows its held picture; the rest of the row
+      // becomes one cell that says why (SheetSpan), not the same picture again.
+      const LaneFrame* f = lanes[i].frame;
+      if (f && f->divergence && (held_[i] < 0 || target.column < held_[i])) {
+        held_[i] = target.column;
+        captions_[i] = diverged_caption(*f->divergence, lanes[i].predicted_limit);
+      }
+    }
     if (const ColorScale* scale = legend_of(lanes)) scale_ = *scale;
   }
   void finish() override { write_png(path_, legend_ && scale_ ? sheet_with_legend() : sheet(width_), meta_); }
@@ -144,8 +154,17 @@ class SheetOutput final : public FrameOutput {
   int width_, height_;  // the sheet's size (0: the cells' own)
   bool legend_;
   std::optional<ColorScale> scale_;  // the cells' colour scale, once known
+  std::vector<int> held_;            // per row: the first column showing its divergence (-1: none)
+  std::vector<std::vector<std::string>> captions_;  // per row: what its divergence says (diverged_caption)
 
-  Image sheet(int width) const { return compose_contact_sheet(cells_, rows_, columns_, {}, width, height_); }
+  std::vector<SheetSpan> spans() const {
+    std::vector<SheetSpan> out;
+    for (std::size_t r = 0; r < held_.size(); ++r)
+      if (held_[r] >= 0 && held_[r] + 1 < static_cast<int>(columns_.size()))
+        out.push_back(SheetSpan{static_cast<int>(r), held_[r] + 1, captions_[r]});
+    return out;
+  }
+  Image sheet(int width) const { return compose_contact_sheet(cells_, rows_, columns_, {}, width, height_, spans()); }
   // The strip at the text size of the sheet's labels: that of its cells once shrunk to the size
   // asked for (found without the strip; the strip, a few characters wide, changes it little).
   Image sheet_with_legend() const {

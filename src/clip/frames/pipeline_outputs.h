@@ -45,7 +45,9 @@ std::unique_ptr<FrameOutput> make_still_output(std::string path, Composer compos
 
 // One row per lane, one column per sheet time, width x height (compose_contact_sheet); written at
 // finish(). With `legend` the colour bar is drawn once, in a strip at the sheet's right taken out
-// of the width, at the text size of the sheet's labels.
+// of the width, at the text size of the sheet's labels. A lane that diverged shows its held
+// picture in the first column past the divergence, and the rest of its row is one wide cell
+// with its caption (overlay_text.h, diverged_caption).
 std::unique_ptr<FrameOutput> make_sheet_output(std::string path, std::vector<std::string> row_labels,
                                                std::vector<std::string> column_labels, PngText meta, int width,
                                                int height, bool legend = false);

@@ -56,9 +56,13 @@ struct SharedProgress::Impl {
 SharedProgress::SharedProgress(std::string label, long total, std::string unit)
     : impl_(std::make_shared<Impl>(std::move(label), total, std::move(unit))) {}
 
-void SharedProgress::update(long done, long /*total*/) {
+void SharedProgress::update(const analysis::StudyProgress& progress) {
   std::lock_guard<std::mutex> lock(impl_->mutex);
-  impl_->progress.update(done);
+  impl_->progress.update(progress.done, progress.share());
+}
+
+std::function<void(const analysis::StudyProgress&)> SharedProgress::hook() {
+  return [self = *this](const analysis::StudyProgress& p) mutable { self.update(p); };  // (shares impl_)
 }
 
 void SharedProgress::finish() {

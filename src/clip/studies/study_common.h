@@ -11,6 +11,7 @@
 #include "clip/common/cli_common.h"
 #include "clip/common/summary_json.h"
 #include "core/integrators/integrator_kind.h"
+#include "study/study.h"
 #include "study/tables/csv_cells.h"
 
 namespace clothsim::clip {
@@ -48,7 +49,10 @@ std::string study_interrupted_message(std::size_t finished, std::size_t total, c
 class SharedProgress {
  public:
   SharedProgress(std::string label, long total, std::string unit);
-  void update(long done, long total);
+  // The count done, and the time left from the study's share of its work (StudyProgress::share).
+  void update(const analysis::StudyProgress& progress);
+  // What a study's StudyHooks::progress is set to: update(), on this printer.
+  std::function<void(const analysis::StudyProgress&)> hook();
   void finish();  // clears the line before results are printed
  private:
   struct Impl;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <thread>
@@ -59,6 +60,29 @@ TEST(Progress, NeverAndQuietWriteNothingEvenToATerminal) {
   EXPECT_EQ(written(ProgressMode::never, false, true, 5, 0ms, 100ms), "");
   EXPECT_EQ(written(ProgressMode::always, true, true, 5, 0ms, 100ms), "");
   EXPECT_EQ(written(ProgressMode::always, true, false, 5, 0ms, 100ms), "");
+}
+
+TEST(Progress, TheTimeLeftScalesTheTimeSoFarByTheShareOfTheWorkDone) {
+  // One run of 11 done, but it was 60 % of the work: 10 s so far leaves 6.7 s, not 100 s.
+  EXPECT_NEAR(Progress::seconds_left(10.0, 0.6), 10.0 * 0.4 / 0.6, 1e-12);
+  EXPECT_DOUBLE_EQ(Progress::seconds_left(10.0, 1.0), 0.0);
+  EXPECT_TRUE(std::isnan(Progress::seconds_left(10.0, 0.0))) << "nothing done: no estimate";
+  // A log line with the share: "1/11 runs, ... s elapsed, ... s left" from the share, not the count.
+  std::FILE* f = std::tmpfile();
+  {
+    Progress p("bench sheet", 11, "runs", ProgressMode::always, false, false, f, 0ms);
+    std::this_thread::sleep_for(300ms);
+    p.update(1, 0.6);
+  }
+  std::rewind(f);
+  char line[256] = {};
+  ASSERT_TRUE(std::fgets(line, sizeof line, f));  // the start
+  ASSERT_TRUE(std::fgets(line, sizeof line, f));
+  std::fclose(f);
+  double elapsed = 0.0, left = 0.0;
+  ASSERT_EQ(std::sscanf(line, "bench sheet: 1/11 runs, %lf s elapsed, %lf s left", &elapsed, &left), 2) << line;
+  EXPECT_NEAR(left, elapsed * 0.4 / 0.6, 0.1) << line;  // (both printed to 0.1 s)
+  EXPECT_LT(left, elapsed) << "by count it would be 10 x the time so far";
 }
 
 TEST(Progress, RunWithProgressAlwaysLogsLinesWhenStderrIsAFile) {

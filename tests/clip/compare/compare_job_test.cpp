@@ -97,3 +97,24 @@ TEST(KeepShardLanes, APartKeepsWholeLanes) {
     EXPECT_TRUE(found) << kept.dir;
   }
 }
+
+TEST(PlanCompare, AVaryGridOfAFixedPointSceneNamesItsRowsByTheMethodThatRuns) {
+  // Without --integrators the row is the scene's integrator; a scene whose implicit_euler is
+  // the course's fixed point runs the fixed point, and its rows say so (they said implicit_euler).
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_fixed_point";
+  std::filesystem::create_directories(out);
+  CompareRequest o = small_grid(out);
+  o.scene.sets.insert(o.scene.sets.end(), {"integrator=implicit_euler", "implicit.solver=fixed_point", "dt=1e-4"});
+  o.integrators = default_comparison_list();  // as the command sets it when not given
+  o.integrators_given = false;
+  ComparePlan p;
+  plan_compare(o, p);
+  ASSERT_EQ(p.lanes.size(), 2u);
+  for (const CompareLane& l : p.lanes) {
+    EXPECT_TRUE(l.spec.fixed_point);
+    EXPECT_EQ(l.spec.stepless_spelling(), std::string(kFixedPointName));
+    EXPECT_EQ(l.name.rfind(l.spec.name(), 0), 0u) << l.name;
+    EXPECT_NE(l.name.find("fixed point"), std::string::npos) << l.name;
+    EXPECT_EQ(l.model->implicit.solver, ImplicitSolver::FixedPoint) << "what it runs is the fixed point";
+  }
+}

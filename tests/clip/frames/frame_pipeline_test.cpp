@@ -1,4 +1,6 @@
-// The frame pipeline's pieces that are not a command: overlay text and the colour scale.
+// The frame pipeline's pieces that are not a command: overlay text and the colour scale; and a
+// pipeline run through, for what a lane that diverged shows: its tile holds the last sane frame,
+// captioned, and a contact sheet says it once in a wide cell instead of repeating the picture.
 #include "clip/frames/frame_decoration.h"
 #include "clip/frames/frame_pipeline.h"
 
@@ -6,7 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include "cli/cli_process.h"
+#include "clip/frames/pipeline_outputs.h"
+#include "core/stiffness_estimate.h"
 #include "core/work_units.h"
+#include "render/png_io.h"
+#include "test_support.h"
 
 using namespace clothsim;
 using namespace clothsim::clip;
@@ -98,4 +105,102 @@ TEST(EnergyInset, AgainstAReferenceShowsWhatEachLaneGainsOrLosesBeyondItAndStops
   EXPECT_NEAR(f.inset.v_lo, -8.f, 1e-4f) << "the diverged lane sets no axis";
   EXPECT_NEAR(f.inset.v_hi, 3.5f, 1e-4f);
   EXPECT_EQ(g.inset.v_hi, f.inset.v_hi);
+}
+
+namespace {
+
+// symplectic Euler at 1 ms runs on it, explicit Euler at 10 ms diverges at t = 0.19 s.
+const char* const kSheet = clothsim::testing::kCornerSheet;
+
+// Keeps lane `lane`'s picture and frame at every clip frame, and what it was told of the lane.
+class KeepLane final : public FrameOutput {
+ public:
+  explicit KeepLane(std::size_t lane) : lane_(lane) {}
+  std::string what() const override { return "keep"; }
+  void on_target(const Target& target, const std::vector<LaneView>& lanes) override {
+    if (target.frame < 0) return;
+    pictures.push_back(*lanes[lane_].image);
+    frames.push_back(*lanes[lane_].frame);
+    limits.push_back(lanes[lane_].predicted_limit);
+  }
+  void finish() override {}
+  void abandon(std::vector<std::string>&, std::vector<std::string>&) override {}
+  std::vector<Image> pictures;
+  std::vector<LaneFrame> frames;
+  std::vector<double> limits;
+ private:
+  std::size_t lane_;
+};
+
+struct DivergedRun {
+  std::vector<Image> pictures;
+  std::vector<LaneFrame> frames;
+  std::vector<double> limits;
+};
+
+// symplectic_euler@1e-3 beside explicit_euler@1e-2 at 20 frames/s to 1.5 s, 64 x 48 tiles;
+// `sheet`: also a contact sheet at 0.1, 0.5, 1 and 1.5 s written there.
+DivergedRun run_diverging_pair(OverlayMode overlay, const std::string& sheet = "") {
+  const SceneDef scene = parse_scene(kSheet, "inline.yaml");
+  const Model model = build_model(scene);
+  const TargetPlan plan(1.5, 20.0, true, sheet.empty() ? std::vector<double>{} : std::vector<double>{0.1, 0.5, 1.0, 1.5});
+  PipelineConfig c;
+  c.rendering = true;
+  c.width = 64;
+  c.height = 48;
+  c.tiles = true;
+  c.overlay = overlay;
+  c.samples = 1;
+  c.scene_render = scene.render;
+  Renderer renderer;
+  const std::vector<LaneSpec> lanes{LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"},
+                                    LaneSpec{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}};
+  FramePipeline pipeline(model, plan, lanes, c, &renderer);
+  auto keep = std::make_unique<KeepLane>(1);
+  KeepLane* kept = keep.get();
+  pipeline.add(std::move(keep));
+  if (!sheet.empty()) pipeline.add(make_sheet_output(sheet, {"symplectic", "explicit"}, {"a", "b", "c", "d"}, {}, 0, 0, false));
+  pipeline.run("test");
+  return {kept->pictures, kept->frames, kept->limits};
+}
+
+}  // namespace
+
+TEST(FramePipeline, ADivergedTileHoldsItsLastSaneFramesPictureAndSaysItsPredictedStableStep) {
+  const DivergedRun r = run_diverging_pair(OverlayMode::None);
+  ASSERT_EQ(r.frames.size(), 31u);
+  std::size_t first = 0;  // the first clip frame past the divergence
+  while (first < r.frames.size() && !r.frames[first].divergence) ++first;
+  ASSERT_GT(first, 1u) << "t = 0 and at least one more frame are sane";
+  ASSERT_LT(first, r.frames.size()) << "explicit Euler at 10 ms diverges";
+  EXPECT_NEAR(r.frames[first].divergence->t, 0.19, 1e-9);
+  // Without an overlay the held picture is the last sane frame's render, pixel for pixel, to the end.
+  const Image& sane = r.pictures[first - 1];
+  EXPECT_FALSE(r.frames[first - 1].divergence);
+  for (std::size_t k = first; k < r.pictures.size(); ++k) EXPECT_EQ(r.pictures[k].rgba, sane.rgba) << "frame " << k;
+  EXPECT_NE(sane.rgba, r.pictures[0].rgba) << "the last sane frame, not the start";
+  // What its caption says: the stiffness estimate's step for explicit Euler on this model.
+  const double predicted = analysis::predicted_limit(analysis::estimate_stiffness(clothsim::testing::model_from_yaml(kSheet)),
+                                                     IntegratorKind::ExplicitEuler);
+  ASSERT_GT(predicted, 0.0);
+  EXPECT_LT(predicted, 1e-2) << "the step that diverged is above it";
+  EXPECT_EQ(r.limits[first], predicted);
+  // With the overlay the held picture carries the caption: not the sane frame's picture.
+  const DivergedRun full = run_diverging_pair(OverlayMode::Full);
+  EXPECT_NE(full.pictures[first].rgba, full.pictures[first - 1].rgba);
+}
+
+TEST(FramePipeline, ASheetCollapsesADivergedLanesRowAfterItsHeldCellIntoOneCell) {
+  // The lane diverges at 0.19 s: column b (0.5 s) holds its picture, c and d are one panel.
+  const std::string dir = clothsim::testing::scratch_dir("pipeline_sheet_span");
+  run_diverging_pair(OverlayMode::Full, dir + "/sheet.png");
+  const Image sheet = read_png(dir + "/sheet.png");
+  long panel = 0;  // pixels of the span's panel colour (contact_sheet.cpp)
+  for (int y = 0; y < sheet.height; ++y)
+    for (int x = 0; x < sheet.width; ++x) {
+      const std::uint8_t* p = sheet.pixel(x, y);
+      panel += p[0] == 44 && p[1] == 44 && p[2] == 50;
+    }
+  EXPECT_GT(panel, 2 * 64 * 48 * 7 / 10) << "two cells' room, less its text";
+  EXPECT_LT(panel, 3 * 64 * 48) << "no more than the two cells and their gutter";
 }

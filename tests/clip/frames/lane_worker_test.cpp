@@ -9,20 +9,15 @@
 
 #include "clip/compare/reference_history.h"
 #include "test_support.h"
+#include "view/snapshot.h"
 
 using namespace clothsim;
 using namespace clothsim::clip;
 
 namespace {
 
-// A 4 x 4 sheet pinned at its corners, lightly damped: stable for symplectic Euler at 1 ms
-// (w h ~ 0.3), while explicit Euler at 10 ms (w h > 1.4, growth |1 + i w h| per step) blows up.
-const char* kSheet = R"(
-name: sheet
-dt: 1.0e-3
-cloth: {particles: [4, 4], size: [1, 1], pinned: corners,
-        springs: {structural: {stiffness: 20000, damping: 5}}}
-)";
+using clothsim::testing::kCornerSheet;
+const char* const kSheet = kCornerSheet;  // (test_support.h)
 
 // n clip frames at fps: t = 0 .. (n - 1) / fps.
 TargetPlan frames(int n, double fps) { return TargetPlan((n - 1) / fps, fps, true, {}); }
@@ -103,6 +98,31 @@ TEST(LaneWorker, FreezesOnTheLastFiniteStateAtTheStepItDiverged) {
   EXPECT_EQ(run.divergence()->t, f.divergence->t);
   worker.join();
   EXPECT_TRUE(worker.result().divergence.has_value());
+}
+
+TEST(LaneWorker, ATileLaneFreezesOnTheLastTargetsStateOrTheStartBeforeAny) {
+  // LaneNeeds::hold_sane: the frozen frame shows the state handed over last, not the blow-up.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  LaneNeeds needs = picture_and_metrics();
+  needs.hold_sane = true;
+  const auto targets = frames(30, 20.0);
+  LaneWorker worker(model, LaneSpec{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}, targets, needs);
+  LaneFrame f, previous;
+  while (worker.next(f) && !f.frozen) previous = f;
+  ASSERT_TRUE(f.frozen && f.divergence);
+  EXPECT_EQ(f.t, f.divergence->t) << "the frame's time is still the divergence's";
+  EXPECT_EQ(f.step, previous.step) << "the state shown is the last target's";
+  EXPECT_EQ(f.shown_t, previous.t);
+  EXPECT_EQ(f.frame.cloth_positions, previous.frame.cloth_positions);
+  EXPECT_GT(f.metrics.step, previous.step) << "the metrics are the state it stopped in, as run --metrics'";
+  // A still after the divergence, the lane's only target: the start is its last sane state.
+  const TargetPlan late(0.5, 20.0, false, {0.5});
+  LaneWorker alone(model, LaneSpec{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}, late, needs);
+  ASSERT_TRUE(alone.next(f));
+  ASSERT_TRUE(f.frozen);
+  EXPECT_EQ(f.step, 0);
+  EXPECT_EQ(f.shown_t, 0.0);
+  EXPECT_EQ(f.frame.cloth_positions, make_render_frame(model, initial_state(model), {}).cloth_positions);
 }
 
 namespace {

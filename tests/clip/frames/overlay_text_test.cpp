@@ -18,6 +18,27 @@ TEST(OverlayText, MarksADivergedFrameWithItsTimeStepAndReason) {
   EXPECT_EQ(frame.overlay_lines.back(), "diverged: strain 12.3 > 10");
 }
 
+TEST(OverlayText, ADivergedCaptionHoldsTheTimeAndTheStepPredictedStable) {
+  RenderFrame frame;
+  mark_diverged(frame, Divergence{53, 0.0212, "kinetic energy 2.45e+09 J exceeds the bound 4.08e+08 J"}, 1.55e-4);
+  EXPECT_EQ(frame.banner, (std::vector<std::string>{"DIVERGED", "at t = 0.0212 s", "(step 53)"}));
+  EXPECT_EQ(frame.overlay_lines,
+            (std::vector<std::string>{"diverged: kinetic energy 2.45e+09 J exceeds the bound 4.08e+08 J",
+                                      "stable below ~0.00015 s (estimate)"}));
+  // Where a sheet does not repeat the picture, the same in one block.
+  EXPECT_EQ(diverged_caption(Divergence{53, 0.0212, "strain 12.3 > 10"}, 1.55e-4),
+            (std::vector<std::string>{"DIVERGED at t = 0.0212 s (step 53)", "strain 12.3 > 10",
+                                      "stable below ~0.00015 s (estimate)"}));
+}
+
+TEST(OverlayText, TheStableStepLineSaysNoneWhereNoStepIsStableAndNothingWithoutALimit) {
+  EXPECT_EQ(stable_step_line(0.0), "no stable step (estimate)");  // undamped explicit Euler
+  EXPECT_EQ(stable_step_line(std::numeric_limits<double>::infinity()), "");  // backward Euler
+  EXPECT_EQ(stable_step_line(std::numeric_limits<double>::quiet_NaN()), "");
+  EXPECT_EQ(diverged_caption(Divergence{3, 0.5, "non-finite position"}, std::numeric_limits<double>::infinity()),
+            (std::vector<std::string>{"DIVERGED at t = 0.5 s (step 3)", "non-finite position"}));
+}
+
 TEST(OverlayText, CountsMissedImplicitStepsInTheNotConvergedBanner) {
   RenderFrame frame;
   mark_not_converged(frame, 1);

@@ -215,7 +215,7 @@ std::size_t run_value(const BenchOptions& o, const std::vector<LaneSpec>& lanes,
   SharedProgress progress("bench " + model.name + ", " + s.label, static_cast<long>(planned + 2), "runs");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
-  hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  hooks.progress = progress.hook();
   s.result = analysis::work_precision(model, spec, hooks);
   progress.finish();
   print_table(s.result, lanes, s.names);
@@ -339,7 +339,7 @@ int bench_command(const BenchOptions& o) {
   SharedProgress progress("bench " + model.name, static_cast<long>(runs + 2), "runs");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
-  hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  hooks.progress = progress.hook();
   if (!o.shard.empty()) {
     const int code = bench_shard(o, model, spec, names, hooks);
     progress.finish();  // clears the progress line, as the whole study's end does

@@ -143,7 +143,7 @@ int converge_command(const ConvergeOptions& o) {
   SharedProgress progress("converge " + model.name, sweeps, "sweeps");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
-  hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  hooks.progress = progress.hook();
   if (!o.shard.empty()) return converge_shard(o, model, spec, hooks);
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_convergence.py", o.plot);

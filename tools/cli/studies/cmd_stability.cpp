@@ -209,7 +209,7 @@ int stability_command(const StabilityOptions& o) {
   SharedProgress progress("stability " + base.name, static_cast<long>(cases.size() * kinds.size()), "searches");
   analysis::StudyHooks hooks;
   hooks.stop = [] { return interrupted(); };
-  hooks.progress = [&progress](long done, long total) { progress.update(done, total); };
+  hooks.progress = progress.hook();
   if (!o.shard.empty()) {
     const int code = stability_shard(o, base.name, refs, spec, names, hooks);
     progress.finish();  // clears the progress line, as the whole study's end does
