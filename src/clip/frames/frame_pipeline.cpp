@@ -11,6 +11,7 @@
 #include "frame_decoration.h"
 #include "overlay_text.h"
 #include "plausibility.h"
+#include "reference_lanes.h"
 #include "core/stiffness_estimate.h"
 #include "core/work_units.h"
 #include "clip/common/cli_common.h"
@@ -83,21 +84,7 @@ struct FramePipeline::Impl {
   std::vector<LaneSpec> lanes;
   std::vector<std::optional<Model>> lane_models;  // the fixed-point lanes' own settings
   std::vector<std::unique_ptr<LaneWorker>> workers;
-  // The error colouring's references: one for every lane, or one per --vary value
-  // (PipelineConfig::variant_references), each measuring its value's lanes.
-  struct ReferenceLane {
-    std::shared_ptr<LaneWorker> worker;
-    std::string label;                       // VariantReference::label
-    std::shared_ptr<const LaneFrame> frame;  // its latest
-    bool frozen = false;                     // diverged: it measures nothing from then on
-    bool fresh = false;                      // handed over at this target
-  };
-  std::vector<ReferenceLane> references;
-  std::vector<int> reference_of;  // per lane: its reference's index (-1: none)
-  std::unique_ptr<LaneWorker> energy_reference;  // PipelineConfig::energy_reference's run
-  bool reference_samples_energy = false;         // ... or the error's reference, the same run
-  EnergyHistory reference_energy;                // its samples so far
-  bool energy_reference_done = false;
+  ReferenceLanes references;  // the error colouring's and the energy inset's (never shown)
   std::vector<std::unique_ptr<FrameOutput>> outputs;
   std::vector<double> output_seconds;
 
@@ -139,61 +126,15 @@ struct FramePipeline::Impl {
     return n;
   }
 
-  // Lanes land on the first step at or past each frame time, not on it, each at its own step:
-  // the reference hands over its positions at every lane's landing time (its own step's state
-  // where it lands there, as the default's quarter step does, else interpolated between two),
-  // so no lane's error holds a time offset times |v|.
-  void start_references(const std::function<bool()>& interrupt) {
-    reference_of.assign(lanes.size(), -1);
-    if (config.color != FieldKind::Error) return;
-    std::vector<double> steps;
-    for (const LaneSpec& lane : lanes) steps.push_back(lane.dt);
-    const std::size_t queue = reference_queue_capacity(model.num_particles, steps);
-    for (const VariantReference& v : config.variant_references) {
-      LaneNeeds n;  // the positions at its value's lanes' times, nothing else
-      n.stand_for = steps;
-      n.adaptive_tolerance = v.tolerance;
-      for (std::size_t i = 0; i < lanes.size(); ++i) {
-        n.serves.push_back(&model_of(i) == v.model);
-        if (n.serves.back()) reference_of[i] = static_cast<int>(references.size());
-      }
-      references.push_back({std::make_shared<LaneWorker>(*v.model, v.spec, plan, n, queue, interrupt), v.label, {}});
-    }
-    if (!config.variant_references.empty() || !config.reference) return;
-    reference_of.assign(lanes.size(), 0);
-    const double energy_every = reference_samples_energy ? 1.0 / plan.fps() : 0.0;
-    if (config.started_reference && same_run(config.started_reference->spec(), *config.reference)) {
-      config.started_reference->stand_for(std::move(steps), queue, energy_every);
-      references.push_back({config.started_reference, "", {}});  // running since before the steps were chosen
-      return;
-    }
-    LaneNeeds n;  // the positions at the lanes' times (and the inset's energy), nothing else
-    n.stand_for = std::move(steps);
-    n.energy_every = energy_every;
-    n.adaptive_tolerance = config.reference_tolerance;
-    references.push_back({std::make_shared<LaneWorker>(model, *config.reference, plan, n, queue, interrupt), "", {}});
-  }
-
-  const ReferenceLane* reference_for(std::size_t lane) const {
-    return reference_of[lane] < 0 ? nullptr : &references[reference_of[lane]];
-  }
-
   void start() {
     const auto interrupt = [] { return interrupted(); };
     lane_models.resize(lanes.size());
     for (std::size_t i = 0; i < lanes.size(); ++i)
       workers.push_back(std::make_unique<LaneWorker>(lane_model(model_of(i), lanes[i], lane_models[i]), lanes[i],
                                                      plan, needs(), kLaneQueueCapacity, interrupt));
-    // One run of the reference for the error and the energy inset when they name the same.
-    reference_samples_energy = config.color == FieldKind::Error && config.reference && config.inset_energy &&
-                               config.variant_references.empty() && config.energy_reference &&
-                               same_run(*config.energy_reference, *config.reference);
-    start_references(interrupt);
-    if (config.inset_energy && config.energy_reference && !reference_samples_energy) {
-      LaneNeeds n;  // the total energy at the inset's sample times, nothing else
-      n.energy_every = 1.0 / plan.fps();
-      energy_reference = std::make_unique<LaneWorker>(model, *config.energy_reference, plan, n, kLaneQueueCapacity, interrupt);
-    }
+    std::vector<const Model*> models;
+    for (std::size_t i = 0; i < lanes.size(); ++i) models.push_back(&model_of(i));
+    references.start(model, plan, lanes, models, config, interrupt);
     current.resize(lanes.size());
     frozen.assign(lanes.size(), false);
     images.resize(lanes.size());
@@ -252,20 +193,7 @@ struct FramePipeline::Impl {
 
   void stop_lanes() {
     for (auto& w : workers) w->stop();
-    for (ReferenceLane& r : references) r.worker->stop();
-    if (energy_reference) energy_reference->stop();
-  }
-
-  // The energy reference's samples up to this target; false on a signal.
-  bool collect_reference_energy() {
-    if (!energy_reference || energy_reference_done) return true;
-    LaneFrame f;
-    Stopwatch watch(wait_seconds);
-    const bool got = energy_reference->next(f);
-    if (interrupted()) return false;
-    for (const auto& [time, e] : f.energy) reference_energy.add(time, e);
-    energy_reference_done = !got || f.frozen;  // a diverged reference: the curves stop there
-    return true;
+    references.stop();
   }
 
   // The lanes' frames at `target`; false on a signal.
@@ -283,35 +211,21 @@ struct FramePipeline::Impl {
           frozen[i] = f.frozen;
           // A lane that diverged has no error from here on: the reference stops serving it
           // (and running, once no live lane needs it further) before it is asked for this target.
-          if (f.frozen && reference_of[i] >= 0) references[reference_of[i]].worker->drop_lane(i);
+          if (f.frozen) references.drop_lane(i);
           current[i] = std::make_shared<const LaneFrame>(std::move(f));
           out.fresh[i] = true;
         }
       }
     }
-    for (ReferenceLane& r : references) {
-      r.fresh = false;
-      if (r.frozen) continue;
-      LaneFrame f;
-      Stopwatch watch(wait_seconds);
-      const bool got = r.worker->next(f);
-      if (interrupted()) return false;
-      if (got) {
-        for (const auto& [time, e] : f.energy) reference_energy.add(time, e);  // (reference_samples_energy)
-        r.frozen = f.frozen;
-        r.fresh = !f.frozen;  // a diverged reference measures nothing
-        r.frame = std::make_shared<const LaneFrame>(std::move(f));
-      }
-    }
-    if (!collect_reference_energy()) return false;
+    if (!references.collect(wait_seconds)) return false;
     out.frames = current;
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       if (!out.fresh[i] || !current[i]) continue;
       if (config.color == FieldKind::Error) {
         // (a reference that diverged hands over the targets it had served in part: null where not)
-        const ReferenceLane* r = reference_for(i);
-        if (r && r->fresh && !current[i]->x.empty() && r->frame->x_for[i])
-          out.fields[i] = vertex_distance(current[i]->x, *r->frame->x_for[i]);
+        const LaneFrame* r = references.frame_for(i);
+        if (references.fresh_for(i) && !current[i]->x.empty() && r->x_for[i])
+          out.fields[i] = vertex_distance(current[i]->x, *r->x_for[i]);
       } else {
         out.fields[i] = current[i]->field;
       }
@@ -386,12 +300,11 @@ struct FramePipeline::Impl {
                       field.c_str());
       return text;
     }
-    for (const ReferenceLane& r : references)
-      if (config.color == FieldKind::Error && r.frame && r.frame->divergence) {
-        std::snprintf(text, sizeof text, "a default: the reference diverged at t = %.6g s before any error above 0 was measured",
-                      r.frame->divergence->t);
-        return text;
-      }
+    if (const LaneFrame* r = references.diverged(); r && config.color == FieldKind::Error) {
+      std::snprintf(text, sizeof text, "a default: the reference diverged at t = %.6g s before any error above 0 was measured",
+                    r->divergence->t);
+      return text;
+    }
     return "the first second is at rest";
   }
 
@@ -437,7 +350,7 @@ struct FramePipeline::Impl {
         }
         // A lane that ran on but has no error field: the reference it is measured against
         // blew up. The tile says why it is drawn in the checker, not only stderr.
-        const LaneFrame* reference_frame = reference_for(i) ? reference_for(i)->frame.get() : nullptr;
+        const LaneFrame* reference_frame = references.frame_for(i);
         if (!f.divergence && config.color == FieldKind::Error && field.empty() && reference_frame &&
             reference_frame->divergence) {
           char line[96];
@@ -458,7 +371,7 @@ struct FramePipeline::Impl {
       if (config.color != FieldKind::None && !field.empty())
         color_by_field(rf, field, config.color, *range, /*bar_outside=*/config.tiles);
       if (config.inset_energy)
-        draw_energy_inset(rf, energy, i, plan.last_time(), energy_reference || reference_samples_energy ? &reference_energy : nullptr, frozen);
+        draw_energy_inset(rf, energy, i, plan.last_time(), references.energy(), frozen);
       Stopwatch watch(render_seconds);
       images[i] = renderer->render(rf);
       unrendered[i] = {};
@@ -550,16 +463,8 @@ struct FramePipeline::Impl {
       workers[i]->join();
       r.lanes[i].result = workers[i]->result();
     }
-    for (ReferenceLane& ref : references) {
-      ref.worker->stop();  // it may be ahead of the last target a run stopped at
-      ref.worker->join();
-      r.references.push_back({ref.worker->result(), ref.label});
-    }
-    for (std::size_t i = 0; i < r.lanes.size(); ++i) r.lanes[i].reference = reference_of[i];
-    if (energy_reference) {
-      energy_reference->stop();
-      energy_reference->join();
-    }
+    r.references = references.finish();
+    for (std::size_t i = 0; i < r.lanes.size(); ++i) r.lanes[i].reference = references.reference_of(i);
     r.color_range = range;
     r.wait_seconds = wait_seconds;
     r.render_seconds = render_seconds;
