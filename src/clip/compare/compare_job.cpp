@@ -173,15 +173,16 @@ void check_memory(const CompareRequest& o, const ComparePlan& p) {
   const std::size_t references = p.vary_scenes.empty() ? 1 : p.vary_scenes.size();
   for (std::size_t k = 0; p.look.reference && p.look.color == FieldKind::Error && k < references; ++k) {
     const std::string which = references > 1 ? " for " + p.lanes[k].value : "";
-    budget.add("reference " + p.look.reference->name() + which,
-               run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
+    const SceneDef& of = p.vary_scenes.empty() ? scene : p.vary_scenes[k];  // a value may change the sheet
+    budget.add("reference " + p.look.reference->name() + which, run_bytes(of, p.look.reference->kind) + kLaneThreadBytes);
     // Its check (reference_stand.h, study/reference.h): a run at twice its step, or the looser
     // adaptive solve on a thread of its own.
-    budget.add("reference check" + which, run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
+    budget.add("reference check" + which, run_bytes(of, p.look.reference->kind) + kLaneThreadBytes);
     std::vector<double> steps;
     for (const CompareLane& l : p.lanes) steps.push_back(l.spec.dt);
+    const int served = of.cloth.nx * of.cloth.ny;
     budget.add("reference positions at the lanes' times" + which,
-               reference_positions_bytes(scene, steps, *p.targets, reference_queue_capacity(particles, steps)));
+               reference_positions_bytes(of, steps, *p.targets, reference_queue_capacity(served, steps)));
   }
   if (p.look.reference && p.look.inset_energy && p.look.color != FieldKind::Error)  // else the error's run
     budget.add("reference for the energy inset", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);

@@ -56,7 +56,8 @@ void ReferenceLanes::start_error(const Model& model, const TargetPlan& plan, con
       n.serves.push_back(lane_models[i] == v.model);
       if (n.serves.back()) of_[i] = static_cast<int>(references_.size());
     }
-    references_.push_back({std::make_shared<LaneWorker>(*v.model, v.spec, plan, n, queue, interrupt), v.label, {}});
+    const std::size_t own_queue = reference_queue_capacity(v.model->num_particles, steps);  // its value's sheet
+    references_.push_back({std::make_shared<LaneWorker>(*v.model, v.spec, plan, n, own_queue, interrupt), v.label, {}});
   }
   if (!config.variant_references.empty() || !config.reference) return;
   of_.assign(lanes.size(), 0);
