@@ -141,14 +141,16 @@ TEST(CmdBench, BadStepListsAreOneLineExitTwoAndNothingWritten) {
 }
 
 TEST(CmdBench, InterruptKeepsTheRunsFinishedSoFarAndNamesEveryFileThatStays) {
-  // The drape's reference runs over 2 s of scene take far longer than the 2 s before SIGINT (the
-  // study at 0.2 s had become fast enough to finish first); SIGINT stops the study, which writes
+  // The drape's reference runs over 2 s of scene take far longer than the 5 s before SIGINT (its
+  // first run ends after about 40 s on an idle machine; the study at 0.2 s had become fast enough
+  // to finish first; 5 s, not 2, so that a loaded machine has finished planning, since a signal
+  // before the study starts writes nothing); SIGINT stops the study, which writes
   // the CSV and the summary of what finished (a header at least) and exits 130 (128 + SIGINT),
   // its one line naming both files as incomplete and the plot as not drawn.
   const std::string dir = scratch_dir("bench_interrupt");
   const CliResult r = run_clothsim({"bench", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--duration", "2",
                                     "--csv", dir + "/wp.csv", "--summary", dir + "/wp.json", "--plot", dir + "/wp.png"},
-                                   "timeout --foreground --preserve-status -s INT 2");
+                                   "timeout --foreground --preserve-status -s INT 5");
   EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("clothsim: stopped by SIGINT: "), std::string::npos) << r.err;
