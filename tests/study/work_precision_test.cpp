@@ -325,12 +325,6 @@ TEST(WorkPrecision, LanesOfOneIntegratorRunOnTheirOwnModels) {
   EXPECT_THROW(checked(spec), StudyError);
 }
 
-}  // namespace
-}  // namespace clothsim::analysis
-
-namespace clothsim::analysis {
-namespace {
-
 // A 16 x 16 sheet pinned at its corners, lightly damped (w_max ~ 63 rad/s): every step below
 // 1 ms runs to the end for the explicit family, so each run costs what its plan says.
 const char* kProgressSheet = R"(

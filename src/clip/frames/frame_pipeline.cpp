@@ -339,10 +339,9 @@ struct FramePipeline::Impl {
       if (config.camera) rf.camera = *config.camera;
       rf.samples = config.samples;
       rf.fxaa = config.fxaa;
-      if (config.overlay != OverlayMode::None) {
-        if (f.divergence) {
-          // DIVERGED (picture_of) says more than the rest
-        } else if (f.totals.unconverged_steps > 0 && !lanes[i].newton_capped()) {
+      // A diverged tile's banner is picture_of's: DIVERGED says more than the rest.
+      if (config.overlay != OverlayMode::None && !f.divergence) {
+        if (f.totals.unconverged_steps > 0 && !lanes[i].newton_capped()) {
           // An implicit step that stalled above its tolerance is a result, shown on the picture.
           mark_not_converged(rf, f.totals.unconverged_steps);
         } else if (!t.wrong.empty() && !t.wrong[i].empty()) {
@@ -351,16 +350,14 @@ struct FramePipeline::Impl {
         // A lane that ran on but has no error field: the reference it is measured against
         // blew up. The tile says why it is drawn in the checker, not only stderr.
         const LaneFrame* reference_frame = references.frame_for(i);
-        if (!f.divergence && config.color == FieldKind::Error && field.empty() && reference_frame &&
-            reference_frame->divergence) {
+        if (config.color == FieldKind::Error && field.empty() && reference_frame && reference_frame->divergence) {
           char line[96];
           std::snprintf(line, sizeof line, "no error colour (reference diverged at %.3g s)",
                         reference_frame->divergence->t);
           rf.overlay_lines.emplace_back(line);
         }
         // Every error drawn comes with the reference's own (study/reference.h), so far.
-        if (!f.divergence && config.color == FieldKind::Error && !field.empty() && reference_frame &&
-            reference_frame->reference_error > 0.0) {
+        if (config.color == FieldKind::Error && !field.empty() && reference_frame && reference_frame->reference_error > 0.0) {
           char line[96];
           const double e = reference_frame->reference_error;  // rounded up to two digits: "<=" holds
           const double unit = std::pow(10.0, std::floor(std::log10(e)) - 1.0);
