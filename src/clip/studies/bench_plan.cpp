@@ -130,6 +130,12 @@ void attach_lane_models(const Model& model, const std::vector<LaneSpec>& lanes,
   for (std::size_t i = 0; i < lanes.size(); ++i) spec.lane_models.push_back(&clip::lane_model(model, lanes[i], storage[i]));
 }
 
+BenchModels::BenchModels(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes,
+                         WorkPrecisionSpec plan)
+    : model(build_bench_model(o, scene, lanes, plan)), spec(std::move(plan)) {
+  attach_lane_models(model, lanes, lane_storage, spec);
+}
+
 ScalePlan plan_scale(const BenchOptions& o) {
   if (!o.summary.empty() || !o.shard.empty() || !o.vary.empty() || o.dts)
     throw UsageError("--scale: give lanes as NAME@STEP; --dts, --vary, --summary and --shard do not apply");

@@ -28,17 +28,7 @@ struct BenchOptions {
   std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
   std::string csv, plot, summary;
   std::string shard;  // --shard K/N|auto (study_shard.h)
-  std::string vary;   // The study's model: `scene` run to T at least (its duration is informational only), the runs'
-// memory checked against --max-memory, built.
-Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes,
-                        const WorkPrecisionSpec& spec);
-
-// Each lane's model into spec.lane_models: `model` itself, or a copy with the lane's own solver
-// settings held in `storage` (keep both alive while the study runs).
-void attach_lane_models(const Model& model, const std::vector<LaneSpec>& lanes,
-                        std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec);
-
-// --vary KEY=V1,V2,...: the study once per value
+  std::string vary;   // --vary KEY=V1,V2,...: the study once per value (plan_values)
   std::string scale;  // --scale N1,N2,...: cost against sheet size (study/scale_study.h)
   int jobs = 0;
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
@@ -74,6 +64,17 @@ Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vecto
 // settings held in `storage` (keep both alive while the study runs).
 void attach_lane_models(const Model& model, const std::vector<LaneSpec>& lanes,
                         std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec);
+
+// A study's models, ready to run: the scene's (build_bench_model) and each lane's own
+// (attach_lane_models), spec.lane_models pointing into both; so neither copied nor moved.
+struct BenchModels {
+  BenchModels(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes, WorkPrecisionSpec plan);
+  BenchModels(const BenchModels&) = delete;
+  BenchModels& operator=(const BenchModels&) = delete;
+  const Model model;
+  std::vector<std::optional<Model>> lane_storage;
+  WorkPrecisionSpec spec;
+};
 
 // --vary KEY=V1,V2,...: the study once per value, each on its own scene (the user's --set, then
 // the key's) against its own reference, its lanes labelled "rk4 (ks = 2e4)" in the table, the

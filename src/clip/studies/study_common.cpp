@@ -227,4 +227,14 @@ std::vector<double> parse_frame_dts(const std::string& text) {
   return out;
 }
 
+std::unique_ptr<PlotScript> check_study_outputs(const std::string& scene, const std::string& csv,
+                                                const std::string& summary, const std::string& plot,
+                                                const std::string& plot_script) {
+  refuse_clashing_paths({{scene, "the scene"}}, {{csv, "--csv"}, {plot, "--plot"}, {summary, "--summary"}});
+  if (!csv.empty()) require_writable_parent(csv, "--csv");
+  if (!summary.empty()) require_writable_parent(summary, "--summary");
+  if (plot.empty()) return nullptr;
+  return std::make_unique<PlotScript>(plot_script, plot);
+}
+
 }  // namespace clothsim::clip

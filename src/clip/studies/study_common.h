@@ -85,6 +85,13 @@ class PlotScript {
   std::string python_, script_, png_;
 };
 
+// A study's outputs, checked before minutes of simulation: none is the scene or another output
+// under any spelling, each one's folder is writable, and the plot's script, python3 and
+// matplotlib are found (PlotScript). "" for an output not asked for; returns null without a plot.
+std::unique_ptr<PlotScript> check_study_outputs(const std::string& scene, const std::string& csv,
+                                                const std::string& summary, const std::string& plot,
+                                                const std::string& plot_script);
+
 // The directory holding the plot scripts (the source tree's tools/, or CLOTHSIM_TOOLS_DIR
 // from the environment).
 std::string tools_dir();

@@ -21,9 +21,9 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 
+#include "clip/studies/bench_outputs.h"
 #include "clip/studies/bench_plan.h"
 #include "clip/studies/study_common.h"
 #include "clip/studies/study_shard.h"
@@ -32,7 +32,6 @@
 #include "clip/common/lanes.h"
 #include "clip/common/memory_budget.h"
 #include "clip/common/scene_options.h"
-#include "clip/common/summary_json.h"
 #include "clip/compare/compare_plan.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
@@ -42,27 +41,12 @@
 #include "study/scale_study.h"
 #include "study/task_pool.h"
 #include "study/work_precision.h"
-#include "study/work_precision_shard.h"
-#include "study/tables/csv_tables.h"
 #include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 namespace {
 
 using analysis::WorkPrecisionPoint;
-
-// The CSV (study/tables/csv_tables.h: the Python module's bench() has the same columns).
-void write_csv_header(std::FILE* f) { std::fputs(analysis::work_precision_table({}, {}).header().c_str(), f); }
-
-void write_csv_rows(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
-  const analysis::CsvTable t = analysis::work_precision_table(r, names);
-  for (std::size_t i = 0; i < t.rows.size(); ++i) std::fputs(t.row_text(i).c_str(), f);
-}
-
-void write_csv(std::FILE* f, const WorkPrecisionResult& r, const LaneNames& names) {
-  write_csv_header(f);
-  write_csv_rows(f, r, names);
-}
 
 // Rows and orders labelled as compare labels its lanes (LaneSpec::name), or by `labels` (--vary:
 // "rk4 (ks = 2e4)").
@@ -97,40 +81,6 @@ void print_table(const WorkPrecisionResult& r, const std::vector<LaneSpec>& lane
       std::printf("%s below its order %d: %s\n", label(i).c_str(), analysis::nominal_order(lanes[i].kind), why.c_str());
 }
 
-// A run as a lane: its errors beside the common keys.
-JsonObject run_lane_json(const std::string& scene, const WorkPrecisionPoint& p, const LaneNames& names) {
-  RunTotals t;
-  t.steps = p.steps;
-  t.force_evals = p.force_evals;
-  t.newton_iterations = p.newton_iterations;
-  t.cg_iterations = p.cg_iterations;
-  t.unconverged_steps = p.unconverged_steps;
-  t.cpu_seconds = p.cpu_seconds;
-  JsonObject lane = lane_json(scene, p.integrator, p.dt, t, p.diverged ? std::optional<double>(p.diverged_at) : std::nullopt);
-  lane.number("wall_seconds", p.wall_seconds)
-      .number("rms_error", p.unresolved ? NAN : p.rms_error)
-      .number("max_error", p.unresolved ? NAN : p.max_error)
-      .boolean("unresolved", p.unresolved);
-  if (p.wrong) lane.number("wrong_at", p.wrong_at).text("wrong", p.wrong_reason);
-  if (names[p.lane] != integrator_name(p.integrator)) lane.text("lane", names[p.lane]);
-  return lane;
-}
-
-// The reference's name in the summary: its integrator, or the adaptive pair.
-std::string reference_name(const analysis::ReferenceCheck& ref) {
-  return ref.adaptive ? "dopri5 (adaptive)" : std::string(integrator_name(ref.integrator));
-}
-
-// Each run a lane, and the study's T and reference.
-void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
-                        const WorkPrecisionResult& r, const LaneNames& names) {
-  std::vector<JsonObject> lanes;
-  for (const WorkPrecisionPoint& p : r.points) lanes.push_back(run_lane_json(scene, p, names));
-  write_summary(path, "bench", source, lanes,
-                bench_summary_keys(r.duration, r.complete, reference_name(r.reference), r.reference.dt,
-                                   r.reference.finished ? r.reference.change_rms : NAN, r.reference.converged));
-}
-
 void print_reference_check(const analysis::ReferenceCheck& ref) {
   if (!ref.finished) return;
   if (ref.adaptive)
@@ -151,63 +101,11 @@ void print_reference_check(const analysis::ReferenceCheck& ref) {
               ref.force_evals, ref.cpu_seconds);
 }
 
-// The plot's title: the scene, T and the reference's estimated error.
-std::string plot_title(const std::string& name, const WorkPrecisionResult& r) {
-  return name + " (T = " + csv_number(r.duration) + " s; reference error " +
-         (r.reference.finished ? csv_number(r.reference.change_rms) : std::string("unknown")) + " m RMS)";
-}
-
-// A shard's reference: saved in its directory, so a rerun measures against it without running it.
-analysis::ShardReference shard_reference(const StudyShard& shard, const Model& model, const WorkPrecisionSpec& spec,
-                                         const analysis::StudyHooks& hooks) {
-  const std::string path = shard.dir() + "/reference";
-  try {
-    if (std::filesystem::exists(path)) return analysis::read_reference(analysis::read_whole_file(path));
-    analysis::ShardReference ref = analysis::run_reference(model, spec, hooks);
-    if (!ref.stopped) analysis::write_file_atomically(path, analysis::reference_text(ref, model.num_particles));
-    return ref;
-  } catch (const analysis::StudyError& e) {
-    throw RuntimeFailure(path + ": " + e.what() + "; remove it to run the reference again");
-  } catch (const std::runtime_error& e) {
-    throw RuntimeFailure(e.what());
-  }
-}
-
-// --shard: this process's part of the runs, each journaled as it finishes (study_shard.h).
-int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSpec& spec, const LaneNames& names,
-                const analysis::StudyHooks& hooks) {
-  WorkPrecisionResult row;  // one point at a time, with the study's T and reference
-  row.duration = spec.duration;
-  ShardPlan plan{"bench", o.scene.path, o.scene.sets, "", model.name + " (T = " + csv_number(spec.duration) + " s)",
-                 first_line(written_text([&](std::FILE* f) { write_csv(f, row, names); })), {}};
-  for (const WorkPrecisionPoint& p : analysis::planned_points(spec)) {
-    plan.plan += ";" + names[p.lane] + " " + csv_number(p.dt);  // the lane: its model is part of the item
-    plan.costs.push_back(analysis::cost_estimate(p.integrator, spec.duration, p.dt));
-  }
-  plan.plan += ";T " + csv_number(spec.duration) + ";reference " + std::string(integrator_name(spec.reference_integrator)) +
-               " /" + std::to_string(spec.reference_refinement);
-  StudyShard shard(o.shard, o.csv, o.plot, o.summary, plan);
-  if (shard.todo().empty()) return shard.finish();
-  const analysis::ShardReference ref = shard_reference(shard, model, spec, hooks);
-  row.reference.dt = ref.dt;
-  row.reference.finished = ref.finished;
-  row.reference.change_rms = ref.change_rms;
-  row.reference.margin = spec.reference_margin;
-  analysis::run_points(model, spec, ref, shard.todo(), hooks, [&](std::size_t item, WorkPrecisionPoint p) {
-    if (ref.finished) p.unresolved = p.finished && p.rms_error * spec.reference_margin < ref.change_rms;
-    row.points = {p};
-    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, row, names); })),
-                 run_lane_json(model.name, p, names).dump());
-  });
-  return shard.finish();
-}
-
 // One value's study, run and its table printed; returns the runs it planned.
 std::size_t run_value(const BenchOptions& o, const std::vector<LaneSpec>& lanes, ValueStudy& s) {
-  WorkPrecisionSpec spec = s.spec;
-  const Model model = build_bench_model(o, s.scene, lanes, spec);
-  std::vector<std::optional<Model>> lane_storage;
-  attach_lane_models(model, lanes, lane_storage, spec);
+  const BenchModels models(o, s.scene, lanes, s.spec);
+  const Model& model = models.model;
+  const WorkPrecisionSpec& spec = models.spec;
   std::printf("bench %s, %s: %zu lanes x %zu steps to T = %g s\n", model.name.c_str(), s.label.c_str(), lanes.size(),
               spec.dts.size(), spec.duration);
   std::fflush(stdout);
@@ -225,10 +123,7 @@ std::size_t run_value(const BenchOptions& o, const std::vector<LaneSpec>& lanes,
 
 int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes) {
   std::vector<ValueStudy> studies = plan_values(o, base, lanes);
-  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}});
-  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
-  std::unique_ptr<PlotScript> plot;
-  if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
+  const std::unique_ptr<PlotScript> plot = check_study_outputs(o.scene.path, o.csv, "", o.plot, "plot_work_precision.py");
   std::size_t done = 0, runs = 0;
   std::string failure;  // a value whose reference did not converge
   for (ValueStudy& s : studies) {
@@ -237,20 +132,7 @@ int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vect
     if (interrupted() || !s.result.complete) break;
     if (!s.result.reference.converged && failure.empty()) failure = s.label + ": " + s.result.reference.failure;
   }
-  const auto write_to = [&](const std::string& path) {
-    AtomicFile file(path);
-    write_csv_header(file.stream());
-    for (const ValueStudy& s : studies) write_csv_rows(file.stream(), s.result, s.names);
-    file.commit();
-  };
-  if (!o.csv.empty()) write_to(o.csv);
-  if (interrupted() || !studies.back().result.complete)
-    throw RuntimeFailure(study_interrupted_message(done, runs, "runs", {o.csv}, o.plot));
-  if (!failure.empty())
-    throw RuntimeFailure(base.source + ", " + failure + (o.csv.empty() ? "" : " (kept for inspection: " + o.csv + ")") +
-                         "; no plot drawn");
-  if (plot)
-    plot->draw_from_csv(o.csv, write_to, {"--title", plot_title(base.name, studies.front().result)}, {o.csv});
+  write_values_outputs(o, base, studies, done, runs, failure, plot.get());
   return kOk;
 }
 
@@ -262,10 +144,7 @@ int bench_scale(const BenchOptions& o) {
   const std::vector<LaneSpec>& lanes = *scale.lanes;
   const std::vector<int>& sides = scale.sides;
   const SceneDef& first = spec.sizes.front().scene;
-  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}});
-  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
-  std::unique_ptr<PlotScript> plot;
-  if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_scale.py", o.plot);
+  const std::unique_ptr<PlotScript> plot = check_study_outputs(o.scene.path, o.csv, "", o.plot, "plot_scale.py");
   check_scale_memory(o, scale);
   std::printf("bench %s --scale: %zu lanes x %zu sizes to T = %g s, total mass %g kg fixed\n", first.name.c_str(),
               lanes.size(), sides.size(), spec.duration, first.cloth.particle_mass * sides.front() * sides.front());
@@ -284,17 +163,7 @@ int bench_scale(const BenchOptions& o) {
   for (std::size_t i = 0; i < lanes.size(); ++i)
     std::printf("  %s %.2f", spec.lanes[i].name.c_str(), analysis::scale_exponent(points, i));
   std::printf("\n");
-  const auto write_to = [&](const std::string& path) {
-    AtomicFile file(path);
-    std::fprintf(file.stream(), "%s\n", analysis::scale_csv_header().c_str());
-    for (const analysis::ScalePoint& p : points)
-      std::fprintf(file.stream(), "%s\n", analysis::scale_csv_row(p, spec.lanes, spec.duration).c_str());
-    file.commit();
-  };
-  if (!o.csv.empty()) write_to(o.csv);
-  if (interrupted())
-    throw RuntimeFailure(study_interrupted_message(points.size(), lanes.size() * sides.size(), "runs", {o.csv}, o.plot));
-  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", first.name}, {o.csv});
+  write_scale_outputs(o, scale, points, plot.get());
   return kOk;
 }
 
@@ -306,19 +175,16 @@ int bench_command(const BenchOptions& o) {
   if (!o.vary.empty()) return bench_variation(o, scene, lanes);
   std::vector<IntegratorKind> kinds;
   for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
-  WorkPrecisionSpec spec = plan_bench(o, scene, lanes);
-  const double T = spec.duration;
+  const WorkPrecisionSpec plan = plan_bench(o, scene, lanes);
+  const double T = plan.duration;
 
   // Outputs are checked (and python/matplotlib found) before minutes of simulation.
-  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
-  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
-  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
-  std::unique_ptr<PlotScript> plot;
-  if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_work_precision.py", o.plot);
+  const std::unique_ptr<PlotScript> plot =
+      check_study_outputs(o.scene.path, o.csv, o.summary, o.plot, "plot_work_precision.py");
 
-  const Model model = build_bench_model(o, scene, lanes, spec);
-  std::vector<std::optional<Model>> lane_storage;  // the lanes' own solver settings
-  attach_lane_models(model, lanes, lane_storage, spec);
+  const BenchModels models(o, scene, lanes, plan);  // with the lanes' own solver settings
+  const Model& model = models.model;
+  const WorkPrecisionSpec& spec = models.spec;
   const LaneNames& names = spec.lane_names;
   const double h_ref = spec.dts.front() / spec.reference_refinement;
   std::size_t runs = 0;
@@ -352,25 +218,7 @@ int bench_command(const BenchOptions& o) {
   const analysis::ReferenceCheck& ref = result.reference;
   print_reference_check(ref);
 
-  const auto write_to = [&](const std::string& path) {
-    AtomicFile file(path);
-    write_csv(file.stream(), result, names);
-    file.commit();
-  };
-  if (!o.csv.empty()) write_to(o.csv);
-  if (!o.summary.empty()) write_summary_json(o.summary, scene.source, model.name, result, names);
-
-  // Both files stay, each holding the runs that finished: the line names them.
-  if (interrupted() || !result.complete)
-    throw RuntimeFailure(study_interrupted_message(result.points.size(), runs, "runs", {o.csv, o.summary}, o.plot));
-  if (!ref.converged) {
-    std::string kept;
-    for (const std::string& path : {o.csv, o.summary})
-      if (!path.empty()) kept += (kept.empty() ? "" : ", ") + path;
-    throw RuntimeFailure(scene.source + ": " + ref.failure + (kept.empty() ? "" : " (kept for inspection: " + kept + ")") +
-                         "; no plot drawn");
-  }
-  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", plot_title(model.name, result)}, {o.csv, o.summary});
+  write_bench_outputs(o, scene.source, model.name, result, names, runs, plot.get());
   return kOk;
 }
 

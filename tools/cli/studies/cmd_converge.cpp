@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 
+#include "clip/studies/converge_outputs.h"
 #include "clip/studies/converge_plan.h"
 #include "clip/studies/study_common.h"
 #include "clip/studies/study_shard.h"
@@ -18,36 +19,15 @@
 #include "cli/common/commands.h"
 #include "clip/common/lanes.h"
 #include "clip/common/scene_options.h"
-#include "clip/common/summary_json.h"
 #include "scene/build_model.h"
 #include "scene/echo.h"
 #include "study/convergence.h"
-#include "study/tables/csv_tables.h"
 
 namespace clothsim::cli {
 namespace {
 
-// The CSV (study/tables/csv_tables.h: the Python module's converge() has the same columns).
-void write_csv(std::FILE* f, const std::string& scene, const std::vector<ConvergencePoint>& points) {
-  std::fputs(analysis::convergence_table(points, scene).text().c_str(), f);
-}
-
-// Per method and iteration count, the mean over the states of the RMS distance and the CPU,
-// and how many of the states' steps read WRONG.
-struct Mean { double rms = 0.0, cpu = 0.0; int n = 0, wrong = 0; };
-std::map<std::pair<int, int>, Mean> means(const std::vector<ConvergencePoint>& points) {
-  std::map<std::pair<int, int>, Mean> out;
-  for (const ConvergencePoint& p : points) {
-    Mean& m = out[{static_cast<int>(p.method), p.iterations}];
-    m.rms += p.rms, m.cpu += p.cpu_seconds, ++m.n;
-    if (!p.wrong.empty()) ++m.wrong;
-  }
-  for (auto& [key, m] : out) m.rms /= m.n, m.cpu /= m.n;
-  return out;
-}
-
 // The fewest iterations (and their CPU) whose mean RMS distance is within `tolerance`.
-std::string first_within(const std::map<std::pair<int, int>, Mean>& table, IntegratorKind k, double tolerance) {
+std::string first_within(const std::map<std::pair<int, int>, ConvergeMean>& table, IntegratorKind k, double tolerance) {
   for (const auto& [key, m] : table)
     if (key.first == static_cast<int>(k) && m.rms <= tolerance) {
       char text[64];
@@ -71,64 +51,15 @@ std::string wrong_text(const std::vector<ConvergencePoint>& points, IntegratorKi
 }
 
 void print_table(const ConvergenceSpec& spec, const std::vector<ConvergencePoint>& points) {
-  const auto table = means(points);
+  const auto table = converge_means(points);
   std::printf("%-20s %12s %12s   %-18s %-18s %s\n", "method", "rms@1 it (m)", "rms@N it (m)", "to 1 cm", "to 1 mm",
               "wrong");
   for (IntegratorKind k : spec.methods) {
-    const Mean first = table.at({static_cast<int>(k), 1}), last = table.at({static_cast<int>(k), spec.max_iterations});
+    const ConvergeMean first = table.at({static_cast<int>(k), 1}), last = table.at({static_cast<int>(k), spec.max_iterations});
     std::printf("%-20s %12.3g %12.3g   %-18s %-18s %s\n", std::string(integrator_name(k)).c_str(), first.rms,
                 last.rms, first_within(table, k, 1e-2).c_str(), first_within(table, k, 1e-3).c_str(),
                 wrong_text(points, k).c_str());
   }
-}
-
-void write_json(const std::string& path, const std::string& source, const ConvergenceSpec& spec,
-                const std::vector<ConvergencePoint>& points) {
-  std::vector<JsonObject> lanes;
-  for (const auto& [key, m] : means(points))
-    lanes.push_back(JsonObject()
-                        .text("integrator", std::string(integrator_name(static_cast<IntegratorKind>(key.first))))
-                        .number("dt", spec.h)
-                        .integer("iterations", key.second)
-                        .number("mean_rms_distance", m.rms)
-                        .number("mean_cpu_seconds", m.cpu)
-                        .integer("wrong_states", m.wrong));
-  write_summary(path, "converge", source, lanes,
-                JsonObject().integer("states", spec.states).integer("max_iterations", spec.max_iterations));
-}
-
-std::string title(const Model& model, const ConvergenceSpec& spec) {
-  return model.name + " (dt = " + step_string(spec.h) + " s)";
-}
-
-// --shard: this process's part of the sweeps, each journaled as it finishes (study_shard.h).
-int converge_shard(const ConvergeOptions& o, const Model& model, const ConvergenceSpec& spec,
-                   const analysis::StudyHooks& hooks) {
-  ShardPlan plan{"converge", o.scene.path, o.scene.sets, "", title(model, spec),
-                 first_line(written_text([&](std::FILE* f) { write_csv(f, model.name, {}); })), {}};
-  for (double x : {spec.h, model.duration, double(spec.states), double(spec.max_iterations)})
-    plan.plan += ";" + csv_number(x);
-  for (const ConvergenceItem& item : convergence_items(spec)) {
-    plan.plan += ";" + std::to_string(item.state) + " " + std::string(integrator_name(item.method));
-    plan.costs.push_back(convergence_item_cost(spec, item));
-  }
-  StudyShard shard(o.shard, o.csv, o.plot, o.summary, plan);
-  run_convergence_items(model, spec, shard.todo(), hooks, [&](std::size_t item, const std::vector<ConvergencePoint>& p) {
-    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, model.name, p); })), "");
-  });
-  return shard.finish();
-}
-
-void write_outputs(const ConvergeOptions& o, const std::string& source, const Model& model,
-                   const ConvergenceSpec& spec, const std::vector<ConvergencePoint>& points, const PlotScript* plot) {
-  const auto write_to = [&](const std::string& path) {
-    AtomicFile file(path);
-    write_csv(file.stream(), model.name, points);
-    file.commit();
-  };
-  if (!o.csv.empty()) write_to(o.csv);
-  if (!o.summary.empty()) write_json(o.summary, source, spec, points);
-  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", title(model, spec)}, {o.csv, o.summary});
 }
 
 int converge_command(const ConvergeOptions& o) {
@@ -155,11 +86,11 @@ int converge_command(const ConvergeOptions& o) {
   progress.finish();
   const std::size_t finished = points.size() / static_cast<std::size_t>(spec.max_iterations);
   if (finished < static_cast<std::size_t>(sweeps)) {  // the finished sweeps' rows stay, marked incomplete
-    write_outputs(o, scene.source, model, spec, points, nullptr);
+    write_converge_outputs(o, scene.source, model, spec, points, nullptr);
     throw RuntimeFailure(study_interrupted_message(finished, sweeps, "sweeps", {o.csv, o.summary}, o.plot));
   }
   print_table(spec, points);
-  write_outputs(o, scene.source, model, spec, points, plot.get());
+  write_converge_outputs(o, scene.source, model, spec, points, plot.get());
   return kOk;
 }
 

@@ -32,6 +32,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "clip/studies/stability_outputs.h"
 #include "clip/studies/stability_plan.h"
 #include "clip/studies/study_common.h"
 #include "clip/studies/study_shard.h"
@@ -40,7 +41,6 @@
 #include "clip/common/lanes.h"
 #include "clip/common/memory_budget.h"
 #include "clip/common/scene_options.h"
-#include "clip/common/summary_json.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 #include "scene/scene_parser.h"
@@ -56,12 +56,6 @@ namespace {
 
 using analysis::StabilityLimit;
 using analysis::StabilityOutcome;
-
-// The CSV (study/tables/csv_tables.h: the Python module's stability() has the same columns).
-void write_csv(std::FILE* f, const std::string& param, const std::vector<StabilityLimit>& limits,
-               const analysis::StabilitySpec& spec, const LaneNames& names) {
-  std::fputs(analysis::stability_table(limits, spec, param, names).text().c_str(), f);
-}
 
 std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& spec) {
   char buf[160];
@@ -83,74 +77,6 @@ std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& s
       break;
   }
   return buf;
-}
-
-// A search as a lane: its largest stable step as dt, the bracket, how the first unstable step
-// failed, and implicit_euler's one-step-per-frame runs.
-JsonObject search_lane_json(const std::string& scene, const StabilityLimit& l, const LaneNames& names) {
-  std::vector<JsonObject> frame_steps;
-  for (const analysis::FrameStepResult& f : l.frame_steps) {
-    JsonObject step;
-    step.number("dt", f.dt)
-        .integer("steps", f.steps)
-        .integer("unconverged_steps", f.unconverged_steps)
-        .number("diverged_at", f.failure == analysis::Failure::Diverged ? std::optional<double>(f.diverged_at)
-                                                                        : std::nullopt)
-        .text("failure", analysis::failure_name(f.failure));
-    frame_steps.push_back(step);
-  }
-  JsonObject lane = lane_json_without_counts(scene, l.integrator,
-                                             std::isfinite(l.stable_dt) ? std::optional<double>(l.stable_dt) : std::nullopt,
-                                             l.cpu_seconds);
-  lane.number("value", l.value)
-      .text("outcome", analysis::outcome_name(l.outcome))
-      .number("stable_dt", l.stable_dt)
-      .number("unstable_dt", l.unstable_dt)
-      .text("failure", analysis::failure_name(l.failure))
-      .text("reason", l.reason)
-      .integer("trials", l.trials)
-      .number("w_max", l.estimate.w_max)
-      .number("dt_springs", l.estimate.dt_springs())
-      .number("dt_with_damping", l.estimate.dt_with_damping())
-      .array("frame_steps", frame_steps);
-  if (names[l.lane] != integrator_name(l.integrator)) lane.text("lane", names[l.lane]);
-  return lane;
-}
-
-// Each search a lane, and the sweep's key, T and range.
-void write_summary_json(const std::string& path, const std::string& source, const std::string& scene,
-                        const std::string& param, const std::vector<StabilityLimit>& limits,
-                        const analysis::StabilitySpec& spec, const LaneNames& names, bool complete) {
-  std::vector<JsonObject> lanes;
-  for (const StabilityLimit& l : limits) lanes.push_back(search_lane_json(scene, l, names));
-  JsonObject extra;
-  extra.text("param", param)
-      .number("duration", spec.duration)
-      .number("min_dt", spec.min_dt)
-      .number("max_dt", spec.max_dt)
-      .boolean("complete", complete);
-  write_summary(path, "stability", source, lanes, extra);
-}
-
-// --shard: this process's part of the searches, each journaled as it finishes (study_shard.h).
-int stability_shard(const StabilityOptions& o, const std::string& title, const std::vector<analysis::StabilityCase>& refs,
-                    const analysis::StabilitySpec& spec, const LaneNames& names, const analysis::StudyHooks& hooks) {
-  ShardPlan plan{"stability", o.scene.path, o.scene.sets, o.param, title,
-                 first_line(written_text([&](std::FILE* f) { write_csv(f, o.param, {}, spec, names); })), {}};
-  for (const analysis::StabilityCase& c : refs)
-    for (std::size_t lane = 0; lane < spec.integrators.size(); ++lane) {  // the lane: its model is part of the item
-      plan.plan += ";" + csv_number(c.value) + " " + names[lane];
-      plan.costs.push_back(analysis::search_cost(analysis::case_lane_model(c, lane), spec.integrators[lane], spec));
-    }
-  for (double x : {spec.duration, spec.min_dt, spec.max_dt, spec.precision, spec.energy_factor, spec.max_strain})
-    plan.plan += ";" + csv_number(x);
-  for (double dt : spec.frame_dts) plan.plan += ";frame " + csv_number(dt);
-  StudyShard shard(o.shard, o.csv, o.plot, o.summary, plan);
-  analysis::stability_sweep_items(refs, spec, shard.todo(), hooks, [&](std::size_t item, const StabilityLimit& l) {
-    shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_csv(f, o.param, {l}, spec, names); })),
-                 search_lane_json(title, l, names).dump());
-  });
-  return shard.finish();
 }
 
 // The limits found, one row per value and integrator.
@@ -187,11 +113,8 @@ int stability_command(const StabilityOptions& o) {
   const std::vector<StabilityCaseModels>& cases = study.cases;
   const analysis::StabilitySpec& spec = study.spec;
 
-  refuse_clashing_paths({{o.scene.path, "the scene"}}, {{o.csv, "--csv"}, {o.plot, "--plot"}, {o.summary, "--summary"}});
-  if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
-  if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
-  std::unique_ptr<PlotScript> plot;
-  if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_stability.py", o.plot);
+  const std::unique_ptr<PlotScript> plot =
+      check_study_outputs(o.scene.path, o.csv, o.summary, o.plot, "plot_stability.py");
 
   std::printf("stability %s: %s over %zu values x %zu integrators, each run 0 to T = %g s; dt tried from %.3g to "
               "%.3g s, bisection to %g %%; unstable = non-finite, strain > %g, or kinetic energy > %g x %.3g J\n",
@@ -220,19 +143,7 @@ int stability_command(const StabilityOptions& o) {
 
   print_limits(limits, spec, lanes);
 
-  const auto write_to = [&](const std::string& path) {
-    AtomicFile file(path);
-    write_csv(file.stream(), o.param, limits, spec, names);
-    file.commit();
-  };
-  if (!o.csv.empty()) write_to(o.csv);
-  const std::size_t searches = cases.size() * kinds.size();
-  if (!o.summary.empty())
-    write_summary_json(o.summary, base.source, base.name, o.param, limits, spec, names, limits.size() == searches);
-  // Both files stay, each holding the searches that finished: the line names them.
-  if (interrupted() || limits.size() < searches)
-    throw RuntimeFailure(study_interrupted_message(limits.size(), searches, "searches", {o.csv, o.summary}, o.plot));
-  if (plot) plot->draw_from_csv(o.csv, write_to, {"--title", base.name}, {o.csv, o.summary});  // the script adds T from the CSV
+  write_stability_outputs(o, base, limits, study, plot.get());
   return kOk;
 }
 
