@@ -12,6 +12,7 @@
 #include "clip/common/run_budget.h"
 #include "clip/studies/study_common.h"
 #include "render/png_io.h"
+#include "scene/build_model.h"
 #include "scene/run_bounds.h"
 #include "scene/scene_parser.h"
 #include "study/journal.h"
@@ -289,6 +290,34 @@ void check_outputs_writable(const GoldenOptions& o, const GoldenManifest& manife
     for (std::size_t i = 2; i < outputs.size(); ++i) require_writable_parent(outputs[i].path, outputs[i].what);
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
   if (!o.summary.empty() && o.shard.empty()) require_writable_parent(o.summary, "--summary");
+}
+
+void commit_all(GoldenWork& work) {
+  for (std::size_t i = 0; i < work.staged.size(); ++i) {
+    try {
+      work.staged[i]->commit();
+    } catch (const OutputFileError& e) {
+      throw RuntimeFailure(std::string(e.what()) + "; " + std::to_string(i) + " of " +
+                           std::to_string(work.staged.size()) + " golden images written before it");
+    }
+    std::printf("wrote %s\n", work.staged[i]->path().c_str());
+  }
+}
+
+int golden_shard(const GoldenOptions& o, const GoldenManifest& manifest, const std::vector<SceneDef>& scenes,
+                 const std::vector<PictureLook>& looks) {
+  StudyShard shard(o.shard, o.csv, "", o.summary, golden_plan(o, manifest, scenes));
+  if (shard.todo().empty()) return shard.finish();
+  const std::unique_ptr<Renderer> renderer = make_renderer(o.gl);
+  for (std::size_t i : shard.todo()) {
+    GoldenWork work;
+    const Model model = build_model(scenes[i]);
+    const LaneResult r = run_entry(o, manifest, i, scenes[i], looks[i], model, *renderer, false, work);
+    std::string rows;
+    for (const GoldenVerdict& v : work.verdicts) rows += golden_csv_row(v);
+    shard.record(i, rows, entry_lane_json(manifest.entries[i], i, scenes[i], model, r, work.verdicts).dump());
+  }
+  return shard.finish();
 }
 
 }  // namespace clothsim::clip

@@ -81,4 +81,13 @@ void check_name_lengths(const GoldenOptions& o, const GoldenManifest& manifest);
 // reads or another output (update's images, check's evidence) under any spelling.
 void check_outputs_writable(const GoldenOptions& o, const GoldenManifest& manifest, bool update);
 
+// update's end: every image made, so all are named now, one rename each ("wrote PATH" on
+// stdout); RuntimeFailure at the first that cannot be, saying how many were written before it.
+void commit_all(GoldenWork& work);
+
+// check --shard: this process's entries, each journaled with its rows and lane as it finishes. A
+// part whose images differ still returns 0 (the array's merge job must run): merge fails.
+int golden_shard(const GoldenOptions& o, const GoldenManifest& manifest, const std::vector<SceneDef>& scenes,
+                 const std::vector<PictureLook>& looks);
+
 }  // namespace clothsim::clip

@@ -73,5 +73,19 @@ TEST_F(GoldenDir, AMissingGoldenOrOneOfAnotherSizeIsAProblemWithTheRenderKept) {
   EXPECT_EQ(sized.problem, "golden is 4x4, the render 8x6");
 }
 
+TEST_F(GoldenDir, UpdateNamesEveryStagedImageOnlyWhenCommitAllRuns) {
+  GoldenWork work;
+  for (const char* name : {"a.png", "b.png"}) {
+    work.staged.push_back(std::make_unique<OutputFile>((dir / name).string()));
+    std::fputs("image", work.staged.back()->stream());
+  }
+  EXPECT_FALSE(fs::exists(dir / "a.png")) << "staged images are nameless until every one is made";
+  ::testing::internal::CaptureStdout();
+  commit_all(work);
+  EXPECT_NE(::testing::internal::GetCapturedStdout().find("wrote " + (dir / "b.png").string()), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir / "a.png"));
+  EXPECT_TRUE(fs::exists(dir / "b.png"));
+}
+
 }  // namespace
 }  // namespace clothsim::clip

@@ -15,7 +15,6 @@
 #include <algorithm>
 #include <cinttypes>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -39,45 +38,11 @@
 #include "scene/build_model.h"
 #include "scene/run_bounds.h"
 #include "scene/scene_parser.h"
-#include "study/journal.h"
 #include "study/work_precision.h"
 #include "core/integrators/integrator_kind.h"
 
 namespace clothsim::cli {
 namespace {
-
-namespace fs = std::filesystem;
-
-// update's end: every image made, so all are named now, one rename each.
-void commit_all(GoldenWork& work) {
-  for (std::size_t i = 0; i < work.staged.size(); ++i) {
-    try {
-      work.staged[i]->commit();
-    } catch (const OutputFileError& e) {
-      throw RuntimeFailure(std::string(e.what()) + "; " + std::to_string(i) + " of " +
-                           std::to_string(work.staged.size()) + " golden images written before it");
-    }
-    std::printf("wrote %s\n", work.staged[i]->path().c_str());
-  }
-}
-
-// --shard: this process's entries, each journaled with its rows and lane as it finishes. A
-// part whose images differ still exits 0 (the array's merge job must run): merge fails.
-int golden_shard(const GoldenOptions& o, const GoldenManifest& manifest, const std::vector<SceneDef>& scenes,
-                 const std::vector<PictureLook>& looks) {
-  StudyShard shard(o.shard, o.csv, "", o.summary, golden_plan(o, manifest, scenes));
-  if (shard.todo().empty()) return shard.finish();
-  const std::unique_ptr<Renderer> renderer = make_renderer(o.gl);
-  for (std::size_t i : shard.todo()) {
-    GoldenWork work;
-    const Model model = build_model(scenes[i]);
-    const LaneResult r = run_entry(o, manifest, i, scenes[i], looks[i], model, *renderer, false, work);
-    std::string rows;
-    for (const GoldenVerdict& v : work.verdicts) rows += golden_csv_row(v);
-    shard.record(i, rows, entry_lane_json(manifest.entries[i], i, scenes[i], model, r, work.verdicts).dump());
-  }
-  return shard.finish();
-}
 
 int golden_command(const GoldenOptions& o, bool update) {
   install_interrupt_handler();  // the pipeline polls; a signal stops it with one line of what stays
