@@ -1,9 +1,6 @@
 # The Python module against the CLI: the same scenes, the same states to the last bit, the
 # same one-line messages, the same pictures and exported files.
 import os
-import signal
-import subprocess
-import sys
 import textwrap
 import time
 
@@ -11,7 +8,7 @@ import numpy as np
 import pytest
 
 import clothsim
-from conftest import ROOT, SCENES, read_state_csv
+from conftest import ROOT, SCENES, interrupted_script, read_state_csv
 
 DRAPE = os.path.join(SCENES, "drape.yaml")
 STIFF = os.path.join(SCENES, "stiff.yaml")
@@ -125,19 +122,6 @@ def test_export_writes_the_files_run_export_writes(cli, tmp_path):
         assert (tmp_path / ("py" + ext)).read_bytes() == (tmp_path / ("cli" + ext)).read_bytes(), ext
     with pytest.raises(clothsim.ExportError, match="--export: x.stl: unknown format"):
         clothsim.Export(scene, "x.stl")
-
-
-def interrupted_script(script, after):
-    """Runs `script` in a Python of its own, sends SIGINT (as Ctrl-C does) `after` s after it
-    prints "running", and returns its output (it must exit 0) and when the signal was sent."""
-    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True, env=dict(os.environ))
-    assert p.stdout.readline().strip() == "running"
-    time.sleep(after)
-    sent = time.monotonic()
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=60)
-    assert p.returncode == 0, out
-    return out, sent
 
 
 def test_ctrl_c_raises_keyboard_interrupt_in_a_long_run():
@@ -332,3 +316,17 @@ def test_a_lane_with_iterations_steps_as_run_iterations_does(cli, tmp_path):
     assert not np.array_equal(more.positions, x)  # the iterations are the lane's, not the scene's
     with pytest.raises(ValueError, match="lane: rk4@0.01:3"):
         clothsim.Simulation(scene, lane="rk4@0.01:3")  # the explicit family has no iterations
+
+
+def test_not_converged_is_the_count_run_gives(cli, tmp_path):
+    # One Newton iteration cannot meet a 1e-12 tolerance on the stiff cloth in contact.
+    sets = {"implicit.newton_max_iterations": 1, "implicit.newton_tolerance": 1e-12}
+    sim = clothsim.Simulation(clothsim.load_scene(STIFF, set=sets, duration=0.3))
+    sim.run(until=0.3)
+    code, _, err = cli("run", STIFF, "--duration", "0.3", *[a for k, v in sets.items() for a in ("--set", f"{k}={v}")],
+                       "--summary", str(tmp_path / "run.json"), "--quiet")
+    assert code == 0, err
+    import json
+    lane = json.loads((tmp_path / "run.json").read_text())["lanes"][0]
+    assert sim.not_converged > 0 and sim.not_converged == lane["unconverged_steps"]
+    assert not sim.diverged

@@ -79,3 +79,50 @@ def test_compare_runs_a_loaded_scenes_duration_and_step():
     assert list(frame.steps) == [200, 200]
     # The keyword still wins over the loaded scene's duration, as --duration does.
     assert list(clothsim.compare(scene, integrators="rk4", match="none", duration=0.05).steps) == [100]
+
+
+def test_stability_and_converge_take_summary_plot_and_shard_as_the_cli(cli, tmp_path):
+    scene = clothsim.load_scene(SPRING)
+    kw = dict(integrators="symplectic_euler", values=[100, 400], precision=0.1, frame_dts=[])
+    clothsim.stability(scene, summary=str(tmp_path / "py.json"), plot=str(tmp_path / "py.png"), **kw)
+    code, _, err = cli("stability", SPRING, "--integrators", "symplectic_euler", "--values", "100,400",
+                       "--precision", "0.1", "--frame-dts", "none", "--summary", str(tmp_path / "cli.json"), "--quiet")
+    assert code == 0, err
+    import json
+    py, ref = (json.loads((tmp_path / f"{n}.json").read_text()) for n in ("py", "cli"))
+    for s in (py, ref):
+        s.pop("command")
+        for lane in s["lanes"]:
+            lane.pop("cpu_seconds")
+    assert py == ref and len(py["lanes"]) == 2
+    assert (tmp_path / "py.png").read_bytes()[:4] == b"\x89PNG"
+    # converge's parts, merged by the CLI, are its whole study.
+    ckw = dict(integrators="vbd,xpbd", states=2, max_iterations=3)
+    parts = [clothsim.converge(scene, shard=f"{k}/2", csv=str(tmp_path / "cv.csv"), **ckw) for k in (1, 2)]
+    assert sum(len(p) for p in parts) == 2 * 2 * 3
+    code, _, err = cli("merge", str(tmp_path / "cv.csv.shard-1-of-2"), str(tmp_path / "cv.csv.shard-2-of-2"),
+                       "--csv", str(tmp_path / "merged.csv"))
+    assert code == 0, err
+    code, _, err = cli("converge", SPRING, "--integrators", "vbd,xpbd", "--states", "2", "--max-iterations", "3",
+                       "--csv", str(tmp_path / "cli.csv"), "--quiet")
+    assert code == 0, err
+    merged, whole = ((tmp_path / n).read_text().splitlines() for n in ("merged.csv", "cli.csv"))
+    assert _without(merged, ["cpu_seconds"]) == _without(whole, ["cpu_seconds"])
+
+
+def test_max_memory_and_compares_picture_keywords_are_the_clis_options(cli):
+    scene = clothsim.load_scene(SPRING)
+    # The budget is read by the CLI's own parser and checked by its own estimate, message and all.
+    code, _, err = cli("bench", SPRING, "--max-memory", "1K", "--quiet")
+    assert code == 2
+    with pytest.raises(clothsim.UsageError) as e:
+        clothsim.bench(scene, max_memory="1K")
+    assert "clothsim: " + str(e.value) == err.strip().splitlines()[-1]
+    with pytest.raises(clothsim.UsageError, match=r"--max-memory: 'lots' is not a size \(e.g. 4G"):
+        clothsim.converge(scene, max_memory="lots")
+    with pytest.raises(clothsim.UsageError, match="--max-memory"):
+        clothsim.stability(scene, max_memory=1024)
+    with pytest.raises(clothsim.UsageError, match="--camera"):
+        clothsim.compare(scene, camera="sideways")
+    frame = clothsim.compare(scene, integrators="rk4", match="none", duration=0.05, camera="auto", antialias="fxaa")
+    assert list(frame.steps) == [50]

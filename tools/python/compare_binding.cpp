@@ -83,7 +83,10 @@ py::object compare(const py::object& scene, const py::dict& set, const py::objec
                    const std::string& summary, const std::optional<std::string>& color, const py::object& color_range,
                    const std::string& reference, const std::optional<std::string>& overlay,
                    const std::string& overlay_cost, const std::string& inset, const std::optional<int>& width,
-                   const std::optional<int>& height, const std::optional<double>& fps, const std::string& gl) {
+                   const std::optional<int>& height, const std::optional<double>& fps, const std::string& gl,
+                   const std::optional<std::string>& camera, const std::optional<std::string>& antialias,
+                   const std::optional<int>& crf, const std::optional<std::string>& preset, const std::string& shard,
+                   const py::object& max_memory) {
   CompareRequest o;
   if (py::isinstance<py::str>(scene)) {  // a path
     o.scene.path = scene.cast<std::string>();
@@ -99,6 +102,7 @@ py::object compare(const py::object& scene, const py::dict& set, const py::objec
   o.scene.width = width;
   o.scene.height = height;
   o.scene.fps = fps;
+  o.scene.max_memory = max_memory_keyword(max_memory);
   if (!integrators.is_none()) {
     o.integrators = option_text(integrators);
     o.integrators_given = true;
@@ -124,6 +128,11 @@ py::object compare(const py::object& scene, const py::dict& set, const py::objec
   o.look.overlay = overlay;
   o.look.overlay_cost = overlay_cost;
   o.look.inset = inset;
+  o.look.camera = camera;
+  o.look.antialias = antialias;
+  if (crf) o.crf = *crf;
+  if (preset) o.preset = *preset;
+  o.shard = shard;
   o.gl.gl = gl;
   o.table_wanted = true;
   clip::ComparePlan p;
@@ -148,10 +157,13 @@ void bind_compare(py::module_& m) {
         py::arg("color_range") = py::none(), py::arg("reference") = "", py::arg("overlay") = py::none(),
         py::arg("overlay_cost") = "", py::arg("inset") = "none", py::arg("width") = py::none(),
         py::arg("height") = py::none(), py::arg("fps") = py::none(), py::arg("gl") = "",
+        py::arg("camera") = py::none(), py::arg("antialias") = py::none(), py::arg("crf") = py::none(),
+        py::arg("preset") = py::none(), py::arg("shard") = "", py::arg("max_memory") = py::none(),
         "compare(scene, set={}, integrators=None, match=None, vary='', dt=None, duration=None, layout='auto',\n"
         "        video='', frames='', sheet='', times=None, still=None, output='', export='', summary='',\n"
         "        color=None, color_range=None, reference='', overlay=None, overlay_cost='', inset='none',\n"
-        "        width=None, height=None, fps=None, gl='') -> pandas.DataFrame\n\n"
+        "        width=None, height=None, fps=None, gl='', camera=None, antialias=None, crf=None, preset=None,\n"
+        "        shard='', max_memory=None) -> pandas.DataFrame\n\n"
         "`clothsim compare SCENE` (a path, or a Scene from load_scene: its file, set=, duration= and dt=) with its options as keywords (--still T -o FILE: still=T, output=FILE;\n"
         "--match error 1e-3: match='error 1e-3'; lists may be Python lists: integrators=['rk4@1e-4',\n"
         "'vbd@1/60:10', 'xpbd@1/60:tol=1e-4']). Writes the files asked for, as the CLI does, and returns a\n"

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "clip/common/memory_budget.h"
 #include "core/integrators/integrator_kind.h"
 #include "scene/build_model.h"
 #include "scene/param_keys.h"
@@ -67,6 +68,11 @@ std::string option_text(const py::object& value) {
     return out;
   }
   return py::str(value).cast<std::string>();
+}
+
+std::optional<double> max_memory_keyword(const py::object& value) {
+  if (value.is_none()) return std::nullopt;
+  return clip::max_memory_option(option_text(value));
 }
 
 Scene load_scene(const std::string& path, const py::dict& set, py::object duration, py::object dt,

@@ -26,6 +26,10 @@ struct Scene {
 // commas (["rk4@1e-4", "vbd:10"], [1e-4, 2e-4]: floats in their shortest exact spelling).
 std::string option_text(const pybind11::object& value);
 
+// max_memory=: None (the CLI's default budget), or --max-memory's SIZE ("4G", 512e6 bytes) read
+// by the CLI's own parser (clip/common/memory_budget.h), a bad one raising its UsageError.
+std::optional<double> max_memory_keyword(const pybind11::object& value);
+
 // set: {"cloth.springs.shear.stiffness": 2e4, "ks": 5e3, "integrator": "rk4", ...}
 Scene load_scene(const std::string& path, const pybind11::dict& set, pybind11::object duration,
                  pybind11::object dt, pybind11::object integrator);

@@ -84,13 +84,21 @@ double encoder_bytes(int width, int height) {
   return 24.0 * 1024 * 1024 + 116.0 * (width + (width & 1)) * (height + (height & 1));
 }
 
+double max_memory_option(const std::string& text) {
+  const std::optional<double> limit = parse_memory_size(text);
+  if (!limit) throw UsageError("--max-memory: " + in_quotes(text) + " is not a size (e.g. 4G, 512M, 1.5G)");
+  return *limit;
+}
+
 void add_max_memory_option(CLI::App* sub, std::optional<double>& limit) {
   sub->add_option_function<std::string>(
          "--max-memory",
          [&limit](const std::string& text) {
-           limit = parse_memory_size(text);
-           if (!limit)
-             throw CLI::ValidationError("--max-memory: " + in_quotes(text) + " is not a size (e.g. 4G, 512M, 1.5G)");
+           try {
+             limit = max_memory_option(text);
+           } catch (const UsageError& e) {
+             throw CLI::ValidationError(e.what());
+           }
          },
          "Refuse (exit 2, with the estimate) a run whose estimated peak memory exceeds SIZE "
          "(4G, 512M; default: half the physical memory)")

@@ -17,6 +17,9 @@ namespace clothsim::clip {
 // "4G", "512M", "1.5G", "800MB", "2000000000" (bytes); K, M, G, T are powers of 1024.
 // nullopt for anything else (negative, zero, words).
 std::optional<double> parse_memory_size(const std::string& text);
+// --max-memory's value (parse_memory_size), or UsageError "--max-memory: 'x' is not a size (e.g.
+// 4G, 512M, 1.5G)": the CLI's option and the Python module's max_memory= keyword.
+double max_memory_option(const std::string& text);
 // "5.12 GB", "80 MB" (powers of 1024, three significant digits).
 std::string format_bytes(double bytes);
 // Half the physical memory: room for the rest of the machine (and the other jobs of a batch

@@ -109,6 +109,12 @@ std::string merged_csv(const std::vector<ShardPart>& parts) {
   return csv;
 }
 
+std::string part_csv(const ShardPart& part) {
+  std::string csv = part.provenance.header + "\n";
+  for (const auto& [item, row] : part.rows) csv += row;  // a std::map: in item order
+  return csv;
+}
+
 // bench's last check, which needs every error (work_precision.h): the reference's own
 // change at most reference_margin x the smallest RMS error. "" when it holds.
 std::string bench_reference_problem(const std::string& csv, double round_off) {

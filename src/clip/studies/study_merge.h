@@ -33,6 +33,10 @@ std::string missing_parts(const std::vector<ShardPart>& parts);
 // Header and rows in item order: what the study writes in one process.
 std::string merged_csv(const std::vector<ShardPart>& parts);
 
+// One part's header and finished rows in item order: what its process has written so far (the
+// Python module's DataFrame of a shard).
+std::string part_csv(const ShardPart& part);
+
 // bench's last check, which needs every error (work_precision.h): the reference's own
 // change at most reference_margin x the smallest RMS error. "" when it holds.
 std::string bench_reference_problem(const std::string& csv, double round_off);

@@ -28,6 +28,10 @@ TEST(MergedCsv, JoinsThePartsRowsInItemOrderUnderOneHeader) {
   EXPECT_EQ(merged_csv(parts), "a,b\nrow0\nrow1\nrow2\nrow3\n");
 }
 
+TEST(PartCsv, IsOnePartsFinishedRowsInItemOrderWhateverTheRestHolds) {
+  EXPECT_EQ(part_csv(part(2, 2, 4, {2, 0})), "a,b\nrow0\nrow2\n");
+}
+
 TEST(MergedCsv, RefusesPartsThatDoNotCoverTheStudyOnce) {
   EXPECT_THROW(merged_csv({part(1, 2, 4, {0, 1}), part(2, 2, 4, {3})}), UsageError) << "item 2 is nobody's";
 }
