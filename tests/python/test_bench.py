@@ -114,15 +114,17 @@ def test_options_that_do_not_go_together_are_refused_with_the_clis_message(tmp_p
 def test_ctrl_c_raises_keyboard_interrupt_and_writes_none_of_the_files(tmp_path):
     files = {k: str(tmp_path / f"wp.{k}") for k in ("csv", "json", "png")}
     script = textwrap.dedent(f"""
-        import clothsim
+        import time, clothsim
         scene = clothsim.load_scene({DRAPE!r})
         print("running", flush=True)
         try:
             clothsim.bench(scene, dts=[2e-5, 4e-5], integrators="rk4", duration=0.5, frame_dts=[],
                            csv={files["csv"]!r}, summary={files["json"]!r}, plot={files["png"]!r})
         except KeyboardInterrupt:
-            print("interrupted", flush=True)
+            print("interrupted after", time.monotonic(), flush=True)
     """)
-    out, _ = interrupted_script(script, after=2.0)
-    assert out.strip() == "interrupted", out
+    out, sent = interrupted_script(script, after=2.0)
+    assert out.startswith("interrupted after "), out
+    # The delay is printed (docs/python.md), not asserted: a shared machine's load would decide it.
+    print(f"bench: KeyboardInterrupt {1000 * (float(out.split()[2]) - sent):.0f} ms after SIGINT")
     assert list(tmp_path.iterdir()) == [], "no CSV, summary, plot or temporary"
