@@ -126,3 +126,20 @@ def test_max_memory_and_compares_picture_keywords_are_the_clis_options(cli):
         clothsim.compare(scene, camera="sideways")
     frame = clothsim.compare(scene, integrators="rk4", match="none", duration=0.05, camera="auto", antialias="fxaa")
     assert list(frame.steps) == [50]
+
+
+def test_compare_shard_draws_its_part_of_the_lanes_as_the_cli_part_does(cli, tmp_path):
+    # Two lanes, part 1 of 2: each draws its own lanes' PNGs, byte for byte the CLI part's.
+    args = dict(integrators="symplectic_euler,rk4", match="none", duration=0.05, width=96, height=64, fps=40,
+                color="checker")
+    clothsim.compare(SPRING, frames=str(tmp_path / "py"), shard="1/2", **args)
+    code, _, err = cli("compare", SPRING, "--integrators", args["integrators"], "--match", "none", "--duration",
+                       "0.05", "--width", "96", "--height", "64", "--fps", "40", "--color", "checker",
+                       "--frames", str(tmp_path / "cli"), "--shard", "1/2", "--quiet")
+    assert code == 0, err
+    py = sorted(p.relative_to(tmp_path / "py") for p in (tmp_path / "py").rglob("*.png"))
+    ref = sorted(p.relative_to(tmp_path / "cli") for p in (tmp_path / "cli").rglob("*.png"))
+    assert py == ref and len(py) >= 2
+    assert len({p.parts[0] for p in py}) == 1, "one of the two lanes in part 1"
+    for p in py:
+        assert (tmp_path / "py" / p).read_bytes() == (tmp_path / "cli" / p).read_bytes(), p

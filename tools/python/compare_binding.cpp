@@ -49,7 +49,7 @@ std::string exact_number(double x) {
 clip::PipelineReport run_interruptible(const CompareRequest& o, clip::ComparePlan& p) {
   clip::clear_interrupt();
   auto work = std::async(std::launch::async, [&]() -> std::optional<clip::PipelineReport> {
-    clip::plan_compare(o, p);
+    if (!clip::plan_compare_part(o, p)) return clip::PipelineReport{};  // a part with no lane
     return clip::run_compare(o, p);
   });
   for (;;) {

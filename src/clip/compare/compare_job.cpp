@@ -452,6 +452,14 @@ void keep_shard_lanes(const CompareRequest& o, ComparePlan& p) {
   p.lanes = std::move(kept);
 }
 
+bool plan_compare_part(const CompareRequest& o, ComparePlan& p) {
+  if (!o.shard.empty())
+    check_frames_shard_outputs(o.frames_dir, !o.video.empty() || !o.sheet.empty() || o.still_t || !o.summary.empty());
+  plan_compare(o, p);
+  if (!o.shard.empty()) keep_shard_lanes(o, p);
+  return !p.lanes.empty();
+}
+
 PipelineReport run_compare(const CompareRequest& o, const ComparePlan& p) {
   const std::unique_ptr<Renderer> renderer = make_checked_renderer(o, p);
   FramePipeline pipeline(*p.model, *p.targets, p.specs(), pipeline_config(p), renderer.get());

@@ -101,6 +101,10 @@ struct ComparePlan {
 void plan_compare(const CompareRequest& o, ComparePlan& p);
 // --shard: the plan of the whole comparison, narrowed to this part's lanes (compare_shard.h).
 void keep_shard_lanes(const CompareRequest& o, ComparePlan& p);
+// What a front end plans: with --shard, the part's outputs checked (--frames only), then
+// plan_compare and the part's lanes kept. False when the part has no lane (more parts than
+// lanes): nothing to run.
+bool plan_compare_part(const CompareRequest& o, ComparePlan& p);
 // The renderer for the tiles (none when nothing is drawn); a GL failure or tiles past its limit now.
 std::unique_ptr<Renderer> make_checked_renderer(const CompareRequest& o, const ComparePlan& p);
 PipelineConfig pipeline_config(const ComparePlan& p);

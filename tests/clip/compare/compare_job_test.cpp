@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "clip/common/cli_common.h"
 #include "test_support.h"
 
 using namespace clothsim;
@@ -96,6 +97,26 @@ TEST(KeepShardLanes, APartKeepsWholeLanes) {
                         l.step_choice == kept.step_choice && l.spec.spelling() == kept.spec.spelling());
     EXPECT_TRUE(found) << kept.dir;
   }
+}
+
+TEST(PlanComparePart, RunsAPartsLanesRefusesOutputsAPartCannotWriteAndSaysWhenItHasNone) {
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_part";
+  std::filesystem::remove_all(out);
+  CompareRequest o = small_grid(out);
+  o.summary.clear();
+  o.frames_dir = out + "/frames";
+  o.look.color_range = "1e-4,1e-1";
+  o.shard = "1/2";
+  ComparePlan part;
+  ASSERT_TRUE(plan_compare_part(o, part));
+  EXPECT_LT(part.lanes.size(), 4u) << "part 1 of 2 runs some of the four lanes";
+  o.shard = "5/5";  // more parts than lanes: the last one has none to run
+  ComparePlan empty;
+  EXPECT_FALSE(plan_compare_part(o, empty));
+  o.shard = "1/2";
+  o.summary = out + "/summary.json";  // a part writes its frames only: merge-free outputs are refused
+  ComparePlan refused;
+  EXPECT_THROW(plan_compare_part(o, refused), UsageError);
 }
 
 TEST(PlanCompare, AVaryGridOfAFixedPointSceneNamesItsRowsByTheMethodThatRuns) {

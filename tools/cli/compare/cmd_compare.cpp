@@ -80,12 +80,8 @@ void report_compare(const CompareRequest& o, const ComparePlan& p, const Pipelin
 int compare_command(const CompareRequest& o) {
   const auto wall_start = Clock::now();
   install_interrupt_handler();  // first: Ctrl-C during setup is then seen at the first frame
-  if (!o.shard.empty())
-    check_frames_shard_outputs(o.frames_dir, !o.video.empty() || !o.sheet.empty() || o.still_t || !o.summary.empty());
   ComparePlan p;
-  plan_compare(o, p);
-  if (!o.shard.empty()) keep_shard_lanes(o, p);
-  if (p.lanes.empty()) return kOk;  // a part with no lane (more parts than lanes)
+  if (!plan_compare_part(o, p)) return kOk;  // a part with no lane (more parts than lanes)
   const PipelineReport report = run_compare(o, p);
   report_compare(o, p, report, wall_start);
   return kOk;
