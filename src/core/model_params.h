@@ -58,6 +58,10 @@ struct ImplicitDef {
   int cg_max_iterations = 200;
   double cg_tolerance = 1e-8;      // relative residual of each linear solve
   int fixed_point_iterations = 1;  // solver: fixed_point; 1 reproduces the course framework
+  // From this many particles on, Newton's directions are held within a trust radius and CG's
+  // forcing term is sqrt(|r|) (newton_solve.h, TrustRadius; BENCHMARKS.md #37, round s34);
+  // below, the line search alone and the forcing term |r|. Not a scene key: tests move it.
+  int trust_region_from = 128 * 128;
 
   NewtonMode newton_mode() const {
     return newton_max_iterations == 1 ? NewtonMode::BaraffWitkin : NewtonMode::Converged;

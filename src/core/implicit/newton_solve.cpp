@@ -99,7 +99,8 @@ NewtonSolve::NewtonSolve(const Model& model, State& start, double h, ImplicitCac
                          const NewtonTracer& trace)
     : model_(model), start_(start), record_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats),
       trace_(trace), single_step_(cfg_.newton_mode() == NewtonMode::BaraffWitkin),
-      preconditioner_(resolved_preconditioner(model)) {
+      preconditioner_(resolved_preconditioner(model)),
+      trust_on_(!single_step_ && model.num_particles >= cfg_.trust_region_from) {
   account_.first = start.implicit.factored && start.step % kRetryJacobi != 0;
   reuse_.trusted = start.implicit.lin_trusted;
   reuse_.reach = reuse_reach(c_.shortest_rest, c_.stiffness, h);
@@ -155,18 +156,22 @@ bool NewtonSolve::out_of_budget() const {
          !std::isfinite(stats_.residual);
 }
 
-// Inexact Newton: CG's relative tolerance is the forcing term |r| / scale, capped at
-// kMaxForcing; where that would leave the next residual within kFinishMargin of the
-// tolerance, the solve goes to the absolute tolerance at once. Baraff & Witkin's single step
+// Inexact Newton: CG's relative tolerance is the forcing term |r| / scale (its square root
+// with the trust region, on large sheets where CG iterations are the cost: superlinear rather
+// than quadratic, Nocedal & Wright 7.1), capped at kMaxForcing; where that would leave the
+// next residual within kFinishMargin of the tolerance, the solve goes to the absolute
+// tolerance at once. Baraff & Witkin's single step
 // is solved to cg_tolerance: a loose one would accept its warm start as the step.
 CgSettings NewtonSolve::cg_settings(double r_norm, double scale) const {
   CgSettings settings;
   settings.max_iterations = cfg_.cg_max_iterations;
-  const double forcing = std::min(kMaxForcing, stats_.residual);
+  const double forcing = std::min(kMaxForcing, trust_on_ ? std::sqrt(stats_.residual) : stats_.residual);
   const bool finish = forcing * stats_.residual < kFinishMargin * cfg_.newton_tolerance;
   settings.tolerance = single_step_ || finish ? cfg_.cg_tolerance : std::max(cfg_.cg_tolerance, forcing);
   settings.absolute_tolerance = 0.1 * cfg_.newton_tolerance * scale;
   settings.b_norm = r_norm;  // |rhs|, which solve_pcg would compute again
+  settings.trust_region = trust_on_;  // in the preconditioner's norm
+  settings.trust_radius = trust_.radius;
   return settings;
 }
 
@@ -204,14 +209,17 @@ bool NewtonSolve::iterate(const Eigen::Matrix3Xd* warm) {
 // Moves the iterate along d (whole for Baraff & Witkin, by line search otherwise) and takes
 // in the particles the step took inside a collider. False: no descent or no step.
 bool NewtonSolve::take_step(double slope, bool reused) {
+  const double curvature = trust_on_ ? model_curvature() : 0.0;
   if (!(slope < 0.0) || (!single_step_ && !line_search(slope))) return false;
+  if (trust_on_) update_trust(slope, curvature);
   if (single_step_) {  // Baraff & Witkin: the linearised step, whole (as far as the barrier allows)
     c_.dv += barrier_bound() * c_.d;
     evaluate();
     return true;  // the next round measures the residual, then stops at the budget
   }
   reuse_.trial_clean = reuse_.trial_clean && alpha_ == 1.0;
-  trace_("  line search: step %.3g, slope %.3e, reused matrix %d\n", alpha_, slope, reused ? 1 : 0);
+  trace_("  line search: step %.3g, slope %.3e, reused matrix %d, trust radius %.3e\n", alpha_, slope,
+         reused ? 1 : 0, trust_.radius);
   // Letting go waits until the residual is small (iterate); taking in does not.
   if (take_in()) {
     place_on_planes(c_.contacts, start_, h_, c_.dv);
@@ -239,7 +247,8 @@ bool NewtonSolve::near_linearisation() const {
 
 // The Newton direction d (in c.d) and its slope r . d: truncated PCG on the exact Hessian
 // (Baraff & Witkin: the projected one), which stops at negative curvature with a direction
-// that is still downhill (Nocedal & Wright, Algorithm 7.1).
+// that is still downhill (Nocedal & Wright, Algorithm 7.1), or with the trust region there
+// and at the radius goes to the boundary (Steihaug-Toint, Algorithm 7.2).
 double NewtonSolve::direction(CgSettings settings, const Eigen::Matrix3Xd* warm, bool reused) {
   prepare_matrix(reused);
   settings.from_guess = warm != nullptr;
@@ -264,7 +273,7 @@ double NewtonSolve::direction(CgSettings settings, const Eigen::Matrix3Xd* warm,
     const int cap = static_cast<int>(std::clamp(std::ceil(left), 1.0, 1e9));
     settings.max_iterations = std::min(settings.max_iterations, cap);
     const CgResult cg = solve(settings);
-    if (!cg.converged && !cg.negative_curvature && cg.iterations >= cap && factorize()) {
+    if (!cg.converged && !cg.negative_curvature && !cg.boundary && cg.iterations >= cap && factorize()) {
       settings.max_iterations = cfg_.cg_max_iterations;
       settings.from_guess = true;
       solve(settings);
@@ -343,9 +352,12 @@ CgResult NewtonSolve::solve(const CgSettings& settings) {
                               : c_.multigrid.ready() ? &c_.multigrid : nullptr;
   const CgResult cg = solve_pcg(c_.A, c_.rhs, c_.d, settings, c_.cg, &c_.contacts.filter, pre);
   reuse_.trial_clean = cg.converged;
-  trace_("  cg: %d iterations, converged %d, negative curvature %d, relative residual %.2e, factored %d\n",
+  boundary_ = cg.boundary;
+  step_norm_ = cg.step_norm;
+  trace_("  cg: %d iterations, converged %d, negative curvature %d, relative residual %.2e, factored %d, "
+         "boundary %d\n",
          cg.iterations, cg.converged ? 1 : 0, cg.negative_curvature ? 1 : 0, cg.relative_residual,
-         factored ? 1 : 0);
+         factored ? 1 : 0, cg.boundary ? 1 : 0);
   stats_.cg_iterations += cg.iterations;
   if (c_.multigrid.ready() && !factored) {
     if (multigrid_.fresh < 0) multigrid_.fresh = cg.iterations;
@@ -381,12 +393,17 @@ bool NewtonSolve::line_search(double slope) {
     const PotentialValue trial =
         step_potential(model_, start_, h_, c_.start_length, c_.dv_try, c_.y_try, c_.r_try, &c_.y_try_length);
     ++stats_.force_evals;
+    if (halving == 0) {
+      first_alpha_ = alpha;
+      first_drop_ = phi_.phi - trial.phi;
+    }
     bool accept = trial.phi <= phi_.phi + kArmijo * alpha * slope;
     if (!accept && -alpha * slope <= resolvable * phi_.magnitude) {
       c_.rhs = c_.r_try;  // scratch (rebuilt at the next iteration): the trial's filtered residual
       c_.contacts.filter.apply(c_.rhs);
       accept = dot(c_.rhs, c_.rhs) < r_norm2_;
       if (!accept) return false;  // rounding has the last word: stop here
+      if (halving == 0) first_drop_ = std::numeric_limits<double>::quiet_NaN();  // no verdict
     }
     if (accept) {
       alpha_ = alpha;
@@ -400,6 +417,27 @@ bool NewtonSolve::line_search(double slope) {
     }
   }
   return false;
+}
+
+// d^T A d of the direction (d filtered: the model's curvature along it), for the ratio test.
+double NewtonSolve::model_curvature() {
+  c_.A.multiply(c_.A, c_.d, c_.cg.q);  // (CG's scratch, free between solves)
+  c_.contacts.filter.apply(c_.cg.q);
+  return dot(c_.d, c_.cg.q);
+}
+
+// rho = Phi's actual decrease over the quadratic model's at the line search's first trial
+// (alpha0 d: the barrier's bound, else d): the trust radius's verdict on the direction. No
+// verdict where that decrease is below Phi's rounding (the residual decided).
+void NewtonSolve::update_trust(double slope, double curvature) {
+  const double a = first_alpha_;
+  const double predicted = -a * slope - 0.5 * a * a * curvature;
+  // (no norm: CG started from a guess, and the region did not apply)
+  if (step_norm_ == 0.0 || std::isnan(first_drop_) ||
+      !(predicted > 64.0 * std::numeric_limits<double>::epsilon() * phi_.magnitude))
+    return;
+  const double rho = first_drop_ / predicted;  // (-inf or NaN where the trial's Phi was not finite)
+  trust_.update(rho, a * step_norm_, alpha_ * step_norm_, boundary_);
 }
 
 }  // namespace clothsim

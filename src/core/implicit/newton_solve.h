@@ -9,6 +9,7 @@
 //   ContactScan   which iterate and held set the last take-in scan saw, so it is not repeated.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 
@@ -106,6 +107,24 @@ struct ContactScan {
   }
 };
 
+// The trust region of the Newton directions (from ImplicitDef::trust_region_from particles),
+// in CG's preconditioner's norm |d|_P = sqrt(d^T P d) (P the matrix the preconditioner
+// inverts: the mass-dominated diagonal blocks for block Jacobi; the mass norm measured worse,
+// BENCHMARKS.md #37, round s34): unbounded at a step's start (a sheet that the quadratic model
+// describes takes full Newton steps as before), then updated by rho, Phi's actual decrease
+// over the model's at the direction's first trial (Nocedal & Wright, Algorithm 4.1). A trial
+// that is not accepted is backtracked rather than solved again (Nocedal & Yuan 1998): one CG
+// solve per iteration.
+struct TrustRadius {
+  double radius = std::numeric_limits<double>::infinity();  // sqrt(J): |d|_P's unit
+  // rho < 1/4: a quarter of the step tried, or the step the line search took if shorter;
+  // rho > 3/4 at the boundary: doubled.
+  void update(double rho, double tried, double taken, bool at_boundary) {
+    if (!(rho >= 0.25)) radius = std::min(0.25 * tried, taken);  // (NaN, -inf: Phi not finite)
+    else if (rho > 0.75 && at_boundary) radius = 2.0 * radius;
+  }
+};
+
 class NewtonSolve {
  public:
   // `start` is read as the step's start throughout; only its record of the Newton matrix's
@@ -143,6 +162,8 @@ class NewtonSolve {
   CgResult solve(const CgSettings& settings);
   bool factorize();
   bool line_search(double slope);
+  double model_curvature();
+  void update_trust(double slope, double curvature);
   double barrier_bound() const;
 
   const Model& model_;
@@ -157,6 +178,7 @@ class NewtonSolve {
   double impulse_scale_ = 0.0;
   const bool single_step_;  // NewtonMode::BaraffWitkin: one linearised step, taken whole
   const PreconditionerKind preconditioner_;  // resolved: never Auto
+  const bool trust_on_;  // the trust region and sqrt forcing (ImplicitDef::trust_region_from)
   MatrixReuse reuse_;
   FactorAccount account_;
   MultigridAccount multigrid_;
@@ -164,6 +186,11 @@ class NewtonSolve {
   StallWatch stall_;
   double alpha_ = 0.0;    // the last line search's step
   double r_norm2_ = 0.0;  // |S r|^2 at the iterate
+  TrustRadius trust_;
+  bool boundary_ = false;     // the last direction ended on the trust radius
+  double step_norm_ = 0.0;    // its length in the region's norm (0: no region applied)
+  double first_alpha_ = 0.0;  // the last line search's first trial step
+  double first_drop_ = 0.0;   // J, Phi's decrease at that trial (NaN: below rounding)
 };
 
 // implicit.preconditioner for this model: auto resolved by the sheet's size.

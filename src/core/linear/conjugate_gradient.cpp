@@ -32,6 +32,60 @@ double precondition(const SpringBlockMatrix& A, const Preconditioner* pre,
   return rz;
 }
 
+// The trust region of Steihaug-Toint CG: x.N.x, x.N.p and p.N.p of the current iterate and
+// direction in the region's norm N. The preconditioner's norm (N = M, z = M^-1 r) by the
+// recurrences of Conn, Gould & Toint (2000, 7.5.1), from x = 0: no pass over the vectors; a
+// weighted norm (N = diag(w)) by one pass over x and p at each new p.
+class TrustRegion {
+ public:
+  TrustRegion(const CgSettings& settings, const Eigen::Matrix3Xd& x, bool from_guess, double rz)
+      : on_(settings.trust_region && (settings.trust_weight || !from_guess)),
+        bounded_(on_ && std::isfinite(settings.trust_radius)), w_(settings.trust_weight),
+        radius2_(settings.trust_radius * settings.trust_radius) {
+    if (!on_) return;
+    if (w_) xx_ = weighted(x, x);
+    else pp_ = rz;  // p = z: z.M.z = r.z
+  }
+  bool on() const { return on_; }
+  bool bounded() const { return bounded_; }
+  double norm() const { return std::sqrt(xx_); }
+  // Whether x + alpha p would leave the region.
+  bool leaves(double alpha) const { return bounded_ && xx_ + alpha * (2.0 * xp_ + alpha * pp_) > radius2_; }
+  void moved(double alpha) { xx_ += alpha * (2.0 * xp_ + alpha * pp_); }
+  // After p = z + beta p (the step before it alpha, r.z now rz).
+  void new_direction(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& p, double alpha, double beta, double rz) {
+    if (!on_) return;
+    if (w_) {
+      xp_ = weighted(x, p);
+      pp_ = weighted(p, p);
+    } else {
+      xp_ = beta * (xp_ + alpha * pp_);
+      pp_ = rz + beta * beta * pp_;
+    }
+  }
+  // x + tau p on the boundary, tau >= 0 (x inside: the positive root; outside, as a warm
+  // start may be: x scaled back onto it).
+  void to_boundary(Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& p) {
+    if (xx_ >= radius2_) {
+      x *= std::sqrt(radius2_ / xx_);
+    } else if (pp_ > 0.0) {
+      x += ((-xp_ + std::sqrt(xp_ * xp_ + pp_ * (radius2_ - xx_))) / pp_) * p;
+    }
+    xx_ = radius2_;
+  }
+
+ private:
+  double weighted(const Eigen::Matrix3Xd& u, const Eigen::Matrix3Xd& v) const {
+    double sum = 0.0;
+    for (Eigen::Index i = 0; i < u.cols(); ++i) sum += (*w_)[i] * u.col(i).dot(v.col(i));
+    return sum;
+  }
+  const bool on_;       // measuring |x|
+  const bool bounded_;  // and holding it within the radius
+  const Eigen::VectorXd* w_;
+  double radius2_, xx_ = 0.0, xp_ = 0.0, pp_ = 0.0;
+};
+
 }  // namespace
 
 CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
@@ -65,6 +119,8 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   if (r_norm <= stop) return result;  // the guess is already good enough
   double rz = precondition(A, pre, filter, buf.r, buf.z);
   buf.p = buf.z;
+  TrustRegion region(settings, x, from_guess, rz);
+  if (settings.trust_weight) region.new_direction(x, buf.p, 0.0, 0.0, rz);
   const std::size_t n = static_cast<std::size_t>(b.size());
   while (result.iterations < settings.max_iterations) {
     A.multiply(A, buf.p, buf.q);
@@ -73,21 +129,42 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
     if (!(pq > 0.0)) {  // A is not positive definite along p (or NaN): CG cannot go on
       result.converged = false;
       result.negative_curvature = true;
-      // On the first direction: take it (b . p > 0: it descends), rather than nothing.
-      if (result.iterations == 0 && !from_guess && std::isfinite(pq)) x = buf.p;
+      // Along p the model falls without bound: to the boundary (r . p = rz > 0, so forward
+      // descends). Without a region, on the first direction: take it rather than nothing.
+      if (region.bounded() && std::isfinite(pq)) {
+        region.to_boundary(x, buf.p);
+        result.boundary = true;
+      } else if (result.iterations == 0 && !from_guess && std::isfinite(pq)) {
+        x = buf.p;
+      }
+      result.step_norm = region.norm();
       return result;
     }
     const double alpha = rz / pq;
+    if (region.leaves(alpha)) {  // the model's minimiser along p lies outside: stop on the boundary
+      region.to_boundary(x, buf.p);
+      ++result.iterations;
+      result.converged = false;
+      result.boundary = true;
+      result.step_norm = region.norm();
+      return result;
+    }
+    if (region.on()) region.moved(alpha);
     // x += alpha p, r -= alpha q and |r| in one pass (cg_kernels.h)
     r_norm = std::sqrt(simd_update_iterate(x.data(), buf.r.data(), buf.p.data(), buf.q.data(), alpha, n));
     ++result.iterations;
     result.relative_residual = r_norm / b_norm;
-    if (r_norm <= stop) return result;
+    if (r_norm <= stop) {
+      result.step_norm = region.norm();
+      return result;
+    }
     const double rz_next = precondition(A, pre, filter, buf.r, buf.z);
     simd_xpby(buf.p.data(), buf.z.data(), rz_next / rz, n);  // p = z + beta p
+    region.new_direction(x, buf.p, alpha, rz_next / rz, rz_next);
     rz = rz_next;
   }
   result.converged = false;
+  result.step_norm = region.norm();
   return result;
 }
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 
 #include "block_matrix.h"
 #include "preconditioner.h"
@@ -23,7 +24,10 @@ struct CgResult {
   double relative_residual = 0.0;  // |b - A x| / |b| as CG's recurrence tracks it
   bool converged = true;           // false: hit max_iterations above tolerance, or A not SPD
   bool negative_curvature = false; // stopped at a direction p with p^T A p <= 0 (x is the
-                                   // iterate before it, or p itself if it was the first)
+                                   // iterate before it, or p itself if it was the first; with
+                                   // a trust radius, the boundary along p)
+  bool boundary = false;           // x was taken to the trust radius (Steihaug-Toint)
+  double step_norm = 0.0;          // |x| in the trust region's norm (0: not measured)
 };
 
 struct CgSettings {
@@ -32,6 +36,14 @@ struct CgSettings {
   double absolute_tolerance = 0.0;  // ... or |b - A x| <= this (the caller's accuracy need)
   bool from_guess = false;          // start from the x passed in (warm start) rather than 0
   double b_norm = -1.0;             // |b| where the caller has it (negative: solve_pcg takes it)
+  // Steihaug-Toint: |x| stays within trust_radius; at negative curvature or where the next
+  // iterate would leave, x goes to the boundary along p (Nocedal & Wright, Algorithm 7.2).
+  // The norm is the preconditioner's, |x|_M = sqrt(x^T M x) (M^-1 the preconditioner; needs
+  // a start from zero: from a guess the radius is not applied), or with trust_weight
+  // sqrt(sum_i weight_i |x_i|^2). Infinite: truncated CG as above.
+  bool trust_region = false;        // measure |x| (CgResult::step_norm), and bound it by:
+  double trust_radius = std::numeric_limits<double>::infinity();
+  const Eigen::VectorXd* trust_weight = nullptr;  // (B) per body, e.g. its mass; null: M's norm
 };
 
 // Solves A x = b, stopping at either tolerance, after max_iterations, or at the first

@@ -166,5 +166,71 @@ TEST(ConjugateGradient, StopsAtNegativeCurvatureWithTheFirstDirectionAndSaysSo) 
   EXPECT_GT(s.b.cwiseProduct(x).sum(), 0.0);
 }
 
+// The quadratic model CG minimises, q(x) = 1/2 x.A x - b.x (q(0) = 0).
+double model_value(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, const Eigen::Matrix3Xd& x) {
+  Eigen::Matrix3Xd Ax;
+  multiply(A, x, Ax);
+  return 0.5 * x.cwiseProduct(Ax).sum() - b.cwiseProduct(x).sum();
+}
+
+// x^T M x for block Jacobi's M, the blocks of A's diagonal.
+double block_jacobi_norm2(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& x) {
+  double sum = 0.0;
+  for (int i = 0; i < A.num_bodies(); ++i) sum += x.col(i).dot(A.diag[i] * x.col(i));
+  return sum;
+}
+
+TEST(ConjugateGradient, SteihaugStopsOnTheRadiusInThePreconditionersNormAndLowersTheModel) {
+  const System s = system(kAllSprings, 0.02);
+  Eigen::Matrix3Xd x_full, x;
+  CgBuffers buffers;
+  CgSettings settings{500, 1e-12};
+  settings.trust_region = true;  // unbounded: the solve, with its length measured
+  const CgResult full = solve_pcg(s.A, s.b, x_full, settings, buffers);
+  ASSERT_TRUE(full.converged);
+  EXPECT_FALSE(full.boundary);
+  EXPECT_NEAR(full.step_norm, std::sqrt(block_jacobi_norm2(s.A, x_full)), 1e-8 * full.step_norm);
+  for (const double fraction : {0.05, 0.3, 0.9}) {
+    settings.trust_radius = fraction * full.step_norm;
+    const CgResult r = solve_pcg(s.A, s.b, x, settings, buffers);
+    EXPECT_TRUE(r.boundary) << fraction;
+    EXPECT_FALSE(r.converged);
+    EXPECT_NEAR(std::sqrt(block_jacobi_norm2(s.A, x)), settings.trust_radius, 1e-8 * full.step_norm) << fraction;
+    EXPECT_NEAR(r.step_norm, settings.trust_radius, 1e-12 * full.step_norm);
+    // Within the region the model falls, less than at the unbounded minimiser.
+    const double q = model_value(s.A, s.b, x);
+    EXPECT_LT(q, 0.0) << fraction;
+    EXPECT_GT(q, model_value(s.A, s.b, x_full)) << fraction;
+  }
+}
+
+TEST(ConjugateGradient, SteihaugGoesToTheRadiusAlongNegativeCurvature) {
+  System s = system(kAllSprings, 0.02);
+  for (auto& block : s.A.diag) block = -block;  // the first p has p.Ap < 0
+  s.A.refresh_diagonal_soa();
+  const Eigen::VectorXd weight = Eigen::VectorXd::Constant(s.A.num_bodies(), 0.1);  // kg: the mass norm
+  CgSettings settings{50, 1e-10};
+  settings.trust_region = true;
+  settings.trust_weight = &weight;
+  const auto norm = [&weight](const Eigen::Matrix3Xd& v) {
+    double sum = 0.0;
+    for (Eigen::Index i = 0; i < v.cols(); ++i) sum += weight[i] * v.col(i).squaredNorm();
+    return std::sqrt(sum);
+  };
+  Eigen::Matrix3Xd first, x;  // truncated CG's answer: the first direction, unscaled
+  CgBuffers buffers;
+  solve_pcg(s.A, s.b, first, CgSettings{50, 1e-10}, buffers);
+  settings.trust_radius = 3.0 * norm(first);
+  const CgResult r = solve_pcg(s.A, s.b, x, settings, buffers);
+  EXPECT_TRUE(r.negative_curvature);
+  EXPECT_TRUE(r.boundary);
+  // On the boundary, not the truncated iterate: |x|_W = radius, and the model lower than the
+  // unscaled first direction's (where truncated CG stopped before).
+  EXPECT_NEAR(norm(x), settings.trust_radius, 1e-12 * settings.trust_radius);
+  EXPECT_NEAR(r.step_norm, settings.trust_radius, 1e-12 * settings.trust_radius);
+  EXPECT_GT(s.b.cwiseProduct(x).sum(), 0.0);  // downhill
+  EXPECT_LT(model_value(s.A, s.b, x), model_value(s.A, s.b, first));
+}
+
 }  // namespace
 }  // namespace clothsim::testing
