@@ -37,6 +37,9 @@ struct ImplicitSolverState {
   // Whether the last step needed the sparse factor (cholesky_preconditioner.h), so that the
   // next builds it at its first solve.
   bool factored = false;
+  // A block-Jacobi solve's work when last measured (PCG iterations; 0: never), what a factor
+  // carried into later steps must stay cheaper than (newton_solve.h, FactorAccount).
+  double jacobi_solve = 0.0;
 };
 
 struct State {
