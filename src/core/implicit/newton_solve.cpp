@@ -32,10 +32,11 @@ constexpr int kStallWindow = 50;          // iterations without progress that ma
 constexpr double kStallResidual = 0.5;    // progress: the residual halves...
 constexpr double kStallPhi = 1e-6;        // ...or Phi falls by this fraction of its size
 // implicit.preconditioner: auto takes block Jacobi alone from this many particles, the rent-
-// against-buy of block Jacobi and the sparse factor below it: on the refined drape at 1/60 s
-// and 256 x 256, block Jacobi cost 0.20x the CPU of the rent-against-buy (6 factorizations)
-// and 0.31x the V-cycle's (BENCHMARKS.md, #37, round s33).
-constexpr int kJacobiFromParticles = 256 * 256;
+// against-buy of block Jacobi and the sparse factor below it: with the factor built only where
+// it pays, block Jacobi cost 0.85-0.9x the rent-against-buy on stiff.yaml refined to 32 x 32 and
+// about 1x from 64 x 64 and on the refined drape (no factor pays there), where stiff.yaml's own
+// 15 x 15 takes 0.67-0.87x with the factor (BENCHMARKS.md, #37, round s34).
+constexpr int kJacobiFromParticles = 32 * 32;
 // The largest sparse factor built (L's bytes): larger sheets solve with block Jacobi, so a
 // run stays within what memory_estimate.h promises.
 constexpr std::size_t kMaxFactorBytes = std::size_t{512} << 20;
