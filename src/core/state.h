@@ -34,9 +34,12 @@ struct ImplicitSolverState {
   // Whether the recorded matrix served when last tried on a new iterate; if not, steps
   // assemble afresh and probe it again only now and then.
   bool lin_trusted = true;
-  // Whether the last step needed the sparse factor (cholesky_preconditioner.h), so that the
-  // next builds it at its first solve.
+  // Whether the last step's sparse factor (cholesky_preconditioner.h) paid for itself, so that
+  // the next builds one at its first solve.
   bool factored = false;
+  // A block-Jacobi solve's work when last measured (PCG iterations; 0: never), what a factor
+  // carried into later steps must stay cheaper than (newton_solve.h, FactorAccount).
+  double jacobi_solve = 0.0;
 };
 
 struct State {

@@ -20,8 +20,10 @@ TEST(MemoryEstimate, CountsTheSpringsTheModelBuilds) {
 }
 
 TEST(MemoryEstimate, ImplicitEulerCostsMoreThanTheExplicitFamilyAndBothGrowWithTheCloth) {
-  const SceneDef small = parse_scene("cloth: {particles: [10, 10], springs: {structural: {}}}\n", "s");
-  const SceneDef large = parse_scene("cloth: {particles: [100, 100], springs: {structural: {}}}\n", "s");
+  // (one preconditioner at both sizes: auto takes block Jacobi from 32 x 32, the factor below)
+  const char* solve = "implicit: {preconditioner: cholesky}\n";
+  const SceneDef small = parse_scene(std::string("cloth: {particles: [10, 10], springs: {structural: {}}}\n") + solve, "s");
+  const SceneDef large = parse_scene(std::string("cloth: {particles: [100, 100], springs: {structural: {}}}\n") + solve, "s");
   EXPECT_GT(run_bytes(small, IntegratorKind::ImplicitEuler), run_bytes(small, IntegratorKind::Rk4));
   EXPECT_GT(model_bytes(large), 50 * model_bytes(small));
   EXPECT_GT(run_bytes(large, IntegratorKind::ImplicitEuler), 50 * run_bytes(small, IntegratorKind::ImplicitEuler));
@@ -47,7 +49,8 @@ TEST(MemoryEstimate, Covers2048SquaredImplicitAtItsMeasuredPeak) {
 // one as large as the 64 x 64 drape's, and never more than the solver's 512 MiB cap.
 TEST(MemoryEstimate, ImplicitEulerCountsItsSparseFactorUpToTheCap) {
   const SceneDef drape64 = parse_scene(
-      "cloth: {particles: [64, 64], springs: {structural: {}, shear: {}, bend: {}}}\n", "s");  // auto: cholesky
+      "cloth: {particles: [64, 64], springs: {structural: {}, shear: {}, bend: {}}}\n"
+      "implicit: {preconditioner: cholesky}\n", "s");
   const double factor64 = 14.9 * 1024 * 1024;  // L and D measured at 64 x 64 (BENCHMARKS.md)
   EXPECT_GT(run_bytes(drape64, IntegratorKind::ImplicitEuler) - run_bytes(drape64, IntegratorKind::Rk4), factor64);
   const SceneDef huge = parse_scene(
@@ -120,7 +123,8 @@ TEST(MemoryEstimate, ImplicitEulerCountsWhatThePreconditionerAutoTakesKeeps) {
   EXPECT_DOUBLE_EQ(share(drape(256, "multigrid")), 3000.0);
   EXPECT_DOUBLE_EQ(share(drape(1024, "multigrid")), 3000.0);
   EXPECT_DOUBLE_EQ(share(drape(128, "multigrid")), 3000.0);
-  EXPECT_GT(share(drape(128)), 3000.0) << "below 256², auto is the sparse factor's (larger at 128²)";
+  EXPECT_DOUBLE_EQ(share(drape(128)), 0.0);
+  EXPECT_GT(share(drape(24)), 0.0) << "below 32², auto is the sparse factor's";
 }
 
 }  // namespace

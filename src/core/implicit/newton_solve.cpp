@@ -22,6 +22,7 @@ constexpr double kMaxForcing = 0.1;       // the largest CG forcing term (inexac
 constexpr double kFinishMargin = 10.0;    // solve to the absolute tolerance within this many
 constexpr double kReleaseResidual = 1e-2;  // let contacts go below this relative residual
 constexpr int kRetryJacobi = 16;          // every 16th step starts with block Jacobi again
+constexpr double kFreshIterations = 4.0;  // PCG iterations of a solve with a fresh factor, forecast
 constexpr double kReuseContraction = 0.25;  // a reused matrix served if |r| fell 4 times
 constexpr int kRetryReuse = 16;           // an untrusted recorded matrix is probed every 16th step
 constexpr int kReuseReserve = 2;          // exact iterations a trial must leave in the budget
@@ -31,10 +32,11 @@ constexpr int kStallWindow = 50;          // iterations without progress that ma
 constexpr double kStallResidual = 0.5;    // progress: the residual halves...
 constexpr double kStallPhi = 1e-6;        // ...or Phi falls by this fraction of its size
 // implicit.preconditioner: auto takes block Jacobi alone from this many particles, the rent-
-// against-buy of block Jacobi and the sparse factor below it: on the refined drape at 1/60 s
-// and 256 x 256, block Jacobi cost 0.20x the CPU of the rent-against-buy (6 factorizations)
-// and 0.31x the V-cycle's (BENCHMARKS.md, #37, round s33).
-constexpr int kJacobiFromParticles = 256 * 256;
+// against-buy of block Jacobi and the sparse factor below it: with the factor built only where
+// it pays, block Jacobi cost 0.85-0.9x the rent-against-buy on stiff.yaml refined to 32 x 32 and
+// about 1x from 64 x 64 and on the refined drape (no factor pays there), where stiff.yaml's own
+// 15 x 15 takes 0.67-0.87x with the factor (BENCHMARKS.md, #37, round s34).
+constexpr int kJacobiFromParticles = 32 * 32;
 // The largest sparse factor built (L's bytes): larger sheets solve with block Jacobi, so a
 // run stays within what memory_estimate.h promises.
 constexpr std::size_t kMaxFactorBytes = std::size_t{512} << 20;
@@ -102,6 +104,7 @@ NewtonSolve::NewtonSolve(const Model& model, State& start, double h, ImplicitCac
       preconditioner_(resolved_preconditioner(model)),
       trust_on_(!single_step_ && model.num_particles >= cfg_.trust_region_from) {
   account_.first = start.implicit.factored && start.step % kRetryJacobi != 0;
+  account_.jacobi_forecast = start.implicit.jacobi_solve;
   reuse_.trusted = start.implicit.lin_trusted;
   reuse_.reach = reuse_reach(c_.shortest_rest, c_.stiffness, h);
   // The recorded matrix may serve if it fits and last served, or as a probe every
@@ -263,18 +266,22 @@ double NewtonSolve::direction(CgSettings settings, const Eigen::Matrix3Xd* warm,
   }
   choose_preconditioner();
   const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;
-  if (c_.factor.ready() || !affordable) {
-    solve(settings);
+  const double left = c_.factor.factor_cost() - account_.jacobi_work;
+  if (c_.factor.ready() || !affordable || left <= 0.0) {
+    solve(settings);  // renting is over: choose_preconditioner decided at the solve's start
   } else {
     // Block Jacobi until this step's Jacobi work would pay for a factor; if the solve is not
-    // done by then, factor and go on from where it stopped (a descent direction already).
-    // (clamped only so that the cast cannot overflow: an unaffordable factor never gets here)
-    const double left = c_.factor.factor_cost() - account_.jacobi_work;
-    const int cap = static_cast<int>(std::clamp(std::ceil(left), 1.0, 1e9));
-    settings.max_iterations = std::min(settings.max_iterations, cap);
+    // done by then, factor where that pays and go on from where it stopped (a descent
+    // direction already). (clamped so that the cast cannot overflow)
+    const int cap = static_cast<int>(std::min(std::ceil(left), 1e9));
+    const int budget = settings.max_iterations;
+    settings.max_iterations = std::min(budget, cap);
     const CgResult cg = solve(settings);
-    if (!cg.converged && !cg.negative_curvature && !cg.boundary && cg.iterations >= cap && factorize()) {
-      settings.max_iterations = cfg_.cg_max_iterations;
+    if (!cg.converged && !cg.negative_curvature && !cg.boundary && cg.iterations >= cap && cap < budget) {
+      const double target = std::max(settings.tolerance, settings.absolute_tolerance / settings.b_norm);
+      const double rest = FactorAccount::remaining(cg.iterations, cg.relative_residual, target, budget - cap);
+      const bool bought = factor_pays(account_.buy(c_.factor.factor_cost(), rest, fresh_solve())) && factorize();
+      settings.max_iterations = bought ? cfg_.cg_max_iterations : budget - cap;
       settings.from_guess = true;
       solve(settings);
     }
@@ -320,13 +327,27 @@ void NewtonSolve::record_linearisation() {
   c_.holds_record = true;
 }
 
-// Rent against buy: block Jacobi while the step's Jacobi iterations cost less than a sparse
-// factor, then the factor, rebuilt once the work done with it would pay for a new one.
+// Rent against buy at a solve's start: the factor where the last step's paid; past the rent
+// (this step's Jacobi work has reached a factor's price), a factor where its forecast saving
+// over the rest of the step exceeds its price; a new factor where the one in hand has grown
+// stale by more than that (factor_pays); none where the one in hand costs more a solve than
+// block Jacobi did (a stale factor at 256 x 256: 30 iterations of 28 Jacobi iterations' cost).
 void NewtonSolve::choose_preconditioner() {
   if (!c_.factor.analysed()) c_.factor.analyse(c_.A, kMaxFactorBytes);
-  const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;
-  const double factor_cost = c_.factor.factor_cost();
-  if (affordable && (c_.factor.ready() ? account_.factor_work > factor_cost : account_.first)) factorize();
+  ++account_.solves;
+  const double price = c_.factor.factor_cost();
+  if (c_.factor.factor_bytes() <= kMaxFactorBytes) {
+    if (c_.factor.ready()) {
+      if (account_.losing()) c_.factor.invalidate();  // dearer than block Jacobi: rent again
+      else if (factor_pays(account_.renew(price))) factorize();
+    } else if (account_.first && account_.solves == 1) {
+      factorize();
+    } else if (account_.jacobi_work >= price && account_.jacobi_solves > 0) {
+      const double per_solve = account_.jacobi_work / account_.jacobi_solves;
+      if (factor_pays({price, per_solve, per_solve, fresh_solve(), account_.solves - 1.0})) factorize();
+    }
+  }
+  if (!c_.factor.ready()) ++account_.jacobi_solves;
   if (!c_.factor.ready() && !c_.jacobi_ready) {
     invert_diagonal(c_.A);
     c_.jacobi_ready = true;
@@ -364,16 +385,64 @@ CgResult NewtonSolve::solve(const CgSettings& settings) {
     multigrid_.last = cg.iterations;
   }
   if (factored) stats_.factored_cg_iterations += cg.iterations;
-  if (factored) account_.factor_work += cg.iterations * (1.0 + c_.factor.solve_cost());
-  else account_.jacobi_work += cg.iterations;
+  account_.record(cg.iterations, factored, factored ? 1.0 + c_.factor.solve_cost() : 1.0);
   return cg;
 }
 
+// A new factor, its account started; the forecast a block-Jacobi solve's work it was bought
+// against is kept, to judge at the step's end whether it paid.
 bool NewtonSolve::factorize() {
+  if (account_.jacobi_solves > 0) account_.jacobi_forecast = account_.jacobi_work / account_.jacobi_solves;
   account_.built = true;
   account_.factor_work = 0.0;
+  account_.factored_solves = 0;
   ++stats_.factorizations;
   return c_.factor.factorize(c_.A, c_.contacts.filter);
+}
+
+// A solve's work with a fresh factor, forecast: kFreshIterations PCG iterations, each a block
+// mat-vec and a factored solve.
+double NewtonSolve::fresh_solve() const {
+  if (account_.factored_solves > 0) return account_.mean();  // observed this step
+  return kFreshIterations * (1.0 + c_.factor.solve_cost());
+}
+
+bool factor_pays(const FactorForecast& f) {
+  const double saving = (f.now - f.fresh) + f.solves_left * (f.per_solve - f.fresh);
+  return saving > f.price;
+}
+
+void FactorAccount::record(int iterations, bool factored, double unit) {
+  if (!factored) {
+    jacobi_work += iterations;
+    return;
+  }
+  last = iterations * unit;
+  factor_work += last;
+  ++factored_solves;
+}
+
+// CG's residual falls about geometrically: at rate relative^(1 / iterations) per iteration, the
+// target is log(target / relative) / log(rate) iterations away.
+double FactorAccount::remaining(int iterations, double relative, double target, double left) {
+  if (!(relative > target)) return 0.0;
+  if (!(relative < 1.0) || iterations <= 0) return left;
+  return std::min(left, iterations * std::log(target / relative) / std::log(relative));
+}
+
+// The later solves are forecast as many again as this step has had (the step's solve count
+// doubles, as a ski rental's horizon is guessed), each costing block Jacobi's mean so far.
+FactorForecast FactorAccount::buy(double price, double rest, double fresh) const {
+  const double per_solve = jacobi_solves > 0 ? (jacobi_work + rest) / jacobi_solves : rest;
+  return {price, rest, per_solve, fresh, static_cast<double>(solves)};
+}
+
+// Over as many solves as the factor in hand has served, a new one would cost what this one
+// did (its first solve, on its own matrix, and the staler ones after), and this one at least
+// its last solve each (it only grows staler): k solves, k (last - mean) saved.
+FactorForecast FactorAccount::renew(double price) const {
+  const double mean = factored_solves > 0 ? factor_work / factored_solves : last;
+  return {price, last, last, mean, std::max(0.0, factored_solves - 1.0)};
 }
 
 // The largest step along d that keeps every barrier distance positive (1 without the barrier).

@@ -61,12 +61,53 @@ struct MatrixReuse {
   void fail() { judge(false); }
 };
 
-// Block-Jacobi against sparse-factor PCG work this step, in block-Jacobi iterations.
+// Rent against buy, in block-Jacobi PCG iterations (one block mat-vec and one block-diagonal
+// solve each): a new factor pays where the work it saves over the solves left in its life (the
+// rest of the step: a factor serves one step) exceeds its price. The inputs are forecasts
+// from this step's solves (FactorAccount); the rule is the comparison alone.
+struct FactorForecast {
+  double price = 0.0;        // one numeric factorization
+  double now = 0.0;          // the solve in hand's work still to do without the new factor
+  double per_solve = 0.0;    // a later solve's work without it (block Jacobi, or the stale factor)
+  double fresh = 0.0;        // a solve's work with a fresh factor, its applications included
+  double solves_left = 0.0;  // later solves in the factor's life
+};
+bool factor_pays(const FactorForecast& f);
+
+// Block-Jacobi against sparse-factor PCG work this step, in block-Jacobi iterations, and the
+// forecasts built from it.
 struct FactorAccount {
-  bool first = false;         // the last step needed the factor: build it at the first solve
+  bool first = false;         // the last step's factor paid: build one at the first solve
   bool built = false;         // this step built a factor
+  int solves = 0;             // PCG solves this step
+  int jacobi_solves = 0;      // of them with block Jacobi
+  int factored_solves = 0;    // of them with the factor in hand, since it was built
   double jacobi_work = 0.0;   // block-Jacobi PCG iterations this step
   double factor_work = 0.0;   // the same units spent with the factor since it was built
+  double last = 0.0;          // the last factored solve's work
+  double jacobi_forecast = 0.0;  // a block-Jacobi solve's work: when the factor was built, or
+                                 // carried from the step that measured it (State)
+
+  // Records a solve of `iterations`, each costing `unit` (1 + the factor's solve cost, or 1).
+  void record(int iterations, bool factored, double unit);
+  // A block-Jacobi solve of `iterations` stopped above tolerance at `relative` (|r| / |b|) where
+  // it needed `target`: the iterations still to go, from its rate so far (at most `left`).
+  static double remaining(int iterations, double relative, double target, double left);
+  // At a block-Jacobi solve stopped at the rent's cap: whether to buy (`rest`: its remaining
+  // iterations; `fresh`: a fresh factor's solve, forecast). Later solves: as many again as the
+  // step has had, each at block Jacobi's mean (the current one's forecast included).
+  FactorForecast buy(double price, double rest, double fresh) const;
+  // At a solve's start with the factor in hand: whether a new one would pay.
+  FactorForecast renew(double price) const;
+  // Block Jacobi's solves this step on average, else the forecast carried in.
+  double jacobi_mean() const { return jacobi_solves > 0 ? jacobi_work / jacobi_solves : jacobi_forecast; }
+  // The factor's solves so far, on average (0: none yet).
+  double mean() const { return factored_solves > 0 ? factor_work / factored_solves : 0.0; }
+  // Whether the factor in hand has cost more a solve than block Jacobi did (drop it).
+  bool losing() const { return factored_solves >= 2 && jacobi_forecast > 0.0 && mean() > jacobi_forecast; }
+  // Whether the factor this step paid: its solves cheaper than block Jacobi's forecast (or no
+  // block-Jacobi solve to compare with: built at the step's start, as the last one paid).
+  bool paid() const { return built && (jacobi_forecast == 0.0 || mean() < jacobi_forecast); }
 };
 
 // The V-cycle's hierarchy against the matrix in hand: built at the step's first direction and
@@ -139,7 +180,8 @@ class NewtonSolve {
   // or the step's budget is spent; warm: a CG start for the first direction, or null.
   // Returns whether it converged.
   bool iterate(const Eigen::Matrix3Xd* warm);
-  bool factored() const { return account_.built; }
+  bool factored() const { return account_.paid(); }  // the next step starts with a factor
+  double jacobi_solve() const { return account_.jacobi_mean(); }  // State's jacobi_solve
   bool trusted() const { return reuse_.trusted; }
 
  private:
@@ -161,6 +203,7 @@ class NewtonSolve {
   bool near_linearisation() const;
   CgResult solve(const CgSettings& settings);
   bool factorize();
+  double fresh_solve() const;
   bool line_search(double slope);
   double model_curvature();
   void update_trust(double slope, double curvature);

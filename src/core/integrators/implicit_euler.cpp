@@ -193,6 +193,7 @@ StepStats newton_step(const Model& model, State& state, const StepContext& ctx, 
   stats.converged = solve_step(newton, state, h, mode, warm, c, trace);
   stats.contact_constraints = static_cast<int>(c.contacts.size());
   state.implicit.factored = newton.factored();
+  state.implicit.jacobi_solve = newton.jacobi_solve();
   if (mode == NewtonMode::Converged) state.implicit.lin_trusted = newton.trusted();
   finish_step(model, past, mode, h, c, state);
   return stats;

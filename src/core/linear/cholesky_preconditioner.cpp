@@ -13,6 +13,11 @@ namespace clothsim {
 
 namespace {
 
+// A factor whose solve streams more than this from L is costed by its bytes (estimate_costs):
+// between the refined drape's 32 x 32 (5 MB, the multiply-adds' count within 1.4x of the
+// clock) and 64 x 64 (31 MB, 2.2x), on this machine's 32 MiB L3 shared by both cores.
+constexpr double kCachedFactorBytes = 16.0 * (1 << 20);
+
 // AMD on the bodies' graph (one vertex per body, an edge per spring): the fill of a block
 // factor is the fill of this graph's, so ordering bodies rather than coordinates costs a ninth
 // and keeps each body's three coordinates together. Returns order[new] = old.
@@ -144,7 +149,10 @@ std::vector<int> CholeskyPreconditioner::count_columns(int B) {
 // Costs in block-Jacobi iterations, counted in multiply-adds (how well the counts match the
 // clock: BENCHMARKS.md). Factor: row k updates, for every block L(k, j), the blocks above it
 // in column j, and forms L(k, j) and its share of D_k: sum_j c_j (c_j + 3) / 2 products of 27.
-// Solve: two 3x3 mat-vecs per block of L and one per body (D^-1), 9 each.
+// Solve: two 3x3 mat-vecs per block of L and one per body (D^-1), 9 each. A solve whose L does
+// not fit the cache streams it from memory twice (76 bytes a block), where the iteration
+// streams about 48 bytes a spring and 150 a body: there the bytes set the cost (measured on
+// the refined drape at 64-256, 1.4-3.5 times the multiply-adds' count; BENCHMARKS.md, CHOLMOD).
 void CholeskyPreconditioner::estimate_costs(const std::vector<int>& count, std::size_t S) {
   const int B = static_cast<int>(count.size());
   const double iteration = 9.0 * (2.0 * B + 2.0 * static_cast<double>(S));
@@ -152,6 +160,9 @@ void CholeskyPreconditioner::estimate_costs(const std::vector<int>& count, std::
   for (int j = 0; j < B; ++j) factor += 27.0 * count[j] * (count[j] + 3.0) / 2.0 + 27.0;
   factor_cost_ = factor / iteration;
   solve_cost_ = 9.0 * (2.0 * column_start_[B] + B) / iteration;
+  const double streamed = 2.0 * 76.0 * column_start_[B];
+  if (streamed > kCachedFactorBytes)
+    solve_cost_ = std::max(solve_cost_, streamed / (48.0 * static_cast<double>(S) + 150.0 * B));
 }
 
 bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const VelocityFilter& filter) {

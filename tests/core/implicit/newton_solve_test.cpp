@@ -1,5 +1,6 @@
 // The Newton solve's records (newton_solve.h): the matrix-reuse phases and their transitions,
-// and the trace, which goes only where the tool sends it and changes no number.
+// the rent-against-buy of the sparse factor, and the trace, which goes only where the tool
+// sends it and changes no number.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -182,6 +183,65 @@ TEST(MultigridAccount, RebuildsAtANewHeldSetOrWhenTheStaleHierarchyDoublesTheIte
   EXPECT_TRUE(account.rebuild(0));
   account.outdated = false;
   EXPECT_TRUE(account.rebuild(1));   // another held set: the smoother would move held normals
+}
+
+// Rent against buy (factor_pays), in block-Jacobi iterations. Prices and unit costs below are
+// the refined drape's at 32 x 32 and 256 x 256 (BENCHMARKS.md, CHOLMOD section): a factor of
+// 182 and 2617 iterations, a factored iteration of 6 and 29.
+TEST(FactorPays, BuysWhereTheSavingOverTheSolvesLeftExceedsThePrice) {
+  // 150 Jacobi iterations left in this solve and 10 more solves of 100, against 4 factored
+  // iterations of 6: saves 126 + 10 x 76 = 886 > 182.
+  EXPECT_TRUE(factor_pays({182.0, 150.0, 100.0, 24.0, 10.0}));
+  // The same at 256 x 256, where a fresh factor's solve costs 4 x 29 = 116 Jacobi iterations:
+  // nothing to save however many solves are left.
+  EXPECT_FALSE(factor_pays({2617.0, 150.0, 100.0, 116.0, 1000.0}));
+  // A cheap solve with a dear factor: 2 solves left save 3 x 76 = 228 < 2617.
+  EXPECT_FALSE(factor_pays({2617.0, 100.0, 100.0, 24.0, 2.0}));
+  // Exactly the price is not enough: the factor must save more than it costs.
+  EXPECT_FALSE(factor_pays({100.0, 60.0, 60.0, 10.0, 1.0}));
+  EXPECT_TRUE(factor_pays({100.0, 60.1, 60.0, 10.0, 1.0}));
+}
+
+TEST(FactorAccount, ForecastsABlockJacobiSolvesRestFromItsRate) {
+  // 10 iterations took the residual to 1e-2: 10 more reach 1e-4.
+  EXPECT_NEAR(FactorAccount::remaining(10, 1e-2, 1e-4, 190.0), 10.0, 1e-9);
+  EXPECT_EQ(FactorAccount::remaining(10, 1e-2, 1e-2, 190.0), 0.0);   // already there
+  EXPECT_EQ(FactorAccount::remaining(10, 1.5, 1e-4, 190.0), 190.0);  // no progress: all it has
+  EXPECT_EQ(FactorAccount::remaining(10, 0.9, 1e-8, 50.0), 50.0);    // at most its budget
+}
+
+TEST(FactorAccount, RenewsAFactorThatKeepsGrowingStaleButNotOneThatLevelledOff) {
+  // stiff.yaml's pattern: a factored iteration costs 3.9, a factor 52; the solves after the
+  // build took 1, 3, 7 and 12 iterations: 4 x (12 - 5.75) x 3.9 = 97 saved > 52.
+  FactorAccount stiff;
+  for (const int iterations : {1, 3, 7, 12}) stiff.record(iterations, true, 3.9);
+  EXPECT_TRUE(factor_pays(stiff.renew(52.0)));
+  // The refined drape at 256 x 256: 1, 30, 32 iterations of 29 against a factor of 2617.
+  FactorAccount drape;
+  for (const int iterations : {1, 30, 32}) drape.record(iterations, true, 29.0);
+  EXPECT_FALSE(factor_pays(drape.renew(2617.0)));
+  // Block-Jacobi solves count in their own account, not the factor's.
+  drape.record(200, false, 1.0);
+  EXPECT_EQ(drape.factored_solves, 3);
+  EXPECT_EQ(drape.jacobi_work, 200.0);
+}
+
+TEST(FactorAccount, DropsAFactorDearerThanBlockJacobiAndCarriesOnlyOneThatPaid) {
+  FactorAccount account;
+  account.built = true;
+  account.jacobi_forecast = 150.0;  // block Jacobi's mean solve when the factor was bought
+  account.record(1, true, 29.0);
+  EXPECT_FALSE(account.losing());   // one solve, on the factor's own matrix: too early to judge
+  account.record(30, true, 29.0);   // 870 > 150
+  EXPECT_TRUE(account.losing());
+  EXPECT_FALSE(account.paid());     // mean 450 > 150: the next step rents first
+  FactorAccount cheap;
+  cheap.built = true;
+  cheap.jacobi_forecast = 150.0;
+  for (const int iterations : {1, 4, 6}) cheap.record(iterations, true, 6.0);
+  EXPECT_FALSE(cheap.losing());
+  EXPECT_TRUE(cheap.paid());        // mean 22 < 150: the next step starts with a factor
+  EXPECT_FALSE(FactorAccount{}.paid());  // none built
 }
 
 TEST(NewtonSolve, AStepPreconditionedByTheVCycleIsTheBlockJacobiStepToTolerance) {

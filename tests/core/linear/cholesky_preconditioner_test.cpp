@@ -14,6 +14,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "test_support.h"
 #include "core/implicit/sparse_system.h"
@@ -21,6 +22,7 @@
 #include "core/kernel_test_support.h"
 #include "core/linear/conjugate_gradient.h"
 #include "core/state.h"
+#include "scene/build_model.h"
 
 namespace clothsim::testing {
 namespace {
@@ -192,6 +194,33 @@ TEST(CholeskyPreconditioner, CostsMoreToBuildThanToApplyAndApplyingCostsMoreThan
   factor.analyse(s.A);
   EXPECT_GT(factor.solve_cost(), 1.0);  // in block-Jacobi iterations
   EXPECT_GT(factor.factor_cost(), factor.solve_cost());
+}
+
+// A factor too large for the cache is costed by the bytes its solve streams (two passes over
+// L, 76 bytes a block) against an iteration's (about 48 a spring and 150 a body): on the
+// drape's 64 x 64 sheet (L about 31 MB) that is 2.3 times the multiply-adds' count, as the
+// clock had it (BENCHMARKS.md); a 24 x 24 sheet's L fits, and its solve keeps the count.
+TEST(CholeskyPreconditioner, CostsASolveOutOfCacheByTheBytesItStreams) {
+  const auto analysed = [](int n) {
+    const Model model = build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml",
+                                               {"cloth.particles=[" + std::to_string(n) + "," + std::to_string(n) + "]"}));
+    SpringBlockMatrix A;
+    build_pattern(model, A);
+    const State st = initial_state(model);
+    std::vector<double> length;
+    step_lengths(model, st.x, length);
+    assemble_step_hessian(model, st.inv_mass, 1.0 / 60.0, length, st.x, HessianBlocks::Projected, A);
+    CholeskyPreconditioner factor;
+    factor.analyse(A);
+    const double bytes = 152.0 * static_cast<double>(factor.factor_blocks()) /
+                         (48.0 * static_cast<double>(A.num_springs()) + 150.0 * A.num_bodies());
+    return std::pair{factor.solve_cost(), bytes};
+  };
+  const auto [large, large_bytes] = analysed(64);
+  EXPECT_DOUBLE_EQ(large, large_bytes);
+  const auto [small, small_bytes] = analysed(24);
+  EXPECT_LT(small, small_bytes);  // in cache: the count, below what the bytes would say
+  EXPECT_GT(small, 1.0);
 }
 
 // The bodies are ordered to reduce fill: on a 25 x 25 sheet with bending springs (reaching two
