@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "bench_models.h"
+#include "cholmod_support.h"
 #include "core/implicit/sparse_system.h"
 #include "core/implicit/step_potential.h"
 #include "core/linear/cholesky_preconditioner.h"
@@ -70,32 +71,13 @@ std::unique_ptr<Sheet> sheet(int n) {
   return s;
 }
 
-cholmod_sparse view(Eigen::SparseMatrix<double>& lower) {
-  cholmod_sparse a{};
-  a.nrow = a.ncol = static_cast<std::size_t>(lower.rows());
-  a.nzmax = static_cast<std::size_t>(lower.nonZeros());
-  a.p = lower.outerIndexPtr();
-  a.i = lower.innerIndexPtr();
-  a.x = lower.valuePtr();
-  a.stype = -1;  // symmetric, lower triangle stored
-  a.itype = CHOLMOD_INT;
-  a.xtype = CHOLMOD_REAL;
-  a.dtype = CHOLMOD_DOUBLE;
-  a.sorted = 1;
-  a.packed = 1;
-  return a;
-}
-
-struct Cholmod {
-  cholmod_common c{};
+struct Cholmod : bench::CholmodCommon {
   explicit Cholmod(int variant) {
-    cholmod_start(&c);
     c.supernodal = variant < 2 ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     c.nmethods = 1;  // the one ordering asked for, not CHOLMOD's default trial of several
     c.method[0].ordering = variant % 2 == 0 ? CHOLMOD_AMD : CHOLMOD_METIS;
     c.postorder = 1;
   }
-  ~Cholmod() { cholmod_finish(&c); }
 };
 
 const char* label(int variant) {
@@ -152,7 +134,7 @@ void BM_IeAnalyse_Cholmod(benchmark::State& st) {
   auto s = sheet(static_cast<int>(st.range(0)));
   const int variant = static_cast<int>(st.range(1));
   Cholmod cm(variant);
-  cholmod_sparse a = view(s->lower);
+  cholmod_sparse a = bench::cholmod_view(s->lower);
   for (auto _ : st) {
     cholmod_factor* L = cholmod_analyze(&a, &cm.c);
     benchmark::DoNotOptimize(L);
@@ -166,7 +148,7 @@ void BM_IeFactorize_Cholmod(benchmark::State& st) {
   auto s = sheet(static_cast<int>(st.range(0)));
   const int variant = static_cast<int>(st.range(1));
   Cholmod cm(variant);
-  cholmod_sparse a = view(s->lower);
+  cholmod_sparse a = bench::cholmod_view(s->lower);
   cholmod_factor* L = cholmod_analyze(&a, &cm.c);  // once per pattern, kept
   for (auto _ : st) cholmod_factorize(&a, L, &cm.c);
   if (cm.c.status != CHOLMOD_OK) st.SkipWithError("CHOLMOD's factorization failed");
@@ -180,7 +162,7 @@ void BM_IeSolve_Cholmod(benchmark::State& st) {
   auto s = sheet(static_cast<int>(st.range(0)));
   const int variant = static_cast<int>(st.range(1));
   Cholmod cm(variant);
-  cholmod_sparse a = view(s->lower);
+  cholmod_sparse a = bench::cholmod_view(s->lower);
   cholmod_factor* L = cholmod_analyze(&a, &cm.c);
   cholmod_factorize(&a, L, &cm.c);
   const std::size_t n = static_cast<std::size_t>(s->lower.rows());

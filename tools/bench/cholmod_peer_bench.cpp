@@ -19,6 +19,7 @@
 #include <memory>
 #include <string>
 
+#include "cholmod_support.h"
 #include "core/solvers/pd_kernels.h"
 #include "core/solvers/pd_solve_kernels.h"
 #include "core/solvers/step_problem.h"
@@ -59,30 +60,8 @@ std::unique_ptr<Sheet> sheet(int n) {
   return s;
 }
 
-// CHOLMOD's view of `lower` (no copy).
-cholmod_sparse view(Eigen::SparseMatrix<double>& lower) {
-  cholmod_sparse a{};
-  a.nrow = a.ncol = static_cast<std::size_t>(lower.rows());
-  a.nzmax = static_cast<std::size_t>(lower.nonZeros());
-  a.p = lower.outerIndexPtr();
-  a.i = lower.innerIndexPtr();
-  a.x = lower.valuePtr();
-  a.stype = -1;  // symmetric, lower triangle stored
-  a.itype = CHOLMOD_INT;
-  a.xtype = CHOLMOD_REAL;
-  a.dtype = CHOLMOD_DOUBLE;
-  a.sorted = 1;
-  a.packed = 1;
-  return a;
-}
-
-struct Cholmod {
-  cholmod_common c{};
-  Cholmod() {
-    cholmod_start(&c);
-    c.supernodal = CHOLMOD_SUPERNODAL;
-  }
-  ~Cholmod() { cholmod_finish(&c); }
+struct Cholmod : bench::CholmodCommon {
+  Cholmod() { c.supernodal = CHOLMOD_SUPERNODAL; }
 };
 
 void BM_PdFactor_Clothsim(benchmark::State& st) {
@@ -98,7 +77,7 @@ void BM_PdFactor_Clothsim(benchmark::State& st) {
 void BM_PdFactor_Cholmod(benchmark::State& st) {
   auto s = sheet(static_cast<int>(st.range(0)));
   Cholmod cm;
-  cholmod_sparse a = view(s->lower);
+  cholmod_sparse a = bench::cholmod_view(s->lower);
   double entries = 0.0;
   for (auto _ : st) {
     cholmod_factor* L = cholmod_analyze(&a, &cm.c);
@@ -123,7 +102,7 @@ void BM_PdSolve_Clothsim(benchmark::State& st) {
 void BM_PdSolve_Cholmod(benchmark::State& st) {
   auto s = sheet(static_cast<int>(st.range(0)));
   Cholmod cm;
-  cholmod_sparse a = view(s->lower);
+  cholmod_sparse a = bench::cholmod_view(s->lower);
   cholmod_factor* L = cholmod_analyze(&a, &cm.c);
   cholmod_factorize(&a, L, &cm.c);
   const Eigen::Index n = s->lower.rows();

@@ -343,7 +343,7 @@ void NewtonSolve::choose_preconditioner() {
     } else if (account_.first && account_.solves == 1) {
       factorize();
     } else if (account_.jacobi_work >= price && account_.jacobi_solves > 0) {
-      const double per_solve = account_.jacobi_work / account_.jacobi_solves;
+      const double per_solve = account_.jacobi_mean();
       if (factor_pays({price, per_solve, per_solve, fresh_solve(), account_.solves - 1.0})) factorize();
     }
   }
@@ -392,7 +392,7 @@ CgResult NewtonSolve::solve(const CgSettings& settings) {
 // A new factor, its account started; the forecast a block-Jacobi solve's work it was bought
 // against is kept, to judge at the step's end whether it paid.
 bool NewtonSolve::factorize() {
-  if (account_.jacobi_solves > 0) account_.jacobi_forecast = account_.jacobi_work / account_.jacobi_solves;
+  account_.jacobi_forecast = account_.jacobi_mean();  // this step's, else the one carried in
   account_.built = true;
   account_.factor_work = 0.0;
   account_.factored_solves = 0;
@@ -441,8 +441,7 @@ FactorForecast FactorAccount::buy(double price, double rest, double fresh) const
 // did (its first solve, on its own matrix, and the staler ones after), and this one at least
 // its last solve each (it only grows staler): k solves, k (last - mean) saved.
 FactorForecast FactorAccount::renew(double price) const {
-  const double mean = factored_solves > 0 ? factor_work / factored_solves : last;
-  return {price, last, last, mean, std::max(0.0, factored_solves - 1.0)};
+  return {price, last, last, factored_solves > 0 ? mean() : last, std::max(0.0, factored_solves - 1.0)};
 }
 
 // The largest step along d that keeps every barrier distance positive (1 without the barrier).
