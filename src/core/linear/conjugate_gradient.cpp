@@ -32,19 +32,15 @@ double precondition(const SpringBlockMatrix& A, const Preconditioner* pre,
   return rz;
 }
 
-// The trust region of Steihaug-Toint CG: x.N.x, x.N.p and p.N.p of the current iterate and
-// direction in the region's norm N. The preconditioner's norm (N = M, z = M^-1 r) by the
-// recurrences of Conn, Gould & Toint (2000, 7.5.1), from x = 0: no pass over the vectors; a
-// weighted norm (N = diag(w)) by one pass over x and p at each new p.
+// The trust region of Steihaug-Toint CG: x.M.x, x.M.p and p.M.p of the current iterate and
+// direction in the preconditioner's norm (z = M^-1 r), by the recurrences of Conn, Gould &
+// Toint (2000, 7.5.1) from x = 0: no pass over the vectors.
 class TrustRegion {
  public:
-  TrustRegion(const CgSettings& settings, const Eigen::Matrix3Xd& x, bool from_guess, double rz)
-      : on_(settings.trust_region && (settings.trust_weight || !from_guess)),
-        bounded_(on_ && std::isfinite(settings.trust_radius)), w_(settings.trust_weight),
+  TrustRegion(const CgSettings& settings, bool from_guess, double rz)
+      : on_(settings.trust_region && !from_guess), bounded_(on_ && std::isfinite(settings.trust_radius)),
         radius2_(settings.trust_radius * settings.trust_radius) {
-    if (!on_) return;
-    if (w_) xx_ = weighted(x, x);
-    else pp_ = rz;  // p = z: z.M.z = r.z
+    if (on_) pp_ = rz;  // p = z: z.M.z = r.z
   }
   bool on() const { return on_; }
   bool bounded() const { return bounded_; }
@@ -53,36 +49,21 @@ class TrustRegion {
   bool leaves(double alpha) const { return bounded_ && xx_ + alpha * (2.0 * xp_ + alpha * pp_) > radius2_; }
   void moved(double alpha) { xx_ += alpha * (2.0 * xp_ + alpha * pp_); }
   // After p = z + beta p (the step before it alpha, r.z now rz).
-  void new_direction(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& p, double alpha, double beta, double rz) {
+  void new_direction(double alpha, double beta, double rz) {
     if (!on_) return;
-    if (w_) {
-      xp_ = weighted(x, p);
-      pp_ = weighted(p, p);
-    } else {
-      xp_ = beta * (xp_ + alpha * pp_);
-      pp_ = rz + beta * beta * pp_;
-    }
+    xp_ = beta * (xp_ + alpha * pp_);
+    pp_ = rz + beta * beta * pp_;
   }
-  // x + tau p on the boundary, tau >= 0 (x inside: the positive root; outside, as a warm
-  // start may be: x scaled back onto it).
+  // x + tau p on the boundary, tau >= 0 the positive root (x is inside: CG starts at 0 and
+  // `leaves` stops it before it crosses).
   void to_boundary(Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& p) {
-    if (xx_ >= radius2_) {
-      x *= std::sqrt(radius2_ / xx_);
-    } else if (pp_ > 0.0) {
-      x += ((-xp_ + std::sqrt(xp_ * xp_ + pp_ * (radius2_ - xx_))) / pp_) * p;
-    }
+    if (pp_ > 0.0 && xx_ < radius2_) x += ((-xp_ + std::sqrt(xp_ * xp_ + pp_ * (radius2_ - xx_))) / pp_) * p;
     xx_ = radius2_;
   }
 
  private:
-  double weighted(const Eigen::Matrix3Xd& u, const Eigen::Matrix3Xd& v) const {
-    double sum = 0.0;
-    for (Eigen::Index i = 0; i < u.cols(); ++i) sum += (*w_)[i] * u.col(i).dot(v.col(i));
-    return sum;
-  }
   const bool on_;       // measuring |x|
   const bool bounded_;  // and holding it within the radius
-  const Eigen::VectorXd* w_;
   double radius2_, xx_ = 0.0, xp_ = 0.0, pp_ = 0.0;
 };
 
@@ -119,8 +100,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   if (r_norm <= stop) return result;  // the guess is already good enough
   double rz = precondition(A, pre, filter, buf.r, buf.z);
   buf.p = buf.z;
-  TrustRegion region(settings, x, from_guess, rz);
-  if (settings.trust_weight) region.new_direction(x, buf.p, 0.0, 0.0, rz);
+  TrustRegion region(settings, from_guess, rz);
   const std::size_t n = static_cast<std::size_t>(b.size());
   while (result.iterations < settings.max_iterations) {
     A.multiply(A, buf.p, buf.q);
@@ -160,7 +140,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
     }
     const double rz_next = precondition(A, pre, filter, buf.r, buf.z);
     simd_xpby(buf.p.data(), buf.z.data(), rz_next / rz, n);  // p = z + beta p
-    region.new_direction(x, buf.p, alpha, rz_next / rz, rz_next);
+    region.new_direction(alpha, rz_next / rz, rz_next);
     rz = rz_next;
   }
   result.converged = false;

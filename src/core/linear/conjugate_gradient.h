@@ -39,11 +39,10 @@ struct CgSettings {
   // Steihaug-Toint: |x| stays within trust_radius; at negative curvature or where the next
   // iterate would leave, x goes to the boundary along p (Nocedal & Wright, Algorithm 7.2).
   // The norm is the preconditioner's, |x|_M = sqrt(x^T M x) (M^-1 the preconditioner; needs
-  // a start from zero: from a guess the radius is not applied), or with trust_weight
-  // sqrt(sum_i weight_i |x_i|^2). Infinite: truncated CG as above.
+  // a start from zero: from a guess the radius is not applied; the mass norm was measured and
+  // lost, BENCHMARKS.md #37, round s34). Infinite: truncated CG as above.
   bool trust_region = false;        // measure |x| (CgResult::step_norm), and bound it by:
   double trust_radius = std::numeric_limits<double>::infinity();
-  const Eigen::VectorXd* trust_weight = nullptr;  // (B) per body, e.g. its mass; null: M's norm
 };
 
 // Solves A x = b, stopping at either tolerance, after max_iterations, or at the first

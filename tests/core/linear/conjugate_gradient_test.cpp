@@ -207,24 +207,23 @@ TEST(ConjugateGradient, SteihaugStopsOnTheRadiusInThePreconditionersNormAndLower
 TEST(ConjugateGradient, SteihaugGoesToTheRadiusAlongNegativeCurvature) {
   System s = system(kAllSprings, 0.02);
   for (auto& block : s.A.diag) block = -block;  // the first p has p.Ap < 0
+  const std::vector<Mat3>& preconditioned = s.A.diag_projected;  // block Jacobi's M, still SPD
   s.A.refresh_diagonal_soa();
-  const Eigen::VectorXd weight = Eigen::VectorXd::Constant(s.A.num_bodies(), 0.1);  // kg: the mass norm
-  CgSettings settings{50, 1e-10};
-  settings.trust_region = true;
-  settings.trust_weight = &weight;
-  const auto norm = [&weight](const Eigen::Matrix3Xd& v) {
+  const auto norm = [&preconditioned](const Eigen::Matrix3Xd& v) {  // |v|_M
     double sum = 0.0;
-    for (Eigen::Index i = 0; i < v.cols(); ++i) sum += weight[i] * v.col(i).squaredNorm();
+    for (Eigen::Index i = 0; i < v.cols(); ++i) sum += v.col(i).dot(preconditioned[i] * v.col(i));
     return std::sqrt(sum);
   };
   Eigen::Matrix3Xd first, x;  // truncated CG's answer: the first direction, unscaled
   CgBuffers buffers;
   solve_pcg(s.A, s.b, first, CgSettings{50, 1e-10}, buffers);
+  CgSettings settings{50, 1e-10};
+  settings.trust_region = true;
   settings.trust_radius = 3.0 * norm(first);
   const CgResult r = solve_pcg(s.A, s.b, x, settings, buffers);
   EXPECT_TRUE(r.negative_curvature);
   EXPECT_TRUE(r.boundary);
-  // On the boundary, not the truncated iterate: |x|_W = radius, and the model lower than the
+  // On the boundary, not the truncated iterate: |x|_M = radius, and the model lower than the
   // unscaled first direction's (where truncated CG stopped before).
   EXPECT_NEAR(norm(x), settings.trust_radius, 1e-12 * settings.trust_radius);
   EXPECT_NEAR(r.step_norm, settings.trust_radius, 1e-12 * settings.trust_radius);
