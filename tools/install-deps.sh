@@ -16,6 +16,7 @@ packages=(
   libgtest-dev libbenchmark-dev   # tests and benchmarks
   libbullet-dev            # a peer in benchmarks only (tools/bench/bullet_peer_bench.cpp)
   libsuitesparse-dev libopenblas0-pthread  # CHOLMOD on OpenBLAS, a peer in benchmarks only (cholmod_peer_bench.cpp)
+  libhypre-dev             # hypre's BoomerAMG (pulls in OpenMPI), a peer in benchmarks only (hypre_implicit_bench.cpp)
   python3-matplotlib       # tools/plot_*.py figures (run with /usr/bin/python3)
   pybind11-dev python3-dev python3-numpy   # the clothsim Python module (tools/python), for /usr/bin/python3
   python3-pytest python3-pandas python3-pil  # its tests (tests/python), run by tools/test.sh

@@ -18,58 +18,28 @@
 
 #include <Eigen/SparseCore>
 #include <memory>
-#include <string>
-#include <vector>
+#include <utility>
 
-#include "bench_models.h"
 #include "cholmod_support.h"
-#include "core/implicit/sparse_system.h"
-#include "core/implicit/step_potential.h"
 #include "core/linear/cholesky_preconditioner.h"
-#include "core/state.h"
+#include "implicit_sheet.h"
 
 using namespace clothsim;
 
 namespace {
 
+// The refined drape's projected step Hessian (implicit_sheet.h) and its lower triangle, scalar.
 struct Sheet {
-  Model model;
-  SpringBlockMatrix A;
-  Eigen::SparseMatrix<double> lower;  // (3B x 3B) A's lower triangle, scalar, for CHOLMOD
-  Eigen::Matrix3Xd r;                 // (3 x B) a right-hand side
+  std::unique_ptr<bench::ImplicitSheet> sheet;
+  SpringBlockMatrix& A;
+  Eigen::Matrix3Xd& r;                // (3 x B) a right-hand side
+  Eigen::SparseMatrix<double> lower;  // (3B x 3B) A's lower triangle, for CHOLMOD
+  explicit Sheet(std::unique_ptr<bench::ImplicitSheet> s)
+      : sheet(std::move(s)), A(sheet->A), r(sheet->r),
+        lower(bench::scalar_matrix<Eigen::ColMajor>(A, bench::Triangle::Lower, true)) {}
 };
 
-std::unique_ptr<Sheet> sheet(int n) {
-  auto s = std::make_unique<Sheet>();
-  const double mass = (32.0 / n) * (32.0 / n);
-  s->model = build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml",
-                                    {"cloth.particles=[" + std::to_string(n) + "," + std::to_string(n) + "]",
-                                     "cloth.particle_mass=" + std::to_string(mass)}));
-  const State st = initial_state(s->model);
-  std::vector<double> length;
-  step_lengths(s->model, st.x, length);
-  build_pattern(s->model, s->A);
-  assemble_step_hessian(s->model, st.inv_mass, 1.0 / 60.0, length, st.x, HessianBlocks::Projected, s->A);
-  const int B = s->A.num_bodies();
-  std::vector<Eigen::Triplet<double, int>> t;
-  t.reserve(9 * (B + 2 * s->A.num_springs()));
-  auto add = [&t](int i, int k, const Mat3& m) {
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r)
-        if (3 * i + r >= 3 * k + c) t.emplace_back(3 * i + r, 3 * k + c, m(r, c));
-  };
-  for (int i = 0; i < B; ++i) add(i, i, s->A.diag_projected[i]);
-  for (std::size_t k = 0; k < s->A.num_springs(); ++k) {
-    const Mat3 g = s->A.off_projected(k);  // symmetric: the same block at (a, b) and (b, a)
-    add(s->A.a[k], s->A.b[k], g);
-    add(s->A.b[k], s->A.a[k], g);
-  }
-  s->lower.resize(3 * B, 3 * B);
-  s->lower.setFromTriplets(t.begin(), t.end());
-  s->lower.makeCompressed();
-  s->r = Eigen::Matrix3Xd::Random(3, B);
-  return s;
-}
+std::unique_ptr<Sheet> sheet(int n) { return std::make_unique<Sheet>(bench::implicit_sheet(n)); }
 
 struct Cholmod : bench::CholmodCommon {
   explicit Cholmod(int variant) {
