@@ -1,6 +1,7 @@
 // hypre's BoomerAMG beside clothsim's preconditioners on implicit Euler's step Hessian
 // (BENCHMARKS.md, #37 "Round s35: hypre's BoomerAMG"):
 //   build/tools/bench/hypre_implicit_benchmarks [--sides 32,64,128,256] [--repeats 3] [--steps K] [--exact]
+//                                               [--only TEXT: the BoomerAMG configurations so named]
 // Built only where CMake finds hypre and MPI (libhypre-dev); a plain executable, no mpirun:
 // MPI starts as a singleton and every hypre object lives on MPI_COMM_SELF.
 //
@@ -18,16 +19,20 @@
 // operators, the analysis once per model apart; BoomerAMG: its whole setup), iterations and
 // solve time per tolerance; times are this thread's CPU, the least of --repeats runs. Every
 // answer's true residual |b - A x| / |b| is recomputed with clothsim's mat-vec and printed.
+// What it measured kept BoomerAMG out of the core: a setup that a Newton step's few solves per
+// held set cannot amortise, and iterations that grow on the buckled sheet (BENCHMARKS.md).
 #include <HYPRE.h>
 #include <HYPRE_parcsr_ls.h>
 #include <mpi.h>
 #include <time.h>
 
+#include <Eigen/Geometry>  // cross, for the rotations
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -67,6 +72,8 @@ struct AmgConfig {
   int agg_levels;      // levels of aggressive coarsening (multipass interpolation there)
   int relax;           // 13/14 l1-Gauss-Seidel forward down, backward up (symmetric); 8 l1 symmetric GS; 16 Chebyshev
   int sweeps;
+  bool rotations = false;  // the sheet's three rotations as interpolation vectors (GM approach 2),
+                           // the elasticity setup (Baker, Kolev & Yang 2010), so P keeps rigid modes
 };
 
 const AmgConfig kConfigs[] = {
@@ -80,6 +87,7 @@ const AmgConfig kConfigs[] = {
     {"sys3 nodal HMIS ext+i l1GS x2 th0.5", 3, 4, 10, 0.5, 0, 13, 2},
     {"sys3 nodal HMIS ext+i Cheb th0.5", 3, 4, 10, 0.5, 0, 16, 1},
     {"sys3 HMIS ext+i l1GS x2 th0.5", 3, 0, 10, 0.5, 0, 13, 2},
+    {"sys3 nodal HMIS ext+i l1GS th0.5 + rotations", 3, 4, 10, 0.5, 0, 13, 1, true},
 };
 
 // A as hypre's IJ/ParCSR matrix and two vectors on one rank.
@@ -129,8 +137,35 @@ struct HypreSystem {
   }
 };
 
+// The rotations about the sheet's centre, e_k x (x_i - c) at each body i: with the nodal
+// coarsening's translations, the rigid modes a coarse space for a sheet should reproduce.
+struct Rotations {
+  HYPRE_IJVector ij[3] = {nullptr, nullptr, nullptr};
+  HYPRE_ParVector v[3] = {nullptr, nullptr, nullptr};
+  Rotations(const HypreSystem& h, const Eigen::Matrix3Xd& x) {
+    const Vec3 c = x.rowwise().mean();
+    const int n = h.size();
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Matrix3Xd mode = Eigen::Matrix3Xd::Zero(3, n / 3);  // bodies past the particles: 0
+      for (Eigen::Index i = 0; i < std::min<Eigen::Index>(x.cols(), n / 3); ++i)
+        mode.col(i) = Vec3::Unit(k).cross(Vec3(x.col(i) - c));
+      HYPRE_IJVectorCreate(MPI_COMM_SELF, 0, n - 1, &ij[k]);
+      HYPRE_IJVectorSetObjectType(ij[k], HYPRE_PARCSR);
+      HYPRE_IJVectorInitialize(ij[k]);
+      HYPRE_IJVectorSetValues(ij[k], n, h.rows.data(), mode.data());
+      HYPRE_IJVectorAssemble(ij[k]);
+      HYPRE_IJVectorGetObject(ij[k], reinterpret_cast<void**>(&v[k]));
+    }
+  }
+  ~Rotations() {
+    for (HYPRE_IJVector& w : ij) HYPRE_IJVectorDestroy(w);
+  }
+  Rotations(const Rotations&) = delete;
+  Rotations& operator=(const Rotations&) = delete;
+};
+
 // BoomerAMG as a preconditioner: one V-cycle from zero (MaxIter 1, Tol 0).
-HYPRE_Solver make_amg(const AmgConfig& c) {
+HYPRE_Solver make_amg(const AmgConfig& c, Rotations* rotations) {
   HYPRE_Solver amg;
   HYPRE_BoomerAMGCreate(&amg);
   HYPRE_BoomerAMGSetPrintLevel(amg, 0);
@@ -154,6 +189,11 @@ HYPRE_Solver make_amg(const AmgConfig& c) {
   } else {
     HYPRE_BoomerAMGSetRelaxType(amg, c.relax);  // the coarsest level: Gaussian elimination
     if (c.relax == 16) HYPRE_BoomerAMGSetChebyOrder(amg, 2);
+  }
+  if (rotations) {
+    HYPRE_BoomerAMGSetInterpVecVariant(amg, 2);
+    HYPRE_BoomerAMGSetInterpVecQMax(amg, 4);
+    HYPRE_BoomerAMGSetInterpVectors(amg, 3, rotations->v);
   }
   return amg;
 }
@@ -239,7 +279,9 @@ void clothsim_rows(int n, const bench::ImplicitSheet& s, SpringBlockMatrix& proj
 // hypre's PCG (2-norm of the residual against |b|) with BoomerAMG set up apart.
 void hypre_rows(int n, const bench::ImplicitSheet& s, HypreSystem& h, const AmgConfig& c, int repeats,
                 bool own_pcg) {
-  HYPRE_Solver amg = make_amg(c);
+  std::unique_ptr<Rotations> rotations;
+  if (c.rotations) rotations = std::make_unique<Rotations>(h, s.state.x);
+  HYPRE_Solver amg = make_amg(c, rotations.get());
   h.set(h.ib, s.r);
   Row own{std::string("hypre PCG + ") + c.name};
   own.setup_ms = least_ms(repeats, [&] { HYPRE_BoomerAMGSetup(amg, h.A, h.b, h.x); });
@@ -296,6 +338,7 @@ int main(int argc, char** argv) {
   int repeats = 3;
   bool exact = false;
   int steps = 0;
+  const char* only = "";  // hypre's configurations whose name contains this
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--sides") && i + 1 < argc) {
       sides = parse_sides(argv[++i]);
@@ -303,10 +346,12 @@ int main(int argc, char** argv) {
       repeats = std::max(1, std::atoi(argv[++i]));
     } else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
       steps = std::max(0, std::atoi(argv[++i]));
+    } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
+      only = argv[++i];
     } else if (!std::strcmp(argv[i], "--exact")) {
       exact = true;
     } else {
-      std::fprintf(stderr, "hypre_implicit_benchmarks: unknown argument %s (--sides LIST, --repeats N, --steps K, --exact)\n",
+      std::fprintf(stderr, "hypre_implicit_benchmarks: unknown argument %s (--sides LIST, --repeats N, --steps K, --exact, --only TEXT)\n",
                    argv[i]);
       return 2;
     }
@@ -322,7 +367,8 @@ int main(int argc, char** argv) {
     // hypre and the preconditioners see the projected matrix; CG's matrix is s->A.
     HypreSystem h(bench::scalar_matrix<Eigen::RowMajor>(s->A, bench::Triangle::Both, true));
     clothsim_rows(n, *s, projected, repeats);
-    for (const AmgConfig& c : kConfigs) hypre_rows(n, *s, h, c, repeats, !exact);
+    for (const AmgConfig& c : kConfigs)
+      if (std::strstr(c.name, only)) hypre_rows(n, *s, h, c, repeats, !exact);
   }
   HYPRE_Finalize();
   MPI_Finalize();
