@@ -331,6 +331,17 @@ std::vector<int> parse_sides(const char* text) {
   return sides;
 }
 
+// A whole number from min to 100000 for `flag`, or one line naming it and exit 2.
+int parse_count(const char* flag, const char* text, int min) {
+  char* end = nullptr;
+  const long v = std::strtol(text, &end, 10);
+  if (end == text || *end || v < min || v > 100000) {
+    std::fprintf(stderr, "hypre_implicit_benchmarks: %s: not a whole number from %d: %s\n", flag, min, text);
+    std::exit(2);
+  }
+  return static_cast<int>(v);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -343,9 +354,9 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--sides") && i + 1 < argc) {
       sides = parse_sides(argv[++i]);
     } else if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) {
-      repeats = std::max(1, std::atoi(argv[++i]));
+      repeats = parse_count("--repeats", argv[++i], 1);
     } else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) {
-      steps = std::max(0, std::atoi(argv[++i]));
+      steps = parse_count("--steps", argv[++i], 0);
     } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
       only = argv[++i];
     } else if (!std::strcmp(argv[i], "--exact")) {
