@@ -13,5 +13,7 @@ namespace clothsim {
 
 // z4 (4 x n, column-major, lane 3 ignored) <- (L D L^T)^-1 z4.
 void ldlt_solve_padded(const Supernodes& f, double* z4);
+// The same in float, for a factor that only corrects a residual taken in double.
+void ldlt_solve_padded(const SupernodesF& f, float* z4);
 
 }  // namespace clothsim
