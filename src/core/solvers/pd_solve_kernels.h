@@ -3,8 +3,10 @@
 // multiply and add on AVX2 and AVX-512 instead of three scalar ones. L is read by supernodes
 // (pd_supernodes.h), a few columns at a time: forward, their solved rows of z stay in
 // registers while each panel row below is updated from contiguous values and stored once;
-// backward, each panel row below is loaded once for all of those columns. Every target runs
-// the same operations in the same order per lane, so gives the same bits.
+// backward, each panel row below is loaded once for all of those columns. In float (PD's
+// panels, pd_kernels.h) a padded row is half a 256-bit vector, so AVX2 updates two panel rows
+// per vector. Every target runs the same operations in the same order per lane, so gives the
+// same bits (per value type).
 #pragma once
 
 #include "pd_supernodes.h"
