@@ -38,6 +38,7 @@ struct Sheet {
   PdFactor factor;                        // clothsim's, factored once
   Eigen::SparseMatrix<double> lower;      // the permuted matrix's lower triangle, for CHOLMOD
   Eigen::Matrix4Xd rhs;                   // x, y, z and a zero pad per row
+  Supernodes exact;                       // the factor's panels in double, to check CHOLMOD's answer
 };
 
 std::unique_ptr<Sheet> sheet(int n) {
@@ -57,6 +58,9 @@ std::unique_ptr<Sheet> sheet(int n) {
   s->lower.makeCompressed();
   s->rhs = Eigen::Matrix4Xd::Random(4, s->factor.ldlt.rows());
   s->rhs.row(3).setZero();
+  const auto& Lc = s->factor.ldlt.matrixL().nestedExpression();
+  s->exact = supernodes_of(static_cast<std::size_t>(Lc.cols()), Lc.outerIndexPtr(), Lc.innerIndexPtr(),
+                           Lc.valuePtr(), s->factor.ldlt.vectorD().data(), 0.3);
   return s;
 }
 
@@ -91,9 +95,10 @@ void BM_PdFactor_Cholmod(benchmark::State& st) {
 
 void BM_PdSolve_Clothsim(benchmark::State& st) {
   auto s = sheet(static_cast<int>(st.range(0)));
-  Eigen::Matrix4Xd z = s->rhs;
+  const Eigen::Matrix4Xf rhs = s->rhs.cast<float>();  // PD's solve runs on float panels (pd_kernels.h)
+  Eigen::Matrix4Xf z = rhs;
   for (auto _ : st) {
-    z = s->rhs;
+    z = rhs;
     ldlt_solve_padded(s->factor.panels, z.data());
     benchmark::DoNotOptimize(z.data());
   }
@@ -115,7 +120,7 @@ void BM_PdSolve_Cholmod(benchmark::State& st) {
   }
   // The same answer as clothsim's solve (both exact factorizations of one matrix).
   Eigen::Matrix4Xd z = s->rhs;
-  ldlt_solve_padded(s->factor.panels, z.data());
+  ldlt_solve_padded(s->exact, z.data());
   const double gap = (Eigen::Map<Eigen::MatrixXd>(static_cast<double*>(x->x), n, 3) - z.topRows<3>().transpose())
                          .cwiseAbs()
                          .maxCoeff();

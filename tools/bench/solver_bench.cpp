@@ -133,7 +133,8 @@ double least_time(int repeats, F&& f) {
 // zeros included), the supernodes' mean width in columns, the values the panels hold per row
 // (their diagonal blocks' unread upper zeros too: memory) and the share of the stored entries
 // in panels at least 8 columns wide (the solve's widest step, pd_solve_kernels.cpp).
-void pd_factor_counters(const Supernodes& f, benchmark::State& st) {
+template <typename T>
+void pd_factor_counters(const BasicSupernodes<T>& f, benchmark::State& st) {
   double stored = 0.0, wide = 0.0;
   for (std::size_t s = 0; s < f.size(); ++s) {
     const double w = f.first[s + 1] - f.first[s], m = f.row_start[s + 1] - f.row_start[s];
@@ -179,14 +180,15 @@ void BM_SolverIteration(benchmark::State& st) {
   if (integrator_name(kind) == "projective_dynamics") pd_factor_counters(solver_cache(ws).pd.panels, st);
   st.SetLabel(std::string(integrator_name(kind)) + " " + std::to_string(n) + "x" + std::to_string(n));
 }
-// PD's global solve alone (ldlt_solve_padded, three columns) on the drape's factor at h = 1/60 s;
+// PD's global solve alone (ldlt_solve_padded, three columns, float panels) on the drape's factor at h = 1/60 s;
 void BM_SolverPdSolve(benchmark::State& st) {
   const Model model = bench::drape_sheet(static_cast<int>(st.range(0)));
   State s = initial_state(model);
   Workspace ws;
   integrate(bench::method("projective_dynamics"), model, s, 1.0 / 60.0, ws);
   const PdFactor& f = solver_cache(ws).pd;
-  Eigen::Matrix4Xd b = Eigen::Matrix4Xd::Random(4, f.ldlt.rows()), z;
+  // float: the panels PD keeps (pd_kernels.h, defect correction)
+  Eigen::Matrix4Xf b = Eigen::Matrix4Xf::Random(4, f.ldlt.rows()), z;
   b.row(3).setZero();
   for (auto _ : st) {
     z = b;

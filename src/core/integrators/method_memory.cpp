@@ -19,10 +19,11 @@ constexpr double kMidpointExtra = 80, kRk4Extra = 128, kXpbdExtra = 400, kVbdExt
 // particle (measured 47.5 at 1024²).
 constexpr double kVbdAcceleratedExtra = 48;
 // Projective dynamics' prefactored global matrix (a scalar sparse LDLT of P x P, AMD-ordered,
-// kept for refactoring, and its supernodal panels, which the solve reads) and its solves:
-// measured 2606, 2928 and 3323 B a particle over an explicit run at 256², 512² and 1024²,
-// bounded by 175 log2 P (an empirical bound on the drape's grids, not a theory).
-constexpr double kPdPerLog2 = 175;
+// kept for refactoring, and its supernodal panels in float, which the solve reads) and its
+// solves: measured 2165, 2365 and 2646 B a particle over an explicit run at 256², 512² and
+// 1024² (2606, 2928 and 3323 with the panels in double), bounded by 140 log2 P (an empirical
+// bound on the drape's grids, not a theory).
+constexpr double kPdPerLog2 = 140;
 constexpr double kFinalStatePerParticle = 64;  // a kept copy of x, v and inverse masses
 // implicit_euler's State also carries its warm start: three velocity changes, the last
 // linearisation's positions and inverse masses (160 B a body), its spring lengths (8 B each).

@@ -50,7 +50,8 @@ Eigen::SparseMatrix<double> global_matrix(const Model& model, const StepProblem&
   return A;
 }
 
-// The scalar local step: each spring's projection k p_s added to its free ends' rows.
+// The scalar local step: each spring's k (p_s - d_s), its projection less its span d_s =
+// y_a - y_b (the residual's share of A y), added to its free ends' rows.
 void scatter_spring_projections(const Model& model, const StepProblem& p, const PdFactor& f,
                                 const Eigen::Matrix3Xd& y, Eigen::Matrix4Xd& z) {
   const Springs& s = model.springs;
@@ -58,7 +59,7 @@ void scatter_spring_projections(const Model& model, const StepProblem& p, const 
     const int ra = f.row[s.a[k]], rb = f.row[s.b[k]];
     const Vec3 d = y.col(s.a[k]) - y.col(s.b[k]);
     const double l = d.norm();
-    const Vec3 proj = l > 0.0 ? Vec3((p.rest[k] / l) * d) : Vec3(Vec3::Zero());
+    const Vec3 proj = l > 0.0 ? Vec3((p.rest[k] / l - 1.0) * d) : Vec3(Vec3::Zero());
     const double w = p.stiffness[k];
     if (ra >= 0) z.col(ra).head<3>() += w * proj;
     if (rb >= 0) z.col(rb).head<3>() -= w * proj;
@@ -100,7 +101,7 @@ bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::Ve
   if (!f.analysed) f.ldlt.analyzePattern(A), f.analysed = true;  // the pattern is the pins'
   f.ldlt.factorize(A);
   const auto& L = f.ldlt.matrixL().nestedExpression();
-  f.panels = supernodes_of(static_cast<std::size_t>(L.cols()), L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr(),
+  f.panels = supernodes_of_float(static_cast<std::size_t>(L.cols()), L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr(),
                            f.ldlt.vectorD().data(), kMaxZeroShare);
   number_factor_rows(f);
   ++f.factorizations;
@@ -108,20 +109,14 @@ bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::Ve
 }
 
 void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f, PdSystem& s) {
-  s.base.setZero(4, f.ldlt.rows());
+  s.z.setZero(4, f.ldlt.rows());
+  s.dz.setZero(4, f.ldlt.rows());
   s.pushed.clear();
   s.planed.assign(model.num_particles, 0);
   s.normal.resize(model.num_particles);
   s.plane.resize(model.num_particles);
-  for (std::size_t i = 0; i < f.row.size(); ++i)
-    if (f.row[i] >= 0) s.base.col(f.row[i]).head<3>() = p.weight[i] * p.target.col(i);
-  const Springs& sp = model.springs;
-  for (std::size_t k = 0; k < sp.size(); ++k) {  // an immovable end stays at its target
-    const int ra = f.row[sp.a[k]], rb = f.row[sp.b[k]];
-    if (ra >= 0 && rb < 0) s.base.col(ra).head<3>() += p.stiffness[k] * p.target.col(sp.b[k]);
-    if (rb >= 0 && ra < 0) s.base.col(rb).head<3>() += p.stiffness[k] * p.target.col(sp.a[k]);
-  }
   if (model.spring_path() != SpringPath::Families) return;
+  const Springs& sp = model.springs;
   const SpringLayout& layout = model.spring_layout;
   s.rest.assign(layout.num_slots + layout.slot_gap, 0.0);
   for (std::size_t k = 0; k < sp.size(); ++k) s.rest[layout.slot[k]] = p.rest[k];
@@ -129,15 +124,18 @@ void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f
 
 void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, Eigen::Matrix3Xd& y,
                   PdSystem& s, std::vector<double>& lambda) {
-  s.z = s.base;
+  // r = b(y) - (A + L) y: the inertial term a (yhat - y), then the springs' and contacts' shares.
+  for (std::size_t i = 0; i < f.row.size(); ++i)
+    if (f.row[i] >= 0) s.z.col(f.row[i]).head<3>() = p.weight[i] * (p.target.col(i) - y.col(i));
   if (model.spring_path() == SpringPath::Families)
     pd_family_projections(model.spring_layout, y, s.rest.data(), p.h, f.row.data(), s.z);
   else
     scatter_spring_projections(model, p, f, y, s.z);
   for (std::int32_t i : s.pushed) s.z.col(f.row[i]).head<3>() += lambda[i] * s.normal[i];
-  ldlt_solve_padded(f.panels, s.z.data());
+  s.dz = s.z.cast<float>();
+  ldlt_solve_padded(f.panels, s.dz.data());
   for (std::size_t i = 0; i < f.row.size(); ++i)
-    if (f.row[i] >= 0) y.col(i) = s.z.col(f.row[i]).head<3>();
+    if (f.row[i] >= 0) y.col(i) += s.dz.col(f.row[i]).head<3>().cast<double>();
   if (!p.colliders.ground && p.colliders.centre.empty()) return;
   update_contact_forces(model, p, f, y, s, lambda);
 }

@@ -19,6 +19,12 @@
 // (pd_solve_kernels.h); it depends only
 // on h and the pins, so it is factored when one of them changes and reused otherwise.
 //
+// The global solve runs in defect-correction form, y <- y + (L D L^T)^-1 (b(y) - (A + L) y):
+// the residual in double (each spring's k (p_s - d_s), no sum of large opposite terms), the
+// factor's panels in float (half the bytes the solve streams). Its fixed point is the exact
+// one's, (A + L) y = b(y); the float factor only perturbs each correction by about float's
+// epsilon times the matrix's condition, which shrinks with the residual.
+//
 // The local step runs by the grid's stencil families in SIMD (pd_local_kernels.h) when the
 // model's spring layout covers every spring, else as a scalar pass over the spring list.
 #pragma once
@@ -35,7 +41,7 @@ namespace clothsim {
 
 struct PdFactor {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
-  Supernodes panels;                     // the factor's L and D by supernodes, for the solve
+  SupernodesF panels;                    // the factor's L and D by supernodes in float, for the solve
   std::vector<std::int32_t> free_index;  // (B) row of a movable body, -1 where immovable
   std::vector<std::int32_t> row;         // (B) its row in the factor's (permuted) order, or -1
   Eigen::VectorXd inv_mass;              // (B) the pin set it was built for
@@ -47,8 +53,8 @@ struct PdFactor {
 
 // One step's right-hand side pieces and scratch, in the factor's row order.
 struct PdSystem {
-  Eigen::Matrix4Xd base;         // (4 x n) A yhat + the springs' pull towards immovable ends; lane 3 zero
-  Eigen::Matrix4Xd z;            // (4 x n) the right-hand side, then the solve, padded as the solve reads it
+  Eigen::Matrix4Xd z;            // (4 x n) the residual b(y) - (A + L) y, padded as the solve reads it; lane 3 zero
+  Eigen::Matrix<float, 4, Eigen::Dynamic> dz;  // (4 x n) z in float, then the correction the solve makes of it
   std::vector<double> rest;      // (slots) blended rest lengths by the layout's slot order
   std::vector<std::int32_t> pushed;  // particles whose contact multiplier is positive, ascending
   std::vector<std::int32_t> inside, visit;  // scratch: particles in a collider's reach; the union
@@ -61,11 +67,12 @@ struct PdSystem {
 bool pd_prepare_factor(const Model& model, const StepProblem& p, const Eigen::VectorXd& inv_mass,
                        PdFactor& f);
 
-// The step's constant part of the right-hand side and, with a layout, the rest lengths by slot.
+// The step's scratch, its contact planes cleared and, with a layout, the rest lengths by slot.
 void pd_prepare_step(const Model& model, const StepProblem& p, const PdFactor& f, PdSystem& s);
 
 // One local-global iteration: y <- the global solve with the projections taken at y and the
 // contact forces lambda (P, N; zeros at the step's start), then lambda updated at the new y.
+// Immovable particles' y must hold their targets (the springs to them read y).
 void pd_iteration(const Model& model, const StepProblem& p, const PdFactor& f, Eigen::Matrix3Xd& y,
                   PdSystem& s, std::vector<double>& lambda);
 

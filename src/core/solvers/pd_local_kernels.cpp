@@ -31,7 +31,7 @@ void FamilyProjections(const SpringLayout& layout, const double* HWY_RESTRICT y,
   double* minus[3];
   for (std::size_t c = 0; c < 3; ++c)
     in[c] = scratch + c * stride, plus[c] = scratch + (3 + c) * stride, minus[c] = scratch + (6 + c) * stride;
-  const auto zero = hn::Zero(d);
+  const auto zero = hn::Zero(d), one = hn::Set(d, 1.0);
   const auto copy_in = [&](std::size_t particle, std::size_t n, std::size_t at) {
     window::Deinterleave(y + 3 * particle, n, in[0] + at, in[1] + at, in[2] + at);
   };
@@ -47,7 +47,7 @@ void FamilyProjections(const SpringLayout& layout, const double* HWY_RESTRICT y,
       const auto dz = hn::Sub(hn::LoadU(d, in[2] + a), hn::LoadU(d, in[2] + b));
       const auto l = window::Length(dx, dy, dz);
       const auto acts = hn::AndNot(hn::Le(l, zero), hn::Gt(hn::LoadU(d, l0 + q), zero));
-      const auto scale = hn::IfThenElseZero(acts, hn::Mul(k, hn::Div(hn::LoadU(d, blended + q), l)));
+      const auto scale = hn::IfThenElseZero(acts, hn::Mul(k, hn::Sub(hn::Div(hn::LoadU(d, blended + q), l), one)));
       const auto px = hn::Mul(scale, dx), py = hn::Mul(scale, dy), pz = hn::Mul(scale, dz);
       hn::StoreU(hn::Add(hn::LoadU(d, plus[0] + a), px), d, plus[0] + a);
       hn::StoreU(hn::Add(hn::LoadU(d, plus[1] + a), py), d, plus[1] + a);

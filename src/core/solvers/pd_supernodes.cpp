@@ -32,7 +32,8 @@ std::vector<std::int32_t> supernode_starts(std::size_t n, const int* col_start, 
 }
 
 // Supernode s's rows (its columns, then its last column's rows below) and values from L.
-void fill_panel(Supernodes& f, std::size_t s, const int* col_start, const int* col_row, const double* col_value,
+template <typename T>
+void fill_panel(BasicSupernodes<T>& f, std::size_t s, const int* col_start, const int* col_row, const double* col_value,
                 std::vector<std::int32_t>& position) {
   const int j0 = f.first[s], j1 = f.first[s + 1] - 1, w = j1 - j0 + 1;
   for (int j = j0; j <= j1; ++j) f.rows.push_back(j);
@@ -41,15 +42,16 @@ void fill_panel(Supernodes& f, std::size_t s, const int* col_start, const int* c
   const std::int32_t begin = f.row_start[s], m = f.row_start[s + 1] - begin;
   for (std::int32_t i = 0; i < m; ++i) position[f.rows[begin + i]] = i;
   const std::int64_t at = f.value_start[s];
-  f.value.resize(static_cast<std::size_t>(at + std::int64_t{m} * w), 0.0);
+  f.value.resize(static_cast<std::size_t>(at + std::int64_t{m} * w), T(0));
   f.value_start.push_back(static_cast<std::int64_t>(f.value.size()));
   for (int k = 0; k < w; ++k)
     for (int e = col_start[j0 + k]; e < col_start[j0 + k + 1]; ++e)
-      f.value[static_cast<std::size_t>(at + std::int64_t{position[col_row[e]]} * w + k)] = col_value[e];
+      f.value[static_cast<std::size_t>(at + std::int64_t{position[col_row[e]]} * w + k)] = static_cast<T>(col_value[e]);
 }
 
 // The panels' sizes up front, so that no array grows by doubling (a peak of twice the factor).
-void reserve_panels(Supernodes& f, const int* col_start) {
+template <typename T>
+void reserve_panels(BasicSupernodes<T>& f, const int* col_start) {
   std::size_t rows = 0, values = 0;
   for (std::size_t s = 0; s < f.size(); ++s) {
     const int last = f.first[s + 1] - 1;
@@ -63,14 +65,14 @@ void reserve_panels(Supernodes& f, const int* col_start) {
   f.value_start.reserve(f.size() + 1);
 }
 
-}  // namespace
-
-Supernodes supernodes_of(std::size_t n, const int* col_start, const int* col_row, const double* col_value,
-                         const double* pivot, double max_zero_share) {
-  Supernodes f;
+template <typename T>
+BasicSupernodes<T> supernodes_in(std::size_t n, const int* col_start, const int* col_row, const double* col_value,
+                                 const double* pivot, double max_zero_share) {
+  BasicSupernodes<T> f;
   f.n = n;
   f.first = supernode_starts(n, col_start, col_row, max_zero_share);
-  f.pivot.assign(pivot, pivot + n);
+  f.pivot.resize(n);
+  for (std::size_t j = 0; j < n; ++j) f.pivot[j] = static_cast<T>(pivot[j]);
   f.entries = static_cast<std::size_t>(col_start[n]);
   reserve_panels(f, col_start);
   f.row_start.push_back(0);
@@ -78,6 +80,18 @@ Supernodes supernodes_of(std::size_t n, const int* col_start, const int* col_row
   std::vector<std::int32_t> position(n, -1);
   for (std::size_t s = 0; s < f.size(); ++s) fill_panel(f, s, col_start, col_row, col_value, position);
   return f;
+}
+
+}  // namespace
+
+Supernodes supernodes_of(std::size_t n, const int* col_start, const int* col_row, const double* col_value,
+                         const double* pivot, double max_zero_share) {
+  return supernodes_in<double>(n, col_start, col_row, col_value, pivot, max_zero_share);
+}
+
+SupernodesF supernodes_of_float(std::size_t n, const int* col_start, const int* col_row, const double* col_value,
+                                const double* pivot, double max_zero_share) {
+  return supernodes_in<float>(n, col_start, col_row, col_value, pivot, max_zero_share);
 }
 
 }  // namespace clothsim
