@@ -74,6 +74,23 @@ class TrustRegion {
 // p.r equals r.z (p = z + beta p_prev and p_prev.r = 0).
 double model_change(double t, double rz, double pq) { return t * (0.5 * t * pq - rz); }
 
+// CG's start: r = S (b - A x) from the caller's guess (a warm start, x filtered), else x = 0
+// and r = S b. Returns q(x): -(x.b + x.r) / 2 from a guess (A x = b - r on the filter's
+// range), 0 from zero.
+double start(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x, bool from_guess,
+             const VelocityFilter* filter, CgBuffers& buf) {
+  if (from_guess) {
+    if (filter) filter->apply(x);
+    A.multiply(A, x, buf.q);
+    buf.r = b - buf.q;
+  } else {
+    x.setZero(3, b.cols());
+    buf.r = b;
+  }
+  if (filter) filter->apply(buf.r);
+  return from_guess ? -0.5 * (dot(x, b) + dot(x, buf.r)) : 0.0;
+}
+
 }  // namespace
 
 CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x,
@@ -93,17 +110,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   // actually needs (a Newton step needs its linear solve no more accurate than its own test).
   const double stop = std::max(settings.tolerance * b_norm, settings.absolute_tolerance);
   const bool from_guess = settings.from_guess && x.cols() == b.cols() && x.allFinite();
-  if (from_guess) {
-    filtered(x);
-    A.multiply(A, x, buf.q);  // a warm start: r = b - A x from the caller's guess
-    buf.r = b - buf.q;
-  } else {
-    x.setZero(3, b.cols());
-    buf.r = b;
-  }
-  filtered(buf.r);
-  // q(x0) = -(x0.b + x0.r0) / 2 (A x0 = b - r0 on the filter's range), 0 from zero
-  if (from_guess) result.model_value = -0.5 * (dot(x, b) + dot(x, buf.r));
+  result.model_value = start(A, b, x, from_guess, filter, buf);
   double r_norm = buf.r.norm();
   result.relative_residual = r_norm / b_norm;
   if (r_norm <= stop) return result;  // the guess is already good enough
