@@ -62,6 +62,10 @@ struct ImplicitDef {
   // forcing term is sqrt(|r|) (newton_solve.h, TrustRadius; BENCHMARKS.md #37, round s34);
   // below, the line search alone and the forcing term |r|. Not a scene key: tests move it.
   int trust_region_from = 128 * 128;
+  // With the trust region, each particle's share of a Newton direction moves its end position
+  // h |d_i| at most this many shortest rest lengths (newton_solve.h, cap_particle_steps;
+  // BENCHMARKS.md #37, round s35); 0: no cap. Not a scene key: tests move it.
+  double direction_cap = 0.15;
 
   NewtonMode newton_mode() const {
     return newton_max_iterations == 1 ? NewtonMode::BaraffWitkin : NewtonMode::Converged;

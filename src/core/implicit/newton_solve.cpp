@@ -212,9 +212,9 @@ bool NewtonSolve::iterate(const Eigen::Matrix3Xd* warm) {
 // Moves the iterate along d (whole for Baraff & Witkin, by line search otherwise) and takes
 // in the particles the step took inside a collider. False: no descent or no step.
 bool NewtonSolve::take_step(double slope, bool reused) {
-  const double curvature = trust_on_ ? model_curvature() : 0.0;
+  if (trust_on_ && cfg_.direction_cap > 0.0) slope = cap_direction(slope);
   if (!(slope < 0.0) || (!single_step_ && !line_search(slope))) return false;
-  if (trust_on_) update_trust(slope, curvature);
+  if (trust_on_) update_trust(slope);
   if (single_step_) {  // Baraff & Witkin: the linearised step, whole (as far as the barrier allows)
     c_.dv += barrier_bound() * c_.d;
     evaluate();
@@ -375,6 +375,7 @@ CgResult NewtonSolve::solve(const CgSettings& settings) {
   reuse_.trial_clean = cg.converged;
   boundary_ = cg.boundary;
   step_norm_ = cg.step_norm;
+  model_value_ = cg.model_value;
   trace_("  cg: %d iterations, converged %d, negative curvature %d, relative residual %.2e, factored %d, "
          "boundary %d\n",
          cg.iterations, cg.converged ? 1 : 0, cg.negative_curvature ? 1 : 0, cg.relative_residual,
@@ -487,25 +488,57 @@ bool NewtonSolve::line_search(double slope) {
   return false;
 }
 
-// d^T A d of the direction (d filtered: the model's curvature along it), for the ratio test.
-double NewtonSolve::model_curvature() {
-  c_.A.multiply(c_.A, c_.d, c_.cg.q);  // (CG's scratch, free between solves)
+int cap_particle_steps(Eigen::Matrix3Xd& d, Eigen::Index P, double cap) {
+  int capped = 0;
+  for (Eigen::Index i = 0; i < P; ++i) {
+    const double length = d.col(i).norm();
+    if (length > cap) {  // (scaling keeps a held particle's share off its normal)
+      d.col(i) *= cap / length;
+      ++capped;
+    }
+  }
+  return capped;
+}
+
+// The direction with each particle's end-position change h |d_i| held within
+// ImplicitDef::direction_cap shortest rest lengths (a spring may not turn over within one
+// trial), and its slope; the model's curvature along it costs one mat-vec, where any particle
+// was capped. Where the capped direction is not downhill (the scaling reweights r . d), CG's.
+double NewtonSolve::cap_direction(double slope) {
+  capped_ = false;
+  const double cap = cfg_.direction_cap * c_.shortest_rest / h_;
+  c_.cg.z = c_.d;  // (CG's scratch, free between solves)
+  const int capped = cap_particle_steps(c_.d, model_.num_particles, cap);
+  if (capped == 0) return slope;
+  const double capped_slope = -dot(c_.rhs, c_.d);
+  trace_("  capped %d particles: slope %.3e -> %.3e\n", capped, slope, capped_slope);
+  if (!(capped_slope < 0.0)) {
+    c_.d.swap(c_.cg.z);
+    return slope;
+  }
+  c_.A.multiply(c_.A, c_.d, c_.cg.q);
   c_.contacts.filter.apply(c_.cg.q);
-  return dot(c_.d, c_.cg.q);
+  capped_curvature_ = dot(c_.d, c_.cg.q);
+  capped_ = true;
+  return capped_slope;
 }
 
 // rho = Phi's actual decrease over the quadratic model's at the line search's first trial
 // (alpha0 d: the barrier's bound, else d): the trust radius's verdict on the direction. No
-// verdict where that decrease is below Phi's rounding (the residual decided).
-void NewtonSolve::update_trust(double slope, double curvature) {
+// verdict where that decrease is below Phi's rounding (the residual decided). The model's
+// curvature d.A d comes from CG's value q(d) = d.A d / 2 + slope (no mat-vec of its own).
+void NewtonSolve::update_trust(double slope) {
   const double a = first_alpha_;
+  const double curvature = capped_ ? capped_curvature_ : 2.0 * (model_value_ - slope);
   const double predicted = -a * slope - 0.5 * a * a * curvature;
   // (no norm: CG started from a guess, and the region did not apply)
   if (step_norm_ == 0.0 || std::isnan(first_drop_) ||
       !(predicted > 64.0 * std::numeric_limits<double>::epsilon() * phi_.magnitude))
     return;
   const double rho = first_drop_ / predicted;  // (-inf or NaN where the trial's Phi was not finite)
-  trust_.update(rho, a * step_norm_, alpha_ * step_norm_, boundary_);
+  // (the norms are CG's direction's: the cap is a per-particle bound beneath the radius, and a
+  // capped direction that the model described well says the radius may grow)
+  trust_.update(rho, a * step_norm_, alpha_ * step_norm_, boundary_ || capped_);
 }
 
 }  // namespace clothsim

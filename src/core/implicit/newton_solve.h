@@ -166,6 +166,13 @@ struct TrustRadius {
   }
 };
 
+// Scales each of the first P columns of d longer than `cap` down to that length; returns how
+// many it scaled. A per-particle bound on a Newton direction: at the buckled rim a few dozen
+// particles' share of a direction runs to a spring length or more while the rest of the sheet's
+// is a hundredth of one, and a single trust radius (or line-search step) for the whole sheet
+// would shrink everybody's step for those few (BENCHMARKS.md #37, round s35).
+int cap_particle_steps(Eigen::Matrix3Xd& d, Eigen::Index P, double cap);
+
 class NewtonSolve {
  public:
   // `start` is read as the step's start throughout; only its record of the Newton matrix's
@@ -205,8 +212,8 @@ class NewtonSolve {
   bool factorize();
   double fresh_solve() const;
   bool line_search(double slope);
-  double model_curvature();
-  void update_trust(double slope, double curvature);
+  double cap_direction(double slope);
+  void update_trust(double slope);
   double barrier_bound() const;
 
   const Model& model_;
@@ -232,6 +239,9 @@ class NewtonSolve {
   TrustRadius trust_;
   bool boundary_ = false;     // the last direction ended on the trust radius
   double step_norm_ = 0.0;    // its length in the region's norm (0: no region applied)
+  double model_value_ = 0.0;  // J, CG's model q(d) = d.A d / 2 - rhs.d at it
+  bool capped_ = false;       // the last direction was capped per particle (cap_direction)
+  double capped_curvature_ = 0.0;  // d.A d of the capped direction
   double first_alpha_ = 0.0;  // the last line search's first trial step
   double first_drop_ = 0.0;   // J, Phi's decrease at that trial (NaN: below rounding)
 };

@@ -55,10 +55,13 @@ class TrustRegion {
     pp_ = rz + beta * beta * pp_;
   }
   // x + tau p on the boundary, tau >= 0 the positive root (x is inside: CG starts at 0 and
-  // `leaves` stops it before it crosses).
-  void to_boundary(Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& p) {
-    if (pp_ > 0.0 && xx_ < radius2_) x += ((-xp_ + std::sqrt(xp_ * xp_ + pp_ * (radius2_ - xx_))) / pp_) * p;
+  // `leaves` stops it before it crosses); returns tau.
+  double to_boundary(Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& p) {
+    double tau = 0.0;
+    if (pp_ > 0.0 && xx_ < radius2_) tau = (-xp_ + std::sqrt(xp_ * xp_ + pp_ * (radius2_ - xx_))) / pp_;
+    if (tau > 0.0) x += tau * p;
     xx_ = radius2_;
+    return tau;
   }
 
  private:
@@ -66,6 +69,27 @@ class TrustRegion {
   const bool bounded_;  // and holding it within the radius
   double radius2_, xx_ = 0.0, xp_ = 0.0, pp_ = 0.0;
 };
+
+// q(x + t p) - q(x) for the model q(x) = 1/2 x.A x - b.x: -t p.r + t^2 p.A p / 2, where CG's
+// p.r equals r.z (p = z + beta p_prev and p_prev.r = 0).
+double model_change(double t, double rz, double pq) { return t * (0.5 * t * pq - rz); }
+
+// CG's start: r = S (b - A x) from the caller's guess (a warm start, x filtered), else x = 0
+// and r = S b. Returns q(x): -(x.b + x.r) / 2 from a guess (A x = b - r on the filter's
+// range), 0 from zero.
+double start(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matrix3Xd& x, bool from_guess,
+             const VelocityFilter* filter, CgBuffers& buf) {
+  if (from_guess) {
+    if (filter) filter->apply(x);
+    A.multiply(A, x, buf.q);
+    buf.r = b - buf.q;
+  } else {
+    x.setZero(3, b.cols());
+    buf.r = b;
+  }
+  if (filter) filter->apply(buf.r);
+  return from_guess ? -0.5 * (dot(x, b) + dot(x, buf.r)) : 0.0;
+}
 
 }  // namespace
 
@@ -86,15 +110,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   // actually needs (a Newton step needs its linear solve no more accurate than its own test).
   const double stop = std::max(settings.tolerance * b_norm, settings.absolute_tolerance);
   const bool from_guess = settings.from_guess && x.cols() == b.cols() && x.allFinite();
-  if (from_guess) {
-    filtered(x);
-    A.multiply(A, x, buf.q);  // a warm start: r = b - A x from the caller's guess
-    buf.r = b - buf.q;
-  } else {
-    x.setZero(3, b.cols());
-    buf.r = b;
-  }
-  filtered(buf.r);
+  result.model_value = start(A, b, x, from_guess, filter, buf);
   double r_norm = buf.r.norm();
   result.relative_residual = r_norm / b_norm;
   if (r_norm <= stop) return result;  // the guess is already good enough
@@ -112,17 +128,18 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
       // Along p the model falls without bound: to the boundary (r . p = rz > 0, so forward
       // descends). Without a region, on the first direction: take it rather than nothing.
       if (region.bounded() && std::isfinite(pq)) {
-        region.to_boundary(x, buf.p);
+        result.model_value += model_change(region.to_boundary(x, buf.p), rz, pq);
         result.boundary = true;
       } else if (result.iterations == 0 && !from_guess && std::isfinite(pq)) {
         x = buf.p;
+        result.model_value = model_change(1.0, rz, pq);
       }
       result.step_norm = region.norm();
       return result;
     }
     const double alpha = rz / pq;
     if (region.leaves(alpha)) {  // the model's minimiser along p lies outside: stop on the boundary
-      region.to_boundary(x, buf.p);
+      result.model_value += model_change(region.to_boundary(x, buf.p), rz, pq);
       ++result.iterations;
       result.converged = false;
       result.boundary = true;
@@ -130,6 +147,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
       return result;
     }
     if (region.on()) region.moved(alpha);
+    result.model_value -= 0.5 * alpha * rz;  // model_change(alpha, rz, pq) with alpha pq = rz
     // x += alpha p, r -= alpha q and |r| in one pass (cg_kernels.h)
     r_norm = std::sqrt(simd_update_iterate(x.data(), buf.r.data(), buf.p.data(), buf.q.data(), alpha, n));
     ++result.iterations;

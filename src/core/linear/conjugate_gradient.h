@@ -28,6 +28,10 @@ struct CgResult {
                                    // a trust radius, the boundary along p)
   bool boundary = false;           // x was taken to the trust radius (Steihaug-Toint)
   double step_norm = 0.0;          // |x| in the trust region's norm (0: not measured)
+  // q(x) = 1/2 x.A x - b.x at the answer (filtered: x.SAS x / 2 - Sb.x), by CG's recurrences
+  // (each step lowers it by alpha r.z / 2): the model's value a trust region's ratio needs,
+  // without another mat-vec.
+  double model_value = 0.0;
 };
 
 struct CgSettings {

@@ -231,5 +231,46 @@ TEST(ConjugateGradient, SteihaugGoesToTheRadiusAlongNegativeCurvature) {
   EXPECT_LT(model_value(s.A, s.b, x), model_value(s.A, s.b, first));
 }
 
+TEST(ConjugateGradient, ReturnsTheModelsValueAtItsAnswerWhereverItStops) {
+  // q(x) = 1/2 x.A x - b.x by an independent product, against CG's recurrence: converged, cut
+  // at its cap, on the radius, along negative curvature, from a guess, and filtered.
+  System s = system(kAllSprings, 0.02);
+  const auto check = [](const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, const Eigen::Matrix3Xd& x,
+                        const CgResult& r, const char* what) {
+    const double q = model_value(A, b, x);
+    EXPECT_LT(q, 0.0) << what;  // every answer lowers the model
+    EXPECT_NEAR(r.model_value, q, 1e-10 * std::abs(q)) << what;
+  };
+  Eigen::Matrix3Xd x, x_full;
+  CgBuffers buffers;
+  CgSettings settings{500, 1e-12};
+  settings.trust_region = true;
+  const CgResult full = solve_pcg(s.A, s.b, x_full, settings, buffers);
+  check(s.A, s.b, x_full, full, "converged");
+  x = x_full;
+  check(s.A, s.b, x, solve_pcg(s.A, s.b, x, CgSettings{3, 1e-12}, buffers), "cut at 3 iterations");
+  settings.trust_radius = 0.3 * full.step_norm;
+  check(s.A, s.b, x, solve_pcg(s.A, s.b, x, settings, buffers), "on the radius");
+  std::srand(5);
+  x = x_full + 0.1 * x_full.norm() / std::sqrt(double(x.size())) * Eigen::Matrix3Xd::Random(3, x.cols());
+  check(s.A, s.b, x, solve_pcg(s.A, s.b, x, CgSettings{2, 1e-12, 0.0, true}, buffers), "from a guess");
+  VelocityFilter filter;
+  filter.body = {20, 25, 27};
+  filter.normal = {Vec3::UnitY(), Vec3(1, 1, 0).normalized(), Vec3::UnitZ()};
+  Eigen::Matrix3Xd b = s.b;
+  filter.apply(b);
+  check(s.A, b, x, solve_pcg(s.A, b, x, CgSettings{4, 1e-12}, buffers, &filter), "filtered");
+  for (auto& block : s.A.diag) block = -block;  // negative definite along the first p
+  s.A.refresh_diagonal_soa();
+  // (q is unbounded below here: the truncated first direction, then the boundary along it)
+  const CgResult first = solve_pcg(s.A, s.b, x, CgSettings{50, 1e-10}, buffers);
+  ASSERT_TRUE(first.negative_curvature);
+  check(s.A, s.b, x, first, "the first direction at negative curvature");
+  settings.trust_radius = 2.0 * full.step_norm;
+  const CgResult bounded = solve_pcg(s.A, s.b, x, settings, buffers);
+  ASSERT_TRUE(bounded.boundary && bounded.negative_curvature);
+  check(s.A, s.b, x, bounded, "the boundary along negative curvature");
+}
+
 }  // namespace
 }  // namespace clothsim::testing
