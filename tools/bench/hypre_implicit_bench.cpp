@@ -24,14 +24,12 @@
 #include <HYPRE.h>
 #include <HYPRE_parcsr_ls.h>
 #include <mpi.h>
-#include <time.h>
 
 #include <Eigen/Geometry>  // cross, for the rotations
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,27 +37,16 @@
 #include "core/linear/conjugate_gradient.h"
 #include "core/linear/multigrid_preconditioner.h"
 #include "implicit_sheet.h"
+#include "least_cpu.h"
 
 using namespace clothsim;
 
 namespace {
 
-double cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
-}
-
-// The least CPU time of `repeats` calls of f (ms): the machine is shared, and the least is the
-// run the others disturbed least.
-double least_ms(int repeats, const std::function<void()>& f) {
-  double best = 1e300;
-  for (int k = 0; k < repeats; ++k) {
-    const double t0 = cpu_ms();
-    f();
-    best = std::min(best, cpu_ms() - t0);
-  }
-  return best;
+// The least CPU time of `repeats` calls of f (ms).
+template <class F>
+double least_ms(int repeats, F&& f) {
+  return 1e3 * bench::least_cpu_seconds(repeats, f);
 }
 
 // A BoomerAMG configuration (hypre's reference manual, "ParCSR Solvers: BoomerAMG").

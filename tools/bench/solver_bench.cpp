@@ -7,12 +7,12 @@
 // core/work_units.h's table is calibrated on). One block-Jacobi iteration is about
 // one BM_SolverBlockMatVec plus one BM_SolverJacobi.
 #include <benchmark/benchmark.h>
-#include <time.h>
 
 #include <algorithm>
 #include <string>
 
 #include "bench_models.h"
+#include "least_cpu.h"
 #include "core/implicit/sparse_system.h"
 #include "core/integrators/integrator.h"
 #include "core/solvers/pd_solve_kernels.h"
@@ -107,28 +107,6 @@ void BM_SolverFactoredSolve(benchmark::State& st) {
 }
 BENCHMARK(BM_SolverFactoredSolve)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
-// One iteration of an iterative solver in spring passes (BENCHMARKS.md, "The iterative
-// solvers"): (a step of 55 iterations - a step of 5) / 50 over one symplectic Euler step of
-// the same sheet, each the least thread CPU time of its repeats, all in this one process.
-// Args: solver (0 xpbd, 1 projective_dynamics, 2 vbd) and the drape's side n.
-//   build/tools/bench/clothsim_benchmarks --benchmark_filter='SolverIteration'
-double thread_cpu() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-template <class F>
-double least_time(int repeats, F&& f) {
-  double best = 1e300;
-  for (int r = 0; r < repeats; ++r) {
-    const double t0 = thread_cpu();
-    f();
-    best = std::min(best, thread_cpu() - t0);
-  }
-  return best;
-}
-
 // PD's factor: L's strictly lower entries per row, those its supernodes' panels store (their
 // zeros included), the supernodes' mean width in columns, the values the panels hold per row
 // (their diagonal blocks' unread upper zeros too: memory) and the share of the stored entries
@@ -151,6 +129,11 @@ void pd_factor_counters(const BasicSupernodes<T>& f, benchmark::State& st) {
 
 const char* const kSolvers[] = {"xpbd", "projective_dynamics", "vbd"};
 
+// One iteration of an iterative solver in spring passes (BENCHMARKS.md, "The iterative
+// solvers"): (a step of 55 iterations - a step of 5) / 50 over one symplectic Euler step of
+// the same sheet, each the least thread CPU time of its repeats, all in this one process.
+// Args: solver (0 xpbd, 1 projective_dynamics, 2 vbd) and the drape's side n.
+//   build/tools/bench/clothsim_benchmarks --benchmark_filter='SolverIteration'
 void BM_SolverIteration(benchmark::State& st) {
   const IntegratorKind kind = bench::method(kSolvers[st.range(0)]);
   const int n = static_cast<int>(st.range(1));
@@ -166,12 +149,12 @@ void BM_SolverIteration(benchmark::State& st) {
   const int repeats = n >= 256 ? 2 : 5;
   double pass = 0.0, per_iteration = 0.0;
   for (auto _ : st) {
-    pass = least_time(repeats * 4, [&] {
+    pass = bench::least_cpu_seconds(repeats * 4, [&] {
       s = start;
       integrate(bench::method("symplectic_euler"), few, s, 1e-4, ws);
     });
-    const double t5 = least_time(repeats, [&] { s = start, integrate(kind, few, s, 1.0 / 60.0, ws); });
-    const double t55 = least_time(repeats, [&] { s = start, integrate(kind, many, s, 1.0 / 60.0, ws); });
+    const double t5 = bench::least_cpu_seconds(repeats, [&] { s = start, integrate(kind, few, s, 1.0 / 60.0, ws); });
+    const double t55 = bench::least_cpu_seconds(repeats, [&] { s = start, integrate(kind, many, s, 1.0 / 60.0, ws); });
     per_iteration = (t55 - t5) / 50.0;
   }
   st.counters["pass_us"] = 1e6 * pass;
