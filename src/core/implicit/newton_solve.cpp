@@ -488,6 +488,12 @@ bool NewtonSolve::line_search(double slope) {
   return false;
 }
 
+int particle_steps_over(const Eigen::Matrix3Xd& d, Eigen::Index P, double cap) {
+  int over = 0;
+  for (Eigen::Index i = 0; i < P; ++i) over += d.col(i).norm() > cap;
+  return over;
+}
+
 int cap_particle_steps(Eigen::Matrix3Xd& d, Eigen::Index P, double cap) {
   int capped = 0;
   for (Eigen::Index i = 0; i < P; ++i) {
@@ -507,9 +513,10 @@ int cap_particle_steps(Eigen::Matrix3Xd& d, Eigen::Index P, double cap) {
 double NewtonSolve::cap_direction(double slope) {
   capped_ = false;
   const double cap = cfg_.direction_cap * c_.shortest_rest / h_;
+  // Counted first: most directions have no particle beyond the cap, and keep CG's uncopied.
+  if (particle_steps_over(c_.d, model_.num_particles, cap) == 0) return slope;
   c_.cg.z = c_.d;  // (CG's scratch, free between solves)
   const int capped = cap_particle_steps(c_.d, model_.num_particles, cap);
-  if (capped == 0) return slope;
   const double capped_slope = -dot(c_.rhs, c_.d);
   trace_("  capped %d particles: slope %.3e -> %.3e\n", capped, slope, capped_slope);
   if (!(capped_slope < 0.0)) {

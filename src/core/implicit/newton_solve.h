@@ -172,6 +172,9 @@ struct TrustRadius {
 // is a hundredth of one, and a single trust radius (or line-search step) for the whole sheet
 // would shrink everybody's step for those few (BENCHMARKS.md #37, round s35).
 int cap_particle_steps(Eigen::Matrix3Xd& d, Eigen::Index P, double cap);
+// How many of the first P columns of d are longer than `cap` (what cap_particle_steps would
+// scale), leaving d as it is.
+int particle_steps_over(const Eigen::Matrix3Xd& d, Eigen::Index P, double cap);
 
 class NewtonSolve {
  public:

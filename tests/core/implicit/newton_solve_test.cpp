@@ -307,6 +307,9 @@ TEST(CapParticleSteps, ShortensOnlyTheParticlesBeyondTheCapAndKeepsTheirDirectio
        4, 0.2, 0, 9,
        0, 0.0, 0, 9;  // lengths 5, 0.22, 0; the last column a sphere (not a particle)
   const Eigen::Matrix3Xd before = d;
+  EXPECT_EQ(particle_steps_over(d, 3, 1.0), 1);  // counted without a change
+  EXPECT_EQ(d, before);
+  EXPECT_EQ(particle_steps_over(d, 3, 0.2), 2);
   EXPECT_EQ(cap_particle_steps(d, 3, 1.0), 1);
   EXPECT_NEAR(d.col(0).norm(), 1.0, 1e-15);
   EXPECT_NEAR(d.col(0).dot(before.col(0)) / before.col(0).norm(), 1.0, 1e-15);  // same direction
@@ -314,6 +317,7 @@ TEST(CapParticleSteps, ShortensOnlyTheParticlesBeyondTheCapAndKeepsTheirDirectio
   EXPECT_EQ(d.col(2), before.col(2));
   EXPECT_EQ(d.col(3), before.col(3));  // beyond P: untouched
   EXPECT_EQ(cap_particle_steps(d, 3, 1.0), 0);  // once capped, within the cap
+  EXPECT_EQ(particle_steps_over(d, 3, 1.0), 0);
 }
 
 TEST(NewtonSolve, TheDirectionCapChangesTheCourseNotTheStepsSolution) {
