@@ -58,6 +58,11 @@ struct ImplicitDef {
   int cg_max_iterations = 200;
   double cg_tolerance = 1e-8;      // relative residual of each linear solve
   int fixed_point_iterations = 1;  // solver: fixed_point; 1 reproduces the course framework
+  // From this many particles on, CG's mat-vec reads a float copy of the matrix (linear/
+  // block_matrix.h, SpringBlockMatrix::single; BENCHMARKS.md #37, round s37): the sheets whose
+  // numbers outgrow the cache. Below, the double numbers, and a factor of the matrix is CG's
+  // exact inverse. Not a scene key: tests move it.
+  int single_from = 128 * 128;
   // From this many particles on, Newton's directions are held within a trust radius and CG's
   // forcing term is sqrt(|r|) (newton_solve.h, TrustRadius; BENCHMARKS.md #37, round s34);
   // below, the line search alone and the forcing term |r|. Not a scene key: tests move it.

@@ -179,6 +179,64 @@ std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRIC
   return P;
 }
 
+// R_i = D_i + the blocks stored at particle i's springs (read by particle, as pass 2 above),
+// in double, then rounded to float into rest_soa; the bodies no spring reaches keep D.
+void FamilyRestDiagonal(const SpringLayout& layout, const double* HWY_RESTRICT ux,
+                        const double* HWY_RESTRICT uy, const double* HWY_RESTRICT uz,
+                        const double* HWY_RESTRICT alpha, const double* HWY_RESTRICT beta,
+                        const double* HWY_RESTRICT diag_soa, std::size_t bodies, float* HWY_RESTRICT rest_soa) {
+  const D d;
+  const hn::Rebind<float, D> df;
+  const std::size_t N = hn::Lanes(d);
+  const std::size_t P = static_cast<std::size_t>(layout.num_particles);
+  HWY_ALIGN double tail[kSpringLanePad] = {};
+  HWY_ALIGN float rounded[kSpringLanePad];
+  for (std::size_t p = 0; p < P; p += N) {
+    const std::size_t lanes = std::min(N, P - p);
+    V sum[6] = {hn::Zero(d), hn::Zero(d), hn::Zero(d), hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+    const auto add = [&](std::size_t s) {  // the blocks at slots s .. s+N-1
+      const V x = hn::LoadU(d, ux + s), y = hn::LoadU(d, uy + s), z = hn::LoadU(d, uz + s);
+      const V al = hn::LoadU(d, alpha + s), be = hn::LoadU(d, beta + s);
+      const V ax = hn::Mul(al, x), ay = hn::Mul(al, y), az = hn::Mul(al, z);
+      sum[0] = hn::Add(sum[0], hn::Add(hn::Mul(ax, x), be));
+      sum[1] = hn::Add(sum[1], hn::Add(hn::Mul(ay, y), be));
+      sum[2] = hn::Add(sum[2], hn::Add(hn::Mul(az, z), be));
+      sum[3] = hn::Add(sum[3], hn::Mul(ax, y));
+      sum[4] = hn::Add(sum[4], hn::Mul(ax, z));
+      sum[5] = hn::Add(sum[5], hn::Mul(ay, z));
+    };
+    for (const SpringFamily& fam : layout.families) {
+      const std::size_t first = static_cast<std::size_t>(fam.first), count = static_cast<std::size_t>(fam.count);
+      const std::size_t off = static_cast<std::size_t>(fam.offset);
+      if (p + N > first && p < first + count) add(fam.slot_first + p - first);
+      if (p + N > first + off && p < first + off + count) add(fam.slot_first + p - first - off);
+    }
+    for (int e = 0; e < 6; ++e) {
+      const double* D_at = diag_soa + e * bodies + p;
+      if (lanes < N) D_at = std::copy(D_at, D_at + lanes, tail) - lanes;  // (the soa's next entry follows)
+      const auto R = hn::DemoteTo(df, hn::Add(hn::LoadU(d, D_at), sum[e]));
+      if (lanes == N) {
+        hn::StoreU(R, df, rest_soa + e * bodies + p);
+      } else {
+        hn::StoreU(R, df, rounded);
+        std::copy(rounded, rounded + lanes, rest_soa + e * bodies + p);
+      }
+    }
+  }
+  for (std::size_t i = P; i < bodies; ++i)
+    for (int e = 0; e < 6; ++e) rest_soa[e * bodies + i] = static_cast<float>(diag_soa[e * bodies + i]);
+}
+
+// to[i] = from[i] rounded to float, i < n.
+void DemoteToFloat(const double* HWY_RESTRICT from, std::size_t n, float* HWY_RESTRICT to) {
+  const D d;
+  const hn::Rebind<float, D> df;
+  const std::size_t N = hn::Lanes(d);
+  std::size_t i = 0;
+  for (; i + N <= n; i += N) hn::StoreU(hn::DemoteTo(df, hn::LoadU(d, from + i)), df, to + i);
+  for (; i < n; ++i) to[i] = static_cast<float>(from[i]);
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace clothsim
 HWY_AFTER_NAMESPACE();
@@ -187,6 +245,8 @@ HWY_AFTER_NAMESPACE();
 namespace clothsim {
 
 HWY_EXPORT(FamilyAssemble);
+HWY_EXPORT(FamilyRestDiagonal);
+HWY_EXPORT(DemoteToFloat);
 
 std::size_t family_assemble(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
                             const Eigen::VectorXd& inv_mass, const double* start_length,
@@ -203,6 +263,16 @@ std::size_t family_assemble(const SpringLayout& layout, const Eigen::Matrix3Xd& 
   }
   return HWY_DYNAMIC_DISPATCH(FamilyAssemble)(layout, y.data(), inv_mass.data(), start_length, out,
                                               filtered, scratch.get(), stride);
+}
+
+void family_rest_diagonal(const SpringLayout& layout, const double* ux, const double* uy, const double* uz,
+                          const double* alpha, const double* beta, const double* diag_soa, std::size_t bodies,
+                          float* rest_soa) {
+  HWY_DYNAMIC_DISPATCH(FamilyRestDiagonal)(layout, ux, uy, uz, alpha, beta, diag_soa, bodies, rest_soa);
+}
+
+void demote_to_float(const double* from, std::size_t n, float* to) {
+  HWY_DYNAMIC_DISPATCH(DemoteToFloat)(from, n, to);
 }
 
 }  // namespace clothsim

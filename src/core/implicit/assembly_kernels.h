@@ -52,4 +52,17 @@ std::size_t family_assemble(const SpringLayout& layout, const Eigen::Matrix3Xd& 
                             const Eigen::VectorXd& inv_mass, const double* start_length,
                             const FamilyHessian& out);
 
+// The part of the matrix that is not the families' spring coupling, R_i = D_i + the sum of the
+// blocks G_s stored at particle i's family springs (sparse_system.h: D_i holds -G_s), from the
+// double numbers (by slot; diag_soa: D as SpringBlockMatrix::diag_soa), in double, rounded to
+// float into rest_soa (6 B, the same layout): mass, drag, contact terms, and the springs whose
+// other end is immovable (stored as zero blocks). Bodies no spring reaches keep D. (The sum
+// must be of the double blocks: with the float ones, R's rounding would be D's again.)
+void family_rest_diagonal(const SpringLayout& layout, const double* ux, const double* uy, const double* uz,
+                          const double* alpha, const double* beta, const double* diag_soa, std::size_t bodies,
+                          float* rest_soa);
+
+// to[i] = from[i] rounded to float, i < n, in SIMD.
+void demote_to_float(const double* from, std::size_t n, float* to);
+
 }  // namespace clothsim

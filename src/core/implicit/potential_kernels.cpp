@@ -46,6 +46,11 @@ static_assert(HWY_MAX_BYTES / sizeof(double) <= kSpringLanePad, "the layout's pa
 
 namespace {
 
+// A vector of doubles from doubles, or from floats widened exactly (the mat-vec's float copy,
+// SpringBlockMatrix::single).
+HWY_INLINE V LoadAsDouble(D d, const double* HWY_RESTRICT p) { return hn::LoadU(d, p); }
+HWY_INLINE V LoadAsDouble(D d, const float* HWY_RESTRICT p) { return hn::PromoteTo(d, hn::LoadU(hn::Rebind<float, D>(), p)); }
+
 // The window of a pass over an interleaved 3 x P input (x, y or p): its components, and
 // (when the pass has an output) the two sums, three components each.
 struct Window {
@@ -63,13 +68,13 @@ struct Window {
 
 // Walks the families (spring_window-inl.h) with `in` (3 x P) copied into the window; calls
 // body(fam, k, a, b, w) for each vector of positions k .. k+N-1 (a, b: window indices of its
-// springs' ends); with `out`, adds the finished particles' sums into it, or, with `diag` (the
-// matrix's diagonal blocks, SpringBlockMatrix::diag_soa of B bodies), writes D_i in_i + the
-// sums there. Returns how many particles it finished.
-template <class Body>
+// springs' ends); with `out`, adds the finished particles' sums into it, or, with `diag` (3x3
+// symmetric blocks as SpringBlockMatrix::diag_soa, of B bodies, in double or float), writes
+// diag_i in_i + the sums there. Returns how many particles it finished.
+template <class Body, class T = double>
 std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
                  double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Body& body,
-                 const double* HWY_RESTRICT diag = nullptr, std::size_t bodies = 0) {
+                 const T* HWY_RESTRICT diag = nullptr, std::size_t bodies = 0) {
   const D d;
   const std::size_t N = hn::Lanes(d);
   const auto copy_in = [&](std::size_t particle, std::size_t n, std::size_t at) {
@@ -92,20 +97,20 @@ std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, doub
     }
     // out_i = D_i p_i + (plus + minus): sparse_system.cpp's multiply_diagonal, then the sums,
     // with the same operations in the same order.
-    const double* HWY_RESTRICT dxx = diag + particle;
-    const double* HWY_RESTRICT dyy = dxx + bodies;
-    const double* HWY_RESTRICT dzz = dyy + bodies;
-    const double* HWY_RESTRICT dxy = dzz + bodies;
-    const double* HWY_RESTRICT dxz = dxy + bodies;
-    const double* HWY_RESTRICT dyz = dxz + bodies;
+    const T* HWY_RESTRICT dxx = diag + particle;
+    const T* HWY_RESTRICT dyy = dxx + bodies;
+    const T* HWY_RESTRICT dzz = dyy + bodies;
+    const T* HWY_RESTRICT dxy = dzz + bodies;
+    const T* HWY_RESTRICT dxz = dxy + bodies;
+    const T* HWY_RESTRICT dyz = dxz + bodies;
     const double *p0 = w.in[0] + at, *p1 = w.in[1] + at, *p2 = w.in[2] + at;
     const double *a0 = w.plus[0] + at, *a1 = w.plus[1] + at, *a2 = w.plus[2] + at;
     const double *b0 = w.minus[0] + at, *b1 = w.minus[1] + at, *b2 = w.minus[2] + at;
     double* HWY_RESTRICT y = out + 3 * particle;
     std::size_t i = 0;
     for (; i + N <= n; i += N) {
-      const V xx = hn::LoadU(d, dxx + i), yy = hn::LoadU(d, dyy + i), zz = hn::LoadU(d, dzz + i);
-      const V xy = hn::LoadU(d, dxy + i), xz = hn::LoadU(d, dxz + i), yz = hn::LoadU(d, dyz + i);
+      const V xx = LoadAsDouble(d, dxx + i), yy = LoadAsDouble(d, dyy + i), zz = LoadAsDouble(d, dzz + i);
+      const V xy = LoadAsDouble(d, dxy + i), xz = LoadAsDouble(d, dxz + i), yz = LoadAsDouble(d, dyz + i);
       const V q0 = hn::LoadU(d, p0 + i), q1 = hn::LoadU(d, p1 + i), q2 = hn::LoadU(d, p2 + i);
       const V y0 = hn::Add(hn::Add(hn::Mul(xx, q0), hn::Mul(xy, q1)), hn::Mul(xz, q2));
       const V y1 = hn::Add(hn::Add(hn::Mul(xy, q0), hn::Mul(yy, q1)), hn::Mul(yz, q2));
@@ -115,9 +120,10 @@ std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, doub
                             hn::Add(y2, hn::Add(hn::LoadU(d, a2 + i), hn::LoadU(d, b2 + i))), d, y + 3 * i);
     }
     for (; i < n; ++i) {
-      y[3 * i] = (dxx[i] * p0[i] + dxy[i] * p1[i] + dxz[i] * p2[i]) + (a0[i] + b0[i]);
-      y[3 * i + 1] = (dxy[i] * p0[i] + dyy[i] * p1[i] + dyz[i] * p2[i]) + (a1[i] + b1[i]);
-      y[3 * i + 2] = (dxz[i] * p0[i] + dyz[i] * p1[i] + dzz[i] * p2[i]) + (a2[i] + b2[i]);
+      const double xx = dxx[i], yy = dyy[i], zz = dzz[i], xy = dxy[i], xz = dxz[i], yz = dyz[i];
+      y[3 * i] = (xx * p0[i] + xy * p1[i] + xz * p2[i]) + (a0[i] + b0[i]);
+      y[3 * i + 1] = (xy * p0[i] + yy * p1[i] + yz * p2[i]) + (a1[i] + b1[i]);
+      y[3 * i + 2] = (xz * p0[i] + yz * p1[i] + zz * p2[i]) + (a2[i] + b2[i]);
     }
   };
   return window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, run, flush);
@@ -337,6 +343,39 @@ std::size_t FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& block
        blocks.diag, blocks.bodies);
 }
 
+// out = R p + each family spring's block G on p_b - p_a at a and on p_a - p_b at b: the same
+// product as FamilyMultiply's (R = D + the blocks at i), on the float copy's numbers widened.
+std::size_t FamilyMultiplySingle(const SpringLayout& layout, const FamilySingleBlocks& blocks,
+                                 const double* HWY_RESTRICT p, double* HWY_RESTRICT out,
+                                 double* HWY_RESTRICT scratch, std::size_t stride) {
+  const D d;
+  const hn::Rebind<std::int32_t, D> d32;
+  const hn::Rebind<std::uint8_t, D> d8;
+  const V zero = hn::Zero(d);
+  return Walk(layout, p, out, scratch, stride, Window(scratch, stride),
+       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
+         const std::size_t s = fam.slot_first + k;
+         const V ux = LoadAsDouble(d, blocks.ux + s), uy = LoadAsDouble(d, blocks.uy + s), uz = LoadAsDouble(d, blocks.uz + s);
+         const V alpha = LoadAsDouble(d, blocks.alpha + s), c = LoadAsDouble(d, blocks.beta + s);
+         const V d0 = hn::Sub(hn::LoadU(d, w.in[0] + b), hn::LoadU(d, w.in[0] + a));
+         const V d1 = hn::Sub(hn::LoadU(d, w.in[1] + b), hn::LoadU(d, w.in[1] + a));
+         const V d2 = hn::Sub(hn::LoadU(d, w.in[2] + b), hn::LoadU(d, w.in[2] + a));
+         const V along = hn::Mul(alpha, hn::Add(hn::Add(hn::Mul(ux, d0), hn::Mul(uy, d1)), hn::Mul(uz, d2)));
+         // G (p_b - p_a), masked as in FamilyMultiply
+         const M spring = hn::Ne(hn::PromoteTo(d, hn::PromoteTo(d32, hn::LoadU(d8, blocks.spring + s))), zero);
+         const V g0 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(along, ux), hn::Mul(c, d0)));
+         const V g1 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(along, uy), hn::Mul(c, d1)));
+         const V g2 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(along, uz), hn::Mul(c, d2)));
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[0] + a), g0), d, w.plus[0] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[1] + a), g1), d, w.plus[1] + a);
+         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[2] + a), g2), d, w.plus[2] + a);
+         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[0] + b), g0), d, w.minus[0] + b);
+         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[1] + b), g1), d, w.minus[1] + b);
+         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[2] + b), g2), d, w.minus[2] + b);
+       },
+       blocks.rest, blocks.bodies);
+}
+
 const char* PotentialTargetName() { return hwy::TargetName(HWY_TARGET); }
 
 }  // namespace HWY_NAMESPACE
@@ -350,6 +389,7 @@ HWY_EXPORT(FamilyLengths);
 HWY_EXPORT(FamilyStrain);
 HWY_EXPORT(FamilyPotentialTerms);
 HWY_EXPORT(FamilyMultiply);
+HWY_EXPORT(FamilyMultiplySingle);
 HWY_EXPORT(BodyTerms);
 HWY_EXPORT(PotentialTargetName);
 
@@ -415,6 +455,12 @@ std::size_t family_multiply(const SpringLayout& layout, const FamilyBlocks& bloc
                             const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out) {
   const Scratch s = scratch_for(layout);
   return HWY_DYNAMIC_DISPATCH(FamilyMultiply)(layout, blocks, p.data(), out.data(), s.data, s.stride);
+}
+
+std::size_t family_multiply_single(const SpringLayout& layout, const FamilySingleBlocks& blocks,
+                            const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out) {
+  const Scratch s = scratch_for(layout);
+  return HWY_DYNAMIC_DISPATCH(FamilyMultiplySingle)(layout, blocks, p.data(), out.data(), s.data, s.stride);
 }
 
 

@@ -90,6 +90,24 @@ struct FamilyBlocks {
 std::size_t family_multiply(const SpringLayout& layout, const FamilyBlocks& blocks,
                             const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out);
 
+// The same product from SpringBlockMatrix::single's float numbers (block_matrix.h says why),
+// widened, with products and sums in double: R_i (D_i plus the blocks at i's family springs)
+// in place of D_i, and each spring's G_s on the difference of its ends, out_i = R_i p_i + the
+// sum of G_s (p_b - p_a) over the springs with a = i and of G_s (p_a - p_b) over those with
+// b = i, which is D_i p_i + the G_s p of the other ends.
+struct FamilySingleBlocks {
+  const float* ux;
+  const float* uy;
+  const float* uz;
+  const float* alpha;
+  const float* beta;
+  const std::uint8_t* spring;  // (slots) 1 where the slot holds a spring
+  const float* rest;   // (6 B) R, entries as FamilyBlocks::diag's
+  std::size_t bodies;  // B
+};
+std::size_t family_multiply_single(const SpringLayout& layout, const FamilySingleBlocks& blocks,
+                                   const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out);
+
 
 // The Highway target these kernels run on this CPU.
 const char* potential_kernel_target();

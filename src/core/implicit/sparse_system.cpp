@@ -1,5 +1,7 @@
 #include "sparse_system.h"
 
+#include <utility>
+
 #include "assembly_kernels.h"
 #include "potential_kernels.h"
 #include "core/linear/cg_kernels.h"
@@ -13,6 +15,7 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
   const bool families = model.spring_path() != SpringPath::List;
   const std::size_t slots = slot_count(layout, S);
   A.multiply = &multiply;
+  A.refresh_single_copy = families && model.num_particles >= model.implicit.single_from ? &refresh_single : nullptr;
   A.a = model.springs.a;
   A.b = model.springs.b;
   A.layout = families ? &layout : nullptr;
@@ -24,7 +27,7 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
     v->assign(slots, 0.0);
   A.diag_projected.assign(B, Mat3::Zero());
   A.diag_inverse.assign(B, Mat3::Identity());
-  A.refresh_diagonal_soa();
+  A.refresh_copies();
   SpringBlockMatrix::to_soa(A.diag_inverse, A.diag_inverse_soa);
 }
 
@@ -136,7 +139,7 @@ void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv
     }
   }
 
-  A.refresh_diagonal_soa();
+  A.refresh_copies();
   if (jacobi == JacobiInverse::Form) invert_diagonal(A);
 }
 
@@ -201,6 +204,7 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
     for (int e = 0; e < 6; ++e) A.diag_soa[e * B + i] = entry[e];
   }
+  if (A.refresh_single_copy) A.refresh_single_copy(A);
   if (jacobi == JacobiInverse::Form) invert_diagonal(A);
 }
 
@@ -268,18 +272,45 @@ void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matr
     return;
   }
   // The families' kernel writes y = D p + the families' blocks' terms for the particles it
-  // reaches (the diagonal blocks from diag_soa); the rest of the bodies get D p here.
+  // reaches (the diagonal blocks from diag_soa, or A.single's float numbers where the matrix
+  // keeps them); the rest of the bodies get D p here.
   const SpringLayout& layout = *A.layout;
   const int B = A.num_bodies();
   y.resize(3, B);
-  const int written = static_cast<int>(family_multiply(
-      layout, {A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(), A.diag_soa.data(),
-               static_cast<std::size_t>(B)},
-      p, y));
+  const int written = static_cast<int>(
+      A.refresh_single_copy
+          ? family_multiply_single(layout,
+                                   {A.single.ux.data(), A.single.uy.data(), A.single.uz.data(),
+                                    A.single.alpha.data(), A.single.beta.data(), A.single.spring.data(),
+                                    A.single.rest_soa.data(), static_cast<std::size_t>(B)},
+                                   p, y)
+          : family_multiply(layout,
+                            {A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(),
+                             A.diag_soa.data(), static_cast<std::size_t>(B)},
+                            p, y));
   multiply_diagonal(A, p, y, written);
   const std::size_t first = layout.others_first;
   multiply_springs(A, layout.others.size(), layout.others.a.data(), layout.others.b.data(),
                    [first](std::size_t s) { return first + s; }, p, y);
+}
+
+void refresh_single(SpringBlockMatrix& A) {
+  SpringBlockMatrix::Single& f = A.single;
+  for (auto [from, to] : {std::pair{&A.ux, &f.ux}, {&A.uy, &f.uy}, {&A.uz, &f.uz}, {&A.alpha, &f.alpha},
+                          {&A.beta, &f.beta}}) {
+    to->resize(from->size());
+    demote_to_float(from->data(), from->size(), to->data());
+  }
+  const SpringLayout& layout = *A.layout;
+  if (f.spring.size() != layout.num_slots) {  // once per pattern
+    f.spring.assign(layout.num_slots, 0);
+    for (const SpringFamily& fam : layout.families)
+      for (std::size_t k = 0; k < fam.rest.size(); ++k) f.spring[fam.slot_first + k] = fam.rest[k] > 0.0;
+  }
+  const std::size_t B = static_cast<std::size_t>(A.num_bodies());
+  f.rest_soa.resize(6 * B);
+  family_rest_diagonal(*A.layout, A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(),
+                       A.diag_soa.data(), B, f.rest_soa.data());
 }
 
 void multiply_scalar(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {

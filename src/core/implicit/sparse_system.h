@@ -69,11 +69,18 @@ void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv
 // A.diag_inverse = A.diag_projected^-1, blockwise.
 void invert_diagonal(SpringBlockMatrix& A);
 
-// y = A p (3 x B): the diagonal blocks, then the layout's families in SIMD, then the others.
+// A.single from A's double numbers (block_matrix.h: the mat-vec's float copy); the pattern's
+// refresh_single_copy where the matrix has a layout.
+void refresh_single(SpringBlockMatrix& A);
+
+// y = A p (3 x B): the layout's families in SIMD on A.single (R p and each spring's block on
+// the difference of its ends' p, block_matrix.h), then the bodies no spring reaches, then the
+// others; without a layout, multiply_scalar.
 void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y);
 
-// The scalar reference: the diagonal, then every spring in spring order. The same product to
-// rounding (the order of each entry's sum differs).
+// The scalar reference in double: the diagonal, then every spring in spring order. multiply's
+// product to its float numbers' rounding (within 1e-6 of |A| |p| per entry, and of p.A.p in
+// energy on the projected matrix: tests/core/implicit/potential_kernels_test.cpp).
 void multiply_scalar(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y);
 
 }  // namespace clothsim

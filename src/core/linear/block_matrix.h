@@ -47,9 +47,32 @@ struct SpringBlockMatrix {
   // diag and diag_inverse again, as structure of arrays for the SIMD passes (the mat-vec's
   // diagonal, the Jacobi solve): entry e of body i's symmetric block at e B + i, entries xx,
   // yy, zz, xy, xz, yz. assemble_step_hessian and invert_diagonal write both forms; whoever
-  // writes diag otherwise calls refresh_diagonal_soa().
+  // writes diag or the spring numbers otherwise calls refresh_copies().
   std::vector<double> diag_soa;          // (6 B)
   std::vector<double> diag_inverse_soa;  // (6 B)
+  // On large sheets, the SIMD mat-vec's copy of the matrix in float: the families' spring
+  // numbers by slot, and R_i = D_i + the blocks stored at i's family springs (the mass, drag
+  // and contact terms, and the springs to immovable bodies) as diag_soa. The mat-vec applies
+  // it as A p = R p + each spring's G_s (p_b - p_a) at a and its negative at b, in double.
+  // It streams these numbers once per CG iteration, and on large sheets they do not fit a
+  // core's cache: float halves the bytes (BENCHMARKS.md #37, round s37). Rounding a spring's
+  // numbers scales its own block by 1 +- 2^-22 or so and, applied to the difference of its
+  // ends, never touches rigid motions, so the rounded matrix is within that factor of A in
+  // energy whatever A's condition number (rounding D itself, a small difference of large terms
+  // on a stiff sheet, was not: a k = 1e7 sheet's steps gained energy). Newton's gradient and
+  // its stopping test stay double.
+  struct Single {
+    std::vector<float> ux, uy, uz, alpha, beta;  // (slots)
+    std::vector<float> rest_soa;                 // (6 B) R, entries as diag_soa's
+    // (slots) 1 where a family's slot holds a spring: the mat-vec's mask (a slot without one
+    // holds zeros, but 0 p is NaN where p is), in a byte where the layout's rest length is 8.
+    std::vector<std::uint8_t> spring;
+  } single;
+  // Fills `single` from the double numbers, where the matrix keeps one (ImplicitDef::
+  // single_from): the floor that assembles A supplies it with the pattern (implicit/
+  // sparse_system.h), as it does `multiply`; null where the mat-vec reads the double numbers.
+  using SingleRefresh = void (*)(SpringBlockMatrix& A);
+  SingleRefresh refresh_single_copy = nullptr;
   int num_bodies() const { return static_cast<int>(diag.size()); }
   std::size_t num_springs() const { return a.size(); }
   Vec3 u(std::size_t s) const {
@@ -65,17 +88,21 @@ struct SpringBlockMatrix {
     diag = diag_projected;
     alpha = alpha_projected;
     beta = beta_projected;
-    refresh_diagonal_soa();
+    refresh_copies();
   }
-  // diag_soa from diag.
-  void refresh_diagonal_soa() { to_soa(diag, diag_soa); }
-  static void to_soa(const std::vector<Mat3>& blocks, std::vector<double>& soa) {
+  // diag_soa from diag, and `single` where the matrix keeps one.
+  void refresh_copies() {
+    to_soa(diag, diag_soa);
+    if (refresh_single_copy) refresh_single_copy(*this);
+  }
+  template <class T>
+  static void to_soa(const std::vector<Mat3>& blocks, std::vector<T>& soa) {
     const std::size_t B = blocks.size();
     soa.resize(6 * B);
     for (std::size_t i = 0; i < B; ++i) {
       const Mat3& D = blocks[i];
       const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
-      for (int e = 0; e < 6; ++e) soa[e * B + i] = entry[e];
+      for (int e = 0; e < 6; ++e) soa[e * B + i] = static_cast<T>(entry[e]);
     }
   }
 

@@ -29,6 +29,7 @@ constexpr double kLambdaMargin = 1.1;
 void MultigridPreconditioner::load_spring_form(const SpringBlockMatrix& A) {
   if (fine_.slot.size() != A.slot.size()) {  // the pattern, once per model
     fine_.multiply = A.multiply;
+    fine_.refresh_single_copy = A.refresh_single_copy;
     fine_.a = A.a;
     fine_.b = A.b;
     fine_.slot = A.slot;
@@ -40,7 +41,7 @@ void MultigridPreconditioner::load_spring_form(const SpringBlockMatrix& A) {
   fine_.alpha = A.alpha_projected;
   fine_.beta = A.beta_projected;
   fine_.diag = A.diag_projected;
-  fine_.refresh_diagonal_soa();
+  fine_.refresh_copies();
   SpringBlockMatrix::to_soa(op_[0].diag_inverse, fine_inverse_soa_);
 }
 

@@ -88,7 +88,7 @@ void CholeskyPreconditioner::analyse(const SpringBlockMatrix& A, std::size_t bud
   upper_.clear();
   diag_.clear();
   filter_.clear();
-  estimate_costs(count, A.a.size());
+  estimate_costs(count, A.a.size(), A.refresh_single_copy != nullptr);
 }
 
 // The strictly upper blocks by column (new indices), one slot per body pair: two springs on
@@ -151,9 +151,10 @@ std::vector<int> CholeskyPreconditioner::count_columns(int B) {
 // in column j, and forms L(k, j) and its share of D_k: sum_j c_j (c_j + 3) / 2 products of 27.
 // Solve: two 3x3 mat-vecs per block of L and one per body (D^-1), 9 each. A solve whose L does
 // not fit the cache streams it from memory twice (76 bytes a block), where the iteration
-// streams about 48 bytes a spring and 150 a body: there the bytes set the cost (measured on
-// the refined drape at 64-256, 1.4-3.5 times the multiply-adds' count; BENCHMARKS.md, CHOLMOD).
-void CholeskyPreconditioner::estimate_costs(const std::vector<int>& count, std::size_t S) {
+// streams about 48 bytes a spring and 150 a body (21 and 126 from the float copy of a large
+// sheet's matrix, block_matrix.h): there the bytes set the cost (measured on the refined drape
+// at 64-256, 1.4-3.5 times the multiply-adds' count; BENCHMARKS.md, CHOLMOD).
+void CholeskyPreconditioner::estimate_costs(const std::vector<int>& count, std::size_t S, bool single) {
   const int B = static_cast<int>(count.size());
   const double iteration = 9.0 * (2.0 * B + 2.0 * static_cast<double>(S));
   double factor = 0.0;
@@ -162,7 +163,8 @@ void CholeskyPreconditioner::estimate_costs(const std::vector<int>& count, std::
   solve_cost_ = 9.0 * (2.0 * column_start_[B] + B) / iteration;
   const double streamed = 2.0 * 76.0 * column_start_[B];
   if (streamed > kCachedFactorBytes)
-    solve_cost_ = std::max(solve_cost_, streamed / (48.0 * static_cast<double>(S) + 150.0 * B));
+    solve_cost_ = std::max(solve_cost_, streamed / ((single ? 21.0 : 48.0) * static_cast<double>(S) +
+                                                     (single ? 126.0 : 150.0) * B));
 }
 
 bool CholeskyPreconditioner::factorize(const SpringBlockMatrix& A, const VelocityFilter& filter) {

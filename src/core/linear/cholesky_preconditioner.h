@@ -79,7 +79,7 @@ class CholeskyPreconditioner : public Preconditioner {
  private:
   void build_upper_pattern(const SpringBlockMatrix& A);       // analyse: A's blocks by column
   std::vector<int> count_columns(int B);                      // analyse: elimination tree, counts
-  void estimate_costs(const std::vector<int>& count, std::size_t S);
+  void estimate_costs(const std::vector<int>& count, std::size_t S, bool single);  // single: A.single
   void allocate_scratch(int B);                                // factorize: first time only
   void load_filtered(const SpringBlockMatrix& A, const VelocityFilter& filter);
   bool factor_rows(int B);

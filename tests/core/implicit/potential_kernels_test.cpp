@@ -233,6 +233,79 @@ TEST(PotentialKernels, EveryPassMatchesItsScalarReferenceOnEverySheetAndSpringSe
     }
 }
 
+// The float copy's product (SpringBlockMatrix::single, on with ImplicitDef::single_from at 0)
+// against the double scalar reference: per entry within 1e-6 of (|A| |p|)_i, float's rounding
+// of the numbers (2^-24 each) through a few products.
+void expect_single_product(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p) {
+  ASSERT_NE(A.refresh_single_copy, nullptr);
+  Eigen::Matrix3Xd out, ref, bound;
+  multiply(A, p, out);
+  multiply_scalar(A, p, ref);
+  SpringBlockMatrix abs = A;
+  for (Mat3& D : abs.diag) D = D.cwiseAbs();
+  for (auto* v : {&abs.ux, &abs.uy, &abs.uz, &abs.alpha, &abs.beta})
+    for (double& x : *v) x = std::abs(x);
+  multiply_scalar(abs, p.cwiseAbs(), bound);
+  EXPECT_TRUE(((out - ref).cwiseAbs().array() <= 1e-6 * bound.array()).all())
+      << "worst " << ((out - ref).cwiseAbs().array() / bound.array().max(1e-300)).maxCoeff();
+}
+
+TEST(PotentialKernels, TheFloatCopysProductIsTheDoubleOneToFloatRounding) {
+  unsigned seed = 100;
+  for (const auto& [nx, ny] : std::vector<std::pair<int, int>>{{25, 25}, {7, 5}, {1, 9}, {2, 2}, {50, 3}})
+    for (const std::string& types : kTypeSets) {
+      SCOPED_TRACE(std::to_string(nx) + " x " + std::to_string(ny) + " {" + types + "}");
+      Model m = sheet(nx, ny, types);
+      m.implicit.single_from = 0;
+      const StepCase s = step_case(std::move(m), seed++);
+      if (s.model.springs.size() == 0) continue;  // (1 x 9 shear, 2 x 2 bend) no families: scalar
+      SpringBlockMatrix A = newton_matrix(s);  // exact: compressed springs, a pinned corner
+      expect_single_product(A, random_vector(s.model.num_bodies(), seed++));
+      A.use_projected();  // the copy follows the matrix it is made from
+      expect_single_product(A, random_vector(s.model.num_bodies(), seed++));
+      // A diagonal changed after the assembly (contact terms do) reaches it through refresh_copies.
+      A.diag[s.model.num_particles / 2] += Mat3::Identity() * 3.0;
+      A.refresh_copies();
+      expect_single_product(A, random_vector(s.model.num_bodies(), seed++));
+    }
+}
+
+TEST(PotentialKernels, TheFloatCopyKeepsAStiffSheetsEnergyAndRigidMotions) {
+  // k = 1e7 N/m, 1 g particles, h = 1/30 s: the springs' terms are over 1e6 times the mass's
+  // on the diagonal, so float's rounding of D alone (2^-24 of it) would be the size of the mass
+  // term. Applied to the difference of a spring's ends, the rounding scales each spring's own
+  // energy by 1 +- a few 2^-24, and a translation sees the mass term alone, as in double.
+  Model m = model_from_yaml(
+      "cloth: {particles: [20, 20], size: [1, 1], particle_mass: 0.001, pinned: [[0, 0]], springs: "
+      "{structural: {stiffness: 1e7, damping: 10}, shear: {stiffness: 1e7, damping: 10}, bend: {stiffness: 1e7}}}\n");
+  m.implicit.single_from = 0;
+  const StepCase s = step_case(std::move(m), 7);
+  const double h = 1.0 / 30;
+  SpringBlockMatrix A;
+  build_pattern(s.model, A);
+  const Eigen::Matrix3Xd y = s.start.x + h * (s.start.v + s.dv);
+  assemble_step_hessian(s.model, s.start.inv_mass, h, s.length, y, HessianBlocks::Projected, A);
+  const int B = s.model.num_bodies();
+  ASSERT_GT(A.diag[B / 2](0, 0), 1e6 * 0.001);  // the springs' terms over a million times the mass's
+  Eigen::Matrix3Xd out, ref;
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    const Eigen::Matrix3Xd p = random_vector(B, seed);
+    multiply(A, p, out);
+    multiply_scalar(A, p, ref);
+    const double energy = p.cwiseProduct(ref).sum();
+    EXPECT_LE(std::abs(p.cwiseProduct(out).sum() - energy), 1e-6 * energy) << "seed " << seed;
+  }
+  Eigen::Matrix3Xd c(3, B);  // a translation of the free particles
+  for (int i = 0; i < B; ++i) c.col(i) = s.start.inv_mass[i] == 0.0 ? Vec3::Zero() : Vec3(0.3, -1.0, 0.7);
+  multiply(A, c, out);
+  multiply_scalar(A, c, ref);
+  // Away from the pin, A c is the mass term 1e-3 c (and drag): within 1e-6 of it in float.
+  for (int i = 0; i < B; ++i) {
+    if (s.start.inv_mass[i] == 0.0 || i <= 2 * 20 + 2) continue;  // the pin's springs reach 2 rows
+    EXPECT_LE((out.col(i) - ref.col(i)).norm(), 1e-6 * ref.col(i).norm()) << "particle " << i;
+  }
+}
+
 TEST(PotentialKernels, PhisEndLengthsAreTheLengthsAtYBitForBit) {
   // implicit_euler starts a step from the lengths the last step's final Phi left at its end
   // positions: they must be step_lengths' own, and so must their strain.
@@ -354,11 +427,13 @@ TEST(PotentialKernels, EveryTargetGivesTheSameBits) {
   const StepCase s = step_case(sheet(37, 23, "structural: {}, shear: {}, bend: {}"), 13);
   const SpringBlockMatrix A = newton_matrix(s);
   const Eigen::Matrix3Xd p = random_vector(s.model.num_bodies(), 14);
+  Model single_model = s.model;  // and the float copy's refresh and product (block_matrix.h)
+  single_model.implicit.single_from = 0;
   struct Bits {
     std::vector<double> length;
     double strain, phi, magnitude;
-    Eigen::Matrix3Xd gradient, product;
-    SpringBlockMatrix matrix;
+    Eigen::Matrix3Xd gradient, product, single_product;
+    SpringBlockMatrix matrix, single;
   };
   const Eigen::Matrix3Xd y_end = s.start.x + kH * (s.start.v + s.dv);
   const auto run = [&] {
@@ -371,6 +446,9 @@ TEST(PotentialKernels, EveryTargetGivesTheSameBits) {
     b.phi = v.phi;
     b.magnitude = v.magnitude;
     multiply(A, p, b.product);
+    build_pattern(single_model, b.single);
+    assemble_step_hessian(single_model, s.start.inv_mass, kH, s.length, y_end, HessianBlocks::Exact, b.single);
+    multiply(b.single, p, b.single_product);
     return b;
   };
   const auto same = [](const auto& a, const auto& b, std::size_t n) {
@@ -385,6 +463,10 @@ TEST(PotentialKernels, EveryTargetGivesTheSameBits) {
     EXPECT_TRUE(same(&b.magnitude, &first.magnitude, 1)) << name;
     EXPECT_TRUE(same(b.gradient.data(), first.gradient.data(), b.gradient.size())) << name;
     EXPECT_TRUE(same(b.product.data(), first.product.data(), b.product.size())) << name;
+    EXPECT_TRUE(same(b.single_product.data(), first.single_product.data(), b.product.size())) << name;
+    const SpringBlockMatrix::Single &f = b.single.single, &f0 = first.single.single;
+    for (const auto& [v, v0] : {std::pair{&f.ux, &f0.ux}, {&f.alpha, &f0.alpha}, {&f.rest_soa, &f0.rest_soa}})
+      EXPECT_EQ(std::memcmp(v->data(), v0->data(), sizeof(float) * v->size()), 0) << name;
     const SpringBlockMatrix& H = b.matrix;
     const SpringBlockMatrix& H0 = first.matrix;
     for (const auto& [v, v0] : {std::pair{&H.ux, &H0.ux}, std::pair{&H.uy, &H0.uy}, std::pair{&H.uz, &H0.uz},

@@ -151,7 +151,7 @@ TEST(ConjugateGradient, EveryTruncatedIterateFromZeroDescends) {
 TEST(ConjugateGradient, StopsAtNegativeCurvatureWithTheFirstDirectionAndSaysSo) {
   System s = system(kAllSprings, 0.02);
   for (auto& block : s.A.diag) block = -block;  // negative definite: the first p has p.Ap < 0
-  s.A.refresh_diagonal_soa();                    // (the SIMD mat-vec reads this copy)
+  s.A.refresh_copies();                    // (the SIMD mat-vec reads this copy)
   Eigen::Matrix3Xd x;
   CgBuffers buffers;
   const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{50, 1e-10}, buffers);
@@ -208,7 +208,7 @@ TEST(ConjugateGradient, SteihaugGoesToTheRadiusAlongNegativeCurvature) {
   System s = system(kAllSprings, 0.02);
   for (auto& block : s.A.diag) block = -block;  // the first p has p.Ap < 0
   const std::vector<Mat3>& preconditioned = s.A.diag_projected;  // block Jacobi's M, still SPD
-  s.A.refresh_diagonal_soa();
+  s.A.refresh_copies();
   const auto norm = [&preconditioned](const Eigen::Matrix3Xd& v) {  // |v|_M
     double sum = 0.0;
     for (Eigen::Index i = 0; i < v.cols(); ++i) sum += v.col(i).dot(preconditioned[i] * v.col(i));
@@ -261,7 +261,7 @@ TEST(ConjugateGradient, ReturnsTheModelsValueAtItsAnswerWhereverItStops) {
   filter.apply(b);
   check(s.A, b, x, solve_pcg(s.A, b, x, CgSettings{4, 1e-12}, buffers, &filter), "filtered");
   for (auto& block : s.A.diag) block = -block;  // negative definite along the first p
-  s.A.refresh_diagonal_soa();
+  s.A.refresh_copies();
   // (q is unbounded below here: the truncated first direction, then the boundary along it)
   const CgResult first = solve_pcg(s.A, s.b, x, CgSettings{50, 1e-10}, buffers);
   ASSERT_TRUE(first.negative_curvature);
