@@ -73,9 +73,19 @@ double preconditioner_bytes(const MemorySizes& n) {
   }
 }
 
+// From ImplicitDef::single_from particles the matrix also keeps a float copy for CG's mat-vec
+// (linear/block_matrix.h): five floats and a byte a spring slot, R's six floats a particle
+// (peak RSS at 256²: 9.4 MiB over e0a69cb's, 150 B a particle; BENCHMARKS.md #37, round s37).
+constexpr double kSinglePerParticle = 24, kSinglePerSpring = 21;
+
+double single_copy_bytes(const MemorySizes& n) {
+  if (n.particles < ImplicitDef{}.single_from) return 0.0;
+  return kSinglePerParticle * n.particles + kSinglePerSpring * n.springs;
+}
+
 MethodMemory implicit_euler_memory(const MemorySizes& n) {
   return {(kExplicitPerParticle + kImplicitPerParticle) * n.particles + kImplicitPerSpring * n.springs +
-              preconditioner_bytes(n),
+              single_copy_bytes(n) + preconditioner_bytes(n),
           kImplicitFinalPerParticle * n.bodies + kImplicitFinalPerSpring * n.springs};
 }
 
