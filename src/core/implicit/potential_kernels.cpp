@@ -355,7 +355,8 @@ std::size_t FamilyMultiplySingle(const SpringLayout& layout, const FamilySingleB
   return Walk(layout, p, out, scratch, stride, Window(scratch, stride),
        [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
          const std::size_t s = fam.slot_first + k;
-         const V ux = LoadAsDouble(d, blocks.ux + s), uy = LoadAsDouble(d, blocks.uy + s), uz = LoadAsDouble(d, blocks.uz + s);
+         const V ux = LoadAsDouble(d, blocks.ux + s), uy = LoadAsDouble(d, blocks.uy + s),
+                 uz = LoadAsDouble(d, blocks.uz + s);
          const V alpha = LoadAsDouble(d, blocks.alpha + s), c = LoadAsDouble(d, blocks.beta + s);
          const V d0 = hn::Sub(hn::LoadU(d, w.in[0] + b), hn::LoadU(d, w.in[0] + a));
          const V d1 = hn::Sub(hn::LoadU(d, w.in[1] + b), hn::LoadU(d, w.in[1] + a));
@@ -458,7 +459,7 @@ std::size_t family_multiply(const SpringLayout& layout, const FamilyBlocks& bloc
 }
 
 std::size_t family_multiply_single(const SpringLayout& layout, const FamilySingleBlocks& blocks,
-                            const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out) {
+                                   const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& out) {
   const Scratch s = scratch_for(layout);
   return HWY_DYNAMIC_DISPATCH(FamilyMultiplySingle)(layout, blocks, p.data(), out.data(), s.data, s.stride);
 }

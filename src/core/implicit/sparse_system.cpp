@@ -15,7 +15,8 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
   const bool families = model.spring_path() != SpringPath::List;
   const std::size_t slots = slot_count(layout, S);
   A.multiply = &multiply;
-  A.refresh_single_copy = families && model.num_particles >= model.implicit.single_from ? &refresh_single : nullptr;
+  const bool single = families && model.num_particles >= model.implicit.single_from;
+  A.refresh_single_copy = single ? &refresh_single : nullptr;
   A.a = model.springs.a;
   A.b = model.springs.b;
   A.layout = families ? &layout : nullptr;

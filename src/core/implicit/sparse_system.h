@@ -73,14 +73,16 @@ void invert_diagonal(SpringBlockMatrix& A);
 // refresh_single_copy where the matrix has a layout.
 void refresh_single(SpringBlockMatrix& A);
 
-// y = A p (3 x B): the layout's families in SIMD on A.single (R p and each spring's block on
-// the difference of its ends' p, block_matrix.h), then the bodies no spring reaches, then the
-// others; without a layout, multiply_scalar.
+// y = A p (3 x B): the layout's families in SIMD, on A.single where the matrix keeps one (R p
+// and each spring's block on the difference of its ends' p, block_matrix.h), else on the
+// double numbers (D p and each spring's block on the other end's p); then the bodies no spring
+// reaches, then the others. Without a layout, multiply_scalar.
 void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y);
 
 // The scalar reference in double: the diagonal, then every spring in spring order. multiply's
-// product to its float numbers' rounding (within 1e-6 of |A| |p| per entry, and of p.A.p in
-// energy on the projected matrix: tests/core/implicit/potential_kernels_test.cpp).
+// product to rounding (the order of each entry's sum differs), or, from the float copy, to its
+// numbers' rounding (within 1e-6 of |A| |p| per entry, and of p.A.p in energy on the
+// projected matrix: tests/core/implicit/potential_kernels_test.cpp).
 void multiply_scalar(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y);
 
 }  // namespace clothsim
