@@ -25,6 +25,36 @@ using V = hn::Vec<D>;
 using M = hn::Mask<D>;
 static_assert(HWY_MAX_BYTES / sizeof(double) <= kSpringLanePad, "the layout's padding is a vector");
 
+// The sum of the blocks alpha u u^T + beta I of the springs whose a, then whose b, is one of
+// particles p .. p+N-1, family after family in a fixed order, as the six entries of their
+// diagonal blocks (xx, yy, zz, xy, xz, yz): the slots s .. s+N-1 of the springs at a = p are
+// slot_first - first + p, one offset further back for those at b = p (vectors that meet the
+// family only: the slot order's gaps keep the reads within its slots).
+HWY_INLINE void SumBlocksAt(const SpringLayout& layout, std::size_t p, const double* HWY_RESTRICT ux,
+                            const double* HWY_RESTRICT uy, const double* HWY_RESTRICT uz,
+                            const double* HWY_RESTRICT alpha, const double* HWY_RESTRICT beta, V (&sum)[6]) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  for (V& v : sum) v = hn::Zero(d);
+  const auto add = [&](std::size_t s) {  // the blocks at slots s .. s+N-1
+    const V x = hn::LoadU(d, ux + s), y = hn::LoadU(d, uy + s), z = hn::LoadU(d, uz + s);
+    const V al = hn::LoadU(d, alpha + s), be = hn::LoadU(d, beta + s);
+    const V ax = hn::Mul(al, x), ay = hn::Mul(al, y), az = hn::Mul(al, z);
+    sum[0] = hn::Add(sum[0], hn::Add(hn::Mul(ax, x), be));
+    sum[1] = hn::Add(sum[1], hn::Add(hn::Mul(ay, y), be));
+    sum[2] = hn::Add(sum[2], hn::Add(hn::Mul(az, z), be));
+    sum[3] = hn::Add(sum[3], hn::Mul(ax, y));
+    sum[4] = hn::Add(sum[4], hn::Mul(ax, z));
+    sum[5] = hn::Add(sum[5], hn::Mul(ay, z));
+  };
+  for (const SpringFamily& fam : layout.families) {
+    const std::size_t first = static_cast<std::size_t>(fam.first), count = static_cast<std::size_t>(fam.count);
+    const std::size_t off = static_cast<std::size_t>(fam.offset);
+    if (p + N > first && p < first + count) add(fam.slot_first + p - first);
+    if (p + N > first + off && p < first + off + count) add(fam.slot_first + p - first - off);
+  }
+}
+
 // The families' Newton blocks: sparse_system.cpp's assembly (assemble_step_hessian_scalar),
 // lane by lane, in two passes. Long on purpose (a kernel): both passes read the same
 // copied-in window of lanes and write through the same restrict-qualified outputs.
@@ -133,26 +163,8 @@ std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRIC
     for (std::size_t set = 0; set < sets; ++set) {  // the matrix's blocks, then the projected ones
       const double* HWY_RESTRICT alpha = set == 0 ? out_alpha : out_alpha_projected;
       const double* HWY_RESTRICT beta = set == 0 ? out_beta : out_beta_projected;
-      V sum[6] = {zero, zero, zero, zero, zero, zero};  // xx, yy, zz, xy, xz, yz
-      const auto add = [&](std::size_t s) {  // the blocks at slots s .. s+N-1
-        const V ux = hn::LoadU(d, out_ux + s), uy = hn::LoadU(d, out_uy + s), uz = hn::LoadU(d, out_uz + s);
-        const V al = hn::LoadU(d, alpha + s), be = hn::LoadU(d, beta + s);
-        const V aux = hn::Mul(al, ux), auy = hn::Mul(al, uy), auz = hn::Mul(al, uz);
-        sum[0] = hn::Add(sum[0], hn::Add(hn::Mul(aux, ux), be));
-        sum[1] = hn::Add(sum[1], hn::Add(hn::Mul(auy, uy), be));
-        sum[2] = hn::Add(sum[2], hn::Add(hn::Mul(auz, uz), be));
-        sum[3] = hn::Add(sum[3], hn::Mul(aux, uy));
-        sum[4] = hn::Add(sum[4], hn::Mul(aux, uz));
-        sum[5] = hn::Add(sum[5], hn::Mul(auy, uz));
-      };
-      for (const SpringFamily& fam : layout.families) {
-        const std::size_t first = static_cast<std::size_t>(fam.first), count = static_cast<std::size_t>(fam.count);
-        const std::size_t off = static_cast<std::size_t>(fam.offset);
-        // The springs with a in p .. p+N-1, then those with b there (vectors that meet the
-        // family only: the read stays within its slots and gaps).
-        if (p + N > first && p < first + count) add(fam.slot_first + p - first);
-        if (p + N > first + off && p < first + off + count) add(fam.slot_first + p - first - off);
-      }
+      V sum[6];  // xx, yy, zz, xy, xz, yz
+      SumBlocksAt(layout, p, out_ux, out_uy, out_uz, alpha, beta, sum);
       for (int e = 0; e < 6; ++e) {
         const V value = e < 3 ? hn::Sub(base, sum[e]) : hn::Neg(sum[e]);
         const V stored = hn::IfThenElse(moves, value, e < 3 ? one : zero);
@@ -179,7 +191,7 @@ std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRIC
   return P;
 }
 
-// R_i = D_i + the blocks stored at particle i's springs (read by particle, as pass 2 above),
+// R_i = D_i + the blocks stored at particle i's springs (SumBlocksAt, as pass 2 above),
 // in double, then rounded to float into rest_soa; the bodies no spring reaches keep D.
 void FamilyRestDiagonal(const SpringLayout& layout, const double* HWY_RESTRICT ux,
                         const double* HWY_RESTRICT uy, const double* HWY_RESTRICT uz,
@@ -193,24 +205,8 @@ void FamilyRestDiagonal(const SpringLayout& layout, const double* HWY_RESTRICT u
   HWY_ALIGN float rounded[kSpringLanePad];
   for (std::size_t p = 0; p < P; p += N) {
     const std::size_t lanes = std::min(N, P - p);
-    V sum[6] = {hn::Zero(d), hn::Zero(d), hn::Zero(d), hn::Zero(d), hn::Zero(d), hn::Zero(d)};
-    const auto add = [&](std::size_t s) {  // the blocks at slots s .. s+N-1
-      const V x = hn::LoadU(d, ux + s), y = hn::LoadU(d, uy + s), z = hn::LoadU(d, uz + s);
-      const V al = hn::LoadU(d, alpha + s), be = hn::LoadU(d, beta + s);
-      const V ax = hn::Mul(al, x), ay = hn::Mul(al, y), az = hn::Mul(al, z);
-      sum[0] = hn::Add(sum[0], hn::Add(hn::Mul(ax, x), be));
-      sum[1] = hn::Add(sum[1], hn::Add(hn::Mul(ay, y), be));
-      sum[2] = hn::Add(sum[2], hn::Add(hn::Mul(az, z), be));
-      sum[3] = hn::Add(sum[3], hn::Mul(ax, y));
-      sum[4] = hn::Add(sum[4], hn::Mul(ax, z));
-      sum[5] = hn::Add(sum[5], hn::Mul(ay, z));
-    };
-    for (const SpringFamily& fam : layout.families) {
-      const std::size_t first = static_cast<std::size_t>(fam.first), count = static_cast<std::size_t>(fam.count);
-      const std::size_t off = static_cast<std::size_t>(fam.offset);
-      if (p + N > first && p < first + count) add(fam.slot_first + p - first);
-      if (p + N > first + off && p < first + off + count) add(fam.slot_first + p - first - off);
-    }
+    V sum[6];
+    SumBlocksAt(layout, p, ux, uy, uz, alpha, beta, sum);
     for (int e = 0; e < 6; ++e) {
       const double* D_at = diag_soa + e * bodies + p;
       if (lanes < N) D_at = std::copy(D_at, D_at + lanes, tail) - lanes;  // (the soa's next entry follows)
