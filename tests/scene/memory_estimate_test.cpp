@@ -77,7 +77,7 @@ SceneDef drape(int n, const std::string& preconditioner = "auto") {
 // preconditioner's share.
 double preconditioner_share(const SceneDef& s) {
   const double springs = static_cast<double>(spring_count(s.cloth)), particles = s.cloth.nx * s.cloth.ny;
-  const double copy = particles >= 128 * 128 ? 24.0 * particles + 21.0 * springs : 0.0;
+  const double copy = particles >= ImplicitDef{}.single_from ? 24.0 * particles + 21.0 * springs : 0.0;
   return run_bytes(s, IntegratorKind::ImplicitEuler) - run_bytes(s, IntegratorKind::ExplicitEuler) -
          560.0 * particles - 144.0 * springs - copy;
 }

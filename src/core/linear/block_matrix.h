@@ -55,9 +55,9 @@ struct SpringBlockMatrix {
   // and contact terms, and the springs to immovable bodies) as diag_soa. The mat-vec applies
   // it as A p = R p + each spring's G_s (p_b - p_a) at a and its negative at b, in double.
   // It streams these numbers once per CG iteration, and on large sheets they do not fit a
-  // core's cache: float halves the bytes (BENCHMARKS.md #37, round s37). Rounding a spring's
-  // numbers scales its own block by 1 +- 2^-22 or so and, applied to the difference of its
-  // ends, never touches rigid motions, so the rounded matrix is within that factor of A in
+  // core's cache: 21 bytes a slot instead of 48 (BENCHMARKS.md #37, round s37). Rounding a
+  // spring's numbers scales its own block by 1 +- 2^-22 or so and, applied to the difference of
+  // its ends, never touches rigid motions, so the rounded matrix is within that factor of A in
   // energy whatever A's condition number (rounding D itself, a small difference of large terms
   // on a stiff sheet, was not: a k = 1e7 sheet's steps gained energy). Newton's gradient and
   // its stopping test stay double.
