@@ -71,21 +71,14 @@ struct Window {
 // springs' ends); with `out`, adds the finished particles' sums into it, or, with `diag` (3x3
 // symmetric blocks as SpringBlockMatrix::diag_soa, of B bodies, in double or float), writes
 // diag_i in_i + the sums there. Returns how many particles it finished.
-template <class Body, class T = double>
-std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
-                 double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Body& body,
+template <class Run, class T = double>
+std::size_t WalkRanges(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
+                 double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Run& run,
                  const T* HWY_RESTRICT diag = nullptr, std::size_t bodies = 0) {
   const D d;
   const std::size_t N = hn::Lanes(d);
   const auto copy_in = [&](std::size_t particle, std::size_t n, std::size_t at) {
     window::Deinterleave(in + 3 * particle, n, w.in[0] + at, w.in[1] + at, w.in[2] + at);
-  };
-  const auto run = [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
-    const std::size_t off = static_cast<std::size_t>(fam.offset);
-    for (std::size_t k = k0; k < k1; k += N) {
-      HWY_DASSERT(first + k + off + N <= stride);
-      body(fam, k, first + k, first + k + off, w);
-    }
   };
   const auto flush = [&](std::size_t particle, std::size_t n, std::size_t at) {
     if (!out) return;
@@ -127,6 +120,21 @@ std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, doub
     }
   };
   return window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, run, flush);
+}
+
+template <class Body, class T = double>
+std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
+                 double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Body& body,
+                 const T* HWY_RESTRICT diag = nullptr, std::size_t bodies = 0) {
+  const std::size_t N = hn::Lanes(D());
+  const auto run = [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
+    const std::size_t off = static_cast<std::size_t>(fam.offset);
+    for (std::size_t k = k0; k < k1; k += N) {
+      HWY_DASSERT(first + k + off + N <= stride);
+      body(fam, k, first + k, first + k + off, w);
+    }
+  };
+  return WalkRanges(layout, in, out, scratch, stride, w, run, diag, bodies);
 }
 
 }  // namespace
@@ -307,40 +315,90 @@ void BodyTerms(const BodyArgs& args, double* HWY_RESTRICT y, double* HWY_RESTRIC
   }
 }
 
+// One family's springs over positions k .. k + n - 1 for FamilyMultiply: every pointer already
+// at position k (blocks by slot, rest lengths by position, window arrays at the springs' a or
+// b), and restrict, so that the vector stores (which may alias anything) do not reload them.
+HWY_NOINLINE void RunDouble(const double* HWY_RESTRICT ux, const double* HWY_RESTRICT uy,
+                            const double* HWY_RESTRICT uz, const double* HWY_RESTRICT alpha,
+                            const double* HWY_RESTRICT beta, const double* HWY_RESTRICT rest,
+                            const double* HWY_RESTRICT pa, const double* HWY_RESTRICT pb,
+                            double* HWY_RESTRICT plus, double* HWY_RESTRICT minus,
+                            std::size_t stride, std::size_t n) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V zero = hn::Zero(d);
+  const std::size_t s1 = stride, s2 = 2 * stride;
+  for (std::size_t k = 0; k < n; k += N) {
+    const V vx = hn::LoadU(d, ux + k), vy = hn::LoadU(d, uy + k), vz = hn::LoadU(d, uz + k);
+    const V al = hn::LoadU(d, alpha + k), c = hn::LoadU(d, beta + k);
+    const V pa0 = hn::LoadU(d, pa + k), pa1 = hn::LoadU(d, pa + s1 + k), pa2 = hn::LoadU(d, pa + s2 + k);
+    const V pb0 = hn::LoadU(d, pb + k), pb1 = hn::LoadU(d, pb + s1 + k), pb2 = hn::LoadU(d, pb + s2 + k);
+    const V sa = hn::Mul(al, hn::Add(hn::Add(hn::Mul(vx, pa0), hn::Mul(vy, pa1)), hn::Mul(vz, pa2)));
+    const V sb = hn::Mul(al, hn::Add(hn::Add(hn::Mul(vx, pb0), hn::Mul(vy, pb1)), hn::Mul(vz, pb2)));
+    // A position without a spring holds zeros, but 0 p is NaN where p is: masked.
+    const M m = hn::Gt(hn::LoadU(d, rest + k), zero);
+    const V ya0 = hn::IfThenElseZero(m, hn::Add(hn::Mul(sb, vx), hn::Mul(c, pb0)));
+    const V ya1 = hn::IfThenElseZero(m, hn::Add(hn::Mul(sb, vy), hn::Mul(c, pb1)));
+    const V ya2 = hn::IfThenElseZero(m, hn::Add(hn::Mul(sb, vz), hn::Mul(c, pb2)));
+    const V yb0 = hn::IfThenElseZero(m, hn::Add(hn::Mul(sa, vx), hn::Mul(c, pa0)));
+    const V yb1 = hn::IfThenElseZero(m, hn::Add(hn::Mul(sa, vy), hn::Mul(c, pa1)));
+    const V yb2 = hn::IfThenElseZero(m, hn::Add(hn::Mul(sa, vz), hn::Mul(c, pa2)));
+    hn::StoreU(hn::Add(hn::LoadU(d, plus + k), ya0), d, plus + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, plus + s1 + k), ya1), d, plus + s1 + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, plus + s2 + k), ya2), d, plus + s2 + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, minus + k), yb0), d, minus + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, minus + s1 + k), yb1), d, minus + s1 + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, minus + s2 + k), yb2), d, minus + s2 + k);
+  }
+}
+
 // out = D p + the families' blocks applied to p: sparse_system.cpp's multiply, lane by lane.
 std::size_t FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& blocks,
                     const double* HWY_RESTRICT p, double* HWY_RESTRICT out,
                     double* HWY_RESTRICT scratch, std::size_t stride) {
-  const D d;
-  const V zero = hn::Zero(d);
-  return Walk(layout, p, out, scratch, stride, Window(scratch, stride),
-       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
-         const std::size_t s = fam.slot_first + k;
-         const V ux = hn::LoadU(d, blocks.ux + s), uy = hn::LoadU(d, blocks.uy + s),
-                 uz = hn::LoadU(d, blocks.uz + s);
-         const V alpha = hn::LoadU(d, blocks.alpha + s), c = hn::LoadU(d, blocks.beta + s);
-         const V pa0 = hn::LoadU(d, w.in[0] + a), pa1 = hn::LoadU(d, w.in[1] + a),
-                 pa2 = hn::LoadU(d, w.in[2] + a);
-         const V pb0 = hn::LoadU(d, w.in[0] + b), pb1 = hn::LoadU(d, w.in[1] + b),
-                 pb2 = hn::LoadU(d, w.in[2] + b);
-         const V sa = hn::Mul(alpha, hn::Add(hn::Add(hn::Mul(ux, pa0), hn::Mul(uy, pa1)), hn::Mul(uz, pa2)));
-         const V sb = hn::Mul(alpha, hn::Add(hn::Add(hn::Mul(ux, pb0), hn::Mul(uy, pb1)), hn::Mul(uz, pb2)));
-         // A position without a spring holds zeros, but 0 p is NaN where p is: masked.
-         const M spring = hn::Gt(hn::LoadU(d, fam.rest.data() + k), zero);
-         const V ya0 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sb, ux), hn::Mul(c, pb0)));
-         const V ya1 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sb, uy), hn::Mul(c, pb1)));
-         const V ya2 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sb, uz), hn::Mul(c, pb2)));
-         const V yb0 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sa, ux), hn::Mul(c, pa0)));
-         const V yb1 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sa, uy), hn::Mul(c, pa1)));
-         const V yb2 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(sa, uz), hn::Mul(c, pa2)));
-         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[0] + a), ya0), d, w.plus[0] + a);
-         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[1] + a), ya1), d, w.plus[1] + a);
-         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[2] + a), ya2), d, w.plus[2] + a);
-         hn::StoreU(hn::Add(hn::LoadU(d, w.minus[0] + b), yb0), d, w.minus[0] + b);
-         hn::StoreU(hn::Add(hn::LoadU(d, w.minus[1] + b), yb1), d, w.minus[1] + b);
-         hn::StoreU(hn::Add(hn::LoadU(d, w.minus[2] + b), yb2), d, w.minus[2] + b);
+  const Window w(scratch, stride);
+  return WalkRanges(layout, p, out, scratch, stride, w,
+       [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
+         const std::size_t s = fam.slot_first + k0, a = first + k0, b = a + static_cast<std::size_t>(fam.offset);
+         RunDouble(blocks.ux + s, blocks.uy + s, blocks.uz + s, blocks.alpha + s, blocks.beta + s,
+                   fam.rest.data() + k0, w.in[0] + a, w.in[0] + b, w.plus[0] + a, w.minus[0] + b, stride, k1 - k0);
        },
        blocks.diag, blocks.bodies);
+}
+
+// One family's springs over positions k .. k + n - 1 for FamilyMultiplySingle: every pointer
+// already at position k (copy numbers by slot; window arrays at the springs' a, or b), and
+// restrict, so that the vector stores (which may alias anything) do not reload them.
+HWY_NOINLINE void RunSingle(const float* HWY_RESTRICT ux, const float* HWY_RESTRICT uy,
+                            const float* HWY_RESTRICT uz, const float* HWY_RESTRICT alpha,
+                            const float* HWY_RESTRICT beta, const std::uint8_t* HWY_RESTRICT spring,
+                            const double* HWY_RESTRICT pa, const double* HWY_RESTRICT pb,
+                            double* HWY_RESTRICT plus, double* HWY_RESTRICT minus,
+                            std::size_t stride, std::size_t n) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const hn::Rebind<std::int32_t, D> d32;
+  const hn::Rebind<std::uint8_t, D> d8;
+  const V zero = hn::Zero(d);
+  const std::size_t s1 = stride, s2 = 2 * stride;
+  for (std::size_t k = 0; k < n; k += N) {
+    const V vx = LoadAsDouble(d, ux + k), vy = LoadAsDouble(d, uy + k), vz = LoadAsDouble(d, uz + k);
+    const V al = LoadAsDouble(d, alpha + k), c = LoadAsDouble(d, beta + k);
+    const V d0 = hn::Sub(hn::LoadU(d, pb + k), hn::LoadU(d, pa + k));
+    const V d1 = hn::Sub(hn::LoadU(d, pb + s1 + k), hn::LoadU(d, pa + s1 + k));
+    const V d2 = hn::Sub(hn::LoadU(d, pb + s2 + k), hn::LoadU(d, pa + s2 + k));
+    const V along = hn::Mul(al, hn::Add(hn::Add(hn::Mul(vx, d0), hn::Mul(vy, d1)), hn::Mul(vz, d2)));
+    const M m = hn::Ne(hn::PromoteTo(d, hn::PromoteTo(d32, hn::LoadU(d8, spring + k))), zero);
+    const V g0 = hn::IfThenElseZero(m, hn::Add(hn::Mul(along, vx), hn::Mul(c, d0)));
+    const V g1 = hn::IfThenElseZero(m, hn::Add(hn::Mul(along, vy), hn::Mul(c, d1)));
+    const V g2 = hn::IfThenElseZero(m, hn::Add(hn::Mul(along, vz), hn::Mul(c, d2)));
+    hn::StoreU(hn::Add(hn::LoadU(d, plus + k), g0), d, plus + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, plus + s1 + k), g1), d, plus + s1 + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, plus + s2 + k), g2), d, plus + s2 + k);
+    hn::StoreU(hn::Sub(hn::LoadU(d, minus + k), g0), d, minus + k);
+    hn::StoreU(hn::Sub(hn::LoadU(d, minus + s1 + k), g1), d, minus + s1 + k);
+    hn::StoreU(hn::Sub(hn::LoadU(d, minus + s2 + k), g2), d, minus + s2 + k);
+  }
 }
 
 // out = R p + each family spring's block G on p_b - p_a at a and on p_a - p_b at b: the same
@@ -348,31 +406,12 @@ std::size_t FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& block
 std::size_t FamilyMultiplySingle(const SpringLayout& layout, const FamilySingleBlocks& blocks,
                                  const double* HWY_RESTRICT p, double* HWY_RESTRICT out,
                                  double* HWY_RESTRICT scratch, std::size_t stride) {
-  const D d;
-  const hn::Rebind<std::int32_t, D> d32;
-  const hn::Rebind<std::uint8_t, D> d8;
-  const V zero = hn::Zero(d);
-  return Walk(layout, p, out, scratch, stride, Window(scratch, stride),
-       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
-         const std::size_t s = fam.slot_first + k;
-         const V ux = LoadAsDouble(d, blocks.ux + s), uy = LoadAsDouble(d, blocks.uy + s),
-                 uz = LoadAsDouble(d, blocks.uz + s);
-         const V alpha = LoadAsDouble(d, blocks.alpha + s), c = LoadAsDouble(d, blocks.beta + s);
-         const V d0 = hn::Sub(hn::LoadU(d, w.in[0] + b), hn::LoadU(d, w.in[0] + a));
-         const V d1 = hn::Sub(hn::LoadU(d, w.in[1] + b), hn::LoadU(d, w.in[1] + a));
-         const V d2 = hn::Sub(hn::LoadU(d, w.in[2] + b), hn::LoadU(d, w.in[2] + a));
-         const V along = hn::Mul(alpha, hn::Add(hn::Add(hn::Mul(ux, d0), hn::Mul(uy, d1)), hn::Mul(uz, d2)));
-         // G (p_b - p_a), masked as in FamilyMultiply
-         const M spring = hn::Ne(hn::PromoteTo(d, hn::PromoteTo(d32, hn::LoadU(d8, blocks.spring + s))), zero);
-         const V g0 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(along, ux), hn::Mul(c, d0)));
-         const V g1 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(along, uy), hn::Mul(c, d1)));
-         const V g2 = hn::IfThenElseZero(spring, hn::Add(hn::Mul(along, uz), hn::Mul(c, d2)));
-         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[0] + a), g0), d, w.plus[0] + a);
-         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[1] + a), g1), d, w.plus[1] + a);
-         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[2] + a), g2), d, w.plus[2] + a);
-         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[0] + b), g0), d, w.minus[0] + b);
-         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[1] + b), g1), d, w.minus[1] + b);
-         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[2] + b), g2), d, w.minus[2] + b);
+  const Window w(scratch, stride);
+  return WalkRanges(layout, p, out, scratch, stride, w,
+       [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
+         const std::size_t s = fam.slot_first + k0, a = first + k0, b = a + static_cast<std::size_t>(fam.offset);
+         RunSingle(blocks.ux + s, blocks.uy + s, blocks.uz + s, blocks.alpha + s, blocks.beta + s,
+                   blocks.spring + s, w.in[0] + a, w.in[0] + b, w.plus[0] + a, w.minus[0] + b, stride, k1 - k0);
        },
        blocks.rest, blocks.bodies);
 }
