@@ -175,6 +175,55 @@ double FamilyStrain(const SpringLayout& layout, const double* HWY_RESTRICT lengt
   return window::WorstRatio(d, ratio);
 }
 
+// One family's terms over positions k .. k + n - 1 for FamilyPotentialTerms, in RunSingle's
+// form (every pointer at position k, restrict); `sum_at`: position k's partial sum (k mod kSums).
+HWY_NOINLINE void RunPotential(const SpringFamily& fam, double h, const double* HWY_RESTRICT rest,
+                               const double* HWY_RESTRICT start_length, const double* HWY_RESTRICT ya,
+                               const double* HWY_RESTRICT yb, double* HWY_RESTRICT plus,
+                               double* HWY_RESTRICT minus, double* HWY_RESTRICT end_length,
+                               double* HWY_RESTRICT phi, double* HWY_RESTRICT magnitude,
+                               std::size_t sum_at, std::size_t stride, std::size_t n) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V zero = hn::Zero(d);
+  const V hv = hn::Set(d, h);
+  // the family's constants, as spring_force.h rounds them
+  const V ks = hn::Set(d, fam.ks), kdh = hn::Set(d, fam.kd / h);
+  const V half_ks = hn::Set(d, 0.5 * fam.ks), half_kdh = hn::Set(d, 0.5 * (fam.kd / h));
+  const std::size_t s1 = stride, s2 = 2 * stride;
+  for (std::size_t k = 0; k < n; k += N) {
+    const V l0 = hn::LoadU(d, rest + k);
+    const V ln = hn::LoadU(d, start_length + k);
+    const V dx = hn::Sub(hn::LoadU(d, ya + k), hn::LoadU(d, yb + k));
+    const V dy = hn::Sub(hn::LoadU(d, ya + s1 + k), hn::LoadU(d, yb + s1 + k));
+    const V dz = hn::Sub(hn::LoadU(d, ya + s2 + k), hn::LoadU(d, yb + s2 + k));
+    const V l = window::Length(dx, dy, dz);
+    const V stretch = hn::Sub(l, l0), rate = hn::Sub(l, ln);
+    // E = 0.5 ks (l - l0)^2 + 0.5 (kd / h) (l - ln)^2, T = ks (l - l0) + (kd / h) (l - ln)
+    const V e = hn::Add(hn::Mul(hn::Mul(half_ks, stretch), stretch), hn::Mul(hn::Mul(half_kdh, rate), rate));
+    const V T = hn::Add(hn::Mul(ks, stretch), hn::Mul(kdh, rate));
+    const M spring = hn::Gt(l0, zero);
+    const M acts = hn::AndNot(hn::Le(l, zero), spring);  // a direction (or NaN)
+    // (FamilyLengths' store: the same lengths by slot, for the next step's start)
+    if (end_length) hn::StoreU(hn::IfThenElseZero(spring, l), d, end_length + k);
+    const V e_in = hn::IfThenElseZero(spring, e);
+    const V m_in = hn::Add(e_in, hn::IfThenElseZero(acts, hn::Mul(hn::Abs(T), l)));
+    const std::size_t j = (sum_at + k) % kSums;
+    hn::StoreU(hn::Add(hn::LoadU(d, phi + j), e_in), d, phi + j);
+    hn::StoreU(hn::Add(hn::LoadU(d, magnitude + j), m_in), d, magnitude + j);
+    const V c = hn::Div(hn::Mul(hv, T), l);  // push = (h T / l) d
+    const V px = hn::IfThenElseZero(acts, hn::Mul(c, dx));
+    const V py = hn::IfThenElseZero(acts, hn::Mul(c, dy));
+    const V pz = hn::IfThenElseZero(acts, hn::Mul(c, dz));
+    hn::StoreU(hn::Add(hn::LoadU(d, plus + k), px), d, plus + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, plus + s1 + k), py), d, plus + s1 + k);
+    hn::StoreU(hn::Add(hn::LoadU(d, plus + s2 + k), pz), d, plus + s2 + k);
+    hn::StoreU(hn::Sub(hn::LoadU(d, minus + k), px), d, minus + k);
+    hn::StoreU(hn::Sub(hn::LoadU(d, minus + s1 + k), py), d, minus + s1 + k);
+    hn::StoreU(hn::Sub(hn::LoadU(d, minus + s2 + k), pz), d, minus + s2 + k);
+  }
+}
+
 // Phi's spring terms and gradient: step_potential's loop body, lane by lane. sums: 2 kSums
 // partial sums (phi, magnitude), zeroed by the caller.
 void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT y,
@@ -182,52 +231,13 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
                           double* HWY_RESTRICT gradient, double* HWY_RESTRICT sums,
                           double* HWY_RESTRICT end_length, double* HWY_RESTRICT scratch,
                           std::size_t stride) {
-  const D d;
-  const V zero = hn::Zero(d);
-  const V hv = hn::Set(d, h);
-  double* HWY_RESTRICT phi = sums;
-  double* HWY_RESTRICT magnitude = sums + kSums;
-  const SpringFamily* current = nullptr;
-  V ks = zero, kdh = zero, half_ks = zero, half_kdh = zero;
-  Walk(layout, y, gradient, scratch, stride, Window(scratch, stride),
-       [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
-         if (&fam != current) {  // the family's constants, as spring_force.h rounds them
-           current = &fam;
-           ks = hn::Set(d, fam.ks);
-           kdh = hn::Set(d, fam.kd / h);
-           half_ks = hn::Set(d, 0.5 * fam.ks);
-           half_kdh = hn::Set(d, 0.5 * (fam.kd / h));
-         }
-         const V l0 = hn::LoadU(d, fam.rest.data() + k);
-         const V ln = hn::LoadU(d, start_length + fam.slot_first + k);
-         const V dx = hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b));
-         const V dy = hn::Sub(hn::LoadU(d, w.in[1] + a), hn::LoadU(d, w.in[1] + b));
-         const V dz = hn::Sub(hn::LoadU(d, w.in[2] + a), hn::LoadU(d, w.in[2] + b));
-         const V l = window::Length(dx, dy, dz);
-         const V stretch = hn::Sub(l, l0), rate = hn::Sub(l, ln);
-         // E = 0.5 ks (l - l0)^2 + 0.5 (kd / h) (l - ln)^2, T = ks (l - l0) + (kd / h) (l - ln)
-         const V e = hn::Add(hn::Mul(hn::Mul(half_ks, stretch), stretch),
-                             hn::Mul(hn::Mul(half_kdh, rate), rate));
-         const V T = hn::Add(hn::Mul(ks, stretch), hn::Mul(kdh, rate));
-         const M spring = hn::Gt(l0, zero);
-         const M acts = hn::AndNot(hn::Le(l, zero), spring);  // a direction (or NaN)
-         // (FamilyLengths' store: the same lengths by slot, for the next step's start)
-         if (end_length) hn::StoreU(hn::IfThenElseZero(spring, l), d, end_length + fam.slot_first + k);
-         const V e_in = hn::IfThenElseZero(spring, e);
-         const V m_in = hn::Add(e_in, hn::IfThenElseZero(acts, hn::Mul(hn::Abs(T), l)));
-         const std::size_t j = k % kSums;
-         hn::StoreU(hn::Add(hn::LoadU(d, phi + j), e_in), d, phi + j);
-         hn::StoreU(hn::Add(hn::LoadU(d, magnitude + j), m_in), d, magnitude + j);
-         const V c = hn::Div(hn::Mul(hv, T), l);  // push = (h T / l) d
-         const V px = hn::IfThenElseZero(acts, hn::Mul(c, dx));
-         const V py = hn::IfThenElseZero(acts, hn::Mul(c, dy));
-         const V pz = hn::IfThenElseZero(acts, hn::Mul(c, dz));
-         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[0] + a), px), d, w.plus[0] + a);
-         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[1] + a), py), d, w.plus[1] + a);
-         hn::StoreU(hn::Add(hn::LoadU(d, w.plus[2] + a), pz), d, w.plus[2] + a);
-         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[0] + b), px), d, w.minus[0] + b);
-         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[1] + b), py), d, w.minus[1] + b);
-         hn::StoreU(hn::Sub(hn::LoadU(d, w.minus[2] + b), pz), d, w.minus[2] + b);
+  const Window w(scratch, stride);
+  WalkRanges(layout, y, gradient, scratch, stride, w,
+       [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
+         const std::size_t s = fam.slot_first + k0, a = first + k0, b = a + static_cast<std::size_t>(fam.offset);
+         RunPotential(fam, h, fam.rest.data() + k0, start_length + s, w.in[0] + a, w.in[0] + b,
+                      w.plus[0] + a, w.minus[0] + b, end_length ? end_length + s : nullptr, sums,
+                      sums + kSums, k0, stride, k1 - k0);
        });
 }
 
