@@ -67,14 +67,17 @@ struct Window {
 };
 
 // Walks the families (spring_window-inl.h) with `in` (3 x P) copied into the window; calls
-// body(fam, k, a, b, w) for each vector of positions k .. k+N-1 (a, b: window indices of its
-// springs' ends); with `out`, adds the finished particles' sums into it, or, with `diag` (3x3
-// symmetric blocks as SpringBlockMatrix::diag_soa, of B bodies, in double or float), writes
-// diag_i in_i + the sums there. Returns how many particles it finished.
+// run(fam, k0, k1, first) for each family's positions k0 .. k1-1 in a block (its springs join
+// window indices first + k and first + k + offset); with `out`, adds the finished particles'
+// sums into it, or, with `diag` (3x3 symmetric blocks as SpringBlockMatrix::diag_soa, of B
+// bodies, in double or float), writes diag_i in_i + the sums there. Returns how many particles
+// it finished. A hot loop over a range belongs in a function taking its pointers as restrict
+// parameters (RunSingle): Highway's stores may alias anything, so a loop that reads its
+// pointers through a capture reloads them after every store.
 template <class Run, class T = double>
 std::size_t WalkRanges(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
-                 double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Run& run,
-                 const T* HWY_RESTRICT diag = nullptr, std::size_t bodies = 0) {
+                       double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Run& run,
+                       const T* HWY_RESTRICT diag = nullptr, std::size_t bodies = 0) {
   const D d;
   const std::size_t N = hn::Lanes(d);
   const auto copy_in = [&](std::size_t particle, std::size_t n, std::size_t at) {
@@ -122,10 +125,11 @@ std::size_t WalkRanges(const SpringLayout& layout, const double* HWY_RESTRICT in
   return window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, run, flush);
 }
 
-template <class Body, class T = double>
-std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT out,
-                 double* HWY_RESTRICT scratch, std::size_t stride, const Window& w, const Body& body,
-                 const T* HWY_RESTRICT diag = nullptr, std::size_t bodies = 0) {
+// WalkRanges without an output, with body(fam, k, a, b, w) called for each vector of
+// positions k .. k+N-1 (a, b: window indices of its springs' ends): for a pass run once a step.
+template <class Body>
+void Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT scratch,
+          std::size_t stride, const Window& w, const Body& body) {
   const std::size_t N = hn::Lanes(D());
   const auto run = [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
     const std::size_t off = static_cast<std::size_t>(fam.offset);
@@ -134,7 +138,7 @@ std::size_t Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, doub
       body(fam, k, first + k, first + k + off, w);
     }
   };
-  return WalkRanges(layout, in, out, scratch, stride, w, run, diag, bodies);
+  WalkRanges(layout, in, nullptr, scratch, stride, w, run);
 }
 
 }  // namespace
@@ -145,7 +149,7 @@ double FamilyLengths(const SpringLayout& layout, const double* HWY_RESTRICT x,
   const D d;
   const V zero = hn::Zero(d);
   V ratio = hn::Set(d, 1.0);
-  Walk(layout, x, nullptr, scratch, stride, Window(scratch, stride),
+  Walk(layout, x, scratch, stride, Window(scratch, stride),
        [&](const SpringFamily& fam, std::size_t k, std::size_t a, std::size_t b, const Window& w) {
          const V l0 = hn::LoadU(d, fam.rest.data() + k);
          const V l = window::Length(hn::Sub(hn::LoadU(d, w.in[0] + a), hn::LoadU(d, w.in[0] + b)),
