@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "assembly_kernels.h"
@@ -65,7 +66,10 @@ HWY_INLINE void SumBlocksAt(const SpringLayout& layout, std::size_t p, const dou
 //     a or whose b it is, read from the slots by particle (slot_first - first + p for the
 //     springs at a = p, one offset further back for those at b = p: contiguous loads, no
 //     scatter, no sums kept in between), family after family in a fixed order.
-// Then the blocks with an immovable end are zeroed (their row and column are removed).
+// With out.rest_soa, pass 2 also writes R (the part of the matrix the float mat-vec applies
+// per particle, SpringBlockMatrix::single): D plus the blocks at p is M + h c I, or I where p is
+// immovable. The caller (family_assemble) then takes the springs to immovable bodies out of R,
+// and zeroes their blocks (their rows and columns are removed).
 std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRICT y,
                            const double* HWY_RESTRICT inv_mass, const double* HWY_RESTRICT start_length,
                            const FamilyHessian& out, std::vector<std::int32_t>& filtered,
@@ -148,6 +152,8 @@ std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRIC
   const V h_drag = hn::Set(d, h * out.drag);
   HWY_ALIGN double entry[6][kSpringLanePad];
   HWY_ALIGN double tail[kSpringLanePad];
+  HWY_ALIGN float rounded[kSpringLanePad];
+  const hn::Rebind<float, D> df;
   const std::size_t sets = project ? 1 : 2;
   for (std::size_t p = 0; p < P; p += N) {
     const std::size_t lanes = std::min(N, P - p);
@@ -160,6 +166,19 @@ std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRIC
     const V w = hn::LoadU(d, w_at);
     const M moves = hn::Ne(w, zero);
     const V base = hn::Add(hn::Div(one, w), h_drag);
+    if (out.rest_soa) {  // R = D + the blocks at p: M + h c I, or I where p is immovable
+      const auto r = hn::DemoteTo(df, hn::IfThenElse(moves, base, one));
+      const auto r0 = hn::Zero(df);
+      for (int e = 0; e < 6; ++e) {
+        float* at = out.rest_soa + e * out.bodies + p;
+        if (lanes == N) {
+          hn::StoreU(e < 3 ? r : r0, df, at);
+        } else {
+          hn::StoreU(e < 3 ? r : r0, df, rounded);
+          std::copy(rounded, rounded + lanes, at);
+        }
+      }
+    }
     for (std::size_t set = 0; set < sets; ++set) {  // the matrix's blocks, then the projected ones
       const double* HWY_RESTRICT alpha = set == 0 ? out_alpha : out_alpha_projected;
       const double* HWY_RESTRICT beta = set == 0 ? out_beta : out_beta_projected;
@@ -186,8 +205,6 @@ std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRIC
       }
     }
   }
-  for (const std::int32_t s : filtered)
-    out.alpha[s] = out.beta[s] = out.alpha_projected[s] = out.beta_projected[s] = 0.0;
   return P;
 }
 
@@ -244,6 +261,48 @@ HWY_EXPORT(FamilyAssemble);
 HWY_EXPORT(FamilyRestDiagonal);
 HWY_EXPORT(DemoteToFloat);
 
+namespace {
+
+// R at the movable ends of the springs to immovable bodies (`filtered`, their numbers not yet
+// zeroed): M + h c I less those springs' blocks, which the mat-vec does not apply, summed in
+// double in (particle, slot) order, then rounded. Pass 2 wrote M + h c I there.
+void rest_less_filtered(const SpringLayout& layout, const Eigen::VectorXd& inv_mass, const FamilyHessian& out,
+                        const std::vector<std::int32_t>& filtered) {
+  thread_local std::vector<std::pair<std::int32_t, std::int32_t>> ends;  // (particle, slot)
+  ends.clear();
+  for (const std::int32_t s : filtered) {
+    const std::size_t slot = static_cast<std::size_t>(s);
+    for (const SpringFamily& fam : layout.families) {
+      if (slot < fam.slot_first || slot >= fam.slot_first + fam.rest.size()) continue;
+      const std::int32_t a = fam.first + static_cast<std::int32_t>(slot - fam.slot_first);
+      for (const std::int32_t i : {a, a + fam.offset})
+        if (inv_mass[i] != 0.0) ends.emplace_back(i, s);
+      break;
+    }
+  }
+  std::sort(ends.begin(), ends.end());
+  for (std::size_t j = 0; j < ends.size();) {
+    const std::int32_t i = ends[j].first;
+    const double base = 1.0 / inv_mass[i] + out.h * out.drag;  // pass 2's M + h c
+    double r[6] = {base, base, base, 0.0, 0.0, 0.0};             // xx, yy, zz, xy, xz, yz
+    for (; j < ends.size() && ends[j].first == i; ++j) {
+      const std::int32_t s = ends[j].second;
+      const double x = out.ux[s], y = out.uy[s], z = out.uz[s], al = out.alpha[s], be = out.beta[s];
+      const double ax = al * x, ay = al * y, az = al * z;
+      r[0] -= ax * x + be;
+      r[1] -= ay * y + be;
+      r[2] -= az * z + be;
+      r[3] -= ax * y;
+      r[4] -= ax * z;
+      r[5] -= ay * z;
+    }
+    float* at = out.rest_soa + static_cast<std::size_t>(i);
+    for (int e = 0; e < 6; ++e) at[static_cast<std::size_t>(e) * out.bodies] = static_cast<float>(r[e]);
+  }
+}
+
+}  // namespace
+
 std::size_t family_assemble(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
                             const Eigen::VectorXd& inv_mass, const double* start_length,
                             const FamilyHessian& out) {
@@ -257,8 +316,12 @@ std::size_t family_assemble(const SpringLayout& layout, const Eigen::Matrix3Xd& 
     capacity = 4 * stride;
     scratch = hwy::AllocateAligned<double>(capacity);
   }
-  return HWY_DYNAMIC_DISPATCH(FamilyAssemble)(layout, y.data(), inv_mass.data(), start_length, out,
-                                              filtered, scratch.get(), stride);
+  const std::size_t written = HWY_DYNAMIC_DISPATCH(FamilyAssemble)(layout, y.data(), inv_mass.data(), start_length,
+                                                                   out, filtered, scratch.get(), stride);
+  if (out.rest_soa) rest_less_filtered(layout, inv_mass, out, filtered);
+  for (const std::int32_t s : filtered)  // their rows and columns removed
+    out.alpha[s] = out.beta[s] = out.alpha_projected[s] = out.beta_projected[s] = 0.0;
+  return written;
 }
 
 void family_rest_diagonal(const SpringLayout& layout, const double* ux, const double* uy, const double* uz,

@@ -43,6 +43,10 @@ struct FamilyHessian {
   double* diag;            // (9 B) column-major 3 x 3 blocks
   double* diag_projected;  // (9 B), unused with `project`
   double* diag_soa;        // (6 B) diag's blocks again, as SpringBlockMatrix::diag_soa
+  // (6 B) where not null, R at the particles, as SpringBlockMatrix::single's rest_soa, from
+  // M + h c I rather than D (the caller's when no other spring adds to D; terms added to D
+  // later, as the barrier's, recompute R: SpringBlockMatrix::refresh_copies)
+  float* rest_soa = nullptr;
   std::size_t bodies = 0;  // B
   double h = 0.0;          // s, the step
   double drag = 0.0;       // N s / m, the particles' air drag c

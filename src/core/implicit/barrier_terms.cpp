@@ -33,7 +33,7 @@ void add_barrier_hessian(const Model& model, const State& start, double h, const
       A.diag_projected[i] += h2 * t.hessian;
     }
   });
-  A.refresh_copies();
+  A.refresh_copies(SpringBlockMatrix::Refresh::Rest);  // the spring numbers are the assembly's
 }
 
 double barrier_line_bound(const Model& model, const State& start, double h, const Eigen::Matrix3Xd& y,

@@ -161,6 +161,12 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
   out.h = h;
   out.drag = model.air_drag;
   out.project = project;
+  // R needs no sum over the springs where nothing but the families' blocks is in D
+  const bool rest_here = A.refresh_single_copy && layout.others.size() == 0;
+  if (rest_here) {
+    A.single.rest_soa.resize(6 * static_cast<std::size_t>(B));
+    out.rest_soa = A.single.rest_soa.data();
+  }
   // The families write the particles they reach; the rest (bodies past the grid, particles no
   // spring reaches) get M + h c I here, as the scalar assembly.
   const int written = static_cast<int>(family_assemble(layout, y, inv_mass, start_length.data(), out));
@@ -205,7 +211,8 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
     for (int e = 0; e < 6; ++e) A.diag_soa[e * B + i] = entry[e];
   }
-  if (A.refresh_single_copy) A.refresh_single_copy(A);
+  if (A.refresh_single_copy)
+    A.refresh_single_copy(A, rest_here ? SpringBlockMatrix::Refresh::Springs : SpringBlockMatrix::Refresh::All);
   if (jacobi == JacobiInverse::Form) invert_diagonal(A);
 }
 
@@ -295,23 +302,32 @@ void multiply(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matr
                    [first](std::size_t s) { return first + s; }, p, y);
 }
 
-void refresh_single(SpringBlockMatrix& A) {
+void refresh_single(SpringBlockMatrix& A, SpringBlockMatrix::Refresh what) {
+  using Refresh = SpringBlockMatrix::Refresh;
   SpringBlockMatrix::Single& f = A.single;
-  for (auto [from, to] : {std::pair{&A.ux, &f.ux}, {&A.uy, &f.uy}, {&A.uz, &f.uz}, {&A.alpha, &f.alpha},
-                          {&A.beta, &f.beta}}) {
-    to->resize(from->size());
-    demote_to_float(from->data(), from->size(), to->data());
-  }
   const SpringLayout& layout = *A.layout;
-  if (f.spring.size() != layout.num_slots) {  // once per pattern
-    f.spring.assign(layout.num_slots, 0);
-    for (const SpringFamily& fam : layout.families)
-      for (std::size_t k = 0; k < fam.rest.size(); ++k) f.spring[fam.slot_first + k] = fam.rest[k] > 0.0;
+  if (what != Refresh::Rest) {
+    for (auto [from, to] : {std::pair{&A.ux, &f.ux}, {&A.uy, &f.uy}, {&A.uz, &f.uz}, {&A.alpha, &f.alpha},
+                            {&A.beta, &f.beta}}) {
+      to->resize(from->size());
+      demote_to_float(from->data(), from->size(), to->data());
+    }
+    if (f.spring.size() != layout.num_slots) {  // once per pattern
+      f.spring.assign(layout.num_slots, 0);
+      for (const SpringFamily& fam : layout.families)
+        for (std::size_t k = 0; k < fam.rest.size(); ++k) f.spring[fam.slot_first + k] = fam.rest[k] > 0.0;
+    }
   }
   const std::size_t B = static_cast<std::size_t>(A.num_bodies());
   f.rest_soa.resize(6 * B);
-  family_rest_diagonal(*A.layout, A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(),
-                       A.diag_soa.data(), B, f.rest_soa.data());
+  if (what != Refresh::Springs) {
+    family_rest_diagonal(*A.layout, A.ux.data(), A.uy.data(), A.uz.data(), A.alpha.data(), A.beta.data(),
+                         A.diag_soa.data(), B, f.rest_soa.data());
+    return;
+  }
+  // The assembly wrote R at the particles; the bodies past them keep D.
+  for (std::size_t i = static_cast<std::size_t>(layout.num_particles); i < B; ++i)
+    for (std::size_t e = 0; e < 6; ++e) f.rest_soa[e * B + i] = static_cast<float>(A.diag_soa[e * B + i]);
 }
 
 void multiply_scalar(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& y) {

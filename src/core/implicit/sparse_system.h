@@ -71,7 +71,7 @@ void invert_diagonal(SpringBlockMatrix& A);
 
 // A.single from A's double numbers (block_matrix.h: the mat-vec's float copy); the pattern's
 // refresh_single_copy where the matrix has a layout.
-void refresh_single(SpringBlockMatrix& A);
+void refresh_single(SpringBlockMatrix& A, SpringBlockMatrix::Refresh what);
 
 // y = A p (3 x B): the layout's families in SIMD, on A.single where the matrix keeps one (R p
 // and each spring's block on the difference of its ends' p, block_matrix.h), else on the

@@ -71,7 +71,10 @@ struct SpringBlockMatrix {
   // Fills `single` from the double numbers, where the matrix keeps one (ImplicitDef::
   // single_from): the floor that assembles A supplies it with the pattern (implicit/
   // sparse_system.h), as it does `multiply`; null where the mat-vec reads the double numbers.
-  using SingleRefresh = void (*)(SpringBlockMatrix& A);
+  // What a refresh of the copies redoes: everything; R alone (only diag changed, as contact
+  // terms change it); or the spring numbers alone (the assembly wrote R itself).
+  enum class Refresh { All, Rest, Springs };
+  using SingleRefresh = void (*)(SpringBlockMatrix& A, Refresh what);
   SingleRefresh refresh_single_copy = nullptr;
   int num_bodies() const { return static_cast<int>(diag.size()); }
   std::size_t num_springs() const { return a.size(); }
@@ -91,9 +94,9 @@ struct SpringBlockMatrix {
     refresh_copies();
   }
   // diag_soa from diag, and `single` where the matrix keeps one.
-  void refresh_copies() {
+  void refresh_copies(Refresh what = Refresh::All) {
     to_soa(diag, diag_soa);
-    if (refresh_single_copy) refresh_single_copy(*this);
+    if (refresh_single_copy) refresh_single_copy(*this, what);
   }
   template <class T>
   static void to_soa(const std::vector<Mat3>& blocks, std::vector<T>& soa) {

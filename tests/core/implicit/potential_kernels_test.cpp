@@ -259,6 +259,10 @@ TEST(PotentialKernels, TheFloatCopysProductIsTheDoubleOneToFloatRounding) {
       A.diag[s.model.num_particles / 2] += Mat3::Identity() * 3.0;
       A.refresh_copies();
       expect_single_product(A, random_vector(s.model.num_bodies(), seed++));
+      // and through the refresh of R alone (the barrier's terms change only D)
+      A.diag[s.model.num_particles / 3] += Mat3::Identity() * 5.0;
+      A.refresh_copies(SpringBlockMatrix::Refresh::Rest);
+      expect_single_product(A, random_vector(s.model.num_bodies(), seed++));
     }
 }
 

@@ -131,6 +131,38 @@ TEST(SparseSystem, DynamicSphereBlockIsItsMassAlone) {
   EXPECT_NEAR(D.block(3 * sphere, 0, 3, D.cols()).norm(), 2.0 * std::sqrt(3.0), 1e-12);
 }
 
+// Where the matrix keeps a float copy (ImplicitDef::single_from), the assembly writes the
+// copy's R itself: M + h c I, I at the pinned corners, less the springs to them at their
+// neighbours. It is the R the sum over the springs gives (D + the blocks at each particle:
+// refresh_copies), to float's rounding, exact or projected, the dynamic sphere's block included.
+TEST(SparseSystem, TheAssemblysFloatRestIsDPlusTheBlocksAtEachParticle) {
+  for (const bool project : {false, true}) {
+    SCOPED_TRACE(project ? "projected" : "exact");
+    Assembled s = assemble(0.9, 0.05, project);
+    s.model.implicit.single_from = 0;
+    build_pattern(s.model, s.A);
+    assemble_step_hessian(s.model, s.state.inv_mass, 0.05, s.start_length, s.y,
+                          project ? HessianBlocks::Projected : HessianBlocks::Exact, s.A);
+    ASSERT_NE(s.A.refresh_single_copy, nullptr);
+    const std::vector<float> written = s.A.single.rest_soa;
+    s.A.refresh_copies();  // R as D + the blocks summed at each particle
+    const std::vector<float>& summed = s.A.single.rest_soa;
+    const int B = s.model.num_bodies();
+    ASSERT_EQ(written.size(), 6u * B);
+    ASSERT_EQ(summed.size(), 6u * B);
+    int near_pins = 0;
+    for (int b = 0; b < B; ++b) {
+      double size = 0.0;
+      for (int e = 0; e < 3; ++e) size = std::max(size, std::abs(double(summed[e * B + b])));
+      for (int e = 0; e < 6; ++e)
+        EXPECT_LE(std::abs(double(written[e * B + b]) - double(summed[e * B + b])), 1e-6 * size)
+            << "body " << b << " entry " << e;
+      near_pins += summed[3 * B + b] != 0.0f;  // an off-diagonal entry: a spring to a pin
+    }
+    EXPECT_GT(near_pins, 0);  // the case the springs to the pins are taken out of
+  }
+}
+
 TEST(SparseSystem, ProjectionKeepsTheMatrixPositiveDefiniteAtHugeSteps) {
   // Every spring at 60% of its rest length and h = 1 s: the exact transverse stiffness
   // (tension / l < 0) makes the Hessian indefinite; projected, it is SPD.
