@@ -36,17 +36,18 @@ HWY_INLINE void SumBlocksAt(const SpringLayout& layout, std::size_t p, const dou
                             const double* HWY_RESTRICT alpha, const double* HWY_RESTRICT beta, V (&sum)[6]) {
   const D d;
   const std::size_t N = hn::Lanes(d);
-  for (V& v : sum) v = hn::Zero(d);
+  // (six named sums rather than the array: kept in registers, not zeroed and summed on the stack)
+  V xx = hn::Zero(d), yy = xx, zz = xx, xy = xx, xz = xx, yz = xx;
   const auto add = [&](std::size_t s) {  // the blocks at slots s .. s+N-1
     const V x = hn::LoadU(d, ux + s), y = hn::LoadU(d, uy + s), z = hn::LoadU(d, uz + s);
     const V al = hn::LoadU(d, alpha + s), be = hn::LoadU(d, beta + s);
     const V ax = hn::Mul(al, x), ay = hn::Mul(al, y), az = hn::Mul(al, z);
-    sum[0] = hn::Add(sum[0], hn::Add(hn::Mul(ax, x), be));
-    sum[1] = hn::Add(sum[1], hn::Add(hn::Mul(ay, y), be));
-    sum[2] = hn::Add(sum[2], hn::Add(hn::Mul(az, z), be));
-    sum[3] = hn::Add(sum[3], hn::Mul(ax, y));
-    sum[4] = hn::Add(sum[4], hn::Mul(ax, z));
-    sum[5] = hn::Add(sum[5], hn::Mul(ay, z));
+    xx = hn::Add(xx, hn::Add(hn::Mul(ax, x), be));
+    yy = hn::Add(yy, hn::Add(hn::Mul(ay, y), be));
+    zz = hn::Add(zz, hn::Add(hn::Mul(az, z), be));
+    xy = hn::Add(xy, hn::Mul(ax, y));
+    xz = hn::Add(xz, hn::Mul(ax, z));
+    yz = hn::Add(yz, hn::Mul(ay, z));
   };
   for (const SpringFamily& fam : layout.families) {
     const std::size_t first = static_cast<std::size_t>(fam.first), count = static_cast<std::size_t>(fam.count);
@@ -54,6 +55,7 @@ HWY_INLINE void SumBlocksAt(const SpringLayout& layout, std::size_t p, const dou
     if (p + N > first && p < first + count) add(fam.slot_first + p - first);
     if (p + N > first + off && p < first + off + count) add(fam.slot_first + p - first - off);
   }
+  sum[0] = xx, sum[1] = yy, sum[2] = zz, sum[3] = xy, sum[4] = xz, sum[5] = yz;
 }
 
 // The families' Newton blocks: sparse_system.cpp's assembly (assemble_step_hessian_scalar),
