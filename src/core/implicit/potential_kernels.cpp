@@ -66,6 +66,14 @@ struct Window {
   }
 };
 
+// at[k], at[k + stride], at[k + 2 stride] (one vector each: a window sum's x, y and z) += v0, v1, v2.
+HWY_INLINE void AddComponents(double* HWY_RESTRICT at, std::size_t k, std::size_t stride, V v0, V v1, V v2) {
+  const D d;
+  hn::StoreU(hn::Add(hn::LoadU(d, at + k), v0), d, at + k);
+  hn::StoreU(hn::Add(hn::LoadU(d, at + stride + k), v1), d, at + stride + k);
+  hn::StoreU(hn::Add(hn::LoadU(d, at + 2 * stride + k), v2), d, at + 2 * stride + k);
+}
+
 // Walks the families (spring_window-inl.h) with `in` (3 x P) copied into the window; calls
 // run(fam, k0, k1, first) for each family's positions k0 .. k1-1 in a block (its springs join
 // window indices first + k and first + k + offset); with `out`, adds the finished particles'
@@ -219,12 +227,8 @@ HWY_NOINLINE void RunPotential(const SpringFamily& fam, double h, const double* 
     const V px = hn::IfThenElseZero(acts, hn::Mul(c, dx));
     const V py = hn::IfThenElseZero(acts, hn::Mul(c, dy));
     const V pz = hn::IfThenElseZero(acts, hn::Mul(c, dz));
-    hn::StoreU(hn::Add(hn::LoadU(d, plus + k), px), d, plus + k);
-    hn::StoreU(hn::Add(hn::LoadU(d, plus + s1 + k), py), d, plus + s1 + k);
-    hn::StoreU(hn::Add(hn::LoadU(d, plus + s2 + k), pz), d, plus + s2 + k);
-    hn::StoreU(hn::Sub(hn::LoadU(d, minus + k), px), d, minus + k);
-    hn::StoreU(hn::Sub(hn::LoadU(d, minus + s1 + k), py), d, minus + s1 + k);
-    hn::StoreU(hn::Sub(hn::LoadU(d, minus + s2 + k), pz), d, minus + s2 + k);
+    AddComponents(plus, k, stride, px, py, pz);
+    AddComponents(minus, k, stride, hn::Neg(px), hn::Neg(py), hn::Neg(pz));  // x + -p: x - p's bits
   }
 }
 
@@ -357,12 +361,8 @@ HWY_NOINLINE void RunDouble(const double* HWY_RESTRICT ux, const double* HWY_RES
     const V yb0 = hn::IfThenElseZero(m, hn::Add(hn::Mul(sa, vx), hn::Mul(c, pa0)));
     const V yb1 = hn::IfThenElseZero(m, hn::Add(hn::Mul(sa, vy), hn::Mul(c, pa1)));
     const V yb2 = hn::IfThenElseZero(m, hn::Add(hn::Mul(sa, vz), hn::Mul(c, pa2)));
-    hn::StoreU(hn::Add(hn::LoadU(d, plus + k), ya0), d, plus + k);
-    hn::StoreU(hn::Add(hn::LoadU(d, plus + s1 + k), ya1), d, plus + s1 + k);
-    hn::StoreU(hn::Add(hn::LoadU(d, plus + s2 + k), ya2), d, plus + s2 + k);
-    hn::StoreU(hn::Add(hn::LoadU(d, minus + k), yb0), d, minus + k);
-    hn::StoreU(hn::Add(hn::LoadU(d, minus + s1 + k), yb1), d, minus + s1 + k);
-    hn::StoreU(hn::Add(hn::LoadU(d, minus + s2 + k), yb2), d, minus + s2 + k);
+    AddComponents(plus, k, stride, ya0, ya1, ya2);
+    AddComponents(minus, k, stride, yb0, yb1, yb2);
   }
 }
 
@@ -406,12 +406,8 @@ HWY_NOINLINE void RunSingle(const float* HWY_RESTRICT ux, const float* HWY_RESTR
     const V g0 = hn::IfThenElseZero(m, hn::Add(hn::Mul(along, vx), hn::Mul(c, d0)));
     const V g1 = hn::IfThenElseZero(m, hn::Add(hn::Mul(along, vy), hn::Mul(c, d1)));
     const V g2 = hn::IfThenElseZero(m, hn::Add(hn::Mul(along, vz), hn::Mul(c, d2)));
-    hn::StoreU(hn::Add(hn::LoadU(d, plus + k), g0), d, plus + k);
-    hn::StoreU(hn::Add(hn::LoadU(d, plus + s1 + k), g1), d, plus + s1 + k);
-    hn::StoreU(hn::Add(hn::LoadU(d, plus + s2 + k), g2), d, plus + s2 + k);
-    hn::StoreU(hn::Sub(hn::LoadU(d, minus + k), g0), d, minus + k);
-    hn::StoreU(hn::Sub(hn::LoadU(d, minus + s1 + k), g1), d, minus + s1 + k);
-    hn::StoreU(hn::Sub(hn::LoadU(d, minus + s2 + k), g2), d, minus + s2 + k);
+    AddComponents(plus, k, stride, g0, g1, g2);
+    AddComponents(minus, k, stride, hn::Neg(g0), hn::Neg(g1), hn::Neg(g2));  // x + -g: x - g's bits
   }
 }
 
