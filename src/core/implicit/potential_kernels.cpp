@@ -402,6 +402,7 @@ HWY_NOINLINE void RunSingle(const float* HWY_RESTRICT ux, const float* HWY_RESTR
     const V d1 = hn::Sub(hn::LoadU(d, pb + s1 + k), hn::LoadU(d, pa + s1 + k));
     const V d2 = hn::Sub(hn::LoadU(d, pb + s2 + k), hn::LoadU(d, pa + s2 + k));
     const V along = hn::Mul(al, hn::Add(hn::Add(hn::Mul(vx, d0), hn::Mul(vy, d1)), hn::Mul(vz, d2)));
+    // G (p_b - p_a), masked as in RunDouble
     const M m = hn::Ne(hn::PromoteTo(d, hn::PromoteTo(d32, hn::LoadU(d8, spring + k))), zero);
     const V g0 = hn::IfThenElseZero(m, hn::Add(hn::Mul(along, vx), hn::Mul(c, d0)));
     const V g1 = hn::IfThenElseZero(m, hn::Add(hn::Mul(along, vy), hn::Mul(c, d1)));
