@@ -61,7 +61,8 @@ std::size_t family_assemble(const SpringLayout& layout, const Eigen::Matrix3Xd& 
 // double numbers (by slot; diag_soa: D as SpringBlockMatrix::diag_soa), in double, rounded to
 // float into rest_soa (6 B, the same layout): mass, drag, contact terms, and the springs whose
 // other end is immovable (stored as zero blocks). Bodies no spring reaches keep D. (The sum
-// must be of the double blocks: with the float ones, R's rounding would be D's again.)
+// must be of the double blocks: with the float ones, R's rounding would be D's again.) Where
+// D holds only the families' blocks, the assembly writes R without it (FamilyHessian::rest_soa).
 void family_rest_diagonal(const SpringLayout& layout, const double* ux, const double* uy, const double* uz,
                           const double* alpha, const double* beta, const double* diag_soa, std::size_t bodies,
                           float* rest_soa);

@@ -68,12 +68,12 @@ struct SpringBlockMatrix {
     // holds zeros, but 0 p is NaN where p is), in a byte where the layout's rest length is 8.
     std::vector<std::uint8_t> spring;
   } single;
-  // Fills `single` from the double numbers, where the matrix keeps one (ImplicitDef::
-  // single_from): the floor that assembles A supplies it with the pattern (implicit/
-  // sparse_system.h), as it does `multiply`; null where the mat-vec reads the double numbers.
   // What a refresh of the copies redoes: everything; R alone (only diag changed, as contact
   // terms change it); or the spring numbers alone (the assembly wrote R itself).
   enum class Refresh { All, Rest, Springs };
+  // Fills `single` from the double numbers, where the matrix keeps one (ImplicitDef::
+  // single_from): the floor that assembles A supplies it with the pattern (implicit/
+  // sparse_system.h), as it does `multiply`; null where the mat-vec reads the double numbers.
   using SingleRefresh = void (*)(SpringBlockMatrix& A, Refresh what);
   SingleRefresh refresh_single_copy = nullptr;
   int num_bodies() const { return static_cast<int>(diag.size()); }
@@ -98,14 +98,13 @@ struct SpringBlockMatrix {
     to_soa(diag, diag_soa);
     if (refresh_single_copy) refresh_single_copy(*this, what);
   }
-  template <class T>
-  static void to_soa(const std::vector<Mat3>& blocks, std::vector<T>& soa) {
+  static void to_soa(const std::vector<Mat3>& blocks, std::vector<double>& soa) {
     const std::size_t B = blocks.size();
     soa.resize(6 * B);
     for (std::size_t i = 0; i < B; ++i) {
       const Mat3& D = blocks[i];
       const double entry[6] = {D(0, 0), D(1, 1), D(2, 2), D(0, 1), D(0, 2), D(1, 2)};
-      for (int e = 0; e < 6; ++e) soa[e * B + i] = static_cast<T>(entry[e]);
+      for (int e = 0; e < 6; ++e) soa[e * B + i] = entry[e];
     }
   }
 

@@ -101,7 +101,8 @@ TEST(ImplicitEuler, ConvergesAtEveryFrameRateStepOfStifferAndHeavierSheetsByDefa
 // fraction of the starting energy (gravity's potential is measured from the ball's centre, so
 // that is the energy the drop has to spend).
 // single_from: ImplicitDef's (the float copy of the matrix from this many particles on).
-double largest_rise(const std::vector<std::string>& sets, double h, int frames, int single_from = 128 * 128) {
+double largest_rise(const std::vector<std::string>& sets, double h, int frames,
+                    int single_from = ImplicitDef{}.single_from) {
   std::vector<std::string> all = sets;
   all.push_back("dt=" + std::to_string(h));
   Model model = build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/stiff.yaml", all));

@@ -151,7 +151,7 @@ TEST(ConjugateGradient, EveryTruncatedIterateFromZeroDescends) {
 TEST(ConjugateGradient, StopsAtNegativeCurvatureWithTheFirstDirectionAndSaysSo) {
   System s = system(kAllSprings, 0.02);
   for (auto& block : s.A.diag) block = -block;  // negative definite: the first p has p.Ap < 0
-  s.A.refresh_copies();                    // (the SIMD mat-vec reads this copy)
+  s.A.refresh_copies();  // (the SIMD mat-vec reads these copies)
   Eigen::Matrix3Xd x;
   CgBuffers buffers;
   const CgResult r = solve_pcg(s.A, s.b, x, CgSettings{50, 1e-10}, buffers);
