@@ -74,9 +74,14 @@ HWY_INLINE void AddComponents(double* HWY_RESTRICT at, std::size_t k, std::size_
   hn::StoreU(hn::Add(hn::LoadU(d, at + 2 * stride + k), v2), d, at + 2 * stride + k);
 }
 
+// A family's positions k0 .. k0 + n - 1 in a window block: the first one's slot s, and the
+// window indices a and b of its spring's ends (the others follow at +1 each).
+struct Range {
+  std::size_t k0, n, s, a, b;
+};
+
 // Walks the families (spring_window-inl.h) with `in` (3 x P) copied into the window; calls
-// run(fam, k0, k1, first) for each family's positions k0 .. k1-1 in a block (its springs join
-// window indices first + k and first + k + offset); with `out`, adds the finished particles'
+// run(fam, range) for each family's positions in a block; with `out`, adds the finished particles'
 // sums into it, or, with `diag` (3x3 symmetric blocks as SpringBlockMatrix::diag_soa, of B
 // bodies, in double or float), writes diag_i in_i + the sums there. Returns how many particles
 // it finished. A hot loop over a range belongs in a function taking its pointers as restrict
@@ -90,6 +95,10 @@ std::size_t WalkRanges(const SpringLayout& layout, const double* HWY_RESTRICT in
   const std::size_t N = hn::Lanes(d);
   const auto copy_in = [&](std::size_t particle, std::size_t n, std::size_t at) {
     window::Deinterleave(in + 3 * particle, n, w.in[0] + at, w.in[1] + at, w.in[2] + at);
+  };
+  const auto ranges = [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
+    const std::size_t a = first + k0;
+    run(fam, Range{k0, k1 - k0, fam.slot_first + k0, a, a + static_cast<std::size_t>(fam.offset)});
   };
   const auto flush = [&](std::size_t particle, std::size_t n, std::size_t at) {
     if (!out) return;
@@ -130,7 +139,7 @@ std::size_t WalkRanges(const SpringLayout& layout, const double* HWY_RESTRICT in
       y[3 * i + 2] = (xz * p0[i] + yz * p1[i] + zz * p2[i]) + (a2[i] + b2[i]);
     }
   };
-  return window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, run, flush);
+  return window::WalkFamilies(layout, scratch, stride, 3, out ? 6 : 0, copy_in, ranges, flush);
 }
 
 // WalkRanges without an output, with body(fam, k, a, b, w) called for each vector of
@@ -139,11 +148,10 @@ template <class Body>
 void Walk(const SpringLayout& layout, const double* HWY_RESTRICT in, double* HWY_RESTRICT scratch,
           std::size_t stride, const Window& w, const Body& body) {
   const std::size_t N = hn::Lanes(D());
-  const auto run = [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
-    const std::size_t off = static_cast<std::size_t>(fam.offset);
-    for (std::size_t k = k0; k < k1; k += N) {
-      HWY_DASSERT(first + k + off + N <= stride);
-      body(fam, k, first + k, first + k + off, w);
+  const auto run = [&](const SpringFamily& fam, const Range& r) {
+    for (std::size_t j = 0; j < r.n; j += N) {
+      HWY_DASSERT(r.b + j + N <= stride);
+      body(fam, r.k0 + j, r.a + j, r.b + j, w);
     }
   };
   WalkRanges(layout, in, nullptr, scratch, stride, w, run);
@@ -241,11 +249,10 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
                           std::size_t stride) {
   const Window w(scratch, stride);
   WalkRanges(layout, y, gradient, scratch, stride, w,
-       [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
-         const std::size_t s = fam.slot_first + k0, a = first + k0, b = a + static_cast<std::size_t>(fam.offset);
-         RunPotential(fam, h, fam.rest.data() + k0, start_length + s, w.in[0] + a, w.in[0] + b,
-                      w.plus[0] + a, w.minus[0] + b, end_length ? end_length + s : nullptr, sums,
-                      sums + kSums, k0, stride, k1 - k0);
+       [&](const SpringFamily& fam, const Range& r) {
+         RunPotential(fam, h, fam.rest.data() + r.k0, start_length + r.s, w.in[0] + r.a, w.in[0] + r.b,
+                      w.plus[0] + r.a, w.minus[0] + r.b, end_length ? end_length + r.s : nullptr, sums,
+                      sums + kSums, r.k0, stride, r.n);
        });
 }
 
@@ -372,10 +379,10 @@ std::size_t FamilyMultiply(const SpringLayout& layout, const FamilyBlocks& block
                     double* HWY_RESTRICT scratch, std::size_t stride) {
   const Window w(scratch, stride);
   return WalkRanges(layout, p, out, scratch, stride, w,
-       [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
-         const std::size_t s = fam.slot_first + k0, a = first + k0, b = a + static_cast<std::size_t>(fam.offset);
-         RunDouble(blocks.ux + s, blocks.uy + s, blocks.uz + s, blocks.alpha + s, blocks.beta + s,
-                   fam.rest.data() + k0, w.in[0] + a, w.in[0] + b, w.plus[0] + a, w.minus[0] + b, stride, k1 - k0);
+       [&](const SpringFamily& fam, const Range& r) {
+         RunDouble(blocks.ux + r.s, blocks.uy + r.s, blocks.uz + r.s, blocks.alpha + r.s, blocks.beta + r.s,
+                   fam.rest.data() + r.k0, w.in[0] + r.a, w.in[0] + r.b, w.plus[0] + r.a, w.minus[0] + r.b, stride,
+                   r.n);
        },
        blocks.diag, blocks.bodies);
 }
@@ -419,10 +426,10 @@ std::size_t FamilyMultiplySingle(const SpringLayout& layout, const FamilySingleB
                                  double* HWY_RESTRICT scratch, std::size_t stride) {
   const Window w(scratch, stride);
   return WalkRanges(layout, p, out, scratch, stride, w,
-       [&](const SpringFamily& fam, std::size_t k0, std::size_t k1, std::size_t first) {
-         const std::size_t s = fam.slot_first + k0, a = first + k0, b = a + static_cast<std::size_t>(fam.offset);
-         RunSingle(blocks.ux + s, blocks.uy + s, blocks.uz + s, blocks.alpha + s, blocks.beta + s,
-                   blocks.spring + s, w.in[0] + a, w.in[0] + b, w.plus[0] + a, w.minus[0] + b, stride, k1 - k0);
+       [&](const SpringFamily&, const Range& r) {
+         RunSingle(blocks.ux + r.s, blocks.uy + r.s, blocks.uz + r.s, blocks.alpha + r.s, blocks.beta + r.s,
+                   blocks.spring + r.s, w.in[0] + r.a, w.in[0] + r.b, w.plus[0] + r.a, w.minus[0] + r.b, stride,
+                   r.n);
        },
        blocks.rest, blocks.bodies);
 }
