@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "assembly_kernels.h"
+#include "core/springs/spring_force.h"
 #include "core/springs/spring_window-inl.h"  // the walk over the families: its window and helpers
 
 HWY_BEFORE_NAMESPACE();
@@ -285,19 +286,12 @@ void rest_less_filtered(const SpringLayout& layout, const Eigen::VectorXd& inv_m
   std::sort(ends.begin(), ends.end());
   for (std::size_t j = 0; j < ends.size();) {
     const std::int32_t i = ends[j].first;
-    const double base = 1.0 / inv_mass[i] + out.h * out.drag;  // pass 2's M + h c
-    double r[6] = {base, base, base, 0.0, 0.0, 0.0};             // xx, yy, zz, xy, xz, yz
+    Mat3 R = (1.0 / inv_mass[i] + out.h * out.drag) * Mat3::Identity();  // pass 2's M + h c I
     for (; j < ends.size() && ends[j].first == i; ++j) {
       const std::int32_t s = ends[j].second;
-      const double x = out.ux[s], y = out.uy[s], z = out.uz[s], al = out.alpha[s], be = out.beta[s];
-      const double ax = al * x, ay = al * y, az = al * z;
-      r[0] -= ax * x + be;
-      r[1] -= ay * y + be;
-      r[2] -= az * z + be;
-      r[3] -= ax * y;
-      r[4] -= ax * z;
-      r[5] -= ay * z;
+      subtract_block(R, out.alpha[s], out.beta[s], Vec3(out.ux[s], out.uy[s], out.uz[s]));
     }
+    const double r[6] = {R(0, 0), R(1, 1), R(2, 2), R(0, 1), R(0, 2), R(1, 2)};  // as rest_soa
     float* at = out.rest_soa + static_cast<std::size_t>(i);
     for (int e = 0; e < 6; ++e) at[static_cast<std::size_t>(e) * out.bodies] = static_cast<float>(r[e]);
   }

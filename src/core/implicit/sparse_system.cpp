@@ -34,22 +34,6 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
 
 namespace {
 
-// D -= alpha u u^T + beta I, written out on the symmetric block (6 distinct entries).
-inline void subtract_block(Mat3& D, double alpha, double beta, const Vec3& u) {
-  const double xx = alpha * u[0] * u[0] + beta, yy = alpha * u[1] * u[1] + beta,
-               zz = alpha * u[2] * u[2] + beta;
-  const double xy = alpha * u[0] * u[1], xz = alpha * u[0] * u[2], yz = alpha * u[1] * u[2];
-  D(0, 0) -= xx;
-  D(1, 1) -= yy;
-  D(2, 2) -= zz;
-  D(0, 1) -= xy;
-  D(1, 0) -= xy;
-  D(0, 2) -= xz;
-  D(2, 0) -= xz;
-  D(1, 2) -= yz;
-  D(2, 1) -= yz;
-}
-
 // A body's diagonal block before the springs: M + h c I (air drag, the (h c / 2) |v|^2 term of
 // Phi, on cloth particles), or the identity for an immovable body (its row is filtered).
 Mat3 mass_block(const Model& model, const Eigen::VectorXd& inv_mass, double h, int i) {

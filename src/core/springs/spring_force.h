@@ -98,6 +98,23 @@ inline Mat3 step_spring_hessian(const Vec3& d, double rest, double start_length,
   return k.matrix();
 }
 
+// D -= alpha u u^T + beta I (a spring's block G in the Newton matrix's terms: sparse_system.h),
+// written out on the symmetric block (6 distinct entries).
+inline void subtract_block(Mat3& D, double alpha, double beta, const Vec3& u) {
+  const double xx = alpha * u[0] * u[0] + beta, yy = alpha * u[1] * u[1] + beta,
+               zz = alpha * u[2] * u[2] + beta;
+  const double xy = alpha * u[0] * u[1], xz = alpha * u[0] * u[2], yz = alpha * u[1] * u[2];
+  D(0, 0) -= xx;
+  D(1, 1) -= yy;
+  D(2, 2) -= zz;
+  D(0, 1) -= xy;
+  D(1, 0) -= xy;
+  D(0, 2) -= xz;
+  D(2, 0) -= xz;
+  D(1, 2) -= yz;
+  D(2, 1) -= yz;
+}
+
 // Potential energy 0.5 ks (l - l0)^2, J.
 inline double spring_energy(const Vec3& xa, const Vec3& xb, double rest, double ks) {
   const double e = (xa - xb).norm() - rest;
