@@ -202,6 +202,12 @@ int row_length(const SpringLayout& layout) {
   return 0;
 }
 
+// Positions a family's per-position arrays hold: its count and two vectors' worth past it,
+// all a set's last 2L-wide load or store can reach.
+std::size_t padded_positions(const SpringFamily& fam) {
+  return static_cast<std::size_t>(fam.count) + 2 * static_cast<std::size_t>(kSpringLanePad);
+}
+
 // Which of the family's two independent sets the spring at particle a belongs to.
 int set_of(const SpringFamily& fam, int a, int nx) {
   return fam.dj == 0 ? (a / fam.di) & 1 : ((a / nx) / fam.dj) & 1;
@@ -224,6 +230,12 @@ void build_sets(const Model& model, XpbdFamilies& f) {
     }
   }
   f.stride = (static_cast<std::size_t>(layout.num_particles) + kSpringLanePad + 7) / 8 * 8;
+  f.rest.clear();
+  for (const SpringFamily& fam : layout.families) {
+    std::vector<double> rest(padded_positions(fam), 0.0);
+    std::copy(fam.rest.begin(), fam.rest.end(), rest.begin());
+    f.rest.push_back(std::move(rest));
+  }
   f.model = &model;
   f.springs = model.springs.size();
 }
@@ -236,7 +248,7 @@ void build_gains(const Model& model, double h, XpbdFamilies& f) {
   for (std::size_t k = 0; k < families.size(); ++k) {
     const SpringFamily& fam = families[k];
     const double scale = fam.ks * h * h + fam.kd * h;
-    f.gain[k].assign(fam.rest.size(), 0.0);
+    f.gain[k].assign(padded_positions(fam), 0.0);
     for (std::size_t q = 0; q < static_cast<std::size_t>(fam.count); ++q) {
       const std::size_t a = static_cast<std::size_t>(fam.first) + q;
       const double w = f.w[a] + f.w[a + static_cast<std::size_t>(fam.offset)];
@@ -268,7 +280,7 @@ void xpbd_load_families(const Model& model, const StepProblem& p, const Eigen::V
   to_soa(p.start, P, f.stride, f.x);
   const auto& families = model.spring_layout.families;
   f.lambda.resize(families.size());
-  for (std::size_t k = 0; k < families.size(); ++k) f.lambda[k].assign(families[k].rest.size(), 0.0);
+  for (std::size_t k = 0; k < families.size(); ++k) f.lambda[k].assign(padded_positions(families[k]), 0.0);
 }
 
 // The set's first position in a row-wise family: its particle p has floor(p / di) mod 2 =
@@ -287,7 +299,7 @@ void xpbd_family_sweep(const Model& model, double h, XpbdFamilies& f) {
       const SpringFamily& fam = families[k];
       const SweepArrays in{{f.y.data(), f.y.data() + st, f.y.data() + 2 * st},
                            {f.x.data(), f.x.data() + st, f.x.data() + 2 * st},
-                           fam.rest.data(), f.gain[k].data(), f.lambda[k].data(), f.w.data()};
+                           f.rest[k].data(), f.gain[k].data(), f.lambda[k].data(), f.w.data()};
       const long q0 = fam.dj == 0 && (fam.di == 1 || fam.di == 2) ? row_set_start(fam, set) : -1;
       const auto& runs = f.runs[2 * k + set];
       HWY_DYNAMIC_DISPATCH(ProjectFamilySet)(fam, in, runs.data(), runs.size(), q0, h);

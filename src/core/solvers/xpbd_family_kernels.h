@@ -30,6 +30,10 @@ struct XpbdFamilies {
   std::size_t springs = 0;
   std::vector<std::vector<std::pair<std::size_t, std::size_t>>> runs;  // (2 F) set 2 f + s's [k0, k1)
   std::size_t stride = 0;                 // P padded by a vector
+  // (F) the family's rest lengths, zeros past its count: a row-wise set reads 2L positions
+  // from any q < count, so every per-position array is padded by 2 kSpringLanePad (the
+  // layout's own padding stops at a multiple of kSpringLanePad, which a tail overran).
+  std::vector<std::vector<double>> rest;
   // Per step size and pin set:
   std::vector<double> w;                  // (stride) inverse masses, 0 past P
   std::vector<std::vector<double>> gain;  // (F) 1 / the projection's denominator by position, 0: none
