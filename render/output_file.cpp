@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <mutex>
 #include <optional>
+#include <vector>
 
 namespace clothsim {
 
@@ -69,6 +70,22 @@ bool rename_no_replace(const std::string& from, const std::string& to) {
   return true;
 }
 
+struct ProtectedInput {
+  dev_t dev;
+  ino_t ino;
+  std::string what, path;
+};
+std::mutex g_inputs_mutex;
+std::vector<ProtectedInput> g_inputs;
+
+// The input `st` is, if it is one.
+std::optional<ProtectedInput> protected_input(const struct stat& st) {
+  std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  for (const ProtectedInput& in : g_inputs)
+    if (in.dev == st.st_dev && in.ino == st.st_ino) return in;
+  return std::nullopt;
+}
+
 std::mutex g_stdout_mutex;
 int g_stdout_fd = -1;  // where standard output's data goes once claimed
 std::atomic<bool> g_no_clobber{false};
@@ -103,6 +120,14 @@ int claim_stdout() {
   g_stdout_fd = ::fcntl(STDOUT_FILENO, F_DUPFD_CLOEXEC, 3);
   if (g_stdout_fd >= 0) ::dup2(STDERR_FILENO, STDOUT_FILENO);  // our own text goes to stderr now
   return g_stdout_fd;
+}
+
+void protect_input(const std::string& path, const std::string& what) {
+  struct stat st {};
+  if (path.empty() || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
+  if (protected_input(st)) return;
+  std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  g_inputs.push_back({st.st_dev, st.st_ino, what, path});
 }
 
 void set_no_clobber(bool on) { g_no_clobber = on; }
@@ -161,7 +186,13 @@ void OutputFile::open_stream(int inherited_fd) {
 
 void OutputFile::open_file() {
   struct stat st {};
-  if (::stat(target_.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) fail(path_, EISDIR);
+  if (::stat(target_.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) fail(path_, EISDIR);
+    if (const auto in = protected_input(st))
+      throw OutputFileError("cannot write " + path_ + ": it is " + in->what + " " + in->path +
+                            (target_ == path_ ? "" : " (through a link)") +
+                            ", and an output never replaces an input");
+  }
   // 0666 less the umask, like any file the user makes (mkstemp's 0600 would surprise).
   fd_ = ::open(directory_of(target_).c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0666);
   if (fd_ >= 0) return;

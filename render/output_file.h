@@ -95,6 +95,12 @@ OutputTarget resolve_output(const std::string& path);  // throws OutputFileError
 // Idempotent; returns the descriptor the data goes to.
 int claim_stdout();
 
+// Registers an input of the process (the scene, a golden, an encoded frame) by its device and
+// inode: every OutputFile opened afterwards refuses to replace it, under any name, through a
+// symlink or a hard link (a per-frame name made into a link to the scene, say). `what` names
+// it in the message ("the scene"). A path that does not exist is ignored.
+void protect_input(const std::string& path, const std::string& what);
+
 // -n/--no-overwrite for every output of the process: commit() refuses a name that exists at
 // that moment (linkat, renameat2 RENAME_NOREPLACE), so two -n runs cannot both win.
 void set_no_clobber(bool on);

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "clip/common/memory_budget.h"
+#include "render/output_file.h"
 #include "core/integrators/integrator_kind.h"
 #include "scene/build_model.h"
 #include "scene/param_keys.h"
@@ -99,6 +100,7 @@ Scene load_scene(const std::string& path, const py::dict& set, py::object durati
     if (!too_long.empty()) throw py::value_error(too_long);
   }
   Scene scene{def, std::make_shared<const Model>(build_model(def)), std::move(sets), {}, {}};
+  protect_input(path, "the scene");  // no Export or render of this process writes through it
   if (!duration.is_none()) scene.duration = def.duration;
   if (!dt.is_none()) scene.dt = def.dt;
   return scene;

@@ -1,5 +1,6 @@
 #include "cli_common.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
@@ -88,10 +89,45 @@ bool same_file(const PathIdentity& a, const PathIdentity& b) {
   return a.exists ? a.dev == b.dev && a.ino == b.ino : a.resolved == b.resolved;
 }
 
-// A frame_* file directly inside the frames directory `dir`.
-bool claimed_by_frames_dir(const PathIdentity& file, const PathIdentity& dir) {
-  if (file.resolved.filename().string().rfind("frame_", 0) != 0) return false;
-  return same_file(identify(file.resolved.parent_path().string()), dir);
+bool claims_name(const PathRole& dir, const std::string& name) {
+  if (dir.prefixes.empty()) return name.rfind("frame_", 0) == 0;
+  const std::string& sfx = dir.suffix;
+  for (const std::string& prefix : dir.prefixes) {
+    if (name.size() <= prefix.size() + sfx.size() || name.rfind(prefix, 0) != 0 ||
+        name.compare(name.size() - sfx.size(), sfx.size(), sfx) != 0)
+      continue;
+    const auto first = name.begin() + static_cast<long>(prefix.size());
+    const auto last = name.end() - static_cast<long>(sfx.size());
+    if (std::all_of(first, last, [](char c) { return c >= '0' && c <= '9'; })) return true;
+  }
+  return false;
+}
+
+// A file the frames directory `dir` claims: directly inside it, or in one of its lane folders.
+bool claimed_by_frames_dir(const PathIdentity& file, const PathIdentity& dir, const PathRole& role) {
+  if (!claims_name(role, file.resolved.filename().string())) return false;
+  const fs::path parent = file.resolved.parent_path();
+  return same_file(identify(parent.string()), dir) || same_file(identify(parent.parent_path().string()), dir);
+}
+
+// The names a frames directory claims that exist already as links (symbolic, or hard: more
+// than one name), in it and in its lane folders: what a run would write through.
+std::vector<fs::path> linked_frames(const PathRole& dir) {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  const auto scan = [&](const fs::path& folder, auto& self, int depth) -> void {
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+      const std::string name = entry.path().filename().string();
+      std::error_code e;
+      if (entry.is_symlink(e) || (entry.is_regular_file(e) && entry.hard_link_count(e) > 1)) {
+        if (claims_name(dir, name)) out.push_back(entry.path());
+      } else if (depth == 0 && entry.is_directory(e)) {
+        self(entry.path(), self, 1);
+      }
+    }
+  };
+  if (fs::is_directory(dir.path, ec)) scan(dir.path, scan, 0);
+  return out;
 }
 }  // namespace
 
@@ -102,12 +138,24 @@ void refuse_clashing_paths(const std::vector<PathRole>& inputs, const std::vecto
     bool input;
   };
   std::vector<Seen> seen;
-  for (const PathRole& in : inputs)
-    if (!in.path.empty()) seen.push_back({&in, identify(in.path), true});
+  for (const PathRole& in : inputs) {
+    if (in.path.empty()) continue;
+    seen.push_back({&in, identify(in.path), true});
+    protect_input(in.path, in.what);
+  }
   for (const PathRole& out : outputs) {
     if (out.path.empty()) continue;
     const PathIdentity id = identify(out.path);
     if (id.stream) continue;  // --metrics /dev/null --state /dev/null
+    if (out.frames_dir)
+      for (const fs::path& link : linked_frames(out)) {
+        const PathIdentity target = identify(link.string());
+        for (const Seen& other : seen)
+          if (other.input && !other.id.stream && same_file(target, other.id))
+            throw UsageError(out.what + " " + out.path + " would write through " + link.string() + ", a link to " +
+                             other.role->what + " " + other.role->path +
+                             ": an output never replaces an input; remove the link or give the output its own folder");
+      }
     for (const Seen& other : seen) {
       if (other.id.stream) continue;
       const PathRole& o = *other.role;
@@ -119,11 +167,11 @@ void refuse_clashing_paths(const std::vector<PathRole>& inputs, const std::vecto
         throw UsageError(out.what + " and " + o.what + " both write " + out.path +
                          (out.path == o.path ? "" : " (as " + o.path + ")") + ": give each its own path");
       }
-      if (o.frames_dir && !out.frames_dir && claimed_by_frames_dir(id, other.id))
+      if (o.frames_dir && !out.frames_dir && claimed_by_frames_dir(id, other.id, o))
         throw UsageError(out.what + " " + out.path + " is a frame of " + them +
                          (other.input ? ": an output never replaces an input; give it its own path"
                                       : ", which writes it too: give each its own path"));
-      if (out.frames_dir && !o.frames_dir && claimed_by_frames_dir(other.id, id))
+      if (out.frames_dir && !o.frames_dir && claimed_by_frames_dir(other.id, id, out))
         throw UsageError(out.what + " " + out.path + " would write frames over " + them +
                          (other.input ? ": an output never replaces an input; give it its own path"
                                       : ": give each its own path"));

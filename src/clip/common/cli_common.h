@@ -58,19 +58,24 @@ std::string temp_path_beside(const std::string& path);
 // -n/--no-overwrite UsageError when `path` exists.
 void require_writable_parent(const std::string& path, const std::string& what);
 // A path a command reads or writes, named by its option for messages ("--csv", "the scene").
-// `frames_dir`: a directory of frame_* files (--frames, encode's inputs), which claims every
-// frame_* name directly inside it.
+// `frames_dir`: a directory of per-frame files (--frames, encode's inputs, an export's
+// series), which claims the names it writes inside it or inside its lane folders (compare
+// writes DIR/LANE/frame_*): frame_* when `prefixes` is empty, else PREFIX<digits>SUFFIX.
 struct PathRole {
   std::string path;
   std::string what;
   bool frames_dir = false;
+  std::vector<std::string> prefixes = {};
+  std::string suffix = {};
 };
 // Refuses, before any work, an output that is one of the command's inputs or another of its
 // outputs under any spelling (docs/outputs.md): the same device and inode where the file exists,
 // the same path with symlinks (dangling ones too), `.` and `..` resolved where it does not; a
 // frame_* file inside a frames directory of the command. A UsageError naming both. Empty
 // paths and streams (devices, FIFOs, `-`, /dev/fd/N) are skipped: they are written through,
-// never replaced, so several outputs may all be /dev/null.
+// never replaced, so several outputs may all be /dev/null. A name already in a frames
+// directory that is a link (symbolic or hard) to an input is refused too, and every input is
+// registered with protect_input(), so no writer of the process replaces it later either.
 void refuse_clashing_paths(const std::vector<PathRole>& inputs, const std::vector<PathRole>& outputs);
 // -n/--no-overwrite (ffmpeg's -n): an output that exists already is a UsageError (exit 2),
 // raised by require_writable_parent() before any work; set by the option (progress.h).

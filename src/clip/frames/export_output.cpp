@@ -66,7 +66,8 @@ std::vector<PathRole> export_roles(const std::string& path, const std::vector<st
   }
   for (const ExportPath& p : paths) {
     for (const std::string& file : p.final_files(spheres)) roles.push_back({file, "--export"});
-    if (p.format == ExportFormat::Obj || p.format == ExportFormat::Ply) roles.push_back({p.dir, "--export", true});
+    // The series' folder claims its names: NAME_*.EXT (OBJ, PLY) or NAME/cloth_*.vtp (PVD).
+    if (!p.dir.empty()) roles.push_back({p.dir, "--export", true, p.series_prefixes(spheres), p.suffix});
   }
   return roles;
 }

@@ -253,6 +253,50 @@ TEST(ClashingPaths, ExportFilesClashWithTheOtherOutputs) {
   EXPECT_EQ(slurp(f.dir + "/s.yaml"), f.scene_text);
 }
 
+// A per-frame name made into a link to the scene (the probe's case: ln -s ../drape.yaml
+// out/frame_00000.obj) is refused before any work, for every per-frame output of run and
+// compare: OBJ and PLY series, a PVD's VTPs and --frames PNGs; the scene is never touched.
+TEST(ClashingPaths, APerFrameNameLinkedToTheSceneIsRefusedAndTheSceneKept) {
+  struct Case {
+    std::vector<std::string> args;
+    std::string link;  // relative to the folder
+  };
+  const std::vector<Case> cases = {
+      {{"run", "@/s.yaml", "--export", "@/o/frame_%05d.obj"}, "o/frame_00000.obj"},
+      {{"run", "@/s.yaml", "--export", "@/o/frame_%05d.ply"}, "o/frame_00002.ply"},
+      {{"run", "@/s.yaml", "--export", "@/v.pvd"}, "v/cloth_00001.vtp"},
+      {{"run", "@/s.yaml", "--frames", "@/fr"}, "fr/frame_00000.png"},
+      {{"compare", "@/s.yaml", "--integrators", "rk4,midpoint", "--frames", "@/fr"}, "fr/rk4/frame_00000.png"},
+      {{"compare", "@/s.yaml", "--integrators", "rk4,midpoint", "--export", "@/o/frame_%05d.obj"},
+       "o/midpoint/frame_00001.obj"},
+  };
+  for (const bool hard : {false, true})
+    for (const Case& c : cases) {
+      ClashFolder f;
+      const fs::path link = fs::path(f.dir) / c.link;
+      fs::create_directories(link.parent_path());
+      if (hard) fs::create_hard_link(f.dir + "/s.yaml", link);
+      else fs::create_symlink(fs::relative(f.dir + "/s.yaml", link.parent_path()), link);
+      std::vector<std::string> args;
+      for (const std::string& a : c.args) args.push_back(a[0] == '@' ? f.dir + a.substr(1) : a);
+      args.insert(args.end(), {"--duration", "0.1"});
+      const CliResult r = run_clothsim(args);
+      EXPECT_EQ(r.exit_code, 2) << c.link << (hard ? " (hard)" : "") << ": " << r.err;
+      EXPECT_EQ(line_count(r.err), 1) << r.err;
+      EXPECT_NE(r.err.find("a link to the scene"), std::string::npos) << r.err;
+      EXPECT_EQ(slurp(f.dir + "/s.yaml"), f.scene_text) << c.link;
+    }
+}
+
+// An output onto a name a PVD's series claims is another output's file.
+TEST(ClashingPaths, AnOutputAmongAPvdsFilesIsRefused) {
+  ClashFolder f;
+  const CliResult r = run_clothsim({"run", f.dir + "/s.yaml", "--duration", "0.1", "--export", f.dir + "/v.pvd",
+                                    "--metrics", f.dir + "/v/cloth_00000.vtp"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_FALSE(fs::exists(f.dir + "/v.pvd"));
+}
+
 TEST(ClashingPaths, DevicesAreNeverCompared) {
   ClashFolder f;
   const CliResult r = run_clothsim({"run", f.dir + "/s.yaml", "--duration", "0.1", "--metrics", "/dev/null", "--state",
