@@ -15,6 +15,8 @@ enum class IntegratorKind {
   Xpbd,             // Macklin et al. 2016 compliant constraints        ~1 spring pass / iteration
   ProjectiveDynamics,  // Liu et al. 2013 local-global on Phi          pass + factored solve / iteration
   Vbd,              // Chen et al. 2024 vertex block descent on Phi    ~1 spring pass / iteration
+  VelocityVerlet,   // Stormer-Verlet kick-drift-kick                1 force eval (reused)
+  Yoshida4,         // Yoshida's 4th-order composition of three Verlet steps  3 force evals
 };
 
 // A scene that names no integrator runs this one (the student report's code).

@@ -38,4 +38,16 @@ State initial_state(const Model& model) {
   return s;
 }
 
+bool StepHistory::continues(IntegratorKind kind, const State& s) const {
+  return filled && owner == kind && x.cols() == s.x.cols() && x == s.x && v == s.v && inv_mass == s.inv_mass;
+}
+
+void StepHistory::record(IntegratorKind kind, const State& s) {
+  owner = kind;
+  filled = true;
+  x = s.x;
+  v = s.v;
+  inv_mass = s.inv_mass;
+}
+
 }  // namespace clothsim

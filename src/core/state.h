@@ -42,6 +42,26 @@ struct ImplicitSolverState {
   double jacobi_solve = 0.0;
 };
 
+struct State;
+
+// What a method carries from its last step to its next beyond (x, v), and the end state it
+// belongs to: a step uses it only while x, v and the inverse masses are still bit for bit
+// what that step left, so a projection contact, an event or a write from outside (Python's
+// positions) makes the next step start afresh, as a copied State continues exactly.
+struct StepHistory {
+  // velocity_verlet, yoshida4: the last force pass, a(x_end, v_predicted) (3 x B) m/s^2, and
+  // the springs' largest strain at x_end: the next step's first kick (first same as last).
+  Eigen::Matrix3Xd a;
+  double strain = 0.0;
+  IntegratorKind owner = IntegratorKind::ExplicitEuler;  // the method that filled it
+  bool filled = false;
+  Eigen::Matrix3Xd x, v;      // (3 x B) the end state it belongs to
+  Eigen::VectorXd inv_mass;   // (B)
+  // Whether `s` is the state the history's step of `kind` left.
+  bool continues(IntegratorKind kind, const State& s) const;
+  void record(IntegratorKind kind, const State& s);  // after a step of `kind`
+};
+
 struct State {
   Eigen::Matrix3Xd x;         // (3 x B) body positions, m (particles, then sphere centres)
   Eigen::Matrix3Xd v;         // (3 x B) body velocities, m/s
@@ -50,6 +70,7 @@ struct State {
   std::int64_t step = 0;      // steps taken
   std::size_t next_action = 0;  // index into model.timeline of the first action not yet applied
   ImplicitSolverState implicit;  // implicit_euler's warm start and Newton-matrix record
+  StepHistory history;           // a method's carried force pass (velocity_verlet, yoshida4)
 };
 
 // The state at t = 0, with the actions scheduled at t = 0 applied.

@@ -1,9 +1,12 @@
 #include "stiffness_estimate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <limits>
 #include <vector>
+
+#include <Eigen/Eigenvalues>
 
 namespace clothsim::analysis {
 
@@ -76,6 +79,25 @@ double polynomial_limit(const std::vector<double>& a, double w, double c) {
   for (double h = 4.0 / fastest; h * fastest >= 1e-6; h /= step) {
     if (!stable(h)) continue;
     double lo = h, hi = h * step;  // stable, unstable
+    for (int i = 0; i < 60 && hi - lo > 1e-12 * lo; ++i) (stable(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
+    return lo;
+  }
+  return 0.0;
+}
+
+double step_matrix_limit(StepMatrix step, double w, double c) {
+  const double fastest = std::max(w, c);
+  if (!(fastest > 0.0)) return std::numeric_limits<double>::infinity();
+  const auto stable = [&](double h) {
+    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> m;
+    step(h, w, c, m.data());
+    if (!m.allFinite()) return false;
+    return Eigen::EigenSolver<Eigen::Matrix3d>(m, false).eigenvalues().cwiseAbs().maxCoeff() <= 1.0 + 1e-9;
+  };
+  const double factor = 1.001;
+  for (double h = 4.0 / fastest; h * fastest >= 1e-6; h /= factor) {
+    if (!stable(h)) continue;
+    double lo = h, hi = h * factor;  // stable, unstable
     for (int i = 0; i < 60 && hi - lo > 1e-12 * lo; ++i) (stable(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
     return lo;
   }

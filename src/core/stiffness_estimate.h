@@ -61,6 +61,8 @@ StiffnessEstimate estimate_stiffness(const Model& model);
 //   overdamped, about 2 / c, 2 / c and 2.785 / c;
 // - symplectic_euler: its 2 x 2 step matrix has det 1 - hc and trace 2 - hc - h^2 w^2, stable
 //   (Jury) while h^2 w^2 + 2 h c <= 4: h = (sqrt(c^2 + 4 w^2) - c) / w^2 (2 / w undamped);
+// - velocity_verlet, yoshida4: the step matrix of their kicks and drift (verlet.h); undamped
+//   2 / w and about 1.573 / w;
 // - implicit_euler: no limit (infinity) with its Newton solve; with `solver: fixed_point` and
 //   K iterations from a forward-Euler predictor, R(z) = sum_{m <= K + 1} z^m (K = 1: 1 + z + z^2,
 //   stable undamped for w h <= 1).
@@ -74,5 +76,12 @@ std::vector<double> taylor(int order);  // 1, 1, 1/2, ..., 1/order!: explicit RK
 double explicit_limit(int order, double w, double c);  // polynomial_limit(taylor(order), w, c)
 double symplectic_euler_limit(double w, double c);
 double fixed_point_limit(int iterations, double w, double c);  // R(z) = sum_{m <= K + 1} z^m
+// A method given by its 3 x 3 step matrix on (u, u', a) for u'' + c u' + w^2 u = 0 (row
+// major, for step h), a the acceleration it carries from one step to the next: the largest h
+// with every eigenvalue inside the unit circle, scanned and bisected as polynomial_limit.
+// What velocity_verlet and yoshida4 use (verlet.h), whose carried force pass is part of the
+// state that must stay bounded.
+using StepMatrix = void (*)(double h, double w, double c, double m[9]);
+double step_matrix_limit(StepMatrix step, double w, double c);
 
 }  // namespace clothsim::analysis

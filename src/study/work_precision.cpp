@@ -292,6 +292,8 @@ void judge_reference(const Model& model, const StudyRuns& runs, double h_fine, W
     ref.change_rms = change.rms;
     ref.change_max = change.max;
     ref.contact_at_end = cloth_touches(model, runs.fine.final_state);
+    ref.velocity_forces = model.air_drag > 0.0 ||
+                          std::any_of(model.springs.kd.begin(), model.springs.kd.end(), [](double kd) { return kd > 0.0; });
     ref.unresolved = mark_unresolved(result.points, ref.change_rms, ref.margin);
     ref.smallest_error = smallest_resolved(result.points);
     // Points it cannot resolve fail it unless it is at round-off itself: then so are they, and
@@ -414,6 +416,11 @@ std::vector<std::string> shortfall(const WorkPrecisionResult& r, double order, I
   for (const WorkPrecisionPoint* p : fitted) smallest = std::min(smallest, p->rms_error), largest_dt = std::max(largest_dt, p->dt);
   const ReferenceCheck& ref = r.reference;
   std::vector<std::string> why;
+  const int damped = integrator_info(kind).velocity_force_order;
+  if (ref.velocity_forces && damped > 0 && order >= 0.75 * damped)
+    why.push_back("velocity-dependent forces: the scene's dampers or drag make " + std::string(integrator_name(kind)) +
+                  "'s Verlet kicks unsymmetric, and its composition keeps order " + std::to_string(damped) +
+                  " only (docs/integrators.md, \"Verlet and Yoshida\")");
   if (ref.finished && (!ref.converged || smallest < 30.0 * ref.change_rms))
     why.push_back("reference not converged: its own change on halving (" + metres(ref.change_rms) +
                   " RMS) is within 30x of these errors (smallest " + metres(smallest) +

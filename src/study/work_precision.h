@@ -113,6 +113,7 @@ struct ReferenceCheck {
   bool converged = false;          // finished, and change_rms <= margin x smallest_error
   bool contact_at_end = false;     // a free particle of the finer reference lies within two
                                    // contact margins of a sphere or the ground at T
+  bool velocity_forces = false;    // the model's forces depend on velocity (dampers, drag)
   std::string failure;             // why not converged, one sentence (empty when converged)
 };
 

@@ -1,6 +1,7 @@
 // The registry and the dispatch: one table, one lookup, one function per method (MuJoCo's
 // mj_step pattern). Adding an integrator is one row here, its step function and its folder.
 #include "integrator.h"
+#include "verlet.h"
 
 #include <iterator>
 #include <limits>
@@ -24,6 +25,12 @@ double explicit_euler_limit(double w, double c, const ImplicitDef&) { return ana
 double midpoint_limit(double w, double c, const ImplicitDef&) { return analysis::explicit_limit(2, w, c); }
 double rk4_limit(double w, double c, const ImplicitDef&) { return analysis::explicit_limit(4, w, c); }
 double symplectic_limit(double w, double c, const ImplicitDef&) { return analysis::symplectic_euler_limit(w, c); }
+double verlet_limit(double w, double c, const ImplicitDef&) {
+  return analysis::step_matrix_limit(velocity_verlet_matrix, w, c);
+}
+double yoshida4_limit(double w, double c, const ImplicitDef&) {
+  return analysis::step_matrix_limit(yoshida4_matrix, w, c);
+}
 double backward_euler_limit(double w, double c, const ImplicitDef& implicit) {
   if (implicit.solver == ImplicitSolver::Newton) return kInf;  // A-stable
   return analysis::fixed_point_limit(implicit.fixed_point_iterations, w, c);
@@ -77,6 +84,14 @@ constexpr Entry kRegistry[] = {  // constant-initialized: safe to read during st
       "vertex block descent (Chen et al. 2024): per-vertex Newton on Phi",
       1, C::Solver, 2.4, false, false, no_limit, "", vbd_memory},
      vbd_step, vbd_iterations, vbd_tolerance},
+    {{IntegratorKind::VelocityVerlet, "velocity_verlet", 1, 0,
+      "Stormer-Verlet kick-drift-kick: symplectic, order 2, one force pass a step",
+      2, C::None, 0.0, false, false, verlet_limit, "", verlet_memory},
+     velocity_verlet_step, no_iterations, no_tolerance},
+    {{IntegratorKind::Yoshida4, "yoshida4", 3, 0,
+      "Yoshida's symplectic 4th-order composition of three Verlet steps",
+      4, C::None, 0.0, false, false, yoshida4_limit, "", verlet_memory, 2},
+     yoshida4_step, no_iterations, no_tolerance},
 };
 
 const Entry& entry(IntegratorKind kind) {

@@ -22,6 +22,8 @@ StepStats implicit_euler_step(const Model& model, State& state, const StepContex
 StepStats xpbd_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
 StepStats projective_dynamics_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
 StepStats vbd_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
+StepStats velocity_verlet_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
+StepStats yoshida4_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
 // How far (m) every particle of an iterate may lie from the Newton matrix's linearisation
 // point for implicit_euler to reuse that matrix whatever the residual (implicit_euler.cpp,
 // kReuseChange): 0.05 l_min / (4 (h c_max + (h w_max)^2)); infinite without springs.

@@ -50,6 +50,9 @@ struct IntegratorInfo {
   std::string_view barrier_refusal;
   // Bytes of one run beyond the Model, and of the final state it keeps (method_memory.h).
   MethodMemory (*memory)(const MemorySizes& sizes);
+  // Its order where forces depend on velocity (dampers, drag, friction), when lower than
+  // `order`: yoshida4's composition needs a symmetric Verlet kick (verlet.h). 0: `order`.
+  int velocity_force_order = 0;
 };
 const std::vector<IntegratorInfo>& integrator_registry();  // in enum order
 

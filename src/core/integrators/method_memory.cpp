@@ -14,7 +14,7 @@ namespace {
 // their grid sets; VBD's colouring, per-vertex blocks and the grid sweep's colour-major copies:
 // measured 385 and 670 B a particle over the explicit family between 256² and 1024²).
 constexpr double kExplicitPerParticle = 176;
-constexpr double kMidpointExtra = 80, kRk4Extra = 128, kXpbdExtra = 400, kVbdExtra = 700;
+constexpr double kMidpointExtra = 80, kRk4Extra = 128, kXpbdExtra = 448, kVbdExtra = 700;
 // VBD's accelerated iterations (vbd.chebyshev_rho > 0) keep two more iterates: 48 B a
 // particle (measured 47.5 at 1024²).
 constexpr double kVbdAcceleratedExtra = 48;
@@ -25,6 +25,9 @@ constexpr double kVbdAcceleratedExtra = 48;
 // bound on the drape's grids, not a theory).
 constexpr double kPdPerLog2 = 140;
 constexpr double kFinalStatePerParticle = 64;  // a kept copy of x, v and inverse masses
+// velocity_verlet's and yoshida4's State carries the last force pass (StepHistory: a, and the
+// x, v and inverse masses it belongs to): 80 B a body, in the run and in a kept copy.
+constexpr double kVerletHistoryPerBody = 80;
 // implicit_euler's State also carries its warm start: three velocity changes, the last
 // linearisation's positions and inverse masses (160 B a body), its spring lengths (8 B each).
 constexpr double kImplicitFinalPerParticle = 160, kImplicitFinalPerSpring = 8;
@@ -49,6 +52,12 @@ MethodMemory explicit_family_plus(const MemorySizes& n, double extra_per_particl
 MethodMemory explicit_family_memory(const MemorySizes& n) { return explicit_family_plus(n, 0.0); }
 MethodMemory midpoint_memory(const MemorySizes& n) { return explicit_family_plus(n, kMidpointExtra); }
 MethodMemory rk4_memory(const MemorySizes& n) { return explicit_family_plus(n, kRk4Extra); }
+MethodMemory verlet_memory(const MemorySizes& n) {
+  MethodMemory m = explicit_family_plus(n, 0.0);
+  m.run += kVerletHistoryPerBody * n.bodies;
+  m.final_state += kVerletHistoryPerBody * n.bodies;
+  return m;
+}
 MethodMemory xpbd_memory(const MemorySizes& n) { return explicit_family_plus(n, kXpbdExtra); }
 MethodMemory vbd_memory(const MemorySizes& n) {
   const bool accelerated = n.solvers.vbd.chebyshev_rho > 0.0;

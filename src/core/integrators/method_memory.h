@@ -27,6 +27,7 @@ struct MethodMemory {
 MethodMemory explicit_family_memory(const MemorySizes& n);
 MethodMemory midpoint_memory(const MemorySizes& n);
 MethodMemory rk4_memory(const MemorySizes& n);
+MethodMemory verlet_memory(const MemorySizes& n);  // velocity_verlet, yoshida4
 MethodMemory implicit_euler_memory(const MemorySizes& n);
 MethodMemory xpbd_memory(const MemorySizes& n);
 MethodMemory projective_dynamics_memory(const MemorySizes& n);

@@ -315,10 +315,17 @@ TEST(CmdValidate, AcceptsEveryShippedSceneAndSaysWhatItModels) {
 TEST(CmdValidate, PrintsTheStiffnessEstimateAndEachExplicitMethodsLimit) {
   const CliResult r = run_clothsim({"validate", shipped("drape.yaml")});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(r.err, "") << "dt = 1e-4 s is inside every predicted limit";
+  // dt = 1e-4 s is inside the textbook methods' predicted limits, but above Verlet's: its
+  // predicted velocity halves the damped limit (1 / c against symplectic Euler's 2 / c).
+  EXPECT_NE(r.err.find("dt = 0.0001 s is above the predicted step limit of velocity_verlet (5.55e-05 s), "
+                       "yoshida4 (5.07e-05 s)\n"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.out.find("stiffness estimate: w_max = 692.8 rad/s, 2/w_max = 0.00289 s"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("predicted step limits: explicit_euler 0.000111 s, symplectic_euler 0.000111 s, "
-                       "midpoint 0.000111 s, rk4 0.000155 s; implicit_euler: none"),
+                       "midpoint 0.000111 s, rk4 0.000155 s, velocity_verlet 5.55e-05 s, yoshida4 5.07e-05 s; "
+                       "implicit_euler: none"),
             std::string::npos)
       << r.out;
 }
@@ -328,7 +335,8 @@ TEST(CmdValidate, WarnsWhenTheScenesDtIsAboveAPredictedLimit) {
   EXPECT_EQ(r.exit_code, 0) << "a warning, not an error";
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("warning: " + shipped("drape.yaml") + ": dt = 0.001 s is above the predicted step limit of "
-                       "explicit_euler (0.000111 s), symplectic_euler (0.000111 s), midpoint (0.000111 s), rk4 (0.000155 s); "
+                       "explicit_euler (0.000111 s), symplectic_euler (0.000111 s), midpoint (0.000111 s), rk4 (0.000155 s), "
+                       "velocity_verlet (5.55e-05 s), yoshida4 (5.07e-05 s); "
                        "the scene's integrator symplectic_euler is likely to diverge"),
             std::string::npos)
       << r.err;
