@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs, builds and runs every test (GoogleTest, the Python module's pytest and the mesh
+# Installs every package (tools/install-deps.sh test), builds everything and runs every test (GoogleTest, the Python module's pytest and the mesh
 # export's clients through CTest), on all cores, the docs' quoted numbers (tools/check_docs.sh), and the
 # Slurm cluster test (tools/slurm/test_cluster.sh); then, when
 # clang-14 is present, fuzzes the scene front end for a bounded time (tools/fuzz.sh,
@@ -7,7 +7,9 @@
 # CLOTHSIM_FUZZ_RUNS inputs at most, default 150000). A fuzzer failure fails the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tools/build.sh
+tools/install-deps.sh test
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCLOTHSIM_BUILD_TESTS=ON -DCLOTHSIM_BUILD_BENCHMARKS=ON >/dev/null
+cmake --build build -j"$(nproc)"
 (cd build && ctest --output-on-failure -j"$(nproc)" --timeout 600)
 # Every number README.md and docs/report.md quote, rerun by its command (about 2 minutes;
 # CLOTHSIM_CHECK_DOCS=full runs every check, 0 skips it).

@@ -124,6 +124,31 @@ def test_export_writes_the_files_run_export_writes(cli, tmp_path):
         clothsim.Export(scene, "x.stl")
 
 
+def test_a_shipped_scene_loads_by_bare_name_and_a_nul_never_truncates_a_path(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # no drape.yaml here: the shipped one
+    assert clothsim.load_scene("drape").particles == clothsim.load_scene(DRAPE).particles
+    with pytest.raises(ValueError, match="NUL"):
+        clothsim.load_scene(os.path.join(SCENES, "spring.yaml") + "\0.evil")
+    scene = clothsim.load_scene(DRAPE, duration=0.1)
+    with pytest.raises(ValueError, match="NUL"):
+        clothsim.Export(scene, str(tmp_path / "x\0y.pc2"))
+    for fps in (0, -1, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="fps"):
+            clothsim.Export(scene, str(tmp_path / "v.pvd"), fps=fps)
+
+
+def test_export_refuses_a_frame_name_linked_to_the_scene(tmp_path):
+    scene_path = tmp_path / "s.yaml"
+    scene_path.write_bytes(open(DRAPE, "rb").read())
+    (tmp_path / "out").mkdir()
+    os.symlink("../s.yaml", tmp_path / "out" / "frame_00000.obj")
+    scene = clothsim.load_scene(str(scene_path), duration=0.1)
+    out = clothsim.Export(scene, str(tmp_path / "out" / "frame_%05d.obj"))
+    with pytest.raises(clothsim.ExportError, match="an output never replaces an input"):
+        out.add(clothsim.Simulation(scene))
+    assert scene_path.read_bytes() == open(DRAPE, "rb").read()
+
+
 def test_ctrl_c_raises_keyboard_interrupt_in_a_long_run():
     # A run of minutes, interrupted 1 s in by SIGINT, as Ctrl-C sends it.
     script = textwrap.dedent(f"""

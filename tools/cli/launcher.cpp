@@ -9,6 +9,7 @@
 // signal from the first instant is answered with the usual line. Why not load Mesa and FFmpeg
 // lazily instead: every library (yaml-cpp, libpng, x264's) costs the window a little, and
 // dlopen would move GL and the encoder behind function tables.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -36,16 +37,21 @@ int main(int, char** argv) {
   sigaddset(&answered, SIGHUP);
   sigprocmask(SIG_BLOCK, &answered, nullptr);  // first: held until the program can answer
 
-  // The program lies in libexec/ beside this launcher, wherever the build or install put both.
+  // The program lies in libexec/ beside this launcher (the build tree: build/clothsim,
+  // build/libexec/clothsim) or in ../libexec/clothsim/ (an installed prefix, wherever it was
+  // unpacked: PREFIX/bin/clothsim, PREFIX/libexec/clothsim/clothsim).
   char path[PATH_MAX];
-  const ssize_t n = ::readlink("/proc/self/exe", path, sizeof path - 32);
+  const ssize_t n = ::readlink("/proc/self/exe", path, sizeof path - 64);
   if (n <= 0) {
     say({"clothsim: cannot find the program: /proc/self/exe: ", std::strerror(errno), "\n"});
     return 1;
   }
   path[n] = '\0';
   char* slash = std::strrchr(path, '/');
-  std::strcpy(slash ? slash + 1 : path, "libexec/clothsim");
+  char* tail = slash ? slash + 1 : path;
+  std::strcpy(tail, "libexec/clothsim");
+  struct stat st;
+  if (::stat(path, &st) != 0 || !S_ISREG(st.st_mode)) std::strcpy(tail, "../libexec/clothsim/clothsim");
   ::execv(path, argv);
   say({"clothsim: cannot run ", path, ": ", std::strerror(errno), "\n"});
   return 1;

@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <memory>
 
 #include "simulation_binding.h"
@@ -30,7 +31,10 @@ void bind_export(py::module_& m) {
                      "next frame (frame k at k / fps, fps the scene's by default); finish() names the PC2 or\n"
                      "PVD. Files appear whole or not at all. Raises clothsim.ExportError.")
       .def(py::init([](Scene scene, const std::string& path, std::optional<double> fps) {
+             if (path.find('\0') != std::string::npos) throw py::value_error("Export: the path holds a NUL character");
              const double rate = fps.value_or(scene.def.render.fps);
+             // A PVD's times are k / fps: a rate that is not a finite positive number would write inf or nan.
+             if (!(rate > 0.0) || !std::isfinite(rate)) throw py::value_error("Export: fps must be a finite number > 0");
              auto out = std::make_unique<MeshExport>(*scene.model, parse_export_path(path), rate, false);
              return Export{std::move(scene), std::move(out), 0};
            }),

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "clip/common/install_paths.h"
 #include "clip/common/memory_budget.h"
 #include "render/output_file.h"
 #include "core/integrators/integrator_kind.h"
@@ -76,8 +77,11 @@ std::optional<double> max_memory_keyword(const py::object& value) {
   return clip::max_memory_option(option_text(value));
 }
 
-Scene load_scene(const std::string& path, const py::dict& set, py::object duration, py::object dt,
+Scene load_scene(const std::string& given, const py::dict& set, py::object duration, py::object dt,
                  py::object integrator) {
+  // A NUL would end the name at the system call: 'spring.yaml\0.evil' must not load spring.yaml.
+  if (given.find('\0') != std::string::npos) throw py::value_error("load_scene: the path holds a NUL character");
+  const std::string path = clip::resolve_scene_argument(given);  // a shipped scene by bare name, as the CLI
   const bool replaced = !duration.is_none() || !dt.is_none();
   std::vector<std::string> sets = overrides(path, set);
   SceneDef def = clothsim::load_scene(path, sets, /*bound_run=*/!replaced);
@@ -123,7 +127,8 @@ void bind_scene(py::module_& m) {
   m.def("load_scene", &load_scene, py::arg("path"), py::arg("set") = py::dict(), py::arg("duration") = py::none(),
         py::arg("dt") = py::none(), py::arg("integrator") = py::none(),
         "load_scene(path, set={}, duration=None, dt=None, integrator=None) -> Scene\n\n"
-        "Reads and validates a scene file as `clothsim run` does. `set` holds the --set keys\n"
+        "Reads and validates a scene file as `clothsim run` does (a bare name such as\n"
+        "'drape_smooth' is a shipped scene when no such file is here). `set` holds the --set keys\n"
         "({'cloth.springs.shear.stiffness': 2e4, 'render.fps': 60}), the aliases ks and kd (every\n"
         "spring type's stiffness and damping) and globs (cloth.springs.*.damping); duration, dt\n"
         "and integrator replace the scene's as --duration, --dt and --integrator do.\n"

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cli_common.h"
+#include "install_paths.h"
 #include "memory_budget.h"
 #include "scene/echo.h"
 #include "scene/run_bounds.h"
@@ -13,7 +14,14 @@
 namespace clothsim::clip {
 
 void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run, const std::string& duration_default) {
-  sub->add_option("scene", o.path, "Scene file (YAML; keys in docs/scenes.md)")->required();
+  sub->add_option("scene", o.path, "Scene file (YAML; keys in docs/scenes.md), or a shipped scene's name (drape_smooth)")
+      ->required()
+      ->transform(CLI::Validator(
+          [](std::string& arg) {
+            arg = resolve_scene_argument(arg);
+            return std::string();
+          },
+          "", "scene"));
   sub->add_option("--set", o.sets,
                   "Override a scene key by its dotted path, e.g. --set cloth.springs.shear.stiffness=1e5 "
                   "(repeatable; VALUE is YAML, so lists work: --set gravity=[0,-1.6,0])")

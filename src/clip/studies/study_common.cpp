@@ -15,6 +15,7 @@
 #include <mutex>
 #include <optional>
 
+#include "clip/common/install_paths.h"
 #include "clip/common/scene_options.h"
 #include "scene/echo.h"
 
@@ -72,7 +73,8 @@ void SharedProgress::finish() {
 
 std::string tools_dir() {
   if (const char* env = std::getenv("CLOTHSIM_TOOLS_DIR"); env && *env) return env;
-  return CLOTHSIM_TOOLS_DIR;
+  const std::string installed = installed_data_dir();
+  return installed.empty() ? std::string(CLOTHSIM_TOOLS_DIR) : installed + "/tools";
 }
 
 namespace {
