@@ -6,8 +6,6 @@
 #include <limits>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
-
 namespace clothsim::analysis {
 
 double StiffnessEstimate::dt_springs() const {
@@ -85,14 +83,45 @@ double polynomial_limit(const std::vector<double>& a, double w, double c) {
   return 0.0;
 }
 
+namespace {
+// The largest |root| of a row-major 3 x 3 matrix's characteristic polynomial
+// l^3 - t l^2 + q l - d (t the trace, q the principal 2 x 2 minors' sum, d the determinant),
+// by Durand-Kerner iteration: the three roots at once, complex ones included. Infinity for a
+// matrix with a non-finite entry.
+double spectral_radius3(const double m[9]) {
+  for (int i = 0; i < 9; ++i)
+    if (!std::isfinite(m[i])) return std::numeric_limits<double>::infinity();
+  const double t = m[0] + m[4] + m[8];
+  const double q = m[0] * m[4] - m[1] * m[3] + m[0] * m[8] - m[2] * m[6] + m[4] * m[8] - m[5] * m[7];
+  const double d = m[0] * (m[4] * m[8] - m[5] * m[7]) - m[1] * (m[3] * m[8] - m[5] * m[6]) +
+                   m[2] * (m[3] * m[7] - m[4] * m[6]);
+  using C = std::complex<double>;
+  const auto p = [&](C l) { return ((l - t) * l + q) * l - d; };
+  const double scale = 1.0 + std::abs(t) + std::abs(q) + std::abs(d);
+  C r[3] = {C(0.4, 0.9) * scale, C(0.4, 0.9) * C(0.4, 0.9) * scale, C(0.4, 0.9) * C(0.4, 0.9) * C(0.4, 0.9) * scale};
+  for (int it = 0; it < 500; ++it) {
+    double moved = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      C den = 1.0;
+      for (int j = 0; j < 3; ++j)
+        if (j != k) den *= r[k] - r[j];
+      const C delta = den == C(0.0) ? C(1e-12 * scale) : p(r[k]) / den;
+      r[k] -= delta;
+      moved = std::max(moved, std::abs(delta));
+    }
+    if (moved <= 1e-15 * scale) break;
+  }
+  return std::max({std::abs(r[0]), std::abs(r[1]), std::abs(r[2])});
+}
+}  // namespace
+
 double step_matrix_limit(StepMatrix step, double w, double c) {
   const double fastest = std::max(w, c);
   if (!(fastest > 0.0)) return std::numeric_limits<double>::infinity();
   const auto stable = [&](double h) {
-    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> m;
-    step(h, w, c, m.data());
-    if (!m.allFinite()) return false;
-    return Eigen::EigenSolver<Eigen::Matrix3d>(m, false).eigenvalues().cwiseAbs().maxCoeff() <= 1.0 + 1e-9;
+    double m[9];
+    step(h, w, c, m);
+    return spectral_radius3(m) <= 1.0 + 1e-9;
   };
   const double factor = 1.001;
   for (double h = 4.0 / fastest; h * fastest >= 1e-6; h /= factor) {

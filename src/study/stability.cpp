@@ -14,7 +14,7 @@
 namespace clothsim::analysis {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kNoStep = std::numeric_limits<double>::quiet_NaN();  // no step found (yet)
 
 bool finite_positive(double v) { return v > 0.0 && std::isfinite(v); }
 
@@ -104,13 +104,13 @@ class StableStepSearch {
     model_.divergence.max_strain = spec.max_strain;
     out_.integrator = kind;
     out_.estimate = estimate_stiffness(model_);
-    out_.stable_dt = out_.unstable_dt = kNaN;
+    out_.stable_dt = out_.unstable_dt = kNoStep;
   }
 
   StabilityLimit run() {
     if (stable(spec_.max_dt)) return finish(StabilityOutcome::StableAtMax);
     if (stopped_) return finish(StabilityOutcome::Stopped);
-    double lo = kNaN, hi = spec_.max_dt;  // lo: stable (once found), hi: unstable
+    double lo = kNoStep, hi = spec_.max_dt;  // lo: stable (once found), hi: unstable
     if (!bracket(lo, hi)) return finish(stopped_ ? StabilityOutcome::Stopped : StabilityOutcome::UnstableAtMin);
     bisect(lo, hi);
     return finish(StabilityOutcome::Bracketed);
@@ -256,7 +256,7 @@ class SearchReplay {
 
   double cost(double guess) {
     if (stable(spec_.max_dt)) return total_;
-    double lo = kNaN, hi = spec_.max_dt;
+    double lo = kNoStep, hi = spec_.max_dt;
     guess = std::clamp(std::isfinite(guess) ? guess : spec_.max_dt, spec_.min_dt, 0.5 * spec_.max_dt);
     if (stable(guess)) {
       lo = guess;

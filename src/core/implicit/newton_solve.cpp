@@ -9,6 +9,7 @@
 #include "barrier_terms.h"
 #include "newton_kernels.h"
 #include "core/contact/barrier_contacts.h"
+#include "core/linear/cg_kernels.h"
 #include "step_contacts.h"
 
 namespace clothsim {
@@ -46,10 +47,6 @@ double momentum_norm(const Eigen::VectorXd& mass_squared, const Eigen::Matrix3Xd
   return std::sqrt(simd_weighted_norm2(mass_squared.data(), dv.data(), static_cast<std::size_t>(dv.cols())));
 }
 
-// sum_k a_k b_k over two 3 x B matrices.
-double dot(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
-  return simd_dot(a.data(), b.data(), static_cast<std::size_t>(a.size()));
-}
 
 // Whether the State's record was made for this system: the same step size and the same
 // movable bodies (the matrix's rows for immovable ones are removed).
@@ -142,7 +139,7 @@ bool NewtonSolve::update_contacts() {
 NewtonSolve::Residual NewtonSolve::measure_residual() {
   c_.rhs = -c_.r;
   c_.contacts.filter.apply(c_.rhs);
-  r_norm2_ = dot(c_.rhs, c_.rhs);  // (the line search's too: rhs stays as it is till then)
+  r_norm2_ = matrix_dot(c_.rhs, c_.rhs);  // (the line search's too: rhs stays as it is till then)
   const double r_norm = std::sqrt(r_norm2_);
   const double scale = std::max(impulse_scale_, momentum_norm(c_.mass_squared, c_.dv));
   // (0 / 0 where nothing can move, no spring and no body term: nothing to solve, solved)
@@ -262,7 +259,7 @@ double NewtonSolve::direction(CgSettings settings, const Eigen::Matrix3Xd* warm,
       c_.jacobi_ready = true;
     }
     solve(settings);
-    return -dot(c_.rhs, c_.d);
+    return -matrix_dot(c_.rhs, c_.d);
   }
   choose_preconditioner();
   const bool affordable = c_.factor.factor_bytes() <= kMaxFactorBytes;
@@ -286,7 +283,7 @@ double NewtonSolve::direction(CgSettings settings, const Eigen::Matrix3Xd* warm,
       solve(settings);
     }
   }
-  return -dot(c_.rhs, c_.d);  // r . d (d is filtered)
+  return -matrix_dot(c_.rhs, c_.d);  // r . d (d is filtered)
 }
 
 // The matrix for this direction: assembled at the iterate, or the matrix in hand (rebuilt from
@@ -470,7 +467,7 @@ bool NewtonSolve::line_search(double slope) {
     if (!accept && -alpha * slope <= resolvable * phi_.magnitude) {
       c_.rhs = c_.r_try;  // scratch (rebuilt at the next iteration): the trial's filtered residual
       c_.contacts.filter.apply(c_.rhs);
-      accept = dot(c_.rhs, c_.rhs) < r_norm2_;
+      accept = matrix_dot(c_.rhs, c_.rhs) < r_norm2_;
       if (!accept) return false;  // rounding has the last word: stop here
       if (halving == 0) first_drop_ = std::numeric_limits<double>::quiet_NaN();  // no verdict
     }
@@ -517,7 +514,7 @@ double NewtonSolve::cap_direction(double slope) {
   if (particle_steps_over(c_.d, model_.num_particles, cap) == 0) return slope;
   c_.cg.z = c_.d;  // (CG's scratch, free between solves)
   const int capped = cap_particle_steps(c_.d, model_.num_particles, cap);
-  const double capped_slope = -dot(c_.rhs, c_.d);
+  const double capped_slope = -matrix_dot(c_.rhs, c_.d);
   trace_("  capped %d particles: slope %.3e -> %.3e\n", capped, slope, capped_slope);
   if (!(capped_slope < 0.0)) {
     c_.d.swap(c_.cg.z);
@@ -525,7 +522,7 @@ double NewtonSolve::cap_direction(double slope) {
   }
   c_.A.multiply(c_.A, c_.d, c_.cg.q);
   c_.contacts.filter.apply(c_.cg.q);
-  capped_curvature_ = dot(c_.d, c_.cg.q);
+  capped_curvature_ = matrix_dot(c_.d, c_.cg.q);
   capped_ = true;
   return capped_slope;
 }

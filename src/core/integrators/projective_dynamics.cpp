@@ -30,7 +30,7 @@ void accelerate(SolverCache& c, int k, double rho, double& omega) {
 
 // The particles held on their planes at c.y (c.held): those whose contact multiplier pushes,
 // with it as their contact force.
-void collect_held(const Model& model, SolverCache& c) {
+void pd_collect_held(const Model& model, SolverCache& c) {
   c.held.clear();
   for (int i = 0; i < model.num_particles; ++i)
     if (c.pd_system.planed[i] && c.problem.weight[i] > 0.0 && c.lambda[i] > 0.0)
@@ -67,14 +67,14 @@ StepStats projective_dynamics_step(const Model& model, State& state, const StepC
     c.y_before = c.y_next;
     if (ws.on_iteration) ws.on_iteration(k, c.y);
     if (!stop.active()) continue;
-    collect_held(model, c);
+    pd_collect_held(model, c);
     if (stop.met(c.y, &c.held)) break;
   }
   stats.newton_iterations = std::min(k, iterations);
   stop.report(stats);
   stats.start_strain = max_start_strain(model, c.problem);
   finish_step(c.problem, c.y, state);
-  collect_held(model, c);
+  pd_collect_held(model, c);
   respond_to_held_contacts(model, c.problem, c.y, c.held, c.gradient, state);  // friction on them
   return stats;
 }

@@ -32,7 +32,7 @@ void accelerate_graph(const Model& model, SolverCache& c, int k, double omega) {
 }
 
 // The particles held on their planes at c.y (c.held): those that took a plane this step and lie on it.
-void collect_held(const Model& model, SolverCache& c) {
+void vbd_collect_held(const Model& model, SolverCache& c) {
   c.held.clear();
   const bool grid = vbd_by_grid(model);
   for (int i = 0; i < model.num_particles; ++i) {
@@ -44,7 +44,7 @@ void collect_held(const Model& model, SolverCache& c) {
 
 bool stop_met(const Model& model, SolverCache& c, ResidualStop& stop) {
   if (!stop.active()) return false;
-  collect_held(model, c);
+  vbd_collect_held(model, c);
   return stop.met(c.y, &c.held);
 }
 
@@ -120,7 +120,7 @@ StepStats vbd_step(const Model& model, State& state, const StepContext& ctx, Wor
   stop.report(stats);
   finish_step(c.problem, c.y, state);
   if (barrier_scene) return stats;  // no held planes: the barrier and its friction acted in the sweeps
-  collect_held(model, c);
+  vbd_collect_held(model, c);
   respond_to_held_contacts(model, c.problem, c.y, c.held, c.gradient, state);  // friction on them
   return stats;
 }

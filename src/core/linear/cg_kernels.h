@@ -12,12 +12,18 @@
 // sums differs; the element-wise results are the same bits.
 #pragma once
 
+#include <Eigen/Core>
+
 #include <cstddef>
 
 namespace clothsim {
 
 // sum_k a_k b_k over n entries.
 double simd_dot(const double* a, const double* b, std::size_t n);
+// sum_k a_k b_k over two 3 x B matrices, by simd_dot.
+inline double matrix_dot(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
+  return simd_dot(a.data(), b.data(), static_cast<std::size_t>(a.size()));
+}
 
 // x += alpha p, r -= alpha q (n entries each); returns |r|^2 after.
 double simd_update_iterate(double* x, double* r, const double* p, const double* q, double alpha,

@@ -9,9 +9,6 @@ namespace clothsim {
 
 namespace {
 
-double dot(const Eigen::Matrix3Xd& u, const Eigen::Matrix3Xd& w) {
-  return simd_dot(u.data(), w.data(), static_cast<std::size_t>(u.size()));
-}
 
 // z = the preconditioner applied to r, filtered; returns r . z. Block Jacobi runs as one SIMD
 // pass that also takes r . z (before the filter: r is in the filter's range, so r . S z =
@@ -22,7 +19,7 @@ double precondition(const SpringBlockMatrix& A, const Preconditioner* pre,
   if (pre) {
     pre->apply(r, z);
     if (filter) filter->apply(z);
-    rz = dot(r, z);
+    rz = matrix_dot(r, z);
   } else {
     const int B = A.num_bodies();
     z.resize(3, B);
@@ -88,7 +85,7 @@ double start(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen::Matri
     buf.r = b;
   }
   if (filter) filter->apply(buf.r);
-  return from_guess ? -0.5 * (dot(x, b) + dot(x, buf.r)) : 0.0;
+  return from_guess ? -0.5 * (matrix_dot(x, b) + matrix_dot(x, buf.r)) : 0.0;
 }
 
 }  // namespace
@@ -121,7 +118,7 @@ CgResult solve_pcg(const SpringBlockMatrix& A, const Eigen::Matrix3Xd& b, Eigen:
   while (result.iterations < settings.max_iterations) {
     A.multiply(A, buf.p, buf.q);
     filtered(buf.q);
-    const double pq = dot(buf.p, buf.q);
+    const double pq = matrix_dot(buf.p, buf.q);
     if (!(pq > 0.0)) {  // A is not positive definite along p (or NaN): CG cannot go on
       result.converged = false;
       result.negative_curvature = true;
