@@ -71,6 +71,15 @@ inline CliResult run_clothsim(const std::vector<std::string>& args, const std::s
   return capture.collect(std::system(command.c_str()));
 }
 
+// Any program (a reader of clothsim's outputs: python3, ffprobe), as run_clothsim runs clothsim.
+inline CliResult run_process(const std::vector<std::string>& argv) {
+  const Capture capture;
+  std::string command;
+  for (const auto& a : argv) command += (command.empty() ? "" : " ") + shell_quote(a);
+  command += " >" + shell_quote(capture.out) + " 2>" + shell_quote(capture.err) + " </dev/null";
+  return capture.collect(std::system(command.c_str()));
+}
+
 // A run stopped by a signal, and how long it took to exit once the signal was sent.
 struct StoppedResult : CliResult {
   double seconds_to_exit = 0.0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include <unistd.h>
 
@@ -31,6 +32,21 @@ std::string evidence_path(const GoldenOptions& o, const std::string& golden, con
 }
 
 // Compares one render with its golden image, writing the evidence of a mismatch.
+namespace {
+// Why a golden that exists cannot be compared, before decoding it ("" when it may be): not a
+// regular file, or a Git LFS pointer (the common CI case: cloned without `git lfs pull`).
+std::string unreadable_golden(const std::string& golden) {
+  if (!fs::is_regular_file(golden)) return "unreadable golden: not a regular file";
+  std::ifstream in(golden, std::ios::binary);
+  std::string head(64, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  if (head.rfind("version https://git-lfs", 0) == 0)
+    return "unreadable golden: a Git LFS pointer, not the image (run `git lfs pull`)";
+  return "";
+}
+}  // namespace
+
 GoldenVerdict check_one(const GoldenOptions& o, const std::string& golden, const Image& actual, const DiffTolerance& tol,
                         std::vector<std::string>& evidence) {
   GoldenVerdict v;
@@ -39,15 +55,25 @@ GoldenVerdict check_one(const GoldenOptions& o, const std::string& golden, const
   const std::string actual_path = evidence_path(o, golden, "actual"), diff_path = evidence_path(o, golden, "diff");
   if (!fs::exists(golden)) {
     v.problem = "missing (`clothsim golden update` writes it)";
+  } else if (const std::string why = unreadable_golden(golden); !why.empty()) {
+    v.problem = why;  // its own FAIL row: the other goldens are still checked
   } else {
     // The size from the header first: a golden of another size is never decoded (a huge one
-    // would otherwise take memory the budget did not count).
-    const PngSize size = read_png_size(golden);
-    if (size.width != actual.width || size.height != actual.height) {
+    // would otherwise take memory the budget did not count). A golden that does not decode
+    // (truncated, a bad CRC or IDAT) is this image's FAIL, not the check's end.
+    PngSize size{};
+    Image expected;
+    try {
+      size = read_png_size(golden);
+      if (size.width == actual.width && size.height == actual.height) expected = read_png(golden);
+    } catch (const PngError& e) {
+      v.problem = std::string("unreadable golden: ") + e.what();
+    }
+    if (!v.problem.empty()) {
+    } else if (size.width != actual.width || size.height != actual.height) {
       v.problem = "golden is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
                   ", the render " + std::to_string(actual.width) + "x" + std::to_string(actual.height);
     } else {
-      const Image expected = read_png(golden);
       const DiffStats stats = compare_images(expected, actual, tol.pixel_threshold);
       v.rms = stats.rms;
       v.max = stats.max;
@@ -240,7 +266,15 @@ ShardPlan golden_plan(const GoldenOptions& o, const GoldenManifest& manifest, co
 }
 
 // check's --csv and --summary, once every entry ran.
-void write_check_outputs(const GoldenOptions& o, const std::vector<JsonObject>& lanes, const GoldenWork& work) {
+void write_check_outputs(const GoldenOptions& o, const GoldenManifest& manifest, const std::vector<JsonObject>& lanes,
+                         const std::vector<double>& seconds, const GoldenWork& work) {
+  if (!o.junit.empty()) {
+    std::vector<std::string> names;
+    for (const GoldenEntry& e : manifest.entries) names.push_back(e.name);
+    AtomicFile file(o.junit);
+    std::fputs(golden_junit(o.manifest, names, seconds, work.verdicts).c_str(), file.stream());
+    file.commit();
+  }
   if (!o.csv.empty()) {
     AtomicFile file(o.csv);
     std::fprintf(file.stream(), "%s\n", golden_csv_header().c_str());
@@ -271,7 +305,8 @@ void check_name_lengths(const GoldenOptions& o, const GoldenManifest& manifest) 
 // reads or another output (update's images, check's evidence) under any spelling.
 void check_outputs_writable(const GoldenOptions& o, const GoldenManifest& manifest, bool update) {
   check_name_lengths(o, manifest);
-  std::vector<PathRole> inputs{{o.manifest, "the manifest"}}, outputs{{o.csv, "--csv"}, {o.summary, "--summary"}};
+  std::vector<PathRole> inputs{{o.manifest, "the manifest"}}, outputs{{o.csv, "--csv"}, {o.summary, "--summary"},
+                                                                  {o.junit, "--junit"}};
   for (const GoldenEntry& e : manifest.entries) {
     inputs.push_back({e.scene, "the scene of " + e.name});
     for (double t : e.times) {
@@ -286,9 +321,10 @@ void check_outputs_writable(const GoldenOptions& o, const GoldenManifest& manife
     }
   }
   refuse_clashing_paths(inputs, outputs);
-  if (update)  // the golden images, after --csv and --summary: an unwritable folder is said before rendering
-    for (std::size_t i = 2; i < outputs.size(); ++i) require_writable_parent(outputs[i].path, outputs[i].what);
+  if (update)  // the golden images, after --csv, --summary and --junit: an unwritable folder is said before rendering
+    for (std::size_t i = 3; i < outputs.size(); ++i) require_writable_parent(outputs[i].path, outputs[i].what);
   if (!o.csv.empty()) require_writable_parent(o.csv, "--csv");
+  if (!o.junit.empty()) require_writable_parent(o.junit, "--junit");
   if (!o.summary.empty() && o.shard.empty()) require_writable_parent(o.summary, "--summary");
 }
 

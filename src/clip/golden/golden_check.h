@@ -25,7 +25,7 @@ namespace clothsim::clip {
 struct GoldenOptions {
   std::string manifest;
   std::string failures_dir;  // empty: beside each golden image
-  std::string csv, summary, shard;  // check only
+  std::string csv, summary, junit, shard;  // check only
   GlOptions gl;
   std::optional<double> max_memory;  // --max-memory SIZE in bytes (default: memory_budget.h)
 };
@@ -70,8 +70,9 @@ double entry_cost(const GoldenEntry& e, const SceneDef& scene);
 // What a part of the check is a part of: every entry's scene bytes and settings.
 ShardPlan golden_plan(const GoldenOptions& o, const GoldenManifest& manifest, const std::vector<SceneDef>& scenes);
 
-// check's --csv and --summary, once every entry ran.
-void write_check_outputs(const GoldenOptions& o, const std::vector<JsonObject>& lanes, const GoldenWork& work);
+// check's --csv, --summary and --junit (`seconds`: each entry's run), once every entry ran.
+void write_check_outputs(const GoldenOptions& o, const GoldenManifest& manifest, const std::vector<JsonObject>& lanes,
+                         const std::vector<double>& seconds, const GoldenWork& work);
 
 // A name whose image (or its evidence, NAME_tT.actual.png) is longer than the file system
 // takes fails at the first write: refused at its key before any render.

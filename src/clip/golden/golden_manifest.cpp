@@ -7,11 +7,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include "scene/names.h"
 #include "scene/scene_parser.h"
+#include "clip/common/cli_common.h"
 #include "core/integrators/integrator_kind.h"
 
 namespace clothsim::clip {
@@ -51,9 +54,12 @@ class ManifestReader {
       try {
         v = n.as<double>();
       } catch (const YAML::Exception&) {
+        // Every time syntax the commands take (--dt 1/60, a scene's dt: 1/60): a fraction too.
+        if (const std::optional<double> f = parse_number_or_fraction(n.Scalar())) v = *f;
       }
     }
-    if (!std::isfinite(v)) fail(n, key, "expected a number, got '" + (n.IsScalar() ? n.Scalar() : "a list or map") + "'");
+    if (!std::isfinite(v))
+      fail(n, key, "expected a number (or a fraction like 1/60), got '" + (n.IsScalar() ? n.Scalar() : "a list or map") + "'");
     if (lo_open ? !(v > lo) : !(v >= lo)) {
       std::ostringstream msg;
       msg << "value " << n.Scalar() << " out of range: must be " << (lo_open ? "> " : ">= ") << lo;
@@ -143,7 +149,12 @@ GoldenManifest load_golden_manifest(const std::string& path) {
   if (!in) throw SceneError(path, 0, "", "cannot open for reading");
   YAML::Node root;
   try {
-    root = YAML::Load(in);
+    // Every document is parsed, so a broken second one is an error, not silently skipped.
+    const std::vector<YAML::Node> documents = YAML::LoadAll(in);
+    if (documents.size() > 1)
+      throw SceneError(path, documents[1].Mark().is_null() ? 0 : documents[1].Mark().line + 1, "",
+                       "a second YAML document: a manifest is one document (remove the '---' and what follows)");
+    if (!documents.empty()) root = documents.front();
   } catch (const YAML::ParserException& e) {
     throw SceneError(path, e.mark.is_null() ? 0 : e.mark.line + 1, "", "invalid YAML: " + e.msg);
   }

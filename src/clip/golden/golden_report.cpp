@@ -1,5 +1,6 @@
 #include "golden_report.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -66,6 +67,68 @@ GoldenVerdict parse_golden_row(const std::string& row) {
   v.actual = c[9];
   v.diff = c[10];
   return v;
+}
+
+namespace {
+// Text for an XML attribute or element: the five entities, and control characters (which
+// XML 1.0 cannot hold) as '?'.
+std::string xml(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') ? '?' : c;
+    }
+  }
+  return out;
+}
+}  // namespace
+
+std::string golden_junit(const std::string& manifest, const std::vector<std::string>& names,
+                         const std::vector<double>& seconds, const std::vector<GoldenVerdict>& verdicts) {
+  std::size_t failed_entries = 0;
+  std::vector<std::vector<const GoldenVerdict*>> by_entry(names.size());
+  for (const GoldenVerdict& v : verdicts)
+    if (v.entry < by_entry.size()) by_entry[v.entry].push_back(&v);
+  for (const auto& images : by_entry)
+    failed_entries += std::any_of(images.begin(), images.end(), [](const GoldenVerdict* v) { return !v->ok; });
+  double total = 0.0;
+  for (double s : seconds) total += s;
+  char head[256];
+  std::snprintf(head, sizeof head, "  <testsuite name=\"golden\" tests=\"%zu\" failures=\"%zu\" errors=\"0\" skipped=\"0\" time=\"%.3f\"",
+                names.size(), failed_entries, total);
+  std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n" + std::string(head) +
+                    " file=\"" + xml(manifest) + "\">\n";
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    char time[32];
+    std::snprintf(time, sizeof time, "%.3f", i < seconds.size() ? seconds[i] : 0.0);
+    out += "    <testcase classname=\"golden\" name=\"" + xml(names[i]) + "\" file=\"" + xml(manifest) +
+           "\" time=\"" + time + "\">\n";
+    std::string problems, attachments, properties;
+    std::size_t bad = 0;
+    for (const GoldenVerdict* v : by_entry[i]) {
+      if (v->ok) continue;
+      ++bad;
+      problems += golden_report_line(*v) + "\n";
+      if (!v->diff.empty()) {
+        properties += "        <property name=\"attachment\" value=\"" + xml(v->diff) + "\"/>\n";
+        attachments += "[[ATTACHMENT|" + xml(v->diff) + "]]\n";
+      }
+    }
+    if (!properties.empty()) out += "      <properties>\n" + properties + "      </properties>\n";
+    if (bad > 0) {
+      out += "      <failure message=\"" + xml(std::to_string(bad) + " of " + std::to_string(by_entry[i].size()) +
+                                          " images differ from their golden") +
+             "\" type=\"golden\">" + xml(problems) + "</failure>\n";
+    }
+    if (!attachments.empty()) out += "      <system-out>" + attachments + "</system-out>\n";
+    out += "    </testcase>\n";
+  }
+  return out + "  </testsuite>\n</testsuites>\n";
 }
 
 JsonObject golden_summary_keys(const std::vector<GoldenVerdict>& verdicts) {

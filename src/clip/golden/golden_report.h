@@ -37,6 +37,15 @@ std::string golden_csv_row(const GoldenVerdict& v);
 // A row back; throws std::runtime_error on a row that is not golden_csv_row's.
 GoldenVerdict parse_golden_row(const std::string& row);
 
+// --junit: JUnit XML as CI systems read it (GitLab, Jenkins, GitHub's reporters): one
+// <testsuite> for the manifest, one <testcase> per entry (classname golden, name the entry's
+// name), failed when any of its images failed, the failure's text each such image's problem and
+// RMS; each diff image's path a property "attachment" and a [[ATTACHMENT|PATH]] line in
+// system-out (Jenkins' and GitLab's spelling). `names` by entry index; `seconds` each entry's
+// run, the testcase's time.
+std::string golden_junit(const std::string& manifest, const std::vector<std::string>& names,
+                         const std::vector<double>& seconds, const std::vector<GoldenVerdict>& verdicts);
+
 // The summary's own keys: complete (true), images, matching.
 JsonObject golden_summary_keys(const std::vector<GoldenVerdict>& verdicts);
 // The summary's image object (an entry's lane lists its images).

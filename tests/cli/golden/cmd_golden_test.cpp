@@ -7,7 +7,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "cli/cli_process.h"
 
@@ -86,6 +88,91 @@ TEST(CmdGolden, AChangedSceneFailsWithTheActualAndDiffImagesBesideAndUpdateRewri
   EXPECT_EQ(again.exit_code, 0) << again.out;
   EXPECT_FALSE(fs::exists(actual));  // the evidence of the old failure is gone
   EXPECT_FALSE(fs::exists(diff));
+}
+
+// --junit as a CI reads it: a real JUnit consumer (Debian's python3-junitparser) finds one
+// test case per entry, the changed entry failed with its images' differences and its diff
+// images as attachments, the unchanged one passed.
+TEST(CmdGolden, JunitHasATestCasePerEntryThatAJunitReaderReads) {
+  UserProject p("golden_user_junit");
+  fs::copy_file(p.scene, p.dir + "/other.yaml");
+  write(p.manifest, "size: [160, 90]\ngoldens:\n  - scene: my_drape.yaml\n    times: [0.05, 0.2]\n"
+                    "  - scene: other.yaml\n    times: [1/20]\n");
+  ASSERT_EQ(run_clothsim({"golden", "update", p.manifest}).exit_code, 0);
+  p.change_scene();
+  const std::string xml = p.dir + "/golden.xml";
+  const CliResult check = run_clothsim({"golden", "check", p.manifest, "--junit", xml});
+  EXPECT_EQ(check.exit_code, 1) << check.out << check.err;
+  ASSERT_TRUE(fs::exists(xml)) << check.err;
+  const std::string reader = p.dir + "/read.py";
+  write(reader,
+        "import sys\n"
+        "try:\n"
+        "    from junitparser import JUnitXml, Failure\n"
+        "except ImportError:\n"
+        "    sys.exit(77)\n"
+        "suites = list(JUnitXml.fromfile(sys.argv[1]))\n"
+        "cases = [c for s in suites for c in s]\n"
+        "print(len(suites), len(cases))\n"
+        "for c in cases:\n"
+        "    failed = [r for r in c.result if isinstance(r, Failure)]\n"
+        "    props = [q.get('value') for q in c._elem.iter('property')]  # junitparser 2 has no TestCase.properties\n"
+        "    print(c.name, 'FAIL' if failed else 'ok', len(props), props[0] if props else '-')\n"
+        "    if failed: print('TEXT', failed[0].text.count('FAIL  '))\n");
+  const CliResult read = run_process({"/usr/bin/python3", reader, xml});
+  if (read.exit_code == 77) GTEST_SKIP() << "python3-junitparser not installed (tools/install-deps.sh test installs it)";
+  ASSERT_EQ(read.exit_code, 0) << read.err;
+  EXPECT_NE(read.out.find("1 2\n"), std::string::npos) << read.out;
+  const std::string diff200 = p.dir + "/my_drape_t200ms.diff.png";
+  EXPECT_NE(read.out.find("my_drape FAIL 2 " + p.dir + "/my_drape_t50ms.diff.png"), std::string::npos) << read.out;
+  EXPECT_NE(read.out.find("TEXT 2"), std::string::npos) << read.out;  // both images' lines
+  EXPECT_NE(read.out.find("other ok 0 -"), std::string::npos) << read.out;
+  EXPECT_TRUE(fs::exists(diff200));
+}
+
+// A corrupt golden is its own FAIL row (the common CI case: a Git LFS pointer), and every
+// other golden is still checked and listed in --csv.
+TEST(CmdGolden, ACorruptGoldenFailsItsOwnRowAndTheOthersAreStillChecked) {
+  struct Case {
+    const char* what;
+    std::function<void(const std::string&)> spoil;
+    const char* says;
+  };
+  const std::vector<Case> cases = {
+      {"lfs", [](const std::string& g) { write(g, "version https://git-lfs.github.com/spec/v1\noid sha256:ab\nsize 9\n"); },
+       "a Git LFS pointer"},
+      {"text", [](const std::string& g) { write(g, "not a png"); }, "unreadable golden"},
+      {"empty", [](const std::string& g) { write(g, ""); }, "unreadable golden"},
+      {"truncated", [](const std::string& g) { const std::string b = slurp(g); write(g, b.substr(0, b.size() / 2)); },
+       "unreadable golden"},
+      {"directory", [](const std::string& g) { fs::remove(g); fs::create_directory(g); }, "not a regular file"},
+  };
+  for (const Case& c : cases) {
+    UserProject p(std::string("golden_user_corrupt_") + c.what);
+    ASSERT_EQ(run_clothsim({"golden", "update", p.manifest}).exit_code, 0);
+    c.spoil(p.dir + "/my_drape_t50ms.png");
+    const std::string csv = p.dir + "/c.csv";
+    const CliResult check = run_clothsim({"golden", "check", p.manifest, "--csv", csv});
+    EXPECT_EQ(check.exit_code, 1) << c.what << ": " << check.out << check.err;
+    EXPECT_NE(check.out.find("FAIL  my_drape_t50ms.png"), std::string::npos) << c.what << ": " << check.out;
+    EXPECT_NE(check.out.find(c.says), std::string::npos) << c.what << ": " << check.out;
+    EXPECT_NE(check.out.find("golden: 1 of 2 images match"), std::string::npos) << c.what << ": " << check.out;
+    const std::string rows = slurp(csv);
+    EXPECT_NE(rows.find("my_drape_t50ms.png"), std::string::npos) << rows;
+    EXPECT_NE(rows.find("my_drape_t200ms.png"), std::string::npos) << rows;
+  }
+}
+
+TEST(CmdGolden, AManifestsSecondDocumentIsRefusedEvenBroken) {
+  UserProject p("golden_user_two_docs");
+  for (const char* second : {"---\ngoldens: []\n", "---\ngoldens: [\n"}) {
+    write(p.manifest, "size: [160, 90]\ngoldens:\n  - scene: my_drape.yaml\n    times: [0.05]\n" + std::string(second));
+    const CliResult r = run_clothsim({"golden", "check", p.manifest});
+    EXPECT_EQ(r.exit_code, 2) << second << r.out << r.err;
+    EXPECT_NE(r.err.find(p.manifest + ":"), std::string::npos) << r.err;  // its file and line
+    EXPECT_TRUE(r.err.find("second YAML document") != std::string::npos || r.err.find("invalid YAML") != std::string::npos)
+        << r.err;
+  }
 }
 
 TEST(CmdGolden, AMissingGoldenFailsAndSaysHowToMakeIt) {

@@ -13,6 +13,7 @@
 // A bad manifest or scene, or an entry whose run would need more than --max-memory, exits 2
 // before anything is rendered.
 #include <algorithm>
+#include <chrono>
 #include <cinttypes>
 #include <cstdio>
 #include <memory>
@@ -52,6 +53,9 @@ int golden_command(const GoldenOptions& o, bool update) {
   load_entries(o, manifest, scenes, looks);
   if (!o.failures_dir.empty() && !update) ensure_directory(o.failures_dir, "--failures");
   check_outputs_writable(o, manifest, update);
+  if (!o.shard.empty() && !o.junit.empty())
+    throw UsageError("--junit: a sharded check writes its parts for `clothsim merge`; check the whole manifest "
+                     "for the XML (one process, no --shard)");
   if (!o.shard.empty()) return golden_shard(o, manifest, scenes, looks);
   const std::unique_ptr<Renderer> renderer = make_renderer(o.gl);
 
@@ -59,12 +63,15 @@ int golden_command(const GoldenOptions& o, bool update) {
   GoldenWork work;
   std::vector<JsonObject> lanes;
   std::vector<std::string> not_written;  // written once every entry ran
-  for (const std::string& path : {o.csv, o.summary})
+  std::vector<double> seconds;  // each entry's run, wall clock (--junit's testcase time)
+  for (const std::string& path : {o.csv, o.summary, o.junit})
     if (!path.empty()) not_written.push_back(path);
   for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
     const Model model = build_model(scenes[i]);
     images += static_cast<int>(manifest.entries[i].times.size());
+    const auto start = std::chrono::steady_clock::now();
     const LaneResult r = run_entry(o, manifest, i, scenes[i], looks[i], model, *renderer, update, work, not_written);
+    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     lanes.push_back(entry_lane_json(manifest.entries[i], i, scenes[i], model, r, work.verdicts));
   }
   if (update && work.bad > 0) {
@@ -77,7 +84,7 @@ int golden_command(const GoldenOptions& o, bool update) {
     std::printf("golden: %d of %d images written (%s)\n", images, images, o.manifest.c_str());
     return kOk;
   }
-  write_check_outputs(o, lanes, work);
+  write_check_outputs(o, manifest, lanes, seconds, work);
   std::printf("%s\n", golden_tally(work.verdicts, o.manifest).c_str());
   return work.bad == 0 ? kOk : 1;
 }
@@ -105,6 +112,10 @@ void add_golden_command(CLI::App& app, Command& command) {
       sub->add_option("--csv", o->csv, "Write one row per image: entry,image,t,result,rms,max,...")->type_name("FILE.csv");
       sub->add_option("--summary", o->summary, "Write each entry's run and images as JSON (docs/summary.md)")
           ->type_name("FILE.json");
+      sub->add_option("--junit", o->junit,
+                      "Write JUnit XML for CI: a test case per entry, its failing images' differences, each "
+                      "diff image as an attachment (docs/golden.md)")
+          ->type_name("FILE.xml");
       add_shard_option(sub, o->shard);
     }
     add_gl_options(sub, o->gl);
