@@ -66,6 +66,7 @@ struct MeshExport::Impl {
   bool error;
   int frames = 0;
   int files = 0;                  // per-frame files named so far (OBJ, PLY, VTP)
+  std::vector<std::string> file_list;  // their paths, in the order written
   std::vector<Pc2Stream> caches;  // PC2: the cloth, then each sphere
   std::vector<PvdEntry> index;    // PVD
   std::vector<std::string> named;  // PC2 and PVD once finished
@@ -86,6 +87,7 @@ struct MeshExport::Impl {
                       : path.format == ExportFormat::Ply ? ply_bytes(part, note)
                                                          : vtp_text(part));
     ++files;
+    file_list.push_back(file);
     if (path.format == ExportFormat::Pvd) {
       // NAME/cloth_00000.vtp beside NAME.pvd: relative to the index, so the two move together.
       const std::filesystem::path dir_name = std::filesystem::path(path.dir).filename();
@@ -140,6 +142,12 @@ void MeshExport::finish() {
 }
 
 int MeshExport::frames() const { return impl_->frames; }
+
+std::vector<std::string> MeshExport::written_files() const {
+  std::vector<std::string> out = impl_->file_list;
+  out.insert(out.end(), impl_->named.begin(), impl_->named.end());
+  return out;
+}
 
 std::string MeshExport::written() const {
   const Impl& m = *impl_;

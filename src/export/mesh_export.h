@@ -35,6 +35,8 @@ class MeshExport {
   void finish();
   // What stays on disk: "12 OBJ files in out/", "c.pc2, c.obj" ("" for nothing).
   std::string written() const;
+  // The same as paths: every per-frame file in the order written, then what finish() named.
+  std::vector<std::string> written_files() const;
   int frames() const;
 
  private:

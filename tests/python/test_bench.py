@@ -28,8 +28,12 @@ def rows_without_times(path):
 
 
 def same_frame(frame, path):
-    """The DataFrame is the CLI's CSV read back: its columns, and but for the times its values to the last bit."""
+    """The DataFrame is the CLI's CSV read back: its columns, and but for the times its values to the last bit
+    (its 0 / 1 verdict columns as booleans)."""
     ref = pd.read_csv(path, float_precision="round_trip")
+    for verdict in ("diverged", "wrong", "unresolved", "converged", "frame_step", "finished"):
+        if verdict in ref.columns and ref[verdict].isin([0, 1]).all():  # booleans in the DataFrame
+            ref[verdict] = ref[verdict].astype(bool)
     assert list(frame.columns) == list(ref.columns)
     cols = [c for c in ref.columns if c not in TIMES]
     pd.testing.assert_frame_equal(frame[cols].reset_index(drop=True), ref[cols], check_exact=True)

@@ -137,6 +137,23 @@ def test_a_shipped_scene_loads_by_bare_name_and_a_nul_never_truncates_a_path(tmp
             clothsim.Export(scene, str(tmp_path / "v.pvd"), fps=fps)
 
 
+def test_the_niceties_a_user_expects(cli, tmp_path):
+    code, out, _ = cli("--version")
+    assert clothsim.__version__ in out
+    # A path wherever a Scene is taken; verdicts as booleans; Export.written as paths.
+    frame = clothsim.bench(os.path.join(SCENES, "spring.yaml"), integrators="rk4,explicit_euler", duration=0.2)
+    assert frame["diverged"].dtype == bool and frame["unresolved"].dtype == bool
+    assert frame[~frame.diverged].shape[0] == frame.shape[0]
+    scene = clothsim.load_scene(DRAPE, duration=0.1)
+    out = clothsim.Export(scene, str(tmp_path / "o" / "f_%05d.obj"))
+    assert clothsim.Simulation(DRAPE).positions.shape == (scene.particles, 3)
+    sim = clothsim.Simulation(scene)
+    out.add(sim)
+    out.finish()
+    assert out.written == [str(tmp_path / "o" / "f_00000.obj"), str(tmp_path / "o" / "f_sphere0_00000.obj")]
+    assert out.summary.startswith("2 OBJ files in ")
+
+
 def test_export_refuses_a_frame_name_linked_to_the_scene(tmp_path):
     scene_path = tmp_path / "s.yaml"
     scene_path.write_bytes(open(DRAPE, "rb").read())

@@ -48,8 +48,11 @@ void bind_export(py::module_& m) {
           },
           py::arg("sim"), "Writes the Simulation's current state as the next frame.")
       .def("finish", [](Export& e) { e.out->finish(); }, "Names what is named at the end (PC2, PVD).")
-      .def_property_readonly("written", [](const Export& e) { return e.out->written(); },
-                             "What is on disk: '12 OBJ files in out/', 'c.pc2, c.obj'.");
+      .def_property_readonly("written", [](const Export& e) { return e.out->written_files(); },
+                             "The files on disk, a list of paths: every per-frame file in the order written, then\n"
+                             "what finish() named (['c.pc2', 'c.obj', ...]).")
+      .def_property_readonly("summary", [](const Export& e) { return e.out->written(); },
+                             "What is on disk in words, as the CLI says it: '12 OBJ files in out/', 'c.pc2, c.obj'.");
 }
 
 }  // namespace clothsim::python

@@ -28,6 +28,7 @@ PYBIND11_MODULE(clothsim, m) {
       "render it, and export it for Blender and ParaView.\n"
       "The same libraries as the `clothsim` command: results are the CLI's to the last bit.\n"
       "docs/python.md has the tour.";
+  m.attr("__version__") = CLOTHSIM_VERSION;  // the CLI's `clothsim --version`
   py::register_exception<clothsim::SceneError>(m, "SceneError", PyExc_ValueError);
   py::register_exception<clothsim::ExportError>(m, "ExportError", PyExc_OSError);
   py::register_exception<clothsim::OutputFileError>(m, "OutputError", PyExc_OSError);

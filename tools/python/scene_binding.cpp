@@ -112,6 +112,10 @@ Scene load_scene(const std::string& given, const py::dict& set, py::object durat
 
 void bind_scene(py::module_& m) {
   py::class_<Scene>(m, "Scene", "A validated scene (scenes/*.yaml) and the model built from it.")
+      // Scene(path) is load_scene(path); with the conversion below, every call that takes a
+      // Scene (Simulation, bench, stability, converge, compare, Export) takes a path too.
+      .def(py::init([](const std::string& path) { return load_scene(path, py::dict(), py::none(), py::none(), py::none()); }),
+           py::arg("path"))
       .def_property_readonly("name", [](const Scene& s) { return s.def.name; })
       .def_property_readonly("source", [](const Scene& s) { return s.def.source; })
       .def_property_readonly("duration", [](const Scene& s) { return s.def.duration; }, "Simulated time, s.")
@@ -124,6 +128,7 @@ void bind_scene(py::module_& m) {
         return "<clothsim.Scene " + s.def.name + ": " + std::to_string(s.model->num_particles) + " particles, " +
                std::to_string(s.model->num_spheres) + " spheres, " + std::string(integrator_name(s.def.integrator)) + ">";
       });
+  py::implicitly_convertible<py::str, Scene>();
   m.def("load_scene", &load_scene, py::arg("path"), py::arg("set") = py::dict(), py::arg("duration") = py::none(),
         py::arg("dt") = py::none(), py::arg("integrator") = py::none(),
         "load_scene(path, set={}, duration=None, dt=None, integrator=None) -> Scene\n\n"

@@ -30,7 +30,14 @@ py::object data_frame(const analysis::CsvTable& table) { return csv_frame(table.
 
 py::object csv_frame(const std::string& text) {
   const py::object buffer = py::module_::import("io").attr("StringIO")(text);
-  return py::module_::import("pandas").attr("read_csv")(buffer, py::arg("float_precision") = "round_trip");
+  py::object frame = py::module_::import("pandas").attr("read_csv")(buffer, py::arg("float_precision") = "round_trip");
+  // The verdicts the CSV writes as 0 / 1 are booleans to a DataFrame's reader (df[df.diverged]).
+  for (const char* column : {"diverged", "wrong", "unresolved", "converged", "frame_step", "finished"}) {
+    if (!py::bool_(frame.attr("columns").attr("__contains__")(column))) continue;
+    py::object values = frame[column];
+    if (py::bool_(values.attr("isin")(py::make_tuple(0, 1)).attr("all")())) frame[column] = values.attr("astype")("bool");
+  }
+  return frame;
 }
 
 py::object shard_frame(const std::string& csv, const std::string& shard) {
