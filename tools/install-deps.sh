@@ -35,6 +35,7 @@ tests=(
   libsuitesparse-dev libopenblas0-pthread  # CHOLMOD on OpenBLAS, a peer in benchmarks only (cholmod_peer_bench.cpp)
   libhypre-dev             # hypre's BoomerAMG (pulls in OpenMPI), a peer in benchmarks only (hypre_implicit_bench.cpp)
   python3-pytest python3-pil  # the Python module's tests (tests/python)
+  python3-junitparser      # golden check --junit read back by a real JUnit reader (tests/cli/golden)
   python3-meshio           # exported meshes read back (tests/export: PLY, OBJ)
   jupyter-nbconvert python3-ipykernel   # docs/notebooks/report.ipynb, executed by ctest (Notebook.*)
   time                     # GNU time, for tools/benchmarks.sh

@@ -5,12 +5,26 @@
 # clang-14 is present, fuzzes the scene front end for a bounded time (tools/fuzz.sh,
 # CLOTHSIM_FUZZ_SECONDS, default 60; 0 skips it; CLOTHSIM_FUZZ_SEED, default 1;
 # CLOTHSIM_FUZZ_RUNS inputs at most, default 150000). A fuzzer failure fails the run.
+#
+# tools/test.sh --quick is a developer's loop: the GoogleTest tier only (ctest -L quick,
+# about a minute of tests), no docs check, cluster or fuzzing. The other labels, each
+# runnable alone with ctest -L: memcheck, python, clients, reliability, figures, package.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+quick=0
+case "${1:-}" in
+  --quick) quick=1 ;;
+  "") ;;
+  *) echo "test: unknown option '$1' (--quick or nothing)" >&2; exit 2 ;;
+esac
 tools/install-deps.sh test
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCLOTHSIM_BUILD_TESTS=ON -DCLOTHSIM_BUILD_BENCHMARKS=ON >/dev/null
 cmake --build build -j"$(nproc)"
-(cd build && ctest --output-on-failure -j"$(nproc)" --timeout 600)
+if ((quick)); then
+  (cd build && ctest --output-on-failure -j"$(nproc)" -L quick)
+  exit 0
+fi
+(cd build && ctest --output-on-failure -j"$(nproc)")
 # Every number README.md and docs/report.md quote, rerun by its command (about 2 minutes;
 # CLOTHSIM_CHECK_DOCS=full runs every check, 0 skips it).
 case "${CLOTHSIM_CHECK_DOCS:-default}" in
