@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace clothsim::analysis {
@@ -62,17 +63,18 @@ bool inside(const std::vector<double>& a, std::complex<double> z) {
   return 2.0 * s.real() + std::norm(s) <= 0.0;
 }
 
-}  // namespace
-
-// Largest h with h l inside R's region for both roots l of l^2 + c l + w^2 = 0: scanned down
-// from |h l| = 4 (beyond every region here) in steps of 0.1 %, then bisected. Searching from
-// the top finds the region's far edge, which is the limit the step cannot pass; 0 when no h
-// with |h l| >= 1e-6 is stable (explicit Euler and midpoint on an undamped mode).
-double polynomial_limit(const std::vector<double>& a, double w, double c) {
+// The fastest mode's two roots l of l^2 + c l + w^2 = 0.
+std::pair<std::complex<double>, std::complex<double>> mode_roots(double w, double c) {
   const std::complex<double> root = std::sqrt(std::complex<double>(c * c - 4.0 * w * w, 0.0));
-  const std::complex<double> l1 = 0.5 * (-c + root), l2 = 0.5 * (-c - root);
-  const double fastest = std::max(std::abs(l1), std::abs(l2));
-  const auto stable = [&](double h) { return inside(a, h * l1) && inside(a, h * l2); };
+  return {0.5 * (-c + root), 0.5 * (-c - root)};
+}
+
+// The largest stable h: scanned down from |h l| = 4 (beyond every region here) in steps of
+// 0.1 %, then bisected. Searching from the top finds the region's far edge, which is the
+// limit the step cannot pass; 0 when no h with |h l| >= 1e-6 is stable (explicit Euler and
+// midpoint on an undamped mode).
+template <class Stable>
+double largest_stable_step(Stable stable, double fastest) {
   const double step = 1.001;
   for (double h = 4.0 / fastest; h * fastest >= 1e-6; h /= step) {
     if (!stable(h)) continue;
@@ -81,6 +83,15 @@ double polynomial_limit(const std::vector<double>& a, double w, double c) {
     return lo;
   }
   return 0.0;
+}
+
+}  // namespace
+
+// Largest h with h l inside R's region for both roots l of the mode.
+double polynomial_limit(const std::vector<double>& a, double w, double c) {
+  const auto [l1, l2] = mode_roots(w, c);
+  return largest_stable_step([&](double h) { return inside(a, h * l1) && inside(a, h * l2); },
+                             std::max(std::abs(l1), std::abs(l2)));
 }
 
 namespace {
@@ -116,21 +127,15 @@ double spectral_radius3(const double m[9]) {
 }  // namespace
 
 double step_matrix_limit(StepMatrix step, double w, double c) {
-  const double fastest = std::max(w, c);
-  if (!(fastest > 0.0)) return std::numeric_limits<double>::infinity();
-  const auto stable = [&](double h) {
-    double m[9];
-    step(h, w, c, m);
-    return spectral_radius3(m) <= 1.0 + 1e-9;
-  };
-  const double factor = 1.001;
-  for (double h = 4.0 / fastest; h * fastest >= 1e-6; h /= factor) {
-    if (!stable(h)) continue;
-    double lo = h, hi = h * factor;  // stable, unstable
-    for (int i = 0; i < 60 && hi - lo > 1e-12 * lo; ++i) (stable(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
-    return lo;
-  }
-  return 0.0;
+  if (!(w > 0.0) && !(c > 0.0)) return std::numeric_limits<double>::infinity();
+  const auto [l1, l2] = mode_roots(w, c);
+  return largest_stable_step(
+      [&](double h) {
+        double m[9];
+        step(h, w, c, m);
+        return spectral_radius3(m) <= 1.0 + 1e-9;
+      },
+      std::max(std::abs(l1), std::abs(l2)));
 }
 
 std::vector<double> taylor(int order) {
