@@ -11,6 +11,7 @@
 #include "clip/common/lanes.h"
 #include "clip/common/memory_budget.h"
 #include "clip/common/run_budget.h"
+#include "clip/compare/compare_job.h"
 #include "clip/studies/study_common.h"
 #include "render/png_io.h"
 #include "scene/build_model.h"
@@ -193,10 +194,20 @@ void load_entries(const GoldenOptions& o, const GoldenManifest& manifest, std::v
                       scenes.back().duration);
         throw SceneError(manifest.path, e.line, key + ".times", what);
       }
+    const SceneDef& scene = scenes.back();
+    if (e.compare) {
+      // Its lanes checked now (compare checks its memory when it plans each still).
+      try {
+        parse_lanes(e.integrators.empty() ? default_comparison_list() : e.integrators, "", scene.dt);
+      } catch (const UsageError& error) {
+        throw SceneError(manifest.path, e.line, key + ".integrators", error.what());
+      }
+      looks.emplace_back();
+      continue;
+    }
     // The pictures `run --still` makes (the frame pipeline with one lane: the scene's camera,
     // colouring and overlay), and the peak memory of that run at the entry's size: entries run
     // one after another, so each is held to --max-memory on its own.
-    const SceneDef& scene = scenes.back();
     const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
     looks.push_back(resolve_picture_look({}, scene, {lane}, /*compare=*/false));
     run_budget(scene, looks.back(), {/*rendering=*/true, e.width, e.height, /*video=*/false})
@@ -205,12 +216,63 @@ void load_entries(const GoldenOptions& o, const GoldenManifest& manifest, std::v
   }
 }
 
+namespace {
+
+// A kind: compare entry: per time, the grid `compare SCENE --integrators LANES --still T`
+// draws at the entry's size (its lanes matched on cost, tiles and legend as compare makes
+// them), into a nameless file, then checked or staged as a still's image is. Returns the
+// first lane's run, the entry's lane in --summary.
+LaneResult run_compare_entry(const GoldenOptions& o, const GoldenManifest& manifest, std::size_t i, const Model& model,
+                             const Renderer& renderer, bool update, GoldenWork& work) {
+  const GoldenEntry& e = manifest.entries[i];
+  LaneResult first;
+  for (const double t : e.times) {
+    CompareRequest r;
+    r.scene.path = e.scene;
+    r.scene.width = e.width;
+    r.scene.height = e.height;
+    r.scene.dt = e.dt;
+    r.scene.max_memory = o.max_memory;
+    if (!e.integrators.empty()) r.integrators = e.integrators, r.integrators_given = true;
+    r.still_t = t;
+    r.gl = o.gl;
+    const fs::path scratch = fs::temp_directory_path() / ("clothsim-golden-" + std::to_string(::getpid()));
+    fs::create_directories(scratch);
+    r.still_out = (scratch / "still.png").string();
+    ComparePlan plan;
+    plan_compare(r, plan);
+    const PipelineReport report = run_compare(r, plan);
+    if (first.totals.steps == 0 && !report.lanes.empty()) first = report.lanes.front().result;
+    const Image image = read_png(r.still_out);
+    fs::remove_all(scratch);
+    const std::string golden = golden_image_path(manifest, e, t);
+    if (update) {
+      work.staged.push_back(std::make_unique<OutputFile>(golden));
+      write_png(work.staged.back()->reopen_path(), image,
+                with_renderer({{"scene", model.name}, {"integrators", r.integrators}, {"t", std::to_string(t)},
+                               {"software", "clothsim " CLOTHSIM_VERSION}},
+                              renderer));
+      continue;
+    }
+    GoldenVerdict v = check_one(o, golden, image, e.tolerance, work.evidence);
+    v.entry = i;
+    v.t = t;
+    std::printf("%s\n", golden_report_line(v).c_str());
+    work.bad += v.ok ? 0 : 1;
+    work.verdicts.push_back(v);
+  }
+  return first;
+}
+
+}  // namespace
+
 // An entry's run, as run --still makes its pictures: each time a contact sheet's column,
 // checked (or staged) as the pipeline reaches it. Returns the run's lane (totals, divergence).
 LaneResult run_entry(const GoldenOptions& o, const GoldenManifest& manifest, std::size_t i, const SceneDef& scene,
                      const PictureLook& entry_look, const Model& model, Renderer& renderer, bool update,
                      GoldenWork& work, const std::vector<std::string>& not_written) {
   const GoldenEntry& e = manifest.entries[i];
+  if (e.compare) return run_compare_entry(o, manifest, i, model, renderer, update, work);
   const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
   PictureLook look = entry_look;
   fit_reference_to_model(look, model, scene, {lane});  // as run does

@@ -98,9 +98,27 @@ class ManifestReader {
 
   GoldenEntry entry(const YAML::Node& n, const std::string& key, const GoldenEntry& defaults,
                     const fs::path& dir) const {
-    expect_keys(n, key, {"scene", "name", "integrator", "dt", "times", "size", "tolerance"});
+    expect_keys(n, key, {"scene", "name", "kind", "integrator", "integrators", "dt", "times", "size", "tolerance"});
     GoldenEntry e = defaults;
     e.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+    if (n["kind"]) {
+      const std::string kind = text(n["kind"], key + ".kind");
+      if (kind != "still" && kind != "compare") fail(n["kind"], key + ".kind", "expected still or compare, got '" + kind + "'");
+      e.compare = kind == "compare";
+    }
+    if (e.compare && n["integrator"])
+      fail(n["integrator"], key + ".integrator", "a compare entry runs its lanes: give them as integrators: [rk4, midpoint]");
+    if (!e.compare && n["integrators"])
+      fail(n["integrators"], key + ".integrators", "only a kind: compare entry has lanes (a still runs one: integrator:)");
+    if (const YAML::Node lanes = n["integrators"]) {
+      if (lanes.IsSequence()) {
+        if (lanes.size() == 0) fail(lanes, key + ".integrators", "expected at least one lane");
+        for (std::size_t i = 0; i < lanes.size(); ++i)
+          e.integrators += (i ? "," : "") + text(lanes[i], key + ".integrators[" + std::to_string(i) + "]");
+      } else {
+        e.integrators = text(lanes, key + ".integrators");
+      }
+    }
     if (!n["scene"]) fail(n, key + ".scene", "missing: the scene file, relative to the manifest");
     const std::string scene = text(n["scene"], key + ".scene");
     e.scene = fs::path(scene).is_absolute() ? scene : (dir / scene).lexically_normal().string();

@@ -29,6 +29,10 @@ namespace clothsim::clip {
 struct GoldenEntry {
   std::string scene;                       // path, resolved against the manifest's directory
   std::string name;                        // image file stem
+  // kind: still (the default) goldens what `run --still T` draws; compare goldens the grid
+  // `compare --integrators LANES --still T` draws, its lanes matched on cost as compare does.
+  bool compare = false;
+  std::string integrators;                 // compare: the lanes, compare's --integrators text
   std::optional<IntegratorKind> integrator;
   std::optional<double> dt;                // s
   std::vector<double> times;               // s, ascending

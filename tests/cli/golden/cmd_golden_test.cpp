@@ -175,6 +175,36 @@ TEST(CmdGolden, AManifestsSecondDocumentIsRefusedEvenBroken) {
   }
 }
 
+// kind: compare goldens the grid compare draws: its lanes side by side at the entry's size.
+TEST(CmdGolden, ACompareEntryGoldensTheGridCompareDraws) {
+  UserProject p("golden_user_compare");
+  write(p.manifest, "size: [320, 180]\ngoldens:\n  - scene: my_drape.yaml\n    kind: compare\n"
+                    "    integrators: [rk4@4e-4, midpoint]\n    times: [0.1]\n");
+  const CliResult update = run_clothsim({"golden", "update", p.manifest});
+  ASSERT_EQ(update.exit_code, 0) << update.out << update.err;
+  const std::string golden = p.dir + "/my_drape_t100ms.png";
+  ASSERT_TRUE(fs::exists(golden));
+  // The grid compare writes for the same lanes and time, to the pixel.
+  const CliResult grid = run_clothsim({"compare", p.scene, "--integrators", "rk4@4e-4,midpoint", "--width", "320",
+                                       "--height", "180", "--still", "0.1", "-o", p.dir + "/grid.png", "--quiet"});
+  ASSERT_EQ(grid.exit_code, 0) << grid.err;
+  const CliResult same = run_clothsim({"imgdiff", golden, p.dir + "/grid.png", "--threshold", "0", "--max-rms", "0"});
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+  fs::remove(p.dir + "/grid.png");
+  const CliResult check = run_clothsim({"golden", "check", p.manifest});
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  EXPECT_NE(check.out.find("golden: 1 of 1 images match"), std::string::npos) << check.out;
+  p.change_scene();
+  const CliResult changed = run_clothsim({"golden", "check", p.manifest});
+  EXPECT_EQ(changed.exit_code, 1) << changed.out << changed.err;
+  EXPECT_TRUE(fs::exists(p.dir + "/my_drape_t100ms.diff.png"));
+  // A bad lane is the manifest's line and key, before anything runs.
+  write(p.manifest, "goldens:\n  - scene: my_drape.yaml\n    kind: compare\n    integrators: [rk5]\n    times: [0.1]\n");
+  const CliResult bad = run_clothsim({"golden", "check", p.manifest});
+  EXPECT_EQ(bad.exit_code, 2) << bad.out << bad.err;
+  EXPECT_NE(bad.err.find("goldens[0].integrators"), std::string::npos) << bad.err;
+}
+
 TEST(CmdGolden, AMissingGoldenFailsAndSaysHowToMakeIt) {
   UserProject p("golden_user_missing");
   const CliResult check = run_clothsim({"golden", "check", p.manifest});
