@@ -37,8 +37,10 @@ void require_writable_parent(const std::string& path, const std::string& what) {
   }
   const std::string dir = parent_of(target.path);
   std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw RuntimeFailure("cannot write " + what + " " + path + ": directory " + dir + " does not exist");
+  // One rule for every output, as --frames has it: missing folders are made (docs/cli.md).
+  if (!fs::is_directory(dir, ec) && !fs::create_directories(dir, ec) && !fs::is_directory(dir))
+    throw RuntimeFailure("cannot write " + what + " " + path + ": cannot make its folder " + dir +
+                         (ec ? ": " + ec.message() : ""));
   if (::access(dir.c_str(), W_OK | X_OK) != 0)
     throw RuntimeFailure("cannot write " + what + " " + path + ": directory " + dir + " is not writable");
   if (fs::is_directory(target.path, ec))

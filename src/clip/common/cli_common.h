@@ -53,9 +53,9 @@ class AtomicFile {
 // scripts), renamed by the caller. Throws RuntimeFailure if the directory does not exist
 // or is not writable, naming the path.
 std::string temp_path_beside(const std::string& path);
-// Checks before any work is done that `path` can be created: its directory exists and is
-// writable. Throws RuntimeFailure("cannot write OUT: directory D does not exist"), or with
-// -n/--no-overwrite UsageError when `path` exists.
+// Checks before any work is done that `path` can be created: its directory exists (made,
+// with its parents, when missing) and is writable. Throws RuntimeFailure("cannot write OUT:
+// cannot make its folder D: ..."), or with -n/--no-overwrite UsageError when `path` exists.
 void require_writable_parent(const std::string& path, const std::string& what);
 // A path a command reads or writes, named by its option for messages ("--csv", "the scene").
 // `frames_dir`: a directory of per-frame files (--frames, encode's inputs, an export's

@@ -552,8 +552,10 @@ TEST(CmdCompare, RefusesAnUnknownLayout) {
 }
 
 TEST(CmdCompare, RefusesAnUnwritableVideoPathBeforeSimulating) {
-  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/no/such/dir/x.mp4";
-  expect_refused(compare_small({"--video", out}), 1, "does not exist", out);
+  const std::string dir = scratch_dir("compare_unwritable_video");
+  std::ofstream(dir + "/plain") << "x";  // a file where a folder would have to be made
+  const std::string out = dir + "/plain/sub/x.mp4";
+  expect_refused(compare_small({"--video", out}), 1, "cannot make its folder", out);
 }
 
 TEST(CmdCompare, RefusesBadDtAndTimes) {

@@ -194,11 +194,12 @@ TEST(CmdEncode, RefusesLabelsThatDoNotMatchTheDirectories) {
 TEST(CmdEncode, RefusesAnUnwritableOutputBeforeReadingFrames) {
   const std::string root = scratch_dir("encode_unwritable");
   const std::string a = write_sequence(root, "a", 1, 16, 16, {kRed});
-  const std::string out = root + "/no/such/dir/x.mp4";
+  std::ofstream(root + "/plain") << "x";  // a file where a folder would have to be made
+  const std::string out = root + "/plain/dir/x.mp4";
   const auto r = run_clothsim({"encode", a, "-o", out});
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_EQ(cli::line_count(r.err), 1) << r.err;
-  EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("cannot make its folder"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
 }
 

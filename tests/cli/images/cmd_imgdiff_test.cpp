@@ -139,12 +139,13 @@ TEST(CmdImgdiff, BadFlagsAreBadUsage) {
 
 TEST(CmdImgdiff, ADiffImageThatCannotBeWrittenFailsAndWritesNothing) {
   const Pair p = write_pair("unwritable", 0, 0);
-  const std::string out = p.dir + "/no/such/dir/diff.png";
+  std::ofstream(p.dir + "/plain") << "x";  // a file where its folder would have to be made
+  const std::string out = p.dir + "/plain/dir/diff.png";
   const auto r = run_clothsim({"imgdiff", p.a, p.b, "--diff", out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find(out), std::string::npos) << r.err;
-  EXPECT_TRUE(testing::only_files(p.dir, {"a.png", "b.png"}));
+  EXPECT_TRUE(testing::only_files(p.dir, {"a.png", "b.png", "plain"}));
 }
 
 TEST(CmdImgdiff, DashOIsTheDiffImageAndNoOverwriteKeepsAnExistingOne) {

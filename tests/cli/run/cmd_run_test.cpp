@@ -293,11 +293,21 @@ TEST(CmdRun, BadOptionsAreOneLineErrorsAndExitTwo) {
   expect_rejected({"run", scene, "--frobnicate"}, 2, "frobnicate", dir, {});
 }
 
+// Every output makes its missing folders, as --frames does (README's run --export out/drape.pc2).
+TEST(CmdRun, EveryOutputMakesItsMissingFolders) {
+  const std::string dir = scratch_dir("run_makes_folders");
+  const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--duration", "0.1", "--metrics", dir + "/a/b/m.csv",
+                                    "--state", dir + "/c/s.csv", "--export", dir + "/out/spring.pc2", "--quiet"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* f : {"/a/b/m.csv", "/c/s.csv", "/out/spring.pc2", "/out/spring.obj"})
+    EXPECT_TRUE(fs::exists(dir + f)) << f;
+}
+
 TEST(CmdRun, UnwritableOutputsFailBeforeAnyWorkWithExitOne) {
   const std::string dir = scratch_dir("run_bad_outputs");
   const std::string scene = shipped("spring.yaml");
-  expect_rejected({"run", scene, "--metrics", dir + "/no/such/dir/m.csv"}, 1, "does not exist", dir, {});
   const std::string file = write_file(dir, "plain", "x");
+  expect_rejected({"run", scene, "--metrics", file + "/sub/m.csv"}, 1, "cannot make its folder", dir, {"plain"});
   expect_rejected({"run", scene, "--state", file + "/s.csv"}, 1, "cannot write --state", dir, {"plain"});
   expect_rejected({"run", scene, "--metrics", dir}, 1, "is a directory", dir, {"plain"});
 }

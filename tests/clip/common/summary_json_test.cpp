@@ -113,7 +113,9 @@ TEST(SummaryJson, GoldenCheckWritesOneLanePerEntry) {
 }
 
 TEST(SummaryJson, AnUnwritableSummaryFailsBeforeAnyWork) {
-  const CliResult r = run_clothsim({"run", spring(), "--summary", "/nonexistent/dir/s.json"});
+  const std::string dir = clothsim::testing::scratch_dir("summary_unwritable");
+  std::ofstream(dir + "/plain") << "x";  // a file where its folder would have to be made
+  const CliResult r = run_clothsim({"run", spring(), "--summary", dir + "/plain/dir/s.json"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_EQ(r.out, "");

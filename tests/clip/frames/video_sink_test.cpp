@@ -48,11 +48,13 @@ TEST(VideoSink, LeavesNothingWhenDestroyedUnfinished) {
   EXPECT_TRUE(clothsim::testing::only_files(dir, {}));
 }
 
-TEST(VideoSink, RefusesBadOptionsAsUsageAndAMissingDirectoryAsRuntimeFailure) {
+TEST(VideoSink, RefusesBadOptionsAsUsageAndAFolderItCannotMakeAsRuntimeFailure) {
   const std::string dir = clothsim::testing::scratch_dir("video_sink_bad");
   EXPECT_THROW(make_video_sink(dir + "/a.mp4", VideoOptions{30.0, 20, "turbo"}), UsageError);
   EXPECT_THROW(make_video_sink(dir + "/a.mp4", VideoOptions{30.0, 70, "veryfast"}), UsageError);
-  EXPECT_THROW(make_video_sink(dir + "/missing/a.mp4", VideoOptions{}), RuntimeFailure);
+  std::ofstream(dir + "/plain") << "x";  // a file where its folder would have to be made
+  EXPECT_THROW(make_video_sink(dir + "/plain/sub/a.mp4", VideoOptions{}), RuntimeFailure);
+  EXPECT_NO_THROW(make_video_sink(dir + "/made/a.mp4", VideoOptions{}));  // a missing folder is made
 }
 
 TEST(VideoSink, RefusesToFinishAClipWithoutFrames) {
