@@ -89,9 +89,10 @@ double largest_stable_step(Stable stable, double fastest) {
 
 // Largest h with h l inside R's region for both roots l of the mode.
 double polynomial_limit(const std::vector<double>& a, double w, double c) {
-  const auto [l1, l2] = mode_roots(w, c);
-  return largest_stable_step([&](double h) { return inside(a, h * l1) && inside(a, h * l2); },
-                             std::max(std::abs(l1), std::abs(l2)));
+  // (Not a structured binding: C++17 lets no lambda capture one, which clang enforces.)
+  const std::pair<std::complex<double>, std::complex<double>> l = mode_roots(w, c);
+  return largest_stable_step([&](double h) { return inside(a, h * l.first) && inside(a, h * l.second); },
+                             std::max(std::abs(l.first), std::abs(l.second)));
 }
 
 namespace {
@@ -128,14 +129,14 @@ double spectral_radius3(const double m[9]) {
 
 double step_matrix_limit(StepMatrix step, double w, double c) {
   if (!(w > 0.0) && !(c > 0.0)) return std::numeric_limits<double>::infinity();
-  const auto [l1, l2] = mode_roots(w, c);
+  const std::pair<std::complex<double>, std::complex<double>> l = mode_roots(w, c);
   return largest_stable_step(
       [&](double h) {
         double m[9];
         step(h, w, c, m);
         return spectral_radius3(m) <= 1.0 + 1e-9;
       },
-      std::max(std::abs(l1), std::abs(l2)));
+      std::max(std::abs(l.first), std::abs(l.second)));
 }
 
 std::vector<double> taylor(int order) {
