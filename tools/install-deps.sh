@@ -27,6 +27,7 @@ product=(
   python3-matplotlib       # the --plot figures (tools/plot_*.py, run with /usr/bin/python3)
   pybind11-dev python3-dev python3-numpy python3-pandas   # the clothsim Python module (tools/python): arrays, DataFrames
   help2man                 # the man pages, read off the CLI's own --help (tools/package)
+  file                     # CPack's .deb reads the programs' libraries with it (tools/package.sh)
 )
 tests=(
   libgtest-dev libbenchmark-dev   # tests and benchmarks
