@@ -9,7 +9,7 @@
 //   |                              +-----------+  |
 //   |                              | inset     |  |   bottom-right: the series inset
 //   |                              +-----------+  |
-//   | tile label (tools/video/tiling: bottom-left, drawn later by the compositor)
+//   | tile label (render/video/tiling: bottom-left, drawn later by the compositor)
 //   +--------------------------------------------+
 //
 // The bottom band a tile label may cover is kept clear on the right too, so a long label
@@ -68,7 +68,7 @@ struct OverlayLayout {
 // Fills `box` (clipped to the image) with one colour.
 void fill_box(Image& image, const ImageBox& box, Rgba8 color);
 
-// Rows at the bottom of a tile that its label covers (tools/video/tiling.h draw_tile_label,
+// Rows at the bottom of a tile that its label covers (render/video/tiling.h draw_tile_label,
 // at text scale `scale`): kept clear of the inset.
 int tile_label_band(int scale);
 

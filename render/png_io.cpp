@@ -16,7 +16,7 @@
 #include <memory>
 #include <optional>
 
-#include "output_file.h"
+#include "io/output_file.h"
 
 namespace clothsim {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "image.h"
-#include "output_file.h"  // Replace
+#include "io/output_file.h"  // Replace
 
 namespace clothsim {
 

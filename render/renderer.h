@@ -9,14 +9,11 @@
 #include <string>
 
 #include "render/gl/gl_context.h"
+#include "render/gl/render_error.h"  // RenderError, which every user of the renderer catches
 #include "image.h"
 #include "view/render_frame.h"
 
 namespace clothsim {
-
-struct RenderError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 class Renderer {
  public:

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "core/model.h"
+#include "core/model/model.h"
 #include "scene/build_model.h"
 #include "scene/scene_parser.h"
 

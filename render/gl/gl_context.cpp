@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "render/renderer.h"
+#include "render_error.h"
 
 namespace clothsim {
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "gl_context.h"
-#include "render/renderer.h"
+#include "render_error.h"
 
 namespace clothsim {
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "gl_context.h"
-#include "render/renderer.h"
+#include "render_error.h"
 
 namespace clothsim {
 

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "render/renderer.h"
+#include "render_error.h"
 
 namespace clothsim::gl {
 

@@ -8,7 +8,7 @@
 
 #include "export/mesh_part.h"
 #include "export/mesh_writers.h"
-#include "render/output_file.h"
+#include "io/output_file.h"
 
 namespace clothsim {
 namespace {

@@ -1,6 +1,6 @@
 // Mesh export (`run --export`, `compare --export`, the Python module): the cloth and the
 // spheres of every output frame, in the format the path names (export_path.h), each file
-// written whole or not at all (render/output_file.h):
+// written whole or not at all (io/output_file.h):
 //   OBJ, PLY, VTP  a file per frame per object, named as it is written;
 //   PC2            the caches and their rest meshes (the first frame's), named at finish();
 //   PVD            the index, named at finish(), over the .vtp files already named.
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 #include "export/export_path.h"
 
 namespace clothsim {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

@@ -1,5 +1,5 @@
 // The file formats of mesh export, as bytes: each function returns a whole file (or, for PC2,
-// a header and a sample), so writing it is one atomic output (render/output_file.h) and a
+// a header and a sample), so writing it is one atomic output (io/output_file.h) and a
 // test reads the layout back without a disk.
 //   OBJ   Wavefront text: "o NAME", v lines (%.9g: a float32 read back is the same float), 1-based f
 //   PLY   binary little-endian 1.0: float x y z, every field as float properties (velocity as

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/contact/barrier_contacts.h"
+#include "core/model/barrier_contacts.h"
 #include "core/springs/spring_force.h"
 #include "scene/memory_estimate.h"
 

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "core/model.h"
+#include "core/model/model.h"
 #include "scene/scene_def.h"
 
 namespace clothsim {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/model_params.h"
-#include "core/method_params.h"
+#include "core/base/model_params.h"
+#include "core/base/method_params.h"
 #include "view/render_settings.h"
 
 namespace clothsim {

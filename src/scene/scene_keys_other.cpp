@@ -1,7 +1,7 @@
 // The scene reader's other blocks: spheres, collision, render settings and the solvers' options. See
 // scene_reader.h.
 #include "scene_reader.h"
-#include "core/contact/barrier_contacts.h"
+#include "core/model/barrier_contacts.h"
 #include "core/integrators/integrator_kind.h"
 #include "view/vertex_fields.h"
 

@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "echo.h"
+#include "lane.h"
 #include "names.h"
 #include "param_keys.h"
 #include "run_bounds.h"
@@ -45,6 +46,21 @@ SceneError::SceneError(std::string file_, int line_, std::string key_, const std
 
 namespace scene_detail {
 
+// A lane's step and settings, said once: `integrator: rk4@2e-4` beside `dt:`, or `vbd:10` beside
+// a `vbd:` block, would say one thing twice, perhaps two ways, so either is refused.
+void Reader::apply_scene_lane(const YAML::Node& root, const Lane& lane, SceneDef& s) const {
+  const YAML::Node key = root["integrator"];
+  if (lane.written_step() && root["dt"].IsDefined())
+    fail(key, "integrator", in_quotes(key.Scalar()) + " gives the step, and so does dt (line " +
+                                std::to_string(root["dt"].Mark().line + 1) + "): give it in one place");
+  const bool settings = lane.fixed_point || lane.iterations > 0 || lane.tolerance > 0.0;
+  const std::string block = lane.kind == kBackwardEuler ? "implicit" : std::string(integrator_name(lane.kind));
+  if (settings && root[block].IsDefined())
+    fail(key, "integrator", in_quotes(key.Scalar()) + " sets " + block + "'s solver, and so does the " + block +
+                                ": block (line " + std::to_string(root[block].Mark().line + 1) + "): give it in one place");
+  apply_lane(s, lane);
+}
+
 SceneDef Reader::scene(const YAML::Node& root) const {
   SceneDef s;
   s.source = file_;
@@ -57,10 +73,16 @@ SceneDef Reader::scene(const YAML::Node& root) const {
   });
   optional(root, "", "duration", [&](auto& n, auto& k) { s.duration = non_negative(n, k); });
   optional(root, "", "dt", [&](auto& n, auto& k) { s.dt = positive(n, k); });
+  // The lane grammar (lane.h): `integrator: xpbd@1/60:5` is a lane, its settings written into
+  // the scene once every block is read.
+  std::optional<Lane> lane;
   optional(root, "", "integrator", [&](auto& n, auto& k) {
-    const auto kind = parse_integrator(string(n, k));
-    if (!kind) fail(n, k, "unknown integrator " + in_quotes(n.Scalar()) + " (expected one of: " + integrator_names_joined() + ")");
-    s.integrator = *kind;
+    try {
+      lane = parse_lane(string(n, k));
+    } catch (const LaneError& e) {
+      fail(n, k, e.what());
+    }
+    s.integrator = lane->kind;
   });
   optional(root, "", "gravity", [&](auto& n, auto& k) { s.gravity = vec3(n, k); });
   optional(root, "", "air_drag", [&](auto& n, auto& k) { s.air_drag = non_negative(n, k); });
@@ -97,6 +119,7 @@ SceneDef Reader::scene(const YAML::Node& root) const {
   optional(root, "", "render", [&](auto& n, auto& k) { s.render = render(n, k); });
   optional(root, "", "implicit", [&](auto& n, auto& k) { s.implicit = implicit(n, k); });
   solvers(root, s.solvers);
+  if (lane) apply_scene_lane(root, *lane, s);
   optional(root, "", "divergence", [&](auto& n, auto& k) {
     expect_map(n, k, {"max_strain", "max_energy_factor"});
     optional(n, k, "max_strain", [&](auto& v, auto& kk) { s.divergence.max_strain = positive(v, kk); });

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "echo.h"
+#include "lane.h"
 #include "scene_parser.h"
 
 namespace clothsim::scene_detail {
@@ -151,6 +152,7 @@ class Reader {
   }
 
   SceneDef scene(const YAML::Node& root) const;
+  void apply_scene_lane(const YAML::Node& root, const Lane& lane, SceneDef& s) const;
 
  private:
   ClothDef cloth(const YAML::Node& n, const std::string& path) const;

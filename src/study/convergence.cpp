@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 #include "core/solvers/step_problem.h"
 
 namespace clothsim {

@@ -25,8 +25,8 @@
 #include <vector>
 
 #include "core/integrators/integrator_kind.h"
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 #include "study.h"
 
 namespace clothsim {

@@ -9,7 +9,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/forces.h"
+#include "core/model/forces.h"
 
 namespace clothsim::analysis {
 

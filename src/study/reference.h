@@ -27,10 +27,10 @@
 #include <memory>
 #include <optional>
 
-#include "core/diagnostics.h"
-#include "core/model.h"
-#include "core/simulation.h"
-#include "core/state.h"
+#include "core/model/diagnostics.h"
+#include "core/model/model.h"
+#include "core/run/simulation.h"
+#include "core/model/state.h"
 #include "study_run.h"
 
 namespace clothsim::analysis {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "study/tables/csv_cells.h"
+#include "io/csv_cells.h"
 #include "parameter_sweep.h"
 #include "study_run.h"
 #include "scene/build_model.h"

@@ -16,8 +16,8 @@
 
 #include "study.h"
 #include "core/integrators/integrator_kind.h"
-#include "core/model.h"
-#include "core/simulation.h"
+#include "core/model/model.h"
+#include "core/run/simulation.h"
 #include "scene/scene_def.h"
 
 namespace clothsim::analysis {

@@ -20,8 +20,8 @@
 
 #include "study.h"
 #include "core/integrators/integrator_kind.h"
-#include "core/model.h"
-#include "core/stiffness_estimate.h"
+#include "core/model/model.h"
+#include "core/model/stiffness_estimate.h"
 
 namespace clothsim::analysis {
 

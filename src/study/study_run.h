@@ -7,11 +7,11 @@
 #include <functional>
 #include <optional>
 
-#include "core/diagnostics.h"
+#include "core/model/diagnostics.h"
 #include "core/integrators/integrator_kind.h"
-#include "core/model.h"
-#include "core/simulation.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/run/simulation.h"
+#include "core/model/state.h"
 
 namespace clothsim::analysis {
 

@@ -39,7 +39,7 @@
 #include "study.h"
 #include "study_run.h"
 #include "core/integrators/integrator_kind.h"
-#include "core/model.h"
+#include "core/model/model.h"
 
 namespace clothsim::analysis {
 

@@ -6,8 +6,8 @@
 
 #include "render_frame.h"
 #include "render_settings.h"
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

@@ -9,8 +9,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <utility>
 
-#include "core/model.h"
+#include "core/model/model.h"
 #include "core/springs/spring_layout.h"
 
 namespace clothsim::testing {

@@ -4,7 +4,7 @@
 #include <exception>
 #include <typeinfo>
 
-#include "core/model.h"
+#include "core/model/model.h"
 #include "scene/build_model.h"
 #include "scene/echo.h"
 #include "scene/memory_estimate.h"

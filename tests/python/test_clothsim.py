@@ -14,14 +14,17 @@ DRAPE = os.path.join(SCENES, "drape.yaml")
 STIFF = os.path.join(SCENES, "stiff.yaml")
 
 
-@pytest.mark.parametrize("lane", ["rk4@1e-4", "symplectic_euler", "implicit_euler@4e-3", "xpbd@2e-3"])
+# The lane grammar's strings (scene/lane.h) as tests/cli/lane_doors_test.cpp runs them through
+# the CLI's doors: Python's Simulation(lane=...) is one more door, to the last bit the same run.
+@pytest.mark.parametrize("lane", ["rk4@1e-4", "symplectic_euler", "implicit_euler@4e-3", "xpbd@2e-3",
+                                  "xpbd@1/60:5", "vbd@1/100:tol=1e-4", "implicit_euler@1/60:1",
+                                  "implicit_euler_fixed_point@1e-4", " projective_dynamics @ 1/200 : 4 "])
 def test_run_ends_in_the_clis_final_state_to_the_last_bit(cli, tmp_path, lane):
-    name, _, step = lane.partition("@")
     scene = clothsim.load_scene(DRAPE, duration=0.2)
     sim = clothsim.Simulation(scene, lane=lane)
     sim.run(until=0.2)
-    args = ["run", DRAPE, "--duration", "0.2", "--integrator", name, "--state", str(tmp_path / "s.csv"), "--quiet"]
-    code, _, err = cli(*(args + (["--dt", step] if step else [])))
+    code, _, err = cli("run", DRAPE, "--duration", "0.2", "--integrator", lane, "--state", str(tmp_path / "s.csv"),
+                       "--quiet")
     assert code == 0, err
     x, v = read_state_csv(tmp_path / "s.csv")
     assert np.array_equal(sim.positions, x)
@@ -203,14 +206,28 @@ def test_help_has_docstrings():
         assert thing.__doc__ and len(thing.__doc__) > 40, thing
 
 
+def subprocess_run_integrator(lane):
+    import subprocess
+    binary = os.environ.get("CLOTHSIM_BINARY", os.path.join(ROOT, "build", "clothsim"))
+    p = subprocess.run([binary, "run", DRAPE, "--integrator", lane, "--duration", "0"], capture_output=True, text=True)
+    return p.returncode, p.stdout, p.stderr
+
+
 def test_a_lane_takes_a_step_as_a_fraction_and_refuses_a_bad_one():
     scene = clothsim.load_scene(DRAPE)
     assert clothsim.Simulation(scene, lane="implicit_euler@1/60").dt == 1 / 60
     assert clothsim.Simulation(scene, lane="rk4").dt == scene.dt
     assert clothsim.Simulation(scene).integrator == scene.integrator == "symplectic_euler"
-    for bad in ("rk5@1e-4", "rk4@", "rk4@-1", "rk4@1/0", "rk4@1e-4x"):
-        with pytest.raises(ValueError, match="lane: " + bad.replace("+", r"\+")):
+    assert clothsim.Simulation(scene, lane="rk4@1e-3 ").dt == 1e-3, "spaces around the pieces, as the CLI"
+    # The CLI's words after its option's name: one grammar, one message.
+    for bad, why in (("rk5@1e-4", "unknown integrator 'rk5'"), ("rk4@", "has no step after '@'"),
+                     ("rk4@-1", "must be > 0 s"), ("rk4@1/0", "is not a number"), ("rk4@1e-4x", "is not a number"),
+                     ("rk4@1/ 60", "is not a number"), ("rk4:3", "rk4 has no iterations to set"),
+                     ("vbd@1/60:tol=0.9", "at most 0.5")):
+        with pytest.raises(ValueError, match="^lane: .*" + why.replace("(", r"\(")):
             clothsim.Simulation(scene, lane=bad)
+        code, _, err = subprocess_run_integrator(bad)
+        assert code == 2 and ("--integrator: " in err and why in err), err
 
 
 def test_converge_is_the_clis_study_and_writes_its_csv(cli, tmp_path):
@@ -356,7 +373,7 @@ def test_a_lane_with_iterations_steps_as_run_iterations_does(cli, tmp_path):
     more = clothsim.Simulation(scene, lane="vbd@0.01:30")
     more.run(until=0.1)
     assert not np.array_equal(more.positions, x)  # the iterations are the lane's, not the scene's
-    with pytest.raises(ValueError, match="lane: rk4@0.01:3"):
+    with pytest.raises(ValueError, match=r"lane: rk4 has no iterations to set \(in .rk4@0.01:3.\)"):
         clothsim.Simulation(scene, lane="rk4@0.01:3")  # the explicit family has no iterations
 
 

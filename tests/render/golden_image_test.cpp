@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <string>
 
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 #include "render/image_diff.h"
 #include "render/png_io.h"
 #include "render/renderer.h"

@@ -1,5 +1,5 @@
 // The grid builder: spring counts per type and shape, rest lengths, pinning, bodies, timeline.
-#include "core/model.h"
+#include "core/model/model.h"
 
 #include <gtest/gtest.h>
 

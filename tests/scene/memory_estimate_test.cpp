@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/model.h"
+#include "core/model/model.h"
 #include "scene/build_model.h"
 #include "scene/scene_parser.h"
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <iterator>
 
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 #include "core/solvers/step_problem.h"
 #include "test_support.h"
 

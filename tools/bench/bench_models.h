@@ -7,7 +7,7 @@
 #include <string_view>
 
 #include "core/integrators/integrator_kind.h"
-#include "core/model.h"
+#include "core/model/model.h"
 #include "scene/build_model.h"
 #include "scene/scene_parser.h"
 

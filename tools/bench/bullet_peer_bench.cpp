@@ -47,8 +47,8 @@
 #include <memory>
 
 #include "bench_models.h"
-#include "core/diagnostics.h"
-#include "core/simulation.h"
+#include "core/model/diagnostics.h"
+#include "core/run/simulation.h"
 
 namespace clothsim {
 namespace {

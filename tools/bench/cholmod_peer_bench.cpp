@@ -23,7 +23,7 @@
 #include "core/solvers/pd_kernels.h"
 #include "core/solvers/pd_solve_kernels.h"
 #include "core/solvers/step_problem.h"
-#include "core/state.h"
+#include "core/model/state.h"
 #include "scene/build_model.h"
 #include "scene/scene_parser.h"
 

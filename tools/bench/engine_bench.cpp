@@ -4,10 +4,10 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_models.h"
-#include "core/forces.h"
-#include "core/simulation.h"
+#include "core/model/forces.h"
+#include "core/run/simulation.h"
 #include "core/springs/spring_kernels.h"
-#include "core/state.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 namespace {

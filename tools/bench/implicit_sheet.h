@@ -19,9 +19,9 @@
 #include "bench_models.h"
 #include "core/implicit/sparse_system.h"
 #include "core/implicit/step_potential.h"
-#include "core/model.h"
-#include "core/simulation.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/run/simulation.h"
+#include "core/model/state.h"
 #include "scene/build_model.h"
 #include "scene/scene_parser.h"
 

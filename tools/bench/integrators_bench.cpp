@@ -8,8 +8,8 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_models.h"
-#include "core/simulation.h"
-#include "core/state.h"
+#include "core/run/simulation.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 namespace {

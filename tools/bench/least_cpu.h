@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 
 namespace clothsim::bench {
 

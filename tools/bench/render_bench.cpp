@@ -16,7 +16,7 @@
 #include "bench_models.h"
 #include "clip/frames/overlay_text.h"
 #include "clip/frames/picture_options.h"
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 #include "render/fxaa.h"
 #include "render/png_io.h"
 #include "render/renderer.h"

@@ -19,7 +19,7 @@
 #include "core/solvers/solver_cache.h"
 #include "core/implicit/step_potential.h"
 #include "core/linear/cholesky_preconditioner.h"
-#include "core/state.h"
+#include "core/model/state.h"
 #include "scene/build_model.h"
 
 namespace clothsim {

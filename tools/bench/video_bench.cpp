@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "video/tiling.h"
-#include "video/video_writer.h"
+#include "render/video/tiling.h"
+#include "render/video/video_writer.h"
 
 namespace {
 

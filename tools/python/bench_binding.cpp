@@ -26,7 +26,7 @@ bool writes_files(const clip::BenchOptions& o) { return !o.csv.empty() || !o.sum
 
 // One scene's study; with files asked for, a reference that did not converge raises
 // RuntimeFailure after writing them, as the CLI exits 1.
-py::object bench_one(const clip::BenchOptions& o, SceneDef& def, const std::vector<clip::LaneSpec>& lanes) {
+py::object bench_one(const clip::BenchOptions& o, SceneDef& def, const std::vector<Lane>& lanes) {
   const analysis::WorkPrecisionSpec plan = clip::plan_bench(o, def, lanes);
   const std::unique_ptr<clip::PlotScript> plot =
       clip::check_study_outputs(o.scene.path, o.csv, o.summary, o.plot, "plot_work_precision.py");
@@ -51,7 +51,7 @@ py::object bench_one(const clip::BenchOptions& o, SceneDef& def, const std::vect
 
 // --vary: the study once per value, each against its own reference, its rows labelled
 // "rk4 (ks = 2e4)", one table.
-py::object bench_values(const clip::BenchOptions& o, const SceneDef& def, const std::vector<clip::LaneSpec>& lanes) {
+py::object bench_values(const clip::BenchOptions& o, const SceneDef& def, const std::vector<Lane>& lanes) {
   std::vector<clip::ValueStudy> studies = clip::plan_values(o, def, lanes);
   const std::unique_ptr<clip::PlotScript> plot =
       clip::check_study_outputs(o.scene.path, o.csv, "", o.plot, "plot_work_precision.py");
@@ -104,7 +104,7 @@ py::object bench(const Scene& scene, const py::object& integrators, const py::ob
   if (!scale.is_none()) o.scale = option_text(scale);
   if (!o.scale.empty()) return bench_scale(o);
   SceneDef def = scene.def;
-  const std::vector<clip::LaneSpec> lanes = clip::bench_lanes(o, def);
+  const std::vector<Lane> lanes = clip::bench_lanes(o, def);
   if (!o.vary.empty()) return bench_values(o, def, lanes);
   return bench_one(o, def, lanes);
 }

@@ -28,7 +28,7 @@ using clip::CompareRequest;
 // `match`: "cost", "none", "error 1e-3" or ("error", 1e-3), as --match's words.
 std::vector<std::string> match_words(const py::object& match) {
   if (py::isinstance<py::str>(match)) {
-    std::vector<std::string> words = clip::split_list(match.cast<std::string>(), ' ');
+    std::vector<std::string> words = split_list(match.cast<std::string>(), ' ');
     return words;
   }
   std::vector<std::string> words;

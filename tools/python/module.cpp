@@ -7,7 +7,7 @@
 #include "scene_binding.h"
 #include "simulation_binding.h"
 #include "export/export_path.h"
-#include "render/output_file.h"
+#include "io/output_file.h"
 #include "render/renderer.h"
 #include "scene/scene_parser.h"
 #include "study/study.h"

@@ -6,7 +6,7 @@
 
 #include "clip/common/install_paths.h"
 #include "clip/common/memory_budget.h"
-#include "render/output_file.h"
+#include "io/output_file.h"
 #include "core/integrators/integrator_kind.h"
 #include "scene/build_model.h"
 #include "scene/param_keys.h"

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/diagnostics.h"
+#include "core/model/diagnostics.h"
 #include "core/integrators/integrator_kind.h"
 #include "clip/common/cli_common.h"
 #include "clip/common/lanes.h"
@@ -16,60 +16,35 @@ namespace py = pybind11;
 
 namespace clothsim::python {
 
-void parse_lane(const std::string& lane, const SceneDef& scene, IntegratorKind& kind, double& dt) {
-  const std::size_t at = lane.find('@');
-  const std::string name = lane.substr(0, at);
-  const auto parsed = parse_integrator(name);
-  if (!parsed)
-    throw py::value_error("lane: " + lane + ": unknown integrator " + name + " (one of " +
-                          integrator_names_joined() + ")");
-  kind = *parsed;
-  dt = scene.dt;
-  if (at == std::string::npos) return;
-  // A number or a fraction of two ("1/2500"), as --integrators takes it.
-  const std::string step = lane.substr(at + 1);
-  const std::size_t slash = step.find('/');
+Lane parse_lane_argument(const std::string& text, const SceneDef& scene) {
+  Lane lane;
   try {
-    std::size_t used = 0;
-    const double num = std::stod(step.substr(0, slash), &used);
-    double value = num;
-    bool whole = used == step.substr(0, slash).size();
-    if (slash != std::string::npos) {
-      std::size_t used_den = 0;
-      const double den = std::stod(step.substr(slash + 1), &used_den);
-      whole = whole && used_den == step.size() - slash - 1;
-      value = num / den;
-    }
-    if (!whole || !(value > 0.0) || !std::isfinite(value)) throw std::invalid_argument("step");
-    dt = value;
-  } catch (const std::exception&) {
-    throw py::value_error("lane: " + lane + ": the step after @ must be a number > 0 s or a fraction (1/2500)");
+    lane = parse_lane(text);  // the one grammar (scene/lane.h), as every door parses it
+  } catch (const LaneError& e) {
+    throw py::value_error("lane: " + std::string(e.what()));
   }
-}
-
-// A lane with iterations or a residual tolerance ("vbd@1/60:10", "xpbd@1/60:tol=1e-4"): the
-// lanes' one grammar (clip/common/lanes.h), its model the scene's with those settings, as
-// compare's lane and `run --iterations` run it.
-void apply_lane_settings(const std::string& lane, Scene& scene, IntegratorKind& kind, double& dt) {
-  clip::LaneSpec spec;
-  std::optional<Model> storage;
-  try {
-    spec = clip::parse_lanes(lane, "", scene.def.dt).front();
-    const Model& model = clip::lane_model(*scene.model, spec, storage);
-    (void)model;
-  } catch (const clip::UsageError& e) {
-    throw py::value_error("lane: " + lane + ": " + e.what());
+  if (!lane.written_step()) {
+    lane.dt = scene.dt;
+    lane.step_text = step_string(lane.dt);
   }
-  kind = spec.kind;
-  dt = spec.dt;
-  if (storage) scene.model = std::make_shared<const Model>(std::move(*storage));
+  return lane;
 }
 
 Simulation::Simulation(Scene scene, const std::optional<std::string>& lane) : scene_(std::move(scene)) {
   kind_ = scene_.def.integrator;
   dt_ = scene_.def.dt;
-  if (lane) parse_lane(lane->substr(0, lane->find(':')), scene_.def, kind_, dt_);
-  if (lane && lane->find(':') != std::string::npos) apply_lane_settings(*lane, scene_, kind_, dt_);
+  if (lane) {
+    const Lane parsed = parse_lane_argument(*lane, scene_.def);
+    kind_ = parsed.kind;
+    dt_ = parsed.dt;
+    std::optional<Model> storage;  // the lane's settings (:N, :tol=, the fixed point), as compare runs it
+    try {
+      (void)clip::lane_model(*scene_.model, parsed, storage);
+    } catch (const clip::UsageError& e) {
+      throw py::value_error("lane: " + *lane + ": " + e.what());
+    }
+    if (storage) scene_.model = std::make_shared<const Model>(std::move(*storage));
+  }
   run_ = std::make_unique<Run>(*scene_.model, kind_, dt_);
   // Polled before every step; a clock read costs nanoseconds beside a step, and Python's
   // signal check (which takes the GIL) runs only every 0.1 s of wall time.

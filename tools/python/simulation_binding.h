@@ -7,8 +7,9 @@
 #include <memory>
 #include <optional>
 
+#include "scene/lane.h"
 #include "scene_binding.h"
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 
 namespace clothsim::python {
 
@@ -33,8 +34,9 @@ class Simulation {
   bool interrupted_ = false;
 };
 
-// "rk4@4e-4", "rk4@1/2500", "rk4" (the scene's step), None (the scene's integrator and step).
-void parse_lane(const std::string& lane, const SceneDef& scene, IntegratorKind& kind, double& dt);
+// Simulation(lane=...): the lane grammar's value (scene/lane.h), ValueError "lane: ..." when it
+// refuses; a lane without @STEP at the scene's step.
+Lane parse_lane_argument(const std::string& text, const SceneDef& scene);
 
 void bind_simulation(pybind11::module_& m);
 

@@ -16,7 +16,7 @@
 #include "clip/studies/stability_outputs.h"
 #include "clip/studies/stability_plan.h"
 #include "clip/studies/study_common.h"
-#include "clip/studies/study_merge.h"
+#include "clip/merge/study_merge.h"
 #include "clip/studies/study_shard.h"
 #include "scene/build_model.h"
 #include "study/convergence.h"

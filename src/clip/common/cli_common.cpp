@@ -318,12 +318,6 @@ int exit_code_after(int code) {
   return 128 + interrupt_signal();
 }
 
-std::string number_text(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-
 std::string what_stays(const std::vector<std::string>& kept, const std::vector<std::string>& not_written) {
   const auto join = [](const std::vector<std::string>& items) {
     std::string text;
@@ -344,31 +338,6 @@ std::string interruption_message(double t, const std::vector<std::string>& kept,
   char when[64];
   std::snprintf(when, sizeof when, "%.6g", t);
   return std::string("stopped by ") + interrupt_signal_name() + " at t = " + when + " s; " + what_stays(kept, not_written);
-}
-
-std::optional<double> parse_number_or_fraction(const std::string& text) {
-  const auto number = [](const std::string& s) -> std::optional<double> {
-    if (s.empty() || std::isspace(static_cast<unsigned char>(s.front()))) return std::nullopt;
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(s.c_str(), &end);
-    if (*end != '\0' || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
-    return v;
-  };
-  const std::size_t slash = text.find('/');
-  if (slash == std::string::npos) return number(text);
-  const auto num = number(text.substr(0, slash)), den = number(text.substr(slash + 1));
-  if (!num || !den || *den == 0.0 || !std::isfinite(*num / *den)) return std::nullopt;
-  return *num / *den;
-}
-
-std::vector<std::string> split_list(const std::string& text, char sep) {
-  std::vector<std::string> out;
-  std::string item;
-  std::istringstream in(text);
-  while (std::getline(in, item, sep)) out.push_back(item);
-  if (!text.empty() && text.back() == sep) out.emplace_back();
-  return out;
 }
 
 }  // namespace clothsim::clip

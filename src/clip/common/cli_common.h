@@ -11,8 +11,9 @@
 #include <utility>
 #include <vector>
 
+#include "scene/text.h"  // number_text, parse_number_or_fraction, split_list, trimmed
 #include "progress.h"  // Progress, --progress, --quiet: every command uses them
-#include "render/output_file.h"
+#include "io/output_file.h"
 
 namespace clothsim::clip {
 
@@ -37,7 +38,7 @@ struct RuntimeFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// A CSV or JSON output: an OutputFile (render/output_file.h: nameless until commit(), so an
+// A CSV or JSON output: an OutputFile (io/output_file.h: nameless until commit(), so an
 // error, a signal or even SIGKILL leaves nothing under the name) with RuntimeFailure errors.
 class AtomicFile {
  public:
@@ -86,8 +87,6 @@ void refuse_existing_frames(const std::string& dir, const std::string& what);
 // Creates `dir` (and parents) if missing; throws RuntimeFailure when impossible.
 void ensure_directory(const std::string& dir, const std::string& what);
 
-// A number for a message as a user writes it: %g with 6 digits ("0.6", not "0.600000").
-std::string number_text(double value);
 
 // What a stopped or failed command leaves: "kept A, B; not written: C" ("nothing kept").
 std::string what_stays(const std::vector<std::string>& kept, const std::vector<std::string>& not_written);
@@ -119,11 +118,6 @@ int exit_code_after(int code);
 std::string interruption_message(double t, const std::vector<std::string>& kept,
                                  const std::vector<std::string>& not_written);
 
-// A finite number written as a number ("0.004", "4e-3") or a fraction of two ("1/60", the
-// way a step of one per frame is said); nullopt for anything else (words, "1/0", "1/", "").
-std::optional<double> parse_number_or_fraction(const std::string& text);
 
-// Splits "a,b,c" (empty pieces are an error reported by the caller).
-std::vector<std::string> split_list(const std::string& text, char sep = ',');
 
 }  // namespace clothsim::clip

@@ -6,14 +6,6 @@
 
 namespace clothsim::clip {
 
-void add_gl_options(CLI::App* sub, GlOptions& options) {
-  sub->add_option("--gl", options.gl,
-                  "OpenGL backend: auto (EGL, then OSMesa), egl, osmesa (default: $CLOTHSIM_GL, else auto)")
-      ->check(CLI::IsMember({"auto", "egl", "osmesa"}))
-      ->type_name("auto|egl|osmesa");
-  sub->add_flag("--verbose", options.verbose, "Say which OpenGL backend, vendor and renderer draw the frames");
-}
-
 GlBackend chosen_gl_backend(const GlOptions& options) {
   if (!options.gl.empty()) return *parse_gl_backend(options.gl);  // CLI11 checked the name
   try {

@@ -3,7 +3,6 @@
 // same in every PNG's metadata, so an image says what drew it.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <memory>
 #include <string>
 
@@ -16,8 +15,6 @@ struct GlOptions {
   std::string gl;        // --gl; empty: CLOTHSIM_GL, else auto
   bool verbose = false;  // --verbose
 };
-
-void add_gl_options(CLI::App* sub, GlOptions& options);
 
 // --gl, else CLOTHSIM_GL, else auto. A bad CLOTHSIM_GL is a UsageError (exit 2).
 GlBackend chosen_gl_backend(const GlOptions& options);

@@ -16,7 +16,6 @@
 #include <sstream>
 
 #include "cli_common.h"
-#include "clip/compare/reference_stand.h"
 #include "scene/echo.h"
 #include "scene/parse_estimate.h"
 #include "scene/scene_parser.h"
@@ -69,17 +68,6 @@ double held_frames_bytes(const SceneDef& scene, std::size_t lanes, double frames
   return 96.0 * particles * static_cast<double>(lanes) * frames;
 }
 
-double reference_positions_bytes(const SceneDef& scene, const std::vector<double>& lane_steps,
-                                 const TargetPlan& plan, std::size_t queue) {
-  std::vector<double> distinct;
-  for (double h : lane_steps)
-    if (std::find(distinct.begin(), distinct.end(), h) == distinct.end()) distinct.push_back(h);
-  const double copies = static_cast<double>(ReferenceStand::waiting_bound(lane_steps, plan)) +
-                        static_cast<double>(queue) + 2.0;
-  const double particles = static_cast<double>(scene.cloth.nx) * scene.cloth.ny;
-  return 24.0 * particles * (4.0 + copies * static_cast<double>(distinct.size()));
-}
-
 double encoder_bytes(int width, int height) {
   return 24.0 * 1024 * 1024 + 116.0 * (width + (width & 1)) * (height + (height & 1));
 }
@@ -88,21 +76,6 @@ double max_memory_option(const std::string& text) {
   const std::optional<double> limit = parse_memory_size(text);
   if (!limit) throw UsageError("--max-memory: " + in_quotes(text) + " is not a size (e.g. 4G, 512M, 1.5G)");
   return *limit;
-}
-
-void add_max_memory_option(CLI::App* sub, std::optional<double>& limit) {
-  sub->add_option_function<std::string>(
-         "--max-memory",
-         [&limit](const std::string& text) {
-           try {
-             limit = max_memory_option(text);
-           } catch (const UsageError& e) {
-             throw CLI::ValidationError(e.what());
-           }
-         },
-         "Refuse (exit 2, with the estimate) a run whose estimated peak memory exceeds SIZE "
-         "(4G, 512M; default: half the physical memory)")
-      ->type_name("SIZE");
 }
 
 MemoryBudget::MemoryBudget() { add("process", kProcessBytes); }

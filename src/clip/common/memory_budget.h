@@ -3,13 +3,11 @@
 // Over the limit, the command is refused (exit 2) with the estimate and what it is made of.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "clip/compare/compare_plan.h"
 #include "scene/scene_def.h"
 
 namespace clothsim::clip {
@@ -50,18 +48,6 @@ inline constexpr double kLaneThreadBytes = 0.5 * 1024 * 1024;
 // normals, grid coordinates, triangles: 56 B per particle), the field (4 B) and double
 // positions for the error (24 B): 84 B per particle, counted as 96.
 double held_frames_bytes(const SceneDef& scene, std::size_t lanes, double frames);
-
-// The reference lane's positions at the lanes' times (reference_stand.h), for lanes of
-// `lane_steps` over `plan`'s targets: its last two steps kept (positions and velocities), and a
-// copy of the positions per distinct lane step for every target waiting for a lane of a larger
-// step (ReferenceStand::waiting_bound: a lane of 20 s on a 30 frames/s clip holds every frame
-// of those 20 s) or handed over and not yet measured (the worker's queue of `queue` frames, one
-// being pushed, the pipeline's). 24 B per particle a copy.
-double reference_positions_bytes(const SceneDef& scene, const std::vector<double>& lane_steps,
-                                 const TargetPlan& plan, std::size_t queue);
-
-// Declares --max-memory SIZE on `sub`, parsed into `limit` (bytes).
-void add_max_memory_option(CLI::App* sub, std::optional<double>& limit);
 
 // Refuses (UsageError, exit 2) a scene file whose parse would pass `limit`: yaml-cpp's node
 // tree, estimated from the text (scene/parse_estimate.h) before it is parsed. A tree of at most

@@ -20,26 +20,6 @@ void set_progress_mode(ProgressMode mode) { g_mode = mode; }
 void set_quiet(bool quiet) { g_quiet = quiet; }
 bool quiet() { return g_quiet; }
 
-void add_progress_options(CLI::App* sub) {
-  sub->add_option_function<std::string>(
-         "--progress",
-         [](const std::string& v) {
-           set_progress_mode(v == "always" ? ProgressMode::always : v == "never" ? ProgressMode::never
-                                                                                 : ProgressMode::automatic);
-         },
-         "Progress on stderr: auto (a bar on a terminal, else nothing), always (else a line every 5 s, "
-         "for logs), never (default: auto)")
-      ->check(CLI::IsMember({"auto", "always", "never"}))
-      ->type_name("auto|always|never");
-  sub->add_flag_function("--quiet", [](std::int64_t n) { set_quiet(n > 0); },
-                         "Nothing on stderr but errors and warnings (no progress, no timings)");
-}
-
-void add_no_overwrite_option(CLI::App* sub) {
-  sub->add_flag_function("-n,--no-overwrite", [](std::int64_t n) { set_no_overwrite(n > 0); },
-                         "Refuse to replace an output file that exists (exit 2, before any work)");
-}
-
 Progress::Progress(std::string label, long total, std::string unit)
     : Progress(std::move(label), total, std::move(unit), g_mode, g_quiet, ::isatty(STDERR_FILENO) == 1, stderr,
                kLinePeriod) {}

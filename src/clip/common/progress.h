@@ -8,7 +8,6 @@
 //                      the results on stdout stay
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -17,10 +16,6 @@ namespace clothsim::clip {
 
 enum class ProgressMode { automatic, always, never };
 
-// Declares --progress and --quiet on `sub`; they set the process-wide settings below.
-void add_progress_options(CLI::App* sub);
-// Declares -n/--no-overwrite on `sub` (set_no_overwrite, cli_common.h).
-void add_no_overwrite_option(CLI::App* sub);
 void set_progress_mode(ProgressMode mode);
 void set_quiet(bool quiet);
 bool quiet();  // --quiet: commands skip their informational stderr lines

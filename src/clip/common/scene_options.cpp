@@ -5,6 +5,7 @@
 
 #include "cli_common.h"
 #include "install_paths.h"
+#include "lanes.h"
 #include "memory_budget.h"
 #include "scene/echo.h"
 #include "scene/run_bounds.h"
@@ -12,48 +13,6 @@
 #include "core/integrators/integrator_kind.h"
 
 namespace clothsim::clip {
-
-void add_scene_options(CLI::App* sub, SceneOptions& o, bool single_run, const std::string& duration_default) {
-  sub->add_option("scene", o.path, "Scene file (YAML; keys in docs/scenes.md), or a shipped scene's name (drape_smooth)")
-      ->required()
-      ->transform(CLI::Validator(
-          [](std::string& arg) {
-            arg = resolve_scene_argument(arg);
-            return std::string();
-          },
-          "", "scene"));
-  sub->add_option("--set", o.sets,
-                  "Override a scene key by its dotted path, e.g. --set cloth.springs.shear.stiffness=1e5 "
-                  "(repeatable; VALUE is YAML, so lists work: --set gravity=[0,-1.6,0])")
-      ->type_name("KEY=VALUE")
-      ->allow_extra_args(false);
-  sub->add_option("--duration", o.duration, "Simulated time in s (default: " + duration_default + ")");
-  add_max_memory_option(sub, o.max_memory);
-  if (single_run) {
-    sub->add_option("--integrator", o.integrator,
-                    integrator_names_joined(" | ") + " | " + std::string(kFixedPointName) + " (default: the scene's integrator)");
-    // A step of one per frame is said as a fraction (--dt 1/60), which CLI11's double would refuse.
-    sub->add_option_function<std::string>(
-           "--dt",
-           [&o](const std::string& text) {
-             const std::optional<double> dt = parse_number_or_fraction(text);
-             if (!dt) throw CLI::ValidationError("--dt: " + in_quotes(text) + " is not a number (or a fraction like 1/60)");
-             o.dt = *dt;
-           },
-           "Time step in s, a number or a fraction (1/60) (default: the scene's dt)")
-        ->type_name("S");
-  }
-}
-
-void add_picture_options(CLI::App* sub, SceneOptions& o, const std::string& size_of, const std::string& frames_of) {
-  sub->add_option("--width", o.width, "Width of " + size_of + " in pixels (default: the scene's render.width)")
-      ->type_name("PX");
-  sub->add_option("--height", o.height, "Height of " + size_of + " in pixels (default: the scene's render.height)")
-      ->type_name("PX");
-  sub->add_option("--fps", o.fps,
-                  "Output frames per simulated second: " + frames_of + " (default: the scene's render.fps)")
-      ->type_name("F");
-}
 
 IntegratorKind parse_integrator_option(const std::string& name, const std::string& option) {
   const auto kind = parse_integrator(name);
@@ -81,8 +40,21 @@ std::vector<IntegratorKind> parse_integrator_list(const std::string& text, const
 }
 
 SceneDef load_scene_with_options(const SceneOptions& o) {
+  // --integrator is a lane (scene/lane.h), parsed once, before the scene: its @STEP replaces the
+  // file's dt as --dt does.
+  std::optional<Lane> lane;
+  if (o.integrator) {
+    try {
+      lane = parse_lane(*o.integrator);
+    } catch (const LaneError& e) {
+      refuse_lane("--integrator", e);
+    }
+    if (lane->written_step() && o.dt)
+      throw UsageError("--integrator: " + in_quotes(*o.integrator) + " gives the step, and so does --dt: give it in one place");
+  }
+  const bool new_step = o.dt || (lane && lane->written_step());
   // --duration and --dt replace the file's values, so the run is bounded once they are in.
-  SceneDef scene = load_scene_within(o.path, o.sets, o.max_memory, /*bound_run=*/!(o.duration || o.dt));
+  SceneDef scene = load_scene_within(o.path, o.sets, o.max_memory, /*bound_run=*/!(o.duration || new_step));
   if (o.duration) {
     if (!(*o.duration >= 0.0) || !std::isfinite(*o.duration))
       throw UsageError("--duration: must be a finite number >= 0 s, got " + number_text(*o.duration));
@@ -93,12 +65,7 @@ SceneDef load_scene_with_options(const SceneOptions& o) {
       throw UsageError("--dt: must be a finite number > 0 s, got " + number_text(*o.dt));
     scene.dt = *o.dt;
   }
-  if (o.integrator && *o.integrator == kFixedPointName) {  // the course's "implicit", by its own name
-    scene.integrator = kBackwardEuler;  // (the fixed point is its solver option)
-    scene.implicit.solver = ImplicitSolver::FixedPoint;
-  } else if (o.integrator) {
-    scene.integrator = parse_integrator_option(*o.integrator, "--integrator");
-  }
+  if (lane) apply_lane(scene, *lane);  // the method, its step and its settings, as the scene's own
   // The scene parser's bounds for render.width/height/fps (RenderDef), said as options.
   const auto pixels = [](std::optional<int> v, const char* option, int& out) {
     if (!v) return;
@@ -115,10 +82,10 @@ SceneDef load_scene_with_options(const SceneOptions& o) {
                        " frames per second, got " + number_text(*o.fps));
     scene.render.fps = *o.fps;
   }
-  if (o.duration || o.dt || o.fps) {  // otherwise the parser bounded the file's (and --set's) values
+  if (o.duration || new_step || o.fps) {  // otherwise the parser bounded the file's (and --set's) values
     const std::string too_long = run_bounds_problem(scene.duration, scene.dt, scene.render.fps);
     if (!too_long.empty())
-      throw UsageError(std::string(o.dt ? "--dt" : o.duration ? "--duration" : "--fps") + ": " + too_long);
+      throw UsageError(std::string(o.dt ? "--dt" : new_step ? "--integrator" : o.duration ? "--duration" : "--fps") + ": " + too_long);
   }
   return scene;
 }

@@ -2,7 +2,6 @@
 // single run --integrator and --dt), and loading a scene with them applied.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,16 +21,6 @@ struct SceneOptions {
   std::optional<double> fps;            // --fps (when offered): render.fps
   std::optional<double> max_memory;     // --max-memory SIZE in bytes (default: memory_budget.h)
 };
-
-// Declares SCENE, --set, --duration (its help saying `duration_default`) and --max-memory;
-// --integrator and --dt only when `single_run`.
-void add_scene_options(CLI::App* sub, SceneOptions& options, bool single_run,
-                       const std::string& duration_default = "the scene's duration");
-// Declares --width, --height and --fps (run and compare alike): the scene's render.width,
-// render.height and render.fps, overridden. `size_of` says what the size is of, `frames_of`
-// which outputs the frame rate paces.
-void add_picture_options(CLI::App* sub, SceneOptions& options, const std::string& size_of,
-                         const std::string& frames_of);
 
 // Loads and validates the scene with --set applied, then --duration/--integrator/--dt and
 // --width/--height/--fps.

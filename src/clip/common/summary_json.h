@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/integrators/integrator_kind.h"
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 
 namespace clothsim::clip {
 

@@ -15,11 +15,12 @@
 #include "step_matching.h"
 #include "clip/common/cli_common.h"
 #include "clip/common/memory_budget.h"
+#include "clip/reference/reference_stand.h"  // reference_positions_bytes
 #include "clip/common/progress.h"
 #include "clip/frames/export_output.h"
 #include "clip/frames/grid_legend.h"
 #include "clip/frames/pipeline_outputs.h"
-#include "clip/run/run_outputs.h"
+#include "clip/frames/run_outputs.h"
 #include "render/png_io.h"
 #include "scene/build_model.h"
 #include "scene/echo.h"
@@ -28,12 +29,12 @@
 #include "scene/run_bounds.h"
 #include "scene/scene_parser.h"
 #include "study/reference.h"
-#include "video/video_writer.h"
+#include "render/video/video_writer.h"
 
 namespace clothsim::clip {
 
-std::vector<LaneSpec> ComparePlan::specs() const {
-  std::vector<LaneSpec> out;
+std::vector<Lane> ComparePlan::specs() const {
+  std::vector<Lane> out;
   for (const CompareLane& l : lanes) out.push_back(l.spec);
   return out;
 }
@@ -166,7 +167,7 @@ void check_memory(const CompareRequest& o, const ComparePlan& p) {
   budget.add("model", model_bytes(scene));
   for (const SceneDef& s : p.vary_scenes) budget.add("model for --vary", model_bytes(s));
   for (const CompareLane& lane : p.lanes) {
-    const LaneSpec& l = lane.spec;
+    const Lane& l = lane.spec;
     budget.add(l.spelling(), run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
   }
   // The error's reference, or under --vary one per value (each its value's model and run).
@@ -206,16 +207,6 @@ void check_memory(const CompareRequest& o, const ComparePlan& p) {
   budget.check(scene.source, o.scene.max_memory);
 }
 
-// Which --vary lanes may have their step chosen: those of a row (an integrator) that is free,
-// every value of it.
-std::vector<bool> vary_free_lanes(const CompareRequest& o, const ComparePlan& p) {
-  const std::string rows = o.integrators_given ? o.integrators : std::string(integrator_name(p.scene.integrator));
-  const std::vector<bool> row_free = free_lanes(rows, o.dt, p.scene.dt);
-  std::vector<bool> free;
-  for (std::size_t i = 0; i < p.lanes.size(); ++i) free.push_back(row_free[i / p.vary_scenes.size()]);
-  return free;
-}
-
 // The lanes' steps by --match (step_matching.h), and their names. --vary compares the values at
 // one step unless --match is given; matched on cost, each lane's cost is measured on its own scene.
 void choose_steps(const CompareRequest& o, ComparePlan& p) {
@@ -224,11 +215,10 @@ void choose_steps(const CompareRequest& o, ComparePlan& p) {
     return;
   }
   const MatchRequest match = parse_match(o.match);
-  const std::vector<bool> free = o.vary.empty() ? free_lanes(o.integrators, o.dt, p.scene.dt) : vary_free_lanes(o, p);
   const MatchClip clip{p.scene.duration, p.scene.render.fps, p.scene.dt};
-  std::vector<LaneSpec> specs = p.specs();
-  const LaneSpec reference = parse_reference(o.look.reference, specs);
-  const std::vector<std::string> choices = match_steps(*p.model, specs, free, match, clip, reference, p.models());
+  std::vector<Lane> specs = p.specs();
+  const Lane reference = parse_reference(o.look.reference, specs);
+  const std::vector<std::string> choices = match_steps(*p.model, specs, match, clip, reference, p.models());
   for (std::size_t i = 0; i < p.lanes.size(); ++i) {
     p.lanes[i].spec = specs[i];
     p.lanes[i].step_choice = choices[i];
@@ -282,7 +272,7 @@ void name_lanes(ComparePlan& p) {
 // repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
 void plan_variation(const CompareRequest& o, ComparePlan& p) {
   const Variation vary = parse_vary(o.vary, p.scene);
-  std::vector<LaneSpec> rows =
+  std::vector<Lane> rows =
       o.integrators_given ? p.specs() : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
   follow_scene_solver(rows, p.scene.implicit);  // the scene's fixed point is named as itself, as without --vary
   for (std::size_t v = 0; v < vary.size(); ++v) {
@@ -315,7 +305,7 @@ void fit_variant_references(ComparePlan& p) {
   if (p.vary_models.empty() || p.look.color != FieldKind::Error || !p.look.reference) return;
   const std::size_t values = p.vary_models.size();
   for (std::size_t v = 0; v < values; ++v) {
-    std::vector<LaneSpec> specs;
+    std::vector<Lane> specs;
     for (std::size_t i = v; i < p.lanes.size(); i += values) specs.push_back(p.lanes[i].spec);
     PictureLook look = p.look;
     fit_reference_to_model(look, p.vary_models[v], p.vary_scenes[v], specs);
@@ -335,7 +325,7 @@ std::string grid_layout_text(const ComparePlan& p) {
 void plan_compare(const CompareRequest& o, ComparePlan& p) {
   check_option_pairs(o);
   p.scene = load_scene_with_options(o.scene);
-  std::vector<LaneSpec> specs = parse_lanes(o.integrators, o.dt, p.scene.dt);
+  std::vector<Lane> specs = parse_lanes(o.integrators, o.dt, p.scene.dt);
   follow_scene_solver(specs, p.scene.implicit);  // --set implicit.solver=fixed_point: named as itself
   const std::vector<std::string> dirs = lane_directories(specs);
   for (std::size_t i = 0; i < specs.size(); ++i) {

@@ -19,16 +19,16 @@
 #include "clip/common/lanes.h"
 #include "clip/common/scene_options.h"
 #include "clip/common/summary_json.h"
-#include "clip/compare/compare_plan.h"
+#include "clip/common/plan_parts.h"
 #include "clip/compare/compare_summary.h"
 #include "clip/frames/frame_pipeline.h"
 #include "clip/frames/frame_sink.h"
 #include "clip/frames/picture_options.h"
 #include "core/integrators/integrator_kind.h"
-#include "core/model.h"
+#include "core/model/model.h"
 #include "render/renderer.h"
 #include "scene/scene_def.h"
-#include "video/tiling.h"
+#include "render/video/tiling.h"
 
 namespace clothsim::clip {
 
@@ -56,7 +56,7 @@ struct CompareRequest {
 
 // One lane of a comparison: what it runs, what it is called and where it writes.
 struct CompareLane {
-  LaneSpec spec;
+  Lane spec;
   std::string dir;               // its folder under --frames, and its part of --export's names
   const Model* model = nullptr;  // --vary: its value's model; nullptr: the plan's
   std::string label;             // --vary: its tile's and sheet row's label ("rk4  ks = 2e4"); "" its own
@@ -80,7 +80,7 @@ struct ComparePlan {
   // --vary: per value, its scene and model (a deque: the lanes and the pipeline keep pointers).
   std::vector<SceneDef> vary_scenes;
   std::deque<Model> vary_models;
-  std::optional<LaneSpec> error_reference;  // --match error: the reference the steps were matched against
+  std::optional<Lane> error_reference;  // --match error: the reference the steps were matched against
   // --vary with --color error: per value, the reference its lanes are measured against
   // (PipelineConfig::variant_references), each fitted to its value's model.
   std::vector<VariantReference> variant_references;
@@ -89,7 +89,7 @@ struct ComparePlan {
   std::shared_ptr<LaneWorker> early_reference;
 
   // The lanes' fields one by one, for the functions that take a list.
-  std::vector<LaneSpec> specs() const;
+  std::vector<Lane> specs() const;
   std::vector<std::string> dirs() const;
   std::vector<const Model*> models() const;   // empty without --vary (every lane: the plan's model)
   std::vector<std::string> labels() const;    // empty without --vary (the lanes' own labels)

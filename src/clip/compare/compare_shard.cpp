@@ -31,19 +31,12 @@ void check_frames_shard_outputs(const std::string& frames_dir, bool other_output
                      "(`clothsim encode` composes the parts' folders into the clip)");
 }
 
-void add_frames_shard_option(CLI::App* sub, std::string& shard) {
-  sub->add_option("--shard", shard,
-                  "With --frames only: render part K of N of the lanes (K/N), or 'auto' from a Slurm array task; "
-                  "`clothsim encode` composes the parts' folders (docs/cluster.md)")
-      ->type_name("K/N|auto");
-}
-
-std::vector<std::size_t> frames_shard_lanes(const FramesShardPlan& plan, const std::vector<LaneSpec>& lanes,
+std::vector<std::size_t> frames_shard_lanes(const FramesShardPlan& plan, const std::vector<Lane>& lanes,
                                             const std::vector<std::string>& lane_dirs) {
   const analysis::Shard shard = parse_shard_option(plan.shard);
   check_scale(plan);
   std::vector<double> costs;
-  for (const LaneSpec& l : lanes)
+  for (const Lane& l : lanes)
     costs.push_back(analysis::cost_estimate(l.kind, plan.duration, l.dt) * plan.particles +
                     kPixelCost * static_cast<double>(plan.frames) * plan.tile_width * plan.tile_height);
   const std::vector<std::size_t> mine = analysis::shard_items(costs, shard);

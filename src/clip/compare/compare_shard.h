@@ -10,7 +10,6 @@
 // any planning (--match's pilot runs).
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -18,8 +17,6 @@
 #include "clip/common/lanes.h"
 
 namespace clothsim::clip {
-
-void add_frames_shard_option(CLI::App* sub, std::string& shard);
 
 // What the comparison would write and draw, for the checks.
 struct FramesShardPlan {
@@ -37,7 +34,7 @@ void check_frames_shard_outputs(const std::string& frames_dir, bool other_output
 
 // This part's lanes (indices into `lanes`, ascending); says on stdout which. UsageError when
 // the comparison cannot be split so (above).
-std::vector<std::size_t> frames_shard_lanes(const FramesShardPlan& plan, const std::vector<LaneSpec>& lanes,
+std::vector<std::size_t> frames_shard_lanes(const FramesShardPlan& plan, const std::vector<Lane>& lanes,
                                             const std::vector<std::string>& lane_dirs);
 
 }  // namespace clothsim::clip

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/work_units.h"
-#include "video/tiling.h"
+#include "core/run/work_units.h"
+#include "render/video/tiling.h"
 #include "study/reference.h"
 
 namespace clothsim::clip {

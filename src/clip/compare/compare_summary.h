@@ -10,7 +10,7 @@
 #include "clip/common/lanes.h"
 #include "clip/common/summary_json.h"
 #include "clip/frames/frame_pipeline.h"
-#include "core/model.h"
+#include "core/model/model.h"
 
 namespace clothsim {
 class TileGrid;

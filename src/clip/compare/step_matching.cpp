@@ -7,8 +7,8 @@
 #include <optional>
 
 #include "clip/common/cli_common.h"
-#include "core/simulation.h"
-#include "core/work_units.h"
+#include "core/run/simulation.h"
+#include "core/run/work_units.h"
 #include "scene/echo.h"
 
 namespace clothsim::clip {
@@ -29,7 +29,8 @@ std::string format(const char* fmt, double a, double b = 0.0) {
 }
 
 // A step above a millisecond as a whole fraction of a second ("1/58"), else as it is.
-void set_step(LaneSpec& lane, double h) {
+void set_step(Lane& lane, double h, StepFrom from) {
+  lane.step_from = from;
   if (h > 1e-3 && h < 1.0) {
     const double n = std::round(1.0 / h);
     lane.dt = 1.0 / n;
@@ -43,13 +44,13 @@ void set_step(LaneSpec& lane, double h) {
 // Passes per step that do not depend on the step: the explicit family's force evaluations.
 // Newton's work and an iterative solver's (its iterations, a factor per step size) are
 // measured by pilot runs instead.
-std::optional<double> fixed_work(const LaneSpec& lane) {
+std::optional<double> fixed_work(const Lane& lane) {
   if (lane.fixed_point || integrator_info(lane.kind).iterations != IterationControl::None)
     return std::nullopt;
   return static_cast<double>(nominal_force_evals(lane.kind));
 }
 
-double cost_at(const Model& model, const LaneSpec& lane, double h, double duration) {
+double cost_at(const Model& model, const Lane& lane, double h, double duration) {
   if (const auto w = fixed_work(lane)) return *w / h;
   return pilot_cost(model, lane, h, std::min(kFirstPilotWindow, duration));
 }
@@ -57,7 +58,7 @@ double cost_at(const Model& model, const LaneSpec& lane, double h, double durati
 // The step where `lane` costs `target` passes per simulated second: from (h0, c0), first as if
 // its work per step did not change, then by a secant on log cost over log step between the
 // pilots. Returns the step and the pilots run.
-std::pair<double, int> step_for_cost(const Model& model, const LaneSpec& lane, double h0, double c0, double target,
+std::pair<double, int> step_for_cost(const Model& model, const Lane& lane, double h0, double c0, double target,
                                      double window) {
   double h = h0 * c0 / target, h_prev = 0.0, c_prev = 0.0;
   double best = h, best_gap = std::numeric_limits<double>::infinity();
@@ -77,7 +78,7 @@ std::pair<double, int> step_for_cost(const Model& model, const LaneSpec& lane, d
 }
 
 // (models[i]: the model lane i runs, its own under --vary)
-std::vector<std::string> match_cost(const std::vector<const Model*>& models, std::vector<LaneSpec>& lanes,
+std::vector<std::string> match_cost(const std::vector<const Model*>& models, std::vector<Lane>& lanes,
                                     const std::vector<bool>& free, const MatchClip& clip) {
   const double window = std::min(kPilotWindow, clip.duration);
   std::vector<double> cost(lanes.size(), std::numeric_limits<double>::infinity());
@@ -98,12 +99,12 @@ std::vector<std::string> match_cost(const std::vector<const Model*>& models, std
       continue;
     }
     if (const auto w = fixed_work(lanes[i])) {
-      set_step(lanes[i], *w / target);
+      set_step(lanes[i], *w / target, StepFrom::MatchedCost);
       how[i] = format("matched on cost: %.0f passes a step, %.3g per simulated s", *w, target) + ", as " + name;
       continue;
     }
     const auto [h, pilots] = step_for_cost(*models[i], lanes[i], clip.scene_dt, cost[i], target, window);
-    set_step(lanes[i], h);
+    set_step(lanes[i], h, StepFrom::MatchedCost);
     how[i] = format(pilots == 1 ? "matched on cost by %.0f pilot run over the clip's first %g s"
                                 : "matched on cost by %.0f pilot runs over the clip's first %g s",
                     pilots, window) +
@@ -114,13 +115,13 @@ std::vector<std::string> match_cost(const std::vector<const Model*>& models, std
 
 
 // Steps a frame of the reference: 1 / (fps K) at most its step, landing on the frames.
-long reference_steps_per_frame(const LaneSpec& reference, double fps) {
+long reference_steps_per_frame(const Lane& reference, double fps) {
   return std::max(1L, static_cast<long>(std::ceil(1.0 / (fps * reference.dt))));
 }
 
 // The reference's particle positions (3 x P) at every frame of the clip, from steps of
 // 1 / (fps K) that land on the frames exactly; stops where the reference diverges.
-std::vector<Eigen::Matrix3Xd> reference_frames(const Model& model, const LaneSpec& reference, const MatchClip& clip) {
+std::vector<Eigen::Matrix3Xd> reference_frames(const Model& model, const Lane& reference, const MatchClip& clip) {
   std::optional<Model> storage;
   Run run(lane_model(model, reference, storage), reference.kind, error_reference(reference, clip.fps).dt);
   run.set_stop_check(interrupted);
@@ -136,7 +137,7 @@ std::vector<Eigen::Matrix3Xd> reference_frames(const Model& model, const LaneSpe
 
 // Whether `lane` at 1 / (fps k) stays within `tolerance` of `frames` at every frame (stopping
 // at the first that does not, or at divergence).
-bool within(const Model& model, const LaneSpec& lane, long k, const std::vector<Eigen::Matrix3Xd>& frames,
+bool within(const Model& model, const Lane& lane, long k, const std::vector<Eigen::Matrix3Xd>& frames,
             double tolerance, double fps) {
   std::optional<Model> storage;
   Run run(lane_model(model, lane, storage), lane.kind, 1.0 / (fps * static_cast<double>(k)));
@@ -154,7 +155,7 @@ bool within(const Model& model, const LaneSpec& lane, long k, const std::vector<
 // The smallest k (the largest step 1 / (fps k)) within tolerance: k doubled until a trial
 // passes, then bisected between the last that failed and it. 0 when none does up to `cap`
 // (the reference's own steps a frame: no finer step is measured by it).
-std::pair<long, int> smallest_passing_k(const Model& model, const LaneSpec& lane,
+std::pair<long, int> smallest_passing_k(const Model& model, const Lane& lane,
                                         const std::vector<Eigen::Matrix3Xd>& frames, double tolerance, double fps,
                                         long cap) {
   int trials = 0;
@@ -172,8 +173,8 @@ std::pair<long, int> smallest_passing_k(const Model& model, const LaneSpec& lane
   return {good, trials};
 }
 
-std::vector<std::string> match_error(const Model& model, std::vector<LaneSpec>& lanes, const std::vector<bool>& free,
-                                     double tolerance, const MatchClip& clip, const LaneSpec& reference) {
+std::vector<std::string> match_error(const Model& model, std::vector<Lane>& lanes, const std::vector<bool>& free,
+                                     double tolerance, const MatchClip& clip, const Lane& reference) {
   const std::vector<Eigen::Matrix3Xd> frames = reference_frames(model, reference, clip);
   std::vector<std::string> how(lanes.size(), "your step");
   for (std::size_t i = 0; i < lanes.size(); ++i) {
@@ -187,7 +188,7 @@ std::vector<std::string> match_error(const Model& model, std::vector<LaneSpec>& 
                format(", in %.0f trial runs: the scene's step", trials) + against;
       continue;
     }
-    set_step(lanes[i], 1.0 / (clip.fps * static_cast<double>(k)));
+    set_step(lanes[i], 1.0 / (clip.fps * static_cast<double>(k)), StepFrom::MatchedError);
     lanes[i].step_text = "1/" + number_text(clip.fps * static_cast<double>(k));
     how[i] = format("matched on error: the largest step 1/(fps k) within %g m at every frame, %.0f trial runs "
                     "(doubling, then bisection)", tolerance, trials) + against;
@@ -197,8 +198,8 @@ std::vector<std::string> match_error(const Model& model, std::vector<LaneSpec>& 
 
 }  // namespace
 
-LaneSpec error_reference(const LaneSpec& reference, double fps) {
-  LaneSpec out = reference;
+Lane error_reference(const Lane& reference, double fps) {
+  Lane out = reference;
   const double K = static_cast<double>(reference_steps_per_frame(reference, fps));
   out.dt = 1.0 / (fps * K);
   out.step_text = "1/" + number_text(fps * K);
@@ -220,15 +221,7 @@ MatchRequest parse_match(const std::vector<std::string>& words) {
   throw UsageError("--match: expected cost, error TOL or none, got " + in_quotes(said));
 }
 
-std::vector<bool> free_lanes(const std::string& integrators, const std::string& dt, double scene_dt) {
-  const std::vector<LaneSpec> a = parse_lanes(integrators, dt, scene_dt);
-  const std::vector<LaneSpec> b = parse_lanes(integrators, dt, 2.0 * scene_dt);
-  std::vector<bool> free(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) free[i] = a[i].dt != b[i].dt;
-  return free;
-}
-
-double pilot_cost(const Model& model, const LaneSpec& lane, double h, double window) {
+double pilot_cost(const Model& model, const Lane& lane, double h, double window) {
   std::optional<Model> storage;
   Run run(lane_model(model, lane, storage), lane.kind, h);
   run.set_stop_check(interrupted);  // a pilot of a large sheet runs for minutes
@@ -238,9 +231,11 @@ double pilot_cost(const Model& model, const LaneSpec& lane, double h, double win
   return spring_passes(run.totals()) / t;
 }
 
-std::vector<std::string> match_steps(const Model& model, std::vector<LaneSpec>& lanes, const std::vector<bool>& free,
-                                     const MatchRequest& request, const MatchClip& clip, const LaneSpec& reference,
+std::vector<std::string> match_steps(const Model& model, std::vector<Lane>& lanes,
+                                     const MatchRequest& request, const MatchClip& clip, const Lane& reference,
                                      const std::vector<const Model*>& lane_models) {
+  std::vector<bool> free;  // the lanes given no step, by @STEP or --dt
+  for (const Lane& l : lanes) free.push_back(l.free_step());
   std::vector<const Model*> models = lane_models;
   if (models.empty()) models.assign(lanes.size(), &model);
   switch (request.kind) {

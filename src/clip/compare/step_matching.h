@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "clip/common/lanes.h"
-#include "core/model.h"
+#include "core/model/model.h"
 
 namespace clothsim::clip {
 
@@ -32,11 +32,6 @@ struct MatchRequest {
 // --match: {"cost"}, {"none"} or {"error", "TOL"} (TOL > 0, metres). UsageError otherwise.
 MatchRequest parse_match(const std::vector<std::string>& words);
 
-// Which lanes may have their step chosen: those whose step is the scene's default (told apart
-// by parsing the lanes again as if the scene's step were another: a lane that follows it had
-// no @STEP and no --dt of its own).
-std::vector<bool> free_lanes(const std::string& integrators, const std::string& dt, double scene_dt);
-
 // What the clip covers, for the pilots and trials.
 struct MatchClip {
   double duration = 0.0;  // s
@@ -49,16 +44,16 @@ struct MatchClip {
 // (Error only). Lanes not free keep their step ("your step"). `lane_models` (compare --vary:
 // each lane's own scene) gives per lane the model its cost is measured on; empty: `model` for
 // all (Cost only: error matching has one reference, so one model).
-std::vector<std::string> match_steps(const Model& model, std::vector<LaneSpec>& lanes, const std::vector<bool>& free,
-                                     const MatchRequest& request, const MatchClip& clip, const LaneSpec& reference,
+std::vector<std::string> match_steps(const Model& model, std::vector<Lane>& lanes,
+                                     const MatchRequest& request, const MatchClip& clip, const Lane& reference,
                                      const std::vector<const Model*>& lane_models = {});
 
 // The reference `error` matching runs: `reference` at the largest step 1 / (fps K) not above
 // its own, so it lands on every frame.
-LaneSpec error_reference(const LaneSpec& reference, double fps);
+Lane error_reference(const Lane& reference, double fps);
 
 // Spring-pass equivalents per simulated second of `lane` at step h over the first `window`
 // seconds (up to divergence): a pilot run.
-double pilot_cost(const Model& model, const LaneSpec& lane, double h, double window);
+double pilot_cost(const Model& model, const Lane& lane, double h, double window);
 
 }  // namespace clothsim::clip

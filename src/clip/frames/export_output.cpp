@@ -1,6 +1,5 @@
 #include "export_output.h"
 
-#include <CLI/CLI.hpp>
 #include <filesystem>
 
 #include "clip/common/cli_common.h"
@@ -45,14 +44,6 @@ class ExportOutput final : public FrameOutput {
 };
 
 }  // namespace
-
-void add_export_option(CLI::App* sub, std::string& path) {
-  sub->add_option("--export", path,
-                  "Write the cloth and spheres of every frame for Blender or ParaView: DIR/frame_%05d.obj "
-                  "or .ply (a file per frame), NAME.pc2 (Point Cache 2 beside NAME.obj), NAME.pvd "
-                  "(VTK .vtp per frame in NAME/); docs/cli.md")
-      ->type_name("PATH");
-}
 
 std::vector<PathRole> export_roles(const std::string& path, const std::vector<std::string>& lanes, int spheres) {
   std::vector<PathRole> roles;

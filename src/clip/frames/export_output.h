@@ -8,7 +8,7 @@
 
 #include "frame_pipeline.h"
 #include "clip/common/cli_common.h"
-#include "core/model.h"
+#include "core/model/model.h"
 #include "export/export_path.h"
 
 namespace CLI {
@@ -16,9 +16,6 @@ class App;
 }
 
 namespace clothsim::clip {
-
-// --export PATH on `sub` (its help names the formats).
-void add_export_option(CLI::App* sub, std::string& path);
 
 // compare's per-lane paths, from its lane directories ("rk4", "rk4@1e-4"): a sequence
 // DIR/frame_%05d.obj goes to DIR/LANE/frame_%05d.obj; NAME.pc2 to NAME.LANE.pc2 (beside

@@ -12,8 +12,8 @@
 #include "overlay_text.h"
 #include "plausibility.h"
 #include "reference_lanes.h"
-#include "core/stiffness_estimate.h"
-#include "core/work_units.h"
+#include "core/model/stiffness_estimate.h"
+#include "core/run/work_units.h"
 #include "clip/common/cli_common.h"
 #include "clip/common/progress.h"
 
@@ -50,7 +50,7 @@ std::optional<OverlayMode> parse_overlay_mode(std::string_view text) {
   return std::nullopt;
 }
 
-std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, const LaneFrame& frame,
+std::vector<std::string> lane_overlay(const Model& model, const Lane& lane, const LaneFrame& frame,
                                       OverlayMode mode, bool single, bool cpu) {
   std::vector<std::string> lines;
   if (mode == OverlayMode::None) return lines;
@@ -81,7 +81,7 @@ struct FramePipeline::Impl {
   const TargetPlan& plan;
   PipelineConfig config;
   Renderer* renderer;
-  std::vector<LaneSpec> lanes;
+  std::vector<Lane> lanes;
   std::vector<std::optional<Model>> lane_models;  // the fixed-point lanes' own settings
   std::vector<std::unique_ptr<LaneWorker>> workers;
   ReferenceLanes references;  // the error colouring's and the energy inset's (never shown)
@@ -108,7 +108,7 @@ struct FramePipeline::Impl {
   double wait_seconds = 0.0, render_seconds = 0.0;
   long processed = 0;
 
-  Impl(const Model& m, const TargetPlan& p, std::vector<LaneSpec> l, PipelineConfig c, Renderer* r)
+  Impl(const Model& m, const TargetPlan& p, std::vector<Lane> l, PipelineConfig c, Renderer* r)
       : model(m), plan(p), config(std::move(c)), renderer(r), lanes(std::move(l)), range(config.color_range) {}
 
   LaneNeeds needs() const {
@@ -484,7 +484,7 @@ const LaneResult* lane_reference(const PipelineReport& report, std::size_t lane)
   return r < 0 ? nullptr : &report.references[r].result;
 }
 
-FramePipeline::FramePipeline(const Model& model, const TargetPlan& plan, std::vector<LaneSpec> lanes,
+FramePipeline::FramePipeline(const Model& model, const TargetPlan& plan, std::vector<Lane> lanes,
                              PipelineConfig config, Renderer* renderer)
     : impl_(std::make_unique<Impl>(model, plan, std::move(lanes), std::move(config), renderer)) {}
 

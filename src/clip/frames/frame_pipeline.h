@@ -44,7 +44,7 @@ struct ColorRange {
 // One reference of compare --vary --color error (PipelineConfig::variant_references).
 struct VariantReference {
   const Model* model = nullptr;  // one of PipelineConfig::lane_models: the lanes it measures
-  LaneSpec spec;
+  Lane spec;
   double tolerance = 0.0;        // > 0: the adaptive solve at this tolerance (as reference_tolerance)
   std::string label;             // the value, as the lanes' names give it ("collision.model = barrier")
 };
@@ -62,13 +62,13 @@ struct PipelineConfig {
   bool inset_energy = false;       // --inset energy
   // compare --inset energy: a lane run alongside (the reference), never shown, whose total
   // energy the inset subtracts (frame_decoration.h); none: the inset shows E - E(0).
-  std::optional<LaneSpec> energy_reference;
+  std::optional<Lane> energy_reference;
   int samples = kDefaultMsaaSamples;  // MSAA samples of each picture (1: none)
   bool fxaa = false;               // edges smoothed on the CPU instead (render/fxaa.h)
   bool metrics = false;            // an output reads LaneFrame::metrics
   bool final_state = false;        // keep the lanes' final states (run --state)
   bool stop_when_all_frozen = false;  // run: a diverged lane ends the pipeline
-  std::optional<LaneSpec> reference;  // for FieldKind::Error
+  std::optional<Lane> reference;  // for FieldKind::Error
   // > 0: that reference is the adaptive solve at this tolerance (LaneNeeds::adaptive_tolerance).
   double reference_tolerance = 0.0;
   // compare: that reference, started before the lanes' steps were chosen (LaneNeeds::
@@ -88,7 +88,7 @@ struct PipelineConfig {
 
 // One lane at one target, as outputs see it.
 struct LaneView {
-  const LaneSpec* spec = nullptr;
+  const Lane* spec = nullptr;
   const LaneFrame* frame = nullptr;  // the lane's latest (a frozen lane's held frame)
   const Image* image = nullptr;      // its picture, when rendering
   bool fresh = false;                // handed over at this target (not a held frame)
@@ -164,7 +164,7 @@ const LaneResult* lane_reference(const PipelineReport& report, std::size_t lane)
 class FramePipeline {
  public:
   // `model` and `plan` must outlive the pipeline; `renderer` is needed when rendering.
-  FramePipeline(const Model& model, const TargetPlan& plan, std::vector<LaneSpec> lanes,
+  FramePipeline(const Model& model, const TargetPlan& plan, std::vector<Lane> lanes,
                 PipelineConfig config, Renderer* renderer);
   ~FramePipeline();
   void add(std::unique_ptr<FrameOutput> output);
@@ -184,7 +184,7 @@ class FramePipeline {
 // (time and cost; the grid labels the tile with the lane). The cost in spring-pass
 // equivalents always (core/work_units.h: an implicit lane's Newton work counted, not only its
 // force evaluations), measured CPU time beside it only with `cpu` (overlay_text.h, cost_line).
-std::vector<std::string> lane_overlay(const Model& model, const LaneSpec& lane, const LaneFrame& frame,
+std::vector<std::string> lane_overlay(const Model& model, const Lane& lane, const LaneFrame& frame,
                                       OverlayMode mode, bool single, bool cpu);
 
 // The colour scale from the first second's data: the largest finite value rounded up to a

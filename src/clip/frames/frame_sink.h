@@ -15,7 +15,7 @@ class FrameSink {
   virtual ~FrameSink() = default;
   // Frame `index` (0, 1, 2...) at simulated time t. Throws RuntimeFailure on I/O errors.
   virtual void add(int index, double t, const Image& frame) = 0;
-  // Completes the output (an MP4 gets its name only here: render/output_file.h). A sink
+  // Completes the output (an MP4 gets its name only here: io/output_file.h). A sink
   // destroyed without finish() leaves nothing under the name.
   virtual void finish() = 0;
   // Stops without completing (a signal, another output failing): drops what is queued and
@@ -36,7 +36,7 @@ struct VideoOptions {
   int crf = 20;                     // x264 constant rate factor: 0 lossless .. 51 worst
   std::string preset = "veryfast";  // x264 preset
 };
-// An H.264 MP4 at `path`, written without a name (render/output_file.h) and named by finish().
+// An H.264 MP4 at `path`, written without a name (io/output_file.h) and named by finish().
 std::unique_ptr<FrameSink> make_video_sink(const std::string& path, const VideoOptions& options);
 
 }  // namespace clothsim::clip

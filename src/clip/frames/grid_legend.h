@@ -6,7 +6,7 @@
 #pragma once
 
 #include "render/image.h"
-#include "video/tiling.h"
+#include "render/video/tiling.h"
 #include "view/render_frame.h"
 #include "view/vertex_fields.h"
 

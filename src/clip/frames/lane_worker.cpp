@@ -6,16 +6,16 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "clip/compare/reference_history.h"
-#include "clip/compare/reference_stand.h"
-#include "lane_times.h"
-#include "core/diagnostics.h"
+#include "clip/reference/reference_history.h"
+#include "clip/reference/reference_stand.h"
+#include "clip/reference/lane_times.h"
+#include "core/model/diagnostics.h"
 #include "study/reference.h"
 #include "view/snapshot.h"
 
 namespace clothsim::clip {
 
-LaneWorker::LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
+LaneWorker::LaneWorker(const Model& model, Lane spec, const TargetPlan& targets, LaneNeeds needs,
                        std::size_t queue_capacity, std::function<bool()> interrupt)
     : model_(model), spec_(std::move(spec)), targets_(targets), needs_(needs), interrupt_(std::move(interrupt)),
       reference_(!needs_.stand_for.empty() || needs_.stand_for_later),
@@ -51,7 +51,7 @@ std::size_t reference_ahead_states(int particles) {
   return std::clamp<std::size_t>(static_cast<std::size_t>(kReferenceAheadBytes / (56.0 * std::max(1, particles))), 2, 64);
 }
 
-bool same_run(const LaneSpec& started, const LaneSpec& wanted) {
+bool same_run(const Lane& started, const Lane& wanted) {
   return started.kind == wanted.kind && started.dt == wanted.dt && started.step_text == wanted.step_text &&
          started.fixed_point == wanted.fixed_point && started.iterations == wanted.iterations;
 }

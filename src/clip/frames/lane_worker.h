@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "clip/common/lanes.h"
-#include "clip/compare/compare_plan.h"
-#include "core/simulation.h"
+#include "clip/common/plan_parts.h"
+#include "core/run/simulation.h"
 #include "view/render_frame.h"
 #include "view/render_settings.h"
 #include "view/vertex_fields.h"
@@ -67,7 +67,7 @@ struct LaneNeeds {
   double energy_every = 0.0;  // > 0: total energy sampled this often (s) between targets too,
                               // so an energy inset has a curve even in a still or a sheet
   // The reference lane on a smooth scene: > 0, the adaptive solve's tolerance
-  // (study/reference.h), which serves every time exactly; the LaneSpec's step then only sets
+  // (study/reference.h), which serves every time exactly; the Lane's step then only sets
   // the grid of the energy samples. Not with stand_for_later (it does not run ahead).
   double adaptive_tolerance = 0.0;
 };
@@ -93,7 +93,7 @@ struct LaneFrame {
 };
 
 struct LaneResult {
-  LaneSpec spec;
+  Lane spec;
   double t = 0.0;             // simulated time reached (the last target's, or divergence's)
   RunTotals totals;           // cpu_seconds: the lane thread's, not inflated by sharing cores
   std::optional<Divergence> divergence;
@@ -122,13 +122,13 @@ std::size_t reference_ahead_states(int particles);
 
 // Whether a reference started as `started` is the run `wanted` describes (the same method,
 // step as written and settings): only then may it serve in its place.
-bool same_run(const LaneSpec& started, const LaneSpec& wanted);
+bool same_run(const Lane& started, const Lane& wanted);
 
 class LaneWorker {
  public:
   // Starts the thread at once. `model` and `targets` must outlive the worker. The lane stops
   // before its next step once stop() was called or `interrupt` (if given) returns true.
-  LaneWorker(const Model& model, LaneSpec spec, const TargetPlan& targets, LaneNeeds needs,
+  LaneWorker(const Model& model, Lane spec, const TargetPlan& targets, LaneNeeds needs,
              std::size_t queue_capacity = kLaneQueueCapacity, std::function<bool()> interrupt = {});
   ~LaneWorker();  // stops the lane and joins
   LaneWorker(const LaneWorker&) = delete;
@@ -151,7 +151,7 @@ class LaneWorker {
   // order (LaneNeeds::stand_for's meaning), the frames it may serve ahead from now on, and
   // LaneNeeds::energy_every. Called once, before next() or drop_lane().
   void stand_for(std::vector<double> lane_steps, std::size_t queue_capacity, double energy_every = 0.0);
-  const LaneSpec& spec() const { return spec_; }
+  const Lane& spec() const { return spec_; }
   // Waits for the thread; then result() is final.
   void join();
   LaneResult result() const;
@@ -170,7 +170,7 @@ class LaneWorker {
   LaneFrame frame_of(const Run& run, const State& state) const;
 
   const Model& model_;
-  LaneSpec spec_;
+  Lane spec_;
   const TargetPlan& targets_;
   LaneNeeds needs_;
   std::function<bool()> interrupt_;

@@ -1,4 +1,6 @@
 #include "overlay_text.h"
+
+#include "clip/common/lanes.h"  // integrator_label
 #include "core/integrators/integrator_kind.h"
 
 #include <cmath>
@@ -14,10 +16,6 @@ std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, 
   char step[32];
   std::snprintf(step, sizeof step, "%.3g", dt);
   return overlay_lines(model, integrator_label(method_name(kind, model.implicit), step), t);
-}
-
-std::string integrator_label(std::string_view name, std::string_view step) {
-  return std::string(name) + "  dt = " + std::string(step) + " s";
 }
 
 std::string overlay_time_line(double t) {

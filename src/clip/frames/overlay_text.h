@@ -11,21 +11,19 @@
 #include <string_view>
 #include <vector>
 
-#include "core/diagnostics.h"
+#include "core/model/diagnostics.h"
 #include "core/integrators/integrator_kind.h"
-#include "core/model.h"
+#include "core/model/model.h"
 #include "view/render_frame.h"
 
 namespace clothsim::clip {
 
-// The overlay of a run's picture: the scene, the lane (integrator_label) and the time
+// The overlay of a run's picture: the scene, the lane (clip/common/lanes.h's integrator_label) and the time
 // (overlay_time_line); `run` adds its cost beneath (frame_pipeline.h, lane_overlay), and a
 // compare tile starts at the time, its lane being the grid's label.
 std::vector<std::string> overlay_lines(const Model& model, const std::string& lane_label, double t);
 // The same for `kind` at step dt, written %.3g (what a scene's own run shows for common steps).
 std::vector<std::string> overlay_lines(const Model& model, IntegratorKind kind, double dt, double t);
-// "rk4  dt = 1e-4 s": an integrator (`name`) at a step as written (`step`, s).
-std::string integrator_label(std::string_view name, std::string_view step);
 // "t = 1.500 s".
 std::string overlay_time_line(double t);
 

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "clip/common/cli_common.h"
-#include "core/stiffness_estimate.h"
+#include "core/model/stiffness_estimate.h"
 #include "scene/echo.h"
 #include "scene/run_bounds.h"
 #include "study/reference.h"
@@ -11,46 +11,6 @@
 #include "view/snapshot.h"
 
 namespace clothsim::clip {
-
-void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
-  sub->add_option("--color", o.color,
-                  std::string("Colour the cloth by a field on a logarithmic scale with a colour bar: checker (none),\n"
-                              "error (distance from a reference lane run alongside, m), strain (|l/l0-1| of the\n"
-                              "springs, averaged to particles) or speed (m/s). Default: the scene's render.color, else ") +
-                      (compare ? "error" : "checker"))
-      ->type_name("FIELD");
-  sub->add_option("--color-range", o.color_range,
-                  "The colour scale, fixed for the whole clip (default: from the data of the first second, printed)")
-      ->type_name("LO,HI");
-  sub->add_option("--reference", o.reference,
-                  std::string(compare ? "The lane --color error and --inset energy measure against" : "The lane --color error measures against") +
-                      " (default: rk4 at a quarter of the smallest lane step, or at rk4's\n"
-                      "predicted stable step on the scene where that is smaller)")
-      ->type_name("NAME[@STEP]");
-  sub->add_option("--camera", o.camera, "auto: frame the cloth and spheres; scene: the scene's render.camera")
-      ->type_name("auto|scene");
-  sub->add_option("--overlay", o.overlay,
-                  "Text on the pictures: full (time, force evaluations, banners), label (the lane only) or none "
-                  "(default: the scene's render.overlay, full)")
-      ->type_name("full|label|none");
-  sub->add_option("--overlay-cost", o.overlay_cost,
-                  "work: spring-pass equivalents per simulated s (docs/compare.md; the same on every run, so\n"
-                  "the same command gives the same bytes); cpu: measured CPU ms per simulated s beside them\n"
-                  "(differs from run to run; always in the printed table and --summary). Default: work")
-      ->type_name("work|cpu");
-  sub->add_option("--inset", o.inset,
-                  compare ? "energy: a small graph in each tile of the lane's total energy minus the reference's, E - Eref, on\n"
-                            "shared axes (E - E(0) with --vary)"
-                          : "energy: a small graph of the energy change E - E(0) over time in the picture")
-      ->capture_default_str()
-      ->type_name("energy|none");
-  sub->add_option("--antialias", o.antialias,
-                  std::string("Smooth edges by msaa (the scene's render.msaa samples, else 4), fxaa (one sample, edges\n"
-                              "smoothed on the CPU: cheaper on llvmpipe) or none. Default: the scene's render.antialias\n"
-                              "or render.msaa, else ") +
-                      (compare ? "fxaa" : "msaa"))
-      ->type_name("msaa|fxaa|none");
-}
 
 constexpr double kMinColorValue = 1e-30, kMaxColorValue = 1e30, kMinColorSpan = 1e-4;
 
@@ -71,7 +31,7 @@ ColorRange parse_color_range(const std::string& text) {
   return r;
 }
 
-PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene, const std::vector<LaneSpec>& lanes,
+PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene, const std::vector<Lane>& lanes,
                                  bool compare) {
   PictureLook look;
   const std::string color = o.color ? *o.color : !scene.render.color.empty() ? scene.render.color : compare ? "error" : "checker";
@@ -126,10 +86,10 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
 }
 
 void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene,
-                            const std::vector<LaneSpec>& lanes) {
+                            const std::vector<Lane>& lanes) {
   if (!look.reference || !look.reference_is_default) return;
   look.reference_tolerance = analysis::smooth_scene(model) ? analysis::kReferenceTolerance : 0.0;
-  LaneSpec& ref = *look.reference;
+  Lane& ref = *look.reference;
   const double limit = analysis::predicted_limit(analysis::estimate_stiffness(model), ref.kind, model.implicit);
   if (!(limit < ref.dt) || !(limit > 0.0)) return;
   // The smallest lane step divided into whole reference steps: the reference still lands

@@ -4,15 +4,13 @@
 // (--antialias).
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "frame_pipeline.h"
 #include "clip/common/lanes.h"
-#include "core/model.h"
+#include "core/model/model.h"
 #include "scene/scene_def.h"
 
 namespace clothsim::clip {
@@ -28,14 +26,11 @@ struct PictureOptions {
   std::optional<std::string> antialias;  // --antialias msaa|fxaa|none
 };
 
-// `compare`: colouring defaults to error (against the reference lane) when the scene says nothing.
-void add_picture_look_options(CLI::App* sub, PictureOptions& options, bool compare);
-
 // The options resolved against the scene, every bad value a UsageError naming the option.
 struct PictureLook {
   FieldKind color = FieldKind::None;
   std::optional<ColorRange> color_range;
-  std::optional<LaneSpec> reference;  // with color error, and in compare with inset energy
+  std::optional<Lane> reference;  // with color error, and in compare with inset energy
   bool reference_is_default = false;  // not from --reference: fit_reference_to_model() may shorten its step
   // > 0: the default reference of a smooth scene, the adaptive solve at this tolerance
   // (study/reference.h; fit_reference_to_model() sets it)
@@ -47,7 +42,7 @@ struct PictureLook {
   int samples = kDefaultMsaaSamples;  // MSAA samples (1: none)
   bool fxaa = false;  // edges smoothed on the CPU (render/fxaa.h)
 };
-PictureLook resolve_picture_look(const PictureOptions& options, const SceneDef& scene, const std::vector<LaneSpec>& lanes,
+PictureLook resolve_picture_look(const PictureOptions& options, const SceneDef& scene, const std::vector<Lane>& lanes,
                                  bool compare);
 
 // The default reference (RK4 at a quarter of the smallest lane step) where that step is above
@@ -57,7 +52,7 @@ PictureLook resolve_picture_look(const PictureOptions& options, const SceneDef& 
 // (RK4 at 1/120 s on stiff.yaml) and still lands where those lanes land. The reference's steps are then bounded as every run's (a UsageError naming
 // --reference past the bound). A --reference the user gave is left as given.
 void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene,
-                            const std::vector<LaneSpec>& lanes);
+                            const std::vector<Lane>& lanes);
 
 // --color-range "1e-6,1e-2": two finite numbers, 0 < LO < HI.
 ColorRange parse_color_range(const std::string& text);

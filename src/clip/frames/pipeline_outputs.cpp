@@ -5,7 +5,7 @@
 #include "grid_legend.h"
 #include "overlay_text.h"
 #include "render/color_bar.h"
-#include "video/contact_sheet.h"
+#include "render/video/contact_sheet.h"
 
 namespace clothsim::clip {
 
@@ -33,10 +33,10 @@ const Image& Composer::picture(const std::vector<LaneView>& lanes, Image& canvas
   return canvas;
 }
 
-std::vector<std::string> lane_tile_labels(const std::vector<LaneSpec>& lanes, const TileGrid& grid) {
+std::vector<std::string> lane_tile_labels(const std::vector<Lane>& lanes, const TileGrid& grid) {
   std::vector<std::string> labels;
   bool fit = true;
-  for (const LaneSpec& l : lanes) {
+  for (const Lane& l : lanes) {
     labels.push_back(l.label());
     fit = fit && label_fits(labels.back(), grid.cell_width(), grid.label_scale());
   }

@@ -9,9 +9,9 @@
 
 #include "frame_pipeline.h"
 #include "frame_sink.h"
-#include "clip/run/run_outputs.h"
+#include "clip/frames/run_outputs.h"
 #include "render/png_io.h"
-#include "video/tiling.h"
+#include "render/video/tiling.h"
 
 namespace clothsim::clip {
 
@@ -31,7 +31,7 @@ struct Composer {
 // tile at the grid's text size, every lane as --integrators spells it ("rk4@1e-4"), shorter
 // and the same form in every tile; the grid shortens with "..." what still does not fit, the
 // name and not the step ("sympl...@1e-4"), never two lanes alike (TileGrid::shown_labels).
-std::vector<std::string> lane_tile_labels(const std::vector<LaneSpec>& lanes, const TileGrid& grid);
+std::vector<std::string> lane_tile_labels(const std::vector<Lane>& lanes, const TileGrid& grid);
 
 // Clip frames of every lane's picture, composed, into a FrameSink (the MP4).
 std::unique_ptr<FrameOutput> make_video_output(std::unique_ptr<FrameSink> sink, std::string path, Composer composer);

@@ -10,8 +10,8 @@
 #include <optional>
 #include <string>
 
-#include "core/model.h"
-#include "core/simulation.h"
+#include "core/model/model.h"
+#include "core/run/simulation.h"
 
 namespace clothsim::clip {
 

@@ -20,7 +20,7 @@ class WaitClock {
 
 }  // namespace
 
-void ReferenceLanes::start(const Model& model, const TargetPlan& plan, const std::vector<LaneSpec>& lanes,
+void ReferenceLanes::start(const Model& model, const TargetPlan& plan, const std::vector<Lane>& lanes,
                            const std::vector<const Model*>& lane_models, const PipelineConfig& config,
                            const std::function<bool()>& interrupt) {
   // One run of the reference for the error and the energy inset when they name the same.
@@ -40,13 +40,13 @@ void ReferenceLanes::start(const Model& model, const TargetPlan& plan, const std
 // the reference hands over its positions at every lane's landing time (its own step's state
 // where it lands there, as the default's quarter step does, else interpolated between two),
 // so no lane's error holds a time offset times |v|.
-void ReferenceLanes::start_error(const Model& model, const TargetPlan& plan, const std::vector<LaneSpec>& lanes,
+void ReferenceLanes::start_error(const Model& model, const TargetPlan& plan, const std::vector<Lane>& lanes,
                                  const std::vector<const Model*>& lane_models, const PipelineConfig& config,
                                  const std::function<bool()>& interrupt) {
   of_.assign(lanes.size(), -1);
   if (config.color != FieldKind::Error) return;
   std::vector<double> steps;
-  for (const LaneSpec& lane : lanes) steps.push_back(lane.dt);
+  for (const Lane& lane : lanes) steps.push_back(lane.dt);
   const std::size_t queue = reference_queue_capacity(model.num_particles, steps);
   for (const VariantReference& v : config.variant_references) {
     LaneNeeds n;  // the positions at its value's lanes' times, nothing else

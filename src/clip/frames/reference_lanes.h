@@ -24,7 +24,7 @@ class ReferenceLanes {
  public:
   // Starts what `config` asks for (nothing without --color error or an energy inset's
   // reference). `lane_models`: per lane, the model it runs. `model` and `plan` outlive this.
-  void start(const Model& model, const TargetPlan& plan, const std::vector<LaneSpec>& lanes,
+  void start(const Model& model, const TargetPlan& plan, const std::vector<Lane>& lanes,
              const std::vector<const Model*>& lane_models, const PipelineConfig& config,
              const std::function<bool()>& interrupt);
   // Each live reference's frame at the next target, and the inset's energy samples up to it;
@@ -54,7 +54,7 @@ class ReferenceLanes {
     bool frozen = false;                     // diverged: it measures nothing from then on
     bool fresh = false;                      // handed over at this target
   };
-  void start_error(const Model& model, const TargetPlan& plan, const std::vector<LaneSpec>& lanes,
+  void start_error(const Model& model, const TargetPlan& plan, const std::vector<Lane>& lanes,
                    const std::vector<const Model*>& lane_models, const PipelineConfig& config,
                    const std::function<bool()>& interrupt);
   bool collect_energy(double& wait_seconds);

@@ -5,7 +5,7 @@
 
 #include "frame_sink.h"
 #include "clip/common/cli_common.h"
-#include "video/video_writer.h"
+#include "render/video/video_writer.h"
 
 namespace clothsim::clip {
 

@@ -10,7 +10,7 @@
 #include "clip/common/cli_common.h"
 #include "clip/common/lanes.h"
 #include "clip/common/memory_budget.h"
-#include "clip/common/run_budget.h"
+#include "clip/frames/run_budget.h"
 #include "clip/compare/compare_job.h"
 #include "clip/studies/study_common.h"
 #include "render/png_io.h"
@@ -208,7 +208,7 @@ void load_entries(const GoldenOptions& o, const GoldenManifest& manifest, std::v
     // The pictures `run --still` makes (the frame pipeline with one lane: the scene's camera,
     // colouring and overlay), and the peak memory of that run at the entry's size: entries run
     // one after another, so each is held to --max-memory on its own.
-    const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
+    const Lane lane{scene.integrator, scene.dt, step_string(scene.dt), false};
     looks.push_back(resolve_picture_look({}, scene, {lane}, /*compare=*/false));
     run_budget(scene, looks.back(), {/*rendering=*/true, e.width, e.height, /*video=*/false})
         .check(manifest.path + (e.line > 0 ? ":" + std::to_string(e.line) : "") + ": " + key + " (" + e.scene + ")",
@@ -273,7 +273,7 @@ LaneResult run_entry(const GoldenOptions& o, const GoldenManifest& manifest, std
                      GoldenWork& work, const std::vector<std::string>& not_written) {
   const GoldenEntry& e = manifest.entries[i];
   if (e.compare) return run_compare_entry(o, manifest, i, model, renderer, update, work);
-  const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
+  const Lane lane{scene.integrator, scene.dt, step_string(scene.dt), false};
   PictureLook look = entry_look;
   fit_reference_to_model(look, model, scene, {lane});  // as run does
   PipelineConfig config;

@@ -17,7 +17,7 @@
 #include "clip/golden/golden_report.h"
 #include "clip/studies/study_shard.h"
 #include "render/image_diff.h"
-#include "render/output_file.h"
+#include "io/output_file.h"
 #include "scene/scene_def.h"
 
 namespace clothsim::clip {

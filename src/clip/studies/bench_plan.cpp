@@ -6,7 +6,7 @@
 
 #include "clip/common/cli_common.h"
 #include "clip/common/memory_budget.h"
-#include "clip/compare/compare_plan.h"
+#include "clip/common/plan_parts.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 #include "scene/scene_parser.h"
@@ -15,8 +15,8 @@
 
 namespace clothsim::clip {
 
-std::vector<LaneSpec> bench_lanes(const BenchOptions& o, const SceneDef& scene) {
-  std::vector<LaneSpec> lanes =
+std::vector<Lane> bench_lanes(const BenchOptions& o, const SceneDef& scene) {
+  std::vector<Lane> lanes =
       parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
   follow_scene_solver(lanes, scene.implicit);  // --set implicit.solver=fixed_point: named as itself
   return lanes;
@@ -36,7 +36,7 @@ double default_duration(double scene_duration, const std::vector<double>& dts) {
   return whole * largest;
 }
 
-WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<LaneSpec>& lanes) {
+WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<Lane>& lanes) {
   std::vector<double> dts;
   if (!o.dts) {
     for (double f : kDefaultStepFactors) dts.push_back(f * scene.dt);
@@ -56,7 +56,7 @@ WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const
   if (o.reference_refinement < 1) throw UsageError("--reference-refinement: must be >= 1");
 
   WorkPrecisionSpec spec;
-  for (const LaneSpec& l : lanes) {
+  for (const Lane& l : lanes) {
     spec.integrators.push_back(l.kind);
     spec.lane_names.push_back(l.stepless_spelling());
   }
@@ -91,7 +91,7 @@ void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std:
   budget.check(scene.source, o.scene.max_memory);
 }
 
-std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes) {
+std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base, const std::vector<Lane>& lanes) {
   if (!o.summary.empty() || !o.shard.empty())
     throw UsageError("--vary: --summary and --shard take one scene's study; give --csv (and --plot) with --vary");
   const Variation v = parse_vary(o.vary, base);
@@ -106,7 +106,7 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
     } catch (const SceneError& e) {
       throw as_option_error(e, v.key, "--vary " + o.vary);
     }
-    for (const LaneSpec& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
+    for (const Lane& l : lanes) s.names.push_back(l.stepless_spelling() + " (" + s.label + ")");
     s.spec = plan_bench(o, s.scene, lanes);  // bad --dts or --duration before any run
     s.spec.lane_names = s.names;
     studies.push_back(std::move(s));
@@ -114,23 +114,23 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
   return studies;
 }
 
-Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes,
+Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vector<Lane>& lanes,
                         const WorkPrecisionSpec& spec) {
   scene.duration = std::max(scene.duration, spec.duration);
   std::vector<IntegratorKind> kinds;
-  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
+  for (const Lane& l : lanes) kinds.push_back(l.kind);
   check_bench_memory(o, scene, kinds);
   return build_model(scene);
 }
 
-void attach_lane_models(const Model& model, const std::vector<LaneSpec>& lanes,
+void attach_lane_models(const Model& model, const std::vector<Lane>& lanes,
                         std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec) {
   storage.assign(lanes.size(), std::nullopt);
   spec.lane_models.clear();
   for (std::size_t i = 0; i < lanes.size(); ++i) spec.lane_models.push_back(&clip::lane_model(model, lanes[i], storage[i]));
 }
 
-BenchModels::BenchModels(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes,
+BenchModels::BenchModels(const BenchOptions& o, SceneDef& scene, const std::vector<Lane>& lanes,
                          WorkPrecisionSpec plan)
     : model(build_bench_model(o, scene, lanes, plan)), spec(std::move(plan)) {
   attach_lane_models(model, lanes, lane_storage, spec);
@@ -151,8 +151,8 @@ ScalePlan plan_scale(const BenchOptions& o) {
     throw UsageError(std::string("--scale: ") + e.what());
   }
   const SceneDef& first = spec.sizes.front().scene;
-  auto lanes = std::make_shared<const std::vector<LaneSpec>>(parse_lanes(o.integrators, "", first.dt));
-  for (const LaneSpec& l : *lanes) spec.lanes.push_back({l.spelling(), l.kind, l.dt});
+  auto lanes = std::make_shared<const std::vector<Lane>>(parse_lanes(o.integrators, "", first.dt));
+  for (const Lane& l : *lanes) spec.lanes.push_back({l.spelling(), l.kind, l.dt});
   spec.lane_model = [lanes](const Model& base, std::size_t i, std::optional<Model>& storage) -> const Model& {
     return clip::lane_model(base, (*lanes)[i], storage);
   };
@@ -164,7 +164,7 @@ ScalePlan plan_scale(const BenchOptions& o) {
 
 void check_scale_memory(const BenchOptions& o, const ScalePlan& plan) {
   std::vector<IntegratorKind> kinds;
-  for (const LaneSpec& l : *plan.lanes) kinds.push_back(l.kind);
+  for (const Lane& l : *plan.lanes) kinds.push_back(l.kind);
   for (const analysis::ScaleScene& s : plan.spec.sizes) check_bench_memory(o, s.scene, kinds);
 }
 

@@ -39,36 +39,36 @@ inline constexpr double kDefaultStepFactors[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
 inline constexpr double kMaxDefaultDuration = 0.5;    // s
 inline constexpr double kMaxDefaultSmallSteps = 8000;  // T <= this x the smallest step
 
-// Lane spellings (LaneSpec::stepless_spelling), by point.lane: the CSV's and summary's names.
+// Lane spellings (Lane::stepless_spelling), by point.lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
 
 // The study's lanes, as the scene runs them (a fixed-point scene's implicit_euler named so); an
 // @STEP refused (bench sweeps the steps).
-std::vector<LaneSpec> bench_lanes(const BenchOptions& o, const SceneDef& scene);
+std::vector<Lane> bench_lanes(const BenchOptions& o, const SceneDef& scene);
 
 // T when --duration is not given: short enough for the reference, a multiple of every step.
 double default_duration(double scene_duration, const std::vector<double>& dts);
 
 // The study to run: steps (--dts or the scene's x kDefaultStepFactors), T, the frame steps.
-WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<LaneSpec>& lanes);
+WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<Lane>& lanes);
 
 // One Model, and a run on each of the pool's threads at once (the dearest integrator's).
 void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std::vector<IntegratorKind>& kinds);
 
 // The study's model: `scene` run to T at least (its duration is informational only), the runs'
 // memory checked against --max-memory, built.
-Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes,
+Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vector<Lane>& lanes,
                         const WorkPrecisionSpec& spec);
 
 // Each lane's model into spec.lane_models: `model` itself, or a copy with the lane's own solver
 // settings held in `storage` (keep both alive while the study runs).
-void attach_lane_models(const Model& model, const std::vector<LaneSpec>& lanes,
+void attach_lane_models(const Model& model, const std::vector<Lane>& lanes,
                         std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec);
 
 // A study's models, ready to run: the scene's (build_bench_model) and each lane's own
 // (attach_lane_models), spec.lane_models pointing into both; so neither copied nor moved.
 struct BenchModels {
-  BenchModels(const BenchOptions& o, SceneDef& scene, const std::vector<LaneSpec>& lanes, WorkPrecisionSpec plan);
+  BenchModels(const BenchOptions& o, SceneDef& scene, const std::vector<Lane>& lanes, WorkPrecisionSpec plan);
   BenchModels(const BenchModels&) = delete;
   BenchModels& operator=(const BenchModels&) = delete;
   const Model model;
@@ -88,7 +88,7 @@ struct ValueStudy {
   WorkPrecisionResult result;
 };
 
-std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes);
+std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base, const std::vector<Lane>& lanes);
 
 // --scale N1,N2,...: each lane (NAME@STEP, the scene's dt without) at each side N, the sheet's
 // size and total mass fixed, to T = --duration (default min(scene, kMaxScaleDuration)); no
@@ -96,7 +96,7 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
 inline constexpr double kMaxScaleDuration = 0.2;  // s
 struct ScalePlan {
   std::vector<int> sides;
-  std::shared_ptr<const std::vector<LaneSpec>> lanes;  // shared with spec.lane_model
+  std::shared_ptr<const std::vector<Lane>> lanes;  // shared with spec.lane_model
   analysis::ScaleSpec spec;
 };
 ScalePlan plan_scale(const BenchOptions& o);

@@ -12,7 +12,7 @@
 
 #include "clip/studies/converge_plan.h"
 #include "clip/studies/study_common.h"
-#include "core/model.h"
+#include "core/model/model.h"
 #include "study/convergence.h"
 #include "study/study.h"
 

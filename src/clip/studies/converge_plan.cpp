@@ -26,8 +26,8 @@ ConvergenceSpec plan_converge(const ConvergeOptions& o) {
   const std::optional<double> h = parse_number_or_fraction(o.dt);
   if (!h || !(*h > 0.0)) throw UsageError("--dt: " + in_quotes(o.dt) + " is not a step > 0 s (a number or 1/60)");
   spec.h = *h;
-  spec.states = parse_iteration_count(o.states, "--states");
-  spec.max_iterations = parse_iteration_count(o.max_iterations, "--max-iterations");
+  spec.states = parse_iteration_option(o.states, "--states");
+  spec.max_iterations = parse_iteration_option(o.max_iterations, "--max-iterations");
   spec.methods = parse_methods(o.integrators);
   return spec;
 }

@@ -5,7 +5,7 @@
 
 #include "clip/common/cli_common.h"
 #include "clip/common/memory_budget.h"
-#include "core/stiffness_estimate.h"
+#include "core/model/stiffness_estimate.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 #include "scene/param_keys.h"
@@ -77,8 +77,8 @@ void finish_stability_spec(const StabilityOptions& o, const SceneDef& base, doub
 }
 
 // The study's lanes, as the scene runs them (a fixed-point scene's implicit_euler named so).
-std::vector<LaneSpec> stability_lanes(const StabilityOptions& o, const SceneDef& base) {
-  std::vector<LaneSpec> lanes = parse_study_lanes(
+std::vector<Lane> stability_lanes(const StabilityOptions& o, const SceneDef& base) {
+  std::vector<Lane> lanes = parse_study_lanes(
       o.integrators, "stability searches the step, so a lane takes no @STEP (its :N stays fixed while the step is searched); drop it");
   follow_scene_solver(lanes, base.implicit);
   return lanes;
@@ -88,7 +88,7 @@ StabilityStudy plan_stability(const StabilityOptions& o, const SceneDef& base) {
   StabilityStudy study;
   study.lanes = stability_lanes(o, base);
   std::vector<IntegratorKind> kinds;
-  for (const LaneSpec& l : study.lanes) kinds.push_back(l.kind), study.names.push_back(l.stepless_spelling());
+  for (const Lane& l : study.lanes) kinds.push_back(l.kind), study.names.push_back(l.stepless_spelling());
 
   std::vector<analysis::SweepScene> scenes = sweep_cases(o, base, study.values);
 

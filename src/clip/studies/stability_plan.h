@@ -11,7 +11,7 @@
 #include "clip/common/lanes.h"
 #include "clip/common/scene_options.h"
 #include "clip/studies/study_common.h"
-#include "core/model.h"
+#include "core/model/model.h"
 #include "scene/scene_def.h"
 #include "study/parameter_sweep.h"
 #include "study/stability.h"
@@ -39,7 +39,7 @@ inline constexpr double kMaxDtOverSceneDt = 1000;  // the largest step tried, in
 inline constexpr double kMinStepsAtMaxDt = 50;     // and in steps per run
 inline constexpr double kMinDtDivisor = 32;        // the smallest step tried: estimate / this
 
-// Lane spellings (LaneSpec::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
+// Lane spellings (Lane::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
 
 // One swept value's model, and each lane's copy with its own solver settings (clip::lane_model).
@@ -51,7 +51,7 @@ struct StabilityCaseModels {
 
 // The whole study, planned: the lanes, the values and their models, the search's bounds.
 struct StabilityStudy {
-  std::vector<LaneSpec> lanes;
+  std::vector<Lane> lanes;
   LaneNames names;                          // per lane
   std::vector<double> values;               // per case
   std::vector<StabilityCaseModels> cases;   // per value, models built
@@ -79,6 +79,6 @@ void finish_stability_spec(const StabilityOptions& o, const SceneDef& base, doub
                            analysis::StabilitySpec& spec);
 
 // The study's lanes, as the scene runs them (a fixed-point scene's implicit_euler named so).
-std::vector<LaneSpec> stability_lanes(const StabilityOptions& o, const SceneDef& base);
+std::vector<Lane> stability_lanes(const StabilityOptions& o, const SceneDef& base);
 
 }  // namespace clothsim::clip

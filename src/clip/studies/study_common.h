@@ -12,7 +12,7 @@
 #include "clip/common/summary_json.h"
 #include "core/integrators/integrator_kind.h"
 #include "study/study.h"
-#include "study/tables/csv_cells.h"
+#include "io/csv_cells.h"
 
 namespace clothsim::clip {
 
@@ -26,9 +26,7 @@ inline constexpr const char* kDefaultFrameDts = "1/240,1/120,1/60,1/30";
 // --frame-dts: "none", or steps as numbers or fractions ("1/60"); a UsageError names the item.
 std::vector<double> parse_frame_dts(const std::string& text);
 
-// A CSV cell (study/tables/csv_cells.h: the Python module's tables spell theirs the same way).
-using analysis::csv_number;
-using analysis::csv_text;
+// A CSV cell is io/csv_cells.h's csv_number and csv_text (the Python module's tables spell theirs the same way).
 
 // bench's --summary keys beside its lanes: T, whether every run finished, and the reference
 // (its integrator and step, or "dopri5 (adaptive)" and 0; how far halving its step or

@@ -31,13 +31,6 @@ void check_existing(const std::string& dir, const analysis::Provenance& mine) {
 
 }  // namespace
 
-void add_shard_option(CLI::App* sub, std::string& shard) {
-  sub->add_option("--shard", shard,
-                  "Run part K of N of the study (K/N), or 'auto' from a Slurm array task; needs --csv F and "
-                  "writes F.shard-K-of-N/ for `clothsim merge` (docs/cluster.md)")
-      ->type_name("K/N|auto");
-}
-
 analysis::Shard parse_shard_option(const std::string& text) {
   try {
     return analysis::parse_shard(text, env_lookup);

@@ -5,7 +5,6 @@
 // requeued array task) finds the directory and runs only what it does not hold.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -16,8 +15,6 @@
 #include "study/shard.h"
 
 namespace clothsim::clip {
-
-void add_shard_option(CLI::App* sub, std::string& shard);
 
 // What a study tells its shard about itself.
 struct ShardPlan {

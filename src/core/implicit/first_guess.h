@@ -20,7 +20,7 @@
 
 #include <Eigen/Core>
 
-#include "core/state.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

@@ -14,9 +14,9 @@
 #include "core/linear/cholesky_preconditioner.h"
 #include "core/linear/conjugate_gradient.h"
 #include "core/linear/multigrid_preconditioner.h"
-#include "core/model.h"
-#include "core/state.h"
-#include "core/stiffness_estimate.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
+#include "core/model/stiffness_estimate.h"
 
 namespace clothsim {
 

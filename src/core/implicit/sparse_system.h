@@ -30,7 +30,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/model.h"
+#include "core/model/model.h"
 #include "core/linear/block_matrix.h"
 #include "core/springs/spring_force.h"
 

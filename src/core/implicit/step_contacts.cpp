@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "contact_kernels.h"
-#include "core/collisions.h"
+#include "core/model/collisions.h"
 
 namespace clothsim {
 namespace {

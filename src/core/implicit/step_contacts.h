@@ -31,8 +31,8 @@
 #include <vector>
 
 #include "core/linear/velocity_filter.h"
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

@@ -22,8 +22,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

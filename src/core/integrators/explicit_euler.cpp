@@ -3,7 +3,7 @@
 // First order. For x'' = -w^2 x its amplification factor is 1 + i w h, of modulus
 // sqrt(1 + (w h)^2) > 1: an undamped oscillator gains energy at every step size.
 #include "integrator.h"
-#include "core/forces.h"
+#include "core/model/forces.h"
 
 namespace clothsim {
 

@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "integrator.h"
-#include "core/forces.h"
-#include "core/contact/barrier_contacts.h"
+#include "core/model/forces.h"
+#include "core/model/barrier_contacts.h"
 #include "core/implicit/barrier_terms.h"
 #include "core/implicit/first_guess.h"
 #include "core/implicit/implicit_cache.h"

@@ -15,8 +15,8 @@ using StepFunction = StepStats (*)(const Model&, State&, const StepContext&, Wor
 struct Entry {
   IntegratorInfo info;
   StepFunction step;
-  int* (*iterations)(Model& model);  // the count `:N` sets, or null
-  double* (*tolerance)(Model& model);  // the residual tolerance `:tol=` sets, or null
+  int* (*iterations)(ImplicitDef& implicit, SolverDefs& solvers);  // the count `:N` sets, or null
+  double* (*tolerance)(ImplicitDef& implicit, SolverDefs& solvers);  // the residual tolerance `:tol=` sets, or null
 };
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -36,15 +36,15 @@ double backward_euler_limit(double w, double c, const ImplicitDef& implicit) {
   return analysis::fixed_point_limit(implicit.fixed_point_iterations, w, c);
 }
 
-int* no_iterations(Model&) { return nullptr; }
-int* newton_iterations(Model& m) { return &m.implicit.newton_max_iterations; }
-int* xpbd_iterations(Model& m) { return &m.solvers.xpbd.iterations; }
-int* pd_iterations(Model& m) { return &m.solvers.projective_dynamics.iterations; }
-int* vbd_iterations(Model& m) { return &m.solvers.vbd.iterations; }
-double* no_tolerance(Model&) { return nullptr; }
-double* xpbd_tolerance(Model& m) { return &m.solvers.xpbd.tolerance; }
-double* pd_tolerance(Model& m) { return &m.solvers.projective_dynamics.tolerance; }
-double* vbd_tolerance(Model& m) { return &m.solvers.vbd.tolerance; }
+int* no_iterations(ImplicitDef&, SolverDefs&) { return nullptr; }
+int* newton_iterations(ImplicitDef& i, SolverDefs&) { return &i.newton_max_iterations; }
+int* xpbd_iterations(ImplicitDef&, SolverDefs& s) { return &s.xpbd.iterations; }
+int* pd_iterations(ImplicitDef&, SolverDefs& s) { return &s.projective_dynamics.iterations; }
+int* vbd_iterations(ImplicitDef&, SolverDefs& s) { return &s.vbd.iterations; }
+double* no_tolerance(ImplicitDef&, SolverDefs&) { return nullptr; }
+double* xpbd_tolerance(ImplicitDef&, SolverDefs& s) { return &s.xpbd.tolerance; }
+double* pd_tolerance(ImplicitDef&, SolverDefs& s) { return &s.projective_dynamics.tolerance; }
+double* vbd_tolerance(ImplicitDef&, SolverDefs& s) { return &s.vbd.tolerance; }
 
 // In enum order, so an entry is found by the enum's value. The solvers' passes per iteration
 // are the work-unit weights measured on the drape's 25 x 25 sheet (BENCHMARKS.md).
@@ -126,14 +126,23 @@ std::string barrier_refusal(IntegratorKind kind) {
   return info.barrier_refusal.empty() ? "" : std::string(info.name) + " " + std::string(info.barrier_refusal);
 }
 
-int* iteration_count(Model& model, IntegratorKind kind) { return entry(kind).iterations(model); }
+int* iteration_count(ImplicitDef& implicit, SolverDefs& solvers, IntegratorKind kind) {
+  return entry(kind).iterations(implicit, solvers);
+}
+
+int* iteration_count(Model& model, IntegratorKind kind) { return iteration_count(model.implicit, model.solvers, kind); }
 
 int iteration_count(const Model& model, IntegratorKind kind) {
-  const int* n = entry(kind).iterations(const_cast<Model&>(model));  // only read
+  Model& m = const_cast<Model&>(model);  // only read
+  const int* n = entry(kind).iterations(m.implicit, m.solvers);
   return n ? *n : 0;
 }
 
-double* residual_tolerance(Model& model, IntegratorKind kind) { return entry(kind).tolerance(model); }
+double* residual_tolerance(ImplicitDef& implicit, SolverDefs& solvers, IntegratorKind kind) {
+  return entry(kind).tolerance(implicit, solvers);
+}
+
+double* residual_tolerance(Model& model, IntegratorKind kind) { return residual_tolerance(model.implicit, model.solvers, kind); }
 
 namespace analysis {
 double predicted_limit(const StiffnessEstimate& e, IntegratorKind kind, const ImplicitDef& implicit) {

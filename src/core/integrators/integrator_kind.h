@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "core/integrators/method_memory.h"
-#include "core/method_params.h"
-#include "core/model.h"
-#include "core/stiffness_estimate.h"
+#include "core/base/method_params.h"
+#include "core/model/model.h"
+#include "core/model/stiffness_estimate.h"
 
 namespace clothsim {
 
@@ -80,10 +80,13 @@ inline bool is_iterative_solver(IntegratorKind kind) {
 // The model's iteration count `:N` sets for `kind` (its Newton cap, or its solver block's
 // sweeps); null for the explicit family.
 int* iteration_count(Model& model, IntegratorKind kind);
+// The same in a scene's settings (a lane written into its scene: scene/lane.h).
+int* iteration_count(ImplicitDef& implicit, SolverDefs& solvers, IntegratorKind kind);
 int iteration_count(const Model& model, IntegratorKind kind);  // 0 for the explicit family
 // The residual tolerance `:tol=` sets in `model` (an iterative solver's; solvers/solver_cache.h's
 // ResidualStop), or null for a method without one.
 double* residual_tolerance(Model& model, IntegratorKind kind);
+double* residual_tolerance(ImplicitDef& implicit, SolverDefs& solvers, IntegratorKind kind);
 
 // Two methods have roles beyond their rows. Backward Euler is what the iterative solvers are
 // measured against (clothsim converge) and has the course's fixed-point spelling; RK4 is the

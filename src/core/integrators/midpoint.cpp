@@ -6,7 +6,7 @@
 // For x'' = -w^2 x the amplification factor is 1 + z + z^2/2 with z = i w h, of modulus
 // sqrt(1 + (w h)^4 / 4) > 1: undamped, it gains energy at every step size, only slowly.
 #include "integrator.h"
-#include "core/forces.h"
+#include "core/model/forces.h"
 
 namespace clothsim {
 

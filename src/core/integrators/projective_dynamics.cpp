@@ -15,7 +15,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "core/contact/barrier_contacts.h"
+#include "core/model/barrier_contacts.h"
 #include "core/solvers/solver_cache.h"
 
 namespace clothsim {

@@ -15,7 +15,7 @@
 // little more. For x'' = -w^2 x the amplification is 1 + z + z^2/2 + z^3/6 + z^4/24,
 // z = i w h: slightly dissipative for w h < 2 sqrt(2) ~ 2.83 and growing beyond.
 #include "integrator.h"
-#include "core/forces.h"
+#include "core/model/forces.h"
 
 namespace clothsim {
 

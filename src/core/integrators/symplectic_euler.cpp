@@ -4,7 +4,7 @@
 // for x'' = -w^2 x the step matrix has determinant 1, so energy stays bounded (oscillating
 // about its true value) as long as w h < 2, and the method blows up beyond.
 #include "integrator.h"
-#include "core/forces.h"
+#include "core/model/forces.h"
 
 namespace clothsim {
 

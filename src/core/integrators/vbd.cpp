@@ -12,8 +12,8 @@
 // step with a step filter (vbd_kernels.h); the residual stop then stays off (its residual is
 // Phi's gradient without the barrier), so a lane runs its :N sweeps.
 #include "integrator.h"
-#include "core/contact/barrier_contacts.h"
-#include "core/forces.h"
+#include "core/model/barrier_contacts.h"
+#include "core/model/forces.h"
 #include "core/solvers/solver_cache.h"
 #include "core/solvers/vbd_grid_kernels.h"
 

@@ -2,7 +2,7 @@
 // its predicted velocity for the dampers and its orders).
 #include "verlet.h"
 
-#include "core/forces.h"
+#include "core/model/forces.h"
 
 namespace clothsim {
 

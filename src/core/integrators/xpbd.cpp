@@ -16,7 +16,7 @@
 
 #include <stdexcept>
 
-#include "core/contact/barrier_contacts.h"
+#include "core/model/barrier_contacts.h"
 #include "core/solvers/solver_cache.h"
 #include "core/solvers/xpbd_family_kernels.h"
 #include "core/solvers/xpbd_kernels.h"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/collisions.h"
+#include "core/model/collisions.h"
 #include "core/implicit/step_contacts.h"
 
 namespace clothsim {

@@ -21,8 +21,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

@@ -13,7 +13,7 @@
 
 #include "spring_kernels.h"
 #include "spring_window-inl.h"  // the walk over the families: its window and helpers
-#include "core/body_terms.h"
+#include "core/base/body_terms.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace clothsim {

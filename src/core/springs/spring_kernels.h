@@ -28,7 +28,7 @@
 #include <Eigen/Core>
 
 #include "spring_layout.h"
-#include "core/body_terms.h"
+#include "core/base/body_terms.h"
 
 namespace clothsim {
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "study/tables/csv_cells.h"
+#include "io/csv_cells.h"
 #include "core/integrators/integrator_kind.h"
 
 namespace clothsim::analysis {

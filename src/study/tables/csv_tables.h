@@ -1,7 +1,7 @@
 // The columns of each study's CSV, said once: `bench --csv`, `stability --csv`, `converge --csv`
 // (and so `merge`) write these tables, and the Python module turns the same tables into its
 // DataFrames, so a column cannot be added to one front end and not the other.
-// A table is built from a study's result; cells are written as csv_cells.h spells them.
+// A table is built from a study's result; cells are written as io/csv_cells.h spells them.
 #pragma once
 
 #include <cstdint>

@@ -16,8 +16,8 @@
 #include "clip/frames/grid_legend.h"
 #include "cli/run_reports.h"
 #include "render/png_io.h"
-#include "video/contact_sheet.h"
-#include "video/mp4_probe.h"
+#include "render/video/contact_sheet.h"
+#include "render/video/mp4_probe.h"
 
 namespace fs = std::filesystem;
 using namespace clothsim;

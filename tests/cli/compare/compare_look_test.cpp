@@ -11,14 +11,14 @@
 #include "cli/cli_process.h"
 #include "clip/frames/grid_legend.h"
 #include "clip/frames/picture_options.h"
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 #include "render/colormap.h"
 #include "render/image_diff.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
 #include "scene/build_model.h"
 #include "scene/scene_parser.h"
-#include "video/tiling.h"
+#include "render/video/tiling.h"
 #include "view/snapshot.h"
 
 namespace fs = std::filesystem;

@@ -10,8 +10,8 @@
 #include "cli/cli_process.h"
 #include "png_header.h"
 #include "render/png_io.h"
-#include "video/mp4_probe.h"
-#include "video/tiling.h"
+#include "render/video/mp4_probe.h"
+#include "render/video/tiling.h"
 
 namespace fs = std::filesystem;
 using namespace clothsim;

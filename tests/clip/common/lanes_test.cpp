@@ -51,7 +51,7 @@ TEST(ParseLanes, CourseIsTheCoursesFourWithItsFixedPointImplicit) {
   EXPECT_EQ(lanes[1].name(), "implicit_euler (fixed point)");
   EXPECT_EQ(lanes[2].kind, IntegratorKind::Midpoint);
   EXPECT_EQ(lanes[3].kind, IntegratorKind::Rk4);
-  for (const LaneSpec& l : lanes) EXPECT_EQ(l.dt, 1e-4);
+  for (const Lane& l : lanes) EXPECT_EQ(l.dt, 1e-4);
   // Beside a Newton implicit_euler lane at the same step: two different lanes.
   EXPECT_EQ(parse_lanes("course,implicit_euler", "", 1e-4).size(), 5u);
 }
@@ -61,7 +61,7 @@ TEST(ParseLanes, EveryLaneIsSpeltAsIntegratorsTakesItBack) {
   for (const char* list : {"course", "rk4@1e-4,rk4@4e-4,implicit_euler@1/60", "course,implicit_euler,symplectic_euler@2e-4"}) {
     const auto lanes = parse_lanes(list, "", 1e-4);
     std::string spelt;
-    for (const LaneSpec& l : lanes) spelt += (spelt.empty() ? "" : ",") + l.spelling();
+    for (const Lane& l : lanes) spelt += (spelt.empty() ? "" : ",") + l.spelling();
     const auto again = parse_lanes(spelt, "", 1.0);  // every step given: the scene's dt unused
     ASSERT_EQ(again.size(), lanes.size()) << spelt;
     for (std::size_t i = 0; i < lanes.size(); ++i) {
@@ -71,7 +71,7 @@ TEST(ParseLanes, EveryLaneIsSpeltAsIntegratorsTakesItBack) {
       EXPECT_EQ(again[i].spelling(), lanes[i].spelling());
     }
   }
-  const LaneSpec fixed = parse_lanes("course", "", 1e-4)[1];
+  const Lane fixed = parse_lanes("course", "", 1e-4)[1];
   EXPECT_EQ(fixed.spelling(), "implicit_euler_fixed_point@0.0001");
   EXPECT_EQ(fixed.name(), "implicit_euler (fixed point)") << "tables and full labels keep the words";
   // Alone, at its own step or implicit_euler's --dt.
@@ -93,7 +93,7 @@ TEST(ParseLanes, TheLaneModelOfTheFixedPointLaneHasTheCoursesSettings) {
   Model base;
   base.implicit.solver = ImplicitSolver::Newton;
   std::optional<Model> storage;
-  const LaneSpec course = parse_lanes("course", "", 1e-4)[1];
+  const Lane course = parse_lanes("course", "", 1e-4)[1];
   const Model& m = lane_model(base, course, storage);
   EXPECT_EQ(m.implicit.solver, ImplicitSolver::FixedPoint);
   EXPECT_EQ(m.implicit.fixed_point_iterations, 1);
@@ -141,8 +141,8 @@ TEST(ParseLanes, ATolerancePicksTheResidualStopWithIterationsAsItsCap) {
 }
 
 TEST(ParseLanes, RefusesToleranceWhereThereIsNoResidualStopOrNoNumber) {
-  for (const char* bad : {"vbd:tol=0", "vbd:tol=1", "vbd:tol=x", "vbd:tol="})
-    EXPECT_NE(usage_error([&] { parse_lanes(bad, "", 1e-3); }).find("must be a number above 0 and below 1"),
+  for (const char* bad : {"vbd:tol=0", "vbd:tol=1", "vbd:tol=0.9", "vbd:tol=x", "vbd:tol="})
+    EXPECT_NE(usage_error([&] { parse_lanes(bad, "", 1e-3); }).find("must be a number above 0 and at most 0.5"),
               std::string::npos) << bad;
   EXPECT_NE(usage_error([] { parse_lanes("implicit_euler:tol=1e-4", "", 1e-3); }).find("no residual tolerance"),
             std::string::npos);
@@ -182,10 +182,10 @@ TEST(ParseLanes, RefusesBadItemsNamingTheOption) {
 
 TEST(ParseReference, DefaultsToRk4AtAQuarterOfTheSmallestStep) {
   const auto lanes = parse_lanes("explicit_euler@1e-4,implicit_euler@1/60", "", 1e-3);
-  const LaneSpec ref = parse_reference("", lanes);
+  const Lane ref = parse_reference("", lanes);
   EXPECT_EQ(ref.kind, IntegratorKind::Rk4);
   EXPECT_EQ(ref.dt, 2.5e-5);
-  const LaneSpec given = parse_reference("midpoint@1e-6", lanes);
+  const Lane given = parse_reference("midpoint@1e-6", lanes);
   EXPECT_EQ(given.kind, IntegratorKind::Midpoint);
   EXPECT_EQ(given.dt, 1e-6);
   EXPECT_EQ(parse_reference("symplectic_euler", lanes).dt, 2.5e-5);
@@ -195,9 +195,9 @@ TEST(ParseReference, DefaultsToRk4AtAQuarterOfTheSmallestStep) {
 }
 
 TEST(ParseStudyLanes, TakesCompareLanesWithoutStepsAndSpellsThemWithout) {
-  const std::vector<LaneSpec> lanes = parse_study_lanes("course,xpbd:10,implicit_euler:1", "no step");
+  const std::vector<Lane> lanes = parse_study_lanes("course,xpbd:10,implicit_euler:1", "no step");
   std::vector<std::string> spelt;
-  for (const LaneSpec& l : lanes) spelt.push_back(l.stepless_spelling());
+  for (const Lane& l : lanes) spelt.push_back(l.stepless_spelling());
   EXPECT_EQ(spelt, (std::vector<std::string>{"explicit_euler", "implicit_euler_fixed_point", "midpoint", "rk4",
                                              "xpbd:10", "implicit_euler:1"}));
   EXPECT_EQ(usage_error([] { parse_study_lanes("rk4@1e-3", "no step"); }), "--integrators: 'rk4@1e-3': no step");

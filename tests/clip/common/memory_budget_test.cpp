@@ -124,22 +124,6 @@ TEST(CmdCompare, AHugePictureIsRefusedWithTheEncodersShare) {
   EXPECT_NE(r.err.find("encoder 7.27 GB"), std::string::npos) << r.err;
 }
 
-TEST(ReferencePositionsBytes, CountTheFramesALargeLaneStepKeepsWaitingOneCopyPerDistinctStep) {
-  // A 512 x 512 drape, a clip of 0.5 s at 30 frames/s: 16 targets. Lanes at 1e-4 s keep a
-  // target or two waiting; a lane of 20 s keeps all of them (each frame's positions for the
-  // lanes of 1e-4 s wait for its landing at 20 s). Two copies of the reference's state, one
-  // copy of the positions (24 B per particle) per distinct step, per target waiting and per
-  // frame of the worker's queue (4), the one being pushed and the pipeline's.
-  const SceneDef scene = load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", {"cloth.particles=[512,512]"});
-  const clip::TargetPlan clip(0.5, 30.0, true, {});
-  const double copy = 24.0 * 512 * 512;
-  const double small = clip::reference_positions_bytes(scene, {1e-4, 1e-4, 1e-4}, clip, 4);
-  EXPECT_DOUBLE_EQ(small, copy * (4 + (2 + 4 + 2) * 1)) << "one distinct step, two targets waiting";
-  const double large = clip::reference_positions_bytes(scene, {20.0, 1e-4}, clip, 4);
-  EXPECT_DOUBLE_EQ(large, copy * (4 + (16 + 4 + 2) * 2)) << "every target waiting, two distinct steps";
-  EXPECT_GT(large, 250e6) << "the positions that were not counted: 288 MB (MiB) here";
-}
-
 TEST(CmdCompare, TheEstimateNamesThePositionsTheReferenceHoldsForTheLanes) {
   const CliResult r = run_clothsim({"compare", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--set",
                                     "cloth.particles=[512,512]", "--integrators", "rk4@20,symplectic_euler",

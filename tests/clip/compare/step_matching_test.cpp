@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "clip/common/cli_common.h"
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 #include "test_support.h"
 
 using namespace clothsim;
@@ -40,20 +40,32 @@ TEST(StepMatching, ParsesCostErrorAndNoneAndRefusesTheRest) {
   EXPECT_THROW(parse_match({"speed"}), UsageError);
 }
 
+// Free: the lanes given no step of their own, by @STEP or --dt (where the step came from is a
+// field of the lane, set as it is parsed, not found by parsing again).
+std::vector<bool> free_lanes(const std::string& integrators, const std::string& dt, double scene_dt) {
+  std::vector<bool> free;
+  for (const Lane& l : parse_lanes(integrators, dt, scene_dt)) free.push_back(l.free_step());
+  return free;
+}
+
 TEST(StepMatching, OnlyLanesWithoutAStepOfTheirOwnAreFree) {
   EXPECT_EQ(free_lanes("rk4,midpoint@2e-4,explicit_euler", "", 1e-4), (std::vector<bool>{true, false, true}));
   EXPECT_EQ(free_lanes("rk4,midpoint", "rk4=1e-3", 1e-4), (std::vector<bool>{false, true}));
   EXPECT_EQ(free_lanes("course", "", 1e-4), (std::vector<bool>{true, true, true, true}));
+  EXPECT_EQ(free_lanes("rk4", "1e-4", 1e-4), (std::vector<bool>{false})) << "--dt equal to the scene's is still given";
 }
 
 TEST(StepMatching, ExplicitLanesMatchTheCheapestByTheirEvaluationsPerStep) {
   const Model model = clothsim::testing::model_from_yaml(kSheet);
-  std::vector<LaneSpec> lanes = parse_lanes("symplectic_euler,midpoint,rk4,rk4@2e-3", "", 1e-3);
-  const auto how = match_steps(model, lanes, {true, true, true, false}, {MatchKind::Cost, 0.0}, kClip, lanes[0]);
+  std::vector<Lane> lanes = parse_lanes("symplectic_euler,midpoint,rk4,rk4@2e-3", "", 1e-3);
+  const auto how = match_steps(model, lanes, {MatchKind::Cost, 0.0}, kClip, lanes[0]);
   EXPECT_DOUBLE_EQ(lanes[0].dt, 1e-3);
   EXPECT_NEAR(lanes[1].dt, 2e-3, 1e-15);
   EXPECT_NEAR(lanes[2].dt, 4e-3, 1e-15);
   EXPECT_DOUBLE_EQ(lanes[3].dt, 2e-3) << "a lane with its own @STEP keeps it";
+  EXPECT_EQ(lanes[0].step_from, StepFrom::Scene) << "the cheapest keeps the scene's step";
+  EXPECT_EQ(lanes[2].step_from, StepFrom::MatchedCost);
+  EXPECT_EQ(lanes[3].step_from, StepFrom::Written);
   EXPECT_NE(how[0].find("cheapest"), std::string::npos) << how[0];
   EXPECT_NE(how[2].find("matched on cost"), std::string::npos) << how[2];
   EXPECT_EQ(how[3], "your step");
@@ -61,8 +73,8 @@ TEST(StepMatching, ExplicitLanesMatchTheCheapestByTheirEvaluationsPerStep) {
 
 TEST(StepMatching, AnImplicitLaneIsMatchedByPilotsToWithinTheirTolerance) {
   const Model model = clothsim::testing::model_from_yaml(kSheet);
-  std::vector<LaneSpec> lanes = parse_lanes("symplectic_euler,implicit_euler", "", 1e-3);
-  const auto how = match_steps(model, lanes, {true, true}, {MatchKind::Cost, 0.0}, kClip, lanes[0]);
+  std::vector<Lane> lanes = parse_lanes("symplectic_euler,implicit_euler", "", 1e-3);
+  const auto how = match_steps(model, lanes, {MatchKind::Cost, 0.0}, kClip, lanes[0]);
   EXPECT_GT(lanes[1].dt, 1e-3) << "implicit Euler's steps cost more than one pass: it takes longer ones";
   // The pilots ran over the clip's first 0.3 s: at the step chosen that costs about what the
   // symplectic lane does (Newton's iteration counts jump with the step, so not to the search's
@@ -75,11 +87,12 @@ TEST(StepMatching, AnImplicitLaneIsMatchedByPilotsToWithinTheirTolerance) {
 
 TEST(StepMatching, ErrorMatchingTakesTheLargestStepWithinTheTolerance) {
   const Model model = clothsim::testing::model_from_yaml(kSheet);
-  std::vector<LaneSpec> lanes = parse_lanes("symplectic_euler", "", 1e-3);
-  const LaneSpec reference = parse_reference("rk4@1e-4", lanes);
+  std::vector<Lane> lanes = parse_lanes("symplectic_euler", "", 1e-3);
+  const Lane reference = parse_reference("rk4@1e-4", lanes);
   const double tol = 1e-3;
-  const auto how = match_steps(model, lanes, {true}, {MatchKind::Error, tol}, kClip, reference);
+  const auto how = match_steps(model, lanes, {MatchKind::Error, tol}, kClip, reference);
   ASSERT_NE(how[0].find("matched on error"), std::string::npos) << how[0];
+  EXPECT_EQ(lanes[0].step_from, StepFrom::MatchedError);
   const long k = std::lround(1.0 / (30.0 * lanes[0].dt));
   ASSERT_GE(k, 1);
   // Within tolerance at that step, and not at the next larger one of the form 1 / (30 k).

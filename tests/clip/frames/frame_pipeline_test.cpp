@@ -10,8 +10,8 @@
 
 #include "cli/cli_process.h"
 #include "clip/frames/pipeline_outputs.h"
-#include "core/stiffness_estimate.h"
-#include "core/work_units.h"
+#include "core/model/stiffness_estimate.h"
+#include "core/run/work_units.h"
 #include "render/png_io.h"
 #include "test_support.h"
 
@@ -21,7 +21,7 @@ using namespace clothsim::clip;
 TEST(LaneOverlay, IsDeterministicUnlessCpuIsAskedForAndFollowsTheMode) {
   Model model;
   model.name = "drape";
-  const LaneSpec lane{IntegratorKind::Rk4, 1e-4, "1e-4"};
+  const Lane lane{IntegratorKind::Rk4, 1e-4, "1e-4"};
   LaneFrame f;
   f.t = 0.5;
   f.totals.force_evals = 20000;
@@ -153,8 +153,8 @@ DivergedRun run_diverging_pair(OverlayMode overlay, const std::string& sheet = "
   c.samples = 1;
   c.scene_render = scene.render;
   Renderer renderer;
-  const std::vector<LaneSpec> lanes{LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"},
-                                    LaneSpec{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}};
+  const std::vector<Lane> lanes{Lane{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"},
+                                    Lane{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}};
   FramePipeline pipeline(model, plan, lanes, c, &renderer);
   auto keep = std::make_unique<KeepLane>(1);
   KeepLane* kept = keep.get();

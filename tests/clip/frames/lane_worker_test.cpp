@@ -7,7 +7,7 @@
 #include <atomic>
 #include <thread>
 
-#include "clip/compare/reference_history.h"
+#include "clip/reference/reference_history.h"
 #include "test_support.h"
 #include "view/snapshot.h"
 
@@ -34,7 +34,7 @@ LaneNeeds picture_and_metrics() {
 TEST(LaneWorker, HandsOverOneFramePerTargetInOrder) {
   const Model model = clothsim::testing::model_from_yaml(kSheet);
   const auto targets = frames(5, 20.0);
-  LaneWorker worker(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, picture_and_metrics());
+  LaneWorker worker(model, Lane{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, picture_and_metrics());
   LaneFrame f;
   for (int k = 0; k < 5; ++k) {
     ASSERT_TRUE(worker.next(f)) << k;
@@ -60,7 +60,7 @@ TEST(LaneWorker, ComputesOnlyWhatIsNeeded) {
   LaneNeeds needs;
   needs.positions = true;
   needs.field = FieldKind::Strain;
-  LaneWorker worker(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, needs);
+  LaneWorker worker(model, Lane{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, needs);
   LaneFrame f;
   ASSERT_TRUE(worker.next(f));
   ASSERT_TRUE(worker.next(f));
@@ -73,7 +73,7 @@ TEST(LaneWorker, ComputesOnlyWhatIsNeeded) {
 TEST(LaneWorker, FreezesOnTheLastFiniteStateAtTheStepItDiverged) {
   const Model model = clothsim::testing::model_from_yaml(kSheet);
   const auto targets = frames(30, 20.0);
-  LaneWorker worker(model, LaneSpec{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}, targets, picture_and_metrics());
+  LaneWorker worker(model, Lane{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}, targets, picture_and_metrics());
   LaneFrame f, previous;
   int handed = 0;
   while (worker.next(f)) {
@@ -106,7 +106,7 @@ TEST(LaneWorker, ATileLaneFreezesOnTheLastTargetsStateOrTheStartBeforeAny) {
   LaneNeeds needs = picture_and_metrics();
   needs.hold_sane = true;
   const auto targets = frames(30, 20.0);
-  LaneWorker worker(model, LaneSpec{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}, targets, needs);
+  LaneWorker worker(model, Lane{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}, targets, needs);
   LaneFrame f, previous;
   while (worker.next(f) && !f.frozen) previous = f;
   ASSERT_TRUE(f.frozen && f.divergence);
@@ -117,7 +117,7 @@ TEST(LaneWorker, ATileLaneFreezesOnTheLastTargetsStateOrTheStartBeforeAny) {
   EXPECT_GT(f.metrics.step, previous.step) << "the metrics are the state it stopped in, as run --metrics'";
   // A still after the divergence, the lane's only target: the start is its last sane state.
   const TargetPlan late(0.5, 20.0, false, {0.5});
-  LaneWorker alone(model, LaneSpec{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}, late, needs);
+  LaneWorker alone(model, Lane{IntegratorKind::ExplicitEuler, 1e-2, "1e-2"}, late, needs);
   ASSERT_TRUE(alone.next(f));
   ASSERT_TRUE(f.frozen);
   EXPECT_EQ(f.step, 0);
@@ -140,7 +140,7 @@ TEST(LaneWorker, TheReferenceRunsAsFarAsALiveLaneOfALargeStepStands) {
   // there: the reference goes to 2 s (the clip's end plus the largest live step bounds it).
   const Model model = clothsim::testing::model_from_yaml(kSheet);
   const auto targets = frames(16, 30.0);
-  LaneWorker reference(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, standing_for({2.0, 1e-2}));
+  LaneWorker reference(model, Lane{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, standing_for({2.0, 1e-2}));
   LaneFrame f;
   int handed = 0;
   while (reference.next(f)) {
@@ -175,7 +175,7 @@ DroppedReference reference_dropping(const Model& model, std::vector<double> step
     }
     return false;
   };
-  LaneWorker reference(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets,
+  LaneWorker reference(model, Lane{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets,
                        standing_for(std::move(steps)), kLaneQueueCapacity, poll);
   self = &reference;
   constructed = true;
@@ -249,7 +249,7 @@ TEST(LaneWorker, AReferenceStartedBeforeTheStepsServesWhatOneGivenThemServes) {
   // steps at its start serves, and takes the same steps of its own.
   const Model model = clothsim::testing::model_from_yaml(kSheet);
   const auto targets = frames(16, 30.0);
-  const LaneSpec spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
+  const Lane spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
   const std::vector<double> steps{1e-3, 7.5e-3, 0.1};
   LaneWorker given(model, spec, targets, standing_for(steps));
   const std::vector<LaneFrame> expected = all_frames(given);
@@ -297,7 +297,7 @@ TEST(LaneWorker, AReferenceNotYetGivenTheStepsStopsAtItsLastKeptStateAndOnStop) 
     if (std::this_thread::get_id() != consumer) ++polls;
     return false;
   };
-  LaneWorker early(model, LaneSpec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, steps_later(),
+  LaneWorker early(model, Lane{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, steps_later(),
                    kLaneQueueCapacity, count);
   while (polls < last_kept) std::this_thread::yield();
   early.stop();
@@ -338,7 +338,7 @@ TEST(LaneWorker, TheErrorsReferenceSamplesTheInsetsEnergyAsARunOfItsOwnDoes) {
   // samples, to the bit, as the lane gives, with a clip's frames, or with a sheet's columns and
   // a still only (samples between targets); started before the steps too.
   const Model model = clothsim::testing::model_from_yaml(kSheet);
-  const LaneSpec spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
+  const Lane spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
   const double every = 1.0 / 30.0;
   for (const TargetPlan& plan : {TargetPlan(0.5, 30.0, true, {0.21}, 0.37), TargetPlan(0.5, 30.0, false, {0.1, 0.33}, 0.45)}) {
     LaneNeeds lane;

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "scene/lane.h"  // integrator_label
+
 namespace clothsim::clip {
 namespace {
 

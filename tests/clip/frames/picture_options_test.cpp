@@ -10,7 +10,7 @@ using namespace clothsim::clip;
 using clothsim::testing::usage_error;
 
 namespace {
-const std::vector<LaneSpec> kLanes{LaneSpec{IntegratorKind::Rk4, 1e-4, "1e-4"}};
+const std::vector<Lane> kLanes{Lane{IntegratorKind::Rk4, 1e-4, "1e-4"}};
 }
 
 TEST(PictureOptions, CompareColoursByErrorByDefaultAndRunByTheChecker) {

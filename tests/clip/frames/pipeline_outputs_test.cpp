@@ -8,7 +8,7 @@ using namespace clothsim::clip;
 
 namespace {
 
-std::vector<LaneSpec> course_lanes() {
+std::vector<Lane> course_lanes() {
   return parse_lanes("course", "", 1e-4);  // explicit Euler, the fixed point, midpoint, RK4
 }
 
@@ -42,12 +42,12 @@ TEST(LaneTileLabels, SpellEveryLaneAsIntegratorsDoesWhereOneDoesNotFit) {
 TEST(LaneTileLabels, LanesDifferingOnlyInTheirStepOrNameEndShowDistinctLabelsThatFitAtEveryWidth) {
   // Shortened with the step cut first, two symplectic lanes read "symplectic_e..." in both tiles
   // of a 200x120 compare; the course's fixed point lost its step at 320x180.
-  const std::vector<std::vector<LaneSpec>> cases{
+  const std::vector<std::vector<Lane>> cases{
       parse_lanes("symplectic_euler@1e-4,symplectic_euler@2e-4,implicit_euler@1/60,midpoint", "", 1e-4),
       parse_lanes("rk4@1e-4,rk4@4e-4,rk4@1/600", "", 1e-3),
       parse_lanes("course,implicit_euler", "", 1e-4),  // the same step, names with one start
   };
-  for (const std::vector<LaneSpec>& lanes : cases)
+  for (const std::vector<Lane>& lanes : cases)
     for (const char* layout : {"auto", "Nx1"})
       for (int width : {200, 240, 320, 400, 640, 1280}) {
         const int n = static_cast<int>(lanes.size());

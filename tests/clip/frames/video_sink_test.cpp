@@ -7,7 +7,7 @@
 #include "clip/common/cli_common.h"
 #include "clip/frames/frame_sink.h"
 #include "render/synthetic_frames.h"
-#include "video/mp4_probe.h"
+#include "render/video/mp4_probe.h"
 
 namespace fs = std::filesystem;
 using namespace clothsim;

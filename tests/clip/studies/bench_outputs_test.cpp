@@ -10,7 +10,7 @@
 #include "cli/cli_process.h"
 #include "clip/studies/csv_rows.h"
 #include "clip/common/cli_common.h"
-#include "clip/studies/study_merge.h"
+#include "clip/merge/study_merge.h"
 #include "clip/studies/study_shard.h"
 #include "core/integrators/integrator_kind.h"
 #include "scene/scene_parser.h"
@@ -47,7 +47,7 @@ TEST(BenchShard, JournalsTheWholeStudysRowsAndARerunRunsNothing) {
   BenchOptions o = small_bench();
   SceneDef scene = load_scene(o.scene.path, {});
   scene.duration = *o.scene.duration;
-  const std::vector<LaneSpec> lanes = bench_lanes(o, scene);
+  const std::vector<Lane> lanes = bench_lanes(o, scene);
   const BenchModels models(o, scene, lanes, plan_bench(o, scene, lanes));
   const WorkPrecisionResult whole = analysis::work_precision(models.model, models.spec, {});
   const std::string whole_csv = written_text([&](std::FILE* f) { write_bench_csv(f, whole, models.spec.lane_names); });

@@ -36,7 +36,7 @@ TEST(DefaultDuration, RefusesAStepLongerThanTheCapNamingDts) {
 TEST(PlanBench, WithOnlyASceneSweepsSixStepsAroundItsDtToTheDefaultT) {
   const BenchOptions o = options_for("spring.yaml");
   const SceneDef scene = load_scene(o.scene.path, {});
-  const std::vector<LaneSpec> lanes = bench_lanes(o, scene);
+  const std::vector<Lane> lanes = bench_lanes(o, scene);
   const WorkPrecisionSpec spec = plan_bench(o, scene, lanes);
   ASSERT_EQ(spec.dts.size(), std::size(kDefaultStepFactors));
   for (std::size_t i = 0; i < spec.dts.size(); ++i) EXPECT_DOUBLE_EQ(spec.dts[i], kDefaultStepFactors[i] * scene.dt);
@@ -73,7 +73,7 @@ TEST(AttachLaneModels, GivesALaneWithItsOwnIterationsItsOwnModel) {
   BenchOptions o = options_for("spring.yaml");
   o.integrators = "rk4,vbd:3";
   SceneDef scene = load_scene(o.scene.path, {});
-  const std::vector<LaneSpec> lanes = bench_lanes(o, scene);
+  const std::vector<Lane> lanes = bench_lanes(o, scene);
   WorkPrecisionSpec spec = plan_bench(o, scene, lanes);
   const Model model = build_bench_model(o, scene, lanes, spec);
   EXPECT_GE(scene.duration, spec.duration) << "the scene runs to T at least";

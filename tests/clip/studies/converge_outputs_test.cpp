@@ -8,7 +8,7 @@
 
 #include "cli/cli_process.h"
 #include "clip/studies/csv_rows.h"
-#include "clip/studies/study_merge.h"
+#include "clip/merge/study_merge.h"
 #include "clip/studies/study_shard.h"
 #include "core/integrators/integrator_kind.h"
 #include "scene/build_model.h"

@@ -10,7 +10,7 @@
 #include "cli/cli_process.h"
 #include "clip/studies/csv_rows.h"
 #include "clip/common/cli_common.h"
-#include "clip/studies/study_merge.h"
+#include "clip/merge/study_merge.h"
 #include "clip/studies/study_shard.h"
 #include "core/integrators/integrator_kind.h"
 #include "scene/scene_parser.h"

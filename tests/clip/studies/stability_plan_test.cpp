@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "clip/common/cli_common.h"
-#include "core/stiffness_estimate.h"
+#include "core/model/stiffness_estimate.h"
 #include "scene/scene_parser.h"
 #include "test_support.h"
 

@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "core/state.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 namespace {

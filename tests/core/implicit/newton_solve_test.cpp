@@ -13,7 +13,7 @@
 
 #include "test_support.h"
 #include "core/implicit/newton_solve.h"
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 #include "scene/build_model.h"
 
 namespace clothsim::testing {

@@ -17,8 +17,8 @@
 #include "core/implicit/sparse_system.h"
 #include "core/implicit/step_potential.h"
 #include "core/kernel_test_support.h"
-#include "core/simulation.h"
-#include "core/state.h"
+#include "core/run/simulation.h"
+#include "core/model/state.h"
 #include "scene/build_model.h"
 
 namespace clothsim {

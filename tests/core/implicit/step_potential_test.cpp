@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "test_support.h"
-#include "core/state.h"
+#include "core/model/state.h"
 
 namespace clothsim::testing {
 namespace {

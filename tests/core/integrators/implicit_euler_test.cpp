@@ -12,7 +12,7 @@
 #include <limits>
 
 #include "test_support.h"
-#include "core/forces.h"
+#include "core/model/forces.h"
 #include "core/implicit/step_potential.h"
 #include "core/integrators/oscillator.h"
 #include "core/integrators/whole_state.h"

@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "core/diagnostics.h"
-#include "core/model.h"
-#include "core/simulation.h"
+#include "core/model/diagnostics.h"
+#include "core/model/model.h"
+#include "core/run/simulation.h"
 #include "scene/build_model.h"
 #include "scene/scene_parser.h"
 

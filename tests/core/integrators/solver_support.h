@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/integrators/integrator.h"
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 #include "test_support.h"
 
 namespace clothsim::testing {

@@ -11,7 +11,7 @@
 #include "core/integrators/oscillator.h"
 #include "core/integrators/verlet.h"
 #include "core/integrators/whole_state.h"
-#include "core/stiffness_estimate.h"
+#include "core/model/stiffness_estimate.h"
 
 namespace clothsim::testing {
 namespace {

@@ -15,8 +15,8 @@
 #include <cmath>
 #include <string>
 
-#include "core/model.h"
-#include "core/simulation.h"
+#include "core/model/model.h"
+#include "core/run/simulation.h"
 #include "scene/build_model.h"
 #include "scene/scene_parser.h"
 

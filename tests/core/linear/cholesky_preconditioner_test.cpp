@@ -21,7 +21,7 @@
 #include "core/implicit/step_potential.h"
 #include "core/kernel_test_support.h"
 #include "core/linear/conjugate_gradient.h"
-#include "core/state.h"
+#include "core/model/state.h"
 #include "scene/build_model.h"
 
 namespace clothsim::testing {

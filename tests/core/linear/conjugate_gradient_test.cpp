@@ -10,7 +10,7 @@
 #include "test_support.h"
 #include "core/implicit/sparse_system.h"
 #include "core/implicit/step_potential.h"
-#include "core/state.h"
+#include "core/model/state.h"
 
 namespace clothsim::testing {
 namespace {

@@ -13,7 +13,7 @@
 #include "core/implicit/sparse_system.h"
 #include "core/implicit/step_potential.h"
 #include "core/linear/conjugate_gradient.h"
-#include "core/state.h"
+#include "core/model/state.h"
 
 namespace clothsim::testing {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "core/integrators/integrator.h"
 #include "core/solvers/solver_cache.h"
-#include "core/state.h"
+#include "core/model/state.h"
 #include "test_support.h"
 
 namespace clothsim::testing {

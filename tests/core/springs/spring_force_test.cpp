@@ -9,7 +9,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/forces.h"
+#include "core/model/forces.h"
 
 namespace clothsim {
 namespace {

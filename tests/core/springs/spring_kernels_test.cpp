@@ -14,11 +14,11 @@
 #include <vector>
 
 #include "test_support.h"
-#include "core/forces.h"
+#include "core/model/forces.h"
 #include "core/kernel_test_support.h"
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 #include "core/springs/spring_force.h"
-#include "core/state.h"
+#include "core/model/state.h"
 #include "scene/build_model.h"
 
 namespace clothsim {

@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "cli/common/commands.h"
+#include "cli/common/options.h"
 #include "clip/common/cli_common.h"
 #include "clip/common/gl_options.h"
 #include "clip/common/progress.h"
@@ -50,7 +51,7 @@
 #include "clip/frames/export_output.h"
 #include "clip/frames/frame_pipeline.h"
 #include "clip/frames/picture_options.h"
-#include "video/tiling.h"
+#include "render/video/tiling.h"
 
 namespace clothsim::cli {
 

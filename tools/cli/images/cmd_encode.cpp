@@ -22,10 +22,11 @@
 
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/options.h"
 #include "clip/common/memory_budget.h"
 #include "render/png_io.h"
-#include "video/tiling.h"
-#include "video/video_writer.h"
+#include "render/video/tiling.h"
+#include "render/video/video_writer.h"
 
 namespace clothsim::cli {
 

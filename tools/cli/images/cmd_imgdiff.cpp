@@ -8,6 +8,7 @@
 
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/options.h"
 #include "clip/common/memory_budget.h"
 #include "render/image_diff.h"
 #include "render/png_io.h"

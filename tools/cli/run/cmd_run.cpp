@@ -11,13 +11,14 @@
 #include <string>
 #include <vector>
 
-#include "clip/run/run_outputs.h"
+#include "clip/frames/run_outputs.h"
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/options.h"
 #include "clip/common/gl_options.h"
 #include "clip/common/lanes.h"
 #include "clip/common/memory_budget.h"
-#include "clip/common/run_budget.h"
+#include "clip/frames/run_budget.h"
 #include "clip/common/scene_options.h"
 #include "clip/common/summary_json.h"
 #include "clip/frames/frame_pipeline.h"
@@ -25,7 +26,7 @@
 #include "clip/frames/frame_sink.h"
 #include "clip/frames/picture_options.h"
 #include "clip/frames/pipeline_outputs.h"
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
 #include "scene/build_model.h"
@@ -60,7 +61,7 @@ void check_run_usage(const RunOptions& o, const SceneDef& scene) {
   if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
   if (!o.iterations.empty()) {  // checked on a scratch model: the real one is built later
     Model probe;
-    set_iterations(probe, scene.integrator, false, parse_iteration_count(o.iterations, "--iterations"),
+    set_iterations(probe, scene.integrator, false, parse_iteration_option(o.iterations, "--iterations"),
                    "--iterations");
   }
 }
@@ -87,7 +88,7 @@ std::vector<ExportPath> check_run_outputs(const RunOptions& o, int spheres) {
 Model run_model(const RunOptions& o, const SceneDef& scene) {
   Model model = build_model(scene);
   if (!o.iterations.empty())
-    set_iterations(model, scene.integrator, false, parse_iteration_count(o.iterations, "--iterations"),
+    set_iterations(model, scene.integrator, false, parse_iteration_option(o.iterations, "--iterations"),
                    "--iterations");
   return model;
 }
@@ -175,7 +176,7 @@ int run_command(const RunOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   const SceneDef scene = load_scene_with_options(o.scene);
   check_run_usage(o, scene);
-  const LaneSpec lane{scene.integrator, scene.dt, step_string(scene.dt), false};
+  const Lane lane{scene.integrator, scene.dt, step_string(scene.dt), false};
   const bool rendering = !o.frames_dir.empty() || !o.video.empty() || o.still_t;
   PictureLook look = resolve_picture_look(o.look, scene, {lane}, /*compare=*/false);
   if (!rendering && o.export_path.empty()) look = PictureLook{};  // no colour, no reference lane

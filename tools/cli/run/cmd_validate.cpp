@@ -1,5 +1,5 @@
 // clothsim validate: parse and check a scene (with --set applied) and say what it models,
-// with the stiffness estimate `stability` prints (src/core/stiffness_estimate.h) and each
+// with the stiffness estimate `stability` prints (src/core/model/stiffness_estimate.h) and each
 // explicit method's predicted step limit from it; a warning on stderr when the scene's dt is
 // above one of them. Exit 0 when valid (warned or not), 2 with the one-line error otherwise;
 // writes nothing.
@@ -8,11 +8,12 @@
 
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/options.h"
 #include "clip/common/memory_budget.h"
 #include "clip/common/scene_options.h"
 #include "core/integrators/integrator_kind.h"
-#include "core/model.h"
-#include "core/stiffness_estimate.h"
+#include "core/model/model.h"
+#include "core/model/stiffness_estimate.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 

@@ -29,10 +29,11 @@
 #include "clip/studies/study_shard.h"
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/options.h"
 #include "clip/common/lanes.h"
 #include "clip/common/memory_budget.h"
 #include "clip/common/scene_options.h"
-#include "clip/compare/compare_plan.h"
+#include "clip/common/plan_parts.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
 #include "scene/param_keys.h"
@@ -48,9 +49,9 @@ namespace {
 
 using analysis::WorkPrecisionPoint;
 
-// Rows and orders labelled as compare labels its lanes (LaneSpec::name), or by `labels` (--vary:
+// Rows and orders labelled as compare labels its lanes (Lane::name), or by `labels` (--vary:
 // "rk4 (ks = 2e4)").
-void print_table(const WorkPrecisionResult& r, const std::vector<LaneSpec>& lanes, const LaneNames& labels = {}) {
+void print_table(const WorkPrecisionResult& r, const std::vector<Lane>& lanes, const LaneNames& labels = {}) {
   const auto label = [&](std::size_t i) { return labels.empty() ? lanes[i].name() : labels[i]; };
   std::printf("%-28s %10s %8s %11s %9s %9s %12s %12s  %s\n", "integrator", "dt (s)", "steps", "force evals",
               "wall (s)", "cpu (s)", "rms err (m)", "max err (m)", "status");
@@ -102,7 +103,7 @@ void print_reference_check(const analysis::ReferenceCheck& ref) {
 }
 
 // One value's study, run and its table printed; returns the runs it planned.
-std::size_t run_value(const BenchOptions& o, const std::vector<LaneSpec>& lanes, ValueStudy& s) {
+std::size_t run_value(const BenchOptions& o, const std::vector<Lane>& lanes, ValueStudy& s) {
   const BenchModels models(o, s.scene, lanes, s.spec);
   const Model& model = models.model;
   const WorkPrecisionSpec& spec = models.spec;
@@ -121,7 +122,7 @@ std::size_t run_value(const BenchOptions& o, const std::vector<LaneSpec>& lanes,
   return planned;
 }
 
-int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vector<LaneSpec>& lanes) {
+int bench_variation(const BenchOptions& o, const SceneDef& base, const std::vector<Lane>& lanes) {
   std::vector<ValueStudy> studies = plan_values(o, base, lanes);
   const std::unique_ptr<PlotScript> plot = check_study_outputs(o.scene.path, o.csv, "", o.plot, "plot_work_precision.py");
   std::size_t done = 0, runs = 0;
@@ -141,7 +142,7 @@ int bench_scale(const BenchOptions& o) {
   install_interrupt_handler();
   const ScalePlan scale = plan_scale(o);
   const analysis::ScaleSpec& spec = scale.spec;
-  const std::vector<LaneSpec>& lanes = *scale.lanes;
+  const std::vector<Lane>& lanes = *scale.lanes;
   const std::vector<int>& sides = scale.sides;
   const SceneDef& first = spec.sizes.front().scene;
   const std::unique_ptr<PlotScript> plot = check_study_outputs(o.scene.path, o.csv, "", o.plot, "plot_scale.py");
@@ -171,10 +172,10 @@ int bench_command(const BenchOptions& o) {
   if (!o.scale.empty()) return bench_scale(o);
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
-  const std::vector<LaneSpec> lanes = bench_lanes(o, scene);
+  const std::vector<Lane> lanes = bench_lanes(o, scene);
   if (!o.vary.empty()) return bench_variation(o, scene, lanes);
   std::vector<IntegratorKind> kinds;
-  for (const LaneSpec& l : lanes) kinds.push_back(l.kind);
+  for (const Lane& l : lanes) kinds.push_back(l.kind);
   const WorkPrecisionSpec plan = plan_bench(o, scene, lanes);
   const double T = plan.duration;
 

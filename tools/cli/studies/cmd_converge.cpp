@@ -17,6 +17,7 @@
 #include "clip/studies/study_shard.h"
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/options.h"
 #include "clip/common/lanes.h"
 #include "clip/common/scene_options.h"
 #include "scene/build_model.h"

@@ -27,10 +27,11 @@
 #include <sstream>
 
 #include "clip/studies/study_common.h"
-#include "clip/studies/study_merge.h"
+#include "clip/merge/study_merge.h"
 #include "clip/studies/study_shard.h"
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/options.h"
 #include "clip/common/progress.h"
 #include "clip/common/summary_json.h"
 #include "clip/golden/golden_report.h"

@@ -7,7 +7,7 @@
 // the user's own --set), the largest step that runs the scene from 0 to T without
 // diverging, found by bisection in log dt (src/study/stability.h). Beside it, the
 // Gershgorin estimates 2 / w_max (springs) and 2 / max(w_max, c_max) (dampers counted)
-// from src/core/stiffness_estimate.h, and each method's margin against them.
+// from src/core/model/stiffness_estimate.h, and each method's margin against them.
 //
 // Defaults, chosen so `clothsim stability scenes/drape.yaml` takes about a minute on 2 cores:
 // the four seed integrators; --param cloth.springs.structural.stiffness at the scene's value
@@ -38,6 +38,7 @@
 #include "clip/studies/study_shard.h"
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
+#include "cli/common/options.h"
 #include "clip/common/lanes.h"
 #include "clip/common/memory_budget.h"
 #include "clip/common/scene_options.h"
@@ -80,9 +81,9 @@ std::string limit_text(const StabilityLimit& l, const analysis::StabilitySpec& s
 }
 
 // The limits found, one row per value and integrator.
-// Rows labelled as compare labels its lanes (LaneSpec::name).
+// Rows labelled as compare labels its lanes (Lane::name).
 void print_limits(const std::vector<StabilityLimit>& limits, const analysis::StabilitySpec& spec,
-                  const std::vector<LaneSpec>& lanes) {
+                  const std::vector<Lane>& lanes) {
   std::printf("%14s %-28s %-48s %10s %12s %6s\n", "value", "integrator", "largest stable dt", "x 2/w_max",
               "x 2/max(w,c)", "trials");
   for (const StabilityLimit& l : limits) {
@@ -106,7 +107,7 @@ int stability_command(const StabilityOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   const SceneDef base = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
   StabilityStudy study = plan_stability(o, base);
-  const std::vector<LaneSpec>& lanes = study.lanes;
+  const std::vector<Lane>& lanes = study.lanes;
   const LaneNames& names = study.names;
   const std::vector<IntegratorKind>& kinds = study.spec.integrators;
   const std::vector<double>& values = study.values;
