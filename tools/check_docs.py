@@ -35,8 +35,33 @@ and tools/, so the files they write (drape.png, wp.png) land there and never in 
 --update rewrites every differing quoted value in place with the printed one, at the
 figures it was quoted to, and says what it changed. Exit 0 when every value holds (or was
 updated), 1 when one differs, 2 for a malformed mark.
+
+Pointers. Before the numbers, a run over the repository's own docs (no FILE.md given) checks,
+in about a second and with no build, that every pointer to a file or a section resolves;
+`--pointers` runs that check alone. It reads every markdown file git knows of (tracked or
+untracked, not ignored), outside fenced blocks and HTML comments, and the comments (`//` in
+C and C++ sources, `#` in Python, shell, CMake and YAML) of the files under src/, render/,
+tools/, tests/, scenes/ and the top CMakeLists.txt, lines joined so that a pointer may wrap:
+  - a markdown link or image to a relative path names a file or folder that exists; a
+    `#anchor`, on it or alone, names a heading of the target (GitHub's slug of it);
+  - a repository path, a word beginning with src/, docs/, tools/, scenes/, tests/ or
+    render/ (in markdown in or out of backticks, in comments anywhere), exists: a file, a
+    folder, a file of that stem with any extension (tools/video/tiling), a glob's match; a
+    trailing :LINE is dropped, {a,b} alternatives are each checked, and a word holding a
+    placeholder (NAME, DIR: three capitals or more), `%`, `$`, `<`, `=` or `...` is skipped;
+  - every NAME.md named (DESIGN.md) exists, looked up beside the naming file, from the
+    root, then in docs/;
+  - a section reference, `FILE.md, "Section"` or `FILE.md "Section"` or `"Section" (FILE.md)`
+    (also `FILE.md, #37 "Section"`, `[FILE.md](FILE.md), "Section"`, `README's "Section"`, and
+    a bare README or BENCHMARKS for README.md, BENCHMARKS.md), names a heading of FILE: equal
+    to it, case and backticks and asterisks aside, or its start up to a colon, a comma, a
+    bracket or a space before one (`"Small steps"` names "Small steps: the guess, ...").
+Each pointer that does not resolve is printed as FILE:LINE: what is missing, and the run
+exits 1 (after the numbers, if those ran).
 """
 import argparse
+import bisect
+import glob
 import math
 import os
 import re
@@ -202,6 +227,171 @@ def evaluate(check, output):
     return got, problems
 
 
+# ---- pointers ------------------------------------------------------------------------------
+POINTER_FILE = r"((?:[\w.-]+/)*[\w-]+\.md|\bREADME\b|\bBENCHMARKS\b)(?:#([\w-]+))?\]?(?:\([^)\s]*\))?(?:'s)?"
+REF_AFTER = re.compile(POINTER_FILE + r",?\s+(?:#\d+,?\s+)?\(?\"([^\"\n]{2,120}?)\"")
+REF_BEFORE = re.compile(r"\"([^\"\n]{2,120}?)\"\s+\((?:see\s+)?" + POINTER_FILE + r"\)")
+MD_NAME = re.compile(r"(?<![\w./-])((?:[\w.-]+/)*[\w-]+\.md)\b")
+LINK = re.compile(r"!?\[[^\]\n]*\]\(([^)\s]+)\)")
+REPO_PATH = re.compile(r"(?<![\w/.\-$])((?:src|docs|tools|scenes|tests|render)/(?:[^\s`\"'()\[\]<>,;{}]|\{[^{}\s]*\})*)")
+PLACEHOLDER = re.compile(r"[A-Z]{3,}|[%$<=]|\.\.\.")
+COMMENTED_DIRS = ("src/", "render/", "tools/", "tests/", "scenes/")
+SLASH_COMMENTS = (".h", ".hpp", ".cpp", ".cc", ".c", ".inl")
+HASH_COMMENTS = (".py", ".sh", ".cmake", ".yaml", ".yml")
+
+
+def repo_files():
+    try:
+        out = subprocess.run(["git", "ls-files", "--cached", "--others", "--exclude-standard"], cwd=ROOT,
+                             capture_output=True, text=True, check=True).stdout
+        return sorted(f for f in set(out.splitlines()) if os.path.isfile(os.path.join(ROOT, f)))
+    except (OSError, subprocess.CalledProcessError):
+        skip = {".git", "build"}
+        return sorted(os.path.relpath(os.path.join(d, f), ROOT) for d, dirs, fs in os.walk(ROOT)
+                      if not dirs.__setitem__(slice(None), [x for x in dirs if x not in skip]) for f in fs)
+
+
+def title(text):
+    """A heading or a quoted section, compared: case, backticks and asterisks aside."""
+    t = text.replace("`", "").replace("*", "").replace("\u00d7", "x").lower()
+    return re.sub(r"\s+", " ", t).strip().rstrip(".:")
+
+
+def slug(text):
+    """GitHub's anchor for a heading."""
+    return re.sub(r"[^\w\- ]", "", text.strip().lower().replace("`", "")).replace(" ", "-")
+
+
+def prose(text):
+    """The markdown outside fenced blocks and HTML comments, blanked in place (lines and offsets hold)."""
+    out, fenced = [], False
+    for line in text.split("\n"):
+        fence = line.lstrip().startswith("```")
+        out.append(" " * len(line) if fenced or fence else line)
+        fenced = fenced != fence
+    return re.sub(r"<!--.*?-->", lambda m: re.sub(r"[^\n]", " ", m.group(0)), "\n".join(out), flags=re.S)
+
+
+def comments(path, text):
+    """A source file's comments, each at its place, the code (and a Python file's docstrings) blanked."""
+    if path.endswith(".py"):
+        text = re.sub(r'(?s)""".*?"""|\'\'\'.*?\'\'\'', lambda m: re.sub(r"[^\n]", " ", m.group(0)), text)
+    out = []
+    for line in text.split("\n"):
+        if path.endswith(SLASH_COMMENTS):
+            m = re.search(r"(?<!:)//", line)
+        else:
+            m = re.search(r"(?:^|(?<=\s))#", line)
+        out.append(" " * m.end() + line[m.end():] if m else "")
+    return "\n".join(out)
+
+
+class Tree:
+    def __init__(self):
+        self.files = repo_files()
+        self.paths = set(self.files)
+        for f in self.files:
+            while "/" in f:
+                f = f.rsplit("/", 1)[0]
+                self.paths.add(f)
+        self._heads = {}
+
+    def exists(self, rel):
+        rel = os.path.normpath(rel)
+        return rel in self.paths or (not rel.startswith("..") and os.path.exists(os.path.join(ROOT, rel)))
+
+    def markdown(self, name, where):
+        name = {"README": "README.md", "BENCHMARKS": "BENCHMARKS.md"}.get(name, name)
+        for cand in (os.path.join(os.path.dirname(where), name), name, os.path.join("docs", name)):
+            if os.path.normpath(cand) in self.paths:
+                return os.path.normpath(cand)
+        return None
+
+    def heads(self, md):
+        if md not in self._heads:
+            titles, slugs, seen = set(), set(), {}
+            with open(os.path.join(ROOT, md)) as f:
+                for line in prose(f.read()).split("\n"):
+                    m = re.match(r"#{1,6}\s+(.*?)\s*#*\s*$", line)
+                    if m:
+                        titles.add(title(m.group(1)))
+                        n = seen.get(slug(m.group(1)), 0)
+                        seen[slug(m.group(1))] = n + 1
+                        slugs.add(slug(m.group(1)) + (f"-{n}" if n else ""))
+            self._heads[md] = (titles, slugs)
+        return self._heads[md]
+
+    def has_section(self, md, section):
+        want = title(section)
+        return any(h == want or (h.startswith(want) and re.match(r"[:,(\[ ]", h[len(want)]))
+                   for h in self.heads(md)[0])
+
+
+def alternatives(word):
+    m = re.search(r"\{([^{}]*)\}", word)
+    return [word] if not m else [w for alt in m.group(1).split(",")
+                                 for w in alternatives(word[:m.start()] + alt + word[m.end():])]
+
+
+def check_pointers():
+    """Every pointer in the docs and the sources' comments that does not resolve, as FILE:LINE: why."""
+    tree, problems = Tree(), []
+    for rel in tree.files:
+        is_md = rel.endswith(".md")
+        commented = (rel.startswith(COMMENTED_DIRS) or rel == "CMakeLists.txt") and (
+            rel.endswith(SLASH_COMMENTS + HASH_COMMENTS) or os.path.basename(rel) == "CMakeLists.txt")
+        if not (is_md or commented):
+            continue
+        try:
+            with open(os.path.join(ROOT, rel)) as f:
+                text = prose(f.read()) if is_md else comments(rel, f.read())
+        except UnicodeDecodeError:
+            continue
+        starts = [0] + [m.end() for m in re.finditer("\n", text)]
+        flat = re.sub(r"\s*\n\s*", lambda m: " " * len(m.group(0)), text)  # lines joined, offsets kept
+
+        def report(pos, what):
+            problems.append(f"{rel}:{bisect.bisect_right(starts, pos)}: {what}")
+
+        named = set()
+        for rx, fi, ai, si in ((REF_AFTER, 1, 2, 3), (REF_BEFORE, 2, 3, 1)):
+            for m in rx.finditer(flat):
+                named.add(m.start(fi))
+                md = tree.markdown(m.group(fi), rel)
+                section = re.sub(r"\s+", " ", m.group(si))
+                if md is None:
+                    report(m.start(), f"{m.group(fi)} does not exist")
+                elif not tree.has_section(md, section):
+                    report(m.start(), f"{md} has no section \"{section}\"")
+                elif m.group(ai) and m.group(ai) not in tree.heads(md)[1]:
+                    report(m.start(), f"{md} has no heading #{m.group(ai)}")
+        linked = {i for m in LINK.finditer(flat) for i in range(m.start(1), m.end(1))} if is_md else set()
+        for m in MD_NAME.finditer(flat):
+            if m.start(1) not in named | linked and tree.markdown(m.group(1), rel) is None:
+                report(m.start(), f"{m.group(1)} does not exist")
+        for m in REPO_PATH.finditer(flat):
+            word = re.sub(r"'s$", "", m.group(1).rstrip(".:")).split("#")[0]
+            if PLACEHOLDER.search(word):
+                continue
+            for path in alternatives(re.sub(r":\d+$", "", word)):
+                if not (glob.glob(os.path.join(ROOT, path)) if "*" in path else
+                        tree.exists(path) or glob.glob(os.path.join(ROOT, glob.escape(path) + ".*"))):
+                    report(m.start(), f"{path} does not exist")
+        if not is_md:
+            continue
+        for m in LINK.finditer(flat):
+            target = m.group(1)
+            if re.match(r"[a-z]+:", target):
+                continue
+            path, _, anchor = target.partition("#")
+            full = os.path.normpath(os.path.join(os.path.dirname(rel), path)) if path else rel
+            if path and not tree.exists(full):
+                report(m.start(), f"link to {target}: {full} does not exist")
+            elif anchor and full.endswith(".md") and anchor not in tree.heads(full)[1]:
+                report(m.start(), f"link to {target}: {full} has no heading #{anchor}")
+    return problems
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("docs", nargs="*", help="markdown files (default: README.md docs/report.md)")
@@ -210,11 +400,20 @@ def main():
     ap.add_argument("--build", default=os.path.join(ROOT, "build"), help="build directory holding clothsim")
     ap.add_argument("--only", default="", help="comma-separated check names")
     ap.add_argument("--list", action="store_true", help="list the checks and their values, run nothing")
+    ap.add_argument("--pointers", action="store_true", help="check only that every pointer to a file or section resolves")
     ap.add_argument("--timeout", type=float, default=900, help="seconds per command")
     args = ap.parse_args()
     docs = args.docs or [os.path.join(ROOT, d) for d in DEFAULT_DOCS]
     only = set(filter(None, args.only.split(",")))
     build = os.path.abspath(args.build)
+    dangling = []
+    if args.pointers or not (args.docs or args.list or only):
+        dangling = check_pointers()
+        for p in dangling:
+            print(f"   DANGLING {p}")
+        print(f"check_docs: pointers: {len(dangling)} do not resolve")
+        if args.pointers:
+            return 1 if dangling else 0
     if not args.list and not os.access(os.path.join(build, "clothsim"), os.X_OK):
         print(f"check_docs: {build}/clothsim not found (build first, or give --build DIR)", file=sys.stderr)
         return 2
@@ -283,7 +482,7 @@ def main():
     print(f"check_docs: {checked} quoted values checked, {failed} differ or failed"
           + (f", {updated} updated" if args.update else "")
           + ("" if args.full or only else " ([full] checks skipped: --full runs them)"))
-    return 1 if failed else 0
+    return 1 if failed or dangling else 0
 
 
 if __name__ == "__main__":

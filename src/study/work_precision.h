@@ -170,7 +170,7 @@ PositionError position_error(const Model& model, const Eigen::Matrix3Xd& a,
 double convergence_order(const std::vector<WorkPrecisionPoint>& points, IntegratorKind kind);
 double lane_convergence_order(const std::vector<WorkPrecisionPoint>& points, std::size_t lane);
 
-// The order each method has on a smooth problem (DESIGN.md, "Integrators"): 1, 1, 2, 4, 1.
+// The order each method has on a smooth problem (docs/cli.md, "The integrators"): 1, 1, 2, 4, 1.
 int nominal_order(IntegratorKind kind);
 
 // Why `kind`'s observed order is under half its nominal order, and what to try, one sentence

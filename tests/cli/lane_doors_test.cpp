@@ -1,7 +1,7 @@
 // One lane grammar at every door (scene/lane.h): the same strings through `run --integrator`,
 // the scene's `integrator:` key, `compare --integrators`, `bench` and `stability`, each door
 // running exactly the lane the string says. (Python's Simulation(lane=...) runs them in
-// tests/python/test_lanes.py; the grammar itself is tests/scene/lane_test.cpp.)
+// tests/python/test_clothsim.py; the grammar itself is tests/scene/lane_test.cpp.)
 #include <gtest/gtest.h>
 
 #include <fstream>

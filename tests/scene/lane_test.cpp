@@ -1,6 +1,6 @@
 // The lane: one grammar, one parser, and the scene's `integrator:` key as one of its doors.
 // (The other doors, run, compare, bench, stability and Python, run the same strings in
-// tests/cli/lane_doors_test.cpp and tests/python/test_lanes.py.)
+// tests/cli/lane_doors_test.cpp and tests/python/test_clothsim.py.)
 #include "scene/lane.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The parser: every key of DESIGN.md's example works as shown, defaults are filled in, and
+// The parser: every key of the example scene below works as shown, defaults are filled in, and
 // every bad input is an error that names the file, the line and the key.
 #include "scene/scene_parser.h"
 

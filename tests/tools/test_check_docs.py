@@ -117,3 +117,18 @@ def test_the_repository_docs_are_well_formed():
             checks, marks = cd.parse(name, f.read())
         assert marks, f"{name} marks no quoted number"
         assert {c.tier for c in checks.values()} & {"default"}, f"{name}: no check runs by default"
+
+
+def test_pointers_to_missing_files_sections_and_anchors_are_named_with_their_line(tmp_path, monkeypatch):
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "src").mkdir()
+    (tmp_path / "docs" / "a.md").write_text("# A\n\n## Lanes\n\nSee [b](b.md) and `src/x.h`.\n")
+    (tmp_path / "docs" / "b.md").write_text("# B\n\nBack to [a](a.md#lanes), [gone](a.md#gone).\n")
+    (tmp_path / "src" / "x.h").write_text('// docs/a.md, "Lanes" holds; docs/a.md, "Nowhere" does not;\n'
+                                           "// src/y.h is not here.\n")
+    monkeypatch.setattr(cd, "ROOT", str(tmp_path))
+    problems = cd.check_pointers()
+    assert any(p.startswith("docs/b.md:3:") and "has no heading #gone" in p for p in problems), problems
+    assert any(p.startswith("src/x.h:1:") and 'has no section "Nowhere"' in p for p in problems), problems
+    assert any(p.startswith("src/x.h:2:") and "src/y.h does not exist" in p for p in problems), problems
+    assert len(problems) == 3, problems

@@ -1,5 +1,5 @@
 // hypre's BoomerAMG beside clothsim's preconditioners on implicit Euler's step Hessian
-// (BENCHMARKS.md, #37 "Round s35: hypre's BoomerAMG"):
+// (issue #37: docs/notes/2026-11-28-backward-euler-at-scale.md, "Round s35"):
 //   build/tools/bench/hypre_implicit_benchmarks [--sides 32,64,128,256] [--repeats 3] [--steps K] [--exact]
 //                                               [--only TEXT: the BoomerAMG configurations so named]
 // Built only where CMake finds hypre and MPI (libhypre-dev); a plain executable, no mpirun:

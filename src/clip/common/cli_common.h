@@ -17,7 +17,7 @@
 
 namespace clothsim::clip {
 
-// The CLI contract's exit codes (DESIGN.md).
+// The CLI contract's exit codes (docs/outputs.md, "Exit codes").
 // A run stopped by SIGINT, SIGTERM or SIGHUP exits 128 + the signal's number (130, 143, 129),
 // as a shell reports a process killed by it, after cleaning up (main() maps it).
 enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kDiverged = 3, kNotConverged = 4, kWrong = 5 };

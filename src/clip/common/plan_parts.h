@@ -36,7 +36,7 @@ struct Target {
 
 // The targets of a compare, in time order, generated as they are needed rather than stored:
 // a clip of duration 5e7 s has more frames than memory holds (validation bounds the count,
-// scene_bounds.h, but a million Target structs per lane would still be waste).
+// run_bounds.h, but a million Target structs per lane would still be waste).
 // Frames at t = k / fps for k = 0 .. floor(duration * fps) (t = 0 and, when it falls on a
 // frame, t = duration included, as `run` does) when `with_frames`; sheet times and the
 // still's time (if >= 0) merged in, a time within a microsecond of a frame being that frame.

@@ -5,7 +5,7 @@
 //     r(dv) = M dv - h f(y, v) = 0,
 //     f = sum over springs of -T u (T = ks (l - l0) + (kd / h) (l - ln), spring_force.h)
 //         + m g on bodies with gravity - c v on cloth particles (air drag),
-// with ln each spring's length at the start of the step. That is DESIGN.md's backward Euler
+// with ln each spring's length at the start of the step. That is the textbook backward Euler
 // with one change, in the dampers: their rate is the length's finite difference over the step,
 // (l - ln) / h, rather than u . (v_a - v_b) at the end of it (the two agree to first order in
 // h, and the first does not damp rigid rotation; spring_force.h). With it, r is the gradient of

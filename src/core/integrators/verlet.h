@@ -10,8 +10,8 @@
 // v_{n+1}, which it defines. The pass is taken at the predicted v* = v_{1/2} + h/2 a_n: v* is
 // O(h^2) from v_{n+1}, so the kick errs by O(h^3) and the step stays second order; it is no
 // longer exactly symmetric, so a composition built on it keeps order 4 only where the forces
-// are conservative (an undamped spring, tests/core/verlet_test.cpp) and falls to order 2 as
-// the dampers grow (docs/integrators.md gives both measurements).
+// are conservative (an undamped spring, tests/core/integrators/verlet_test.cpp) and falls to
+// order 2 as the dampers grow (docs/integrators.md gives both measurements).
 //
 // Yoshida's fourth-order "triple jump": three Verlet steps of w1 h, w0 h, w1 h with
 //     w1 = 1 / (2 - 2^(1/3)),  w0 = 1 - 2 w1 = -2^(1/3) / (2 - 2^(1/3))

@@ -1,4 +1,4 @@
-// The peak memory of a one-lane run (src/clip/common/run_budget.h), which `run` and `golden` check
+// The peak memory of a one-lane run (src/clip/frames/run_budget.h), which `run` and `golden` check
 // against --max-memory: each part counted only where the run has it.
 #include "clip/frames/run_budget.h"
 

@@ -1,4 +1,4 @@
-// merge's work (src/clip/studies/study_merge.h): the parts of one study joined into the CSV one
+// merge's work (src/clip/merge/study_merge.h): the parts of one study joined into the CSV one
 // process writes, a gap or a stranger refused, and bench's reference judged on every error.
 #include "clip/merge/study_merge.h"
 
