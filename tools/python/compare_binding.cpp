@@ -49,7 +49,9 @@ std::string exact_number(double x) {
 clip::PipelineReport run_interruptible(const CompareRequest& o, clip::ComparePlan& p) {
   clip::clear_interrupt();
   auto work = std::async(std::launch::async, [&]() -> std::optional<clip::PipelineReport> {
-    if (!clip::plan_compare_part(o, p)) return clip::PipelineReport{};  // a part with no lane
+    std::optional<clip::ComparePlan> part = clip::plan_compare_part(o);
+    if (!part) return clip::PipelineReport{};  // a part with no lane
+    p = std::move(*part);
     return clip::run_compare(o, p);
   });
   for (;;) {

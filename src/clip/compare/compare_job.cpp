@@ -233,8 +233,10 @@ void plan_targets(const CompareRequest& o, ComparePlan& p, const PictureLook& lo
   if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= p.scene.duration + 1e-9))
     throw UsageError("--still: " + number_text(*o.still_t) + " s is outside the run (0 to " +
                      number_text(p.scene.duration) + " s)");
-  p.targets.emplace(p.scene.duration, p.scene.render.fps, p.with_frames, p.sheet_times, o.still_t.value_or(-1.0));
-  if (look.color != FieldKind::None && !look.color_range) p.targets->with_scale_window(kColorScaleWindow);
+  auto targets = std::make_shared<TargetPlan>(p.scene.duration, p.scene.render.fps, p.with_frames, p.sheet_times,
+                                              o.still_t.value_or(-1.0));
+  if (look.color != FieldKind::None && !look.color_range) targets->with_scale_window(kColorScaleWindow);
+  p.targets = std::move(targets);
 }
 
 // The error colouring's reference, started at once on the core the pilots of --match cost
@@ -322,7 +324,8 @@ std::string grid_layout_text(const ComparePlan& p) {
 
 }  // namespace
 
-void plan_compare(const CompareRequest& o, ComparePlan& p) {
+ComparePlan plan_compare(const CompareRequest& o) {
+  ComparePlan p;
   check_option_pairs(o);
   p.scene = load_scene_with_options(o.scene);
   std::vector<Lane> specs = parse_lanes(o.integrators, o.dt, p.scene.dt);
@@ -350,7 +353,7 @@ void plan_compare(const CompareRequest& o, ComparePlan& p) {
   p.look = unmatched;  // the memory a run needs is the same whatever steps matching chooses
   fit_grid(p);
   check_memory(o, p);  // before the models, the pilots and the early reference take any
-  p.model.emplace(build_model(p.scene));
+  p.model = std::make_shared<const Model>(build_model(p.scene));
   for (const SceneDef& s : p.vary_scenes) p.vary_models.push_back(build_model(s));
   if (!p.vary_models.empty())  // lanes row by row, a value per column
     for (std::size_t i = 0; i < p.lanes.size(); ++i) p.lanes[i].model = &p.vary_models[i % p.vary_models.size()];
@@ -374,6 +377,7 @@ void plan_compare(const CompareRequest& o, ComparePlan& p) {
   fit_reference_to_model(p.look, *p.model, p.scene, p.specs());
   fit_variant_references(p);
   keep_early_reference(p);
+  return p;
 }
 
 PipelineConfig pipeline_config(const ComparePlan& p) {
@@ -442,12 +446,13 @@ void keep_shard_lanes(const CompareRequest& o, ComparePlan& p) {
   p.lanes = std::move(kept);
 }
 
-bool plan_compare_part(const CompareRequest& o, ComparePlan& p) {
+std::optional<ComparePlan> plan_compare_part(const CompareRequest& o) {
   if (!o.shard.empty())
     check_frames_shard_outputs(o.frames_dir, !o.video.empty() || !o.sheet.empty() || o.still_t || !o.summary.empty());
-  plan_compare(o, p);
+  ComparePlan p = plan_compare(o);
   if (!o.shard.empty()) keep_shard_lanes(o, p);
-  return !p.lanes.empty();
+  if (p.lanes.empty()) return std::nullopt;
+  return p;
 }
 
 PipelineReport run_compare(const CompareRequest& o, const ComparePlan& p) {

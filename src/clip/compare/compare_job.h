@@ -4,9 +4,11 @@
 //     CompareRequest -> plan_compare (everything checked, the model built, the steps chosen)
 //         -> ComparePlan, one CompareLane per lane -> the frame pipeline with its outputs
 //
-// The plan is made in place and never moves: the error's reference, started early, reads its
-// model and targets. Every function throws UsageError (exit 2) or RuntimeFailure (exit 1) with
-// the one-line message the CLI prints.
+// The plan is a value, made once and movable: the model, the targets and the --vary models sit
+// behind pointers it owns, frozen before anything reads them, so the error's reference started
+// early (on the core the --match pilots leave idle) reads those, never the plan being built.
+// Every function throws UsageError (exit 2) or RuntimeFailure (exit 1) with the one-line
+// message the CLI prints.
 #pragma once
 
 #include <deque>
@@ -75,8 +77,8 @@ struct ComparePlan {
   std::vector<double> sheet_times;
   std::optional<TileGrid> grid;
   int legend_width = 0;  // the colour bar's strip right of the grid (grid_legend.h)
-  std::optional<TargetPlan> targets;
-  std::optional<Model> model;
+  std::shared_ptr<const TargetPlan> targets;  // frozen once planned: the early reference reads it
+  std::shared_ptr<const Model> model;         // the same
   // --vary: per value, its scene and model (a deque: the lanes and the pipeline keep pointers).
   std::vector<SceneDef> vary_scenes;
   std::deque<Model> vary_models;
@@ -85,7 +87,7 @@ struct ComparePlan {
   // (PipelineConfig::variant_references), each fitted to its value's model.
   std::vector<VariantReference> variant_references;
   // The error colouring's reference, started before the steps are matched (it reads model and
-  // targets, so the plan never moves, and is declared last: stopped first).
+  // targets, the pointees above; declared last: stopped first).
   std::shared_ptr<LaneWorker> early_reference;
 
   // The lanes' fields one by one, for the functions that take a list.
@@ -98,13 +100,13 @@ struct ComparePlan {
 
 // 1. Everything that can be wrong, before any simulation; the steps chosen (the error's
 // reference running meanwhile).
-void plan_compare(const CompareRequest& o, ComparePlan& p);
+ComparePlan plan_compare(const CompareRequest& o);
 // --shard: the plan of the whole comparison, narrowed to this part's lanes (compare_shard.h).
 void keep_shard_lanes(const CompareRequest& o, ComparePlan& p);
 // What a front end plans: with --shard, the part's outputs checked (--frames only), then
-// plan_compare and the part's lanes kept. False when the part has no lane (more parts than
+// plan_compare and the part's lanes kept. Nothing when the part has no lane (more parts than
 // lanes): nothing to run.
-bool plan_compare_part(const CompareRequest& o, ComparePlan& p);
+std::optional<ComparePlan> plan_compare_part(const CompareRequest& o);
 // The renderer for the tiles (none when nothing is drawn); a GL failure or tiles past its limit now.
 std::unique_ptr<Renderer> make_checked_renderer(const CompareRequest& o, const ComparePlan& p);
 PipelineConfig pipeline_config(const ComparePlan& p);

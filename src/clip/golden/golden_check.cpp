@@ -239,8 +239,7 @@ LaneResult run_compare_entry(const GoldenOptions& o, const GoldenManifest& manif
     const fs::path scratch = fs::temp_directory_path() / ("clothsim-golden-" + std::to_string(::getpid()));
     fs::create_directories(scratch);
     r.still_out = (scratch / "still.png").string();
-    ComparePlan plan;
-    plan_compare(r, plan);
+    const ComparePlan plan = plan_compare(r);
     const PipelineReport report = run_compare(r, plan);
     if (first.totals.steps == 0 && !report.lanes.empty()) first = report.lanes.front().result;
     const Image image = read_png(r.still_out);

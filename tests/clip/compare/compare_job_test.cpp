@@ -34,8 +34,7 @@ CompareRequest small_grid(const std::string& out) {
 TEST(PlanCompare, AVaryGridIsOneLanePerIntegratorAndValueEachWithItsOwnModelAndNames) {
   const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job";
   std::filesystem::create_directories(out);
-  ComparePlan p;
-  plan_compare(small_grid(out), p);
+  ComparePlan p = plan_compare(small_grid(out));
   ASSERT_EQ(p.lanes.size(), 4u);  // rows by integrator, a column per value
   ASSERT_EQ(p.vary_models.size(), 2u);
   for (std::size_t i = 0; i < p.lanes.size(); ++i) {
@@ -66,8 +65,7 @@ TEST(PlanCompare, WithoutVaryEveryLaneRunsThePlansModelUnderItsOwnName) {
   CompareRequest o = small_grid(out);
   o.vary.clear();
   o.match = {"none"};
-  ComparePlan p;
-  plan_compare(o, p);
+  ComparePlan p = plan_compare(o);
   ASSERT_EQ(p.lanes.size(), 2u);
   EXPECT_TRUE(p.models().empty());
   EXPECT_TRUE(p.labels().empty());
@@ -84,8 +82,7 @@ TEST(KeepShardLanes, APartKeepsWholeLanes) {
   o.frames_dir = out + "/frames";
   o.shard = "2/2";
   o.look.color_range = "1e-4,1e-1";  // a part's colour scale is given, not chosen from its lanes
-  ComparePlan p;
-  plan_compare(o, p);
+  ComparePlan p = plan_compare(o);
   const std::vector<CompareLane> all = p.lanes;
   keep_shard_lanes(o, p);
   ASSERT_FALSE(p.lanes.empty());
@@ -107,16 +104,14 @@ TEST(PlanComparePart, RunsAPartsLanesRefusesOutputsAPartCannotWriteAndSaysWhenIt
   o.frames_dir = out + "/frames";
   o.look.color_range = "1e-4,1e-1";
   o.shard = "1/2";
-  ComparePlan part;
-  ASSERT_TRUE(plan_compare_part(o, part));
-  EXPECT_LT(part.lanes.size(), 4u) << "part 1 of 2 runs some of the four lanes";
+  std::optional<ComparePlan> part = plan_compare_part(o);
+  ASSERT_TRUE(part);
+  EXPECT_LT(part->lanes.size(), 4u) << "part 1 of 2 runs some of the four lanes";
   o.shard = "5/5";  // more parts than lanes: the last one has none to run
-  ComparePlan empty;
-  EXPECT_FALSE(plan_compare_part(o, empty));
+  EXPECT_FALSE(plan_compare_part(o));
   o.shard = "1/2";
   o.summary = out + "/summary.json";  // a part writes its frames only: merge-free outputs are refused
-  ComparePlan refused;
-  EXPECT_THROW(plan_compare_part(o, refused), UsageError);
+  EXPECT_THROW(plan_compare_part(o), UsageError);
 }
 
 TEST(PlanCompare, AVaryGridOfAFixedPointSceneNamesItsRowsByTheMethodThatRuns) {
@@ -128,8 +123,7 @@ TEST(PlanCompare, AVaryGridOfAFixedPointSceneNamesItsRowsByTheMethodThatRuns) {
   o.scene.sets.insert(o.scene.sets.end(), {"integrator=implicit_euler", "implicit.solver=fixed_point", "dt=1e-4"});
   o.integrators = default_comparison_list();  // as the command sets it when not given
   o.integrators_given = false;
-  ComparePlan p;
-  plan_compare(o, p);
+  ComparePlan p = plan_compare(o);
   ASSERT_EQ(p.lanes.size(), 2u);
   for (const CompareLane& l : p.lanes) {
     EXPECT_TRUE(l.spec.fixed_point);
@@ -137,5 +131,31 @@ TEST(PlanCompare, AVaryGridOfAFixedPointSceneNamesItsRowsByTheMethodThatRuns) {
     EXPECT_EQ(l.name.rfind(l.spec.name(), 0), 0u) << l.name;
     EXPECT_NE(l.name.find("fixed point"), std::string::npos) << l.name;
     EXPECT_EQ(l.model->implicit.solver, ImplicitSolver::FixedPoint) << "what it runs is the fixed point";
+  }
+}
+
+TEST(PlanCompare, APlanIsAValueThatMovesWithItsEarlyReferenceRunning) {
+  // The drape (projected contacts: a fixed-step reference, started while --match cost runs its
+  // pilots) coloured by error: the moved plan runs to the same errors as a plan never moved,
+  // since the early reference reads the plan's model and targets, which stay where they are.
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_moved";
+  std::filesystem::create_directories(out);
+  CompareRequest o = small_grid(out);
+  o.vary.clear();
+  o.summary.clear();
+  o.integrators = "symplectic_euler,midpoint";
+  o.look.color = "error";
+  o.table_wanted = true;
+  ComparePlan planned = plan_compare(o);
+  ASSERT_TRUE(planned.early_reference) << "the case under test: a reference started while planning";
+  const Model* model = planned.model.get();
+  const ComparePlan moved = std::move(planned);
+  EXPECT_EQ(moved.model.get(), model) << "the model stays where the reference reads it";
+  const PipelineReport a = run_compare(o, moved);
+  const PipelineReport b = run_compare(o, plan_compare(o));
+  ASSERT_EQ(a.lanes.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(a.lanes[i].field_max, b.lanes[i].field_max) << i;
+    EXPECT_EQ(a.lanes[i].result.t, b.lanes[i].result.t) << i;
   }
 }

@@ -81,10 +81,10 @@ void report_compare(const CompareRequest& o, const ComparePlan& p, const Pipelin
 int compare_command(const CompareRequest& o) {
   const auto wall_start = Clock::now();
   install_interrupt_handler();  // first: Ctrl-C during setup is then seen at the first frame
-  ComparePlan p;
-  if (!plan_compare_part(o, p)) return kOk;  // a part with no lane (more parts than lanes)
-  const PipelineReport report = run_compare(o, p);
-  report_compare(o, p, report, wall_start);
+  const std::optional<ComparePlan> p = plan_compare_part(o);
+  if (!p) return kOk;  // a part with no lane (more parts than lanes)
+  const PipelineReport report = run_compare(o, *p);
+  report_compare(o, *p, report, wall_start);
   return kOk;
 }
 
