@@ -72,7 +72,7 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-DEFAULT_DOCS = ["README.md", "docs/report.md"]
+DEFAULT_DOCS = ["README.md", "docs/report.md", "docs/integrators.md"]
 CHECK = re.compile(r"<!--\s*check\s+([\w-]+)\s*(?:\[(\w+)\])?\s*\n(.*?)-->\s*\n\s*```(?:sh|bash)?\n(.*?)```", re.S)
 NUMBER = r"[-+]?(?:\d[\d,]*\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 MARK = re.compile(r"(" + NUMBER + r")<!--=([\w-]+)\.([\w-]+)-->")

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Checks that every pointer to a file or section in the docs and the comments resolves, then
-# reruns every command whose output README.md and docs/report.md quote, and fails when a
+# reruns every command whose output README.md, docs/report.md and docs/integrators.md quote, and fails when a
 # printed value differs from the quoted one beyond its tolerance (tools/check_docs.py says
 # how a quoted number is marked). The default set fits in about 2 minutes on a 2-core machine;
 #   tools/check_docs.sh --full            every check (several minutes)

@@ -213,6 +213,7 @@ Model build_model(const SceneDef& scene) {
   m.integrator = scene.integrator;
   m.implicit = scene.implicit;
   m.solvers = scene.solvers;
+  m.adaptive = scene.adaptive;
   m.divergence = scene.divergence;
   m.energy_scale = energy_scale(m, c);
   return m;

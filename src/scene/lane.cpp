@@ -17,7 +17,10 @@ bool has_iterations(IntegratorKind kind) { return integrator_info(kind).iteratio
 [[noreturn]] void refuse(const std::string& why) { throw LaneError(why); }
 
 // The `:N` and `:KEY=VALUE` items of a lane (`items`: what follows its first ':'), in any order.
-void parse_items(const std::string& items, const std::string& typed, Lane& lane) {
+// Which method takes which setting is checked once the name is known (parse_lane).
+// `adaptive`: the lane names an adaptive pair, whose tolerances lie in (0, 1); a solver's
+// residual tolerance lies in (0, kMaxResidualTolerance], as its scene block's does.
+void parse_items(const std::string& items, const std::string& typed, Lane& lane, bool& gave_tol, bool adaptive) {
   std::size_t from = 0;
   while (from <= items.size()) {
     const auto colon = items.find(':', from);
@@ -25,15 +28,19 @@ void parse_items(const std::string& items, const std::string& typed, Lane& lane)
     const auto eq = part.find('=');
     if (eq != std::string::npos) {
       const std::string key = trimmed(part.substr(0, eq)), value = trimmed(part.substr(eq + 1));
-      if (key != "tol")
+      if (key != "tol" && key != "rtol" && key != "atol")
         refuse(in_quotes(typed) + ": unknown setting " + in_quotes(key) +
-               " (a lane takes :N for its iterations and tol=T for a residual tolerance)");
+               " (a lane takes :N for its iterations, tol=T for a tolerance, rtol= and atol= for an adaptive pair's)");
       const std::optional<double> tol = parse_number_or_fraction(value);
-      if (!tol || !(*tol > 0.0 && *tol <= kMaxResidualTolerance))
+      if (adaptive && (!tol || !(*tol > 0.0 && *tol < 1.0)))
+        refuse("the tolerance in " + in_quotes(typed) + " must be a number above 0 and below 1");
+      if (!adaptive && (!tol || !(*tol > 0.0 && *tol <= kMaxResidualTolerance)))
         refuse("the tolerance in " + in_quotes(typed) + " must be a number above 0 and at most " +
                number_text(kMaxResidualTolerance));
-      if (lane.tolerance > 0.0) refuse(in_quotes(typed) + " gives tol= twice");
-      lane.tolerance = *tol;
+      double& slot = key == "rtol" ? lane.rtol : key == "atol" ? lane.atol : lane.tolerance;
+      if (slot > 0.0 || (key == "tol" && gave_tol)) refuse(in_quotes(typed) + " gives " + key + "= twice");
+      if (key == "tol") gave_tol = true;
+      slot = *tol;
     } else {
       if (lane.iterations > 0) refuse(in_quotes(typed) + " gives the iterations twice");
       lane.iterations = parse_iteration_count(part, "the iterations in " + in_quotes(typed));
@@ -43,10 +50,15 @@ void parse_items(const std::string& items, const std::string& typed, Lane& lane)
   }
 }
 
-// ":N", ":tol=T" or ":N:tol=T" as the lane was given, "" for neither.
-std::string items_text(int iterations, double tolerance) {
-  std::string s = iterations > 0 ? ":" + std::to_string(iterations) : "";
-  return tolerance > 0.0 ? s + ":tol=" + number_text(tolerance) : s;
+// ":N", ":tol=T" or ":N:tol=T" as the lane was given, "" for neither; an adaptive pair's
+// ":tol=T" (rtol and atol equal) or ":rtol=R:atol=A".
+std::string items_text(const Lane& l) {
+  std::string s = l.iterations > 0 ? ":" + std::to_string(l.iterations) : "";
+  if (l.tolerance > 0.0) s += ":tol=" + number_text(l.tolerance);
+  if (l.rtol > 0.0 && l.rtol == l.atol) return s + ":tol=" + number_text(l.rtol);
+  if (l.rtol > 0.0) s += ":rtol=" + number_text(l.rtol);
+  if (l.atol > 0.0) s += ":atol=" + number_text(l.atol);
+  return s;
 }
 
 std::string method_spelling(const Lane& l) {
@@ -70,11 +82,14 @@ int parse_iteration_count(const std::string& text, const std::string& what) {
 
 Lane parse_lane(const std::string& typed, bool integrators_only) {
   Lane lane;
+  bool gave_tol = false;
   const auto colon = typed.find(':');
   const std::string head = trimmed(typed.substr(0, colon));
-  if (colon != std::string::npos) parse_items(typed.substr(colon + 1), typed, lane);
   const auto at = head.find('@');
   const std::string name = trimmed(head.substr(0, at));
+  const std::optional<IntegratorKind> named = parse_integrator(name);
+  if (colon != std::string::npos)
+    parse_items(typed.substr(colon + 1), typed, lane, gave_tol, named && integrator_info(*named).adaptive);
   const bool fixed_point = !integrators_only && name == kFixedPointName;
   const std::optional<IntegratorKind> kind = fixed_point ? kBackwardEuler : parse_integrator(name);
   if (!kind)
@@ -84,9 +99,19 @@ Lane parse_lane(const std::string& typed, bool integrators_only) {
   lane.fixed_point = fixed_point;
   if (lane.iterations > 0 && !has_iterations(*kind))
     refuse(name + " has no iterations to set (in " + in_quotes(typed) + ")");
+  const bool adaptive = integrator_info(*kind).adaptive;
+  if (adaptive && lane.tolerance > 0.0) {  // an adaptive pair's tol= is its rtol and atol
+    if (lane.rtol > 0.0 || lane.atol > 0.0)
+      refuse(in_quotes(typed) + " gives tol= and rtol= or atol=: tol= sets both");
+    lane.rtol = lane.atol = lane.tolerance;
+    lane.tolerance = 0.0;
+  }
   if (lane.tolerance > 0.0 && (!is_iterative_solver(*kind) || fixed_point))
     refuse(name + " has no residual tolerance to set (in " + in_quotes(typed) +
-           "; tol= is for xpbd, projective_dynamics and vbd)");
+           "; tol= is for xpbd, projective_dynamics and vbd, and the adaptive pairs bs3, dopri5, rkf78)");
+  if ((lane.rtol > 0.0 || lane.atol > 0.0) && !adaptive)
+    refuse(name + " has no error control to set (in " + in_quotes(typed) +
+           "; rtol= and atol= are for the adaptive pairs bs3, dopri5 and rkf78)");
   if (at != std::string::npos) {
     const std::string step = trimmed(head.substr(at + 1));
     if (step.empty()) refuse(in_quotes(head) + " has no step after '@'");
@@ -122,11 +147,11 @@ std::vector<Lane> parse_lane_list(const std::string& text) {
 
 bool Lane::same_as(const Lane& o) const {
   return kind == o.kind && dt == o.dt && fixed_point == o.fixed_point && iterations == o.iterations &&
-         tolerance == o.tolerance;
+         tolerance == o.tolerance && rtol == o.rtol && atol == o.atol;
 }
 
 std::string Lane::name() const {
-  std::string n = std::string(integrator_name(kind)) + items_text(iterations, tolerance);
+  std::string n = std::string(integrator_name(kind)) + items_text(*this);
   if (fixed_point) return n + " (fixed point)";
   if (newton_capped() && iterations == 1) return n + " (Baraff & Witkin)";
   return n;
@@ -134,13 +159,15 @@ std::string Lane::name() const {
 
 std::string Lane::label() const { return integrator_label(name(), step_text); }
 
-std::string Lane::spelling() const { return method_spelling(*this) + "@" + step_text + items_text(iterations, tolerance); }
+std::string Lane::spelling() const { return method_spelling(*this) + "@" + step_text + items_text(*this); }
 
-std::string Lane::stepless_spelling() const { return method_spelling(*this) + items_text(iterations, tolerance); }
+std::string Lane::stepless_spelling() const { return method_spelling(*this) + items_text(*this); }
 
 void apply_lane(SceneDef& scene, const Lane& lane) {
   scene.integrator = lane.kind;
   if (lane.written_step()) scene.dt = lane.dt;
+  if (lane.rtol > 0.0) scene.adaptive.rtol = lane.rtol;
+  if (lane.atol > 0.0) scene.adaptive.atol = lane.atol;
   if (lane.fixed_point) {  // the course framework's "implicit" (docs/integrators.md)
     scene.implicit.solver = ImplicitSolver::FixedPoint;
     scene.implicit.fixed_point_iterations = lane.iterations > 0 ? lane.iterations : 1;

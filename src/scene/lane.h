@@ -14,8 +14,10 @@
 // NAME is an integrator of the registry or implicit_euler_fixed_point; STEP a number or a
 // fraction (s); N a whole number (the solver's iterations: an iterative solver's sweeps,
 // implicit_euler's Newton cap, the fixed point's count); KEY=VALUE a method's own parameter
-// (tol= for xpbd, projective_dynamics and vbd). Spaces around the pieces are ignored; a space
-// inside a number is not ("1/ 60" is refused everywhere).
+// (tol= for xpbd, projective_dynamics and vbd: a residual; tol=, rtol=, atol= for the adaptive
+// pairs bs3, dopri5 and rkf78, whose @STEP is their first trial step: `dopri5:tol=1e-8`).
+// Spaces around the pieces are ignored; a space inside a number is not ("1/ 60" is refused
+// everywhere).
 #pragma once
 
 #include <stdexcept>
@@ -49,10 +51,13 @@ struct Lane {
   int iterations = 0;        // `:N`; 0 = as the scene sets them
   double tolerance = 0.0;    // `:tol=T` (xpbd, projective_dynamics, vbd): stop each step on the
                              // residual, `:N` (else kToleranceCap) then a cap; 0 = as the scene sets
+  double rtol = 0.0, atol = 0.0;  // an adaptive pair's (bs3, dopri5, rkf78) error control: `:tol=T`
+                                  // sets both, `:rtol=`/`:atol=` one; 0 = as the scene sets
 
   bool written_step() const { return step_from == StepFrom::Written; }
-  // A lane whose step --match may choose: one the user gave no step for (neither @STEP nor --dt).
-  bool free_step() const { return step_from == StepFrom::Scene; }
+  // A lane whose step --match may choose: one the user gave no step for (neither @STEP nor --dt),
+  // of a method that steps at a step (an adaptive pair's tolerance chooses its own).
+  bool free_step() const { return step_from == StepFrom::Scene && !integrator_info(kind).adaptive; }
   // "rk4", "implicit_euler (fixed point)", "vbd:10", "implicit_euler:1 (Baraff & Witkin)"
   std::string name() const;
   std::string label() const;  // name and step: "rk4  dt = 1e-4 s"
@@ -67,6 +72,10 @@ struct Lane {
   bool newton_capped() const {
     return iterations > 0 && integrator_info(kind).iterations == IterationControl::Newton && !fixed_point;
   }
+  // The grid a lane's states land on, for what stands in at its times (clip/reference): its step
+  // (Run stops at the first step at or past a target), or 0 for an adaptive pair, which lands
+  // on every target exactly.
+  double landing_grid() const { return integrator_info(kind).adaptive ? 0.0 : dt; }
   // The same method at the same step with the same settings (how it was written aside).
   bool same_as(const Lane& other) const;
 };

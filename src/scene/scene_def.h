@@ -86,7 +86,8 @@ struct SceneDef {
   std::vector<EventDef> events;
   RenderDef render;
   ImplicitDef implicit;
-  SolverDefs solvers;  // xpbd, projective_dynamics, vbd blocks
+  SolverDefs solvers;
+  AdaptiveDef adaptive;  // bs3, dopri5, rkf78: the error control's tolerances (a lane's :tol=)  // xpbd, projective_dynamics, vbd blocks
   DivergenceDef divergence;
 };
 

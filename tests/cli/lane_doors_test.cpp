@@ -40,6 +40,8 @@ const std::vector<Typed> kLanes{
     {"implicit_euler@1/60:1", "implicit_euler@1/60:1"},
     {"implicit_euler_fixed_point@5e-4", "implicit_euler_fixed_point@5e-4"},
     {" projective_dynamics @ 1/200 : 4 ", "projective_dynamics@1/200:4"},
+    {"dopri5@1e-3:tol=1e-6", "dopri5@1e-3:tol=1e-06"},
+    {"rkf78@1e-3:rtol=1e-8:atol=1e-6", "rkf78@1e-3:rtol=1e-08:atol=1e-06"},
 };
 
 std::string write(const std::string& path, const std::string& text) {
@@ -86,6 +88,10 @@ TEST(LaneDoors, TheStudiesTakeTheLanesWithoutTheirStepAndSayWhyNotWithIt) {
                                               "--duration", "0.02", "--csv", dir + "/s.csv", "--quiet"});
     EXPECT_EQ(stability.exit_code, 0) << stepless << ": " << stability.err;
   }
+  const CliResult adaptive = run_clothsim({"stability", scene, "--integrators", "dopri5:tol=1e-6"});
+  EXPECT_EQ(adaptive.exit_code, 2);
+  EXPECT_NE(adaptive.err.find("--integrators: 'dopri5:tol=1e-06': stability searches the largest stable step"),
+            std::string::npos) << adaptive.err;
   const CliResult with_step = run_clothsim({"bench", scene, "--integrators", "xpbd@1/60:5"});
   EXPECT_EQ(with_step.exit_code, 2);
   EXPECT_NE(with_step.err.find("--integrators: 'xpbd@1/60:5': bench sweeps the step"), std::string::npos) << with_step.err;
@@ -116,6 +122,30 @@ TEST(LaneDoors, HelpListsEveryLaneName) {
   ASSERT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("implicit_euler_fixed_point"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("vbd@1/60:10"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace clothsim::testing
+
+namespace clothsim::testing {
+namespace {
+
+TEST(LaneDoors, AnAdaptiveLaneSaysWhatItsErrorControlDid) {
+  const std::string dir = scratch_dir("lane_doors_adaptive");
+  const std::string scene = std::string(CLOTHSIM_SCENES_DIR) + "/drape_smooth.yaml";
+  const CliResult r = run_clothsim({"compare", scene, "--integrators", "dopri5:tol=1e-4,bs3:tol=1e-4", "--duration",
+                                    "0.3", "--summary", dir + "/s.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("steps of dopri5:tol=0.0001: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" refused by its error control"), std::string::npos) << r.out;
+  const std::string summary = slurp(dir + "/s.json");
+  for (const char* key : {"\"rejected_steps\"", "\"smallest_step\"", "\"largest_step\"", "\"rtol\": 0.0001"})
+    EXPECT_NE(summary.find(key), std::string::npos) << key << "\n" << summary;
+  // On the course's drape the projection is a jump its error control never sees: it says so.
+  const CliResult projected = run_clothsim({"run", std::string(CLOTHSIM_SCENES_DIR) + "/drape.yaml", "--integrator",
+                                            "dopri5:tol=1e-4", "--duration", "0.3"});
+  ASSERT_EQ(projected.exit_code, 0) << projected.err;
+  EXPECT_NE(projected.out.find("which the error control does not see"), std::string::npos) << projected.out;
 }
 
 }  // namespace

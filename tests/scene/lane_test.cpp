@@ -63,6 +63,30 @@ TEST(Lane, RefusesWhatNoMethodTakesWithOneLineSayingWhy) {
   EXPECT_EQ(refusal("rk4@1e-3 "), "") << "spaces around the pieces are ignored";
 }
 
+TEST(Lane, AnAdaptivePairTakesItsTolerancesAndItsStepAsAFirstTrial) {
+  const Lane both = parse_lane("dopri5:tol=1e-8");
+  EXPECT_EQ(both.rtol, 1e-8);
+  EXPECT_EQ(both.atol, 1e-8);
+  EXPECT_EQ(both.tolerance, 0.0) << "a pair's tol= is its error control, not a residual";
+  EXPECT_EQ(both.stepless_spelling(), "dopri5:tol=1e-08");
+  EXPECT_FALSE(both.free_step()) << "--match never re-steps an adaptive pair";
+  EXPECT_EQ(both.landing_grid(), 0.0) << "it lands on every target exactly";
+  const Lane split = parse_lane("rkf78@1e-3:rtol=1e-9:atol=1e-7");
+  EXPECT_EQ(split.rtol, 1e-9);
+  EXPECT_EQ(split.atol, 1e-7);
+  EXPECT_EQ(split.spelling(), "rkf78@1e-3:rtol=1e-09:atol=1e-07");
+  EXPECT_TRUE(parse_lane(split.spelling()).same_as(split));
+  EXPECT_NE(refusal("rk4:rtol=1e-6").find("rk4 has no error control to set"), std::string::npos);
+  EXPECT_NE(refusal("bs3:tol=1e-6:rtol=1e-7").find("tol= sets both"), std::string::npos);
+  EXPECT_NE(refusal("dopri5:tol=1").find("above 0 and below 1"), std::string::npos);
+  EXPECT_EQ(refusal("dopri5:tol=0.9"), "") << "a pair's tolerance is not a residual's, bounded by 0.5";
+  EXPECT_NE(refusal("dopri5:3").find("dopri5 has no iterations to set"), std::string::npos);
+  SceneDef scene;
+  apply_lane(scene, split);
+  EXPECT_EQ(scene.adaptive.rtol, 1e-9);
+  EXPECT_EQ(scene.adaptive.atol, 1e-7);
+}
+
 TEST(Lane, ListsExpandTheCourseAndKeepTheirOrder) {
   const std::vector<Lane> lanes = parse_lane_list("course,xpbd@1/60:5");
   ASSERT_EQ(lanes.size(), 5u);

@@ -46,6 +46,12 @@ std::vector<Lane> parse_study_lanes(const std::string& integrators, const std::s
   return lanes;
 }
 
+void refuse_adaptive_lanes(const std::vector<Lane>& lanes, const std::string& why) {
+  for (const Lane& l : lanes)
+    if (integrator_info(l.kind).adaptive)
+      throw UsageError("--integrators: " + in_quotes(l.stepless_spelling()) + ": " + why);
+}
+
 std::vector<Lane> parse_lanes(const std::string& integrators, const std::string& dt_text, double scene_dt) {
   std::vector<Lane> items = lane_list(integrators);
   // Lanes without @STEP take --dt as before: per integrator, or one step for all of them.
@@ -124,8 +130,12 @@ void follow_scene_solver(std::vector<Lane>& lanes, const ImplicitDef& implicit) 
 const Model& lane_model(const Model& base, const Lane& lane, std::optional<Model>& storage) {
   const std::string refused = base.collision.model == ContactModel::Barrier ? barrier_refusal(lane.kind) : "";
   if (!refused.empty()) throw UsageError("--integrators: collision.model: barrier: " + refused);
-  if (!lane.fixed_point && lane.iterations == 0 && lane.tolerance == 0.0) return base;
+  const bool error_control = (lane.rtol > 0.0 && lane.rtol != base.adaptive.rtol) ||
+                             (lane.atol > 0.0 && lane.atol != base.adaptive.atol);
+  if (!lane.fixed_point && lane.iterations == 0 && lane.tolerance == 0.0 && !error_control) return base;
   storage.emplace(base);
+  if (lane.rtol > 0.0) storage->adaptive.rtol = lane.rtol;  // an adaptive pair's error control
+  if (lane.atol > 0.0) storage->adaptive.atol = lane.atol;
   if (lane.fixed_point) {  // the course framework's "implicit" (docs/integrators.md)
     storage->implicit.solver = ImplicitSolver::FixedPoint;
     storage->implicit.fixed_point_iterations = 1;

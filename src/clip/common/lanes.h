@@ -30,6 +30,10 @@ std::vector<Lane> parse_lanes(const std::string& integrators, const std::string&
 // them): the same lanes, an @STEP refused with UsageError "--integrators: ITEM: <why_no_step>".
 std::vector<Lane> parse_study_lanes(const std::string& integrators, const std::string& why_no_step);
 
+// A study that steps at fixed steps refuses an adaptive pair's lane (bs3, dopri5, rkf78: their
+// tolerance chooses the steps): UsageError "--integrators: 'dopri5': <why>".
+void refuse_adaptive_lanes(const std::vector<Lane>& lanes, const std::string& why);
+
 // The smallest step of the lanes (not empty): what the reference's default step is a quarter
 // of (and, where that is above RK4's stable step, divided into whole steps: picture_options.h).
 double smallest_step(const std::vector<Lane>& lanes);

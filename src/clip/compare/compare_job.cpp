@@ -180,7 +180,7 @@ void check_memory(const CompareRequest& o, const ComparePlan& p) {
     // adaptive solve on a thread of its own.
     budget.add("reference check" + which, run_bytes(of, p.look.reference->kind) + kLaneThreadBytes);
     std::vector<double> steps;
-    for (const CompareLane& l : p.lanes) steps.push_back(l.spec.dt);
+    for (const CompareLane& l : p.lanes) steps.push_back(l.spec.landing_grid());
     const int served = of.cloth.nx * of.cloth.ny;
     budget.add("reference positions at the lanes' times" + which,
                reference_positions_bytes(of, steps, *p.targets, reference_queue_capacity(served, steps)));

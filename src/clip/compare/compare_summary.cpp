@@ -25,7 +25,10 @@ int name_width(const std::vector<std::string>& names) {
 
 void print_row(const LaneResult& r, const std::string& name, const std::string& wrong, int width) {
   const double t = simulated(r);
-  std::printf("%-*s %10.3g %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", width, name.c_str(), r.spec.dt,
+  // An adaptive pair's dt_s is the mean of the steps it chose, not its first trial.
+  const bool adaptive = integrator_info(r.spec.kind).adaptive && r.totals.steps > 0;
+  const double dt = adaptive ? t / static_cast<double>(r.totals.steps) : r.spec.dt;
+  std::printf("%-*s %10.3g %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", width, name.c_str(), dt,
               r.totals.steps, r.totals.force_evals, t > 0 ? spring_passes(r.totals) / t : 0.0, r.totals.cpu_seconds,
               t > 0 ? 1e3 * r.totals.cpu_seconds / t : 0.0, lane_result(r, wrong).c_str());
 }
@@ -164,15 +167,22 @@ void print_solver_work(const PipelineReport& report, const std::vector<std::stri
 
 JsonObject lane_summary(const Model& model, const LaneResult& r, const std::string& role) {
   const double t = simulated(r);
-  return lane_json(model.name, r.spec.kind, r.spec.dt, r.totals,
-                   r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
-      .number("t_reached", r.t)
-      .number("spring_passes", spring_passes(r.totals))
-      .number("max_strain", r.totals.max_strain)
-      .number("projected_steps", static_cast<double>(r.totals.projected_steps))
-      .number("spring_passes_per_s", t > 0 ? spring_passes(r.totals) / t : std::nan(""))
-      .text("lane", r.adaptive_tolerance > 0.0 ? std::string("dopri5 (adaptive)") : r.spec.spelling())
-      .text("role", role);
+  JsonObject lane = lane_json(model.name, r.spec.kind, r.spec.dt, r.totals,
+                              r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
+                        .number("t_reached", r.t)
+                        .number("spring_passes", spring_passes(r.totals))
+                        .number("max_strain", r.totals.max_strain)
+                        .number("projected_steps", static_cast<double>(r.totals.projected_steps))
+                        .number("spring_passes_per_s", t > 0 ? spring_passes(r.totals) / t : std::nan(""))
+                        .text("lane", r.adaptive_tolerance > 0.0 ? std::string("dopri5 (adaptive)") : r.spec.spelling())
+                        .text("role", role);
+  if (integrator_info(r.spec.kind).adaptive)  // an adaptive pair's own steps and error control
+    lane.number("rejected_steps", static_cast<double>(r.totals.rejected_steps))
+        .number("smallest_step", r.totals.smallest_step)
+        .number("largest_step", r.totals.largest_step)
+        .number("rtol", r.spec.rtol > 0.0 ? r.spec.rtol : model.adaptive.rtol)  // the lane's, else the scene's
+        .number("atol", r.spec.atol > 0.0 ? r.spec.atol : model.adaptive.atol);
+  return lane;
 }
 
 // A lane's colouring field in numbers (NaN, written null, when it was never coloured).
@@ -220,9 +230,21 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
   if (color == FieldKind::Error)
     for (std::size_t k = 0; k < report.references.size(); ++k) print_reference_error(report, k);
   print_solver_work(report, context.names);
-  for (std::size_t i = 0; i < report.lanes.size(); ++i)
-    std::printf("step of %s: %s s, %s\n", context.names[i].c_str(), report.lanes[i].result.spec.step_text.c_str(),
+  for (std::size_t i = 0; i < report.lanes.size(); ++i) {
+    const LaneResult& r = report.lanes[i].result;
+    if (integrator_info(r.spec.kind).adaptive) {  // its own steps, and what its error control did
+      std::printf("steps of %s: %.3g to %.3g s, %" PRId64 " accepted, %" PRId64 " refused by its error control\n",
+                  context.names[i].c_str(), r.totals.smallest_step, r.totals.largest_step, r.totals.steps,
+                  r.totals.rejected_steps);
+      if (r.totals.projected_steps > 0)
+        std::printf("%s: %" PRId64 " steps ended in a projected contact, a jump its error control does not see: "
+                    "its tolerance bounds the error between contacts only (collision.model: barrier puts contact "
+                    "in the ODE)\n", context.names[i].c_str(), r.totals.projected_steps);
+      continue;
+    }
+    std::printf("step of %s: %s s, %s\n", context.names[i].c_str(), r.spec.step_text.c_str(),
                 context.step_choice[i].c_str());
+  }
 }
 
 std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& report, FieldKind color,

@@ -238,16 +238,22 @@ std::vector<std::string> match_steps(const Model& model, std::vector<Lane>& lane
   for (const Lane& l : lanes) free.push_back(l.free_step());
   std::vector<const Model*> models = lane_models;
   if (models.empty()) models.assign(lanes.size(), &model);
+  std::vector<std::string> how;
   switch (request.kind) {
     case MatchKind::Cost:
-      return match_cost(models, lanes, free, clip);
+      how = match_cost(models, lanes, free, clip);
+      break;
     case MatchKind::Error:
-      return match_error(model, lanes, free, request.tolerance, clip, reference);
+      how = match_error(model, lanes, free, request.tolerance, clip, reference);
+      break;
     case MatchKind::None:
+      for (std::size_t i = 0; i < lanes.size(); ++i)
+        how.push_back(free[i] ? "the scene's step (--match none)" : "your step");
       break;
   }
-  std::vector<std::string> how;
-  for (std::size_t i = 0; i < lanes.size(); ++i) how.push_back(free[i] ? "the scene's step (--match none)" : "your step");
+  for (std::size_t i = 0; i < lanes.size(); ++i)  // an adaptive pair is never matched on a step
+    if (integrator_info(lanes[i].kind).adaptive)
+      how[i] = "its own steps, by its tolerance (an adaptive pair; " + lanes[i].step_text + " s its first trial)";
   return how;
 }
 

@@ -52,8 +52,7 @@ std::size_t reference_ahead_states(int particles) {
 }
 
 bool same_run(const Lane& started, const Lane& wanted) {
-  return started.kind == wanted.kind && started.dt == wanted.dt && started.step_text == wanted.step_text &&
-         started.fixed_point == wanted.fixed_point && started.iterations == wanted.iterations;
+  return started.same_as(wanted) && started.step_text == wanted.step_text;
 }
 
 void LaneWorker::set_lane_steps(std::vector<double> lane_steps) {

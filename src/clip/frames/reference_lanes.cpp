@@ -46,7 +46,7 @@ void ReferenceLanes::start_error(const Model& model, const TargetPlan& plan, con
   of_.assign(lanes.size(), -1);
   if (config.color != FieldKind::Error) return;
   std::vector<double> steps;
-  for (const Lane& lane : lanes) steps.push_back(lane.dt);
+  for (const Lane& lane : lanes) steps.push_back(lane.landing_grid());
   const std::size_t queue = reference_queue_capacity(model.num_particles, steps);
   for (const VariantReference& v : config.variant_references) {
     LaneNeeds n;  // the positions at its value's lanes' times, nothing else

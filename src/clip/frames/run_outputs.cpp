@@ -10,7 +10,8 @@ namespace clothsim::clip {
 MetricsWriter::MetricsWriter(const std::string& path, const Model& model, IntegratorKind kind, double dt)
     : file_(path) {
   std::fputs("step,t,kinetic,spring_potential,gravity_potential,total_energy,max_strain,contacts,"
-             "force_evals,newton_iterations,cg_iterations,residual,converged,scene,integrator,dt\n",
+             "force_evals,newton_iterations,cg_iterations,residual,converged,scene,integrator,dt,step_size,"
+             "rejected_steps\n",
              file_.stream());
   run_columns_ = "," + csv_text(model.name) + "," + method_name(kind, model.implicit) + "," + csv_number(dt);
 }
@@ -24,7 +25,10 @@ void MetricsWriter::row(const FrameMetrics& m) {
                m.cg_iterations, m.residual, m.converged ? 1 : 0);
   // Written whole, not through %s: a cell is never cut at a byte it holds.
   std::fwrite(run_columns_.data(), 1, run_columns_.size(), file_.stream());
-  std::fputc('\n', file_.stream());
+  // The step the run took last and its refused trials: an adaptive pair's own; a fixed-step
+  // lane's dt and 0.
+  const std::string step = "," + csv_number(m.step_size) + "," + std::to_string(m.rejected_steps) + "\n";
+  std::fwrite(step.data(), 1, step.size(), file_.stream());
 }
 
 PngText frame_metadata(const Model& model, IntegratorKind kind, double dt) {

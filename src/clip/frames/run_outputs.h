@@ -19,8 +19,9 @@ namespace clothsim::clip {
 // max_strain,contacts,force_evals, then the implicit solver's newton_iterations,
 // cg_iterations (cumulative), residual and converged (of the last step), then the run's
 // scene,integrator,dt on every row, so a file says what made it (plot_energy.py labels by
-// them). Columns rather than a header comment: CSV readers (csv.DictReader, pandas) read
-// them without being told to skip comments, and added at the end, old readers are unchanged.
+// them), then step_size and rejected_steps (an adaptive pair's last step and refused trials).
+// Columns rather than a header comment: CSV readers (csv.DictReader, pandas) read them without
+// being told to skip comments, and added at the end, old readers are unchanged.
 class MetricsWriter {
  public:
   MetricsWriter(const std::string& path, const Model& model, IntegratorKind kind, double dt);

@@ -26,7 +26,7 @@ ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<d
   live_lanes_.assign(steps_.size(), 0);
   for (std::size_t j : lane_step_) ++live_lanes_[j];
   for (double h : steps_)  // (formed as add() forms a request's time: none is past it by a rounding)
-    last_needed_.push_back(static_cast<double>(landing_step(last_t, h, 0)) * h);
+    last_needed_.push_back(h > 0.0 ? static_cast<double>(landing_step(last_t, h, 0)) * h : last_t);
   last_t_ = last_t;
   update_horizon();
 }
@@ -68,12 +68,15 @@ double ReferenceStand::next_energy_time() const {
 
 void ReferenceStand::add(const Target& target) {
   for (std::size_t j = 0; j < steps_.size(); ++j) {
-    const std::int64_t k = landing_step(target.t, steps_[j], landed_[j]);
+    // Step 0: lanes that land on every target exactly (an adaptive pair's), a request per target.
+    const bool exact = steps_[j] == 0.0;
+    const std::int64_t k = exact ? landed_[j] + 1 : landing_step(target.t, steps_[j], landed_[j]);
     if (live_lanes_[j] == 0) {
       last_slot_[j] = nullptr;  // every lane of this step was dropped: nothing to serve
     } else if (!last_slot_[j] || k != landed_[j]) {  // a step whose runs did not step shares its last slot
       last_slot_[j] = std::make_shared<Slot>();
-      requests_.insert(Request{static_cast<double>(k) * steps_[j], asked_++, j, last_slot_[j], nullptr, -1});
+      requests_.insert(Request{exact ? target.t : static_cast<double>(k) * steps_[j], asked_++, j, last_slot_[j],
+                               nullptr, -1});
     }
     landed_[j] = k;
   }

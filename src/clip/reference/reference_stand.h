@@ -49,6 +49,7 @@ class ReferenceStand {
   using Positions = std::shared_ptr<const std::vector<double>>;  // (3 x P) particles
 
   // `run` is the reference's, at its start; `lane_steps` the compared lanes' steps, in order
+  // (0 for a lane that lands on every target exactly: an adaptive pair, Lane::landing_grid)
   // (lanes of one step share one request and one copy of the positions at each target);
   // `last_t` the last target's time (TargetPlan::last_time); `history` (if any, not empty) the
   // states the run kept before it knew the steps, its first at step 0, to replay the times it

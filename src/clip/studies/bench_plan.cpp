@@ -18,6 +18,8 @@ namespace clothsim::clip {
 std::vector<Lane> bench_lanes(const BenchOptions& o, const SceneDef& scene) {
   std::vector<Lane> lanes =
       parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
+  refuse_adaptive_lanes(lanes, "an adaptive pair chooses its own steps by its tolerance, and bench sweeps "
+                               "fixed steps; measure it with compare --integrators NAME:tol=T");
   follow_scene_solver(lanes, scene.implicit);  // --set implicit.solver=fixed_point: named as itself
   return lanes;
 }

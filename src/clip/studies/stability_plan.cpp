@@ -80,6 +80,8 @@ void finish_stability_spec(const StabilityOptions& o, const SceneDef& base, doub
 std::vector<Lane> stability_lanes(const StabilityOptions& o, const SceneDef& base) {
   std::vector<Lane> lanes = parse_study_lanes(
       o.integrators, "stability searches the step, so a lane takes no @STEP (its :N stays fixed while the step is searched); drop it");
+  refuse_adaptive_lanes(lanes, "stability searches the largest stable step, and an adaptive pair chooses its "
+                               "own (its error control keeps it stable)");
   follow_scene_solver(lanes, base.implicit);
   return lanes;
 }

@@ -17,6 +17,9 @@ enum class IntegratorKind {
   Vbd,              // Chen et al. 2024 vertex block descent on Phi    ~1 spring pass / iteration
   VelocityVerlet,   // Stormer-Verlet kick-drift-kick                1 force eval (reused)
   Yoshida4,         // Yoshida's 4th-order composition of three Verlet steps  3 force evals
+  Bs3,              // Bogacki-Shampine 3(2) under error control         4 force evals a trial
+  Dopri5,           // Dormand-Prince 5(4) under error control (FSAL)    6 a trial (7 the first)
+  Rkf78,            // Fehlberg 7(8) under error control (order 8)       13 a trial
 };
 
 // A scene that names no integrator runs this one (the student report's code).
@@ -43,6 +46,16 @@ struct VbdDef {
   int iterations = 10;         // Gauss-Seidel sweeps over the vertex colouring per step
   double chebyshev_rho = 0.0;  // Chen et al. 2024's accelerated iterations (Wang 2015's weights); 0 = off
   double tolerance = 0.0;
+};
+
+// The adaptive pairs' error control (bs3, dopri5, rkf78): a trial step is accepted when every
+// coordinate's error estimate e_i satisfies |e_i| <= atol + rtol (|y_i| + h |y'_i|) (Boost.Odeint's
+// default_error_checker; y = (x in m, v in m/s)). Set by a lane's `:tol=` (both), `:rtol=`,
+// `:atol=`; a lane that gives neither runs at kDefaultAdaptiveTolerance.
+inline constexpr double kDefaultAdaptiveTolerance = 1e-6;
+struct AdaptiveDef {
+  double rtol = kDefaultAdaptiveTolerance;
+  double atol = kDefaultAdaptiveTolerance;
 };
 
 struct SolverDefs {

@@ -1,6 +1,8 @@
 // The registry and the dispatch: one table, one lookup, one function per method (MuJoCo's
 // mj_step pattern). Adding an integrator is one row here, its step function and its folder.
 #include "integrator.h"
+
+#include "adaptive.h"
 #include "verlet.h"
 
 #include <iterator>
@@ -92,6 +94,17 @@ constexpr Entry kRegistry[] = {  // constant-initialized: safe to read during st
       "Yoshida's symplectic 4th-order composition of three Verlet steps",
       4, C::None, 0.0, false, false, yoshida4_limit, "", verlet_memory, 2},
      yoshida4_step, no_iterations, no_tolerance},
+    // The adaptive pairs: the step is their controller's, so no step limit is stated; as
+    // fixed-step methods, their higher-order solutions (adaptive.h).
+    {{IntegratorKind::Bs3, "bs3", 0, 0, "Bogacki-Shampine 3(2) by tolerance: adaptive, order 3",
+      3, C::None, 0.0, false, false, no_limit, "", bs3_memory, 0, true},
+     bs3_step, no_iterations, no_tolerance},
+    {{IntegratorKind::Dopri5, "dopri5", 0, 0, "Dormand-Prince 5(4) by tolerance: adaptive, order 5",
+      5, C::None, 0.0, false, false, no_limit, "", dopri5_memory, 0, true},
+     dopri5_step, no_iterations, no_tolerance},
+    {{IntegratorKind::Rkf78, "rkf78", 0, 0, "Fehlberg 7(8) by tolerance: adaptive, order 8",
+      8, C::None, 0.0, false, false, no_limit, "", rkf78_memory, 0, true},
+     rkf78_step, no_iterations, no_tolerance},
 };
 
 const Entry& entry(IntegratorKind kind) {

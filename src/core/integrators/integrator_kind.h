@@ -53,6 +53,9 @@ struct IntegratorInfo {
   // Its order where forces depend on velocity (dampers, drag, friction), when lower than
   // `order`: yoshida4's composition needs a symmetric Verlet kick (verlet.h). 0: `order`.
   int velocity_force_order = 0;
+  // An adaptive pair (integrators/adaptive.h): Run steps it under error control, by its
+  // tolerances (Model::adaptive), from the lane's step as the first trial.
+  bool adaptive = false;
 };
 const std::vector<IntegratorInfo>& integrator_registry();  // in enum order
 

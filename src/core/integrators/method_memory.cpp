@@ -44,6 +44,15 @@ double implicit_factor_bytes(double particles, double springs) {
   return std::min(kFactorBlockBytes * particles * 8.0 * std::log2(std::max(particles, 2.0)), kMaxFactorBytes);
 }
 
+// An adaptive pair's vectors of y = (x, v) (48 B a body each): y itself, its stages'
+// derivatives, and Odeint's controlled stepper's derivative, new state and error (3 more);
+// counted from the steppers' members, not measured.
+constexpr double kPairVectorPerBody = 48;
+MethodMemory pair_memory(const MemorySizes& n, int stages) {
+  return {kExplicitPerParticle * n.particles + kPairVectorPerBody * (stages + 4) * n.bodies,
+          kFinalStatePerParticle * n.bodies};
+}
+
 MethodMemory explicit_family_plus(const MemorySizes& n, double extra_per_particle) {
   return {(kExplicitPerParticle + extra_per_particle) * n.particles, kFinalStatePerParticle * n.bodies};
 }
@@ -58,6 +67,9 @@ MethodMemory verlet_memory(const MemorySizes& n) {
   m.final_state += kVerletHistoryPerBody * n.bodies;
   return m;
 }
+MethodMemory bs3_memory(const MemorySizes& n) { return pair_memory(n, 4); }
+MethodMemory dopri5_memory(const MemorySizes& n) { return pair_memory(n, 7); }
+MethodMemory rkf78_memory(const MemorySizes& n) { return pair_memory(n, 13); }
 MethodMemory xpbd_memory(const MemorySizes& n) { return explicit_family_plus(n, kXpbdExtra); }
 MethodMemory vbd_memory(const MemorySizes& n) {
   const bool accelerated = n.solvers.vbd.chebyshev_rho > 0.0;

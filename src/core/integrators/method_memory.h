@@ -32,5 +32,8 @@ MethodMemory implicit_euler_memory(const MemorySizes& n);
 MethodMemory xpbd_memory(const MemorySizes& n);
 MethodMemory projective_dynamics_memory(const MemorySizes& n);
 MethodMemory vbd_memory(const MemorySizes& n);
+MethodMemory bs3_memory(const MemorySizes& n);
+MethodMemory dopri5_memory(const MemorySizes& n);
+MethodMemory rkf78_memory(const MemorySizes& n);
 
 }  // namespace clothsim

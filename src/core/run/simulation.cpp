@@ -1,5 +1,7 @@
 #include "simulation.h"
 
+#include "core/model/barrier_contacts.h"  // uses_barrier
+
 #include <time.h>
 
 #include <algorithm>
@@ -35,6 +37,7 @@ StepReport step(const Model& model, State& state, IntegratorKind kind, double h,
 
 Run::Run(const Model& model, IntegratorKind kind, double dt)
     : model_(model), kind_(kind), dt_(dt), state_(initial_state(model)) {
+  if (integrator_info(kind).adaptive) adaptive_ = std::make_unique<AdaptiveStepper>(model, kind, dt);
   start_strain_ = max_strain(model_, state_);
   energy_every_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(kWrongEnergyEvery / dt_ + 1e-9)));
   record_energy(energy_, compute_energies(model_, state_).total(), true);
@@ -54,6 +57,7 @@ void Run::judge_step(const StepReport& report, std::size_t actions_before, std::
 bool Run::advance_to(double target) {
   if (divergence_) return false;
   if (stopped_) return true;
+  if (adaptive_) return advance_adaptive(target);
   checkpoint_ = state_;
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = thread_cpu_seconds();
@@ -70,6 +74,7 @@ bool Run::advance_to(double target) {
     last_ = step(model_, state_, kind_, dt_, ws_);
     stepped = true;
     ++totals_.steps;
+    totals_.last_step = totals_.smallest_step = totals_.largest_step = dt_;
     totals_.force_evals += last_.stats.force_evals;
     totals_.newton_iterations += last_.stats.newton_iterations;
     totals_.cg_iterations += last_.stats.cg_iterations;
@@ -102,12 +107,71 @@ bool Run::advance_to(double target) {
   return !divergence_;
 }
 
+// An adaptive pair's advance (adaptive.h): the phases of step() around a step its controller
+// chose, shortened to land on the target and on every timeline event:
+//     accepted step -> collisions -> time -> events -> divergence check
+// A projection that moved a particle, or an event, changed the state outside the ODE: the pair
+// restarts from the new state.
+bool Run::advance_adaptive(double target) {
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = thread_cpu_seconds();
+  const double tolerance = 1e-12 * std::max(1.0, std::abs(target));
+  bool stepped = false;
+  while (state_.t < target - tolerance) {
+    if (stop_ && stop_()) {
+      stopped_ = true;
+      break;
+    }
+    const std::int64_t from_step = state_.step;
+    const double from_t = state_.t;
+    const std::size_t actions_before = state_.next_action;
+    const double event = state_.next_action < model_.timeline.size() ? model_.timeline[state_.next_action].t : target;
+    const double limit = event > state_.t + tolerance ? std::min(target, event) : target;
+    previous_ = state_;
+    const AdaptiveStep s = adaptive_->step(state_, limit);
+    totals_.force_evals += s.force_evals;
+    totals_.rejected_steps += s.rejected;
+    if (s.failed) {
+      divergence_ = Divergence{state_.step, state_.t,
+                               "the adaptive step fell below what time resolves (" + std::to_string(s.rejected) +
+                                   " trials refused): the tolerance cannot be met here"};
+      break;
+    }
+    stepped = true;
+    last_ = StepReport{};
+    last_.stats.force_evals = s.force_evals;
+    last_.stats.start_strain = s.start_strain;
+    last_.contacts = resolve_collisions(model_, state_);  // once, after the accepted step
+    state_.step += 1;
+    apply_due_actions(model_, state_);
+    // Under the barrier, contact is a force inside the ODE and resolve_collisions only counts
+    // it; under projection a resolved contact moved the state after the step.
+    const bool contact = !uses_barrier(model_) && (last_.contacts.total() > 0 || last_.contacts.projected > 0);
+    if (contact || state_.next_action != actions_before) adaptive_->restart();
+    if (contact) ++totals_.projected_steps;
+    ++totals_.steps;
+    totals_.last_step = s.h;
+    totals_.smallest_step = totals_.steps == 1 ? s.h : std::min(totals_.smallest_step, s.h);
+    totals_.largest_step = std::max(totals_.largest_step, s.h);
+    totals_.max_strain = std::max(totals_.max_strain, s.start_strain);
+    divergence_ = check_strain(model_, s.start_strain, from_step, from_t);
+    if (!divergence_) divergence_ = check_bodies(model_, state_);
+    if (divergence_) break;
+    judge_step(last_, actions_before, from_step, from_t);
+  }
+  if (!divergence_ && stepped) divergence_ = check_divergence(model_, state_);
+  totals_.sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  totals_.cpu_seconds += thread_cpu_seconds() - cpu_start;
+  return !divergence_;
+}
+
 namespace {
 bool all_finite(const State& s) { return s.x.allFinite() && s.v.allFinite(); }
 }  // namespace
 
 State Run::last_finite_state() const {
   if (!divergence_) return state_;
+  if (adaptive_) return all_finite(state_) ? state_ : previous_;
   // The named state itself when finite, else the one before: replay to the earlier of the
   // two only when needed (the replay's own result tells which).
   const std::int64_t named = divergence_->step;
@@ -134,6 +198,8 @@ FrameMetrics Run::metrics() const {
   m.cg_iterations = totals_.cg_iterations;
   m.residual = last_.stats.residual;
   m.converged = last_.stats.converged;
+  m.step_size = totals_.steps > 0 ? totals_.last_step : dt_;
+  m.rejected_steps = totals_.rejected_steps;
   return m;
 }
 

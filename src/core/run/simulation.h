@@ -9,12 +9,14 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 
 #include "core/model/collisions.h"
 #include "core/model/diagnostics.h"
 #include "core/model/model.h"
 #include "core/model/state.h"
+#include "core/integrators/adaptive.h"
 #include "core/integrators/integrator.h"
 
 namespace clothsim {
@@ -39,11 +41,15 @@ struct RunTotals {
   std::int64_t solver_iterations = 0;   // xpbd, projective_dynamics, vbd: their sweeps,
   double solver_iteration_passes = 0.0; // each weighing this many spring passes (the
                                         // method's registry row; work_units.h)
-  std::int64_t projected_steps = 0;     // implicit_euler: steps whose post-step projection moved a particle
+  std::int64_t projected_steps = 0;     // implicit_euler, the adaptive pairs: steps whose post-step
+                                        // projection moved a particle (for a pair, any contact resolved)
   double max_strain = 0.0;              // largest strain a step started from (its first force pass)
   std::int64_t unconverged_steps = 0;   // implicit solves that hit their cap
   double max_residual = 0.0;            // largest final residual of any step
   std::int64_t contact_constraints = 0; // implicit_euler: contacts held inside the solves
+  std::int64_t rejected_steps = 0;      // adaptive pairs: trial steps the error control refused
+  double last_step = 0.0;               // s, the last step taken (an adaptive pair's varies)
+  double smallest_step = 0.0, largest_step = 0.0;  // s, over the accepted steps
   std::int64_t safety_projections = 0;  // implicit_euler: particles the post-step projection
                                         // still had to move (contacts the solve missed)
   double sim_seconds = 0.0;             // wall time spent stepping
@@ -64,6 +70,8 @@ struct FrameMetrics {
   std::int64_t cg_iterations = 0;      // cumulative
   double residual = 0.0;         // last step's final implicit residual
   bool converged = true;         // last step's solve converged
+  double step_size = 0.0;        // s, the last step's (an adaptive pair's own choice)
+  std::int64_t rejected_steps = 0;  // cumulative: an adaptive pair's refused trials
 };
 
 // CPU time of the calling thread, s: what runs are charged (RunTotals::cpu_seconds), and what a
@@ -123,6 +131,11 @@ class Run {
   EnergyLedger energy_;
   std::int64_t energy_every_ = 1;
   bool work_since_sample_ = false;
+  // An adaptive pair (IntegratorInfo::adaptive): its controller, and the state before its last
+  // step (its steps vary, so a blow-up's last finite state is kept rather than replayed).
+  std::unique_ptr<AdaptiveStepper> adaptive_;
+  State previous_;
+  bool advance_adaptive(double target);
   void judge_step(const StepReport& report, std::size_t actions_before, std::int64_t from_step, double from_t);
 };
 

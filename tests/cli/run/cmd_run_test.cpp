@@ -582,8 +582,8 @@ TEST(CmdRun, MetricsRowsSayTheSceneIntegratorAndStep) {
   std::string header, first;
   std::getline(in, header);
   std::getline(in, first);
-  EXPECT_EQ(header.substr(header.size() - 20), ",scene,integrator,dt") << header;
-  EXPECT_EQ(first.substr(first.size() - 17), ",spring,rk4,0.005") << first;
+  EXPECT_NE(header.find(",scene,integrator,dt,step_size,rejected_steps"), std::string::npos) << header;
+  EXPECT_NE(first.find(",spring,rk4,0.005,0.005,0"), std::string::npos) << first;
 }
 
 TEST(CmdRun, PlotEnergyLabelsEachLineByItsMetricsColumns) {
@@ -623,11 +623,11 @@ TEST(CmdRun, TheFixedPointRunsByItsNameAndItsMetricsSaySo) {
   ASSERT_EQ(set.exit_code, 0) << set.err;
   const std::string a = slurp(dir + "/named.csv"), b = slurp(dir + "/set.csv");
   EXPECT_EQ(a, b) << "the name and the scene key are one method";
-  EXPECT_NE(a.find(",spring,implicit_euler_fixed_point,0.001\n"), std::string::npos) << a;
+  EXPECT_NE(a.find(",spring,implicit_euler_fixed_point,0.001,"), std::string::npos) << a;
   const CliResult newton = run_clothsim({"run", shipped("spring.yaml"), "--duration", "0.05", "--integrator",
                                          "implicit_euler", "--metrics", dir + "/newton.csv"});
   ASSERT_EQ(newton.exit_code, 0) << newton.err;
-  EXPECT_NE(slurp(dir + "/newton.csv").find(",spring,implicit_euler,0.001\n"), std::string::npos);
+  EXPECT_NE(slurp(dir + "/newton.csv").find(",spring,implicit_euler,0.001,"), std::string::npos);
   EXPECT_NE(slurp(dir + "/newton.csv"), a) << "and a different method from backward Euler";
 }
 

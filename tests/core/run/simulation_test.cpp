@@ -210,7 +210,10 @@ TEST(Run, EveryShippedSceneRunsAFewStepsWithEveryIntegrator) {
     for (IntegratorKind k : all_integrators()) {
       clothsim::Run run(m, k, m.dt);
       run.advance_to(5 * m.dt);
-      EXPECT_EQ(run.state().step, 5) << name << " " << integrator_name(k);
+      if (integrator_info(k).adaptive)  // its own steps, landing on the target exactly
+        EXPECT_EQ(run.state().t, 5 * m.dt) << name << " " << integrator_name(k);
+      else
+        EXPECT_EQ(run.state().step, 5) << name << " " << integrator_name(k);
       EXPECT_TRUE(run.state().x.allFinite()) << name << " " << integrator_name(k);
     }
   }

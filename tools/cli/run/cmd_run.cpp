@@ -110,6 +110,17 @@ void print_run_totals(const Model& model, IntegratorKind kind, double dt, const 
                 " post-step projections\n",
                 t.newton_iterations, t.cg_iterations, t.factorizations, t.max_residual, t.unconverged_steps,
                 t.contact_constraints, t.safety_projections);
+  if (integrator_info(kind).adaptive) {
+    std::printf("%s: %" PRId64 " accepted steps, %" PRId64 " refused by the error control (rtol %g, atol %g); "
+                "steps from %.3g to %.3g s\n",
+                std::string(integrator_name(kind)).c_str(), t.steps, t.rejected_steps, model.adaptive.rtol,
+                model.adaptive.atol, t.smallest_step, t.largest_step);
+    if (t.projected_steps > 0)
+      std::printf("%s: %" PRId64 " steps ended in a projected contact, which the error control does not see "
+                  "(a jump outside the ODE): the tolerance bounds the error between contacts only; use "
+                  "collision.model: barrier for a contact it controls\n",
+                  std::string(integrator_name(kind)).c_str(), t.projected_steps);
+  }
   if (is_iterative_solver(kind))
     std::printf("%s: %" PRId64 " iterations, %" PRId64 " factorizations, %" PRId64
                 " steps not converged (largest relative residual %.3g; measured with a tolerance only)\n",
