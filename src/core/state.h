@@ -29,6 +29,7 @@ struct ImplicitSolverState {
     std::vector<double> length;   // (S) m, spring lengths at that step's start
     Eigen::VectorXd inv_mass;     // (B) 1/kg
     double h = 0.0;               // s, the step size; 0 = nothing recorded
+    double damper_h = 0.0, drag_h = 0.0;  // s, the rest of its StepForm (implicit/step_form.h)
     std::int64_t assemblies = 0;  // matrices recorded over this State's history (a count)
   } lin;
   // Whether the recorded matrix served when last tried on a new iterate; if not, steps

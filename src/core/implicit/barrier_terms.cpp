@@ -6,11 +6,18 @@
 
 namespace clothsim {
 
-void add_barrier_potential(const Model& model, const State& start, double h, const Eigen::Matrix3Xd& y,
+namespace {
+const Eigen::Matrix3Xd& lag_point(const State& start, const StepForm& form) {
+  return form.lag_x ? *form.lag_x : start.x;
+}
+}  // namespace
+
+void add_barrier_potential(const Model& model, const State& start, const StepForm& form, const Eigen::Matrix3Xd& y,
                            Eigen::Matrix3Xd& gradient, PotentialValue& value) {
   const BarrierParams p = barrier_params(model);
+  const double h = form.h;
   for_each_barrier_pair(model, start.inv_mass, [&](const BarrierPair& pair) {
-    const StepPairTerms t = step_pair_terms(model, p, pair, start.x, y, h);
+    const StepPairTerms t = step_pair_terms(model, p, pair, lag_point(start, form), start.x, y, form.damper_h);
     if (!t.active) return;
     value.phi += t.energy;
     value.magnitude += std::abs(t.energy);
@@ -19,13 +26,13 @@ void add_barrier_potential(const Model& model, const State& start, double h, con
   });
 }
 
-void add_barrier_hessian(const Model& model, const State& start, double h, const Eigen::Matrix3Xd& y,
+void add_barrier_hessian(const Model& model, const State& start, const StepForm& form, const Eigen::Matrix3Xd& y,
                          SpringBlockMatrix& A) {
   const BarrierParams p = barrier_params(model);
   const Eigen::VectorXd& w = start.inv_mass;
-  const double h2 = h * h;
+  const double h2 = form.h * form.h;
   for_each_barrier_pair(model, w, [&](const BarrierPair& pair) {
-    const StepPairTerms t = step_pair_terms(model, p, pair, start.x, y, h);
+    const StepPairTerms t = step_pair_terms(model, p, pair, lag_point(start, form), start.x, y, form.damper_h);
     if (!t.active) return;
     for (const int i : {pair.a, pair.b}) {
       if (i < 0 || w[i] == 0.0) continue;

@@ -180,7 +180,8 @@ class NewtonSolve {
  public:
   // `start` is read as the step's start throughout; only its record of the Newton matrix's
   // linearisation (State::implicit.lin) is written, when a matrix is assembled.
-  NewtonSolve(const Model& model, State& start, double h, ImplicitCache& c, StepStats& stats,
+  // `form`: the step's incremental potential (step_form.h; a bare h: backward Euler's).
+  NewtonSolve(const Model& model, State& start, const StepForm& form, ImplicitCache& c, StepStats& stats,
               const NewtonTracer& trace);
 
   void evaluate();           // Phi, r and y at c.dv
@@ -222,7 +223,8 @@ class NewtonSolve {
   const Model& model_;
   const State& start_;
   State& record_;  // the same State: its implicit.lin only
-  double h_;
+  const StepForm form_;
+  const double h_;  // form_.h
   const ImplicitDef& cfg_;
   ImplicitCache& c_;
   StepStats& stats_;
