@@ -65,6 +65,7 @@ struct Model {
   IntegratorKind integrator = kDefaultIntegrator;
   ImplicitDef implicit;
   SolverDefs solvers;  // xpbd, projective_dynamics, vbd options
+  MethodDefs methods;  // newmark's and generalized_alpha's parameters (defaults for now: no scene key)
   DivergenceDef divergence;
   double energy_scale = 1.0;  // J, what kinetic energy is compared with to call a run diverged
 

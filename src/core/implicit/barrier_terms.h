@@ -40,11 +40,12 @@ void add_barrier_hessian(const Model& model, const State& start, const StepForm&
 
 // The largest line-search step along dv's direction d from end positions y (which move by h d):
 // every distance keeps kBarrierKeep of itself. 1 when no pair closes.
-double barrier_line_bound(const Model& model, const State& start, double h, const Eigen::Matrix3Xd& y,
+double barrier_line_bound(const Model& model, const State& start, const StepForm& form, const Eigen::Matrix3Xd& y,
                           const Eigen::Matrix3Xd& d);
 
-// Makes the first guess feasible: a particle whose end position x_n + h (v_n + dv) lies at or
-// inside a collider has its dv changed so that it ends d-hat / 2 outside. Returns how many.
-int barrier_feasible_start(const Model& model, const State& start, double h, Eigen::Matrix3Xd& dv);
+// Makes the first guess feasible: a particle whose end position x_n + h (v_n + dv) (mapped to
+// the barrier's point, StepForm::contact_stage) lies at or inside a collider has its dv changed
+// so that it ends d-hat / 2 outside. Returns how many.
+int barrier_feasible_start(const Model& model, const State& start, const StepForm& form, Eigen::Matrix3Xd& dv);
 
 }  // namespace clothsim

@@ -153,7 +153,7 @@ void solve_incremental(const Model& model, State& start, const StepForm& form, I
   else c.dv = -start.v;
   hold_immovable(w, c.dv);
   place_on_planes(c.contacts, start, h, c.dv);
-  if (uses_barrier(model)) barrier_feasible_start(model, start, h, c.dv);  // Phi finite at the start
+  if (uses_barrier(model)) barrier_feasible_start(model, start, form, c.dv);  // Phi finite at the start
   NewtonSolve newton(model, start, form, c, stats, trace);
   newton.evaluate();
   if (trace.on()) trace_step_start(trace, model, start, c, guess.name());

@@ -449,7 +449,7 @@ FactorForecast FactorAccount::renew(double price) const {
 
 // The largest step along d that keeps every barrier distance positive (1 without the barrier).
 double NewtonSolve::barrier_bound() const {
-  return uses_barrier(model_) ? barrier_line_bound(model_, start_, h_, c_.y, c_.d) : 1.0;
+  return uses_barrier(model_) ? barrier_line_bound(model_, start_, form_, c_.y, c_.d) : 1.0;
 }
 
 // Armijo backtracking along d from dv, from the barrier's bound; on success the trial becomes

@@ -16,6 +16,11 @@
 //    with drag_h = h_e^2 / damper_h.
 //  - IPC's lagged friction acts on the tangential displacement y - x_s, i.e. at velocity
 //    (y - x_s) / damper_h (eps = eps_v damper_h), its normal and force lagged at lag_x.
+//  - The barrier acts at the stage y, or, with contact_stage = theta < 1, at the step's end
+//    x_n + (y - x_n) / theta where a method extrapolates its end from an earlier stage
+//    (implicit midpoint: theta = 1/2): Phi's term theta b(y_end) (its y-gradient the barrier's
+//    force at y_end), so the line search keeps the end point, not only the stage, outside
+//    every collider. Friction goes with it (displacements and eps over theta).
 // Backward Euler is h_e = damper_h = drag_h = h from (x_n, v_n), l_ref = l_n: a bare step
 // converts to that form, so every call that means backward Euler still reads `h`.
 #pragma once
@@ -31,6 +36,8 @@ struct StepForm {
   // Where lagged friction takes its normal and force: x_n; null: the pseudo-start x_s (they
   // coincide for backward Euler).
   const Eigen::Matrix3Xd* lag_x = nullptr;
+  // theta: the barrier's point is x_n + (y - x_n) / theta, x_n = lag_x (1: the stage y itself).
+  double contact_stage = 1.0;
 
   StepForm() = default;
   StepForm(double step) : h(step), damper_h(step), drag_h(step) {}  // NOLINT: backward Euler's form

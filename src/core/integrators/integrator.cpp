@@ -92,6 +92,24 @@ constexpr Entry kRegistry[] = {  // constant-initialized: safe to read during st
       "Yoshida's symplectic 4th-order composition of three Verlet steps",
       4, C::None, 0.0, false, false, yoshida4_limit, "", verlet_memory, 2},
      yoshida4_step, no_iterations, no_tolerance},
+    // The implicit family (implicit_family.h): A-stable (newmark with 2 beta >= gamma >= 1/2,
+    // its default among them), so no step limit; `:N` caps Newton as for implicit_euler.
+    {{IntegratorKind::ImplicitMidpoint, "implicit_midpoint", 0, 0,
+      "implicit midpoint: symplectic, order 2, |R| = 1; a backward Euler half step, then the forward half",
+      2, C::Newton, 0.0, true, true, no_limit, "", implicit_family_memory},
+     implicit_midpoint_step, newton_iterations, no_tolerance},
+    {{IntegratorKind::Newmark, "newmark", 0, 0,
+      "Newmark (beta, gamma), the trapezoidal rule by default: order 2, |R| = 1",
+      2, C::Newton, 0.0, true, true, no_limit, "", implicit_family_memory},
+     newmark_step, newton_iterations, no_tolerance},
+    {{IntegratorKind::GeneralizedAlpha, "generalized_alpha", 0, 0,
+      "generalized-alpha (Chung & Hulbert 1993): order 2, high modes damped to rho_inf",
+      2, C::Newton, 0.0, true, true, no_limit, "", implicit_family_memory},
+     generalized_alpha_step, newton_iterations, no_tolerance},
+    {{IntegratorKind::Bdf2, "bdf2", 0, 0,
+      "BDF2: order 2, L-stable, started (and restarted) by a backward Euler step",
+      2, C::Newton, 0.0, true, true, no_limit, "", implicit_family_memory},
+     bdf2_step, newton_iterations, no_tolerance},
 };
 
 const Entry& entry(IntegratorKind kind) {
