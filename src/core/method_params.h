@@ -21,6 +21,7 @@ enum class IntegratorKind {
   Newmark,           // implicit_euler's Newton solve: Newton/CG work; newmark and
   GeneralizedAlpha,  // generalized_alpha carry an acceleration, bdf2 the step before
   Bdf2,
+  Ros2,              // two-stage L-stable Rosenbrock, one matrix a step   2 force evals + 2 solves
 };
 
 // A scene that names no integrator runs this one (the student report's code).

@@ -52,6 +52,10 @@ using C = IterationControl;
 // XPBD and PD project constraints; the barrier is a potential they have no faithful form of.
 constexpr std::string_view kProjectsConstraints =
     "has no barrier contact (it projects constraints); use collision.model: projection for it";
+// ros2's step is linearly implicit: no line search keeps the barrier's distances positive.
+constexpr std::string_view kLinearlyImplicit =
+    "has no barrier contact (a linearly implicit step has no line search to keep its distances "
+    "positive); use collision.model: projection for it";
 constexpr Entry kRegistry[] = {  // constant-initialized: safe to read during static initialization
     {{IntegratorKind::ExplicitEuler, "explicit_euler", 1, 1,
       "forward Euler: x += h v_n, v += h a_n (the course framework's 'explicit')",
@@ -110,6 +114,10 @@ constexpr Entry kRegistry[] = {  // constant-initialized: safe to read during st
       "BDF2: order 2, L-stable, started (and restarted) by a backward Euler step",
       2, C::Newton, 0.0, true, true, no_limit, "", implicit_family_memory},
      bdf2_step, newton_iterations, no_tolerance},
+    {{IntegratorKind::Ros2, "ros2", 2, 0,
+      "ROS2 (Verwer et al. 1999): two-stage L-stable Rosenbrock, order 2, one matrix a step",
+      2, C::None, 0.0, true, false, no_limit, kLinearlyImplicit, implicit_euler_memory},
+     ros2_step, no_iterations, no_tolerance},
 };
 
 const Entry& entry(IntegratorKind kind) {
