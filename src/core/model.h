@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "core/model_params.h"
-#include "core/method_params.h"
+#include "core/base/model_params.h"
+#include "core/base/method_params.h"
 #include "core/springs/spring_layout.h"
 #include "core/springs/springs.h"
 

@@ -1,5 +1,5 @@
 // The step and the run: phases in order, events, pinned particles, divergence, determinism.
-#include "core/simulation.h"
+#include "core/run/simulation.h"
 
 #include <gtest/gtest.h>
 

@@ -14,8 +14,8 @@
 #include <string>
 
 #include "barrier_kernels.h"
-#include "core/method_params.h"
-#include "core/model.h"
+#include "core/base/method_params.h"
+#include "core/model/model.h"
 
 namespace clothsim {
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/contact/barrier_contacts.h"
+#include "core/model/barrier_contacts.h"
 
 namespace clothsim {
 

@@ -18,8 +18,8 @@
 
 #include "sparse_system.h"
 #include "step_potential.h"
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

@@ -13,7 +13,7 @@
 #include "newton_solve.h"
 #include "step_contacts.h"
 #include "step_potential.h"
-#include "core/contact/barrier_contacts.h"
+#include "core/model/barrier_contacts.h"
 
 namespace clothsim {
 

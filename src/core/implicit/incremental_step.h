@@ -9,8 +9,8 @@
 #include "newton_solve.h"
 #include "step_form.h"
 #include "core/base/step_stats.h"
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

@@ -8,7 +8,7 @@
 
 #include "barrier_terms.h"
 #include "newton_kernels.h"
-#include "core/contact/barrier_contacts.h"
+#include "core/model/barrier_contacts.h"
 #include "core/linear/cg_kernels.h"
 #include "step_contacts.h"
 

@@ -31,7 +31,7 @@
 #include <vector>
 
 #include "step_form.h"
-#include "core/model.h"
+#include "core/model/model.h"
 #include "core/linear/block_matrix.h"
 #include "core/springs/spring_force.h"
 

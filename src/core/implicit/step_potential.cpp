@@ -4,7 +4,7 @@
 
 #include "barrier_terms.h"
 #include "potential_kernels.h"
-#include "core/contact/barrier_contacts.h"
+#include "core/model/barrier_contacts.h"
 #include "core/springs/spring_force.h"
 #include "core/springs/spring_kernels.h"  // sticky_max
 

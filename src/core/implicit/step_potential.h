@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "step_form.h"
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

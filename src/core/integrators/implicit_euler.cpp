@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "integrator.h"
-#include "core/forces.h"
+#include "core/model/forces.h"
 #include "core/implicit/implicit_cache.h"
 #include "core/implicit/incremental_step.h"
 #include "core/implicit/newton_kernels.h"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <utility>
 
-#include "core/forces.h"
+#include "core/model/forces.h"
 #include "core/implicit/incremental_step.h"
 #include "core/implicit/step_contacts.h"
 

@@ -9,8 +9,8 @@
 #include "core/base/step_context.h"
 #include "core/base/step_stats.h"
 #include "core/base/workspace.h"
-#include "core/model.h"
-#include "core/state.h"
+#include "core/model/model.h"
+#include "core/model/state.h"
 
 namespace clothsim {
 

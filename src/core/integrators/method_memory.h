@@ -4,8 +4,8 @@
 // row; the coefficients come from peak RSS (BENCHMARKS.md, "Memory estimate").
 #pragma once
 
-#include "core/method_params.h"
-#include "core/model_params.h"
+#include "core/base/method_params.h"
+#include "core/base/model_params.h"
 
 namespace clothsim {
 

@@ -16,7 +16,7 @@
 #include <cmath>
 
 #include "integrator.h"
-#include "core/forces.h"
+#include "core/model/forces.h"
 #include "core/implicit/implicit_cache.h"
 #include "core/implicit/incremental_step.h"
 #include "core/implicit/sparse_system.h"

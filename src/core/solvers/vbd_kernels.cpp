@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/contact/barrier_contacts.h"
+#include "core/model/barrier_contacts.h"
 
 namespace clothsim {
 namespace {

@@ -3,7 +3,7 @@
 // a particle dropping onto a sphere is a smooth ODE that RK4 solves at order 4, symplectic
 // Euler keeps the energy, a dynamic sphere conserves momentum with the cloth, and implicit
 // Euler and VBD never let a distance reach zero.
-#include "core/contact/barrier_contacts.h"
+#include "core/model/barrier_contacts.h"
 
 #include <gtest/gtest.h>
 
@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "test_support.h"
-#include "core/diagnostics.h"
-#include "core/forces.h"
-#include "core/simulation.h"
+#include "core/model/diagnostics.h"
+#include "core/model/forces.h"
+#include "core/run/simulation.h"
 
 namespace clothsim {
 namespace {

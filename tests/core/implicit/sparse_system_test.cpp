@@ -12,7 +12,7 @@
 
 #include "test_support.h"
 #include "core/implicit/step_potential.h"
-#include "core/state.h"
+#include "core/model/state.h"
 
 namespace clothsim::testing {
 namespace {

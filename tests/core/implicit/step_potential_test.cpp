@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "test_support.h"
-#include "core/state.h"
+#include "core/model/state.h"
 
 namespace clothsim::testing {
 namespace {

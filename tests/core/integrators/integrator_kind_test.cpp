@@ -7,7 +7,7 @@
 #include <set>
 
 #include "core/integrators/integrator.h"
-#include "core/model.h"
+#include "core/model/model.h"
 
 namespace clothsim {
 namespace {
