@@ -214,6 +214,7 @@ Model build_model(const SceneDef& scene) {
   m.implicit = scene.implicit;
   m.solvers = scene.solvers;
   m.adaptive = scene.adaptive;
+  m.methods = scene.methods;
   m.divergence = scene.divergence;
   m.energy_scale = energy_scale(m, c);
   return m;

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "echo.h"
+#include "core/integrators/method_param.h"
 #include "scene_def.h"
 #include "text.h"
 
@@ -28,9 +29,16 @@ void parse_items(const std::string& items, const std::string& typed, Lane& lane,
     const auto eq = part.find('=');
     if (eq != std::string::npos) {
       const std::string key = trimmed(part.substr(0, eq)), value = trimmed(part.substr(eq + 1));
-      if (key != "tol" && key != "rtol" && key != "atol")
-        refuse(in_quotes(typed) + ": unknown setting " + in_quotes(key) +
-               " (a lane takes :N for its iterations, tol=T for a tolerance, rtol= and atol= for an adaptive pair's)");
+      if (key != "tol" && key != "rtol" && key != "atol") {  // a method's own, checked once its name is known
+        const std::optional<double> number = parse_number_or_fraction(value);
+        if (!number) refuse(in_quotes(value) + " in " + in_quotes(typed) + " is not a number (" + key + "=)");
+        for (const auto& [given, _] : lane.params)
+          if (given == key) refuse(in_quotes(typed) + " gives " + key + "= twice");
+        lane.params.emplace_back(key, *number);
+        if (colon == std::string::npos) break;
+        from = colon + 1;
+        continue;
+      }
       const std::optional<double> tol = parse_number_or_fraction(value);
       if (adaptive && (!tol || !(*tol > 0.0 && *tol < 1.0)))
         refuse("the tolerance in " + in_quotes(typed) + " must be a number above 0 and below 1");
@@ -55,6 +63,7 @@ void parse_items(const std::string& items, const std::string& typed, Lane& lane,
 std::string items_text(const Lane& l) {
   std::string s = l.iterations > 0 ? ":" + std::to_string(l.iterations) : "";
   if (l.tolerance > 0.0) s += ":tol=" + number_text(l.tolerance);
+  for (const auto& [key, value] : l.params) s += ":" + key + "=" + number_text(value);
   if (l.rtol > 0.0 && l.rtol == l.atol) return s + ":tol=" + number_text(l.rtol);
   if (l.rtol > 0.0) s += ":rtol=" + number_text(l.rtol);
   if (l.atol > 0.0) s += ":atol=" + number_text(l.atol);
@@ -109,6 +118,15 @@ Lane parse_lane(const std::string& typed, bool integrators_only) {
   if (lane.tolerance > 0.0 && (!is_iterative_solver(*kind) || fixed_point))
     refuse(name + " has no residual tolerance to set (in " + in_quotes(typed) +
            "; tol= is for xpbd, projective_dynamics and vbd, and the adaptive pairs bs3, dopri5, rkf78)");
+  for (const auto& [key, value] : lane.params) {
+    const std::string_view takes = integrator_info(*kind).parameters;
+    if (!takes_method_param(*kind, key))
+      refuse(name + " has no parameter " + in_quotes(key) + " (in " + in_quotes(typed) + "; " +
+             (takes.empty() ? name + " takes none" : name + " takes " + std::string(takes)) +
+             "; a lane takes :N, tol=, rtol=, atol= besides)");
+    if (const std::string problem = method_param_problem(key, value); !problem.empty())
+      refuse(name + ": " + problem + ", got " + number_text(value) + " (in " + in_quotes(typed) + ")");
+  }
   if ((lane.rtol > 0.0 || lane.atol > 0.0) && !adaptive)
     refuse(name + " has no error control to set (in " + in_quotes(typed) +
            "; rtol= and atol= are for the adaptive pairs bs3, dopri5 and rkf78)");
@@ -147,7 +165,7 @@ std::vector<Lane> parse_lane_list(const std::string& text) {
 
 bool Lane::same_as(const Lane& o) const {
   return kind == o.kind && dt == o.dt && fixed_point == o.fixed_point && iterations == o.iterations &&
-         tolerance == o.tolerance && rtol == o.rtol && atol == o.atol;
+         tolerance == o.tolerance && rtol == o.rtol && atol == o.atol && params == o.params;
 }
 
 std::string Lane::name() const {
@@ -166,6 +184,7 @@ std::string Lane::stepless_spelling() const { return method_spelling(*this) + it
 void apply_lane(SceneDef& scene, const Lane& lane) {
   scene.integrator = lane.kind;
   if (lane.written_step()) scene.dt = lane.dt;
+  for (const auto& [key, value] : lane.params) set_method_param(scene.methods, key, value);
   if (lane.rtol > 0.0) scene.adaptive.rtol = lane.rtol;
   if (lane.atol > 0.0) scene.adaptive.atol = lane.atol;
   if (lane.fixed_point) {  // the course framework's "implicit" (docs/integrators.md)

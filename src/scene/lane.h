@@ -15,7 +15,8 @@
 // fraction (s); N a whole number (the solver's iterations: an iterative solver's sweeps,
 // implicit_euler's Newton cap, the fixed point's count); KEY=VALUE a method's own parameter
 // (tol= for xpbd, projective_dynamics and vbd: a residual; tol=, rtol=, atol= for the adaptive
-// pairs bs3, dopri5 and rkf78, whose @STEP is their first trial step: `dopri5:tol=1e-8`).
+// pairs bs3, dopri5 and rkf78, whose @STEP is their first trial step: `dopri5:tol=1e-8`;
+// a method's own: beta= and gamma= for newmark, rho= for generalized_alpha).
 // Spaces around the pieces are ignored; a space inside a number is not ("1/ 60" is refused
 // everywhere).
 #pragma once
@@ -23,6 +24,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/integrators/integrator_kind.h"
@@ -51,6 +53,9 @@ struct Lane {
   int iterations = 0;        // `:N`; 0 = as the scene sets them
   double tolerance = 0.0;    // `:tol=T` (xpbd, projective_dynamics, vbd): stop each step on the
                              // residual, `:N` (else kToleranceCap) then a cap; 0 = as the scene sets
+  // A method's own parameters, in the order written (`:beta=0.3:gamma=0.6` for newmark, `:rho=`
+  // for generalized_alpha: its registry row's `parameters`, core/integrators/method_param.h).
+  std::vector<std::pair<std::string, double>> params;
   double rtol = 0.0, atol = 0.0;  // an adaptive pair's (bs3, dopri5, rkf78) error control: `:tol=T`
                                   // sets both, `:rtol=`/`:atol=` one; 0 = as the scene sets
 

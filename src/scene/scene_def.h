@@ -87,7 +87,8 @@ struct SceneDef {
   RenderDef render;
   ImplicitDef implicit;
   SolverDefs solvers;
-  AdaptiveDef adaptive;  // bs3, dopri5, rkf78: the error control's tolerances (a lane's :tol=)  // xpbd, projective_dynamics, vbd blocks
+  AdaptiveDef adaptive;  // bs3, dopri5, rkf78: the error control's tolerances (a lane's :tol=)
+  MethodDefs methods;    // newmark's and generalized_alpha's parameters (a lane's :beta=, :gamma=, :rho=)  // xpbd, projective_dynamics, vbd blocks
   DivergenceDef divergence;
 };
 

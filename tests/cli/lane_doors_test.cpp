@@ -41,6 +41,9 @@ const std::vector<Typed> kLanes{
     {"implicit_euler_fixed_point@5e-4", "implicit_euler_fixed_point@5e-4"},
     {" projective_dynamics @ 1/200 : 4 ", "projective_dynamics@1/200:4"},
     {"dopri5@1e-3:tol=1e-6", "dopri5@1e-3:tol=1e-06"},
+    {"newmark@1/60:beta=0.3:gamma=0.6", "newmark@1/60:beta=0.3:gamma=0.6"},
+    {"generalized_alpha@1/60:rho=0.5", "generalized_alpha@1/60:rho=0.5"},
+    {"bdf2@1/60", "bdf2@1/60"},
     {"rkf78@1e-3:rtol=1e-8:atol=1e-6", "rkf78@1e-3:rtol=1e-08:atol=1e-06"},
 };
 

@@ -19,7 +19,8 @@ STIFF = os.path.join(SCENES, "stiff.yaml")
 @pytest.mark.parametrize("lane", ["rk4@1e-4", "symplectic_euler", "implicit_euler@4e-3", "xpbd@2e-3",
                                   "xpbd@1/60:5", "vbd@1/100:tol=1e-4", "implicit_euler@1/60:1",
                                   "implicit_euler_fixed_point@1e-4", " projective_dynamics @ 1/200 : 4 ",
-                                  "dopri5@1e-3:tol=1e-6", "rkf78:rtol=1e-8:atol=1e-6"])
+                                  "dopri5@1e-3:tol=1e-6", "rkf78:rtol=1e-8:atol=1e-6",
+                                  "newmark@1/60:beta=0.3:gamma=0.6", "generalized_alpha@1/60:rho=0.5", "bdf2@1/60"])
 def test_run_ends_in_the_clis_final_state_to_the_last_bit(cli, tmp_path, lane):
     adaptive = lane.startswith(("dopri5", "rkf78"))
     path = os.path.join(SCENES, "drape_smooth.yaml") if adaptive else DRAPE  # contact its error control sees

@@ -57,7 +57,7 @@ TEST(Lane, RefusesWhatNoMethodTakesWithOneLineSayingWhy) {
   EXPECT_NE(refusal("rk4:3").find("rk4 has no iterations to set"), std::string::npos);
   EXPECT_NE(refusal("rk4@1/ 60").find("is not a number"), std::string::npos) << "a space inside a number";
   EXPECT_NE(refusal("vbd:tol=0.9").find("at most 0.5"), std::string::npos) << "as the scene's vbd.tolerance";
-  EXPECT_NE(refusal("vbd:rho=0.5").find("unknown setting 'rho'"), std::string::npos);
+  EXPECT_NE(refusal("vbd:rho=0.5").find("vbd has no parameter 'rho'"), std::string::npos);
   EXPECT_NE(refusal("implicit_euler:tol=1e-3").find("no residual tolerance"), std::string::npos);
   EXPECT_NE(refusal("vbd:0").find("is not a whole number from 1 to 1000000"), std::string::npos);
   EXPECT_EQ(refusal("rk4@1e-3 "), "") << "spaces around the pieces are ignored";
@@ -85,6 +85,28 @@ TEST(Lane, AnAdaptivePairTakesItsTolerancesAndItsStepAsAFirstTrial) {
   apply_lane(scene, split);
   EXPECT_EQ(scene.adaptive.rtol, 1e-9);
   EXPECT_EQ(scene.adaptive.atol, 1e-7);
+}
+
+TEST(Lane, AMethodsOwnParametersAreKeyValueItemsItsRowNames) {
+  const Lane n = parse_lane("newmark@1/60:beta=0.3:gamma=0.6");
+  ASSERT_EQ(n.params.size(), 2u);
+  EXPECT_EQ(n.params[0], (std::pair<std::string, double>{"beta", 0.3}));
+  EXPECT_EQ(n.spelling(), "newmark@1/60:beta=0.3:gamma=0.6");
+  EXPECT_TRUE(parse_lane(n.spelling()).same_as(n));
+  EXPECT_FALSE(parse_lane("newmark@1/60").same_as(n)) << "other parameters, another lane";
+  SceneDef scene;
+  apply_lane(scene, n);
+  EXPECT_EQ(scene.methods.newmark.beta, 0.3);
+  EXPECT_EQ(scene.methods.newmark.gamma, 0.6);
+  apply_lane(scene, parse_lane("generalized_alpha:rho=0"));
+  EXPECT_EQ(scene.methods.generalized_alpha.rho_inf, 0.0) << "rho_inf = 0 is a value, not unset";
+  EXPECT_NE(refusal("rk4:rho=0.5").find("rk4 has no parameter 'rho'"), std::string::npos);
+  EXPECT_NE(refusal("newmark:rho=0.5").find("newmark takes beta,gamma"), std::string::npos);
+  EXPECT_NE(refusal("generalized_alpha:rho=1.5").find("rho (rho_inf) must be from 0 to 1"), std::string::npos);
+  EXPECT_NE(refusal("newmark:gamma=0.4").find("gamma must be from 0.5 to 1"), std::string::npos);
+  EXPECT_NE(refusal("newmark:beta=0").find("beta must be above 0"), std::string::npos);
+  EXPECT_NE(refusal("newmark:beta=x").find("'x' in 'newmark:beta=x' is not a number"), std::string::npos);
+  EXPECT_NE(refusal("newmark:beta=0.3:beta=0.25").find("gives beta= twice"), std::string::npos);
 }
 
 TEST(Lane, ListsExpandTheCourseAndKeepTheirOrder) {

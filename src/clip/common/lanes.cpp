@@ -6,6 +6,7 @@
 #include "clip/common/plan_parts.h"
 #include "scene/echo.h"
 #include "core/integrators/integrator_kind.h"
+#include "core/integrators/method_param.h"
 
 namespace clothsim::clip {
 
@@ -132,8 +133,10 @@ const Model& lane_model(const Model& base, const Lane& lane, std::optional<Model
   if (!refused.empty()) throw UsageError("--integrators: collision.model: barrier: " + refused);
   const bool error_control = (lane.rtol > 0.0 && lane.rtol != base.adaptive.rtol) ||
                              (lane.atol > 0.0 && lane.atol != base.adaptive.atol);
-  if (!lane.fixed_point && lane.iterations == 0 && lane.tolerance == 0.0 && !error_control) return base;
+  if (!lane.fixed_point && lane.iterations == 0 && lane.tolerance == 0.0 && !error_control && lane.params.empty())
+    return base;
   storage.emplace(base);
+  for (const auto& [key, value] : lane.params) set_method_param(storage->methods, key, value);
   if (lane.rtol > 0.0) storage->adaptive.rtol = lane.rtol;  // an adaptive pair's error control
   if (lane.atol > 0.0) storage->adaptive.atol = lane.atol;
   if (lane.fixed_point) {  // the course framework's "implicit" (docs/integrators.md)

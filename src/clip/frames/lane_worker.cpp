@@ -361,7 +361,7 @@ void LaneWorker::work() {
   try {
     Run run(model_, spec_.kind, spec_.dt);
     run.set_stop_check([this] { return stop_asked(); });
-    // CLOTHSIM_NEWTON_TRACE=1: implicit_euler's Newton trace on stderr (docs/integrators.md).
+    // CLOTHSIM_NEWTON_TRACE=1: implicit_euler's Newton trace on stderr (docs/implicit_euler.md, "The Newton trace").
     if (std::getenv("CLOTHSIM_NEWTON_TRACE")) run.set_newton_trace([](const char* line) { std::fputs(line, stderr); });
     if (!reference_) {
       run_targets(run);

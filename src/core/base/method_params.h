@@ -17,6 +17,11 @@ enum class IntegratorKind {
   Vbd,              // Chen et al. 2024 vertex block descent on Phi    ~1 spring pass / iteration
   VelocityVerlet,   // Stormer-Verlet kick-drift-kick                1 force eval (reused)
   Yoshida4,         // Yoshida's 4th-order composition of three Verlet steps  3 force evals
+  ImplicitMidpoint,  // the implicit family (integrators/implicit_family.h), each on
+  Newmark,           // implicit_euler's Newton solve: Newton/CG work; newmark and
+  GeneralizedAlpha,  // generalized_alpha carry an acceleration, bdf2 the step before
+  Bdf2,
+  Ros2,              // two-stage L-stable Rosenbrock, one matrix a step   2 force evals + 2 solves
   Bs3,              // Bogacki-Shampine 3(2) under error control         4 force evals a trial
   Dopri5,           // Dormand-Prince 5(4) under error control (FSAL)    6 a trial (7 the first)
   Rkf78,            // Fehlberg 7(8) under error control (order 8)       13 a trial
@@ -46,6 +51,28 @@ struct VbdDef {
   int iterations = 10;         // Gauss-Seidel sweeps over the vertex colouring per step
   double chebyshev_rho = 0.0;  // Chen et al. 2024's accelerated iterations (Wang 2015's weights); 0 = off
   double tolerance = 0.0;
+};
+
+// Newmark's beta and gamma (Newmark 1959): x_{n+1} = x_n + h v_n + h^2 ((1/2 - beta) a_n +
+// beta a_{n+1}), v_{n+1} = v_n + h ((1 - gamma) a_n + gamma a_{n+1}). The default is the
+// trapezoidal rule (average acceleration): second order, energy-conserving on a linear
+// spring, A-stable; gamma != 1/2 is first order, 2 beta < gamma only conditionally stable.
+struct NewmarkDef {
+  double beta = 0.25;
+  double gamma = 0.5;
+};
+
+// Chung & Hulbert's (1993) generalized-alpha by its spectral radius at infinite w h: rho_inf in
+// [0, 1]; 1 keeps every mode (the trapezoidal rule on a linear system), 0 annihilates the
+// highest in one step. 0.5 is a common middle: high modes damped, low ones barely.
+struct GeneralizedAlphaDef {
+  double rho_inf = 0.5;
+};
+
+// The implicit family's parameters (integrators/implicit_family.h reads each in one place).
+struct MethodDefs {
+  NewmarkDef newmark;
+  GeneralizedAlphaDef generalized_alpha;
 };
 
 // The adaptive pairs' error control (bs3, dopri5, rkf78): a trial step is accepted when every

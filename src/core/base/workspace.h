@@ -25,7 +25,7 @@ struct Workspace {
   Eigen::Matrix3Xd a, x1, v1, a1, x2, v2, a2, a3;  // (3 x B) scratch
   std::unique_ptr<ImplicitCache, ImplicitCacheDeleter> implicit;
   std::unique_ptr<SolverCache, SolverCacheDeleter> solvers;
-  // Receives implicit_euler's Newton trace, one line per event (docs/integrators.md, "The
+  // Receives implicit_euler's Newton trace, one line per event (docs/implicit_euler.md, "The
   // Newton trace"); empty: no trace. The tool sets it; the engine reads no environment.
   std::function<void(const char* line)> newton_trace;
   // Told after each iteration of xpbd, projective_dynamics and vbd its number (from 1) and the

@@ -107,8 +107,8 @@ std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRIC
     const double* HWY_RESTRICT ys2 = in[2];
     const double* HWY_RESTRICT ws = in[3];
     const std::size_t off = static_cast<std::size_t>(fam.offset);
-    const V ks = hn::Set(d, fam.ks), kdh = hn::Set(d, fam.kd / h);
-    const V axial = hn::Set(d, fam.ks + fam.kd / h);  // spring_force.h's step_spring_block
+    const V ks = hn::Set(d, fam.ks), kdh = hn::Set(d, fam.kd / out.damper_h);
+    const V axial = hn::Set(d, fam.ks + fam.kd / out.damper_h);  // spring_force.h's step_spring_block
     for (std::size_t k = k0; k < k1; k += N) {
       const std::size_t a = first + k, b = a + off, s = fam.slot_first + k;
       HWY_DASSERT(b + N <= stride);
@@ -152,7 +152,7 @@ std::size_t FamilyAssemble(const SpringLayout& layout, const double* HWY_RESTRIC
 
   // Pass 2, N particles at a time (a last partial vector reads its inverse masses from a copy).
   const std::size_t P = static_cast<std::size_t>(layout.num_particles);
-  const V h_drag = hn::Set(d, h * out.drag);
+  const V h_drag = hn::Set(d, out.drag_h * out.drag);
   HWY_ALIGN double entry[6][kSpringLanePad];
   HWY_ALIGN double tail[kSpringLanePad];
   HWY_ALIGN float rounded[kSpringLanePad];
@@ -286,7 +286,7 @@ void rest_less_filtered(const SpringLayout& layout, const Eigen::VectorXd& inv_m
   std::sort(ends.begin(), ends.end());
   for (std::size_t j = 0; j < ends.size();) {
     const std::int32_t i = ends[j].first;
-    Mat3 R = (1.0 / inv_mass[i] + out.h * out.drag) * Mat3::Identity();  // pass 2's M + h c I
+    Mat3 R = (1.0 / inv_mass[i] + out.drag_h * out.drag) * Mat3::Identity();  // pass 2's M + h c I
     for (; j < ends.size() && ends[j].first == i; ++j) {
       const std::int32_t s = ends[j].second;
       subtract_block(R, out.alpha[s], out.beta[s], Vec3(out.ux[s], out.uy[s], out.uz[s]));

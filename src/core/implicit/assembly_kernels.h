@@ -29,7 +29,7 @@ namespace clothsim {
 // spring's u and its (alpha, beta), exact or projected per `project`, and the projected pair
 // (zero where an end is immovable: the pair's block is removed); and the diagonal blocks of
 // particles 0 .. F - 1 (F returned; particles from F on, which no spring reaches, are the
-// caller's): (1 / w + h drag) I minus the blocks of the families' springs there, the identity
+// caller's): (1 / w + drag_h drag) I minus the blocks of the families' springs there, the identity
 // where w = 0; diag_projected likewise with the projected blocks (without `project`).
 // start_length by slot; inv_mass (B).
 struct FamilyHessian {
@@ -48,7 +48,9 @@ struct FamilyHessian {
   // later, as the barrier's, recompute R: SpringBlockMatrix::refresh_copies)
   float* rest_soa = nullptr;
   std::size_t bodies = 0;  // B
-  double h = 0.0;          // s, the step
+  double h = 0.0;          // s, the step (StepForm::h)
+  double damper_h = 0.0;   // s, the dampers' step (StepForm::damper_h; h for backward Euler)
+  double drag_h = 0.0;     // s, the drag term's (StepForm::drag_h; h for backward Euler)
   double drag = 0.0;       // N s / m, the particles' air drag c
   bool project = false;
 };

@@ -28,22 +28,24 @@ namespace clothsim {
 constexpr double kBarrierKeep = 0.1;
 
 // Phi's barrier terms at end positions y: their energy into value (phi and magnitude), h times
-// their y-gradient into gradient (3 x B; immovable bodies are zeroed by the caller).
-void add_barrier_potential(const Model& model, const State& start, double h, const Eigen::Matrix3Xd& y,
+// their y-gradient into gradient (3 x B; immovable bodies are zeroed by the caller). The
+// friction's displacement is y - start.x over form.damper_h, lagged at form.lag_x (step_form.h).
+void add_barrier_potential(const Model& model, const State& start, const StepForm& form, const Eigen::Matrix3Xd& y,
                            Eigen::Matrix3Xd& gradient, PotentialValue& value);
 
 // A's diagonal blocks (exact and projected alike) += h^2 times each pair's projected Hessian at y,
 // on movable bodies; the SIMD copy of the diagonal is refreshed.
-void add_barrier_hessian(const Model& model, const State& start, double h, const Eigen::Matrix3Xd& y,
+void add_barrier_hessian(const Model& model, const State& start, const StepForm& form, const Eigen::Matrix3Xd& y,
                          SpringBlockMatrix& A);
 
 // The largest line-search step along dv's direction d from end positions y (which move by h d):
 // every distance keeps kBarrierKeep of itself. 1 when no pair closes.
-double barrier_line_bound(const Model& model, const State& start, double h, const Eigen::Matrix3Xd& y,
+double barrier_line_bound(const Model& model, const State& start, const StepForm& form, const Eigen::Matrix3Xd& y,
                           const Eigen::Matrix3Xd& d);
 
-// Makes the first guess feasible: a particle whose end position x_n + h (v_n + dv) lies at or
-// inside a collider has its dv changed so that it ends d-hat / 2 outside. Returns how many.
-int barrier_feasible_start(const Model& model, const State& start, double h, Eigen::Matrix3Xd& dv);
+// Makes the first guess feasible: a particle whose end position x_n + h (v_n + dv) (mapped to
+// the barrier's point, StepForm::contact_stage) lies at or inside a collider has its dv changed
+// so that it ends d-hat / 2 outside. Returns how many.
+int barrier_feasible_start(const Model& model, const State& start, const StepForm& form, Eigen::Matrix3Xd& dv);
 
 }  // namespace clothsim

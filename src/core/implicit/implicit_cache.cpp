@@ -19,7 +19,8 @@ bool same_bits(const double* a, const double* b, std::size_t n) {
 }  // namespace
 
 bool ImplicitCache::holds(const ImplicitSolverState::Linearisation& lin) const {
-  return holds_record && lin.h == record.h && lin.y.cols() == record.y.cols() &&
+  return holds_record && lin.h == record.h && lin.damper_h == record.damper_h && lin.drag_h == record.drag_h &&
+         lin.y.cols() == record.y.cols() &&
          lin.length.size() == record.length.size() && lin.inv_mass.size() == record.inv_mass.size() &&
          same_bits(lin.y.data(), record.y.data(), static_cast<std::size_t>(lin.y.size())) &&
          same_bits(lin.length.data(), record.length.data(), lin.length.size()) &&

@@ -16,7 +16,7 @@ namespace clothsim {
 
 namespace {
 
-// docs/integrators.md, "Newton's constants", says why each has its value.
+// docs/implicit_euler.md, "Newton's constants", says why each has its value.
 constexpr double kArmijo = 1e-4;          // Armijo's sufficient decrease
 constexpr int kMaxHalvings = 30;          // line-search halvings from the full step
 constexpr double kMaxForcing = 0.1;       // the largest CG forcing term (inexact Newton)
@@ -50,10 +50,11 @@ double momentum_norm(const Eigen::VectorXd& mass_squared, const Eigen::Matrix3Xd
 
 // Whether the State's record was made for this system: the same step size and the same
 // movable bodies (the matrix's rows for immovable ones are removed).
-bool record_fits(const Model& model, const State& start, double h) {
+bool record_fits(const Model& model, const State& start, const StepForm& form) {
   const ImplicitSolverState::Linearisation& lin = start.implicit.lin;
   const int B = model.num_bodies();
-  return lin.h != 0.0 && lin.h == h && lin.y.cols() == B &&
+  return lin.h != 0.0 && lin.h == form.h && lin.damper_h == form.damper_h && lin.drag_h == form.drag_h &&
+         lin.y.cols() == B &&
          lin.length.size() == slot_count(model.spring_layout, model.springs.size()) &&
          lin.inv_mass.size() == B && lin.inv_mass == start.inv_mass;
 }
@@ -94,19 +95,19 @@ double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness
   return springs > 0.0 ? kReuseChange * shortest / (4.0 * springs) : std::numeric_limits<double>::infinity();
 }
 
-NewtonSolve::NewtonSolve(const Model& model, State& start, double h, ImplicitCache& c, StepStats& stats,
-                         const NewtonTracer& trace)
-    : model_(model), start_(start), record_(start), h_(h), cfg_(model.implicit), c_(c), stats_(stats),
+NewtonSolve::NewtonSolve(const Model& model, State& start, const StepForm& form, ImplicitCache& c,
+                         StepStats& stats, const NewtonTracer& trace)
+    : model_(model), start_(start), record_(start), form_(form), h_(form.h), cfg_(model.implicit), c_(c), stats_(stats),
       trace_(trace), single_step_(cfg_.newton_mode() == NewtonMode::BaraffWitkin),
       preconditioner_(resolved_preconditioner(model)),
       trust_on_(!single_step_ && model.num_particles >= cfg_.trust_region_from) {
   account_.first = start.implicit.factored && start.step % kRetryJacobi != 0;
   account_.jacobi_forecast = start.implicit.jacobi_solve;
   reuse_.trusted = start.implicit.lin_trusted;
-  reuse_.reach = reuse_reach(c_.shortest_rest, c_.stiffness, h);
+  reuse_.reach = reuse_reach(c_.shortest_rest, c_.stiffness, h_);
   // The recorded matrix may serve if it fits and last served, or as a probe every
   // kRetryReuse-th step. Baraff & Witkin's step is linearised at its own start, always.
-  const bool allowed = !single_step_ && record_fits(model, start, h) &&
+  const bool allowed = !single_step_ && record_fits(model, start, form_) &&
                        (reuse_.trusted || start.step % kRetryReuse == 0);
   reuse_.phase = allowed ? MatrixReuse::Phase::Allowed : MatrixReuse::Phase::Barred;
   // A factor serves one step: the next builds its own, so a copied State continues bit for bit.
@@ -115,7 +116,7 @@ NewtonSolve::NewtonSolve(const Model& model, State& start, double h, ImplicitCac
 }
 
 void NewtonSolve::evaluate() {
-  phi_ = step_potential(model_, start_, h_, c_.start_length, c_.dv, c_.y, c_.r, &c_.y_length);
+  phi_ = step_potential(model_, start_, form_, c_.start_length, c_.dv, c_.y, c_.r, &c_.y_length);
   ++stats_.force_evals;
   ++scan_.y_version;
 }
@@ -290,10 +291,10 @@ double NewtonSolve::direction(CgSettings settings, const Eigen::Matrix3Xd* warm,
 // State's record where this Workspace holds another).
 void NewtonSolve::prepare_matrix(bool reused) {
   if (!reused) {
-    assemble_step_hessian(model_, start_.inv_mass, h_, c_.start_length, c_.y,
+    assemble_step_hessian(model_, start_.inv_mass, form_, c_.start_length, c_.y,
                           single_step_ ? HessianBlocks::Projected : HessianBlocks::Exact, c_.A,
                           JacobiInverse::Skip);
-    if (uses_barrier(model_)) add_barrier_hessian(model_, start_, h_, c_.y, c_.A);
+    if (uses_barrier(model_)) add_barrier_hessian(model_, start_, form_, c_.y, c_.A);
     ++stats_.assemblies;
     c_.jacobi_ready = false;
     multigrid_.outdated = true;
@@ -301,9 +302,11 @@ void NewtonSolve::prepare_matrix(bool reused) {
     if (!single_step_) record_linearisation();
   } else if (!c_.holds(start_.implicit.lin)) {
     const ImplicitSolverState::Linearisation& lin = start_.implicit.lin;
-    assemble_step_hessian(model_, lin.inv_mass, lin.h, lin.length, lin.y, HessianBlocks::Exact, c_.A,
+    StepForm recorded(lin.h, lin.damper_h, lin.drag_h);
+    recorded.lag_x = form_.lag_x;
+    assemble_step_hessian(model_, lin.inv_mass, recorded, lin.length, lin.y, HessianBlocks::Exact, c_.A,
                           JacobiInverse::Skip);
-    if (uses_barrier(model_)) add_barrier_hessian(model_, start_, lin.h, lin.y, c_.A);
+    if (uses_barrier(model_)) add_barrier_hessian(model_, start_, recorded, lin.y, c_.A);
     ++stats_.assemblies;
     c_.jacobi_ready = false;
     multigrid_.outdated = true;
@@ -319,6 +322,8 @@ void NewtonSolve::record_linearisation() {
   lin.length = c_.start_length;
   lin.inv_mass = start_.inv_mass;
   lin.h = h_;
+  lin.damper_h = form_.damper_h;
+  lin.drag_h = form_.drag_h;
   ++lin.assemblies;
   c_.record = lin;
   c_.holds_record = true;
@@ -444,7 +449,7 @@ FactorForecast FactorAccount::renew(double price) const {
 
 // The largest step along d that keeps every barrier distance positive (1 without the barrier).
 double NewtonSolve::barrier_bound() const {
-  return uses_barrier(model_) ? barrier_line_bound(model_, start_, h_, c_.y, c_.d) : 1.0;
+  return uses_barrier(model_) ? barrier_line_bound(model_, start_, form_, c_.y, c_.d) : 1.0;
 }
 
 // Armijo backtracking along d from dv, from the barrier's bound; on success the trial becomes
@@ -457,7 +462,7 @@ bool NewtonSolve::line_search(double slope) {
   for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {
     c_.dv_try.noalias() = c_.dv + alpha * c_.d;
     const PotentialValue trial =
-        step_potential(model_, start_, h_, c_.start_length, c_.dv_try, c_.y_try, c_.r_try, &c_.y_try_length);
+        step_potential(model_, start_, form_, c_.start_length, c_.dv_try, c_.y_try, c_.r_try, &c_.y_try_length);
     ++stats_.force_evals;
     if (halving == 0) {
       first_alpha_ = alpha;

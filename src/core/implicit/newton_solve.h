@@ -1,5 +1,5 @@
 // The Newton iterations of one backward Euler step (implicit_euler.cpp states the equation and
-// the method; docs/integrators.md explains the constants in newton_solve.cpp).
+// the method; docs/implicit_euler.md explains the constants in newton_solve.cpp).
 //
 // NewtonSolve keeps three small records of its course, each with named transitions:
 //   MatrixReuse   whether a direction may use the Newton matrix in hand instead of assembling
@@ -180,7 +180,8 @@ class NewtonSolve {
  public:
   // `start` is read as the step's start throughout; only its record of the Newton matrix's
   // linearisation (State::implicit.lin) is written, when a matrix is assembled.
-  NewtonSolve(const Model& model, State& start, double h, ImplicitCache& c, StepStats& stats,
+  // `form`: the step's incremental potential (step_form.h; a bare h: backward Euler's).
+  NewtonSolve(const Model& model, State& start, const StepForm& form, ImplicitCache& c, StepStats& stats,
               const NewtonTracer& trace);
 
   void evaluate();           // Phi, r and y at c.dv
@@ -222,7 +223,8 @@ class NewtonSolve {
   const Model& model_;
   const State& start_;
   State& record_;  // the same State: its implicit.lin only
-  double h_;
+  const StepForm form_;
+  const double h_;  // form_.h
   const ImplicitDef& cfg_;
   ImplicitCache& c_;
   StepStats& stats_;

@@ -197,7 +197,7 @@ double FamilyStrain(const SpringLayout& layout, const double* HWY_RESTRICT lengt
 
 // One family's terms over positions k .. k + n - 1 for FamilyPotentialTerms, in RunSingle's
 // form (every pointer at position k, restrict); `sum_at`: position k's partial sum (k mod kSums).
-HWY_NOINLINE void RunPotential(const SpringFamily& fam, double h, const double* HWY_RESTRICT rest,
+HWY_NOINLINE void RunPotential(const SpringFamily& fam, double h, double damper_h, const double* HWY_RESTRICT rest,
                                const double* HWY_RESTRICT start_length, const double* HWY_RESTRICT ya,
                                const double* HWY_RESTRICT yb, double* HWY_RESTRICT plus,
                                double* HWY_RESTRICT minus, double* HWY_RESTRICT end_length,
@@ -208,8 +208,8 @@ HWY_NOINLINE void RunPotential(const SpringFamily& fam, double h, const double* 
   const V zero = hn::Zero(d);
   const V hv = hn::Set(d, h);
   // the family's constants, as spring_force.h rounds them
-  const V ks = hn::Set(d, fam.ks), kdh = hn::Set(d, fam.kd / h);
-  const V half_ks = hn::Set(d, 0.5 * fam.ks), half_kdh = hn::Set(d, 0.5 * (fam.kd / h));
+  const V ks = hn::Set(d, fam.ks), kdh = hn::Set(d, fam.kd / damper_h);
+  const V half_ks = hn::Set(d, 0.5 * fam.ks), half_kdh = hn::Set(d, 0.5 * (fam.kd / damper_h));
   const std::size_t s1 = stride, s2 = 2 * stride;
   for (std::size_t k = 0; k < n; k += N) {
     const V l0 = hn::LoadU(d, rest + k);
@@ -219,7 +219,8 @@ HWY_NOINLINE void RunPotential(const SpringFamily& fam, double h, const double* 
     const V dz = hn::Sub(hn::LoadU(d, ya + s2 + k), hn::LoadU(d, yb + s2 + k));
     const V l = window::Length(dx, dy, dz);
     const V stretch = hn::Sub(l, l0), rate = hn::Sub(l, ln);
-    // E = 0.5 ks (l - l0)^2 + 0.5 (kd / h) (l - ln)^2, T = ks (l - l0) + (kd / h) (l - ln)
+    // E = 0.5 ks (l - l0)^2 + 0.5 (kd / h_d) (l - ln)^2, T = ks (l - l0) + (kd / h_d) (l - ln),
+    // h_d the damper's step (h for backward Euler), ln the reference length
     const V e = hn::Add(hn::Mul(hn::Mul(half_ks, stretch), stretch), hn::Mul(hn::Mul(half_kdh, rate), rate));
     const V T = hn::Add(hn::Mul(ks, stretch), hn::Mul(kdh, rate));
     const M spring = hn::Gt(l0, zero);
@@ -243,14 +244,14 @@ HWY_NOINLINE void RunPotential(const SpringFamily& fam, double h, const double* 
 // Phi's spring terms and gradient: step_potential's loop body, lane by lane. sums: 2 kSums
 // partial sums (phi, magnitude), zeroed by the caller.
 void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT y,
-                          const double* HWY_RESTRICT start_length, double h,
+                          const double* HWY_RESTRICT start_length, double h, double damper_h,
                           double* HWY_RESTRICT gradient, double* HWY_RESTRICT sums,
                           double* HWY_RESTRICT end_length, double* HWY_RESTRICT scratch,
                           std::size_t stride) {
   const Window w(scratch, stride);
   WalkRanges(layout, y, gradient, scratch, stride, w,
        [&](const SpringFamily& fam, const Range& r) {
-         RunPotential(fam, h, fam.rest.data() + r.k0, start_length + r.s, w.in[0] + r.a, w.in[0] + r.b,
+         RunPotential(fam, h, damper_h, fam.rest.data() + r.k0, start_length + r.s, w.in[0] + r.a, w.in[0] + r.b,
                       w.plus[0] + r.a, w.minus[0] + r.b, end_length ? end_length + r.s : nullptr, sums,
                       sums + kSums, r.k0, stride, r.n);
        });
@@ -258,7 +259,7 @@ void FamilyPotentialTerms(const SpringLayout& layout, const double* HWY_RESTRICT
 
 // Phi's body terms (step_potential.cpp's add_body_terms, lane by lane) and the end-of-step
 // positions, N bodies at a time, their xyz read and written interleaved: y = x + h (v + dv);
-// gradient = m dv - h m g (bodies with gravity) + h c v (particles, air drag), zero on
+// gradient = m dv - h m g (bodies with gravity) + drag_h c v (particles, air drag), zero on
 // immovable bodies, written rather than added to (the spring passes add to it after); body i's
 // energy into partial sum i mod kSums. A last partial vector runs on a padded copy.
 void BodyTerms(const BodyArgs& args, double* HWY_RESTRICT y, double* HWY_RESTRICT gradient,
@@ -270,8 +271,8 @@ void BodyTerms(const BodyArgs& args, double* HWY_RESTRICT y, double* HWY_RESTRIC
   const V half = hn::Set(d, 0.5);
   const V h = hn::Set(d, args.h);
   const V gx = hn::Set(d, args.gravity[0]), gy = hn::Set(d, args.gravity[1]), gz = hn::Set(d, args.gravity[2]);
-  const V h_drag = hn::Set(d, args.h * args.drag);
-  const V half_h_drag = hn::Set(d, 0.5 * args.h * args.drag);
+  const V h_drag = hn::Set(d, args.drag_h * args.drag);
+  const V half_h_drag = hn::Set(d, 0.5 * args.drag_h * args.drag);
   const std::size_t B = args.bodies, P = args.particles;
   double* HWY_RESTRICT phi = sums;
   double* HWY_RESTRICT magnitude = sums + kSums;
@@ -482,11 +483,11 @@ double family_strain(const SpringLayout& layout, const double* length) {
 }
 
 FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
-                                      const double* start_length, double h,
+                                      const double* start_length, const StepForm& form,
                                       Eigen::Matrix3Xd& gradient, double* end_length) {
   const Scratch s = scratch_for(layout);
   alignas(64) double sums[2 * kSums] = {};
-  HWY_DYNAMIC_DISPATCH(FamilyPotentialTerms)(layout, y.data(), start_length, h, gradient.data(),
+  HWY_DYNAMIC_DISPATCH(FamilyPotentialTerms)(layout, y.data(), start_length, form.h, form.damper_h, gradient.data(),
                                              sums, end_length, s.data, s.stride);
   FamilyPotential out;
   for (std::size_t j = 0; j < kSums; ++j) {  // in a fixed order (above)

@@ -29,6 +29,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "step_form.h"
 #include "core/springs/spring_layout.h"
 
 namespace clothsim {
@@ -44,11 +45,12 @@ struct FamilyPotential {
 };
 
 // The families' terms of the step potential at end-of-step positions y (3 x B): returns their
-// energies; gradient (3 x B) += dE_s/ddv = h T u at a and -h T u at b (none where l <= 0).
-// start_length by slot (family_step_lengths). With end_length, also writes there what
-// family_step_lengths(layout, y, end_length) would, bit for bit (the lengths at y).
+// energies; gradient (3 x B) += dE_s/ddv = h T u at a and -h T u at b (none where l <= 0), h
+// the form's h_e and T's damper rate (l - l_ref) / damper_h (step_form.h). start_length: l_ref
+// by slot (family_step_lengths' l_n for backward Euler). With end_length, also writes there
+// what family_step_lengths(layout, y, end_length) would, bit for bit (the lengths at y).
 FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::Matrix3Xd& y,
-                                      const double* start_length, double h,
+                                      const double* start_length, const StepForm& form,
                                       Eigen::Matrix3Xd& gradient, double* end_length = nullptr);
 
 // The largest l / l0 of the families' lengths by slot: what family_step_lengths returned when
@@ -56,7 +58,7 @@ FamilyPotential family_step_potential(const SpringLayout& layout, const Eigen::M
 double family_strain(const SpringLayout& layout, const double* length);
 
 // Phi's body terms and the end-of-step positions, the bodies in SIMD: y (3 x B) = x + h (v + dv),
-// and gradient (3 x B) = the bodies' terms of Phi's gradient, m dv - h m g + h c v (written:
+// and gradient (3 x B) = the bodies' terms of Phi's gradient, m dv - h m g + drag_h c v (written:
 // the spring passes add to it after), zero on immovable bodies; returns the terms' energies
 // (inertia, gravity's work, drag's dissipation; step_potential.h's PotentialValue), summed in
 // kSpringLanePad partial sums (body i into sum i mod 16), added in order at the end.
@@ -69,6 +71,7 @@ struct BodyArgs {
   std::size_t bodies = 0;     // B
   std::size_t particles = 0;  // the first P bodies have air drag
   double h = 0.0, drag = 0.0;
+  double drag_h = 0.0;  // s, StepForm::drag_h (h for backward Euler)
   double gravity[3] = {0.0, 0.0, 0.0};
 };
 FamilyPotential body_terms(const BodyArgs& args, Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient);

@@ -35,7 +35,8 @@ void build_pattern(const Model& model, SpringBlockMatrix& A) {
 namespace {
 
 // A body's diagonal block before the springs: M + h c I (air drag, the (h c / 2) |v|^2 term of
-// Phi, on cloth particles), or the identity for an immovable body (its row is filtered).
+// Phi, on cloth particles; h the form's drag_h), or the identity for an immovable body (its row
+// is filtered).
 Mat3 mass_block(const Model& model, const Eigen::VectorXd& inv_mass, double h, int i) {
   if (inv_mass[i] == 0.0) return Mat3::Identity();
   const double drag = i < model.num_particles ? model.air_drag : 0.0;
@@ -60,14 +61,15 @@ BlockCoefficients block_coefficients(const StepSpringBlock& k, double h2, bool p
 
 }  // namespace
 
-void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, const StepForm& form,
                                   const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
                                   HessianBlocks blocks, SpringBlockMatrix& A, JacobiInverse jacobi) {
+  const double h = form.h, damper_h = form.damper_h;
   const bool project = blocks == HessianBlocks::Projected;
   const int B = A.num_bodies();
   const Springs& springs = model.springs;
 
-  for (int i = 0; i < B; ++i) A.diag[i] = mass_block(model, inv_mass, h, i);
+  for (int i = 0; i < B; ++i) A.diag[i] = mass_block(model, inv_mass, form.drag_h, i);
 
   // Each spring's block G (block_coefficients); the diagonal blocks get -G. The projected
   // diagonal is the exact one corrected for the compressed springs only (usually few), so the
@@ -83,7 +85,7 @@ void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv
       continue;
     }
     const StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), springs.rest[s],
-                                                start_length[k_s], springs.ks[s], springs.kd[s], h);
+                                                start_length[k_s], springs.ks[s], springs.kd[s], damper_h);
     any_compressed |= k.transverse < 0.0;
     const BlockCoefficients c = block_coefficients(k, h2, project);
     if (move_a) subtract_block(A.diag[a], c.alpha, c.beta, k.u);
@@ -114,7 +116,7 @@ void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv
       double t = transverse;
       if (!(move_a && move_b)) {  // a filtered pair keeps no block: recompute its tension
         t = step_spring_block(y.col(a) - y.col(b), springs.rest[s], start_length[k_s],
-                              springs.ks[s], springs.kd[s], h).transverse;
+                              springs.ks[s], springs.kd[s], damper_h).transverse;
       }
       if (t >= 0.0) continue;
       // Projected minus exact is h^2 t (I - u u^T), so the diagonal gets its negative.
@@ -128,11 +130,12 @@ void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv
   if (jacobi == JacobiInverse::Form) invert_diagonal(A);
 }
 
-void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, const StepForm& form,
                            const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
                            HessianBlocks blocks, SpringBlockMatrix& A, JacobiInverse jacobi) {
+  const double h = form.h;
   if (!A.layout) {
-    assemble_step_hessian_scalar(model, inv_mass, h, start_length, y, blocks, A, jacobi);
+    assemble_step_hessian_scalar(model, inv_mass, form, start_length, y, blocks, A, jacobi);
     return;
   }
   const bool project = blocks == HessianBlocks::Projected;
@@ -143,6 +146,8 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
                     A.diag_projected.data()->data(), A.diag_soa.data()};
   out.bodies = static_cast<std::size_t>(B);
   out.h = h;
+  out.damper_h = form.damper_h;
+  out.drag_h = form.drag_h;
   out.drag = model.air_drag;
   out.project = project;
   // R needs no sum over the springs where nothing but the families' blocks is in D
@@ -155,7 +160,7 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
   // spring reaches) get M + h c I here, as the scalar assembly.
   const int written = static_cast<int>(family_assemble(layout, y, inv_mass, start_length.data(), out));
   for (int i = written; i < B; ++i) {
-    A.diag[i] = mass_block(model, inv_mass, h, i);
+    A.diag[i] = mass_block(model, inv_mass, form.drag_h, i);
     if (!project) A.diag_projected[i] = A.diag[i];
   }
 
@@ -170,7 +175,7 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
     A.alpha[k_s] = A.beta[k_s] = A.alpha_projected[k_s] = A.beta_projected[k_s] = 0.0;
     if (!move_a && !move_b) continue;
     const StepSpringBlock k = step_spring_block(y.col(a) - y.col(b), others.rest[j],
-                                                start_length[k_s], others.ks[j], others.kd[j], h);
+                                                start_length[k_s], others.ks[j], others.kd[j], form.damper_h);
     const BlockCoefficients c = block_coefficients(k, h2, project);
     for (const int i : {a, b}) {
       if (inv_mass[i] == 0.0) continue;

@@ -30,6 +30,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "step_form.h"
 #include "core/model/model.h"
 #include "core/linear/block_matrix.h"
 #include "core/springs/spring_force.h"
@@ -46,11 +47,12 @@ enum class JacobiInverse { Form, Skip };
 // Sizes the pattern for a model's bodies and springs (the only allocating call).
 void build_pattern(const Model& model, SpringBlockMatrix& A);
 
-// Refills A = H at the end-of-step positions y (3 x B), with start_length the springs'
-// lengths at the start of the step by slot (step_lengths, step_potential.h), exact or
+// Refills A = H at the end-of-step positions y (3 x B) for the step of form `form` (step_form.h),
+// with start_length the dampers' reference lengths by slot (step_lengths' l_n for backward
+// Euler, step_potential.h), exact or
 // projected (above): the layout's families in SIMD (potential_kernels.h), their blocks'
 // contributions to the diagonal summed per particle as the walk goes, then the others.
-void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, const StepForm& form,
                            const std::vector<double>& start_length, const Eigen::Matrix3Xd& y,
                            HessianBlocks blocks, SpringBlockMatrix& A,
                            JacobiInverse jacobi = JacobiInverse::Form);
@@ -61,7 +63,7 @@ void assemble_step_hessian(const Model& model, const Eigen::VectorXd& inv_mass, 
 // the SIMD blocks' u and T / l are products with 1 / l rather than quotients (an ulp or two).
 // (Where neither end of a spring moves it leaves the slot's u as it was; the SIMD pass writes
 // it. Either way the block is zero.)
-void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, double h,
+void assemble_step_hessian_scalar(const Model& model, const Eigen::VectorXd& inv_mass, const StepForm& form,
                                   const std::vector<double>& start_length,
                                   const Eigen::Matrix3Xd& y, HessianBlocks blocks,
                                   SpringBlockMatrix& A, JacobiInverse jacobi = JacobiInverse::Form);

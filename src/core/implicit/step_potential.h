@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "step_form.h"
 #include "core/model/model.h"
 #include "core/model/state.h"
 
@@ -49,15 +50,16 @@ struct PotentialValue {
                            // each spring's |T| l (its energy squares a difference of lengths)
 };
 
-// Phi at dv and its gradient r (3 x B, zero on immovable bodies) for the step of size h from
-// `start`, with start_length by slot (step_lengths); y (3 x B) receives the end-of-step
-// positions x_n + h (v_n + dv). One pass over the springs (the families in SIMD, then the
+// Phi at dv and its gradient r (3 x B, zero on immovable bodies) for the step of form `form`
+// (step_form.h; a bare h: backward Euler's) from `start` (x_s, v_s), with start_length the
+// dampers' reference lengths by slot (step_lengths' l_n for backward Euler); y (3 x B)
+// receives the end-of-step positions x_s + h (v_s + dv). One pass over the springs (the families in SIMD, then the
 // others) and one over the bodies: the cost of one force evaluation.
 //
 // With end_length: also the springs' lengths at y by slot, what step_lengths(model, y,
 // *end_length) would write, bit for bit (a step ending at this y starts the next from them),
 // where the families hold every spring; otherwise end_length is cleared.
-PotentialValue step_potential(const Model& model, const State& start, double h,
+PotentialValue step_potential(const Model& model, const State& start, const StepForm& form,
                               const std::vector<double>& start_length, const Eigen::Matrix3Xd& dv,
                               Eigen::Matrix3Xd& y, Eigen::Matrix3Xd& gradient,
                               std::vector<double>* end_length = nullptr);
@@ -68,7 +70,7 @@ double step_strain(const Model& model, const std::vector<double>& length);
 
 // The scalar reference of step_potential: every spring in spring order, then the bodies. The
 // same value and gradient to rounding (the order of the sums differs).
-PotentialValue step_potential_scalar(const Model& model, const State& start, double h,
+PotentialValue step_potential_scalar(const Model& model, const State& start, const StepForm& form,
                                      const std::vector<double>& start_length,
                                      const Eigen::Matrix3Xd& dv, Eigen::Matrix3Xd& y,
                                      Eigen::Matrix3Xd& gradient);

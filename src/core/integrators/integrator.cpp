@@ -54,6 +54,10 @@ using C = IterationControl;
 // XPBD and PD project constraints; the barrier is a potential they have no faithful form of.
 constexpr std::string_view kProjectsConstraints =
     "has no barrier contact (it projects constraints); use collision.model: projection for it";
+// ros2's step is linearly implicit: no line search keeps the barrier's distances positive.
+constexpr std::string_view kLinearlyImplicit =
+    "has no barrier contact (a linearly implicit step has no line search to keep its distances "
+    "positive); use collision.model: projection for it";
 constexpr Entry kRegistry[] = {  // constant-initialized: safe to read during static initialization
     {{IntegratorKind::ExplicitEuler, "explicit_euler", 1, 1,
       "forward Euler: x += h v_n, v += h a_n (the course framework's 'explicit')",
@@ -94,6 +98,28 @@ constexpr Entry kRegistry[] = {  // constant-initialized: safe to read during st
       "Yoshida's symplectic 4th-order composition of three Verlet steps",
       4, C::None, 0.0, false, false, yoshida4_limit, "", verlet_memory, 2},
      yoshida4_step, no_iterations, no_tolerance},
+    // The implicit family (implicit_family.h): A-stable (newmark with 2 beta >= gamma >= 1/2,
+    // its default among them), so no step limit; `:N` caps Newton as for implicit_euler.
+    {{IntegratorKind::ImplicitMidpoint, "implicit_midpoint", 0, 0,
+      "implicit midpoint: symplectic, order 2, |R| = 1; a backward Euler half step, then the forward half",
+      2, C::Newton, 0.0, true, true, no_limit, "", implicit_family_memory},
+     implicit_midpoint_step, newton_iterations, no_tolerance},
+    {{IntegratorKind::Newmark, "newmark", 0, 0,
+      "Newmark (beta, gamma), the trapezoidal rule by default: order 2, |R| = 1",
+      2, C::Newton, 0.0, true, true, no_limit, "", implicit_family_memory, 0, false, "beta,gamma"},
+     newmark_step, newton_iterations, no_tolerance},
+    {{IntegratorKind::GeneralizedAlpha, "generalized_alpha", 0, 0,
+      "generalized-alpha (Chung & Hulbert 1993): order 2, high modes damped to rho_inf",
+      2, C::Newton, 0.0, true, true, no_limit, "", implicit_family_memory, 0, false, "rho"},
+     generalized_alpha_step, newton_iterations, no_tolerance},
+    {{IntegratorKind::Bdf2, "bdf2", 0, 0,
+      "BDF2: order 2, L-stable, started (and restarted) by a backward Euler step",
+      2, C::Newton, 0.0, true, true, no_limit, "", implicit_family_memory},
+     bdf2_step, newton_iterations, no_tolerance},
+    {{IntegratorKind::Ros2, "ros2", 2, 0,
+      "ROS2 (Verwer et al. 1999): two-stage L-stable Rosenbrock, order 2, one matrix a step",
+      2, C::None, 0.0, true, false, no_limit, kLinearlyImplicit, implicit_euler_memory},
+     ros2_step, no_iterations, no_tolerance},
     // The adaptive pairs: the step is their controller's, so no step limit is stated; as
     // fixed-step methods, their higher-order solutions (adaptive.h).
     {{IntegratorKind::Bs3, "bs3", 0, 0, "Bogacki-Shampine 3(2) by tolerance: adaptive, order 3",

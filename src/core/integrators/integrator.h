@@ -24,6 +24,11 @@ StepStats projective_dynamics_step(const Model& model, State& state, const StepC
 StepStats vbd_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
 StepStats velocity_verlet_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
 StepStats yoshida4_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
+StepStats implicit_midpoint_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
+StepStats newmark_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
+StepStats generalized_alpha_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
+StepStats bdf2_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
+StepStats ros2_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
 // How far (m) every particle of an iterate may lie from the Newton matrix's linearisation
 // point for implicit_euler to reuse that matrix whatever the residual (implicit_euler.cpp,
 // kReuseChange): 0.05 l_min / (4 (h c_max + (h w_max)^2)); infinite without springs.

@@ -56,6 +56,9 @@ struct IntegratorInfo {
   // An adaptive pair (integrators/adaptive.h): Run steps it under error control, by its
   // tolerances (Model::adaptive), from the lane's step as the first trial.
   bool adaptive = false;
+  // The method's own parameters a lane sets as :KEY=VALUE (method_param.h), comma-separated:
+  // "beta,gamma" for newmark, "rho" for generalized_alpha; empty for none.
+  std::string_view parameters = "";
 };
 const std::vector<IntegratorInfo>& integrator_registry();  // in enum order
 

@@ -61,7 +61,8 @@ void add_barrier_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eig
 }
 
 StepPairTerms step_pair_terms(const Model& model, const BarrierParams& p, const BarrierPair& pair,
-                              const Eigen::Matrix3Xd& start_x, const Eigen::Matrix3Xd& y, double h) {
+                              const Eigen::Matrix3Xd& lag_x, const Eigen::Matrix3Xd& from_x,
+                              const Eigen::Matrix3Xd& y, double h) {
   StepPairTerms out;
   const PointBarrier c = pair_within_reach(model, pair, y, p.dhat) ? pair_barrier(model, pair, y, p, true) : PointBarrier{};
   if (c.active()) {
@@ -70,10 +71,10 @@ StepPairTerms step_pair_terms(const Model& model, const BarrierParams& p, const 
     out.hessian = c.hessian;
     out.active = true;
   }
-  if (pair.mu <= 0.0 || !pair_within_reach(model, pair, start_x, p.dhat)) return out;
-  const PointBarrier lag = pair_barrier(model, pair, start_x, p, true);
+  if (pair.mu <= 0.0 || !pair_within_reach(model, pair, lag_x, p.dhat)) return out;
+  const PointBarrier lag = pair_barrier(model, pair, lag_x, p, true);
   if (!lag.active()) return out;
-  const auto moved = [&](int i) { return Vec3(y.col(i) - start_x.col(i)); };
+  const auto moved = [&](int i) { return Vec3(y.col(i) - from_x.col(i)); };
   const Vec3 rel = moved(pair.a) - (pair.b >= 0 ? moved(pair.b) : Vec3::Zero());
   const Vec3 u = rel - rel.dot(lag.normal) * lag.normal;
   const FrictionTerm f = friction_potential(u, lag.normal, -barrier_derivative(lag.distance, p), pair.mu,

@@ -98,8 +98,9 @@ void add_barrier_forces(const Model& model, const Eigen::Matrix3Xd& x, const Eig
 
 // A pair's terms in a backward-Euler step's potential as functions of the end positions y
 // (3 x B): the barrier at y and IPC's lagged friction, lambda = -b'(d) and the tangent plane
-// taken at the step's start x_n, on the tangential relative displacement over the step, with
-// eps = eps_v h. Energy (J); gradient with respect to body a's end position (b's is minus it);
+// taken at lag_x (the step's start x_n), on the tangential relative displacement y - from_x
+// (x_n for backward Euler) over the friction's step h (the displacement is h times the
+// velocity), with eps = eps_v h. Energy (J); gradient with respect to body a's end position (b's is minus it);
 // Hessian, projected to PSD, for a's and b's diagonal blocks (the cross blocks are minus it).
 struct StepPairTerms {
   double energy = 0.0;
@@ -108,7 +109,8 @@ struct StepPairTerms {
   bool active = false;  // within reach at y or in friction contact at x_n
 };
 StepPairTerms step_pair_terms(const Model& model, const BarrierParams& p, const BarrierPair& pair,
-                              const Eigen::Matrix3Xd& start_x, const Eigen::Matrix3Xd& y, double h);
+                              const Eigen::Matrix3Xd& lag_x, const Eigen::Matrix3Xd& from_x,
+                              const Eigen::Matrix3Xd& y, double h);
 
 // The barrier's potential at x, J (part of the potential energy the diagnostics print).
 double barrier_potential(const Model& model, const Eigen::Matrix3Xd& x);

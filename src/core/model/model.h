@@ -64,8 +64,9 @@ struct Model {
   double duration = 0.0, dt = 0.0;
   IntegratorKind integrator = kDefaultIntegrator;
   ImplicitDef implicit;
-  SolverDefs solvers;
-  AdaptiveDef adaptive;  // bs3, dopri5, rkf78: the error control's tolerances (a lane's :tol=)  // xpbd, projective_dynamics, vbd options
+  SolverDefs solvers;  // xpbd, projective_dynamics, vbd options
+  AdaptiveDef adaptive;  // bs3, dopri5, rkf78: the error control's tolerances (a lane's :tol=)
+  MethodDefs methods;  // newmark's and generalized_alpha's parameters (a lane's :beta=, :gamma=, :rho=)
   DivergenceDef divergence;
   double energy_scale = 1.0;  // J, what kinetic energy is compared with to call a run diverged
 

@@ -29,6 +29,7 @@ struct ImplicitSolverState {
     std::vector<double> length;   // (S) m, spring lengths at that step's start
     Eigen::VectorXd inv_mass;     // (B) 1/kg
     double h = 0.0;               // s, the step size; 0 = nothing recorded
+    double damper_h = 0.0, drag_h = 0.0;  // s, the rest of its StepForm (implicit/step_form.h)
     std::int64_t assemblies = 0;  // matrices recorded over this State's history (a count)
   } lin;
   // Whether the recorded matrix served when last tried on a new iterate; if not, steps
@@ -51,8 +52,14 @@ struct State;
 struct StepHistory {
   // velocity_verlet, yoshida4: the last force pass, a(x_end, v_predicted) (3 x B) m/s^2, and
   // the springs' largest strain at x_end: the next step's first kick (first same as last).
+  // newmark, generalized_alpha: the carried (algorithmic) acceleration a_{n+1} (3 x B) m/s^2.
   Eigen::Matrix3Xd a;
   double strain = 0.0;
+  // bdf2: the state one step before the end state, its spring lengths by slot (step_lengths),
+  // and the step h between them.
+  Eigen::Matrix3Xd x_before, v_before;  // (3 x B)
+  std::vector<double> length_before;    // (slots) m
+  double h = 0.0;                       // s
   IntegratorKind owner = IntegratorKind::ExplicitEuler;  // the method that filled it
   bool filled = false;
   Eigen::Matrix3Xd x, v;      // (3 x B) the end state it belongs to
@@ -70,7 +77,7 @@ struct State {
   std::int64_t step = 0;      // steps taken
   std::size_t next_action = 0;  // index into model.timeline of the first action not yet applied
   ImplicitSolverState implicit;  // implicit_euler's warm start and Newton-matrix record
-  StepHistory history;           // a method's carried force pass (velocity_verlet, yoshida4)
+  StepHistory history;           // a method's carried data (the Verlet family, newmark, generalized_alpha, bdf2)
 };
 
 // The state at t = 0, with the actions scheduled at t = 0 applied.

@@ -97,7 +97,7 @@ void add_vertex_barrier(const VbdBarrier& b, const Eigen::Matrix3Xd& y, int i, V
   const Model& model = *b.model;
   const BarrierParams params = barrier_params(model);
   for_each_barrier_pair_of(model, *b.inv_mass, i, [&](const BarrierPair& pair) {
-    const StepPairTerms t = step_pair_terms(model, params, pair, *b.start_x, y, b.h);
+    const StepPairTerms t = step_pair_terms(model, params, pair, *b.start_x, *b.start_x, y, b.h);
     if (!t.active) return;
     f += pair.a == i ? t.gradient : Vec3(-t.gradient);
     H.add(t.hessian);

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <string>
 
 #include "test_support.h"
 #include "core/implicit/step_potential.h"
@@ -83,25 +84,42 @@ Assembled assemble(double scale, double h, bool project, bool moving = true,
   return s;
 }
 
+// A p against central differences of Phi's gradient along a random p, body by body.
+void expect_hessian_by_differences(const Assembled& s, const StepForm& form, const std::string& what) {
+  const double eps = 1e-7;
+  const Model& m = s.model;
+  const Eigen::VectorXd& w = s.state.inv_mass;
+  Eigen::Matrix3Xd p = Eigen::Matrix3Xd::Random(3, m.num_bodies()), Ap, gp, gm, y;
+  for (int b = 0; b < m.num_bodies(); ++b)
+    if (w[b] == 0.0) p.col(b).setZero();  // the filtered subspace: dv = 0 there
+  multiply(s.A, p, Ap);
+  step_potential(m, s.state, form, s.start_length, s.dv + eps * p, y, gp);
+  step_potential(m, s.state, form, s.start_length, s.dv - eps * p, y, gm);
+  const Eigen::Matrix3Xd expected = (gp - gm) / (2 * eps);
+  for (int b = 0; b < m.num_bodies(); ++b) {
+    if (w[b] == 0.0) continue;
+    EXPECT_LT((Ap.col(b) - expected.col(b)).norm(), 1e-6 * (1.0 + expected.col(b).norm())) << "body " << b << " " << what;
+  }
+}
+
 TEST(SparseSystem, ExactMatrixIsTheHessianOfTheStepPotentialByFiniteDifferences) {
   for (const double scale : {1.1, 0.9}) {
-    const double h = 0.01, eps = 1e-7;
+    const double h = 0.01;
     Assembled s = assemble(scale, h, /*project=*/false);
-    const Model& m = s.model;
-    const Eigen::VectorXd& w = s.state.inv_mass;
-    Eigen::Matrix3Xd p = Eigen::Matrix3Xd::Random(3, m.num_bodies()), Ap, gp, gm, y;
-    for (int b = 0; b < m.num_bodies(); ++b)
-      if (w[b] == 0.0) p.col(b).setZero();  // the filtered subspace: dv = 0 there
-    multiply(s.A, p, Ap);
-    step_potential(m, s.state, h, s.start_length, s.dv + eps * p, y, gp);
-    step_potential(m, s.state, h, s.start_length, s.dv - eps * p, y, gm);
-    const Eigen::Matrix3Xd expected = (gp - gm) / (2 * eps);
-    for (int b = 0; b < m.num_bodies(); ++b) {
-      if (w[b] == 0.0) continue;
-      EXPECT_LT((Ap.col(b) - expected.col(b)).norm(), 1e-6 * (1.0 + expected.col(b).norm()))
-          << "body " << b << " scale " << scale;
-    }
+    expect_hessian_by_differences(s, h, "scale " + std::to_string(scale));
   }
+}
+
+TEST(SparseSystem, AFamilyFormsMatrixIsTheHessianOfItsPotentialByFiniteDifferences) {
+  // h_e, the dampers' step and the drag's factor apart (step_form.h), reference lengths not l_n.
+  const double h = 0.01;
+  const StepForm form(h, 1.6 * h, h / 1.6);
+  Assembled s = assemble(1.1, h, /*project=*/false);
+  for (double& l : s.start_length) l *= 0.98;
+  Eigen::Matrix3Xd r;
+  step_potential(s.model, s.state, form, s.start_length, s.dv, s.y, r);
+  assemble_step_hessian(s.model, s.state.inv_mass, form, s.start_length, s.y, HessianBlocks::Exact, s.A);
+  expect_hessian_by_differences(s, form, "family form");
 }
 
 TEST(SparseSystem, MatrixIsSymmetricExactOrProjected) {

@@ -232,5 +232,24 @@ TEST(BarrierModel, ImplicitEulerNeverGainsEnergyWithStaticColliders) {
   EXPECT_EQ(run.totals().unconverged_steps, 0);
 }
 
+// The implicit family at a frame-sized step: every end point outside, also where a method
+// extrapolates its end from an earlier stage (implicit_midpoint, generalized_alpha: the barrier
+// acts at the end point, implicit/step_form.h), and every step converged.
+TEST(BarrierModel, TheImplicitFamilyNeverLetsADistanceReachZero) {
+  for (const std::string friction : {"0", "0.4"}) {
+    const Model m = model_from_yaml(kThrow, {"spheres.0.friction=" + friction, "ground.friction=" + friction});
+    for (IntegratorKind kind : {IntegratorKind::ImplicitMidpoint, IntegratorKind::Newmark,
+                                IntegratorKind::GeneralizedAlpha, IntegratorKind::Bdf2}) {
+      clothsim::Run run(m, kind, 1.0 / 60);
+      for (int k = 1; k <= 30; ++k) {
+        ASSERT_TRUE(run.advance_to(k / 60.0)) << integrator_name(kind);
+        EXPECT_GT(smallest_barrier_distance(m, run.state().x, run.state().inv_mass), 0.0)
+            << integrator_name(kind) << " step " << k << " friction " << friction;
+      }
+      EXPECT_EQ(run.totals().unconverged_steps, 0) << integrator_name(kind) << " friction " << friction;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace clothsim
