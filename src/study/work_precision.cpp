@@ -176,6 +176,26 @@ double convergence_order(const std::vector<WorkPrecisionPoint>& points, Integrat
   return fitted_order(points, [&](const WorkPrecisionPoint& p) { return p.integrator == kind; });
 }
 
+std::vector<ParetoLevel> pareto_front(const std::vector<WorkPrecisionPoint>& points) {
+  const auto usable = [](const WorkPrecisionPoint& p) {
+    return p.finished && !p.diverged && !p.wrong && p.unconverged_steps == 0 && !p.unresolved &&
+           std::isfinite(p.rms_error) && p.rms_error > 0.0;
+  };
+  double smallest = INFINITY;
+  for (const WorkPrecisionPoint& p : points)
+    if (usable(p)) smallest = std::min(smallest, p.rms_error);
+  std::vector<ParetoLevel> front;
+  for (double level = 1e-1; level >= smallest && level > 1e-300; level /= 10.0) {
+    std::size_t best = points.size();
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (usable(points[i]) && points[i].rms_error <= level &&
+          (best == points.size() || points[i].cpu_seconds < points[best].cpu_seconds))
+        best = i;
+    if (best < points.size()) front.push_back({level, best});
+  }
+  return front;
+}
+
 double lane_convergence_order(const std::vector<WorkPrecisionPoint>& points, std::size_t lane) {
   return fitted_order(points, [&](const WorkPrecisionPoint& p) { return p.lane == lane; });
 }

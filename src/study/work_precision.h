@@ -170,6 +170,16 @@ PositionError position_error(const Model& model, const Eigen::Matrix3Xd& a,
 double convergence_order(const std::vector<WorkPrecisionPoint>& points, IntegratorKind kind);
 double lane_convergence_order(const std::vector<WorkPrecisionPoint>& points, std::size_t lane);
 
+// The decision a user is making: for each error level (a decade, 1e-1 m down to the smallest
+// error measured), the run of least CPU whose RMS error at T is at or below it, among the runs
+// that finished, converged, were not WRONG and were resolved (an error under the reference's
+// own is no number to choose by). Levels no run reaches are left out.
+struct ParetoLevel {
+  double level = 0.0;  // m
+  std::size_t point = 0;  // index into the points
+};
+std::vector<ParetoLevel> pareto_front(const std::vector<WorkPrecisionPoint>& points);
+
 // The order each method has on a smooth problem (docs/cli.md, "The integrators"): 1, 1, 2, 4, 1.
 int nominal_order(IntegratorKind kind);
 

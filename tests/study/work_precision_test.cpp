@@ -368,3 +368,27 @@ TEST(WorkPrecision, ProgressWeighsEachRunByItsCostSoTheFirstEstimateOfTimeLeftHo
 
 }  // namespace
 }  // namespace clothsim::analysis
+
+TEST(ParetoFront, IsTheCheapestRunToEachErrorLevelAmongTheRunsThatCount) {
+  using clothsim::analysis::WorkPrecisionPoint;
+  const auto point = [](std::size_t lane, double err, double cpu) {
+    WorkPrecisionPoint p;
+    p.lane = lane;
+    p.finished = true;
+    p.rms_error = err;
+    p.cpu_seconds = cpu;
+    return p;
+  };
+  std::vector<WorkPrecisionPoint> points{point(0, 3e-2, 1.0), point(0, 3e-3, 4.0), point(1, 5e-3, 2.0),
+                                         point(1, 2e-5, 3.0), point(2, 1e-6, 0.5)};
+  points[4].wrong = true;  // cheapest and most accurate, but not this scene's physics: never chosen
+  const auto front = clothsim::analysis::pareto_front(points);
+  ASSERT_EQ(front.size(), 4u) << "1e-1 .. 1e-4: nothing that counts reaches 1e-5";
+  EXPECT_EQ(front[0].point, 0u) << "1e-1: the cheapest run under it";
+  EXPECT_EQ(front[1].point, 2u) << "1e-2: lane 1 at 2 s beats lane 0's 3e-2 (above) and 4 s";
+  EXPECT_EQ(front[2].point, 3u) << "1e-3: only 3e-3 (lane 0, too large) and 2e-5 qualify";
+  EXPECT_EQ(front[3].point, 3u);
+  EXPECT_DOUBLE_EQ(front[3].level, 1e-4);
+  points[3].unresolved = true;  // an error under the reference's own is no number to choose by
+  EXPECT_EQ(clothsim::analysis::pareto_front(points).size(), 2u);
+}

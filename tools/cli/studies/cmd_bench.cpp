@@ -80,6 +80,14 @@ void print_table(const WorkPrecisionResult& r, const std::vector<Lane>& lanes, c
   for (std::size_t i = 0; i < lanes.size(); ++i)  // an order well below the method's, explained
     for (const std::string& why : analysis::lane_order_shortfall(r, i, lanes[i].kind))
       std::printf("%s below its order %d: %s\n", label(i).c_str(), analysis::nominal_order(lanes[i].kind), why.c_str());
+  const std::vector<analysis::ParetoLevel> front = analysis::pareto_front(r.points);
+  if (front.empty()) return;
+  std::printf("cheapest to each error level (least CPU among the runs that finished, converged, resolved, not WRONG):\n");
+  for (const analysis::ParetoLevel& level : front) {
+    const WorkPrecisionPoint& p = r.points[level.point];
+    std::printf("  rms err <= %-8.0e %-28s dt %-10.4g %9.3g s CPU  %11" PRId64 " force evals  (%.3g m)\n", level.level,
+                label(p.lane).c_str(), p.dt, p.cpu_seconds, p.force_evals, p.rms_error);
+  }
 }
 
 void print_reference_check(const analysis::ReferenceCheck& ref) {
