@@ -21,6 +21,13 @@ inline SceneDef drape_scene(int n) {
 
 inline Model drape_sheet(int n) { return build_model(drape_scene(n)); }
 
+// The barrier drape (scenes/drape_smooth.yaml), its cloth resized to N x N.
+inline Model smooth_drape_sheet(int n) {
+  const std::string side = std::to_string(n);
+  return build_model(load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/drape_smooth.yaml",
+                                {"cloth.particles=[" + side + "," + side + "]"}));
+}
+
 // A method by its registry name, so the benchmarks name no IntegratorKind. Called inside a
 // benchmark's body, never while benchmarks register: the registry is another TU's static.
 inline IntegratorKind method(std::string_view name) {

@@ -66,6 +66,29 @@ BENCHMARK_CAPTURE(BM_IntegratorFirstSecond, symplectic_euler, "symplectic_euler"
     ->Arg(25)->Arg(64)->Unit(benchmark::kMicrosecond)->Iterations(10000);
 BENCHMARK_CAPTURE(BM_IntegratorFirstSecond, implicit_euler, "implicit_euler")
     ->Arg(25)->Arg(64)->Unit(benchmark::kMicrosecond)->Iterations(10000);
+// The Verlet family at the same steps: one force pass a step for velocity_verlet (its last pass
+// is the next step's first), three for yoshida4.
+BENCHMARK_CAPTURE(BM_IntegratorFirstSecond, velocity_verlet, "velocity_verlet")
+    ->Arg(25)->Arg(64)->Unit(benchmark::kMicrosecond)->Iterations(10000);
+BENCHMARK_CAPTURE(BM_IntegratorFirstSecond, yoshida4, "yoshida4")
+    ->Arg(25)->Arg(64)->Unit(benchmark::kMicrosecond)->Iterations(10000);
+
+// The implicit family against backward Euler at one step per frame on the barrier drape (the
+// contact every one of them takes): the first 2 s at 1/60 s, 120 steps from its start.
+void BM_ImplicitFamilyAtFrameRate(benchmark::State& st, const char* name) {
+  const Model m = bench::smooth_drape_sheet(static_cast<int>(st.range(0)));
+  run_steps(st, m, bench::method(name), 1.0 / 60.0);
+}
+BENCHMARK_CAPTURE(BM_ImplicitFamilyAtFrameRate, implicit_euler, "implicit_euler")
+    ->Arg(25)->Unit(benchmark::kMillisecond)->Iterations(120);
+BENCHMARK_CAPTURE(BM_ImplicitFamilyAtFrameRate, implicit_midpoint, "implicit_midpoint")
+    ->Arg(25)->Unit(benchmark::kMillisecond)->Iterations(120);
+BENCHMARK_CAPTURE(BM_ImplicitFamilyAtFrameRate, newmark, "newmark")
+    ->Arg(25)->Unit(benchmark::kMillisecond)->Iterations(120);
+BENCHMARK_CAPTURE(BM_ImplicitFamilyAtFrameRate, generalized_alpha, "generalized_alpha")
+    ->Arg(25)->Unit(benchmark::kMillisecond)->Iterations(120);
+BENCHMARK_CAPTURE(BM_ImplicitFamilyAtFrameRate, bdf2, "bdf2")
+    ->Arg(25)->Unit(benchmark::kMillisecond)->Iterations(120);
 
 // Backward Euler (Newton + PCG, the scene's default tolerances) at h = 1/240 s on 64 x 64,
 // 417 times the drape's dt; the explicit methods are unstable there. Iterations start from
