@@ -15,6 +15,11 @@ std::vector<IntegratorKind> parse_methods(const std::string& text) {
     if (!kind || integrator_info(*kind).iterations == IterationControl::None)
       throw UsageError("--integrators: " + in_quotes(name) +
                        " is not an iterative method (expected xpbd, projective_dynamics, vbd or implicit_euler)");
+    // The implicit family iterates Newton too, but toward its own step, not backward Euler's,
+    // which is the one converge measures every method against.
+    if (*kind != kBackwardEuler && !is_iterative_solver(*kind))
+      throw UsageError("--integrators: " + in_quotes(name) + " converges to its own step, not to backward Euler's, "
+                       "which converge measures against (expected xpbd, projective_dynamics, vbd or implicit_euler)");
     out.push_back(*kind);
   }
   if (out.empty()) throw UsageError("--integrators: no method given");

@@ -28,6 +28,14 @@ TEST(PlanConverge, RefusesAMethodWithoutIterationsAndABadStep) {
     EXPECT_NE(std::string(e.what()).find("--integrators: 'rk4' is not an iterative method"), std::string::npos)
         << e.what();
   }
+  o.integrators = "newmark";  // Newton iterations, but toward the trapezoid's step
+  try {
+    plan_converge(o);
+    FAIL() << "newmark converges to its own step";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("converges to its own step, not to backward Euler's"), std::string::npos)
+        << e.what();
+  }
   o.integrators = "vbd";
   o.dt = "0";
   EXPECT_THROW(plan_converge(o), UsageError);
