@@ -32,6 +32,11 @@ struct Workspace {
   // end-of-step positions it reached (3 x B), before the step ends there; empty: not called.
   // The convergence study (study/convergence.h) records every iteration of one step with it.
   std::function<void(int iteration, const Eigen::Matrix3Xd& y)> on_iteration;
+  // Polled after every iteration of an iterative step (xpbd, projective_dynamics, vbd, Newton):
+  // true ends the step there, short of its iterations, so a run stops within one iteration of
+  // being asked however many a step takes (Run::set_stop_check sets it; empty: never).
+  std::function<bool()> interrupt;
+  bool interrupted() const { return interrupt && interrupt(); }
 };
 
 }  // namespace clothsim

@@ -191,7 +191,8 @@ bool NewtonSolve::iterate(const Eigen::Matrix3Xd* warm) {
       trace_("  let go / taken in: held %zu\n", c_.contacts.size());
       continue;
     }
-    if (out_of_budget() || stall_.stalled(stats_.newton_iterations, stats_.residual, phi_, kStallWindow))
+    if (out_of_budget() || stall_.stalled(stats_.newton_iterations, stats_.residual, phi_, kStallWindow) ||
+        trace_.stop_requested())
       return false;
     const bool reused = may_reuse();
     if (reused) reuse_.start_trial(r.norm);

@@ -23,12 +23,16 @@ namespace clothsim {
 // Formats the trace's lines for Workspace::newton_trace (nothing when it is empty).
 class NewtonTracer {
  public:
-  explicit NewtonTracer(const Workspace& ws) : sink_(ws.newton_trace ? &ws.newton_trace : nullptr) {}
+  explicit NewtonTracer(const Workspace& ws)
+      : sink_(ws.newton_trace ? &ws.newton_trace : nullptr), ws_(&ws) {}
   bool on() const { return sink_ != nullptr; }
+  // The run asks the step to end (Workspace::interrupt): the solve stops at its next iteration.
+  bool stop_requested() const { return ws_->interrupted(); }
   [[gnu::format(printf, 2, 3)]] void operator()(const char* format, ...) const;
 
  private:
   const std::function<void(const char*)>* sink_;
+  const Workspace* ws_;
 };
 
 // Whether the next Newton direction may be taken with the matrix in hand (the recorded one, or

@@ -66,6 +66,7 @@ StepStats projective_dynamics_step(const Model& model, State& state, const StepC
     if (rho > 0.0) accelerate(c, k, rho, omega);
     c.y_before = c.y_next;
     if (ws.on_iteration) ws.on_iteration(k, c.y);
+    if (ws.interrupted()) break;
     if (!stop.active()) continue;
     pd_collect_held(model, c);
     if (stop.met(c.y, &c.held)) break;

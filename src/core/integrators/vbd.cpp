@@ -62,6 +62,7 @@ int sweep_grid(const Model& model, int iterations, SolverCache& c, const Workspa
     if (rho > 0.0) vbd_grid_remember(c.vbd_grid, it + 1);
     vbd_grid_sweep(model, c.problem, c.vbd_grid);
     if (rho > 0.0) vbd_grid_accelerate(c.vbd_grid, it + 1, omega = chebyshev_omega(it + 1, rho, omega));
+    if (ws.interrupted()) break;
     if (!ws.on_iteration && !stop.active()) continue;
     vbd_store_grid(model, c.vbd_grid, c.y);
     if (ws.on_iteration) ws.on_iteration(it + 1, c.y);
@@ -87,7 +88,7 @@ int sweep_graph(const Model& model, int iterations, SolverCache& c, const Worksp
     vbd_sweep(c.problem, c.vbd, c.y, c.vbd_contacts, 0, barrier);
     if (rho > 0.0) accelerate_graph(model, c, it + 1, omega = chebyshev_omega(it + 1, rho, omega));
     if (ws.on_iteration) ws.on_iteration(it + 1, c.y);
-    if (stop_met(model, c, stop)) return it + 1;
+    if (stop_met(model, c, stop) || ws.interrupted()) return it + 1;
   }
   return iterations;
 }

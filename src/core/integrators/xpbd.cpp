@@ -57,7 +57,7 @@ int sweep_spring_list(const Model& model, const StepProblem& p, const State& sta
     project_springs(model, p, state.inv_mass, cache.y, cache.lambda);
     if (contacts) project_contacts(model, p, cache.y);
     if (ws.on_iteration) ws.on_iteration(it + 1, cache.y);
-    if (stop.met(cache.y)) return it + 1;
+    if (stop.met(cache.y) || ws.interrupted()) return it + 1;
   }
   return iterations;
 }
@@ -72,6 +72,7 @@ int sweep_families(const Model& model, const StepProblem& p, const State& state,
     const int it = taken++;
     xpbd_family_sweep(model, p.h, cache.xpbd);
     if (contacts) xpbd_family_contacts(model, p, cache.xpbd);
+    if (ws.interrupted()) break;
     if (!ws.on_iteration && !stop.active()) continue;
     xpbd_store_families(cache.xpbd, model.num_particles, cache.y);
     if (ws.on_iteration) ws.on_iteration(it + 1, cache.y);

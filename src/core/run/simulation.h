@@ -86,11 +86,14 @@ class Run {
   // divergence() then says at which step and time, and why. Returns true but short of the
   // target when the stop check fired (stopped()): callers that stop on a signal check it.
   bool advance_to(double target);
-  // Polled before every step of advance_to, so a run at any step size stops within one step
-  // of being asked (a relaxed atomic load behind a std::function costs a few ns, nothing
+  // Polled before every step of advance_to, and after every iteration of an iterative step, so a
+  // run at any step size and any iteration count stops within one iteration of being asked (a relaxed atomic load behind a std::function costs a few ns, nothing
   // beside a step). Once it has returned true the run is stopped for good: advance_to no
   // longer steps. Set it before advancing; the engine itself knows nothing of signals.
-  void set_stop_check(std::function<bool()> stop) { stop_ = std::move(stop); }
+  void set_stop_check(std::function<bool()> stop) {
+    stop_ = std::move(stop);
+    ws_.interrupt = stop_;  // inside a step's iterations too (Workspace::interrupt)
+  }
   bool stopped() const { return stopped_; }
   // Where implicit_euler's Newton trace goes (Workspace::newton_trace); unset: nowhere.
   void set_newton_trace(std::function<void(const char* line)> sink) { ws_.newton_trace = std::move(sink); }

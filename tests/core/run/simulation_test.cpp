@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 #include <algorithm>
 #include <cstring>
 #include <tuple>
@@ -266,6 +268,23 @@ TEST(Run, AClothStretchedPastTwiceItsLengthReadsWrongAtTheSameStepWhateverTheOut
   clothsim::Run be(drape, IntegratorKind::ImplicitEuler, 1.0 / 30.0);
   ASSERT_TRUE(be.advance_to(2.5));
   EXPECT_FALSE(be.totals().wrong);
+}
+
+TEST(Run, AStopCheckEndsAStepOfAMillionIterationsWithinOneIteration) {
+  // vbd at one step a frame with 1e6 sweeps a step: a step lasts minutes; asked to stop after
+  // 0.2 s, the run answers within one sweep (Workspace::interrupt), not at the step's end.
+  for (const char* method : {"vbd", "xpbd", "projective_dynamics"}) {
+    Model m = build_model(load_scene(scene_path("drape.yaml"), {"cloth.particles=[9, 9]"}));
+    *iteration_count(m, *parse_integrator(method)) = kMaxSolverIterations;
+    clothsim::Run run(m, *parse_integrator(method), 1.0 / 60.0);
+    const auto start = std::chrono::steady_clock::now();
+    const auto asked = start + std::chrono::milliseconds(200);
+    run.set_stop_check([asked] { return std::chrono::steady_clock::now() >= asked; });
+    run.advance_to(1.0);
+    const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_TRUE(run.stopped()) << method;
+    EXPECT_LT(took, 0.7) << method << ": answered " << took - 0.2 << " s after being asked";
+  }
 }
 
 }  // namespace
