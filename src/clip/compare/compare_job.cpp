@@ -274,6 +274,10 @@ void name_lanes(ComparePlan& p) {
 // repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
 void plan_variation(const CompareRequest& o, ComparePlan& p) {
   const Variation vary = parse_vary(o.vary, p.scene);
+  for (const std::string& path : vary.key.paths)  // what every lane of one clip shares: one value or none
+    if (path == "duration" || path == "name" || path.rfind("render.", 0) == 0 || path == "render")
+      throw UsageError("--vary " + vary.key.label + ": every lane of one comparison shares the scene's " + path +
+                       " (one clip, one picture); give it with --set or its own option, one compare per value");
   std::vector<Lane> rows =
       o.integrators_given ? p.specs() : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
   follow_scene_solver(rows, p.scene.implicit);  // the scene's fixed point is named as itself, as without --vary
