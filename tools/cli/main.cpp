@@ -32,6 +32,18 @@ namespace {
 // value whole, a library's may hold a newline) and leaves those escapes as they are.
 void say(const std::string& message) { std::fprintf(stderr, "clothsim: %s\n", one_line(message).c_str()); }
 
+// A failure met because a signal arrived (an open or write it broke off: EINTR, a FIFO with no
+// reader) is the signal's stop: said as one and exit 128 + N, the failure in brackets.
+int failed(const std::string& message) {
+  if (!interrupted()) {
+    say(message);
+    return kRuntimeFailure;
+  }
+  say(message.rfind("stopped by ", 0) == 0 ? message
+                                           : std::string("stopped by ") + interrupt_signal_name() + " (" + message + ")");
+  return 128 + interrupt_signal();
+}
+
 // An option the command does not take but one of its own spells with a letter more or less
 // (--integrator to compare, which takes --integrators): " (did you mean --integrators?)".
 std::string option_hint(const CLI::App& app, int argc, char** argv) {
@@ -116,19 +128,15 @@ int main(int argc, char** argv) {
     say(e.what());
     return kBadInput;
   } catch (const RuntimeFailure& e) {
-    say(e.what());
     // A command stopped by a signal says so as a RuntimeFailure; the exit code tells a
     // script it was stopped, not that it failed.
-    return interrupted() ? 128 + interrupt_signal() : kRuntimeFailure;
+    return failed(e.what());
   } catch (const RenderError& e) {
-    say(std::string("render: ") + e.what());
-    return kRuntimeFailure;
+    return failed(std::string("render: ") + e.what());
   } catch (const PngError& e) {
-    say(e.what());
-    return kRuntimeFailure;
+    return failed(e.what());
   } catch (const OutputFileError& e) {
-    say(e.what());
-    return kRuntimeFailure;
+    return failed(e.what());
   } catch (const std::bad_alloc&) {  // past what the estimate foresaw (memory_budget.h)
     const std::optional<double> as = address_space_limit();
     say(std::string("out of memory") +

@@ -4,6 +4,9 @@
 // change to the picture; commit the new images).
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -65,6 +68,19 @@ TEST(CmdGolden, UpdateWritesTheImagesAndCheckThenPasses) {
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
   EXPECT_NE(check.out.find("golden: 2 of 2 images match"), std::string::npos) << check.out;
   EXPECT_TRUE(only_files(p.dir, {"my_drape.yaml", "goldens.yaml", "my_drape_t50ms.png", "my_drape_t200ms.png"}));
+}
+
+// A golden that is a FIFO with no reader blocks update's open until a signal breaks it off:
+// that said "cannot write ...: Interrupted system call"; it is the signal's stop.
+TEST(CmdGolden, AFifoGoldenUnderSigtermSaysStoppedBySigterm) {
+  UserProject p("golden_fifo_sigterm");
+  ASSERT_EQ(::mkfifo(p.golden.c_str(), 0644), 0);
+  const StoppedResult r = run_clothsim_interrupted({"golden", "update", p.manifest}, 3.0, SIGTERM);
+  EXPECT_EQ(r.exit_code, 143) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("clothsim: stopped by SIGTERM", 0), 0u) << r.err;
+  EXPECT_EQ(r.err.find("Interrupted system call"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p.dir + "/my_drape_t50ms.png")) << "update writes all or none";
 }
 
 TEST(CmdGolden, AChangedSceneFailsWithTheActualAndDiffImagesBesideAndUpdateRewrites) {
