@@ -135,7 +135,6 @@ void check_paths(const CompareRequest& o, const ComparePlan& p) {
     throw RuntimeFailure("cannot write --frames into " + o.frames_dir + ": not a directory");
   for (const std::string& d : o.frames_dir.empty() ? std::vector<std::string>{} : p.dirs())
     refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
-  checked_export_paths(o.export_path, p.dirs(), static_cast<int>(p.scene.spheres.size()));
 }
 
 // The grid within the picture.
@@ -204,6 +203,9 @@ void check_memory(const CompareRequest& o, const ComparePlan& p) {
                  held_frames_bytes(scene, p.lanes.size(), std::min(1.0, scene.duration) * scene.render.fps + 1.0));
   }
   if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid.width() + p.legend_width, grid.height()));
+  if (!o.export_path.empty())  // each lane's queued bodies and mesh (counted whole per lane: a bound)
+    budget.add("export of " + std::to_string(p.lanes.size()) + " lanes",
+               static_cast<double>(p.lanes.size()) * export_bytes(scene, parse_export_path(o.export_path).format));
   budget.check(scene.source, o.scene.max_memory);
 }
 
@@ -357,6 +359,8 @@ ComparePlan plan_compare(const CompareRequest& o) {
   p.look = unmatched;  // the memory a run needs is the same whatever steps matching chooses
   fit_grid(p);
   check_memory(o, p);  // before the models, the pilots and the early reference take any
+  // The export's folders, made by its checks once the run is admitted (a refused one leaves none).
+  checked_export_paths(o.export_path, p.dirs(), static_cast<int>(p.scene.spheres.size()));
   p.model = std::make_shared<const Model>(build_model(p.scene));
   for (const SceneDef& s : p.vary_scenes) p.vary_models.push_back(build_model(s));
   if (!p.vary_models.empty())  // lanes row by row, a value per column

@@ -360,6 +360,22 @@ TEST(CmdRun, AFifoOutputUnderSigtermSaysStoppedBySigterm) {
   }
 }
 
+// --max-memory left the export's buffers out (1024² with --export: estimated 592 MB, peaks of
+// 863-1072 MiB): a budget the run alone fits is refused with the export, naming it.
+TEST(CmdRun, MaxMemoryCountsTheExport) {
+  const std::string dir = scratch_dir("run_export_memory");
+  const std::vector<std::string> run = {"run", shipped("drape.yaml"), "--set", "cloth.particles=[256,256]",
+                                        "--duration", "0.001", "--max-memory", "125M", "--quiet"};
+  EXPECT_EQ(run_clothsim(run).exit_code, 0) << "the run alone: an estimated 112 MB";
+  std::vector<std::string> exported = run;
+  exported.insert(exported.end(), {"--export", dir + "/x.pvd"});
+  const CliResult r = run_clothsim(exported);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("needs an estimated 150 MB"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("export 37.5 MB"), std::string::npos) << r.err;
+  EXPECT_TRUE(only_files(dir, {})) << "refused before any work";
+}
+
 TEST(CmdRun, UnwritableOutputsFailBeforeAnyWorkWithExitOne) {
   const std::string dir = scratch_dir("run_bad_outputs");
   const std::string scene = shipped("spring.yaml");

@@ -191,3 +191,21 @@ TEST(PlanCompare, RefusesToVaryWhatEveryLaneOfOneClipShares) {
         << m;
   }
 }
+
+TEST(PlanCompare, MaxMemoryCountsEachLanesExportAndARefusalMakesNoFolder) {
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_export_memory";
+  std::filesystem::remove_all(out);
+  CompareRequest o = small_grid(out);
+  o.vary.clear();
+  o.summary.clear();
+  o.scene.sets = {"cloth.particles=[256,256]"};
+  o.export_path = out + "/x.pvd";
+  o.scene.max_memory = 150.0 * 1024 * 1024;  // the lanes alone fit, not with two exports of 37.5 MB
+  const std::string m = clothsim::testing::usage_error([&] { plan_compare(o); });
+  EXPECT_NE(m.find("export of 2 lanes 75 MB"), std::string::npos) << m;
+  EXPECT_FALSE(std::filesystem::exists(out)) << "refused before its folders are made";
+  o.export_path.clear();
+  o.summary = out + "/s.json";
+  std::filesystem::create_directories(out);
+  EXPECT_NO_THROW(plan_compare(o));
+}
