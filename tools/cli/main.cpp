@@ -44,6 +44,23 @@ int failed(const std::string& message) {
   return 128 + interrupt_signal();
 }
 
+// The first word, when it is no command: "unknown command 'comapre' (did you mean compare?)"
+// where CLI11 says only "A subcommand is required"; "" when it is one, or an option.
+std::string unknown_command(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return "";
+  const std::string typed = argv[1];
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    if (sub->get_name() == typed) return "";
+    names.push_back(sub->get_name());
+  }
+  const std::string near = nearest_name(typed, names);
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return "unknown command " + in_quotes(typed) + " (" + (near.empty() ? "" : "did you mean " + near + "? ") +
+         "the commands: " + list + ")";
+}
+
 // An option the command does not take but one of its own spells with a letter more or less
 // (--integrator to compare, which takes --integrators): " (did you mean --integrators?)".
 std::string option_hint(const CLI::App& app, int argc, char** argv) {
@@ -116,6 +133,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help and --version are "errors" with code 0; everything else is bad usage.
     if (e.get_exit_code() == 0) return app.exit(e);
+    if (const std::string unknown = unknown_command(app, argc, argv); !unknown.empty()) {
+      say(unknown);
+      return kBadInput;
+    }
     say(e.what() + option_hint(app, argc, argv));
     return kBadInput;
   }

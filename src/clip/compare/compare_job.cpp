@@ -128,7 +128,9 @@ void check_paths(const CompareRequest& o, const ComparePlan& p) {
     outputs.push_back(std::move(r));
   refuse_clashing_paths({{o.scene.path, "the scene"}}, outputs);
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
+  if (!o.sheet.empty()) require_png_name(o.sheet, "--sheet");
   if (!o.sheet.empty()) require_writable_parent(o.sheet, "--sheet");
+  if (!o.still_out.empty()) require_png_name(o.still_out, "-o/--output");
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty() && fs::exists(o.frames_dir) && !fs::is_directory(o.frames_dir))

@@ -259,16 +259,22 @@ TEST(CmdGolden, ABadManifestExitsTwoWithFileLineAndKey) {
   const CliResult late = run_clothsim({"golden", "update", dir + "/m.yaml"});
   EXPECT_EQ(late.exit_code, 2);
   EXPECT_EQ(line_count(late.err), 1) << late.err;
-  EXPECT_NE(late.err.find("m.yaml:2: goldens[0].times: 9 s is past the scene's duration (5 s)"), std::string::npos)
+  // At the times key's line, not the entry's (it said m.yaml:2, the scene: line).
+  EXPECT_NE(late.err.find("m.yaml:3: goldens[0].times[1]: 9 s is past the scene's duration (5 s)"), std::string::npos)
       << late.err;
   // An entry's own dt is bounded as the scene file's is, over the run to its latest still.
   write(dir + "/m.yaml", "goldens:\n  - scene: d.yaml\n    dt: 1e-12\n    times: [1]\n");
   const CliResult tiny = run_clothsim({"golden", "update", dir + "/m.yaml"});
   EXPECT_EQ(tiny.exit_code, 2);
   EXPECT_EQ(line_count(tiny.err), 1) << tiny.err;
-  EXPECT_NE(tiny.err.find("m.yaml:2: goldens[0].dt: duration / dt = 1 s / 1e-12 s = 1e+12 steps, more than the limit"),
+  EXPECT_NE(tiny.err.find("m.yaml:3: goldens[0].dt: duration / dt = 1 s / 1e-12 s = 1e+12 steps, more than the limit"),
             std::string::npos)
       << tiny.err;
+  // An unclosed '[' is named at its own line, not where yaml-cpp gave up (the line after).
+  write(dir + "/m.yaml", "goldens:\n  - scene: d.yaml\n    times: [1, 2\n    dt: 1e-4\n");
+  const CliResult open = run_clothsim({"golden", "update", dir + "/m.yaml"});
+  EXPECT_EQ(open.exit_code, 2);
+  EXPECT_NE(open.err.find("m.yaml:3: invalid YAML: end of sequence flow not found"), std::string::npos) << open.err;
   EXPECT_TRUE(only_files(dir, {"m.yaml", "d.yaml"})) << "nothing rendered";
 }
 

@@ -473,6 +473,26 @@ TEST(Cli, HelpExplainsEverySubcommand) {
   EXPECT_EQ(run_clothsim({}).exit_code, 2);
 }
 
+TEST(Cli, AMisspeltCommandIsPointedAtTheCommandItMeant) {
+  const CliResult r = run_clothsim({"comapre", shipped("drape.yaml")});  // it said "A subcommand is required"
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("clothsim: unknown command 'comapre' (did you mean compare? the commands: run, compare, "),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(CmdRun, AStillNamedForAnotherFormatIsRefused) {
+  const std::string dir = scratch_dir("run_still_names");
+  for (const char* name : {"/x.jpg", "/y.gif"}) {  // PNG bytes were written under these names
+    const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--still", "0.1", "-o", dir + name});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("-o/--output: '" + dir + name + "' names a "), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(run_clothsim({"run", shipped("spring.yaml"), "--still", "0.1", "-o", dir + "/z.PNG", "--quiet"}).exit_code, 0);
+  EXPECT_TRUE(only_files(dir, {"z.PNG"}));
+}
+
 TEST(Cli, HelpListsEveryExitCodeOfTheContract) {
   const CliResult help = run_clothsim({"run", "--help"});
   for (const char* code : {"0 success", "1 runtime failure", "2 bad usage", "3 the simulation diverged",

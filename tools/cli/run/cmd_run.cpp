@@ -78,6 +78,7 @@ std::vector<ExportPath> check_run_outputs(const RunOptions& o, int spheres) {
   if (!o.metrics.empty()) require_writable_parent(o.metrics, "--metrics");
   if (!o.state.empty()) require_writable_parent(o.state, "--state");
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
+  if (!o.still_out.empty()) require_png_name(o.still_out, "-o/--output");
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
