@@ -122,7 +122,13 @@ void print_fields(const PipelineReport& report, FieldKind color, const std::vect
     const LaneResult& r = report.lanes[i].result;
     const LaneResult* reference = lane_reference(report, i);
     std::string values;
-    if (report.lanes[i].field_count > 0 && lane_unresolved(report, i, color)) {
+    if (r.divergence && color == FieldKind::Error && report.lanes[i].field_count > 0) {
+      // Its error before the blow-up is no result: said as diverged, never unresolved.
+      char text[160];
+      std::snprintf(text, sizeof text, " diverged at t = %.4g s (step %ld), so no error is quoted", r.divergence->t,
+                    static_cast<long>(r.divergence->step));
+      values = text;
+    } else if (report.lanes[i].field_count > 0 && lane_unresolved(report, i, color)) {
       char text[160];
       std::snprintf(text, sizeof text, " unresolved: under %g x the reference's estimated error (%.3g m)",
                     kUnresolvedFactor, reference->estimated_error);
@@ -276,7 +282,7 @@ void print_breakdown(const TileGrid& grid, int legend_width, const PipelineRepor
 
 bool lane_unresolved(const PipelineReport& report, std::size_t i, FieldKind color) {
   const LaneResult* reference = lane_reference(report, i);
-  return color == FieldKind::Error && reference && report.lanes[i].field_count > 0 &&
+  return color == FieldKind::Error && reference && report.lanes[i].field_count > 0 && !report.lanes[i].result.divergence &&
          report.lanes[i].field_max < kUnresolvedFactor * reference->estimated_error;
 }
 
