@@ -254,7 +254,7 @@ TEST(CmdRun, BadScenesAreOneLineErrorsWithFileLineKeyAndExitTwo) {
       {"empty.yaml", "", "empty.yaml: empty scene file"},
       {"junk.yaml", std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10), "junk.yaml:1: not a text file"},
       {"tabs.yaml", "cloth:\n\tparticles: [3, 3]\n", "tabs.yaml:2: tab in indentation"},
-      {"broken.yaml", "cloth: {particles: [3, 3]\n", "broken.yaml:2: invalid YAML"},
+      {"broken.yaml", "cloth: {particles: [3, 3]\n", "broken.yaml:1: invalid YAML"},  // where the { opens
       {"type.yaml", "cloth:\n  particles: [3, 3]\n  size: big\n", "type.yaml:3: cloth.size: expected"},
       {"unknown.yaml", "cloth: {particles: [3, 3]}\nwind: 3\n", "unknown.yaml:2: wind: unknown key"},
       {"mass.yaml", "cloth:\n  particles: [3, 3]\n  particle_mass: -2\n", "mass.yaml:3: cloth.particle_mass: value -2 out of range"},
