@@ -35,7 +35,7 @@ void print_breakdown(const TileGrid& grid, int legend_width, const PipelineRepor
 // A lane's error is unresolved when its largest is under this times the reference's estimated
 // error (LaneResult::estimated_error): the reference cannot tell it, so no number is given. A
 // lane that diverged is not: its error before the blow-up is no result (it says diverged).
-inline constexpr double kUnresolvedFactor = 10.0;
+// (kUnresolvedFactor: frame_pipeline.h, whose tiles say UNRESOLVED by the same rule.)
 bool lane_unresolved(const PipelineReport& report, std::size_t lane, FieldKind color);
 
 // --summary's "reference" (or under --vary one of "references", with "for": the value): its

@@ -363,6 +363,10 @@ struct FramePipeline::Impl {
           const double unit = std::pow(10.0, std::floor(std::log10(e)) - 1.0);
           std::snprintf(line, sizeof line, "reference error <= %.2g m", std::ceil(e / unit) * unit);
           rf.overlay_lines.emplace_back(line);
+          // The colours of an error the reference cannot tell are no result: the tile says so,
+          // as the table does (compare showed them as a plain error map).
+          if (reports[i].field_max < kUnresolvedFactor * e)
+            rf.overlay_lines.emplace_back("UNRESOLVED");
         }
       }
       if (config.color != FieldKind::None && !field.empty())
