@@ -145,7 +145,7 @@ def main():
     ax.legend(handles + [h for h, _ in paired], labels + [l for _, l in paired], fontsize=7, loc="upper left",
               bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     T = pc.number(rows[0].get("duration"))
-    sub = f"runs from 0 to T = {T:g} s" if math.isfinite(T) else ""
+    sub = f"runs from 0 to T = {T:.3g} s" if math.isfinite(T) else ""  # three figures, as every title
     ax.set_title((("stability: " + args.title) if args.title else "stability") + (f"\n{sub}" if sub else ""),
                  fontsize=10)
     fig.tight_layout()

@@ -3,16 +3,22 @@
 #
 #   tools/report_figures.sh [--small] [OUT_DIR] [BUILD_DIR]
 #
-# OUT_DIR defaults to report/, BUILD_DIR to build (holding clothsim). --small runs each command
+# OUT_DIR (default report/) and a BUILD_DIR given are taken where you stand, as any command's
+# paths are; BUILD_DIR defaults to the repository's build/ (holding clothsim). --small runs each command
 # on a 9 x 9 cloth for 0.3 s at 320 x 180 (the test, ctest -R ReportFigures): the same commands,
 # smaller, so a change that breaks one is caught in seconds. Needs python3-matplotlib for the
 # stability plots. Stops at the first command that fails, naming it.
 set -eu
-cd "$(dirname "$0")/.."
+HERE=$(pwd)
+# A path as the caller meant it: relative to where they stand, not to the repository this
+# script moves to (report_figures.sh out wrote the repository's out/).
+from_here() { case $1 in /*) printf '%s\n' "$1" ;; *) printf '%s\n' "$HERE/$1" ;; esac; }
 SMALL=
 if [ "${1:-}" = "--small" ]; then SMALL=1; shift; fi
-OUT=${1:-report}
-BUILD=${2:-build}
+OUT=$(from_here "${1:-report}")
+BUILD=${2:+$(from_here "$2")}
+cd "$(dirname "$0")/.."
+BUILD=${BUILD:-build}
 CLOTHSIM=$BUILD/clothsim
 [ -x "$CLOTHSIM" ] || { echo "report_figures.sh: $CLOTHSIM not found (build first, or pass the build directory)" >&2; exit 1; }
 mkdir -p "$OUT"

@@ -70,6 +70,45 @@ struct MeshExport::Impl {
   std::vector<Pc2Stream> caches;  // PC2: the cloth, then each sphere
   std::vector<PvdEntry> index;    // PVD
   std::vector<std::string> named;  // PC2 and PVD once finished
+  bool finished = false;
+
+  const char* kind() const {
+    return path.format == ExportFormat::Obj ? "OBJ" : path.format == ExportFormat::Ply ? "PLY" : "VTP";
+  }
+
+  // The per-frame files written that are still where they were written (the folder may have
+  // been moved or removed while the run went on).
+  std::vector<std::string> gone() const {
+    std::vector<std::string> out;
+    for (const std::string& f : file_list)
+      if (::access(f.c_str(), F_OK) != 0) out.push_back(f);
+    return out;
+  }
+
+  // A sequence (or a PVD's folder) complete: a longer earlier run's files of the same series
+  // past this run's last frame would read as its continuation, and go (as --frames' PNGs do).
+  // Only names of the series' exact form: PREFIX, the frame number, SUFFIX.
+  void remove_later_frames() const {
+    if (path.dir.empty()) return;
+    std::error_code ec;
+    std::vector<std::filesystem::path> later;
+    const std::vector<std::string> prefixes = path.series_prefixes(model.num_spheres);
+    for (const auto& entry : std::filesystem::directory_iterator(path.dir, ec)) {
+      const std::string name = entry.path().filename().string();
+      for (const std::string& prefix : prefixes) {
+        if (name.size() <= prefix.size() + path.suffix.size() || name.rfind(prefix, 0) != 0 ||
+            name.compare(name.size() - path.suffix.size(), path.suffix.size(), path.suffix) != 0)
+          continue;
+        const std::string number = name.substr(prefix.size(), name.size() - prefix.size() - path.suffix.size());
+        const std::size_t width = static_cast<std::size_t>(path.digits);  // as %0Nd writes it: N digits, or more unpadded
+        if (number.size() < width || number.size() > 9 || (number.size() > width && number[0] == '0') ||
+            number.find_first_not_of("0123456789") != std::string::npos)
+          continue;
+        if (std::stol(number) >= frames) later.push_back(entry.path());
+      }
+    }
+    for (const auto& p : later) std::filesystem::remove(p, ec);
+  }
 
   std::string comment(const State& bodies) const {
     char text[96];
@@ -126,6 +165,12 @@ void MeshExport::add(int frame, const State& bodies, const std::vector<float>* e
 
 void MeshExport::finish() {
   Impl& m = *impl_;
+  // Never an index, nor a success, over files that are not there.
+  const std::vector<std::string> gone = m.gone();
+  if (!gone.empty())
+    throw ExportError("cannot finish " + m.path.path + ": " + std::to_string(gone.size()) + " of the " +
+                      std::to_string(m.files) + " " + m.kind() + " files written are gone (" + gone.front() +
+                      " first): " + m.path.dir + " was moved or removed during the run");
   try {
     for (Pc2Stream& c : m.caches) {
       c.finish();
@@ -139,6 +184,14 @@ void MeshExport::finish() {
   } catch (const OutputFileError& e) {
     throw ExportError(e.what());
   }
+  m.remove_later_frames();
+  m.finished = true;
+}
+
+std::vector<std::string> MeshExport::unwritten() const {
+  const Impl& m = *impl_;
+  if (m.finished) return {};
+  return m.path.final_files(m.model.num_spheres);
 }
 
 int MeshExport::frames() const { return impl_->frames; }
@@ -154,8 +207,18 @@ std::string MeshExport::written() const {
   std::string out;
   for (const std::string& f : m.named) out += (out.empty() ? "" : ", ") + f;
   if (m.path.format == ExportFormat::Pc2 || m.files == 0) return out;
-  const char* kind = m.path.format == ExportFormat::Obj ? "OBJ" : m.path.format == ExportFormat::Ply ? "PLY" : "VTP";
-  return std::to_string(m.files) + " " + kind + " files in " + m.path.dir + "/" + (out.empty() ? "" : ", " + out);
+  const int here = m.files - static_cast<int>(m.gone().size());  // what the disk holds, not what was written
+  if (here == 0) return out;
+  return std::to_string(here) + " " + m.kind() + " files in " + m.path.dir + "/" + (out.empty() ? "" : ", " + out);
+}
+
+std::string MeshExport::lost() const {
+  const Impl& m = *impl_;
+  if (m.path.format == ExportFormat::Pc2 || m.files == 0) return "";
+  const std::size_t gone = m.gone().size();
+  if (gone == 0) return "";
+  return std::to_string(gone) + " " + m.kind() + " files gone from " + m.path.dir +
+         "/ (moved or removed during the run)";
 }
 
 }  // namespace clothsim

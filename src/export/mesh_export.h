@@ -4,7 +4,9 @@
 //   OBJ, PLY, VTP  a file per frame per object, named as it is written;
 //   PC2            the caches and their rest meshes (the first frame's), named at finish();
 //   PVD            the index, named at finish(), over the .vtp files already named.
-// A run that stops keeps the per-frame files written so far, and no PC2 or PVD.
+// A run that stops keeps the per-frame files written so far, and no PC2 or PVD. A sequence
+// finished removes a longer earlier run's files of its series past its last frame; it never
+// finishes over files of its own that are gone (a folder moved or removed during the run).
 #pragma once
 
 #include <memory>
@@ -31,10 +33,18 @@ class MeshExport {
   // used), with the error field (P values, m) when the export has one. Throws ExportError
   // ("cannot write PATH: reason").
   void add(int frame, const State& bodies, const std::vector<float>* error = nullptr);
-  // Names what is named at the end (PC2 and its meshes, the PVD index). Throws ExportError.
+  // Names what is named at the end (PC2 and its meshes, the PVD index), then removes the
+  // series' later frames of an earlier run. Throws ExportError, also when per-frame files it
+  // wrote are gone (and then names nothing).
   void finish();
-  // What stays on disk: "12 OBJ files in out/", "c.pc2, c.obj" ("" for nothing).
+  // What stays on disk: "12 OBJ files in out/", "c.pc2, c.obj" ("" for nothing): the files
+  // written that are still there.
   std::string written() const;
+  // What finish() names, until it has: the PC2s and their meshes, or the PVD index.
+  std::vector<std::string> unwritten() const;
+  // Per-frame files written and gone since: "464 OBJ files gone from ex/ (moved or removed during
+  // the run)", or "".
+  std::string lost() const;
   // The same as paths: every per-frame file in the order written, then what finish() named.
   std::vector<std::string> written_files() const;
   int frames() const;

@@ -34,15 +34,16 @@ std::vector<std::string> spring_types(const SceneDef& scene) {
   return types;
 }
 
-// "2e4", "0.5", "750", "1.5e-5": %g, but large and small values by their exponent, in three figures.
-std::string short_number(double value) {
-  char buf[32];
+// "2e4", "0.5", "750", "1.5e-5": %g, but large and small values by their exponent, in three
+// figures; `digits` (3..17) more where two values would otherwise read alike (100, 100.0001).
+std::string short_number(double value, int digits) {
+  char buf[40];
   const double a = std::abs(value);
   if (a == 0.0 || (a >= 1e-3 && a < 1e4)) {
-    std::snprintf(buf, sizeof buf, "%g", value);
+    std::snprintf(buf, sizeof buf, "%.*g", std::max(6, digits), value);
     return buf;
   }
-  std::snprintf(buf, sizeof buf, "%.2e", value);  // "2.00e+04"
+  std::snprintf(buf, sizeof buf, "%.*e", digits - 1, value);  // "2.00e+04"
   std::string s = buf;
   const auto e = s.find('e');
   std::string mantissa = s.substr(0, e), exponent = s.substr(e + 1);
@@ -91,6 +92,8 @@ std::vector<std::string> param_sets(const ParamKey& key, double value) {
   return sets;
 }
 
-std::string param_label(const ParamKey& key, double value) { return key.label + " = " + short_number(value); }
+std::string param_label(const ParamKey& key, double value, int digits) {
+  return key.label + " = " + short_number(value, std::clamp(digits, 3, 17));
+}
 
 }  // namespace clothsim

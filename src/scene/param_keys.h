@@ -48,7 +48,8 @@ SceneError as_option_error(const SceneError& e, const ParamKey& key, const std::
 // "PATH=VALUE" for every path of `key`, VALUE at full precision: what --set would say.
 std::vector<std::string> param_sets(const ParamKey& key, double value);
 
-// "ks = 2e+04" style text of a value for labels ("ks = 2e4").
-std::string param_label(const ParamKey& key, double value);
+// "ks = 2e+04" style text of a value for labels ("ks = 2e4"), in `digits` significant figures
+// (3 to 17) where the value is written with its exponent, at least 6 where it is not.
+std::string param_label(const ParamKey& key, double value, int digits = 3);
 
 }  // namespace clothsim

@@ -316,6 +316,15 @@ void check_text(const std::string& text, const std::string& file) {
 
 }  // namespace
 
+int yaml_error_line(const std::string& text, const YAML::ParserException& e) {
+  if (e.mark.is_null()) return 0;
+  // "end of sequence flow not found": yaml-cpp's mark is where it stopped, a line past the '['.
+  if (e.msg.find("flow not found") != std::string::npos)
+    if (const int opened = unclosed_bracket_line(text, static_cast<std::size_t>(std::max(e.mark.pos, 0))); opened > 0)
+      return opened;
+  return e.mark.line + 1;
+}
+
 SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
                      const std::vector<std::string>& overrides, bool bound_run) {
   check_text(yaml_text, source);
@@ -331,7 +340,7 @@ SceneDef parse_scene(const std::string& yaml_text, const std::string& source,
     }
     root = documents.first;
   } catch (const YAML::ParserException& e) {
-    throw SceneError(source, e.mark.is_null() ? 0 : e.mark.line + 1, "", "invalid YAML: " + excerpt(e.msg));
+    throw SceneError(source, yaml_error_line(yaml_text, e), "", "invalid YAML: " + excerpt(e.msg));
   } catch (const YAML::Exception& e) {
     throw SceneError(source, 0, "", "invalid YAML: " + excerpt(e.what()));
   }

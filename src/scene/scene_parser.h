@@ -10,6 +10,10 @@
 
 #include "scene_def.h"
 
+namespace YAML {
+class ParserException;
+}
+
 namespace clothsim {
 
 // "FILE:LINE: KEY: what is wrong" (LINE is omitted for a value that came from --set, which
@@ -30,6 +34,11 @@ struct SceneError : std::runtime_error {
 // only for a caller that replaces duration or dt (--duration, --dt) and bounds the result.
 SceneDef load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                     bool bound_run = true);
+
+// The 1-based line a YAML parse error of `text` belongs to: where an unclosed '[' or '{'
+// opened, for yaml-cpp's "end of ... flow not found" (its own mark is the line after), else
+// yaml-cpp's mark; 0 for none. For every YAML file the program reads (scenes, manifests).
+int yaml_error_line(const std::string& text, const YAML::ParserException& e);
 
 // Same, from text in memory (tests, and scenes built by tools). `source` names it in errors.
 SceneDef parse_scene(const std::string& yaml_text, const std::string& source,

@@ -17,6 +17,7 @@
 #include "echo.h"
 #include "lane.h"
 #include "scene_parser.h"
+#include "text.h"
 
 namespace clothsim::scene_detail {
 
@@ -63,8 +64,15 @@ class Reader {
       for (const char* a : allowed) known = known || k == a;
       if (!known) {
         std::string list;
+        std::vector<std::string> names(allowed.begin(), allowed.end());
         for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-        fail(kv.first, join(path, k), "unknown key (expected one of: " + list + ")");
+        // --set's own aliases (scene/param_keys.h) at the top level, where a --set key starts.
+        const bool set_key = path.empty() && overrides_.count(k) > 0;
+        if (set_key) names.insert(names.end(), {"ks", "kd"});
+        const std::string near = nearest_name(k, names);
+        fail(kv.first, join(path, k),
+             "unknown key (" + (near.empty() ? "" : "did you mean " + near + "? ") + "expected one of: " + list +
+                 (set_key ? "; aliases ks, kd" : "") + ")");
       }
       if (!seen.insert(k).second) fail(kv.first, join(path, k), "duplicate key");
     }

@@ -23,4 +23,15 @@ std::vector<std::string> split_list(const std::string& text, char sep = ',');
 // `s` without the spaces and tabs around it.
 std::string trimmed(const std::string& s);
 
+// The 1-based line of the innermost '[' or '{' still open at byte `until` of YAML `text`
+// (quoted text and comments skipped), or 0: where an unclosed flow list or map began, which
+// yaml-cpp reports only where it gave up looking for its end (the line after, or the end).
+int unclosed_bracket_line(const std::string& text, std::size_t until);
+
+// The one of `names` a typo of `typed` most likely meant: the nearest by edit distance
+// (insertions, deletions, substitutions and swaps of neighbours, Damerau-Levenshtein), if it is
+// at most 2 edits away and fewer than half of typed's letters; "" for none ("stifness" ->
+// "stiffness", "comapre" -> "compare", "kss" -> "ks").
+std::string nearest_name(const std::string& typed, const std::vector<std::string>& names);
+
 }  // namespace clothsim

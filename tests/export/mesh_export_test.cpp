@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -146,4 +147,89 @@ TEST(MeshExport, TheClothsFieldsAreItsVelocitySpeedAndStrain) {
 }
 
 }  // namespace
+}  // namespace clothsim
+
+namespace clothsim {
+namespace {
+
+std::vector<std::string> names_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace
+
+TEST(MeshExport, AShorterRerunRemovesTheLongerRunsLaterFramesOfItsSeriesOnly) {
+  // A 10-frame run over a 31-frame one left 31 files a series (--frames removes them).
+  const Model model = testing::model_from_yaml(kScene);
+  for (const char* pattern : {"f_%03d.obj", "f_%03d.ply", "r.pvd"}) {
+    const fs::path dir = fresh_dir("rerun");
+    const ExportPath path = parse_export_path((dir / pattern).string());
+    {
+      MeshExport longer(model, path, 30.0, false);
+      State s = initial_state(model);
+      for (int k = 0; k < 5; ++k) longer.add(k, s);
+      longer.finish();
+    }
+    const fs::path series = path.format == ExportFormat::Pvd ? dir / "r" : dir;
+    // Not of the series: another name, %03d never writes "0004", another prefix.
+    for (const char* other : {"f_notes.txt", "f_0004.obj", "g_004.obj"}) std::ofstream(series / other) << "keep";
+    MeshExport shorter(model, path, 30.0, false);
+    export_three(shorter, model);
+    shorter.finish();
+    std::vector<std::string> expected;
+    if (path.format == ExportFormat::Pvd)
+      expected = {"cloth_00000.vtp", "cloth_00001.vtp", "cloth_00002.vtp", "f_0004.obj", "f_notes.txt", "g_004.obj",
+                  "sphere0_00000.vtp", "sphere0_00001.vtp", "sphere0_00002.vtp"};
+    else {
+      const std::string ext = path.suffix;
+      expected = {"f_000" + ext, "f_001" + ext, "f_002" + ext, "f_0004.obj", "f_notes.txt", "f_sphere0_000" + ext,
+                  "f_sphere0_001" + ext, "f_sphere0_002" + ext, "g_004.obj"};
+      std::sort(expected.begin(), expected.end());
+    }
+    EXPECT_EQ(names_in(series), expected) << pattern;
+  }
+}
+
+TEST(MeshExport, FilesGoneMidRunAreNeverIndexedNorCountedAsKept) {
+  // The PVD folder removed mid-run: exit 0 with an index over missing files; an OBJ folder moved
+  // away: "kept 464 OBJ files in ex/".
+  const Model model = testing::model_from_yaml(kScene);
+  for (const char* pattern : {"r.pvd", "ex/f_%03d.obj"}) {
+    const fs::path dir = fresh_dir("gone");
+    const ExportPath path = parse_export_path((dir / pattern).string());
+    MeshExport out(model, path, 30.0, false);
+    export_three(out, model);
+    EXPECT_EQ(out.unwritten(), path.final_files(1));
+    fs::rename(path.dir, dir / "moved");
+    EXPECT_EQ(out.written(), "") << "nothing of it is where it was written";
+    EXPECT_EQ(out.lost(), "6 " + std::string(path.format == ExportFormat::Pvd ? "VTP" : "OBJ") + " files gone from " +
+                              path.dir + "/ (moved or removed during the run)");
+    try {
+      out.finish();
+      ADD_FAILURE() << pattern << ": finished over missing files";
+    } catch (const ExportError& e) {
+      EXPECT_NE(std::string(e.what()).find("cannot finish " + path.path + ": 6 of the 6"), std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find(path.dir + " was moved or removed during the run"), std::string::npos);
+    }
+    EXPECT_FALSE(fs::exists(dir / "r.pvd"));
+    EXPECT_EQ(out.unwritten(), path.final_files(1)) << "still not written";
+  }
+}
+
+TEST(MeshExport, WhatFinishWouldNameIsUnwrittenUntilItHas) {
+  const Model model = testing::model_from_yaml(kScene);
+  const fs::path dir = fresh_dir("unwritten");
+  MeshExport out(model, parse_export_path((dir / "c.pc2").string()), 30.0, false);
+  export_three(out, model);
+  EXPECT_EQ(out.unwritten(), (std::vector<std::string>{(dir / "c.pc2").string(), (dir / "c.obj").string(),
+                                                       (dir / "c.sphere0.pc2").string(),
+                                                       (dir / "c.sphere0.obj").string()}));
+  out.finish();
+  EXPECT_TRUE(out.unwritten().empty());
+}
+
 }  // namespace clothsim

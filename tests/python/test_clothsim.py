@@ -209,6 +209,90 @@ def test_run_releases_the_gil():
     assert len(ticks) > 5 and sim.t >= 0.3
 
 
+def test_threads_sharing_a_simulation_step_it_one_at_a_time_to_the_serial_state():
+    # Two threads in run() on one Simulation crashed the interpreter (5 runs of 6) or, with rk4,
+    # ended at t = 0.006 instead of 0.6: now one steps at a time and the other goes on from there.
+    import threading
+    scene = clothsim.load_scene(DRAPE, set={"cloth.particles": [9, 9]}, duration=0.3)
+    serial = clothsim.Simulation(scene, lane="rk4@2.5e-4")
+    serial.run(until=0.3)
+    for _ in range(4):
+        sim = clothsim.Simulation(scene, lane="rk4@2.5e-4")
+        seen, errors = [], []
+
+        def run(until):
+            try:
+                sim.run(until=until)
+            except Exception as e:  # noqa: BLE001 - the test reports any
+                errors.append(e)
+
+        def read():
+            while any(t.is_alive() for t in runners):
+                seen.append((sim.t, sim.totals["steps"], sim.positions.shape, sim.metrics()["t"]))
+        runners = [threading.Thread(target=run, args=(u,)) for u in (0.3, 0.3, 0.15)]
+        reader = threading.Thread(target=read)
+        for t in runners:
+            t.start()
+        reader.start()
+        for t in runners + [reader]:
+            t.join()
+        assert not errors
+        assert not serial.diverged and sim.t == serial.t and sim.steps == serial.steps == 1200
+        assert np.array_equal(sim.positions, serial.positions)
+        assert all(0.0 <= t <= 0.3 + 1e-12 and shape == (81, 3) for t, _, shape, _ in seen)
+        assert [s for _, s, _, _ in seen] == sorted(s for _, s, _, _ in seen)  # whole steps, in order
+
+
+def test_run_until_a_time_that_is_not_one_raises():
+    sim = clothsim.Simulation(clothsim.load_scene(DRAPE))
+    for until in (float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="until must be a finite time in s, got " + str(until)):
+            sim.run(until=until)
+    assert sim.t == 0.0 and sim.steps == 0
+
+
+def test_threads_rendering_at_once_draw_what_one_thread_draws():
+    # Four threads rendering at once got "eglMakeCurrent failed (EGL error 0x3002)".
+    import threading
+    sim = clothsim.Simulation(clothsim.load_scene(DRAPE))
+    sim.run(until=0.2)
+    alone = clothsim.render(sim, 160, 90)
+    images, errors = [], []
+
+    def draw():
+        try:
+            for _ in range(3):
+                images.append(clothsim.render(sim, 160, 90))
+        except Exception as e:  # noqa: BLE001 - the test reports any
+            errors.append(e)
+    threads = [threading.Thread(target=draw) for _ in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors, errors
+    assert len(images) == 12 and all(np.array_equal(i, alone) for i in images)
+
+
+def test_export_takes_a_lane_with_settings_of_its_scene_and_writes_what_run_writes(cli, tmp_path):
+    # Export.add refused a vbd@1/60:3 Simulation of the same scene as "of another scene": its
+    # lane's iterations gave it a model of its own.
+    scene = clothsim.load_scene(DRAPE, duration=0.1)
+    sim = clothsim.Simulation(scene, lane="vbd@1/60:3")
+    out = clothsim.Export(scene, str(tmp_path / "py.pc2"))
+    for k in range(4):
+        sim.run(until=k / 30.0)
+        out.add(sim)
+    out.finish()
+    code, _, err = cli("run", DRAPE, "--duration", "0.1", "--integrator", "vbd@1/60:3", "--export",
+                       str(tmp_path / "cli.pc2"), "--quiet")
+    assert code == 0, err
+    assert (tmp_path / "py.pc2").read_bytes() == (tmp_path / "cli.pc2").read_bytes()
+    other = clothsim.Simulation(clothsim.load_scene(DRAPE, duration=0.1), lane="vbd@1/60:3")
+    with pytest.raises(ValueError, match="of another scene"):
+        out.add(other)
+
+
 def test_help_has_docstrings():
     for thing in (clothsim, clothsim.load_scene, clothsim.Simulation, clothsim.Simulation.run, clothsim.render,
                   clothsim.Export):

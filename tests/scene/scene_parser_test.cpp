@@ -190,6 +190,32 @@ TEST(SceneParser, BadPinsAreOneLineErrorsNamingLineAndKey) {
   }
 }
 
+TEST(SceneParser, AnUnclosedBracketIsReportedAtTheLineItOpens) {
+  // yaml-cpp gives up a line later ("end of sequence flow not found" at line 13 for line 12's '[').
+  const SceneError list = parse_error("name: x\ncloth:\n  particles: [3, 3\n  size: [1, 1]\nduration: 1\n");
+  EXPECT_EQ(list.line, 3) << list.what();
+  EXPECT_NE(std::string(list.what()).find("invalid YAML: end of sequence flow not found"), std::string::npos);
+  const SceneError map = parse_error("name: x\nground: {height: -1\nduration: 1\n");
+  EXPECT_EQ(map.line, 2) << map.what();
+}
+
+TEST(SceneParser, AnUnknownKeySaysTheNearestAndASetKeyTheAliases) {
+  const SceneError typo = parse_error("cloth:\n  springs:\n    structural: {stifness: 1}\n");
+  EXPECT_NE(std::string(typo.what()).find("unknown key (did you mean stiffness? expected one of: stiffness, damping)"),
+            std::string::npos)
+      << typo.what();
+  try {
+    parse_scene("name: x\n", "inline.yaml", {"kss=3"});
+    ADD_FAILURE() << "--set kss=3 accepted";
+  } catch (const SceneError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("--set kss=3: unknown key (did you mean ks? expected one of: name, "), std::string::npos) << what;
+    EXPECT_NE(what.find(", vbd; aliases ks, kd)"), std::string::npos) << what;
+  }
+  // A key of the file is not a --set: no aliases offered there.
+  EXPECT_EQ(std::string(parse_error("kss: 3\n").what()).find("aliases"), std::string::npos);
+}
+
 TEST(SceneParser, BrokenYamlTabsEmptyAndBinaryAreErrors) {
   const SceneError broken = parse_error("cloth:\n  particles: [3, 3\nname: x\n");
   EXPECT_GT(broken.line, 0);

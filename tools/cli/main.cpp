@@ -32,6 +32,35 @@ namespace {
 // value whole, a library's may hold a newline) and leaves those escapes as they are.
 void say(const std::string& message) { std::fprintf(stderr, "clothsim: %s\n", one_line(message).c_str()); }
 
+// A failure met because a signal arrived (an open or write it broke off: EINTR, a FIFO with no
+// reader) is the signal's stop: said as one and exit 128 + N, the failure in brackets.
+int failed(const std::string& message) {
+  if (!interrupted()) {
+    say(message);
+    return kRuntimeFailure;
+  }
+  say(message.rfind("stopped by ", 0) == 0 ? message
+                                           : std::string("stopped by ") + interrupt_signal_name() + " (" + message + ")");
+  return 128 + interrupt_signal();
+}
+
+// The first word, when it is no command: "unknown command 'comapre' (did you mean compare?)"
+// where CLI11 says only "A subcommand is required"; "" when it is one, or an option.
+std::string unknown_command(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return "";
+  const std::string typed = argv[1];
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    if (sub->get_name() == typed) return "";
+    names.push_back(sub->get_name());
+  }
+  const std::string near = nearest_name(typed, names);
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return "unknown command " + in_quotes(typed) + " (" + (near.empty() ? "" : "did you mean " + near + "? ") +
+         "the commands: " + list + ")";
+}
+
 // An option the command does not take but one of its own spells with a letter more or less
 // (--integrator to compare, which takes --integrators): " (did you mean --integrators?)".
 std::string option_hint(const CLI::App& app, int argc, char** argv) {
@@ -104,6 +133,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help and --version are "errors" with code 0; everything else is bad usage.
     if (e.get_exit_code() == 0) return app.exit(e);
+    if (const std::string unknown = unknown_command(app, argc, argv); !unknown.empty()) {
+      say(unknown);
+      return kBadInput;
+    }
     say(e.what() + option_hint(app, argc, argv));
     return kBadInput;
   }
@@ -116,19 +149,15 @@ int main(int argc, char** argv) {
     say(e.what());
     return kBadInput;
   } catch (const RuntimeFailure& e) {
-    say(e.what());
     // A command stopped by a signal says so as a RuntimeFailure; the exit code tells a
     // script it was stopped, not that it failed.
-    return interrupted() ? 128 + interrupt_signal() : kRuntimeFailure;
+    return failed(e.what());
   } catch (const RenderError& e) {
-    say(std::string("render: ") + e.what());
-    return kRuntimeFailure;
+    return failed(std::string("render: ") + e.what());
   } catch (const PngError& e) {
-    say(e.what());
-    return kRuntimeFailure;
+    return failed(e.what());
   } catch (const OutputFileError& e) {
-    say(e.what());
-    return kRuntimeFailure;
+    return failed(e.what());
   } catch (const std::bad_alloc&) {  // past what the estimate foresaw (memory_budget.h)
     const std::optional<double> as = address_space_limit();
     say(std::string("out of memory") +

@@ -42,8 +42,10 @@ void bind_export(py::module_& m) {
       .def(
           "add",
           [](Export& e, const Simulation& sim) {
-            if (&sim.engine().model() != e.scene.model.get())
-              throw py::value_error("Export.add: the Simulation is of another scene");
+            // Of this scene even when its lane's settings (vbd@1/60:3) gave it a model of its own:
+            // the same particles and triangles.
+            if (!sim.of_scene(e.scene)) throw py::value_error("Export.add: the Simulation is of another scene");
+            const auto held = sim.lock();
             e.out->add(e.frame++, sim.engine().state());
           },
           py::arg("sim"), "Writes the Simulation's current state as the next frame.")

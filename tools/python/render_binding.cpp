@@ -17,19 +17,26 @@ namespace py = pybind11;
 namespace clothsim::python {
 namespace {
 
-// One GL context for the process, made at the first picture (it takes a few hundred ms).
-Renderer& renderer() {
+// One GL context for the process, made at the first picture (it takes a few hundred ms), and
+// one thread at a time in it: EGL refuses a context current on another thread (four threads
+// rendering at once got "eglMakeCurrent failed (EGL error 0x3002)"), and the GL entry points
+// are the process's. Taken with the GIL released; the Renderer releases the context after each
+// picture, so whichever thread comes next may make it current.
+std::mutex gl_mutex;
+
+Image render_locked(const RenderFrame& frame) {
   static std::unique_ptr<Renderer> r;
-  static std::once_flag once;
-  std::call_once(once, [] { r = std::make_unique<Renderer>(); });
-  return *r;
+  const std::lock_guard<std::mutex> held(gl_mutex);
+  if (!r) r = std::make_unique<Renderer>();  // (a failure leaves none, and the next call tries again)
+  return r->render(frame);
 }
 
 py::array_t<std::uint8_t> render(const Simulation& sim, int width, int height, const std::string& color,
                                  std::optional<std::pair<double, double>> color_range) {
   const Model& model = sim.engine().model();
-  const State& state = sim.engine().state();
   const RenderDef& look = sim.scene().def.render;
+  std::unique_lock<std::mutex> held = sim.lock();  // the state as one thread left it, not as another steps it
+  const State& state = sim.engine().state();
   RenderFrame frame = make_render_frame(model, state, look);
   frame.width = width;
   frame.height = height;
@@ -46,10 +53,11 @@ py::array_t<std::uint8_t> render(const Simulation& sim, int width, int height, c
     frame.color_scale.log = true;
     frame.color_scale.label = field_label(*kind);
   }
+  held.unlock();  // the frame is a copy
   Image image;
   {
     py::gil_scoped_release release;
-    image = renderer().render(frame);
+    image = render_locked(frame);
   }
   py::array_t<std::uint8_t> out({height, width, 3});
   auto px = out.mutable_unchecked<3>();

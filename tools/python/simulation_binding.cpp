@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "core/model/diagnostics.h"
 #include "core/integrators/integrator_kind.h"
@@ -30,7 +31,8 @@ Lane parse_lane_argument(const std::string& text, const SceneDef& scene) {
   return lane;
 }
 
-Simulation::Simulation(Scene scene, const std::optional<std::string>& lane) : scene_(std::move(scene)) {
+Simulation::Simulation(Scene scene, const std::optional<std::string>& lane)
+    : scene_(std::move(scene)), made_from_(scene_.model) {
   kind_ = scene_.def.integrator;
   dt_ = scene_.def.dt;
   if (lane) {
@@ -59,15 +61,31 @@ Simulation::Simulation(Scene scene, const std::optional<std::string>& lane) : sc
   });
 }
 
-void Simulation::step() { run(run_->state().t + dt_); }
+void Simulation::step() { advance(true, 0.0); }
 
 void Simulation::run(double until) {
-  if (run_->stopped()) throw py::value_error("this Simulation was interrupted: make a new one");
+  if (!std::isfinite(until))  // nan ran no step and said nothing; inf would never return
+    throw py::value_error("run: until must be a finite time in s, got " +
+                          py::str(py::float_(until)).cast<std::string>());
+  advance(false, until);
+}
+
+std::unique_lock<std::mutex> Simulation::lock() const {
+  py::gil_scoped_release release;  // never wait for the mutex holding the GIL its holder may need
+  return std::unique_lock<std::mutex>(mutex_);
+}
+
+void Simulation::advance(bool one_step, double until) {
+  bool was_stopped = false, interrupted = false;
   {
     py::gil_scoped_release release;
-    run_->advance_to(until);
+    const std::lock_guard<std::mutex> held(mutex_);
+    was_stopped = run_->stopped();
+    if (!was_stopped) run_->advance_to(one_step ? run_->state().t + dt_ : until);
+    interrupted = std::exchange(interrupted_, false);  // said once; the Run stays stopped
   }
-  if (interrupted_) throw py::error_already_set();  // the KeyboardInterrupt PyErr_CheckSignals set
+  if (interrupted) throw py::error_already_set();  // the KeyboardInterrupt PyErr_CheckSignals set on this thread
+  if (was_stopped) throw py::value_error("this Simulation was interrupted: make a new one");
 }
 
 namespace {
@@ -108,15 +126,26 @@ py::dict energies_dict(const Energies& e) {
   return d;
 }
 
+// A reader of a Simulation that holds it for its thread while it reads (Simulation::lock).
+template <class Read>
+auto locked(Read read) {
+  return [read](const Simulation& s) {
+    const auto held = s.lock();
+    return read(s);
+  };
+}
+
 // What a run has to say: diagnostics of the state, totals and verdicts.
 void bind_diagnostics(py::class_<Simulation>& c) {
   c.def(
           "energies",
-          [](const Simulation& s) { return energies_dict(compute_energies(s.engine().model(), s.engine().state())); },
+          locked([](const Simulation& s) {
+            return energies_dict(compute_energies(s.engine().model(), s.engine().state()));
+          }),
           "energies() -> dict: kinetic, spring_potential, gravity_potential, total_energy (J), as --metrics.")
       .def(
           "metrics",
-          [](const Simulation& s) {
+          locked([](const Simulation& s) {
             const FrameMetrics f = s.engine().metrics();
             py::dict d;
             d["step"] = f.step;
@@ -130,17 +159,17 @@ void bind_diagnostics(py::class_<Simulation>& c) {
             d["residual"] = f.residual;
             d["converged"] = f.converged;
             return d;
-          },
+          }),
           "metrics() -> dict: the row `run --metrics` writes for the current state.")
-      .def_property_readonly("max_strain", [](const Simulation& s) { return s.engine().metrics().max_strain; },
+      .def_property_readonly("max_strain", locked([](const Simulation& s) { return s.engine().metrics().max_strain; }),
                              "Largest spring strain |l/l0 - 1| of the current state.")
-      .def_property_readonly("totals", [](const Simulation& s) { return totals_dict(s.engine().totals()); },
+      .def_property_readonly("totals", locked([](const Simulation& s) { return totals_dict(s.engine().totals()); }),
                              "Running totals: steps, force_evals, Newton/CG work, unconverged_steps, CPU s...")
-      .def_property_readonly("diverged", [](const Simulation& s) { return s.engine().diverged(); },
+      .def_property_readonly("diverged", locked([](const Simulation& s) { return s.engine().diverged(); }),
                              "Whether the run diverged (run's exit 3); .divergence says when and why.")
       .def_property_readonly(
           "divergence",
-          [](const Simulation& s) -> py::object {
+          locked([](const Simulation& s) -> py::object {
             const auto& d = s.engine().divergence();
             if (!d) return py::none();
             py::dict out;
@@ -152,13 +181,14 @@ void bind_diagnostics(py::class_<Simulation>& c) {
             out["message"] = s.scene().def.source + ": diverged at step " + std::to_string(d->step) + ", t = " + t +
                              " s: " + d->reason;
             return std::move(out);
-          },
+          }),
           "None, or {step, t, reason, message} where the run diverged.")
-      .def_property_readonly("not_converged", [](const Simulation& s) { return s.engine().totals().unconverged_steps; },
+      .def_property_readonly("not_converged",
+                             locked([](const Simulation& s) { return s.engine().totals().unconverged_steps; }),
                              "Implicit steps that ended above their Newton tolerance (run --strict's exit 4 when > 0).")
       .def_property_readonly(
           "wrong",
-          [](const Simulation& s) -> py::object {
+          locked([](const Simulation& s) -> py::object {
             const auto& w = s.engine().totals().wrong;
             if (!w) return py::none();
             py::dict out;
@@ -166,7 +196,7 @@ void bind_diagnostics(py::class_<Simulation>& c) {
             out["t"] = w->t;
             out["reason"] = w->reason;
             return std::move(out);
-          },
+          }),
           "None, or {step, t, reason}: the first WRONG verdict (energy made with no work done, or\n"
           "strain past its bound; run --strict's exit 5). The run goes on, as run's does.");
 }
@@ -185,15 +215,19 @@ void bind_simulation(py::module_& m) {
       .def("step", &Simulation::step, "Takes one step of dt.")
       .def("run", &Simulation::run, py::arg("until"),
            "run(until) -> None\n\nSteps until t >= until, in C++ with the GIL released (no Python per step).\n"
-           "Stops at divergence (see .diverged). Ctrl-C raises KeyboardInterrupt within 0.1 s.")
-      .def_property_readonly("t", [](const Simulation& s) { return s.engine().state().t; }, "Simulated time, s.")
-      .def_property_readonly("steps", [](const Simulation& s) { return s.engine().state().step; })
+           "Stops at divergence (see .diverged). Ctrl-C raises KeyboardInterrupt within 0.1 s. until must be\n"
+           "finite (ValueError). Threads may share a Simulation: one steps or reads it at a time, a\n"
+           "second run() waiting for the first and going on from where it ends.")
+      .def_property_readonly("t", locked([](const Simulation& s) { return s.engine().state().t; }),
+                             "Simulated time, s.")
+      .def_property_readonly("steps", locked([](const Simulation& s) { return s.engine().state().step; }))
       .def_property_readonly("dt", &Simulation::dt, "The step, s.")
       .def_property_readonly("integrator", [](const Simulation& s) { return std::string(integrator_name(s.kind())); })
       .def_property_readonly(
           "positions",
           [](py::object self) {
             const Simulation& s = self.cast<const Simulation&>();
+            const auto held = s.lock();
             return particle_view(s.engine().state().x, s.engine().model().num_particles, self);
           },
           "Particle positions, m: a read-only numpy (P, 3) float64 view of the state, no copy.\n"
@@ -202,10 +236,12 @@ void bind_simulation(py::module_& m) {
           "velocities",
           [](py::object self) {
             const Simulation& s = self.cast<const Simulation&>();
+            const auto held = s.lock();
             return particle_view(s.engine().state().v, s.engine().model().num_particles, self);
           },
           "Particle velocities, m/s: a read-only numpy (P, 3) float64 view, as .positions.")
       .def("__repr__", [](const Simulation& s) {
+        const auto held = s.lock();
         return "<clothsim.Simulation " + s.scene().def.name + " " + std::string(integrator_name(s.kind())) + "@" +
                py::str(py::float_(s.dt())).cast<std::string>() + " t=" +
                py::str(py::float_(s.engine().state().t)).cast<std::string>() + ">";

@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include "scene/lane.h"
@@ -13,25 +14,39 @@
 
 namespace clothsim::python {
 
+// One thread at a time steps or reads a Simulation: two threads in run() shared one Run's
+// state and workspace and crashed the interpreter (issue #51). Every entry takes lock(), which
+// waits with the GIL released, so a thread stepping (it takes the GIL to poll signals) is
+// never blocked by one waiting; a second run() waits for the first and then goes on from
+// where it left the state.
 class Simulation {
  public:
   Simulation(Scene scene, const std::optional<std::string>& lane);
   // One step of dt.
   void step();
   // Steps until t >= until (the CLI's targets are reached the same way), with the GIL released;
-  // polls Python's signals every 0.1 s of wall time (KeyboardInterrupt).
+  // polls Python's signals every 0.1 s of wall time (KeyboardInterrupt). ValueError for an
+  // `until` that is not a number (nan ran no step and said nothing).
   void run(double until);
+  // This Simulation for the calling thread alone, until the lock is dropped. Call with the GIL held.
+  std::unique_lock<std::mutex> lock() const;
   const Run& engine() const { return *run_; }
   const Scene& scene() const { return scene_; }
+  // Whether it was made from `scene` (its lane's settings may give it a model of its own).
+  bool of_scene(const Scene& scene) const { return made_from_ == scene.model; }
   IntegratorKind kind() const { return kind_; }
   double dt() const { return dt_; }
 
  private:
+  void advance(bool one_step, double until);
+
   Scene scene_;
+  std::shared_ptr<const Model> made_from_;  // the Scene's model, before the lane's settings
   IntegratorKind kind_;
   double dt_;
   std::unique_ptr<Run> run_;
   bool interrupted_ = false;
+  mutable std::mutex mutex_;
 };
 
 // Simulation(lane=...): the lane grammar's value (scene/lane.h), ValueError "lane: ..." when it

@@ -13,6 +13,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "scene/echo.h"
+
 namespace clothsim::clip {
 namespace fs = std::filesystem;
 
@@ -22,6 +24,14 @@ std::string parent_of(const std::string& path) {
   return p.has_parent_path() ? p.parent_path().string() : std::string(".");
 }
 }  // namespace
+
+void require_png_name(const std::string& path, const std::string& what) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext.empty() || ext == ".png") return;
+  throw UsageError(what + ": " + in_quotes(path) + " names a " + ext.substr(1) +
+                   " file, and clothsim writes PNG only; give a .png name");
+}
 
 void require_writable_parent(const std::string& path, const std::string& what) {
   if (path.empty()) throw RuntimeFailure(what + ": empty output path");

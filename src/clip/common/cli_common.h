@@ -58,6 +58,10 @@ std::string temp_path_beside(const std::string& path);
 // with its parents, when missing) and is writable. Throws RuntimeFailure("cannot write OUT:
 // cannot make its folder D: ..."), or with -n/--no-overwrite UsageError when `path` exists.
 void require_writable_parent(const std::string& path, const std::string& what);
+// A picture output (-o, --sheet) is PNG: a name whose extension says another format (x.jpg,
+// y.gif) is refused (UsageError naming `what`) rather than given PNG bytes; no extension, or
+// a stream (-, a device), is taken as it is.
+void require_png_name(const std::string& path, const std::string& what);
 // A path a command reads or writes, named by its option for messages ("--csv", "the scene").
 // `frames_dir`: a directory of per-frame files (--frames, encode's inputs, an export's
 // series), which claims the names it writes inside it or inside its lane folders (compare

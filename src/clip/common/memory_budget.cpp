@@ -68,6 +68,11 @@ double held_frames_bytes(const SceneDef& scene, std::size_t lanes, double frames
   return 96.0 * particles * static_cast<double>(lanes) * frames;
 }
 
+double export_bytes(const SceneDef& scene, ExportFormat format) {
+  const double particles = static_cast<double>(scene.cloth.nx) * scene.cloth.ny;
+  return (format == ExportFormat::Pvd ? 600.0 : 360.0) * particles;
+}
+
 double encoder_bytes(int width, int height) {
   return 24.0 * 1024 * 1024 + 116.0 * (width + (width & 1)) * (height + (height & 1));
 }

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "export/export_path.h"
 #include "scene/scene_def.h"
 
 namespace clothsim::clip {
@@ -48,6 +49,15 @@ inline constexpr double kLaneThreadBytes = 0.5 * 1024 * 1024;
 // normals, grid coordinates, triangles: 56 B per particle), the field (4 B) and double
 // positions for the error (24 B): 84 B per particle, counted as 96.
 double held_frames_bytes(const SceneDef& scene, std::size_t lanes, double frames);
+
+// --export of one lane: the lane's queued frames each carry every body's x and v (48 B a
+// particle, kLaneQueueCapacity frames and the one being written), and the frame being written
+// its mesh (points, triangles, fields) and, for a text format, its text. Fitted to run
+// --export's peaks over run's without, on the drape at 256², 512² and 1024² (symplectic Euler,
+// 0.07-0.2 s; BENCHMARKS.md, "Memory estimate"): OBJ, PLY and PC2 at most 321 B a particle
+// (PC2 238-301, PLY 296, OBJ 280-321), VTP's ASCII text at most 569 B; counted as 360 and 600,
+// since at 1024² over 0.2 s run's own peak is 5 % above its estimate (625 MiB against 592).
+double export_bytes(const SceneDef& scene, ExportFormat format);
 
 // Refuses (UsageError, exit 2) a scene file whose parse would pass `limit`: yaml-cpp's node
 // tree, estimated from the text (scene/parse_estimate.h) before it is parsed. A tree of at most

@@ -167,6 +167,47 @@ std::string time_label(double t) {
   return "t = " + seconds(t);
 }
 
+namespace {
+
+// A key a lane owns rather than its scene: varied, the lanes would run at the base scene's step
+// or method under a label saying otherwise (--vary dt=1e-3,5e-4 ran both lanes at 1e-3 s).
+void refuse_lane_key(const ParamKey& key, const std::string& values, const SceneDef& scene) {
+  for (const std::string& path : key.paths) {
+    std::string lanes;
+    for (const std::string& item : split_list(values))
+      lanes += (lanes.empty() ? "" : ",") + std::string(integrator_name(scene.integrator)) + "@" + trimmed(item);
+    if (path == "dt")
+      throw UsageError("--vary dt: a step belongs to a lane, not to the scene; give each lane its step, "
+                       "--integrators " + lanes + " (bench: --dts " + trimmed(values) + ")");
+    if (path == "integrator")
+      throw UsageError("--vary integrator: the method is the lane itself; give --integrators " + trimmed(values));
+  }
+}
+
+// Two values that are one number (100 and 1e2) would be two lanes of one scene under one label.
+void refuse_repeats(const Variation& v, const std::string& text) {
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (v.values.empty() ? v.words[i] == v.words[j] : v.values[i] == v.values[j])
+        throw UsageError("--vary: " + in_quotes(text) + " gives the value " +
+                         (v.values.empty() ? v.words[i] : number_text(v.values[i])) + " twice (items " +
+                         std::to_string(j + 1) + " and " + std::to_string(i + 1) + ")");
+}
+
+// The fewest figures (3 at least) that label every value apart: 100 and 100.0001 as
+// "ks = 100" and "ks = 100.0001", never two lanes called (and filed as) "ks = 100".
+int distinct_digits(const Variation& v) {
+  for (int digits = 3; digits < 17; ++digits) {
+    std::vector<std::string> labels;
+    for (double value : v.values) labels.push_back(param_label(v.key, value, digits));
+    std::sort(labels.begin(), labels.end());
+    if (std::adjacent_find(labels.begin(), labels.end()) == labels.end()) return digits;
+  }
+  return 17;  // %.17g tells any two doubles apart
+}
+
+}  // namespace
+
 Variation parse_vary(const std::string& text, const SceneDef& scene) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
@@ -177,6 +218,7 @@ Variation parse_vary(const std::string& text, const SceneDef& scene) {
   } catch (const ParamKeyError& e) {
     throw UsageError(std::string("--vary: ") + e.what());
   }
+  refuse_lane_key(v.key, text.substr(eq + 1), scene);
   const auto word = [](const std::string& item) {
     return !item.empty() && std::all_of(item.begin(), item.end(), [](char c) { return std::islower(c) || c == '_'; });
   };
@@ -188,6 +230,8 @@ Variation parse_vary(const std::string& text, const SceneDef& scene) {
   }
   if (!v.values.empty() && !v.words.empty())
     throw UsageError("--vary: " + in_quotes(text) + " mixes numbers and words; give one kind");
+  refuse_repeats(v, text);
+  v.digits = distinct_digits(v);
   return v;
 }
 
@@ -199,7 +243,7 @@ std::vector<std::string> Variation::sets(std::size_t i) const {
 }
 
 std::string Variation::label(std::size_t i) const {
-  return values.empty() ? key.label + " = " + words[i] : param_label(key, values[i]);
+  return values.empty() ? key.label + " = " + words[i] : param_label(key, values[i], digits);
 }
 
 void check_step_bounds(const SceneDef& scene, const std::vector<Lane>& lanes,

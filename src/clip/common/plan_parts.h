@@ -92,14 +92,16 @@ void check_sheet_fits(int cell_w, int cell_h, const std::vector<std::string>& ro
 // --vary KEY=V1,V2,... (compare's lanes by value, bench's too): the key resolved against the
 // scene (scene/param_keys.h) and the values, numbers or fractions, or words for a key that
 // takes one (collision.model=projection,barrier: the scene's parser judges them). UsageError
-// naming --vary.
+// naming --vary, also for a value given twice (ks=100,1e2) and for the keys a lane owns, dt
+// and integrator (the message gives the --integrators NAME@STEP lanes that say it).
 struct Variation {
   ParamKey key;
   std::vector<double> values;       // numbers, or
   std::vector<std::string> words;   // words (one of the two is empty)
+  int digits = 3;                   // figures in the labels: enough to tell every value apart
   std::size_t size() const { return values.empty() ? words.size() : values.size(); }
   std::vector<std::string> sets(std::size_t i) const;  // what --set would say for value i
-  std::string label(std::size_t i) const;              // "ks = 2e4", "collision.model = barrier"
+  std::string label(std::size_t i) const;              // "ks = 2e4", "collision.model = barrier": unique
 };
 Variation parse_vary(const std::string& text, const SceneDef& scene);
 

@@ -128,14 +128,15 @@ void check_paths(const CompareRequest& o, const ComparePlan& p) {
     outputs.push_back(std::move(r));
   refuse_clashing_paths({{o.scene.path, "the scene"}}, outputs);
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
+  if (!o.sheet.empty()) require_png_name(o.sheet, "--sheet");
   if (!o.sheet.empty()) require_writable_parent(o.sheet, "--sheet");
+  if (!o.still_out.empty()) require_png_name(o.still_out, "-o/--output");
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty() && fs::exists(o.frames_dir) && !fs::is_directory(o.frames_dir))
     throw RuntimeFailure("cannot write --frames into " + o.frames_dir + ": not a directory");
   for (const std::string& d : o.frames_dir.empty() ? std::vector<std::string>{} : p.dirs())
     refuse_existing_frames((fs::path(o.frames_dir) / d).string(), "--frames");
-  checked_export_paths(o.export_path, p.dirs(), static_cast<int>(p.scene.spheres.size()));
 }
 
 // The grid within the picture.
@@ -204,6 +205,9 @@ void check_memory(const CompareRequest& o, const ComparePlan& p) {
                  held_frames_bytes(scene, p.lanes.size(), std::min(1.0, scene.duration) * scene.render.fps + 1.0));
   }
   if (!o.video.empty()) budget.add("encoder", encoder_bytes(grid.width() + p.legend_width, grid.height()));
+  if (!o.export_path.empty())  // each lane's queued bodies and mesh (counted whole per lane: a bound)
+    budget.add("export of " + std::to_string(p.lanes.size()) + " lanes",
+               static_cast<double>(p.lanes.size()) * export_bytes(scene, parse_export_path(o.export_path).format));
   budget.check(scene.source, o.scene.max_memory);
 }
 
@@ -274,6 +278,10 @@ void name_lanes(ComparePlan& p) {
 // repeated per value: one integrator (the scene's, or --integrators' rows) x the values.
 void plan_variation(const CompareRequest& o, ComparePlan& p) {
   const Variation vary = parse_vary(o.vary, p.scene);
+  for (const std::string& path : vary.key.paths)  // what every lane of one clip shares: one value or none
+    if (path == "duration" || path == "name" || path.rfind("render.", 0) == 0 || path == "render")
+      throw UsageError("--vary " + vary.key.label + ": every lane of one comparison shares the scene's " + path +
+                       " (one clip, one picture); give it with --set or its own option, one compare per value");
   std::vector<Lane> rows =
       o.integrators_given ? p.specs() : parse_lanes(std::string(integrator_name(p.scene.integrator)), o.dt, p.scene.dt);
   follow_scene_solver(rows, p.scene.implicit);  // the scene's fixed point is named as itself, as without --vary
@@ -353,6 +361,8 @@ ComparePlan plan_compare(const CompareRequest& o) {
   p.look = unmatched;  // the memory a run needs is the same whatever steps matching chooses
   fit_grid(p);
   check_memory(o, p);  // before the models, the pilots and the early reference take any
+  // The export's folders, made by its checks once the run is admitted (a refused one leaves none).
+  checked_export_paths(o.export_path, p.dirs(), static_cast<int>(p.scene.spheres.size()));
   p.model = std::make_shared<const Model>(build_model(p.scene));
   for (const SceneDef& s : p.vary_scenes) p.vary_models.push_back(build_model(s));
   if (!p.vary_models.empty())  // lanes row by row, a value per column

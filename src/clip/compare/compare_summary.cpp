@@ -7,6 +7,7 @@
 
 #include "core/run/work_units.h"
 #include "render/video/tiling.h"
+#include "render/video/video_writer.h"
 #include "study/reference.h"
 
 namespace clothsim::clip {
@@ -124,7 +125,13 @@ void print_fields(const PipelineReport& report, FieldKind color, const std::vect
     const LaneResult& r = report.lanes[i].result;
     const LaneResult* reference = lane_reference(report, i);
     std::string values;
-    if (report.lanes[i].field_count > 0 && lane_unresolved(report, i, color)) {
+    if (r.divergence && color == FieldKind::Error && report.lanes[i].field_count > 0) {
+      // Its error before the blow-up is no result: said as diverged, never unresolved.
+      char text[160];
+      std::snprintf(text, sizeof text, " diverged at t = %.4g s (step %ld), so no error is quoted", r.divergence->t,
+                    static_cast<long>(r.divergence->step));
+      values = text;
+    } else if (report.lanes[i].field_count > 0 && lane_unresolved(report, i, color)) {
       char text[160];
       std::snprintf(text, sizeof text, " unresolved: under %g x the reference's estimated error (%.3g m)",
                     kUnresolvedFactor, reference->estimated_error);
@@ -278,17 +285,26 @@ void print_breakdown(const TileGrid& grid, int legend_width, const PipelineRepor
     std::snprintf(buf, sizeof buf, ", %s %.1f s", what.c_str(), seconds);
     outputs += buf;
   }
+  // The clip's own size where it differs: H.264 (yuv420p) takes even sizes, so an odd picture
+  // is encoded a column or row larger (641x361 became 642x362 while this line said 641x361).
+  const int width = grid.width() + legend_width, height = grid.height();
+  const bool video = std::any_of(report.output_seconds.begin(), report.output_seconds.end(),
+                                 [](const auto& o) { return o.first == "video"; });
+  char encoded[64] = "";
+  if (video && (even_size(width) != width || even_size(height) != height))
+    std::snprintf(encoded, sizeof encoded, ", the video %dx%d (H.264 takes even sizes)", even_size(width),
+                  even_size(height));
   std::fprintf(stderr,
-               "compare: %ld time%s, %dx%d (%zu tiles of %dx%d), in %.1f s wall: simulate %.1f s cpu "
+               "compare: %ld time%s, %dx%d%s (%zu tiles of %dx%d), in %.1f s wall: simulate %.1f s cpu "
                "on %zu threads (the renderer waited %.1f s), render %.1f s%s\n",
-               report.targets, report.targets == 1 ? "" : "s", grid.width() + legend_width, grid.height(), report.lanes.size(),
+               report.targets, report.targets == 1 ? "" : "s", width, height, encoded, report.lanes.size(),
                grid.cell_width(), grid.cell_height(), wall, sim_cpu, report.lanes.size() + report.references.size(),
                report.wait_seconds, report.render_seconds, outputs.c_str());
 }
 
 bool lane_unresolved(const PipelineReport& report, std::size_t i, FieldKind color) {
   const LaneResult* reference = lane_reference(report, i);
-  return color == FieldKind::Error && reference && report.lanes[i].field_count > 0 &&
+  return color == FieldKind::Error && reference && report.lanes[i].field_count > 0 && !report.lanes[i].result.divergence &&
          report.lanes[i].field_max < kUnresolvedFactor * reference->estimated_error;
 }
 

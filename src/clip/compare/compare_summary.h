@@ -33,8 +33,9 @@ void print_summary(const Model& model, const PipelineReport& report, FieldKind c
 void print_breakdown(const TileGrid& grid, int legend_width, const PipelineReport& report, double wall);
 
 // A lane's error is unresolved when its largest is under this times the reference's estimated
-// error (LaneResult::estimated_error): the reference cannot tell it, so no number is given.
-inline constexpr double kUnresolvedFactor = 10.0;
+// error (LaneResult::estimated_error): the reference cannot tell it, so no number is given. A
+// lane that diverged is not: its error before the blow-up is no result (it says diverged).
+// (kUnresolvedFactor: frame_pipeline.h, whose tiles say UNRESOLVED by the same rule.)
 bool lane_unresolved(const PipelineReport& report, std::size_t lane, FieldKind color);
 
 // --summary's "reference" (or under --vary one of "references", with "for": the value): its

@@ -31,7 +31,13 @@ class ExportOutput final : public FrameOutput {
       throw RuntimeFailure(e.what());
     }
   }
-  void abandon(std::vector<std::string>& kept, std::vector<std::string>&) override { this->kept(kept); }
+  // Stopped: the per-frame files on disk stay; the PC2 or PVD index is not written, and said.
+  void abandon(std::vector<std::string>& kept, std::vector<std::string>& lost) override {
+    this->kept(kept);
+    for (const std::string& f : export_.unwritten()) lost.push_back(f);
+    const std::string gone = export_.lost();
+    if (!gone.empty()) lost.push_back(gone);
+  }
   bool needs_bodies() const override { return true; }
   void kept(std::vector<std::string>& kept) override {
     const std::string files = export_.written();

@@ -363,6 +363,10 @@ struct FramePipeline::Impl {
           const double unit = std::pow(10.0, std::floor(std::log10(e)) - 1.0);
           std::snprintf(line, sizeof line, "reference error <= %.2g m", std::ceil(e / unit) * unit);
           rf.overlay_lines.emplace_back(line);
+          // The colours of an error the reference cannot tell are no result: the tile says so,
+          // as the table does (compare showed them as a plain error map).
+          if (reports[i].field_max < kUnresolvedFactor * e)
+            rf.overlay_lines.emplace_back("UNRESOLVED");
         }
       }
       if (config.color != FieldKind::None && !field.empty())
@@ -386,13 +390,17 @@ struct FramePipeline::Impl {
   std::vector<std::string> not_written;  // outputs the caller writes after the pipeline
   bool stopped = false;                  // a signal: stop_here's message already says what stays
   std::size_t finished = 0;              // outputs finished
+  double reached_t = 0.0;                // s: the last target every lane reached
 
   RuntimeFailure stop_here(double t) {
     stopped = true;
     stop_lanes();
     progress.reset();
     std::vector<std::string> kept, lost;
-    for (auto& o : outputs) o->abandon(kept, lost);
+    for (std::size_t o = 0; o < outputs.size(); ++o) {
+      if (o < finished) outputs[o]->kept(kept);
+      else outputs[o]->abandon(kept, lost);
+    }
     lost.insert(lost.end(), not_written.begin(), not_written.end());
     return RuntimeFailure(interruption_message(t, kept, lost));
   }
@@ -419,7 +427,7 @@ struct FramePipeline::Impl {
     const double window_end = std::min(kColorScaleWindow, plan.duration());
     TargetPlan::Cursor cursor(plan);
     long n = 0;
-    double last_t = 0.0;
+    double& last_t = reached_t;
     bool ended = false;  // stop_when_all_frozen, and every lane has diverged
     for (Target target; cursor.next(target); ++n) {
       if (interrupted()) throw stop_here(last_t);
@@ -505,6 +513,9 @@ PipelineReport FramePipeline::run(const std::string& progress_label, const std::
     p.finish_outputs();
   } catch (const std::runtime_error& e) {  // RuntimeFailure, PngError, RenderError, OutputFileError
     if (p.stopped || dynamic_cast<const UsageError*>(&e)) throw;
+    // A write the signal broke off (a FIFO output opened with no reader: EINTR) is the signal's
+    // stop, said as one: "stopped by SIGTERM", not "Interrupted system call".
+    if (interrupted()) throw p.stop_here(p.reached_t);
     throw p.failure(e);
   }
   return p.report();

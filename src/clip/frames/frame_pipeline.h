@@ -161,6 +161,11 @@ struct PipelineReport {
 // The reference lane `lane` is measured against; null when none.
 const LaneResult* lane_reference(const PipelineReport& report, std::size_t lane);
 
+// A lane's error is unresolved when its largest is under this times the reference's estimated
+// error: compare's table and summary judge the clip so (compare_summary.h), and a tile each
+// frame by the largest error and the reference's estimate so far, marked UNRESOLVED.
+inline constexpr double kUnresolvedFactor = 10.0;
+
 class FramePipeline {
  public:
   // `model` and `plan` must outlive the pipeline; `renderer` is needed when rendering.

@@ -34,6 +34,7 @@ MemoryBudget run_budget(const SceneDef& scene, const PictureLook& look, const Ru
                  held_frames_bytes(scene, 1, std::min(1.0, scene.duration) * scene.render.fps + 1.0));
   }
   if (pictures.video) budget.add("encoder", encoder_bytes(w, h));
+  if (pictures.export_format) budget.add("export", export_bytes(scene, *pictures.export_format));
   return budget;
 }
 

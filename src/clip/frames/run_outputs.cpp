@@ -51,6 +51,10 @@ void RunFiles::write(const std::string& path, const std::function<void()>& write
   try {
     write_file();
   } catch (const RuntimeFailure& e) {
+    // A write the signal broke off (a FIFO with no reader yet: EINTR) is said as the signal's stop.
+    if (interrupted())
+      throw RuntimeFailure(std::string("stopped by ") + interrupt_signal_name() + " while writing " + path + "; " +
+                           what_stays(kept_, pending_));
     throw RuntimeFailure(std::string(e.what()) + "; " + what_stays(kept_, pending_));
   }
   kept_.push_back(path);

@@ -185,14 +185,15 @@ void load_entries(const GoldenOptions& o, const GoldenManifest& manifest, std::v
     if (e.dt && !e.times.empty()) {  // the parser bounded the scene's own dt; the run goes to the latest still
       const double latest = *std::max_element(e.times.begin(), e.times.end());
       const std::string too_long = run_bounds_problem(latest, *e.dt, scenes.back().render.fps);
-      if (!too_long.empty()) throw SceneError(manifest.path, e.line, key + ".dt", too_long);
+      if (!too_long.empty()) throw SceneError(manifest.path, e.dt_line ? e.dt_line : e.line, key + ".dt", too_long);
     }
-    for (double t : e.times)
-      if (t > scenes.back().duration + 1e-9) {
+    for (std::size_t k = 0; k < e.times.size(); ++k)
+      if (e.times[k] > scenes.back().duration + 1e-9) {
         char what[160];
-        std::snprintf(what, sizeof what, "%g s is past the scene's duration (%g s): the run has no picture there", t,
-                      scenes.back().duration);
-        throw SceneError(manifest.path, e.line, key + ".times", what);
+        std::snprintf(what, sizeof what, "%g s is past the scene's duration (%g s): the run has no picture there",
+                      e.times[k], scenes.back().duration);
+        throw SceneError(manifest.path, e.times_line ? e.times_line : e.line,
+                         key + ".times[" + std::to_string(k) + "]", what);
       }
     const SceneDef& scene = scenes.back();
     if (e.compare) {

@@ -132,10 +132,16 @@ class ManifestReader {
         fail(n["integrator"], key + ".integrator",
              "unknown integrator '" + n["integrator"].Scalar() + "' (expected one of: " + integrator_names_joined() + ")");
     }
-    if (n["dt"]) e.dt = number(n["dt"], key + ".dt", 0, true);
+    // The line of a key's value, for what is judged later against the scene (golden_check.cpp).
+    const auto line_of = [&](const YAML::Node& v) { return v.Mark().is_null() ? e.line : v.Mark().line + 1; };
+    if (n["dt"]) {
+      e.dt = number(n["dt"], key + ".dt", 0, true);
+      e.dt_line = line_of(n["dt"]);
+    }
     const YAML::Node times = n["times"];
     if (!times) fail(n, key + ".times", "missing: the times (s) to render, e.g. [1.0]");
     if (!times.IsSequence() || times.size() == 0) fail(times, key + ".times", "expected a non-empty list of times (s)");
+    e.times_line = line_of(times);
     for (std::size_t i = 0; i < times.size(); ++i)
       e.times.push_back(number(times[i], key + ".times[" + std::to_string(i) + "]", 0, false));
     if (!std::is_sorted(e.times.begin(), e.times.end()) ||
@@ -165,16 +171,18 @@ GoldenManifest load_golden_manifest(const std::string& path) {
   if (!fs::is_regular_file(path)) throw SceneError(path, 0, "", "cannot open: no such file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path, 0, "", "cannot open for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
   YAML::Node root;
   try {
     // Every document is parsed, so a broken second one is an error, not silently skipped.
-    const std::vector<YAML::Node> documents = YAML::LoadAll(in);
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text.str());
     if (documents.size() > 1)
       throw SceneError(path, documents[1].Mark().is_null() ? 0 : documents[1].Mark().line + 1, "",
                        "a second YAML document: a manifest is one document (remove the '---' and what follows)");
     if (!documents.empty()) root = documents.front();
   } catch (const YAML::ParserException& e) {
-    throw SceneError(path, e.mark.is_null() ? 0 : e.mark.line + 1, "", "invalid YAML: " + e.msg);
+    throw SceneError(path, yaml_error_line(text.str(), e), "", "invalid YAML: " + e.msg);
   }
   const ManifestReader r(path);
   if (!root.IsMap()) r.fail(root, "", "expected a map with a 'goldens' list");

@@ -39,6 +39,7 @@ struct GoldenEntry {
   int width = 320, height = 180;           // pixels
   DiffTolerance tolerance;
   int line = 0;                            // of the entry in the manifest, for messages
+  int dt_line = 0, times_line = 0;         // of its dt and times keys (0: as `line`)
 };
 
 struct GoldenManifest {

@@ -1,6 +1,7 @@
 #include "bench_outputs.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "clip/common/cli_common.h"
@@ -78,8 +79,15 @@ void write_bench_summary(const std::string& path, const std::string& source, con
 }
 
 std::string bench_plot_title(const std::string& name, const WorkPrecisionResult& r) {
-  return name + " (T = " + csv_number(r.duration) + " s; reference error " +
-         (r.reference.finished ? csv_number(r.reference.change_rms) : std::string("unknown")) + " m RMS)";
+  // Three figures: a title is read, not parsed back (the CSV and the summary hold all 17; the
+  // title printed "reference error 1.1274976125260227e-12 m RMS").
+  const auto figures = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", v);
+    return std::string(text);
+  };
+  return name + " (T = " + figures(r.duration) + " s; reference error " +
+         (r.reference.finished ? figures(r.reference.change_rms) : std::string("unknown")) + " m RMS)";
 }
 
 int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSpec& spec, const LaneNames& names,

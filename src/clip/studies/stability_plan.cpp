@@ -25,9 +25,19 @@ std::vector<analysis::SweepScene> sweep_cases(const StabilityOptions& o, const S
   }
   if (!o.values) {
     const std::optional<double> current = analysis::parameter_value(o.scene.path, o.scene.sets, key.paths.front());
-    if (!current)
+    if (!current) {
+      // A key the scene has no number for may be no key at all (a typo): the parser says so,
+      // with the nearest key, of --param as typed.
+      std::vector<std::string> sets = o.scene.sets;
+      for (const std::string& set : param_sets(key, 1.0)) sets.push_back(set);
+      try {
+        (void)load_scene(o.scene.path, sets);
+      } catch (const SceneError& e) {
+        throw as_option_error(e, key, "--param " + o.param);
+      }
       throw UsageError("--values: " + base.source + " gives " + o.param +
                        " no number to scale the default values from; list the values");
+    }
     for (double f : kDefaultValueFactors) values.push_back(f * *current);
   } else {
     values = parse_number_list(*o.values, "--values");

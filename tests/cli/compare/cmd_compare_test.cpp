@@ -29,6 +29,7 @@ namespace {
 
 using clothsim::testing::compare_small;
 using clothsim::testing::kDrape;
+const std::string kSpring = std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml";
 
 std::string frame_path(const std::string& dir, const std::string& integrator, int k) {
   char name[32];
@@ -81,13 +82,37 @@ TEST(CmdCompare, AMistypedKeyOrOptionIsSaidAsTyped) {
   const auto vary = run_clothsim({"compare", kDrape, "--vary", "kss=1,2", "--still", "0.1", "-o", dir + "/v.png"});
   EXPECT_EQ(vary.exit_code, 2);
   EXPECT_EQ(ct::line_count(vary.err), 1) << vary.err;
-  EXPECT_NE(vary.err.find(": --vary kss=1,2: unknown key (expected one of: "), std::string::npos) << vary.err;
+  EXPECT_NE(vary.err.find(": --vary kss=1,2: unknown key (did you mean ks? expected one of: "), std::string::npos)
+      << vary.err;
   EXPECT_EQ(vary.err.find("--set"), std::string::npos) << vary.err;
   const auto option = run_clothsim({"compare", kDrape, "--integrator", "rk4", "--still", "0.1", "-o", dir + "/i.png"});
   EXPECT_EQ(option.exit_code, 2);
   EXPECT_EQ(ct::line_count(option.err), 1) << option.err;
   EXPECT_NE(option.err.find("(did you mean --integrators?)"), std::string::npos) << option.err;
   EXPECT_TRUE(ct::only_files(dir, {}));
+}
+
+TEST(CmdCompare, APictureNamedForAnotherFormatIsRefusedAndAnOddVideoSaysItsSize) {
+  // -o y.gif wrote PNG bytes under that name; --width 641 --height 361 --video made a 642x362
+  // clip while the log said 641x361.
+  const std::string dir = scratch_dir("compare_picture_names");
+  for (const std::vector<std::string>& out : {std::vector<std::string>{"--still", "0.1", "-o", dir + "/y.gif"},
+                                              std::vector<std::string>{"--sheet", dir + "/s.jpg", "--times", "0.1"}}) {
+    std::vector<std::string> args = {"compare", kSpring, "--duration", "0.2"};
+    args.insert(args.end(), out.begin(), out.end());
+    const auto r = run_clothsim(args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("clothsim writes PNG only; give a .png name"), std::string::npos) << r.err;
+  }
+  EXPECT_TRUE(ct::only_files(dir, {}));
+  const auto odd = run_clothsim({"compare", kSpring, "--duration", "0.2", "--width", "641", "--height", "361",
+                                 "--video", dir + "/v.mp4"});
+  ASSERT_EQ(odd.exit_code, 0) << odd.err;
+  EXPECT_NE(odd.err.find("641x361, the video 642x362 (H.264 takes even sizes)"), std::string::npos) << odd.err;
+  const auto even = run_clothsim({"compare", kSpring, "--duration", "0.2", "--width", "640", "--height", "360",
+                                  "--video", dir + "/w.mp4"});
+  ASSERT_EQ(even.exit_code, 0) << even.err;
+  EXPECT_EQ(even.err.find("the video "), std::string::npos) << even.err;
 }
 
 TEST(CmdCompare, ASignalWhileChoosingStepsIsAnsweredAtOnce) {

@@ -4,6 +4,9 @@
 // change to the picture; commit the new images).
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -65,6 +68,19 @@ TEST(CmdGolden, UpdateWritesTheImagesAndCheckThenPasses) {
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
   EXPECT_NE(check.out.find("golden: 2 of 2 images match"), std::string::npos) << check.out;
   EXPECT_TRUE(only_files(p.dir, {"my_drape.yaml", "goldens.yaml", "my_drape_t50ms.png", "my_drape_t200ms.png"}));
+}
+
+// A golden that is a FIFO with no reader blocks update's open until a signal breaks it off:
+// that said "cannot write ...: Interrupted system call"; it is the signal's stop.
+TEST(CmdGolden, AFifoGoldenUnderSigtermSaysStoppedBySigterm) {
+  UserProject p("golden_fifo_sigterm");
+  ASSERT_EQ(::mkfifo(p.golden.c_str(), 0644), 0);
+  const StoppedResult r = run_clothsim_interrupted({"golden", "update", p.manifest}, 3.0, SIGTERM);
+  EXPECT_EQ(r.exit_code, 143) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("clothsim: stopped by SIGTERM", 0), 0u) << r.err;
+  EXPECT_EQ(r.err.find("Interrupted system call"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p.dir + "/my_drape_t50ms.png")) << "update writes all or none";
 }
 
 TEST(CmdGolden, AChangedSceneFailsWithTheActualAndDiffImagesBesideAndUpdateRewrites) {
@@ -243,16 +259,22 @@ TEST(CmdGolden, ABadManifestExitsTwoWithFileLineAndKey) {
   const CliResult late = run_clothsim({"golden", "update", dir + "/m.yaml"});
   EXPECT_EQ(late.exit_code, 2);
   EXPECT_EQ(line_count(late.err), 1) << late.err;
-  EXPECT_NE(late.err.find("m.yaml:2: goldens[0].times: 9 s is past the scene's duration (5 s)"), std::string::npos)
+  // At the times key's line, not the entry's (it said m.yaml:2, the scene: line).
+  EXPECT_NE(late.err.find("m.yaml:3: goldens[0].times[1]: 9 s is past the scene's duration (5 s)"), std::string::npos)
       << late.err;
   // An entry's own dt is bounded as the scene file's is, over the run to its latest still.
   write(dir + "/m.yaml", "goldens:\n  - scene: d.yaml\n    dt: 1e-12\n    times: [1]\n");
   const CliResult tiny = run_clothsim({"golden", "update", dir + "/m.yaml"});
   EXPECT_EQ(tiny.exit_code, 2);
   EXPECT_EQ(line_count(tiny.err), 1) << tiny.err;
-  EXPECT_NE(tiny.err.find("m.yaml:2: goldens[0].dt: duration / dt = 1 s / 1e-12 s = 1e+12 steps, more than the limit"),
+  EXPECT_NE(tiny.err.find("m.yaml:3: goldens[0].dt: duration / dt = 1 s / 1e-12 s = 1e+12 steps, more than the limit"),
             std::string::npos)
       << tiny.err;
+  // An unclosed '[' is named at its own line, not where yaml-cpp gave up (the line after).
+  write(dir + "/m.yaml", "goldens:\n  - scene: d.yaml\n    times: [1, 2\n    dt: 1e-4\n");
+  const CliResult open = run_clothsim({"golden", "update", dir + "/m.yaml"});
+  EXPECT_EQ(open.exit_code, 2);
+  EXPECT_NE(open.err.find("m.yaml:3: invalid YAML: end of sequence flow not found"), std::string::npos) << open.err;
   EXPECT_TRUE(only_files(dir, {"m.yaml", "d.yaml"})) << "nothing rendered";
 }
 

@@ -3,6 +3,8 @@
 // left on disk.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include "core/integrators/integrator_kind.h"
 
 #include <algorithm>
@@ -252,7 +254,7 @@ TEST(CmdRun, BadScenesAreOneLineErrorsWithFileLineKeyAndExitTwo) {
       {"empty.yaml", "", "empty.yaml: empty scene file"},
       {"junk.yaml", std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10), "junk.yaml:1: not a text file"},
       {"tabs.yaml", "cloth:\n\tparticles: [3, 3]\n", "tabs.yaml:2: tab in indentation"},
-      {"broken.yaml", "cloth: {particles: [3, 3]\n", "broken.yaml:2: invalid YAML"},
+      {"broken.yaml", "cloth: {particles: [3, 3]\n", "broken.yaml:1: invalid YAML"},  // where the { opens
       {"type.yaml", "cloth:\n  particles: [3, 3]\n  size: big\n", "type.yaml:3: cloth.size: expected"},
       {"unknown.yaml", "cloth: {particles: [3, 3]}\nwind: 3\n", "unknown.yaml:2: wind: unknown key"},
       {"mass.yaml", "cloth:\n  particles: [3, 3]\n  particle_mass: -2\n", "mass.yaml:3: cloth.particle_mass: value -2 out of range"},
@@ -301,6 +303,77 @@ TEST(CmdRun, EveryOutputMakesItsMissingFolders) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   for (const char* f : {"/a/b/m.csv", "/c/s.csv", "/out/spring.pc2", "/out/spring.obj"})
     EXPECT_TRUE(fs::exists(dir + f)) << f;
+}
+
+// A 10-frame rerun over a 31-frame export left the 31 files (--frames removes its later PNGs).
+TEST(CmdRun, AShorterExportRerunLeavesNoFrameOfTheLongerRun) {
+  const std::string dir = scratch_dir("run_export_rerun");
+  for (const std::string& path : {dir + "/obj/frame_%05d.obj", dir + "/ply/frame_%05d.ply", dir + "/v.pvd"}) {
+    for (const char* duration : {"1", "0.3"}) {
+      const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--duration", duration, "--export", path, "--quiet"});
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    const std::string folder = fs::path(path).extension() == ".pvd" ? dir + "/v" : fs::path(path).parent_path().string();
+    const auto files = std::distance(fs::directory_iterator(folder), fs::directory_iterator{});
+    EXPECT_EQ(files, 10) << path << ": frames 0 to 9 at 30 fps, none of the second second";
+  }
+  const std::string pvd = slurp(dir + "/v.pvd");
+  EXPECT_EQ(std::count(pvd.begin(), pvd.end(), '\n'), 5 + 10) << "an index of the ten frames on disk";
+}
+
+// A signal mid-export said "nothing kept" without naming the PVD index or PC2 it never wrote.
+TEST(CmdRun, ASignalMidExportNamesTheIndexOrCacheNotWritten) {
+  for (const char* name : {"v.pvd", "c.pc2"}) {
+    const std::string dir = scratch_dir(std::string("run_export_signal_") + name);
+    const std::string path = dir + "/" + name;
+    const bool pvd = fs::path(path).extension() == ".pvd";
+    // The PVD's third frame on disk, or (PC2, whose frames stream into a nameless file) 2 s in.
+    const StoppedResult r =
+        pvd ? run_clothsim_interrupted_after_file({"run", shipped("drape.yaml"), "--duration", "60", "--export", path},
+                                                  dir + "/v/cloth_00002.vtp", SIGTERM)
+            : run_clothsim_interrupted({"run", shipped("drape.yaml"), "--duration", "60", "--export", path}, 2.0,
+                                       SIGTERM);
+    EXPECT_EQ(r.exit_code, 143) << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    const std::string not_written = pvd ? "not written: " + path
+                                        : "not written: " + path + ", " + dir + "/c.obj, " + dir + "/c.sphere0.pc2, " +
+                                              dir + "/c.sphere0.obj";
+    EXPECT_NE(r.err.find(not_written), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path));
+    if (pvd) EXPECT_NE(r.err.find(" VTP files in " + dir + "/v/"), std::string::npos) << r.err;
+  }
+}
+
+// An output that is a FIFO nobody reads blocks its open until the signal: the stop is said
+// as the signal's, not as "cannot write m.csv: Interrupted system call".
+TEST(CmdRun, AFifoOutputUnderSigtermSaysStoppedBySigterm) {
+  for (const char* option : {"--metrics", "--state", "--summary"}) {
+    const std::string dir = scratch_dir(std::string("run_fifo_") + (option + 2));
+    const std::string fifo = dir + "/out";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+    const StoppedResult r =
+        run_clothsim_interrupted({"run", shipped("spring.yaml"), "--duration", "0.2", option, fifo, "--quiet"}, 1.5,
+                                 SIGTERM);
+    EXPECT_EQ(r.exit_code, 143) << option << ": " << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("clothsim: stopped by SIGTERM", 0), 0u) << option << ": " << r.err;
+  }
+}
+
+// --max-memory left the export's buffers out (1024² with --export: estimated 592 MB, peaks of
+// 863-1072 MiB): a budget the run alone fits is refused with the export, naming it.
+TEST(CmdRun, MaxMemoryCountsTheExport) {
+  const std::string dir = scratch_dir("run_export_memory");
+  const std::vector<std::string> run = {"run", shipped("drape.yaml"), "--set", "cloth.particles=[256,256]",
+                                        "--duration", "0.001", "--max-memory", "125M", "--quiet"};
+  EXPECT_EQ(run_clothsim(run).exit_code, 0) << "the run alone: an estimated 112 MB";
+  std::vector<std::string> exported = run;
+  exported.insert(exported.end(), {"--export", dir + "/x.pvd"});
+  const CliResult r = run_clothsim(exported);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("needs an estimated 150 MB"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("export 37.5 MB"), std::string::npos) << r.err;
+  EXPECT_TRUE(only_files(dir, {})) << "refused before any work";
 }
 
 TEST(CmdRun, UnwritableOutputsFailBeforeAnyWorkWithExitOne) {
@@ -398,6 +471,26 @@ TEST(Cli, HelpExplainsEverySubcommand) {
     EXPECT_GT(help.out.size(), 100u) << sub;
   }
   EXPECT_EQ(run_clothsim({}).exit_code, 2);
+}
+
+TEST(Cli, AMisspeltCommandIsPointedAtTheCommandItMeant) {
+  const CliResult r = run_clothsim({"comapre", shipped("drape.yaml")});  // it said "A subcommand is required"
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("clothsim: unknown command 'comapre' (did you mean compare? the commands: run, compare, "),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(CmdRun, AStillNamedForAnotherFormatIsRefused) {
+  const std::string dir = scratch_dir("run_still_names");
+  for (const char* name : {"/x.jpg", "/y.gif"}) {  // PNG bytes were written under these names
+    const CliResult r = run_clothsim({"run", shipped("spring.yaml"), "--still", "0.1", "-o", dir + name});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("-o/--output: '" + dir + name + "' names a "), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(run_clothsim({"run", shipped("spring.yaml"), "--still", "0.1", "-o", dir + "/z.PNG", "--quiet"}).exit_code, 0);
+  EXPECT_TRUE(only_files(dir, {"z.PNG"}));
 }
 
 TEST(Cli, HelpListsEveryExitCodeOfTheContract) {

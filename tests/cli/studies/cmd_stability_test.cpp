@@ -81,6 +81,15 @@ TEST(CmdStability, AnUnknownParamIsSaidOfParamAsTyped) {
   EXPECT_EQ(r.err.find("--set"), std::string::npos) << r.err;
 }
 
+TEST(CmdStability, AMisspeltParamIsAnUnknownKeyWithTheNearest) {
+  // Without --values it said the key "gives no number to scale the default values from".
+  const CliResult r = run_clothsim({"stability", spring(), "--param", "cloth.springs.structural.stifness"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(": --param cloth.springs.structural.stifness: unknown key (did you mean stiffness? "),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(CmdStability, WithoutDurationRunsToTheDefaultItsHelpStates) {
   EXPECT_NE(run_clothsim({"stability", "--help"}).out.find("--duration FLOAT            Simulated time in s "
                                                           "(default: the scene's duration, at most 0.2 s)"),

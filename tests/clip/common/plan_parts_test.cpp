@@ -6,6 +6,7 @@
 
 #include "clip/common/cli_common.h"
 #include "cli/usage_error.h"
+#include "scene/scene_parser.h"
 
 using namespace clothsim;
 using namespace clothsim::clip;
@@ -161,4 +162,48 @@ TEST(TargetPlan, AScaleWindowAddsTheFirstSecondsFrameTimesAsTargetsThatTakeNoPic
   const long frames = clip.size();
   clip.with_scale_window(1.0);
   EXPECT_EQ(clip.size(), frames) << "a clip's frames are those instants already";
+}
+
+namespace {
+
+SceneDef spring_scene() { return load_scene(std::string(CLOTHSIM_SCENES_DIR) + "/spring.yaml", {}); }
+
+}  // namespace
+
+TEST(ParseVary, RefusesTheStepAndTheMethodPointingToTheLanesThatSayThem) {
+  // --vary dt=1e-3,5e-4 ran both lanes at the scene's 1e-3 s, one labelled "dt = 5e-4".
+  const SceneDef scene = spring_scene();
+  const std::string dt = usage_error([&] { parse_vary("dt=1e-3,5e-4", scene); });
+  EXPECT_EQ(dt.rfind("--vary dt: ", 0), 0u) << dt;
+  EXPECT_NE(dt.find("--integrators symplectic_euler@1e-3,symplectic_euler@5e-4"), std::string::npos) << dt;
+  // --vary integrator=explicit_euler,midpoint ran symplectic Euler twice under those names.
+  for (const char* text : {"integrator=explicit_euler,midpoint", "integrator=rk4,midpoint"}) {
+    const std::string m = usage_error([&] { parse_vary(text, scene); });
+    EXPECT_EQ(m.rfind("--vary integrator: ", 0), 0u) << m;
+    EXPECT_NE(m.find("give --integrators " + std::string(text).substr(11)), std::string::npos) << m;
+  }
+}
+
+TEST(ParseVary, LabelsEveryValueApartWithAsManyFiguresAsItTakes) {
+  const SceneDef scene = spring_scene();
+  const Variation close = parse_vary("ks=100,100.0001", scene);
+  EXPECT_EQ(close.label(0), "ks = 100");
+  EXPECT_EQ(close.label(1), "ks = 100.0001");
+  const Variation wide = parse_vary("ks=2e4,2.0001e4,2e5", scene);
+  EXPECT_EQ(wide.label(0), "ks = 2e4");
+  EXPECT_EQ(wide.label(1), "ks = 2.0001e4");
+  const Variation usual = parse_vary("ks=2e3,2e4,2e5", scene);  // three figures as before
+  EXPECT_EQ(usual.label(0), "ks = 2000");
+  EXPECT_EQ(usual.label(2), "ks = 2e5");
+  const Variation tiny = parse_vary("ks=1,1.0000000000000002", scene);  // one ulp apart still reads apart
+  EXPECT_NE(tiny.label(0), tiny.label(1));
+}
+
+TEST(ParseVary, RefusesTheSameValueGivenTwice) {
+  const SceneDef scene = spring_scene();
+  const std::string same = usage_error([&] { parse_vary("ks=100,1e2", scene); });
+  EXPECT_NE(same.find("gives the value 100 twice (items 1 and 2)"), std::string::npos) << same;
+  EXPECT_NE(usage_error([&] { parse_vary("collision.model=barrier,projection,barrier", scene); })
+                .find("gives the value barrier twice (items 1 and 3)"),
+            std::string::npos);
 }

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "clip/common/cli_common.h"
+#include "cli/usage_error.h"
 #include "test_support.h"
 
 using namespace clothsim;
@@ -158,4 +159,53 @@ TEST(PlanCompare, APlanIsAValueThatMovesWithItsEarlyReferenceRunning) {
     EXPECT_EQ(a.lanes[i].field_max, b.lanes[i].field_max) << i;
     EXPECT_EQ(a.lanes[i].result.t, b.lanes[i].result.t) << i;
   }
+}
+
+TEST(PlanCompare, CloseVaryValuesMakeLanesOfTheirOwnNamesAndFolders) {
+  // --vary ks=100,100.0001 --frames fr made two lanes "ks = 100" writing one folder.
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_close";
+  std::filesystem::create_directories(out);
+  CompareRequest o = small_grid(out);
+  o.vary = "ks=100,100.0001";
+  const ComparePlan p = plan_compare(o);
+  ASSERT_EQ(p.lanes.size(), 4u);
+  for (std::size_t i = 0; i < p.lanes.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j) {
+      EXPECT_NE(p.lanes[i].dir, p.lanes[j].dir);
+      EXPECT_NE(p.lanes[i].label, p.lanes[j].label);
+    }
+  EXPECT_EQ(p.lanes[1].value, "ks = 100.0001");
+  EXPECT_EQ(p.lanes[1].dir, "symplectic_euler_ks=100.0001");
+}
+
+TEST(PlanCompare, RefusesToVaryWhatEveryLaneOfOneClipShares) {
+  // The lanes run to the base scene's duration and are drawn at its size: a varied duration
+  // or render key would be a label with nothing behind it.
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_shared";
+  std::filesystem::create_directories(out);
+  CompareRequest o = small_grid(out);
+  for (const char* vary : {"duration=0.05,0.1", "render.width=320,640", "render.fps=30,60"}) {
+    o.vary = vary;
+    const std::string m = clothsim::testing::usage_error([&] { plan_compare(o); });
+    EXPECT_EQ(m.rfind("--vary " + std::string(vary).substr(0, std::string(vary).find('=')) + ": every lane", 0), 0u)
+        << m;
+  }
+}
+
+TEST(PlanCompare, MaxMemoryCountsEachLanesExportAndARefusalMakesNoFolder) {
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_export_memory";
+  std::filesystem::remove_all(out);
+  CompareRequest o = small_grid(out);
+  o.vary.clear();
+  o.summary.clear();
+  o.scene.sets = {"cloth.particles=[256,256]"};
+  o.export_path = out + "/x.pvd";
+  o.scene.max_memory = 150.0 * 1024 * 1024;  // the lanes alone fit, not with two exports of 37.5 MB
+  const std::string m = clothsim::testing::usage_error([&] { plan_compare(o); });
+  EXPECT_NE(m.find("export of 2 lanes 75 MB"), std::string::npos) << m;
+  EXPECT_FALSE(std::filesystem::exists(out)) << "refused before its folders are made";
+  o.export_path.clear();
+  o.summary = out + "/s.json";
+  std::filesystem::create_directories(out);
+  EXPECT_NO_THROW(plan_compare(o));
 }

@@ -116,5 +116,17 @@ TEST(ValuesTable, StacksEachValuesRowsUnderOneHeaderInValueOrder) {
   EXPECT_EQ(t.rows[1][0].text, "rk4 (ks = 400)");
 }
 
+TEST(BenchPlotTitle, SaysTheNumbersInThreeFigures) {
+  // It printed "reference error 1.1274976125260227e-12 m RMS".
+  WorkPrecisionResult r;
+  r.duration = 0.2;
+  r.reference.finished = true;
+  r.reference.change_rms = 1.1274976125260227e-12;
+  EXPECT_EQ(bench_plot_title("spring", r), "spring (T = 0.2 s; reference error 1.13e-12 m RMS)");
+  r.duration = 1.0 / 3.0;
+  r.reference.finished = false;
+  EXPECT_EQ(bench_plot_title("spring", r), "spring (T = 0.333 s; reference error unknown m RMS)");
+}
+
 }  // namespace
 }  // namespace clothsim::clip

@@ -59,6 +59,7 @@ void check_tolerances(const ImgdiffOptions& o) {
 int imgdiff_command(const ImgdiffOptions& o) {
   check_tolerances(o);
   refuse_clashing_paths({{o.a, "input A"}, {o.b, "input B"}}, {{o.diff_path, "-o/--output"}});
+  if (!o.diff_path.empty()) require_png_name(o.diff_path, "-o/--output");
   if (!o.diff_path.empty()) require_writable_parent(o.diff_path, "-o/--output");
   check_inputs(o);
   const Image a = read_input([&] { return read_png(o.a); });

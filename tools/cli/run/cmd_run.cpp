@@ -78,6 +78,7 @@ std::vector<ExportPath> check_run_outputs(const RunOptions& o, int spheres) {
   if (!o.metrics.empty()) require_writable_parent(o.metrics, "--metrics");
   if (!o.state.empty()) require_writable_parent(o.state, "--state");
   if (!o.video.empty()) require_writable_parent(o.video, "--video");
+  if (!o.still_out.empty()) require_png_name(o.still_out, "-o/--output");
   if (!o.still_out.empty()) require_writable_parent(o.still_out, "-o/--output");
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
@@ -197,8 +198,6 @@ int run_command(const RunOptions& o) {
       throw UsageError("--reference (" + look.reference->spelling() +
                        ", for --color error): " + too_long);
   }
-  const std::vector<ExportPath> exports = check_run_outputs(o, static_cast<int>(scene.spheres.size()));
-
   const double fps = scene.render.fps;
   // A still alone needs the run only up to its time; any other output needs the whole run,
   // and the final state is the one at the end even when that is not a whole frame.
@@ -215,8 +214,11 @@ int run_command(const RunOptions& o) {
 
   // Peak memory, estimated and checked before the Model, the renderer or the encoder exist.
   const int w = scene.render.width, h = scene.render.height;
-  run_budget(scene, look, {rendering, w, h, !o.video.empty(), !o.state.empty(), &targets})
-      .check(scene.source, o.scene.max_memory);
+  RunPictures pictures{rendering, w, h, !o.video.empty(), !o.state.empty(), {}, &targets};
+  for (const ExportPath& e : export_paths(o.export_path, {})) pictures.export_format = e.format;  // (parsed only)
+  run_budget(scene, look, pictures).check(scene.source, o.scene.max_memory);
+  // Then the outputs, whose checks make the export's folder: a run refused above leaves none.
+  const std::vector<ExportPath> exports = check_run_outputs(o, static_cast<int>(scene.spheres.size()));
 
   const Model model = run_model(o, scene);
   fit_reference_to_model(look, model, scene, {lane});
