@@ -135,8 +135,16 @@ std::optional<Divergence> check_over_stretched(double strain, double start_strai
                                                double t) {
   const double bound = std::max(start_strain, 0.0) + kWrongStrain;
   if (!(strain > bound)) return std::nullopt;  // NaN is divergence's to report
+  // Three figures, or as many as tell the strain from its bound ("strain 1.0012 past the bound
+  // 1", not "strain 1 past the bound 1").
+  char s[32], b[32];
+  int digits = 3;
+  do {
+    std::snprintf(s, sizeof s, "%.*g", digits, strain);
+    std::snprintf(b, sizeof b, "%.*g", digits, bound);
+  } while (std::strcmp(s, b) == 0 && ++digits <= 12);
   char buf[160];
-  std::snprintf(buf, sizeof buf, "strain %.3g past the bound %.3g", strain, bound);
+  std::snprintf(buf, sizeof buf, "strain %s past the bound %s", s, b);
   return Divergence{step, t, buf};
 }
 

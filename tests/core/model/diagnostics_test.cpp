@@ -133,6 +133,9 @@ TEST(Wrong, AStrainPastTheBoundBeyondTheScenesOwnIsOverStretched) {
   const auto wrong = check_over_stretched(kWrongStrain + 0.01, 0.0, 7, 0.7);
   ASSERT_TRUE(wrong);
   EXPECT_NE(wrong->reason.find("past the bound 1"), std::string::npos) << wrong->reason;
+  // Just past it: as many figures as tell the two apart, never "strain 1 past the bound 1".
+  EXPECT_EQ(check_over_stretched(kWrongStrain + 0.0012, 0.0, 7, 0.7)->reason, "strain 1.001 past the bound 1");
+  EXPECT_EQ(check_over_stretched(kWrongStrain + 1e-5, 0.0, 7, 0.7)->reason, "strain 1.00001 past the bound 1");
   EXPECT_FALSE(check_over_stretched(kWrongStrain + 0.01, 0.1, 7, 0.7)) << "a scene that starts stretched by 0.1";
   EXPECT_FALSE(check_over_stretched(std::numeric_limits<double>::quiet_NaN(), 0.0, 7, 0.7));
 }
