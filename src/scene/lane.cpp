@@ -6,6 +6,7 @@
 
 #include "echo.h"
 #include "core/integrators/method_param.h"
+#include "io/csv_cells.h"
 #include "scene_def.h"
 #include "text.h"
 
@@ -59,14 +60,15 @@ void parse_items(const std::string& items, const std::string& typed, Lane& lane,
 }
 
 // ":N", ":tol=T" or ":N:tol=T" as the lane was given, "" for neither; an adaptive pair's
-// ":tol=T" (rtol and atol equal) or ":rtol=R:atol=A".
+// ":tol=T" (rtol and atol equal) or ":rtol=R:atol=A". Values in their shortest exact form
+// (io/csv_cells.h), so a spelling parses back to this very lane: "beta=0.3", never a rounding.
 std::string items_text(const Lane& l) {
   std::string s = l.iterations > 0 ? ":" + std::to_string(l.iterations) : "";
-  if (l.tolerance > 0.0) s += ":tol=" + number_text(l.tolerance);
-  for (const auto& [key, value] : l.params) s += ":" + key + "=" + number_text(value);
-  if (l.rtol > 0.0 && l.rtol == l.atol) return s + ":tol=" + number_text(l.rtol);
-  if (l.rtol > 0.0) s += ":rtol=" + number_text(l.rtol);
-  if (l.atol > 0.0) s += ":atol=" + number_text(l.atol);
+  if (l.tolerance > 0.0) s += ":tol=" + csv_number(l.tolerance);
+  for (const auto& [key, value] : l.params) s += ":" + key + "=" + csv_number(value);
+  if (l.rtol > 0.0 && l.rtol == l.atol) return s + ":tol=" + csv_number(l.rtol);
+  if (l.rtol > 0.0) s += ":rtol=" + csv_number(l.rtol);
+  if (l.atol > 0.0) s += ":atol=" + csv_number(l.atol);
   return s;
 }
 

@@ -49,6 +49,9 @@ TEST(Lane, SpellsItselfAsItParses) {
     EXPECT_TRUE(parse_lane(lane.spelling()).same_as(lane)) << text;
   }
   EXPECT_EQ(parse_lane("vbd:10").stepless_spelling(), "vbd:10");
+  // Every figure kept: the spelling is the same lane, not a rounding of it.
+  const Lane fine = parse_lane("newmark@1/60:beta=0.2777777777777778:gamma=0.55");
+  EXPECT_TRUE(parse_lane(fine.spelling()).same_as(fine)) << fine.spelling();
 }
 
 TEST(Lane, RefusesWhatNoMethodTakesWithOneLineSayingWhy) {
