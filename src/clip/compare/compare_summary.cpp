@@ -99,10 +99,13 @@ void print_reference_error(const PipelineReport& report, std::size_t k) {
                 ref.check_dt > 0.0 ? "the check at twice its step did not finish" : "no check ran");
     return;
   }
+  // The smallest error quoted: a diverged lane's is not (its line says so), nor is an
+  // unresolved one's, which is the reference's own.
   double smallest = NAN;
   for (std::size_t i = 0; i < report.lanes.size(); ++i)
     if (report.lanes[i].reference == static_cast<int>(k) && report.lanes[i].field_count > 0 &&
-        report.lanes[i].field_max > 0.0 && !(smallest <= report.lanes[i].field_max))
+        report.lanes[i].field_max > 0.0 && !report.lanes[i].result.divergence &&
+        !lane_unresolved(report, i, FieldKind::Error) && !(smallest <= report.lanes[i].field_max))
       smallest = report.lanes[i].field_max;  // (a lane measured only at t = 0, where all agree, has none)
   std::printf("%s: ", head.c_str());
   if (adaptive)
