@@ -25,6 +25,21 @@ STYLE = {
     "midpoint": ("tab:green", "D"),
     "rk4": ("tab:blue", "^"),
     "implicit_euler": ("tab:purple", "v"),
+    # The newer families: each its own colour, so a work-precision plot of all reads apart.
+    "velocity_verlet": ("gold", "<"),
+    "yoshida4": ("olive", ">"),
+    "implicit_midpoint": ("tab:pink", "d"),
+    "newmark": ("tab:cyan", "p"),
+    "generalized_alpha": ("darkslategray", "h"),
+    "bdf2": ("tab:brown", "8"),
+    "ros2": ("navy", "*"),
+    "xpbd": ("teal", "P"),
+    "projective_dynamics": ("maroon", "X"),
+    "vbd": ("darkviolet", "H"),
+    # The adaptive pairs, by tolerance: drawn dashed (plot_work_precision.py).
+    "bs3": ("yellowgreen", "o"),
+    "dopri5": ("black", "s"),
+    "rkf78": ("dimgray", "D"),
 }
 
 

@@ -5,7 +5,10 @@ Two panels, error (log) against cost (log): time and force evaluations. Time is 
 time of the thread that made the run by default (--time cpu): on an idle machine it is the
 run's wall time, and it stays so when other processes share the cores, which the wall
 clock (--time wall) does not. One line per integrator through the runs that
-finished, labelled with their step (labels placed clear of each other); runs that
+finished, labelled with their step (labels placed clear of each other); an adaptive lane
+(bs3, dopri5, rkf78: column tolerance set) is a dashed line through its tolerances, each point
+labelled with its tolerance, as DiffEqDevTools draws fixed-step and adaptive methods on one
+plot; runs that
 diverged are marked with a cross along the top edge at their cost, labelled with their step; runs with implicit steps that did not converge (column
 unconverged_steps, when present) are drawn hollow and circled in red: their error is not
 backward Euler's; runs that read WRONG (column wrong, when present: energy made with no work
@@ -23,6 +26,17 @@ import plot_common as pc
 def unconverged(row):
     """True when the run had implicit steps above their Newton tolerance."""
     return pc.number(row.get("unconverged_steps") or "0") > 0
+
+
+def tolerance(row):
+    """An adaptive run's tolerance (column tolerance, when present), else 0."""
+    return pc.number(row.get("tolerance") or "0")
+
+
+def step_text(row):
+    """What a point is labelled with: its step, or an adaptive run's tolerance."""
+    tol = tolerance(row)
+    return f"tol {tol:.0e}" if tol > 0 else f"{pc.number(row['dt']):.3g}"
 
 
 def wrong(row):
@@ -63,14 +77,15 @@ def main():
         for name, rs in runs.items():
             base, _, value = name.partition(" (")
             color, marker = pc.style(base)
-            line = dashes[values.index(value) % len(dashes)] if value else "-"
-            title = pc.lane_label(base) + (" (" + value if value else "")
+            adaptive = any(tolerance(r) > 0 for r in rs)
+            line = dashes[values.index(value) % len(dashes)] if value else ("--" if adaptive else "-")
+            title = pc.lane_label(base) + (" (" + value if value else "") + (" by tolerance" if adaptive else "")
             ok = sorted((r for r in rs if r["diverged"] == "0" and pc.number(r["rms_error"]) > 0),
-                        key=lambda r: pc.number(r["dt"]))
+                        key=lambda r: tolerance(r) if adaptive else pc.number(r["dt"]))
             xs = [max(pc.number(r[key]), 1e-6) for r in ok]
             ys = [pc.number(r["rms_error"]) for r in ok]
             ax.plot(xs, ys, color=color, marker=marker, linestyle=line, label=title)
-            step_labels[ax].extend((x, y, f"{pc.number(r['dt']):.3g}", color) for r, x, y in zip(ok, xs, ys))
+            step_labels[ax].extend((x, y, step_text(r), color) for r, x, y in zip(ok, xs, ys))
             missed = [(x, y) for r, x, y in zip(ok, xs, ys) if unconverged(r)]
             if missed:  # hollow: the line's filled marker painted over in white, then circled
                 ax.scatter([x for x, _ in missed], [y for _, y in missed], marker=marker, s=40,
@@ -85,14 +100,15 @@ def main():
             if bad:
                 bx = [max(pc.number(r[key]), 1e-6) for r in bad]
                 ax.scatter(bx, [top] * len(bad), marker="x", color=color, s=50, zorder=3)
-                step_labels[ax].extend((x, top, f"{pc.number(r['dt']):.3g}", color) for r, x in zip(bad, bx))
+                step_labels[ax].extend((x, top, step_text(r), color) for r, x in zip(bad, bx))
         if ref:
             ax.axhline(max(ref), color="gray", linestyle=":", linewidth=1)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel(label)
         ax.grid(True, which="both", alpha=0.3)
-    axes[0].set_ylabel("error at T: RMS particle-position difference from the reference (m)")
+    over_time = any((r.get("error_measure") or "end") == "time" for r in rows)
+    axes[0].set_ylabel("RMS error (m), " + ("largest over the sample times" if over_time else "at T"))
     axes[0].set_ylim(min(bottom, min(ref) / 3) if ref else bottom, top * 3)
     handles, labels = axes[0].get_legend_handles_labels()
     handles.append(pc.plt.Line2D([], [], color="black", marker="x", linestyle="None"))
@@ -110,7 +126,8 @@ def main():
         labels.append("reference resolution")
     axes[1].legend(handles, labels, fontsize=8, loc="lower left")
     fig.suptitle(("work precision: " + args.title) if args.title else "work precision")
-    fig.text(0.5, 0.005, "points labelled with their step dt (s), crosses too; lower left is better",
+    fig.text(0.5, 0.005, "points labelled with their step dt (s) or an adaptive lane's tolerance, crosses too; "
+             "lower left is better",
              ha="center", fontsize=8)
     fig.tight_layout(rect=(0, 0.02, 1, 0.96))
     for ax in axes:

@@ -178,12 +178,18 @@ RunTotals AdaptiveReference::totals() const {
   return totals;
 }
 
-StudyRun adaptive_run_to(const Model& model, double tolerance, double T, const std::function<bool()>& stop) {
+StudyRun adaptive_run_to(const Model& model, double tolerance, double T, const std::function<bool()>& stop,
+                         const Sampling& sampling) {
   AdaptiveSolve solve(model, tolerance);
   if (stop) solve.set_stop_check(stop);
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = thread_cpu_seconds();
-  solve.advance_to(T);
+  bool going = true;
+  for (std::size_t k = 0; going && k < sampling.times.size() && sampling.times[k] <= T; ++k) {
+    going = solve.advance_to(sampling.times[k]) && !solve.stopped();
+    if (going && sampling.at) sampling.at(k, solve.state());
+  }
+  if (going) solve.advance_to(T);
   StudyRun run;
   run.totals.cpu_seconds = thread_cpu_seconds() - cpu_start;
   run.totals.sim_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

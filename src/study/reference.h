@@ -115,7 +115,9 @@ class AdaptiveReference {
 
 // One adaptive solve to time T as a study's run (study_run.h): finished, stopped or diverged,
 // its steps, force evaluations and CPU time, and its state at T.
-StudyRun adaptive_run_to(const Model& model, double tolerance, double T, const std::function<bool()>& stop = {});
+// `sampling`: the solve's state at each of its times on the way (dense output: it lands on all).
+StudyRun adaptive_run_to(const Model& model, double tolerance, double T, const std::function<bool()>& stop = {},
+                         const Sampling& sampling = {});
 
 // Largest distance (m) between the free cloth particles of two states (inv_mass > 0 in `b`).
 double largest_particle_distance(const Model& model, const State& a, const State& b);

@@ -1,12 +1,14 @@
 #include "work_precision.h"
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <mutex>
 #include <sstream>
 
 #include "reference.h"
+#include "work_precision_shard.h"
 #include "study_run.h"
 #include "task_pool.h"
 #include "core/integrators/integrator.h"
@@ -38,6 +40,39 @@ double cost_estimate(IntegratorKind kind, double T, double dt) {
   return (T / dt) * (evals > 0 ? evals : 8);  // an implicit step: a few Newton/CG rounds
 }
 
+double point_cost(const WorkPrecisionPoint& p, double T) {
+  if (p.tolerance <= 0.0) return cost_estimate(p.integrator, T, p.dt);
+  // A pair of order q takes steps of about tol^(1/(q+1)) (local error control), from about 1e4
+  // steps a second at 1e-6 on the drapes: a scheduling guess, nothing more.
+  const double q = integrator_info(p.integrator).order;
+  return T * 1e4 * std::pow(1e-6 / p.tolerance, 1.0 / (q + 1.0)) * std::max(1, nominal_force_evals(p.integrator));
+}
+
+StudyRun run_point(const Model& model, const WorkPrecisionSpec& spec, const WorkPrecisionPoint& p,
+                   const std::function<bool()>& stop, const Sampling& sampling) {
+  const Model& lane = lane_model(spec, p.lane, model);
+  if (p.tolerance <= 0.0) return run_to(lane, p.integrator, p.dt, spec.duration, stop, sampling);
+  Model at_tolerance = lane;  // the pair's error control at this point's tolerance
+  at_tolerance.adaptive.rtol = at_tolerance.adaptive.atol = p.tolerance;
+  return run_to(at_tolerance, p.integrator, p.dt, spec.duration, stop, sampling);
+}
+
+std::vector<double> sample_times(const WorkPrecisionSpec& spec) {
+  const double T = spec.duration;
+  int K = kMaxSamples;
+  for (; K > 1; --K)
+    if (std::all_of(spec.dts.begin(), spec.dts.end(), [&](double dt) { return lands_on(T / K, dt); })) break;
+  std::vector<double> times;
+  for (int k = 1; k < K; ++k) times.push_back(T * k / K);
+  times.push_back(T);  // exactly
+  return times;
+}
+
+void judge_error(WorkPrecisionPoint& p, bool over_time) {
+  p.rms_error = over_time ? p.rms_error_over_time : p.rms_error_at_end;
+  p.max_error = over_time ? p.max_error_over_time : p.max_error_at_end;
+}
+
 std::string lane_name(const WorkPrecisionSpec& spec, std::size_t i) {
   return i < spec.lane_names.size() ? spec.lane_names[i] : std::string(integrator_name(spec.integrators[i]));
 }
@@ -48,16 +83,31 @@ const Model& lane_model(const WorkPrecisionSpec& spec, std::size_t i, const Mode
 
 std::vector<WorkPrecisionPoint> planned_points(const WorkPrecisionSpec& spec) {
   std::vector<WorkPrecisionPoint> points;
-  for (std::size_t lane = 0; lane < spec.integrators.size(); ++lane)
+  for (std::size_t lane = 0; lane < spec.integrators.size(); ++lane) {
+    if (integrator_info(spec.integrators[lane]).adaptive) {
+      for (double tol : spec.tolerances) {  // loosest first, as the steps go largest last
+        WorkPrecisionPoint p;
+        p.integrator = spec.integrators[lane];
+        p.lane = lane;
+        p.dt = spec.first_step > 0.0 ? spec.first_step : spec.dts.front();
+        p.tolerance = tol;
+        p.rms_error = p.max_error = p.rms_error_at_end = p.max_error_at_end = kNaN;
+        p.rms_error_over_time = p.max_error_over_time = kNaN;
+        points.push_back(p);
+      }
+      continue;
+    }
     for (double dt : steps_of(spec, spec.integrators[lane])) {
       WorkPrecisionPoint p;
       p.integrator = spec.integrators[lane];
       p.lane = lane;
       p.dt = dt;
       p.frame_step = std::find(spec.dts.begin(), spec.dts.end(), dt) == spec.dts.end();
-      p.rms_error = p.max_error = kNaN;
+      p.rms_error = p.max_error = p.rms_error_at_end = p.max_error_at_end = kNaN;
+      p.rms_error_over_time = p.max_error_over_time = kNaN;
       points.push_back(p);
     }
+  }
   return points;
 }
 
@@ -71,14 +121,15 @@ WorkPrecisionPoint measured_point(WorkPrecisionPoint p, const StudyRun& run, con
   p.newton_iterations = run.totals.newton_iterations;
   p.cg_iterations = run.totals.cg_iterations;
   p.unconverged_steps = run.totals.unconverged_steps;
+  p.rejected_steps = run.totals.rejected_steps;
   p.wrong = run.totals.wrong.has_value();
   if (p.wrong) p.wrong_at = run.totals.wrong->t, p.wrong_reason = run.totals.wrong->reason;
   p.wall_seconds = run.totals.sim_seconds;
   p.cpu_seconds = run.totals.cpu_seconds;
   if (p.finished && reference) {
     const PositionError e = position_error(model, run.final_state.x, reference->x, reference->inv_mass);
-    p.rms_error = e.rms;
-    p.max_error = e.max;
+    p.rms_error_at_end = e.rms;
+    p.max_error_at_end = e.max;
   }
   return p;
 }
@@ -126,6 +177,19 @@ WorkPrecisionSpec checked(WorkPrecisionSpec spec) {
     for (std::size_t j = 0; j < i; ++j)
       if (lane_name(spec, i) == lane_name(spec, j))
         throw StudyError("integrator " + lane_name(spec, i) + " is listed twice");
+  std::sort(spec.tolerances.begin(), spec.tolerances.end(), std::greater<>());
+  for (std::size_t i = 0; i < spec.tolerances.size(); ++i) {
+    std::ostringstream tol;
+    tol << spec.tolerances[i];
+    if (!(spec.tolerances[i] > 0.0 && spec.tolerances[i] < 1.0))
+      throw StudyError("tolerance " + tol.str() + " is not a number in (0, 1)");
+    if (i > 0 && spec.tolerances[i] == spec.tolerances[i - 1]) throw StudyError("tolerance " + tol.str() + " is listed twice");
+  }
+  const bool adaptive_lane = std::any_of(spec.integrators.begin(), spec.integrators.end(),
+                                         [](IntegratorKind k) { return integrator_info(k).adaptive; });
+  if (adaptive_lane && spec.tolerances.empty()) throw StudyError("an adaptive lane needs tolerances to sweep");
+  if (!(spec.first_step >= 0.0) || !std::isfinite(spec.first_step))
+    throw StudyError("the first trial step must be a finite number >= 0 s");
   if (spec.reference_refinement < 1) throw StudyError("the reference refinement must be >= 1");
   if (!(spec.reference_margin > 0.0)) throw StudyError("the reference margin must be > 0");
   if (!(spec.reference_tolerance > 0.0)) throw StudyError("the reference tolerance must be > 0");
@@ -161,7 +225,7 @@ double fitted_order(const std::vector<WorkPrecisionPoint>& points, Take take) {
   int n = 0;
   for (const WorkPrecisionPoint& p : points) {
     if (!take(p) || p.frame_step || !p.finished || p.unresolved || !(p.rms_error > 0.0)) continue;
-    const double x = std::log(p.dt), y = std::log(p.rms_error);
+    const double x = std::log(p.tolerance > 0.0 ? p.tolerance : p.dt), y = std::log(p.rms_error);
     sx += x, sy += y, sxx += x * x, sxy += x * y;
     ++n;
   }
@@ -202,75 +266,6 @@ double lane_convergence_order(const std::vector<WorkPrecisionPoint>& points, std
 
 namespace {
 
-// One run of the study: the reference (point -1 coarse, -2 fine) or result.points[point].
-struct Task {
-  IntegratorKind kind;
-  double dt;
-  int point;
-  std::size_t lane = 0;  // the point's lane (its model)
-};
-
-// The two reference runs, then every (integrator, dt), dearest first; fills result.points.
-std::vector<Task> plan_tasks(const WorkPrecisionSpec& spec, double h_coarse, WorkPrecisionResult& result) {
-  std::vector<Task> tasks{{spec.reference_integrator, h_coarse, -1}, {spec.reference_integrator, 0.5 * h_coarse, -2}};
-  result.points = planned_points(spec);
-  for (std::size_t k = 0; k < result.points.size(); ++k)
-    tasks.push_back({result.points[k].integrator, result.points[k].dt, static_cast<int>(k), result.points[k].lane});
-  const double T = spec.duration;
-  std::stable_sort(tasks.begin(), tasks.end(), [&](const Task& a, const Task& b) {
-    return cost_estimate(a.kind, T, a.dt) > cost_estimate(b.kind, T, b.dt);
-  });
-  return tasks;
-}
-
-struct StudyRuns {
-  std::vector<StudyRun> points;  // by result.points index
-  std::vector<bool> ran;         // whether points[k] ran to its end (not stopped)
-  StudyRun coarse, fine;         // the reference at h and h / 2
-};
-
-StudyRuns run_tasks(const Model& model, const WorkPrecisionSpec& spec, const std::vector<Task>& tasks,
-                    std::size_t points, const StudyHooks& hooks) {
-  StudyRuns runs;
-  runs.points.resize(points);
-  runs.ran.assign(points, false);
-  std::mutex mutex;
-  // Each run weighs its cost estimate: the first to finish (the dearest) is most of the work.
-  StudyProgress progress{0, static_cast<long>(tasks.size())};
-  for (const Task& t : tasks) progress.work_total += cost_estimate(t.kind, spec.duration, t.dt);
-  parallel_for(tasks.size(), spec.jobs, [&](std::size_t i) {
-    const Task& task = tasks[i];
-    const Model& run_model = task.point >= 0 ? lane_model(spec, task.lane, model) : model;
-    StudyRun run = task.point >= 0 ? run_to(run_model, task.kind, task.dt, spec.duration, hooks.stop)
-                                   : reference_run(model, spec, task.point == -2, hooks.stop);
-    std::lock_guard<std::mutex> lock(mutex);
-    if (run.stopped) return;  // incomplete: neither a result nor a divergence
-    if (task.point == -1) runs.coarse = std::move(run);
-    else if (task.point == -2) runs.fine = std::move(run);
-    else runs.points[task.point] = std::move(run), runs.ran[task.point] = true;
-    ++progress.done;
-    progress.work_done += cost_estimate(task.kind, spec.duration, task.dt);
-    if (hooks.progress) hooks.progress(progress);
-  }, hooks.stop);
-  return runs;
-}
-
-// The points that ran, with their cost, outcome and error against the finer reference.
-void collect_points(const Model& model, const StudyRuns& runs, WorkPrecisionResult& result) {
-  ReferenceCheck& ref = result.reference;
-  const StudyRun& fine = runs.fine;
-  std::vector<WorkPrecisionPoint> kept;
-  ref.smallest_error = kNaN;
-  for (std::size_t k = 0; k < result.points.size(); ++k) {
-    if (!runs.ran[k]) {
-      result.complete = false;
-      continue;
-    }
-    kept.push_back(measured_point(result.points[k], runs.points[k], model, fine.finished ? &fine.final_state : nullptr));
-  }
-  result.points = std::move(kept);
-}
-
 // The smallest error resolved (NaN when none).
 double smallest_resolved(const std::vector<WorkPrecisionPoint>& points) {
   double smallest = kNaN;
@@ -291,27 +286,26 @@ bool cloth_touches(const Model& model, const State& s) {
   return false;
 }
 
-// The reference's verdict: finished, and halving its step moved it by less than the margin
-// times the smallest error reported; `failure` says why not.
-void judge_reference(const Model& model, const StudyRuns& runs, double h_fine, WorkPrecisionResult& result) {
+// The reference's verdict: finished, and halving its step (or tightening its tolerance) moved it
+// by less than the margin times the smallest error reported; `failure` says why not.
+void judge_reference(const Model& model, const ShardReference& runs, double h_fine, WorkPrecisionResult& result) {
   ReferenceCheck& ref = result.reference;
   std::ostringstream why;
   why.precision(3);
   const std::string ref_name(integrator_name(ref.integrator));
   if (!ref.finished) {
-    const StudyRun& bad = !runs.coarse.finished ? runs.coarse : runs.fine;
-    const double h = !runs.coarse.finished ? 2 * h_fine : h_fine;
-    if (bad.divergence)
-      why << "the reference run (" << ref_name << " at dt = " << h << " s) diverged at t = "
-          << bad.divergence->t << " s (" << bad.divergence->reason << ")";
+    const bool coarse_failed = !runs.coarse_finished;
+    const std::optional<Divergence>& bad = coarse_failed ? runs.coarse_divergence : runs.fine_divergence;
+    const double h = coarse_failed ? 2 * h_fine : h_fine;
+    if (bad)
+      why << "the reference run (" << ref_name << " at dt = " << h << " s) diverged at t = " << bad->t << " s ("
+          << bad->reason << ")";
     else
       why << "the reference run (" << ref_name << " at dt = " << h << " s) was stopped before T";
   } else {
-    const PositionError change = position_error(model, runs.coarse.final_state.x, runs.fine.final_state.x,
-                                                runs.fine.final_state.inv_mass);
-    ref.change_rms = change.rms;
-    ref.change_max = change.max;
-    ref.contact_at_end = cloth_touches(model, runs.fine.final_state);
+    ref.change_rms = ref.over_time ? runs.change_rms_over_time : runs.change_rms;
+    ref.change_max = ref.over_time ? runs.change_max_over_time : runs.change_max;
+    ref.contact_at_end = cloth_touches(model, runs.fine);
     ref.velocity_forces = model.air_drag > 0.0 ||
                           std::any_of(model.springs.kd.begin(), model.springs.kd.end(), [](double kd) { return kd > 0.0; });
     ref.unresolved = mark_unresolved(result.points, ref.change_rms, ref.margin);
@@ -343,8 +337,28 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
   const double h_coarse = spec.dts.front() / spec.reference_refinement;
   WorkPrecisionResult result;
   result.duration = spec.duration;
-  const std::vector<Task> tasks = plan_tasks(spec, h_coarse, result);
-  const StudyRuns runs = run_tasks(model, spec, tasks, result.points.size(), hooks);
+  const std::vector<WorkPrecisionPoint> planned = planned_points(spec);
+
+  // Progress over both phases, each run weighed by its cost estimate (the reference's two
+  // first: they are what the points wait for).
+  const double reference_cost = cost_estimate(spec.reference_integrator, spec.duration, h_coarse) +
+                                cost_estimate(spec.reference_integrator, spec.duration, 0.5 * h_coarse);
+  double points_cost = 0.0;
+  for (const WorkPrecisionPoint& p : planned) points_cost += point_cost(p, spec.duration);
+  const long runs_total = static_cast<long>(planned.size()) + 2;
+  const ShardReference runs = run_reference(model, spec, hooks);
+  StudyHooks point_hooks = hooks;
+  if (hooks.progress)
+    point_hooks.progress = [&](const StudyProgress& p) {
+      hooks.progress(StudyProgress{p.done + 2, runs_total, p.work_done + reference_cost, reference_cost + points_cost});
+    };
+  if (!runs.stopped) {
+    if (hooks.progress) hooks.progress(StudyProgress{2, runs_total, reference_cost, reference_cost + points_cost});
+    std::vector<std::size_t> items(planned.size());
+    for (std::size_t k = 0; k < items.size(); ++k) items[k] = k;
+    result.points = run_points(model, spec, runs, items, point_hooks, {});
+  }
+  result.complete = !runs.stopped && result.points.size() == planned.size();
 
   ReferenceCheck& ref = result.reference;
   ref.integrator = spec.reference_integrator;
@@ -352,12 +366,14 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
   ref.tolerance = ref.adaptive ? spec.reference_tolerance : 0.0;
   ref.dt = ref.adaptive ? 0.0 : 0.5 * h_coarse;
   ref.margin = spec.reference_margin;
-  ref.finished = runs.coarse.finished && runs.fine.finished;
-  ref.steps = runs.coarse.totals.steps + runs.fine.totals.steps;
-  ref.force_evals = runs.coarse.totals.force_evals + runs.fine.totals.force_evals;
-  ref.cpu_seconds = runs.coarse.totals.cpu_seconds + runs.fine.totals.cpu_seconds;
-  if (runs.fine.finished) result.reference_x = runs.fine.final_state.x.leftCols(model.num_particles);
-  collect_points(model, runs, result);
+  ref.over_time = spec.error_over_time;
+  ref.samples = static_cast<int>(sample_times(spec).size());
+  ref.finished = runs.finished;
+  ref.steps = runs.coarse_totals.steps + runs.fine_totals.steps;
+  ref.force_evals = runs.coarse_totals.force_evals + runs.fine_totals.force_evals;
+  ref.cpu_seconds = runs.coarse_totals.cpu_seconds + runs.fine_totals.cpu_seconds;
+  if (runs.fine_finished) result.reference_x = runs.fine.x.leftCols(model.num_particles);
+  ref.smallest_error = kNaN;
   judge_reference(model, runs, 0.5 * h_coarse, result);
   return result;
 }
@@ -366,12 +382,13 @@ bool uses_adaptive_reference(const Model& model, const WorkPrecisionSpec& spec) 
   return spec.adaptive_reference && smooth_scene(model);
 }
 
-StudyRun reference_run(const Model& model, const WorkPrecisionSpec& spec, bool finer, const std::function<bool()>& stop) {
+StudyRun reference_run(const Model& model, const WorkPrecisionSpec& spec, bool finer, const std::function<bool()>& stop,
+                       const Sampling& sampling) {
   if (uses_adaptive_reference(model, spec))
     return adaptive_run_to(model, finer ? spec.reference_tolerance / kReferenceTightening : spec.reference_tolerance,
-                           spec.duration, stop);
+                           spec.duration, stop, sampling);
   const double h_coarse = spec.dts.front() / spec.reference_refinement;
-  return run_to(model, spec.reference_integrator, finer ? 0.5 * h_coarse : h_coarse, spec.duration, stop);
+  return run_to(model, spec.reference_integrator, finer ? 0.5 * h_coarse : h_coarse, spec.duration, stop, sampling);
 }
 
 int mark_unresolved(std::vector<WorkPrecisionPoint>& points, double reference_error, double margin) {
@@ -431,7 +448,8 @@ namespace {
 
 std::vector<std::string> shortfall(const WorkPrecisionResult& r, double order, IntegratorKind kind,
                                    const std::vector<const WorkPrecisionPoint*>& fitted) {
-  if (std::isnan(order) || order >= 0.5 * nominal_order(kind)) return {};
+  // An adaptive lane's slope is against its tolerance, not its step: no order to fall short of.
+  if (std::isnan(order) || order >= 0.5 * nominal_order(kind) || integrator_info(kind).adaptive) return {};
   double smallest = INFINITY, largest_dt = 0.0;
   for (const WorkPrecisionPoint* p : fitted) smallest = std::min(smallest, p->rms_error), largest_dt = std::max(largest_dt, p->dt);
   const ReferenceCheck& ref = r.reference;

@@ -1,8 +1,13 @@
 // Work precision: how much error each integrator buys for how much work.
 //
-// For every integrator and step dt, the scene is run to time T and its final cloth
-// positions compared with a reference solution: RMS and largest particle-position
-// difference, over the particles free at T. Cost is recorded as wall time, CPU time of the
+// For every integrator and step dt, the scene is run to time T and its cloth positions
+// compared with a reference solution at K sample times on the way (sample_times: up to
+// kMaxSamples evenly spaced times every step lands on, T the last): RMS and largest
+// particle-position difference over the particles free then, at each time. A run's error is
+// the largest over the times (L-infinity in time, as DiffEqDevTools' default `:l∞` measures;
+// spec.error_over_time), or the error at T alone; both are kept. The error at T alone can
+// flatter a method whose error passes near zero at T: RK4 on the 13 x 13 barrier drape is 100x
+// below its largest over the window at the end. Cost is recorded as wall time, CPU time of the
 // run's thread and force evaluations (plus Newton and CG iterations for implicit Euler,
 // whose force-evaluation count leaves out its linear solves). A run that diverges stops
 // there and is kept as a marked point without an error.
@@ -51,6 +56,14 @@ struct WorkPrecisionSpec {
   std::vector<std::string> lane_names;
   std::vector<const Model*> lane_models;
   std::vector<double> dts;     // s, each > 0 and dividing duration
+  // The adaptive lanes' tolerances (rtol = atol, adaptive.h), each in (0, 1): an adaptive lane
+  // (bs3, dopri5, rkf78) runs once per tolerance where a fixed-step lane runs once per step,
+  // its first trial step `first_step` (0: the smallest of dts), landing on T.
+  std::vector<double> tolerances;
+  double first_step = 0.0;
+  // The error a point is judged by (rms_error, max_error: its order, the Pareto front, the
+  // unresolved rule, the plot): the largest over the sample times (true), or at T (false).
+  bool error_over_time = true;
   std::vector<double> frame_dts;  // s, steps implicit_euler also runs (one step per video
                                   // frame: 1/240 .. 1/30 s), each > 0 and dividing duration
   double duration = 0.0;       // T, s
@@ -65,7 +78,8 @@ struct WorkPrecisionSpec {
 struct WorkPrecisionPoint {
   IntegratorKind integrator{};
   std::size_t lane = 0;            // index into spec.integrators
-  double dt = 0.0;                 // s
+  double dt = 0.0;                 // s; an adaptive point's first trial step
+  double tolerance = 0.0;          // an adaptive point's rtol = atol (spec.tolerances); 0: a fixed step
   bool frame_step = false;         // one of implicit Euler's frame-rate steps, outside the
                                    // common list (spec.frame_dts)
   bool finished = false;           // reached T (false: diverged, or stopped by the caller)
@@ -74,14 +88,31 @@ struct WorkPrecisionPoint {
   std::string reason;              // why it diverged
   std::int64_t steps = 0, force_evals = 0, newton_iterations = 0, cg_iterations = 0;
   std::int64_t unconverged_steps = 0;  // implicit steps that ended above their tolerance
+  std::int64_t rejected_steps = 0;     // an adaptive point's refused trials
   bool wrong = false;              // finite but WRONG (core/diagnostics.h): energy made, over-stretched
   double wrong_at = 0.0;           // s, when first
   std::string wrong_reason;
   double wall_seconds = 0.0, cpu_seconds = 0.0;
   bool unresolved = false;         // finished, but its error under 1 / margin x the reference's
-  double rms_error = 0.0;          // m, RMS over free particles at T; NaN unless finished
-  double max_error = 0.0;          // m, largest particle distance at T; NaN unless finished
+  // m, the error the study judges by (spec.error_over_time: the two below or the two at T);
+  // NaN unless finished.
+  double rms_error = 0.0;          // RMS over the free particles
+  double max_error = 0.0;          // largest particle distance
+  double rms_error_at_end = 0.0, max_error_at_end = 0.0;      // at T
+  double rms_error_over_time = 0.0, max_error_over_time = 0.0;  // the largest over the samples
+  int samples = 0;                 // sample times the run landed on and was measured at
 };
+
+// At most this many sample times: enough to find a run's worst moment on the scenes' motions
+// (a fall, a contact, a push: each tenths of a second at the default T of 0.5 s), few enough
+// that the reference's kept positions stay small beside a run's (K x 3P doubles).
+inline constexpr int kMaxSamples = 40;
+// The study's sample times: T k / K for k = 1..K, K the largest up to kMaxSamples for which
+// every one of spec.dts lands on T / K (an implicit frame step, spec.frame_dts, is measured at
+// the times it lands on, T among them); T alone when no such K above 1 exists.
+std::vector<double> sample_times(const WorkPrecisionSpec& spec);
+// Sets p.rms_error and p.max_error to the error the study judges by.
+void judge_error(WorkPrecisionPoint& p, bool over_time);
 
 // Round-off is relative: a double holds a coordinate of size L to eps L (2.2e-16 L), and a
 // run of 1e5..1e6 steps adds that up to about 1e-13 L (measured: RK4's two reference runs on
@@ -101,8 +132,11 @@ struct ReferenceCheck {
   double tolerance = 0.0;          // do not apply): at tolerance and tolerance / 100
   double dt = 0.0;                 // s, the finer reference step (errors are measured against it)
   double change_rms = 0.0;         // m, RMS difference between the runs at 2 dt and dt (or the
-                                   // two tolerances): the reference's estimated error
+                                   // two tolerances): the reference's estimated error, over
+                                   // time or at T as the points' errors are (error_over_time)
   double change_max = 0.0;         // m, largest particle difference between them
+  bool over_time = true;           // the errors are the largest over the sample times
+  int samples = 0;                 // how many (1: T alone)
   std::int64_t steps = 0, force_evals = 0;  // both reference runs': what the reference cost
   double cpu_seconds = 0.0;
   double smallest_error = 0.0;     // m, smallest RMS error resolved (NaN when none)
@@ -137,7 +171,13 @@ std::string lane_name(const WorkPrecisionSpec& spec, std::size_t i);
 const Model& lane_model(const WorkPrecisionSpec& spec, std::size_t i, const Model& model);
 // Rough cost of a run in force-evaluation equivalents, for scheduling and sharding only.
 double cost_estimate(IntegratorKind kind, double T, double dt);
-// `p` with the run's outcome and cost, and its error against `reference` (nullptr: none).
+double point_cost(const WorkPrecisionPoint& p, double T);
+// Runs point `p` of the study on `model` (its lane's, lane_model): a fixed step, or an adaptive
+// pair at the point's tolerance, to T, measured on the way by `sampling`.
+StudyRun run_point(const Model& model, const WorkPrecisionSpec& spec, const WorkPrecisionPoint& p,
+                   const std::function<bool()>& stop = {}, const Sampling& sampling = {});
+// `p` with the run's outcome and cost, and its error at T against `reference` (nullptr: none);
+// the error over time is the caller's (run_points measures it as the run goes).
 WorkPrecisionPoint measured_point(WorkPrecisionPoint p, const StudyRun& run, const Model& model,
                                   const State* reference);
 
@@ -148,7 +188,7 @@ WorkPrecisionSpec checked(WorkPrecisionSpec spec);
 // smooth scene), and its run: `finer` the tighter (or the finer step's) of the two.
 bool uses_adaptive_reference(const Model& model, const WorkPrecisionSpec& spec);
 StudyRun reference_run(const Model& model, const WorkPrecisionSpec& spec, bool finer,
-                       const std::function<bool()>& stop = {});
+                       const std::function<bool()>& stop = {}, const Sampling& sampling = {});
 // Marks the finished points whose error the reference cannot resolve (WorkPrecisionPoint::
 // unresolved) and returns how many.
 int mark_unresolved(std::vector<WorkPrecisionPoint>& points, double reference_error, double margin);
@@ -167,6 +207,8 @@ PositionError position_error(const Model& model, const Eigen::Matrix3Xd& a,
 // Observed order of convergence: least-squares slope of log(RMS error) against log(dt) over
 // the finished points of `kind` at the common steps (NaN with fewer than two). The frame-rate
 // steps are left out: there w h >> 1, far from the asymptotic regime an order describes.
+// An adaptive lane's points fit log(RMS error) against log(tolerance) instead: the slope is its
+// tolerance proportionality (1: the error follows the tolerance), not an order.
 double convergence_order(const std::vector<WorkPrecisionPoint>& points, IntegratorKind kind);
 double lane_convergence_order(const std::vector<WorkPrecisionPoint>& points, std::size_t lane);
 

@@ -132,3 +132,25 @@ def test_ctrl_c_raises_keyboard_interrupt_and_writes_none_of_the_files(tmp_path)
     # The delay is printed (docs/python.md), not asserted: a shared machine's load would decide it.
     print(f"bench: KeyboardInterrupt {1000 * (float(out.split()[2]) - sent):.0f} ms after SIGINT")
     assert list(tmp_path.iterdir()) == [], "no CSV, summary, plot or temporary"
+
+
+def test_tols_and_error_are_the_clis_adaptive_lanes_by_tolerance(cli, tmp_path):
+    """An adaptive lane runs once per tolerance (column tolerance), judged by its error over time by default."""
+    kw = dict(integrators="rk4,dopri5", dts=[0.01, 0.005], duration=0.2, frame_dts=[])
+    frame = clothsim.bench(clothsim.load_scene(SPRING), tols=[1e-4, 1e-7], csv=str(tmp_path / "py.csv"), **kw)
+    run_cli(cli, "bench", SPRING, "--integrators", "rk4,dopri5", "--dts", "0.01,0.005", "--duration", "0.2",
+            "--frame-dts", "none", "--tols", "1e-4,1e-7", "--csv", str(tmp_path / "cli.csv"))
+    assert rows_without_times(tmp_path / "py.csv") == rows_without_times(tmp_path / "cli.csv")
+    same_frame(frame, tmp_path / "cli.csv")
+    pairs = frame[frame.integrator == "dopri5"].set_index("tolerance")
+    assert sorted(pairs.index) == [1e-7, 1e-4]
+    # (On the spring both take the sample interval, 0.01 s, as their step: a pair lands on each
+    # sample time, so the looser tolerance cannot stretch its steps past it.)
+    assert pairs.loc[1e-7, "rms_error"] <= pairs.loc[1e-4, "rms_error"] < 100 * 1e-4
+    assert (frame.error_measure == "time").all()
+    assert (frame.rms_error == frame.rms_error_over_time).all()
+    assert (frame.rms_error_over_time >= frame.rms_error_at_end).all()  # T is one of the sample times
+    end = clothsim.bench(clothsim.load_scene(SPRING), tols=[1e-4], error="end", **kw)
+    assert (end.rms_error == end.rms_error_at_end).all()
+    with pytest.raises(clothsim.UsageError, match="--error"):
+        clothsim.bench(clothsim.load_scene(SPRING), tols=[1e-4], error="sometimes", **kw)

@@ -91,11 +91,13 @@ py::object bench(const Scene& scene, const py::object& integrators, const py::ob
                  const std::optional<int>& reference_refinement, const std::optional<double>& reference_tolerance,
                  int jobs, const std::string& csv, const std::string& summary, const std::string& plot,
                  const std::string& vary, const py::object& scale, const std::string& shard,
-                 const py::object& max_memory) {
+                 const py::object& max_memory, const py::object& tols, const std::string& error) {
   clip::BenchOptions o;  // the CLI's defaults where a keyword is None
   o.scene = scene_options(scene, duration, max_memory);
   if (!integrators.is_none()) o.integrators = option_text(integrators);
   if (!dts.is_none()) o.dts = option_text(dts);
+  if (!tols.is_none()) o.tols = option_text(tols);
+  o.error = error;
   o.frame_dts = frame_dts_text(frame_dts, o.frame_dts);
   if (reference_refinement) o.reference_refinement = *reference_refinement;
   if (reference_tolerance) o.reference_tolerance = *reference_tolerance;
@@ -117,15 +119,20 @@ void bind_bench(py::module_& m) {
         py::arg("reference_refinement") = py::none(), py::arg("reference_tolerance") = py::none(),
         py::arg("jobs") = 0, py::arg("csv") = "", py::arg("summary") = "", py::arg("plot") = "", py::arg("vary") = "",
         py::arg("scale") = py::none(), py::arg("shard") = "", py::arg("max_memory") = py::none(),
+        py::arg("tols") = py::none(), py::arg("error") = "time",
         "bench(scene, integrators=None, dts=None, duration=None, frame_dts=None, reference_refinement=None,\n"
         "      reference_tolerance=None, jobs=0, csv='', summary='', plot='', vary='', scale=None, shard='',\n"
-        "      max_memory=None)\n"
+        "      max_memory=None, tols=None, error='time')\n"
         "    -> pandas.DataFrame\n\n"
         "`clothsim bench SCENE` with its options as keywords: every lane at every step over T, its error at\n"
         "T against the reference and its cost. A keyword left None takes the CLI's default (compare's\n"
         "four lanes, the scene's dt x 0.25..8, T = min(scene, 0.5 s, 8000 x the smallest step) rounded to\n"
         "the largest, implicit_euler also at one step per frame), so bench(scene) is `clothsim bench\n"
         "SCENE`'s table. Columns as bench --csv. Lists may be Python lists.\n"
+        "tols=[1e-4, 1e-6, ...] (--tols): the tolerances an adaptive lane (bs3, dopri5, rkf78) runs at, one\n"
+        "  row each (column tolerance), beside the fixed-step lanes' steps (default 1e-3 .. 1e-8).\n"
+        "error='time' (--error): each run judged by its largest error over the sample times (L-infinity in\n"
+        "  time), or 'end', at T alone; the table has both (rms_error_at_end, rms_error_over_time).\n"
         "vary='KEY=V1,V2,...' (--vary): the study once per value, each against its own reference, its rows\n"
         "  labelled 'rk4 (ks = 2e4)' (KEY a dotted path, a glob or ks / kd); one table.\n"
         "scale=[N1, N2, ...] (--scale): cost against sheet size instead, each lane NAME@STEP at\n"

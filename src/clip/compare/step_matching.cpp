@@ -21,6 +21,9 @@ constexpr double kFirstPilotWindow = 0.1;  // s: the pilot at the scene's step, 
 constexpr const char* kPlanning = "while choosing the lanes' steps";
 constexpr double kCostTolerance = 0.05; // a pilot within 5 % of the target cost is taken
 constexpr int kMaxPilots = 6;
+// An adaptive pair's matched tolerance stays inside these (rtol = atol).
+constexpr double kLoosestTolerance = 1e-2, kTightestTolerance = 1e-12;
+constexpr int kToleranceBisections = 4;  // the last passing tolerance within 10^(1/16) of the loosest
 
 std::string format(const char* fmt, double a, double b = 0.0) {
   char buf[160];
@@ -77,6 +80,41 @@ std::pair<double, int> step_for_cost(const Model& model, const Lane& lane, doubl
   return {best, pilots};
 }
 
+// An adaptive pair whose tolerance is left to --match: neither :tol= nor :rtol= nor :atol=.
+bool tolerance_free(const Lane& lane) {
+  return integrator_info(lane.kind).adaptive && lane.rtol == 0.0 && lane.atol == 0.0;
+}
+
+// A matched tolerance to two figures: it labels a tile and a summary row ("dopri5:tol=3.7e-07").
+double two_figures(double tol) { return std::stod(format("%.2g", tol)); }
+
+Lane at_tolerance(const Lane& lane, double tol) {
+  Lane out = lane;
+  out.rtol = out.atol = tol;
+  return out;
+}
+
+// The tolerance where the pair costs `target` passes per simulated second: from the scene's
+// tolerance, a secant on log cost over log tolerance (about -1/(q+1) for a pair of order q).
+std::pair<double, int> tolerance_for_cost(const Model& model, const Lane& lane, double target, double window) {
+  double tol = model.adaptive.rtol, tol_prev = 0.0, c_prev = 0.0;
+  double best = tol, best_gap = std::numeric_limits<double>::infinity();
+  int pilots = 0;
+  while (pilots < kMaxPilots) {
+    const double c = pilot_cost(model, at_tolerance(lane, tol), lane.dt, window);
+    ++pilots;
+    const double gap = std::abs(std::log(c / target));
+    if (gap < best_gap) best = tol, best_gap = gap;
+    if (gap <= kCostTolerance) break;
+    double slope = -1.0 / (integrator_info(lane.kind).order + 1.0);
+    if (tol_prev > 0.0 && tol != tol_prev) slope = std::min(-0.02, std::log(c / c_prev) / std::log(tol / tol_prev));
+    tol_prev = tol, c_prev = c;
+    tol = std::clamp(tol * std::exp(std::log(target / c) / slope), kTightestTolerance, kLoosestTolerance);
+    if (tol == tol_prev) break;  // at a bound: nothing further to try
+  }
+  return {best, pilots};
+}
+
 // (models[i]: the model lane i runs, its own under --vary)
 std::vector<std::string> match_cost(const std::vector<const Model*>& models, std::vector<Lane>& lanes,
                                     const std::vector<bool>& free, const MatchClip& clip) {
@@ -110,6 +148,14 @@ std::vector<std::string> match_cost(const std::vector<const Model*>& models, std
                     pilots, window) +
              format(" to %.3g spring passes per simulated s", target) + ", as " + name;
   }
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    if (!tolerance_free(lanes[i])) continue;
+    const auto [tol, pilots] = tolerance_for_cost(*models[i], lanes[i], target, window);
+    lanes[i] = at_tolerance(lanes[i], two_figures(tol));
+    how[i] = format("its tolerance %.2g matched on cost by %.0f pilot runs", tol, pilots) +
+             format(" over the clip's first %g s to %.3g spring passes per simulated s", window, target) + ", as " +
+             name + " (an adaptive pair; its steps its own)";
+  }
   return how;
 }
 
@@ -135,12 +181,12 @@ std::vector<Eigen::Matrix3Xd> reference_frames(const Model& model, const Lane& r
   return frames;
 }
 
-// Whether `lane` at 1 / (fps k) stays within `tolerance` of `frames` at every frame (stopping
-// at the first that does not, or at divergence).
-bool within(const Model& model, const Lane& lane, long k, const std::vector<Eigen::Matrix3Xd>& frames,
+// Whether `lane` at step h stays within `tolerance` of `frames` at every frame (stopping at the
+// first that does not, or at divergence): a trial of either search below.
+bool within(const Model& model, const Lane& lane, double h, const std::vector<Eigen::Matrix3Xd>& frames,
             double tolerance, double fps) {
   std::optional<Model> storage;
-  Run run(lane_model(model, lane, storage), lane.kind, 1.0 / (fps * static_cast<double>(k)));
+  Run run(lane_model(model, lane, storage), lane.kind, h);
   run.set_stop_check(interrupted);
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const bool reached = run.advance_to(static_cast<double>(f) / fps);
@@ -159,7 +205,9 @@ std::pair<long, int> smallest_passing_k(const Model& model, const Lane& lane,
                                         const std::vector<Eigen::Matrix3Xd>& frames, double tolerance, double fps,
                                         long cap) {
   int trials = 0;
-  const auto passes = [&](long k) { return ++trials, within(model, lane, k, frames, tolerance, fps); };
+  const auto passes = [&](long k) {
+    return ++trials, within(model, lane, 1.0 / (fps * static_cast<double>(k)), frames, tolerance, fps);
+  };
   long bad = 0, good = 1;
   while (!passes(good)) {
     bad = good;
@@ -173,15 +221,60 @@ std::pair<long, int> smallest_passing_k(const Model& model, const Lane& lane,
   return {good, trials};
 }
 
+// The loosest tolerance (rtol = atol) within `tolerance` metres: from `tolerance` itself (a
+// pair's error is about its tolerance on a scene of unit size) tenfold looser while trials pass
+// or tighter until one does, then bisected on log tolerance between the last that failed and
+// the last that passed. 0 when none passes down to kTightestTolerance.
+std::pair<double, int> loosest_passing_tolerance(const Model& model, const Lane& lane,
+                                                 const std::vector<Eigen::Matrix3Xd>& frames, double tolerance,
+                                                 double fps) {
+  int trials = 0;
+  const auto passes = [&](double tol) {
+    return ++trials, within(model, at_tolerance(lane, tol), lane.dt, frames, tolerance, fps);
+  };
+  double good = 0.0, bad = 0.0, tol = two_figures(std::clamp(tolerance, kTightestTolerance, kLoosestTolerance));
+  if (passes(tol)) {  // looser, tenfold, until a trial fails
+    for (good = tol; bad == 0.0 && good < kLoosestTolerance;) {
+      const double looser = std::min(10.0 * good, kLoosestTolerance);
+      (passes(looser) ? good : bad) = looser;
+    }
+    if (bad == 0.0) return {good, trials};
+  } else {  // tighter, tenfold, until a trial passes
+    for (bad = tol; good == 0.0;) {
+      if (bad <= kTightestTolerance) return {0.0, trials};
+      const double tighter = std::max(bad / 10.0, kTightestTolerance);
+      (passes(tighter) ? good : bad) = tighter;
+    }
+  }
+  for (int i = 0; i < kToleranceBisections; ++i) {
+    const double mid = two_figures(std::sqrt(good * bad));
+    if (mid >= bad || mid <= good) break;  // two figures no longer split them
+    (passes(mid) ? good : bad) = mid;
+  }
+  return {good, trials};
+}
+
 std::vector<std::string> match_error(const Model& model, std::vector<Lane>& lanes, const std::vector<bool>& free,
                                      double tolerance, const MatchClip& clip, const Lane& reference) {
   const std::vector<Eigen::Matrix3Xd> frames = reference_frames(model, reference, clip);
   std::vector<std::string> how(lanes.size(), "your step");
+  const std::string against = " against " + reference.name() + " @ " + step_string(reference.dt) + " s";
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    if (!tolerance_free(lanes[i])) continue;
+    const auto [tol, trials] = loosest_passing_tolerance(model, lanes[i], frames, tolerance, clip.fps);
+    if (tol == 0.0) {
+      how[i] = format("error %g m not reached at any tolerance down to %g", tolerance, kTightestTolerance) +
+               format(", in %.0f trial runs: the scene's tolerance", trials) + against;
+      continue;
+    }
+    lanes[i] = at_tolerance(lanes[i], tol);  // a trial's own tolerance, already two figures
+    how[i] = format("its tolerance %.2g matched on error: the loosest within %g m at every frame", tol, tolerance) +
+             format(", %.0f trial runs (tenfold steps, then bisection)", trials) + against + " (an adaptive pair)";
+  }
   for (std::size_t i = 0; i < lanes.size(); ++i) {
     if (!free[i]) continue;
     const long cap = reference_steps_per_frame(reference, clip.fps);
     const auto [k, trials] = smallest_passing_k(model, lanes[i], frames, tolerance, clip.fps, cap);
-    const std::string against = " against " + reference.name() + " @ " + step_string(reference.dt) + " s";
     if (k == 0) {
       how[i] = format("error %g m not reached at any step down to the reference's, 1/(fps x %.0f)", tolerance,
                       static_cast<double>(cap)) +
@@ -234,8 +327,8 @@ double pilot_cost(const Model& model, const Lane& lane, double h, double window)
 std::vector<std::string> match_steps(const Model& model, std::vector<Lane>& lanes,
                                      const MatchRequest& request, const MatchClip& clip, const Lane& reference,
                                      const std::vector<const Model*>& lane_models) {
-  std::vector<bool> free;  // the lanes given no step, by @STEP or --dt
-  for (const Lane& l : lanes) free.push_back(l.free_step());
+  std::vector<bool> free, free_tolerance;  // the lanes given no step (@STEP, --dt) or no tolerance
+  for (const Lane& l : lanes) free.push_back(l.free_step()), free_tolerance.push_back(tolerance_free(l));
   std::vector<const Model*> models = lane_models;
   if (models.empty()) models.assign(lanes.size(), &model);
   std::vector<std::string> how;
@@ -252,7 +345,7 @@ std::vector<std::string> match_steps(const Model& model, std::vector<Lane>& lane
       break;
   }
   for (std::size_t i = 0; i < lanes.size(); ++i)  // an adaptive pair is never matched on a step
-    if (integrator_info(lanes[i].kind).adaptive)
+    if (integrator_info(lanes[i].kind).adaptive && !(free_tolerance[i] && request.kind != MatchKind::None && how[i] != "your step"))
       how[i] = "its own steps, by its tolerance (an adaptive pair; " + lanes[i].step_text + " s its first trial)";
   return how;
 }

@@ -12,6 +12,13 @@
 //     particle distance from a reference run stays within TOL metres at every frame of the
 //     clip, found by doubling k and then bisection (each trial stops at its first frame over TOL).
 //   none: every lane at its given step or the scene's.
+//
+// An adaptive pair (bs3, dopri5, rkf78) given no tolerance (:tol=, :rtol=, :atol=) is matched
+// on its tolerance instead, as SciML's work-precision sets match by tolerance: under cost, the
+// tolerance whose pilot costs what the cheapest fixed-step lane costs (a secant on log cost
+// against log tolerance); under error TOL, the loosest tolerance within TOL metres at every
+// frame (tenfold down from TOL until a trial passes, then bisection on log tolerance).
+// Without --match it runs at the scene's tolerance (adaptive.rtol/atol).
 #pragma once
 
 #include <string>

@@ -64,6 +64,10 @@ JsonObject run_lane_json(const std::string& scene, const WorkPrecisionPoint& p, 
       .number("rms_error", p.unresolved ? NAN : p.rms_error)
       .number("max_error", p.unresolved ? NAN : p.max_error)
       .boolean("unresolved", p.unresolved);
+  if (p.tolerance > 0.0) lane.number("tolerance", p.tolerance).integer("rejected_steps", p.rejected_steps);
+  lane.number("rms_error_at_end", p.unresolved ? NAN : p.rms_error_at_end)
+      .number("rms_error_over_time", p.unresolved ? NAN : p.rms_error_over_time)
+      .integer("samples", static_cast<std::int64_t>(p.samples));
   if (p.wrong) lane.number("wrong_at", p.wrong_at).text("wrong", p.wrong_reason);
   if (names[p.lane] != integrator_name(p.integrator)) lane.text("lane", names[p.lane]);
   return lane;
@@ -98,7 +102,8 @@ int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSp
                  first_line(written_text([&](std::FILE* f) { write_bench_csv(f, row, names); })), {}};
   for (const WorkPrecisionPoint& p : analysis::planned_points(spec)) {
     plan.plan += ";" + names[p.lane] + " " + csv_number(p.dt);  // the lane: its model is part of the item
-    plan.costs.push_back(analysis::cost_estimate(p.integrator, spec.duration, p.dt));
+    if (p.tolerance > 0.0) plan.plan += " tol " + csv_number(p.tolerance);
+    plan.costs.push_back(analysis::point_cost(p, spec.duration));
   }
   plan.plan += ";T " + csv_number(spec.duration) + ";reference " + std::string(integrator_name(spec.reference_integrator)) +
                " /" + std::to_string(spec.reference_refinement);
@@ -107,10 +112,11 @@ int bench_shard(const BenchOptions& o, const Model& model, const WorkPrecisionSp
   const analysis::ShardReference ref = shard_reference(shard, model, spec, hooks);
   row.reference.dt = ref.dt;
   row.reference.finished = ref.finished;
-  row.reference.change_rms = ref.change_rms;
+  row.reference.over_time = spec.error_over_time;
+  row.reference.change_rms = spec.error_over_time ? ref.change_rms_over_time : ref.change_rms;
   row.reference.margin = spec.reference_margin;
   analysis::run_points(model, spec, ref, shard.todo(), hooks, [&](std::size_t item, WorkPrecisionPoint p) {
-    if (ref.finished) p.unresolved = p.finished && p.rms_error * spec.reference_margin < ref.change_rms;
+    if (ref.finished) p.unresolved = p.finished && p.rms_error * spec.reference_margin < row.reference.change_rms;
     row.points = {p};
     shard.record(item, after_first_line(written_text([&](std::FILE* f) { write_bench_csv(f, row, names); })),
                  run_lane_json(model.name, p, names).dump());

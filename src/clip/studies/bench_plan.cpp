@@ -9,6 +9,7 @@
 #include "clip/common/plan_parts.h"
 #include "scene/build_model.h"
 #include "scene/memory_estimate.h"
+#include "scene/echo.h"
 #include "scene/scene_parser.h"
 #include "study/scale_study.h"
 #include "study/task_pool.h"
@@ -18,8 +19,13 @@ namespace clothsim::clip {
 std::vector<Lane> bench_lanes(const BenchOptions& o, const SceneDef& scene) {
   std::vector<Lane> lanes =
       parse_study_lanes(o.integrators, "bench sweeps the step (--dts), so a lane takes no @STEP; drop it");
-  refuse_adaptive_lanes(lanes, "an adaptive pair chooses its own steps by its tolerance, and bench sweeps "
-                               "fixed steps; measure it with compare --integrators NAME:tol=T");
+  for (const Lane& l : lanes)
+    if (integrator_info(l.kind).adaptive && (l.rtol > 0.0 || l.atol > 0.0))
+      throw UsageError("--integrators: " + in_quotes(l.spelling()) +
+                       ": bench sweeps an adaptive lane's tolerance (--tols), so it takes no :tol=, :rtol= or :atol=; drop it");
+  const bool adaptive = std::any_of(lanes.begin(), lanes.end(), [](const Lane& l) { return integrator_info(l.kind).adaptive; });
+  if (o.tols && !adaptive)
+    throw UsageError("--tols: no adaptive lane to sweep (bs3, dopri5 or rkf78 in --integrators); fixed steps take --dts");
   follow_scene_solver(lanes, scene.implicit);  // --set implicit.solver=fixed_point: named as itself
   return lanes;
 }
@@ -39,6 +45,8 @@ double default_duration(double scene_duration, const std::vector<double>& dts) {
 }
 
 WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const std::vector<Lane>& lanes) {
+  if (o.error != "time" && o.error != "end")
+    throw UsageError("--error: expected time (the largest over the sample times) or end (at T), got " + in_quotes(o.error));
   std::vector<double> dts;
   if (!o.dts) {
     for (double f : kDefaultStepFactors) dts.push_back(f * scene.dt);
@@ -63,6 +71,17 @@ WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const
     spec.lane_names.push_back(l.stepless_spelling());
   }
   spec.dts = dts;
+  if (std::any_of(lanes.begin(), lanes.end(), [](const Lane& l) { return integrator_info(l.kind).adaptive; })) {
+    if (o.tols) spec.tolerances = parse_number_list(*o.tols, "--tols");
+    else spec.tolerances.assign(std::begin(kDefaultTolerances), std::end(kDefaultTolerances));
+    for (std::size_t i = 0; i < spec.tolerances.size(); ++i) {
+      const double tol = spec.tolerances[i];
+      if (!(tol > 0.0 && tol < 1.0)) throw UsageError("--tols: " + csv_number(tol) + " is not a tolerance in (0, 1)");
+      if (std::find(spec.tolerances.begin(), spec.tolerances.begin() + i, tol) != spec.tolerances.begin() + i)
+        throw UsageError("--tols: " + csv_number(tol) + " is listed twice");
+    }
+    spec.first_step = scene.dt;  // the first trial step, as a compare lane of the pair takes it
+  }
   // One step per video frame for implicit Euler, where it divides T (the default T of a short
   // study may not be a multiple of 1/30 s: those steps are left out, and said so).
   for (double dt : parse_frame_dts(o.frame_dts)) {
@@ -72,6 +91,7 @@ WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const
   }
   spec.duration = T;
   spec.jobs = o.jobs;
+  spec.error_over_time = o.error == "time";
   spec.reference_refinement = o.reference_refinement;
   if (!(o.reference_tolerance > 0.0) || !(o.reference_tolerance < 1e-3))
     throw UsageError("--reference-tolerance: must be a number in (0, 1e-3)");
@@ -79,7 +99,8 @@ WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const
   try {
     return analysis::checked(spec);
   } catch (const analysis::StudyError& e) {
-    throw UsageError(std::string("--dts: ") + e.what());
+    const std::string what = e.what();
+    throw UsageError((what.rfind("tolerance", 0) == 0 ? "--tols: " : "--dts: ") + what);
   }
 }
 

@@ -25,17 +25,22 @@ struct BenchOptions {
   SceneOptions scene;
   std::string integrators = default_comparison_list();  // compare's default four, by name
   std::optional<std::string> dts;  // not given: derived from the scene's dt
+  std::optional<std::string> tols;  // the adaptive lanes' tolerances; not given: kDefaultTolerances
   std::string frame_dts = kDefaultFrameDts;  // implicit_euler only; "none" for none
   std::string csv, plot, summary;
   std::string shard;  // --shard K/N|auto (study_shard.h)
   std::string vary;   // --vary KEY=V1,V2,...: the study once per value (plan_values)
   std::string scale;  // --scale N1,N2,...: cost against sheet size (study/scale_study.h)
   int jobs = 0;
+  std::string error = "time";  // --error time|end: the largest over the sample times, or at T
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
   double reference_tolerance = WorkPrecisionSpec{}.reference_tolerance;
 };
 
 inline constexpr double kDefaultStepFactors[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
+// An adaptive lane's tolerances when --tols is not given: six decades, as the steps are six
+// doublings, from where the drapes' pairs first stay stable to well below the eye.
+inline constexpr double kDefaultTolerances[] = {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
 inline constexpr double kMaxDefaultDuration = 0.5;    // s
 inline constexpr double kMaxDefaultSmallSteps = 8000;  // T <= this x the smallest step
 
@@ -43,7 +48,7 @@ inline constexpr double kMaxDefaultSmallSteps = 8000;  // T <= this x the smalle
 using LaneNames = std::vector<std::string>;
 
 // The study's lanes, as the scene runs them (a fixed-point scene's implicit_euler named so); an
-// @STEP refused (bench sweeps the steps).
+// @STEP refused (bench sweeps the steps), and an adaptive lane's :tol= (bench sweeps --tols).
 std::vector<Lane> bench_lanes(const BenchOptions& o, const SceneDef& scene);
 
 // T when --duration is not given: short enough for the reference, a multiple of every step.

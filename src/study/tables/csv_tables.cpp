@@ -47,7 +47,8 @@ CsvTable work_precision_table(const WorkPrecisionResult& r, const std::vector<st
   t.columns = {"integrator", "dt", "steps", "force_evals", "newton_iterations", "cg_iterations", "wall_seconds",
                "cpu_seconds", "rms_error", "max_error", "diverged", "diverged_at", "reason", "duration",
                "reference_dt", "reference_change", "unconverged_steps", "wrong", "wrong_at", "wrong_reason",
-               "unresolved"};
+               "unresolved", "tolerance", "rejected_steps", "error_measure", "rms_error_at_end",
+               "max_error_at_end", "rms_error_over_time", "max_error_over_time", "samples"};
   // An error within reach of the reference's own is no number (unresolved, study/reference.h).
   for (const WorkPrecisionPoint& p : r.points)
     t.rows.push_back({C::words(names[p.lane]), C::of(p.dt), C::whole(p.steps), C::whole(p.force_evals),
@@ -57,7 +58,11 @@ CsvTable work_precision_table(const WorkPrecisionResult& r, const std::vector<st
                       number_if(p.diverged, p.diverged_at), C::words(p.reason), C::of(r.duration),
                       C::of(r.reference.dt), C::of(r.reference.finished ? r.reference.change_rms : NAN),
                       C::whole(p.unconverged_steps), C::whole(p.wrong ? 1 : 0), number_if(p.wrong, p.wrong_at),
-                      C::words(p.wrong_reason), C::whole(p.unresolved ? 1 : 0)});
+                      C::words(p.wrong_reason), C::whole(p.unresolved ? 1 : 0),
+                      number_if(p.tolerance > 0.0, p.tolerance), C::whole(p.rejected_steps),
+                      C::words(r.reference.over_time ? "time" : "end"), C::of(p.unresolved ? NAN : p.rms_error_at_end),
+                      C::of(p.unresolved ? NAN : p.max_error_at_end), C::of(p.unresolved ? NAN : p.rms_error_over_time),
+                      C::of(p.unresolved ? NAN : p.max_error_over_time), C::whole(p.samples)});
   return t;
 }
 

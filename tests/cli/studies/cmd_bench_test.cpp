@@ -3,9 +3,11 @@
 // and nothing written, Ctrl-C keeping the runs finished so far, and the plot.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 #include "cli/cli_process.h"
 
@@ -100,9 +102,17 @@ TEST(CmdBench, ARunUnderTenTimesTheReferencesErrorIsUnresolvedAndTheSummaryState
   EXPECT_NE(text.find("-            -  unresolved: under 10 x the reference's error"), std::string::npos) << text;
   const auto rows = lines(dir + "/wp.csv");
   ASSERT_EQ(rows.size(), 3u);
-  EXPECT_EQ(rows[0].substr(rows[0].rfind(',') + 1), "unresolved");
-  EXPECT_EQ(rows[1].substr(rows[1].rfind(',') + 1), "0") << rows[1];
-  EXPECT_EQ(rows[2].substr(rows[2].rfind(',') + 1), "1") << rows[2];
+  const auto column = [&](const std::string& row, const std::string& name) {  // by the header's name
+    std::vector<std::string> names, cells;
+    std::stringstream h(rows[0]), c(row);
+    for (std::string s; std::getline(h, s, ',');) names.push_back(s);
+    for (std::string s; std::getline(c, s, ',');) cells.push_back(s);
+    const auto at = std::find(names.begin(), names.end(), name) - names.begin();
+    return static_cast<std::size_t>(at) < cells.size() ? cells[at] : std::string("(none)");
+  };
+  EXPECT_EQ(column(rows[1], "unresolved"), "0") << rows[1];
+  EXPECT_EQ(column(rows[2], "unresolved"), "1") << rows[2];
+  EXPECT_EQ(column(rows[2], "error_measure"), "time") << rows[2];
   std::ifstream json_in(dir + "/wp.json");
   const std::string json((std::istreambuf_iterator<char>(json_in)), std::istreambuf_iterator<char>());
   EXPECT_NE(json.find("\"integrator\": \"dopri5 (adaptive)\""), std::string::npos) << json;
@@ -128,6 +138,11 @@ TEST(CmdBench, BadStepListsAreOneLineExitTwoAndNothingWritten) {
       {{"--dts", "0.003", "--duration", "1"}, "--dts: 0.003 does not divide the duration 1 s"},
       {{"--integrators", "rk5"}, "--integrators: unknown integrator 'rk5'"},
       {{"--integrators", "rk4,rk4"}, "--integrators: 'rk4' is listed twice"},
+      {{"--tols", "1e-6"}, "--tols: no adaptive lane to sweep"},
+      {{"--integrators", "dopri5:tol=1e-6"}, "bench sweeps an adaptive lane's tolerance (--tols)"},
+      {{"--integrators", "dopri5", "--tols", "1e-6,2"}, "--tols: 2 is not a tolerance in (0, 1)"},
+      {{"--integrators", "dopri5", "--tols", "1e-6,1e-6"}, "--tols: 1e-06 is listed twice"},
+      {{"--error", "sometimes"}, "--error: expected time"},
   };
   for (const Case& c : cases) {
     std::vector<std::string> args{"bench", spring(), "--csv", csv};

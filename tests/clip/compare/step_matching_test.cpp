@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "clip/common/cli_common.h"
 #include "core/run/simulation.h"
@@ -26,6 +27,20 @@ render: {fps: 30}
 )";
 
 const MatchClip kClip{0.3, 30.0, 1e-3};
+
+// The largest particle distance of `lane` at step h from RK4 at 1/(30 x 334) s (the searches'
+// reference: 1e-4 s in whole steps a frame) over the clip's first 10 frames.
+double worst_over_frames(const Model& model, const Lane& lane, double h) {
+  std::optional<Model> storage;
+  clothsim::Run run(lane_model(model, lane, storage), lane.kind, h), ref(model, IntegratorKind::Rk4, 1.0 / (30.0 * 334.0));
+  double e = 0.0;
+  for (int f = 0; f <= 9; ++f) {
+    if (!run.advance_to(f / 30.0)) return std::numeric_limits<double>::infinity();
+    ref.advance_to(f / 30.0);
+    e = std::max(e, (run.state().x - ref.state().x).leftCols(model.num_particles).colwise().norm().maxCoeff());
+  }
+  return e;
+}
 
 }  // namespace
 
@@ -96,18 +111,44 @@ TEST(StepMatching, ErrorMatchingTakesTheLargestStepWithinTheTolerance) {
   const long k = std::lround(1.0 / (30.0 * lanes[0].dt));
   ASSERT_GE(k, 1);
   // Within tolerance at that step, and not at the next larger one of the form 1 / (30 k).
-  const auto worst = [&](double h) {
-    clothsim::Run lane(model, IntegratorKind::SymplecticEuler, h), ref(model, IntegratorKind::Rk4, 1.0 / (30.0 * 334.0));  // as the search's: 1e-4 in whole steps a frame
-    double e = 0.0;
-    for (int f = 0; f <= 9; ++f) {
-      if (!lane.advance_to(f / 30.0)) return std::numeric_limits<double>::infinity();
-      ref.advance_to(f / 30.0);
-      e = std::max(e, (lane.state().x - ref.state().x).leftCols(model.num_particles).colwise().norm().maxCoeff());
-    }
-    return e;
-  };
+  const auto worst = [&](double h) { return worst_over_frames(model, lanes[0], h); };
   EXPECT_LE(worst(lanes[0].dt), tol);
   if (k > 1) {
     EXPECT_GT(worst(1.0 / (30.0 * static_cast<double>(k - 1))), tol);
   }
+}
+
+// An adaptive pair given no tolerance is matched on it: under cost, its pilot at the matched
+// tolerance costs about what the cheapest fixed-step lane does; a pair with its own :tol= keeps it.
+TEST(StepMatching, AnAdaptiveLaneWithoutAToleranceIsMatchedOnItsToleranceForCost) {
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  std::vector<Lane> lanes = parse_lanes("midpoint,dopri5,bs3:tol=1e-5", "", 1e-3);
+  const auto how = match_steps(model, lanes, {MatchKind::Cost, 0.0}, kClip, lanes[0]);
+  ASSERT_GT(lanes[1].rtol, 0.0) << how[1];
+  EXPECT_EQ(lanes[1].rtol, lanes[1].atol);
+  EXPECT_NE(how[1].find("matched on cost"), std::string::npos) << how[1];
+  const double target = 2.0 / 1e-3;  // midpoint at the scene's step: 2 passes a step
+  EXPECT_NEAR(pilot_cost(model, lanes[1], lanes[1].dt, 0.3) / target, 1.0, 0.35) << how[1];
+  EXPECT_EQ(lanes[2].rtol, 1e-5) << "a pair with its own tolerance keeps it";
+  EXPECT_NE(how[2].find("its own steps"), std::string::npos) << how[2];
+}
+
+// Under error TOL, the loosest tolerance (to two figures) within TOL at every frame: it passes,
+// and a tenfold looser one does not (the search's first trial is TOL itself).
+TEST(StepMatching, AnAdaptiveLaneIsMatchedOnTheLoosestToleranceWithinTheError) {
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  std::vector<Lane> lanes = parse_lanes("dopri5", "", 1e-3);
+  const Lane reference = parse_reference("rk4@1e-4", lanes);
+  const double tol = 1e-6;
+  const auto how = match_steps(model, lanes, {MatchKind::Error, tol}, kClip, reference);
+  ASSERT_NE(how[0].find("matched on error"), std::string::npos) << how[0];
+  const double chosen = lanes[0].rtol;
+  ASSERT_GT(chosen, 0.0);  // a tolerance, relative and absolute, not metres: it may be looser than TOL
+  const auto worst = [&](double t) {
+    Lane l = lanes[0];
+    l.rtol = l.atol = t;
+    return worst_over_frames(model, l, 1e-3);
+  };
+  EXPECT_LE(worst(chosen), tol);
+  EXPECT_GT(worst(10.0 * chosen), tol) << "a tenfold looser tolerance would have been taken";
 }

@@ -21,8 +21,10 @@ TEST(WorkPrecisionTable, HasBenchsColumnsAndSpellsARowAsTheCsvDoes) {
   p.steps = 100;
   p.force_evals = 400;
   p.finished = true;
-  p.rms_error = 1.5e-6;
-  p.max_error = 3e-6;
+  p.rms_error = p.rms_error_over_time = 1.5e-6;
+  p.max_error = p.max_error_over_time = 3e-6;
+  p.rms_error_at_end = 1e-6, p.max_error_at_end = 2e-6;
+  p.samples = 25;
   r.points.push_back(p);
   p.lane = 1;
   p.diverged = true;  // a diverged run: its time, and its reason quoted where it holds a comma
@@ -33,11 +35,14 @@ TEST(WorkPrecisionTable, HasBenchsColumnsAndSpellsARowAsTheCsvDoes) {
   EXPECT_EQ(t.header(),
             "integrator,dt,steps,force_evals,newton_iterations,cg_iterations,wall_seconds,cpu_seconds,"
             "rms_error,max_error,diverged,diverged_at,reason,duration,reference_dt,reference_change,"
-            "unconverged_steps,wrong,wrong_at,wrong_reason,unresolved\n");
+            "unconverged_steps,wrong,wrong_at,wrong_reason,unresolved,tolerance,rejected_steps,error_measure,"
+            "rms_error_at_end,max_error_at_end,rms_error_over_time,max_error_over_time,samples\n");
   ASSERT_EQ(t.rows.size(), 2u);
-  EXPECT_EQ(t.row_text(0), "rk4,0.01,100,400,0,0,0,0,1.5e-06,3e-06,0,,,1,0.000125,nan,0,0,,,0\n");
+  EXPECT_EQ(t.row_text(0),
+            "rk4,0.01,100,400,0,0,0,0,1.5e-06,3e-06,0,,,1,0.000125,nan,0,0,,,0,,0,time,1e-06,2e-06,1.5e-06,3e-06,25\n");
   EXPECT_EQ(t.row_text(1),
-            "xpbd:10,0.01,100,400,0,0,0,0,1.5e-06,3e-06,1,0.25,\"energy 1e9 J, past the bound\",1,0.000125,nan,0,0,,,0\n");
+            "xpbd:10,0.01,100,400,0,0,0,0,1.5e-06,3e-06,1,0.25,\"energy 1e9 J, past the bound\",1,0.000125,nan,0,0,,,0,,"
+            "0,time,1e-06,2e-06,1.5e-06,3e-06,25\n");
   EXPECT_EQ(t.text(), t.header() + t.row_text(0) + t.row_text(1));
 }
 

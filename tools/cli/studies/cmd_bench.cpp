@@ -1,4 +1,4 @@
-// clothsim bench SCENE [--integrators LANES] [--dts LIST] [--duration T] [--set K=V]...
+// clothsim bench SCENE [--integrators LANES] [--dts LIST] [--tols LIST] [--duration T] [--set K=V]...
 //                      [--csv FILE] [--plot FILE.png] [--jobs N] [--reference-refinement N]
 //
 // The work-precision study (src/study/work_precision.h): every integrator at every step
@@ -8,7 +8,8 @@
 //
 // Defaults, chosen so `clothsim bench scenes/drape.yaml` takes about a minute on 2 cores:
 // the four seed integrators; six steps from a quarter of the scene's dt to eight times it
-// (scenes set dt near the explicit methods' limit, so the list shows both sides of it);
+// (scenes set dt near the explicit methods' limit, so the list shows both sides of it), and
+// an adaptive lane (bs3, dopri5, rkf78) at six tolerances, 1e-3 to 1e-8 (--tols);
 // T = min(scene duration, 0.5 s, 8000 x the smallest step), rounded down to a multiple of
 // the largest step so that every step divides it. The reference costs 16 x 8000 RK4 steps
 // at most, which is what bounds T.
@@ -53,6 +54,11 @@ using analysis::WorkPrecisionPoint;
 // "rk4 (ks = 2e4)").
 void print_table(const WorkPrecisionResult& r, const std::vector<Lane>& lanes, const LaneNames& labels = {}) {
   const auto label = [&](std::size_t i) { return labels.empty() ? lanes[i].name() : labels[i]; };
+  if (r.reference.over_time)
+    std::printf("errors: the largest over %d sample times, every %g s to T (L-infinity in time; --error end: at T alone)\n",
+                r.reference.samples, r.duration / r.reference.samples);
+  else
+    std::printf("errors: at T = %g s alone (--error end)\n", r.duration);
   std::printf("%-28s %10s %8s %11s %9s %9s %12s %12s  %s\n", "integrator", "dt (s)", "steps", "force evals",
               "wall (s)", "cpu (s)", "rms err (m)", "max err (m)", "status");
   for (const WorkPrecisionPoint& p : r.points) {
@@ -66,17 +72,30 @@ void print_table(const WorkPrecisionResult& r, const std::vector<Lane>& lanes, c
     else std::snprintf(status, sizeof status, "ok");
     char rms[32] = "-", max[32] = "-";  // an unresolved error is no number
     if (!p.unresolved) std::snprintf(rms, sizeof rms, "%.4g", p.rms_error), std::snprintf(max, sizeof max, "%.4g", p.max_error);
-    std::printf("%-28s %10.4g %8" PRId64 " %11" PRId64 " %9.3g %9.3g %12s %12s  %s\n",
-                label(p.lane).c_str(), p.dt, p.steps, p.force_evals,
+    char step[32];  // an adaptive point is by its tolerance: its steps are its own
+    if (p.tolerance > 0.0) std::snprintf(step, sizeof step, "tol %.0e", p.tolerance);
+    else std::snprintf(step, sizeof step, "%.4g", p.dt);
+    std::printf("%-28s %10s %8" PRId64 " %11" PRId64 " %9.3g %9.3g %12s %12s  %s\n",
+                label(p.lane).c_str(), step, p.steps, p.force_evals,
                 p.wall_seconds, p.cpu_seconds, rms, max, status);
   }
-  std::printf("observed order (slope of log rms error vs log dt, runs that finished, common steps):");
-  for (std::size_t i = 0; i < lanes.size(); ++i) {
-    const double order = analysis::lane_convergence_order(r.points, i);
-    if (std::isnan(order)) std::printf("  %s -", label(i).c_str());
-    else std::printf("  %s %.2f", label(i).c_str(), order);
+  // Fixed steps: the order; adaptive lanes: how the error follows the tolerance (1: in step).
+  for (const bool adaptive : {false, true}) {
+    std::string line;
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+      if (integrator_info(lanes[i].kind).adaptive != adaptive) continue;
+      const double order = analysis::lane_convergence_order(r.points, i);
+      char item[96];
+      if (std::isnan(order)) std::snprintf(item, sizeof item, "  %s -", label(i).c_str());
+      else std::snprintf(item, sizeof item, "  %s %.2f", label(i).c_str(), order);
+      line += item;
+    }
+    if (line.empty()) continue;
+    std::printf("%s%s\n",
+                adaptive ? "error against tolerance (slope of log rms error vs log tol, runs that finished):"
+                         : "observed order (slope of log rms error vs log dt, runs that finished, common steps):",
+                line.c_str());
   }
-  std::printf("\n");
   for (std::size_t i = 0; i < lanes.size(); ++i)  // an order well below the method's, explained
     for (const std::string& why : analysis::lane_order_shortfall(r, i, lanes[i].kind))
       std::printf("%s below its order %d: %s\n", label(i).c_str(), analysis::nominal_order(lanes[i].kind), why.c_str());
@@ -85,8 +104,11 @@ void print_table(const WorkPrecisionResult& r, const std::vector<Lane>& lanes, c
   std::printf("cheapest to each error level (least CPU among the runs that finished, converged, resolved, not WRONG):\n");
   for (const analysis::ParetoLevel& level : front) {
     const WorkPrecisionPoint& p = r.points[level.point];
-    std::printf("  rms err <= %-8.0e %-28s dt %-10.4g %9.3g s CPU  %11" PRId64 " force evals  (%.3g m)\n", level.level,
-                label(p.lane).c_str(), p.dt, p.cpu_seconds, p.force_evals, p.rms_error);
+    char step[32];
+    if (p.tolerance > 0.0) std::snprintf(step, sizeof step, "tol %-9.0e", p.tolerance);
+    else std::snprintf(step, sizeof step, "dt %-10.4g", p.dt);
+    std::printf("  rms err <= %-8.0e %-28s %s %9.3g s CPU  %11" PRId64 " force evals  (%.3g m)\n", level.level,
+                label(p.lane).c_str(), step, p.cpu_seconds, p.force_evals, p.rms_error);
   }
 }
 
@@ -196,8 +218,7 @@ int bench_command(const BenchOptions& o) {
   const WorkPrecisionSpec& spec = models.spec;
   const LaneNames& names = spec.lane_names;
   const double h_ref = spec.dts.front() / spec.reference_refinement;
-  std::size_t runs = 0;
-  for (IntegratorKind k : kinds) runs += analysis::steps_of(spec, k).size();
+  const std::size_t runs = analysis::planned_points(spec).size();
   char reference[160];
   if (analysis::uses_adaptive_reference(model, spec))
     std::snprintf(reference, sizeof reference, "adaptive dopri5 at tolerances %g and %g", spec.reference_tolerance,
@@ -205,9 +226,16 @@ int bench_command(const BenchOptions& o) {
   else
     std::snprintf(reference, sizeof reference, "%s at %g s and %g s",
                   std::string(integrator_name(spec.reference_integrator)).c_str(), h_ref, h_ref / 2);
-  std::printf("bench %s: %zu integrators x %zu steps (%g .. %g s)%s to T = %g s on %d threads; reference %s\n",
-              model.name.c_str(), kinds.size(), spec.dts.size(), spec.dts.front(), spec.dts.back(),
-              runs > kinds.size() * spec.dts.size() ? ", implicit_euler also at one step per frame" : "", T,
+  char tolerances[96] = "";
+  if (!spec.tolerances.empty())
+    std::snprintf(tolerances, sizeof tolerances, ", adaptive lanes x %zu tolerances (%g .. %g)", spec.tolerances.size(),
+                  spec.tolerances.front(), spec.tolerances.back());
+  const bool frame_steps = std::any_of(lanes.begin(), lanes.end(), [&](const Lane& l) {
+    return integrator_info(l.kind).frame_rate_steps && !spec.frame_dts.empty();
+  });
+  std::printf("bench %s: %zu integrators x %zu steps (%g .. %g s)%s%s to T = %g s on %d threads; reference %s\n",
+              model.name.c_str(), kinds.size(), spec.dts.size(), spec.dts.front(), spec.dts.back(), tolerances,
+              frame_steps ? ", implicit_euler also at one step per frame" : "", T,
               std::min<int>(analysis::resolve_jobs(o.jobs), static_cast<int>(runs + 2)), reference);
   std::fflush(stdout);
 
@@ -246,6 +274,15 @@ void add_bench_command(CLI::App& app, Command& command) {
                   "Comma-separated step sizes in s (numbers or fractions: 1/240), each dividing the duration "
                   "(default: the scene's dt x 0.25, 0.5, 1, 2, 4, 8)")
       ->type_name("LIST");
+  sub->add_option("--tols", o->tols,
+                  "Comma-separated tolerances (rtol = atol) an adaptive lane (bs3, dopri5, rkf78) runs at, where a\n"
+                  "fixed-step lane runs at --dts (default 1e-3,1e-4,...,1e-8); its first trial step is the scene's dt")
+      ->type_name("LIST");
+  sub->add_option("--error", o->error,
+                  "The error each run is judged by: time, the largest over up to 40 sample times every step lands on\n"
+                  "(L-infinity in time), or end, at T alone; the CSV has both")
+      ->capture_default_str()
+      ->type_name("time|end");
   sub->add_option("--frame-dts", o->frame_dts,
                   "Steps implicit_euler also runs, one per video frame: numbers or fractions, or 'none' "
                   "(those that do not divide the duration are left out)")
@@ -253,7 +290,7 @@ void add_bench_command(CLI::App& app, Command& command) {
       ->type_name("LIST");
   sub->add_option("--csv", o->csv,
                   "Write one row per run: integrator,dt,steps,force_evals,...,rms_error,max_error,diverged,"
-                  "...,unconverged_steps,wrong,wrong_at,wrong_reason")
+                  "...,unconverged_steps,wrong,wrong_at,wrong_reason,unresolved,tolerance,rejected_steps")
       ->type_name("FILE.csv");
   sub->add_option("--plot", o->plot, "Draw the work-precision diagram (needs python3-matplotlib)")
       ->type_name("FILE.png");
