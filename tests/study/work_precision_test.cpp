@@ -213,9 +213,7 @@ TEST(WorkPrecision, RejectsStepListsItCannotRun) {
 // on T.
 TEST(WorkPrecision, AnAdaptiveLaneRunsOncePerToleranceAndItsErrorFollowsIt) {
   const Model model = spring_model();
-  // (rkf78 is left out: on the spring it takes the sample interval as its step at every
-  // tolerance here, as it lands on each sample time, and its error stays at 1e-10 m.)
-  WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4, IntegratorKind::Dopri5, IntegratorKind::Bs3});
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4, IntegratorKind::Dopri5, IntegratorKind::Rkf78});
   spec.tolerances = {1e-8, 1e-4, 1e-6};  // sorted loosest first
   spec.reference_tolerance = 1e-12;
   const WorkPrecisionResult r = work_precision(model, spec);

@@ -12,8 +12,10 @@
 // A trial step of size h is accepted when every coordinate's error estimate e_i satisfies
 // |e_i| <= atol + rtol (|y_i| + h |y'_i|) (Odeint's default_error_checker); rejected, h
 // shrinks and the step is tried again; accepted, the controller proposes the next h. A step
-// never crosses a target (a frame, a sheet column) or a timeline event: it is shortened to land
-// on it, and the step after resumes with the size the controller proposed before shortening.
+// never crosses a timeline event: it is shortened to land on it, and the step after resumes
+// with the size the controller proposed before shortening. Targets (a frame, a sheet column, a
+// study's sample time) are Run's: on a smooth scene the steps cross them and the state there is
+// a side step of the pair (dense output, simulation.h); under projection the steps land on them.
 //
 // Contacts. The barrier (collision.model: barrier) is a force inside a(x, v): the pair sees it
 // and its error control holds. Projection contacts (the course's model) move particles after

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace clothsim {
 namespace {
@@ -37,7 +38,10 @@ StepReport step(const Model& model, State& state, IntegratorKind kind, double h,
 
 Run::Run(const Model& model, IntegratorKind kind, double dt)
     : model_(model), kind_(kind), dt_(dt), state_(initial_state(model)) {
-  if (integrator_info(kind).adaptive) adaptive_ = std::make_unique<AdaptiveStepper>(model, kind, dt);
+  if (integrator_info(kind).adaptive) {
+    adaptive_ = std::make_unique<AdaptiveStepper>(model, kind, dt);
+    dense_ = uses_barrier(model) || (model.num_spheres == 0 && !model.has_ground);
+  }
   start_strain_ = max_strain(model_, state_);
   energy_every_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(kWrongEnergyEvery / dt_ + 1e-9)));
   record_energy(energy_, compute_energies(model_, state_).total(), true);
@@ -108,10 +112,13 @@ bool Run::advance_to(double target) {
 }
 
 // An adaptive pair's advance (adaptive.h): the phases of step() around a step its controller
-// chose, shortened to land on the target and on every timeline event:
+// chose, shortened to land on every timeline event (and on the target under projection):
 //     accepted step -> collisions -> time -> events -> divergence check
 // A projection that moved a particle, or an event, changed the state outside the ODE: the pair
-// restarts from the new state.
+// restarts from the new state. On a smooth scene (dense_) the steps cross the target, so what
+// is output does not change the steps taken (SciML's saveat; Odeint's dense output): the state
+// at the target is one step of the pair itself from the start of the step that crossed it, of
+// the pair's own order, its force evaluations counted.
 bool Run::advance_adaptive(double target) {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = thread_cpu_seconds();
@@ -125,8 +132,10 @@ bool Run::advance_adaptive(double target) {
     const std::int64_t from_step = state_.step;
     const double from_t = state_.t;
     const std::size_t actions_before = state_.next_action;
-    const double event = state_.next_action < model_.timeline.size() ? model_.timeline[state_.next_action].t : target;
-    const double limit = event > state_.t + tolerance ? std::min(target, event) : target;
+    const double event = state_.next_action < model_.timeline.size() ? model_.timeline[state_.next_action].t
+                                                                      : std::numeric_limits<double>::infinity();
+    const double free = dense_ ? std::numeric_limits<double>::infinity() : target;
+    const double limit = event > state_.t + tolerance ? std::min(free, event) : free;
     previous_ = state_;
     const AdaptiveStep s = adaptive_->step(state_, limit);
     totals_.force_evals += s.force_evals;
@@ -160,9 +169,26 @@ bool Run::advance_adaptive(double target) {
     judge_step(last_, actions_before, from_step, from_t);
   }
   if (!divergence_ && stepped) divergence_ = check_divergence(model_, state_);
+  if (dense_ && !divergence_ && !stopped_) {
+    output_ = state_;
+    if (state_.t > target + tolerance) {  // the target lies inside the last step: a side step to it
+      output_ = previous_;
+      const StepReport side = step_to(output_, target);
+      totals_.force_evals += side.stats.force_evals;
+    }
+    has_output_ = true;
+  }
   totals_.sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   totals_.cpu_seconds += thread_cpu_seconds() - cpu_start;
   return !divergence_;
+}
+
+StepReport Run::step_to(State& s, double t) {
+  StepReport report;
+  report.stats = integrate(kind_, model_, s, t - s.t, ws_);  // the pair's own solution at that h
+  report.contacts = resolve_collisions(model_, s);            // counts only: the scene is smooth
+  s.t = t;
+  return report;
 }
 
 namespace {
@@ -188,10 +214,11 @@ State Run::last_finite_state() const {
 
 FrameMetrics Run::metrics() const {
   FrameMetrics m;
-  m.step = state_.step;
-  m.t = state_.t;
-  m.energies = compute_energies(model_, state_);
-  m.max_strain = max_strain(model_, state_);
+  const State& at = state();  // at the target: an adaptive pair's dense output there
+  m.step = at.step;
+  m.t = at.t;
+  m.energies = compute_energies(model_, at);
+  m.max_strain = max_strain(model_, at);
   m.contacts = last_.contacts.total() + last_.stats.contact_constraints;  // after and inside the solve
   m.force_evals = totals_.force_evals;
   m.newton_iterations = totals_.newton_iterations;

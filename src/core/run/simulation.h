@@ -101,7 +101,9 @@ class Run {
   const std::optional<Divergence>& divergence() const { return divergence_; }
 
   const Model& model() const { return model_; }
-  const State& state() const { return state_; }
+  // At the last target advanced to. An adaptive pair on a smooth scene steps past its targets
+  // (dense output, advance_adaptive): this is then its output there, not the state it steps on.
+  const State& state() const { return dense_ && has_output_ ? output_ : state_; }
   IntegratorKind kind() const { return kind_; }
   double dt() const { return dt_; }
   const RunTotals& totals() const { return totals_; }
@@ -138,7 +140,13 @@ class Run {
   // step (its steps vary, so a blow-up's last finite state is kept rather than replayed).
   std::unique_ptr<AdaptiveStepper> adaptive_;
   State previous_;
+  // Dense output: on a smooth scene (the barrier, or nothing to project) the pair's steps do
+  // not land on targets, and the state at a target inside a step is output_, a side step of
+  // the pair from that step's start (previous_); under projection contacts they land.
+  bool dense_ = false, has_output_ = false;
+  State output_;
   bool advance_adaptive(double target);
+  StepReport step_to(State& s, double t);  // dense output: one fixed step of the pair from s to t
   void judge_step(const StepReport& report, std::size_t actions_before, std::int64_t from_step, double from_t);
 };
 

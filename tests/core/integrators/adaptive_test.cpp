@@ -1,7 +1,7 @@
 // The adaptive pairs (core/integrators/adaptive.h) held to their theory on the damped spring's
 // closed form: as fixed-step methods each converges at its order; under error control the error
-// follows the tolerance, the higher order is the cheaper one at a tight tolerance, and every
-// target and event is landed on exactly.
+// follows the tolerance, the higher order is the cheaper one at a tight tolerance, every
+// target and event is reached exactly, and the targets asked for do not change the steps.
 #include "core/integrators/adaptive.h"
 
 #include <gtest/gtest.h>
@@ -97,6 +97,30 @@ TEST(AdaptivePairs, CountEveryTrialAndLandOnEveryTarget) {
   EXPECT_GT(r.largest_step, r.smallest_step) << "its own steps, shortened at the targets";
   EXPECT_EQ(run.metrics().rejected_steps, r.rejected_steps);
   EXPECT_EQ(run.metrics().step_size, r.last_step);
+}
+
+// Dense output on a smooth scene: what is asked for does not change the steps taken. A run
+// asked for 30 frames on the way takes the same steps as one asked for T alone and ends in the
+// same state to the bit; each frame's state is a side step of the pair from the step that
+// crossed it, near the closed form at that instant.
+TEST(AdaptivePairs, FramesAskedForDoNotChangeTheStepsTaken) {
+  const SceneDef scene = load_spring_scene();
+  Model model = build_model(scene);
+  for (IntegratorKind kind : kPairs) {
+    model.adaptive = AdaptiveDef{1e-6, 1e-6};
+    clothsim::Run once(model, kind, 1e-3), framed(model, kind, 1e-3);
+    ASSERT_TRUE(once.advance_to(1.0));
+    for (int f = 1; f <= 30; ++f) {
+      ASSERT_TRUE(framed.advance_to(f / 30.0));
+      EXPECT_EQ(framed.state().t, f / 30.0);
+      EXPECT_LT(phase_error(oscillator_of(scene), framed.state()), 1e-4) << integrator_name(kind) << " frame " << f;
+    }
+    EXPECT_EQ(framed.totals().steps, once.totals().steps) << integrator_name(kind);
+    EXPECT_EQ(framed.totals().rejected_steps, once.totals().rejected_steps);
+    EXPECT_GT(framed.totals().force_evals, once.totals().force_evals) << "the side steps are counted";
+    EXPECT_EQ(framed.state().x, once.state().x) << integrator_name(kind);
+    EXPECT_EQ(framed.state().v, once.state().v);
+  }
 }
 
 TEST(AdaptivePairs, StopExactlyAtATimelineEventAndRestartAfterIt) {
