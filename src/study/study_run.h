@@ -23,8 +23,11 @@ struct StudyRun {
   State final_state;                     // the state at T (or where the run stopped)
 };
 
-// Runs `model` with `kind` at step `dt` until t >= T (Run::advance_to's rule: the last step
-// may pass T by less than dt when dt does not divide T). `stop` is polled before every step.
+// Runs `model` with `kind` at step `dt` under `settings` (a lane's; without them the model's
+// own) until t >= T (Run::advance_to's rule: the last step may pass T by less than dt when dt
+// does not divide T). `stop` is polled before every step.
+StudyRun run_to(const Model& model, const MethodSettings& settings, IntegratorKind kind, double dt, double T,
+                const std::function<bool()>& stop = {});
 StudyRun run_to(const Model& model, IntegratorKind kind, double dt, double T,
                 const std::function<bool()>& stop = {});
 

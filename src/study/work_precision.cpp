@@ -42,8 +42,8 @@ std::string lane_name(const WorkPrecisionSpec& spec, std::size_t i) {
   return i < spec.lane_names.size() ? spec.lane_names[i] : std::string(integrator_name(spec.integrators[i]));
 }
 
-const Model& lane_model(const WorkPrecisionSpec& spec, std::size_t i, const Model& model) {
-  return i < spec.lane_models.size() && spec.lane_models[i] ? *spec.lane_models[i] : model;
+MethodSettings lane_settings(const WorkPrecisionSpec& spec, std::size_t i, const Model& model) {
+  return i < spec.lane_settings.size() ? spec.lane_settings[i] : model.method_defaults();
 }
 
 std::vector<WorkPrecisionPoint> planned_points(const WorkPrecisionSpec& spec) {
@@ -120,8 +120,8 @@ WorkPrecisionSpec checked(WorkPrecisionSpec spec) {
     if (spec.dts[i] == spec.dts[i - 1]) throw StudyError("step size " + seconds_text(spec.dts[i]) + " is listed twice");
   if (!spec.lane_names.empty() && spec.lane_names.size() != spec.integrators.size())
     throw StudyError("lane names: one per integrator, or none");
-  if (!spec.lane_models.empty() && spec.lane_models.size() != spec.integrators.size())
-    throw StudyError("lane models: one per integrator, or none");
+  if (!spec.lane_settings.empty() && spec.lane_settings.size() != spec.integrators.size())
+    throw StudyError("lane settings: one per integrator, or none");
   for (std::size_t i = 0; i < spec.integrators.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (lane_name(spec, i) == lane_name(spec, j))
@@ -240,8 +240,8 @@ StudyRuns run_tasks(const Model& model, const WorkPrecisionSpec& spec, const std
   for (const Task& t : tasks) progress.work_total += cost_estimate(t.kind, spec.duration, t.dt);
   parallel_for(tasks.size(), spec.jobs, [&](std::size_t i) {
     const Task& task = tasks[i];
-    const Model& run_model = task.point >= 0 ? lane_model(spec, task.lane, model) : model;
-    StudyRun run = task.point >= 0 ? run_to(run_model, task.kind, task.dt, spec.duration, hooks.stop)
+    StudyRun run = task.point >= 0 ? run_to(model, lane_settings(spec, task.lane, model), task.kind, task.dt,
+                                            spec.duration, hooks.stop)
                                    : reference_run(model, spec, task.point == -2, hooks.stop);
     std::lock_guard<std::mutex> lock(mutex);
     if (run.stopped) return;  // incomplete: neither a result nor a divergence

@@ -86,7 +86,8 @@ std::vector<WorkPrecisionPoint> run_points(const Model& model, const WorkPrecisi
   for (std::size_t item : order) progress.work_total += cost(item);
   parallel_for(order.size(), spec.jobs, [&](std::size_t i) {
     const std::size_t item = order[i];
-    const StudyRun run = run_to(lane_model(spec, planned[item].lane, model), planned[item].integrator, planned[item].dt, spec.duration, hooks.stop);
+    const StudyRun run = run_to(model, lane_settings(spec, planned[item].lane, model), planned[item].integrator,
+                                planned[item].dt, spec.duration, hooks.stop);
     if (run.stopped) return;
     const WorkPrecisionPoint p = measured_point(planned[item], run, model, ref.fine_finished ? &ref.fine : nullptr);
     std::lock_guard<std::mutex> lock(mutex);
