@@ -12,26 +12,26 @@ namespace clothsim {
 namespace {
 
 // The reference's solve: converged hard (the point is the distance from the solution).
-Model reference_model(const Model& model) {
-  Model m = model;
-  m.implicit.solver = ImplicitSolver::Newton;
-  m.implicit.newton_tolerance = std::min(m.implicit.newton_tolerance, 1e-10);
-  m.implicit.newton_max_iterations = std::max(m.implicit.newton_max_iterations, 200);
-  return m;
+MethodSettings reference_settings(const Model& model) {
+  MethodSettings s = model.method_defaults();
+  s.implicit.solver = ImplicitSolver::Newton;
+  s.implicit.newton_tolerance = std::min(s.implicit.newton_tolerance, 1e-10);
+  s.implicit.newton_max_iterations = std::max(s.implicit.newton_max_iterations, 200);
+  return s;
 }
 
 // The run the states are taken from: Newton converged as a run converges it (the scene's
 // tolerance), which is half the reference's cost at 64 x 64; the states are start points only.
-Model sampling_model(const Model& model) {
-  Model m = model;
-  m.implicit.solver = ImplicitSolver::Newton;
-  m.implicit.newton_max_iterations = std::max(m.implicit.newton_max_iterations, 200);
-  return m;
+MethodSettings sampling_settings(const Model& model) {
+  MethodSettings s = model.method_defaults();
+  s.implicit.solver = ImplicitSolver::Newton;
+  s.implicit.newton_max_iterations = std::max(s.implicit.newton_max_iterations, 200);
+  return s;
 }
 
 // Iteration counts exactly: a scene's residual tolerance would stop a watched sweep short.
-void without_tolerances(Model& m) {
-  m.solvers.xpbd.tolerance = m.solvers.projective_dynamics.tolerance = m.solvers.vbd.tolerance = 0.0;
+void without_tolerances(MethodSettings& s) {
+  s.solvers.xpbd.tolerance = s.solvers.projective_dynamics.tolerance = s.solvers.vbd.tolerance = 0.0;
 }
 
 // Rough spring passes of one iteration (a solver's registry row; a Newton iteration, about
@@ -104,12 +104,12 @@ State ended_at(const Model& model, const Start& s, const Eigen::Matrix3Xd& y) {
 // by a step of one iteration, as a run's first step warms them for the rest.
 std::vector<ConvergencePoint> watched_sweep(const Model& model, const ConvergenceSpec& spec, const Start& s,
                                             IntegratorKind method) {
-  Model m = model;
+  MethodSettings m = model.method_defaults();
   Workspace ws;
   without_tolerances(m);
   *iteration_count(m, method) = 1;
   State warm = s.state;
-  step(m, warm, method, spec.h, ws);
+  step(model, m, warm, method, spec.h, ws);
   *iteration_count(m, method) = spec.max_iterations;
   std::vector<ConvergencePoint> points(static_cast<std::size_t>(spec.max_iterations));
   double start = 0.0, paused = 0.0;
@@ -122,7 +122,7 @@ std::vector<ConvergencePoint> watched_sweep(const Model& model, const Convergenc
   };
   State end = s.state;
   start = thread_cpu_seconds();
-  step(m, end, method, spec.h, ws);
+  step(model, m, end, method, spec.h, ws);
   for (const ConvergencePoint& p : points)  // every iteration told: a solver that stops early breaks the sweep
     if (p.iterations == 0) throw std::logic_error(std::string(integrator_name(method)) + " skipped an iteration");
   const double tail = thread_cpu_seconds() - start - paused - points.back().cpu_seconds;
@@ -134,11 +134,11 @@ std::vector<ConvergencePoint> watched_sweep(const Model& model, const Convergenc
 // cap takes that same step, so its point stands for theirs). Empty when `stop` fired.
 std::vector<ConvergencePoint> newton_sweep(const Model& model, const ConvergenceSpec& spec, const Start& s,
                                            const std::function<bool()>& stop) {
-  Model m = model;
+  MethodSettings m = model.method_defaults();
   m.implicit.solver = ImplicitSolver::Newton;
   Workspace ws;
   State warm = s.state;
-  step(m, warm, kBackwardEuler, spec.h, ws);  // warm the caches
+  step(model, m, warm, kBackwardEuler, spec.h, ws);  // warm the caches
   std::vector<ConvergencePoint> points;
   bool settled = false;
   for (int n = 1; n <= spec.max_iterations; ++n) {
@@ -151,7 +151,7 @@ std::vector<ConvergencePoint> newton_sweep(const Model& model, const Convergence
     *iteration_count(m, kBackwardEuler) = n;
     State end = s.state;
     const double cpu = thread_cpu_seconds();
-    const StepReport report = step(m, end, kBackwardEuler, spec.h, ws);
+    const StepReport report = step(model, m, end, kBackwardEuler, spec.h, ws);
     const double spent = thread_cpu_seconds() - cpu;
     points.push_back(measured(model, s, kBackwardEuler, n, end));
     points.back().cpu_seconds = spent;
@@ -179,16 +179,16 @@ double convergence_item_cost(const ConvergenceSpec& spec, const ConvergenceItem&
 
 std::vector<State> convergence_states(const Model& model, const ConvergenceSpec& spec, int count,
                                       const std::function<bool()>& stop) {
-  const Model sampling = sampling_model(model);
+  const MethodSettings sampling = sampling_settings(model);
   const long steps = std::max<long>(1, std::lround(model.duration / spec.h));
   std::vector<State> states;
-  State s = initial_state(sampling);
+  State s = initial_state(model);
   Workspace ws;
   for (int i = 0; i < count; ++i) {
     const long at = std::max<long>(1, steps * i / spec.states);
     while (s.step < at) {
       if (stop && stop()) return {};
-      step(sampling, s, kBackwardEuler, spec.h, ws);
+      step(model, sampling, s, kBackwardEuler, spec.h, ws);
     }
     states.push_back(s);
   }
@@ -196,10 +196,10 @@ std::vector<State> convergence_states(const Model& model, const ConvergenceSpec&
 }
 
 State converged_step(const Model& model, const State& start, double h) {
-  const Model reference = reference_model(model);
+  const MethodSettings reference = reference_settings(model);
   State end = start;
   Workspace ws;
-  step(reference, end, kBackwardEuler, h, ws);
+  step(model, reference, end, kBackwardEuler, h, ws);
   return end;
 }
 

@@ -59,13 +59,12 @@ std::vector<ScalePoint> scale_study(const ScaleSpec& spec, const StudyHooks& hoo
   for (const ScaleScene& size : spec.sizes) {
     SceneDef scene = size.scene;
     scene.duration = std::max(scene.duration, spec.duration);
-    const Model base = build_model(scene);
+    const Model model = build_model(scene);
     for (std::size_t lane = 0; lane < spec.lanes.size(); ++lane) {
       if (hooks.stop && hooks.stop()) return points;
-      std::optional<Model> storage;
-      const Model& model = spec.lane_model ? spec.lane_model(base, lane, storage) : base;
+      const MethodSettings settings = spec.lane_settings ? spec.lane_settings(model, lane) : model.method_defaults();
       const ScaleLane& l = spec.lanes[lane];
-      const StudyRun run = run_to(model, l.kind, l.dt, spec.duration, hooks.stop);
+      const StudyRun run = run_to(model, settings, l.kind, l.dt, spec.duration, hooks.stop);
       if (run.stopped) return points;
       ScalePoint p;
       p.lane = lane;

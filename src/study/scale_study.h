@@ -10,7 +10,6 @@
 #pragma once
 
 #include <functional>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,9 +37,9 @@ struct ScaleSpec {
   std::vector<ScaleScene> sizes;  // smallest first
   std::vector<ScaleLane> lanes;
   double duration = 0.0;          // s simulated by every run
-  // The model lane `lane` runs (its own solver settings, as compare's lanes), from a size's
-  // base model; null: the base model itself.
-  std::function<const Model&(const Model& base, std::size_t lane, std::optional<Model>& storage)> lane_model;
+  // The settings lane `lane` runs with on a size's model (its own solver settings, as
+  // compare's lanes); null: the model's own.
+  std::function<MethodSettings(const Model& model, std::size_t lane)> lane_settings;
 };
 
 struct ScalePoint {

@@ -97,9 +97,9 @@ Failure failure_of(const StudyRun& run) {
 // factors of 2 from the first guess, then bisection in log dt. Each trial is a run to T.
 class StableStepSearch {
  public:
-  StableStepSearch(const Model& model, IntegratorKind kind, const StabilitySpec& spec,
+  StableStepSearch(const Model& model, const MethodSettings& settings, IntegratorKind kind, const StabilitySpec& spec,
                    const std::function<bool()>& stop)
-      : model_(model), kind_(kind), spec_(spec), stop_(stop) {
+      : model_(model), settings_(settings), kind_(kind), spec_(spec), stop_(stop) {
     model_.divergence.max_energy_factor = spec.energy_factor;  // the study's bounds
     model_.divergence.max_strain = spec.max_strain;
     out_.integrator = kind;
@@ -120,7 +120,7 @@ class StableStepSearch {
   // One trial: true when the run reached T with every step converged; records the smallest
   // step that failed, and how.
   bool stable(double dt) {
-    const StudyRun run = run_to(model_, kind_, dt, spec_.duration, stop_);
+    const StudyRun run = run_to(model_, settings_, kind_, dt, spec_.duration, stop_);
     ++out_.trials;
     out_.cpu_seconds += run.totals.cpu_seconds;
     if (run.stopped) stopped_ = true;
@@ -185,7 +185,7 @@ class StableStepSearch {
   // implicit_euler at one step per frame: reported beside the search, not searched.
   void add_frame_steps() {
     for (double dt : spec_.frame_dts) {
-      const StudyRun run = run_to(model_, kind_, dt, spec_.duration, stop_);
+      const StudyRun run = run_to(model_, settings_, kind_, dt, spec_.duration, stop_);
       ++out_.trials;
       out_.cpu_seconds += run.totals.cpu_seconds;
       FrameStepResult r;
@@ -195,7 +195,8 @@ class StableStepSearch {
       r.steps = run.totals.steps;
       r.unconverged_steps = run.totals.unconverged_steps;
       if (run.divergence) r.diverged_at = run.divergence->t;
-      if (model_.implicit.solver == ImplicitSolver::FixedPoint) r.fixed_point_iterations = model_.implicit.fixed_point_iterations;
+      const ImplicitDef& implicit = settings_.implicit;
+      if (implicit.solver == ImplicitSolver::FixedPoint) r.fixed_point_iterations = implicit.fixed_point_iterations;
       out_.frame_steps.push_back(r);
     }
   }
@@ -207,6 +208,7 @@ class StableStepSearch {
   }
 
   Model model_;  // a copy with the study's bounds
+  MethodSettings settings_;
   IntegratorKind kind_;
   const StabilitySpec& spec_;
   const std::function<bool()>& stop_;
@@ -216,10 +218,15 @@ class StableStepSearch {
 
 }  // namespace
 
+StabilityLimit largest_stable_dt(const Model& model, const MethodSettings& settings, IntegratorKind kind,
+                                 const StabilitySpec& spec, const std::function<bool()>& stop) {
+  check(spec);
+  return StableStepSearch(model, settings, kind, spec, stop).run();
+}
+
 StabilityLimit largest_stable_dt(const Model& model, IntegratorKind kind, const StabilitySpec& spec,
                                  const std::function<bool()>& stop) {
-  check(spec);
-  return StableStepSearch(model, kind, spec, stop).run();
+  return largest_stable_dt(model, model.method_defaults(), kind, spec, stop);
 }
 
 namespace {
@@ -296,8 +303,12 @@ class SearchReplay {
 }  // namespace
 
 double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec& spec) {
+  return search_cost(model, model.method_defaults(), kind, spec);
+}
+
+double search_cost(const Model& model, const MethodSettings& settings, IntegratorKind kind, const StabilitySpec& spec) {
   const StiffnessEstimate e = estimate_stiffness(model);
-  const double limit = predicted_limit(likely_stiffness(e), kind, model.implicit);
+  const double limit = predicted_limit(likely_stiffness(e), kind, settings.implicit);
   const std::function<double(double)> per_step = [&](double dt) { return step_cost(model, e, kind, dt); };
   SearchReplay replay(limit, spec, per_step);
   const double guess = spec.first_guess > 0.0 ? spec.first_guess : e.dt_with_damping();
@@ -307,8 +318,8 @@ double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec&
   return replay.total();
 }
 
-const Model& case_lane_model(const StabilityCase& c, std::size_t lane) {
-  return lane < c.lane_models.size() && c.lane_models[lane] ? *c.lane_models[lane] : *c.model;
+MethodSettings case_lane_settings(const StabilityCase& c, std::size_t lane) {
+  return lane < c.lane_settings.size() ? c.lane_settings[lane] : c.model->method_defaults();
 }
 
 std::vector<StabilityLimit> stability_sweep(const std::vector<StabilityCase>& cases, const StabilitySpec& spec,
@@ -331,7 +342,8 @@ std::vector<StabilityLimit> stability_sweep_items(const std::vector<StabilityCas
   parallel_for(total, spec.jobs, [&](std::size_t i) {
     const StabilityCase& c = cases[items[i] / per_case];
     const std::size_t lane = items[i] % per_case;
-    StabilityLimit limit = largest_stable_dt(case_lane_model(c, lane), spec.integrators[lane], spec, hooks.stop);
+    StabilityLimit limit =
+        largest_stable_dt(*c.model, case_lane_settings(c, lane), spec.integrators[lane], spec, hooks.stop);
     limit.value = c.value;
     limit.lane = lane;
     std::lock_guard<std::mutex> lock(mutex);

@@ -90,28 +90,32 @@ struct StabilityLimit {
 // Checks the spec; throws StudyError naming the problem.
 void check(const StabilitySpec& spec);
 
-// One search: `kind` on `model`.
+// One search: `kind` on `model` under `settings` (a lane's; without them the model's own).
+StabilityLimit largest_stable_dt(const Model& model, const MethodSettings& settings, IntegratorKind kind,
+                                 const StabilitySpec& spec, const std::function<bool()>& stop = {});
 StabilityLimit largest_stable_dt(const Model& model, IntegratorKind kind, const StabilitySpec& spec,
                                  const std::function<bool()>& stop = {});
 
 // A swept parameter's value and the model it gives.
 struct StabilityCase {
   StabilityCase() = default;
-  StabilityCase(double v, const Model* m, std::vector<const Model*> lanes = {})
-      : value(v), model(m), lane_models(std::move(lanes)) {}
+  StabilityCase(double v, const Model* m, std::vector<MethodSettings> lanes = {})
+      : value(v), model(m), lane_settings(std::move(lanes)) {}
   double value = 0.0;
   const Model* model = nullptr;
-  // Per integrators entry, the model that lane searches (nullptr: `model`): a lane's own
-  // solver settings (the fixed point, iteration counts) on this case's model. Empty: `model`.
-  std::vector<const Model*> lane_models;
+  // Per integrators entry, the settings that lane searches with on this case's model: its own
+  // solver settings (the fixed point, iteration counts). Empty: the model's own.
+  std::vector<MethodSettings> lane_settings;
 };
-const Model& case_lane_model(const StabilityCase& c, std::size_t lane);
+MethodSettings case_lane_settings(const StabilityCase& c, std::size_t lane);
 
 // A search's rough cost in force-evaluation equivalents, for sharding only (shard.h): the
 // search's own trials replayed on the limit predicted_limit gives with the dampers' bound
 // c_max / 2.4 (a stable trial runs T / dt steps, an unstable one 0.3 of them), each step
 // its evaluations (implicit_euler: 42 x (1 + 5.6e-5 P w_max dt), its frame-step runs added).
 // Fitted on the drape (docs/cluster.md); no timing enters it, so every shard agrees.
+// `settings`: the lane's (the fixed point's limit is not backward Euler's); without them the model's.
+double search_cost(const Model& model, const MethodSettings& settings, IntegratorKind kind, const StabilitySpec& spec);
 double search_cost(const Model& model, IntegratorKind kind, const StabilitySpec& spec);
 
 // Every (case, integrator) search, spread over the cores; results case by case, integrators

@@ -13,7 +13,12 @@ bool lands_on(double t, double dt) {
 
 StudyRun run_to(const Model& model, IntegratorKind kind, double dt, double T,
                 const std::function<bool()>& stop, const Sampling& sampling) {
-  Run run(model, kind, dt);
+  return run_to(model, model.method_defaults(), kind, dt, T, stop, sampling);
+}
+
+StudyRun run_to(const Model& model, const MethodSettings& settings, IntegratorKind kind, double dt, double T,
+                const std::function<bool()>& stop, const Sampling& sampling) {
+  Run run(model, kind, dt, settings);
   if (stop) run.set_stop_check(stop);  // polled before every step: Ctrl-C answers at any step size
   const bool adaptive = integrator_info(kind).adaptive;
   bool going = true;

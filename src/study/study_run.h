@@ -28,7 +28,7 @@ struct StudyRun {
 // The times a run is measured at on its way to T (a work-precision study's errors over time),
 // each handed to `at` with the run's state there. A fixed-step run is measured at the times it
 // lands on (a whole number of its steps, within 1e-9) and passes the others; an adaptive pair
-// or solve lands on every one. `times` ascending, each in (0, T].
+// or solve reaches every one (dense output on a smooth scene). `times` ascending, in (0, T].
 struct Sampling {
   std::vector<double> times;
   std::function<void(std::size_t index, const State& state)> at;
@@ -37,8 +37,11 @@ struct Sampling {
 // Whether a run at fixed step dt lands on time t: t / dt a whole number within 1e-9.
 bool lands_on(double t, double dt);
 
-// Runs `model` with `kind` at step `dt` until t >= T (Run::advance_to's rule: the last step
-// may pass T by less than dt when dt does not divide T). `stop` is polled before every step.
+// Runs `model` with `kind` at step `dt` under `settings` (a lane's; without them the model's
+// own) until t >= T (Run::advance_to's rule: the last step may pass T by less than dt when dt
+// does not divide T), measured on the way by `sampling`. `stop` is polled before every step.
+StudyRun run_to(const Model& model, const MethodSettings& settings, IntegratorKind kind, double dt, double T,
+                const std::function<bool()>& stop = {}, const Sampling& sampling = {});
 StudyRun run_to(const Model& model, IntegratorKind kind, double dt, double T,
                 const std::function<bool()>& stop = {}, const Sampling& sampling = {});
 

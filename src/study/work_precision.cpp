@@ -50,11 +50,9 @@ double point_cost(const WorkPrecisionPoint& p, double T) {
 
 StudyRun run_point(const Model& model, const WorkPrecisionSpec& spec, const WorkPrecisionPoint& p,
                    const std::function<bool()>& stop, const Sampling& sampling) {
-  const Model& lane = lane_model(spec, p.lane, model);
-  if (p.tolerance <= 0.0) return run_to(lane, p.integrator, p.dt, spec.duration, stop, sampling);
-  Model at_tolerance = lane;  // the pair's error control at this point's tolerance
-  at_tolerance.adaptive.rtol = at_tolerance.adaptive.atol = p.tolerance;
-  return run_to(at_tolerance, p.integrator, p.dt, spec.duration, stop, sampling);
+  MethodSettings settings = lane_settings(spec, p.lane, model);
+  if (p.tolerance > 0.0) settings.adaptive.rtol = settings.adaptive.atol = p.tolerance;  // this point's error control
+  return run_to(model, settings, p.integrator, p.dt, spec.duration, stop, sampling);
 }
 
 std::vector<double> sample_times(const WorkPrecisionSpec& spec) {
@@ -77,8 +75,8 @@ std::string lane_name(const WorkPrecisionSpec& spec, std::size_t i) {
   return i < spec.lane_names.size() ? spec.lane_names[i] : std::string(integrator_name(spec.integrators[i]));
 }
 
-const Model& lane_model(const WorkPrecisionSpec& spec, std::size_t i, const Model& model) {
-  return i < spec.lane_models.size() && spec.lane_models[i] ? *spec.lane_models[i] : model;
+MethodSettings lane_settings(const WorkPrecisionSpec& spec, std::size_t i, const Model& model) {
+  return i < spec.lane_settings.size() ? spec.lane_settings[i] : model.method_defaults();
 }
 
 std::vector<WorkPrecisionPoint> planned_points(const WorkPrecisionSpec& spec) {
@@ -171,8 +169,8 @@ WorkPrecisionSpec checked(WorkPrecisionSpec spec) {
     if (spec.dts[i] == spec.dts[i - 1]) throw StudyError("step size " + seconds_text(spec.dts[i]) + " is listed twice");
   if (!spec.lane_names.empty() && spec.lane_names.size() != spec.integrators.size())
     throw StudyError("lane names: one per integrator, or none");
-  if (!spec.lane_models.empty() && spec.lane_models.size() != spec.integrators.size())
-    throw StudyError("lane models: one per integrator, or none");
+  if (!spec.lane_settings.empty() && spec.lane_settings.size() != spec.integrators.size())
+    throw StudyError("lane settings: one per integrator, or none");
   for (std::size_t i = 0; i < spec.integrators.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (lane_name(spec, i) == lane_name(spec, j))

@@ -51,10 +51,11 @@ namespace clothsim::analysis {
 struct WorkPrecisionSpec {
   std::vector<IntegratorKind> integrators;  // the study's lanes, in order
   // Per lane (each empty, or one per integrators entry): its name, unique, as rows and plots
-  // label it (empty: the integrator's), and the model it runs on (nullptr: the study's), so
-  // one integrator may run as several lanes (implicit_euler and its fixed point, xpbd:10).
+  // label it (empty: the integrator's), and the method settings it runs with on the study's
+  // model (empty: the model's own), so one integrator may run as several lanes (implicit_euler
+  // and its fixed point, xpbd:10) without a copy of the model.
   std::vector<std::string> lane_names;
-  std::vector<const Model*> lane_models;
+  std::vector<MethodSettings> lane_settings;
   std::vector<double> dts;     // s, each > 0 and dividing duration
   // The adaptive lanes' tolerances (rtol = atol, adaptive.h), each in (0, 1): an adaptive lane
   // (bs3, dopri5, rkf78) runs once per tolerance where a fixed-step lane runs once per step,
@@ -166,14 +167,15 @@ std::vector<double> steps_of(const WorkPrecisionSpec& spec, IntegratorKind kind)
 // The study's points in the order it reports them (integrator by integrator, dt ascending),
 // not yet run: a point's index is its item number in a sharded bench (shard.h).
 std::vector<WorkPrecisionPoint> planned_points(const WorkPrecisionSpec& spec);
-// Lane `i`'s name (spec.lane_names, else the integrator's) and model (spec.lane_models, else `model`).
+// Lane `i`'s name (spec.lane_names, else the integrator's) and settings (spec.lane_settings,
+// else `model`'s own).
 std::string lane_name(const WorkPrecisionSpec& spec, std::size_t i);
-const Model& lane_model(const WorkPrecisionSpec& spec, std::size_t i, const Model& model);
+MethodSettings lane_settings(const WorkPrecisionSpec& spec, std::size_t i, const Model& model);
 // Rough cost of a run in force-evaluation equivalents, for scheduling and sharding only.
 double cost_estimate(IntegratorKind kind, double T, double dt);
 double point_cost(const WorkPrecisionPoint& p, double T);
-// Runs point `p` of the study on `model` (its lane's, lane_model): a fixed step, or an adaptive
-// pair at the point's tolerance, to T, measured on the way by `sampling`.
+// Runs point `p` of the study on `model` under its lane's settings (lane_settings): a fixed
+// step, or an adaptive pair at the point's tolerance, to T, measured on the way by `sampling`.
 StudyRun run_point(const Model& model, const WorkPrecisionSpec& spec, const WorkPrecisionPoint& p,
                    const std::function<bool()>& stop = {}, const Sampling& sampling = {});
 // `p` with the run's outcome and cost, and its error at T against `reference` (nullptr: none);

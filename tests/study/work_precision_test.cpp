@@ -349,17 +349,17 @@ TEST(WorkPrecision, TheReferenceSaysWhetherTheClothTouchesTheGroundAtT) {
   EXPECT_TRUE(work_precision(spring_model({"ground.height=-0.015"}), spec).reference.contact_at_end);
 }
 
-// Two lanes of one integrator, each on its own model: the points carry their lane, each
-// lane's order is fitted over its own points, and a lane runs its model's solver.
-TEST(WorkPrecision, LanesOfOneIntegratorRunOnTheirOwnModels) {
+// Two lanes of one integrator, each with its own settings: the points carry their lane, each
+// lane's order is fitted over its own points, and a lane runs its settings' solver.
+TEST(WorkPrecision, LanesOfOneIntegratorRunWithTheirOwnSettings) {
   const Model model = spring_model();
-  Model fixed_point = model;
+  MethodSettings fixed_point = model.method_defaults();
   fixed_point.implicit.solver = ImplicitSolver::FixedPoint;
   fixed_point.implicit.fixed_point_iterations = 1;
   WorkPrecisionSpec spec = spring_spec({IntegratorKind::ImplicitEuler, IntegratorKind::ImplicitEuler});
   spec.dts = {0.01, 0.005};
   spec.lane_names = {"implicit_euler", "implicit_euler_fixed_point"};
-  spec.lane_models = {nullptr, &fixed_point};
+  spec.lane_settings = {model.method_defaults(), fixed_point};
   const WorkPrecisionResult r = work_precision(model, spec);
   ASSERT_EQ(r.points.size(), 4u);
   EXPECT_EQ(r.points[0].lane, 0u);

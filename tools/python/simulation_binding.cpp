@@ -32,22 +32,21 @@ Lane parse_lane_argument(const std::string& text, const SceneDef& scene) {
 }
 
 Simulation::Simulation(Scene scene, const std::optional<std::string>& lane)
-    : scene_(std::move(scene)), made_from_(scene_.model) {
+    : scene_(std::move(scene)) {
   kind_ = scene_.def.integrator;
   dt_ = scene_.def.dt;
+  MethodSettings settings = scene_.model->method_defaults();
   if (lane) {
     const Lane parsed = parse_lane_argument(*lane, scene_.def);
     kind_ = parsed.kind;
     dt_ = parsed.dt;
-    std::optional<Model> storage;  // the lane's settings (:N, :tol=, the fixed point), as compare runs it
-    try {
-      (void)clip::lane_model(*scene_.model, parsed, storage);
+    try {  // the lane's settings (:N, :tol=, the fixed point), as compare runs it
+      settings = clip::lane_settings(*scene_.model, parsed);
     } catch (const clip::UsageError& e) {
       throw py::value_error("lane: " + *lane + ": " + e.what());
     }
-    if (storage) scene_.model = std::make_shared<const Model>(std::move(*storage));
   }
-  run_ = std::make_unique<Run>(*scene_.model, kind_, dt_);
+  run_ = std::make_unique<Run>(*scene_.model, kind_, dt_, settings);
   // Polled before every step; a clock read costs nanoseconds beside a step, and Python's
   // signal check (which takes the GIL) runs only every 0.1 s of wall time.
   auto next_poll = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());

@@ -32,8 +32,9 @@ class Simulation {
   std::unique_lock<std::mutex> lock() const;
   const Run& engine() const { return *run_; }
   const Scene& scene() const { return scene_; }
-  // Whether it was made from `scene` (its lane's settings may give it a model of its own).
-  bool of_scene(const Scene& scene) const { return made_from_ == scene.model; }
+  // Whether it was made from `scene`: it runs on the scene's own model (the lane's settings
+  // ride in its Run, not in a model of its own).
+  bool of_scene(const Scene& scene) const { return scene_.model == scene.model; }
   IntegratorKind kind() const { return kind_; }
   double dt() const { return dt_; }
 
@@ -41,7 +42,6 @@ class Simulation {
   void advance(bool one_step, double until);
 
   Scene scene_;
-  std::shared_ptr<const Model> made_from_;  // the Scene's model, before the lane's settings
   IntegratorKind kind_;
   double dt_;
   std::unique_ptr<Run> run_;

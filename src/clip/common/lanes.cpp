@@ -1,6 +1,7 @@
 #include "lanes.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "cli_common.h"
 #include "clip/common/plan_parts.h"
@@ -98,17 +99,18 @@ Lane parse_reference(const std::string& text, const std::vector<Lane>& lanes) {
   return ref;
 }
 
-void set_tolerance(Model& model, IntegratorKind kind, double tolerance, int cap) {
-  double* tol = residual_tolerance(model, kind);
+void set_tolerance(MethodSettings& settings, IntegratorKind kind, double tolerance, int cap) {
+  double* tol = residual_tolerance(settings, kind);
   if (!tol) return;  // refused when parsed
   *tol = tolerance;
-  *iteration_count(model, kind) = cap;
+  *iteration_count(settings, kind) = cap;
 }
 
-void set_iterations(Model& model, IntegratorKind kind, bool fixed_point, int iterations,
+void set_iterations(MethodSettings& settings, IntegratorKind kind, bool fixed_point, int iterations,
                     const std::string& what) {
-  const bool fixed = kind == kBackwardEuler && (fixed_point || model.implicit.solver == ImplicitSolver::FixedPoint);
-  int* count = fixed ? &model.implicit.fixed_point_iterations : iteration_count(model, kind);
+  ImplicitDef& implicit = settings.implicit;
+  const bool fixed = kind == kBackwardEuler && (fixed_point || implicit.solver == ImplicitSolver::FixedPoint);
+  int* count = fixed ? &implicit.fixed_point_iterations : iteration_count(settings, kind);
   if (!count) throw UsageError(what + ": " + std::string(integrator_name(kind)) + " has no iterations to set");
   *count = iterations;
 }
@@ -123,30 +125,26 @@ void follow_scene_solver(std::vector<Lane>& lanes, const ImplicitDef& implicit) 
   if (implicit.solver != ImplicitSolver::FixedPoint) return;
   for (Lane& l : lanes) {
     if (l.kind != kBackwardEuler || l.fixed_point) continue;
-    l.fixed_point = true;  // lane_model sets one iteration unless the lane says how many
+    l.fixed_point = true;  // lane_settings sets one iteration unless the lane says how many
     if (l.iterations == 0 && implicit.fixed_point_iterations != 1) l.iterations = implicit.fixed_point_iterations;
   }
 }
 
-const Model& lane_model(const Model& base, const Lane& lane, std::optional<Model>& storage) {
+MethodSettings lane_settings(const Model& base, const Lane& lane) {
   const std::string refused = base.collision.model == ContactModel::Barrier ? barrier_refusal(lane.kind) : "";
   if (!refused.empty()) throw UsageError("--integrators: collision.model: barrier: " + refused);
-  const bool error_control = (lane.rtol > 0.0 && lane.rtol != base.adaptive.rtol) ||
-                             (lane.atol > 0.0 && lane.atol != base.adaptive.atol);
-  if (!lane.fixed_point && lane.iterations == 0 && lane.tolerance == 0.0 && !error_control && lane.params.empty())
-    return base;
-  storage.emplace(base);
-  for (const auto& [key, value] : lane.params) set_method_param(storage->methods, key, value);
-  if (lane.rtol > 0.0) storage->adaptive.rtol = lane.rtol;  // an adaptive pair's error control
-  if (lane.atol > 0.0) storage->adaptive.atol = lane.atol;
+  MethodSettings s = base.method_defaults();
+  for (const auto& [key, value] : lane.params) set_method_param(s.methods, key, value);
+  if (lane.rtol > 0.0) s.adaptive.rtol = lane.rtol;  // an adaptive pair's error control
+  if (lane.atol > 0.0) s.adaptive.atol = lane.atol;
   if (lane.fixed_point) {  // the course framework's "implicit" (docs/integrators.md)
-    storage->implicit.solver = ImplicitSolver::FixedPoint;
-    storage->implicit.fixed_point_iterations = 1;
+    s.implicit.solver = ImplicitSolver::FixedPoint;
+    s.implicit.fixed_point_iterations = 1;
   }
-  if (lane.tolerance > 0.0) set_tolerance(*storage, lane.kind, lane.tolerance, lane.iterations > 0 ? lane.iterations : kToleranceCap);
-  if (lane.iterations > 0)
-    set_iterations(*storage, lane.kind, lane.fixed_point, lane.iterations, "--integrators");
-  return *storage;
+  if (lane.tolerance > 0.0)
+    set_tolerance(s, lane.kind, lane.tolerance, lane.iterations > 0 ? lane.iterations : kToleranceCap);
+  if (lane.iterations > 0) set_iterations(s, lane.kind, lane.fixed_point, lane.iterations, "--integrators");
+  return s;
 }
 
 std::vector<std::string> lane_directories(const std::vector<Lane>& lanes) {

@@ -5,7 +5,6 @@
 // Every function throws UsageError with a one-line message naming the option.
 #pragma once
 
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,9 +46,13 @@ Lane parse_reference(const std::string& text, const std::vector<Lane>& lanes);
 // spelled '_' (DIR/rk4@1e-4, DIR/implicit_euler@1_60).
 std::vector<std::string> lane_directories(const std::vector<Lane>& lanes);
 
-// The model a lane runs: `base` itself, or a copy with the course's implicit settings (the
-// fixed-point lane) and the lane's iterations (`storage` holds the copy).
-const Model& lane_model(const Model& base, const Lane& lane, std::optional<Model>& storage);
+// The method settings a lane runs with on `base` (core/base/method_settings.h): the model's
+// own (its scene's blocks), then the lane's items over them: the course's fixed point, `:N`,
+// `:tol=` (its cap `:N`, else kToleranceCap), `:rtol=`/`:atol=`, the method's own parameters.
+// The lane runs on `base` itself with them: a Run carries them, no copy of the model does.
+// UsageError "--integrators: collision.model: barrier: ..." for a method the scene's contact
+// model refuses.
+MethodSettings lane_settings(const Model& base, const Lane& lane);
 
 // The lane grammar's refusal (scene/lane.h's LaneError) as the usage error of `option`
 // ("--integrators: unknown integrator 'rk9' (...)"); an empty option keeps the message whole.
@@ -59,12 +62,12 @@ const Model& lane_model(const Model& base, const Lane& lane, std::optional<Model
 // its refusal a UsageError "OPTION: 'x' is not a whole number from 1 to 1000000".
 int parse_iteration_option(const std::string& text, const std::string& option);
 
-// Sets the iterations `kind` runs with in `model` (see Lane::iterations); UsageError naming
+// Sets the iterations `kind` runs with in `settings` (see Lane::iterations); UsageError naming
 // `what` for an integrator without iterations (the explicit family).
-void set_iterations(Model& model, IntegratorKind kind, bool fixed_point, int iterations,
+void set_iterations(MethodSettings& settings, IntegratorKind kind, bool fixed_point, int iterations,
                     const std::string& what);
 
-// Sets an iterative solver's residual tolerance in `model`, with `cap` its iteration cap.
-void set_tolerance(Model& model, IntegratorKind kind, double tolerance, int cap);
+// Sets an iterative solver's residual tolerance in `settings`, with `cap` its iteration cap.
+void set_tolerance(MethodSettings& settings, IntegratorKind kind, double tolerance, int cap);
 
 }  // namespace clothsim::clip

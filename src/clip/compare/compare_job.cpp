@@ -157,10 +157,10 @@ bool starts_reference_early(const CompareRequest& o, const PictureLook& look) {
          look.reference;
 }
 
-// Peak memory, estimated and checked before the renderer or the encoder exist: one Model (and
-// a copy per fixed-point lane), a run per lane and the reference, the renderer at tile size,
-// the tiles, the grid, the PNG writers' queues (3 tiles each), the contact sheet's cells, the
-// first second held for the colour scale, and the encoder.
+// Peak memory, estimated and checked before the renderer or the encoder exist: one Model (a
+// lane's settings ride in its run: no lane copies it), a run per lane and the reference, the
+// renderer at tile size, the tiles, the grid, the PNG writers' queues (3 tiles each), the
+// contact sheet's cells, the first second held for the colour scale, and the encoder.
 void check_memory(const CompareRequest& o, const ComparePlan& p) {
   const SceneDef& scene = p.scene;
   const int particles = scene.cloth.nx * scene.cloth.ny;
@@ -169,7 +169,7 @@ void check_memory(const CompareRequest& o, const ComparePlan& p) {
   for (const SceneDef& s : p.vary_scenes) budget.add("model for --vary", model_bytes(s));
   for (const CompareLane& lane : p.lanes) {
     const Lane& l = lane.spec;
-    budget.add(l.spelling(), run_bytes(scene, l.kind) + kLaneThreadBytes + (l.fixed_point ? model_bytes(scene) : 0.0));
+    budget.add(l.spelling(), run_bytes(scene, l.kind) + kLaneThreadBytes);
   }
   // The error's reference, or under --vary one per value (each its value's model and run).
   const std::size_t references = p.vary_scenes.empty() ? 1 : p.vary_scenes.size();

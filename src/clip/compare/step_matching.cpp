@@ -168,8 +168,7 @@ long reference_steps_per_frame(const Lane& reference, double fps) {
 // The reference's particle positions (3 x P) at every frame of the clip, from steps of
 // 1 / (fps K) that land on the frames exactly; stops where the reference diverges.
 std::vector<Eigen::Matrix3Xd> reference_frames(const Model& model, const Lane& reference, const MatchClip& clip) {
-  std::optional<Model> storage;
-  Run run(lane_model(model, reference, storage), reference.kind, error_reference(reference, clip.fps).dt);
+  Run run(model, reference.kind, error_reference(reference, clip.fps).dt, lane_settings(model, reference));
   run.set_stop_check(interrupted);
   std::vector<Eigen::Matrix3Xd> frames;
   const long last = static_cast<long>(std::floor(clip.duration * clip.fps + 1e-9));
@@ -185,8 +184,7 @@ std::vector<Eigen::Matrix3Xd> reference_frames(const Model& model, const Lane& r
 // first that does not, or at divergence): a trial of either search below.
 bool within(const Model& model, const Lane& lane, double h, const std::vector<Eigen::Matrix3Xd>& frames,
             double tolerance, double fps) {
-  std::optional<Model> storage;
-  Run run(lane_model(model, lane, storage), lane.kind, h);
+  Run run(model, lane.kind, h, lane_settings(model, lane));
   run.set_stop_check(interrupted);
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const bool reached = run.advance_to(static_cast<double>(f) / fps);
@@ -315,8 +313,7 @@ MatchRequest parse_match(const std::vector<std::string>& words) {
 }
 
 double pilot_cost(const Model& model, const Lane& lane, double h, double window) {
-  std::optional<Model> storage;
-  Run run(lane_model(model, lane, storage), lane.kind, h);
+  Run run(model, lane.kind, h, lane_settings(model, lane));
   run.set_stop_check(interrupted);  // a pilot of a large sheet runs for minutes
   run.advance_to(window);
   stop_if_interrupted(kPlanning);

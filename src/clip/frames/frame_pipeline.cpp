@@ -82,7 +82,7 @@ struct FramePipeline::Impl {
   PipelineConfig config;
   Renderer* renderer;
   std::vector<Lane> lanes;
-  std::vector<std::optional<Model>> lane_models;  // the fixed-point lanes' own settings
+  std::vector<MethodSettings> settings;  // per lane, what its run steps with (lane_settings)
   std::vector<std::unique_ptr<LaneWorker>> workers;
   ReferenceLanes references;  // the error colouring's and the energy inset's (never shown)
   std::vector<std::unique_ptr<FrameOutput>> outputs;
@@ -128,10 +128,10 @@ struct FramePipeline::Impl {
 
   void start() {
     const auto interrupt = [] { return interrupted(); };
-    lane_models.resize(lanes.size());
+    for (std::size_t i = 0; i < lanes.size(); ++i) settings.push_back(lane_settings(model_of(i), lanes[i]));
     for (std::size_t i = 0; i < lanes.size(); ++i)
-      workers.push_back(std::make_unique<LaneWorker>(lane_model(model_of(i), lanes[i], lane_models[i]), lanes[i],
-                                                     plan, needs(), kLaneQueueCapacity, interrupt));
+      workers.push_back(std::make_unique<LaneWorker>(model_of(i), settings[i], lanes[i], plan, needs(),
+                                                     kLaneQueueCapacity, interrupt));
     std::vector<const Model*> models;
     for (std::size_t i = 0; i < lanes.size(); ++i) models.push_back(&model_of(i));
     references.start(model, plan, lanes, models, config, interrupt);
@@ -151,14 +151,14 @@ struct FramePipeline::Impl {
     return config.lane_models.empty() ? model : *config.lane_models[lane];
   }
 
-  // The step the stiffness estimate predicts stable for lane `i`'s method on the model it runs
-  // (its fixed-point copy where it has one): what its caption says if it diverges.
+  // The step the stiffness estimate predicts stable for lane `i`'s method on the model it runs,
+  // under its settings (the fixed point's limit is not backward Euler's): what its caption
+  // says if it diverges.
   double predicted_limit_of(std::size_t i) {
     if (predicted_limits.empty())
-      for (std::size_t k = 0; k < lanes.size(); ++k) {
-        const Model& runs = lane_models[k] ? *lane_models[k] : model_of(k);
-        predicted_limits.push_back(analysis::predicted_limit(analysis::estimate_stiffness(runs), lanes[k].kind, runs.implicit));
-      }
+      for (std::size_t k = 0; k < lanes.size(); ++k)
+        predicted_limits.push_back(analysis::predicted_limit(analysis::estimate_stiffness(model_of(k)), lanes[k].kind,
+                                                             settings[k].implicit));
     return predicted_limits[i];
   }
 

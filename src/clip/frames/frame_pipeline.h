@@ -77,8 +77,9 @@ struct PipelineConfig {
   RenderDef scene_render;          // the scene's render block: camera, springs, particles
   std::optional<RenderCamera> camera;  // replaces the model's (render.camera: auto, fitted)
   std::string command = "compare";     // for messages: "compare: colour scale ..."
-  // Per lane, the model it runs when it is not the pipeline's (compare --vary); empty: the
-  // pipeline's model for every lane (a fixed-point lane's copy made from it).
+  // Per lane, the model it runs when it is not the pipeline's (compare --vary: each value its
+  // own scene); empty: the pipeline's model for every lane. A lane's own settings (`:N`, the
+  // fixed point) are no other model: its run carries them (clip::lane_settings).
   std::vector<const Model*> lane_models;
   // compare --vary --color error: a reference per value, in place of `reference`. Each runs on
   // its value's model and measures only the lanes of that model: a value is its own scene, so

@@ -15,9 +15,10 @@
 
 namespace clothsim::clip {
 
-LaneWorker::LaneWorker(const Model& model, Lane spec, const TargetPlan& targets, LaneNeeds needs,
-                       std::size_t queue_capacity, std::function<bool()> interrupt)
-    : model_(model), spec_(std::move(spec)), targets_(targets), needs_(needs), interrupt_(std::move(interrupt)),
+LaneWorker::LaneWorker(const Model& model, const MethodSettings& settings, Lane spec, const TargetPlan& targets,
+                       LaneNeeds needs, std::size_t queue_capacity, std::function<bool()> interrupt)
+    : model_(model), settings_(settings), spec_(std::move(spec)), targets_(targets), needs_(needs),
+      interrupt_(std::move(interrupt)),
       reference_(!needs_.stand_for.empty() || needs_.stand_for_later),
       capacity_(std::max<std::size_t>(1, queue_capacity)) {
   if (!needs_.stand_for.empty()) set_lane_steps(needs_.stand_for);
@@ -161,12 +162,12 @@ LaneFrame frozen_reference(const ReferenceSource& source) {
 // come due, the earliest needed time is served next, and a target's frame is handed over once
 // every lane's positions for it are known (reference_stand.h).
 void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
-  ReferenceHistory history(model_, spec_.kind, run.dt());
+  ReferenceHistory history(model_, settings_, spec_.kind, run.dt());
   if (!run_ahead(run, history)) return finish_reference(run, history);
   ReferenceStand stand(model_, run, lane_steps_, targets_.last_time(), &history);
   if (exact) stand.serve_exactly(*exact);
   std::optional<Run> check;  // the fixed-step reference's own error: a run at twice its step (reference_stand.h)
-  if (!exact) stand.check_against(check.emplace(model_, spec_.kind, 2.0 * run.dt()));
+  if (!exact) stand.check_against(check.emplace(model_, spec_.kind, 2.0 * run.dt(), settings_));
   if (check) check->set_stop_check([this] { return stop_asked(); });
   const ReferenceSource source{run, exact};
   if (needs_.energy_every > 0.0) stand.sample_energy(needs_.energy_every);  // the inset's reference too
@@ -359,7 +360,7 @@ bool LaneWorker::stop_asked() const {
 
 void LaneWorker::work() {
   try {
-    Run run(model_, spec_.kind, spec_.dt);
+    Run run(model_, spec_.kind, spec_.dt, settings_);
     run.set_stop_check([this] { return stop_asked(); });
     // CLOTHSIM_NEWTON_TRACE=1: implicit_euler's Newton trace on stderr (docs/implicit_euler.md, "The Newton trace").
     if (std::getenv("CLOTHSIM_NEWTON_TRACE")) run.set_newton_trace([](const char* line) { std::fputs(line, stderr); });

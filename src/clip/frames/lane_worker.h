@@ -126,10 +126,15 @@ bool same_run(const Lane& started, const Lane& wanted);
 
 class LaneWorker {
  public:
-  // Starts the thread at once. `model` and `targets` must outlive the worker. The lane stops
+  // Starts the thread at once. `model` and `targets` must outlive the worker; the run steps
+  // under `settings` (the lane's: lane_settings), without them the model's own. The lane stops
   // before its next step once stop() was called or `interrupt` (if given) returns true.
+  LaneWorker(const Model& model, const MethodSettings& settings, Lane spec, const TargetPlan& targets,
+             LaneNeeds needs, std::size_t queue_capacity = kLaneQueueCapacity, std::function<bool()> interrupt = {});
   LaneWorker(const Model& model, Lane spec, const TargetPlan& targets, LaneNeeds needs,
-             std::size_t queue_capacity = kLaneQueueCapacity, std::function<bool()> interrupt = {});
+             std::size_t queue_capacity = kLaneQueueCapacity, std::function<bool()> interrupt = {})
+      : LaneWorker(model, model.method_defaults(), std::move(spec), targets, std::move(needs), queue_capacity,
+                   std::move(interrupt)) {}
   ~LaneWorker();  // stops the lane and joins
   LaneWorker(const LaneWorker&) = delete;
   LaneWorker& operator=(const LaneWorker&) = delete;
@@ -170,6 +175,7 @@ class LaneWorker {
   LaneFrame frame_of(const Run& run, const State& state) const;
 
   const Model& model_;
+  const MethodSettings settings_;
   Lane spec_;
   const TargetPlan& targets_;
   LaneNeeds needs_;

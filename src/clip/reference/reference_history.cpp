@@ -7,8 +7,9 @@
 
 namespace clothsim::clip {
 
-ReferenceHistory::ReferenceHistory(const Model& model, IntegratorKind kind, double dt)
-    : model_(model), kind_(kind), dt_(dt) {}
+ReferenceHistory::ReferenceHistory(const Model& model, const MethodSettings& settings, IntegratorKind kind,
+                                   double dt)
+    : model_(model), settings_(settings), kind_(kind), dt_(dt) {}
 
 std::int64_t ReferenceHistory::keep_step(double t, double dt) {
   // A lane lands at or past t less 1e-6 of its step (lane_times.h), and the stand reads the
@@ -34,7 +35,7 @@ const State& ReferenceHistory::at(std::int64_t k) {
     ws_ = Workspace{};  // as Run::last_finite_state replays: a step needs nothing of the workspace's past
     replaying_ = true;
   }
-  while (replay_.step < k) step(model_, replay_, kind_, dt_, ws_);
+  while (replay_.step < k) step(model_, settings_, replay_, kind_, dt_, ws_);
   replay_cpu_ += thread_cpu_seconds() - cpu_start;
   return replay_;
 }

@@ -19,8 +19,11 @@ namespace clothsim::clip {
 
 class ReferenceHistory {
  public:
-  // `model`, `kind` and `dt`: the reference run's. `model` must outlive the history.
-  ReferenceHistory(const Model& model, IntegratorKind kind, double dt);
+  // `model`, `settings`, `kind` and `dt`: the reference run's (a replay takes its steps).
+  // `model` must outlive the history.
+  ReferenceHistory(const Model& model, const MethodSettings& settings, IntegratorKind kind, double dt);
+  ReferenceHistory(const Model& model, IntegratorKind kind, double dt)
+      : ReferenceHistory(model, model.method_defaults(), kind, dt) {}
 
   // The step to keep for a target at time t: a little before any step a lane's time at or
   // after t (less Run::advance_to's tolerance and a rounding) reads.
@@ -40,6 +43,7 @@ class ReferenceHistory {
 
  private:
   const Model& model_;
+  MethodSettings settings_;
   IntegratorKind kind_;
   double dt_;
   std::deque<State> kept_;  // steps increasing

@@ -146,17 +146,15 @@ Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vecto
   return build_model(scene);
 }
 
-void attach_lane_models(const Model& model, const std::vector<Lane>& lanes,
-                        std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec) {
-  storage.assign(lanes.size(), std::nullopt);
-  spec.lane_models.clear();
-  for (std::size_t i = 0; i < lanes.size(); ++i) spec.lane_models.push_back(&clip::lane_model(model, lanes[i], storage[i]));
+void attach_lane_settings(const Model& model, const std::vector<Lane>& lanes, WorkPrecisionSpec& spec) {
+  spec.lane_settings.clear();
+  for (const Lane& lane : lanes) spec.lane_settings.push_back(clip::lane_settings(model, lane));
 }
 
 BenchModels::BenchModels(const BenchOptions& o, SceneDef& scene, const std::vector<Lane>& lanes,
                          WorkPrecisionSpec plan)
     : model(build_bench_model(o, scene, lanes, plan)), spec(std::move(plan)) {
-  attach_lane_models(model, lanes, lane_storage, spec);
+  attach_lane_settings(model, lanes, spec);
 }
 
 ScalePlan plan_scale(const BenchOptions& o) {
@@ -176,9 +174,7 @@ ScalePlan plan_scale(const BenchOptions& o) {
   const SceneDef& first = spec.sizes.front().scene;
   auto lanes = std::make_shared<const std::vector<Lane>>(parse_lanes(o.integrators, "", first.dt));
   for (const Lane& l : *lanes) spec.lanes.push_back({l.spelling(), l.kind, l.dt});
-  spec.lane_model = [lanes](const Model& base, std::size_t i, std::optional<Model>& storage) -> const Model& {
-    return clip::lane_model(base, (*lanes)[i], storage);
-  };
+  spec.lane_settings = [lanes](const Model& model, std::size_t i) { return clip::lane_settings(model, (*lanes)[i]); };
   plan.lanes = std::move(lanes);
   spec.duration = o.scene.duration ? *o.scene.duration : std::min(first.duration, kMaxScaleDuration);
   if (!(spec.duration > 0.0) || !std::isfinite(spec.duration)) throw UsageError("--duration: must be a finite number > 0 s");

@@ -65,19 +65,17 @@ void check_bench_memory(const BenchOptions& o, const SceneDef& scene, const std:
 Model build_bench_model(const BenchOptions& o, SceneDef& scene, const std::vector<Lane>& lanes,
                         const WorkPrecisionSpec& spec);
 
-// Each lane's model into spec.lane_models: `model` itself, or a copy with the lane's own solver
-// settings held in `storage` (keep both alive while the study runs).
-void attach_lane_models(const Model& model, const std::vector<Lane>& lanes,
-                        std::vector<std::optional<Model>>& storage, WorkPrecisionSpec& spec);
+// Each lane's settings on `model` into spec.lane_settings (clip::lane_settings): every lane
+// runs on `model` itself.
+void attach_lane_settings(const Model& model, const std::vector<Lane>& lanes, WorkPrecisionSpec& spec);
 
-// A study's models, ready to run: the scene's (build_bench_model) and each lane's own
-// (attach_lane_models), spec.lane_models pointing into both; so neither copied nor moved.
+// A study ready to run: the scene's model (build_bench_model) and the spec with each lane's
+// settings (attach_lane_settings). Not copied: a Model is large.
 struct BenchModels {
   BenchModels(const BenchOptions& o, SceneDef& scene, const std::vector<Lane>& lanes, WorkPrecisionSpec plan);
   BenchModels(const BenchModels&) = delete;
   BenchModels& operator=(const BenchModels&) = delete;
   const Model model;
-  std::vector<std::optional<Model>> lane_storage;
   WorkPrecisionSpec spec;
 };
 
@@ -101,7 +99,7 @@ std::vector<ValueStudy> plan_values(const BenchOptions& o, const SceneDef& base,
 inline constexpr double kMaxScaleDuration = 0.2;  // s
 struct ScalePlan {
   std::vector<int> sides;
-  std::shared_ptr<const std::vector<Lane>> lanes;  // shared with spec.lane_model
+  std::shared_ptr<const std::vector<Lane>> lanes;  // shared with spec.lane_settings
   analysis::ScaleSpec spec;
 };
 ScalePlan plan_scale(const BenchOptions& o);

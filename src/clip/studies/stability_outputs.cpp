@@ -65,9 +65,10 @@ int stability_shard(const StabilityOptions& o, const std::string& title, const s
   ShardPlan plan{"stability", o.scene.path, o.scene.sets, o.param, title,
                  first_line(written_text([&](std::FILE* f) { write_stability_csv(f, o.param, {}, spec, names); })), {}};
   for (const analysis::StabilityCase& c : refs)
-    for (std::size_t lane = 0; lane < spec.integrators.size(); ++lane) {  // the lane: its model is part of the item
+    for (std::size_t lane = 0; lane < spec.integrators.size(); ++lane) {  // the lane: its settings are part of the item
       plan.plan += ";" + csv_number(c.value) + " " + names[lane];
-      plan.costs.push_back(analysis::search_cost(analysis::case_lane_model(c, lane), spec.integrators[lane], spec));
+      plan.costs.push_back(
+          analysis::search_cost(*c.model, analysis::case_lane_settings(c, lane), spec.integrators[lane], spec));
     }
   for (double x : {spec.duration, spec.min_dt, spec.max_dt, spec.precision, spec.energy_factor, spec.max_strain})
     plan.plan += ";" + csv_number(x);

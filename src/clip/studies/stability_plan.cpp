@@ -112,20 +112,18 @@ StabilityStudy plan_stability(const StabilityOptions& o, const SceneDef& base) {
   double smallest_estimate = INFINITY;
   for (analysis::SweepScene& s : scenes) {
     s.scene.duration = spec.duration;
-    study.cases.push_back({s.value, build_model(s.scene), {}});
+    study.cases.push_back({s.value, build_model(s.scene)});
     smallest_estimate = std::min(smallest_estimate, analysis::estimate_stiffness(study.cases.back().model).dt_with_damping());
   }
   finish_stability_spec(o, base, smallest_estimate, spec);
   return study;
 }
 
-std::vector<analysis::StabilityCase> StabilityStudy::refs() {
+std::vector<analysis::StabilityCase> StabilityStudy::refs() const {
   std::vector<analysis::StabilityCase> out;
-  for (StabilityCaseModels& c : cases) {
+  for (const StabilityCaseModels& c : cases) {
     out.push_back({c.value, &c.model, {}});
-    c.lane_models.assign(lanes.size(), std::nullopt);
-    for (std::size_t i = 0; i < lanes.size(); ++i)
-      out.back().lane_models.push_back(&clip::lane_model(c.model, lanes[i], c.lane_models[i]));
+    for (const Lane& lane : lanes) out.back().lane_settings.push_back(clip::lane_settings(c.model, lane));
   }
   return out;
 }

@@ -42,11 +42,10 @@ inline constexpr double kMinDtDivisor = 32;        // the smallest step tried: e
 // Lane spellings (Lane::stepless_spelling), by StabilityLimit::lane: the CSV's and summary's names.
 using LaneNames = std::vector<std::string>;
 
-// One swept value's model, and each lane's copy with its own solver settings (clip::lane_model).
+// One swept value's model (every lane searches on it, with its own settings: refs()).
 struct StabilityCaseModels {
   double value;
   Model model;
-  std::vector<std::optional<Model>> lane_models;  // per lane; empty until StabilityStudy::refs()
 };
 
 // The whole study, planned: the lanes, the values and their models, the search's bounds.
@@ -56,9 +55,9 @@ struct StabilityStudy {
   std::vector<double> values;               // per case
   std::vector<StabilityCaseModels> cases;   // per value, models built
   analysis::StabilitySpec spec;
-  // The cases as stability_sweep takes them, pointing into `cases`: call it once the study
-  // stays where it is.
-  std::vector<analysis::StabilityCase> refs();
+  // The cases as stability_sweep takes them, pointing into `cases` (each lane's settings on
+  // its model: clip::lane_settings): call it once the study stays where it is.
+  std::vector<analysis::StabilityCase> refs() const;
 };
 
 // As `clothsim stability` plans it: lanes, swept values (--values or the scene's x

@@ -27,13 +27,14 @@ bool ImplicitCache::holds(const ImplicitSolverState::Linearisation& lin) const {
          same_bits(lin.inv_mass.data(), record.inv_mass.data(), static_cast<std::size_t>(lin.inv_mass.size()));
 }
 
-ImplicitCache& cache_for(const Model& model, Workspace& ws) {
+ImplicitCache& cache_for(const Model& model, const ImplicitDef& cfg, Workspace& ws) {
   if (!ws.implicit) ws.implicit.reset(new ImplicitCache);
   ImplicitCache& c = *ws.implicit;
-  if (c.model == &model && c.A.num_bodies() == model.num_bodies() &&
+  if (c.model == &model && c.single_from == cfg.single_from && c.A.num_bodies() == model.num_bodies() &&
       c.A.num_springs() == model.springs.size())
     return c;
-  build_pattern(model, c.A);
+  build_pattern(model, cfg.single_from, c.A);
+  c.single_from = cfg.single_from;
   c.y_length.clear();
   c.factor.reset();  // analysed when first needed
   c.multigrid = MultigridPreconditioner{};  // likewise

@@ -22,6 +22,7 @@ namespace clothsim {
 
 struct ImplicitCache {
   const Model* model = nullptr;
+  int single_from = 0;         // the ImplicitDef::single_from A was built with
   double force_scale = 0.0;    // N, sqrt(sum_s (ks_s l0_s)^2): the size of the spring forces' terms
   double shortest_rest = 0.0;  // m, the shortest rest length (infinite without springs)
   analysis::StiffnessEstimate stiffness;  // Gershgorin bounds the matrix-reuse distance uses
@@ -51,7 +52,8 @@ struct ImplicitCache {
   bool holds(const ImplicitSolverState::Linearisation& lin) const;
 };
 
-// The Workspace's cache, (re)built for `model` where it was built for another.
-ImplicitCache& cache_for(const Model& model, Workspace& ws);
+// The Workspace's cache, (re)built for `model` and the run's settings `cfg` where it was built
+// for another.
+ImplicitCache& cache_for(const Model& model, const ImplicitDef& cfg, Workspace& ws);
 
 }  // namespace clothsim

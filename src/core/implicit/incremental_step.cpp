@@ -136,10 +136,9 @@ double start_lengths(const Model& model, const State& state, ImplicitCache& c) {
   return strain;
 }
 
-void solve_incremental(const Model& model, State& start, const StepForm& form, ImplicitCache& c,
-                       const NewtonTracer& trace, StepStats& stats) {
+void solve_incremental(const Model& model, const ImplicitDef& cfg, State& start, const StepForm& form,
+                       ImplicitCache& c, const NewtonTracer& trace, StepStats& stats) {
   const double h = form.h;
-  const ImplicitDef& cfg = model.implicit;
   const Eigen::VectorXd& w = start.inv_mass;
   const NewtonMode mode = cfg.newton_mode();
   const DvHistory past(start, model.num_bodies());
@@ -154,7 +153,7 @@ void solve_incremental(const Model& model, State& start, const StepForm& form, I
   hold_immovable(w, c.dv);
   place_on_planes(c.contacts, start, h, c.dv);
   if (uses_barrier(model)) barrier_feasible_start(model, start, form, c.dv);  // Phi finite at the start
-  NewtonSolve newton(model, start, form, c, stats, trace);
+  NewtonSolve newton(model, cfg, start, form, c, stats, trace);
   newton.evaluate();
   if (trace.on()) trace_step_start(trace, model, start, c, guess.name());
   newton.set_scale(residual_scale(cfg, h, c));

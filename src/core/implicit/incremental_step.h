@@ -24,7 +24,8 @@ double start_lengths(const Model& model, const State& state, ImplicitCache& c);
 // solution in c (dv, its end positions y, the residual r at it, the held contacts), sets
 // stats' converged, residual, iterations and contact count, and records the solver's memory
 // (first guess, held set, matrix record) in start.implicit. `start` is otherwise unchanged.
-void solve_incremental(const Model& model, State& start, const StepForm& form, ImplicitCache& c,
-                       const NewtonTracer& trace, StepStats& stats);
+// `cfg`: the run's Newton and CG settings (MethodSettings::implicit).
+void solve_incremental(const Model& model, const ImplicitDef& cfg, State& start, const StepForm& form,
+                       ImplicitCache& c, const NewtonTracer& trace, StepStats& stats);
 
 }  // namespace clothsim

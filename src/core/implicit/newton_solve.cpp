@@ -86,20 +86,16 @@ PreconditionerKind resolved_preconditioner(PreconditionerKind asked, double part
   return particles >= kJacobiFromParticles ? PreconditionerKind::BlockJacobi : PreconditionerKind::Cholesky;
 }
 
-PreconditionerKind resolved_preconditioner(const Model& model) {
-  return resolved_preconditioner(model.implicit.preconditioner, model.num_particles);
-}
-
 double reuse_reach(double shortest, const analysis::StiffnessEstimate& stiffness, double h) {
   const double springs = h * stiffness.c_max + std::pow(h * stiffness.w_max, 2);
   return springs > 0.0 ? kReuseChange * shortest / (4.0 * springs) : std::numeric_limits<double>::infinity();
 }
 
-NewtonSolve::NewtonSolve(const Model& model, State& start, const StepForm& form, ImplicitCache& c,
-                         StepStats& stats, const NewtonTracer& trace)
-    : model_(model), start_(start), record_(start), form_(form), h_(form.h), cfg_(model.implicit), c_(c), stats_(stats),
+NewtonSolve::NewtonSolve(const Model& model, const ImplicitDef& cfg, State& start, const StepForm& form,
+                         ImplicitCache& c, StepStats& stats, const NewtonTracer& trace)
+    : model_(model), start_(start), record_(start), form_(form), h_(form.h), cfg_(cfg), c_(c), stats_(stats),
       trace_(trace), single_step_(cfg_.newton_mode() == NewtonMode::BaraffWitkin),
-      preconditioner_(resolved_preconditioner(model)),
+      preconditioner_(resolved_preconditioner(cfg.preconditioner, model.num_particles)),
       trust_on_(!single_step_ && model.num_particles >= cfg_.trust_region_from) {
   account_.first = start.implicit.factored && start.step % kRetryJacobi != 0;
   account_.jacobi_forecast = start.implicit.jacobi_solve;

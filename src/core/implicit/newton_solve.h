@@ -184,9 +184,10 @@ class NewtonSolve {
  public:
   // `start` is read as the step's start throughout; only its record of the Newton matrix's
   // linearisation (State::implicit.lin) is written, when a matrix is assembled.
-  // `form`: the step's incremental potential (step_form.h; a bare h: backward Euler's).
-  NewtonSolve(const Model& model, State& start, const StepForm& form, ImplicitCache& c, StepStats& stats,
-              const NewtonTracer& trace);
+  // `form`: the step's incremental potential (step_form.h; a bare h: backward Euler's);
+  // `cfg`: the run's Newton and CG settings (MethodSettings::implicit), outliving the solve.
+  NewtonSolve(const Model& model, const ImplicitDef& cfg, State& start, const StepForm& form, ImplicitCache& c,
+              StepStats& stats, const NewtonTracer& trace);
 
   void evaluate();           // Phi, r and y at c.dv
   bool update_contacts();    // let go of pulling contacts, then take in; whether the set changed
@@ -255,9 +256,8 @@ class NewtonSolve {
   double first_drop_ = 0.0;   // J, Phi's decrease at that trial (NaN: below rounding)
 };
 
-// implicit.preconditioner for this model: auto resolved by the sheet's size.
-PreconditionerKind resolved_preconditioner(const Model& model);
-// The same for `asked` on a sheet of `particles` (the memory estimate's, before a Model exists).
+// implicit.preconditioner `asked` on a sheet of `particles`: auto resolved by the sheet's size
+// (the solve's, and the memory estimate's before a Model exists).
 PreconditionerKind resolved_preconditioner(PreconditionerKind asked, double particles);
 
 // MatrixReuse::reach for springs as short as `shortest` and as stiff as `stiffness`.

@@ -8,14 +8,16 @@
 
 namespace clothsim {
 
-void build_pattern(const Model& model, SpringBlockMatrix& A) {
+void build_pattern(const Model& model, SpringBlockMatrix& A) { build_pattern(model, model.implicit.single_from, A); }
+
+void build_pattern(const Model& model, int single_from, SpringBlockMatrix& A) {
   const int B = model.num_bodies();
   const std::size_t S = model.springs.size();
   const SpringLayout& layout = model.spring_layout;
   const bool families = model.spring_path() != SpringPath::List;
   const std::size_t slots = slot_count(layout, S);
   A.multiply = &multiply;
-  const bool single = families && model.num_particles >= model.implicit.single_from;
+  const bool single = families && model.num_particles >= single_from;
   A.refresh_single_copy = single ? &refresh_single : nullptr;
   A.a = model.springs.a;
   A.b = model.springs.b;

@@ -44,7 +44,10 @@ enum class HessianBlocks { Exact, Projected };
 // for a solver that preconditions with the sparse factor (invert_diagonal when needed).
 enum class JacobiInverse { Form, Skip };
 
-// Sizes the pattern for a model's bodies and springs (the only allocating call).
+// Sizes the pattern for a model's bodies and springs (the only allocating call). From
+// `single_from` particles on (a run's ImplicitDef::single_from) the mat-vec reads a float copy;
+// without it, as the model's own settings say.
+void build_pattern(const Model& model, int single_from, SpringBlockMatrix& A);
 void build_pattern(const Model& model, SpringBlockMatrix& A);
 
 // Refills A = H at the end-of-step positions y (3 x B) for the step of form `form` (step_form.h),

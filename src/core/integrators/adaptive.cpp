@@ -142,8 +142,8 @@ struct AdaptiveStepper::Impl {
   Eigen::Matrix3Xd x, v, a;  // the right-hand side's scratch
 };
 
-AdaptiveStepper::AdaptiveStepper(const Model& model, IntegratorKind kind, double first_h)
-    : impl_(std::make_unique<Impl>(Impl{model, make_pair(kind, model.adaptive), first_h, {}, {}, {}, {}})) {}
+AdaptiveStepper::AdaptiveStepper(const Model& model, IntegratorKind kind, const AdaptiveDef& control, double first_h)
+    : impl_(std::make_unique<Impl>(Impl{model, make_pair(kind, control), first_h, {}, {}, {}, {}})) {}
 
 AdaptiveStepper::~AdaptiveStepper() = default;
 

@@ -55,8 +55,9 @@ struct AdaptiveStep {
 
 class AdaptiveStepper {
  public:
-  // `first_h` the first trial step (a lane's @STEP, else the scene's dt).
-  AdaptiveStepper(const Model& model, IntegratorKind kind, double first_h);
+  // `control` the run's error control (MethodSettings::adaptive); `first_h` the first trial
+  // step (a lane's @STEP, else the scene's dt).
+  AdaptiveStepper(const Model& model, IntegratorKind kind, const AdaptiveDef& control, double first_h);
   ~AdaptiveStepper();
   // Advances `state` (x, v, t; not step) by one accepted step, landing exactly on `limit` when
   // the step would cross it. Collisions and events are the caller's (Run's).

@@ -17,7 +17,8 @@ namespace clothsim {
 StepStats bdf2_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
   constexpr IntegratorKind kKind = IntegratorKind::Bdf2;
   const double h = ctx.h;
-  ImplicitCache& c = cache_for(model, ws);
+  const ImplicitDef& cfg = ctx.settings.implicit;
+  ImplicitCache& c = cache_for(model, cfg, ws);
   const NewtonTracer trace(ws);
   StepStats stats;
   StepHistory& hist = state.history;
@@ -27,7 +28,7 @@ StepStats bdf2_step(const Model& model, State& state, const StepContext& ctx, Wo
   ws.v2 = state.v;
   std::vector<double> length_n = c.start_length;
   if (!continues) {  // backward Euler from (x_n, v_n)
-    solve_incremental(model, state, h, c, trace, stats);
+    solve_incremental(model, cfg, state, h, c, trace, stats);
     simd_finish_step(state.x.data(), state.v.data(), c.dv.data(), h, static_cast<std::size_t>(c.dv.size()));
   } else {
     const double he = 2.0 * h / 3.0;
@@ -37,7 +38,7 @@ StepStats bdf2_step(const Model& model, State& state, const StepContext& ctx, Wo
     ws.v1.noalias() = (4.0 * state.v - hist.v_before) / 3.0;
     StepForm form(he);
     form.lag_x = &state.x;
-    family_solve(model, state, ws.x1, ws.v1, form, c, trace, stats);
+    family_solve(model, cfg, state, ws.x1, ws.v1, form, c, trace, stats);
     state.v.noalias() = ws.v1 + c.dv;            // v_{n+1} = v~ + dv
     state.x.noalias() = ws.x1 + he * state.v;    // x_{n+1} = x~ + h_e v_{n+1}
     move_immovable(ws.x2, ws.v2, h, state);

@@ -7,7 +7,7 @@ namespace clothsim {
 
 StepStats generalized_alpha_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
   return alpha_method_step(model, state, ctx, ws, IntegratorKind::GeneralizedAlpha,
-                           generalized_alpha_method(generalized_alpha_params(model)));
+                           generalized_alpha_method(generalized_alpha_params(ctx.settings)));
 }
 
 }  // namespace clothsim

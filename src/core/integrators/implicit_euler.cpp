@@ -36,19 +36,18 @@ namespace clothsim {
 namespace {
 
 StepStats newton_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
-  ImplicitCache& c = cache_for(model, ws);
+  ImplicitCache& c = cache_for(model, ctx.settings.implicit, ws);
   const NewtonTracer trace(ws);
   StepStats stats;
   stats.start_strain = start_lengths(model, state, c);  // l_n: the dampers' reference lengths
-  solve_incremental(model, state, ctx.h, c, trace, stats);
+  solve_incremental(model, ctx.settings.implicit, state, ctx.h, c, trace, stats);
   // v_{n+1} = v_n + dv, x_{n+1} = x_n + h v_{n+1}; the contact response on the held particles.
   simd_finish_step(state.x.data(), state.v.data(), c.dv.data(), ctx.h, static_cast<std::size_t>(c.dv.size()));
   respond_to_step_contacts(model, c.contacts, c.r, state);
   return stats;
 }
 
-StepStats fixed_point_step(const Model& model, State& state, double h, Workspace& ws) {
-  const int K = model.implicit.fixed_point_iterations;
+StepStats fixed_point_step(const Model& model, State& state, double h, int K, Workspace& ws) {
   const Eigen::VectorXd& w = state.inv_mass;
   StepStats stats;
 
@@ -86,9 +85,10 @@ double implicit_reuse_reach(const Model& model, double h) {
 }
 
 StepStats implicit_euler_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
-  switch (model.implicit.solver) {
+  const ImplicitDef& cfg = ctx.settings.implicit;
+  switch (cfg.solver) {
     case ImplicitSolver::Newton: return newton_step(model, state, ctx, ws);
-    case ImplicitSolver::FixedPoint: return fixed_point_step(model, state, ctx.h, ws);
+    case ImplicitSolver::FixedPoint: return fixed_point_step(model, state, ctx.h, cfg.fixed_point_iterations, ws);
   }
   return newton_step(model, state, ctx, ws);
 }

@@ -10,8 +10,10 @@
 
 namespace clothsim {
 
-NewmarkDef newmark_params(const Model& model) { return model.methods.newmark; }
-GeneralizedAlphaDef generalized_alpha_params(const Model& model) { return model.methods.generalized_alpha; }
+NewmarkDef newmark_params(const MethodSettings& settings) { return settings.methods.newmark; }
+GeneralizedAlphaDef generalized_alpha_params(const MethodSettings& settings) {
+  return settings.methods.generalized_alpha;
+}
 
 AlphaMethod newmark_method(const NewmarkDef& p) { return {0.0, 0.0, p.beta, p.gamma}; }
 
@@ -25,8 +27,9 @@ AlphaMethod generalized_alpha_method(const GeneralizedAlphaDef& p) {
   return m;
 }
 
-void family_solve(const Model& model, State& state, Eigen::Matrix3Xd& xs, Eigen::Matrix3Xd& vs,
-                  const StepForm& form, ImplicitCache& c, const NewtonTracer& trace, StepStats& stats) {
+void family_solve(const Model& model, const ImplicitDef& cfg, State& state, Eigen::Matrix3Xd& xs,
+                  Eigen::Matrix3Xd& vs, const StepForm& form, ImplicitCache& c, const NewtonTracer& trace,
+                  StepStats& stats) {
   State start;  // the pseudo-start, with the step's inverse masses and the solver's memory
   start.x.swap(xs);
   start.v.swap(vs);
@@ -34,7 +37,7 @@ void family_solve(const Model& model, State& state, Eigen::Matrix3Xd& xs, Eigen:
   std::swap(start.implicit, state.implicit);
   start.t = state.t;
   start.step = state.step;
-  solve_incremental(model, start, form, c, trace, stats);
+  solve_incremental(model, cfg, start, form, c, trace, stats);
   start.x.swap(xs);
   start.v.swap(vs);
   start.inv_mass.swap(state.inv_mass);
@@ -79,7 +82,7 @@ void shift_reference_lengths(const Model& model, const State& state, const Eigen
 StepStats alpha_method_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws,
                             IntegratorKind kind, const AlphaMethod& m) {
   const double h = ctx.h;
-  ImplicitCache& c = cache_for(model, ws);
+  ImplicitCache& c = cache_for(model, ctx.settings.implicit, ws);
   const NewtonTracer trace(ws);
   StepStats stats;
   StepHistory& hist = state.history;
@@ -104,7 +107,7 @@ StepStats alpha_method_step(const Model& model, State& state, const StepContext&
   StepForm form(he, damper_h, he * he / damper_h);
   form.lag_x = &state.x;
   form.contact_stage = 1.0 - m.af;  // the barrier at x_{n+1} = x_n + (y - x_n) / (1 - af)
-  family_solve(model, state, ws.x1, ws.v1, form, c, trace, stats);
+  family_solve(model, ctx.settings.implicit, state, ws.x1, ws.v1, form, c, trace, stats);
 
   // a_{n+1} = (a_m - am a_n) / (1 - am), a_m = dv / h_e; then Newmark's updates.
   ws.a1.noalias() = (c.dv / he - m.am * a_n) / (1.0 - m.am);

@@ -49,9 +49,13 @@
 
 namespace clothsim {
 
-// The method's parameters, each read in one place (the accessor).
-NewmarkDef newmark_params(const Model& model);
-GeneralizedAlphaDef generalized_alpha_params(const Model& model);
+// The method's parameters in a run's settings, each read in one place (the accessor); of a
+// model, its scene's.
+NewmarkDef newmark_params(const MethodSettings& settings);
+GeneralizedAlphaDef generalized_alpha_params(const MethodSettings& settings);
+inline GeneralizedAlphaDef generalized_alpha_params(const Model& model) {
+  return generalized_alpha_params(model.method_defaults());
+}
 
 // A Newmark-type method in Chung & Hulbert's form: newmark is am = af = 0.
 struct AlphaMethod {
@@ -66,9 +70,10 @@ StepStats alpha_method_step(const Model& model, State& state, const StepContext&
 
 // The shared solve: the step of `form` from the pseudo-start (xs, vs) (3 x B, swapped in and
 // back), reference lengths in c.start_length, the solver's memory and the inverse masses
-// state's. Leaves the solution in c (incremental_step.h).
-void family_solve(const Model& model, State& state, Eigen::Matrix3Xd& xs, Eigen::Matrix3Xd& vs,
-                  const StepForm& form, ImplicitCache& c, const NewtonTracer& trace, StepStats& stats);
+// state's; `cfg` the run's Newton settings. Leaves the solution in c (incremental_step.h).
+void family_solve(const Model& model, const ImplicitDef& cfg, State& state, Eigen::Matrix3Xd& xs,
+                  Eigen::Matrix3Xd& vs, const StepForm& form, ImplicitCache& c, const NewtonTracer& trace,
+                  StepStats& stats);
 
 // The seed's contact response on the held particles' final velocities, the solve's impulses
 // times `impulse` (dv_{n+1}/d(dv) of the method's update: the impulse over the whole step).

@@ -12,13 +12,13 @@ namespace clothsim {
 
 StepStats implicit_midpoint_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
   const double h = ctx.h;
-  ImplicitCache& c = cache_for(model, ws);
+  ImplicitCache& c = cache_for(model, ctx.settings.implicit, ws);
   const NewtonTracer trace(ws);
   StepStats stats;
   stats.start_strain = start_lengths(model, state, c);  // l_n: the half step's reference lengths
   StepForm half(0.5 * h);
   half.contact_stage = 0.5;  // the barrier at x_{n+1} = 2 x_m - x_n (implicit_family.h)
-  solve_incremental(model, state, half, c, trace, stats);  // v_m = v_n + dv, x_m = x_n + h/2 v_m
+  solve_incremental(model, ctx.settings.implicit, state, half, c, trace, stats);  // v_m = v_n + dv, x_m = x_n + h/2 v_m
   state.x.noalias() += h * (state.v + c.dv);  // x_n + h v_m (immovable bodies: dv = 0)
   state.v.noalias() += 2.0 * c.dv;            // 2 v_m - v_n
   respond_to_family_contacts(model, 2.0, c, state);

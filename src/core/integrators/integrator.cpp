@@ -151,9 +151,13 @@ const std::vector<IntegratorInfo>& integrator_registry() {
   return infos;
 }
 
-StepStats integrate(IntegratorKind kind, const Model& model, State& state, double h,
-                    Workspace& ws) {
-  return entry(kind).step(model, state, make_step_context(h, model.spring_path()), ws);
+StepStats integrate(IntegratorKind kind, const Model& model, const MethodSettings& settings, State& state,
+                    double h, Workspace& ws) {
+  return entry(kind).step(model, state, make_step_context(h, model.spring_path(), settings), ws);
+}
+
+StepStats integrate(IntegratorKind kind, const Model& model, State& state, double h, Workspace& ws) {
+  return integrate(kind, model, model.method_defaults(), state, h, ws);
 }
 
 int nominal_force_evals(IntegratorKind kind) { return entry(kind).info.nominal_force_evals; }
@@ -169,17 +173,23 @@ int* iteration_count(ImplicitDef& implicit, SolverDefs& solvers, IntegratorKind 
   return entry(kind).iterations(implicit, solvers);
 }
 
-int* iteration_count(Model& model, IntegratorKind kind) { return iteration_count(model.implicit, model.solvers, kind); }
+int* iteration_count(MethodSettings& s, IntegratorKind kind) { return iteration_count(s.implicit, s.solvers, kind); }
 
-int iteration_count(const Model& model, IntegratorKind kind) {
-  Model& m = const_cast<Model&>(model);  // only read
-  const int* n = entry(kind).iterations(m.implicit, m.solvers);
+int iteration_count(const MethodSettings& settings, IntegratorKind kind) {
+  MethodSettings& s = const_cast<MethodSettings&>(settings);  // only read
+  const int* n = entry(kind).iterations(s.implicit, s.solvers);
   return n ? *n : 0;
 }
+
+int* iteration_count(Model& model, IntegratorKind kind) { return iteration_count(model.implicit, model.solvers, kind); }
+
+int iteration_count(const Model& model, IntegratorKind kind) { return iteration_count(model.method_defaults(), kind); }
 
 double* residual_tolerance(ImplicitDef& implicit, SolverDefs& solvers, IntegratorKind kind) {
   return entry(kind).tolerance(implicit, solvers);
 }
+
+double* residual_tolerance(MethodSettings& s, IntegratorKind kind) { return residual_tolerance(s.implicit, s.solvers, kind); }
 
 double* residual_tolerance(Model& model, IntegratorKind kind) { return residual_tolerance(model.implicit, model.solvers, kind); }
 

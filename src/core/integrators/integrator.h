@@ -34,6 +34,10 @@ StepStats ros2_step(const Model& model, State& state, const StepContext& ctx, Wo
 // kReuseChange): 0.05 l_min / (4 (h c_max + (h w_max)^2)); infinite without springs.
 double implicit_reuse_reach(const Model& model, double h);
 
+// One step of `kind` under `settings` (a run's: method_settings.h). The form without them
+// steps under the model's own (Model::method_defaults()), as a test or a benchmark does.
+StepStats integrate(IntegratorKind kind, const Model& model, const MethodSettings& settings, State& state,
+                    double h, Workspace& ws);
 StepStats integrate(IntegratorKind kind, const Model& model, State& state, double h, Workspace& ws);
 
 // Force evaluations per step of the explicit family (1, 1, 2, 4); 0 for implicit_euler and

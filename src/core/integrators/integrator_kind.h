@@ -54,7 +54,7 @@ struct IntegratorInfo {
   // `order`: yoshida4's composition needs a symmetric Verlet kick (verlet.h). 0: `order`.
   int velocity_force_order = 0;
   // An adaptive pair (integrators/adaptive.h): Run steps it under error control, by its
-  // tolerances (Model::adaptive), from the lane's step as the first trial.
+  // tolerances (MethodSettings::adaptive), from the lane's step as the first trial.
   bool adaptive = false;
   // The method's own parameters a lane sets as :KEY=VALUE (method_param.h), comma-separated:
   // "beta,gamma" for newmark, "rho" for generalized_alpha; empty for none.
@@ -83,16 +83,20 @@ std::string barrier_refusal(IntegratorKind kind);
 inline bool is_iterative_solver(IntegratorKind kind) {
   return integrator_info(kind).iterations == IterationControl::Solver;
 }
-// The model's iteration count `:N` sets for `kind` (its Newton cap, or its solver block's
-// sweeps); null for the explicit family.
-int* iteration_count(Model& model, IntegratorKind kind);
-// The same in a scene's settings (a lane written into its scene: scene/lane.h).
+// The iteration count `:N` sets for `kind` in a run's settings (its Newton cap, or its solver
+// block's sweeps); null for the explicit family.
+int* iteration_count(MethodSettings& settings, IntegratorKind kind);
+int iteration_count(const MethodSettings& settings, IntegratorKind kind);  // 0 for the explicit family
+// The same in a scene's settings (a lane written into its scene: scene/lane.h), and in a
+// model's defaults (what a run of the model starts from).
 int* iteration_count(ImplicitDef& implicit, SolverDefs& solvers, IntegratorKind kind);
-int iteration_count(const Model& model, IntegratorKind kind);  // 0 for the explicit family
-// The residual tolerance `:tol=` sets in `model` (an iterative solver's; solvers/solver_cache.h's
+int* iteration_count(Model& model, IntegratorKind kind);
+int iteration_count(const Model& model, IntegratorKind kind);
+// The residual tolerance `:tol=` sets for `kind` (an iterative solver's; solvers/solver_cache.h's
 // ResidualStop), or null for a method without one.
-double* residual_tolerance(Model& model, IntegratorKind kind);
+double* residual_tolerance(MethodSettings& settings, IntegratorKind kind);
 double* residual_tolerance(ImplicitDef& implicit, SolverDefs& solvers, IntegratorKind kind);
+double* residual_tolerance(Model& model, IntegratorKind kind);
 
 // Two methods have roles beyond their rows. Backward Euler is what the iterative solvers are
 // measured against (clothsim converge) and has the course's fixed-point spelling; RK4 is the

@@ -6,7 +6,7 @@
 namespace clothsim {
 
 StepStats newmark_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
-  return alpha_method_step(model, state, ctx, ws, IntegratorKind::Newmark, newmark_method(newmark_params(model)));
+  return alpha_method_step(model, state, ctx, ws, IntegratorKind::Newmark, newmark_method(newmark_params(ctx.settings)));
 }
 
 }  // namespace clothsim

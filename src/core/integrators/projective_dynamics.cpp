@@ -50,14 +50,14 @@ StepStats projective_dynamics_step(const Model& model, State& state, const StepC
   build_step_problem(model, state, h, c.problem);
   StepStats stats;
   stats.factorizations = pd_prepare_factor(model, c.problem, state.inv_mass, c.pd) ? 1 : 0;
-  const double rho = model.solvers.projective_dynamics.chebyshev_rho;
-  const int iterations = iteration_count(model, IntegratorKind::ProjectiveDynamics);
+  const double rho = ctx.settings.solvers.projective_dynamics.chebyshev_rho;
+  const int iterations = iteration_count(ctx.settings, IntegratorKind::ProjectiveDynamics);
   pd_prepare_step(model, c.problem, c.pd, c.pd_system);
   c.y = c.problem.target;
   c.lambda.assign(model.num_particles, 0.0);
   double omega = 1.0;
   c.y_before = c.y;
-  const double tolerance = model.solvers.projective_dynamics.tolerance;
+  const double tolerance = ctx.settings.solvers.projective_dynamics.tolerance;
   ResidualStop stop(model, c.problem, ResidualForm::StepPotential, tolerance, c.y, c.gradient);
   int k = 1;
   for (; k <= iterations; ++k) {

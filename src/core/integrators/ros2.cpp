@@ -93,7 +93,7 @@ struct Stage {
 
 StepStats ros2_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws) {
   const double h = ctx.h, gh = kGamma * h;
-  ImplicitCache& c = cache_for(model, ws);
+  ImplicitCache& c = cache_for(model, ctx.settings.implicit, ws);
   StepStats stats;
   stats.start_strain = start_lengths(model, state, c);  // l_n: no damper tension at y = x_n
   assemble_step_hessian(model, state.inv_mass, gh, c.start_length, state.x, HessianBlocks::Projected, c.A);

@@ -51,9 +51,9 @@ bool stop_met(const Model& model, SolverCache& c, ResidualStop& stop) {
 // On a grid: the particles' sweeps in SIMD over the grid's nine colours, then the other
 // bodies' (dynamic spheres: no springs, so no coupling within the step).
 // The observer sees the particles' iterate in y (the sweeps keep it in the grid's arrays).
-// Returns the sweeps taken (fewer than `iterations` when `stop` was met).
-int sweep_grid(const Model& model, int iterations, SolverCache& c, const Workspace& ws, ResidualStop& stop) {
-  const double rho = model.solvers.vbd.chebyshev_rho;
+// Returns the sweeps taken (fewer than `iterations` when `stop` was met); rho: vbd's chebyshev_rho.
+int sweep_grid(const Model& model, int iterations, double rho, SolverCache& c, const Workspace& ws,
+               ResidualStop& stop) {
   double omega = 1.0;
   vbd_load_grid(model, c.problem, c.y, c.vbd_grid);
   int taken = 0;
@@ -78,9 +78,9 @@ int sweep_grid(const Model& model, int iterations, SolverCache& c, const Workspa
 // Elsewhere, and under the barrier: the greedy colouring's scalar sweeps over every body.
 // The barrier's sweeps are not accelerated: a Chebyshev extrapolation of a vertex could carry
 // it through a collider, past the step filter.
-int sweep_graph(const Model& model, int iterations, SolverCache& c, const Workspace& ws, ResidualStop& stop,
-                const VbdBarrier* barrier) {
-  const double rho = barrier ? 0.0 : model.solvers.vbd.chebyshev_rho;
+int sweep_graph(const Model& model, int iterations, double chebyshev_rho, SolverCache& c, const Workspace& ws,
+                ResidualStop& stop, const VbdBarrier* barrier) {
+  const double rho = barrier ? 0.0 : chebyshev_rho;
   double omega = 1.0;
   if (rho > 0.0) c.y_before = c.y;
   for (int it = 0; it < iterations; ++it) {
@@ -105,18 +105,19 @@ StepStats vbd_step(const Model& model, State& state, const StepContext& ctx, Wor
   stats.force_evals = 1;
   vbd_initial_guess(model, c.problem, state, c.acceleration, c.y);
   c.vbd_contacts.assign(model.num_particles, VbdContact{});
-  const int iterations = iteration_count(model, IntegratorKind::Vbd);
+  const VbdDef& cfg = ctx.settings.solvers.vbd;
+  const int iterations = iteration_count(ctx.settings, IntegratorKind::Vbd);
   const bool barrier_scene = uses_barrier(model);
-  ResidualStop stop(model, c.problem, ResidualForm::StepPotential,
-                    barrier_scene ? 0.0 : model.solvers.vbd.tolerance, c.y, c.gradient);
+  ResidualStop stop(model, c.problem, ResidualForm::StepPotential, barrier_scene ? 0.0 : cfg.tolerance, c.y,
+                    c.gradient);
   if (barrier_scene) {
     push_out_of_colliders(model, state.inv_mass, c.y);  // a guess inside a collider: G is infinite there
     const VbdBarrier barrier{&model, &state.x, &state.inv_mass, h};
-    stats.newton_iterations = sweep_graph(model, iterations, c, ws, stop, &barrier);
+    stats.newton_iterations = sweep_graph(model, iterations, cfg.chebyshev_rho, c, ws, stop, &barrier);
   } else if (vbd_by_grid(model)) {
-    stats.newton_iterations = sweep_grid(model, iterations, c, ws, stop);
+    stats.newton_iterations = sweep_grid(model, iterations, cfg.chebyshev_rho, c, ws, stop);
   } else {
-    stats.newton_iterations = sweep_graph(model, iterations, c, ws, stop, nullptr);
+    stats.newton_iterations = sweep_graph(model, iterations, cfg.chebyshev_rho, c, ws, stop, nullptr);
   }
   stop.report(stats);
   finish_step(c.problem, c.y, state);

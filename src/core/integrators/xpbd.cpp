@@ -94,8 +94,8 @@ StepStats xpbd_step(const Model& model, State& state, const StepContext& ctx, Wo
   StepProblem& p = cache.problem;
   build_step_problem(model, state, h, p);
   cache.y = p.target;
-  const int iterations = iteration_count(model, IntegratorKind::Xpbd);
-  ResidualStop stop(model, p, ResidualForm::IterateChange, model.solvers.xpbd.tolerance, cache.y, cache.gradient);
+  const int iterations = iteration_count(ctx.settings, IntegratorKind::Xpbd);
+  ResidualStop stop(model, p, ResidualForm::IterateChange, ctx.settings.solvers.xpbd.tolerance, cache.y, cache.gradient);
   StepStats stats;
   stats.newton_iterations = model.spring_path() == SpringPath::Families
                                 ? sweep_families(model, p, state, iterations, cache, ws, stop)

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "core/base/method_settings.h"
 #include "core/base/model_params.h"
-#include "core/base/method_params.h"
 #include "core/springs/spring_layout.h"
 #include "core/springs/springs.h"
 
@@ -63,13 +63,17 @@ struct Model {
 
   double duration = 0.0, dt = 0.0;
   IntegratorKind integrator = kDefaultIntegrator;
+  // The scene's method settings (its implicit:, xpbd:, ... blocks), the defaults every Run of
+  // this model starts from; a lane overrides its own run's copy (method_settings.h). No step
+  // reads these: steps read the run's (StepContext::settings).
   ImplicitDef implicit;
   SolverDefs solvers;  // xpbd, projective_dynamics, vbd options
-  AdaptiveDef adaptive;  // bs3, dopri5, rkf78: the error control's tolerances (a lane's :tol=)
-  MethodDefs methods;  // newmark's and generalized_alpha's parameters (a lane's :beta=, :gamma=, :rho=)
+  AdaptiveDef adaptive;  // bs3, dopri5, rkf78: the error control's tolerances
+  MethodDefs methods;  // newmark's and generalized_alpha's parameters
   DivergenceDef divergence;
   double energy_scale = 1.0;  // J, what kinetic energy is compared with to call a run diverged
 
+  MethodSettings method_defaults() const { return {implicit, solvers, adaptive, methods}; }
   int num_bodies() const { return num_particles + num_spheres; }
   SpringPath spring_path() const { return clothsim::spring_path(spring_layout, springs.size(), num_particles); }
   int sphere_body(int s) const { return num_particles + s; }

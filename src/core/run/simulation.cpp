@@ -26,20 +26,25 @@ double thread_cpu_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-StepReport step(const Model& model, State& state, IntegratorKind kind, double h, Workspace& ws) {
+StepReport step(const Model& model, const MethodSettings& settings, State& state, IntegratorKind kind, double h,
+                Workspace& ws) {
   StepReport report;
-  report.stats = integrate(kind, model, state, h, ws);     // forces are evaluated in here
-  report.contacts = resolve_collisions(model, state);      // once, after the whole step
-  state.step += 1;                                          // time: counted, not accumulated,
-  state.t = static_cast<double>(state.step) * h;            // so t stays exact over 1e5 steps
-  apply_due_actions(model, state);                          // events: pins, sphere keyframes
+  report.stats = integrate(kind, model, settings, state, h, ws);  // forces are evaluated in here
+  report.contacts = resolve_collisions(model, state);             // once, after the whole step
+  state.step += 1;                                                 // time: counted, not accumulated,
+  state.t = static_cast<double>(state.step) * h;                   // so t stays exact over 1e5 steps
+  apply_due_actions(model, state);                                 // events: pins, sphere keyframes
   return report;
 }
 
-Run::Run(const Model& model, IntegratorKind kind, double dt)
-    : model_(model), kind_(kind), dt_(dt), state_(initial_state(model)) {
+StepReport step(const Model& model, State& state, IntegratorKind kind, double h, Workspace& ws) {
+  return step(model, model.method_defaults(), state, kind, h, ws);
+}
+
+Run::Run(const Model& model, IntegratorKind kind, double dt, const MethodSettings& settings)
+    : model_(model), kind_(kind), dt_(dt), settings_(settings), state_(initial_state(model)) {
   if (integrator_info(kind).adaptive) {
-    adaptive_ = std::make_unique<AdaptiveStepper>(model, kind, dt);
+    adaptive_ = std::make_unique<AdaptiveStepper>(model, kind, settings_.adaptive, dt);
     dense_ = uses_barrier(model) || (model.num_spheres == 0 && !model.has_ground);
   }
   start_strain_ = max_strain(model_, state_);
@@ -75,7 +80,7 @@ bool Run::advance_to(double target) {
     const std::int64_t from_step = state_.step;
     const double from_t = state_.t;
     const std::size_t actions_before = state_.next_action;
-    last_ = step(model_, state_, kind_, dt_, ws_);
+    last_ = step(model_, settings_, state_, kind_, dt_, ws_);
     stepped = true;
     ++totals_.steps;
     totals_.last_step = totals_.smallest_step = totals_.largest_step = dt_;
@@ -185,7 +190,7 @@ bool Run::advance_adaptive(double target) {
 
 StepReport Run::step_to(State& s, double t) {
   StepReport report;
-  report.stats = integrate(kind_, model_, s, t - s.t, ws_);  // the pair's own solution at that h
+  report.stats = integrate(kind_, model_, settings_, s, t - s.t, ws_);  // the pair's own solution at that h
   report.contacts = resolve_collisions(model_, s);            // counts only: the scene is smooth
   s.t = t;
   return report;
@@ -206,7 +211,7 @@ State Run::last_finite_state() const {
   State previous = s;
   while (s.step < named) {
     previous = s;
-    step(model_, s, kind_, dt_, ws);
+    step(model_, settings_, s, kind_, dt_, ws);
   }
   if (all_finite(s)) return s;
   return previous.step < s.step ? previous : checkpoint_;

@@ -2,8 +2,10 @@
 //
 // step() reads as its phases (Box2D's solver stages):
 //     integrate (forces inside) -> collisions -> time -> events -> divergence check
-// Run wraps a model, a state and a workspace for one integrator and step size, advances to
-// requested times (output frames), keeps running totals and stops at divergence.
+// Run wraps a model, a state and a workspace for one integrator, step size and method settings
+// (core/base/method_settings.h: the model's defaults with the lane's overrides), advances to
+// requested times (output frames), keeps running totals and stops at divergence. Runs of one
+// scene share its Model whatever their settings: a lane never copies the model.
 #pragma once
 
 #include <chrono>
@@ -26,7 +28,10 @@ struct StepReport {
   ContactCounts contacts;
 };
 
-// One step of size h. Does not check divergence (Run does, at its own cadence).
+// One step of size h under `settings` (a run's). Does not check divergence (Run does, at its
+// own cadence). Without settings: the model's own (Model::method_defaults()).
+StepReport step(const Model& model, const MethodSettings& settings, State& state, IntegratorKind kind, double h,
+                Workspace& ws);
 StepReport step(const Model& model, State& state, IntegratorKind kind, double h, Workspace& ws);
 
 // Running totals of a run.
@@ -80,7 +85,10 @@ double thread_cpu_seconds();
 
 class Run {
  public:
-  Run(const Model& model, IntegratorKind kind, double dt);
+  // `model` outlives the run; `settings` are the run's own (a lane's: clip::lane_settings),
+  // by default the model's.
+  Run(const Model& model, IntegratorKind kind, double dt, const MethodSettings& settings);
+  Run(const Model& model, IntegratorKind kind, double dt) : Run(model, kind, dt, model.method_defaults()) {}
 
   // Steps until t >= target (within a small tolerance of dt). Returns false once diverged;
   // divergence() then says at which step and time, and why. Returns true but short of the
@@ -101,6 +109,7 @@ class Run {
   const std::optional<Divergence>& divergence() const { return divergence_; }
 
   const Model& model() const { return model_; }
+  const MethodSettings& settings() const { return settings_; }
   // At the last target advanced to. An adaptive pair on a smooth scene steps past its targets
   // (dense output, advance_adaptive): this is then its output there, not the state it steps on.
   const State& state() const { return dense_ && has_output_ ? output_ : state_; }
@@ -122,6 +131,7 @@ class Run {
   const Model& model_;
   IntegratorKind kind_;
   double dt_;
+  MethodSettings settings_;  // what every step reads of its method (StepContext::settings)
   State state_;
   State checkpoint_;  // state_ at the start of the current advance_to (last_finite_state replays it)
   Workspace ws_;

@@ -3,7 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include "cli/usage_error.h"
+#include "core/run/simulation.h"
+#include "scene/build_model.h"
+#include "scene/scene_parser.h"
 
 using namespace clothsim;
 using namespace clothsim::clip;
@@ -89,16 +94,16 @@ TEST(ParseLanes, EveryLaneIsSpeltAsIntegratorsTakesItBack) {
             std::string::npos);
 }
 
-TEST(ParseLanes, TheLaneModelOfTheFixedPointLaneHasTheCoursesSettings) {
+TEST(ParseLanes, TheLaneSettingsOfTheFixedPointLaneHaveTheCoursesSettings) {
   Model base;
   base.implicit.solver = ImplicitSolver::Newton;
-  std::optional<Model> storage;
   const Lane course = parse_lanes("course", "", 1e-4)[1];
-  const Model& m = lane_model(base, course, storage);
+  const MethodSettings m = lane_settings(base, course);
   EXPECT_EQ(m.implicit.solver, ImplicitSolver::FixedPoint);
   EXPECT_EQ(m.implicit.fixed_point_iterations, 1);
-  std::optional<Model> none;
-  EXPECT_EQ(&lane_model(base, parse_lanes("implicit_euler", "", 1e-4)[0], none), &base);
+  const MethodSettings none = lane_settings(base, parse_lanes("implicit_euler", "", 1e-4)[0]);
+  EXPECT_EQ(none.implicit.solver, ImplicitSolver::Newton) << "a lane without items runs the scene's settings";
+  EXPECT_EQ(none.implicit.newton_max_iterations, base.implicit.newton_max_iterations);
 }
 
 TEST(ParseLanes, IterationsFollowAColonAndShowInLabelsAndSpellings) {
@@ -111,9 +116,8 @@ TEST(ParseLanes, IterationsFollowAColonAndShowInLabelsAndSpellings) {
   EXPECT_EQ(lanes[2].name(), "implicit_euler:1 (Baraff & Witkin)");
   EXPECT_EQ(lanes[3].dt, 1e-3);
   Model base;
-  std::optional<Model> storage;
-  EXPECT_EQ(lane_model(base, lanes[2], storage).implicit.newton_max_iterations, 1);
-  EXPECT_EQ(lane_model(base, lanes[3], storage).solvers.vbd.iterations, 5);
+  EXPECT_EQ(lane_settings(base, lanes[2]).implicit.newton_max_iterations, 1);
+  EXPECT_EQ(lane_settings(base, lanes[3]).solvers.vbd.iterations, 5);
   const auto again = parse_lanes(lanes[0].spelling(), "", 1e-3);
   EXPECT_EQ(again[0].iterations, 1);
 }
@@ -127,11 +131,10 @@ TEST(ParseLanes, ATolerancePicksTheResidualStopWithIterationsAsItsCap) {
   EXPECT_EQ(lanes[1].name(), "xpbd:200:tol=0.001");
   EXPECT_EQ(lanes[2].iterations, 50);
   Model base;
-  std::optional<Model> storage;
-  const Model& vbd = lane_model(base, lanes[0], storage);
+  const MethodSettings vbd = lane_settings(base, lanes[0]);
   EXPECT_EQ(vbd.solvers.vbd.tolerance, 1e-4);
   EXPECT_EQ(vbd.solvers.vbd.iterations, kToleranceCap);
-  const Model& xpbd = lane_model(base, lanes[1], storage);
+  const MethodSettings xpbd = lane_settings(base, lanes[1]);
   EXPECT_EQ(xpbd.solvers.xpbd.tolerance, 1e-3);
   EXPECT_EQ(xpbd.solvers.xpbd.iterations, 200);
   const auto again = parse_lanes(lanes[1].spelling(), "", 1e-3);
@@ -202,4 +205,78 @@ TEST(ParseStudyLanes, TakesCompareLanesWithoutStepsAndSpellsThemWithout) {
                                              "xpbd:10", "implicit_euler:1"}));
   EXPECT_EQ(usage_error([] { parse_study_lanes("rk4@1e-3", "no step"); }), "--integrators: 'rk4@1e-3': no step");
   EXPECT_EQ(usage_error([] { parse_study_lanes("course,rk4", "no step"); }), "--integrators: 'rk4' is listed twice");
+}
+
+namespace {
+
+// A small sheet, gentle enough for the course's fixed point at its 1 ms step.
+const char* kSheet = R"(
+name: sheet
+dt: 1.0e-3
+duration: 0.2
+cloth: {particles: [6, 6], size: [1, 1], particle_mass: 0.1, pinned: corners,
+        springs: {structural: {stiffness: 100, damping: 0.5}, shear: {stiffness: 50, damping: 0.2}}}
+)";
+
+State run_until(const Model& model, IntegratorKind kind, double dt, const MethodSettings& settings, double t) {
+  Run run(model, kind, dt, settings);
+  EXPECT_TRUE(run.advance_to(t)) << integrator_name(kind);
+  return run.state();
+}
+
+bool same_bits(const State& a, const State& b) {
+  return a.step == b.step && a.x.size() == b.x.size() && a.x.cwiseEqual(b.x).all() && a.v.cwiseEqual(b.v).all();
+}
+
+}  // namespace
+
+// A lane's items become the settings its Run carries on the scene's own model; a scene whose
+// blocks (or whose integrator: key) say the same values runs the model's defaults. Both must
+// reach the same state to the bit, and it must differ from the scene's plain settings.
+TEST(LaneSettings, ALanesItemsRunAsTheSameValuesInTheScenesBlocks) {
+  struct Case {
+    const char* lane;
+    const char* scene;  // what the scene says instead
+  };
+  const Case cases[] = {
+      {"xpbd@1/60:5", "integrator: xpbd\nxpbd: {iterations: 5}\n"},
+      {"vbd:tol=1e-4", "integrator: vbd\nvbd: {tolerance: 1.0e-4, iterations: 1000}\n"},
+      {"newmark@1/60:beta=0.3", "integrator: newmark:beta=0.3\n"},  // no block: the integrator key's lane
+      {"dopri5:tol=1e-8", "integrator: dopri5:tol=1e-8\n"},
+      {"implicit_euler_fixed_point", "integrator: implicit_euler\nimplicit: {solver: fixed_point, iterations: 1}\n"},
+  };
+  const Model plain = build_model(parse_scene(kSheet, "sheet.yaml"));
+  for (const Case& c : cases) {
+    const Lane lane = parse_lanes(c.lane, "", plain.dt)[0];
+    const State by_lane = run_until(plain, lane.kind, lane.dt, lane_settings(plain, lane), 0.2);
+    const Model blocks = build_model(parse_scene(std::string(kSheet) + c.scene, "blocks.yaml"));
+    const State by_scene = run_until(blocks, lane.kind, lane.dt, blocks.method_defaults(), 0.2);
+    EXPECT_TRUE(same_bits(by_lane, by_scene)) << c.lane;
+    EXPECT_FALSE(same_bits(by_lane, run_until(plain, lane.kind, lane.dt, plain.method_defaults(), 0.2)))
+        << c.lane << ": the lane's settings changed nothing";
+  }
+}
+
+// Two lanes of one scene with different settings run on that scene's Model itself: nothing
+// is copied, so "the same model" is one address.
+TEST(LaneSettings, TwoLanesRunOnOneModelWithTheirOwnSettings) {
+  const Model model = build_model(parse_scene(kSheet, "sheet.yaml"));
+  const std::vector<Lane> lanes = parse_lanes("xpbd:5,xpbd:20,implicit_euler_fixed_point", "", model.dt);
+  std::vector<std::unique_ptr<clothsim::Run>> runs;  // (gtest's Test::Run hides the name)
+  for (const Lane& l : lanes)
+    runs.push_back(std::make_unique<clothsim::Run>(model, l.kind, l.dt, lane_settings(model, l)));
+  for (const auto& r : runs) EXPECT_EQ(&r->model(), &model);
+  EXPECT_EQ(runs[0]->settings().solvers.xpbd.iterations, 5);
+  EXPECT_EQ(runs[1]->settings().solvers.xpbd.iterations, 20);
+  EXPECT_EQ(runs[2]->settings().implicit.solver, ImplicitSolver::FixedPoint);
+  EXPECT_EQ(model.solvers.xpbd.iterations, XpbdDef{}.iterations) << "the model keeps the scene's";
+  EXPECT_EQ(model.implicit.solver, ImplicitSolver::Newton);
+}
+
+TEST(LaneSettings, RefusesAProjectingSolverOnABarrierSceneNamingTheOption) {
+  const Model barrier =
+      build_model(parse_scene(std::string(kSheet) + "collision: {model: barrier}\nground: {height: -1}\n", "b.yaml"));
+  const std::string m = usage_error([&] { lane_settings(barrier, parse_lanes("xpbd:5", "", barrier.dt)[0]); });
+  EXPECT_EQ(m.rfind("--integrators: collision.model: barrier: xpbd has no barrier contact", 0), 0u) << m;
+  EXPECT_NO_THROW(lane_settings(barrier, parse_lanes("vbd:5", "", barrier.dt)[0]));
 }

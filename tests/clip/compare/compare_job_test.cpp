@@ -192,6 +192,28 @@ TEST(PlanCompare, RefusesToVaryWhatEveryLaneOfOneClipShares) {
   }
 }
 
+// A lane's own settings ride in its run: the fixed-point lane (and a lane with `:N`) costs a
+// run as backward Euler's does, and no Model of its own (the course's lane once copied it).
+TEST(PlanCompare, MaxMemoryCountsNoModelForALanesOwnSettings) {
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_lane_memory";
+  std::filesystem::create_directories(out);
+  CompareRequest o = small_grid(out);
+  o.vary.clear();
+  o.scene.sets = {"cloth.particles=[256,256]"};
+  o.integrators = "implicit_euler,implicit_euler_fixed_point,implicit_euler:3";
+  o.scene.max_memory = 1024.0 * 1024;  // refused, every part said
+  const std::string m = clothsim::testing::usage_error([&] { plan_compare(o); });
+  const auto part = [&](const std::string& name) {  // "NAME 12.3 MB" in the list of parts
+    const std::size_t at = m.find(" " + name + " ");
+    if (at == std::string::npos) return std::string("(none)");
+    const std::size_t from = at + name.size() + 2;
+    return m.substr(from, m.find_first_of(",)", from) - from);
+  };
+  EXPECT_NE(part("implicit_euler@0.0001"), "(none)") << m;
+  EXPECT_EQ(part("implicit_euler_fixed_point@0.0001"), part("implicit_euler@0.0001")) << m;
+  EXPECT_EQ(part("implicit_euler@0.0001:3"), part("implicit_euler@0.0001")) << m;
+}
+
 TEST(PlanCompare, MaxMemoryCountsEachLanesExportAndARefusalMakesNoFolder) {
   const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_export_memory";
   std::filesystem::remove_all(out);

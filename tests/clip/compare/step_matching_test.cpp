@@ -31,8 +31,7 @@ const MatchClip kClip{0.3, 30.0, 1e-3};
 // The largest particle distance of `lane` at step h from RK4 at 1/(30 x 334) s (the searches'
 // reference: 1e-4 s in whole steps a frame) over the clip's first 10 frames.
 double worst_over_frames(const Model& model, const Lane& lane, double h) {
-  std::optional<Model> storage;
-  clothsim::Run run(lane_model(model, lane, storage), lane.kind, h), ref(model, IntegratorKind::Rk4, 1.0 / (30.0 * 334.0));
+  clothsim::Run run(model, lane.kind, h, lane_settings(model, lane)), ref(model, IntegratorKind::Rk4, 1.0 / (30.0 * 334.0));
   double e = 0.0;
   for (int f = 0; f <= 9; ++f) {
     if (!run.advance_to(f / 30.0)) return std::numeric_limits<double>::infinity();

@@ -69,7 +69,7 @@ TEST(PlanBench, RefusesAStepAndNamesTheOption) {
   EXPECT_THROW(plan_bench(o, scene, bench_lanes(o, scene)), UsageError);
 }
 
-TEST(AttachLaneModels, GivesALaneWithItsOwnIterationsItsOwnModel) {
+TEST(AttachLaneSettings, GivesALaneWithItsOwnIterationsItsOwnSettingsOnTheScenesModel) {
   BenchOptions o = options_for("spring.yaml");
   o.integrators = "rk4,vbd:3";
   SceneDef scene = load_scene(o.scene.path, {});
@@ -77,11 +77,11 @@ TEST(AttachLaneModels, GivesALaneWithItsOwnIterationsItsOwnModel) {
   WorkPrecisionSpec spec = plan_bench(o, scene, lanes);
   const Model model = build_bench_model(o, scene, lanes, spec);
   EXPECT_GE(scene.duration, spec.duration) << "the scene runs to T at least";
-  std::vector<std::optional<Model>> storage;
-  attach_lane_models(model, lanes, storage, spec);
-  ASSERT_EQ(spec.lane_models.size(), 2u);
-  EXPECT_EQ(spec.lane_models[0], &model) << "rk4 runs the scene's model itself";
-  EXPECT_NE(spec.lane_models[1], &model) << "vbd:3 runs a copy with its own iterations";
+  attach_lane_settings(model, lanes, spec);
+  ASSERT_EQ(spec.lane_settings.size(), 2u);
+  EXPECT_EQ(spec.lane_settings[0].solvers.vbd.iterations, model.solvers.vbd.iterations) << "rk4: the scene's";
+  EXPECT_EQ(spec.lane_settings[1].solvers.vbd.iterations, 3) << "vbd:3 runs with its own iterations";
+  EXPECT_NE(model.solvers.vbd.iterations, 3) << "and the model keeps the scene's";
 }
 
 TEST(PlanScale, TakesLanesWithStepsAndWholeSidesAndRefusesTheRest) {

@@ -27,7 +27,7 @@ TEST(PlanStability, WithOnlyASceneSweepsItsStiffnessOverFourDecadesWithinTheDefa
   EXPECT_EQ(study.names.size(), study.spec.integrators.size());
 }
 
-TEST(PlanStability, RefsPointAtEachCasesModelAndALanesOwnCopy) {
+TEST(PlanStability, RefsPointAtEachCasesModelWithEachLanesOwnSettings) {
   StabilityOptions o;
   o.scene.path = testing::scene_path("spring.yaml");
   o.integrators = "rk4,implicit_euler:2";
@@ -37,9 +37,11 @@ TEST(PlanStability, RefsPointAtEachCasesModelAndALanesOwnCopy) {
   ASSERT_EQ(refs.size(), 2u);
   EXPECT_EQ(refs[1].value, 400);
   EXPECT_EQ(refs[1].model, &study.cases[1].model);
-  ASSERT_EQ(refs[1].lane_models.size(), 2u);
-  EXPECT_EQ(refs[1].lane_models[0], &study.cases[1].model);
-  EXPECT_NE(refs[1].lane_models[1], &study.cases[1].model) << "implicit_euler:2 has its own Newton cap";
+  ASSERT_EQ(refs[1].lane_settings.size(), 2u);
+  const int scene_cap = study.cases[1].model.implicit.newton_max_iterations;
+  EXPECT_EQ(refs[1].lane_settings[0].implicit.newton_max_iterations, scene_cap);
+  EXPECT_EQ(refs[1].lane_settings[1].implicit.newton_max_iterations, 2) << "implicit_euler:2 has its own Newton cap";
+  EXPECT_NE(scene_cap, 2);
 }
 
 TEST(PlanStability, RefusesABadOptionNamingIt) {

@@ -59,11 +59,21 @@ void check_run_usage(const RunOptions& o, const SceneDef& scene) {
     throw UsageError("--still: time " + number_text(*o.still_t) + " s is outside the run (0 to " +
                      number_text(scene.duration) + " s)");
   if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
-  if (!o.iterations.empty()) {  // checked on a scratch model: the real one is built later
-    Model probe;
+  if (!o.iterations.empty()) {  // checked on scratch settings: the scene's take them later
+    MethodSettings probe;
     set_iterations(probe, scene.integrator, false, parse_iteration_option(o.iterations, "--iterations"),
                    "--iterations");
   }
+}
+
+// --iterations N: the lane NAME:N of the scene's integrator written into the scene (scene/
+// lane.h's apply_lane), as if its block said it, so the Model's defaults are the run's settings.
+void apply_iterations(const RunOptions& o, SceneDef& scene) {
+  if (o.iterations.empty()) return;
+  Lane lane;
+  lane.kind = scene.integrator;
+  lane.iterations = parse_iteration_option(o.iterations, "--iterations");
+  apply_lane(scene, lane);
 }
 
 // Every output is checked before any work, so a typo fails in milliseconds; returns --export's
@@ -83,15 +93,6 @@ std::vector<ExportPath> check_run_outputs(const RunOptions& o, int spheres) {
   if (!o.summary.empty()) require_writable_parent(o.summary, "--summary");
   if (!o.frames_dir.empty()) refuse_existing_frames(o.frames_dir, "--frames");
   return checked_export_paths(o.export_path, {}, spheres);
-}
-
-// The model the run steps: the scene's, with --iterations applied.
-Model run_model(const RunOptions& o, const SceneDef& scene) {
-  Model model = build_model(scene);
-  if (!o.iterations.empty())
-    set_iterations(model, scene.integrator, false, parse_iteration_option(o.iterations, "--iterations"),
-                   "--iterations");
-  return model;
 }
 
 // The summary line(s) on stdout: steps, cost and, for the implicit solve, its work.
@@ -186,8 +187,9 @@ bool say_wrong(const std::string& source, const RunTotals& t, const PipelineRepo
 
 int run_command(const RunOptions& o) {
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
-  const SceneDef scene = load_scene_with_options(o.scene);
+  SceneDef scene = load_scene_with_options(o.scene);
   check_run_usage(o, scene);
+  apply_iterations(o, scene);
   const Lane lane{scene.integrator, scene.dt, step_string(scene.dt), false};
   const bool rendering = !o.frames_dir.empty() || !o.video.empty() || o.still_t;
   PictureLook look = resolve_picture_look(o.look, scene, {lane}, /*compare=*/false);
@@ -220,7 +222,7 @@ int run_command(const RunOptions& o) {
   // Then the outputs, whose checks make the export's folder: a run refused above leaves none.
   const std::vector<ExportPath> exports = check_run_outputs(o, static_cast<int>(scene.spheres.size()));
 
-  const Model model = run_model(o, scene);
+  const Model model = build_model(scene);
   fit_reference_to_model(look, model, scene, {lane});
   const IntegratorKind kind = scene.integrator;
   const double dt = scene.dt;
