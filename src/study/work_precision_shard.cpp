@@ -29,14 +29,13 @@ ShardReference run_reference(const Model& model, const WorkPrecisionSpec& spec_i
   ref.coarse_finished = runs[0].finished;
   ref.fine_finished = runs[1].finished;
   ref.fine = std::move(runs[1].final_state);
-  ref.coarse_final = std::move(runs[0].final_state);
   ref.coarse_totals = runs[0].totals;
   ref.fine_totals = runs[1].totals;
   ref.coarse_divergence = runs[0].divergence;
   ref.fine_divergence = runs[1].divergence;
   ref.samples = std::move(samples[1]);
   if (ref.finished) {
-    const PositionError change = position_error(model, ref.coarse_final.x, ref.fine.x, ref.fine.inv_mass);
+    const PositionError change = position_error(model, runs[0].final_state.x, ref.fine.x, ref.fine.inv_mass);
     ref.change_rms = change.rms;
     ref.change_max = change.max;
     for (std::size_t k = 0; k < ref.samples.size() && k < samples[0].size(); ++k) {

@@ -37,7 +37,6 @@ struct ShardReference {
   // Not saved (reference_text): what a single-process study reports of the reference.
   RunTotals coarse_totals, fine_totals;
   std::optional<Divergence> coarse_divergence, fine_divergence;
-  State coarse_final;
 };
 
 // Both reference runs at once (on up to two of spec.jobs threads).

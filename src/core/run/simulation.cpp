@@ -174,14 +174,11 @@ bool Run::advance_adaptive(double target) {
     judge_step(last_, actions_before, from_step, from_t);
   }
   if (!divergence_ && stepped) divergence_ = check_divergence(model_, state_);
-  if (dense_ && !divergence_ && !stopped_) {
-    output_ = state_;
-    if (state_.t > target + tolerance) {  // the target lies inside the last step: a side step to it
-      output_ = previous_;
-      const StepReport side = step_to(output_, target);
-      totals_.force_evals += side.stats.force_evals;
-    }
-    has_output_ = true;
+  // The target inside the last step: a side step to it (landed on exactly: state_ itself).
+  has_output_ = dense_ && !divergence_ && !stopped_ && state_.t > target + tolerance;
+  if (has_output_) {
+    output_ = previous_;
+    totals_.force_evals += step_to(output_, target).stats.force_evals;
   }
   totals_.sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   totals_.cpu_seconds += thread_cpu_seconds() - cpu_start;

@@ -112,7 +112,7 @@ class Run {
   const MethodSettings& settings() const { return settings_; }
   // At the last target advanced to. An adaptive pair on a smooth scene steps past its targets
   // (dense output, advance_adaptive): this is then its output there, not the state it steps on.
-  const State& state() const { return dense_ && has_output_ ? output_ : state_; }
+  const State& state() const { return has_output_ ? output_ : state_; }
   IntegratorKind kind() const { return kind_; }
   double dt() const { return dt_; }
   const RunTotals& totals() const { return totals_; }

@@ -2,8 +2,9 @@
 //                      [--csv FILE] [--plot FILE.png] [--jobs N] [--reference-refinement N]
 //
 // The work-precision study (src/study/work_precision.h): every integrator at every step
-// size runs the scene to T; each run's final cloth positions are compared with an RK4
-// reference the program computes, and its cost recorded (wall and CPU time, force
+// size (an adaptive pair at every --tols tolerance) runs the scene to T; its cloth positions are
+// compared with a reference the program computes at the study's sample times (judged by the
+// largest, or at T with --error end), and its cost recorded (wall and CPU time, force
 // evaluations). Runs spread over the cores, longest first; a diverged run stops early.
 //
 // Defaults, chosen so `clothsim bench scenes/drape.yaml` takes about a minute on 2 cores:
