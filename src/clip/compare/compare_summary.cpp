@@ -80,7 +80,7 @@ void print_reference_row(const ReferenceReport& ref, int width) {
   if (!(r.adaptive_tolerance > 0.0)) return print_row(r, reference_row_name(ref), "", width);
   const double t = simulated(r);
   char tolerance[32];
-  std::snprintf(tolerance, sizeof tolerance, "tol %.0e", r.adaptive_tolerance / analysis::kCompareTightening);
+  std::snprintf(tolerance, sizeof tolerance, "tol %.0e", r.adaptive_tolerance);
   std::printf("%-*s %10s %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", width, reference_row_name(ref).c_str(),
               tolerance, r.totals.steps, r.totals.force_evals, t > 0 ? spring_passes(r.totals) / t : 0.0,
               r.totals.cpu_seconds, t > 0 ? 1e3 * r.totals.cpu_seconds / t : 0.0, lane_result(r, "").c_str());
@@ -110,7 +110,7 @@ void print_reference_error(const PipelineReport& report, std::size_t k) {
   std::printf("%s: ", head.c_str());
   if (adaptive)
     std::printf("dopri5 adaptive at tolerance %.0e, checked by a solve at %.0e",
-                ref.adaptive_tolerance / analysis::kCompareTightening, ref.adaptive_tolerance);
+                ref.adaptive_tolerance, ref.check_tolerance);
   else
     std::printf("%s @ %s s, checked by a run at twice its step (%.3g s)", ref.spec.name().c_str(),
                 ref.spec.step_text.c_str(), ref.check_dt);
@@ -177,7 +177,11 @@ void print_solver_work(const PipelineReport& report, const std::vector<std::stri
 
 JsonObject lane_summary(const Model& model, const LaneResult& r, const std::string& role) {
   const double t = simulated(r);
-  JsonObject lane = lane_json(model.name, r.spec.kind, r.spec.dt, r.totals,
+  // The adaptive reference runs the dopri5 solve in place of its lane (lane_worker.h): its row
+  // says so, with no step, its tolerances beside it.
+  const bool adaptive_reference = r.adaptive_tolerance > 0.0;
+  JsonObject lane = lane_json(model.name, adaptive_reference ? IntegratorKind::Dopri5 : r.spec.kind,
+                              adaptive_reference ? std::nan("") : r.spec.dt, r.totals,
                               r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
                         .number("t_reached", r.t)
                         .number("spring_passes", spring_passes(r.totals))
@@ -186,7 +190,9 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
                         .number("spring_passes_per_s", t > 0 ? spring_passes(r.totals) / t : std::nan(""))
                         .text("lane", r.adaptive_tolerance > 0.0 ? std::string("dopri5 (adaptive)") : r.spec.spelling())
                         .text("role", role);
-  if (integrator_info(r.spec.kind).adaptive)  // an adaptive pair's own steps and error control
+  if (adaptive_reference)
+    lane.number("tolerance", r.adaptive_tolerance).number("check_tolerance", r.check_tolerance);
+  if (integrator_info(r.spec.kind).adaptive && !adaptive_reference)  // an adaptive pair's own steps and error control
     lane.number("rejected_steps", static_cast<double>(r.totals.rejected_steps))
         .number("smallest_step", r.totals.smallest_step)
         .number("largest_step", r.totals.largest_step)
@@ -318,9 +324,9 @@ JsonObject summary_reference(const ReferenceReport& report) {
   const bool adaptive = ref.adaptive_tolerance > 0.0;
   json.text("method", adaptive ? "dopri5 (adaptive)" : ref.spec.name())
       .number("dt", adaptive ? NAN : ref.spec.dt)
-      .number("tolerance", adaptive ? ref.adaptive_tolerance / analysis::kCompareTightening : NAN)
+      .number("tolerance", adaptive ? ref.adaptive_tolerance : NAN)
       .number("check_dt", ref.check_dt > 0.0 ? ref.check_dt : NAN)
-      .number("check_tolerance", adaptive ? ref.adaptive_tolerance : NAN)
+      .number("check_tolerance", adaptive ? ref.check_tolerance : NAN)
       .number("estimated_error_m", ref.estimated_error);
   return json;
 }

@@ -269,6 +269,7 @@ void LaneWorker::finish_reference(const Run& run, const ReferenceHistory& histor
     result_.totals = exact->totals();
     result_.divergence = exact->divergence();
     result_.adaptive_tolerance = exact->tolerance();
+    result_.check_tolerance = exact->check_tolerance();
     result_.estimated_error = exact->estimated_error();
     return;
   }

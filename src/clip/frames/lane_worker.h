@@ -98,10 +98,12 @@ struct LaneResult {
   RunTotals totals;           // cpu_seconds: the lane thread's, not inflated by sharing cores
   std::optional<Divergence> divergence;
   std::optional<State> final_state;  // LaneNeeds::final_state, unless diverged
-  // The reference lane: the adaptive one's check tolerance (LaneNeeds::adaptive_tolerance, 0
-  // otherwise), the fixed-step one's check step (0 otherwise), and its estimated error, the
-  // largest over every time it served (m); NaN for any other lane, or when the check failed.
+  // The reference lane: the adaptive one's served and check tolerances (LaneNeeds::
+  // adaptive_tolerance, 0 otherwise), the fixed-step one's check step (0 otherwise), and its
+  // estimated error, the largest over every time it served (m); NaN for any other lane, or
+  // when the check failed.
   double adaptive_tolerance = 0.0;
+  double check_tolerance = 0.0;
   double check_dt = 0.0;
   double estimated_error = std::numeric_limits<double>::quiet_NaN();
 };

@@ -37,7 +37,7 @@ TEST(CompareReference, OnASmoothSceneTheReferenceIsAdaptiveAndStatesItsEstimated
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("dopri5 adaptive (reference)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("error against the adaptive reference: largest"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("reference: dopri5 adaptive at tolerance 1e-07, checked by a solve at 1e-06: estimated error"),
+  EXPECT_NE(r.out.find("reference: dopri5 adaptive at tolerance 1e-07, checked by a solve at 1e-08: estimated error"),
             std::string::npos)
       << r.out;
   const std::string json = ct::slurp(dir + "/s.json");
@@ -47,6 +47,12 @@ TEST(CompareReference, OnASmoothSceneTheReferenceIsAdaptiveAndStatesItsEstimated
   EXPECT_GT(estimate, 0.0) << reference;
   EXPECT_LT(estimate, 1e-7) << "far below any lane's error" << reference;
   EXPECT_NE(object_at(json, "\"lane\": \"midpoint@2e-4\"").find("\"unresolved\": false"), std::string::npos) << json;
+  // Its lane row says what ran (#51: it read "rk4" at the fixed-step reference's 3.125e-6 s).
+  const std::string row = object_at(json, "\"role\": \"reference\"");
+  EXPECT_NE(row.find("\"integrator\": \"dopri5\""), std::string::npos) << row;
+  EXPECT_NE(row.find("\"dt\": null"), std::string::npos) << row;
+  EXPECT_NE(row.find("\"tolerance\": 9.9999999999999995e-08"), std::string::npos) << row;
+  EXPECT_NE(row.find("\"check_tolerance\": 1e-08"), std::string::npos) << row;
 }
 
 TEST(CompareReference, ALaneUnderTenTimesTheReferencesErrorIsUnresolvedNotANumber) {
