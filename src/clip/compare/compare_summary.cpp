@@ -86,6 +86,23 @@ void print_reference_row(const ReferenceReport& ref, int width) {
               r.totals.cpu_seconds, t > 0 ? 1e3 * r.totals.cpu_seconds / t : 0.0, lane_result(r, "").c_str());
 }
 
+// Whether the reference was computed or served from the cache (LaneResult::cache).
+std::string reference_cache_text(const LaneResult& ref) {
+  char text[512];
+  if (ref.cache == "reused")
+    std::snprintf(text, sizeof text, "reused from the cache (%s), computed there in %.3g s of CPU, read here in %.3g s",
+                  ref.cache_file.c_str(), ref.computed_cpu_seconds, ref.totals.cpu_seconds);
+  else if (ref.cache == "stored")
+    std::snprintf(text, sizeof text, "computed, and stored in the cache (%s)", ref.cache_file.c_str());
+  else if (ref.cache == "off")
+    std::snprintf(text, sizeof text, "computed (the cache is off: --no-reference-cache, or CLOTHSIM_REFERENCE_CACHE_MAX=0)");
+  else if (ref.cache == "not cached")
+    std::snprintf(text, sizeof text, "computed (a reference of this method reads settings the cache's key leaves out)");
+  else
+    std::snprintf(text, sizeof text, "computed, %s", ref.cache.c_str());
+  return text;
+}
+
 // A reference's line under the error numbers: what it is, its estimated error, and how far
 // below the smallest error of the lanes it measures that lies.
 void print_reference_error(const PipelineReport& report, std::size_t k) {
@@ -118,6 +135,7 @@ void print_reference_error(const PipelineReport& report, std::size_t k) {
   if (!std::isnan(smallest) && ref.estimated_error > 0.0)
     std::printf(" (%.2g %% of the smallest lane error, %.3g m)", 100.0 * ref.estimated_error / smallest, smallest);
   std::printf("\n");
+  if (!ref.cache.empty()) std::printf("%s: %s\n", head.c_str(), reference_cache_text(ref).c_str());
 }
 
 // The colouring in numbers: how far each lane strayed from the reference (or how strained,
@@ -192,6 +210,7 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
                         .text("role", role);
   if (adaptive_reference)
     lane.number("tolerance", r.adaptive_tolerance).number("check_tolerance", r.check_tolerance);
+  if (!r.cache.empty()) lane.text("cache", r.cache);
   if (integrator_info(r.spec.kind).adaptive && !adaptive_reference)  // an adaptive pair's own steps and error control
     lane.number("rejected_steps", static_cast<double>(r.totals.rejected_steps))
         .number("smallest_step", r.totals.smallest_step)
@@ -328,6 +347,11 @@ JsonObject summary_reference(const ReferenceReport& report) {
       .number("check_dt", ref.check_dt > 0.0 ? ref.check_dt : NAN)
       .number("check_tolerance", adaptive ? ref.check_tolerance : NAN)
       .number("estimated_error_m", ref.estimated_error);
+  if (!ref.cache.empty())  // computed or reused (lane_worker.h, LaneResult::cache)
+    json.text("cache", ref.cache == "reused" ? "reused" : "computed")
+        .text("cache_detail", ref.cache)
+        .text("cache_file", ref.cache_file)
+        .number("computed_cpu_seconds", ref.cache == "reused" ? ref.computed_cpu_seconds : ref.totals.cpu_seconds);
   return json;
 }
 

@@ -34,6 +34,13 @@ ColorRange parse_color_range(const std::string& text) {
 PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene, const std::vector<Lane>& lanes,
                                  bool compare) {
   PictureLook look;
+  if (!o.no_reference_cache) {
+    try {
+      look.reference_cache = analysis::reference_cache_settings();
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+  }
   const std::string color = o.color ? *o.color : !scene.render.color.empty() ? scene.render.color : compare ? "error" : "checker";
   const std::optional<FieldKind> kind = parse_field_kind(color);
   if (!kind) throw UsageError("--color: unknown colouring " + in_quotes(color) + " (expected checker, error, strain or speed)");
@@ -113,6 +120,7 @@ void apply_look(const PictureLook& look, PipelineConfig& c) {
   c.color_range = look.color_range;
   c.reference = look.reference;
   c.reference_tolerance = look.reference_tolerance;
+  c.reference_cache = look.reference_cache;
   c.overlay = look.overlay;
   c.overlay_cpu = look.overlay_cpu;
   c.inset_energy = look.inset_energy;

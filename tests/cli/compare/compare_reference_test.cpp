@@ -132,4 +132,64 @@ TEST(CompareReference, VaryMeasuresEachValueAgainstItsOwnScenesReference) {
   }
 }
 
+
+// The reference cache (study/reference_cache.h), through the CLI: a cache folder of the test's
+// own, switched on (the test environment turns it off for every other test).
+ct::CliResult compare_cached(const std::string& cache, const std::vector<std::string>& extra) {
+  std::vector<std::string> args{"compare", kSmooth, "--set", "cloth.particles=[9,9]", "--duration", "0.3",
+                                "--integrators", "symplectic_euler@1e-4,midpoint@2e-4", "--width", "320",
+                                "--height", "180", "--preset", "ultrafast"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return ct::run_clothsim(args, "env -u CLOTHSIM_REFERENCE_CACHE_MAX XDG_CACHE_HOME=" + ct::shell_quote(cache));
+}
+
+std::string cache_of(const std::string& json) {
+  const std::string reference = object_at(json, "\"estimated_error_m\"");
+  const std::size_t at = reference.find("\"cache\": \"");
+  return at == std::string::npos ? "" : reference.substr(at + 10, reference.find('"', at + 10) - at - 10);
+}
+
+TEST(CompareReference, ARerunReusesTheCachedReferenceAndWritesTheSameBytes) {
+  const std::string dir = ct::scratch_dir("compare_reference_cache");
+  const std::string cache = dir + "/xdg";
+  const auto first = compare_cached(cache, {"--video", dir + "/a.mp4", "--summary", dir + "/a.json"});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/a.json")), "computed");
+  EXPECT_NE(first.out.find("reference: computed, and stored in the cache (" + cache + "/clothsim/"), std::string::npos)
+      << first.out;
+  const auto second = compare_cached(cache, {"--video", dir + "/b.mp4", "--summary", dir + "/b.json"});
+  ASSERT_EQ(second.exit_code, 0) << second.err;
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/b.json")), "reused");
+  EXPECT_NE(second.out.find("reference: reused from the cache ("), std::string::npos) << second.out;
+  EXPECT_EQ(ct::slurp(dir + "/a.mp4"), ct::slurp(dir + "/b.mp4")) << "the clip, byte for byte";
+  // The same errors in the summary.
+  const std::string a = ct::slurp(dir + "/a.json"), b = ct::slurp(dir + "/b.json");
+  EXPECT_EQ(field_max_at(a, "\"lane\": \"midpoint@2e-4\""), field_max_at(b, "\"lane\": \"midpoint@2e-4\""));
+}
+
+TEST(CompareReference, AChangedSetMissesAndNoReferenceCacheBypasses) {
+  const std::string dir = ct::scratch_dir("compare_reference_cache_miss");
+  const std::string cache = dir + "/xdg";
+  ASSERT_EQ(compare_cached(cache, {"--summary", dir + "/a.json", "--color", "error"}).exit_code, 0);
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/a.json")), "computed");
+  const auto stiffer = compare_cached(cache, {"--summary", dir + "/b.json", "--color", "error", "--set",
+                                              "cloth.springs.structural.stiffness=21000"});
+  ASSERT_EQ(stiffer.exit_code, 0) << stiffer.err;
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/b.json")), "computed") << "another scene, another reference";
+  const auto bypass = compare_cached(cache, {"--summary", dir + "/c.json", "--color", "error", "--no-reference-cache"});
+  ASSERT_EQ(bypass.exit_code, 0) << bypass.err;
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/c.json")), "computed");
+  EXPECT_NE(bypass.out.find("reference: computed (the cache is off"), std::string::npos) << bypass.out;
+  const auto info = ct::run_clothsim({"cache", "info"}, "env XDG_CACHE_HOME=" + ct::shell_quote(cache));
+  EXPECT_NE(info.out.find("holds 2 entries"), std::string::npos) << info.out;
+  const auto clear = ct::run_clothsim({"cache", "clear"}, "env XDG_CACHE_HOME=" + ct::shell_quote(cache));
+  EXPECT_NE(clear.out.find("removed 2 entries"), std::string::npos) << clear.out;
+  ASSERT_EQ(compare_cached(cache, {"--summary", dir + "/d.json", "--color", "error"}).exit_code, 0);
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/d.json")), "computed") << "cleared";
+  const auto bad = ct::run_clothsim({"compare", kSmooth, "--summary", dir + "/e.json"},
+                                    "env CLOTHSIM_REFERENCE_CACHE_MAX=lots");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("CLOTHSIM_REFERENCE_CACHE_MAX: 'lots' is not a size"), std::string::npos) << bad.err;
+}
+
 }  // namespace
