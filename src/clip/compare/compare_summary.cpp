@@ -86,23 +86,6 @@ void print_reference_row(const ReferenceReport& ref, int width) {
               r.totals.cpu_seconds, t > 0 ? 1e3 * r.totals.cpu_seconds / t : 0.0, lane_result(r, "").c_str());
 }
 
-// Whether the reference was computed or served from the cache (LaneResult::cache).
-std::string reference_cache_text(const LaneResult& ref) {
-  char text[512];
-  if (ref.cache == "reused")
-    std::snprintf(text, sizeof text, "reused from the cache (%s), computed there in %.3g s of CPU, read here in %.3g s",
-                  ref.cache_file.c_str(), ref.computed_cpu_seconds, ref.totals.cpu_seconds);
-  else if (ref.cache == "stored")
-    std::snprintf(text, sizeof text, "computed, and stored in the cache (%s)", ref.cache_file.c_str());
-  else if (ref.cache == "off")
-    std::snprintf(text, sizeof text, "computed (the cache is off: --no-reference-cache, or CLOTHSIM_REFERENCE_CACHE_MAX=0)");
-  else if (ref.cache == "not cached")
-    std::snprintf(text, sizeof text, "computed (a reference of this method reads settings the cache's key leaves out)");
-  else
-    std::snprintf(text, sizeof text, "computed, %s", ref.cache.c_str());
-  return text;
-}
-
 // A reference's line under the error numbers: what it is, its estimated error, and how far
 // below the smallest error of the lanes it measures that lies.
 void print_reference_error(const PipelineReport& report, std::size_t k) {
@@ -231,6 +214,23 @@ JsonObject& with_field(JsonObject& lane, const PipelineReport& report, std::size
 }
 
 }  // namespace
+
+// Whether the reference was computed or served from the cache (LaneResult::cache).
+std::string reference_cache_text(const LaneResult& ref) {
+  char text[512];
+  if (ref.cache == "reused")
+    std::snprintf(text, sizeof text, "reused from the cache (%s), computed there in %.3g s of CPU, read here in %.3g s",
+                  ref.cache_file.c_str(), ref.computed_cpu_seconds, ref.totals.cpu_seconds);
+  else if (ref.cache == "stored")
+    std::snprintf(text, sizeof text, "computed, and stored in the cache (%s)", ref.cache_file.c_str());
+  else if (ref.cache == "off")
+    std::snprintf(text, sizeof text, "computed (the cache is off: --no-reference-cache, or CLOTHSIM_REFERENCE_CACHE_MAX=0)");
+  else if (ref.cache == "not cached")
+    std::snprintf(text, sizeof text, "computed (a reference of this method reads settings the cache's key leaves out)");
+  else
+    std::snprintf(text, sizeof text, "computed, %s", ref.cache.c_str());
+  return text;
+}
 
 std::string lane_result(const LaneResult& r, const std::string& wrong) {
   char result[192];

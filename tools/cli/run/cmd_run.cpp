@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "clip/frames/run_outputs.h"
+#include "clip/compare/compare_summary.h"
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
 #include "cli/common/options.h"
@@ -139,6 +140,8 @@ void print_run_totals(const Model& model, IntegratorKind kind, double dt, const 
                 reference->spec.name().c_str(), reference->spec.step_text.c_str(),
                 reference->totals.force_evals, reference->totals.cpu_seconds,
                 reference->estimated_error);
+  if (reference && !reference->cache.empty())  // computed or reused (docs/compare.md)
+    std::printf("reference for --color error: %s\n", reference_cache_text(*reference).c_str());
 }
 
 void write_run_summary(const RunOptions& o, const SceneDef& scene, const Model& model, const LaneResult& r,
