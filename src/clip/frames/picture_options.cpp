@@ -34,17 +34,17 @@ ColorRange parse_color_range(const std::string& text) {
 PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene, const std::vector<Lane>& lanes,
                                  bool compare) {
   PictureLook look;
-  if (!o.no_reference_cache) {
+  const std::string color = o.color ? *o.color : !scene.render.color.empty() ? scene.render.color : compare ? "error" : "checker";
+  const std::optional<FieldKind> kind = parse_field_kind(color);
+  if (!kind) throw UsageError("--color: unknown colouring " + in_quotes(color) + " (expected checker, error, strain or speed)");
+  look.color = *kind;
+  if (look.color == FieldKind::Error && !o.no_reference_cache) {  // (only the error's reference is cached)
     try {
       look.reference_cache = analysis::reference_cache_settings();
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }
   }
-  const std::string color = o.color ? *o.color : !scene.render.color.empty() ? scene.render.color : compare ? "error" : "checker";
-  const std::optional<FieldKind> kind = parse_field_kind(color);
-  if (!kind) throw UsageError("--color: unknown colouring " + in_quotes(color) + " (expected checker, error, strain or speed)");
-  look.color = *kind;
   if (!o.color_range.empty()) {
     if (look.color == FieldKind::None) throw UsageError("--color-range goes with --color error, strain or speed");
     look.color_range = parse_color_range(o.color_range);
