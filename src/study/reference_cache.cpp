@@ -16,6 +16,7 @@
 #include <system_error>
 #include <vector>
 
+#include "core/springs/spring_kernels.h"
 #include "io/output_file.h"
 
 namespace clothsim::analysis {
@@ -99,7 +100,9 @@ std::string model_digest(const Model& m) {
 }
 
 std::string build_identity() {
-  std::string id = "clothsim " CLOTHSIM_VERSION;
+  // The SIMD target the kernels dispatch to as well: one binary rounds differently on another
+  // CPU (a home folder shared across machines).
+  std::string id = std::string("clothsim " CLOTHSIM_VERSION " simd ") + spring_kernel_target();
   Dl_info info{};
   struct stat st{};
   if (::dladdr(reinterpret_cast<void*>(&build_identity), &info) && info.dli_fname &&

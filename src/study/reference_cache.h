@@ -50,8 +50,9 @@ class Digest {
 // path, triangles (drawing only) or render settings.
 std::string model_digest(const Model& model);
 
-// The build serving a reference: the version, and the file holding this code (the executable or
-// the Python module) by path, size and modification time. A rebuilt binary misses.
+// The build serving a reference: the version, the SIMD target its kernels run on, and the file
+// holding this code (the executable or the Python module) by path, size and modification time.
+// A rebuilt binary misses.
 std::string build_identity();
 
 struct ReferenceCacheSettings {
