@@ -143,37 +143,37 @@ AdaptiveReference::AdaptiveReference(const Model& model, double tolerance, doubl
     : model_(model),
       tolerance_(tolerance),
       tightening_(tightening),
-      tight_(model, tolerance / tightening),
-      loose_(model, tolerance) {
-  loose_.set_stop_check([this] { return abandon_.load(std::memory_order_relaxed); });
+      served_(model, tolerance),
+      check_(model, tolerance / tightening) {
+  check_.set_stop_check([this] { return abandon_.load(std::memory_order_relaxed); });
 }
 
-void AdaptiveReference::set_stop_check(const std::function<bool()>& stop) { tight_.set_stop_check(stop); }
+void AdaptiveReference::set_stop_check(const std::function<bool()>& stop) { served_.set_stop_check(stop); }
 
 bool AdaptiveReference::advance_to(double t) {
-  double loose_cpu = 0.0;
-  auto check = std::async(std::launch::async, [this, t, &loose_cpu] {
+  double check_cpu = 0.0;
+  auto check = std::async(std::launch::async, [this, t, &check_cpu] {
     const double start = thread_cpu_seconds();
-    const bool ok = loose_.advance_to(t) && !loose_.stopped();
-    loose_cpu = thread_cpu_seconds() - start;
+    const bool ok = check_.advance_to(t) && !check_.stopped();
+    check_cpu = thread_cpu_seconds() - start;
     return ok;
   });
   const double cpu_start = thread_cpu_seconds();
-  const bool tight_ok = tight_.advance_to(t) && !tight_.stopped();
-  if (!tight_ok) abandon_.store(true, std::memory_order_relaxed);
-  const bool loose_ok = check.get();
-  cpu_seconds_ += thread_cpu_seconds() - cpu_start + loose_cpu;
-  if (!tight_ok || !loose_ok) return !diverged();
+  const bool served_ok = served_.advance_to(t) && !served_.stopped();
+  if (!served_ok) abandon_.store(true, std::memory_order_relaxed);
+  const bool check_ok = check.get();
+  cpu_seconds_ += thread_cpu_seconds() - cpu_start + check_cpu;
+  if (!served_ok || !check_ok) return !diverged();
   time_ = t;
-  last_change_ = largest_particle_distance(model_, loose_.state(), tight_.state());
-  estimated_error_ = std::max(estimated_error_, last_change_);
+  last_change_ = largest_particle_distance(model_, check_.state(), served_.state());
+  estimated_error_ = std::max(estimated_error_, kEstimateFactor * last_change_);
   return true;
 }
 
 RunTotals AdaptiveReference::totals() const {
   RunTotals totals;
-  totals.steps = tight_.steps();
-  totals.force_evals = tight_.force_evals() + loose_.force_evals();
+  totals.steps = served_.steps();
+  totals.force_evals = served_.force_evals() + check_.force_evals();
   totals.cpu_seconds = totals.sim_seconds = cpu_seconds_;
   return totals;
 }

@@ -127,6 +127,7 @@ int main(int argc, char** argv) {
   add_imgdiff_command(app, command);
   add_golden_command(app, command);
   add_merge_command(app, command);
+  add_cache_command(app, command);
 
   try {
     app.parse(argc, argv);

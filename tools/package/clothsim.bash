@@ -5,7 +5,7 @@ _clothsim() {
   local cur prev cmd words
   cur=${COMP_WORDS[COMP_CWORD]}
   prev=${COMP_WORDS[COMP_CWORD-1]}
-  local commands="run compare bench converge stability validate encode imgdiff golden merge"
+  local commands="run compare bench converge stability validate encode imgdiff golden merge cache"
   if ((COMP_CWORD == 1)); then
     COMPREPLY=($(compgen -W "$commands --help --version" -- "$cur"))
     return

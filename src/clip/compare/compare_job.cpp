@@ -20,6 +20,7 @@
 #include "clip/frames/export_output.h"
 #include "clip/frames/grid_legend.h"
 #include "clip/frames/pipeline_outputs.h"
+#include "clip/frames/reference_record.h"
 #include "clip/frames/run_outputs.h"
 #include "render/png_io.h"
 #include "scene/build_model.h"
@@ -151,19 +152,12 @@ void fit_grid(ComparePlan& p) {
   }
 }
 
-// Whether the error's reference may start before the steps are chosen (start_reference_early).
-bool starts_reference_early(const CompareRequest& o, const PictureLook& look) {
-  return o.vary.empty() && parse_match(o.match).kind != MatchKind::Error && look.color == FieldKind::Error &&
-         look.reference;
-}
-
 // Peak memory, estimated and checked before the renderer or the encoder exist: one Model (a
 // lane's settings ride in its run: no lane copies it), a run per lane and the reference, the
 // renderer at tile size, the tiles, the grid, the PNG writers' queues (3 tiles each), the
 // contact sheet's cells, the first second held for the colour scale, and the encoder.
 void check_memory(const CompareRequest& o, const ComparePlan& p) {
   const SceneDef& scene = p.scene;
-  const int particles = scene.cloth.nx * scene.cloth.ny;
   MemoryBudget budget;
   budget.add("model", model_bytes(scene));
   for (const SceneDef& s : p.vary_scenes) budget.add("model for --vary", model_bytes(s));
@@ -185,12 +179,11 @@ void check_memory(const CompareRequest& o, const ComparePlan& p) {
     const int served = of.cloth.nx * of.cloth.ny;
     budget.add("reference positions at the lanes' times" + which,
                reference_positions_bytes(of, steps, *p.targets, reference_queue_capacity(served, steps)));
+    if (analysis::ReferenceCache(p.look.reference_cache).enabled())  // what it serves, kept until it is stored (reference_record.h)
+      budget.add("reference frames held for the cache" + which, reference_record_bytes(served, steps, p.targets->size()));
   }
   if (p.look.reference && p.look.inset_energy && p.look.color != FieldKind::Error)  // else the error's run
     budget.add("reference for the energy inset", run_bytes(scene, p.look.reference->kind) + kLaneThreadBytes);
-  if (starts_reference_early(o, p.look))
-    budget.add("reference states kept while the steps are chosen",
-               static_cast<double>(reference_ahead_states(particles)) * final_state_bytes(scene, p.look.reference->kind));
   const TileGrid& grid = *p.grid;
   if (p.rendering) {
     const double n = static_cast<double>(p.lanes.size());
@@ -241,32 +234,6 @@ void plan_targets(const CompareRequest& o, ComparePlan& p, const PictureLook& lo
                                               o.still_t.value_or(-1.0));
   if (look.color != FieldKind::None && !look.color_range) targets->with_scale_window(kColorScaleWindow);
   p.targets = std::move(targets);
-}
-
-// The error colouring's reference, started at once on the core the pilots of --match cost
-// leave idle: its step is a quarter of the smallest lane step, which matching on cost leaves as
-// it is (the cheapest lane keeps the scene's step; the others cost more a step and take larger
-// ones). It runs ahead until the pipeline gives it the lanes' steps; keep_early_reference
-// drops it should matching change it after all. Not under --match error (another reference).
-void start_reference_early(const CompareRequest& o, ComparePlan& p, PictureLook look) {
-  if (!starts_reference_early(o, look) || (look.reference_is_default && analysis::smooth_scene(*p.model))) return;
-  try {
-    fit_reference_to_model(look, *p.model, p.scene, p.specs());
-  } catch (const UsageError&) {
-    return;  // said after matching, if it still holds
-  }
-  if (!run_bounds_problem(p.scene.duration, look.reference->dt, p.scene.render.fps).empty()) return;
-  LaneNeeds needs;
-  needs.stand_for_later = true;
-  p.early_reference = std::make_shared<LaneWorker>(*p.model, *look.reference, *p.targets, needs, kLaneQueueCapacity,
-                                                   [] { return interrupted(); });
-}
-
-// The early reference, kept only if it is the run the matched lanes' reference is.
-void keep_early_reference(ComparePlan& p) {
-  if (!p.early_reference) return;
-  if (p.look.color != FieldKind::Error || !p.look.reference || !same_run(p.early_reference->spec(), *p.look.reference))
-    p.early_reference.reset();  // stops it
 }
 
 // The rows' names: the --vary labels where there are, else each lane's name.
@@ -360,14 +327,13 @@ ComparePlan plan_compare(const CompareRequest& o) {
   plan_targets(o, p, unmatched);
   p.look = unmatched;  // the memory a run needs is the same whatever steps matching chooses
   fit_grid(p);
-  check_memory(o, p);  // before the models, the pilots and the early reference take any
+  check_memory(o, p);  // before the models and the pilots take any
   // The export's folders, made by its checks once the run is admitted (a refused one leaves none).
   checked_export_paths(o.export_path, p.dirs(), static_cast<int>(p.scene.spheres.size()));
   p.model = std::make_shared<const Model>(build_model(p.scene));
   for (const SceneDef& s : p.vary_scenes) p.vary_models.push_back(build_model(s));
   if (!p.vary_models.empty())  // lanes row by row, a value per column
     for (std::size_t i = 0; i < p.lanes.size(); ++i) p.lanes[i].model = &p.vary_models[i % p.vary_models.size()];
-  start_reference_early(o, p, unmatched);
   choose_steps(o, p);
   name_lanes(p);
   p.look = resolve_look(o, p);
@@ -386,7 +352,6 @@ ComparePlan plan_compare(const CompareRequest& o) {
                      static_cast<int>(p.sheet_times.size()), p.grid->width(), p.grid->height());
   fit_reference_to_model(p.look, *p.model, p.scene, p.specs());
   fit_variant_references(p);
-  keep_early_reference(p);
   return p;
 }
 
@@ -402,7 +367,6 @@ PipelineConfig pipeline_config(const ComparePlan& p) {
   apply_look(p.look, config);
   if (p.look.inset_energy && p.vary_models.empty()) config.energy_reference = p.look.reference;  // E - E_ref
   config.variant_references = p.variant_references;
-  config.started_reference = p.early_reference;
   config.scene_render = p.scene.render;
   if (p.look.camera_auto)
     config.camera = auto_camera(*p.model, p.scene.render, static_cast<double>(config.width) / config.height);

@@ -4,9 +4,10 @@
 //     CompareRequest -> plan_compare (everything checked, the model built, the steps chosen)
 //         -> ComparePlan, one CompareLane per lane -> the frame pipeline with its outputs
 //
-// The plan is a value, made once and movable: the model, the targets and the --vary models sit
-// behind pointers it owns, frozen before anything reads them, so the error's reference started
-// early (on the core the --match pilots leave idle) reads those, never the plan being built.
+// The plan is a value, made once and movable, and nothing runs while it is made but the --match
+// pilots, which finish inside it: run_compare starts the lanes and the reference (or serves the
+// reference from the cache, study/reference_cache.h). The model, the targets and the --vary
+// models sit behind pointers it owns, so the lanes read those wherever the plan moves.
 // Every function throws UsageError (exit 2) or RuntimeFailure (exit 1) with the one-line
 // message the CLI prints.
 #pragma once
@@ -77,8 +78,8 @@ struct ComparePlan {
   std::vector<double> sheet_times;
   std::optional<TileGrid> grid;
   int legend_width = 0;  // the colour bar's strip right of the grid (grid_legend.h)
-  std::shared_ptr<const TargetPlan> targets;  // frozen once planned: the early reference reads it
-  std::shared_ptr<const Model> model;         // the same
+  std::shared_ptr<const TargetPlan> targets;  // behind pointers: a moved plan's lanes still read them
+  std::shared_ptr<const Model> model;
   // --vary: per value, its scene and model (a deque: the lanes and the pipeline keep pointers).
   std::vector<SceneDef> vary_scenes;
   std::deque<Model> vary_models;
@@ -86,9 +87,6 @@ struct ComparePlan {
   // --vary with --color error: per value, the reference its lanes are measured against
   // (PipelineConfig::variant_references), each fitted to its value's model.
   std::vector<VariantReference> variant_references;
-  // The error colouring's reference, started before the steps are matched (it reads model and
-  // targets, the pointees above; declared last: stopped first).
-  std::shared_ptr<LaneWorker> early_reference;
 
   // The lanes' fields one by one, for the functions that take a list.
   std::vector<Lane> specs() const;
@@ -98,8 +96,7 @@ struct ComparePlan {
   SummaryContext summary_context() const;
 };
 
-// 1. Everything that can be wrong, before any simulation; the steps chosen (the error's
-// reference running meanwhile).
+// 1. Everything that can be wrong, before any simulation; the steps chosen. No thread outlives it.
 ComparePlan plan_compare(const CompareRequest& o);
 // --shard: the plan of the whole comparison, narrowed to this part's lanes (compare_shard.h).
 void keep_shard_lanes(const CompareRequest& o, ComparePlan& p);

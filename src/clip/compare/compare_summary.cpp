@@ -80,7 +80,7 @@ void print_reference_row(const ReferenceReport& ref, int width) {
   if (!(r.adaptive_tolerance > 0.0)) return print_row(r, reference_row_name(ref), "", width);
   const double t = simulated(r);
   char tolerance[32];
-  std::snprintf(tolerance, sizeof tolerance, "tol %.0e", r.adaptive_tolerance / analysis::kCompareTightening);
+  std::snprintf(tolerance, sizeof tolerance, "tol %.0e", r.adaptive_tolerance);
   std::printf("%-*s %10s %10" PRId64 " %13" PRId64 " %12.3g %9.3f %14.1f  %s\n", width, reference_row_name(ref).c_str(),
               tolerance, r.totals.steps, r.totals.force_evals, t > 0 ? spring_passes(r.totals) / t : 0.0,
               r.totals.cpu_seconds, t > 0 ? 1e3 * r.totals.cpu_seconds / t : 0.0, lane_result(r, "").c_str());
@@ -110,7 +110,7 @@ void print_reference_error(const PipelineReport& report, std::size_t k) {
   std::printf("%s: ", head.c_str());
   if (adaptive)
     std::printf("dopri5 adaptive at tolerance %.0e, checked by a solve at %.0e",
-                ref.adaptive_tolerance / analysis::kCompareTightening, ref.adaptive_tolerance);
+                ref.adaptive_tolerance, ref.check_tolerance);
   else
     std::printf("%s @ %s s, checked by a run at twice its step (%.3g s)", ref.spec.name().c_str(),
                 ref.spec.step_text.c_str(), ref.check_dt);
@@ -118,6 +118,7 @@ void print_reference_error(const PipelineReport& report, std::size_t k) {
   if (!std::isnan(smallest) && ref.estimated_error > 0.0)
     std::printf(" (%.2g %% of the smallest lane error, %.3g m)", 100.0 * ref.estimated_error / smallest, smallest);
   std::printf("\n");
+  if (!ref.cache.empty()) std::printf("%s: %s\n", head.c_str(), reference_cache_text(ref).c_str());
 }
 
 // The colouring in numbers: how far each lane strayed from the reference (or how strained,
@@ -177,7 +178,11 @@ void print_solver_work(const PipelineReport& report, const std::vector<std::stri
 
 JsonObject lane_summary(const Model& model, const LaneResult& r, const std::string& role) {
   const double t = simulated(r);
-  JsonObject lane = lane_json(model.name, r.spec.kind, r.spec.dt, r.totals,
+  // The adaptive reference runs the dopri5 solve in place of its lane (lane_worker.h): its row
+  // says so, with no step, its tolerances beside it.
+  const bool adaptive_reference = r.adaptive_tolerance > 0.0;
+  JsonObject lane = lane_json(model.name, adaptive_reference ? IntegratorKind::Dopri5 : r.spec.kind,
+                              adaptive_reference ? std::nan("") : r.spec.dt, r.totals,
                               r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
                         .number("t_reached", r.t)
                         .number("spring_passes", spring_passes(r.totals))
@@ -186,7 +191,10 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
                         .number("spring_passes_per_s", t > 0 ? spring_passes(r.totals) / t : std::nan(""))
                         .text("lane", r.adaptive_tolerance > 0.0 ? std::string("dopri5 (adaptive)") : r.spec.spelling())
                         .text("role", role);
-  if (integrator_info(r.spec.kind).adaptive)  // an adaptive pair's own steps and error control
+  if (adaptive_reference)
+    lane.number("tolerance", r.adaptive_tolerance).number("check_tolerance", r.check_tolerance);
+  if (!r.cache.empty()) lane.text("cache", r.cache);
+  if (integrator_info(r.spec.kind).adaptive && !adaptive_reference)  // an adaptive pair's own steps and error control
     lane.number("rejected_steps", static_cast<double>(r.totals.rejected_steps))
         .number("smallest_step", r.totals.smallest_step)
         .number("largest_step", r.totals.largest_step)
@@ -206,6 +214,23 @@ JsonObject& with_field(JsonObject& lane, const PipelineReport& report, std::size
 }
 
 }  // namespace
+
+// Whether the reference was computed or served from the cache (LaneResult::cache).
+std::string reference_cache_text(const LaneResult& ref) {
+  char text[512];
+  if (ref.cache == "reused")
+    std::snprintf(text, sizeof text, "reused from the cache (%s), computed there in %.3g s of CPU, read here in %.3g s",
+                  ref.cache_file.c_str(), ref.computed_cpu_seconds, ref.totals.cpu_seconds);
+  else if (ref.cache == "stored")
+    std::snprintf(text, sizeof text, "computed, and stored in the cache (%s)", ref.cache_file.c_str());
+  else if (ref.cache == "off")
+    std::snprintf(text, sizeof text, "computed (the cache is off: --no-reference-cache, or CLOTHSIM_REFERENCE_CACHE_MAX=0)");
+  else if (ref.cache == "not cached")
+    std::snprintf(text, sizeof text, "computed (a reference of this method reads settings the cache's key leaves out)");
+  else
+    std::snprintf(text, sizeof text, "computed, %s", ref.cache.c_str());
+  return text;
+}
 
 std::string lane_result(const LaneResult& r, const std::string& wrong) {
   char result[192];
@@ -318,10 +343,15 @@ JsonObject summary_reference(const ReferenceReport& report) {
   const bool adaptive = ref.adaptive_tolerance > 0.0;
   json.text("method", adaptive ? "dopri5 (adaptive)" : ref.spec.name())
       .number("dt", adaptive ? NAN : ref.spec.dt)
-      .number("tolerance", adaptive ? ref.adaptive_tolerance / analysis::kCompareTightening : NAN)
+      .number("tolerance", adaptive ? ref.adaptive_tolerance : NAN)
       .number("check_dt", ref.check_dt > 0.0 ? ref.check_dt : NAN)
-      .number("check_tolerance", adaptive ? ref.adaptive_tolerance : NAN)
+      .number("check_tolerance", adaptive ? ref.check_tolerance : NAN)
       .number("estimated_error_m", ref.estimated_error);
+  if (!ref.cache.empty())  // computed or reused (lane_worker.h, LaneResult::cache)
+    json.text("cache", ref.cache == "reused" ? "reused" : "computed")
+        .text("cache_detail", ref.cache)
+        .text("cache_file", ref.cache_file)
+        .number("computed_cpu_seconds", ref.cache == "reused" ? ref.computed_cpu_seconds : ref.totals.cpu_seconds);
   return json;
 }
 

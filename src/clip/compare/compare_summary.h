@@ -42,6 +42,9 @@ bool lane_unresolved(const PipelineReport& report, std::size_t lane, FieldKind c
 // method, step or tolerance, and estimated_error_m (the largest over the measured frames; null
 // where not estimated).
 JsonObject summary_reference(const ReferenceReport& reference);
+// Whether a reference was computed or reused from the cache, and where it is: the text after
+// "reference: " of the table's line (LaneResult::cache; "" for a lane that is no reference).
+std::string reference_cache_text(const LaneResult& reference);
 
 // --summary's lanes: the pipeline's report as JSON objects (docs/summary.md), the reference last.
 std::vector<JsonObject> summary_lanes(const Model& model, const PipelineReport& report, FieldKind color,

@@ -71,9 +71,9 @@ struct PipelineConfig {
   std::optional<Lane> reference;  // for FieldKind::Error
   // > 0: that reference is the adaptive solve at this tolerance (LaneNeeds::adaptive_tolerance).
   double reference_tolerance = 0.0;
-  // compare: that reference, started before the lanes' steps were chosen (LaneNeeds::
-  // stand_for_later) on this pipeline's model and plan; taken when same_run(its spec, reference).
-  std::shared_ptr<LaneWorker> started_reference;
+  // Where the error's references are served from when computed before, and stored once
+  // computed (study/reference_cache.h; dir "": always computed, never stored).
+  analysis::ReferenceCacheSettings reference_cache;
   RenderDef scene_render;          // the scene's render block: camera, springs, particles
   std::optional<RenderCamera> camera;  // replaces the model's (render.camera: auto, fitted)
   std::string command = "compare";     // for messages: "compare: colour scale ..."

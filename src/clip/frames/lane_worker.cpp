@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "clip/reference/reference_history.h"
+#include "clip/frames/reference_record.h"
 #include "clip/reference/reference_stand.h"
 #include "clip/reference/lane_times.h"
 #include "core/model/diagnostics.h"
@@ -19,7 +19,7 @@ LaneWorker::LaneWorker(const Model& model, const MethodSettings& settings, Lane 
                        LaneNeeds needs, std::size_t queue_capacity, std::function<bool()> interrupt)
     : model_(model), settings_(settings), spec_(std::move(spec)), targets_(targets), needs_(needs),
       interrupt_(std::move(interrupt)),
-      reference_(!needs_.stand_for.empty() || needs_.stand_for_later),
+      reference_(!needs_.stand_for.empty()),
       capacity_(std::max<std::size_t>(1, queue_capacity)) {
   if (!needs_.stand_for.empty()) set_lane_steps(needs_.stand_for);
   for (std::size_t i = 0; i < needs_.serves.size(); ++i)
@@ -31,7 +31,7 @@ LaneWorker::LaneWorker(const Model& model, const MethodSettings& settings, Lane 
 LaneWorker::~LaneWorker() {
   stop();
   join();
-}
+}  // (here, where ReferenceRecorder is complete)
 
 void LaneWorker::stop() {
   stop_requested_ = true;
@@ -48,10 +48,6 @@ std::size_t reference_queue_capacity(int particles, const std::vector<double>& l
   return std::clamp<std::size_t>(static_cast<std::size_t>(kReferenceAheadBytes / frame), kLaneQueueCapacity, 32);
 }
 
-std::size_t reference_ahead_states(int particles) {
-  return std::clamp<std::size_t>(static_cast<std::size_t>(kReferenceAheadBytes / (56.0 * std::max(1, particles))), 2, 64);
-}
-
 bool same_run(const Lane& started, const Lane& wanted) {
   return started.same_as(wanted) && started.step_text == wanted.step_text;
 }
@@ -60,16 +56,6 @@ void LaneWorker::set_lane_steps(std::vector<double> lane_steps) {
   dropped_ = std::make_unique<std::atomic<bool>[]>(lane_steps.size());
   for (std::size_t i = 0; i < lane_steps.size(); ++i) dropped_[i] = false;
   lane_steps_ = std::move(lane_steps);
-  steps_known_ = true;
-}
-
-void LaneWorker::stand_for(std::vector<double> lane_steps, std::size_t queue_capacity, double energy_every) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (!reference_ || steps_known_) throw std::logic_error("stand_for: not a reference waiting for the lanes' steps");
-  set_lane_steps(std::move(lane_steps));
-  capacity_ = std::max<std::size_t>(1, queue_capacity);
-  needs_.energy_every = energy_every;
-  changed_.notify_all();
 }
 
 void LaneWorker::drop_lane(std::size_t lane) {
@@ -101,6 +87,7 @@ bool LaneWorker::next(LaneFrame& out) {
 }
 
 void LaneWorker::push(LaneFrame frame) {
+  if (recorder_) recorder_->add(frame);  // (the reference's thread, the recorder's only user)
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait(lock, [this] { return queue_.size() < capacity_ || stop_; });
   if (stop_) return;
@@ -161,10 +148,10 @@ LaneFrame frozen_reference(const ReferenceSource& source) {
 // The reference lane's loop (LaneNeeds::stand_for): targets are added as the times they need
 // come due, the earliest needed time is served next, and a target's frame is handed over once
 // every lane's positions for it are known (reference_stand.h).
-void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
-  ReferenceHistory history(model_, settings_, spec_.kind, run.dt());
-  if (!run_ahead(run, history)) return finish_reference(run, history);
-  ReferenceStand stand(model_, run, lane_steps_, targets_.last_time(), &history);
+// True when it ran to its end (every target served, its horizon passed, or diverged), false
+// when stopped or interrupted first.
+bool LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
+  ReferenceStand stand(model_, run, lane_steps_, targets_.last_time());
   if (exact) stand.serve_exactly(*exact);
   std::optional<Run> check;  // the fixed-step reference's own error: a run at twice its step (reference_stand.h)
   if (!exact) stand.check_against(check.emplace(model_, spec_.kind, 2.0 * run.dt(), settings_));
@@ -199,6 +186,7 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
     f.reference_error = exact ? exact->estimated_error() : stand.estimated_error();
     push(std::move(f));
   };
+  bool complete = false;
   for (;;) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -207,6 +195,10 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
     apply_drops();
     if (stand.front_ready()) {
       hand_over();
+      if (!more && stand.empty()) {  // the last target (the pipeline may stop it from here on)
+        complete = true;
+        break;
+      }
       continue;
     }
     if (more && stand.add_before_serving(next.t)) {
@@ -214,9 +206,13 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
       more = cursor.next(next);
       continue;
     }
-    if (stand.empty()) break;  // every target served
+    if (stand.empty()) {  // every target served
+      complete = true;
+      break;
+    }
     if (!stand.serve_next()) {
       if (source.stopped() && stop_asked()) break;
+      complete = true;
       if (source.stopped()) {
         // Past the horizon: what every live lane needs was served (the targets still to add
         // would need later times), so the targets waiting go out, the dropped lanes' positions
@@ -235,47 +231,24 @@ void LaneWorker::serve_reference(Run& run, analysis::AdaptiveReference* exact) {
       break;
     }
   }
-  finish_reference(run, history, exact, check ? &*check : nullptr, stand.estimated_error());
+  finish_reference(run, exact, check ? &*check : nullptr, stand.estimated_error());
+  return complete;
 }
 
-// Until the lanes' steps are known (LaneNeeds::stand_for_later): the run goes ahead target by
-// target, keeping its state a little before each (ReferenceHistory::keep_step), and waits once
-// it has kept reference_ahead_states, passed the last target, diverged or been stopped. False
-// when stop() was called first.
-bool LaneWorker::run_ahead(Run& run, ReferenceHistory& history) {
-  TargetPlan::Cursor cursor(targets_);
-  Target target;
-  bool more = true;
-  for (;;) {
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      if (!more || history.size() >= reference_ahead_states(model_.num_particles) || run.diverged() || run.stopped())
-        changed_.wait(lock, [this] { return steps_known_ || stop_; });
-      if (stop_) return false;
-      if (steps_known_) return true;
-    }
-    if (history.empty()) history.keep(run.state());  // step 0: the first target's times replay from it
-    if (!(more = cursor.next(target))) continue;
-    const std::int64_t k = ReferenceHistory::keep_step(target.t, run.dt());
-    if (k <= run.state().step) continue;
-    if (run.advance_to(static_cast<double>(k) * run.dt()) && !run.stopped()) history.keep(run.state());
-  }
-}
-
-void LaneWorker::finish_reference(const Run& run, const ReferenceHistory& history,
-                                  const analysis::AdaptiveReference* exact, const Run* check, double estimated_error) {
+void LaneWorker::finish_reference(const Run& run, const analysis::AdaptiveReference* exact, const Run* check,
+                                  double estimated_error) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (exact) {  // it ran in place of the run
     result_.t = exact->state().t;
     result_.totals = exact->totals();
     result_.divergence = exact->divergence();
     result_.adaptive_tolerance = exact->tolerance();
+    result_.check_tolerance = exact->check_tolerance();
     result_.estimated_error = exact->estimated_error();
     return;
   }
   result_.t = run.state().t;  // as far as it ran (past the last target where a lane stands past it)
   result_.totals = run.totals();
-  result_.totals.cpu_seconds += history.replay_cpu_seconds();  // what the early start cost
   result_.divergence = run.divergence();
   if (check) {  // its work is the reference's too
     result_.totals.cpu_seconds += check->totals().cpu_seconds;
@@ -354,6 +327,78 @@ void LaneWorker::run_targets(Run& run) {
   if (needs_.final_state && !run.diverged()) result_.final_state = run.state();
 }
 
+// The reference from the cache when it holds it, else computed and stored there
+// (reference_record.h).
+void LaneWorker::cached_reference(Run& run) {
+  const analysis::ReferenceCache cache(needs_.cache);
+  const std::optional<std::string> key =
+      cache.enabled() ? reference_cache_key(model_, spec_, needs_.adaptive_tolerance, lane_steps_, needs_.serves,
+                                            needs_.energy_every, targets_)
+                      : std::nullopt;
+  if (key && replay_reference(cache, *key)) return;
+  const double limit = std::min(kReferenceRecordLimit, static_cast<double>(needs_.cache.max_bytes));
+  if (key) recorder_ = std::make_unique<ReferenceRecorder>(static_cast<std::size_t>(limit));
+  bool complete = false;
+  if (needs_.adaptive_tolerance > 0.0) {
+    analysis::AdaptiveReference exact(model_, needs_.adaptive_tolerance);
+    complete = serve_reference(run, &exact);
+  } else {
+    complete = serve_reference(run);
+  }
+  LaneResult result = this->result();
+  if (!cache.enabled()) {
+    result.cache = "off";
+  } else if (!key) {
+    result.cache = "not cached";
+  } else if (complete && !recorder_->overflowed()) {
+    std::string why;
+    if (cache.store(*key, recorder_->finish(result), &why)) {
+      result.cache = "stored";
+      result.cache_file = cache.path_of(*key);
+    } else {
+      result.cache = "not stored: " + why;
+    }
+  } else {
+    result.cache = complete ? "not stored: larger than " + std::to_string(static_cast<long>(limit / (1 << 20))) + " MB"
+                            : "not stored: stopped before its end";
+  }
+  recorder_.reset();
+  std::lock_guard<std::mutex> lock(mutex_);
+  result_.cache = result.cache;
+  result_.cache_file = result.cache_file;
+}
+
+// Serves the record stored under `key`, frame for frame; false (nothing handed over) when there
+// is none, or it does not decode (then removed, as a damaged entry is).
+bool LaneWorker::replay_reference(const analysis::ReferenceCache& cache, const std::string& key) {
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = thread_cpu_seconds();
+  const std::optional<std::string> payload = cache.load(key);
+  if (!payload) return false;
+  std::optional<ReferenceRecord> record = decode_reference_record(*payload);
+  if (!record) {
+    std::remove(cache.path_of(key).c_str());
+    return false;
+  }
+  for (LaneFrame& f : record->frames) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_) break;
+    }
+    push(std::move(f));
+  }
+  LaneResult r = std::move(record->result);
+  r.spec = spec_;
+  r.cache = "reused";
+  r.cache_file = cache.path_of(key);
+  r.computed_cpu_seconds = r.totals.cpu_seconds;
+  r.totals.cpu_seconds = thread_cpu_seconds() - cpu_start;
+  r.totals.sim_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::lock_guard<std::mutex> lock(mutex_);
+  result_ = std::move(r);
+  return true;
+}
+
 bool LaneWorker::stop_asked() const {
   return stop_requested_.load(std::memory_order_relaxed) || (interrupt_ && interrupt_());
 }
@@ -364,14 +409,8 @@ void LaneWorker::work() {
     run.set_stop_check([this] { return stop_asked(); });
     // CLOTHSIM_NEWTON_TRACE=1: implicit_euler's Newton trace on stderr (docs/implicit_euler.md, "The Newton trace").
     if (std::getenv("CLOTHSIM_NEWTON_TRACE")) run.set_newton_trace([](const char* line) { std::fputs(line, stderr); });
-    if (!reference_) {
-      run_targets(run);
-    } else if (needs_.adaptive_tolerance > 0.0) {
-      analysis::AdaptiveReference exact(model_, needs_.adaptive_tolerance);
-      serve_reference(run, &exact);
-    } else {
-      serve_reference(run);
-    }
+    if (!reference_) run_targets(run);
+    else cached_reference(run);
   } catch (...) {
     std::lock_guard<std::mutex> lock(mutex_);
     error_ = std::current_exception();

@@ -25,14 +25,11 @@
 #include "clip/common/lanes.h"
 #include "clip/common/plan_parts.h"
 #include "core/run/simulation.h"
+#include "study/reference_cache.h"
 #include "view/render_frame.h"
 #include "view/render_settings.h"
 #include "view/vertex_fields.h"
 
-namespace clothsim::clip {
-
-class ReferenceHistory;
-}  // namespace clothsim::clip
 namespace clothsim::analysis {
 class AdaptiveReference;
 }  // namespace clothsim::analysis
@@ -59,16 +56,14 @@ struct LaneNeeds {
   // With stand_for: the lanes it serves, per lane (empty: all). compare --vary runs a reference
   // per value; each serves its value's lanes, the others dropped from the start (drop_lane).
   std::vector<bool> serves;
-  // The reference started before the lanes' steps are chosen (compare's pilots): they come
-  // later (LaneWorker::stand_for); until then it runs ahead from t = 0, keeping a state a little
-  // before each target (at most reference_ahead_states) to replay the lanes' times from
-  // (reference_history.h), so the time the steps take to choose is not added to its own.
-  bool stand_for_later = false;
+  // With stand_for: the cache it is served from when it holds this reference, and stored in
+  // when it does not (reference_record.h); dir "": computed, never stored.
+  analysis::ReferenceCacheSettings cache;
   double energy_every = 0.0;  // > 0: total energy sampled this often (s) between targets too,
                               // so an energy inset has a curve even in a still or a sheet
   // The reference lane on a smooth scene: > 0, the adaptive solve's tolerance
   // (study/reference.h), which serves every time exactly; the Lane's step then only sets
-  // the grid of the energy samples. Not with stand_for_later (it does not run ahead).
+  // the grid of the energy samples.
   double adaptive_tolerance = 0.0;
 };
 
@@ -98,12 +93,22 @@ struct LaneResult {
   RunTotals totals;           // cpu_seconds: the lane thread's, not inflated by sharing cores
   std::optional<Divergence> divergence;
   std::optional<State> final_state;  // LaneNeeds::final_state, unless diverged
-  // The reference lane: the adaptive one's check tolerance (LaneNeeds::adaptive_tolerance, 0
-  // otherwise), the fixed-step one's check step (0 otherwise), and its estimated error, the
-  // largest over every time it served (m); NaN for any other lane, or when the check failed.
+  // The reference lane: the adaptive one's served and check tolerances (LaneNeeds::
+  // adaptive_tolerance, 0 otherwise), the fixed-step one's check step (0 otherwise), and its
+  // estimated error, the largest over every time it served (m); NaN for any other lane, or
+  // when the check failed.
   double adaptive_tolerance = 0.0;
+  double check_tolerance = 0.0;
   double check_dt = 0.0;
   double estimated_error = std::numeric_limits<double>::quiet_NaN();
+  // The reference and the cache (LaneNeeds::cache): "reused" (served from `cache_file`, its
+  // totals the computation's but cpu_seconds and sim_seconds, this run's replay, the
+  // computation's in computed_cpu_seconds), "stored" (computed and stored in `cache_file`),
+  // "not stored: WHY", "off" (no cache), or "not cached" (a method reading settings the key
+  // leaves out); "" for any other lane.
+  std::string cache;
+  std::string cache_file;
+  double computed_cpu_seconds = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Frames a lane of a frame pipeline may compute ahead of the one being shown.
@@ -116,13 +121,13 @@ inline constexpr double kReferenceAheadBytes = 32.0 * 1024 * 1024;
 // kReferenceAheadBytes (a copy of the positions, 24 B a particle, per distinct lane step a
 // frame), never fewer than a lane's.
 std::size_t reference_queue_capacity(int particles, const std::vector<double>& lane_steps);
-// States it keeps before it knows the lanes' steps (LaneNeeds::stand_for_later), waiting for
-// them there: up to 64, within kReferenceAheadBytes (a State, 56 B a particle), at least 2.
-std::size_t reference_ahead_states(int particles);
 
-// Whether a reference started as `started` is the run `wanted` describes (the same method,
-// step as written and settings): only then may it serve in its place.
+// Whether the run `started` is the run `wanted` describes (the same method, step as written and
+// settings): only then may one serve in the other's place (the error's reference as the energy
+// inset's, reference_lanes.h).
 bool same_run(const Lane& started, const Lane& wanted);
+
+class ReferenceRecorder;  // reference_record.h
 
 class LaneWorker {
  public:
@@ -152,10 +157,6 @@ class LaneWorker {
   // on they are not served, and once no live lane can need a time the reference has not passed,
   // it stops running, even in the middle of an advance (ReferenceStand::horizon).
   void drop_lane(std::size_t lane);
-  // The reference started with LaneNeeds::stand_for_later: the compared lanes' steps, in their
-  // order (LaneNeeds::stand_for's meaning), the frames it may serve ahead from now on, and
-  // LaneNeeds::energy_every. Called once, before next() or drop_lane().
-  void stand_for(std::vector<double> lane_steps, std::size_t queue_capacity, double energy_every = 0.0);
   const Lane& spec() const { return spec_; }
   // Waits for the thread; then result() is final.
   void join();
@@ -166,10 +167,10 @@ class LaneWorker {
   void work();
   void push(LaneFrame frame);
   void run_targets(Run& run);
-  void serve_reference(Run& run, analysis::AdaptiveReference* exact = nullptr);
-  bool run_ahead(Run& run, ReferenceHistory& history);
-  void finish_reference(const Run& run, const ReferenceHistory& history,
-                        const analysis::AdaptiveReference* exact = nullptr, const Run* check = nullptr,
+  void cached_reference(Run& run);
+  bool replay_reference(const analysis::ReferenceCache& cache, const std::string& key);
+  bool serve_reference(Run& run, analysis::AdaptiveReference* exact = nullptr);
+  void finish_reference(const Run& run, const analysis::AdaptiveReference* exact = nullptr, const Run* check = nullptr,
                         double estimated_error = std::numeric_limits<double>::quiet_NaN());
   void set_lane_steps(std::vector<double> lane_steps);
   LaneFrame frame_of(const Run& run, const State& state) const;
@@ -181,12 +182,12 @@ class LaneWorker {
   LaneNeeds needs_;
   std::function<bool()> interrupt_;
   std::atomic<bool> stop_requested_{false};  // stop(), read by the run's per-step check
-  // The reference: the lanes' steps (LaneNeeds::stand_for, or stand_for() later, then known
-  // under mutex_); lanes dropped (drop_lane), per lane, and how many in all, read by its thread
-  // between steps.
+  // The reference: the lanes' steps (LaneNeeds::stand_for); lanes dropped (drop_lane), per
+  // lane, and how many in all, read by its thread between steps; what it hands over, recorded
+  // for the cache (push).
   const bool reference_;
   std::vector<double> lane_steps_;
-  bool steps_known_ = false;
+  std::unique_ptr<ReferenceRecorder> recorder_;
   std::unique_ptr<std::atomic<bool>[]> dropped_;
   std::atomic<int> drops_{0};
   std::size_t capacity_;

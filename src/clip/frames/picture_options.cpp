@@ -38,6 +38,13 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
   const std::optional<FieldKind> kind = parse_field_kind(color);
   if (!kind) throw UsageError("--color: unknown colouring " + in_quotes(color) + " (expected checker, error, strain or speed)");
   look.color = *kind;
+  if (look.color == FieldKind::Error && !o.no_reference_cache) {  // (only the error's reference is cached)
+    try {
+      look.reference_cache = analysis::reference_cache_settings();
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+  }
   if (!o.color_range.empty()) {
     if (look.color == FieldKind::None) throw UsageError("--color-range goes with --color error, strain or speed");
     look.color_range = parse_color_range(o.color_range);
@@ -113,6 +120,7 @@ void apply_look(const PictureLook& look, PipelineConfig& c) {
   c.color_range = look.color_range;
   c.reference = look.reference;
   c.reference_tolerance = look.reference_tolerance;
+  c.reference_cache = look.reference_cache;
   c.overlay = look.overlay;
   c.overlay_cpu = look.overlay_cpu;
   c.inset_energy = look.inset_energy;

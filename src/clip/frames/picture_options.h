@@ -12,6 +12,7 @@
 #include "clip/common/lanes.h"
 #include "core/model/model.h"
 #include "scene/scene_def.h"
+#include "study/reference_cache.h"
 
 namespace clothsim::clip {
 
@@ -19,6 +20,7 @@ struct PictureOptions {
   std::optional<std::string> color;      // --color checker|error|strain|speed
   std::string color_range;               // --color-range LO,HI
   std::string reference;                 // --reference NAME[@STEP]
+  bool no_reference_cache = false;       // --no-reference-cache
   std::optional<std::string> camera;     // --camera auto|scene
   std::optional<std::string> overlay;    // --overlay full|label|none
   std::string overlay_cost;              // --overlay-cost work|cpu (evals: work); "": cpu in compare, work in run
@@ -35,6 +37,9 @@ struct PictureLook {
   // > 0: the default reference of a smooth scene, the adaptive solve at this tolerance
   // (study/reference.h; fit_reference_to_model() sets it)
   double reference_tolerance = 0.0;
+  // The reference's cache (study/reference_cache.h): from the environment, dir "" with
+  // --no-reference-cache.
+  analysis::ReferenceCacheSettings reference_cache;
   bool camera_auto = false;
   OverlayMode overlay = OverlayMode::Full;
   bool overlay_cpu = false;

@@ -52,6 +52,7 @@ void ReferenceLanes::start_error(const Model& model, const TargetPlan& plan, con
     LaneNeeds n;  // the positions at its value's lanes' times, nothing else
     n.stand_for = steps;
     n.adaptive_tolerance = v.tolerance;
+    n.cache = config.reference_cache;
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       n.serves.push_back(lane_models[i] == v.model);
       if (n.serves.back()) of_[i] = static_cast<int>(references_.size());
@@ -62,15 +63,11 @@ void ReferenceLanes::start_error(const Model& model, const TargetPlan& plan, con
   if (!config.variant_references.empty() || !config.reference) return;
   of_.assign(lanes.size(), 0);
   const double energy_every = samples_energy_ ? 1.0 / plan.fps() : 0.0;
-  if (config.started_reference && same_run(config.started_reference->spec(), *config.reference)) {
-    config.started_reference->stand_for(std::move(steps), queue, energy_every);
-    references_.push_back({config.started_reference, "", {}});  // running since before the steps were chosen
-    return;
-  }
   LaneNeeds n;  // the positions at the lanes' times (and the inset's energy), nothing else
   n.stand_for = std::move(steps);
   n.energy_every = energy_every;
   n.adaptive_tolerance = config.reference_tolerance;
+  n.cache = config.reference_cache;
   references_.push_back({std::make_shared<LaneWorker>(model, *config.reference, plan, n, queue, interrupt), "", {}});
 }
 

@@ -11,9 +11,8 @@
 
 namespace clothsim::clip {
 
-ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t,
-                               ReferenceHistory* history)
-    : model_(model), run_(run), history_(history && !history->empty() ? history : nullptr) {
+ReferenceStand::ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t)
+    : model_(model), run_(run) {
   for (double h : lane_steps) {
     const auto at = std::find(steps_.begin(), steps_.end(), h);
     lane_step_.push_back(static_cast<std::size_t>(at - steps_.begin()));
@@ -159,16 +158,10 @@ const ReferenceStand::Sample* ReferenceStand::reach(std::int64_t k) {
   if (exact_) return reach_exactly(static_cast<double>(k) * run_.dt(), k);
   for (const Sample* s : {&last_, &before_})
     if (s->step == k) return s;
-  if (run_.diverged() && k >= run_.divergence()->step) return nullptr;  // (replayed or not)
-  if (k < run_.state().step) {
-    // Served in time order (LaneWorker::serve_reference): only a run that went ahead of the
-    // lanes' steps has passed a time still needed, and kept the states to replay it.
-    if (!history_)
-      throw std::logic_error("the reference lane was asked for step " + std::to_string(k) + ", having passed it (at " +
-                             std::to_string(run_.state().step) + ")");
-    keep_sample(history_->at(k));
-    return &last_;
-  }
+  if (run_.diverged() && k >= run_.divergence()->step) return nullptr;
+  if (k < run_.state().step)  // served in time order (LaneWorker::serve_reference): never a step passed
+    throw std::logic_error("the reference lane was asked for step " + std::to_string(k) + ", having passed it (at " +
+                           std::to_string(run_.state().step) + ")");
   if (!run_.advance_to(static_cast<double>(k) * run_.dt()) || run_.stopped()) return nullptr;
   keep_sample(run_.state());
   return &last_;
@@ -187,7 +180,7 @@ void ReferenceStand::keep_sample(const State& state) {
 
 void ReferenceStand::compare_with_check(const State& state) {
   if (check_->diverged() || check_->stopped()) return;  // (the estimate was given up)
-  if (state.step / 2 < check_->state().step) return;   // (a replayed step the check has passed)
+  if (state.step / 2 < check_->state().step) return;   // (a step the check has passed: none in time order)
   if (!check_->advance_to(state.t) || check_->stopped()) {
     estimated_error_ = std::numeric_limits<double>::quiet_NaN();
     return;

@@ -21,9 +21,6 @@
 // energy_every), served in the same time order: one run is both the error's reference and the
 // inset's.
 //
-// A reference started before the lanes' steps were known has run ahead of them: the times it
-// has passed are replayed from the states it kept on the way (reference_history.h).
-//
 // On a smooth scene the reference is the adaptive solve (study/reference.h, serve_exactly):
 // every time is then served exactly, by the solve's dense output, with no Hermite between
 // steps; `run` then only sets the grid the energy samples fall on (its dt) and is never stepped.
@@ -38,7 +35,6 @@
 #include <vector>
 
 #include "clip/common/plan_parts.h"
-#include "reference_history.h"
 #include "core/run/simulation.h"
 #include "study/reference.h"
 
@@ -51,11 +47,8 @@ class ReferenceStand {
   // `run` is the reference's, at its start; `lane_steps` the compared lanes' steps, in order
   // (0 for a lane that lands on every target exactly: an adaptive pair, Lane::landing_grid)
   // (lanes of one step share one request and one copy of the positions at each target);
-  // `last_t` the last target's time (TargetPlan::last_time); `history` (if any, not empty) the
-  // states the run kept before it knew the steps, its first at step 0, to replay the times it
-  // has passed. `run` and `history` must outlive the stand.
-  ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t,
-                 ReferenceHistory* history = nullptr);
+  // `last_t` the last target's time (TargetPlan::last_time). `run` must outlive the stand.
+  ReferenceStand(const Model& model, Run& run, const std::vector<double>& lane_steps, double last_t);
 
   // Serves every time from `exact` (advanced in increasing time) rather than from `run`. Before
   // the first add(); `exact` must outlive the stand.
@@ -133,7 +126,7 @@ class ReferenceStand {
     double energy = 0.0;  // total, J (with sample_energy)
   };
   // The run's state at its step k (k not below the older kept sample's), kept; null on
-  // divergence or a stop. A step the run has passed is replayed from the history.
+  // divergence or a stop.
   const Sample* reach(std::int64_t k);
   void keep_sample(const State& state);
   void compare_with_check(const State& state);  // check_ to the even step state is at
@@ -144,7 +137,6 @@ class ReferenceStand {
 
   const Model& model_;
   Run& run_;
-  ReferenceHistory* history_;
   analysis::AdaptiveReference* exact_ = nullptr;
   Run* check_ = nullptr;
   double estimated_error_ = std::numeric_limits<double>::quiet_NaN();

@@ -37,7 +37,7 @@ TEST(CompareReference, OnASmoothSceneTheReferenceIsAdaptiveAndStatesItsEstimated
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("dopri5 adaptive (reference)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("error against the adaptive reference: largest"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("reference: dopri5 adaptive at tolerance 1e-07, checked by a solve at 1e-06: estimated error"),
+  EXPECT_NE(r.out.find("reference: dopri5 adaptive at tolerance 1e-07, checked by a solve at 1e-08: estimated error"),
             std::string::npos)
       << r.out;
   const std::string json = ct::slurp(dir + "/s.json");
@@ -47,6 +47,12 @@ TEST(CompareReference, OnASmoothSceneTheReferenceIsAdaptiveAndStatesItsEstimated
   EXPECT_GT(estimate, 0.0) << reference;
   EXPECT_LT(estimate, 1e-7) << "far below any lane's error" << reference;
   EXPECT_NE(object_at(json, "\"lane\": \"midpoint@2e-4\"").find("\"unresolved\": false"), std::string::npos) << json;
+  // Its lane row says what ran (#51: it read "rk4" at the fixed-step reference's 3.125e-6 s).
+  const std::string row = object_at(json, "\"role\": \"reference\"");
+  EXPECT_NE(row.find("\"integrator\": \"dopri5\""), std::string::npos) << row;
+  EXPECT_NE(row.find("\"dt\": null"), std::string::npos) << row;
+  EXPECT_NE(row.find("\"tolerance\": 9.9999999999999995e-08"), std::string::npos) << row;
+  EXPECT_NE(row.find("\"check_tolerance\": 1e-08"), std::string::npos) << row;
 }
 
 TEST(CompareReference, ALaneUnderTenTimesTheReferencesErrorIsUnresolvedNotANumber) {
@@ -124,6 +130,66 @@ TEST(CompareReference, VaryMeasuresEachValueAgainstItsOwnScenesReference) {
     ASSERT_GT(by_itself, 0.0);
     EXPECT_EQ(field_max_at(json, "\"name\": \"symplectic_euler, collision.model = " + model + "\""), by_itself) << model;
   }
+}
+
+
+// The reference cache (study/reference_cache.h), through the CLI: a cache folder of the test's
+// own, switched on (the test environment turns it off for every other test).
+ct::CliResult compare_cached(const std::string& cache, const std::vector<std::string>& extra) {
+  std::vector<std::string> args{"compare", kSmooth, "--set", "cloth.particles=[9,9]", "--duration", "0.3",
+                                "--integrators", "symplectic_euler@1e-4,midpoint@2e-4", "--width", "320",
+                                "--height", "180", "--preset", "ultrafast"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return ct::run_clothsim(args, "env -u CLOTHSIM_REFERENCE_CACHE_MAX XDG_CACHE_HOME=" + ct::shell_quote(cache));
+}
+
+std::string cache_of(const std::string& json) {
+  const std::string reference = object_at(json, "\"estimated_error_m\"");
+  const std::size_t at = reference.find("\"cache\": \"");
+  return at == std::string::npos ? "" : reference.substr(at + 10, reference.find('"', at + 10) - at - 10);
+}
+
+TEST(CompareReference, ARerunReusesTheCachedReferenceAndWritesTheSameBytes) {
+  const std::string dir = ct::scratch_dir("compare_reference_cache");
+  const std::string cache = dir + "/xdg";
+  const auto first = compare_cached(cache, {"--video", dir + "/a.mp4", "--summary", dir + "/a.json"});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/a.json")), "computed");
+  EXPECT_NE(first.out.find("reference: computed, and stored in the cache (" + cache + "/clothsim/"), std::string::npos)
+      << first.out;
+  const auto second = compare_cached(cache, {"--video", dir + "/b.mp4", "--summary", dir + "/b.json"});
+  ASSERT_EQ(second.exit_code, 0) << second.err;
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/b.json")), "reused");
+  EXPECT_NE(second.out.find("reference: reused from the cache ("), std::string::npos) << second.out;
+  EXPECT_EQ(ct::slurp(dir + "/a.mp4"), ct::slurp(dir + "/b.mp4")) << "the clip, byte for byte";
+  // The same errors in the summary.
+  const std::string a = ct::slurp(dir + "/a.json"), b = ct::slurp(dir + "/b.json");
+  EXPECT_EQ(field_max_at(a, "\"lane\": \"midpoint@2e-4\""), field_max_at(b, "\"lane\": \"midpoint@2e-4\""));
+}
+
+TEST(CompareReference, AChangedSetMissesAndNoReferenceCacheBypasses) {
+  const std::string dir = ct::scratch_dir("compare_reference_cache_miss");
+  const std::string cache = dir + "/xdg";
+  ASSERT_EQ(compare_cached(cache, {"--summary", dir + "/a.json", "--color", "error"}).exit_code, 0);
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/a.json")), "computed");
+  const auto stiffer = compare_cached(cache, {"--summary", dir + "/b.json", "--color", "error", "--set",
+                                              "cloth.springs.structural.stiffness=21000"});
+  ASSERT_EQ(stiffer.exit_code, 0) << stiffer.err;
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/b.json")), "computed") << "another scene, another reference";
+  const auto bypass = compare_cached(cache, {"--summary", dir + "/c.json", "--color", "error", "--no-reference-cache"});
+  ASSERT_EQ(bypass.exit_code, 0) << bypass.err;
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/c.json")), "computed");
+  EXPECT_NE(bypass.out.find("reference: computed (the cache is off"), std::string::npos) << bypass.out;
+  const auto info = ct::run_clothsim({"cache", "info"}, "env XDG_CACHE_HOME=" + ct::shell_quote(cache));
+  EXPECT_NE(info.out.find("holds 2 entries"), std::string::npos) << info.out;
+  const auto clear = ct::run_clothsim({"cache", "clear"}, "env XDG_CACHE_HOME=" + ct::shell_quote(cache));
+  EXPECT_NE(clear.out.find("removed 2 entries"), std::string::npos) << clear.out;
+  ASSERT_EQ(compare_cached(cache, {"--summary", dir + "/d.json", "--color", "error"}).exit_code, 0);
+  EXPECT_EQ(cache_of(ct::slurp(dir + "/d.json")), "computed") << "cleared";
+  const auto bad = ct::run_clothsim({"compare", kSmooth, "--summary", dir + "/e.json"},
+                                    "env CLOTHSIM_REFERENCE_CACHE_MAX=lots");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("CLOTHSIM_REFERENCE_CACHE_MAX: 'lots' is not a size"), std::string::npos) << bad.err;
 }
 
 }  // namespace

@@ -5,9 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
-#include "clip/reference/reference_history.h"
 #include "test_support.h"
 #include "view/snapshot.h"
 
@@ -234,86 +235,110 @@ std::vector<LaneFrame> all_frames(LaneWorker& reference) {
   return out;
 }
 
-LaneNeeds steps_later() {
-  LaneNeeds n;
-  n.stand_for_later = true;
-  return n;
+}  // namespace
+
+namespace {
+
+// Whether two runs of a reference handed over the same frames, to the bit.
+void expect_same_frames(const std::vector<LaneFrame>& a, const std::vector<LaneFrame>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].t, b[k].t);
+    EXPECT_EQ(a[k].reference_error, b[k].reference_error) << "target " << k;
+    EXPECT_EQ(a[k].energy, b[k].energy) << "target " << k;
+    ASSERT_EQ(a[k].x_for.size(), b[k].x_for.size());
+    for (std::size_t lane = 0; lane < a[k].x_for.size(); ++lane) {
+      ASSERT_EQ(!a[k].x_for[lane], !b[k].x_for[lane]);
+      if (a[k].x_for[lane]) EXPECT_EQ(*a[k].x_for[lane], *b[k].x_for[lane]) << "target " << k << ", lane " << lane;
+    }
+  }
+}
+
+// A cache of its own under the test output folder, emptied.
+analysis::ReferenceCacheSettings fresh_cache(const std::string& name) {
+  analysis::ReferenceCacheSettings c;
+  c.dir = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/" + name;
+  std::filesystem::remove_all(c.dir);
+  return c;
 }
 
 }  // namespace
 
-TEST(LaneWorker, AReferenceStartedBeforeTheStepsServesWhatOneGivenThemServes) {
-  // compare starts the reference before its pilots choose the lanes' steps. Given them once it
-  // has run ahead to 0.4 s (counted by the stop check it polls before every step), it serves
-  // every lane, at its steps and between them (7.5 ms), bit for bit what a reference given the
-  // steps at its start serves, and takes the same steps of its own.
+TEST(LaneWorker, AReferenceComputedOnceIsServedFromTheCacheFrameForFrame) {
+  // The first run computes and stores; the second serves the same frames (positions at every
+  // lane's times, estimate, energy samples) and result without stepping; a changed model
+  // misses; a damaged entry is recomputed and stored again; with no cache nothing is stored.
   const Model model = clothsim::testing::model_from_yaml(kSheet);
   const auto targets = frames(16, 30.0);
-  const Lane spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
-  const std::vector<double> steps{1e-3, 7.5e-3, 0.1};
-  LaneWorker given(model, spec, targets, standing_for(steps));
-  const std::vector<LaneFrame> expected = all_frames(given);
-  const std::thread::id consumer = std::this_thread::get_id();
-  std::atomic<long> steps_before{0};
-  std::atomic<bool> told{false};
-  const auto count = [&] {
-    if (std::this_thread::get_id() != consumer && !told) ++steps_before;
-    return false;
-  };
-  LaneWorker early(model, spec, targets, steps_later(), kLaneQueueCapacity, count);
-  while (steps_before < 400) std::this_thread::yield();
-  told = true;
-  early.stand_for(steps, kLaneQueueCapacity);
-  const std::vector<LaneFrame> served = all_frames(early);
-  EXPECT_GE(steps_before, 400) << "it ran ahead before it knew the steps";
-  ASSERT_EQ(served.size(), expected.size());
-  ASSERT_EQ(served.size(), 16u);
-  for (std::size_t k = 0; k < served.size(); ++k) {
-    EXPECT_EQ(served[k].t, expected[k].t);
-    ASSERT_EQ(served[k].x_for.size(), steps.size());
-    for (std::size_t lane = 0; lane < steps.size(); ++lane) {
-      ASSERT_TRUE(served[k].x_for[lane] && expected[k].x_for[lane]);
-      EXPECT_EQ(*served[k].x_for[lane], *expected[k].x_for[lane]) << "target " << k << ", lane of " << steps[lane] << " s";
-    }
+  const Lane spec{IntegratorKind::Rk4, 1e-3, "1e-3"};
+  LaneNeeds needs = standing_for({1e-3, 7.5e-3, 0.1});
+  needs.energy_every = 1.0 / 60.0;
+  needs.cache = fresh_cache("lane_worker_cache");
+  LaneWorker first(model, spec, targets, needs);
+  const std::vector<LaneFrame> computed = all_frames(first);
+  EXPECT_EQ(first.result().cache, "stored");
+  LaneWorker second(model, spec, targets, needs);
+  expect_same_frames(all_frames(second), computed);
+  EXPECT_EQ(second.result().cache, "reused");
+  EXPECT_EQ(second.result().cache_file, first.result().cache_file);
+  EXPECT_EQ(second.result().totals.steps, first.result().totals.steps);
+  EXPECT_EQ(second.result().estimated_error, first.result().estimated_error);
+  EXPECT_EQ(second.result().computed_cpu_seconds, first.result().totals.cpu_seconds);
+
+  const Model stiffer = clothsim::testing::model_from_yaml(kSheet, {"cloth.springs.structural.stiffness=30000"});
+  LaneWorker other(stiffer, spec, targets, needs);
+  all_frames(other);
+  EXPECT_EQ(other.result().cache, "stored") << "another model is another reference";
+
+  {  // a byte of the payload flipped: recomputed, the same frames, stored again
+    std::fstream entry(first.result().cache_file, std::ios::in | std::ios::out | std::ios::binary);
+    entry.seekg(-100, std::ios::end);
+    char c = 0;
+    entry.read(&c, 1);
+    entry.seekp(-100, std::ios::end);
+    c = static_cast<char>(c ^ 0x40);
+    entry.write(&c, 1);
   }
-  EXPECT_EQ(early.result().totals.steps, given.result().totals.steps);
-  EXPECT_EQ(early.result().t, given.result().t);
-  EXPECT_THROW(early.stand_for(steps, kLaneQueueCapacity), std::logic_error) << "the steps are given once";
+  LaneWorker damaged(model, spec, targets, needs);
+  expect_same_frames(all_frames(damaged), computed);
+  EXPECT_EQ(damaged.result().cache, "stored");
+
+  needs.cache = {};
+  LaneWorker bypass(model, spec, targets, needs);
+  expect_same_frames(all_frames(bypass), computed);
+  EXPECT_EQ(bypass.result().cache, "off");
 }
 
-TEST(LaneWorker, AReferenceNotYetGivenTheStepsStopsAtItsLastKeptStateAndOnStop) {
-  // 100 targets 10 ms apart, at 1 ms: it keeps step 0 and a state before each of the next 63
-  // targets, then waits for the steps there; never given them, it stops when asked.
+TEST(LaneWorker, AReferenceStoppedBeforeItsEndIsNotStored) {
   const Model model = clothsim::testing::model_from_yaml(kSheet);
-  const auto targets = frames(100, 100.0);
-  TargetPlan::Cursor cursor(targets);
-  Target t;
-  ASSERT_EQ(reference_ahead_states(model.num_particles), 64u) << "a 4 x 4 sheet's states are small";
-  for (std::size_t k = 0; k < 64; ++k) ASSERT_TRUE(cursor.next(t));
-  const std::int64_t last_kept = ReferenceHistory::keep_step(t.t, 1e-3);
-  std::atomic<long> polls{0};
-  const std::thread::id consumer = std::this_thread::get_id();
-  const auto count = [&] {
-    if (std::this_thread::get_id() != consumer) ++polls;
-    return false;
-  };
-  LaneWorker early(model, Lane{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"}, targets, steps_later(),
-                   kLaneQueueCapacity, count);
-  while (polls < last_kept) std::this_thread::yield();
-  early.stop();
-  early.join();
-  EXPECT_EQ(early.result().totals.steps, last_kept) << "no further than the last state it may keep";
+  const auto targets = frames(16, 30.0);
+  const Lane spec{IntegratorKind::Rk4, 1e-3, "1e-3"};
+  LaneNeeds needs = standing_for({1e-3});
+  needs.cache = fresh_cache("lane_worker_cache_stopped");
+  LaneWorker stopped(model, spec, targets, needs);
   LaneFrame f;
-  EXPECT_FALSE(early.next(f)) << "nothing handed over";
+  ASSERT_TRUE(stopped.next(f));
+  stopped.stop();
+  stopped.join();
+  EXPECT_EQ(stopped.result().cache, "not stored: stopped before its end");
+  EXPECT_EQ(analysis::ReferenceCache(needs.cache).contents().entries, 0);
+}
+
+TEST(LaneWorker, AnIterativeReferenceIsNotCached) {
+  // Its steps read the model's solver settings, which the key leaves out.
+  const Model model = clothsim::testing::model_from_yaml(kSheet);
+  LaneNeeds needs = standing_for({1e-3});
+  needs.cache = fresh_cache("lane_worker_cache_implicit");
+  LaneWorker implicit(model, Lane{IntegratorKind::ImplicitEuler, 1e-3, "1e-3"}, frames(4, 30.0), needs);
+  all_frames(implicit);
+  EXPECT_EQ(implicit.result().cache, "not cached");
 }
 
 TEST(LaneWorker, TheReferenceHoldsAboutASecondAheadOnlyWhereItsPositionsAreSmall) {
-  // The drape (625 particles, four lanes of four steps): a second of frames at 30 frames/s, and
-  // 64 states kept while the steps are chosen. 512 x 512 particles: a lane's queue, two states.
+  // The drape (625 particles, four lanes of four steps): a second of frames at 30 frames/s.
+  // 512 x 512 particles: a lane's queue.
   EXPECT_EQ(reference_queue_capacity(625, {1e-4, 2e-4, 4e-4, 1.0 / 252}), 32u);
-  EXPECT_EQ(reference_ahead_states(625), 64u);
   EXPECT_EQ(reference_queue_capacity(512 * 512, {20.0, 1e-4}), kLaneQueueCapacity);
-  EXPECT_EQ(reference_ahead_states(512 * 512), 2u);
   // Lanes of one step share one copy a frame (ReferenceStand): they count once.
   EXPECT_EQ(reference_queue_capacity(100 * 100, {1e-4, 1e-4, 1e-4, 1e-4}),
             reference_queue_capacity(100 * 100, {1e-4}));
@@ -336,7 +361,7 @@ TEST(LaneWorker, TheErrorsReferenceSamplesTheInsetsEnergyAsARunOfItsOwnDoes) {
   // --color error --inset energy ran the reference twice: as the error's (at the lanes' times)
   // and as a lane sampling its energy every frame. One run now does both: per target the same
   // samples, to the bit, as the lane gives, with a clip's frames, or with a sheet's columns and
-  // a still only (samples between targets); started before the steps too.
+  // a still only (samples between targets).
   const Model model = clothsim::testing::model_from_yaml(kSheet);
   const Lane spec{IntegratorKind::SymplecticEuler, 1e-3, "1e-3"};
   const double every = 1.0 / 30.0;
@@ -349,9 +374,6 @@ TEST(LaneWorker, TheErrorsReferenceSamplesTheInsetsEnergyAsARunOfItsOwnDoes) {
     both.energy_every = every;
     LaneWorker reference(model, spec, plan, both);
     EXPECT_EQ(energy_per_target(reference), expected);
-    LaneWorker early(model, spec, plan, steps_later());
-    early.stand_for({7.5e-3, 0.1}, kLaneQueueCapacity, every);
-    EXPECT_EQ(energy_per_target(early), expected);
     ASSERT_EQ(expected.size(), static_cast<std::size_t>(plan.size()));
     EXPECT_GE(expected.back().size(), 2u) << "samples between the targets too";
   }

@@ -26,5 +26,6 @@ void add_stability_command(CLI::App& app, Command& command);
 void add_converge_command(CLI::App& app, Command& command);
 void add_golden_command(CLI::App& app, Command& command);
 void add_merge_command(CLI::App& app, Command& command);  // studies/cmd_merge.cpp
+void add_cache_command(CLI::App& app, Command& command);  // cache/cmd_cache.cpp
 
 }  // namespace clothsim::cli

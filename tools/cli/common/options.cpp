@@ -128,6 +128,9 @@ void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
                       " (default: rk4 at a quarter of the smallest lane step, or at rk4's\n"
                       "predicted stable step on the scene where that is smaller)")
       ->type_name("NAME[@STEP]");
+  sub->add_flag("--no-reference-cache", o.no_reference_cache,
+                "Compute the reference even when the cache holds it, and do not store it\n"
+                "($XDG_CACHE_HOME/clothsim; `clothsim cache clear` empties it; docs/compare.md)");
   sub->add_option("--camera", o.camera, "auto: frame the cloth and spheres; scene: the scene's render.camera")
       ->type_name("auto|scene");
   sub->add_option("--overlay", o.overlay,

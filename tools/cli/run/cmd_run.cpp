@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "clip/frames/run_outputs.h"
+#include "clip/compare/compare_summary.h"
 #include "clip/common/cli_common.h"
 #include "cli/common/commands.h"
 #include "cli/common/options.h"
@@ -130,9 +131,9 @@ void print_run_totals(const Model& model, IntegratorKind kind, double dt, const 
                 t.unconverged_steps, t.max_residual);
   const LaneResult* reference = lane_reference(report, 0);
   if (reference && reference->adaptive_tolerance > 0.0)  // a smooth scene's (study/reference.h)
-    std::printf("reference for --color error: dopri5 adaptive at tolerance %.0e, %" PRId64 " force evaluations, %.3f s "
-                "of CPU; its estimated error %.3g m\n",
-                reference->adaptive_tolerance / analysis::kCompareTightening, reference->totals.force_evals,
+    std::printf("reference for --color error: dopri5 adaptive at tolerance %.0e (checked at %.0e), %" PRId64
+                " force evaluations, %.3f s of CPU; its estimated error %.3g m\n",
+                reference->adaptive_tolerance, reference->check_tolerance, reference->totals.force_evals,
                 reference->totals.cpu_seconds, reference->estimated_error);
   else if (reference)
     std::printf("reference for --color error: %s at dt = %s s, %" PRId64 " force evaluations, %.3f s of CPU; its "
@@ -140,6 +141,8 @@ void print_run_totals(const Model& model, IntegratorKind kind, double dt, const 
                 reference->spec.name().c_str(), reference->spec.step_text.c_str(),
                 reference->totals.force_evals, reference->totals.cpu_seconds,
                 reference->estimated_error);
+  if (reference && !reference->cache.empty())  // computed or reused (docs/compare.md)
+    std::printf("reference for --color error: %s\n", reference_cache_text(*reference).c_str());
 }
 
 void write_run_summary(const RunOptions& o, const SceneDef& scene, const Model& model, const LaneResult& r,
