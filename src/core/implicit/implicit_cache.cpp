@@ -34,6 +34,8 @@ ImplicitCache& cache_for(const Model& model, Workspace& ws) {
       c.A.num_springs() == model.springs.size())
     return c;
   build_pattern(model, c.A);
+  c.damping = SpringBlockMatrix{};  // built for this model when imex first needs it
+  c.damping_mark = 0;
   c.y_length.clear();
   c.factor.reset();  // analysed when first needed
   c.multigrid = MultigridPreconditioner{};  // likewise

@@ -124,4 +124,12 @@ MethodMemory implicit_family_memory(const MemorySizes& n) {
   return m;
 }
 
+// imex: the explicit family's arrays, implicit_euler's block pattern and CG buffers (its
+// block-Jacobi solves build no factor), and Verlet's carried force pass. Counted, not measured.
+MethodMemory imex_memory(const MemorySizes& n) {
+  MethodMemory m = verlet_memory(n);
+  m.run += kImplicitPerParticle * n.particles + kImplicitPerSpring * n.springs + single_copy_bytes(n);
+  return m;
+}
+
 }  // namespace clothsim
