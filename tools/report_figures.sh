@@ -105,4 +105,13 @@ figure "fixed point stability" "$OUT/stability_fp.png" "$CLOTHSIM" stability sce
 figure "fixed point clip" "$OUT/fixed_point.png" "$CLOTHSIM" compare scenes/drape_smooth.yaml $SCENE --still $FP_STILL \
   -o "$OUT/fixed_point.png" ${SIZE:---width 960 --height 540} \
   --integrators implicit_euler_fixed_point@1e-4,implicit_euler@1e-4,implicit_euler_fixed_point@2e-4,implicit_euler@2e-4 --quiet
+# 9-14. The families on the smooth drape (its first 0.8 s): each lane's metrics, one energy figure.
+i=0
+for lane in rk4@1e-4 implicit_euler@1/60 newmark@1/60 implicit_midpoint@1/60 bdf2@1/60 imex@1e-3; do
+  i=$((i + 1))
+  figure "family lane $i" "$OUT/families_$i.csv" "$CLOTHSIM" run scenes/drape_smooth.yaml ${SCENE:---duration 0.8} \
+    --integrator "$lane" --metrics "$OUT/families_$i.csv" --quiet
+done
+figure "families energy" "$OUT/families_energy.png" /usr/bin/python3 tools/plot_energy.py "$OUT"/families_[1-6].csv \
+  --relative --out "$OUT/families_energy.png"
 echo "figures in $OUT"

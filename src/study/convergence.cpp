@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -44,8 +46,9 @@ double passes_per_iteration(IntegratorKind kind) {
 constexpr double kMeasurePasses = 3.0;
 constexpr int kTypicalNewtonIterations = 8;
 
-// One state's start: the state, its step problem (for Phi's gradient and for ending a watched
-// step) and the converged backward-Euler step from it.
+// One state's start: the state, its step problem (backward Euler's, for Phi's gradient and for
+// ending a watched step) and the converged step from it (backward Euler's, or the family
+// method's own).
 struct Start {
   int index = 0;
   State state;
@@ -55,10 +58,11 @@ struct Start {
   double scene_strain = 0.0;  // the largest strain the scene starts with (WRONG's offset)
 };
 
-Start make_start(const Model& model, const ConvergenceSpec& spec, int index, State state) {
+// `source`'s start (states_source): the reference is its converged step.
+Start make_start(const Model& model, const ConvergenceSpec& spec, int index, State state, IntegratorKind source) {
   Start s;
   s.index = index;
-  s.reference = converged_step(model, state, spec.h);
+  s.reference = converged_step(model, state, spec.h, source);
   build_step_problem(model, state, spec.h, s.problem);
   s.energy = compute_energies(model, state).total();
   s.scene_strain = max_strain(model, initial_state(model));
@@ -77,8 +81,9 @@ ConvergencePoint measured(const Model& model, const Start& s, IntegratorKind met
   const Eigen::VectorXd d = (end.x.leftCols(P) - s.reference.x.leftCols(P)).colwise().norm();
   p.rms = std::sqrt(d.squaredNorm() / P);
   p.max = d.maxCoeff();
-  Eigen::Matrix3Xd gradient;
-  p.gradient = step_gradient(model, s.problem, end.x, gradient);
+  Eigen::Matrix3Xd gradient;  // backward Euler's Phi: not the family's potential
+  p.gradient = states_source(method) == kBackwardEuler ? step_gradient(model, s.problem, end.x, gradient)
+                                                       : std::numeric_limits<double>::quiet_NaN();
   // WRONG (core/diagnostics.h) over the one step: energy made while nothing did work, or strain.
   EnergyLedger ledger;
   record_energy(ledger, s.energy, true);
@@ -130,15 +135,16 @@ std::vector<ConvergencePoint> watched_sweep(const Model& model, const Convergenc
   return points;
 }
 
-// Capped Newton: a step per cap n, until one ends kNewtonSlack short of its cap (every larger
-// cap takes that same step, so its point stands for theirs). Empty when `stop` fired.
+// Capped Newton (implicit_euler, or one of the family from its own run's state and history): a
+// step per cap n, until one ends kNewtonSlack short of its cap (every larger cap takes that same
+// step, so its point stands for theirs). Empty when `stop` fired.
 std::vector<ConvergencePoint> newton_sweep(const Model& model, const ConvergenceSpec& spec, const Start& s,
-                                           const std::function<bool()>& stop) {
+                                           IntegratorKind method, const std::function<bool()>& stop) {
   MethodSettings m = model.method_defaults();
   m.implicit.solver = ImplicitSolver::Newton;
   Workspace ws;
   State warm = s.state;
-  step(model, m, warm, kBackwardEuler, spec.h, ws);  // warm the caches
+  step(model, m, warm, method, spec.h, ws);  // warm the caches
   std::vector<ConvergencePoint> points;
   bool settled = false;
   for (int n = 1; n <= spec.max_iterations; ++n) {
@@ -148,12 +154,12 @@ std::vector<ConvergencePoint> newton_sweep(const Model& model, const Convergence
       continue;
     }
     if (stop && stop()) return {};
-    *iteration_count(m, kBackwardEuler) = n;
+    *iteration_count(m, method) = n;
     State end = s.state;
     const double cpu = thread_cpu_seconds();
-    const StepReport report = step(model, m, end, kBackwardEuler, spec.h, ws);
+    const StepReport report = step(model, m, end, method, spec.h, ws);
     const double spent = thread_cpu_seconds() - cpu;
-    points.push_back(measured(model, s, kBackwardEuler, n, end));
+    points.push_back(measured(model, s, method, n, end));
     points.back().cpu_seconds = spent;
     settled = report.stats.newton_iterations + kNewtonSlack <= n;
   }
@@ -161,6 +167,10 @@ std::vector<ConvergencePoint> newton_sweep(const Model& model, const Convergence
 }
 
 }  // namespace
+
+IntegratorKind states_source(IntegratorKind method) {
+  return is_iterative_solver(method) ? kBackwardEuler : method;
+}
 
 std::vector<ConvergenceItem> convergence_items(const ConvergenceSpec& spec) {
   std::vector<ConvergenceItem> items;
@@ -171,14 +181,14 @@ std::vector<ConvergenceItem> convergence_items(const ConvergenceSpec& spec) {
 
 double convergence_item_cost(const ConvergenceSpec& spec, const ConvergenceItem& item) {
   const double n = spec.max_iterations;
-  if (item.method != kBackwardEuler)
+  if (is_iterative_solver(item.method))
     return n * (passes_per_iteration(item.method) + kMeasurePasses);
   const double reruns = std::min(n, static_cast<double>(kTypicalNewtonIterations + kNewtonSlack));
   return passes_per_iteration(item.method) * reruns * (reruns + 1.0) / 2.0 + reruns * kMeasurePasses;
 }
 
 std::vector<State> convergence_states(const Model& model, const ConvergenceSpec& spec, int count,
-                                      const std::function<bool()>& stop) {
+                                      const std::function<bool()>& stop, IntegratorKind source) {
   const MethodSettings sampling = sampling_settings(model);
   const long steps = std::max<long>(1, std::lround(model.duration / spec.h));
   std::vector<State> states;
@@ -188,18 +198,18 @@ std::vector<State> convergence_states(const Model& model, const ConvergenceSpec&
     const long at = std::max<long>(1, steps * i / spec.states);
     while (s.step < at) {
       if (stop && stop()) return {};
-      step(model, sampling, s, kBackwardEuler, spec.h, ws);
+      step(model, sampling, s, source, spec.h, ws);
     }
     states.push_back(s);
   }
   return states;
 }
 
-State converged_step(const Model& model, const State& start, double h) {
+State converged_step(const Model& model, const State& start, double h, IntegratorKind method) {
   const MethodSettings reference = reference_settings(model);
   State end = start;
   Workspace ws;
-  step(model, reference, end, kBackwardEuler, h, ws);
+  step(model, reference, end, method, h, ws);
   return end;
 }
 
@@ -207,18 +217,26 @@ bool run_convergence_items(const Model& model, const ConvergenceSpec& spec, cons
                            const analysis::StudyHooks& hooks, const ConvergenceItemDone& finished) {
   const std::vector<ConvergenceItem> all = convergence_items(spec);
   if (items.empty()) return true;
-  const std::vector<State> states = convergence_states(model, spec, all[items.back()].state + 1, hooks.stop);
-  if (states.empty()) return false;
-  Start start;
-  start.index = -1;
+  const int count = all[items.back()].state + 1;
+  // Per source run (states_source): its states, sampled when an item first needs them, and the
+  // start of the state its items are at (items run state by state, so one each suffices).
+  std::map<IntegratorKind, std::vector<State>> states;
+  std::map<IntegratorKind, Start> starts;
   long done = 0;
   for (std::size_t item : items) {
     if (hooks.stop && hooks.stop()) return false;
     const ConvergenceItem& it = all[item];
-    if (it.state != start.index) start = make_start(model, spec, it.state, states[static_cast<std::size_t>(it.state)]);
-    const std::vector<ConvergencePoint> points = it.method == kBackwardEuler
-                                                     ? newton_sweep(model, spec, start, hooks.stop)
-                                                     : watched_sweep(model, spec, start, it.method);
+    const IntegratorKind source = states_source(it.method);
+    std::vector<State>& along = states[source];
+    if (along.empty()) along = convergence_states(model, spec, count, hooks.stop, source);
+    if (along.empty()) return false;
+    auto [at, fresh] = starts.try_emplace(source);
+    Start& start = at->second;
+    if (fresh || start.index != it.state)
+      start = make_start(model, spec, it.state, along[static_cast<std::size_t>(it.state)], source);
+    const std::vector<ConvergencePoint> points = is_iterative_solver(it.method)
+                                                     ? watched_sweep(model, spec, start, it.method)
+                                                     : newton_sweep(model, spec, start, it.method, hooks.stop);
     if (points.empty()) return false;
     finished(item, points);
     if (hooks.progress) hooks.progress(analysis::StudyProgress{++done, static_cast<long>(items.size())});

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
+#include <string>
 
 #include "core/run/simulation.h"
 #include "core/solvers/step_problem.h"
@@ -13,16 +15,18 @@
 namespace clothsim {
 namespace {
 
-Model small_drape() {
-  return testing::model_from_yaml(R"(
-name: small_drape
+// An 8 x 8 sheet of 2 x 2 m at 0.6 m, its YAML ending in `rest` (pins, spheres).
+Model eight_by_eight(const std::string& name, const std::string& rest) {
+  return testing::model_from_yaml("name: " + name + R"(
 duration: 0.5
 dt: 0.0166666666666667
 cloth: {particles: [8, 8], size: [2, 2], center: [0, 0.6, 0], plane: xz, particle_mass: 0.2,
         springs: {structural: {stiffness: 2000, damping: 20}, shear: {stiffness: 2000, damping: 20}},
-        pinned: none}
-spheres: [{center: [0, 0, 0], radius: 0.5, kinematic: true}]
-)");
+)" + rest);
+}
+
+Model small_drape() {
+  return eight_by_eight("small_drape", "        pinned: none}\nspheres: [{center: [0, 0, 0], radius: 0.5, kinematic: true}]\n");
 }
 
 // The same sheet on the ground as well as the ball, PD with Chebyshev's acceleration on.
@@ -97,6 +101,59 @@ TEST(Convergence, EveryMethodGetsCloserToBackwardEulerAndNewtonReachesIt) {
   for (const ConvergencePoint& p : points) {
     EXPECT_GE(p.max, p.rms);
     EXPECT_GE(p.cpu_seconds, 0.0);
+  }
+}
+
+// The same sheet hung by its corners, clear of everything (no contact: the family's history is
+// never reset).
+Model free_sheet() { return eight_by_eight("free_sheet", "        pinned: corners}\n"); }
+
+constexpr IntegratorKind kFamily[] = {IntegratorKind::ImplicitMidpoint, IntegratorKind::Newmark,
+                                      IntegratorKind::GeneralizedAlpha, IntegratorKind::Bdf2};
+
+// Each of the implicit family, from its own run's states, falls to its own converged step: the
+// distance at the cap is the scene's Newton tolerance, far below its first iteration's, on the
+// sheet with and without the ball (held in the solve, which restarts the history).
+TEST(Convergence, EveryImplicitMethodFallsToItsOwnConvergedStep) {
+  for (const Model& model : {free_sheet(), small_drape()}) {
+    ConvergenceSpec spec;
+    spec.states = 3;
+    spec.max_iterations = 12;
+    spec.methods.assign(std::begin(kFamily), std::end(kFamily));
+    const auto points = convergence_study(model, spec);
+    ASSERT_EQ(points.size(), 3u * 4u * 12u);
+    for (IntegratorKind k : kFamily)
+      for (int state = 0; state < spec.states; ++state) {
+        SCOPED_TRACE(model.name + " " + std::string(integrator_name(k)) + " state " + std::to_string(state));
+        const double first = distance(points, k, state, 1), capped = distance(points, k, state, 12);
+        EXPECT_LT(capped, 1e-8);  // the scene's Newton tolerance, as implicit_euler's above
+        EXPECT_LE(capped, first);
+        if (first > 1e-8) EXPECT_GT(first, 100.0 * capped);  // (a free fall's first iteration is its step)
+      }
+    for (const ConvergencePoint& p : points) EXPECT_TRUE(std::isnan(p.gradient)) << "Phi is backward Euler's";
+  }
+}
+
+// The states come from the method's own run, history and all: bdf2's step before and newmark's
+// acceleration carry on, and the reference is the method's step from them, not backward Euler's.
+TEST(Convergence, TheFamilysStatesCarryTheirRunsHistoryAndTheReferenceIsItsOwnStep) {
+  const Model model = free_sheet();
+  ConvergenceSpec spec;
+  spec.states = 3;
+  for (IntegratorKind k : {IntegratorKind::Newmark, IntegratorKind::Bdf2}) {
+    const std::vector<State> states = convergence_states(model, spec, spec.states, {}, k);
+    ASSERT_EQ(states.size(), 3u);
+    for (const State& s : states) EXPECT_TRUE(s.history.continues(k, s)) << integrator_name(k);
+    const State own = converged_step(model, states[2], spec.h, k);
+    const State euler = converged_step(model, states[2], spec.h);
+    EXPECT_GT((own.x - euler.x).cwiseAbs().maxCoeff(), 1e-6) << integrator_name(k);
+    // and the run itself takes that step (to its own tolerance) from that state
+    Model run_model = model;
+    run_model.implicit.newton_max_iterations = 200;
+    State next = states[2];
+    Workspace ws;
+    step(run_model, next, k, spec.h, ws);
+    EXPECT_LT((next.x - own.x).cwiseAbs().maxCoeff(), 1e-6) << integrator_name(k);
   }
 }
 

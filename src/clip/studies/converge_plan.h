@@ -22,7 +22,8 @@ struct ConvergeOptions {
   std::string shard;  // --shard K/N|auto (study_shard.h)
 };
 
-// --integrators: the iterative methods (xpbd, projective_dynamics, vbd, implicit_euler) by name.
+// --integrators: the iterative methods by name: xpbd, projective_dynamics, vbd, implicit_euler and the
+// implicit family (implicit_midpoint, newmark, generalized_alpha, bdf2), each against its own step.
 std::vector<IntegratorKind> parse_methods(const std::string& text);
 
 // The study the options ask for: the step, the states, the iterations and the methods.

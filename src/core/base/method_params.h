@@ -25,6 +25,7 @@ enum class IntegratorKind {
   Bs3,              // Bogacki-Shampine 3(2) under error control         4 force evals a trial
   Dopri5,           // Dormand-Prince 5(4) under error control (FSAL)    6 a trial (7 the first)
   Rkf78,            // Fehlberg 7(8) under error control (order 8)       13 a trial
+  Imex,             // Bridson et al. 2003: springs explicit, damping implicit  1 force eval + 2 solves
 };
 
 // A scene that names no integrator runs this one (the student report's code).

@@ -35,6 +35,8 @@ ImplicitCache& cache_for(const Model& model, const ImplicitDef& cfg, Workspace& 
     return c;
   build_pattern(model, cfg.single_from, c.A);
   c.single_from = cfg.single_from;
+  c.damping = SpringBlockMatrix{};  // built for this model when imex first needs it
+  c.damping_mark = 0;
   c.y_length.clear();
   c.factor.reset();  // analysed when first needed
   c.multigrid = MultigridPreconditioner{};  // likewise

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "sparse_system.h"
@@ -27,6 +28,11 @@ struct ImplicitCache {
   double shortest_rest = 0.0;  // m, the shortest rest length (infinite without springs)
   analysis::StiffnessEstimate stiffness;  // Gershgorin bounds the matrix-reuse distance uses
   SpringBlockMatrix A;                    // the Newton matrix
+  // imex's damping matrix M - h/2 D (integrators/imex.cpp), its pattern built on first use, and
+  // the mark of the assembly it holds (0: none), which the State's history names when its end
+  // state is where it was assembled.
+  SpringBlockMatrix damping;
+  std::uint64_t damping_mark = 0;
   std::vector<double> start_length;       // (slots) m, l_n (step_lengths)
   // (slots) m, the springs' lengths at y and at y_try, swapped with them; empty where the
   // springs are not all in families. A step that starts where the last ended reuses y_length.

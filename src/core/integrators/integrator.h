@@ -29,6 +29,12 @@ StepStats newmark_step(const Model& model, State& state, const StepContext& ctx,
 StepStats generalized_alpha_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
 StepStats bdf2_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
 StepStats ros2_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
+StepStats imex_step(const Model& model, State& state, const StepContext& ctx, Workspace& ws);
+// imex's step matrix on (u, u', a) for u'' + c u' + w^2 u = 0 (analysis::StepMatrix), a the
+// carried a(x_n, v_n), and its largest stable step, Jury's condition on that matrix (imex.cpp):
+// 2 / w undamped and growing with c, past analysis::step_matrix_limit's scan (4 / |root|).
+void imex_matrix(double h, double w, double c, double m[9]);
+double imex_limit(double w, double c);
 // How far (m) every particle of an iterate may lie from the Newton matrix's linearisation
 // point for implicit_euler to reuse that matrix whatever the residual (implicit_euler.cpp,
 // kReuseChange): 0.05 l_min / (4 (h c_max + (h w_max)^2)); infinite without springs.

@@ -30,6 +30,7 @@ MethodMemory rk4_memory(const MemorySizes& n);
 MethodMemory verlet_memory(const MemorySizes& n);  // velocity_verlet, yoshida4
 MethodMemory implicit_euler_memory(const MemorySizes& n);
 MethodMemory implicit_family_memory(const MemorySizes& n);  // implicit_midpoint, newmark, generalized_alpha, bdf2
+MethodMemory imex_memory(const MemorySizes& n);
 MethodMemory xpbd_memory(const MemorySizes& n);
 MethodMemory projective_dynamics_memory(const MemorySizes& n);
 MethodMemory vbd_memory(const MemorySizes& n);

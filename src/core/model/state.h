@@ -60,6 +60,9 @@ struct StepHistory {
   Eigen::Matrix3Xd x_before, v_before;  // (3 x B)
   std::vector<double> length_before;    // (slots) m
   double h = 0.0;                       // s
+  // imex: the mark of the damping matrix its last kick assembled at the end state (the
+  // Workspace's cache keeps the same mark while it holds that matrix: imex.cpp).
+  std::uint64_t matrix_mark = 0;
   IntegratorKind owner = IntegratorKind::ExplicitEuler;  // the method that filled it
   bool filled = false;
   Eigen::Matrix3Xd x, v;      // (3 x B) the end state it belongs to

@@ -407,7 +407,7 @@ TEST(CmdValidate, PrintsTheStiffnessEstimateAndEachExplicitMethodsLimit) {
   EXPECT_EQ(line_count(r.err), 1) << r.err;
   EXPECT_NE(r.out.find("stiffness estimate: w_max = 692.8 rad/s, 2/w_max = 0.00289 s"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("predicted step limits: explicit_euler 0.000111 s, symplectic_euler 0.000111 s, "
-                       "midpoint 0.000111 s, rk4 0.000155 s, velocity_verlet 5.55e-05 s, yoshida4 5.07e-05 s; "
+                       "midpoint 0.000111 s, rk4 0.000155 s, velocity_verlet 5.55e-05 s, yoshida4 5.07e-05 s, imex 0.00289 s; "
                        "implicit_euler: none"),
             std::string::npos)
       << r.out;

@@ -18,6 +18,15 @@ TEST(PlanConverge, DefaultsToOneFrameStepFromFiveStatesOfTheFourIterativeMethods
                                                        *parse_integrator("vbd"), *parse_integrator("implicit_euler")}));
 }
 
+TEST(PlanConverge, TakesTheImplicitFamilyEachAgainstItsOwnStep) {
+  ConvergeOptions o;
+  o.integrators = "implicit_midpoint,newmark,generalized_alpha,bdf2";
+  const ConvergenceSpec spec = plan_converge(o);
+  ASSERT_EQ(spec.methods.size(), 4u);
+  for (IntegratorKind k : spec.methods) EXPECT_EQ(states_source(k), k) << integrator_name(k);
+  EXPECT_EQ(states_source(IntegratorKind::Vbd), kBackwardEuler);
+}
+
 TEST(PlanConverge, RefusesAMethodWithoutIterationsAndABadStep) {
   ConvergeOptions o;
   o.integrators = "xpbd,rk4";
@@ -28,13 +37,14 @@ TEST(PlanConverge, RefusesAMethodWithoutIterationsAndABadStep) {
     EXPECT_NE(std::string(e.what()).find("--integrators: 'rk4' is not an iterative method"), std::string::npos)
         << e.what();
   }
-  o.integrators = "newmark";  // Newton iterations, but toward the trapezoid's step
+  o.integrators = "imex";  // one linear solve a half kick: nothing to iterate
   try {
     plan_converge(o);
-    FAIL() << "newmark converges to its own step";
+    FAIL() << "imex has no iterations";
   } catch (const UsageError& e) {
-    EXPECT_NE(std::string(e.what()).find("converges to its own step, not to backward Euler's"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("'imex' is not an iterative method (expected implicit_euler, xpbd, "), std::string::npos)
         << e.what();
+    EXPECT_NE(std::string(e.what()).find("generalized_alpha or bdf2)"), std::string::npos) << e.what();
   }
   o.integrators = "vbd";
   o.dt = "0";

@@ -1,8 +1,9 @@
 // clothsim converge SCENE [--dt S] [--integrators LIST] [--states K] [--max-iterations N]
 //                        [--csv F] [--plot F.png] [--summary F.json] [--shard K/N|auto]
-// The iterative solvers against the step they approximate (study/convergence.h): from K
-// states along a converged implicit_euler run, one step of every method with 1..N iterations,
-// its distance from the converged backward-Euler step, Phi's gradient norm and its CPU time.
+// The iterative methods against the step they approximate (study/convergence.h): from K states
+// along a converged run (implicit_euler's for the solvers, each implicit family method's own),
+// one step of every method with 1..N iterations, its distance from the converged step (backward
+// Euler's, or the method's own), Phi's gradient norm and its CPU time.
 // With --shard, this process's part of the (state, method) sweeps (study_shard.h).
 #include <algorithm>
 #include <cinttypes>
@@ -80,7 +81,7 @@ int converge_command(const ConvergeOptions& o) {
   std::unique_ptr<PlotScript> plot;
   if (!o.plot.empty()) plot = std::make_unique<PlotScript>("plot_convergence.py", o.plot);
   std::printf("converge %s: %d states at dt = %s s, %zu methods x 1..%d iterations, against converged "
-              "backward Euler\n", model.name.c_str(), spec.states, step_string(spec.h).c_str(), spec.methods.size(),
+              "backward Euler (the implicit family: its own converged step)\n", model.name.c_str(), spec.states, step_string(spec.h).c_str(), spec.methods.size(),
               spec.max_iterations);
   std::fflush(stdout);
   const auto points = convergence_study(model, spec, hooks);
@@ -100,8 +101,8 @@ int converge_command(const ConvergeOptions& o) {
 void add_converge_command(CLI::App& app, Command& command) {
   auto o = std::make_shared<ConvergeOptions>();
   CLI::App* sub = app.add_subcommand(
-      "converge", "Distance of xpbd, projective_dynamics, vbd and capped Newton from converged backward Euler, "
-                  "per iteration and CPU");
+      "converge", "Distance of xpbd, projective_dynamics, vbd and capped Newton from converged backward Euler "
+                  "(the implicit family from its own step), per iteration and CPU");
   add_scene_options(sub, o->scene, /*single_run=*/false);
   sub->add_option("--dt", o->dt, "Step, s (a number or a fraction)")->capture_default_str()->type_name("S");
   sub->add_option("--integrators", o->integrators, "Iterative methods")->capture_default_str()->type_name("LIST");
