@@ -30,6 +30,7 @@ struct BenchOptions {
   std::string shard;  // --shard K/N|auto (study_shard.h)
   std::string vary;   // --vary KEY=V1,V2,...: the study once per value (plan_values)
   std::string scale;  // --scale N1,N2,...: cost against sheet size (study/scale_study.h)
+  std::string budget; // --budget N: substeps x iterations at equal cost (budget_plan.h)
   int jobs = 0;
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
   double reference_tolerance = WorkPrecisionSpec{}.reference_tolerance;
