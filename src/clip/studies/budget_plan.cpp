@@ -59,7 +59,7 @@ BudgetPlan plan_budget(const BenchOptions& o, const SceneDef& scene) {
   std::vector<Lane> lanes = parse_study_lanes(o.integrators, "--budget sets each step to 1 / (F s); drop @STEP");
   follow_scene_solver(lanes, scene.implicit);
   for (const Lane& l : lanes) {
-    const std::string item = "--integrators: " + l.stepless_spelling() + ": ";
+    const std::string item = "--integrators: '" + l.stepless_spelling() + "': ";  // as parse_study_lanes says an item
     if (integrator_info(l.kind).iterations == IterationControl::None)
       throw UsageError(item + "not an iterative solver; --budget splits the iterations of xpbd, vbd, "
                               "projective_dynamics or implicit_euler (its Newton cap)");

@@ -60,11 +60,12 @@ int bench_budget(const clip::BenchOptions& o) {
   clip::fit_budget_reference(plan, model, scene);
   const analysis::BudgetSpec& spec = plan.spec;
   const std::size_t runs = analysis::budget_points(spec).size();
-  std::printf("bench %s --budget %d: %zu solver%s x %zu splits s x k = %d at %g frames/s (%s), T = %g s (%.0f frames), "
+  std::printf("bench %s --budget %d: %zu solver%s x %zu splits s x k = %d at %g frames/s (%s), T = %g s (%.0f frame%s), "
               "on %d threads\n",
               model.name.c_str(), spec.budget, spec.solvers.size(), spec.solvers.size() == 1 ? "" : "s",
               runs / spec.solvers.size(), spec.budget, spec.fps, plan.fps_from.c_str(), spec.duration,
-              std::round(spec.duration * spec.fps), analysis::resolve_jobs(o.jobs));
+              std::round(spec.duration * spec.fps), std::round(spec.duration * spec.fps) == 1 ? "" : "s",
+              analysis::resolve_jobs(o.jobs));
   std::fflush(stdout);
 
   clip::SharedProgress progress("bench " + model.name + " --budget", static_cast<long>(runs + 1), "runs");
