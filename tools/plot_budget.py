@@ -97,8 +97,9 @@ def main():
         ax.set_xticklabels([f"{int(s)}x{int(int(budget) / s)}" for s in ticks], fontsize=7, rotation=30)
         ax.xaxis.set_minor_locator(pc.matplotlib.ticker.NullLocator())
     handles, labels = axes[0].get_legend_handles_labels()
-    handles.append(pc.plt.Line2D([], [], color="black", marker="x", linestyle="None"))
-    labels.append("diverged")
+    if any(r["diverged"] == "1" for r in rows):
+        handles.append(pc.plt.Line2D([], [], color="black", marker="x", linestyle="None"))
+        labels.append("diverged")
     if any(r["wrong"] == "1" for r in rows):
         handles.append(pc.plt.Line2D([], [], marker="s", markerfacecolor="none", markeredgecolor="red",
                                      linestyle="None", markersize=10))
