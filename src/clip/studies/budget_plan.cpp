@@ -5,10 +5,13 @@
 #include <cstdio>
 
 #include "clip/common/cli_common.h"
+#include "clip/common/memory_budget.h"
 #include "clip/frames/picture_options.h"
 #include "scene/build_model.h"
+#include "scene/memory_estimate.h"
 #include "scene/run_bounds.h"
 #include "study/tables/budget_table.h"
+#include "study/task_pool.h"
 
 namespace clothsim::clip {
 namespace {
@@ -101,7 +104,17 @@ BudgetPlan plan_budget(const BenchOptions& o, const SceneDef& scene) {
 
 Model build_budget_model(const BenchOptions& o, SceneDef& scene, const BudgetPlan& plan) {
   scene.duration = std::max(scene.duration, plan.spec.duration);
-  check_bench_memory(o, scene, plan.spec.solvers);
+  MemoryBudget budget;  // bench's (check_bench_memory), and the reference's frames
+  budget.add("model", model_bytes(scene));
+  double dearest = 0.0;
+  for (IntegratorKind k : plan.spec.solvers) dearest = std::max(dearest, run_bytes(scene, k));
+  const int threads = analysis::resolve_jobs(o.jobs);
+  budget.add(std::to_string(threads) + " runs at once", threads * dearest);
+  // Positions (3 doubles) and inverse masses (1) of every body at every frame, twice while the
+  // RK4 reference and its check both keep theirs (budget_study.h).
+  const double bodies = static_cast<double>(scene.cloth.nx) * scene.cloth.ny + scene.spheres.size();
+  budget.add("reference frames", 2.0 * (std::round(plan.spec.duration * plan.spec.fps) + 1) * bodies * 4 * sizeof(double));
+  budget.check(scene.source, o.scene.max_memory);
   return build_model(scene);
 }
 
