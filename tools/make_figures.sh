@@ -26,6 +26,10 @@ echo "== work precision, spring (smooth: the methods' orders)"
 echo "== work precision, drape (the default study)"
 "$CLOTHSIM" bench scenes/drape.yaml --csv $OUT/bench_drape.csv --plot $OUT/bench_drape.png
 
+echo "== substeps against iterations, N = 30 on the smooth drape's first second"
+"$CLOTHSIM" bench scenes/drape_smooth.yaml --budget 30 --fps 60 --duration 1 \
+  --csv $OUT/budget_drape_smooth.csv --plot $OUT/budget_drape_smooth.png
+
 echo "== stability, undamped spring (linear theory: 2/w, 2.83/w)"
 "$CLOTHSIM" stability scenes/spring.yaml --set cloth.springs.structural.damping=0 \
   --integrators explicit_euler,symplectic_euler,rk4,implicit_euler \

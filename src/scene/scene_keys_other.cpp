@@ -67,7 +67,10 @@ RenderDef Reader::render(const YAML::Node& n, const std::string& path) const {
                        "samples", "msaa", "antialias"});
   optional(n, path, "width", [&](auto& v, auto& k) { r.width = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
   optional(n, path, "height", [&](auto& v, auto& k) { r.height = int_in_range(v, k, RenderDef::kMinSize, RenderDef::kMaxSize); });
-  optional(n, path, "fps", [&](auto& v, auto& k) { r.fps = in_range(v, k, 0.0, RenderDef::kMaxFps, true); });
+  optional(n, path, "fps", [&](auto& v, auto& k) {
+    r.fps = in_range(v, k, 0.0, RenderDef::kMaxFps, true);
+    r.fps_given = true;
+  });
   optional(n, path, "draw_springs", [&](auto& v, auto& k) { r.draw_springs = boolean(v, k); });
   optional(n, path, "draw_particles", [&](auto& v, auto& k) { r.draw_particles = boolean(v, k); });
   optional(n, path, "samples", [&](auto& v, auto& k) {

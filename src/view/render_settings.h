@@ -24,6 +24,7 @@ struct RenderDef {
   static constexpr double kMaxFps = 1000.0;              // frames per simulated second (> 0)
   int width = 1280, height = 720;  // pixels
   double fps = 30.0;               // output frames per simulated second
+  bool fps_given = false;          // render.fps appeared in the scene (bench --budget's frame, else 60)
   CameraDef camera;
   bool camera_auto = false;        // camera: auto, fitted to the cloth and spheres (camera_fit.h)
   std::string color;               // checker|error|strain|speed; "": the command's default

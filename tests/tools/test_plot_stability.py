@@ -1,6 +1,7 @@
 """tools/plot_stability.py: frame-step markers by lane; identical limits both visible."""
-import subprocess
 import os
+
+from conftest import legend_texts
 
 SCRIPT = os.path.join(os.path.dirname(__file__), "..", "..", "tools", "plot_stability.py")
 HEADER = ("param,value,integrator,outcome,stable_dt,unstable_dt,trials,cpu_seconds,w_max,c_max,dt_springs,"
@@ -20,23 +21,7 @@ def test_the_fixed_point_and_backward_euler_frame_steps_are_labelled_apart(tmp_p
                    + row(100, "implicit_euler", 0.01, "1/60 s: ok, 12 steps converged")
                    + row(100, "implicit_euler_fixed_point", 0.001, "1/60 s: diverged at t = 0.1 s"))
     out = tmp_path / "s.png"
-    probe = tmp_path / "probe.py"
-    # The plot's legend texts, read back from the figure the script builds.
-    probe.write_text(
-        "import sys, runpy, matplotlib.pyplot as plt\n"
-        "texts = []\n"
-        "orig = plt.Figure.savefig\n"
-        "def grab(self, *a, **k):\n"
-        "    texts.extend(t.get_text() for ax in self.axes if ax.get_legend() for t in ax.get_legend().get_texts())\n"
-        "    return orig(self, *a, **k)\n"
-        "plt.Figure.savefig = grab\n"
-        f"sys.argv = ['plot_stability.py', '--csv', '{csv}', '--out', '{out}']\n"
-        f"runpy.run_path('{SCRIPT}', run_name='__main__')\n"
-        "print('\\n'.join(texts))\n")
-    r = subprocess.run(["/usr/bin/python3", str(probe)], capture_output=True, text=True,
-                       env={**os.environ, "PYTHONPATH": os.path.dirname(SCRIPT)})
-    assert r.returncode == 0, r.stderr
-    labels = r.stdout.splitlines()
+    labels = legend_texts(SCRIPT, csv, out)
     assert "implicit_euler at one step per frame: converged" in labels
     assert "implicit_euler (fixed point) at one step per frame: diverged" in labels
     assert not any(l.startswith("implicit_euler at one step per frame: diverged") for l in labels)

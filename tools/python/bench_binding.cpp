@@ -13,6 +13,9 @@
 #include "study_binding.h"
 #include "clip/studies/bench_outputs.h"
 #include "clip/studies/bench_plan.h"
+#include "clip/studies/budget_plan.h"
+#include "study/budget_study.h"
+#include "study/tables/budget_table.h"
 #include "clip/studies/study_common.h"
 #include "study/scale_study.h"
 #include "study/work_precision.h"
@@ -86,14 +89,41 @@ py::object bench_scale(const clip::BenchOptions& o) {
   return csv_frame(clip::scale_csv_text(scale, points));
 }
 
+// budget=N (--budget): the substeps-iterations grid, its verdicts in the DataFrame's
+// attrs["verdicts"] (one line per solver, as the CLI prints them).
+py::object bench_budget(const clip::BenchOptions& o, SceneDef& def) {
+  clip::BudgetPlan plan = clip::plan_budget(o, def);
+  for (const std::string& why : plan.left_out)
+    PyErr_WarnEx(PyExc_UserWarning, ("bench --budget: " + why + "; left out").c_str(), 1);
+  const std::unique_ptr<clip::PlotScript> plot =
+      clip::check_study_outputs(o.scene.path, o.csv, "", o.plot, "plot_budget.py");
+  const Model model = clip::build_budget_model(o, def, plan);
+  clip::fit_budget_reference(plan, model, def);
+  const analysis::BudgetResult r = interruptible([&](auto stop) {
+    analysis::StudyHooks hooks;
+    hooks.stop = stop;
+    return analysis::budget_study(model, plan.spec, hooks);
+  });
+  if (writes_files(o)) clip::write_budget_outputs(o, def.source, model.name, plan, r, plot.get());
+  if (!r.reference.finished) throw clip::RuntimeFailure(def.source + ": " + r.reference.failure + "; nothing measured");
+  py::object frame = data_frame(analysis::budget_table(r, clip::budget_lane_spellings(plan, r)));
+  py::list verdicts;
+  for (std::size_t i = 0; i < plan.spec.solvers.size(); ++i) verdicts.append(analysis::budget_verdict(r, i).text);
+  frame.attr("attrs")["verdicts"] = verdicts;
+  return frame;
+}
+
 py::object bench(const Scene& scene, const py::object& integrators, const py::object& dts,
                  const std::optional<double>& duration, const py::object& frame_dts,
                  const std::optional<int>& reference_refinement, const std::optional<double>& reference_tolerance,
                  int jobs, const std::string& csv, const std::string& summary, const std::string& plot,
                  const std::string& vary, const py::object& scale, const std::string& shard,
-                 const py::object& max_memory, const py::object& tols, const std::string& error) {
+                 const py::object& max_memory, const py::object& tols, const std::string& error,
+                 const py::object& budget, const std::optional<double>& fps) {
   clip::BenchOptions o;  // the CLI's defaults where a keyword is None
   o.scene = scene_options(scene, duration, max_memory);
+  if (!budget.is_none()) o.budget = option_text(budget), o.integrators = clip::kBudgetSolvers;
+  if (fps) o.scene.fps = *fps;
   if (!integrators.is_none()) o.integrators = option_text(integrators);
   if (!dts.is_none()) o.dts = option_text(dts);
   if (!tols.is_none()) o.tols = option_text(tols);
@@ -106,6 +136,8 @@ py::object bench(const Scene& scene, const py::object& integrators, const py::ob
   if (!scale.is_none()) o.scale = option_text(scale);
   if (!o.scale.empty()) return bench_scale(o);
   SceneDef def = scene.def;
+  if (!o.budget.empty()) return bench_budget(o, def);
+  if (fps) throw clip::UsageError("--fps: the frame of --budget; give budget=N with it");
   const std::vector<Lane> lanes = clip::bench_lanes(o, def);
   if (!o.vary.empty()) return bench_values(o, def, lanes);
   return bench_one(o, def, lanes);
@@ -119,10 +151,11 @@ void bind_bench(py::module_& m) {
         py::arg("reference_refinement") = py::none(), py::arg("reference_tolerance") = py::none(),
         py::arg("jobs") = 0, py::arg("csv") = "", py::arg("summary") = "", py::arg("plot") = "", py::arg("vary") = "",
         py::arg("scale") = py::none(), py::arg("shard") = "", py::arg("max_memory") = py::none(),
-        py::arg("tols") = py::none(), py::arg("error") = "time",
+        py::arg("tols") = py::none(), py::arg("error") = "time", py::arg("budget") = py::none(),
+        py::arg("fps") = py::none(),
         "bench(scene, integrators=None, dts=None, duration=None, frame_dts=None, reference_refinement=None,\n"
         "      reference_tolerance=None, jobs=0, csv='', summary='', plot='', vary='', scale=None, shard='',\n"
-        "      max_memory=None, tols=None, error='time')\n"
+        "      max_memory=None, tols=None, error='time', budget=None, fps=None)\n"
         "    -> pandas.DataFrame\n\n"
         "`clothsim bench SCENE` with its options as keywords: every lane at every step over T, its error at\n"
         "T against the reference and its cost. A keyword left None takes the CLI's default (compare's\n"
@@ -144,6 +177,10 @@ void bind_bench(py::module_& m) {
         "shard='K/N' (or 'auto' in a Slurm array task): part K of N of the runs, journaled in\n"
         "  csv + '.shard-K-of-N/' for `clothsim merge` (needs csv=; no summary or plot); returns the part's\n"
         "  rows; a rerun runs only what the part does not hold yet (docs/cluster.md).\n"
+        "budget=N (--budget): substeps against iterations at equal cost instead: each iterative solver\n"
+        "  (integrators=, default xpbd,vbd,projective_dynamics,implicit_euler) at every split s x k = N a\n"
+        "  frame of 1/fps s (fps=: --fps, default the scene's render.fps if written, else 60); columns as\n"
+        "  bench --budget --csv, the verdicts in the DataFrame's attrs['verdicts'] (docs/cli.md).\n"
         "max_memory='4G' (--max-memory): refuse a study whose runs would need more (default: half the RAM).\n"
         "Runs with the GIL released; Ctrl-C raises KeyboardInterrupt; bad options raise\n"
         "clothsim.UsageError (a ValueError) with the CLI's one-line message.");

@@ -31,6 +31,7 @@ struct BenchOptions {
   std::string shard;  // --shard K/N|auto (study_shard.h)
   std::string vary;   // --vary KEY=V1,V2,...: the study once per value (plan_values)
   std::string scale;  // --scale N1,N2,...: cost against sheet size (study/scale_study.h)
+  std::string budget; // --budget N: substeps x iterations at equal cost (budget_plan.h)
   int jobs = 0;
   std::string error = "time";  // --error time|end: the largest over the sample times, or at T
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;

@@ -25,8 +25,10 @@
 #include <cstdio>
 #include <memory>
 
+#include "cli/studies/bench_budget.h"
 #include "clip/studies/bench_outputs.h"
 #include "clip/studies/bench_plan.h"
+#include "clip/studies/budget_plan.h"
 #include "clip/studies/study_common.h"
 #include "clip/studies/study_shard.h"
 #include "clip/common/cli_common.h"
@@ -200,6 +202,8 @@ int bench_scale(const BenchOptions& o) {
 }
 
 int bench_command(const BenchOptions& o) {
+  if (!o.budget.empty()) return bench_budget(o);
+  if (o.scene.fps) throw UsageError("--fps: the frame of --budget; give --budget N with it");
   if (!o.scale.empty()) return bench_scale(o);
   install_interrupt_handler();  // first: a signal during setup is then seen, not fatal, and temporaries go
   SceneDef scene = load_scene_within(o.scene.path, o.scene.sets, o.scene.max_memory);
@@ -305,6 +309,15 @@ void add_bench_command(CLI::App& app, Command& command) {
                   "Cost against sheet size instead: each lane (NAME@STEP) at cloth.particles = [N, N] for each N,\n"
                   "the sheet's size and total mass fixed (the first N keeps the scene's particle_mass)")
       ->type_name("N1,N2,...");
+  sub->add_option("--budget", o->budget,
+                  "Substeps against iterations at equal cost instead: each iterative solver (default " +
+                      std::string(kBudgetSolvers) + ")\nat every split s x k = N a frame, s steps of 1/(F s) with "
+                      "k iterations each, against compare's reference (docs/cli.md)")
+      ->type_name("N");
+  sub->add_option("--fps", o->scene.fps,
+                  "With --budget: the frame the budget fills, F frames per simulated second (default: the scene's "
+                  "render.fps if it writes one, else " + csv_number(kBudgetDefaultFps) + ")")
+      ->type_name("F");
   add_progress_options(sub);
   add_no_overwrite_option(sub);
   sub->add_option("--jobs", o->jobs, "Runs at once (default 0: one per core)");
@@ -317,7 +330,11 @@ void add_bench_command(CLI::App& app, Command& command) {
                   "The adaptive reference's tolerance on a smooth scene, then 100x tighter to check it")
       ->capture_default_str()
       ->type_name("TOL");
-  sub->callback([o, &command] { command = [o] { return bench_command(*o); }; });
+  sub->callback([o, sub, &command] {
+    // --budget's solvers by default, not compare's four (most of which take no iterations).
+    if (!o->budget.empty() && sub->count("--integrators") == 0) o->integrators = kBudgetSolvers;
+    command = [o] { return bench_command(*o); };
+  });
 }
 
 }  // namespace clothsim::cli
