@@ -58,6 +58,13 @@ tools/, tests/, scenes/ and the top CMakeLists.txt, lines joined so that a point
     bracket or a space before one (`"Small steps"` names "Small steps: the guess, ...").
 Each pointer that does not resolve is printed as FILE:LINE: what is missing, and the run
 exits 1 (after the numbers, if those ran).
+
+Pictures. Under --full (or --pictures alone), after the numbers, tools/make_figures.sh remakes
+every picture of docs/images into the scratch directory and each is compared with the tree's:
+a render or an energy or stability plot by `clothsim imgdiff` at the golden tolerances (its
+defaults); a plot that draws CPU time (TIMED below) by the CSV kept beside it, every column but
+the timings, to 6 significant figures, since the load moves its points. A picture in docs/images
+that the script does not make fails too. --update copies the differing ones into docs/images.
 """
 import argparse
 import bisect
@@ -392,6 +399,77 @@ def check_pointers():
     return problems
 
 
+# The figures that draw CPU time: judged by their CSV's other columns, not their pixels.
+TIMED = {"bench_spring", "bench_drape", "bench_drape_smooth", "budget_drape_smooth",
+         "converge_drape", "converge_drape64", "converge_stiff"}
+TIMING_COLUMNS = {"wall_seconds", "cpu_seconds"}
+
+
+def same_csv(a, b):
+    """'' when the two CSVs agree on every column but the timings (numbers to 6 figures),
+    else the first difference."""
+    import csv
+    with open(a) as f:
+        ra = list(csv.DictReader(f))
+    with open(b) as f:
+        rb = list(csv.DictReader(f))
+    if len(ra) != len(rb):
+        return f"{len(rb)} rows, the tree's {len(ra)}"
+    for i, (x, y) in enumerate(zip(ra, rb), 2):
+        for k in x:
+            if k in TIMING_COLUMNS or x[k] == y.get(k):
+                continue
+            try:
+                u, v = float(x[k]), float(y.get(k, "nan"))
+                if u == v or abs(u - v) <= 1e-6 * max(abs(u), abs(v)):
+                    continue
+            except ValueError:
+                pass
+            return f"line {i}, {k}: {y.get(k)!r}, the tree's {x[k]!r}"
+    return ""
+
+
+def check_pictures(build, scratch, update):
+    """Remakes every picture of docs/images and compares each with the tree's; the number that
+    differ or are not remade."""
+    images = os.path.join(ROOT, "docs", "images")
+    made = os.path.join(scratch, "figures")
+    start = time.time()
+    p = subprocess.run(["sh", os.path.join(ROOT, "tools", "make_figures.sh"), build, made],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    print(f"== pictures: tools/make_figures.sh in {time.time() - start:.0f} s")
+    if p.returncode != 0:
+        print("   FAILED: tools/make_figures.sh exited " + str(p.returncode) + "\n"
+              + "\n".join("   | " + l for l in p.stdout.strip().splitlines()[-8:]))
+        return 1
+    failed = 0
+    names = sorted(f[:-4] for f in os.listdir(images) if f.endswith(".png"))
+    for name in names:
+        new = os.path.join(made, name + ".png")
+        if not os.path.exists(new):
+            print(f"   FAILED docs/images/{name}.png: tools/make_figures.sh does not make it")
+            failed += 1
+            continue
+        if name in TIMED:
+            why = same_csv(os.path.join(images, name + ".csv"), os.path.join(made, name + ".csv"))
+        else:
+            d = subprocess.run([os.path.join(build, "clothsim"), "imgdiff", os.path.join(images, name + ".png"), new],
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            why = "" if d.returncode == 0 else (d.stdout.strip().splitlines() or ["imgdiff failed"])[-1]
+        if not why:
+            continue
+        if update:
+            for ext in (".png", ".csv"):
+                if os.path.exists(os.path.join(made, name + ext)) and (ext == ".png" or os.path.exists(os.path.join(images, name + ext))):
+                    shutil.copyfile(os.path.join(made, name + ext), os.path.join(images, name + ext))
+            print(f"   updated docs/images/{name}.png: {why}")
+        else:
+            failed += 1
+            print(f"   DIFFERS docs/images/{name}.png: {why}")
+    print(f"check_docs: pictures: {len(names)} compared, {failed} differ or are not remade")
+    return failed
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("docs", nargs="*", help="markdown files (default: README.md docs/report.md)")
@@ -402,6 +480,7 @@ def main():
     ap.add_argument("--list", action="store_true", help="list the checks and their values, run nothing")
     ap.add_argument("--pointers", action="store_true", help="check only that every pointer to a file or section resolves")
     ap.add_argument("--timeout", type=float, default=900, help="seconds per command")
+    ap.add_argument("--pictures", action="store_true", help="only remake and compare docs/images (--full does it too)")
     args = ap.parse_args()
     docs = args.docs or [os.path.join(ROOT, d) for d in DEFAULT_DOCS]
     only = set(filter(None, args.only.split(",")))
@@ -420,7 +499,7 @@ def main():
     failed = updated = checked = 0
     scratch = tempfile.mkdtemp(prefix="check_docs.")
     try:
-        for doc in docs:
+        for doc in ([] if args.pictures else docs):
             rel = os.path.relpath(doc, ROOT) if os.path.abspath(doc).startswith(ROOT + os.sep) else doc
             with open(doc) as f:
                 text = f.read()
@@ -475,10 +554,15 @@ def main():
                 out.append(text[at:])
                 with open(doc, "w") as f:
                     f.write("".join(out))
+        pictures = args.pictures or (args.full and not (args.list or only or args.docs))
+        if pictures:
+            failed += check_pictures(build, scratch, args.update)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
     if args.list:
         return 0
+    if args.pictures:
+        return 1 if failed or dangling else 0
     print(f"check_docs: {checked} quoted values checked, {failed} differ or failed"
           + (f", {updated} updated" if args.update else "")
           + ("" if args.full or only else " ([full] checks skipped: --full runs them)"))

@@ -1,17 +1,24 @@
 #!/bin/sh
-# Re-makes every figure of docs/integrators.md ("Choosing an integrator"), the README's and
-# docs/cli.md's pictures from the shipped scenes, with the exact commands the pages quote, and
-# keeps each study's CSV beside its figure (docs/images/*.csv) so the numbers can be checked.
+# Re-makes every picture in docs/images from the shipped scenes, with the exact commands the
+# pages quote: docs/integrators.md's figures, the README's and docs/cli.md's pictures, and
+# docs/report.md's (tools/report_figures.sh, saved as report_NAME.png). Each study's CSV is kept
+# beside its figure so the numbers can be checked; tools/check_docs.sh --full remakes them all
+# into a scratch folder and compares each with the one in the tree.
 #
-#   tools/make_figures.sh [BUILD_DIR]      # BUILD_DIR defaults to build (holding clothsim)
+#   tools/make_figures.sh [BUILD_DIR [OUT_DIR]]   # defaults: build (holding clothsim), docs/images
 #
-# Needs python3-matplotlib (/usr/bin/python3). About 1 minute on 2 idle cores, most of it
-# the two drape studies; timings in the figures are CPU time of each run's thread.
+# Needs python3-matplotlib (/usr/bin/python3). About 8 minutes on 2 idle cores, most of it the
+# report's full-size clips and the drape studies; timings in the figures are CPU time of each
+# run's thread.
 set -eu
+HERE=$(pwd)
+from_here() { case $1 in /*) printf '%s\n' "$1" ;; *) printf '%s\n' "$HERE/$1" ;; esac; }
+BUILD=${1:+$(from_here "$1")}
+OUT=${2:+$(from_here "$2")}
 cd "$(dirname "$0")/.."
-BUILD=${1:-build}
+BUILD=${BUILD:-build}
+OUT=${OUT:-docs/images}
 CLOTHSIM=$BUILD/clothsim
-OUT=docs/images
 [ -x "$CLOTHSIM" ] || { echo "make_figures.sh: $CLOTHSIM not found (build first, or pass the build directory)" >&2; exit 1; }
 mkdir -p "$OUT"
 PY=/usr/bin/python3
@@ -63,4 +70,25 @@ echo "== README: the default clip, the same step, parameter lanes; docs/cli.md: 
 "$CLOTHSIM" compare scenes/drape.yaml --vary ks=2e3,2e4,2e5 --width 960 --height 360 --still 1.5 -o $OUT/drape_vary.png
 "$CLOTHSIM" compare scenes/drape.yaml --dt 3e-4 --color strain --still 1.5 -o $OUT/drape_diverged.png --width 640 --height 360
 "$CLOTHSIM" compare scenes/drape.yaml --sheet $OUT/drape_sheet.png --times 0.1,0.5,2,4 --width 960 --height 540
+"$CLOTHSIM" compare scenes/drape_smooth.yaml --still 2.5 -o $OUT/drape_smooth_compare.png --width 640 --height 360
+"$CLOTHSIM" compare scenes/drape_smooth.yaml --vary collision.model=projection,barrier \
+  --integrators symplectic_euler,midpoint,rk4 --color error --still 1 -o $OUT/drape_models.png --width 960 --height 540
+
+echo "== docs/integrators.md: converge on the drape, at 64 x 64 and on stiff.yaml"
+"$CLOTHSIM" converge scenes/drape.yaml --dt 1/60 --states 5 --max-iterations 100 \
+  --csv $OUT/converge_drape.csv --plot $OUT/converge_drape.png
+"$CLOTHSIM" converge scenes/drape.yaml --set cloth.particles=[64,64] --dt 1/60 --states 5 \
+  --max-iterations 100 --csv $OUT/converge_drape64.csv --plot $OUT/converge_drape64.png
+"$CLOTHSIM" converge scenes/stiff.yaml --dt 1/60 --states 5 --max-iterations 100 \
+  --csv $OUT/converge_stiff.csv --plot $OUT/converge_stiff.png
+
+echo "== docs/report.md: tools/report_figures.sh, its pictures saved as report_NAME.png"
+sh tools/report_figures.sh "$TMP/report" "$BUILD"
+for name in sheet stability_ks stability_kd energy_lanes energy ks kd families_energy fixed_point; do
+  cp "$TMP/report/$name.png" "$OUT/report_$name.png"
+done
+cp "$TMP/report/stability_fp.png" "$OUT/report_fixed_point_stability.png"
+# Section 7's study is docs/integrators.md's "The smooth drape" command, run once for both.
+cp "$TMP/report/wp_cloth.png" "$OUT/bench_drape_smooth.png"
+cp "$TMP/report/wp_cloth.csv" "$OUT/bench_drape_smooth.csv"
 echo "figures in $OUT"

@@ -132,3 +132,17 @@ def test_pointers_to_missing_files_sections_and_anchors_are_named_with_their_lin
     assert any(p.startswith("src/x.h:1:") and 'has no section "Nowhere"' in p for p in problems), problems
     assert any(p.startswith("src/x.h:2:") and "src/y.h does not exist" in p for p in problems), problems
     assert len(problems) == 3, problems
+
+
+def test_a_timed_figure_is_judged_by_its_csv_with_the_timings_left_out(tmp_path):
+    tree, new = tmp_path / "tree.csv", tmp_path / "new.csv"
+    tree.write_text("integrator,dt,cpu_seconds,wall_seconds,rms_error,reason\n"
+                    "rk4,0.001,1.5,1.6,1.234567e-08,\n")
+    new.write_text("integrator,dt,cpu_seconds,wall_seconds,rms_error,reason\n"
+                   "rk4,0.001,2.5,2.9,1.2345670001e-08,\n")
+    assert cd.same_csv(tree, new) == ""  # the load moves only the timings
+    new.write_text("integrator,dt,cpu_seconds,wall_seconds,rms_error,reason\n"
+                   "rk4,0.001,1.5,1.6,1.3e-08,\n")
+    assert cd.same_csv(tree, new) == "line 2, rms_error: '1.3e-08', the tree's '1.234567e-08'"
+    new.write_text("integrator,dt,cpu_seconds,wall_seconds,rms_error,reason\n")
+    assert cd.same_csv(tree, new) == "0 rows, the tree's 1"

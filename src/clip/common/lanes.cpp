@@ -94,6 +94,20 @@ Lane parse_reference(const std::string& text, const std::vector<Lane>& lanes) {
     }
     ref.kind = given.kind;
     if (given.written_step()) ref = Lane{given.kind, given.dt, given.step_text, false, StepFrom::Written};
+    if (integrator_info(given.kind).adaptive) {
+      // The adaptive reference is one solve, the served dopri5 checked by one 10x tighter
+      // (study/reference.h): a tolerance chooses it, a step would not.
+      if (given.kind != kAdaptiveReferenceIntegrator)
+        throw UsageError("--reference: the adaptive reference is dopri5 (checked by a solve 10x tighter), got " +
+                         in_quotes(trimmed(text)) + "; give dopri5 or dopri5:tol=T");
+      if (given.written_step())
+        throw UsageError("--reference: " + in_quotes(trimmed(text)) +
+                         ": the adaptive reference takes a tolerance (dopri5:tol=T), not a step");
+      if (given.rtol != given.atol)
+        throw UsageError("--reference: " + in_quotes(trimmed(text)) +
+                         ": the adaptive reference takes one tolerance for both (dopri5:tol=T)");
+      ref.rtol = ref.atol = given.rtol;
+    }
   }
   if (ref.step_text.empty()) ref.step_text = step_string(ref.dt);
   return ref;

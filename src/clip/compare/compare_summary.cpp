@@ -181,7 +181,7 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
   // The adaptive reference runs the dopri5 solve in place of its lane (lane_worker.h): its row
   // says so, with no step, its tolerances beside it.
   const bool adaptive_reference = r.adaptive_tolerance > 0.0;
-  JsonObject lane = lane_json(model.name, adaptive_reference ? IntegratorKind::Dopri5 : r.spec.kind,
+  JsonObject lane = lane_json(model.name, adaptive_reference ? kAdaptiveReferenceIntegrator : r.spec.kind,
                               adaptive_reference ? std::nan("") : r.spec.dt, r.totals,
                               r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
                         .number("t_reached", r.t)

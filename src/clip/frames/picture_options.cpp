@@ -57,6 +57,8 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
   if (look.color == FieldKind::Error || (compare && inset_energy)) {
     look.reference = parse_reference(o.reference, lanes);
     look.reference_is_default = o.reference.empty();
+    if (integrator_info(look.reference->kind).adaptive)
+      look.reference_tolerance = look.reference->rtol > 0.0 ? look.reference->rtol : analysis::kReferenceTolerance;
   }
 
   look.camera_auto = scene.render.camera_auto;
@@ -94,6 +96,10 @@ PictureLook resolve_picture_look(const PictureOptions& o, const SceneDef& scene,
 
 void fit_reference_to_model(PictureLook& look, const Model& model, const SceneDef& scene,
                             const std::vector<Lane>& lanes) {
+  if (look.reference && !look.reference_is_default && look.reference_tolerance > 0.0 && !analysis::smooth_scene(model))
+    throw UsageError("--reference " + look.reference->stepless_spelling() +
+                     ": the adaptive reference needs contacts without projection (collision.model: barrier); "
+                     "give rk4@STEP on this scene");
   if (!look.reference || !look.reference_is_default) return;
   look.reference_tolerance = analysis::smooth_scene(model) ? analysis::kReferenceTolerance : 0.0;
   Lane& ref = *look.reference;

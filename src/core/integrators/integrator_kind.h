@@ -100,9 +100,11 @@ double* residual_tolerance(Model& model, IntegratorKind kind);
 
 // Two methods have roles beyond their rows. Backward Euler is what the iterative solvers are
 // measured against (clothsim converge) and has the course's fixed-point spelling; RK4 is the
-// fine fixed-step reference of bench and compare.
+// fine fixed-step reference of bench and compare, dopri5 the adaptive one.
 inline constexpr IntegratorKind kBackwardEuler = IntegratorKind::ImplicitEuler;
 inline constexpr IntegratorKind kReferenceIntegrator = IntegratorKind::Rk4;
+// The adaptive reference's pair on a smooth scene (study/reference.h: Boost.Odeint's dopri5).
+inline constexpr IntegratorKind kAdaptiveReferenceIntegrator = IntegratorKind::Dopri5;
 
 namespace analysis {
 // The step beyond which `kind` is predicted to be unstable on the scene's fastest mode

@@ -324,6 +324,54 @@ TEST(CmdCompare, TheErrorLinesCountTheDistinctStatesOfALaneLongerThanAFrame) {
   EXPECT_NE(json.find("\"field_states\": 7"), std::string::npos) << "symplectic Euler: a state a frame\n" << json;
 }
 
+// The estimated error compare's "reference: ..." line prints ("estimated error X m"), or -1.
+double reference_estimate(const std::string& out) {
+  const std::size_t line = out.find("\nreference: ");
+  const std::size_t at = line == std::string::npos ? line : out.find("estimated error ", line);
+  return at == std::string::npos ? -1.0 : std::atof(out.c_str() + at + std::strlen("estimated error "));
+}
+
+TEST(CmdCompare, AnAdaptiveReferenceTakesOneToleranceAndASmoothScene) {
+  // `--reference dopri5:tol=T` serves the adaptive solve at T, checked at T/10: it was run as a
+  // fixed-step lane at its first trial step, the tolerance dropped, "checked by a run at twice
+  // its step".
+  const std::string dir = scratch_dir("compare_adaptive_reference");
+  const std::string smooth = std::string(CLOTHSIM_SCENES_DIR) + "/drape_smooth.yaml";
+  auto on_smooth = [&](const std::string& reference, const std::string& name) {
+    std::vector<std::string> args = {"compare", smooth, "--set", "cloth.particles=[9,9]", "--duration", "0.2",
+                                     "--width", "320", "--height", "180", "--integrators", "rk4@1e-4", "--still",
+                                     "0.2", "-o", dir + "/" + name + ".png", "--no-reference-cache"};
+    if (!reference.empty()) args.insert(args.end(), {"--reference", reference});
+    return run_clothsim(args);
+  };
+  const auto by_default = on_smooth("", "default");
+  const auto tight = on_smooth("dopri5:tol=1e-9", "tight");
+  ASSERT_EQ(by_default.exit_code, 0) << by_default.err;
+  ASSERT_EQ(tight.exit_code, 0) << tight.err;
+  EXPECT_NE(tight.out.find("dopri5 adaptive at tolerance 1e-09, checked by a solve at 1e-10"), std::string::npos)
+      << tight.out;
+  // A fifth-order pair 100x tighter: its estimated error at least ten times smaller.
+  const double loose_error = reference_estimate(by_default.out), tight_error = reference_estimate(tight.out);
+  ASSERT_GT(loose_error, 0.0) << by_default.out;
+  ASSERT_GT(tight_error, 0.0) << tight.out;
+  EXPECT_LT(tight_error * 10.0, loose_error) << tight.out;
+
+  for (const auto& [reference, says] : std::vector<std::pair<std::string, std::string>>{
+           {"dopri5@1e-4", "the adaptive reference takes a tolerance (dopri5:tol=T), not a step"},
+           {"bs3:tol=1e-8", "the adaptive reference is dopri5"},
+           {"dopri5:rtol=1e-8", "takes one tolerance for both"}}) {
+    const auto r = on_smooth(reference, "refused");
+    EXPECT_EQ(r.exit_code, 2) << reference << ": " << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+  }
+  // Projected contacts are the adaptive solve's discontinuities: refused, with the fixed-step fix.
+  const auto projected = compare_small({"--reference", "dopri5", "--still", "0.1", "-o", dir + "/projected.png"});
+  EXPECT_EQ(projected.exit_code, 2) << projected.err;
+  EXPECT_NE(projected.err.find("needs contacts without projection (collision.model: barrier); give rk4@STEP"),
+            std::string::npos) << projected.err;
+  EXPECT_FALSE(fs::exists(dir + "/projected.png"));
+}
+
 TEST(CmdCompare, AReferenceThatDivergesIsWarnedOfAndEveryErrorLineSaysWhereMeasuringStopped) {
   const std::string dir = scratch_dir("compare_diverged_reference");
   const auto r = compare_small({"--integrators", "midpoint", "--reference", "explicit_euler@1e-2", "--still", "0.1",

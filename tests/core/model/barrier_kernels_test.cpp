@@ -120,6 +120,14 @@ TEST(FrictionKernels, MollifierIsC1AndReachesCoulomb) {
   EXPECT_NEAR(f.x(), -10.0, 1e-12);  // sliding: mu lambda against the motion
 }
 
+TEST(BarrierKernels, TheSmoothDrapesBarrierTakesAPushedParticlesEnergyBeforeAMillimetre) {
+  // scenes/drape_smooth.yaml: 1e6 N/m within 0.01 m; the ball pushes at up to 7 m/s, a 1 kg
+  // particle's 24.5 J. Its comment quotes b(0.001 m) = 57.9 J.
+  const BarrierParams p{0.01, barrier_kappa_for_stiffness(1.0e6, 0.01)};
+  EXPECT_NEAR(barrier_energy(0.001, p), 57.9, 0.05);
+  EXPECT_GT(barrier_energy(0.001, p), 0.5 * 1.0 * 7.0 * 7.0);
+}
+
 TEST(FrictionKernels, LaggedPotentialGradientAndHessianMatchFiniteDifferences) {
   const BarrierVec3 n = BarrierVec3(0.2, 1.0, 0.1).normalized();
   const BarrierMat3 P = BarrierMat3::Identity() - n * n.transpose();

@@ -125,8 +125,9 @@ void add_picture_look_options(CLI::App* sub, PictureOptions& o, bool compare) {
       ->type_name("LO,HI");
   sub->add_option("--reference", o.reference,
                   std::string(compare ? "The lane --color error and --inset energy measure against" : "The lane --color error measures against") +
-                      " (default: rk4 at a quarter of the smallest lane step, or at rk4's\n"
-                      "predicted stable step on the scene where that is smaller)")
+                      " (default: on a smooth scene the adaptive dopri5 at tolerance 1e-7,\n"
+                      "checked at 1e-8, or dopri5:tol=T; with projected contacts rk4 at a quarter of the smallest lane\n"
+                      "step, or at rk4's predicted stable step where that is smaller, or NAME@STEP)")
       ->type_name("NAME[@STEP]");
   sub->add_flag("--no-reference-cache", o.no_reference_cache,
                 "Compute the reference even when the cache holds it, and do not store it\n"

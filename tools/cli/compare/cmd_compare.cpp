@@ -13,10 +13,10 @@
 //
 // By default the lanes are matched on cost (step_matching.h: each free lane at the step where
 // its work per simulated second equals the cheapest lane's at the scene's step) and the tiles
-// coloured by each particle's distance from a reference lane (RK4 at a quarter of the smallest
-// step, or at its predicted stable step where that is smaller: fit_reference_to_model) run
-// alongside and never shown, on one logarithmic scale whose colour bar is drawn once, in a
-// strip beside the grid (grid_legend.h); each tile shows its work and CPU time, and a lane
+// coloured by each particle's distance from a reference run alongside and never shown (the
+// adaptive dopri5 on a smooth scene, else RK4 at a quarter of the smallest step or within its
+// predicted stable step: fit_reference_to_model), on one logarithmic scale whose colour bar is
+// drawn once, in a strip beside the grid (grid_legend.h); each tile shows its work, and a lane
 // that is finite but implausible is marked WRONG (plausibility.h): what each method buys for
 // the same cost, on screen.
 //
@@ -96,8 +96,9 @@ void add_compare_command(CLI::App& app, Command& command) {
       "Run one scene with several integrators (or one at several steps) at once and show them side by\n"
       "side: a tiled, labelled MP4 (--video), each lane's PNGs (--frames), a contact sheet (--sheet),\n"
       "and a summary table of cost and divergence on stdout. By default the lanes are matched on cost\n"
-      "(--match), each tile is coloured by its error against a reference lane (RK4 at a quarter of the\n"
-      "smallest step, or at its predicted stable step if smaller) and shows its work and CPU time, and a\n"
+      "(--match), each tile is coloured by its error against a reference (the adaptive dopri5 on a smooth\n"
+      "scene; RK4 at a quarter of the smallest step, or at its predicted stable step if smaller, where\n"
+      "contacts are projected) and shows its work (--overlay-cost cpu adds its CPU time), and a\n"
       "finite but implausible lane is marked WRONG. Divergence is a result here (exit 0).\n"
       "Without --video, --frames or --export, the lanes stop at the last --times or --still (at 1 s at least when\n"
       "the colour scale is taken from the first second's data; --color-range LO,HI avoids that).\n"
