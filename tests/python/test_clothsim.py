@@ -65,6 +65,20 @@ def test_positions_and_velocities_are_read_only_views_of_the_state_not_copies():
     assert not np.array_equal(sim.positions, before)  # the view shows the state as it is now
 
 
+def test_spheres_are_where_the_scenes_timeline_has_moved_them_at_t():
+    # drape's kinematic ball rests at the origin, then moves at 5 m/s along z from t = 1 to 1.3.
+    sim = clothsim.Simulation(clothsim.load_scene(DRAPE, set={"cloth.particles": [5, 5]}), lane="symplectic_euler@1e-4")
+    assert sim.spheres.shape == (1, 3) and list(sim.sphere_radii) == [1.0]
+    sim.run(until=0.5)
+    assert np.array_equal(sim.spheres, [[0.0, 0.0, 0.0]])
+    sim.run(until=1.2)
+    assert sim.spheres[0] == pytest.approx([0.0, 0.0, 5.0 * (sim.t - 1.0)], abs=5.0 * sim.dt)
+    sim.run(until=2.0)  # stopped at 1.3: 1.5 m along z
+    assert sim.spheres[0] == pytest.approx([0.0, 0.0, 1.5], abs=5.0 * sim.dt)
+    # A view of the state, as .positions: the sphere is body P of the same matrix.
+    assert not sim.spheres.flags.writeable and sim.spheres.strides == (24, 8)
+
+
 def test_a_bad_scene_raises_the_clis_one_line_message(cli, tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text(open(DRAPE).read().replace("air_drag: 3.4e-4", "air_drag: -1"))
