@@ -65,6 +65,20 @@ def test_positions_and_velocities_are_read_only_views_of_the_state_not_copies():
     assert not np.array_equal(sim.positions, before)  # the view shows the state as it is now
 
 
+def test_spheres_are_where_the_scenes_timeline_has_moved_them_at_t():
+    # drape's kinematic ball rests at the origin, then moves at 5 m/s along z from t = 1 to 1.3.
+    sim = clothsim.Simulation(clothsim.load_scene(DRAPE, set={"cloth.particles": [5, 5]}), lane="symplectic_euler@1e-4")
+    assert sim.spheres.shape == (1, 3) and list(sim.sphere_radii) == [1.0]
+    sim.run(until=0.5)
+    assert np.array_equal(sim.spheres, [[0.0, 0.0, 0.0]])
+    sim.run(until=1.2)
+    assert sim.spheres[0] == pytest.approx([0.0, 0.0, 5.0 * (sim.t - 1.0)], abs=5.0 * sim.dt)
+    sim.run(until=2.0)  # stopped at 1.3: 1.5 m along z
+    assert sim.spheres[0] == pytest.approx([0.0, 0.0, 1.5], abs=5.0 * sim.dt)
+    # A view of the state, as .positions: the sphere is body P of the same matrix.
+    assert not sim.spheres.flags.writeable and sim.spheres.strides == (24, 8)
+
+
 def test_a_bad_scene_raises_the_clis_one_line_message(cli, tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text(open(DRAPE).read().replace("air_drag: 3.4e-4", "air_drag: -1"))
@@ -420,6 +434,38 @@ def test_compare_returns_its_table_with_no_file_and_refuses_as_the_cli_does():
         clothsim.compare(DRAPE, integrators="rk5")
     with pytest.raises(ValueError, match="--still needs -o/--output"):
         clothsim.compare(DRAPE, still=0.5)
+
+
+def test_compare_frames_are_each_lanes_metrics_and_error_at_every_clip_frame(cli, tmp_path):
+    import pandas
+    lanes = ["symplectic_euler", "rk4@2e-4"]
+    frame = clothsim.compare(DRAPE, set=SMALL, duration=0.2, integrators=lanes, match="none", color="error")
+    frames = frame.attrs["frames"]
+    fps = clothsim.load_scene(DRAPE).fps
+    count = int(0.2 * fps + 1e-9) + 1  # at k / fps, 0 and 0.2 included
+    assert len(frames) == len(lanes) * count
+    assert list(frames.groupby("lane").frame_t.apply(list)) == [[k / fps for k in range(count)]] * 2
+    # At t = 0 every lane is the scene's initial state: one energy, no error.
+    first = frames[frames.frame_t == 0]
+    assert list(first.t) == [0.0, 0.0] and first.total_energy.nunique() == 1 and list(first.error) == [0.0, 0.0]
+    # The summary's numbers are these frames': its final and largest error.
+    for i, lane in enumerate(frame.lane[:2]):
+        error = frames[frames.lane == lane].error
+        assert error.iloc[-1] == frame.field_last[i] and error.max() == frame.field_max[i] > 0
+    assert frame.unresolved.dtype == bool
+    # Each row is the one `run --metrics` writes for the lane at that frame, under its names.
+    code, _, err = cli("run", DRAPE, "--set", "cloth.particles=[7,7]", "--duration", "0.2", "--integrator",
+                       "symplectic_euler", "--metrics", str(tmp_path / "m.csv"), "--quiet")
+    assert code == 0, err
+    run = pandas.read_csv(tmp_path / "m.csv", float_precision="round_trip")
+    lane = frames[frames.name == "symplectic_euler"].reset_index(drop=True)
+    assert set(run.columns) <= set(lane.columns)
+    for column in run.columns:
+        assert list(lane[column]) == list(run[column]), column
+    # An end between two frames is a row too (the lanes end there); no --color error, no error.
+    short = clothsim.compare(DRAPE, set=SMALL, duration=0.05, integrators="rk4", match="none")
+    assert list(short.attrs["frames"].frame_t) == [0.0, 1 / fps, 0.05] and short.t_reached[0] == 0.05
+    assert "error" not in short.attrs["frames"]
 
 
 def test_compare_ctrl_c_raises_keyboard_interrupt_and_leaves_no_video(tmp_path):

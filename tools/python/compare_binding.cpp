@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <csignal>
 #include <future>
@@ -17,6 +18,7 @@
 #include "scene_binding.h"
 #include "clip/common/cli_common.h"
 #include "clip/compare/compare_job.h"
+#include "core/integrators/integrator_kind.h"
 
 namespace py = pybind11;
 
@@ -46,13 +48,14 @@ std::string exact_number(double x) {
 // Runs the plan on its own thread with the GIL released, checking Python's signals every
 // 0.1 s: a KeyboardInterrupt asks the lanes to stop (as SIGINT does the CLI's), waits for the
 // outputs to be dropped, and is raised.
-clip::PipelineReport run_interruptible(const CompareRequest& o, clip::ComparePlan& p) {
+clip::PipelineReport run_interruptible(const CompareRequest& o, clip::ComparePlan& p,
+                                       std::vector<clip::LaneFrameRow>& rows) {
   clip::clear_interrupt();
   auto work = std::async(std::launch::async, [&]() -> std::optional<clip::PipelineReport> {
     std::optional<clip::ComparePlan> part = clip::plan_compare_part(o);
     if (!part) return clip::PipelineReport{};  // a part with no lane
     p = std::move(*part);
-    return clip::run_compare(o, p);
+    return clip::run_compare(o, p, &rows);
   });
   for (;;) {
     {
@@ -75,6 +78,54 @@ clip::PipelineReport run_interruptible(const CompareRequest& o, clip::ComparePla
     }
   }
   return *work.get();
+}
+
+// The lanes' rows per clip frame as a DataFrame, the values themselves (no text between): lane
+// and name as the table's, the frame's time, --metrics' columns under their names (run_outputs.h),
+// and the colouring field's largest value under its kind's name (error, strain, speed).
+py::object frames_frame(const clip::ComparePlan& p, const std::vector<clip::LaneFrameRow>& rows) {
+  std::vector<std::string> lane, name, scene, integrator;
+  std::vector<std::int64_t> step, force_evals, newton_iterations, cg_iterations, rejected_steps;
+  std::vector<int> contacts;
+  std::vector<double> frame_t, t, kinetic, spring, gravity, total, max_strain, residual, dt, step_size, field;
+  std::vector<bool> converged;
+  std::vector<std::string> scenes, methods;  // per lane: as run --metrics names them (its settings')
+  for (const clip::CompareLane& l : p.lanes) {
+    const Model& model = l.model ? *l.model : *p.model;
+    scenes.push_back(model.name);
+    methods.push_back(method_name(l.spec.kind, clip::lane_settings(model, l.spec).implicit));
+  }
+  for (const clip::LaneFrameRow& r : rows) {
+    const clip::CompareLane& l = p.lanes[r.lane];
+    const FrameMetrics& m = r.metrics;
+    lane.push_back(l.spec.spelling()), name.push_back(l.name), frame_t.push_back(r.frame_t);
+    step.push_back(m.step), t.push_back(m.t);
+    kinetic.push_back(m.energies.kinetic), spring.push_back(m.energies.spring), gravity.push_back(m.energies.gravity);
+    total.push_back(m.energies.total()), max_strain.push_back(m.max_strain), contacts.push_back(m.contacts);
+    force_evals.push_back(m.force_evals), newton_iterations.push_back(m.newton_iterations);
+    cg_iterations.push_back(m.cg_iterations), residual.push_back(m.residual), converged.push_back(m.converged);
+    scene.push_back(scenes[r.lane]), integrator.push_back(methods[r.lane]);
+    dt.push_back(l.spec.dt), step_size.push_back(m.step_size), rejected_steps.push_back(m.rejected_steps);
+    field.push_back(r.field);
+  }
+  py::dict columns;
+  columns["lane"] = lane, columns["name"] = name, columns["frame_t"] = frame_t;
+  columns["step"] = step, columns["t"] = t, columns["kinetic"] = kinetic, columns["spring_potential"] = spring;
+  columns["gravity_potential"] = gravity, columns["total_energy"] = total, columns["max_strain"] = max_strain;
+  columns["contacts"] = contacts, columns["force_evals"] = force_evals;
+  columns["newton_iterations"] = newton_iterations, columns["cg_iterations"] = cg_iterations;
+  columns["residual"] = residual, columns["converged"] = converged, columns["scene"] = scene;
+  columns["integrator"] = integrator, columns["dt"] = dt, columns["step_size"] = step_size;
+  columns["rejected_steps"] = rejected_steps;
+  if (p.look.color != FieldKind::None) columns[py::str(std::string(field_kind_name(p.look.color)))] = field;
+  return py::module_::import("pandas").attr("DataFrame")(columns);
+}
+
+// `unresolved`, a verdict --summary gives the lanes and not the reference, is False on the
+// reference's row: a boolean column (frame[frame.unresolved]), as the studies' verdicts are.
+void unresolved_as_booleans(py::object& frame) {
+  if (!py::bool_(frame.attr("columns").attr("__contains__")("unresolved"))) return;
+  frame["unresolved"] = frame["unresolved"].attr("fillna")(false).attr("astype")("bool");
 }
 
 py::object compare(const py::object& scene, const py::dict& set, const py::object& integrators,
@@ -137,13 +188,18 @@ py::object compare(const py::object& scene, const py::dict& set, const py::objec
   o.shard = shard;
   o.gl.gl = gl;
   o.table_wanted = true;
+  o.frame_rows_wanted = true;
   clip::ComparePlan p;
-  const clip::PipelineReport report = run_interruptible(o, p);
+  std::vector<clip::LaneFrameRow> rows;
+  const clip::PipelineReport report = run_interruptible(o, p, rows);
   if (!o.summary.empty()) clip::write_compare_summary(o, p, report);
   py::list lanes;
   const py::object loads = py::module_::import("json").attr("loads");
   for (const clip::JsonObject& lane : clip::compare_lanes_json(p, report)) lanes.append(loads(lane.dump()));
-  return py::module_::import("pandas").attr("DataFrame")(lanes);
+  py::object frame = py::module_::import("pandas").attr("DataFrame")(lanes);
+  unresolved_as_booleans(frame);
+  frame.attr("attrs")["frames"] = frames_frame(p, rows);
+  return frame;
 }
 
 }  // namespace
@@ -170,9 +226,12 @@ void bind_compare(py::module_& m) {
         "--match error 1e-3: match='error 1e-3'; lists may be Python lists: integrators=['rk4@1e-4',\n"
         "'vbd@1/60:10', 'xpbd@1/60:tol=1e-4']). Writes the files asked for, as the CLI does, and returns a\n"
         "row per lane (and the reference's) with --summary's lane keys (docs/summary.md). Nothing to write\n"
-        "is fine here: the table is the result. Runs with the GIL released; Ctrl-C raises\n"
-        "KeyboardInterrupt and leaves no partial file. Bad options raise clothsim.UsageError (a ValueError)\n"
-        "with the CLI's one-line message.");
+        "is fine here: the table is the result. Its attrs['frames'] is a DataFrame with a row per lane per\n"
+        "clip frame (k / fps) and at the end: lane, name, frame_t, run --metrics' columns (step, t, kinetic,\n"
+        "..., total_energy, max_strain, ...) and, when a field is measured, its largest value under its\n"
+        "name (error, strain or speed); the lanes stop at every frame for it. Runs with the GIL released;\n"
+        "Ctrl-C raises KeyboardInterrupt and leaves no partial file. Bad options raise clothsim.UsageError\n"
+        "(a ValueError) with the CLI's one-line message.");
 }
 
 }  // namespace clothsim::python

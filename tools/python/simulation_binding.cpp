@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <utility>
+#include <vector>
 
 #include "core/model/diagnostics.h"
 #include "core/integrators/integrator_kind.h"
@@ -89,11 +90,12 @@ void Simulation::advance(bool one_step, double until) {
 
 namespace {
 
-// A (P, 3) read-only view of the first P columns of a 3 x B column-major matrix: row p is
-// particle p's x, y, z, 24 bytes apart. Valid until the next step (a step may swap buffers).
-py::array particle_view(const Eigen::Matrix3Xd& m, int particles, const py::object& owner) {
-  py::array a(py::dtype::of<double>(), {static_cast<py::ssize_t>(particles), py::ssize_t{3}},
-              {py::ssize_t{3 * sizeof(double)}, py::ssize_t{sizeof(double)}}, m.data(), owner);
+// A (N, 3) read-only view of columns first .. first + N - 1 of a 3 x B column-major matrix
+// (the particles: 0 .. P - 1; the spheres: P .. B - 1): row k is that body's x, y, z, 24 bytes
+// apart. Valid until the next step (a step may swap buffers).
+py::array body_view(const Eigen::Matrix3Xd& m, int first, int count, const py::object& owner) {
+  py::array a(py::dtype::of<double>(), {static_cast<py::ssize_t>(count), py::ssize_t{3}},
+              {py::ssize_t{3 * sizeof(double)}, py::ssize_t{sizeof(double)}}, m.data() + 3 * first, owner);
   py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
   return a;
 }
@@ -227,7 +229,7 @@ void bind_simulation(py::module_& m) {
           [](py::object self) {
             const Simulation& s = self.cast<const Simulation&>();
             const auto held = s.lock();
-            return particle_view(s.engine().state().x, s.engine().model().num_particles, self);
+            return body_view(s.engine().state().x, 0, s.engine().model().num_particles, self);
           },
           "Particle positions, m: a read-only numpy (P, 3) float64 view of the state, no copy.\n"
           "It shows the state as it is now; take it again after stepping.")
@@ -236,9 +238,28 @@ void bind_simulation(py::module_& m) {
           [](py::object self) {
             const Simulation& s = self.cast<const Simulation&>();
             const auto held = s.lock();
-            return particle_view(s.engine().state().v, s.engine().model().num_particles, self);
+            return body_view(s.engine().state().v, 0, s.engine().model().num_particles, self);
           },
           "Particle velocities, m/s: a read-only numpy (P, 3) float64 view, as .positions.")
+      .def_property_readonly(
+          "spheres",
+          [](py::object self) {
+            const Simulation& s = self.cast<const Simulation&>();
+            const auto held = s.lock();
+            const Model& model = s.engine().model();
+            // Spheres are bodies P .. P + S - 1 of the state (a kinematic one moved there by the
+            // timeline each step): the centres the renderer draws and --export writes.
+            return body_view(s.engine().state().x, model.num_particles, model.num_spheres, self);
+          },
+          "Sphere centres at the current t, m: a read-only numpy (S, 3) float64 view of the state, as\n"
+          ".positions (a kinematic sphere where its scripted motion has taken it).")
+      .def_property_readonly(
+          "sphere_radii",
+          [](const Simulation& s) {
+            const std::vector<double>& r = s.engine().model().sphere_radius;
+            return py::array_t<double>(static_cast<py::ssize_t>(r.size()), r.data());  // a copy: (S,)
+          },
+          "Sphere radii, m: numpy (S,) float64, in .spheres' order.")
       .def("__repr__", [](const Simulation& s) {
         const auto held = s.lock();
         return "<clothsim.Simulation " + s.scene().def.name + " " + std::string(integrator_name(s.kind())) + "@" +

@@ -230,8 +230,9 @@ void plan_targets(const CompareRequest& o, ComparePlan& p, const PictureLook& lo
   if (o.still_t && !(*o.still_t >= 0.0 && *o.still_t <= p.scene.duration + 1e-9))
     throw UsageError("--still: " + number_text(*o.still_t) + " s is outside the run (0 to " +
                      number_text(p.scene.duration) + " s)");
+  // Rows for a front end end where its lanes do: at the duration, a whole frame or not.
   auto targets = std::make_shared<TargetPlan>(p.scene.duration, p.scene.render.fps, p.with_frames, p.sheet_times,
-                                              o.still_t.value_or(-1.0));
+                                              o.still_t.value_or(-1.0), /*to_end=*/o.frame_rows_wanted);
   if (look.color != FieldKind::None && !look.color_range) targets->with_scale_window(kColorScaleWindow);
   p.targets = std::move(targets);
 }
@@ -313,7 +314,7 @@ ComparePlan plan_compare(const CompareRequest& o) {
     p.lanes.push_back(std::move(lane));
   }
   parse_match(o.match);  // a bad --match before any pilot runs
-  p.with_frames = !o.video.empty() || !o.frames_dir.empty() || !o.export_path.empty();
+  p.with_frames = !o.video.empty() || !o.frames_dir.empty() || !o.export_path.empty() || o.frame_rows_wanted;
   p.rendering = !o.video.empty() || !o.frames_dir.empty() || !o.sheet.empty() || o.still_t;  // not --export
   if (!o.vary.empty()) plan_variation(o, p);
   try {
@@ -429,10 +430,11 @@ std::optional<ComparePlan> plan_compare_part(const CompareRequest& o) {
   return p;
 }
 
-PipelineReport run_compare(const CompareRequest& o, const ComparePlan& p) {
+PipelineReport run_compare(const CompareRequest& o, const ComparePlan& p, std::vector<LaneFrameRow>* rows) {
   const std::unique_ptr<Renderer> renderer = make_checked_renderer(o, p);
   FramePipeline pipeline(*p.model, *p.targets, p.specs(), pipeline_config(p), renderer.get());
   add_outputs(o, p, pipeline, renderer.get());
+  if (rows) pipeline.add(make_frame_rows_output(*rows, p.targets->duration()));
   const std::vector<std::string> after = o.summary.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.summary};
   return pipeline.run("compare " + p.model->name, after);
 }

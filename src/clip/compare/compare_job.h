@@ -26,6 +26,7 @@
 #include "clip/compare/compare_summary.h"
 #include "clip/frames/frame_pipeline.h"
 #include "clip/frames/frame_sink.h"
+#include "clip/frames/pipeline_outputs.h"
 #include "clip/frames/picture_options.h"
 #include "core/integrators/integrator_kind.h"
 #include "core/model/model.h"
@@ -55,6 +56,10 @@ struct CompareRequest {
   // A front end that takes the lanes' table itself (Python's compare()): a compare that writes
   // no file is then not refused as work for nothing.
   bool table_wanted = false;
+  // A front end that takes a row per lane per clip frame (Python's compare, run_compare's
+  // `rows`): the clip's frames are targets, as with --video, even when no clip is written,
+  // and so is the end, where it falls between frames.
+  bool frame_rows_wanted = false;
 };
 
 // One lane of a comparison: what it runs, what it is called and where it writes.
@@ -110,9 +115,10 @@ PipelineConfig pipeline_config(const ComparePlan& p);
 // 2. The outputs the pipeline feeds (each removes its temporary if destroyed before finish()).
 void add_outputs(const CompareRequest& o, const ComparePlan& p, FramePipeline& pipeline, Renderer* renderer);
 // 3. Runs the plan's lanes through the pipeline into every output asked for but the summary
-// (written after it: write_compare_summary). On a signal (interrupted()) stops, drops what is
-// incomplete and throws RuntimeFailure saying what stays.
-PipelineReport run_compare(const CompareRequest& o, const ComparePlan& p);
+// (written after it: write_compare_summary), and into `rows` when given (a row per lane per
+// clip frame: make_frame_rows_output; plan with CompareRequest::frame_rows_wanted). On a signal
+// (interrupted()) stops, drops what is incomplete and throws RuntimeFailure saying what stays.
+PipelineReport run_compare(const CompareRequest& o, const ComparePlan& p, std::vector<LaneFrameRow>* rows = nullptr);
 
 // The lanes and the reference as --summary's objects (docs/summary.md), and the file with
 // compare's keys (color, match, the scale, the reference) beside them.

@@ -38,6 +38,7 @@ struct TargetFrames {
   std::vector<std::shared_ptr<const LaneFrame>> frames;  // per lane; a frozen lane's repeats
   std::vector<bool> fresh;
   std::vector<std::vector<float>> fields;  // per lane, fresh lanes only: the colouring field
+  std::vector<double> largest;             // per lane: the field's largest value (NaN: none)
   std::vector<std::string> wrong;          // per lane: the plausibility verdict so far ("" none)
 };
 
@@ -201,6 +202,7 @@ struct FramePipeline::Impl {
     out.target = target;
     out.fresh.assign(lanes.size(), false);
     out.fields.assign(lanes.size(), {});
+    out.largest.assign(lanes.size(), std::numeric_limits<double>::quiet_NaN());
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       if (!frozen[i]) {  // a diverged lane holds its last picture
         LaneFrame f;
@@ -232,6 +234,7 @@ struct FramePipeline::Impl {
       if (out.fields[i].empty()) continue;
       double largest = 0.0;
       for (float v : out.fields[i]) largest = std::max(largest, static_cast<double>(v));
+      out.largest[i] = largest;
       LaneReport& r = reports[i];
       r.field_last = largest;
       r.field_last_t = current[i]->t;
@@ -322,6 +325,7 @@ struct FramePipeline::Impl {
       views[i] = LaneView{&lanes[i], t.frames[i].get(), config.rendering ? &images[i] : nullptr, t.fresh[i],
                           legend ? &*legend : nullptr};
       if (t.frames[i] && t.frames[i]->divergence) views[i].predicted_limit = predicted_limit_of(i);
+      if (t.fresh[i]) views[i].field_largest = t.largest[i];
       if (t.fresh[i]) unrendered[i] = {t.frames[i], t.fields[i]};
       if (t.fresh[i] && t.frames[i] && !t.frames[i]->divergence) last_sane[i] = {t.frames[i], t.fields[i]};
       if (bodies) {  // --export's error: a lane that stands on one state keeps its field

@@ -95,6 +95,10 @@ struct LaneView {
   bool fresh = false;                // handed over at this target (not a held frame)
   const ColorScale* legend = nullptr;  // the pictures' colour scale (one for every lane), when coloured
   const std::vector<float>* field = nullptr;  // for an output that needs_bodies(): its colouring field (may be empty)
+  // The colouring field's largest value over the particles at this target, as LaneReport's
+  // field_last takes it (with --color error: the distance from the reference, m); NaN when
+  // the lane has none here (not fresh, not coloured, or the reference did not serve it).
+  double field_largest = std::numeric_limits<double>::quiet_NaN();
   // The step the scene's stiffness estimate predicts stable for the lane's method (s;
   // analysis::predicted_limit, infinity: none): what a diverged lane's caption says.
   double predicted_limit = std::numeric_limits<double>::infinity();

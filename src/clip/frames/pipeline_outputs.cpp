@@ -205,6 +205,22 @@ class MetricsOutput final : public FrameOutput {
   std::int64_t last_step_ = -1;
 };
 
+class FrameRowsOutput final : public FrameOutput {
+ public:
+  FrameRowsOutput(std::vector<LaneFrameRow>& rows, double end) : rows_(rows), end_(end) {}
+  std::string what() const override { return "frame rows"; }
+  void on_target(const Target& target, const std::vector<LaneView>& lanes) override {
+    if (target.frame < 0 && target.t != end_) return;  // a still's or a column's instant
+    for (std::size_t i = 0; i < lanes.size(); ++i)
+      if (lanes[i].fresh && lanes[i].frame) rows_.push_back({i, target.t, lanes[i].frame->metrics, lanes[i].field_largest});
+  }
+  void finish() override {}
+  void abandon(std::vector<std::string>&, std::vector<std::string>&) override {}  // no file
+ private:
+  std::vector<LaneFrameRow>& rows_;
+  double end_;
+};
+
 }  // namespace
 
 std::unique_ptr<FrameOutput> make_video_output(std::unique_ptr<FrameSink> sink, std::string path, Composer composer) {
@@ -224,6 +240,10 @@ std::unique_ptr<FrameOutput> make_sheet_output(std::string path, std::vector<std
 }
 std::unique_ptr<FrameOutput> make_metrics_output(std::unique_ptr<MetricsWriter> writer, std::string path, std::size_t lane) {
   return std::make_unique<MetricsOutput>(std::move(writer), std::move(path), lane);
+}
+
+std::unique_ptr<FrameOutput> make_frame_rows_output(std::vector<LaneFrameRow>& rows, double end) {
+  return std::make_unique<FrameRowsOutput>(rows, end);
 }
 
 }  // namespace clothsim::clip

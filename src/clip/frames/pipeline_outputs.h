@@ -2,6 +2,7 @@
 // takes what it needs. All of them write nothing under their name until complete.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -54,5 +55,21 @@ std::unique_ptr<FrameOutput> make_sheet_output(std::string path, std::vector<std
 
 // One CSV row per clip frame of one lane (run --metrics), the diverged state's row included.
 std::unique_ptr<FrameOutput> make_metrics_output(std::unique_ptr<MetricsWriter> writer, std::string path, std::size_t lane);
+
+// One lane at one clip frame, kept in memory for a front end that takes the values themselves
+// (Python's compare: its attrs["frames"]): the FrameMetrics a --metrics row is written from and
+// the colouring field's largest value (LaneView::field_largest).
+struct LaneFrameRow {
+  std::size_t lane = 0;  // in the pipeline's lane order
+  double frame_t = 0.0;  // s: the frame's time, k / fps, or the end's (metrics.t: the state's)
+  FrameMetrics metrics;
+  double field = std::numeric_limits<double>::quiet_NaN();
+};
+
+// A row per lane per clip frame, and at `end` (the run's end, s) where that falls between
+// frames, into `rows` (which must outlive the pipeline), in time order and lane order within
+// one: every frame a lane hands over, a held state's again (its step tells), up to a diverged
+// lane's last state, as --metrics writes it, and none after.
+std::unique_ptr<FrameOutput> make_frame_rows_output(std::vector<LaneFrameRow>& rows, double end);
 
 }  // namespace clothsim::clip

@@ -165,6 +165,43 @@ TEST(PlanCompare, APlanStartsNoThreadAndMovesAsAValue) {
   }
 }
 
+TEST(RunCompare, FrameRowsAreEveryLaneAtEveryClipFrameWithTheErrorTheReportEndsOn) {
+  // A front end's rows (Python's compare frames): no clip written, yet a row per lane per frame
+  // and at the end between two frames, the last one's error the report's field_last, the
+  // largest its field_max.
+  const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_rows";
+  std::filesystem::create_directories(out);
+  CompareRequest o = small_grid(out);
+  o.scene.duration = 0.11;
+  o.vary.clear();
+  o.summary.clear();
+  o.look.color = "error";
+  o.look.no_reference_cache = true;
+  o.table_wanted = true;
+  o.frame_rows_wanted = true;
+  const ComparePlan p = plan_compare(o);
+  std::vector<LaneFrameRow> rows;
+  const PipelineReport report = run_compare(o, p, &rows);
+  const long frames = p.targets->frames();
+  ASSERT_EQ(frames, static_cast<long>(0.11 * p.scene.render.fps) + 1);
+  ASSERT_LT((frames - 1) / p.scene.render.fps, 0.11);
+  ASSERT_EQ(rows.size(), 2u * static_cast<std::size_t>(frames + 1));
+  for (std::size_t i = 0; i < 2; ++i) {
+    double largest = 0.0;
+    for (const LaneFrameRow& r : rows)
+      if (r.lane == i) largest = std::max(largest, r.field);
+    const LaneFrameRow& last = rows[rows.size() - 2 + i];
+    EXPECT_EQ(last.lane, i);
+    EXPECT_EQ(last.frame_t, 0.11);
+    EXPECT_EQ(report.lanes[i].result.t, 0.11) << "the lanes end at the end, not at the last frame";
+    EXPECT_EQ(last.field, report.lanes[i].field_last) << i;
+    EXPECT_EQ(largest, report.lanes[i].field_max) << i;
+    EXPECT_EQ(rows[i].metrics.t, 0.0);
+    EXPECT_EQ(rows[i].field, 0.0) << "every lane starts on the reference's state";
+  }
+  EXPECT_EQ(rows[0].metrics.energies.total(), rows[1].metrics.energies.total());
+}
+
 TEST(PlanCompare, CloseVaryValuesMakeLanesOfTheirOwnNamesAndFolders) {
   // --vary ks=100,100.0001 --frames fr made two lanes "ks = 100" writing one folder.
   const std::string out = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/compare_job_close";
