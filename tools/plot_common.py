@@ -33,6 +33,7 @@ STYLE = {
     "generalized_alpha": ("darkslategray", "h"),
     "bdf2": ("tab:brown", "8"),
     "ros2": ("navy", "*"),
+    "imex": ("magenta", "X"),
     "xpbd": ("teal", "P"),
     "projective_dynamics": ("maroon", "X"),
     "vbd": ("darkviolet", "H"),

@@ -9,8 +9,9 @@ smallest (its limit, if any, is below). A limit set by implicit steps that did n
 red. Runs at one step per frame (column frame_steps) are drawn at their step, labelled by
 lane: a filled square converged at every step (for the course's fixed point, which solves
 nothing, a filled plus: ran to the end), a hollow one circled in red had steps that did not,
-a cross diverged. Two lanes with identical limits are both shown: the second dashed, hollow
-and labelled "the same limits as" the first (to the bisection's 2 %). The legend sits beside the axes. The black dashed line is the springs' Gershgorin estimate
+a cross diverged. Two lanes with limits in common are both shown: the second dashed, hollow
+and labelled "the same limits as" the first (to the bisection's 2 %), "at N of M values" when
+only some are. The legend sits beside the axes. The black dashed line is the springs' Gershgorin estimate
 2 / w_max, the grey dotted one 2 / max(w_max, c_max) with the dampers counted.
 
     /usr/bin/python3 tools/plot_stability.py --csv stability.csv --out stability.png
@@ -47,6 +48,18 @@ def frame_steps(text):
     return out
 
 
+def coinciding(drawn, xs, ys):
+    """(name, count): the earlier lane sharing the most of these limits, the same to the
+    bisection's 2 % (its precision) at the same value, and how many; (None, 0) if none does."""
+    best, count = None, 0
+    for dxs, dys, name in drawn:
+        at = dict(zip(dxs, dys))
+        n = sum(1 for x, y in zip(xs, ys) if x in at and abs(y - at[x]) <= 0.02 * abs(at[x]))
+        if n > count:
+            best, count = name, n
+    return best, count
+
+
 def main():
     ap = pc.study_parser(__doc__, "stability")
     args = ap.parse_args()
@@ -67,15 +80,14 @@ def main():
         found = [r for r in rs if r["outcome"] == "bracketed"]
         if found:
             xs, ys = [pc.number(r["value"]) for r in found], [pc.number(r["stable_dt"]) for r in found]
-            # The same to the bisection's 2 % (its precision): the two lines would coincide.
-            same = next((n for dx, dy, n in drawn if dx == xs and len(dy) == len(ys) and
-                         all(abs(a - b) <= 0.02 * abs(b) for a, b in zip(ys, dy))), name)
+            same, shared = coinciding(drawn, xs, ys)
             drawn.append((xs, ys, name))
-            if same == name:
+            if same is None:
                 ax.plot(xs, ys, color=color, marker=marker, label=pc.lane_label(name))
-            else:  # identical limits would hide one line under the other: dashed, hollow, and said
+            else:  # limits in common would hide one line under the other: dashed, hollow, and said
+                where = "" if shared == len(xs) else f" at {shared} of {len(xs)} values"
                 ax.plot(xs, ys, color=color, marker=marker, markersize=11, markerfacecolor="none", linestyle="--",
-                        label=f"{pc.lane_label(name)} (the same limits as {pc.lane_label(same)})")
+                        label=f"{pc.lane_label(name)} (the same limits as {pc.lane_label(same)}{where})")
         above = [r for r in rs if r["outcome"] == "stable_at_max"]
         if above:
             ax.scatter([pc.number(r["value"]) for r in above], [pc.number(r["max_dt"]) for r in above],

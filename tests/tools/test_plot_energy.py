@@ -39,3 +39,11 @@ def test_each_lane_prints_its_change_and_extremes():
     assert lines[0] == ("implicit_euler, dt = 0.0166667 s: total_energy at t = 0.2 s minus at 0: -2 J; "
                         "lowest -2 J, highest 0 J")
     assert lines[3].endswith("highest 2 J")
+
+
+def test_the_families_figure_gives_each_lane_a_colour_of_its_own():
+    # docs/report.md's families figure: imex once fell back to the colour cycle's first, rk4's blue.
+    names = ["rk4", "implicit_euler", "newmark", "implicit_midpoint", "bdf2", "imex"]
+    runs = [rows(n, 1 / 60, [5, 4]) for n in names]
+    colours = [c for c, _ in pe.lane_styles(runs, pe.run_labels(names, runs))]
+    assert None not in colours and len(set(colours)) == len(names), colours

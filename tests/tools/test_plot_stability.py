@@ -27,3 +27,17 @@ def test_the_fixed_point_and_backward_euler_frame_steps_are_labelled_apart(tmp_p
     assert not any(l.startswith("implicit_euler at one step per frame: diverged") for l in labels)
     assert "midpoint (the same limits as explicit_euler)" in labels, labels
     assert out.stat().st_size > 0
+
+
+def test_limits_shared_at_some_values_are_drawn_apart_and_counted(tmp_path):
+    # As on the drape: explicit Euler and midpoint meet where the dampers bind, part where the
+    # springs do; midpoint's line must not hide explicit Euler's where they meet.
+    csv = tmp_path / "s.csv"
+    csv.write_text(HEADER
+                   + row(100, "explicit_euler", 0.001) + row(400, "explicit_euler", 0.001)
+                   + row(1600, "explicit_euler", 0.0001)
+                   + row(100, "midpoint", 0.001) + row(400, "midpoint", 0.00101) + row(1600, "midpoint", 0.0005))
+    out = tmp_path / "s.png"
+    labels = legend_texts(SCRIPT, csv, out)
+    assert "midpoint (the same limits as explicit_euler at 2 of 3 values)" in labels, labels
+    assert "explicit_euler" in labels
