@@ -146,8 +146,8 @@ struct ReferenceCheck {
   double round_off = 0.0;          // m, round_off_floor(model): a change under it is round-off
   bool finished = false;           // both reference runs reached T
   bool converged = false;          // finished, and change_rms <= margin x smallest_error
-  bool contact_at_end = false;     // a free particle of the finer reference lies within two
-                                   // contact margins of a sphere or the ground at T
+  bool contact_at_end = false;     // contacts are projected, and a free particle of the finer
+                                   // reference lies within two margins of a sphere or the ground at T
   bool velocity_forces = false;    // the model's forces depend on velocity (dampers, drag)
   std::string failure;             // why not converged, one sentence (empty when converged)
 };
