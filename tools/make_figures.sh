@@ -7,9 +7,9 @@
 #
 #   tools/make_figures.sh [BUILD_DIR [OUT_DIR]]   # defaults: build (holding clothsim), docs/images
 #
-# Needs python3-matplotlib (/usr/bin/python3). About 8 minutes on 2 idle cores, most of it the
-# report's full-size clips and the drape studies; timings in the figures are CPU time of each
-# run's thread.
+# Needs python3-matplotlib (/usr/bin/python3). About 2 minutes on 2 cores at load 1.5 (4 at
+# load 3), most of it the report's full-size clip and the drape studies; timings in the figures
+# are CPU time of each run's thread.
 set -eu
 HERE=$(pwd)
 from_here() { case $1 in /*) printf '%s\n' "$1" ;; *) printf '%s\n' "$HERE/$1" ;; esac; }
