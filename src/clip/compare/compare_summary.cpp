@@ -186,7 +186,8 @@ JsonObject lane_summary(const Model& model, const LaneResult& r, const std::stri
                               r.divergence ? std::optional<double>(r.divergence->t) : std::nullopt)
                         .number("t_reached", r.t)
                         .number("spring_passes", spring_passes(r.totals))
-                        .number("max_strain", r.totals.max_strain)
+                        // The adaptive solve's strain is not measured: null, not 0.
+                        .number("max_strain", adaptive_reference ? std::nan("") : r.totals.max_strain)
                         .number("projected_steps", static_cast<double>(r.totals.projected_steps))
                         .number("spring_passes_per_s", t > 0 ? spring_passes(r.totals) / t : std::nan(""))
                         .text("lane", r.adaptive_tolerance > 0.0 ? std::string("dopri5 (adaptive)") : r.spec.spelling())

@@ -342,9 +342,17 @@ TEST(CmdCompare, AnAdaptiveReferenceTakesOneToleranceAndASmoothScene) {
                                      "--width", "320", "--height", "180", "--integrators", "rk4@1e-4", "--still",
                                      "0.2", "-o", dir + "/" + name + ".png", "--no-reference-cache"};
     if (!reference.empty()) args.insert(args.end(), {"--reference", reference});
+    if (name == "default") args.insert(args.end(), {"--summary", dir + "/default.json"});
     return run_clothsim(args);
   };
   const auto by_default = on_smooth("", "default");
+  // Its summary row: no step, its tolerances, and no strain it did not measure (it read 0).
+  const std::string json = ct::slurp(dir + "/default.json");
+  const std::size_t row = json.find("\"role\": \"reference\"");
+  ASSERT_NE(row, std::string::npos) << json;
+  const std::string object = json.substr(json.rfind('{', row), json.find('}', row) - json.rfind('{', row));
+  EXPECT_NE(object.find("\"max_strain\": null"), std::string::npos) << object;
+  EXPECT_NE(object.find("\"dt\": null"), std::string::npos) << object;
   const auto tight = on_smooth("dopri5:tol=1e-9", "tight");
   ASSERT_EQ(by_default.exit_code, 0) << by_default.err;
   ASSERT_EQ(tight.exit_code, 0) << tight.err;
