@@ -325,6 +325,9 @@ def test_a_lane_takes_a_step_as_a_fraction_and_refuses_a_bad_one():
     assert clothsim.Simulation(scene, lane="implicit_euler@1/60").dt == 1 / 60
     assert clothsim.Simulation(scene, lane="rk4").dt == scene.dt
     assert clothsim.Simulation(scene).integrator == scene.integrator == "symplectic_euler"
+    # The course's fixed point by the name run --metrics gives it, not backward Euler's.
+    assert clothsim.Simulation(scene, lane="implicit_euler_fixed_point@1e-4").integrator == "implicit_euler_fixed_point"
+    assert clothsim.Simulation(scene, lane="implicit_euler@1/60").integrator == "implicit_euler"
     assert clothsim.Simulation(scene, lane="rk4@1e-3 ").dt == 1e-3, "spaces around the pieces, as the CLI"
     # The CLI's words after its option's name: one grammar, one message.
     for bad, why in (("rk5@1e-4", "unknown integrator 'rk5'"), ("rk4@", "has no step after '@'"),
