@@ -73,6 +73,15 @@ TEST(CmdRun, TwoOutputsAtOnePathAreAUsageErrorBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(dir + "/x.png"));
 }
 
+TEST(CmdRun, AnEmptyIterationsIsRefusedNotIgnored) {
+  // `--iterations ''` ran the scene's own settings, exit 0, as if the option were not given.
+  const CliResult r = run_clothsim({"run", shipped("drape.yaml"), "--integrator", "vbd", "--duration", "0.05",
+                                    "--iterations", ""});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--iterations"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
 TEST(CmdRun, MetricsHaveOneRowPerStepWhereAStepIsLongerThanAFrame) {
   // 0.1 s steps, frames at 30 Hz: the run stands on each state for three frames; one row each.
   const std::string dir = scratch_dir("run_metrics_long_steps");

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,7 +49,7 @@ struct RunOptions {
   GlOptions gl;
   PictureOptions look;
   std::string summary;  // --summary FILE.json
-  std::string iterations;  // --iterations N, as typed
+  std::optional<std::string> iterations;  // --iterations N, as typed (given empty: refused)
   std::string export_path;  // --export PATH (export_output.h)
 };
 
@@ -60,9 +61,9 @@ void check_run_usage(const RunOptions& o, const SceneDef& scene) {
     throw UsageError("--still: time " + number_text(*o.still_t) + " s is outside the run (0 to " +
                      number_text(scene.duration) + " s)");
   if (o.crf < 0 || o.crf > 51) throw UsageError("--crf: must be from 0 to 51");
-  if (!o.iterations.empty()) {  // checked on scratch settings: the scene's take them later
+  if (o.iterations) {  // checked on scratch settings: the scene's take them later
     MethodSettings probe;
-    set_iterations(probe, scene.integrator, false, parse_iteration_option(o.iterations, "--iterations"),
+    set_iterations(probe, scene.integrator, false, parse_iteration_option(*o.iterations, "--iterations"),
                    "--iterations");
   }
 }
@@ -70,10 +71,10 @@ void check_run_usage(const RunOptions& o, const SceneDef& scene) {
 // --iterations N: the lane NAME:N of the scene's integrator written into the scene (scene/
 // lane.h's apply_lane), as if its block said it, so the Model's defaults are the run's settings.
 void apply_iterations(const RunOptions& o, SceneDef& scene) {
-  if (o.iterations.empty()) return;
+  if (!o.iterations) return;
   Lane lane;
   lane.kind = scene.integrator;
-  lane.iterations = parse_iteration_option(o.iterations, "--iterations");
+  lane.iterations = parse_iteration_option(*o.iterations, "--iterations");
   apply_lane(scene, lane);
 }
 
