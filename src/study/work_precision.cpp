@@ -1,11 +1,16 @@
 #include "work_precision.h"
 
 #include <algorithm>
-#include <functional>
+#include <cinttypes>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <sstream>
+#include <string>
 
 #include "reference.h"
 #include "work_precision_shard.h"
@@ -286,6 +291,64 @@ bool cloth_touches(const Model& model, const State& s) {
 
 // The reference's verdict: finished, and halving its step (or tightening its tolerance) moved it
 // by less than the margin times the smallest error reported; `failure` says why not.
+// The key of bench's reference in the cache: everything its two runs depend on (the model as
+// built, the method and its tolerances or steps, T, the sample times, the build).
+std::string reference_key(const Model& model, const WorkPrecisionSpec& spec) {
+  std::ostringstream key;
+  key.precision(17);
+  key << "bench reference\nmodel " << model_digest(model) << "\n";
+  if (uses_adaptive_reference(model, spec))
+    key << "dopri5 tolerance " << spec.reference_tolerance << " tightening " << kReferenceTightening;
+  else
+    key << integrator_name(spec.reference_integrator) << " dt " << spec.dts.front() / spec.reference_refinement
+        << " and half";
+  const std::vector<double> times = sample_times(spec);
+  Digest digest;
+  for (double t : times) digest.number(t);
+  key << "\nduration " << spec.duration << "\nsamples " << times.size() << " " << digest.hex() << "\nbuild "
+      << build_identity() << "\n";
+  return key.str();
+}
+
+// The reference from the cache when it holds this one, else run and, when both runs finished,
+// stored (its payload: the two runs' totals, then reference_text, exact).
+ShardReference cached_reference(const Model& model, const WorkPrecisionSpec& spec, const StudyHooks& hooks,
+                                ReferenceCheck& ref) {
+  const ReferenceCache cache(spec.reference_cache);
+  if (!cache.enabled()) return run_reference(model, spec, hooks);
+  const std::string key = reference_key(model, spec);
+  ref.cache_file = cache.path_of(key);
+  if (const std::optional<std::string> payload = cache.load(key)) {
+    std::istringstream in(*payload);
+    std::string tag, cpu[2];
+    RunTotals totals[2];
+    if (in >> tag >> totals[0].steps >> totals[0].force_evals >> cpu[0] >> totals[1].steps >> totals[1].force_evals >>
+        cpu[1] && tag == "totals") {
+      try {
+        ShardReference runs = read_reference(payload->substr(payload->find('\n') + 1));
+        for (int k = 0; k < 2; ++k) totals[k].cpu_seconds = std::strtod(cpu[k].c_str(), nullptr);
+        runs.coarse_totals = totals[0], runs.fine_totals = totals[1];
+        ref.cache = "reused";
+        return runs;
+      } catch (const StudyError&) {
+        // checked, yet not a reference (another build's layout): computed again, stored over it
+      }
+    }
+  }
+  ShardReference runs = run_reference(model, spec, hooks);
+  if (runs.stopped || !runs.finished) {
+    ref.cache = runs.stopped ? "not stored: stopped before its end" : "not stored: it did not reach T";
+    return runs;
+  }
+  char totals[160];
+  std::snprintf(totals, sizeof totals, "totals %" PRId64 " %" PRId64 " %a %" PRId64 " %" PRId64 " %a\n",
+                runs.coarse_totals.steps, runs.coarse_totals.force_evals, runs.coarse_totals.cpu_seconds,
+                runs.fine_totals.steps, runs.fine_totals.force_evals, runs.fine_totals.cpu_seconds);
+  std::string why;
+  ref.cache = cache.store(key, totals + reference_text(runs, model.num_particles), &why) ? "stored" : "not stored: " + why;
+  return runs;
+}
+
 void judge_reference(const Model& model, const ShardReference& runs, double h_fine, WorkPrecisionResult& result) {
   ReferenceCheck& ref = result.reference;
   std::ostringstream why;
@@ -345,7 +408,7 @@ WorkPrecisionResult work_precision(const Model& model, const WorkPrecisionSpec& 
   double points_cost = 0.0;
   for (const WorkPrecisionPoint& p : planned) points_cost += point_cost(p, spec.duration);
   const long runs_total = static_cast<long>(planned.size()) + 2;
-  const ShardReference runs = run_reference(model, spec, hooks);
+  const ShardReference runs = cached_reference(model, spec, hooks, result.reference);
   StudyHooks point_hooks = hooks;
   if (hooks.progress)
     point_hooks.progress = [&](const StudyProgress& p) {

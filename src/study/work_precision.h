@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "study.h"
+#include "reference_cache.h"
 #include "study_run.h"
 #include "core/integrators/integrator_kind.h"
 #include "core/model/model.h"
@@ -73,6 +74,9 @@ struct WorkPrecisionSpec {
   double reference_tolerance = 1e-11;  // its tolerance (the second solve's is 100x tighter)
   int reference_refinement = 8;    // reference step = smallest dt / this (then halved once more)
   double reference_margin = 0.1;   // converged: halving's change <= margin x smallest error
+  // Where the reference is kept between runs (reference_cache.h): dir "" (the default here)
+  // computes it every time; bench sets it from the environment.
+  ReferenceCacheSettings reference_cache;
   int jobs = 0;                    // threads; <= 0: hardware_concurrency
 };
 
@@ -150,6 +154,10 @@ struct ReferenceCheck {
                                    // reference lies within two margins of a sphere or the ground at T
   bool velocity_forces = false;    // the model's forces depend on velocity (dampers, drag)
   std::string failure;             // why not converged, one sentence (empty when converged)
+  // The cache (spec.reference_cache): "off", "reused" (steps, force_evals and cpu_seconds are
+  // then the run that computed it), "stored" or "not stored: WHY"; cache_file its entry.
+  std::string cache = "off";
+  std::string cache_file;
 };
 
 struct WorkPrecisionResult {

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <ctime>
+#include <filesystem>
 
 #include "test_support.h"
 #include "scene/build_model.h"
@@ -28,6 +29,40 @@ WorkPrecisionSpec spring_spec(std::vector<IntegratorKind> kinds) {
   spec.duration = 1.0;
   spec.jobs = 2;
   return spec;
+}
+
+TEST(WorkPrecision, AReferenceComputedOnceIsReusedToTheBitAndAnotherSceneOrADamagedEntryMisses) {
+  const std::string dir = std::string(CLOTHSIM_TEST_OUTPUT_DIR) + "/wp_reference_cache";
+  std::filesystem::remove_all(dir);
+  WorkPrecisionSpec spec = spring_spec({IntegratorKind::Rk4, IntegratorKind::Midpoint});
+  spec.duration = 0.5;
+  spec.reference_cache = {dir, 1ull << 30};
+  const Model model = spring_model();
+  const WorkPrecisionResult first = work_precision(model, spec);
+  ASSERT_EQ(first.reference.cache, "stored");
+  ASSERT_TRUE(std::filesystem::exists(first.reference.cache_file)) << first.reference.cache_file;
+  const auto same = [&](const WorkPrecisionResult& r) {
+    EXPECT_EQ(r.reference.change_rms, first.reference.change_rms);
+    EXPECT_EQ(r.reference.steps, first.reference.steps) << "the totals of the runs that computed it";
+    EXPECT_TRUE(r.reference_x == first.reference_x);
+    ASSERT_EQ(r.points.size(), first.points.size());
+    for (std::size_t k = 0; k < r.points.size(); ++k) {
+      EXPECT_EQ(r.points[k].rms_error, first.points[k].rms_error) << k;
+      EXPECT_EQ(r.points[k].max_error, first.points[k].max_error) << k;
+      EXPECT_EQ(r.points[k].rms_error_at_end, first.points[k].rms_error_at_end) << k;
+    }
+  };
+  const WorkPrecisionResult second = work_precision(model, spec);
+  EXPECT_EQ(second.reference.cache, "reused");
+  same(second);
+  // Another scene (undamped) is another key; a truncated entry is recomputed, never served.
+  EXPECT_EQ(work_precision(spring_model({"cloth.springs.structural.damping=0"}), spec).reference.cache, "stored");
+  std::filesystem::resize_file(first.reference.cache_file, std::filesystem::file_size(first.reference.cache_file) / 2);
+  const WorkPrecisionResult third = work_precision(model, spec);
+  EXPECT_EQ(third.reference.cache, "stored");
+  same(third);
+  spec.reference_cache = {};
+  EXPECT_EQ(work_precision(model, spec).reference.cache, "off");
 }
 
 TEST(WorkPrecision, SlopesOnTheSpringGiveEachMethodsConvergenceOrder) {

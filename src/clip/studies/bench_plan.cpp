@@ -96,6 +96,13 @@ WorkPrecisionSpec plan_bench(const BenchOptions& o, const SceneDef& scene, const
   if (!(o.reference_tolerance > 0.0) || !(o.reference_tolerance < 1e-3))
     throw UsageError("--reference-tolerance: must be a number in (0, 1e-3)");
   spec.reference_tolerance = o.reference_tolerance;
+  if (!o.no_reference_cache) {  // the reference of a scene, kept between runs (study/reference_cache.h)
+    try {
+      spec.reference_cache = analysis::reference_cache_settings();
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+  }
   try {
     return analysis::checked(spec);
   } catch (const analysis::StudyError& e) {

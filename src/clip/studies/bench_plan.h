@@ -36,6 +36,7 @@ struct BenchOptions {
   std::string error = "time";  // --error time|end: the largest over the sample times, or at T
   int reference_refinement = WorkPrecisionSpec{}.reference_refinement;
   double reference_tolerance = WorkPrecisionSpec{}.reference_tolerance;
+  bool no_reference_cache = false;  // --no-reference-cache: computed, never stored
 };
 
 inline constexpr double kDefaultStepFactors[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};

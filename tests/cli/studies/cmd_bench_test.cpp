@@ -42,6 +42,36 @@ TEST(CmdBench, WritesOneRowPerRunAndPrintsTheReferenceCheck) {
   EXPECT_TRUE(only_files(dir, {"wp.csv"}));
 }
 
+TEST(CmdBench, ASecondRunReusesTheReferenceAndWritesTheSameCsvButItsTimings) {
+  const std::string dir = scratch_dir("bench_reference_cache");
+  const std::string env = "env -u CLOTHSIM_REFERENCE_CACHE_MAX XDG_CACHE_HOME=" + shell_quote(dir + "/xdg");
+  const auto bench = [&](const std::string& csv, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args = {"bench", spring(), "--integrators", "midpoint,rk4", "--dts", "0.01,0.005",
+                                     "--duration", "1", "--csv", dir + "/" + csv};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_clothsim(args, env);
+  };
+  const CliResult cold = bench("cold.csv"), warm = bench("warm.csv");
+  ASSERT_EQ(cold.exit_code, 0) << cold.err;
+  ASSERT_EQ(warm.exit_code, 0) << warm.err;
+  EXPECT_NE(cold.out.find("reference: computed, and stored in the cache (" + dir + "/xdg/clothsim/"), std::string::npos)
+      << cold.out;
+  EXPECT_NE(warm.out.find("reference: reused from the cache (" + dir + "/xdg/clothsim/"), std::string::npos) << warm.out;
+  // Every column but wall_seconds and cpu_seconds (the 7th and 8th), row for row.
+  const auto untimed = [](const std::string& row) {
+    std::vector<std::string> cells;
+    std::stringstream in(row);
+    for (std::string c; std::getline(in, c, ',');) cells.push_back(c);
+    if (cells.size() > 8) cells.erase(cells.begin() + 6, cells.begin() + 8);
+    return cells;
+  };
+  const auto a = lines(dir + "/cold.csv"), b = lines(dir + "/warm.csv");
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(untimed(a[k]), untimed(b[k])) << k;
+  const CliResult off = bench("off.csv", {"--no-reference-cache"});
+  EXPECT_NE(off.out.find("reference: computed (the cache is off: --no-reference-cache"), std::string::npos) << off.out;
+}
+
 TEST(CmdBench, WithoutDurationRunsToTheDefaultItsHelpStates) {
   EXPECT_NE(run_clothsim({"bench", "--help"}).out.find("(default: the scene's duration, at most 0.5 s and 8000 x the "
                                                       "smallest step, rounded down to a multiple of the largest)"),

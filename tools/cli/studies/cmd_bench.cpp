@@ -133,6 +133,15 @@ void print_reference_check(const analysis::ReferenceCheck& ref) {
                 1.0 / ref.margin, ref.change_rms <= ref.round_off ? " (at round-off, as the reference is)" : "");
   std::printf("; the two runs took %" PRId64 " steps, %" PRId64 " force evaluations, %.3g s CPU\n", ref.steps,
               ref.force_evals, ref.cpu_seconds);
+  if (ref.cache == "reused")
+    std::printf("reference: reused from the cache (%s), computed there in %.3g s of CPU\n", ref.cache_file.c_str(),
+                ref.cpu_seconds);
+  else if (ref.cache == "stored")
+    std::printf("reference: computed, and stored in the cache (%s)\n", ref.cache_file.c_str());
+  else if (ref.cache == "off")
+    std::printf("reference: computed (the cache is off: --no-reference-cache, or CLOTHSIM_REFERENCE_CACHE_MAX=0)\n");
+  else
+    std::printf("reference: computed, %s\n", ref.cache.c_str());
 }
 
 // One value's study, run and its table printed; returns the runs it planned.
@@ -330,6 +339,9 @@ void add_bench_command(CLI::App& app, Command& command) {
                   "The adaptive reference's tolerance on a smooth scene, then 100x tighter to check it")
       ->capture_default_str()
       ->type_name("TOL");
+  sub->add_flag("--no-reference-cache", o->no_reference_cache,
+                "Compute the reference even when the cache holds it, and do not store it\n"
+                "($XDG_CACHE_HOME/clothsim; `clothsim cache clear` empties it; docs/compare.md)");
   sub->callback([o, sub, &command] {
     // --budget's solvers by default, not compare's four (most of which take no iterations).
     if (!o->budget.empty() && sub->count("--integrators") == 0) o->integrators = kBudgetSolvers;
