@@ -314,20 +314,27 @@ std::string reference_key(const Model& model, const WorkPrecisionSpec& spec) {
 // stored (its payload: the two runs' totals, then reference_text, exact).
 ShardReference cached_reference(const Model& model, const WorkPrecisionSpec& spec, const StudyHooks& hooks,
                                 ReferenceCheck& ref) {
+  const auto computed = [&] {
+    ShardReference runs = run_reference(model, spec, hooks);
+    runs.touches_at_end = runs.fine_finished && cloth_touches(model, runs.fine);
+    return runs;
+  };
   const ReferenceCache cache(spec.reference_cache);
-  if (!cache.enabled()) return run_reference(model, spec, hooks);
+  if (!cache.enabled()) return computed();
   const std::string key = reference_key(model, spec);
   ref.cache_file = cache.path_of(key);
   if (const std::optional<std::string> payload = cache.load(key)) {
     std::istringstream in(*payload);
     std::string tag, cpu[2];
     RunTotals totals[2];
+    int touches = 0;
     if (in >> tag >> totals[0].steps >> totals[0].force_evals >> cpu[0] >> totals[1].steps >> totals[1].force_evals >>
-        cpu[1] && tag == "totals") {
+        cpu[1] >> touches && tag == "totals") {
       try {
         ShardReference runs = read_reference(payload->substr(payload->find('\n') + 1));
         for (int k = 0; k < 2; ++k) totals[k].cpu_seconds = std::strtod(cpu[k].c_str(), nullptr);
         runs.coarse_totals = totals[0], runs.fine_totals = totals[1];
+        runs.touches_at_end = touches == 1;
         ref.cache = "reused";
         return runs;
       } catch (const StudyError&) {
@@ -335,15 +342,16 @@ ShardReference cached_reference(const Model& model, const WorkPrecisionSpec& spe
       }
     }
   }
-  ShardReference runs = run_reference(model, spec, hooks);
+  ShardReference runs = computed();
   if (runs.stopped || !runs.finished) {
     ref.cache = runs.stopped ? "not stored: stopped before its end" : "not stored: it did not reach T";
     return runs;
   }
   char totals[160];
-  std::snprintf(totals, sizeof totals, "totals %" PRId64 " %" PRId64 " %a %" PRId64 " %" PRId64 " %a\n",
+  std::snprintf(totals, sizeof totals, "totals %" PRId64 " %" PRId64 " %a %" PRId64 " %" PRId64 " %a %d\n",
                 runs.coarse_totals.steps, runs.coarse_totals.force_evals, runs.coarse_totals.cpu_seconds,
-                runs.fine_totals.steps, runs.fine_totals.force_evals, runs.fine_totals.cpu_seconds);
+                runs.fine_totals.steps, runs.fine_totals.force_evals, runs.fine_totals.cpu_seconds,
+                runs.touches_at_end ? 1 : 0);
   std::string why;
   ref.cache = cache.store(key, totals + reference_text(runs, model.num_particles), &why) ? "stored" : "not stored: " + why;
   return runs;
@@ -367,7 +375,7 @@ void judge_reference(const Model& model, const ShardReference& runs, double h_fi
     ref.change_rms = ref.over_time ? runs.change_rms_over_time : runs.change_rms;
     ref.change_max = ref.over_time ? runs.change_max_over_time : runs.change_max;
     // The barrier is a smooth force, not a correction once per step: no shortfall to blame on it.
-    ref.contact_at_end = !smooth_scene(model) && cloth_touches(model, runs.fine);
+    ref.contact_at_end = !smooth_scene(model) && runs.touches_at_end;
     ref.velocity_forces = model.air_drag > 0.0 ||
                           std::any_of(model.springs.kd.begin(), model.springs.kd.end(), [](double kd) { return kd > 0.0; });
     ref.unresolved = mark_unresolved(result.points, ref.change_rms, ref.margin);

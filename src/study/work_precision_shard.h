@@ -37,6 +37,9 @@ struct ShardReference {
   // Not saved (reference_text): what a single-process study reports of the reference.
   RunTotals coarse_totals, fine_totals;
   std::optional<Divergence> coarse_divergence, fine_divergence;
+  // The finer run's cloth within two contact margins of a collider at T: taken from its whole
+  // state (fine keeps the cloth's columns only), and kept with a cached reference.
+  bool touches_at_end = false;
 };
 
 // Both reference runs at once (on up to two of spec.jobs threads).

@@ -61,6 +61,13 @@ TEST(WorkPrecision, AReferenceComputedOnceIsReusedToTheBitAndAnotherSceneOrADama
   const WorkPrecisionResult third = work_precision(model, spec);
   EXPECT_EQ(third.reference.cache, "stored");
   same(third);
+  // Whether the cloth touches a collider at T is kept with it (the saved state is the cloth's
+  // alone: it was read from past the positions' end).
+  const Model touching = spring_model({"ground.height=-0.015", "collision.model=projection"});
+  EXPECT_TRUE(work_precision(touching, spec).reference.contact_at_end);
+  const WorkPrecisionResult again = work_precision(touching, spec);
+  EXPECT_EQ(again.reference.cache, "reused");
+  EXPECT_TRUE(again.reference.contact_at_end);
   spec.reference_cache = {};
   EXPECT_EQ(work_precision(model, spec).reference.cache, "off");
 }
