@@ -451,7 +451,10 @@ def check_pictures(build, scratch, update):
             failed += 1
             continue
         if name in TIMED:
-            why = same_csv(os.path.join(images, name + ".csv"), os.path.join(made, name + ".csv"))
+            csvs = [os.path.join(d, name + ".csv") for d in (images, made)]
+            missing = [c for c in csvs if not os.path.exists(c)]
+            why = (f"{os.path.relpath(missing[0], ROOT) if missing[0].startswith(ROOT) else missing[0]} is missing: "
+                   "a timed figure is judged by its CSV") if missing else same_csv(*csvs)
         else:
             d = subprocess.run([os.path.join(build, "clothsim"), "imgdiff", os.path.join(images, name + ".png"), new],
                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
